@@ -1,0 +1,33 @@
+// File: semgraph/semantics/describe.h
+//
+// Text for people, formatted off the hot path (allocates): semantics in the paper's notation
+// and Mismatch messages. Names come from the NameTable that interned them.
+#pragma once
+
+#include <string>
+
+#include "semgraph/semantics/mismatch.h"
+#include "semgraph/semantics/names.h"
+#include "semgraph/semantics/relations.h"
+
+namespace semgraph::semantics {
+
+/// "PositionCoord(e|C, f|D, [r])"
+[[nodiscard]] std::string Describe(const PositionSemantics& s, const NameTable& names);
+/// "OrientationCoord([a]|C, [b]|D, [r])"
+[[nodiscard]] std::string Describe(const OrientationSemantics& s, const NameTable& names);
+/// "PoseCoord((e,[a])|C, (f,[b])|D, [r])", or "PoseCoord({a}|C, {b}|D, [r])" in frame form.
+[[nodiscard]] std::string Describe(const PoseSemantics& s, const NameTable& names);
+/// "LinearVelocityCoord(e|C, D, [r])"
+[[nodiscard]] std::string Describe(const LinearVelocitySemantics& s, const NameTable& names);
+/// "AngularVelocityCoord(C, D, [r])"
+[[nodiscard]] std::string Describe(const AngularVelocitySemantics& s, const NameTable& names);
+/// "TwistCoord(e|C, D, [r])"
+[[nodiscard]] std::string Describe(const TwistSemantics& s, const NameTable& names);
+/// "compose: reference point f|D of the first does not match point g|D of the second"
+[[nodiscard]] std::string Describe(const Mismatch& m, const NameTable& names);
+
+/// "compose", "change_point", ...
+[[nodiscard]] std::string_view ToString(Operation op) noexcept;
+
+}  // namespace semgraph::semantics

@@ -1,0 +1,60 @@
+// File: semgraph/semantics/error_code.h
+//
+// The stable error codes of spec/scene-graph.md (snake_case names on the wire), plus
+// `semantic_mismatch` for a failed precondition of a semantic operation. One enum for every
+// layer, so that a code crosses layers unchanged.
+// Cost: ToString is a table lookup; it returns a static string (no allocation).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace semgraph::semantics {
+
+enum class ErrorCode : std::uint8_t {
+  kOk = 0,
+  // Semantic operations (this layer).
+  kSemanticMismatch,
+  // Input validation.
+  kInvalidName,
+  kInvalidNumber,
+  kInvalidRotation,
+  // Nodes.
+  kDuplicateBody,
+  kDuplicateFrame,
+  kUnknownBody,
+  kUnknownFrame,
+  kFrameWithoutBody,
+  kFrameBodyMismatch,
+  // Pose edges.
+  kSelfEdge,
+  kRepresentationConstraint,
+  kPoseNotConvertible,
+  kConstantPoseChange,
+  kMultiplePoseParents,
+  kPoseCycle,
+  kDuplicatePosePath,
+  kTwistMergeConflict,
+  // Twist edges.
+  kTwistSameBody,
+  kTwistNotConvertible,
+  kMultipleTwistParents,
+  kDuplicateTwistPath,
+  // Removal.
+  kNoSuchEdge,
+  // Queries.
+  kNoPosePath,
+  kNoTwistPath,
+  kQueryInvalidated,
+};
+
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kQueryInvalidated) + 1;
+
+/// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
+[[nodiscard]] std::string_view ToString(ErrorCode code) noexcept;
+
+/// Inverse of ToString; nullopt for an unknown name.
+[[nodiscard]] std::optional<ErrorCode> ErrorCodeFromString(std::string_view name) noexcept;
+
+}  // namespace semgraph::semantics

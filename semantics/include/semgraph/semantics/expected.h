@@ -1,0 +1,157 @@
+// File: semgraph/semantics/expected.h
+//
+// Expected<T, E>: a value or an error, the return type of every fallible semgraph call
+// (std::expected is C++23; Debian has no tl-expected). Deliberately small: no monadic
+// chaining, no exceptions. Accessing the wrong alternative is a programming error and aborts
+// via SEMGRAPH_DEMAND.
+//
+// Invariants: holds exactly one of T or E. Trivially copyable when T and E are, so the
+// small query results (codes, ids, fixed-size coordinates) are passed in registers or copied
+// with memcpy.
+// Cost: construction and access are O(1), noexcept, allocation-free (beyond what T or E do).
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <type_traits>
+#include <utility>
+
+namespace semgraph::semantics {
+
+/// Always-on check for programming errors (wrong alternative accessed, broken invariant).
+/// Aborts with a message; never throws.
+[[noreturn]] void DemandFailed(const char* condition, const char* file, int line) noexcept;
+
+#define SEMGRAPH_DEMAND(condition)                                                   \
+  do {                                                                               \
+    if (!(condition)) [[unlikely]]                                                   \
+      ::semgraph::semantics::DemandFailed(#condition, __FILE__, __LINE__);           \
+  } while (false)
+
+/// Wraps an error so that `return Unexpected{err};` converts to any Expected<T, E>.
+template <class E>
+struct Unexpected {
+  E error;
+};
+template <class E>
+Unexpected(E) -> Unexpected<E>;
+
+template <class T, class E>
+class [[nodiscard]] Expected {
+ public:
+  using value_type = T;
+  using error_type = E;
+
+  // NOLINTNEXTLINE(google-explicit-constructor): implicit like std::expected.
+  Expected(const T& value) noexcept(std::is_nothrow_copy_constructible_v<T>) : ok_(true) {
+    ::new (&storage_.value) T(value);
+  }
+  // NOLINTNEXTLINE(google-explicit-constructor)
+  Expected(T&& value) noexcept(std::is_nothrow_move_constructible_v<T>) : ok_(true) {
+    ::new (&storage_.value) T(std::move(value));
+  }
+  template <class G>
+  // NOLINTNEXTLINE(google-explicit-constructor)
+  Expected(Unexpected<G> unexpected) noexcept(std::is_nothrow_constructible_v<E, G&&>)
+      : ok_(false) {
+    ::new (&storage_.error) E(std::move(unexpected.error));
+  }
+
+  Expected(const Expected& other) noexcept(std::is_nothrow_copy_constructible_v<T> &&
+                                           std::is_nothrow_copy_constructible_v<E>)
+    requires(std::is_trivially_copy_constructible_v<T> && std::is_trivially_copy_constructible_v<E>)
+  = default;
+  Expected(const Expected& other) : ok_(other.ok_) {
+    if (ok_) ::new (&storage_.value) T(other.storage_.value);
+    else ::new (&storage_.error) E(other.storage_.error);
+  }
+  Expected(Expected&& other) noexcept
+    requires(std::is_trivially_move_constructible_v<T> && std::is_trivially_move_constructible_v<E>)
+  = default;
+  Expected(Expected&& other) noexcept(std::is_nothrow_move_constructible_v<T> &&
+                                      std::is_nothrow_move_constructible_v<E>)
+      : ok_(other.ok_) {
+    if (ok_) ::new (&storage_.value) T(std::move(other.storage_.value));
+    else ::new (&storage_.error) E(std::move(other.storage_.error));
+  }
+  Expected& operator=(const Expected& other)
+    requires(std::is_trivially_copy_assignable_v<T> && std::is_trivially_copy_assignable_v<E> &&
+             std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
+  = default;
+  Expected& operator=(const Expected& other) {
+    if (this != &other) {
+      Destroy();
+      ::new (this) Expected(other);
+    }
+    return *this;
+  }
+  Expected& operator=(Expected&& other) noexcept
+    requires(std::is_trivially_move_assignable_v<T> && std::is_trivially_move_assignable_v<E> &&
+             std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
+  = default;
+  Expected& operator=(Expected&& other) noexcept {
+    if (this != &other) {
+      Destroy();
+      ::new (this) Expected(std::move(other));
+    }
+    return *this;
+  }
+  ~Expected()
+    requires(std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
+  = default;
+  ~Expected() { Destroy(); }
+
+  [[nodiscard]] bool has_value() const noexcept { return ok_; }
+  explicit operator bool() const noexcept { return ok_; }
+
+  [[nodiscard]] const T& value() const& noexcept {
+    SEMGRAPH_DEMAND(ok_);
+    return storage_.value;
+  }
+  [[nodiscard]] T& value() & noexcept {
+    SEMGRAPH_DEMAND(ok_);
+    return storage_.value;
+  }
+  [[nodiscard]] T&& value() && noexcept {
+    SEMGRAPH_DEMAND(ok_);
+    return std::move(storage_.value);
+  }
+  [[nodiscard]] const E& error() const& noexcept {
+    SEMGRAPH_DEMAND(!ok_);
+    return storage_.error;
+  }
+  [[nodiscard]] E& error() & noexcept {
+    SEMGRAPH_DEMAND(!ok_);
+    return storage_.error;
+  }
+  [[nodiscard]] E&& error() && noexcept {
+    SEMGRAPH_DEMAND(!ok_);
+    return std::move(storage_.error);
+  }
+  const T& operator*() const& noexcept { return value(); }
+  T& operator*() & noexcept { return value(); }
+  const T* operator->() const noexcept { return &value(); }
+  T* operator->() noexcept { return &value(); }
+
+ private:
+  void Destroy() noexcept {
+    if (ok_) storage_.value.~T();
+    else storage_.error.~E();
+  }
+  union Storage {
+    Storage() noexcept {}
+    ~Storage()
+      requires(std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
+    = default;
+    ~Storage() {}
+    T value;
+    E error;
+  } storage_;
+  bool ok_;
+};
+
+/// Expected<void, E>: success carries nothing.
+struct Ok {};
+
+}  // namespace semgraph::semantics

@@ -1,0 +1,87 @@
+// File: semgraph/semantics/names.h
+//
+// NameTable: interns the names of points, orientation frames, frames and bodies into small
+// dense ids (NameId), once, at build time. Every semantic check afterwards compares ids, never
+// strings.
+//
+// Invariants:
+//  - ids are dense: 0 .. size()-1, in order of first interning; an id never changes or dies.
+//  - every interned name is valid: non-empty, at most kMaxNameBytes bytes, printable ASCII or
+//    valid UTF-8 with no control characters (spec: "non-empty, printable, at most 255 bytes").
+// Costs: Intern O(|name|) amortized (hash + one copy on first sight, allocates); Find
+// O(|name|), allocation-free; name(id) O(1).
+// Thread safety: const methods may run concurrently; Intern needs exclusive access.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+#include "semgraph/semantics/error_code.h"
+#include "semgraph/semantics/expected.h"
+
+namespace semgraph::semantics {
+
+/// A dense id for an interned name. Default-constructed ids are invalid.
+class NameId {
+ public:
+  static constexpr std::uint32_t kInvalid = std::numeric_limits<std::uint32_t>::max();
+  constexpr NameId() noexcept = default;
+  constexpr explicit NameId(std::uint32_t value) noexcept : value_(value) {}
+  [[nodiscard]] constexpr std::uint32_t value() const noexcept { return value_; }
+  [[nodiscard]] constexpr bool is_valid() const noexcept { return value_ != kInvalid; }
+  friend constexpr bool operator==(NameId, NameId) noexcept = default;
+  friend constexpr auto operator<=>(NameId, NameId) noexcept = default;
+
+ private:
+  std::uint32_t value_ = kInvalid;
+};
+
+inline constexpr std::size_t kMaxNameBytes = 255;
+
+/// Why a name is invalid (for the message); the code is always kInvalidName.
+enum class NameProblem : std::uint8_t { kEmpty, kTooLong, kNotPrintable, kNotUtf8 };
+
+struct NameError {
+  ErrorCode code = ErrorCode::kInvalidName;
+  NameProblem problem = NameProblem::kEmpty;
+  std::size_t byte_offset = 0;  ///< offending byte for kNotPrintable / kNotUtf8
+};
+
+/// Checks the spec's name rule without interning. O(|name|), allocation-free.
+[[nodiscard]] Expected<Ok, NameError> ValidateName(std::string_view name) noexcept;
+
+/// Human-readable reason, e.g. "name is empty", "byte 3 is not printable".
+[[nodiscard]] std::string Describe(const NameError& error, std::string_view name);
+
+class NameTable {
+ public:
+  NameTable() = default;
+  NameTable(const NameTable&) = delete;  // string_view keys point into names_
+  NameTable& operator=(const NameTable&) = delete;
+  NameTable(NameTable&&) = default;
+  NameTable& operator=(NameTable&&) = default;
+
+  /// Returns the id of `name`, interning it on first sight. Fails with kInvalidName.
+  [[nodiscard]] Expected<NameId, NameError> Intern(std::string_view name);
+
+  /// The id of an already interned name, or an invalid id. Allocation-free.
+  [[nodiscard]] NameId Find(std::string_view name) const noexcept;
+
+  /// The text of an interned id; "<invalid>" for an invalid id. O(1).
+  [[nodiscard]] std::string_view name(NameId id) const noexcept;
+
+  [[nodiscard]] std::size_t size() const noexcept { return names_.size(); }
+
+  /// Heap bytes held by the names and the index (for memory reports).
+  [[nodiscard]] std::size_t ApproximateBytes() const noexcept;
+
+ private:
+  std::deque<std::string> names_;  // deque: element addresses never move
+  std::unordered_map<std::string_view, NameId> ids_;
+};
+
+}  // namespace semgraph::semantics
