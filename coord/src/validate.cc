@@ -1,1 +1,244 @@
-namespace semgraph::coord {}
+// Input validation, representation constraints, and error text for the coord layer.
+#include "semgraph/coord/validate.h"
+
+#include <Eigen/SVD>
+#include <cmath>
+#include <sstream>
+
+#include "semgraph/semantics/describe.h"
+
+namespace semgraph::coord {
+namespace {
+
+Error ValueError(ErrorCode code, ValueProblem problem, ValueRole role, int component = 0,
+                 double magnitude = 0.0) noexcept {
+  Error e;
+  e.code = code;
+  e.value = ValueDetail{problem, role, static_cast<std::uint8_t>(component), magnitude};
+  return e;
+}
+
+template <class M>
+Expected<Ok, Error> CheckFinite(const M& m, ValueRole role) noexcept {
+  for (Eigen::Index i = 0; i < m.size(); ++i) {
+    if (!std::isfinite(m.data()[i])) {
+      return Unexpected{ValueError(ErrorCode::kInvalidNumber, ValueProblem::kNotFinite, role,
+                                   static_cast<int>(i), m.data()[i])};
+    }
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Expected<Eigen::Vector3d, Error> ValidateVector(const Eigen::Vector3d& v, ValueRole role) noexcept {
+  if (auto ok = CheckFinite(v, role); !ok) return Unexpected{ok.error()};
+  return v;
+}
+
+Expected<Eigen::Quaterniond, Error> ValidateQuaternion(const Eigen::Quaterniond& q) noexcept {
+  // Component order in messages is w x y z (Hamilton, as in the scene-script format).
+  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+  for (int i = 0; i < 4; ++i) {
+    if (!std::isfinite(wxyz[i])) {
+      return Unexpected{ValueError(ErrorCode::kInvalidNumber, ValueProblem::kNotFinite,
+                                   ValueRole::kQuaternion, i, wxyz[i])};
+    }
+  }
+  const double norm = q.norm();
+  const double off = std::abs(norm - 1.0);
+  if (!(off <= kRotationTolerance)) {
+    return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kQuaternionNorm,
+                                 ValueRole::kQuaternion, 0, off)};
+  }
+  return Eigen::Quaterniond(q.coeffs() / norm);
+}
+
+Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(const Eigen::Matrix3d& R) noexcept {
+  // Row-major component index in messages, as the user writes the matrix.
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      if (!std::isfinite(R(r, c))) {
+        return Unexpected{ValueError(ErrorCode::kInvalidNumber, ValueProblem::kNotFinite,
+                                     ValueRole::kRotationMatrix, 3 * r + c, R(r, c))};
+      }
+    }
+  }
+  const double off = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (!(off <= kRotationTolerance)) {
+    return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kNotOrthonormal,
+                                 ValueRole::kRotationMatrix, 0, off)};
+  }
+  const double det = R.determinant();
+  if (!(det > 0.0)) {
+    return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kReflection,
+                                 ValueRole::kRotationMatrix, 0, det)};
+  }
+  // Polar decomposition: the nearest rotation is U V^T (det > 0 and near-orthonormal, so the
+  // singular values are all close to 1 and no sign fix is needed).
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose());
+}
+
+Expected<Position, Error> MakePosition(const PositionSemantics& s, const Eigen::Vector3d& p) noexcept {
+  auto ok = ValidateVector(p, ValueRole::kPosition);
+  if (!ok) return Unexpected{ok.error()};
+  return Position{s, p};
+}
+
+Expected<LinearVelocity, Error> MakeLinearVelocity(const LinearVelocitySemantics& s,
+                                                   const Eigen::Vector3d& v) noexcept {
+  auto ok = ValidateVector(v, ValueRole::kLinearVelocity);
+  if (!ok) return Unexpected{ok.error()};
+  return LinearVelocity{s, v};
+}
+
+Expected<AngularVelocity, Error> MakeAngularVelocity(const AngularVelocitySemantics& s,
+                                                     const Eigen::Vector3d& w) noexcept {
+  auto ok = ValidateVector(w, ValueRole::kAngularVelocity);
+  if (!ok) return Unexpected{ok.error()};
+  return AngularVelocity{s, w};
+}
+
+Expected<Twist, Error> MakeTwist(const TwistSemantics& s, const Eigen::Vector3d& v,
+                                 const Eigen::Vector3d& w) noexcept {
+  auto v_ok = ValidateVector(v, ValueRole::kLinearVelocity);
+  if (!v_ok) return Unexpected{v_ok.error()};
+  auto w_ok = ValidateVector(w, ValueRole::kAngularVelocity);
+  if (!w_ok) return Unexpected{w_ok.error()};
+  return Twist{s, v, w};
+}
+
+namespace internal {
+
+Error RepresentationError(const char* representation, semantics::MismatchSide lhs,
+                          semantics::MismatchSide rhs) noexcept {
+  Error e;
+  e.code = ErrorCode::kRepresentationConstraint;
+  e.representation = representation;
+  e.mismatch.code = ErrorCode::kRepresentationConstraint;
+  e.mismatch.lhs = lhs;
+  e.mismatch.rhs = rhs;
+  return e;
+}
+
+Expected<Ok, Error> CheckPoseConstraints(const Constraints& c, const char* name,
+                                         const PoseSemantics& s) noexcept {
+  using semantics::Field;
+  using semantics::MismatchSide;
+  using semantics::Operand;
+  using semantics::RelationKind;
+  constexpr Operand o = Operand::kSubject;
+  constexpr RelationKind k = RelationKind::kPose;
+  if (c.pose_point_is_origin && !semantics::IsOriginOf(s.point, s.orientation)) {
+    return Unexpected{RepresentationError(
+        name, MismatchSide{o, k, Field::kPoint, s.point.id(), s.body.id()},
+        MismatchSide{o, k, Field::kOrientation, s.orientation.id(), s.body.id()})};
+  }
+  if (c.pose_ref_point_is_origin && !semantics::IsOriginOf(s.ref_point, s.ref_orientation)) {
+    return Unexpected{RepresentationError(
+        name, MismatchSide{o, k, Field::kRefPoint, s.ref_point.id(), s.ref_body.id()},
+        MismatchSide{o, k, Field::kRefOrientation, s.ref_orientation.id(), s.ref_body.id()})};
+  }
+  if (c.coordinate_frame_is_ref_orientation && !(s.coordinate_frame == s.ref_orientation)) {
+    return Unexpected{RepresentationError(
+        name, MismatchSide{o, k, Field::kCoordinateFrame, s.coordinate_frame.id(), {}},
+        MismatchSide{o, k, Field::kRefOrientation, s.ref_orientation.id(), s.ref_body.id()})};
+  }
+  return Ok{};
+}
+
+Expected<Ok, Error> CheckOrientationConstraints(const Constraints& c, const char* name,
+                                                const OrientationSemantics& s) noexcept {
+  using semantics::Field;
+  using semantics::MismatchSide;
+  constexpr auto o = semantics::Operand::kSubject;
+  constexpr auto k = semantics::RelationKind::kOrientation;
+  if (c.coordinate_frame_is_ref_orientation && !(s.coordinate_frame == s.ref_orientation)) {
+    return Unexpected{RepresentationError(
+        name, MismatchSide{o, k, Field::kCoordinateFrame, s.coordinate_frame.id(), {}},
+        MismatchSide{o, k, Field::kRefOrientation, s.ref_orientation.id(), s.ref_body.id()})};
+  }
+  return Ok{};
+}
+
+Expected<Ok, Error> ValidateHomogeneousShape(const Eigen::Matrix4d& T) noexcept {
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      if (!std::isfinite(T(r, c))) {
+        return Unexpected{ValueError(ErrorCode::kInvalidNumber, ValueProblem::kNotFinite,
+                                     ValueRole::kHomogeneousMatrix, 4 * r + c, T(r, c))};
+      }
+    }
+  }
+  const Eigen::RowVector4d bottom = T.row(3);
+  const double off = (bottom - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff();
+  if (!(off <= kRotationTolerance)) {
+    return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kNotRigidTransform,
+                                 ValueRole::kHomogeneousMatrix, 0, off)};
+  }
+  return Ok{};
+}
+
+}  // namespace internal
+
+namespace {
+const char* RoleName(ValueRole role) noexcept {
+  switch (role) {
+    case ValueRole::kPosition: return "position";
+    case ValueRole::kQuaternion: return "quaternion";
+    case ValueRole::kRotationMatrix: return "rotation matrix";
+    case ValueRole::kHomogeneousMatrix: return "homogeneous matrix";
+    case ValueRole::kLinearVelocity: return "linear velocity";
+    case ValueRole::kAngularVelocity: return "angular velocity";
+  }
+  return "value";
+}
+}  // namespace
+
+std::string Describe(const Error& error, const semantics::NameTable& names) {
+  std::ostringstream out;
+  switch (error.code) {
+    case ErrorCode::kSemanticMismatch:
+      return semantics::Describe(error.mismatch, names);
+    case ErrorCode::kRepresentationConstraint: {
+      const bool origin = error.mismatch.lhs.field == semantics::Field::kPoint ||
+                          error.mismatch.lhs.field == semantics::Field::kRefPoint;
+      out << "the " << (error.representation ? error.representation : "chosen")
+          << " representation requires " << semantics::Describe(error.mismatch.lhs, names)
+          << (origin ? " to be the origin of " : " to be ")
+          << semantics::Describe(error.mismatch.rhs, names);
+      return out.str();
+    }
+    case ErrorCode::kInvalidNumber:
+      out << RoleName(error.value.role) << " component " << int(error.value.component) << " is "
+          << error.value.magnitude << " (must be finite)";
+      return out.str();
+    case ErrorCode::kInvalidRotation:
+      switch (error.value.problem) {
+        case ValueProblem::kQuaternionNorm:
+          out << "quaternion norm differs from 1 by " << error.value.magnitude << " (more than "
+              << kRotationTolerance << ")";
+          break;
+        case ValueProblem::kNotOrthonormal:
+          out << "rotation matrix is not orthonormal: max |M^T M - I| = " << error.value.magnitude
+              << " (more than " << kRotationTolerance << ")";
+          break;
+        case ValueProblem::kReflection:
+          out << "rotation matrix has determinant " << error.value.magnitude
+              << " (a reflection, not a rotation)";
+          break;
+        case ValueProblem::kNotRigidTransform:
+          out << "homogeneous matrix bottom row is not [0 0 0 1] (off by " << error.value.magnitude
+              << ")";
+          break;
+        default:
+          out << "invalid rotation";
+      }
+      return out.str();
+    default:
+      return std::string(semantics::ToString(error.code));
+  }
+}
+
+}  // namespace semgraph::coord

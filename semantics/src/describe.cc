@@ -36,7 +36,9 @@ std::string_view RelationName(RelationKind k) noexcept {
   return "relation";
 }
 
-std::string SideText(const MismatchSide& s, const NameTable& names) {
+}  // namespace
+
+std::string Describe(const MismatchSide& s, const NameTable& names) {
   std::string value;
   switch (s.field) {
     case Field::kPoint:
@@ -64,8 +66,6 @@ std::string SideText(const MismatchSide& s, const NameTable& names) {
   return std::string(FieldName(s.field)) + " " + value + " of " + owner;
 }
 
-}  // namespace
-
 std::string_view ToString(Operation op) noexcept {
   switch (op) {
     case Operation::kCompose: return "compose";
@@ -82,8 +82,8 @@ std::string_view ToString(Operation op) noexcept {
 }
 
 std::string Describe(const Mismatch& m, const NameTable& names) {
-  std::string text = std::string(ToString(m.operation)) + ": " + SideText(m.lhs, names) +
-                     " does not match " + SideText(m.rhs, names);
+  std::string text = std::string(ToString(m.operation)) + ": " + Describe(m.lhs, names) +
+                     " does not match " + Describe(m.rhs, names);
   if (m.coordinate_forms) {
     text += ", and the two are not each expressed in their own reference orientation frame";
   }

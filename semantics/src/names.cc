@@ -32,9 +32,14 @@ std::size_t Utf8SequenceLength(std::string_view s, std::size_t i) noexcept {
   }
   const std::uint32_t min_cp[] = {0, 0, 0x80, 0x800, 0x10000};
   if (cp < min_cp[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return 0;
-  // C1 control characters (U+0080..U+009F) are not printable.
-  if (cp >= 0x80 && cp <= 0x9F) return 0;
   return n;
+}
+
+// True when s[i] starts a C1 control character (U+0080..U+009F, shortest form C2 80..C2 9F):
+// valid UTF-8, but not printable.
+bool IsC1Control(std::string_view s, std::size_t i) noexcept {
+  return static_cast<unsigned char>(s[i]) == 0xC2 && i + 1 < s.size() &&
+         (static_cast<unsigned char>(s[i + 1]) & 0xE0) == 0x80;
 }
 }  // namespace
 
@@ -51,6 +56,9 @@ Expected<Ok, NameError> ValidateName(std::string_view name) noexcept {
       }
       ++i;
       continue;
+    }
+    if (IsC1Control(name, i)) {
+      return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotPrintable, i}};
     }
     const std::size_t n = Utf8SequenceLength(name, i);
     if (n == 0) return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotUtf8, i}};

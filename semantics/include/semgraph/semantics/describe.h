@@ -27,6 +27,9 @@ namespace semgraph::semantics {
 /// "compose: reference point f|D of the first does not match point g|D of the second"
 [[nodiscard]] std::string Describe(const Mismatch& m, const NameTable& names);
 
+/// One side of a mismatch: "reference point f|D of the first".
+[[nodiscard]] std::string Describe(const MismatchSide& side, const NameTable& names);
+
 /// "compose", "change_point", ...
 [[nodiscard]] std::string_view ToString(Operation op) noexcept;
 

@@ -54,7 +54,7 @@ struct NameError {
 /// Checks the spec's name rule without interning. O(|name|), allocation-free.
 [[nodiscard]] Expected<Ok, NameError> ValidateName(std::string_view name) noexcept;
 
-/// Human-readable reason, e.g. "name is empty", "byte 3 is not printable".
+/// Human-readable reason, e.g. "name is empty", "byte 3 of the name is a control character".
 [[nodiscard]] std::string Describe(const NameError& error, std::string_view name);
 
 class NameTable {

@@ -53,7 +53,7 @@ using Checked = Expected<S, Mismatch>;
 /// Checks: X.ref_point = Y.point, X.ref_body = Y.body, X.[r] = Y.[r].
 [[nodiscard]] Checked<PositionSemantics> Compose(const PositionSemantics& X,
                                                  const PositionSemantics& Y) noexcept;
-/// Checks: A.ref_point = X.point, A.body = X.body, A.ref_body = X.body, A.[r] = X.[r].
+/// Checks: A.ref_point = X.point, A.ref_body = X.body, A.body = X.body, A.[r] = X.[r].
 [[nodiscard]] Checked<PositionSemantics> ChangePoint(const PositionSemantics& X,
                                                      const PositionSemantics& A) noexcept;
 /// Checks: A.point = X.ref_point, A.body = X.ref_body, A.ref_body = X.ref_body, A.[r] = X.[r].
@@ -72,7 +72,7 @@ using Checked = Expected<S, Mismatch>;
 /// Checks: X.ref_orientation = Y.orientation, X.ref_body = Y.body, then the coordinate form.
 [[nodiscard]] Checked<Composition<OrientationSemantics>> Compose(
     const OrientationSemantics& X, const OrientationSemantics& Y) noexcept;
-/// Checks: A.ref_orientation = X.orientation, A.body = X.body, A.ref_body = X.body, then the
+/// Checks: A.ref_orientation = X.orientation, A.ref_body = X.body, A.body = X.body, then the
 /// coordinate form of Compose(A, X).
 [[nodiscard]] Checked<Composition<OrientationSemantics>> ChangeOrientationFrame(
     const OrientationSemantics& X, const OrientationSemantics& A) noexcept;

@@ -1,0 +1,69 @@
+// File: semgraph/coord/error.h
+//
+// coord::Error: why a checked coordinate operation or a value construction failed. Small and
+// trivially copyable (no strings): it is returned on query paths. Describe() formats it.
+//
+//   kSemanticMismatch          the names do not fit (mismatch says which fields)
+//   kRepresentationConstraint  the backend cannot express the semantics (representation names
+//                              the backend; mismatch.lhs/rhs name the two names it requires equal)
+//   kInvalidNumber             NaN or +-Inf in an input (value says where)
+//   kInvalidRotation           quaternion norm or matrix orthonormality off by more than
+//                              kRotationTolerance, or a reflection
+// Cost: O(1), 56 bytes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "semgraph/semantics/error_code.h"
+#include "semgraph/semantics/mismatch.h"
+#include "semgraph/semantics/names.h"
+
+namespace semgraph::coord {
+
+using semantics::ErrorCode;
+
+/// Spec tolerance for rotations: | |q| - 1 | <= 1e-6; max |M^T M - I| <= 1e-6.
+inline constexpr double kRotationTolerance = 1e-6;
+
+/// What is wrong with an input number.
+enum class ValueProblem : std::uint8_t {
+  kNone,
+  kNotFinite,           ///< NaN or +-Inf; `component` is its index within `what`
+  kQuaternionNorm,      ///< `magnitude` = | |q| - 1 |
+  kNotOrthonormal,      ///< `magnitude` = max |M^T M - I|
+  kReflection,          ///< det(M) <= 0
+  kNotRigidTransform,   ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
+};
+
+/// Which input a ValueProblem is about.
+enum class ValueRole : std::uint8_t {
+  kPosition,
+  kQuaternion,
+  kRotationMatrix,
+  kHomogeneousMatrix,
+  kLinearVelocity,
+  kAngularVelocity,
+};
+
+struct ValueDetail {
+  ValueProblem problem = ValueProblem::kNone;
+  ValueRole role = ValueRole::kPosition;
+  std::uint8_t component = 0;
+  double magnitude = 0.0;
+};
+
+struct Error {
+  ErrorCode code = ErrorCode::kOk;
+  semantics::Mismatch mismatch;  ///< kSemanticMismatch, kRepresentationConstraint
+  const char* representation = nullptr;  ///< backend name for kRepresentationConstraint
+  ValueDetail value;                     ///< kInvalidNumber, kInvalidRotation
+};
+
+/// One line naming what is wrong, e.g.
+/// "homogeneous representation: point e|C of the pose must be the origin of orientation frame
+/// [a]|C of the pose", or "quaternion norm differs from 1 by 0.2 (more than 1e-06)".
+[[nodiscard]] std::string Describe(const Error& error, const semantics::NameTable& names);
+
+}  // namespace semgraph::coord

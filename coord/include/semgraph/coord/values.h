@@ -1,0 +1,68 @@
+// File: semgraph/coord/values.h
+//
+// Checked relation values: semantics + coordinates. Build them with the Make* functions of
+// validate.h (which validate numbers and the representation's constraints); transform them with
+// the checked operations of operations.h.
+//
+//   Position            value = p: position of point e wrt point f, expressed in [r]
+//   Orientation<B>      value = M: operator carrying [b] onto [a], expressed in [r]
+//                       (= R[b<-a] when [r] = [b])
+//   Pose<B>             value = (M, p) in one B::PoseCoords
+//   LinearVelocity      value = v of point e fixed to C, relative to D, in [r]
+//   AngularVelocity     value = w of C relative to D, in [r]
+//   Twist               linear = v (of the velocity reference point), angular = w, both in [r]
+//
+// Positions, velocities and twists are 3-vectors in every backend (no constraints), so they are
+// not templates. Invariant (established by Make*, kept by every operation): numbers are finite,
+// rotations proper and normalized, semantics admitted by the backend.
+// Cost: fixed-size values, trivially copyable, no allocation.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "semgraph/coord/backend.h"
+#include "semgraph/semantics/relations.h"
+
+namespace semgraph::coord {
+
+using semantics::AngularVelocitySemantics;
+using semantics::LinearVelocitySemantics;
+using semantics::OrientationSemantics;
+using semantics::PoseSemantics;
+using semantics::PositionSemantics;
+using semantics::TwistSemantics;
+
+struct Position {
+  PositionSemantics semantics;
+  Eigen::Vector3d value;
+};
+
+template <Backend B>
+struct Orientation {
+  OrientationSemantics semantics;
+  typename B::Rotation value;
+};
+
+template <Backend B>
+struct Pose {
+  PoseSemantics semantics;
+  typename B::PoseCoords value;
+};
+
+struct LinearVelocity {
+  LinearVelocitySemantics semantics;
+  Eigen::Vector3d value;
+};
+
+struct AngularVelocity {
+  AngularVelocitySemantics semantics;
+  Eigen::Vector3d value;
+};
+
+struct Twist {
+  TwistSemantics semantics;
+  Eigen::Vector3d linear;
+  Eigen::Vector3d angular;
+};
+
+}  // namespace semgraph::coord
