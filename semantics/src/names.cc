@@ -91,6 +91,13 @@ Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
   return id;
 }
 
+void NameTable::TruncateTo(std::size_t n) {
+  while (names_.size() > n) {
+    ids_.erase(std::string_view(names_.back()));
+    names_.pop_back();
+  }
+}
+
 NameId NameTable::Find(std::string_view name) const noexcept {
   const auto it = ids_.find(name);
   return it == ids_.end() ? NameId() : it->second;

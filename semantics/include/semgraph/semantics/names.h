@@ -76,6 +76,10 @@ class NameTable {
 
   [[nodiscard]] std::size_t size() const noexcept { return names_.size(); }
 
+  /// Forgets every name interned after the first `n` (build-time rollback, so that a rejected
+  /// operation leaves the table exactly as it was). O(number of names dropped).
+  void TruncateTo(std::size_t n);
+
   /// Heap bytes held by the names and the index (for memory reports).
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept;
 

@@ -1,0 +1,203 @@
+// File: semgraph/core/twist_forest.h
+//
+// TwistForest: the body-level twist graph TG(P) of one pose tree P (spec §3). Nodes are bodies,
+// edges are twist edges D -> {h}|H seen undirected (a twist inverts), identified by an edge id
+// the caller chooses. Rule W3 makes TG(P) a forest, so between two bodies there is at most one
+// twist path; this class stores that forest so the path is found by walking parent pointers,
+// and so the two checks that guard it are cheap: Connected (W3, before adding an edge) and
+// CanMerge (W4, before a pose edge joins two pose trees).
+//
+// Representation. Each tree of the forest is rooted at an arbitrary body. Per body (a
+// FlatMap<Node> keyed by body id): the parent body, the edge id to it, the depth, the head of
+// an intrusive doubly linked list of children (first_child, and next/prev sibling links in each
+// child), and the number of bodies of its tree (meaningful at roots only). Per edge (a
+// FlatMap<TwistEdgeEnds> keyed by edge id): its tail and head. The undirected adjacency of a
+// body is its parent plus its children, so no per-body container is needed: every record is
+// trivially copyable and the traversals below need no stack.
+//
+// Invariants (checked by CheckInvariants):
+//  - ids: body and edge ids are never kNone (0xFFFFFFFF, the strong ids' invalid sentinel).
+//  - forest: every edge joins a body to its parent; a non-root body has exactly one parent
+//    edge, so num_edges() == num_bodies() - number of trees.
+//  - depth(root) == 0 and depth(b) == depth(parent(b)) + 1 (hence parent pointers are acyclic).
+//  - the children list of b holds exactly the bodies whose parent is b.
+//  - a root records the number of bodies of its tree.
+//  - no isolated body: a body is present iff it is an endpoint of some edge.
+//
+// Costs (n = bodies of the affected tree(s), d = depth of the bodies involved, k = steps):
+//  - Contains, ContainsEdge, FindEdge, parent, parent_edge, depth: O(1).
+//  - FindRoot O(d); Connected, PathLength O(d) (O(k) when connected); Path O(k + d).
+//  - Link: O(d + size of the smaller of the two trees): the smaller tree is rerooted at its
+//    endpoint and hung under the other endpoint, so over any sequence of links a body is
+//    re-levelled O(log n) times.
+//  - Unlink: O(d + size of the part below the edge), which is re-levelled; the part that stays
+//    is untouched.
+//  - CanMerge: O(m * (d + alpha)) with m = edges of the smaller forest; allocates a temporary
+//    union-find over at most 2m bodies.
+//  - Merge: links the edges of the smaller forest into the larger one (swapping first if
+//    needed), each as a Link.
+//  - Clear O(capacity); ForEachEdge O(capacity of the edge map).
+//
+// Thread safety: const methods may run concurrently; Contains, Connected, Path, PathLength,
+// FindRoot and the accessors are noexcept, lock-free and allocation-free. Link, Unlink, Merge
+// and Clear need exclusive access and may allocate.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+
+#include "semgraph/core/flat_map.h"
+
+namespace semgraph::core {
+
+/// One step of a twist path: cross twist edge `edge` from body `from` to body `to`. The step
+/// follows the edge's direction iff `from` is the edge's tail (see TwistForest::FindEdge).
+struct PathStep {
+  std::uint32_t edge = 0xFFFFFFFFu;
+  std::uint32_t from = 0xFFFFFFFFu;
+  std::uint32_t to = 0xFFFFFFFFu;
+  friend bool operator==(const PathStep&, const PathStep&) = default;
+};
+
+/// The endpoints of a twist edge D -> {h}|H: tail D (the moving body) and head H.
+struct TwistEdgeEnds {
+  std::uint32_t tail = 0xFFFFFFFFu;
+  std::uint32_t head = 0xFFFFFFFFu;
+  friend bool operator==(const TwistEdgeEnds&, const TwistEdgeEnds&) = default;
+};
+
+class TwistForest {
+ public:
+  /// No body / no edge; also never a valid id.
+  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  /// Path / PathLength result: the two bodies are not connected.
+  static constexpr std::size_t kNoPath = std::numeric_limits<std::size_t>::max();
+  /// Path result: connected, but the path has more steps than the output span holds.
+  static constexpr std::size_t kPathTooLong = kNoPath - 1;
+
+  TwistForest() noexcept = default;
+
+  // ---- Accessors: O(1), noexcept, allocation-free. -----------------------------------------
+
+  [[nodiscard]] bool Contains(std::uint32_t body) const noexcept { return nodes_.Contains(body); }
+  [[nodiscard]] bool ContainsEdge(std::uint32_t edge) const noexcept {
+    return edges_.Contains(edge);
+  }
+  /// The endpoints of `edge`, or nullptr when absent. Invalidated by any mutation.
+  [[nodiscard]] const TwistEdgeEnds* FindEdge(std::uint32_t edge) const noexcept {
+    return edges_.Find(edge);
+  }
+  [[nodiscard]] std::size_t num_bodies() const noexcept { return nodes_.size(); }
+  [[nodiscard]] std::size_t num_edges() const noexcept { return edges_.size(); }
+  [[nodiscard]] bool empty() const noexcept { return edges_.empty(); }
+  /// Parent of `body` in its rooted tree; kNone for a root or an absent body. Which body is the
+  /// root is an internal choice (Link reroots), exposed for tests and diagnostics.
+  [[nodiscard]] std::uint32_t parent(std::uint32_t body) const noexcept;
+  /// Edge from `body` to its parent; kNone for a root or an absent body.
+  [[nodiscard]] std::uint32_t parent_edge(std::uint32_t body) const noexcept;
+  /// Depth of `body` in its rooted tree; 0 for a root or an absent body.
+  [[nodiscard]] std::uint32_t depth(std::uint32_t body) const noexcept;
+
+  // ---- Queries: noexcept, allocation-free. --------------------------------------------------
+
+  /// Root of the tree holding `body`; `body` itself when absent. O(depth).
+  [[nodiscard]] std::uint32_t FindRoot(std::uint32_t body) const noexcept;
+
+  /// True iff a twist path joins `u` and `v`. u == v is always connected; an absent body is
+  /// connected only to itself. O(depth(u) + depth(v)).
+  [[nodiscard]] bool Connected(std::uint32_t u, std::uint32_t v) const noexcept;
+
+  /// Writes the unique path from `u` to `v` into `out`, in order from u to v, and returns its
+  /// number of steps (0 when u == v). Returns kNoPath when not connected and kPathTooLong when
+  /// `out` is shorter than the path; in both cases nothing is written. Never writes past the
+  /// path length. O(steps + depth).
+  [[nodiscard]] std::size_t Path(std::uint32_t u, std::uint32_t v,
+                                 std::span<PathStep> out) const noexcept;
+
+  /// Number of steps of the path from `u` to `v`, or kNoPath. O(steps + depth).
+  [[nodiscard]] std::size_t PathLength(std::uint32_t u, std::uint32_t v) const noexcept;
+
+  /// True iff the union of this forest and `other` (same body id = same node) is still a
+  /// forest: no cycle, no parallel edges, and no edge id in both. Implements spec W4. Neither
+  /// forest changes. Allocates a temporary union-find; O(m * (depth + alpha)), m = edges of the
+  /// smaller forest.
+  [[nodiscard]] bool CanMerge(const TwistForest& other) const;
+
+  // ---- Mutations: exclusive access; may allocate; invalidate FindEdge pointers. -------------
+
+  /// Adds twist edge `edge` = tail -> head, creating the bodies as needed.
+  /// @pre edge, tail, head != kNone; tail != head; `edge` absent; !Connected(tail, head).
+  /// Preconditions are checked (SEMGRAPH_DEMAND aborts) before anything changes.
+  /// O(depth + size of the smaller of the two trees), which is the one rerooted.
+  void Link(std::uint32_t edge, std::uint32_t tail, std::uint32_t head);
+
+  /// Removes `edge`; the part that hung below it becomes a tree of its own, and a body left
+  /// without edges leaves the forest. @pre ContainsEdge(edge) (checked).
+  /// O(depth + size of the part below the edge).
+  void Unlink(std::uint32_t edge);
+
+  /// Moves every edge of `other` into this forest; `other` is left empty. The surviving
+  /// storage is that of the larger forest, and the smaller one's edges are linked into it.
+  /// @pre CanMerge(other), &other != this (checked edge by edge through Link's checks, which
+  /// abort on violation, possibly after some edges were moved).
+  void Merge(TwistForest&& other);
+
+  /// Removes all bodies and edges; keeps the memory.
+  void Clear() noexcept {
+    nodes_.Clear();
+    edges_.Clear();
+  }
+
+  /// Calls f(edge, tail, head) for every edge, in unspecified order.
+  template <class F>
+  void ForEachEdge(F f) const {
+    edges_.ForEach([&f](std::uint32_t edge, const TwistEdgeEnds& ends) {
+      f(edge, ends.tail, ends.head);
+    });
+  }
+
+  /// Full structural check of the invariants above; O(n) plus temporaries. For tests and
+  /// fuzzers, never called by the library.
+  [[nodiscard]] bool CheckInvariants() const;
+
+  /// Heap bytes owned plus the object itself.
+  [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
+    return sizeof(*this) - sizeof(nodes_) - sizeof(edges_) + nodes_.ApproximateBytes() +
+           edges_.ApproximateBytes();
+  }
+
+ private:
+  struct Node {
+    std::uint32_t parent = kNone;
+    std::uint32_t parent_edge = kNone;
+    std::uint32_t depth = 0;
+    std::uint32_t first_child = kNone;
+    std::uint32_t next_sibling = kNone;
+    std::uint32_t prev_sibling = kNone;
+    std::uint32_t tree_size = 1;  // bodies in the tree; meaningful at roots only
+  };
+
+  // Present-body lookups for internal use (the body is known to be present).
+  [[nodiscard]] const Node& NodeAt(std::uint32_t body) const noexcept;
+  [[nodiscard]] Node& NodeAt(std::uint32_t body) noexcept;
+
+  // Walks u and v up to their lowest common ancestor; on success stores the number of steps
+  // from each side. False when they are in different trees. Both must be present.
+  bool Meet(std::uint32_t u, std::uint32_t v, std::size_t* up_u,
+            std::size_t* up_v) const noexcept;
+
+  void AttachChild(std::uint32_t parent, std::uint32_t child) noexcept;
+  void DetachChild(std::uint32_t parent, std::uint32_t child) noexcept;
+  // Makes `body` the root of its tree by reversing the parent links on its path to the root.
+  // Depths are left stale (the caller re-levels the whole tree).
+  void Reroot(std::uint32_t body) noexcept;
+  // Sets depth(top) = top_depth and re-levels its subtree; returns the subtree's body count.
+  std::size_t Relevel(std::uint32_t top, std::uint32_t top_depth) noexcept;
+
+  FlatMap<Node> nodes_;
+  FlatMap<TwistEdgeEnds> edges_;
+};
+
+}  // namespace semgraph::core

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages semgraph needs, skipping those already installed.
+#
+#   scripts/setup.sh [--clang] [--bench] [--dot]
+#
+#   (always)  cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
+#   --clang   clang libclang-rt-14-dev   (clang++ builds, sanitizers and libFuzzer with clang)
+#   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
+#   --dot     graphviz                   (rendering scene graphs exported as DOT)
+#
+# Idempotent: when everything is installed it only says so. Installing needs root; as
+# another user it fails, printing the command to run.
+set -euo pipefail
+
+usage() { sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; }
+
+packages=(cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev)
+for arg in "$@"; do
+  case "$arg" in
+    --clang) packages+=(clang libclang-rt-14-dev) ;;
+    --bench) packages+=(libtf2-dev valgrind) ;;
+    --dot) packages+=(graphviz) ;;
+    -h | --help) usage; exit 0 ;;
+    *) echo "setup.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
+  esac
+done
+
+is_installed() {
+  dpkg -s "$1" 2>/dev/null | grep -q '^Status: install ok installed$'
+}
+
+missing=()
+for pkg in "${packages[@]}"; do
+  if ! is_installed "$pkg"; then missing+=("$pkg"); fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages already installed: ${packages[*]}"
+  exit 0
+fi
+
+echo "setup: missing packages: ${missing[*]}"
+install_cmd="apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ${missing[*]}"
+if [ "$(id -u)" -ne 0 ]; then
+  echo "setup: installing packages needs root. Run:" >&2
+  echo "  sudo sh -c '$install_cmd'" >&2
+  exit 1
+fi
+
+echo "setup: + apt-get update"
+apt-get update
+echo "setup: + apt-get install -y --no-install-recommends ${missing[*]}"
+DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+
+for pkg in "${missing[@]}"; do
+  if ! is_installed "$pkg"; then
+    echo "setup: package $pkg is still not installed" >&2
+    exit 1
+  fi
+done
+echo "setup: installed ${missing[*]}"

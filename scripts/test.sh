@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Sets up the machine (Debian 12), builds semgraph in build/, runs every test with ctest, then
+# checks that an installed semgraph works for a consumer project (scripts/check_install.sh).
+#
+#   scripts/test.sh [extra ctest args...]      e.g. scripts/test.sh -R NameTable
+#
+# Exits non-zero if any step fails.
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+scripts/setup.sh
+scripts/build.sh build
+
+status=0
+echo "test: + ctest --test-dir build --output-on-failure -j2 $*"
+ctest --test-dir build --output-on-failure -j2 "$@" || status=1
+scripts/check_install.sh build || status=1
+
+if [ "$status" -ne 0 ]; then
+  echo "test: FAILED" >&2
+else
+  echo "test: all passed"
+fi
+exit "$status"
