@@ -33,7 +33,7 @@ function(semgraph_add_test)
   target_link_libraries(${A_NAME} PRIVATE ${A_DEPS} semgraph_test_support GTest::gtest GTest::gtest_main
                         semgraph_warnings)
   include(GoogleTest)
-  gtest_discover_tests(${A_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+  gtest_discover_tests(${A_NAME} TEST_PREFIX "${A_NAME}." DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
 endfunction()
 
 # semgraph_add_bench(NAME <name> SOURCES ... [DEPS ...])

@@ -5,9 +5,8 @@
 // chaining, no exceptions. Accessing the wrong alternative is a programming error and aborts
 // via SEMGRAPH_DEMAND.
 //
-// Invariants: holds exactly one of T or E. Trivially copyable when T and E are, so the
-// small query results (codes, ids, fixed-size coordinates) are passed in registers or copied
-// with memcpy.
+// Invariants: holds exactly one of T or E. (Copy/move/destroy are user-provided even for
+// trivial T and E: clang 14 does not implement conditionally trivial special members.)
 // Cost: construction and access are O(1), noexcept, allocation-free (beyond what T or E do).
 #pragma once
 
@@ -58,27 +57,16 @@ class [[nodiscard]] Expected {
     ::new (&storage_.error) E(std::move(unexpected.error));
   }
 
-  Expected(const Expected& other) noexcept(std::is_nothrow_copy_constructible_v<T> &&
-                                           std::is_nothrow_copy_constructible_v<E>)
-    requires(std::is_trivially_copy_constructible_v<T> && std::is_trivially_copy_constructible_v<E>)
-  = default;
   Expected(const Expected& other) : ok_(other.ok_) {
     if (ok_) ::new (&storage_.value) T(other.storage_.value);
     else ::new (&storage_.error) E(other.storage_.error);
   }
-  Expected(Expected&& other) noexcept
-    requires(std::is_trivially_move_constructible_v<T> && std::is_trivially_move_constructible_v<E>)
-  = default;
   Expected(Expected&& other) noexcept(std::is_nothrow_move_constructible_v<T> &&
                                       std::is_nothrow_move_constructible_v<E>)
       : ok_(other.ok_) {
     if (ok_) ::new (&storage_.value) T(std::move(other.storage_.value));
     else ::new (&storage_.error) E(std::move(other.storage_.error));
   }
-  Expected& operator=(const Expected& other)
-    requires(std::is_trivially_copy_assignable_v<T> && std::is_trivially_copy_assignable_v<E> &&
-             std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
-  = default;
   Expected& operator=(const Expected& other) {
     if (this != &other) {
       Destroy();
@@ -86,10 +74,6 @@ class [[nodiscard]] Expected {
     }
     return *this;
   }
-  Expected& operator=(Expected&& other) noexcept
-    requires(std::is_trivially_move_assignable_v<T> && std::is_trivially_move_assignable_v<E> &&
-             std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
-  = default;
   Expected& operator=(Expected&& other) noexcept {
     if (this != &other) {
       Destroy();
@@ -97,9 +81,6 @@ class [[nodiscard]] Expected {
     }
     return *this;
   }
-  ~Expected()
-    requires(std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
-  = default;
   ~Expected() { Destroy(); }
 
   [[nodiscard]] bool has_value() const noexcept { return ok_; }
@@ -141,9 +122,6 @@ class [[nodiscard]] Expected {
   }
   union Storage {
     Storage() noexcept {}
-    ~Storage()
-      requires(std::is_trivially_destructible_v<T> && std::is_trivially_destructible_v<E>)
-    = default;
     ~Storage() {}
     T value;
     E error;
