@@ -1,0 +1,440 @@
+#include "semgraph/core/twist_forest.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <cstdlib>
+#include <map>
+#include <new>
+#include <numeric>
+#include <queue>
+#include <random>
+#include <set>
+#include <vector>
+
+// Counts every global allocation, so tests can prove that the queries allocate nothing.
+namespace {
+std::atomic<std::size_t> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return ::operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace semgraph::core {
+namespace {
+
+constexpr std::size_t kNoPath = TwistForest::kNoPath;
+
+// The naive model: a plain edge list; paths by breadth-first search.
+class NaiveForest {
+ public:
+  std::map<std::uint32_t, TwistEdgeEnds> edges;
+
+  std::set<std::uint32_t> Bodies() const {
+    std::set<std::uint32_t> bodies;
+    for (const auto& [edge, ends] : edges) {
+      bodies.insert(ends.tail);
+      bodies.insert(ends.head);
+    }
+    return bodies;
+  }
+
+  // For every body reachable from `from`: the step that reached it (BFS tree rooted at from).
+  std::map<std::uint32_t, PathStep> Reach(std::uint32_t from) const {
+    std::map<std::uint32_t, std::vector<PathStep>> adjacent;
+    for (const auto& [edge, ends] : edges) {
+      adjacent[ends.tail].push_back(PathStep{edge, ends.tail, ends.head});
+      adjacent[ends.head].push_back(PathStep{edge, ends.head, ends.tail});
+    }
+    std::map<std::uint32_t, PathStep> reached{{from, PathStep{}}};
+    std::queue<std::uint32_t> frontier;
+    frontier.push(from);
+    while (!frontier.empty()) {
+      const std::uint32_t body = frontier.front();
+      frontier.pop();
+      for (const PathStep& step : adjacent[body]) {
+        if (reached.emplace(step.to, step).second) frontier.push(step.to);
+      }
+    }
+    return reached;
+  }
+
+  // Writes the path from the BFS root `from` to `to`; false when `to` was not reached.
+  static bool PathTo(const std::map<std::uint32_t, PathStep>& reached, std::uint32_t from,
+                     std::uint32_t to, std::vector<PathStep>* path) {
+    path->clear();
+    if (!reached.contains(to)) return false;
+    for (std::uint32_t body = to; body != from; body = reached.at(body).from) {
+      path->push_back(reached.at(body));
+    }
+    std::reverse(path->begin(), path->end());
+    return true;
+  }
+};
+
+// Naive W4: the union of two edge lists is a forest (union-find over all endpoints).
+bool NaiveUnionIsForest(const NaiveForest& a, const NaiveForest& b) {
+  std::map<std::uint32_t, std::uint32_t> up;
+  auto find = [&up](std::uint32_t x) {
+    if (!up.contains(x)) up[x] = x;
+    while (up[x] != x) x = up[x];
+    return x;
+  };
+  for (const NaiveForest* forest : {&a, &b}) {
+    for (const auto& [edge, ends] : forest->edges) {
+      if (forest == &b && a.edges.contains(edge)) return false;  // shared edge id
+      const std::uint32_t root_tail = find(ends.tail);
+      const std::uint32_t root_head = find(ends.head);
+      if (root_tail == root_head) return false;
+      up[root_tail] = root_head;
+    }
+  }
+  return true;
+}
+
+// Checks everything observable against the model, for bodies 0 .. num_bodies-1.
+void ExpectMatches(const TwistForest& forest, const NaiveForest& model, std::uint32_t num_bodies) {
+  ASSERT_TRUE(forest.CheckInvariants());
+  const std::set<std::uint32_t> bodies = model.Bodies();
+  ASSERT_EQ(forest.num_edges(), model.edges.size());
+  ASSERT_EQ(forest.num_bodies(), bodies.size());
+  for (const auto& [edge, ends] : model.edges) {
+    const TwistEdgeEnds* found = forest.FindEdge(edge);
+    ASSERT_NE(found, nullptr);
+    EXPECT_EQ(*found, ends);
+  }
+  std::vector<PathStep> expected;
+  std::vector<PathStep> actual(num_bodies);
+  for (std::uint32_t u = 0; u < num_bodies; ++u) {
+    ASSERT_EQ(forest.Contains(u), bodies.contains(u)) << "body " << u;
+    const auto reached = model.Reach(u);
+    for (std::uint32_t v = 0; v < num_bodies; ++v) {
+      const bool connected = NaiveForest::PathTo(reached, u, v, &expected);
+      ASSERT_EQ(forest.Connected(u, v), connected) << u << " - " << v;
+      const std::size_t length = forest.Path(u, v, actual);
+      if (!connected) {
+        ASSERT_EQ(length, kNoPath);
+        ASSERT_EQ(forest.PathLength(u, v), kNoPath);
+        continue;
+      }
+      ASSERT_EQ(length, expected.size()) << u << " - " << v;
+      ASSERT_EQ(forest.PathLength(u, v), expected.size());
+      for (std::size_t i = 0; i < length; ++i) ASSERT_EQ(actual[i], expected[i]);
+    }
+  }
+}
+
+// Links `edge` into both the forest and the model.
+void LinkBoth(TwistForest* forest, NaiveForest* model, std::uint32_t edge, std::uint32_t tail,
+              std::uint32_t head) {
+  forest->Link(edge, tail, head);
+  model->edges[edge] = TwistEdgeEnds{tail, head};
+}
+
+TEST(TwistForest, EmptyForestConnectsEachBodyOnlyToItself) {
+  const TwistForest forest;
+  EXPECT_TRUE(forest.Connected(4, 4));
+  EXPECT_FALSE(forest.Connected(4, 5));
+  EXPECT_EQ(forest.PathLength(4, 4), 0u);
+  EXPECT_EQ(forest.Path(4, 5, {}), kNoPath);
+  EXPECT_EQ(forest.FindRoot(4), 4u);
+  EXPECT_EQ(forest.parent(4), TwistForest::kNone);
+  EXPECT_TRUE(forest.CheckInvariants());
+}
+
+// Bodies 1 .. 4, edges (id: tail -> head):
+//
+//   10: 1 -> 2    11: 3 -> 2    12: 3 -> 4
+//
+//   1 -- 2 -- 3 -- 4
+TEST(TwistForest, PathListsStepsFromUToVAcrossEdgeDirections) {
+  TwistForest forest;
+  forest.Link(10, 1, 2);
+  forest.Link(11, 3, 2);
+  forest.Link(12, 3, 4);
+  ASSERT_TRUE(forest.CheckInvariants());
+  std::vector<PathStep> out(3);
+  ASSERT_EQ(forest.Path(1, 4, out), 3u);
+  EXPECT_EQ(out[0], (PathStep{10, 1, 2}));
+  EXPECT_EQ(out[1], (PathStep{11, 2, 3}));
+  EXPECT_EQ(out[2], (PathStep{12, 3, 4}));
+  ASSERT_EQ(forest.Path(4, 1, out), 3u);
+  EXPECT_EQ(out[0], (PathStep{12, 4, 3}));
+  EXPECT_EQ(out[2], (PathStep{10, 2, 1}));
+  EXPECT_EQ(forest.FindEdge(11)->tail, 3u);  // step 2 -> 3 crosses edge 11 against its direction
+}
+
+TEST(TwistForest, PathIntoATooShortSpanReportsTooLongAndWritesNothing) {
+  TwistForest forest;
+  forest.Link(10, 1, 2);
+  forest.Link(11, 2, 3);
+  std::vector<PathStep> out(3, PathStep{7, 7, 7});
+  EXPECT_EQ(forest.Path(1, 3, std::span(out).first(1)), TwistForest::kPathTooLong);
+  EXPECT_EQ(forest.Path(1, 9, std::span(out).first(1)), kNoPath);
+  for (const PathStep& step : out) EXPECT_EQ(step, (PathStep{7, 7, 7}));
+  EXPECT_EQ(forest.Path(1, 3, std::span(out).first(2)), 2u);
+  EXPECT_EQ(out[2], (PathStep{7, 7, 7}));  // nothing past the path
+  EXPECT_NE(TwistForest::kPathTooLong, kNoPath);
+}
+
+// Tree A (5 bodies) and tree B (2 bodies), before the link 3 -- 10:
+//
+//   A:  0 - 1 - 2 - 3 - 4        B:  10 - 11
+//
+// Linking them hangs B (the smaller) under A's endpoint 3: B is rerooted at 10, A is unchanged.
+TEST(TwistForest, LinkRerootsTheSmallerTreeUnderTheLargerOne) {
+  for (const bool a_is_tail : {true, false}) {
+    TwistForest forest;
+    forest.Link(100, 0, 1);
+    forest.Link(101, 1, 2);
+    forest.Link(102, 2, 3);
+    forest.Link(103, 3, 4);
+    forest.Link(110, 11, 10);
+    const std::uint32_t root_a = forest.FindRoot(0);
+    std::vector<std::uint32_t> parents_a;
+    for (std::uint32_t body = 0; body <= 4; ++body) parents_a.push_back(forest.parent(body));
+
+    if (a_is_tail) {
+      forest.Link(120, 3, 10);
+    } else {
+      forest.Link(120, 10, 3);
+    }
+    ASSERT_TRUE(forest.CheckInvariants());
+    for (std::uint32_t body = 0; body <= 4; ++body) {
+      EXPECT_EQ(forest.parent(body), parents_a[body]) << "A was rerooted at " << body;
+    }
+    EXPECT_EQ(forest.FindRoot(11), root_a);
+    EXPECT_EQ(forest.parent(10), 3u);
+    EXPECT_EQ(forest.parent_edge(10), 120u);
+    EXPECT_EQ(forest.parent(11), 10u);
+    EXPECT_EQ(forest.depth(10), forest.depth(3) + 1);
+    EXPECT_EQ(forest.depth(11), forest.depth(3) + 2);
+  }
+}
+
+// 1 - 2 - 3 - 4 ; removing 2 - 3 splits it; removing 1 - 2 then leaves 1 and 2 isolated.
+TEST(TwistForest, UnlinkSplitsTheTreeAndDropsBodiesLeftWithoutEdges) {
+  TwistForest forest;
+  forest.Link(10, 1, 2);
+  forest.Link(11, 2, 3);
+  forest.Link(12, 3, 4);
+  forest.Unlink(11);
+  ASSERT_TRUE(forest.CheckInvariants());
+  EXPECT_FALSE(forest.Connected(1, 4));
+  EXPECT_TRUE(forest.Connected(1, 2));
+  EXPECT_TRUE(forest.Connected(3, 4));
+  EXPECT_EQ(forest.num_bodies(), 4u);
+  forest.Unlink(10);
+  ASSERT_TRUE(forest.CheckInvariants());
+  EXPECT_FALSE(forest.Contains(1));
+  EXPECT_FALSE(forest.Contains(2));
+  EXPECT_EQ(forest.num_bodies(), 2u);
+  EXPECT_FALSE(forest.ContainsEdge(10));
+  forest.Unlink(12);
+  EXPECT_EQ(forest.num_bodies(), 0u);
+  EXPECT_TRUE(forest.CheckInvariants());
+}
+
+TEST(TwistForest, LinkOfConnectedBodiesAborts) {
+  TwistForest forest;
+  forest.Link(10, 1, 2);
+  forest.Link(11, 2, 3);
+  EXPECT_DEATH(forest.Link(12, 3, 1), "tail_root != head_root");
+  EXPECT_DEATH(forest.Link(12, 1, 1), "tail != head");
+  EXPECT_DEATH(forest.Link(10, 5, 6), "edges_.Contains");
+  EXPECT_DEATH(forest.Unlink(99), "ends != nullptr");
+}
+
+// This: 1 - 2   3 - 4.   A second 2 - 1 is parallel; 2 - 3 plus 4 - 1 closes a cycle;
+// 2 - 3 alone is fine; an edge id already used is rejected.
+TEST(TwistForest, CanMergeRejectsCyclesParallelEdgesAndSharedIds) {
+  TwistForest forest;
+  forest.Link(10, 1, 2);
+  forest.Link(11, 3, 4);
+  TwistForest parallel;
+  parallel.Link(20, 2, 1);
+  EXPECT_FALSE(forest.CanMerge(parallel));
+  EXPECT_FALSE(parallel.CanMerge(forest));
+  TwistForest cycle;
+  cycle.Link(20, 2, 3);
+  cycle.Link(21, 4, 1);
+  EXPECT_FALSE(forest.CanMerge(cycle));
+  EXPECT_FALSE(cycle.CanMerge(forest));
+  TwistForest shared_id;
+  shared_id.Link(10, 7, 8);
+  EXPECT_FALSE(forest.CanMerge(shared_id));
+  TwistForest bridge;
+  bridge.Link(20, 2, 3);
+  bridge.Link(21, 4, 5);
+  EXPECT_TRUE(forest.CanMerge(bridge));
+  EXPECT_TRUE(bridge.CanMerge(forest));
+  EXPECT_TRUE(forest.CanMerge(TwistForest{}));
+  EXPECT_FALSE(forest.CanMerge(forest));
+  forest.Merge(std::move(bridge));
+  EXPECT_TRUE(bridge.empty());  // NOLINT(bugprone-use-after-move): documented state
+  ASSERT_TRUE(forest.CheckInvariants());
+  EXPECT_EQ(forest.PathLength(1, 5), 4u);
+}
+
+TEST(TwistForest, QueriesDoNotAllocate) {
+  TwistForest forest;
+  std::mt19937 rng(7);
+  for (std::uint32_t body = 1; body < 200; ++body) {
+    forest.Link(1000 + body, body, static_cast<std::uint32_t>(rng() % body));
+  }
+  std::vector<PathStep> out(200);
+  const std::size_t before = g_allocations.load();
+  std::size_t total = 0;
+  for (std::uint32_t u = 0; u < 210; u += 3) {
+    for (std::uint32_t v = 0; v < 210; ++v) {
+      total += forest.Connected(u, v) ? 1 : 0;
+      total += forest.PathLength(u, v) != kNoPath ? 1 : 0;
+      total += forest.Path(u, v, out) != kNoPath ? 1 : 0;
+      total += forest.FindRoot(v) + forest.depth(v) + forest.parent(v);
+    }
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_GT(total, 0u);
+}
+
+TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
+  constexpr std::uint32_t kBodies = 30;
+  for (const std::uint32_t seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE(testing::Message() << "seed " << seed);
+    std::mt19937 rng(seed);
+    auto body = [&rng] { return static_cast<std::uint32_t>(rng() % kBodies); };
+    // Sparse, non-dense edge ids; a fresh one per edge.
+    std::uint32_t next_edge = 5;
+    auto fresh_edge = [&next_edge] { return next_edge += 7919; };
+    TwistForest forest;
+    NaiveForest model;
+    int merges = 0;
+    int rejected_merges = 0;
+    for (int op = 0; op < 700; ++op) {
+      SCOPED_TRACE(testing::Message() << "op " << op);
+      const std::uint32_t roll = rng() % 100;
+      if (roll < 45) {
+        const std::uint32_t tail = body();
+        const std::uint32_t head = body();
+        if (tail != head && !model.Reach(tail).contains(head)) {
+          LinkBoth(&forest, &model, fresh_edge(), tail, head);
+        }
+      } else if (roll < 75) {
+        if (!model.edges.empty()) {
+          auto it = model.edges.begin();
+          std::advance(it, rng() % model.edges.size());
+          forest.Unlink(it->first);
+          model.edges.erase(it);
+        }
+      } else if (roll < 99) {
+        // A second forest of 1..4 edges, sometimes reusing an edge id of this one.
+        TwistForest other;
+        NaiveForest other_model;
+        const std::uint32_t count = 1 + rng() % 4;
+        for (std::uint32_t i = 0; i < count; ++i) {
+          const std::uint32_t tail = body();
+          const std::uint32_t head = body();
+          if (tail == head || other_model.Reach(tail).contains(head)) continue;
+          std::uint32_t edge = fresh_edge();
+          if (rng() % 20 == 0 && !model.edges.empty() &&
+              !other_model.edges.contains(model.edges.begin()->first)) {
+            edge = model.edges.begin()->first;
+          }
+          LinkBoth(&other, &other_model, edge, tail, head);
+        }
+        ASSERT_TRUE(other.CheckInvariants());
+        const bool expected = NaiveUnionIsForest(model, other_model);
+        ASSERT_EQ(forest.CanMerge(other), expected);
+        ASSERT_EQ(other.CanMerge(forest), expected);
+        if (expected) {
+          ++merges;
+          if (rng() % 2 == 0) {
+            forest.Merge(std::move(other));
+          } else {
+            other.Merge(std::move(forest));
+            forest = std::move(other);
+          }
+          model.edges.insert(other_model.edges.begin(), other_model.edges.end());
+        } else {
+          ++rejected_merges;
+        }
+      } else {
+        forest.Clear();
+        model.edges.clear();
+      }
+      ExpectMatches(forest, model, kBodies);
+      if (testing::Test::HasFatalFailure()) return;
+    }
+    EXPECT_GT(merges, 10);
+    EXPECT_GT(rejected_merges, 10);
+  }
+}
+
+TEST(TwistForest, StaysCorrectForThousandsOfBodies) {
+  constexpr std::uint32_t kBodies = 3000;
+  std::mt19937 rng(11);
+  // A long chain (depth ~kBodies) first: the worst case for the parent walks.
+  TwistForest chain;
+  for (std::uint32_t body = 1; body < kBodies; ++body) chain.Link(body, body - 1, body);
+  ASSERT_TRUE(chain.CheckInvariants());
+  EXPECT_EQ(chain.PathLength(0, kBodies - 1), kBodies - 1);
+  std::vector<PathStep> out(kBodies);
+  ASSERT_EQ(chain.Path(kBodies - 1, 0, out), kBodies - 1);
+  EXPECT_EQ(out.front(), (PathStep{kBodies - 1, kBodies - 1, kBodies - 2}));
+  EXPECT_EQ(out[kBodies - 2], (PathStep{1, 1, 0}));
+
+  // A random tree linked in random edge order, so trees of all sizes get joined.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> tree_edges;
+  for (std::uint32_t body = 1; body < kBodies; ++body) {
+    tree_edges.emplace_back(body, static_cast<std::uint32_t>(rng() % body));
+  }
+  std::shuffle(tree_edges.begin(), tree_edges.end(), rng);
+  TwistForest forest;
+  NaiveForest model;
+  std::uint32_t edge = 0;
+  for (const auto& [tail, head] : tree_edges) LinkBoth(&forest, &model, ++edge, tail, head);
+  ASSERT_TRUE(forest.CheckInvariants());
+  // Remove a third of the edges, then relink random unconnected pairs.
+  for (int i = 0; i < 1000; ++i) {
+    auto it = model.edges.begin();
+    std::advance(it, rng() % model.edges.size());
+    forest.Unlink(it->first);
+    model.edges.erase(it);
+  }
+  ASSERT_TRUE(forest.CheckInvariants());
+  for (int i = 0; i < 500; ++i) {
+    const auto tail = static_cast<std::uint32_t>(rng() % kBodies);
+    const auto head = static_cast<std::uint32_t>(rng() % kBodies);
+    if (tail != head && !forest.Connected(tail, head)) {
+      LinkBoth(&forest, &model, ++edge + kBodies, tail, head);
+    }
+  }
+  ASSERT_TRUE(forest.CheckInvariants());
+  ASSERT_EQ(forest.num_edges(), model.edges.size());
+  std::vector<PathStep> expected;
+  for (int i = 0; i < 30; ++i) {
+    const auto u = static_cast<std::uint32_t>(rng() % kBodies);
+    const auto reached = model.Reach(u);
+    for (std::uint32_t v = 0; v < kBodies; v += 7) {
+      const bool connected = NaiveForest::PathTo(reached, u, v, &expected);
+      const std::size_t length = forest.Path(u, v, out);
+      ASSERT_EQ(length, connected ? expected.size() : kNoPath) << u << " - " << v;
+      if (connected) {
+        ASSERT_TRUE(std::equal(expected.begin(), expected.end(), out.begin()));
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace semgraph::core
