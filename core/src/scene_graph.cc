@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "semgraph/core/compiled_query.h"
 #include "semgraph/semantics/describe.h"
 
 namespace semgraph::core {
@@ -90,8 +91,8 @@ FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
   SEMGRAPH_DEMAND(f.value() == frames_.size() && uf == f.value());
   frames_.push_back(FrameNode{name, body, kNone, bodies_[body.value()].first_frame});
   bodies_[body.value()].first_frame = f.value();
-  X_PF_.push_back(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()),
-                              Eigen::Vector3d::Zero()));
+  X_PF_.emplace_back(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()),
+                                 Eigen::Vector3d::Zero()));
   frame_of_name_[name.value()] = f.value();
   return f;
 }
@@ -170,9 +171,10 @@ BodyIndex SceneGraph<B>::twist_parent(FrameIndex f) const noexcept {
 }
 
 template <coord::Backend B>
-const coord::Twist* SceneGraph<B>::twist_value(FrameIndex f) const noexcept {
+std::optional<coord::Twist> SceneGraph<B>::twist_value(FrameIndex f) const noexcept {
   const std::uint32_t e = frames_[f.value()].twist_edge;
-  return e == kNone ? nullptr : &twist_edges_[e].twist;
+  if (e == kNone) return std::nullopt;
+  return LoadTwist(twist_edges_[e]);
 }
 
 // ====================================================================== tree records
@@ -282,7 +284,7 @@ auto SceneGraph<B>::EdgePose(FrameIndex child) const noexcept -> Pose {
   const FrameIndex parent = forest_.parent(child);
   return Pose{semantics::PoseSemantics::OfFrame(FrameSem(child), BodyOfSem(child), FrameSem(parent),
                                                 BodyOfSem(parent), FrameSem(parent).axes()),
-              X_PF_[child.value()]};
+              X_PF_[child.value()].Load()};
 }
 
 template <coord::Backend B>
@@ -499,7 +501,8 @@ Result<coord::Twist> SceneGraph<B>::EdgeTwistAt(std::uint32_t edge, std::uint32_
                                                 FrameIndex e, FrameIndex r) const noexcept {
   const TwistEdge& te = twist_edges_[edge];
   // Stored: TwistCoord(h|H, D, [h]). Traversed from H it is used as is; from D, inverted.
-  coord::Twist tw = body_of(te.head).value() == from_body ? te.twist : coord::Inverse(te.twist);
+  const coord::Twist stored = LoadTwist(te);
+  coord::Twist tw = body_of(te.head).value() == from_body ? stored : coord::Inverse(stored);
   const FrameIndex h = te.head;
   if (h != e) {
     // A = position of the old point h wrt the new point e, in [h].
@@ -883,7 +886,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   // 8. Existing edge b -> a: constant_pose_change, or a value update.
   if (a.is_valid() && b.is_valid() && forest_.parent(a) == b) {
     if (body_of(a) == body_of(b)) {
-      const auto& stored = X_PF_[a.value()];
+      const auto stored = X_PF_[a.value()].Load();
       const Eigen::Matrix3d dR = B::ToMatrix(B::RotationOf(stored)) - B::ToMatrix(B::RotationOf(X.value));
       const Eigen::Vector3d p_stored = B::TranslationOf(stored);
       const double dp = (p_stored - B::TranslationOf(X.value)).norm();
@@ -897,7 +900,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                         ", so their pose is constant; it is already set (position " +
                         FormatVector(p_stored) + "); remove the edge first to recalibrate");
     }
-    X_PF_[a.value()] = X.value;
+    X_PF_[a.value()].Store(X.value);
     rollback.Commit();
     return Ok{};
   }
@@ -961,7 +964,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   // Records are materialized before linking (EnsureRecord relies on single-frame trees).
   const std::uint32_t index_t = idx_t ? *idx_t : (EnsureRecord(tail), *record_of_rep_.Find(rep_t));
   forest_.Link(tail, head);
-  X_PF_[head.value()] = X.value;
+  X_PF_[head.value()].Store(X.value);
   ++num_pose_edges_;
   if (head_is_single) {
     // Fast path: the head is a single frame without twists; count its body into tail's tree.
@@ -1070,7 +1073,7 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   if (e.is_valid() && frames_[e.value()].twist_edge != kNone) {
     TwistEdge& te = twist_edges_[frames_[e.value()].twist_edge];
     if (te.tail == D && D.is_valid()) {
-      te.twist = tw;
+      te.value.Store(TwistNumbers{tw.linear, tw.angular});
       rollback.Commit();
       return Ok{};
     }
@@ -1102,7 +1105,12 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   }
   tw.semantics.body = BodySem(C);
   tw.semantics.ref_body = BodySem(tail);
-  twist_edges_[index] = TwistEdge{tail, head, true, tw};
+  TwistEdge& te = twist_edges_[index];
+  te.tail = tail;
+  te.head = head;
+  te.alive = true;
+  te.semantics = tw.semantics;
+  te.value.Store(TwistNumbers{tw.linear, tw.angular});
   frames_[head.value()].twist_edge = index;
   EnsureRecord(head).twists.Link(index, tail.value(), C.value());
   ++num_twist_edges_;
@@ -1143,6 +1151,7 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view wrt)
   const FrameIndex old_root = forest_.Root(t);
   forest_.ForEachInSubtree(old_root, [&](FrameIndex f) { trees_.Reset(f.value()); });
   forest_.Cut(h);
+  X_PF_[h.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
   --num_pose_edges_;
   RebuildTree(old_root, twist_edges);
   RebuildTree(h, twist_edges);
@@ -1174,6 +1183,7 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view point, std::string_view 
   rec.twists.Unlink(index);
   frames_[h.value()].twist_edge = kNone;
   twist_edges_[index].alive = false;
+  twist_edges_[index].value.BumpEpoch();  // compiled queries using this edge become invalid
   free_twist_edges_.push_back(index);
   --num_twist_edges_;
   // A single-frame tree without twists needs no record.
@@ -1267,13 +1277,13 @@ std::string SceneGraph<B>::Dump() const {
     const FrameIndex f(i);
     out << "  frame " << i << " " << FrameText(f);
     if (forest_.parent(f).is_valid()) {
-      const auto& X = X_PF_[i];
+      const auto X = X_PF_[i].Load();
       const Eigen::Quaterniond q = B::ToQuaternion(B::RotationOf(X));
       const Eigen::Vector3d p = B::TranslationOf(X);
       out << " parent " << forest_.parent(f).value() << " p " << p.x() << " " << p.y() << " " << p.z()
           << " q " << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
     }
-    if (const coord::Twist* tw = twist_value(f)) {
+    if (const std::optional<coord::Twist> tw = twist_value(f)) {
       out << " twist_parent " << body_name(twist_parent(f)) << " v " << tw->linear.transpose()
           << " w " << tw->angular.transpose();
     }
@@ -1343,7 +1353,7 @@ template <coord::Backend B>
 std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept {
   std::size_t bytes = sizeof(*this);
   bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);
-  bytes += X_PF_.capacity() * sizeof(typename B::PoseCoords);
+  bytes += X_PF_.capacity() * sizeof(SeqLockValue<typename B::PoseCoords>);
   bytes += forest_.ApproximateBytes();
   bytes += trees_.size() * 2 * sizeof(std::uint32_t);
   bytes += record_of_rep_.ApproximateBytes();
@@ -1351,6 +1361,192 @@ std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept {
   bytes += twist_edges_.capacity() * sizeof(TwistEdge);
   bytes += (frame_of_name_.capacity() + body_of_name_.capacity()) * sizeof(std::uint32_t);
   return bytes;
+}
+
+// ====================================================================== real-time path
+
+template <coord::Backend B>
+Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of,
+                                                            std::string_view wrt) const {
+  const std::string what = "handle of the pose of {" + std::string(of) + "} wrt {" + std::string(wrt) + "}";
+  const FrameIndex h = FindFrame(of), t = FindFrame(wrt);
+  if (!h.is_valid() || !t.is_valid()) {
+    return Unexpected{Reject(ErrorCode::kUnknownFrame, what,
+                             "frame {" + std::string(h.is_valid() ? wrt : of) + "} does not exist")
+                          .error()};
+  }
+  if (forest_.parent(h) != t) {
+    return Unexpected{Reject(ErrorCode::kNoSuchEdge, what,
+                             "there is no pose edge " + FrameText(t) + " -> " + FrameText(h))
+                          .error()};
+  }
+  if (body_of(h) == body_of(t)) {
+    return Unexpected{Reject(ErrorCode::kConstantPoseChange, what,
+                             FrameText(h) + " and " + FrameText(t) +
+                                 " are fixed to one body: their pose is constant")
+                          .error()};
+  }
+  return PoseHandle{h, X_PF_[h.value()].epoch()};
+}
+
+template <coord::Backend B>
+Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view point,
+                                                              std::string_view ref_body) const {
+  const std::string what = "handle of the twist of " + std::string(point) + " wrt " + std::string(ref_body);
+  const FrameIndex h = FindFrame(point);
+  if (!h.is_valid()) {
+    return Unexpected{
+        Reject(ErrorCode::kUnknownFrame, what, "frame {" + std::string(point) + "} does not exist").error()};
+  }
+  const BodyIndex D = FindBody(ref_body);
+  if (!D.is_valid()) {
+    return Unexpected{
+        Reject(ErrorCode::kUnknownBody, what, "body " + std::string(ref_body) + " does not exist").error()};
+  }
+  const std::uint32_t slot = frames_[h.value()].twist_edge;
+  if (slot == kNone || twist_edges_[slot].tail != D) {
+    return Unexpected{Reject(ErrorCode::kNoSuchEdge, what,
+                             "there is no twist edge " + std::string(ref_body) + " -> " + FrameText(h))
+                          .error()};
+  }
+  return TwistHandle{slot, twist_edges_[slot].value.epoch()};
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ThHo_T) noexcept {
+  if (!edge.child.is_valid() || edge.child.value() >= X_PF_.size() ||
+      X_PF_[edge.child.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  auto p = coord::ValidateVector(p_ThHo_T, coord::ValueRole::kPosition);
+  if (!p) return p.error().code;
+  auto q = coord::ValidateQuaternion(q_TH);
+  if (!q) return q.error().code;
+  X_PF_[edge.child.value()].Store(B::MakePose(B::FromQuaternion(*q), *p));
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
+                                 const Eigen::Vector3d& p_ThHo_T) noexcept {
+  if (!edge.child.is_valid() || edge.child.value() >= X_PF_.size() ||
+      X_PF_[edge.child.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  auto p = coord::ValidateVector(p_ThHo_T, coord::ValueRole::kPosition);
+  if (!p) return p.error().code;
+  auto R = coord::ValidateRotationMatrix(R_TH);
+  if (!R) return R.error().code;
+  X_PF_[edge.child.value()].Store(B::MakePose(B::FromMatrix(*R), *p));
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_linear,
+                                  const Eigen::Vector3d& w_angular) noexcept {
+  if (edge.slot >= twist_edges_.size() || !twist_edges_[edge.slot].alive ||
+      twist_edges_[edge.slot].value.epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  auto v = coord::ValidateVector(v_linear, coord::ValueRole::kLinearVelocity);
+  if (!v) return v.error().code;
+  auto w = coord::ValidateVector(w_angular, coord::ValueRole::kAngularVelocity);
+  if (!w) return w.error().code;
+  twist_edges_[edge.slot].value.Store(TwistNumbers{*v, *w});
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+Expected<CompiledPose<B>, QueryError> SceneGraph<B>::CompilePose(const PoseSpec& spec) const {
+  auto checked = GetPose(spec);  // every check of the one-shot query, once
+  if (!checked) return Unexpected{checked.error()};
+  const semantics::PoseSemantics& q = checked->semantics;
+  const FrameIndex e = FrameOfName(q.point.id()), a = FrameOfName(q.orientation.id());
+  const FrameIndex f = FrameOfName(q.ref_point.id()), b = FrameOfName(q.ref_orientation.id());
+  const FrameIndex r = FrameOfName(q.coordinate_frame.id());
+  CompiledPose<B> c;
+  c.graph_ = this;
+  c.semantics_ = q;
+  c.ab_ = c.AddBasic(a, b);
+  if ((c.change_ref_point_ = f != b)) c.fb_ = c.AddBasic(f, b);
+  if ((c.change_point_ = e != a)) c.ea_ = c.AddBasic(e, a);
+  if ((c.change_frame_ = r != b)) c.br_ = c.AddBasic(b, r);
+  return c;
+}
+
+template <coord::Backend B>
+Expected<CompiledPosition<B>, QueryError> SceneGraph<B>::CompilePosition(const PoseSpec& spec) const {
+  auto checked = GetPosition(spec);
+  if (!checked) return Unexpected{checked.error()};
+  const semantics::PositionSemantics& q = checked->semantics;
+  const FrameIndex e = FrameOfName(q.point.id()), f = FrameOfName(q.ref_point.id());
+  const FrameIndex r = FrameOfName(q.coordinate_frame.id());
+  CompiledPosition<B> c;
+  c.graph_ = this;
+  c.semantics_ = q;
+  c.ef_ = c.AddBasic(e, f);
+  if ((c.change_frame_ = r != f)) c.fr_ = c.AddBasic(f, r);
+  return c;
+}
+
+template <coord::Backend B>
+Expected<CompiledOrientation<B>, QueryError> SceneGraph<B>::CompileOrientation(
+    const PoseSpec& spec) const {
+  auto checked = GetOrientation(spec);
+  if (!checked) return Unexpected{checked.error()};
+  const semantics::OrientationSemantics& q = checked->semantics;
+  const FrameIndex a = FrameOfName(q.orientation.id()), b = FrameOfName(q.ref_orientation.id());
+  const FrameIndex r = FrameOfName(q.coordinate_frame.id());
+  CompiledOrientation<B> c;
+  c.graph_ = this;
+  c.semantics_ = q;
+  c.ab_ = c.AddBasic(a, b);
+  if ((c.change_frame_ = r != b)) c.br_ = c.AddBasic(b, r);
+  return c;
+}
+
+template <coord::Backend B>
+Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec& spec) const {
+  TwistSpec s = spec;
+  if (s.point.empty()) s.point = s.coordinate_frame;  // angular velocity: any point will do
+  auto checked = GetTwist(s);
+  if (!checked) return Unexpected{checked.error()};
+  const semantics::TwistSemantics& q = checked->semantics;
+  const FrameIndex e = FrameOfName(q.point.id()), r = FrameOfName(q.coordinate_frame.id());
+  const BodyIndex C = BodyOfName(q.body.id()), D = BodyOfName(q.ref_body.id());
+  CompiledTwist<B> c;
+  c.graph_ = this;
+  c.semantics_ = q;
+  if (C == D) return c;
+  const TreeRecord* rec = RecordOf(e);
+  SEMGRAPH_DEMAND(rec != nullptr);
+  const TwistForest& tg = rec->twists;
+  std::uint32_t x = C.value(), y = D.value();
+  while (tg.depth(x) > tg.depth(y)) x = tg.parent(x);
+  while (tg.depth(y) > tg.depth(x)) y = tg.parent(y);
+  while (x != y) {
+    x = tg.parent(x);
+    y = tg.parent(y);
+  }
+  // C up to the common ancestor as stored/inverted; D's side is subtracted (inverse twist).
+  const auto walk = [&](std::uint32_t from, bool negate) {
+    for (std::uint32_t body = from; body != x; body = tg.parent(body)) {
+      const std::uint32_t slot = tg.parent_edge(body);
+      const TwistEdge& te = twist_edges_[slot];
+      const FrameIndex h = te.head;
+      typename CompiledTwist<B>::Step step{};
+      step.slot = slot;
+      step.epoch = te.value.epoch();
+      step.invert = (body_of(h).value() != body) != negate;
+      if ((step.move_point = h != e)) step.eh = c.AddBasic(e, h);
+      if ((step.change_frame = h != r)) step.hr = c.AddBasic(h, r);
+      c.steps_.push_back(step);
+    }
+  };
+  walk(C.value(), false);
+  walk(D.value(), true);
+  return c;
 }
 
 template class SceneGraph<coord::QuaternionBackend>;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <optional>
 #include <string>
 
 #include "../../examples/spray_painting_scene.h"
@@ -137,8 +138,8 @@ TEST_F(SprayPainting, VelocitiesAtCoincidentPointsInEveryFrame) {
 
 TEST_F(SprayPainting, ConvertedCameraTwistIsAScrewTwistAtO1) {
   const FrameIndex o1 = graph_.FindFrame("o1");
-  const coord::Twist* V = graph_.twist_value(o1);
-  ASSERT_NE(V, nullptr);
+  const std::optional<coord::Twist> V = graph_.twist_value(o1);
+  ASSERT_TRUE(V.has_value());
   // Stored: TwistCoord(o1|O1, C, [o1]) = the measured twist rotated from [c] into [o1].
   const Matrix3d R_o1c = X_W_["o1"].R.transpose() * X_W_["c"].R;
   EXPECT_LT((V->linear - R_o1c * scene::kV_CO1_c).norm(), 1e-12);

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,7 @@
 #include "semgraph/core/flat_map.h"
 #include "semgraph/core/ids.h"
 #include "semgraph/core/pose_forest.h"
+#include "semgraph/core/seqlock_value.h"
 #include "semgraph/core/twist_forest.h"
 #include "semgraph/semantics/names.h"
 
@@ -131,6 +133,28 @@ struct TwistSpec {
   }
 };
 
+/// A resolved pose edge, for O(1) value updates from a control loop (see SetPose).
+struct PoseHandle {
+  FrameIndex child;         ///< the edge's head frame
+  std::uint32_t epoch = 0;  ///< the edge's epoch when the handle was made
+};
+/// A resolved twist edge, for O(1) value updates (see SetTwist).
+struct TwistHandle {
+  std::uint32_t slot = 0xFFFFFFFFu;
+  std::uint32_t epoch = 0;
+};
+
+template <coord::Backend B>
+class CompiledPose;
+template <coord::Backend B>
+class CompiledPosition;
+template <coord::Backend B>
+class CompiledOrientation;
+template <coord::Backend B>
+class CompiledTwist;
+template <coord::Backend B>
+class CompiledQuery;
+
 template <coord::Backend B = coord::QuaternionBackend>
 class SceneGraph {
  public:
@@ -171,6 +195,42 @@ class SceneGraph {
   /// no_such_edge.
   BuildResult RemoveTwist(std::string_view point, std::string_view ref_body);
 
+  // ---------------------------------------------------------------- real-time path
+  // See docs/realtime.md. Handles and compiled queries are made at build time (they allocate
+  // and may fail with a rich error); afterwards SetPose/SetTwist and CompiledX::Evaluate are
+  // noexcept, allocation-free, lock-free and string-free. One writer thread may call
+  // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks).
+
+  /// Handle of the existing pose edge {wrt} -> {of}: unknown_frame, no_such_edge, or
+  /// constant_pose_change for a same-body (constant) edge, which cannot be updated.
+  [[nodiscard]] Expected<PoseHandle, BuildError> FindPoseEdge(std::string_view of,
+                                                             std::string_view wrt) const;
+  /// Handle of the existing twist edge ref_body -> {point}: unknown_frame, unknown_body,
+  /// no_such_edge.
+  [[nodiscard]] Expected<TwistHandle, BuildError> FindTwistEdge(std::string_view point,
+                                                               std::string_view ref_body) const;
+  /// New value X_TH of the edge (rotation of the head in the tail, position of the head's origin
+  /// in the tail, both in [tail]). O(1). Codes: kOk, kInvalidNumber, kInvalidRotation
+  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made).
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                  const Eigen::Vector3d& p_ThHo_T) noexcept;
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
+                                  const Eigen::Vector3d& p_ThHo_T) noexcept;
+  /// New value of the screw twist of the edge: velocity of the head origin and angular velocity
+  /// of the head's body relative to the tail body, both in [head]. O(1); codes as SetPose.
+  [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_linear,
+                                   const Eigen::Vector3d& w_angular) noexcept;
+
+  /// Compiled queries: the semantics are checked and the path resolved once (the same errors
+  /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
+  /// compiled query refers to this graph, which must outlive it and must not move.
+  [[nodiscard]] Expected<CompiledPose<B>, QueryError> CompilePose(const PoseSpec& spec) const;
+  [[nodiscard]] Expected<CompiledPosition<B>, QueryError> CompilePosition(const PoseSpec& spec) const;
+  [[nodiscard]] Expected<CompiledOrientation<B>, QueryError> CompileOrientation(
+      const PoseSpec& spec) const;
+  /// Twist, linear velocity and angular velocity (use the parts of the result).
+  [[nodiscard]] Expected<CompiledTwist<B>, QueryError> CompileTwist(const TwistSpec& spec) const;
+
   // ---------------------------------------------------------------- queries (noexcept)
 
   /// Error order: invalid_name (empty required name) -> unknown_frame -> unknown_body ->
@@ -208,12 +268,12 @@ class SceneGraph {
   [[nodiscard]] BodyIndex body_of(FrameIndex f) const noexcept { return frames_[f.value()].body; }
   /// Pose parent of f (invalid for a root) and the stored edge value X_PF in [P].
   [[nodiscard]] FrameIndex pose_parent(FrameIndex f) const noexcept { return forest_.parent(f); }
-  [[nodiscard]] const typename B::PoseCoords& pose_value(FrameIndex f) const noexcept {
-    return X_PF_[f.value()];
+  [[nodiscard]] typename B::PoseCoords pose_value(FrameIndex f) const noexcept {
+    return X_PF_[f.value()].Load();
   }
   /// Twist parent body of f (invalid if none) and the stored screw twist (v, w) at f in [f].
   [[nodiscard]] BodyIndex twist_parent(FrameIndex f) const noexcept;
-  [[nodiscard]] const coord::Twist* twist_value(FrameIndex f) const noexcept;
+  [[nodiscard]] std::optional<coord::Twist> twist_value(FrameIndex f) const noexcept;
   [[nodiscard]] FrameIndex tree_root(FrameIndex f) const noexcept { return forest_.Root(f); }
 
   /// Text for a query error. `spec_name` is the name of the argument when it was never interned
@@ -246,6 +306,11 @@ class SceneGraph {
   }
 
  private:
+  friend class CompiledQuery<B>;
+  struct TwistNumbers {
+    Eigen::Vector3d v;  // velocity of the head origin, in [head]
+    Eigen::Vector3d w;  // angular velocity, in [head]
+  };
   struct FrameNode {
     NameId name;
     BodyIndex body;
@@ -260,8 +325,13 @@ class SceneGraph {
     BodyIndex tail;
     FrameIndex head;
     bool alive = false;
-    coord::Twist twist;  // screw twist TwistCoord(h|H, D, [h])
+    semantics::TwistSemantics semantics;  // screw twist TwistCoord(h|H, D, [h])
+    SeqLockValue<TwistNumbers> value;
   };
+  coord::Twist LoadTwist(const TwistEdge& te) const noexcept {
+    const TwistNumbers n = te.value.Load();
+    return coord::Twist{te.semantics, n.v, n.w};
+  }
   struct TreeRecord {
     FlatMap<std::uint32_t> body_counts;  // body -> number of its frames in this tree
     TwistForest twists;                  // TG(P), edge ids = twist_edges_ indices
@@ -329,7 +399,9 @@ class SceneGraph {
   std::vector<std::uint32_t> body_of_name_;   // NameId -> BodyIndex
   std::vector<FrameNode> frames_;
   std::vector<BodyNode> bodies_;
-  std::vector<typename B::PoseCoords> X_PF_;  // pose edge value of each frame's parent edge
+  // Value (and epoch) of each frame's parent pose edge, X_PF in [P]: a sequence lock each, so
+  // a control loop can update joint poses while queries read them.
+  std::vector<SeqLockValue<typename B::PoseCoords>> X_PF_;
   PoseForest forest_;
   DisjointSets trees_;                        // which pose tree a frame is in
   FlatMap<std::uint32_t> record_of_rep_;      // union-find representative -> records_ index

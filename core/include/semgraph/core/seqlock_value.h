@@ -1,0 +1,97 @@
+// File: semgraph/core/seqlock_value.h
+//
+// SeqLockValue<T>: one edge value (a pose or a twist) that one writer thread may update while
+// any number of reader threads read it, without locks and without torn reads (a sequence lock
+// over relaxed atomic words, so it is also free of data races in the C++ memory model and under
+// ThreadSanitizer). It also carries the edge's *epoch*: a counter bumped when the edge is removed,
+// so that a compiled query built on the edge notices, instead of reading a stranger's value.
+//
+// Header word: high 32 bits = epoch, low 32 bits = sequence (odd while a write is in progress).
+// Invariants: the sequence is even between writes; readers return a value that some completed
+// Store wrote (never a mix of two writes).
+// Costs: Store = 2 header stores + sizeof(T)/8 relaxed word stores; Load = 2 header loads + the
+// word loads (plain moves on x86-64), retried only when a write overlapped the read.
+// Thread safety: one writer at a time (per value); readers concurrent with it. Copying (which
+// std::vector needs to grow) is only allowed with exclusive access: the graph's build phase.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+namespace semgraph::core {
+
+template <class T>
+class SeqLockValue {
+ public:
+  static constexpr std::size_t kWords = (sizeof(T) + 7) / 8;
+
+  SeqLockValue() noexcept = default;
+  explicit SeqLockValue(const T& value) noexcept { Store(value); }
+  // Exclusive access only (vector growth during the build phase).
+  SeqLockValue(const SeqLockValue& other) noexcept {
+    header_.store(other.header_.load(std::memory_order_relaxed) & ~kSeqMask, std::memory_order_relaxed);
+    for (std::size_t i = 0; i < kWords; ++i) {
+      words_[i].store(other.words_[i].load(std::memory_order_relaxed), std::memory_order_relaxed);
+    }
+  }
+  SeqLockValue& operator=(const SeqLockValue&) = delete;
+
+  /// Single writer. Never blocks readers for longer than the copy of kWords words.
+  void Store(const T& value) noexcept {
+    std::uint64_t words[kWords] = {};
+    std::memcpy(static_cast<void*>(words), static_cast<const void*>(&value), sizeof(T));
+    const std::uint64_t h = header_.load(std::memory_order_relaxed);
+    header_.store(NextSeq(h), std::memory_order_relaxed);  // odd: write in progress
+    std::atomic_thread_fence(std::memory_order_release);
+    for (std::size_t i = 0; i < kWords; ++i) words_[i].store(words[i], std::memory_order_relaxed);
+    header_.store(NextSeq(NextSeq(h)), std::memory_order_release);  // even again
+  }
+
+  /// Reads a consistent value if the epoch is still `epoch`; false (out untouched) otherwise.
+  [[nodiscard]] bool Load(T& out, std::uint32_t epoch) const noexcept {
+    std::uint64_t words[kWords];
+    for (;;) {
+      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+      if (Epoch(h1) != epoch) return false;
+      if (h1 & 1u) continue;  // a write is in progress; it is a handful of stores
+      for (std::size_t i = 0; i < kWords; ++i) words[i] = words_[i].load(std::memory_order_relaxed);
+      std::atomic_thread_fence(std::memory_order_acquire);
+      if (header_.load(std::memory_order_relaxed) == h1) break;
+    }
+    std::memcpy(static_cast<void*>(&out), static_cast<const void*>(words), sizeof(T));
+    return true;
+  }
+
+  /// Reads a consistent value whatever the epoch.
+  [[nodiscard]] T Load() const noexcept {
+    T out;
+    while (!Load(out, epoch())) {
+    }
+    return out;
+  }
+
+  [[nodiscard]] std::uint32_t epoch() const noexcept {
+    return Epoch(header_.load(std::memory_order_acquire));
+  }
+  /// Exclusive access: the edge was removed; compiled queries holding the old epoch fail.
+  void BumpEpoch() noexcept {
+    const std::uint64_t h = header_.load(std::memory_order_relaxed);
+    header_.store(((h >> 32) + 1) << 32 | (h & kSeqMask), std::memory_order_release);
+  }
+
+ private:
+  static constexpr std::uint64_t kSeqMask = 0xFFFFFFFFull;
+  static constexpr std::uint32_t Epoch(std::uint64_t h) noexcept {
+    return static_cast<std::uint32_t>(h >> 32);
+  }
+  static constexpr std::uint64_t NextSeq(std::uint64_t h) noexcept {
+    return (h & ~kSeqMask) | ((h + 1) & kSeqMask);  // the sequence wraps without touching the epoch
+  }
+
+  std::atomic<std::uint64_t> header_{0};
+  std::atomic<std::uint64_t> words_[kWords] = {};
+};
+
+}  // namespace semgraph::core
