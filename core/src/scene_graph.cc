@@ -927,7 +927,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     if (!same_body && C.is_valid() && TreeHasBody(b, C)) shared = C;
   }
   if (shared.is_valid()) {
-    const FrameIndex in_t = SomeFrameOfBodyInTree(shared, b.is_valid() ? b : FrameIndex());
+    const FrameIndex in_t = b.is_valid() ? SomeFrameOfBodyInTree(shared, b) : FrameIndex();
     const FrameIndex in_h = a.is_valid() ? SomeFrameOfBodyInTree(shared, a) : FrameIndex();
     std::string reason = "body " + std::string(body_name(shared)) + " would be reachable twice: ";
     reason += in_t.is_valid() ? FrameText(in_t) : std::string("{" + std::string(spec.ref_orientation) + "}");
