@@ -29,11 +29,21 @@ Expected<Ok, Error> CheckFinite(const M& m, ValueRole role) noexcept {
   return Ok{};
 }
 
+// Subnormals become zero: physically meaningless, and slow in every later product.
+double FlushSubnormal(double x) noexcept { return std::fpclassify(x) == FP_SUBNORMAL ? 0.0 : x; }
+
 }  // namespace
 
 Expected<Eigen::Vector3d, Error> ValidateVector(const Eigen::Vector3d& v, ValueRole role) noexcept {
   if (auto ok = CheckFinite(v, role); !ok) return Unexpected{ok.error()};
-  return v;
+  Eigen::Vector3d out;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(v[i]) > kMaxMagnitude) {
+      return Unexpected{ValueError(ErrorCode::kInvalidNumber, ValueProblem::kTooLarge, role, i, v[i])};
+    }
+    out[i] = FlushSubnormal(v[i]);
+  }
+  return out;
 }
 
 Expected<Eigen::Quaterniond, Error> ValidateQuaternion(const Eigen::Quaterniond& q) noexcept {
@@ -51,7 +61,9 @@ Expected<Eigen::Quaterniond, Error> ValidateQuaternion(const Eigen::Quaterniond&
     return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kQuaternionNorm,
                                  ValueRole::kQuaternion, 0, off)};
   }
-  return Eigen::Quaterniond(q.coeffs() / norm);
+  Eigen::Quaterniond out(q.coeffs() / norm);
+  for (int i = 0; i < 4; ++i) out.coeffs()[i] = FlushSubnormal(out.coeffs()[i]);
+  return out;
 }
 
 Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(const Eigen::Matrix3d& R) noexcept {
@@ -77,27 +89,29 @@ Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(const Eigen::Matrix3d& R
   // Polar decomposition: the nearest rotation is U V^T (det > 0 and near-orthonormal, so the
   // singular values are all close to 1 and no sign fix is needed).
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose());
+  Eigen::Matrix3d out = svd.matrixU() * svd.matrixV().transpose();
+  for (int i = 0; i < 9; ++i) out.data()[i] = FlushSubnormal(out.data()[i]);
+  return out;
 }
 
 Expected<Position, Error> MakePosition(const PositionSemantics& s, const Eigen::Vector3d& p) noexcept {
   auto ok = ValidateVector(p, ValueRole::kPosition);
   if (!ok) return Unexpected{ok.error()};
-  return Position{s, p};
+  return Position{s, *ok};
 }
 
 Expected<LinearVelocity, Error> MakeLinearVelocity(const LinearVelocitySemantics& s,
                                                    const Eigen::Vector3d& v) noexcept {
   auto ok = ValidateVector(v, ValueRole::kLinearVelocity);
   if (!ok) return Unexpected{ok.error()};
-  return LinearVelocity{s, v};
+  return LinearVelocity{s, *ok};
 }
 
 Expected<AngularVelocity, Error> MakeAngularVelocity(const AngularVelocitySemantics& s,
                                                      const Eigen::Vector3d& w) noexcept {
   auto ok = ValidateVector(w, ValueRole::kAngularVelocity);
   if (!ok) return Unexpected{ok.error()};
-  return AngularVelocity{s, w};
+  return AngularVelocity{s, *ok};
 }
 
 Expected<Twist, Error> MakeTwist(const TwistSemantics& s, const Eigen::Vector3d& v,
@@ -106,7 +120,7 @@ Expected<Twist, Error> MakeTwist(const TwistSemantics& s, const Eigen::Vector3d&
   if (!v_ok) return Unexpected{v_ok.error()};
   auto w_ok = ValidateVector(w, ValueRole::kAngularVelocity);
   if (!w_ok) return Unexpected{w_ok.error()};
-  return Twist{s, v, w};
+  return Twist{s, *v_ok, *w_ok};
 }
 
 namespace internal {
@@ -212,7 +226,12 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
     }
     case ErrorCode::kInvalidNumber:
       out << RoleName(error.value.role) << " component " << int(error.value.component) << " is "
-          << error.value.magnitude << " (must be finite)";
+          << error.value.magnitude;
+      if (error.value.problem == ValueProblem::kTooLarge) {
+        out << " (magnitude above " << kMaxMagnitude << ")";
+      } else {
+        out << " (must be finite)";
+      }
       return out.str();
     case ErrorCode::kInvalidRotation:
       switch (error.value.problem) {

@@ -135,9 +135,9 @@ TEST(Validate, NonFiniteVelocityComponentIsInvalidNumber) {
                       ValueRole::kLinearVelocity, 1, kNaN, n.table);
 }
 
-TEST(Validate, FiniteVectorsAreKeptExactly) {
+TEST(Validate, FiniteVectorsWithinRangeAreKeptExactly) {
   Names n;
-  const Eigen::Vector3d p(1e300, -1e-300, 0.0), v(1, 2, 3), w(-4, 5, -6);
+  const Eigen::Vector3d p(1e12, -1e-300, 0.0), v(1, 2, 3), w(-4, 5, -6);
   auto pos = MakePosition(n.Pos(), p);
   ASSERT_TRUE(pos);
   EXPECT_EQ(pos->value, p);
@@ -146,6 +146,31 @@ TEST(Validate, FiniteVectorsAreKeptExactly) {
   ASSERT_TRUE(tw);
   EXPECT_EQ(tw->linear, v);
   EXPECT_EQ(tw->angular, w);
+}
+
+TEST(Validate, HugeComponentsAreInvalidNumbers) {
+  Names n;
+  auto pos = MakePosition(n.Pos(), Eigen::Vector3d(0, -1e13, 0));
+  ASSERT_FALSE(pos);
+  EXPECT_EQ(pos.error().code, ErrorCode::kInvalidNumber);
+  EXPECT_EQ(pos.error().value.problem, ValueProblem::kTooLarge);
+  EXPECT_EQ(pos.error().value.component, 1);
+  EXPECT_NE(Describe(pos.error(), n.table).find("magnitude above"), std::string::npos);
+  auto tw = MakeTwist(n.Tw(), Eigen::Vector3d::Zero(), Eigen::Vector3d(1e300, 0, 0));
+  ASSERT_FALSE(tw);
+  EXPECT_EQ(tw.error().value.role, ValueRole::kAngularVelocity);
+}
+
+TEST(Validate, SubnormalComponentsAreFlushedToZero) {
+  Names n;
+  const double subnormal = 1e-310;
+  ASSERT_EQ(std::fpclassify(subnormal), FP_SUBNORMAL);
+  auto pos = MakePosition(n.Pos(), Eigen::Vector3d(subnormal, 1.0, -subnormal));
+  ASSERT_TRUE(pos);
+  EXPECT_EQ(pos->value, Eigen::Vector3d(0.0, 1.0, 0.0));
+  auto q = ValidateQuaternion(Eigen::Quaterniond(1.0, subnormal, 0.0, 0.0));
+  ASSERT_TRUE(q);
+  EXPECT_EQ(q->x(), 0.0);
 }
 
 // ================================================================== quaternions

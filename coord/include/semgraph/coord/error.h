@@ -6,7 +6,10 @@
 //   kSemanticMismatch          the names do not fit (mismatch says which fields)
 //   kRepresentationConstraint  the backend cannot express the semantics (representation names
 //                              the backend; mismatch.lhs/rhs name the two names it requires equal)
-//   kInvalidNumber             NaN or +-Inf in an input (value says where)
+//   kInvalidNumber             NaN or +-Inf in an input, or a position/velocity component beyond
+//                              kMaxMagnitude (value says where); subnormal inputs are accepted
+//                              and flushed to zero (they carry no physical meaning and would
+//                              slow down every later product)
 //   kInvalidRotation           quaternion norm or matrix orthonormality off by more than
 //                              kRotationTolerance, or a reflection
 // Cost: O(1), 56 bytes.
@@ -27,10 +30,15 @@ using semantics::ErrorCode;
 /// Spec tolerance for rotations: | |q| - 1 | <= 1e-6; max |M^T M - I| <= 1e-6.
 inline constexpr double kRotationTolerance = 1e-6;
 
+/// Largest accepted magnitude of a position (m) or velocity (m/s, rad/s) component: beyond it,
+/// sums along long paths lose all precision (and 1e12 m is seven times Earth–Sun).
+inline constexpr double kMaxMagnitude = 1e12;
+
 /// What is wrong with an input number.
 enum class ValueProblem : std::uint8_t {
   kNone,
   kNotFinite,           ///< NaN or +-Inf; `component` is its index within `what`
+  kTooLarge,            ///< |x| > kMaxMagnitude; `magnitude` is the value
   kQuaternionNorm,      ///< `magnitude` = | |q| - 1 |
   kNotOrthonormal,      ///< `magnitude` = max |M^T M - I|
   kReflection,          ///< det(M) <= 0
