@@ -295,17 +295,34 @@ auto SceneGraph<B>::IdentityPose(FrameIndex f) const noexcept -> Pose {
 }
 
 // X_AF: pose of f wrt its ancestor, in [ancestor], composed upward in natural order
-// (Algorithm 3): X_AF = X_PF then compose with each further edge.
+// (Algorithm 3): X_AF = X_PF composed with each further edge.
+//
+// Every one of these compositions is semantically valid by construction: the edge into g stores
+// PoseCoord({g}|G, {p}|P, [p]) and the next edge up starts at p, which is exactly the forest's
+// invariant. So the hot loop composes numbers only (B::ComposeChain), and the result carries the
+// semantics PoseCoord({f}|F, {A}|A, [A]). Debug and SEMGRAPH_EXPENSIVE_CHECKS builds also run
+// the same path through the checked coord::Compose, edge by edge, and demand identical results,
+// so the shortcut is verified wherever the tests run with checks armed.
 template <coord::Backend B>
 Result<typename SceneGraph<B>::Pose> SceneGraph<B>::PoseUpTo(FrameIndex f,
                                                              FrameIndex ancestor) const noexcept {
   if (f == ancestor) return IdentityPose(f);
-  Pose X = EdgePose(f);
+  typename B::PoseCoords X_AF = X_PF_[f.value()].Load();
   for (FrameIndex g = forest_.parent(f); g != ancestor; g = forest_.parent(g)) {
-    auto next = coord::Compose(X, EdgePose(g));
-    if (!next) return Unexpected{next.error()};
-    X = *next;
+    X_AF = B::ComposeChain(X_AF, X_PF_[g.value()].Load());
   }
+  Pose X{semantics::PoseSemantics::OfFrame(FrameSem(f), BodyOfSem(f), FrameSem(ancestor),
+                                           BodyOfSem(ancestor), FrameSem(ancestor).axes()),
+         X_AF};
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+  Pose checked = EdgePose(f);
+  for (FrameIndex g = forest_.parent(f); g != ancestor; g = forest_.parent(g)) {
+    auto next = coord::Compose(checked, EdgePose(g));
+    SEMGRAPH_DEMAND(next.has_value());
+    checked = *next;
+  }
+  SEMGRAPH_DEMAND(checked.semantics == X.semantics);
+#endif
   return X;
 }
 
@@ -595,6 +612,15 @@ struct Resolved {
   bool ok = true;
   QueryError error;
 };
+// invalid_name for an optional body name that is given but invalid (spec §1, §4). O(|name|),
+// allocation-free.
+std::optional<QueryError> InvalidBodyNames(std::string_view body, std::string_view ref_body) noexcept {
+  if (!body.empty() && !semantics::ValidateName(body)) return QError(ErrorCode::kInvalidName, Field::kBody);
+  if (!ref_body.empty() && !semantics::ValidateName(ref_body)) {
+    return QError(ErrorCode::kInvalidName, Field::kRefBody);
+  }
+  return std::nullopt;
+}
 }  // namespace
 
 template <coord::Backend B>
@@ -605,10 +631,16 @@ QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const PoseSpec&
                          Field::kCoordinateFrame};
   NameId ids[5];
   for (int i = 0; i < 5; ++i) {
-    if (fields[i].empty()) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
+    if (!semantics::ValidateName(fields[i])) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
   }
+  if (auto bad = InvalidBodyNames(spec.body, spec.ref_body)) return Unexpected{*bad};
   for (int i = 0; i < 5; ++i) {
-    ids[i] = names_.Find(fields[i]);
+    // Of(x).RelativeTo(y) repeats names: hash each distinct one once.
+    int same = -1;
+    for (int j = 0; j < i && same < 0; ++j) {
+      if (fields[j] == fields[i]) same = j;
+    }
+    ids[i] = same >= 0 ? ids[same] : names_.Find(fields[i]);
     if (!FrameOfName(ids[i]).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, kinds[i], ids[i])};
   }
   NameId C = spec.body.empty() ? bodies_[body_of(FrameOfName(ids[1])).value()].name : names_.Find(spec.body);
@@ -628,8 +660,9 @@ QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) co
   const Field kinds[] = {Field::kPoint, Field::kRefPoint, Field::kCoordinateFrame};
   NameId ids[3];
   for (int i = 0; i < 3; ++i) {
-    if (fields[i].empty()) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
+    if (!semantics::ValidateName(fields[i])) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
   }
+  if (auto bad = InvalidBodyNames(spec.body, spec.ref_body)) return Unexpected{*bad};
   for (int i = 0; i < 3; ++i) {
     ids[i] = names_.Find(fields[i]);
     if (!FrameOfName(ids[i]).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, kinds[i], ids[i])};
@@ -651,8 +684,9 @@ QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
   const Field kinds[] = {Field::kOrientation, Field::kRefOrientation, Field::kCoordinateFrame};
   NameId ids[3];
   for (int i = 0; i < 3; ++i) {
-    if (fields[i].empty()) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
+    if (!semantics::ValidateName(fields[i])) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
   }
+  if (auto bad = InvalidBodyNames(spec.body, spec.ref_body)) return Unexpected{*bad};
   for (int i = 0; i < 3; ++i) {
     ids[i] = names_.Find(fields[i]);
     if (!FrameOfName(ids[i]).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, kinds[i], ids[i])};
@@ -669,9 +703,12 @@ QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
 
 template <coord::Backend B>
 QueryResult<coord::Twist> SceneGraph<B>::GetTwist(const TwistSpec& spec) const noexcept {
-  if (spec.point.empty()) return Unexpected{QError(ErrorCode::kInvalidName, Field::kPoint)};
-  if (spec.ref_body.empty()) return Unexpected{QError(ErrorCode::kInvalidName, Field::kRefBody)};
-  if (spec.coordinate_frame.empty()) return Unexpected{QError(ErrorCode::kInvalidName, Field::kCoordinateFrame)};
+  if (!semantics::ValidateName(spec.point)) return Unexpected{QError(ErrorCode::kInvalidName, Field::kPoint)};
+  if (!semantics::ValidateName(spec.ref_body)) return Unexpected{QError(ErrorCode::kInvalidName, Field::kRefBody)};
+  if (!semantics::ValidateName(spec.coordinate_frame)) {
+    return Unexpected{QError(ErrorCode::kInvalidName, Field::kCoordinateFrame)};
+  }
+  if (auto bad = InvalidBodyNames(spec.body, {})) return Unexpected{*bad};
   const NameId e = names_.Find(spec.point), r = names_.Find(spec.coordinate_frame);
   if (!FrameOfName(e).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, Field::kPoint, e)};
   if (!FrameOfName(r).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, Field::kCoordinateFrame, r)};
@@ -701,7 +738,11 @@ QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(
     return Unexpected{QError(ErrorCode::kInvalidName, Field::kBody)};
   }
   auto tw = GetTwist(s);
-  if (!tw) return Unexpected{tw.error()};
+  if (!tw) {
+    QueryError e = tw.error();
+    if (e.field == Field::kPoint) e.field = Field::kCoordinateFrame;  // the point was [r]'s origin
+    return Unexpected{e};
+  }
   return coord::AngularOf(*tw);
 }
 

@@ -233,7 +233,8 @@ class SceneGraph {
 
   // ---------------------------------------------------------------- queries (noexcept)
 
-  /// Error order: invalid_name (empty required name) -> unknown_frame -> unknown_body ->
+  /// Error order: invalid_name (a required name empty or invalid, or a given body name invalid)
+  /// -> unknown_frame -> unknown_body ->
   /// frame_body_mismatch -> no_pose_path -> representation_constraint.
   [[nodiscard]] QueryResult<Pose> GetPose(const PoseSpec& spec) const noexcept;
   [[nodiscard]] QueryResult<coord::Position> GetPosition(const PoseSpec& spec) const noexcept;
