@@ -1,0 +1,190 @@
+#!/usr/bin/env python3
+"""Test driver for the semgraph command-line tool (registered by tests/tools/CMakeLists.txt).
+
+  run_script_test.py run   TOOL SCRIPT PREFIX   `TOOL run SCRIPT`, checked against PREFIX.*
+  run_script_test.py stdin TOOL SCRIPT PREFIX   the same, with the script on stdin (`-`)
+  run_script_test.py dot   TOOL SCRIPT [DOT]    `TOOL dot SCRIPT` is DOT that `DOT -Tsvg` renders
+                                                (exit 77 = skipped when DOT is not given)
+  run_script_test.py cli   TOOL                 --help, usage errors, unreadable files, hostile
+                                                input (huge, deeply nested)
+
+Expectations of a script (PREFIX = scripts/NAME):
+  PREFIX.expected_exit     the exit code (default 0)
+  PREFIX.expected.jsonl    stdout, one JSON object per line; required unless the exit is 2
+  PREFIX.expected_stderr   each non-empty line must occur in stderr (e.g. `NAME.yaml:3:5:`)
+Exit 2 (malformed) also requires an empty stdout and a FILE:LINE:COLUMN: message on stderr.
+
+stdout is compared line by line: the text with every number replaced by `#` must be identical
+(this pins the exact format: keys, order, spacing, escapes), and the numbers must agree within
+1e-9 (relative to max(1, |expected|)), so that expected values can come from an independent
+computation rather than from the tool. A quaternion with w == 0 may come with either sign.
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+TOLERANCE = 1e-9
+NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
+
+
+def fail(message):
+    print("FAIL: " + message)
+    sys.exit(1)
+
+
+def read(path, default=None):
+    if not os.path.exists(path):
+        return default
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def strict_json(line):
+    def reject(constant):
+        raise ValueError("non-JSON constant " + constant)
+    return json.loads(line, parse_constant=reject)
+
+
+def numbers_close(actual, expected):
+    return abs(actual - expected) <= TOLERANCE * max(1.0, abs(expected))
+
+
+def values_match(actual, expected, key):
+    if isinstance(expected, bool) or isinstance(expected, str) or expected is None:
+        return type(actual) is type(expected) and actual == expected
+    if isinstance(expected, (int, float)):
+        return isinstance(actual, (int, float)) and not isinstance(actual, bool) and \
+            numbers_close(actual, expected)
+    if isinstance(expected, list):
+        if not isinstance(actual, list) or len(actual) != len(expected):
+            return False
+        if all(values_match(a, e, None) for a, e in zip(actual, expected)):
+            return True
+        # q and -q are one rotation; the sign is only ambiguous when w is (numerically) 0.
+        if key == "quaternion" and abs(expected[0]) <= TOLERANCE:
+            return all(values_match(a, -e, None) for a, e in zip(actual, expected))
+        return False
+    return False
+
+
+def compare_jsonl(actual_text, expected_text):
+    actual = actual_text.splitlines()
+    expected = [line for line in expected_text.splitlines() if line.strip()]
+    if len(actual) != len(expected):
+        fail("stdout has %d lines, expected %d:\n%s" % (len(actual), len(expected), actual_text))
+    for n, (a_line, e_line) in enumerate(zip(actual, expected)):
+        try:
+            a = strict_json(a_line)
+        except ValueError as e:
+            fail("line %d is not JSON (%s): %s" % (n + 1, e, a_line))
+        e_obj = strict_json(e_line)
+        if NUMBER.sub("#", a_line) != NUMBER.sub("#", e_line):
+            fail("line %d differs in format:\n  actual:   %s\n  expected: %s" % (n + 1, a_line, e_line))
+        if list(a.keys()) != list(e_obj.keys()) or \
+                not all(values_match(a[k], e_obj[k], k) for k in e_obj):
+            fail("line %d differs:\n  actual:   %s\n  expected: %s" % (n + 1, a_line, e_line))
+
+
+def run_tool(args, stdin_path=None, input_bytes=None):
+    if input_bytes is not None:
+        p = subprocess.run(args, input=input_bytes, capture_output=True, timeout=120)
+    else:
+        stdin = open(stdin_path, "rb") if stdin_path else subprocess.DEVNULL
+        try:
+            p = subprocess.run(args, stdin=stdin, capture_output=True, timeout=120)
+        finally:
+            if stdin_path:
+                stdin.close()
+    return p.returncode, p.stdout.decode("utf-8"), p.stderr.decode("utf-8", "replace")
+
+
+def check_script(tool, script, prefix, use_stdin):
+    if use_stdin:
+        code, out, err = run_tool([tool, "run", "-"], stdin_path=script)
+    else:
+        code, out, err = run_tool([tool, "run", script])
+    expected_exit = int((read(prefix + ".expected_exit", "0")).strip())
+    if code != expected_exit:
+        fail("exit code %d, expected %d\nstdout:\n%s\nstderr:\n%s" % (code, expected_exit, out, err))
+    for needle in (read(prefix + ".expected_stderr", "") or "").splitlines():
+        if needle.strip() and needle not in err:
+            fail("stderr does not contain %r:\n%s" % (needle, err))
+    if expected_exit == 2:
+        if out:
+            fail("a malformed script printed on stdout:\n" + out)
+        name = "<stdin>" if use_stdin else script
+        if not re.search(re.escape(name) + r":\d+:\d+: \S", err):
+            fail("stderr lacks FILE:LINE:COLUMN: message:\n" + err)
+        return
+    expected = read(prefix + ".expected.jsonl")
+    if expected is None:
+        fail("missing " + prefix + ".expected.jsonl")
+    compare_jsonl(out, expected)
+
+
+def check_dot(tool, script, dot):
+    code, out, err = run_tool([tool, "dot", script])
+    if code != 0:
+        fail("dot exited %d: %s" % (code, err))
+    # Fig. 8 shape of the spray-painting scene: 5 bodies, 5 pose edges, 4 twist edges.
+    clusters = len(re.findall(r"subgraph cluster_\d+ \{", out))
+    dashed = len(re.findall(r"-> frame_\d+ \[style=dashed\]", out))
+    solid = len(re.findall(r"frame_\d+ -> frame_\d+;", out))
+    if (clusters, solid, dashed) != (5, 5, 4):
+        fail("expected 5 clusters, 5 pose and 4 twist edges, got %d, %d, %d:\n%s"
+             % (clusters, solid, dashed, out))
+    if not dot:
+        print("SKIP: graphviz `dot` not found")
+        sys.exit(77)
+    p = subprocess.run([dot, "-Tsvg"], input=out.encode(), capture_output=True, timeout=120)
+    if p.returncode != 0 or b"<svg" not in p.stdout or p.stderr.strip():
+        fail("dot -Tsvg failed (%d): %s" % (p.returncode, p.stderr.decode()))
+
+
+def check_cli(tool):
+    code, out, err = run_tool([tool, "--help"])
+    if code != 0 or "Usage: semgraph run FILE" not in out or "angular_velocity" not in out:
+        fail("--help: exit %d\n%s" % (code, out))
+    # The example script in --help must itself run cleanly.
+    example = out.split("\nScript:\n", 1)[1].split("\nOps and their fields:", 1)[0]
+    code, ex_out, ex_err = run_tool([tool, "run", "-"], input_bytes=example.encode())
+    if code != 0 or len(ex_out.splitlines()) != example.count("- {op:"):
+        fail("the --help example: exit %d\n%s%s" % (code, ex_out, ex_err))
+    for args in ([], ["run"], ["frobnicate", "x.yaml"], ["run", "a.yaml", "b.yaml"]):
+        code, out, err = run_tool([tool] + args)
+        if code != 2 or out or "Usage:" not in err:
+            fail("%s: exit %d, stdout %r, stderr %r" % (args, code, out, err))
+    # Hostile input: rejected as malformed (exit 2, located), never a crash or a hang.
+    hostile = [
+        (b"ops: " + b"[" * 200000 + b"]" * 200000, "<stdin>:1:69: the document is nested more"),
+        (b"ops: " + b"{a: " * 100000, "nested more than 64 levels deep"),
+        (b"ops:\n" + b"".join(b" " * (2 * i) + b"-\n" for i in range(1, 2000)), "<stdin>:65:"),
+        (b"ops: []\n#" + b"x" * (16 << 20), "<stdin>:1:1: the script is larger than 16 MiB"),
+    ]
+    for text, needle in hostile:
+        code, out, err = run_tool([tool, "run", "-"], input_bytes=text)
+        if code != 2 or out or needle not in err:
+            fail("hostile input %r...: exit %d, stdout %r, stderr %r" % (text[:20], code, out[:200], err))
+    missing = "/nonexistent/semgraph/script.yaml"
+    code, out, err = run_tool([tool, "run", missing])
+    if code != 2 or out or missing + ": cannot read" not in err:
+        fail("missing file: exit %d, stdout %r, stderr %r" % (code, out, err))
+
+
+def main(argv):
+    mode = argv[1]
+    if mode in ("run", "stdin"):
+        check_script(argv[2], argv[3], argv[4], mode == "stdin")
+    elif mode == "dot":
+        check_dot(argv[2], argv[3], argv[4] if len(argv) > 4 else "")
+    elif mode == "cli":
+        check_cli(argv[2])
+    else:
+        fail("unknown mode " + mode)
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main(sys.argv)

@@ -1,0 +1,91 @@
+// Unit tests of the JSON rendering of tools/semgraph/script_runner.h and of dot_writer.h. The
+// outcomes of ops are tested end to end by the scripts in scripts/.
+#include "semgraph/script_runner.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "semgraph/dot_writer.h"
+
+namespace semgraph::tools {
+namespace {
+
+TEST(JsonString, EscapesQuotesBackslashesAndControlCharacters) {
+  EXPECT_EQ(JsonString("plain"), "\"plain\"");
+  EXPECT_EQ(JsonString("a\"b\\c"), "\"a\\\"b\\\\c\"");
+  EXPECT_EQ(JsonString("\n\t\r\b\f"), "\"\\n\\t\\r\\b\\f\"");
+  EXPECT_EQ(JsonString(std::string("\x01\x1f\x7f", 3)), "\"\\u0001\\u001f\\u007f\"");
+  EXPECT_EQ(JsonString(std::string("a\0b", 3)), "\"a\\u0000b\"");
+}
+
+TEST(JsonString, PassesValidUtf8AndReplacesInvalidBytes) {
+  EXPECT_EQ(JsonString("K\xc3\xb6rper \xe2\x86\x92 \xf0\x9f\x98\x80"),
+            "\"K\xc3\xb6rper \xe2\x86\x92 \xf0\x9f\x98\x80\"");
+  EXPECT_EQ(JsonString("\xff"), "\"\\ufffd\"");
+  EXPECT_EQ(JsonString("\xc3"), "\"\\ufffd\"");                        // truncated
+  EXPECT_EQ(JsonString("\xc0\xaf"), "\"\\ufffd\\ufffd\"");             // overlong '/'
+  EXPECT_EQ(JsonString("\xed\xa0\x80"), "\"\\ufffd\\ufffd\\ufffd\"");  // surrogate U+D800
+  EXPECT_EQ(JsonString("\xf4\x90\x80\x80"), "\"\\ufffd\\ufffd\\ufffd\\ufffd\"");  // > U+10FFFF
+  EXPECT_EQ(JsonString("\x80x"), "\"\\ufffdx\"");  // stray continuation
+}
+
+TEST(JsonNumber, RoundTripsWithSeventeenDigits) {
+  EXPECT_EQ(JsonNumber(0.0), "0");
+  EXPECT_EQ(JsonNumber(-0.0), "0");
+  EXPECT_EQ(JsonNumber(1.0), "1");
+  EXPECT_EQ(JsonNumber(-2.5), "-2.5");
+  EXPECT_EQ(JsonNumber(0.1), "0.10000000000000001");
+  EXPECT_EQ(JsonNumber(1e-300), "1e-300");  // %g drops trailing zeros
+  for (const double x : {0.1, 1.0 / 3.0, 6.02214076e23, -1e-17, 2.2250738585072014e-308}) {
+    EXPECT_EQ(std::stod(JsonNumber(x)), x);
+  }
+}
+
+TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
+  core::SceneGraph<coord::QuaternionBackend> graph;
+  ScriptOp body;
+  body.kind = OpKind::kBody;
+  body.name = "B";
+  EXPECT_EQ(ApplyOp(graph, body, 0).json, "{\"op\": 0, \"ok\": true}");
+  const OpOutcome again = ApplyOp(graph, body, 1);
+  EXPECT_FALSE(again.ok);
+  EXPECT_EQ(again.json.rfind(
+                "{\"op\": 1, \"ok\": false, \"error\": \"duplicate_body\", \"message\": \"", 0),
+            0u)
+      << again.json;
+
+  // A 180-degree turn about z has w = 0: the sign is fixed by the first nonzero component.
+  ScriptOp pose;
+  pose.kind = OpKind::kPose;
+  pose.names.point = pose.names.orientation = "a";
+  pose.names.body = "A";
+  pose.names.ref_point = pose.names.ref_orientation = pose.names.coord = "w";
+  pose.names.ref_body = "W";
+  pose.rotation.form = RotationForm::kQuaternion;
+  pose.rotation.quaternion = {0.0, 0.0, 0.0, -1.0};
+  ASSERT_TRUE(ApplyOp(graph, pose, 2).ok);
+  ScriptOp query = pose;
+  query.kind = OpKind::kQuery;
+  query.query_kind = QueryKind::kOrientation;
+  EXPECT_EQ(ApplyOp(graph, query, 3).json, "{\"op\": 3, \"ok\": true, \"quaternion\": [0,0,0,1]}");
+}
+
+TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {
+  core::SceneGraph<coord::QuaternionBackend> graph;
+  ASSERT_TRUE(graph.AddPose(core::PoseSpec::Of("f\"1", "Body \\ \"1\"").RelativeTo("w", "W"),
+                            Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(graph.AddTwist(core::TwistSpec::Of("f\"1").RelativeTo("W").ExpressedIn("w"),
+                             Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
+  const std::string dot = WriteDot(graph);
+  EXPECT_NE(dot.find("label=\"Body \\\\ \\\"1\\\"\";"), std::string::npos) << dot;
+  EXPECT_NE(dot.find("[label=\"{f\\\"1}\"]"), std::string::npos) << dot;
+  EXPECT_NE(dot.find("subgraph cluster_0 {"), std::string::npos) << dot;
+  EXPECT_NE(dot.find("subgraph cluster_1 {"), std::string::npos) << dot;
+  // {w} (frame 1) -> {f"1} (frame 0) solid; W (body 1) -> {f"1} dashed.
+  EXPECT_NE(dot.find("  frame_1 -> frame_0;\n"), std::string::npos) << dot;
+  EXPECT_NE(dot.find("  body_1 -> frame_0 [style=dashed];\n"), std::string::npos) << dot;
+}
+
+}  // namespace
+}  // namespace semgraph::tools

@@ -1,0 +1,50 @@
+// File: tools/semgraph/script_runner.h
+//
+// Applies the ops of a scene script (script_reader.h) to a SceneGraph<B> one at a time and
+// renders each outcome as one JSON line of spec/scene-script.md:
+//   {"op": i, "ok": true}                                   accepted add / remove
+//   {"op": i, "ok": false, "error": "<code>", "message": "<text>"}   rejected op, failed query
+//   {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z]}   pose query
+//   ... "position" / "quaternion" / "linear" + "angular" / "linear" / "angular" for the others.
+// Rules of the rendering: numbers are printed with 17 significant digits (they round-trip), -0
+// as 0; quaternions are given with w >= 0 (q and -q are one rotation; when w == 0 the first
+// nonzero component is made positive, so the text is deterministic); strings are JSON-escaped,
+// control characters as \uXXXX, valid UTF-8 passed through, invalid bytes as U+FFFD. Should a
+// query result ever not be finite (the graph bounds its inputs, so it should not happen), it is
+// reported as invalid_number rather than printed, since JSON cannot carry it.
+//
+// Cost: one scene-graph call per op plus the formatting. Thread safety: as the graph's
+// (an add needs exclusive access).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+#include "semgraph/core/scene_graph.h"
+#include "semgraph/script_reader.h"
+
+namespace semgraph::tools {
+
+/// What one op did: its JSON line (without newline) and whether it succeeded.
+struct OpOutcome {
+  bool ok = false;
+  std::string json;
+};
+
+/// Applies `op`, the op numbered `index` in its script, to `graph`. Never throws (except
+/// std::bad_alloc); a rejection leaves `graph` unchanged (the scene graph's atomicity).
+template <coord::Backend B>
+[[nodiscard]] OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index);
+
+/// `text` as a JSON string literal, quotes included.
+[[nodiscard]] std::string JsonString(std::string_view text);
+/// `value` with 17 significant digits (%.17g), -0 as 0. @pre value is finite.
+[[nodiscard]] std::string JsonNumber(double value);
+
+extern template OpOutcome ApplyOp<coord::QuaternionBackend>(
+    core::SceneGraph<coord::QuaternionBackend>&, const ScriptOp&, std::size_t);
+extern template OpOutcome ApplyOp<coord::HomogeneousBackend>(
+    core::SceneGraph<coord::HomogeneousBackend>&, const ScriptOp&, std::size_t);
+
+}  // namespace semgraph::tools
