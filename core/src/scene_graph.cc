@@ -48,8 +48,10 @@ std::string FormatVector(const Eigen::Vector3d& v) {
   return buf;
 }
 
-QueryError QError(ErrorCode code, Field field = Field::kPoint, NameId name = {}, NameId other = {}) {
+QueryError QError(ErrorCode code, Field field = Field::kPoint, NameId name = {}, NameId other = {},
+                  NameId asked = {}) {
   QueryError e;
+  e.asked = asked;
   e.code = code;
   e.field = field;
   e.name = name;
@@ -99,7 +101,7 @@ FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddBody(std::string_view name) {
-  const std::string what = "body " + std::string(name);
+  const std::string what = name.empty() ? std::string("body with an empty name") : "body " + std::string(name);
   if (auto ok = semantics::ValidateName(name); !ok) {
     return Reject(ErrorCode::kInvalidName, what, semantics::Describe(ok.error(), name));
   }
@@ -366,7 +368,7 @@ QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
   if (!D.is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kRefBody, q.ref_body.id())};
   const auto mismatch = [&](FrameIndex x, BodyIndex body, Field field) {
     return body_of(x) != body ? QError(ErrorCode::kFrameBodyMismatch, field, frames_[x.value()].name,
-                                       bodies_[body_of(x).value()].name)
+                                       bodies_[body_of(x).value()].name, bodies_[body.value()].name)
                               : QError(ErrorCode::kOk);
   };
   for (const QueryError& m : {mismatch(e, C, Field::kPoint), mismatch(a, C, Field::kOrientation),
@@ -431,11 +433,11 @@ QueryResult<coord::Position> SceneGraph<B>::GetPosition(
   if (!D.is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kRefBody, q.ref_body.id())};
   if (body_of(e) != C) {
     return Unexpected{QError(ErrorCode::kFrameBodyMismatch, Field::kPoint, q.point.id(),
-                             bodies_[body_of(e).value()].name)};
+                             bodies_[body_of(e).value()].name, q.body.id())};
   }
   if (body_of(f) != D) {
     return Unexpected{QError(ErrorCode::kFrameBodyMismatch, Field::kRefPoint, q.ref_point.id(),
-                             bodies_[body_of(f).value()].name)};
+                             bodies_[body_of(f).value()].name, q.ref_body.id())};
   }
   if (!trees_.SameSet(e.value(), f.value())) {
     return Unexpected{QError(ErrorCode::kNoPosePath, Field::kPoint, q.point.id(), q.ref_point.id())};
@@ -478,11 +480,11 @@ QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
   if (!D.is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kRefBody, q.ref_body.id())};
   if (body_of(a) != C) {
     return Unexpected{QError(ErrorCode::kFrameBodyMismatch, Field::kOrientation, q.orientation.id(),
-                             bodies_[body_of(a).value()].name)};
+                             bodies_[body_of(a).value()].name, q.body.id())};
   }
   if (body_of(b) != D) {
     return Unexpected{QError(ErrorCode::kFrameBodyMismatch, Field::kRefOrientation,
-                             q.ref_orientation.id(), bodies_[body_of(b).value()].name)};
+                             q.ref_orientation.id(), bodies_[body_of(b).value()].name, q.ref_body.id())};
   }
   if (!trees_.SameSet(a.value(), b.value())) {
     return Unexpected{QError(ErrorCode::kNoPosePath, Field::kOrientation, q.orientation.id(),
@@ -1201,7 +1203,8 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view wrt)
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::RemoveTwist(std::string_view point, std::string_view ref_body) {
-  const std::string what = "removal of the twist of " + std::string(point) + " wrt " + std::string(ref_body);
+  const auto shown = [](std::string_view n) { return n.empty() ? std::string("\"\"") : std::string(n); };
+  const std::string what = "removal of the twist of " + shown(point) + " wrt " + shown(ref_body);
   for (std::string_view n : {point, ref_body}) {
     if (auto ok = semantics::ValidateName(n); !ok) {
       return Reject(ErrorCode::kInvalidName, what, semantics::Describe(ok.error(), n));
@@ -1293,7 +1296,8 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) c
       return "the " + role + " names body " + name + ", which does not exist";
     case ErrorCode::kFrameBodyMismatch:
       return "the " + role + " {" + name + "} is attached to body " + std::string(names_.name(e.other)) +
-             ", not to the body named in the query";
+             (e.asked.is_valid() ? ", not to body " + std::string(names_.name(e.asked)) + " named in the query"
+                                 : ", not to the body named in the query");
     case ErrorCode::kNoPosePath:
       return "{" + name + "} and {" + std::string(names_.name(e.other)) +
              "} are in different pose trees: no pose path joins them";

@@ -71,6 +71,7 @@ struct QueryError {
   semantics::Field field = semantics::Field::kPoint;  ///< the argument that is unknown/mismatched
   NameId name;   ///< that argument's name (invalid if the name was never interned)
   NameId other;  ///< frame_body_mismatch: the frame's actual body; no_pose_path: the other frame
+  NameId asked;  ///< frame_body_mismatch: the body the query named for that frame
   coord::Error detail;  ///< representation_constraint / semantic_mismatch details
 };
 template <class T>
