@@ -212,6 +212,32 @@ TYPED_TEST(CompiledQueryTest, RemovalInvalidatesOnlyAffectedQueriesUntilRecompil
   EXPECT_EQ(twist->Evaluate(v, w), ErrorCode::kQueryInvalidated);
 }
 
+TYPED_TEST(CompiledQueryTest, RejectedOperationsLeaveCompiledQueriesAndHandlesValid) {
+  using B = TypeParam;
+  auto pose = this->graph_.CompilePose(PoseSpec::Of("f1").RelativeTo("o2"));
+  auto twist = this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2"));
+  auto handle = this->graph_.FindPoseEdge("e", "b");
+  ASSERT_TRUE(pose && twist && handle);
+  typename B::PoseCoords before, after;
+  ASSERT_EQ(pose->Evaluate(before), ErrorCode::kOk);
+  // Every kind of rejection: multiple parents, cycle, duplicate path, constant change, twist
+  // duplicate path, invalid number, removal of a missing edge.
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("o1", "O1").RelativeTo("e", "E"), Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("b", "B").RelativeTo("f1", "O1"), Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("c2", "C").RelativeTo("o2", "O2"), Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("f1", "O1").RelativeTo("o1", "O1"), Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddTwist(TwistSpec::Of("f1", "O1").RelativeTo("B").ExpressedIn("f1"), Vector3d::Zero(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), Quaterniond::Identity(), Vector3d(NAN, 0, 0)));
+  EXPECT_FALSE(this->graph_.RemovePose("b", "e"));
+  EXPECT_FALSE(this->graph_.RemoveTwist("f1", "B"));
+  EXPECT_TRUE(pose->is_valid());
+  ASSERT_EQ(pose->Evaluate(after), ErrorCode::kOk);
+  EXPECT_EQ(B::TranslationOf(after), B::TranslationOf(before));
+  Vector3d v, w;
+  EXPECT_EQ(twist->Evaluate(v, w), ErrorCode::kOk);
+  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond::Identity(), Vector3d::Zero()), ErrorCode::kOk);
+}
+
 TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
   using B = TypeParam;
   // The homogeneous representation cannot express a pose in a third frame: use [o2] there.
