@@ -625,31 +625,48 @@ std::optional<QueryError> InvalidBodyNames(std::string_view body, std::string_vi
 }
 }  // namespace
 
+// Query names, in the spec's order: every frame name and given body name valid (invalid_name),
+// then every frame known (unknown_frame). Each distinct name is hashed once: Of(x).RelativeTo(y)
+// repeats names.
+template <coord::Backend B>
+std::optional<QueryError> SceneGraph<B>::ResolveFrameNames(std::span<const std::string_view> fields,
+                                                           std::span<const Field> kinds,
+                                                           std::span<NameId> ids, std::string_view body,
+                                                           std::string_view ref_body) const noexcept {
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (!semantics::ValidateName(fields[i])) return QError(ErrorCode::kInvalidName, kinds[i]);
+  }
+  if (auto bad = InvalidBodyNames(body, ref_body)) return bad;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    std::size_t same = i;
+    for (std::size_t j = 0; j < i && same == i; ++j) {
+      if (fields[j] == fields[i]) same = j;
+    }
+    ids[i] = same < i ? ids[same] : names_.Find(fields[i]);
+    if (!FrameOfName(ids[i]).is_valid()) return QError(ErrorCode::kUnknownFrame, kinds[i], ids[i]);
+  }
+  return std::nullopt;
+}
+
+// A query's body: the given name (unknown_body if absent), or the body of `frame`.
+template <coord::Backend B>
+std::optional<QueryError> SceneGraph<B>::ResolveBodyName(std::string_view body, NameId frame, Field field,
+                                                         NameId& id) const noexcept {
+  id = body.empty() ? bodies_[body_of(FrameOfName(frame)).value()].name : names_.Find(body);
+  if (!BodyOfName(id).is_valid()) return QError(ErrorCode::kUnknownBody, field, id);
+  return std::nullopt;
+}
+
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const PoseSpec& spec) const noexcept {
   const std::string_view fields[] = {spec.point, spec.orientation, spec.ref_point, spec.ref_orientation,
                                      spec.coordinate_frame};
   const Field kinds[] = {Field::kPoint, Field::kOrientation, Field::kRefPoint, Field::kRefOrientation,
                          Field::kCoordinateFrame};
-  NameId ids[5];
-  for (int i = 0; i < 5; ++i) {
-    if (!semantics::ValidateName(fields[i])) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
-  }
-  if (auto bad = InvalidBodyNames(spec.body, spec.ref_body)) return Unexpected{*bad};
-  for (int i = 0; i < 5; ++i) {
-    // Of(x).RelativeTo(y) repeats names: hash each distinct one once.
-    int same = -1;
-    for (int j = 0; j < i && same < 0; ++j) {
-      if (fields[j] == fields[i]) same = j;
-    }
-    ids[i] = same >= 0 ? ids[same] : names_.Find(fields[i]);
-    if (!FrameOfName(ids[i]).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, kinds[i], ids[i])};
-  }
-  NameId C = spec.body.empty() ? bodies_[body_of(FrameOfName(ids[1])).value()].name : names_.Find(spec.body);
-  NameId D = spec.ref_body.empty() ? bodies_[body_of(FrameOfName(ids[3])).value()].name
-                                   : names_.Find(spec.ref_body);
-  if (!BodyOfName(C).is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kBody, C)};
-  if (!BodyOfName(D).is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kRefBody, D)};
+  NameId ids[5], C, D;
+  if (auto e = ResolveFrameNames(fields, kinds, ids, spec.body, spec.ref_body)) return Unexpected{*e};
+  if (auto e = ResolveBodyName(spec.body, ids[1], Field::kBody, C)) return Unexpected{*e};
+  if (auto e = ResolveBodyName(spec.ref_body, ids[3], Field::kRefBody, D)) return Unexpected{*e};
   return GetPose(semantics::PoseSemantics{semantics::Point(ids[0]), semantics::OrientationFrame(ids[1]),
                                           semantics::Body(C), semantics::Point(ids[2]),
                                           semantics::OrientationFrame(ids[3]), semantics::Body(D),
@@ -660,20 +677,10 @@ template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) const noexcept {
   const std::string_view fields[] = {spec.point, spec.ref_point, spec.coordinate_frame};
   const Field kinds[] = {Field::kPoint, Field::kRefPoint, Field::kCoordinateFrame};
-  NameId ids[3];
-  for (int i = 0; i < 3; ++i) {
-    if (!semantics::ValidateName(fields[i])) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
-  }
-  if (auto bad = InvalidBodyNames(spec.body, spec.ref_body)) return Unexpected{*bad};
-  for (int i = 0; i < 3; ++i) {
-    ids[i] = names_.Find(fields[i]);
-    if (!FrameOfName(ids[i]).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, kinds[i], ids[i])};
-  }
-  NameId C = spec.body.empty() ? bodies_[body_of(FrameOfName(ids[0])).value()].name : names_.Find(spec.body);
-  NameId D = spec.ref_body.empty() ? bodies_[body_of(FrameOfName(ids[1])).value()].name
-                                   : names_.Find(spec.ref_body);
-  if (!BodyOfName(C).is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kBody, C)};
-  if (!BodyOfName(D).is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kRefBody, D)};
+  NameId ids[3], C, D;
+  if (auto e = ResolveFrameNames(fields, kinds, ids, spec.body, spec.ref_body)) return Unexpected{*e};
+  if (auto e = ResolveBodyName(spec.body, ids[0], Field::kBody, C)) return Unexpected{*e};
+  if (auto e = ResolveBodyName(spec.ref_body, ids[1], Field::kRefBody, D)) return Unexpected{*e};
   return GetPosition(semantics::PositionSemantics{semantics::Point(ids[0]), semantics::Body(C),
                                                   semantics::Point(ids[1]), semantics::Body(D),
                                                   semantics::OrientationFrame(ids[2])});
@@ -684,20 +691,10 @@ QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec) const noexcept {
   const std::string_view fields[] = {spec.orientation, spec.ref_orientation, spec.coordinate_frame};
   const Field kinds[] = {Field::kOrientation, Field::kRefOrientation, Field::kCoordinateFrame};
-  NameId ids[3];
-  for (int i = 0; i < 3; ++i) {
-    if (!semantics::ValidateName(fields[i])) return Unexpected{QError(ErrorCode::kInvalidName, kinds[i])};
-  }
-  if (auto bad = InvalidBodyNames(spec.body, spec.ref_body)) return Unexpected{*bad};
-  for (int i = 0; i < 3; ++i) {
-    ids[i] = names_.Find(fields[i]);
-    if (!FrameOfName(ids[i]).is_valid()) return Unexpected{QError(ErrorCode::kUnknownFrame, kinds[i], ids[i])};
-  }
-  NameId C = spec.body.empty() ? bodies_[body_of(FrameOfName(ids[0])).value()].name : names_.Find(spec.body);
-  NameId D = spec.ref_body.empty() ? bodies_[body_of(FrameOfName(ids[1])).value()].name
-                                   : names_.Find(spec.ref_body);
-  if (!BodyOfName(C).is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kBody, C)};
-  if (!BodyOfName(D).is_valid()) return Unexpected{QError(ErrorCode::kUnknownBody, Field::kRefBody, D)};
+  NameId ids[3], C, D;
+  if (auto e = ResolveFrameNames(fields, kinds, ids, spec.body, spec.ref_body)) return Unexpected{*e};
+  if (auto e = ResolveBodyName(spec.body, ids[0], Field::kBody, C)) return Unexpected{*e};
+  if (auto e = ResolveBodyName(spec.ref_body, ids[1], Field::kRefBody, D)) return Unexpected{*e};
   return GetOrientation(semantics::OrientationSemantics{
       semantics::OrientationFrame(ids[0]), semantics::Body(C), semantics::OrientationFrame(ids[1]),
       semantics::Body(D), semantics::OrientationFrame(ids[2])});
@@ -1457,34 +1454,42 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
   return TwistHandle{slot, twist_edges_[slot].value.epoch()};
 }
 
+namespace {
+// The rotation of a real-time pose update, validated (and normalized) without allocating.
+inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept { return coord::ValidateQuaternion(q); }
+inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::ValidateRotationMatrix(R); }
+}  // namespace
+
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
-                                 const Eigen::Vector3d& p_ThHo_T) noexcept {
+template <class R>
+ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation,
+                                     const Eigen::Vector3d& p_ThHo_T) noexcept {
   if (!edge.child.is_valid() || edge.child.value() >= X_PF_.size() ||
       X_PF_[edge.child.value()].epoch() != edge.epoch) {
     return ErrorCode::kNoSuchEdge;
   }
   auto p = coord::ValidateVector(p_ThHo_T, coord::ValueRole::kPosition);
   if (!p) return p.error().code;
-  auto q = coord::ValidateQuaternion(q_TH);
-  if (!q) return q.error().code;
-  X_PF_[edge.child.value()].Store(B::MakePose(B::FromQuaternion(*q), *p));
+  auto M = ValidateRotation(rotation);
+  if (!M) return M.error().code;
+  if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
+    X_PF_[edge.child.value()].Store(B::MakePose(B::FromQuaternion(*M), *p));
+  } else {
+    X_PF_[edge.child.value()].Store(B::MakePose(B::FromMatrix(*M), *p));
+  }
   return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ThHo_T) noexcept {
+  return SetPoseImpl(edge, q_TH, p_ThHo_T);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
                                  const Eigen::Vector3d& p_ThHo_T) noexcept {
-  if (!edge.child.is_valid() || edge.child.value() >= X_PF_.size() ||
-      X_PF_[edge.child.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
-  auto p = coord::ValidateVector(p_ThHo_T, coord::ValueRole::kPosition);
-  if (!p) return p.error().code;
-  auto R = coord::ValidateRotationMatrix(R_TH);
-  if (!R) return R.error().code;
-  X_PF_[edge.child.value()].Store(B::MakePose(B::FromMatrix(*R), *p));
-  return ErrorCode::kOk;
+  return SetPoseImpl(edge, R_TH, p_ThHo_T);
 }
 
 template <coord::Backend B>

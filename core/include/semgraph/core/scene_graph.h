@@ -35,6 +35,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -350,6 +351,15 @@ class SceneGraph {
 
   template <class R>
   BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p);
+  template <class R>
+  ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p) noexcept;
+
+  std::optional<QueryError> ResolveFrameNames(std::span<const std::string_view> fields,
+                                              std::span<const semantics::Field> kinds,
+                                              std::span<NameId> ids, std::string_view body,
+                                              std::string_view ref_body) const noexcept;
+  std::optional<QueryError> ResolveBodyName(std::string_view body, NameId frame, semantics::Field field,
+                                            NameId& id) const noexcept;
 
   // Semantics ids of frame nodes / bodies.
   semantics::Frame FrameSem(FrameIndex f) const noexcept {
