@@ -291,17 +291,18 @@ class Scene {
   /// semantics (`admitted`), else checks the representation error. Returns nullptr when there
   /// is no value to compare.
   template <class T>
-  const T* Check(const coord::Result<T>& r, bool admitted) {
+  // Returns a copy: the result is usually a temporary that dies with the full-expression.
+  std::optional<T> Check(const coord::Result<T>& r, bool admitted) {
     if (admitted) {
       EXPECT_TRUE(r.has_value()) << Describe(r.error(), names());
-      if (!r) return nullptr;
+      if (!r) return std::nullopt;
       ++t_.values;
-      return &*r;
+      return *r;
     }
     EXPECT_FALSE(r.has_value()) << "the " << B::kName << " representation admitted the result";
     if (!r) ExpectRepresentationError<B>(r.error(), names());
     ++t_.result_rejected;
-    return nullptr;
+    return std::nullopt;
   }
   /// Counts a result that is not a Result<> (an operation that cannot fail).
   void Counted() { ++t_.values; }
@@ -448,7 +449,7 @@ TYPED_TEST(CoordOperations, PositionCompose) {
     const int e = s.w.RandomFrame(), f = s.w.RandomFrame(), g = s.w.RandomFrame();
     const int r = s.w.RandomFrame();
     const Position p_FE_R = s.P(e, f, r), p_GF_R = s.P(f, g, r);
-    if (const auto* p_GE_R = s.Check(Compose(p_FE_R, p_GF_R), true)) {
+    if (const auto p_GE_R = s.Check(Compose(p_FE_R, p_GF_R), true)) {
       s.ExpectPosition(*p_GE_R, e, g, r);
     }
     // The second's point is not the first's reference point; the coordinate frames differ.
@@ -469,7 +470,7 @@ TYPED_TEST(CoordOperations, PositionChangePoint) {
     const int f = s.w.RandomFrame(), r = s.w.RandomFrame();
     const Position p_FE_R = s.P(e, f, r);
     const Position p_EE2_R = s.P(e2, e, r);  // new point wrt old point, both on C
-    if (const auto* p_FE2_R = s.Check(ChangePoint(p_FE_R, p_EE2_R), true)) {
+    if (const auto p_FE2_R = s.Check(ChangePoint(p_FE_R, p_EE2_R), true)) {
       s.ExpectPosition(*p_FE2_R, e2, f, r);
     }
     // The new point is on another body than X's point.
@@ -488,7 +489,7 @@ TYPED_TEST(CoordOperations, PositionChangeRefPoint) {
     const int e = s.w.RandomFrame(), r = s.w.RandomFrame();
     const Position p_FE_R = s.P(e, f, r);
     const Position p_F2F_R = s.P(f, f2, r);  // old reference point wrt new one, both on D
-    if (const auto* p_F2E_R = s.Check(ChangeRefPoint(p_FE_R, p_F2F_R), true)) {
+    if (const auto p_F2E_R = s.Check(ChangeRefPoint(p_FE_R, p_F2F_R), true)) {
       s.ExpectPosition(*p_F2E_R, e, f2, r);
     }
     // The new reference point is on another body.
@@ -509,7 +510,7 @@ TYPED_TEST(CoordOperations, PositionChangeCoordinateFrame) {
     // O = [r] wrt [r2], expressed in [r] or [r2] (a matrix backend holds only the latter).
     const auto O_R2R = s.O(r, r2, s.w.Coin() ? r : r2);
     if (!O_R2R) continue;
-    if (const auto* p_FE_R2 = s.Check(ChangeCoordinateFrame(p_FE_R, *O_R2R), true)) {
+    if (const auto p_FE_R2 = s.Check(ChangeCoordinateFrame(p_FE_R, *O_R2R), true)) {
       s.ExpectPosition(*p_FE_R2, e, f, r2);
     }
     // O is about another orientation frame than X's coordinate frame.
@@ -534,7 +535,7 @@ TYPED_TEST(CoordOperations, OrientationInverse) {
     const auto O_BA_R = s.O(a, b, r);
     if (!O_BA_R) continue;
     // The generic inverse keeps [r]: a matrix backend can hold it only when [r] = [a] too.
-    if (const auto* O_AB_R = s.Check(Inverse(*O_BA_R), Admits<B>(s.OriSem(b, a, r)))) {
+    if (const auto O_AB_R = s.Check(Inverse(*O_BA_R), Admits<B>(s.OriSem(b, a, r)))) {
       s.ExpectOrientation(*O_AB_R, b, a, r);
     }
   }
@@ -551,7 +552,7 @@ TYPED_TEST(CoordOperations, OrientationInverseInNewRef) {
     const int a = s.w.RandomFrame(), b = s.w.RandomFrame();
     const auto O_BA_B = s.O(a, b, b);
     if (!O_BA_B) continue;
-    if (const auto* O_AB_A = s.Check(InverseInNewRef(*O_BA_B), true)) {
+    if (const auto O_AB_A = s.Check(InverseInNewRef(*O_BA_B), true)) {
       s.ExpectOrientation(*O_AB_A, b, a, a);
     }
     // Not expressed in its reference frame (only the quaternion backend can hold such a value;
@@ -573,7 +574,7 @@ TYPED_TEST(CoordOperations, OrientationComposeChain) {
     const auto O_BA_B = s.O(a, b, b);
     const auto O_CB_C = s.O(b, c, c);
     if (!O_BA_B || !O_CB_C) continue;
-    if (const auto* O_CA_C = s.Check(Compose(*O_BA_B, *O_CB_C), true)) {
+    if (const auto O_CA_C = s.Check(Compose(*O_BA_B, *O_CB_C), true)) {
       s.ExpectOrientation(*O_CA_C, a, c, c);
     }
     // The second is not about the first's reference orientation frame.
@@ -595,7 +596,7 @@ TYPED_TEST(CoordOperations, OrientationComposeSameFrame) {
     const auto O_BA_R = s.O(a, b, r);
     const auto O_CB_R = s.O(b, c, r);
     if (!O_BA_R || !O_CB_R) continue;
-    if (const auto* O_CA_R = s.Check(Compose(*O_BA_R, *O_CB_R), true)) {
+    if (const auto O_CA_R = s.Check(Compose(*O_BA_R, *O_CB_R), true)) {
       s.ExpectOrientation(*O_CA_R, a, c, r);
     }
     // Different coordinate frames, and not the matrix chain either.
@@ -626,7 +627,7 @@ TYPED_TEST(CoordOperations, OrientationChangeOrientationFrame) {
     const auto O_AA2 = s.O(a2, a, chain ? a : r);  // [a2] wrt [a]
     if (!O_BA_R || !O_AA2) continue;
     // The result keeps X's coordinate frame in both forms.
-    if (const auto* O_BA2_R = s.Check(ChangeOrientationFrame(*O_BA_R, *O_AA2), true)) {
+    if (const auto O_BA2_R = s.Check(ChangeOrientationFrame(*O_BA_R, *O_AA2), true)) {
       s.ExpectOrientation(*O_BA2_R, a2, b, r);
     }
     // The new orientation frame is on another body.
@@ -653,7 +654,7 @@ TYPED_TEST(CoordOperations, OrientationChangeRefOrientationFrame) {
     if (!O_BA_R || !O_B2B) continue;
     // Chain: the result is expressed in [b2]; same frame: it stays in [r].
     const int r_result = chain ? b2 : r;
-    if (const auto* O_B2A = s.Check(ChangeRefOrientationFrame(*O_BA_R, *O_B2B), true)) {
+    if (const auto O_B2A = s.Check(ChangeRefOrientationFrame(*O_BA_R, *O_B2B), true)) {
       s.ExpectOrientation(*O_B2A, a, b2, r_result);
     }
     // The new reference orientation frame is on another body.
@@ -687,7 +688,7 @@ TYPED_TEST(CoordOperations, OrientationChangeCoordinateFrame) {
     const auto O_R2R = s.O(r, r2, s.w.Coin() ? r : r2);
     if (!O_BA_R || !O_R2R) continue;
     // A matrix backend cannot hold the result unless [r2] = [b].
-    if (const auto* O_BA_R2 =
+    if (const auto O_BA_R2 =
             s.Check(ChangeCoordinateFrame(*O_BA_R, *O_R2R), Admits<B>(s.OriSem(a, b, r2)))) {
       s.ExpectOrientation(*O_BA_R2, a, b, r2);
     }
@@ -712,7 +713,7 @@ TYPED_TEST(CoordOperations, PoseInverse) {
     const auto X_FE_R = s.X(x);
     if (!X_FE_R) continue;
     const PoseChoice inv{x.f, x.b, x.e, x.a, x.r};
-    if (const auto* X_EF_R = s.Check(Inverse(*X_FE_R), Admits<B>(s.PoseSem(inv)))) {
+    if (const auto X_EF_R = s.Check(Inverse(*X_FE_R), Admits<B>(s.PoseSem(inv)))) {
       s.ExpectPose(*X_EF_R, inv);
     }
   }
@@ -732,7 +733,7 @@ TYPED_TEST(CoordOperations, PoseInverseInNewRef) {
     const auto X_FE_F = s.X(x);
     if (!X_FE_F) continue;
     const PoseChoice inv{x.f, x.b, x.e, x.a, x.a};
-    if (const auto* X_EF_E = s.Check(InverseInNewRef(*X_FE_F), Admits<B>(s.PoseSem(inv)))) {
+    if (const auto X_EF_E = s.Check(InverseInNewRef(*X_FE_F), Admits<B>(s.PoseSem(inv)))) {
       s.ExpectPose(*X_EF_E, inv);
     }
     // Not expressed in its reference orientation frame (quaternion backend only).
@@ -763,7 +764,7 @@ TYPED_TEST(CoordOperations, PoseComposeChain) {
     const auto X_GF_G = s.X(y);
     if (!X_FE_F || !X_GF_G) continue;
     const PoseChoice xy{x.e, x.a, y.f, y.b, y.b};
-    if (const auto* X_GE_G = s.Check(Compose(*X_FE_F, *X_GF_G), true)) {
+    if (const auto X_GE_G = s.Check(Compose(*X_FE_F, *X_GF_G), true)) {
       s.ExpectPose(*X_GE_G, xy);
     }
     // The second's point is not the first's reference point (same orientation frames).
@@ -793,7 +794,7 @@ TYPED_TEST(CoordOperations, PoseComposeSameFrame) {
     const auto X_FE_R = s.X(x);
     const auto X_GF_R = s.X(y);
     if (!X_FE_R || !X_GF_R) continue;
-    if (const auto* X_GE_R = s.Check(Compose(*X_FE_R, *X_GF_R), true)) {
+    if (const auto X_GE_R = s.Check(Compose(*X_FE_R, *X_GF_R), true)) {
       s.ExpectPose(*X_GE_R, PoseChoice{x.e, x.a, y.f, y.b, r});
     }
     // Different coordinate frames and not the chain.
@@ -820,7 +821,7 @@ TYPED_TEST(CoordOperations, PoseChangePoint) {
     const Position p_EE2_R = s.P(e2, x.e, x.r);
     const PoseChoice moved{e2, x.a, x.f, x.b, x.r};
     // Homogeneous: the new point must still be the origin of [a].
-    if (const auto* X_FE2_R = s.Check(ChangePoint(*X_FE_R, p_EE2_R), Admits<B>(s.PoseSem(moved)))) {
+    if (const auto X_FE2_R = s.Check(ChangePoint(*X_FE_R, p_EE2_R), Admits<B>(s.PoseSem(moved)))) {
       s.ExpectPose(*X_FE2_R, moved);
     }
     // The new point is on another body; the position is in another coordinate frame. (For the
@@ -845,7 +846,7 @@ TYPED_TEST(CoordOperations, PoseChangeRefPoint) {
     const int f2 = s.w.RandomFrameOn(D);
     const Position p_F2F_R = s.P(x.f, f2, x.r);
     const PoseChoice moved{x.e, x.a, f2, x.b, x.r};
-    if (const auto* X_F2E_R =
+    if (const auto X_F2E_R =
             s.Check(ChangeRefPoint(*X_FE_R, p_F2F_R), Admits<B>(s.PoseSem(moved)))) {
       s.ExpectPose(*X_F2E_R, moved);
     }
@@ -871,7 +872,7 @@ TYPED_TEST(CoordOperations, PoseChangeOrientationFrame) {
     const auto O_AA2 = s.O(a2, x.a, chain ? x.a : x.r);  // [a2] wrt [a]
     if (!O_AA2) continue;
     const PoseChoice changed{x.e, a2, x.f, x.b, x.r};  // position unchanged, X's [r] kept
-    if (const auto* X_FE_R2 =
+    if (const auto X_FE_R2 =
             s.Check(ChangeOrientationFrame(*X_FE_R, *O_AA2), Admits<B>(s.PoseSem(changed)))) {
       s.ExpectPose(*X_FE_R2, changed);
     }
@@ -899,7 +900,7 @@ TYPED_TEST(CoordOperations, PoseChangeRefOrientationFrame) {
     if (!O_B2B) continue;
     // Chain: re-expressed in [b2] (the position too); same frame: stays in [r].
     const PoseChoice changed{x.e, x.a, x.f, b2, chain ? b2 : x.r};
-    if (const auto* X_F2E =
+    if (const auto X_F2E =
             s.Check(ChangeRefOrientationFrame(*X_FE_R, *O_B2B), Admits<B>(s.PoseSem(changed)))) {
       s.ExpectPose(*X_F2E, changed);
     }
@@ -926,7 +927,7 @@ TYPED_TEST(CoordOperations, PoseChangeCoordinateFrame) {
     const auto O_R2R = s.O(x.r, r2, s.w.Coin() ? x.r : r2);
     if (!O_R2R) continue;
     const PoseChoice changed{x.e, x.a, x.f, x.b, r2};
-    if (const auto* X_FE_R2 =
+    if (const auto X_FE_R2 =
             s.Check(ChangeCoordinateFrame(*X_FE_R, *O_R2R), Admits<B>(s.PoseSem(changed)))) {
       s.ExpectPose(*X_FE_R2, changed);
     }
@@ -963,7 +964,7 @@ TYPED_TEST(CoordOperations, PoseOrientationOf) {
     const auto X_FE_R = s.X(x);
     if (!X_FE_R) continue;
     // Any pose a backend holds has an orientation part it holds ([r] = [b] carries over).
-    if (const auto* O_BA_R = s.Check(OrientationOf(*X_FE_R), Admits<B>(s.OriSem(x.a, x.b, x.r)))) {
+    if (const auto O_BA_R = s.Check(OrientationOf(*X_FE_R), Admits<B>(s.OriSem(x.a, x.b, x.r)))) {
       s.ExpectOrientation(*O_BA_R, x.a, x.b, x.r);
     }
   }
@@ -983,7 +984,7 @@ TYPED_TEST(CoordOperations, PoseCombine) {
     const auto O_BA_R = s.O(x.a, x.b, x.r);
     if (!O_BA_R) continue;
     // Homogeneous: point and reference point must be the origins of [a] and [b].
-    if (const auto* X_FE_R = s.Check(Combine(p_FE_R, *O_BA_R), Admits<B>(s.PoseSem(x)))) {
+    if (const auto X_FE_R = s.Check(Combine(p_FE_R, *O_BA_R), Admits<B>(s.PoseSem(x)))) {
       s.ExpectPose(*X_FE_R, x);
     }
     // The position is of a point on another body than the orientation's frame.
@@ -1025,7 +1026,7 @@ TYPED_TEST(CoordOperations, LinearVelocityCompose) {
     const int e = s.w.RandomFrame(), r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C), E = s.w.RandomBodyOtherThan(D);
     const LinearVelocity v_D_CE_R = s.L(e, C, D, r), v_E_DE_R = s.L(e, D, E, r);
-    if (const auto* v_E_CE_R = s.Check(Compose(v_D_CE_R, v_E_DE_R), true)) {
+    if (const auto v_E_CE_R = s.Check(Compose(v_D_CE_R, v_E_DE_R), true)) {
       s.ExpectLinear(*v_E_CE_R, e, C, E, r);
     }
     // Velocities of different points do not add.
@@ -1047,7 +1048,7 @@ TYPED_TEST(CoordOperations, LinearVelocityChangeCoordinateFrame) {
     const LinearVelocity v_D_CE_R = s.L(e, C, D, r);
     const auto O_R2R = CoordinateChange(s, r, r2);
     if (!O_R2R) continue;
-    if (const auto* v_D_CE_R2 = s.Check(ChangeCoordinateFrame(v_D_CE_R, *O_R2R), true)) {
+    if (const auto v_D_CE_R2 = s.Check(ChangeCoordinateFrame(v_D_CE_R, *O_R2R), true)) {
       s.ExpectLinear(*v_D_CE_R2, e, C, D, r2);
     }
     if (const auto O_R2R3 = s.O(s.w.RandomFrameOtherThan(r), r2, r2)) {
@@ -1079,7 +1080,7 @@ TYPED_TEST(CoordOperations, AngularVelocityCompose) {
     const int r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C), E = s.w.RandomBodyOtherThan(D);
     const AngularVelocity w_DC_R = s.W(C, D, r), w_ED_R = s.W(D, E, r);
-    if (const auto* w_EC_R = s.Check(Compose(w_DC_R, w_ED_R), true)) {
+    if (const auto w_EC_R = s.Check(Compose(w_DC_R, w_ED_R), true)) {
       s.ExpectAngular(*w_EC_R, C, E, r);
     }
     s.ExpectRejected(w_DC_R, s.W(s.w.RandomBodyOtherThan(D), E, r), kCompose);
@@ -1099,7 +1100,7 @@ TYPED_TEST(CoordOperations, AngularVelocityChangeCoordinateFrame) {
     const AngularVelocity w_DC_R = s.W(C, D, r);
     const auto O_R2R = CoordinateChange(s, r, r2);
     if (!O_R2R) continue;
-    if (const auto* w_DC_R2 = s.Check(ChangeCoordinateFrame(w_DC_R, *O_R2R), true)) {
+    if (const auto w_DC_R2 = s.Check(ChangeCoordinateFrame(w_DC_R, *O_R2R), true)) {
       s.ExpectAngular(*w_DC_R2, C, D, r2);
     }
     if (const auto O_R2R3 = s.O(s.w.RandomFrameOtherThan(r), r2, r2)) {
@@ -1134,7 +1135,7 @@ TYPED_TEST(CoordOperations, TwistCompose) {
     const int e = s.w.RandomFrame(), r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C), E = s.w.RandomBodyOtherThan(D);
     const Twist V_D_CE_R = s.V(e, C, D, r), V_E_DE_R = s.V(e, D, E, r);
-    if (const auto* V_E_CE_R = s.Check(Compose(V_D_CE_R, V_E_DE_R), true)) {
+    if (const auto V_E_CE_R = s.Check(Compose(V_D_CE_R, V_E_DE_R), true)) {
       s.ExpectTwist(*V_E_CE_R, e, C, E, r);
     }
     // Twists with different velocity reference points do not add.
@@ -1153,7 +1154,7 @@ TYPED_TEST(CoordOperations, TwistChangePoint) {
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
     const Twist V_D_CE_R = s.V(e, C, D, r);
     const Position p_FE_R = s.P(e, f, r);  // old point wrt new point
-    if (const auto* V_D_CF_R = s.Check(ChangePoint(V_D_CE_R, p_FE_R), true)) {
+    if (const auto V_D_CF_R = s.Check(ChangePoint(V_D_CE_R, p_FE_R), true)) {
       s.ExpectTwist(*V_D_CF_R, f, C, D, r);
     }
     // The position is not of the twist's point; it is in another coordinate frame.
@@ -1201,7 +1202,7 @@ TYPED_TEST(CoordOperations, TwistChangeCoordinateFrame) {
     const Twist V_D_CE_R = s.V(e, C, D, r);
     const auto O_R2R = CoordinateChange(s, r, r2);
     if (!O_R2R) continue;
-    if (const auto* V_D_CE_R2 = s.Check(ChangeCoordinateFrame(V_D_CE_R, *O_R2R), true)) {
+    if (const auto V_D_CE_R2 = s.Check(ChangeCoordinateFrame(V_D_CE_R, *O_R2R), true)) {
       s.ExpectTwist(*V_D_CE_R2, e, C, D, r2);
     }
     if (const auto O_R2R3 = s.O(s.w.RandomFrameOtherThan(r), r2, r2)) {
@@ -1224,7 +1225,7 @@ TYPED_TEST(CoordOperations, TwistScrewTransform) {
     const auto X_FE_F = s.X(x);
     if (!X_FE_F) continue;
     const Twist V_D_CE_A = s.V(x.e, C, D, x.a);
-    if (const auto* V_D_CF_B = s.Check(ScrewTransform(V_D_CE_A, *X_FE_F), true)) {
+    if (const auto V_D_CF_B = s.Check(ScrewTransform(V_D_CE_A, *X_FE_F), true)) {
       s.ExpectTwist(*V_D_CF_B, x.f, C, D, x.b);
     }
     // The twist is at another point; it is expressed in another frame than [a].
@@ -1275,7 +1276,7 @@ TYPED_TEST(CoordOperations, TwistCombine) {
     const int r = s.w.RandomFrame();
     const LinearVelocity v_D_CE_R = s.L(e, C, D, r);
     const AngularVelocity w_DC_R = s.W(C, D, r);
-    if (const auto* V_D_CE_R = s.Check(Combine(v_D_CE_R, w_DC_R), true)) {
+    if (const auto V_D_CE_R = s.Check(Combine(v_D_CE_R, w_DC_R), true)) {
       s.ExpectTwist(*V_D_CE_R, e, C, D, r);
     }
     // Different reference bodies; different coordinate frames.

@@ -3,9 +3,6 @@
 //
 // Legend: the paper's spray-painting scene (examples/spray_painting_scene.h): B base {b},
 // E end effector {e}, O2 gun {o2}, O1 cylinder {o1} with paint point {f1}, C camera {c}.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
 #include "semgraph/core/compiled_query.h"
 
 #include <gtest/gtest.h>

@@ -1,0 +1,460 @@
+// ReferenceModel: see reference_model.h. Every function is a literal transcription of a rule of
+// spec/scene-graph.md; nothing is incremental, nothing is cached.
+#include "reference_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <functional>
+#include <tuple>
+
+namespace semgraph::reference {
+namespace {
+
+constexpr double kRotationTolerance = 1e-6;  // spec §4: |‖q‖ − 1|, max|MᵀM − I|
+constexpr double kConstantTolerance = 1e-6;  // spec §2 P4
+
+bool Finite(const Eigen::Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+// Union-find over strings, the naive way.
+struct Partition {
+  std::map<std::string, std::string> parent;
+  std::string Find(const std::string& x) {
+    if (!parent.count(x)) parent[x] = x;
+    std::string r = x;
+    while (parent[r] != r) r = parent[r];
+    return r;
+  }
+  // False when a and b were already joined.
+  bool Join(const std::string& a, const std::string& b) {
+    const std::string ra = Find(a), rb = Find(b);
+    if (ra == rb) return false;
+    parent[ra] = rb;
+    return true;
+  }
+};
+
+// spec §4: NaN/Inf anywhere -> invalid_number; improper rotation -> invalid_rotation;
+// within tolerance -> normalized.
+ErrorCode ValidateRotation(const RotationInput& in, Eigen::Matrix3d* R) {
+  if (!in.is_matrix) {
+    const double c[4] = {in.q.w(), in.q.x(), in.q.y(), in.q.z()};
+    for (double x : c) {
+      if (!std::isfinite(x)) return ErrorCode::kInvalidNumber;
+    }
+    const double norm = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
+    if (!(std::abs(norm - 1.0) <= kRotationTolerance)) return ErrorCode::kInvalidRotation;
+    const Eigen::Quaterniond q(c[0] / norm, c[1] / norm, c[2] / norm, c[3] / norm);
+    *R = q.toRotationMatrix();
+    return ErrorCode::kOk;
+  }
+  for (int i = 0; i < 9; ++i) {
+    if (!std::isfinite(in.R(i / 3, i % 3))) return ErrorCode::kInvalidNumber;
+  }
+  const double off = (in.R.transpose() * in.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (!(off <= kRotationTolerance) || !(in.R.determinant() > 0.0)) return ErrorCode::kInvalidRotation;
+  Eigen::Matrix3d X = in.R;  // nearest rotation: Newton iteration of the polar decomposition
+  for (int i = 0; i < 20; ++i) X = 0.5 * (X + X.inverse().transpose());
+  *R = X;
+  return ErrorCode::kOk;
+}
+
+Transform Compose(const Transform& X_AB, const Transform& X_BC) {  // -> X_AC
+  return {X_AB.R * X_BC.R, X_AB.R * X_BC.p + X_AB.p};
+}
+Transform Invert(const Transform& X_AB) {  // -> X_BA
+  return {X_AB.R.transpose(), -(X_AB.R.transpose() * X_AB.p)};
+}
+
+}  // namespace
+
+bool ReferenceModel::ValidName(const std::string& name) {
+  if (name.empty() || name.size() > 255) return false;
+  for (unsigned char c : name) {
+    if (c < 0x20 || c >= 0x7F) return false;
+  }
+  return true;
+}
+
+// ============================================================ invariants, from scratch
+
+std::map<std::string, std::string> ReferenceModel::Trees(const State& s) {
+  Partition trees;
+  for (const auto& [frame, body] : s.frames) trees.Find(frame);
+  for (const PoseEdge& e : s.poses) trees.Join(e.tail, e.head);
+  std::map<std::string, std::string> label;  // root -> smallest member
+  for (const auto& [frame, body] : s.frames) {
+    const std::string r = trees.Find(frame);
+    if (!label.count(r) || frame < label[r]) label[r] = frame;
+  }
+  std::map<std::string, std::string> tree;
+  for (const auto& [frame, body] : s.frames) tree[frame] = label[trees.Find(frame)];
+  return tree;
+}
+
+ReferenceModel::Rule ReferenceModel::Violation(const State& s) {
+  // P1: a frame is the head of at most one pose edge.
+  std::map<std::string, int> parents;
+  for (const PoseEdge& e : s.poses) {
+    if (++parents[e.head] > 1) return Rule::kP1;
+  }
+  // P2: no cycle in the undirected pose graph (self edges included).
+  Partition forest;
+  for (const PoseEdge& e : s.poses) {
+    if (!forest.Join(e.tail, e.head)) return Rule::kP2;
+  }
+  // P3: per pose tree, the frames of one body are connected through same-body edges only.
+  const std::map<std::string, std::string> tree = Trees(s);
+  Partition same_body;
+  for (const PoseEdge& e : s.poses) {
+    if (s.frames.at(e.tail) == s.frames.at(e.head)) same_body.Join(e.tail, e.head);
+  }
+  std::map<std::pair<std::string, std::string>, std::set<std::string>> pieces;  // (tree, body)
+  for (const auto& [frame, body] : s.frames) pieces[{tree.at(frame), body}].insert(same_body.Find(frame));
+  for (const auto& [key, set] : pieces) {
+    if (set.size() > 1) return Rule::kP3;
+  }
+  // W3: per pose tree P, TG(P) is a forest (no cycle, no parallel edge).
+  std::map<std::string, Partition> tg;  // tree -> partition of bodies
+  for (const TwistEdge& t : s.twists) {
+    if (!tg[tree.at(t.head)].Join(t.tail_body, s.frames.at(t.head))) return Rule::kW3;
+  }
+  return Rule::kNone;
+}
+
+// ============================================================ nodes
+
+ErrorCode ReferenceModel::AddBody(const std::string& name) {
+  if (!ValidName(name)) return ErrorCode::kInvalidName;
+  if (s_.bodies.count(name)) return ErrorCode::kDuplicateBody;
+  s_.bodies.insert(name);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::AddFrame(const std::string& name, const std::string& body) {
+  if (!ValidName(name) || (!body.empty() && !ValidName(body))) return ErrorCode::kInvalidName;
+  if (body.empty()) return ErrorCode::kFrameWithoutBody;
+  if (s_.frames.count(name)) return ErrorCode::kDuplicateFrame;
+  if (!s_.bodies.count(body)) return ErrorCode::kUnknownBody;
+  s_.frames[name] = body;
+  return ErrorCode::kOk;
+}
+
+// ============================================================ pose edges
+
+ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& head_body,
+                                  const std::string& tail, const std::string& tail_body,
+                                  const RotationInput& rotation, const Eigen::Vector3d& p) {
+  // invalid_name (bodies are optional).
+  if (!ValidName(head) || !ValidName(tail)) return ErrorCode::kInvalidName;
+  if ((!head_body.empty() && !ValidName(head_body)) || (!tail_body.empty() && !ValidName(tail_body))) {
+    return ErrorCode::kInvalidName;
+  }
+  // invalid_number (anywhere) -> invalid_rotation.
+  bool finite = Finite(p);
+  if (rotation.is_matrix) {
+    finite = finite && rotation.R.allFinite();
+  } else {
+    finite = finite && std::isfinite(rotation.q.w()) && std::isfinite(rotation.q.x()) &&
+             std::isfinite(rotation.q.y()) && std::isfinite(rotation.q.z());
+  }
+  if (!finite) return ErrorCode::kInvalidNumber;
+  Eigen::Matrix3d R;
+  if (const ErrorCode c = ValidateRotation(rotation, &R); c != ErrorCode::kOk) return c;
+  // Node resolution, one frame at a time: the head (orientation frame), then the tail. (The
+  // spec does not order frame_body_mismatch and frame_without_body of DIFFERENT frames; see
+  // the header.)
+  const bool head_exists = s_.frames.count(head) > 0, tail_exists = s_.frames.count(tail) > 0;
+  for (const auto& [frame, body, exists] : {std::tuple{head, head_body, head_exists},
+                                           std::tuple{tail, tail_body, tail_exists}}) {
+    if (exists && !body.empty() && s_.frames.at(frame) != body) return ErrorCode::kFrameBodyMismatch;
+    if (!exists && body.empty()) return ErrorCode::kFrameWithoutBody;
+  }
+  if (head == tail) return ErrorCode::kSelfEdge;
+  // The existing edge tail -> head: constant (same body) or updated (different bodies).
+  for (PoseEdge& e : s_.poses) {
+    if (e.tail != tail || e.head != head) continue;
+    if (s_.frames.at(head) == s_.frames.at(tail)) {
+      const bool same_R = (e.X_TH.R - R).cwiseAbs().maxCoeff() <= kConstantTolerance;
+      const bool same_p = (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
+      return same_R && same_p ? ErrorCode::kOk : ErrorCode::kConstantPoseChange;
+    }
+    e.X_TH = Transform{R, p};
+    return ErrorCode::kOk;
+  }
+  // Tentatively: create the missing nodes (spec §1), add the edge, check every invariant.
+  State next = s_;
+  if (!head_exists) {
+    next.bodies.insert(head_body);
+    next.frames[head] = head_body;
+  }
+  if (!tail_exists) {
+    next.bodies.insert(tail_body);
+    next.frames[tail] = tail_body;
+  }
+  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}});
+  switch (Violation(next)) {
+    case Rule::kP1: return ErrorCode::kMultiplePoseParents;
+    case Rule::kP2: return ErrorCode::kPoseCycle;
+    case Rule::kP3: return ErrorCode::kDuplicatePosePath;
+    case Rule::kW3: return ErrorCode::kTwistMergeConflict;
+    case Rule::kNone: break;
+  }
+  s_ = std::move(next);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::RemovePose(const std::string& of, const std::string& wrt) {
+  if (!ValidName(of) || !ValidName(wrt)) return ErrorCode::kInvalidName;
+  if (!s_.frames.count(of) || !s_.frames.count(wrt)) return ErrorCode::kUnknownFrame;
+  for (std::size_t i = 0; i < s_.poses.size(); ++i) {
+    if (s_.poses[i].tail == wrt && s_.poses[i].head == of) {
+      s_.poses.erase(s_.poses.begin() + static_cast<std::ptrdiff_t>(i));
+      return ErrorCode::kOk;
+    }
+  }
+  return ErrorCode::kNoSuchEdge;
+}
+
+// ============================================================ twist edges
+
+ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& body,
+                                   const std::string& ref_body, const std::string& coord,
+                                   const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord)) return ErrorCode::kInvalidName;
+  if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
+  if (!Finite(v) || !Finite(w)) return ErrorCode::kInvalidNumber;
+  const bool point_exists = s_.frames.count(point) > 0;
+  if (point_exists && !body.empty() && s_.frames.at(point) != body) return ErrorCode::kFrameBodyMismatch;
+  if (!point_exists && body.empty()) return ErrorCode::kFrameWithoutBody;
+  const std::string C = point_exists ? s_.frames.at(point) : body;
+  if (C == ref_body) return ErrorCode::kTwistSameBody;
+  // Conversion to the screw twist at {point} in [point]: v_e = R_er v, w_e = R_er w.
+  Eigen::Vector3d v_e = v, w_e = w;
+  if (coord != point) {
+    Transform X_ER;
+    if (!point_exists || !s_.frames.count(coord) || !Find(coord, point, &X_ER)) {
+      return ErrorCode::kTwistNotConvertible;
+    }
+    v_e = X_ER.R * v;
+    w_e = X_ER.R * w;
+  }
+  for (TwistEdge& t : s_.twists) {
+    if (t.head != point) continue;
+    if (t.tail_body != ref_body) return ErrorCode::kMultipleTwistParents;
+    t.v = v_e;
+    t.w = w_e;
+    return ErrorCode::kOk;
+  }
+  State next = s_;
+  next.bodies.insert(C);
+  next.bodies.insert(ref_body);
+  next.frames[point] = C;
+  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e});
+  if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
+  s_ = std::move(next);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::RemoveTwist(const std::string& point, const std::string& ref_body) {
+  if (!ValidName(point) || !ValidName(ref_body)) return ErrorCode::kInvalidName;
+  if (!s_.frames.count(point)) return ErrorCode::kUnknownFrame;
+  if (!s_.bodies.count(ref_body)) return ErrorCode::kUnknownBody;
+  for (std::size_t i = 0; i < s_.twists.size(); ++i) {
+    if (s_.twists[i].head == point && s_.twists[i].tail_body == ref_body) {
+      s_.twists.erase(s_.twists.begin() + static_cast<std::ptrdiff_t>(i));
+      return ErrorCode::kOk;
+    }
+  }
+  return ErrorCode::kNoSuchEdge;
+}
+
+// ============================================================ search
+
+bool ReferenceModel::Find(const std::string& x, const std::string& y, Transform* X_YX) const {
+  std::map<std::string, Transform> seen{{y, Transform{}}};  // node -> X_Y,node
+  std::deque<std::string> todo{y};
+  while (!todo.empty()) {
+    const std::string n = todo.front();
+    todo.pop_front();
+    if (n == x) {
+      *X_YX = seen.at(n);
+      return true;
+    }
+    for (const PoseEdge& e : s_.poses) {
+      if (e.tail == n && !seen.count(e.head)) {
+        seen[e.head] = Compose(seen.at(n), e.X_TH);
+        todo.push_back(e.head);
+      } else if (e.head == n && !seen.count(e.tail)) {
+        seen[e.tail] = Compose(seen.at(n), Invert(e.X_TH));
+        todo.push_back(e.tail);
+      }
+    }
+  }
+  return false;
+}
+
+bool ReferenceModel::TwistPath(const std::string& e, const std::string& C, const std::string& D,
+                               std::vector<std::pair<int, double>>* path) const {
+  const std::map<std::string, std::string> tree = Trees(s_);
+  // Breadth-first search over the bodies of TG(tree of e), remembering how each was reached.
+  std::map<std::string, std::pair<std::string, std::pair<int, double>>> from{{C, {C, {-1, 0.0}}}};
+  std::deque<std::string> todo{C};
+  while (!todo.empty()) {
+    const std::string n = todo.front();
+    todo.pop_front();
+    for (int i = 0; i < static_cast<int>(s_.twists.size()); ++i) {
+      const TwistEdge& t = s_.twists[i];
+      if (tree.at(t.head) != tree.at(e)) continue;
+      const std::string H = s_.frames.at(t.head);
+      // Crossing H -> tail body uses the stored twist (H wrt D); the other way it is inverted.
+      if (H == n && !from.count(t.tail_body)) {
+        from[t.tail_body] = {n, {i, +1.0}};
+        todo.push_back(t.tail_body);
+      } else if (t.tail_body == n && !from.count(H)) {
+        from[H] = {n, {i, -1.0}};
+        todo.push_back(H);
+      }
+    }
+  }
+  if (!from.count(D)) return false;
+  path->clear();
+  for (std::string n = D; n != C; n = from.at(n).first) path->push_back(from.at(n).second);
+  return true;
+}
+
+// ============================================================ queries
+
+Answer ReferenceModel::Ask(const Query& q) const {
+  Answer a;
+  const auto fail = [&](ErrorCode c) {
+    a.code = c;
+    return a;
+  };
+  const bool twist_kind = q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity ||
+                          q.kind == QueryKind::kAngularVelocity;
+  // The frames each kind reads, with the body each must be on (twists: none), and the bodies.
+  std::vector<std::string> frames;
+  std::string e, o, f, b, r = q.coord;
+  if (q.kind == QueryKind::kPose) {
+    e = q.point, o = q.orientation, f = q.ref_point, b = q.ref_orientation;
+    frames = {e, o, f, b, r};
+  } else if (q.kind == QueryKind::kPosition) {
+    e = q.point, f = q.ref_point;
+    frames = {e, f, r};
+  } else if (q.kind == QueryKind::kOrientation) {
+    o = q.orientation, b = q.ref_orientation;
+    frames = {o, b, r};
+  } else if (q.kind == QueryKind::kAngularVelocity) {
+    e = q.coord;  // no point: any point of the tree will do
+    frames = {r};
+  } else {
+    e = q.point;
+    frames = {e, r};
+  }
+  // invalid_name: required names; bodies when given (angular velocity: body required).
+  for (const std::string& n : frames) {
+    if (!ValidName(n)) return fail(ErrorCode::kInvalidName);
+  }
+  if (q.kind == QueryKind::kAngularVelocity && q.body.empty()) return fail(ErrorCode::kInvalidName);
+  if (twist_kind && q.ref_body.empty()) return fail(ErrorCode::kInvalidName);
+  for (const std::string* n : {&q.body, &q.ref_body}) {
+    if (!n->empty() && !ValidName(*n)) return fail(ErrorCode::kInvalidName);
+  }
+  // unknown_frame -> unknown_body.
+  for (const std::string& n : frames) {
+    if (!s_.frames.count(n)) return fail(ErrorCode::kUnknownFrame);
+  }
+  const std::string own = q.kind == QueryKind::kOrientation || q.kind == QueryKind::kPose ? o : e;
+  const std::string C = q.body.empty() ? s_.frames.at(own) : q.body;
+  const std::string D = q.ref_body.empty() ? s_.frames.at(q.kind == QueryKind::kPosition ? f : b) : q.ref_body;
+  if (!s_.bodies.count(C) || !s_.bodies.count(D)) return fail(ErrorCode::kUnknownBody);
+  // frame_body_mismatch (pose kinds: every point / orientation frame is on its named body).
+  if (!twist_kind) {
+    for (const std::string* x : {&e, &o}) {
+      if (!x->empty() && s_.frames.at(*x) != C) return fail(ErrorCode::kFrameBodyMismatch);
+    }
+    for (const std::string* x : {&f, &b}) {
+      if (!x->empty() && s_.frames.at(*x) != D) return fail(ErrorCode::kFrameBodyMismatch);
+    }
+  }
+  // no_pose_path: every frame the query reads in one pose tree.
+  Transform unused;
+  for (const std::string& n : frames) {
+    if (!Find(n, r, &unused)) return fail(ErrorCode::kNoPosePath);
+  }
+  // representation_constraint (spec §6): homogeneous poses need e = a, f = b, r = b;
+  // orientations r = b.
+  if (representation_ == Representation::kHomogeneous) {
+    if (q.kind == QueryKind::kPose && (e != o || f != b || r != b)) {
+      return fail(ErrorCode::kRepresentationConstraint);
+    }
+    if (q.kind == QueryKind::kOrientation && r != b) return fail(ErrorCode::kRepresentationConstraint);
+  }
+  // Values, from the poses of the frames in [r] (X_RN: pose of n wrt r, in [r]).
+  const auto X_R = [&](const std::string& n) {
+    Transform X;
+    Find(n, r, &X);
+    return X;
+  };
+  if (!twist_kind) {
+    // Orientation operator of [o] wrt [b] in [r]: R_rb R_bo R_br = R_rb (R_br R_ro) R_br = R_ro R_br.
+    if (!o.empty()) a.M = X_R(o).R * X_R(b).R.transpose();
+    if (!e.empty()) a.p = X_R(e).p - X_R(f).p;
+    return a;
+  }
+  if (C == D) return a;  // zero
+  std::vector<std::pair<int, double>> path;
+  if (!TwistPath(e, C, D, &path)) return fail(ErrorCode::kNoTwistPath);
+  const Eigen::Vector3d p_e = X_R(e).p;
+  for (const auto& [index, sign] : path) {
+    const TwistEdge& t = s_.twists[index];
+    const Transform X_RH = X_R(t.head);
+    const Eigen::Vector3d w = X_RH.R * t.w;
+    const Eigen::Vector3d v_h = X_RH.R * t.v;
+    a.w += sign * w;
+    a.v += sign * (v_h + w.cross(p_e - X_RH.p));  // v_e = v_h + w x (p_e - p_h)
+  }
+  if (q.kind == QueryKind::kLinearVelocity) a.w.setZero();  // only the asked part
+  if (q.kind == QueryKind::kAngularVelocity) a.v.setZero();
+  return a;
+}
+
+std::set<std::string> ReferenceModel::UsedEdges(const Query& q) const {
+  std::set<std::string> used;
+  std::set<std::string> terminals;  // the frames the query reads
+  switch (q.kind) {
+    case QueryKind::kPose:
+      terminals = {q.point, q.orientation, q.ref_point, q.ref_orientation, q.coord};
+      break;
+    case QueryKind::kPosition: terminals = {q.point, q.ref_point, q.coord}; break;
+    case QueryKind::kOrientation: terminals = {q.orientation, q.ref_orientation, q.coord}; break;
+    default: {
+      const std::string e = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
+      terminals = {e, q.coord};
+      const std::string C = q.body.empty() ? s_.frames.at(e) : q.body;
+      std::vector<std::pair<int, double>> path;
+      if (C != q.ref_body && TwistPath(e, C, q.ref_body, &path)) {
+        for (const auto& [index, sign] : path) {
+          used.insert(TwistKey(s_.twists[index].tail_body, s_.twists[index].head));
+          terminals.insert(s_.twists[index].head);
+        }
+      }
+    }
+  }
+  // A pose edge is used when removing it separates two terminals.
+  for (std::size_t i = 0; i < s_.poses.size(); ++i) {
+    ReferenceModel without = *this;
+    without.s_.poses.erase(without.s_.poses.begin() + static_cast<std::ptrdiff_t>(i));
+    Transform unused;
+    for (const std::string& n : terminals) {
+      if (!without.Find(n, *terminals.begin(), &unused)) {
+        used.insert(PoseKey(s_.poses[i].tail, s_.poses[i].head));
+        break;
+      }
+    }
+  }
+  return used;
+}
+
+}  // namespace semgraph::reference

@@ -1,0 +1,190 @@
+// File: tests/reference/reference_model.h
+//
+// ReferenceModel: a deliberately naive executable reading of spec/scene-graph.md, the oracle of
+// the fuzzers and of the exhaustive small-scope check (fuzz/). It shares no code with core/:
+// plain containers, every invariant recomputed from scratch by graph search over the whole
+// scene after each tentative operation, queries by brute-force path search. Short enough to
+// check by eye against the spec; speed is irrelevant.
+//
+// State (names are std::string; bodies and frames live in separate name spaces):
+//   bodies_   std::set of body names
+//   frames_   std::map frame -> body
+//   poses_    vector of pose edges {tail, head, X_TH}: X_TH = (R_TH, p_TH) is the pose of {head}
+//             wrt {tail} expressed in [tail], i.e. PoseCoord({h}|H, {t}|T, [t]) (spec §2)
+//   twists_   vector of twist edges {tail body D, head frame h, v, w}: the screw twist
+//             TwistCoord(h|H, D, [h]) (spec §3)
+//
+// How an add works (spec §4 "every operation either fully succeeds or leaves the graph exactly
+// as it was"): the argument checks run in the spec's §4 order; then the operation is applied
+// to a COPY of the state, and Violation() recomputes P1, P2, P3, W3 on the copy from scratch; the
+// first violated rule in the §4 order is the error, and the copy is dropped. Otherwise the copy
+// becomes the state.
+//   P1 multiple_pose_parents  a frame is the head of at most one pose edge
+//   P2 pose_cycle             the undirected pose graph is a forest (self_edge checked earlier)
+//   P3 duplicate_pose_path    in every pose tree, the frames of one body are connected through
+//                             same-body edges only
+//   W3 duplicate_twist_path   for every pose tree P, TG(P) (one undirected body edge D-H per
+//      (twist adds) /         twist edge D -> {h}|H with h in P) has no cycle and no parallel
+//      twist_merge_conflict   edge; a pose add that breaks it is W4 (twist_merge_conflict)
+//      (pose adds)
+//   W1 multiple_twist_parents and W2 twist_same_body are argument checks (they need no search).
+//
+// SCOPE (what the model does NOT cover; callers must not send it):
+//   - pose adds in edge form only: point = orientation frame = head, reference point =
+//     reference orientation = coordinate frame = tail. Hence an add never hits
+//     representation_constraint or pose_not_convertible.
+//   - twist adds with coordinate frame = the point's frame, or another frame (converted with
+//     the orientation of [r] wrt [point]; twist_not_convertible when [r] is not in the point's
+//     pose tree, including when the point's frame is created by this add).
+//   - names are ASCII: "valid" means non-empty, at most 255 bytes, no byte < 0x20 and no 0x7F.
+//     Non-ASCII bytes are treated as invalid (the library accepts UTF-8; the fuzzers send none).
+// SPEC AMBIGUITY, resolved like the library: spec §4 lists "node resolution
+// (frame_body_mismatch, frame_without_body)" as one step. When the head and the tail break
+// different ones (head missing and no body given, tail on another body than the one named),
+// the model reports the head's error: frames are resolved one at a time, head first.
+//
+// Queries (all six kinds, any point / orientation / reference / coordinate frame) are covered
+// fully, including the homogeneous representation's constraints.
+//
+// Numbers: a quaternion rotation is normalized to q/|q| and turned into a matrix; a matrix
+// rotation is replaced by its nearest rotation (polar decomposition by Newton iteration
+// R <- (R + R^-T)/2, independent of the library's SVD). Values are stored as 3x3 matrices.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "semgraph/semantics/error_code.h"
+
+namespace semgraph::reference {
+
+using semantics::ErrorCode;
+
+/// Pose of frame X wrt frame Y, expressed in [Y]: R_YX, p_YX.
+struct Transform {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+};
+
+/// A rotation as the user gave it (validated and normalized by the model).
+struct RotationInput {
+  bool is_matrix = false;
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+};
+
+/// The coordinate representation: changes only which queries are representation_constraint.
+enum class Representation { kQuaternion, kHomogeneous };
+
+enum class QueryKind { kPose, kPosition, kOrientation, kTwist, kLinearVelocity, kAngularVelocity };
+
+/// Query arguments by name; an empty body / ref_body means "the body of the frame". Which fields
+/// a kind reads: pose all; position point, body, ref_point, ref_body, coord; orientation
+/// orientation, body, ref_orientation, ref_body, coord; twist and linear velocity point, body,
+/// ref_body, coord; angular velocity body (required), ref_body, coord.
+struct Query {
+  QueryKind kind = QueryKind::kPose;
+  std::string point, orientation, body, ref_point, ref_orientation, ref_body, coord;
+};
+
+/// A query's outcome: code kOk and the value parts of its kind (M: orientation operator in [r];
+/// p: position in [r]; v, w: twist in [r] at the point).
+struct Answer {
+  ErrorCode code = ErrorCode::kOk;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+};
+
+struct PoseEdge {
+  std::string tail, head;
+  Transform X_TH;
+};
+
+struct TwistEdge {
+  std::string tail_body, head;
+  Eigen::Vector3d v, w;  // at {head}, in [head]
+};
+
+class ReferenceModel {
+ public:
+  explicit ReferenceModel(Representation representation = Representation::kQuaternion)
+      : representation_(representation) {}
+
+  // Spec §4 orders, per operation:
+  //   body:   invalid_name -> duplicate_body
+  //   frame:  invalid_name -> frame_without_body -> duplicate_frame -> unknown_body
+  //   pose:   invalid_name -> invalid_number -> invalid_rotation -> node resolution (head:
+  //           frame_body_mismatch / frame_without_body, then the same for the tail) ->
+  //           self_edge -> constant_pose_change (or a value update) ->
+  //           multiple_pose_parents -> pose_cycle -> duplicate_pose_path -> twist_merge_conflict
+  //   twist:  invalid_name -> invalid_number -> frame_body_mismatch -> frame_without_body ->
+  //           twist_same_body -> twist_not_convertible -> multiple_twist_parents (or update) ->
+  //           duplicate_twist_path
+  //   remove: invalid_name -> unknown_frame -> unknown_body -> no_such_edge
+  // Empty head_body / tail_body / body mean "not given".
+  ErrorCode AddBody(const std::string& name);
+  ErrorCode AddFrame(const std::string& name, const std::string& body);
+  ErrorCode AddPose(const std::string& head, const std::string& head_body, const std::string& tail,
+                    const std::string& tail_body, const RotationInput& rotation,
+                    const Eigen::Vector3d& p);
+  ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
+                     const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+  ErrorCode RemovePose(const std::string& of, const std::string& wrt);
+  ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body);
+
+  /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
+  /// no_pose_path -> representation_constraint -> no_twist_path.
+  Answer Ask(const Query& q) const;
+
+  /// The edges a query depends on, as "pose t->h" / "twist D->h": the pose edges of the
+  /// smallest subtree joining the query's frames (and the heads of its twist path), and the
+  /// twist edges of its TG path. Removing one of them makes the query unanswerable.
+  /// @pre Ask(q).code == kOk.
+  std::set<std::string> UsedEdges(const Query& q) const;
+
+  static bool ValidName(const std::string& name);
+  static std::string PoseKey(const std::string& tail, const std::string& head) {
+    return "pose " + tail + "->" + head;
+  }
+  static std::string TwistKey(const std::string& body, const std::string& head) {
+    return "twist " + body + "->" + head;
+  }
+
+  const std::set<std::string>& bodies() const { return s_.bodies; }
+  const std::map<std::string, std::string>& frames() const { return s_.frames; }
+  const std::vector<PoseEdge>& poses() const { return s_.poses; }
+  const std::vector<TwistEdge>& twists() const { return s_.twists; }
+
+ private:
+  struct State {
+    std::set<std::string> bodies;
+    std::map<std::string, std::string> frames;  // frame -> body
+    std::vector<PoseEdge> poses;
+    std::vector<TwistEdge> twists;
+  };
+  enum class Rule { kNone, kP1, kP2, kP3, kW3 };
+
+  /// First violated invariant of `s` in the order P1, P2, P3, W3 (from scratch).
+  static Rule Violation(const State& s);
+  /// Pose tree label of every frame: the smallest frame name of its undirected component.
+  static std::map<std::string, std::string> Trees(const State& s);
+  /// Pose of frame x wrt frame y in [y], by breadth-first search over the undirected pose edges
+  /// from y. False when x and y are in different trees.
+  bool Find(const std::string& x, const std::string& y, Transform* X_YX) const;
+  /// The twist edges (indices) on the path from body C to body D in TG(tree of frame e), with
+  /// a sign each (+1 when the path crosses the edge from its head's body to its tail body).
+  bool TwistPath(const std::string& e, const std::string& C, const std::string& D,
+                 std::vector<std::pair<int, double>>* path) const;
+
+  Representation representation_;
+  State s_;
+};
+
+}  // namespace semgraph::reference
