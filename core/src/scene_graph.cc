@@ -764,18 +764,21 @@ template <class R>
 BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                                        const Eigen::Vector3d& p_position) {
   NameRollback rollback(names_);
-  // The relation as the user wrote it, for messages.
-  const auto part = [](std::string_view point, std::string_view orientation, std::string_view body) {
-    std::string s = point == orientation ? "{" + std::string(point) + "}"
-                                         : "(" + std::string(point) + ",[" + std::string(orientation) + "])";
-    return body.empty() ? s : s + "|" + std::string(body);
+  // The relation as the user wrote it, for messages; formatted only when a rule rejects it.
+  const auto what = [&spec] {
+    const auto part = [](std::string_view point, std::string_view orientation, std::string_view body) {
+      std::string s = point == orientation ? "{" + std::string(point) + "}"
+                                           : "(" + std::string(point) + ",[" + std::string(orientation) + "])";
+      return body.empty() ? s : s + "|" + std::string(body);
+    };
+    std::string text = "pose of " + part(spec.point, spec.orientation, spec.body) + " wrt " +
+                       part(spec.ref_point, spec.ref_orientation, spec.ref_body);
+    if (spec.coordinate_frame != spec.ref_orientation || spec.point != spec.orientation ||
+        spec.ref_point != spec.ref_orientation) {
+      text += " in [" + std::string(spec.coordinate_frame) + "]";
+    }
+    return text;
   };
-  std::string what = "pose of " + part(spec.point, spec.orientation, spec.body) + " wrt " +
-                     part(spec.ref_point, spec.ref_orientation, spec.ref_body);
-  if (spec.coordinate_frame != spec.ref_orientation || spec.point != spec.orientation ||
-      spec.ref_point != spec.ref_orientation) {
-    what += " in [" + std::string(spec.coordinate_frame) + "]";
-  }
 
   // 1. invalid_name.
   struct NamedField {
@@ -793,21 +796,21 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   for (const NamedField& n : named) {
     if (n.value.empty() && !n.required) continue;
     if (auto ok = semantics::ValidateName(n.value); !ok) {
-      return Reject(ErrorCode::kInvalidName, what,
+      return Reject(ErrorCode::kInvalidName, what(),
                     std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
     }
   }
   // 2-3. invalid_number -> invalid_rotation.
   auto p_ok = coord::ValidateVector(p_position, coord::ValueRole::kPosition);
-  if (!p_ok) return Reject(p_ok.error().code, what, coord::Describe(p_ok.error(), names_));
+  if (!p_ok) return Reject(p_ok.error().code, what(), coord::Describe(p_ok.error(), names_));
   typename B::Rotation M;
   if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
     auto q_ok = coord::ValidateQuaternion(rotation);
-    if (!q_ok) return Reject(q_ok.error().code, what, coord::Describe(q_ok.error(), names_));
+    if (!q_ok) return Reject(q_ok.error().code, what(), coord::Describe(q_ok.error(), names_));
     M = B::FromQuaternion(*q_ok);
   } else {
     auto R_ok = coord::ValidateRotationMatrix(rotation);
-    if (!R_ok) return Reject(R_ok.error().code, what, coord::Describe(R_ok.error(), names_));
+    if (!R_ok) return Reject(R_ok.error().code, what(), coord::Describe(R_ok.error(), names_));
     M = B::FromMatrix(*R_ok);
   }
 
@@ -824,7 +827,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                            BodyIndex& body, NameId& body_name_id) -> BuildResult {
     if (x.is_valid()) {
       if (!body_text.empty() && body != body_of(x)) {
-        return Reject(ErrorCode::kFrameBodyMismatch, what,
+        return Reject(ErrorCode::kFrameBodyMismatch, what(),
                       "frame {" + std::string(frame) + "} is attached to body " +
                           std::string(body_name(body_of(x))) + ", not " + std::string(body_text));
       }
@@ -833,7 +836,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
       return Ok{};
     }
     if (body_text.empty()) {
-      return Reject(ErrorCode::kFrameWithoutBody, what,
+      return Reject(ErrorCode::kFrameWithoutBody, what(),
                     "frame {" + std::string(frame) +
                         "} does not exist and no body is given to attach it to");
     }
@@ -843,18 +846,18 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   if (auto ok = resolve(b, spec.ref_orientation, spec.ref_body, D, D_name); !ok) return ok;
   const FrameIndex e = FrameOfName(e_id), f = FrameOfName(f_id), r = FrameOfName(r_id);
   if (e.is_valid() && e != a && body_of(e) != C) {
-    return Reject(ErrorCode::kFrameBodyMismatch, what,
+    return Reject(ErrorCode::kFrameBodyMismatch, what(),
                   "point " + std::string(spec.point) + " is the origin of " + FrameText(e) +
                       ", not of a frame of body " + std::string(names_.name(C_name)));
   }
   if (f.is_valid() && f != b && body_of(f) != D) {
-    return Reject(ErrorCode::kFrameBodyMismatch, what,
+    return Reject(ErrorCode::kFrameBodyMismatch, what(),
                   "reference point " + std::string(spec.ref_point) + " is the origin of " +
                       FrameText(f) + ", not of a frame of body " + std::string(names_.name(D_name)));
   }
   // 5. self_edge.
   if (a_id == b_id) {
-    return Reject(ErrorCode::kSelfEdge, what, "a pose edge from {" + std::string(spec.orientation) +
+    return Reject(ErrorCode::kSelfEdge, what(), "a pose edge from {" + std::string(spec.orientation) +
                                                   "} to itself is meaningless");
   }
   // 6. representation_constraint.
@@ -863,29 +866,29 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                                        semantics::OrientationFrame(b_id), semantics::Body(D_name),
                                        semantics::OrientationFrame(r_id)};
   if (auto ok = coord::CheckRepresentation<B>(given); !ok) {
-    return Reject(ErrorCode::kRepresentationConstraint, what, coord::Describe(ok.error(), names_));
+    return Reject(ErrorCode::kRepresentationConstraint, what(), coord::Describe(ok.error(), names_));
   }
   // 7. pose_not_convertible, then the conversion to the edge form X_BA in [b].
   Pose X{given, B::MakePose(M, *p_ok)};
   if (e_id != a_id && !(a.is_valid() && e.is_valid() && trees_.SameSet(a.value(), e.value()))) {
-    return Reject(ErrorCode::kPoseNotConvertible, what,
+    return Reject(ErrorCode::kPoseNotConvertible, what(),
                   "point " + std::string(spec.point) + " must be a frame of " +
                       std::string(names_.name(C_name)) + " in the pose tree of {" +
                       std::string(spec.orientation) + "}");
   }
   if (f_id != b_id && !(b.is_valid() && f.is_valid() && trees_.SameSet(b.value(), f.value()))) {
-    return Reject(ErrorCode::kPoseNotConvertible, what,
+    return Reject(ErrorCode::kPoseNotConvertible, what(),
                   "reference point " + std::string(spec.ref_point) + " must be a frame of " +
                       std::string(names_.name(D_name)) + " in the pose tree of {" +
                       std::string(spec.ref_orientation) + "}");
   }
   if (r_id != b_id && !(b.is_valid() && r.is_valid() && trees_.SameSet(b.value(), r.value()))) {
-    return Reject(ErrorCode::kPoseNotConvertible, what,
+    return Reject(ErrorCode::kPoseNotConvertible, what(),
                   "coordinate frame [" + std::string(spec.coordinate_frame) +
                       "] must be a frame in the pose tree of {" + std::string(spec.ref_orientation) + "}");
   }
   const auto conversion_failed = [&](const coord::Error& err) {
-    return Reject(ErrorCode::kPoseNotConvertible, what, "conversion failed: " + coord::Describe(err, names_));
+    return Reject(ErrorCode::kPoseNotConvertible, what(), "conversion failed: " + coord::Describe(err, names_));
   };
   if (r_id != b_id) {  // re-express in [b]: O = [r] wrt [b] in [b]
     auto X_BR = BasicPose(r, b);
@@ -934,7 +937,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
         rollback.Commit();
         return Ok{};  // same value again: accepted, stored value kept
       }
-      return Reject(ErrorCode::kConstantPoseChange, what,
+      return Reject(ErrorCode::kConstantPoseChange, what(),
                     FrameText(a) + " and " + FrameText(b) + " are both fixed to body " +
                         std::string(body_name(body_of(a))) +
                         ", so their pose is constant; it is already set (position " +
@@ -946,12 +949,12 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   }
   // 9. multiple_pose_parents.
   if (a.is_valid() && forest_.parent(a).is_valid()) {
-    return Reject(ErrorCode::kMultiplePoseParents, what,
+    return Reject(ErrorCode::kMultiplePoseParents, what(),
                   FrameText(a) + " already has a pose parent " + FrameText(forest_.parent(a)));
   }
   // 10. pose_cycle: a is a root; b in a's tree means b descends from a.
   if (a.is_valid() && b.is_valid() && trees_.SameSet(a.value(), b.value())) {
-    return Reject(ErrorCode::kPoseCycle, what,
+    return Reject(ErrorCode::kPoseCycle, what(),
                   FrameText(b) + " is already connected below " + FrameText(a) +
                       " (through the pose tree rooted at " + FrameText(forest_.Root(b)) +
                       "); the edge would close a cycle");
@@ -974,7 +977,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     reason += " is in the pose tree of {" + std::string(spec.ref_orientation) + "} and ";
     reason += in_h.is_valid() ? FrameText(in_h) : std::string("{" + std::string(spec.orientation) + "}");
     reason += " is in the pose tree of {" + std::string(spec.orientation) + "}";
-    return Reject(ErrorCode::kDuplicatePosePath, what, reason);
+    return Reject(ErrorCode::kDuplicatePosePath, what(), reason);
   }
   // 12. twist_merge_conflict (W4).
   if (a.is_valid() && b.is_valid()) {
@@ -982,7 +985,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     const TreeRecord* rec_b = RecordOf(b);
     if (rec_a && rec_b && !rec_a->twists.empty() && !rec_b->twists.empty() &&
         !rec_b->twists.CanMerge(rec_a->twists)) {
-      return Reject(ErrorCode::kTwistMergeConflict, what,
+      return Reject(ErrorCode::kTwistMergeConflict, what(),
                     "joining the pose trees of " + FrameText(b) + " and " + FrameText(a) +
                         " would give two twist paths between the same bodies (their twist "
                         "edges would form a cycle)");
@@ -1038,9 +1041,10 @@ template <coord::Backend B>
 BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                                     const Eigen::Vector3d& w_angular) {
   NameRollback rollback(names_);
-  std::string what = "twist of " + std::string(spec.point) +
-                     (spec.body.empty() ? "" : "|" + std::string(spec.body)) + " wrt " +
-                     std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
+  const auto what = [&spec] {  // formatted only when a rule rejects the twist
+    return "twist of " + std::string(spec.point) + (spec.body.empty() ? "" : "|" + std::string(spec.body)) +
+           " wrt " + std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
+  };
   struct NamedField {
     std::string_view value;
     const char* role;
@@ -1053,14 +1057,14 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   for (const NamedField& n : named) {
     if (n.value.empty() && !n.required) continue;
     if (auto ok = semantics::ValidateName(n.value); !ok) {
-      return Reject(ErrorCode::kInvalidName, what,
+      return Reject(ErrorCode::kInvalidName, what(),
                     std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
     }
   }
   auto v_ok = coord::ValidateVector(v_linear, coord::ValueRole::kLinearVelocity);
-  if (!v_ok) return Reject(v_ok.error().code, what, coord::Describe(v_ok.error(), names_));
+  if (!v_ok) return Reject(v_ok.error().code, what(), coord::Describe(v_ok.error(), names_));
   auto w_ok = coord::ValidateVector(w_angular, coord::ValueRole::kAngularVelocity);
-  if (!w_ok) return Reject(w_ok.error().code, what, coord::Describe(w_ok.error(), names_));
+  if (!w_ok) return Reject(w_ok.error().code, what(), coord::Describe(w_ok.error(), names_));
 
   // Node resolution: the point must be the origin of a frame on the moving body.
   const NameId e_id = *names_.Intern(spec.point);
@@ -1073,19 +1077,19 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   NameId C_name = C_id;
   if (e.is_valid()) {
     if (C_id.is_valid() && C != body_of(e)) {
-      return Reject(ErrorCode::kFrameBodyMismatch, what,
+      return Reject(ErrorCode::kFrameBodyMismatch, what(),
                     "the point of a twist must be the origin of a frame on the moving body: " +
                         FrameText(e) + " is not on body " + std::string(spec.body));
     }
     C = body_of(e);
     C_name = bodies_[C.value()].name;
   } else if (!C_id.is_valid()) {
-    return Reject(ErrorCode::kFrameWithoutBody, what,
+    return Reject(ErrorCode::kFrameWithoutBody, what(),
                   "frame {" + std::string(spec.point) + "} does not exist and no body is given");
   }
   const BodyIndex D = BodyOfName(D_id);
   if (C_name == D_id) {
-    return Reject(ErrorCode::kTwistSameBody, what,
+    return Reject(ErrorCode::kTwistSameBody, what(),
                   "a twist of body " + std::string(names_.name(C_name)) + " relative to itself");
   }
   // twist_not_convertible: [r] must be in the pose tree of {e}.
@@ -1095,7 +1099,7 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
                   *v_ok, *w_ok};
   if (r_id != e_id) {
     if (!(e.is_valid() && r.is_valid() && trees_.SameSet(e.value(), r.value()))) {
-      return Reject(ErrorCode::kTwistNotConvertible, what,
+      return Reject(ErrorCode::kTwistNotConvertible, what(),
                     "coordinate frame [" + std::string(spec.coordinate_frame) +
                         "] must be a frame in the pose tree of {" + std::string(spec.point) + "}");
     }
@@ -1103,7 +1107,7 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
     auto R_ER = X_ER ? coord::OrientationOf(*X_ER) : Result<Orientation>(Unexpected{X_ER.error()});
     auto next = R_ER ? coord::ChangeCoordinateFrame(tw, *R_ER) : Result<coord::Twist>(Unexpected{R_ER.error()});
     if (!next) {
-      return Reject(ErrorCode::kTwistNotConvertible, what,
+      return Reject(ErrorCode::kTwistNotConvertible, what(),
                     "conversion failed: " + coord::Describe(next.error(), names_));
     }
     tw = *next;
@@ -1117,14 +1121,14 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
       rollback.Commit();
       return Ok{};
     }
-    return Reject(ErrorCode::kMultipleTwistParents, what,
+    return Reject(ErrorCode::kMultipleTwistParents, what(),
                   FrameText(e) + " already has a twist parent: body " +
                       std::string(body_name(te.tail)));
   }
   // duplicate_twist_path (W3).
   if (e.is_valid() && D.is_valid()) {
     if (const TreeRecord* rec = RecordOf(e); rec && rec->twists.Connected(C.value(), D.value())) {
-      return Reject(ErrorCode::kDuplicateTwistPath, what,
+      return Reject(ErrorCode::kDuplicateTwistPath, what(),
                     "the twist of " + std::string(body_name(C)) + " relative to " +
                         std::string(body_name(D)) +
                         " already follows from the twist edges of the pose tree of " + FrameText(e));

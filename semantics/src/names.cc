@@ -1,5 +1,6 @@
 #include "semgraph/semantics/names.h"
 
+#include <cstring>
 #include <string>
 
 namespace semgraph::semantics {
@@ -82,39 +83,100 @@ std::string Describe(const NameError& error, std::string_view name) {
   return "invalid name";
 }
 
+std::uint32_t NameTable::Hash(std::string_view name) noexcept {
+  // FNV-1a, then a multiplicative finish so that the low bits used for probing mix well.
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const char c : name) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ull;
+  }
+  h ^= h >> 29;
+  h *= 0xbf58476d1ce4e5b9ull;
+  return static_cast<std::uint32_t>(h >> 32);
+}
+
+std::size_t NameTable::Probe(std::string_view name, std::uint32_t hash) const noexcept {
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t i = hash & mask;; i = (i + 1) & mask) {
+    const std::uint32_t slot = slots_[i];
+    if (slot == 0) return i;
+    const Record& r = records_[slot - 1];
+    if (r.hash == hash && std::string_view(r.text, r.size) == name) return i;
+  }
+}
+
+void NameTable::Grow() {
+  std::vector<std::uint32_t> old = std::move(slots_);
+  slots_.assign(old.empty() ? 16 : 2 * old.size(), 0);
+  const std::size_t mask = slots_.size() - 1;
+  for (const std::uint32_t slot : old) {
+    if (slot == 0) continue;
+    std::size_t i = records_[slot - 1].hash & mask;
+    while (slots_[i] != 0) i = (i + 1) & mask;
+    slots_[i] = slot;
+  }
+}
+
 Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
-  if (const auto it = ids_.find(name); it != ids_.end()) return it->second;
+  if (const NameId found = Find(name); found.is_valid()) return found;
   if (auto valid = ValidateName(name); !valid) return Unexpected{valid.error()};
-  const NameId id(static_cast<std::uint32_t>(names_.size()));
-  const std::string& stored = names_.emplace_back(name);
-  ids_.emplace(std::string_view(stored), id);
+  if (2 * (records_.size() + 1) > slots_.size()) Grow();
+  if (block_fill_ + name.size() > kBlockBytes) {
+    blocks_.push_back(std::make_unique<char[]>(kBlockBytes));
+    block_fill_ = 0;
+  }
+  char* text = blocks_.back().get() + block_fill_;
+  std::memcpy(text, name.data(), name.size());
+  block_fill_ += name.size();
+  const std::uint32_t hash = Hash(name);
+  const NameId id(static_cast<std::uint32_t>(records_.size()));
+  records_.push_back(Record{text, static_cast<std::uint32_t>(name.size()), hash});
+  slots_[Probe(name, hash)] = id.value() + 1;
   return id;
 }
 
+// Backward-shift deletion keeps every remaining name reachable from its home slot.
+void NameTable::EraseSlot(std::size_t hole) noexcept {
+  const std::size_t mask = slots_.size() - 1;
+  slots_[hole] = 0;
+  for (std::size_t j = (hole + 1) & mask; slots_[j] != 0; j = (j + 1) & mask) {
+    const std::size_t home = records_[slots_[j] - 1].hash & mask;
+    if (((j - home) & mask) >= ((j - hole) & mask)) {
+      slots_[hole] = slots_[j];
+      slots_[j] = 0;
+      hole = j;
+    }
+  }
+}
+
 void NameTable::TruncateTo(std::size_t n) {
-  while (names_.size() > n) {
-    ids_.erase(std::string_view(names_.back()));
-    names_.pop_back();
+  while (records_.size() > n) {
+    const Record r = records_.back();
+    EraseSlot(Probe(std::string_view(r.text, r.size), r.hash));
+    records_.pop_back();
+    // Names were appended in order: give the arena bytes back (an emptied block is kept).
+    if (!blocks_.empty() && r.text >= blocks_.back().get() &&
+        r.text < blocks_.back().get() + kBlockBytes) {
+      block_fill_ = static_cast<std::size_t>(r.text - blocks_.back().get());
+    }
   }
 }
 
 NameId NameTable::Find(std::string_view name) const noexcept {
-  const auto it = ids_.find(name);
-  return it == ids_.end() ? NameId() : it->second;
+  if (slots_.empty()) return NameId();
+  const std::uint32_t slot = slots_[Probe(name, Hash(name))];
+  return slot == 0 ? NameId() : NameId(slot - 1);
 }
 
 std::string_view NameTable::name(NameId id) const noexcept {
-  if (!id.is_valid() || id.value() >= names_.size()) return "<invalid>";
-  return names_[id.value()];
+  if (!id.is_valid() || id.value() >= records_.size()) return "<invalid>";
+  const Record& r = records_[id.value()];
+  return std::string_view(r.text, r.size);
 }
 
 std::size_t NameTable::ApproximateBytes() const noexcept {
-  std::size_t bytes = 0;
-  for (const std::string& s : names_) bytes += sizeof(std::string) + (s.size() > 15 ? s.capacity() : 0);
-  // unordered_map: one node per entry (key, value, next pointer, cached hash) plus buckets.
-  bytes += ids_.size() * (sizeof(std::string_view) + sizeof(NameId) + 2 * sizeof(void*));
-  bytes += ids_.bucket_count() * sizeof(void*);
-  return bytes;
+  return blocks_.size() * kBlockBytes + records_.capacity() * sizeof(Record) +
+         slots_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(void*);
 }
 
 }  // namespace semgraph::semantics
