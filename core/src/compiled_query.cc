@@ -3,6 +3,9 @@
 // semantic checks, which were done once when compiling.
 #include "semgraph/core/compiled_query.h"
 
+#include <bit>
+#include <type_traits>
+
 namespace semgraph::core {
 
 template <coord::Backend B>
@@ -33,20 +36,51 @@ auto CompiledQuery<B>::AddBasic(FrameIndex a, FrameIndex b) -> Basic {
   return basic;
 }
 
-// X_AF = X_A..X_PF composed upward: T = X_PF, then T = ComposeChain(T, X_GP) for each edge.
+// X_AF = X_A.. * ... * X_PF. The edges are stored from F upward; they are composed top-down,
+// acc = acc * X_i, as a hand-written chain would (p += q p_i; q = q q_i for quaternions), so the
+// loop-carried dependency is one rotation product.
 template <coord::Backend B>
 bool CompiledQuery<B>::EvalChain(Chain c, PoseCoords& X_AF, bool& identity) const noexcept {
   identity = c.begin == c.end;
   if (identity) return true;
   const auto* values = graph_->X_PF_.data();
-  const EdgeRef* e = edges_.data() + c.begin;
-  const EdgeRef* end = edges_.data() + c.end;
-  if (!values[e->child].Load(X_AF, e->epoch)) return false;
-  for (++e; e != end; ++e) {
-    PoseCoords X_GP;
-    if (!values[e->child].Load(X_GP, e->epoch)) return false;
-    X_AF = B::ComposeChain(X_AF, X_GP);
+  const EdgeRef* first = edges_.data() + c.begin;
+  const EdgeRef* e = edges_.data() + c.end - 1;
+  if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
+    // The hot case: rebuild each edge's quaternion and vector straight from the locked words
+    // (x y z w, then p), so nothing round-trips through the stack.
+    using Words = std::uint64_t[PoseValue<B>::kWords];
+    const auto load = [&](const EdgeRef& r, Eigen::Quaterniond& q, Eigen::Vector3d& p) {
+      Words w;
+      if (!values[r.child].LoadWords(w, r.epoch)) return false;
+      const auto d = [&w](int i) { return std::bit_cast<double>(w[i]); };
+      q = Eigen::Quaterniond(d(3), d(0), d(1), d(2));
+      p = Eigen::Vector3d(d(4), d(5), d(6));
+      return true;
+    };
+    Eigen::Quaterniond q;
+    Eigen::Vector3d p;
+    if (!load(*e, q, p)) return false;
+    while (e != first) {
+      --e;
+      Eigen::Quaterniond q_i;
+      Eigen::Vector3d p_i;
+      if (!load(*e, q_i, p_i)) return false;
+      p += q * p_i;
+      q = q * q_i;
+    }
+    X_AF = PoseCoords{q, p};
+    return true;
   }
+  PoseCoords acc;
+  if (!values[e->child].Load(acc, e->epoch)) return false;
+  while (e != first) {
+    --e;
+    PoseCoords X_i;
+    if (!values[e->child].Load(X_i, e->epoch)) return false;
+    acc = B::ComposeChain(X_i, acc);
+  }
+  X_AF = acc;
   return true;
 }
 

@@ -1399,7 +1399,7 @@ template <coord::Backend B>
 std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept {
   std::size_t bytes = sizeof(*this);
   bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);
-  bytes += X_PF_.capacity() * sizeof(SeqLockValue<typename B::PoseCoords>);
+  bytes += X_PF_.capacity() * sizeof(PoseValue<B>);
   bytes += forest_.ApproximateBytes();
   bytes += trees_.size() * 2 * sizeof(std::uint32_t);
   bytes += record_of_rep_.ApproximateBytes();

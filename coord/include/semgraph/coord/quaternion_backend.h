@@ -22,6 +22,8 @@ struct QuaternionBackend {
     Eigen::Quaterniond rotation;
     Eigen::Vector3d translation;
   };
+  /// Bytes of PoseCoords that hold data (the rest is alignment padding): stores copy only these.
+  static constexpr std::size_t kPosePayloadBytes = sizeof(Eigen::Quaterniond) + sizeof(Eigen::Vector3d);
 
   static Rotation FromMatrix(const Eigen::Matrix3d& R) noexcept { return Rotation(R).normalized(); }
   static Rotation FromQuaternion(const Eigen::Quaterniond& q) noexcept { return q; }
@@ -47,5 +49,7 @@ struct QuaternionBackend {
 };
 
 static_assert(Backend<QuaternionBackend>);
+static_assert(sizeof(Eigen::Quaterniond) == 32 && sizeof(QuaternionBackend::PoseCoords) == 64,
+              "kPosePayloadBytes assumes the rotation at offset 0 and the translation at 32");
 
 }  // namespace semgraph::coord

@@ -135,6 +135,18 @@ struct TwistSpec {
   }
 };
 
+/// Bytes of B::PoseCoords that carry data (B::kPosePayloadBytes when the backend declares it).
+template <coord::Backend B>
+constexpr std::size_t PosePayloadBytes() noexcept {
+  if constexpr (requires { B::kPosePayloadBytes; }) {
+    return B::kPosePayloadBytes;
+  } else {
+    return sizeof(typename B::PoseCoords);
+  }
+}
+template <coord::Backend B>
+using PoseValue = SeqLockValue<typename B::PoseCoords, PosePayloadBytes<B>()>;
+
 /// A resolved pose edge, for O(1) value updates from a control loop (see SetPose).
 struct PoseHandle {
   FrameIndex child;         ///< the edge's head frame
@@ -413,7 +425,7 @@ class SceneGraph {
   std::vector<BodyNode> bodies_;
   // Value (and epoch) of each frame's parent pose edge, X_PF in [P]: a sequence lock each, so
   // a control loop can update joint poses while queries read them.
-  std::vector<SeqLockValue<typename B::PoseCoords>> X_PF_;
+  std::vector<PoseValue<B>> X_PF_;
   PoseForest forest_;
   DisjointSets trees_;                        // which pose tree a frame is in
   FlatMap<std::uint32_t> record_of_rep_;      // union-find representative -> records_ index

@@ -20,13 +20,18 @@
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
+#include <utility>
 
 namespace semgraph::core {
 
-template <class T>
-class SeqLockValue {
+/// Bytes: how many leading bytes of T carry data (a value type's tail padding need not be
+/// copied: the quaternion pose is 56 bytes of data in a 64-byte type, so header + data fill
+/// exactly one 64-byte cache line).
+template <class T, std::size_t Bytes = sizeof(T)>
+class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
  public:
-  static constexpr std::size_t kWords = (sizeof(T) + 7) / 8;
+  static_assert(Bytes <= sizeof(T));
+  static constexpr std::size_t kWords = (Bytes + 7) / 8;
 
   SeqLockValue() noexcept = default;
   explicit SeqLockValue(const T& value) noexcept { Store(value); }
@@ -42,7 +47,7 @@ class SeqLockValue {
   /// Single writer. Never blocks readers for longer than the copy of kWords words.
   void Store(const T& value) noexcept {
     std::uint64_t words[kWords] = {};
-    std::memcpy(static_cast<void*>(words), static_cast<const void*>(&value), sizeof(T));
+    std::memcpy(static_cast<void*>(words), static_cast<const void*>(&value), Bytes);
     const std::uint64_t h = header_.load(std::memory_order_relaxed);
     header_.store(NextSeq(h), std::memory_order_relaxed);  // odd: write in progress
     // Release stores of the words order the odd header before them: a reader that sees any
@@ -59,12 +64,25 @@ class SeqLockValue {
       const std::uint64_t h1 = header_.load(std::memory_order_acquire);
       if (Epoch(h1) != epoch) return false;
       if (h1 & 1u) continue;  // a write is in progress; it is a handful of stores
-      // Acquire loads keep the header re-check below after every word load.
-      for (std::size_t i = 0; i < kWords; ++i) words[i] = words_[i].load(std::memory_order_acquire);
+      // Acquire loads keep the header re-check below after every word load; unrolled, so the
+      // words go straight to registers.
+      LoadWords(words, std::make_index_sequence<kWords>{});
       if (header_.load(std::memory_order_relaxed) == h1) break;
     }
-    std::memcpy(static_cast<void*>(&out), static_cast<const void*>(words), sizeof(T));
+    std::memcpy(static_cast<void*>(&out), static_cast<const void*>(words), Bytes);
     return true;
+  }
+
+  /// The raw words of a consistent value if the epoch is still `epoch`, for callers that rebuild
+  /// T in registers (the compiled-query hot loop); false otherwise.
+  [[nodiscard]] bool LoadWords(std::uint64_t (&words)[kWords], std::uint32_t epoch) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+      if (Epoch(h1) != epoch) return false;
+      if (h1 & 1u) continue;
+      LoadWords(words, std::make_index_sequence<kWords>{});
+      if (header_.load(std::memory_order_relaxed) == h1) return true;
+    }
   }
 
   /// Reads a consistent value whatever the epoch.
@@ -85,6 +103,10 @@ class SeqLockValue {
   }
 
  private:
+  template <std::size_t... I>
+  void LoadWords(std::uint64_t* words, std::index_sequence<I...>) const noexcept {
+    ((words[I] = words_[I].load(std::memory_order_acquire)), ...);
+  }
   static constexpr std::uint64_t kSeqMask = 0xFFFFFFFFull;
   static constexpr std::uint32_t Epoch(std::uint64_t h) noexcept {
     return static_cast<std::uint32_t>(h >> 32);
