@@ -633,16 +633,28 @@ std::optional<QueryError> SceneGraph<B>::ResolveFrameNames(std::span<const std::
                                                            std::span<const Field> kinds,
                                                            std::span<NameId> ids, std::string_view body,
                                                            std::string_view ref_body) const noexcept {
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    if (!semantics::ValidateName(fields[i])) return QError(ErrorCode::kInvalidName, kinds[i]);
-  }
-  if (auto bad = InvalidBodyNames(body, ref_body)) return bad;
+  // Fast path: every name found. An interned name is valid by the table's invariant, so no name
+  // needs validating unless a lookup fails; then the spec's order decides what to report.
+  bool all_found = true;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     std::size_t same = i;
     for (std::size_t j = 0; j < i && same == i; ++j) {
       if (fields[j] == fields[i]) same = j;
     }
     ids[i] = same < i ? ids[same] : names_.Find(fields[i]);
+    all_found &= FrameOfName(ids[i]).is_valid();
+  }
+  const auto unknown_body_name = [&](std::string_view n) {
+    return !n.empty() && !names_.Find(n).is_valid() && !semantics::ValidateName(n);
+  };
+  if (all_found && !unknown_body_name(body) && !unknown_body_name(ref_body)) return std::nullopt;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (!ids[i].is_valid() && !semantics::ValidateName(fields[i])) {
+      return QError(ErrorCode::kInvalidName, kinds[i]);
+    }
+  }
+  if (auto bad = InvalidBodyNames(body, ref_body)) return bad;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
     if (!FrameOfName(ids[i]).is_valid()) return QError(ErrorCode::kUnknownFrame, kinds[i], ids[i]);
   }
   return std::nullopt;
@@ -793,8 +805,18 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                               {spec.ref_orientation, "reference orientation frame", true},
                               {spec.ref_body, "reference body", false},
                               {spec.coordinate_frame, "coordinate frame", true}};
-  for (const NamedField& n : named) {
+  // Each distinct name is looked up once; an interned name is valid by the table's invariant, so
+  // only new names are validated (the edge form repeats names: Of(x).RelativeTo(y)).
+  NameId found[7];
+  for (int i = 0; i < 7; ++i) {
+    const NamedField& n = named[i];
     if (n.value.empty() && !n.required) continue;
+    int same = -1;
+    for (int j = 0; j < i && same < 0; ++j) {
+      if (named[j].value == n.value) same = j;
+    }
+    found[i] = same >= 0 ? found[same] : names_.Find(n.value);
+    if (found[i].is_valid()) continue;
     if (auto ok = semantics::ValidateName(n.value); !ok) {
       return Reject(ErrorCode::kInvalidName, what(),
                     std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
@@ -815,10 +837,12 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   }
 
   // 4. Node resolution. Names are interned now (rolled back on rejection).
-  const auto intern = [&](std::string_view s) { return s.empty() ? NameId() : *names_.Intern(s); };
-  const NameId e_id = intern(spec.point), a_id = intern(spec.orientation), C_id = intern(spec.body);
-  const NameId f_id = intern(spec.ref_point), b_id = intern(spec.ref_orientation), D_id = intern(spec.ref_body);
-  const NameId r_id = intern(spec.coordinate_frame);
+  for (int i = 0; i < 7; ++i) {
+    if (!found[i].is_valid() && !named[i].value.empty()) found[i] = *names_.Intern(named[i].value);
+  }
+  const NameId e_id = found[0], a_id = found[1], C_id = found[2];
+  const NameId f_id = found[3], b_id = found[4], D_id = found[5];
+  const NameId r_id = found[6];
   GrowNameMaps();
   const FrameIndex a = FrameOfName(a_id), b = FrameOfName(b_id);
   BodyIndex C = BodyOfName(C_id), D = BodyOfName(D_id);
