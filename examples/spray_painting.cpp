@@ -40,8 +40,9 @@ std::string Quat(Quaterniond q) {
   return buf;
 }
 
+// Returns a copy: the result is a temporary that dies at the end of the caller's statement.
 template <class T>
-const T& Need(const sg::QueryResult<T>& r, const sg::SceneGraph<>& graph) {
+T Need(const sg::QueryResult<T>& r, const sg::SceneGraph<>& graph) {
   if (!r) {
     std::fprintf(stderr, "query failed: %s\n", graph.Describe(r.error()).c_str());
     std::exit(1);
@@ -78,35 +79,35 @@ int main() {
   const auto& names = graph.names();
   std::printf("\n== Listing 2 and more\n");
   {
-    const auto& X = Need(graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "O2")), graph);
+    const auto X = Need(graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "O2")), graph);
     std::printf("%s\n  position %s\n  rotation %s\n", semgraph::semantics::Describe(X.semantics, names).c_str(),
                 Vec(X.value.translation).c_str(), Quat(X.value.rotation).c_str());
   }
   {
-    const auto& V = Need(graph.GetTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2")), graph);
+    const auto V = Need(graph.GetTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2")), graph);
     std::printf("%s   (the paint point's velocity relative to the gun, in the gun frame)\n  v %s\n  w %s\n",
                 semgraph::semantics::Describe(V.semantics, names).c_str(), Vec(V.linear).c_str(),
                 Vec(V.angular).c_str());
   }
   {
-    const auto& X = Need(graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("b", "B")), graph);
+    const auto X = Need(graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("b", "B")), graph);
     std::printf("%s   (the paint point in the robot base)\n  position %s\n  rotation %s\n",
                 semgraph::semantics::Describe(X.semantics, names).c_str(), Vec(X.value.translation).c_str(),
                 Quat(X.value.rotation).c_str());
   }
   {
     auto spec = sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "O2").ExpressedIn("c");
-    const auto& p = Need(graph.GetPosition(spec), graph);
+    const auto p = Need(graph.GetPosition(spec), graph);
     std::printf("%s   (where the gun must point, seen by the camera)\n  p %s\n",
                 semgraph::semantics::Describe(p.semantics, names).c_str(), Vec(p.value).c_str());
   }
   {
-    const auto& v = Need(graph.GetLinearVelocity(sg::TwistSpec::Of("o2", "O1").RelativeTo("O2").ExpressedIn("b")), graph);
+    const auto v = Need(graph.GetLinearVelocity(sg::TwistSpec::Of("o2", "O1").RelativeTo("O2").ExpressedIn("b")), graph);
     std::printf("%s   (the object's point under the gun nozzle, relative to the gun, in [b])\n  v %s\n",
                 semgraph::semantics::Describe(v.semantics, names).c_str(), Vec(v.value).c_str());
   }
   {
-    const auto& w = Need(graph.GetAngularVelocity(sg::TwistSpec::Of("", "O1").RelativeTo("B").ExpressedIn("b")), graph);
+    const auto w = Need(graph.GetAngularVelocity(sg::TwistSpec::Of("", "O1").RelativeTo("B").ExpressedIn("b")), graph);
     std::printf("%s   (how fast the cylinder turns, seen from the robot base)\n  w %s\n",
                 semgraph::semantics::Describe(w.semantics, names).c_str(), Vec(w.value).c_str());
   }
