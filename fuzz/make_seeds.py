@@ -1,0 +1,309 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of the fuzz harnesses (run once; the outputs are checked in).
+
+  fuzz/corpus/scene_ops_fuzzer/     binary op sequences, encoded for scene_ops_fuzzer.cc's decoder
+  fuzz/corpus/scene_script_fuzzer/  scene scripts (first byte '\\n' = raw mode) and a few
+                                    structured-mode inputs (first byte odd)
+
+One scene_ops seed per constraint case of the paper's Figs. 2, 4 and 6 (unique body, unique
+frame, frame without body, constant pose, multiple pose parents, duplicate pose path, multiple
+twist parents, duplicate twist path), the W4 twist merge conflict, and the spray-painting scene
+of §V, each on the quaternion backend and (second file) also on the homogeneous one.
+The encoder below mirrors Fuzzer<B>::Step() in scene_ops_fuzzer.cc; keep them in step.
+
+Usage: python3 fuzz/make_seeds.py   (from anywhere)
+"""
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+BODIES = "ABCDEF"
+FRAMES = "abcdefghijkl"
+
+
+class Ops:
+    """Encoder for scene_ops_fuzzer (see the file comment of scene_ops_fuzzer.cc)."""
+
+    def __init__(self, homogeneous=False):
+        self.b = bytearray([1 if homogeneous else 0])
+
+    def byte(self, x):
+        self.b.append(x & 0xFF)
+        return self
+
+    def body_name(self, name):
+        return self.byte(BODIES.index(name))
+
+    def frame_name(self, name):
+        return self.byte(FRAMES.index(name))
+
+    def body_for(self, body):  # BodyFor(): 0 omitted, 2 then a body name
+        return self.byte(0) if body is None else self.byte(2).body_name(body)
+
+    def value(self, base=0, modifier=0):  # a table index, then a modifier byte (0 = exact)
+        return self.byte(base).byte(modifier)
+
+    # ---- ops (the first byte is the op code, Step(): byte % 20)
+    def body(self, name):
+        return self.byte(0).body_name(name)
+
+    def frame(self, name, body):
+        self.byte(1).frame_name(name)
+        return self.byte(0) if body is None else self.byte(1).body_name(body)
+
+    def pose(self, head, head_body, tail, tail_body, rotation=(0, 0), position=(0, 0)):
+        self.byte(2).frame_name(head).body_for(head_body)
+        self.byte(1)  # OneIn(16) false: tail is read
+        self.frame_name(tail).body_for(tail_body)
+        return self.value(*rotation).value(*position)
+
+    def readd_pose(self, edge_index, choice, rotation=(0, 0), position=(0, 0)):
+        # ReAddPose(): edge index, choice (0 same value, 3 off by 1e-9, 4 position + 1e-3,
+        # 5 rotation + 1e-4 rad, 6 a new value from the tables), then two "omit body" bools.
+        self.byte(6).byte(edge_index).byte(choice)
+        if choice == 6:
+            self.value(*rotation).value(*position)
+        return self.byte(1).byte(1)
+
+    def remove_pose(self, of, wrt):  # the "any pair" branch (needs at least one pose edge)
+        return self.byte(7).byte(0).frame_name(of).byte(0).frame_name(wrt)
+
+    def twist(self, point, body, ref_body, coord=None, v=(1, 0), w=(2, 0)):
+        self.byte(8).frame_name(point).body_for(body).body_name(ref_body)
+        if coord is None:
+            self.byte(0)  # TwistCoord(): the point's frame
+        else:
+            self.byte(7).frame_name(coord)
+        return self.value(*v).value(*w)
+
+    def remove_twist(self, point, ref_body):  # the "any pair" branch (needs a twist edge)
+        return self.byte(11).byte(0).frame_name(point).body_name(ref_body)
+
+    def ask_pose(self, of, wrt, keep=False):  # edge-form pose query
+        self.byte(18 if keep else 12).byte(0).frame_name(of).byte(1).body_for(None)
+        return self.byte(0).frame_name(wrt).byte(1).body_for(None).byte(1)
+
+    def ask_position(self, point, ref_point, coord):
+        self.byte(12).byte(1).frame_name(point).body_for(None)
+        self.byte(0).frame_name(ref_point).body_for(None)
+        return self.byte(0).byte(0).frame_name(coord)
+
+    def ask_twist(self, point, body, ref_body, kind=3, keep=False):  # 3 twist, 4 linear
+        self.byte(18 if keep else 12).byte(kind).frame_name(point)
+        self.byte(0).body_name(body) if body else self.byte(1)
+        return self.body_name(ref_body).byte(1)
+
+    def ask_angular(self, body, ref_body, coord):
+        return self.byte(12).byte(5).frame_name(coord).byte(1).body_name(body).body_name(ref_body)
+
+
+def scene_ops_seeds():
+    seeds = {}
+    # Fig. 2: unique bodies, unique frames, frame attached to a body.
+    seeds["fig2_unique_body"] = Ops().body("E").body("E").body("A")
+    seeds["fig2_unique_frame"] = Ops().body("A").frame("a", "A").frame("a", "A").frame("f", "A").frame("f", "B")
+    seeds["fig2_frame_without_body"] = Ops().body("A").frame("l", None).frame("l", "C").frame("l", "A")
+    # Fig. 4: {b1},{b2}|B -> b, c; {c1},{c2}|C -> d, e; {d}|D -> f; {f}|F -> g; {a}|A -> a.
+    seeds["fig4_constant_pose"] = (
+        Ops().pose("b", "B", "c", "B", (3, 0), (4, 0))
+        .readd_pose(0, 0)      # the same value again: accepted, kept
+        .readd_pose(0, 4)      # position off by 1e-3: constant_pose_change
+        .readd_pose(0, 5)      # rotation off by 1e-4 rad: constant_pose_change
+        .readd_pose(0, 3)      # off by 1e-9: within tolerance, accepted
+        .remove_pose("b", "c")
+        .pose("b", "B", "c", "B", (4, 0), (1, 0))  # recalibrated after removal
+        .ask_pose("b", "c"))
+    seeds["fig4_multiple_parents"] = (
+        Ops().pose("e", "C", "f", "D", (1, 0), (2, 0))
+        .pose("e", "C", "g", "F", (2, 0), (3, 0))  # multiple_pose_parents
+        .pose("g", "F", "e", "C", (2, 0), (3, 0))  # the inverse is accepted (paper §VI)
+        .ask_pose("g", "f"))
+    seeds["fig4_duplicate_pose_path"] = (
+        Ops().pose("e", "C", "f", "D", (1, 0), (2, 0))
+        .pose("d", "C", "a", "A", (3, 0), (1, 0))
+        .pose("b", "B", "a", "A", (4, 0), (5, 0))
+        .pose("a", "A", "f", "D", (5, 0), (3, 0))  # duplicate_pose_path (C twice)
+        .pose("d", "C", "e", "C", (0, 0), (4, 0))  # multiple_pose_parents
+        .pose("f", "D", "e", "C", (0, 0), (4, 0))  # pose_cycle (f is the root above e)
+        .ask_pose("b", "d").ask_pose("e", "f"))
+    # Fig. 6: twists. c1, c2, c3 | C -> d, e, h.
+    seeds["fig6_multiple_twist_parents"] = (
+        Ops().twist("e", "C", "D").twist("e", "C", "F")  # multiple_twist_parents
+        .twist("e", "C", "D", None, (3, 0), (4, 0))      # update
+        .ask_twist("e", "C", "D").ask_twist("e", "D", "C"))
+    seeds["fig6_duplicate_twist_path"] = (
+        Ops().twist("d", "C", "A")
+        .pose("h", "C", "d", "C", (2, 0), (1, 0))
+        .twist("h", "C", "A")  # duplicate_twist_path (parallel A-C)
+        .twist("h", "C", "B")
+        .twist("a", "A", "B")  # cycle A-C-B-A? a not in tree: separate tree, accepted
+        .ask_twist("h", "C", "A").ask_angular("C", "B", "d"))
+    seeds["w4_twist_merge_conflict"] = (
+        Ops().twist("d", "C", "A").twist("h", "C", "A")
+        .pose("h", "C", "d", "C", (2, 0), (1, 0))  # twist_merge_conflict
+        .remove_twist("h", "A")
+        .pose("h", "C", "d", "C", (2, 0), (1, 0))
+        .ask_twist("h", "C", "A"))
+    # §V spray painting: B base {b}, E end effector {e}, O2 gun {o2}, O1 cylinder {o1},{f1}, C
+    # camera {c}  ->  bodies A=B, B=E, C=O2, D=O1, E=C;  frames b=b, e=e, g=o2, h=o1, i=f1, c=c.
+    spray = (lambda o: o
+             .pose("c", "E", "b", "A", (6, 0), (5, 0))   # camera mounting
+             .pose("h", "D", "c", "E", (3, 0), (2, 0))   # object detection
+             .pose("i", "D", "h", "D", (1, 0), (4, 0))   # paint point (constant)
+             .pose("g", "C", "e", "B", (7, 0), (1, 0))   # spray gun mounting
+             .pose("e", "B", "b", "A", (4, 0), (3, 0))   # robot joints
+             .twist("c", "E", "A", "b", (0, 0), (0, 0))  # camera static, given in [b]
+             .twist("h", "D", "E", "c", (1, 0), (2, 0))  # object twist measured in [c]
+             .twist("g", "C", "B", None, (0, 0), (0, 0))
+             .twist("e", "B", "A", None, (3, 0), (4, 0))
+             .ask_pose("i", "g", keep=True).ask_pose("g", "i")
+             .ask_position("i", "g", "b")
+             .ask_twist("i", "D", "C", kind=3, keep=True).ask_twist("g", "C", "D", kind=4)
+             .ask_angular("D", "C", "i")
+             .readd_pose(4, 6, (5, 0), (2, 0))            # joints move
+             .twist("e", "B", "A", None, (5, 0), (1, 0))
+             .remove_pose("h", "c").pose("h", "D", "g", "C", (0, 0), (4, 0))  # grasp
+             .ask_pose("i", "b").ask_twist("i", "D", "A"))
+    seeds["spray_painting"] = spray(Ops())
+    out = {}
+    for name, ops in seeds.items():
+        out[name] = bytes(ops.b)
+        homogeneous = bytearray(ops.b)
+        homogeneous[0] = 1
+        out[name + "_homogeneous"] = bytes(homogeneous)
+    # Invalid numbers and names on an existing scene.
+    bad = spray(Ops(True))
+    bad.pose("a", "A", "b", "A", (0, 8), (0, 0))   # NaN quaternion
+    bad.pose("a", "A", "b", "A", (0, 6), (0, 0))   # non-unit quaternion
+    bad.pose("a", "A", "b", "A", (0, 12), (0, 0))  # reflection matrix
+    bad.pose("a", "A", "b", "A", (0, 0), (0, 7))   # NaN position
+    bad.byte(0).byte(252)                           # body with an empty name (SpecialName 0)
+    bad.byte(1).byte(253).byte(1).body_name("A")    # frame with a control character (1)
+    bad.byte(0).byte(248)                           # a 300-byte body name (2)
+    bad.byte(0).byte(250)                           # a 255-byte body name: valid (4)
+    out["invalid_input"] = bytes(bad.b)
+    return out
+
+
+SCRIPTS = {
+    "spec_example.yaml": """ops:
+  - {op: pose, of: c, body: C, wrt: b, ref_body: B, position: [1.0, 0.0, 0.5]}
+  - {op: pose, of: o1, body: O1, wrt: c, ref_body: C, position: [0.5, 0.2, 0.0], rotation: {rpy: [0, 0, 0.3]}}
+  - {op: pose, of: f1, body: O1, wrt: o1, position: [0.02, 0, 0.2], rotation: {rpy: [0, 0, 0.785398]}}
+  - {op: twist, point: o1, body: O1, ref_body: C, coord: c, linear: [0.2, 0.1, 0.1], angular: [0.05, 0.1, 0.2]}
+  - {op: query, kind: pose, of: f1, wrt: b}
+""",
+    "help_example.yaml": """representation: quaternion
+ops:
+  - {op: body, name: B}
+  - {op: frame, name: b, body: B}
+  - {op: pose, of: c, body: C, wrt: b, position: [1, 0, 0.5], rotation: {rpy: [0, 0, 0.3]}}
+  - {op: twist, point: c, ref_body: B, coord: b, linear: [0.1, 0, 0], angular: [0, 0, 0.2]}
+  - {op: query, kind: pose, of: c, wrt: b}
+  - {op: query, kind: twist, point: c, body: C, ref_body: B, coord: c}
+  - {op: remove, kind: twist, point: c, ref_body: B}
+  - {op: remove, kind: pose, of: c, wrt: b}
+""",
+    "spray_painting.yaml": """# The paper's section V scene (examples/spray_painting_scene.h), every query kind.
+ops:
+  - {op: pose, of: c, body: C, wrt: b, ref_body: B, position: [1.2, 0.4, 0.9], rotation: {rpy: [0, 0.35, 2.35619449019]}}
+  - {op: pose, of: o1, body: O1, wrt: c, ref_body: C, position: [0.5, 0.2, 1.1], rotation: {rpy: [0.2, -0.1, 0.3]}}
+  - {op: pose, of: f1, body: O1, wrt: o1, position: [0.02, 0.0, 0.2], rotation: {rpy: [0, 0, 0.785398]}}
+  - {op: pose, of: o2, body: O2, wrt: e, ref_body: E, position: [0.0, 0.05, 0.12], rotation: {rpy: [0, 0.785398163, 0]}}
+  - {op: pose, of: e, body: E, wrt: b, position: [0.55, -0.15, 0.7], rotation: {quaternion: [0.9, 0.1, 0.3, -0.3]}}
+  - {op: twist, point: c, ref_body: B, coord: b}
+  - {op: twist, point: o1, body: O1, ref_body: C, coord: c, linear: [0.2, 0.1, 0.1], angular: [0.05, 0.1, 0.2]}
+  - {op: twist, point: o2, ref_body: E, coord: o2}
+  - {op: twist, point: e, ref_body: B, coord: e, linear: [0.04, -0.03, 0.02], angular: [0.0, 0.15, -0.1]}
+  - {op: query, kind: pose, of: f1, wrt: o2}
+  - {op: query, kind: pose, point: f1, orientation: o1, ref_point: o2, ref_orientation: e, coord: b}
+  - {op: query, kind: position, point: f1, ref_point: o2, coord: b}
+  - {op: query, kind: orientation, orientation: f1, ref_orientation: o2, coord: c}
+  - {op: query, kind: twist, point: f1, body: O1, ref_body: O2, coord: o2}
+  - {op: query, kind: linear_velocity, point: f1, body: O1, ref_body: O2, coord: b}
+  - {op: query, kind: angular_velocity, body: O1, ref_body: O2, coord: o2}
+  - {op: remove, kind: pose, of: o1, wrt: c}
+  - {op: pose, of: o1, wrt: o2, position: [0, 0, 0.1], rotation: {matrix: [[1, 0, 0], [0, 0, -1], [0, 1, 0]]}}
+  - {op: query, kind: pose, of: f1, wrt: b}
+""",
+    "homogeneous.yaml": """representation: homogeneous
+ops:
+  - {op: pose, of: a, body: A, wrt: w, ref_body: W, position: [1, 2, 3], rotation: {quaternion: [0.5, 0.5, 0.5, 0.5]}}
+  - {op: pose, of: b, body: B, wrt: a, position: [0, 1, 0]}
+  - {op: query, kind: pose, of: b, wrt: w}
+  - {op: query, kind: pose, of: b, wrt: w, coord: a}
+  - {op: query, kind: orientation, orientation: b, ref_orientation: w, coord: a}
+  - {op: query, kind: position, point: b, ref_point: w, coord: a}
+""",
+    "paper_constraints.yaml": """# Figs. 2, 4 and 6 of the paper, and W4: every constraint rejects once.
+ops:
+  - {op: body, name: E}
+  - {op: body, name: E}
+  - {op: frame, name: a, body: A}
+  - {op: frame, name: z}
+  - {op: body, name: B}
+  - {op: pose, of: b1, body: B, wrt: b2, ref_body: B, position: [0, 0, 1]}
+  - {op: pose, of: b1, wrt: b2, position: [0, 0, 2]}
+  - {op: pose, of: c2, body: C, wrt: d, ref_body: D}
+  - {op: pose, of: c2, wrt: f, ref_body: F}
+  - {op: pose, of: c1, body: C, wrt: a, ref_body: A}
+  - {op: pose, of: a, wrt: d}
+  - {op: twist, point: c2, ref_body: D, coord: c2}
+  - {op: twist, point: c2, ref_body: F, coord: c2}
+  - {op: twist, point: c1, ref_body: A, coord: c1}
+  - {op: pose, of: c3, body: C, wrt: c1}
+  - {op: twist, point: c3, ref_body: A, coord: c3}
+  - {op: twist, point: x1, body: X, ref_body: A, coord: x1}
+  - {op: twist, point: x2, body: X, ref_body: A, coord: x2}
+  - {op: pose, of: x2, wrt: x1}
+  - {op: remove, kind: pose, of: c3, wrt: c1}
+  - {op: remove, kind: pose, of: c3, wrt: c1}
+  - {op: query, kind: twist, point: c1, body: C, ref_body: A, coord: c1}
+""",
+    "names_and_numbers.yaml": """ops:
+  - {op: body, name: ""}
+  - {op: body, name: "tab\\there"}
+  - {op: frame, name: f}
+  - {op: pose, of: a, body: A, wrt: b, ref_body: B, position: [.nan, 0, 0]}
+  - {op: pose, of: a, body: A, wrt: b, ref_body: B, position: [0, -.inf, 0]}
+  - {op: pose, of: a, body: A, wrt: b, ref_body: B, rotation: {quaternion: [1, 1, 0, 0]}}
+  - {op: pose, of: a, body: A, wrt: b, ref_body: B, rotation: {matrix: [[-1, 0, 0], [0, 1, 0], [0, 0, 1]]}}
+  - {op: pose, of: a, body: A, wrt: b, ref_body: B, rotation: {rpy: [.nan, 0, 0]}}
+  - {op: query, kind: pose, of: a, wrt: b}
+""",
+    "aliases.yaml": """anchors:
+ops:
+  - &p {op: pose, of: a, body: A, wrt: b, ref_body: B, position: &v [1, 2, 3]}
+  - *p
+  - {op: twist, point: a, ref_body: B, coord: a, linear: *v}
+""",
+    "bad_yaml.yaml": "ops: [ {op: body, name: A}\n",
+    "bad_unknown_op.yaml": "ops:\n  - {op: teleport, name: A}\n",
+    "bad_missing_field.yaml": "ops:\n  - {op: twist, point: a, ref_body: B}\n",
+    "bad_array_length.yaml": "ops:\n  - {op: pose, of: a, body: A, wrt: b, ref_body: B, position: [1, 2]}\n",
+    "bad_two_rotations.yaml": "ops:\n  - {op: pose, of: a, body: A, wrt: b, ref_body: B, rotation: {rpy: [0, 0, 0], quaternion: [1, 0, 0, 0]}}\n",
+    "bad_representation.yaml": "representation: euler\nops: []\n",
+    "bad_deep_nesting.yaml": "ops: " + "[" * 200 + "]" * 200 + "\n",
+}
+
+
+def main():
+    ops_dir = os.path.join(HERE, "corpus", "scene_ops_fuzzer")
+    script_dir = os.path.join(HERE, "corpus", "scene_script_fuzzer")
+    os.makedirs(ops_dir, exist_ok=True)
+    os.makedirs(script_dir, exist_ok=True)
+    for name, data in scene_ops_seeds().items():
+        with open(os.path.join(ops_dir, "seed_" + name), "wb") as f:
+            f.write(data)
+    for name, text in SCRIPTS.items():
+        with open(os.path.join(script_dir, "seed_" + name), "wb") as f:
+            f.write(b"\n" + text.encode())  # byte 0 even: raw mode
+    # Structured mode (byte 0 odd): a few fixed byte strings.
+    for i, data in enumerate([bytes([1, 0, 23]) + bytes(range(0, 250, 3)),
+                              bytes([3, 1, 20]) + bytes(range(250, 0, -7)) * 2,
+                              bytes([5, 0, 12]) + bytes([2, 0, 1, 2, 1, 3, 2, 1, 0, 1, 0, 7] * 6)]):
+        with open(os.path.join(script_dir, "seed_structured_%d" % i), "wb") as f:
+            f.write(data)
+
+
+if __name__ == "__main__":
+    main()

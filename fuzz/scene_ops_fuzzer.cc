@@ -1,0 +1,378 @@
+// scene_ops_fuzzer: random operation sequences on SceneGraph<B>, checked op by op against the
+// naive ReferenceModel (tests/reference) by Differential<B> (support/scene_differential.h: same
+// accept/reject and error code, Dump() unchanged by rejections and queries, CheckInvariants()
+// empty, same topology and stored values, same query answers one-shot and compiled, kept
+// compiled queries invalidated exactly when an edge they use is removed). On any disagreement
+// the whole op sequence is printed in scene-script notation and the harness aborts.
+//
+// Input format (every byte string is a valid input; see support/op_reader.h):
+//   byte 0            bit 0: also run the sequence on the homogeneous backend (the quaternion
+//                     backend always runs); the rest of the input is decoded once per backend
+//   then ops          one op-code byte, then the op's arguments (names, value choices)
+// Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
+// is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
+// or a frame named like a body. Frame arguments often come from the tree of an earlier
+// argument (via the model), so that queries and conversions mostly succeed.
+// Values come from small tables (unit rotations, positions from 1e-324 to 1e6, twists), each
+// with a modifier: -q, |q| off by 4e-7 (accepted, normalized) or 1e-3 (invalid_rotation), zero
+// quaternion, NaN, Inf, matrix form (exact, off-orthonormal by 3e-7, reflection, skewed, NaN),
+// and changes of 1e-9 (within the constant-pose tolerance) or 1e-3 / 1e-4 rad (outside it).
+// Re-adding an existing edge uses the stored value with such a modifier.
+//
+// Scope: the model's (edge-form pose adds; twist adds in the point's frame or another frame of
+// its tree). Caps: at most kMaxOps ops per backend run.
+// Debugging: SEMGRAPH_FUZZ_TRACE=1 prints every input's op sequence (e.g. with the replay main).
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "support/op_reader.h"
+#include "support/scene_differential.h"
+
+namespace semgraph::fuzz {
+namespace {
+
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+constexpr std::size_t kMaxOps = 96;
+#else
+constexpr std::size_t kMaxOps = 256;
+#endif
+
+const char* const kBodies[] = {"A", "B", "C", "D", "E", "F"};
+const char* const kFrames[] = {"a", "b", "c", "d", "e", "f", "g", "h", "i", "j", "k", "l"};
+
+// Special names: index 0-3 invalid, 4 valid but long, 5 a name used by the other pool.
+std::string SpecialName(std::uint32_t which, bool frame) {
+  switch (which % 6) {
+    case 0: return "";
+    case 1: return frame ? "bad\x01name" : "\x7f";
+    case 2: return std::string(300, frame ? 'x' : 'X');
+    case 3: return std::string(256, frame ? 'n' : 'N');
+    case 4: return std::string(255, frame ? 'y' : 'Y');
+    default: return frame ? "A" : "a";
+  }
+}
+
+Eigen::Quaterniond Rpy(double roll, double pitch, double yaw) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+}
+
+const std::vector<Eigen::Quaterniond>& Rotations() {
+  static const std::vector<Eigen::Quaterniond> table = {
+      Eigen::Quaterniond::Identity(),
+      Eigen::Quaterniond(std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)),  // 90 deg about z
+      Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0),                        // 180 deg about x (w = 0)
+      Rpy(0.2, -0.1, 0.3),
+      Rpy(0.1, 0.4, -0.6),
+      Eigen::Quaterniond(0.5, 0.5, 0.5, 0.5),  // 120 deg about (1,1,1)
+      Rpy(0.0, 0.35, 3.14159265358979 * 0.75),
+      Rpy(0.0, 0.01, 0.0),
+  };
+  return table;
+}
+
+const Eigen::Vector3d kPositions[] = {
+    {0.0, 0.0, 0.0},   {1.0, 0.0, 0.5},     {0.5, 0.2, 1.1},  {-0.3, 2.0, 0.7},
+    {0.02, 0.0, 0.2},  {1.2, 0.4, 0.9},     {1e6, -2e6, 3e5}, {-0.0, 5e-324, -1.0},
+};
+const Eigen::Vector3d kVelocities[] = {
+    {0.0, 0.0, 0.0}, {0.2, 0.1, 0.1}, {0.05, 0.1, 0.2}, {0.04, -0.03, 0.02}, {0.0, 0.15, -0.1}, {3.0, -1.0, 2.0},
+};
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+RotationInput AsQuaternion(const Eigen::Quaterniond& q) {
+  RotationInput r;
+  r.q = q;
+  return r;
+}
+RotationInput AsMatrix(const Eigen::Matrix3d& R) {
+  RotationInput r;
+  r.is_matrix = true;
+  r.R = R;
+  return r;
+}
+
+// A rotation: `base` with one of 16 modifiers (see the file comment).
+RotationInput ModifyRotation(const Eigen::Quaterniond& base, std::uint32_t modifier, std::uint32_t component) {
+  Eigen::Quaterniond q = base;
+  Eigen::Matrix3d R = base.toRotationMatrix();
+  switch (modifier % 16) {
+    case 4: return AsQuaternion(Eigen::Quaterniond(-q.coeffs()));
+    case 5: return AsQuaternion(Eigen::Quaterniond(q.coeffs() * (1.0 + 4e-7)));
+    case 6: return AsQuaternion(Eigen::Quaterniond(q.coeffs() * (1.0 + 1e-3)));
+    case 7: return AsQuaternion(Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0));
+    case 8: q.coeffs()[component % 4] = kNaN; return AsQuaternion(q);
+    case 9: q.coeffs()[component % 4] = component & 4 ? -kInf : kInf; return AsQuaternion(q);
+    case 10: return AsMatrix(R);
+    case 11: R(component % 3, (component / 3) % 3) += 3e-7; return AsMatrix(R);
+    case 12: return AsMatrix(-R);
+    case 13: R(component % 3, (component / 3) % 3) += 1e-3; return AsMatrix(R);
+    case 14: R(component % 3, (component / 3) % 3) = kNaN; return AsMatrix(R);
+    case 15: return AsQuaternion(q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-9, Eigen::Vector3d::UnitX())));
+    default: return AsQuaternion(q);
+  }
+}
+
+Eigen::Vector3d ModifyVector(Eigen::Vector3d v, std::uint32_t modifier, std::uint32_t component) {
+  switch (modifier % 12) {
+    case 5: return v + Eigen::Vector3d::Constant(1e-9);
+    case 6: return v + Eigen::Vector3d(1e-3, 0.0, 0.0);
+    case 7: v[component % 3] = kNaN; return v;
+    case 8: v[component % 3] = kInf; return v;
+    case 9: v[component % 3] = -kInf; return v;
+    default: return v;
+  }
+}
+
+template <coord::Backend B>
+class Fuzzer {
+ public:
+  Fuzzer(const std::uint8_t* data, std::size_t size) : in_(data, size) {}
+
+  void Run() {
+    for (std::size_t n = 0; n < kMaxOps && !in_.empty(); ++n) Step();
+    d_.SweepQueries(Differential<B>::Sweep::kLight);
+    static const bool trace = std::getenv("SEMGRAPH_FUZZ_TRACE") != nullptr;
+    if (trace) d_.PrintTrace(stdout);  // to see what an input decodes to
+  }
+
+ private:
+  // ---------------------------------------------------------------- names
+
+  std::string Body() {
+    const std::uint8_t b = in_.Byte();
+    return b < 248 ? kBodies[b % 6] : SpecialName(b, false);
+  }
+  std::string Frame() {
+    const std::uint8_t b = in_.Byte();
+    return b < 248 ? kFrames[b % 12] : SpecialName(b, true);
+  }
+  // Often a frame of the pose tree of `anchor` (from the model), else any frame.
+  std::string FrameNear(const std::string& anchor) {
+    if (!in_.Bool()) return Frame();
+    std::vector<std::string> tree;
+    Tree(anchor, &tree);
+    if (tree.empty()) return Frame();
+    return tree[in_.Below(static_cast<std::uint32_t>(tree.size()))];
+  }
+  void Tree(const std::string& anchor, std::vector<std::string>* out) const {
+    if (!d_.model().frames().count(anchor)) return;
+    std::set<std::string> seen{anchor};
+    std::vector<std::string> todo{anchor};
+    while (!todo.empty()) {
+      const std::string n = todo.back();
+      todo.pop_back();
+      out->push_back(n);
+      for (const reference::PoseEdge& e : d_.model().poses()) {
+        for (const std::string* next : {&e.head, &e.tail}) {
+          if ((e.tail == n || e.head == n) && seen.insert(*next).second) todo.push_back(*next);
+        }
+      }
+    }
+  }
+  // A body argument for `frame`: omitted, the frame's own body (when it exists), or any.
+  std::string BodyFor(const std::string& frame) {
+    switch (in_.Below(4)) {
+      case 0: return "";
+      case 1: {
+        const auto it = d_.model().frames().find(frame);
+        if (it != d_.model().frames().end()) return it->second;
+        return Body();
+      }
+      default: return Body();
+    }
+  }
+
+  // ---------------------------------------------------------------- values
+
+  RotationInput Rotation() {
+    const Eigen::Quaterniond& base = Rotations()[in_.Below(8)];
+    const std::uint8_t modifier = in_.Byte();
+    return ModifyRotation(base, modifier, modifier >> 4);
+  }
+  Eigen::Vector3d Position() {
+    const Eigen::Vector3d& base = kPositions[in_.Below(8)];
+    const std::uint8_t modifier = in_.Byte();
+    return ModifyVector(base, modifier, modifier >> 4);
+  }
+  Eigen::Vector3d Velocity() {
+    const Eigen::Vector3d& base = kVelocities[in_.Below(6)];
+    const std::uint8_t modifier = in_.Byte();
+    return ModifyVector(base, modifier, modifier >> 4);
+  }
+
+  // ---------------------------------------------------------------- ops
+
+  void Step() {
+    switch (in_.Byte() % 20) {
+      case 0: d_.Body(Body()); break;
+      case 1: {
+        const std::string name = Frame();
+        d_.Frame(name, in_.OneIn(6) ? std::string() : Body());
+        break;
+      }
+      case 2: case 3: case 4: case 5: AddPose(); break;
+      case 6: ReAddPose(); break;
+      case 7: RemovePose(); break;
+      case 8: case 9: AddTwist(); break;
+      case 10: ReAddTwist(); break;
+      case 11: RemoveTwist(); break;
+      case 18: d_.Keep(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
+      default: d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
+    }
+  }
+
+  void AddPose() {
+    const std::string head = Frame();
+    const std::string head_body = BodyFor(head);
+    const std::string tail = in_.OneIn(16) ? head : Frame();
+    const std::string tail_body = BodyFor(tail);
+    const RotationInput rotation = Rotation();
+    d_.Pose(head, head_body, tail, tail_body, rotation, Position());
+  }
+
+  // An existing edge again (tail -> head, or reversed) with its stored value, modified.
+  void ReAddPose() {
+    const auto& poses = d_.model().poses();
+    if (poses.empty()) return AddPose();
+    const reference::PoseEdge e = poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+    const Eigen::Quaterniond q(e.X_TH.R);
+    Eigen::Vector3d p = e.X_TH.p;
+    RotationInput rotation = AsQuaternion(q);
+    switch (in_.Below(8)) {
+      case 1: rotation = AsQuaternion(Eigen::Quaterniond(-q.coeffs())); break;
+      case 2: rotation = AsMatrix(e.X_TH.R); break;
+      case 3:
+        rotation = ModifyRotation(q, 15, 0);
+        p += Eigen::Vector3d::Constant(1e-9);
+        break;
+      case 4: p += Eigen::Vector3d(0.0, 1e-3, 0.0); break;
+      case 5: rotation = AsQuaternion(q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ()))); break;
+      case 6: rotation = Rotation(), p = Position(); break;
+      case 7:  // the reverse edge
+        d_.Pose(e.tail, BodyFor(e.tail), e.head, BodyFor(e.head), AsMatrix(e.X_TH.R.transpose()),
+                -(e.X_TH.R.transpose() * e.X_TH.p));
+        return;
+      default: break;
+    }
+    d_.Pose(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), e.tail,
+            in_.Bool() ? std::string() : d_.model().frames().at(e.tail), rotation, p);
+  }
+
+  void RemovePose() {
+    const auto& poses = d_.model().poses();
+    if (!poses.empty() && in_.Bool()) {
+      const reference::PoseEdge e = poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+      if (in_.OneIn(4)) {
+        d_.RemovePose(e.tail, e.head);  // the wrong direction: no_such_edge
+      } else {
+        d_.RemovePose(e.head, e.tail);
+      }
+      return;
+    }
+    const std::string of = Frame();
+    d_.RemovePose(of, FrameNear(of));
+  }
+
+  // The coordinate frame of a twist on `point`: the point's frame, one of its tree, or any.
+  std::string TwistCoord(const std::string& point) {
+    switch (in_.Below(8)) {
+      case 0: case 1: case 2: case 3: return point;
+      case 7: return Frame();
+      default: return FrameNear(point);
+    }
+  }
+
+  void AddTwist() {
+    const std::string point = Frame();
+    const std::string body = BodyFor(point);
+    const std::string ref_body = Body();
+    const std::string coord = TwistCoord(point);
+    const Eigen::Vector3d v = Velocity();
+    d_.Twist(point, body, ref_body, coord, v, Velocity());
+  }
+
+  void ReAddTwist() {
+    const auto& twists = d_.model().twists();
+    if (twists.empty()) return AddTwist();
+    const reference::TwistEdge t = twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+    const std::string coord = TwistCoord(t.head);
+    const Eigen::Vector3d v = Velocity();
+    d_.Twist(t.head, in_.Bool() ? std::string() : d_.model().frames().at(t.head),
+             in_.OneIn(4) ? Body() : t.tail_body, coord, v, Velocity());
+  }
+
+  void RemoveTwist() {
+    const auto& twists = d_.model().twists();
+    if (!twists.empty() && in_.Bool()) {
+      const reference::TwistEdge t = twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+      d_.RemoveTwist(t.head, t.tail_body);
+      return;
+    }
+    const std::string point = Frame();
+    d_.RemoveTwist(point, Body());
+  }
+
+  Query MakeQuery(QueryKind kind) {
+    Query q;
+    q.kind = kind;
+    switch (kind) {
+      case QueryKind::kPose:
+        q.orientation = Frame();
+        q.point = in_.Bool() ? q.orientation : FrameNear(q.orientation);
+        q.body = BodyFor(q.orientation);
+        q.ref_orientation = FrameNear(q.orientation);
+        q.ref_point = in_.Bool() ? q.ref_orientation : FrameNear(q.ref_orientation);
+        q.ref_body = BodyFor(q.ref_orientation);
+        q.coord = in_.Bool() ? q.ref_orientation : FrameNear(q.ref_orientation);
+        break;
+      case QueryKind::kPosition:
+        q.point = Frame();
+        q.body = BodyFor(q.point);
+        q.ref_point = FrameNear(q.point);
+        q.ref_body = BodyFor(q.ref_point);
+        q.coord = in_.Bool() ? q.ref_point : FrameNear(q.ref_point);
+        break;
+      case QueryKind::kOrientation:
+        q.orientation = Frame();
+        q.body = BodyFor(q.orientation);
+        q.ref_orientation = FrameNear(q.orientation);
+        q.ref_body = BodyFor(q.ref_orientation);
+        q.coord = in_.Bool() ? q.ref_orientation : FrameNear(q.ref_orientation);
+        break;
+      case QueryKind::kAngularVelocity:
+        q.coord = Frame();
+        q.body = in_.OneIn(8) ? std::string() : Body();
+        q.ref_body = Body();
+        break;
+      default:
+        q.point = Frame();
+        q.body = in_.Bool() ? std::string() : Body();
+        q.ref_body = Body();
+        q.coord = in_.Bool() ? q.point : FrameNear(q.point);
+        break;
+    }
+    return q;
+  }
+
+  OpReader in_;
+  Differential<B> d_;
+};
+
+}  // namespace
+}  // namespace semgraph::fuzz
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size == 0) return 0;
+  const bool homogeneous = (data[0] & 1u) != 0;
+  semgraph::fuzz::Fuzzer<semgraph::coord::QuaternionBackend>(data + 1, size - 1).Run();
+  if (homogeneous) semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1).Run();
+  return 0;
+}

@@ -1,0 +1,654 @@
+// File: fuzz/support/scene_differential.h
+//
+// Differential<B>: one SceneGraph<B> (the kernel) and one ReferenceModel (the oracle,
+// tests/reference) driven by the same operations, checked after every single one. Used by
+// scene_ops_fuzzer (random op sequences) and exhaustive_small_scope (all short sequences).
+//
+// Checks after every operation (any failure prints the whole op sequence in scene-script
+// notation, then aborts):
+//   - kernel and model accept or reject alike, with the same error code (spec §4 order);
+//   - a rejected operation and every query leave the kernel's Dump() byte-identical;
+//   - kernel.CheckInvariants() is empty;
+//   - the kernel's topology and stored values equal the model's (frames and their bodies, pose
+//     parents and X_PF, twist parents and screw twists, counts);
+//   - every query: same code; same value within the state tolerance (1e-9 relative to the
+//     scene's magnitude); Compile*() gives the same code and Evaluate() the same value;
+//   - kept compiled queries (Keep): after each op Evaluate() returns kQueryInvalidated exactly
+//     when an edge they use (ReferenceModel::UsedEdges) was removed since they were compiled,
+//     and otherwise the value of the one-shot query of that moment. (Exception, a reported spec
+//     ambiguity: a velocity of a body relative to itself stays valid and zero; see Keep.)
+//
+// Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
+// tree); see tests/reference/reference_model.h.
+// Cost: each op costs the model's from-scratch checks, O(scene^2) with maps; fine for scenes
+// of a few dozen frames. Not thread-safe.
+#pragma once
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "reference_model.h"
+#include "semgraph/core/compiled_query.h"
+#include "semgraph/core/scene_graph.h"
+#include "semgraph/semantics/error_code.h"
+
+namespace semgraph::fuzz {
+
+using reference::Answer;
+using reference::Query;
+using reference::QueryKind;
+using reference::ReferenceModel;
+using reference::RotationInput;
+using semantics::ErrorCode;
+
+// ------------------------------------------------------------------ scene-script text
+
+/// A name as a YAML scalar: bare when it is [A-Za-z0-9_.]+, else double-quoted with escapes.
+inline std::string YamlName(std::string_view s) {
+  bool bare = !s.empty();
+  for (unsigned char c : s) bare = bare && (std::isalnum(c) || c == '_' || c == '.');
+  if (bare) return std::string(s);
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20 || c >= 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
+}
+
+inline std::string YamlNumber(double x) {
+  if (std::isnan(x)) return ".nan";
+  if (std::isinf(x)) return x > 0 ? ".inf" : "-.inf";
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.17g", x);
+  return buf;
+}
+
+inline std::string YamlVector(const Eigen::Vector3d& v) {
+  return "[" + YamlNumber(v.x()) + ", " + YamlNumber(v.y()) + ", " + YamlNumber(v.z()) + "]";
+}
+
+inline std::string YamlRotation(const RotationInput& r) {
+  if (!r.is_matrix) {
+    return "{quaternion: [" + YamlNumber(r.q.w()) + ", " + YamlNumber(r.q.x()) + ", " +
+           YamlNumber(r.q.y()) + ", " + YamlNumber(r.q.z()) + "]}";
+  }
+  std::string s = "{matrix: [";
+  for (int i = 0; i < 3; ++i) {
+    s += std::string(i ? ", " : "") + "[" + YamlNumber(r.R(i, 0)) + ", " + YamlNumber(r.R(i, 1)) +
+         ", " + YamlNumber(r.R(i, 2)) + "]";
+  }
+  return s + "]}";
+}
+
+/// `, key: value` when value is not empty.
+inline std::string Field(const char* key, const std::string& value) {
+  return value.empty() ? std::string() : std::string(", ") + key + ": " + YamlName(value);
+}
+
+inline const char* KindName(QueryKind k) {
+  switch (k) {
+    case QueryKind::kPose: return "pose";
+    case QueryKind::kPosition: return "position";
+    case QueryKind::kOrientation: return "orientation";
+    case QueryKind::kTwist: return "twist";
+    case QueryKind::kLinearVelocity: return "linear_velocity";
+    case QueryKind::kAngularVelocity: return "angular_velocity";
+  }
+  return "?";
+}
+
+inline std::string QueryText(const Query& q) {
+  std::string s = std::string("{op: query, kind: ") + KindName(q.kind);
+  switch (q.kind) {
+    case QueryKind::kPose:
+      s += Field("point", q.point) + Field("orientation", q.orientation) + Field("body", q.body) +
+           Field("ref_point", q.ref_point) + Field("ref_orientation", q.ref_orientation) +
+           Field("ref_body", q.ref_body);
+      break;
+    case QueryKind::kPosition:
+      s += Field("point", q.point) + Field("body", q.body) + Field("ref_point", q.ref_point) +
+           Field("ref_body", q.ref_body);
+      break;
+    case QueryKind::kOrientation:
+      s += Field("orientation", q.orientation) + Field("body", q.body) +
+           Field("ref_orientation", q.ref_orientation) + Field("ref_body", q.ref_body);
+      break;
+    case QueryKind::kAngularVelocity: s += Field("body", q.body) + Field("ref_body", q.ref_body); break;
+    default: s += Field("point", q.point) + Field("body", q.body) + Field("ref_body", q.ref_body); break;
+  }
+  return s + Field("coord", q.coord) + "}";
+}
+
+// ------------------------------------------------------------------ the differential runner
+
+template <coord::Backend B>
+class Differential {
+ public:
+  using Graph = core::SceneGraph<B>;
+  static constexpr bool kHomogeneous = std::is_same_v<B, coord::HomogeneousBackend>;
+
+  Differential()
+      : model_(kHomogeneous ? reference::Representation::kHomogeneous
+                            : reference::Representation::kQuaternion) {}
+
+  const ReferenceModel& model() const { return model_; }
+  const Graph& graph() const { return graph_; }
+
+  /// Prints the trace so far (for a harness's own failure), then aborts.
+  [[noreturn]] void Fail(const std::string& why) const {
+    std::fprintf(stderr, "\n==== semgraph differential check FAILED (%s backend) ====\n%s\n", B::kName,
+                 why.c_str());
+    PrintTrace(stderr);
+    std::fflush(stderr);
+    std::abort();
+  }
+
+  /// The op sequence so far, one line per op in scene-script notation with the kernel's result.
+  void PrintTrace(std::FILE* out) const {
+    std::fprintf(out, "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
+    std::fprintf(out, "representation: %s\nops:\n", B::kName);
+    for (const TraceLine& t : trace_) {
+      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(semantics::ToString(*t.code)) : "");
+      std::fprintf(out, line[0] == '#' ? "  %s\n" : "  - %s\n", line.c_str());
+    }
+    std::fprintf(out, "==== end of trace ====\n");
+  }
+
+  // ---------------------------------------------------------------- operations
+
+  ErrorCode Body(const std::string& name) {
+    Begin([=] { return "{op: body, name: " + YamlName(name) + "}"; });
+    return Finish(graph_.AddBody(name), model_.AddBody(name));
+  }
+
+  ErrorCode Frame(const std::string& name, const std::string& body) {
+    Begin([=] { return "{op: frame, name: " + YamlName(name) + Field("body", body) + "}"; });
+    return Finish(graph_.AddFrame(name, body), model_.AddFrame(name, body));
+  }
+
+  /// Edge-form pose tail -> head: PoseCoord({head}|head_body, {tail}|tail_body, [tail]).
+  ErrorCode Pose(const std::string& head, const std::string& head_body, const std::string& tail,
+            const std::string& tail_body, const RotationInput& rotation, const Eigen::Vector3d& p) {
+    Begin([=] {
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
+             Field("ref_body", tail_body) + ", position: " + YamlVector(p) +
+             ", rotation: " + YamlRotation(rotation) + "}";
+    });
+    core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
+    const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p)
+                                           : graph_.AddPose(spec, rotation.q, p);
+    return Finish(result, model_.AddPose(head, head_body, tail, tail_body, rotation, p));
+  }
+
+  ErrorCode Twist(const std::string& point, const std::string& body, const std::string& ref_body,
+             const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+    Begin([=] {
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " +
+             YamlName(ref_body) + ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) +
+             ", angular: " + YamlVector(w) + "}";
+    });
+    core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    return Finish(graph_.AddTwist(spec, v, w), model_.AddTwist(point, body, ref_body, coord, v, w));
+  }
+
+  ErrorCode RemovePose(const std::string& of, const std::string& wrt) {
+    Begin([=] { return "{op: remove, kind: pose, of: " + YamlName(of) + ", wrt: " + YamlName(wrt) + "}"; });
+    const ErrorCode expected = model_.RemovePose(of, wrt);
+    if (expected == ErrorCode::kOk) Removed(ReferenceModel::PoseKey(wrt, of));  // before CheckKept
+    return Finish(graph_.RemovePose(of, wrt), expected);
+  }
+
+  ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body) {
+    Begin([=] {
+      return "{op: remove, kind: twist, point: " + YamlName(point) + ", ref_body: " + YamlName(ref_body) + "}";
+    });
+    const ErrorCode expected = model_.RemoveTwist(point, ref_body);
+    if (expected == ErrorCode::kOk) Removed(ReferenceModel::TwistKey(ref_body, point));
+    return Finish(graph_.RemoveTwist(point, ref_body), expected);
+  }
+
+  /// A one-shot query, and the same query compiled and evaluated once.
+  void Ask(const Query& q) {
+    Begin([=] { return QueryText(q); });
+    const std::string before = CurrentDump();
+    const Answer expected = model_.Ask(q);
+    const Outcome got = OneShot(q);
+    Annotate(got.code);
+    CompareAnswer("query", expected, got);
+    const Outcome compiled = Compiled(q, nullptr);
+    if (CompileComparable(q)) CompareAnswer("compiled query", expected, compiled);
+    if (graph_.Dump() != before) Fail("a query changed the graph's Dump()");
+    CheckKept();
+  }
+
+  /// Compiles `q` and keeps it: it is re-evaluated after every later op (see the file comment).
+  void Keep(const Query& q) {
+    Begin([=] { return "# keep compiled " + QueryText(q); });
+    Kept k;
+    k.query = q;
+    const Answer expected = model_.Ask(q);
+    const Outcome compiled = Compiled(q, &k.compiled);
+    Annotate(compiled.code);
+    if (!CompileComparable(q)) return;
+    CompareAnswer("compiled query", expected, compiled);
+    if (compiled.code != ErrorCode::kOk) return;
+    // A velocity of C relative to C is zero. The library's compiled form reads no edge then, so
+    // it never becomes invalid, even when a removal puts the point and [r] in different trees
+    // (where the one-shot query says no_pose_path). The spec does not say whether such a query
+    // "uses" the pose edges between e and [r] (reported as an ambiguity): accept zero, valid.
+    const bool twist_kind = q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity ||
+                            q.kind == QueryKind::kAngularVelocity;
+    const std::string& own = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
+    k.zero_twist = twist_kind && (q.body.empty() ? model_.frames().at(own) : q.body) == q.ref_body;
+    if (!k.zero_twist) k.used = model_.UsedEdges(q);
+    if (kept_.size() >= kMaxKept) kept_.pop_front();
+    kept_.push_back(std::move(k));
+  }
+
+  /// The final comparison. kFull: the edge-form pose of every frame wrt every frame, and the
+  /// twist of every body wrt every other body at every frame (in its axes). kLight (for the
+  /// fuzzer's throughput): the pose of every frame wrt every frame of its tree, and at the
+  /// first frame of each tree the twist of every body wrt every other body that has a twist
+  /// edge in that tree.
+  enum class Sweep { kFull, kLight };
+  void SweepQueries(Sweep mode = Sweep::kFull) {
+    std::map<std::string, std::string> tree;  // frame -> first frame of its tree
+    for (const auto& [f, body] : model_.frames()) tree[f] = f;
+    for (bool changed = true; changed;) {  // smallest frame name per tree, by relaxation
+      changed = false;
+      for (const reference::PoseEdge& e : model_.poses()) {
+        const std::string m = std::min(tree[e.tail], tree[e.head]);
+        if (tree[e.tail] != m || tree[e.head] != m) tree[e.tail] = tree[e.head] = m, changed = true;
+      }
+    }
+    for (const auto& [x, tx] : tree) {
+      for (const auto& [y, ty] : tree) {
+        if (mode == Sweep::kLight && tx != ty) continue;
+        Query q;
+        q.kind = QueryKind::kPose;
+        q.point = q.orientation = x;
+        q.ref_point = q.ref_orientation = q.coord = y;
+        Check(q);
+      }
+      std::set<std::string> bodies(model_.bodies().begin(), model_.bodies().end());
+      if (mode == Sweep::kLight) {
+        if (tx != x) continue;
+        bodies.clear();
+        for (const reference::TwistEdge& t : model_.twists()) {
+          if (tree[t.head] == tx) bodies.insert({t.tail_body, model_.frames().at(t.head)});
+        }
+      }
+      for (const std::string& C : bodies) {
+        for (const std::string& D : bodies) {
+          if (C == D) continue;
+          Query q;
+          q.kind = QueryKind::kTwist;
+          q.point = q.coord = x;
+          q.body = C;
+          q.ref_body = D;
+          Check(q);
+        }
+      }
+    }
+  }
+
+  std::size_t num_ops() const { return trace_.size(); }
+  /// With checks off, an op only compares the kernel's code with the model's: for replaying a
+  /// prefix that was checked before (exhaustive_small_scope). Queries always check everything.
+  void set_checks(bool on) { checks_ = on; }
+
+  /// Forgets the last op's trace line (a caller that explores alternatives after a rejection).
+  void PopTrace() { trace_.pop_back(); }
+
+ private:
+  static constexpr std::size_t kMaxKept = 6;
+  using CompiledAny = std::variant<std::monostate, core::CompiledPose<B>, core::CompiledPosition<B>,
+                                   core::CompiledOrientation<B>, core::CompiledTwist<B>>;
+  struct Kept {
+    Query query;
+    CompiledAny compiled;
+    std::set<std::string> used;
+    bool invalidated = false;  // an edge in `used` was removed since compiling
+    bool zero_twist = false;   // a velocity of a body relative to itself (see Keep)
+  };
+  struct Outcome {
+    ErrorCode code = ErrorCode::kOk;
+    Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  };
+
+  // The trace keeps each op's text unrendered (formatting every number of every op would cost
+  // more than the checks) and the kernel's result.
+  struct TraceLine {
+    std::function<std::string()> render;
+    std::optional<ErrorCode> code;
+  };
+  void Begin(std::function<std::string()> render) {
+    trace_.push_back(TraceLine{std::move(render), std::nullopt});
+    if (checks_) before_ = CurrentDump();
+  }
+  void Annotate(ErrorCode code) { trace_.back().code = code; }
+  // Dump() of the graph before the current op, cached: only an accepted op changes it.
+  const std::string& CurrentDump() {
+    if (!dump_valid_) dump_ = graph_.Dump();
+    dump_valid_ = true;
+    return dump_;
+  }
+
+  ErrorCode Finish(const core::BuildResult& result, ErrorCode expected) {
+    const ErrorCode code = result ? ErrorCode::kOk : result.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("kernel says " + std::string(semantics::ToString(code)) + ", model says " +
+           std::string(semantics::ToString(expected)) +
+           (result ? std::string() : "\nkernel message: " + result.error().message));
+    }
+    if (!checks_) {
+      if (result) dump_valid_ = false;
+      return code;
+    }
+    if (!result && result.error().message.empty()) Fail("a rejection without a message");
+    if (!result && graph_.Dump() != before_) Fail("a rejected op changed the graph's Dump()");
+    if (result) dump_valid_ = false;
+    if (const std::string broken = graph_.CheckInvariants(); !broken.empty()) {
+      Fail("CheckInvariants() after the op:\n" + broken);
+    }
+    CompareState();
+    CheckKept();
+    return code;
+  }
+
+  // The kernel's nodes, edges and stored values against the model's.
+  void CompareState() {
+    const auto& frames = model_.frames();
+    if (graph_.num_frames() != frames.size() || graph_.num_bodies() != model_.bodies().size() ||
+        graph_.num_pose_edges() != model_.poses().size() ||
+        graph_.num_twist_edges() != model_.twists().size()) {
+      Fail("node or edge counts differ: kernel frames/bodies/poses/twists " +
+           std::to_string(graph_.num_frames()) + "/" + std::to_string(graph_.num_bodies()) + "/" +
+           std::to_string(graph_.num_pose_edges()) + "/" + std::to_string(graph_.num_twist_edges()) +
+           ", model " + std::to_string(frames.size()) + "/" + std::to_string(model_.bodies().size()) +
+           "/" + std::to_string(model_.poses().size()) + "/" + std::to_string(model_.twists().size()));
+    }
+    for (const auto& [name, body] : frames) {
+      const core::FrameIndex f = graph_.FindFrame(name);
+      if (!f.is_valid() || graph_.body_name(graph_.body_of(f)) != body) {
+        Fail("frame " + YamlName(name) + " is not on body " + YamlName(body) + " in the kernel");
+      }
+    }
+    const double tol = 1e-9 * PositionScale();
+    for (const reference::PoseEdge& e : model_.poses()) {
+      const core::FrameIndex h = graph_.FindFrame(e.head);
+      if (graph_.pose_parent(h) != graph_.FindFrame(e.tail)) Fail("pose parent of " + e.head + " differs");
+      const auto X = graph_.pose_value(h);
+      if (!Near(B::ToMatrix(B::RotationOf(X)), e.X_TH.R, 1e-9) || !Near(B::TranslationOf(X), e.X_TH.p, tol)) {
+        Fail("stored value of the pose edge " + e.tail + " -> " + e.head + " differs");
+      }
+    }
+    const double tol_v = 1e-9 * TwistScale();
+    for (const reference::TwistEdge& t : model_.twists()) {
+      const core::FrameIndex h = graph_.FindFrame(t.head);
+      const core::BodyIndex D = graph_.twist_parent(h);
+      const auto value = graph_.twist_value(h);
+      if (!D.is_valid() || graph_.body_name(D) != t.tail_body || !value) {
+        Fail("twist parent of " + t.head + " differs");
+      }
+      if (!Near(value->linear, t.v, tol_v) || !Near(value->angular, t.w, tol_v)) {
+        Fail("stored value of the twist edge " + t.tail_body + " -> " + t.head + " differs");
+      }
+    }
+  }
+
+  void Removed(const std::string& key) {
+    for (Kept& k : kept_) {
+      if (k.used.count(key)) k.invalidated = true;
+    }
+  }
+
+  void CheckKept() {
+    for (std::size_t i = 0; i < kept_.size(); ++i) {
+      Kept& k = kept_[i];
+      const Outcome got = Evaluate(k.compiled, k.query.kind);
+      const std::string which = "kept compiled query #" + std::to_string(i) + " " + QueryText(k.query);
+      if (k.invalidated) {
+        if (got.code != ErrorCode::kQueryInvalidated) {
+          Fail(which + ": an edge it used was removed, but Evaluate() returned " +
+               std::string(semantics::ToString(got.code)) + " instead of query_invalidated");
+        }
+        continue;
+      }
+      if (got.code != ErrorCode::kOk) {
+        Fail(which + ": Evaluate() returned " + std::string(semantics::ToString(got.code)) +
+             " though no edge it uses was removed");
+      }
+      CompareAnswer(which + " (re-evaluated)", k.zero_twist ? Answer{} : model_.Ask(k.query), got);
+    }
+  }
+
+  // Whether the compiled form is expected to fail like the one-shot query. CompileTwist serves
+  // the angular velocity too: it reads an empty point as the coordinate frame's origin, so a
+  // twist or linear-velocity query without a point compiles (GetTwist: invalid_name), and an
+  // angular-velocity query without a body takes the coordinate frame's body
+  // (GetAngularVelocity: invalid_name).
+  static bool CompileComparable(const Query& q) {
+    switch (q.kind) {
+      case QueryKind::kTwist:
+      case QueryKind::kLinearVelocity: return !q.point.empty();
+      case QueryKind::kAngularVelocity: return !q.body.empty();
+      default: return true;
+    }
+  }
+
+  static core::PoseSpec PoseSpecOf(const Query& q) {
+    core::PoseSpec s;
+    s.point = q.point;
+    s.orientation = q.orientation;
+    s.body = q.body;
+    s.ref_point = q.ref_point;
+    s.ref_orientation = q.ref_orientation;
+    s.ref_body = q.ref_body;
+    s.coordinate_frame = q.coord;
+    return s;
+  }
+  static core::TwistSpec TwistSpecOf(const Query& q) {
+    core::TwistSpec s;
+    s.point = q.kind == QueryKind::kAngularVelocity ? std::string_view() : std::string_view(q.point);
+    s.body = q.body;
+    s.ref_body = q.ref_body;
+    s.coordinate_frame = q.coord;
+    return s;
+  }
+
+  template <class R>
+  static Outcome Code(const R& r) {
+    Outcome o;
+    o.code = r ? ErrorCode::kOk : r.error().code;
+    return o;
+  }
+
+  Outcome OneShot(const Query& q) const {
+    Outcome o;
+    switch (q.kind) {
+      case QueryKind::kPose: {
+        const auto r = graph_.GetPose(PoseSpecOf(q));
+        if (!r) return Code(r);
+        o.M = B::ToMatrix(B::RotationOf(r->value));
+        o.p = B::TranslationOf(r->value);
+        return o;
+      }
+      case QueryKind::kPosition: {
+        const auto r = graph_.GetPosition(PoseSpecOf(q));
+        if (!r) return Code(r);
+        o.p = r->value;
+        return o;
+      }
+      case QueryKind::kOrientation: {
+        const auto r = graph_.GetOrientation(PoseSpecOf(q));
+        if (!r) return Code(r);
+        o.M = B::ToMatrix(r->value);
+        return o;
+      }
+      case QueryKind::kTwist: {
+        const auto r = graph_.GetTwist(TwistSpecOf(q));
+        if (!r) return Code(r);
+        o.v = r->linear;
+        o.w = r->angular;
+        return o;
+      }
+      case QueryKind::kLinearVelocity: {
+        const auto r = graph_.GetLinearVelocity(TwistSpecOf(q));
+        if (!r) return Code(r);
+        o.v = r->value;
+        return o;
+      }
+      case QueryKind::kAngularVelocity: {
+        const auto r = graph_.GetAngularVelocity(TwistSpecOf(q));
+        if (!r) return Code(r);
+        o.w = r->value;
+        return o;
+      }
+    }
+    return o;
+  }
+
+  // Compiles q (kept in *keep when given) and evaluates it once.
+  Outcome Compiled(const Query& q, CompiledAny* keep) const {
+    CompiledAny c;
+    switch (q.kind) {
+      case QueryKind::kPose: {
+        auto r = graph_.CompilePose(PoseSpecOf(q));
+        if (!r) return Code(r);
+        c = std::move(*r);
+        break;
+      }
+      case QueryKind::kPosition: {
+        auto r = graph_.CompilePosition(PoseSpecOf(q));
+        if (!r) return Code(r);
+        c = std::move(*r);
+        break;
+      }
+      case QueryKind::kOrientation: {
+        auto r = graph_.CompileOrientation(PoseSpecOf(q));
+        if (!r) return Code(r);
+        c = std::move(*r);
+        break;
+      }
+      default: {
+        auto r = graph_.CompileTwist(TwistSpecOf(q));
+        if (!r) return Code(r);
+        c = std::move(*r);
+        break;
+      }
+    }
+    Outcome o = Evaluate(c, q.kind);
+    if (keep) *keep = std::move(c);
+    return o;
+  }
+
+  static Outcome Evaluate(const CompiledAny& c, QueryKind kind) {
+    Outcome o;
+    if (const auto* pose = std::get_if<core::CompiledPose<B>>(&c)) {
+      typename B::PoseCoords X;
+      o.code = pose->Evaluate(X);
+      if (o.code == ErrorCode::kOk) o.M = B::ToMatrix(B::RotationOf(X)), o.p = B::TranslationOf(X);
+    } else if (const auto* position = std::get_if<core::CompiledPosition<B>>(&c)) {
+      o.code = position->Evaluate(o.p);
+    } else if (const auto* orientation = std::get_if<core::CompiledOrientation<B>>(&c)) {
+      typename B::Rotation M;
+      o.code = orientation->Evaluate(M);
+      if (o.code == ErrorCode::kOk) o.M = B::ToMatrix(M);
+    } else if (const auto* twist = std::get_if<core::CompiledTwist<B>>(&c)) {
+      o.code = twist->Evaluate(o.v, o.w);
+      if (kind == QueryKind::kLinearVelocity) o.w.setZero();
+      if (kind == QueryKind::kAngularVelocity) o.v.setZero();
+    }
+    return o;
+  }
+
+  template <class DA, class DB>
+  static bool Near(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, double tol) {
+    return (a - b).cwiseAbs().maxCoeff() <= tol;  // false for NaN
+  }
+
+  // Magnitudes of the scene: rounding errors of a composed position grow with the positions
+  // summed along its path, those of a twist with |v| + |w| times the lever arms.
+  double PositionScale() const {
+    double s = 1.0;
+    for (const reference::PoseEdge& e : model_.poses()) s += e.X_TH.p.norm();
+    return s;
+  }
+  double TwistScale() const {
+    double s = 1.0;
+    const double lever = PositionScale();
+    for (const reference::TwistEdge& t : model_.twists()) s += t.v.norm() + t.w.norm() * lever;
+    return s;
+  }
+
+  void CompareAnswer(const std::string& what, const Answer& expected, const Outcome& got) {
+    if (got.code != expected.code) {
+      Fail(what + ": kernel says " + std::string(semantics::ToString(got.code)) + ", model says " +
+           std::string(semantics::ToString(expected.code)));
+    }
+    if (got.code != ErrorCode::kOk) return;
+    const double tol_p = 1e-9 * std::max(PositionScale(), expected.p.norm());
+    const double tol_v = 1e-9 * std::max(TwistScale(), expected.v.norm());
+    const bool ok = Near(got.M, expected.M, 1e-9) && Near(got.p, expected.p, tol_p) &&
+                    Near(got.v, expected.v, tol_v) && Near(got.w, expected.w, tol_v);
+    if (!ok) {
+      const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+      std::ostringstream out;
+      out << what << ": values differ\n  kernel M " << got.M.format(fmt) << " p "
+          << got.p.transpose().format(fmt) << " v " << got.v.transpose().format(fmt) << " w "
+          << got.w.transpose().format(fmt) << "\n  model  M " << expected.M.format(fmt) << " p "
+          << expected.p.transpose().format(fmt) << " v " << expected.v.transpose().format(fmt)
+          << " w " << expected.w.transpose().format(fmt);
+      Fail(out.str());
+    }
+  }
+
+  // A sweep query: like Ask but not traced unless it fails.
+  void Check(const Query& q) {
+    const Answer expected = model_.Ask(q);
+    const Outcome got = OneShot(q);
+    if (got.code != expected.code || got.code == ErrorCode::kOk) {
+      trace_.push_back(TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt});
+      CompareAnswer("final sweep query", expected, got);
+      CompareAnswer("final sweep query, compiled", expected, Compiled(q, nullptr));
+      trace_.pop_back();
+    }
+  }
+
+  Graph graph_;
+  ReferenceModel model_;
+  std::vector<TraceLine> trace_;
+  std::string before_;  // Dump() before the current op
+  std::string dump_;    // cache of Dump() while dump_valid_
+  bool dump_valid_ = false;
+  bool checks_ = true;
+  std::deque<Kept> kept_;
+};
+
+}  // namespace semgraph::fuzz
