@@ -2,6 +2,7 @@
 # scripts/fuzz.sh TARGET SECONDS: build the libFuzzer binary of fuzz/TARGET.cc with clang (own
 # build dir build-libfuzzer: ASan + UBSan, coverage of the whole library) and fuzz it for
 # SECONDS, starting from fuzz/corpus/TARGET/. Prints exec/s and the total number of executions.
+# SECONDS = 0 only builds.
 #
 #   TARGET   scene_ops_fuzzer | scene_script_fuzzer
 #   env      JOBS (build parallelism, default 1), FUZZ_FLAGS (extra libFuzzer flags, e.g.
@@ -38,6 +39,10 @@ CXX=${CXX:-clang++} cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebIn
   -DSEMGRAPH_LIBFUZZER=ON -DSEMGRAPH_BUILD_TESTS=OFF -DSEMGRAPH_BUILD_BENCH=OFF \
   -DSEMGRAPH_BUILD_EXAMPLES=OFF -DSEMGRAPH_BUILD_TOOLS=ON -DCMAKE_CXX_FLAGS="$flags" >/dev/null
 cmake --build "$build" --target "$target" -j "${JOBS:-1}"
+if [[ $seconds -eq 0 ]]; then  # build only (e.g. before `ctest --test-dir $build -R '^fuzz\.'`)
+  echo "built $build/fuzz/$target"
+  exit 0
+fi
 
 mkdir -p "$work" "$crashes"
 log=$build/$target.log
@@ -50,7 +55,7 @@ status=0
 
 execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
 rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-cov=$(grep -E '^#[0-9]+' "$log" | tail -1 | sed -n 's/.*cov: \([0-9]*\).*ft: \([0-9]*\).*corp: \([0-9/a-zA-Z]*\).*/cov \1, features \2, corpus \3/p')
+cov=$(grep -aE '^#[0-9]+' "$log" | tail -1 | sed -n 's/.*cov: \([0-9]*\).*ft: \([0-9]*\).*corp: \([0-9/a-zA-Z]*\).*/cov \1, features \2, corpus \3/p')
 echo "$target: ${execs:-?} executions, ${rate:-?} exec/s over ${seconds}s${cov:+; $cov}"
 if [[ $status -ne 0 ]]; then
   echo "$target: the fuzzer stopped with status $status; artifacts:" >&2

@@ -13,13 +13,13 @@
 // handful of products stays below 1e-13 and 1e-9 leaves four orders of margin while still
 // catching any wrong sign, transpose, frame or lever arm (errors of order 1e-1 and up).
 // A failure message states the epsilon used, the largest difference and both operands, and
-// points at the caller's line.
+// points at the caller's line (__builtin_FILE/__builtin_LINE as default arguments are evaluated
+// at the call site; std::source_location is not usable with clang 14 + libstdc++ 12).
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <source_location>
 #include <sstream>
 #include <string>
 
@@ -76,17 +76,17 @@ inline ::testing::AssertionResult Near(const Eigen::Quaterniond& a, const Eigen:
 template <class DA, class DB>
 void ExpectNear(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b,
                 double tol = kTolerance,
-                std::source_location where = std::source_location::current()) {
+                const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
   if (auto r = Near(a, b, tol); !r) {
-    ADD_FAILURE_AT(where.file_name(), static_cast<int>(where.line())) << r.message();
+    ADD_FAILURE_AT(file, line) << r.message();
   }
 }
 
 inline void ExpectNear(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b,
                        double tol = kTolerance,
-                       std::source_location where = std::source_location::current()) {
+                       const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
   if (auto r = Near(a, b, tol); !r) {
-    ADD_FAILURE_AT(where.file_name(), static_cast<int>(where.line())) << r.message();
+    ADD_FAILURE_AT(file, line) << r.message();
   }
 }
 
