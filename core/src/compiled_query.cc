@@ -11,7 +11,7 @@ namespace semgraph::core {
 template <coord::Backend B>
 bool CompiledQuery<B>::is_valid() const noexcept {
   for (const EdgeRef& e : edges_) {
-    if (graph_->X_PF_[e.child].epoch() != e.epoch) return false;
+    if (graph_->X_PF_[e.child].epoch() != e.epoch()) return false;
   }
   return true;
 }
@@ -25,7 +25,8 @@ auto CompiledQuery<B>::AddBasic(FrameIndex a, FrameIndex b) -> Basic {
     Chain c;
     c.begin = static_cast<std::uint32_t>(edges_.size());
     for (FrameIndex g = f; g != anc; g = forest.parent(g)) {
-      edges_.push_back(EdgeRef{g.value(), graph_->X_PF_[g.value()].epoch()});
+      edges_.push_back(
+          EdgeRef{PoseValue<B>::ExpectedHeader(graph_->X_PF_[g.value()].epoch()), g.value()});
     }
     c.end = static_cast<std::uint32_t>(edges_.size());
     return c;
@@ -49,11 +50,11 @@ bool CompiledQuery<B>::EvalChain(Chain c, PoseCoords& X_AF, bool& identity) cons
   if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
     // The hot case: rebuild each edge's quaternion and vector straight from the locked words
     // (x y z w, then p), so nothing round-trips through the stack.
-    using Words = std::uint64_t[PoseValue<B>::kWords];
+    using Words = typename PoseValue<B>::Word[PoseValue<B>::kWords];
     const auto load = [&](const EdgeRef& r, Eigen::Quaterniond& q, Eigen::Vector3d& p) {
       Words w;
-      if (!values[r.child].LoadWords(w, r.epoch)) return false;
-      const auto d = [&w](int i) { return std::bit_cast<double>(w[i]); };
+      if (!values[r.child].LoadWords(w, r.expected_header)) return false;
+      const auto d = [&w](int i) { return w[i]; };
       q = Eigen::Quaterniond(d(3), d(0), d(1), d(2));
       p = Eigen::Vector3d(d(4), d(5), d(6));
       return true;
@@ -73,11 +74,11 @@ bool CompiledQuery<B>::EvalChain(Chain c, PoseCoords& X_AF, bool& identity) cons
     return true;
   }
   PoseCoords acc;
-  if (!values[e->child].Load(acc, e->epoch)) return false;
+  if (!values[e->child].Load(acc, e->epoch())) return false;
   while (e != first) {
     --e;
     PoseCoords X_i;
-    if (!values[e->child].Load(X_i, e->epoch)) return false;
+    if (!values[e->child].Load(X_i, e->epoch())) return false;
     acc = B::ComposeChain(X_i, acc);
   }
   X_AF = acc;

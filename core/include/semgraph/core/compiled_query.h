@@ -41,8 +41,11 @@ class CompiledQuery {
  protected:
   friend class SceneGraph<B>;
   struct EdgeRef {
-    std::uint32_t child;  // frame whose parent edge is read
-    std::uint32_t epoch;
+    std::uint64_t expected_header;  // PoseValue<B>::ExpectedHeader(epoch of the edge when compiled)
+    std::uint32_t child;            // frame whose parent edge is read
+    [[nodiscard]] std::uint32_t epoch() const noexcept {
+      return static_cast<std::uint32_t>(expected_header >> 32);
+    }
   };
   // X_AF for a frame F below ancestor A: edges_[begin, end) from F upward.
   struct Chain {
