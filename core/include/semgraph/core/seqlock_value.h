@@ -89,7 +89,8 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   /// The raw words (bit copies of T) of a consistent value if the epoch is still the one of
   /// `expected_header` (= ExpectedHeader(epoch)), for callers that rebuild T in registers (the
   /// compiled-query hot loop); false otherwise.
-  [[nodiscard]] bool LoadWords(Word (&words)[kWords], std::uint64_t expected_header) const noexcept {
+  [[nodiscard]] bool LoadWords(Word (&words)[kWords],
+                               std::uint64_t expected_header) const noexcept {
     for (;;) {
       const std::uint64_t h1 = header_.load(std::memory_order_acquire);
       if ((h1 ^ expected_header) & kCheckMask) {  // another epoch, or a write in progress
@@ -138,10 +139,11 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   // x86-64: one `movsd` per word, straight into an SSE register. An aligned 8-byte load is
   // atomic on x86-64, and loads are not reordered with loads (x86-TSO), so header, words and
   // header re-check are read in program order as long as the compiler keeps them in that order,
-  // which the two compiler barriers around the word loads ensure. Why not std::atomic<double>::load: GCC
-  // routes it through a general register, and in the compiled-query loop the seven words of each
-  // edge then spill to the stack before the arithmetic (measured: 1.26x -> 1.17x the raw chain's
-  // instructions at d = 8, and 1.5x -> 1.3x its wall time; docs/performance.md).
+  // which the two compiler barriers around the word loads ensure. Why not
+  // std::atomic<double>::load: GCC routes it through a general register, and in the
+  // compiled-query loop the seven words of each edge then spill to the stack before the
+  // arithmetic (measured: 983 -> 913 instructions per query at d = 8, 1.26x -> 1.17x the raw
+  // chain, and a wall-time ratio of 1.5x -> about 1.2x; docs/performance.md).
   static void LoadWord(Word& out, const std::atomic<Word>& in) noexcept {
     asm volatile("movsd %1, %0" : "=x"(out) : "m"(in));
   }
