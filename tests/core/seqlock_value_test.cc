@@ -50,7 +50,7 @@ TEST(SeqLockValue, RoundTripIsBitExact) {
   }
   EXPECT_EQ(out.padding, 7.0);
 
-  Value::Word words[Value::kWords];
+  Value::Word words[Value::kWords] = {};
   ASSERT_TRUE(v.LoadWords(words, Value::ExpectedHeader(v.epoch())));
   for (int i = 0; i < 7; ++i) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(words[i]), std::bit_cast<std::uint64_t>(in.d[i])) << i;
@@ -73,7 +73,7 @@ TEST(SeqLockValue, EpochBumpFailsReadersOfTheOldEpochOnly) {
   Seven out = Filled(-1.0);
   EXPECT_FALSE(v.Load(out, e0));
   EXPECT_EQ(out.d[0], -1.0);  // untouched on failure
-  Value::Word words[Value::kWords];
+  Value::Word words[Value::kWords] = {};
   EXPECT_FALSE(v.LoadWords(words, Value::ExpectedHeader(e0)));
   ASSERT_TRUE(v.Load(out, e1));
   EXPECT_EQ(out.d[6], 3.0);  // the value survives the bump
@@ -108,7 +108,7 @@ TEST(SeqLockValue, ConcurrentReadersNeverSeeTornValues) {
   int torn = 0, backwards = 0, failed = 0;
   double last = 0;
   for (int n = 0; n < 200000; ++n) {
-    Value::Word w[Value::kWords];
+    Value::Word w[Value::kWords] = {};
     if (n % 2 == 0) {
       failed += !v.LoadWords(w, expected);
     } else {
