@@ -3,7 +3,6 @@
 // semantic checks, which were done once when compiling.
 #include "semgraph/core/compiled_query.h"
 
-#include <bit>
 #include <type_traits>
 
 namespace semgraph::core {
