@@ -48,7 +48,7 @@ bool Rejected(const sem::Checked<T>& result) {
     std::cout << "  ERROR: accepted\n";
     return false;
   }
-  std::cout << "  rejected (" << sem::ToString(result.error().code)
+  std::cout << "  rejected (" << semgraph::base::ToString(result.error().code)
             << "): " << sem::Describe(result.error(), names) << "\n";
   return true;
 }

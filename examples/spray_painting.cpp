@@ -123,7 +123,7 @@ int main() {
   std::printf("  %s\n", r3 ? "accepted?!" : r3.error().message.c_str());
   auto q = graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "E"));
   std::printf("  query PoseCoord({f1}|O1, {o2}|E, [o2]) failed (%s): %s\n",
-              std::string(semgraph::semantics::ToString(q.error().code)).c_str(),
+              std::string(semgraph::base::ToString(q.error().code)).c_str(),
               graph.Describe(q.error()).c_str());
   return 0;
 }

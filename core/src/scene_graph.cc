@@ -25,8 +25,8 @@ QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const semantics
   auto plan = PlanPose(topology_, q);
   if (!plan) return Unexpected{plan.error()};
   if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
-  typename B::Rotation R;
-  Eigen::Vector3d p;
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
   internal::EvaluatePose<B, Part::kPose>(source(), plan->steps, R, p);
   return Pose{plan->semantics, B::MakePose(R, p)};
 }
@@ -35,8 +35,8 @@ template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(const semantics::PositionSemantics& q) const noexcept {
   auto plan = PlanPosition(topology_, q);
   if (!plan) return Unexpected{plan.error()};
-  typename B::Rotation R;
-  Eigen::Vector3d p_FoEo_R;
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p_FoEo_R = Eigen::Vector3d::Zero();
   internal::EvaluatePose<B, Part::kTranslation>(source(), plan->steps, R, p_FoEo_R);
   return coord::Position{plan->semantics, p_FoEo_R};
 }
@@ -47,8 +47,8 @@ QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
   auto plan = PlanOrientation(topology_, q);
   if (!plan) return Unexpected{plan.error()};
   if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
-  typename B::Rotation R_BA_R;
-  Eigen::Vector3d p;
+  typename B::Rotation R_BA_R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
   internal::EvaluatePose<B, Part::kRotation>(source(), plan->steps, R_BA_R, p);
   return Orientation{plan->semantics, R_BA_R};
 }
@@ -76,8 +76,8 @@ template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) const noexcept {
   auto plan = PlanPosition(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
-  typename B::Rotation R;
-  Eigen::Vector3d p_FoEo_R;
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p_FoEo_R = Eigen::Vector3d::Zero();
   internal::EvaluatePose<B, Part::kTranslation>(source(), plan->steps, R, p_FoEo_R);
   return coord::Position{plan->semantics, p_FoEo_R};
 }

@@ -278,9 +278,7 @@ void RunAll(const Operands<B>& o, Outcomes& out) {
   out.Sum(B::TranslationOf(kernels::ComposeSameFrame<B>(o.X_BA_B.value, o.X_CB_C.value)));
   out.Sum(B::TranslationOf(kernels::InverseSameFrame<B>(o.X_BA_B.value)));
   out.Sum(B::TranslationOf(kernels::Reexpress<B>(o.X_BA_B.value, o.O_CB_C.value)));
-  Eigen::Vector3d v = o.V_B_Aa_B.linear, w = o.V_B_Aa_B.angular;
-  kernels::RotateTwist(B::ToMatrix(o.O_CB_C.value), v, w);
-  out.Sum(kernels::ShiftLinear(v, w, o.p_BA_B.value));
+  out.Sum(kernels::ShiftLinear(o.V_B_Aa_B.linear, o.V_B_Aa_B.angular, o.p_BA_B.value));
 }
 
 template <class B>

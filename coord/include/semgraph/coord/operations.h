@@ -6,7 +6,7 @@
 //   3. computes the numbers with the backend's arithmetic.
 // So adding a backend never touches a semantic check. Math and preconditions per operation:
 // docs/semantics.md. The raw arithmetic (no checks) is in namespace `kernels`, for callers that
-// checked the semantics once already (compiled scene-graph queries).
+// checked the semantics once already (the scene graph's evaluator, core/evaluate.h).
 //
 // Monograms in comments: X_FE pose of E in F; p_FE position of E wrt F; R_FE rotation.
 // Cost: each operation is O(1): a few ids compared, then at most a handful of 3x3 / quaternion
@@ -51,11 +51,6 @@ typename B::PoseCoords Reexpress(const typename B::PoseCoords& X,
                                  const typename B::Rotation& R) noexcept {
   return B::MakePose(B::Multiply(B::Multiply(R, B::RotationOf(X)), B::Transpose(R)),
                      B::Rotate(R, B::TranslationOf(X)));
-}
-/// Twist re-expressed with R = R[new<-old].
-inline void RotateTwist(const Eigen::Matrix3d& R, Eigen::Vector3d& v, Eigen::Vector3d& w) noexcept {
-  v = R * v;
-  w = R * w;
 }
 /// Velocity reference point moved by p_A = (old point wrt new point): v' = v + p_A x w.
 inline Eigen::Vector3d ShiftLinear(const Eigen::Vector3d& v, const Eigen::Vector3d& w,

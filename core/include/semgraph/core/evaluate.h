@@ -210,12 +210,14 @@ bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s,
     typename B::PoseCoords X_RB;
     if (!EvalBasic<B>(src, s.br, X_RB)) return false;
     const typename B::Rotation R_RB = B::RotationOf(X_RB);
-    if constexpr (P == Part::kTranslation) {
+    if constexpr (P == Part::kPose) {
+      const auto X = coord::kernels::Reexpress<B>(B::MakePose(R, p), R_RB);
+      R = B::RotationOf(X);
+      p = B::TranslationOf(X);
+    } else if constexpr (P == Part::kTranslation) {
       p = B::Rotate(R_RB, p);
     } else {
-      const auto X = coord::kernels::Reexpress<B>(B::MakePose(R, P == Part::kPose ? p : Eigen::Vector3d::Zero()), R_RB);
-      R = B::RotationOf(X);
-      if constexpr (P == Part::kPose) p = B::TranslationOf(X);
+      R = B::Multiply(B::Multiply(R_RB, R), B::Transpose(R_RB));  // Reexpress, rotation only
     }
   }
   return true;
