@@ -46,7 +46,6 @@ fi
 
 cd "$root"
 bench="$(realpath -m --relative-to="$root" "$build")/bench/semgraph_bench"
-case "$bench" in /* | ./* | ../*) ;; *) bench="./$bench" ;; esac  # run it as a path, not via PATH
 json="$results/$stamp.json"
 # Which library version is measured (read-only git queries; no index writes).
 commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
