@@ -12,6 +12,9 @@
 # Prints a markdown table (with the ratios compiled/raw and oneshot/tf2 static) and writes the
 # numbers as JSON to OUT_JSON (default bench/results/icount-<UTC date>.json). Callgrind output
 # files are kept in $ICOUNT_DIR (default: a temporary directory, printed) for callgrind_annotate.
+# Paths in the JSON and the table are relative to the repository root, so that checked-in
+# results do not carry the machine's directories (a directory outside the repository, such as
+# the default temporary one, is recorded as null in the JSON).
 # LD_BIND_NOW=1 so that lazy symbol binding is not counted in the first call.
 set -euo pipefail
 
@@ -67,9 +70,14 @@ if [ "$extra" != "0" ]; then
   if [ "$have_tf2" = 1 ]; then run tf2_build_tree_static 10000 1 10000; fi
 fi
 
-python3 - "$rows" "$out_json" "$work" <<'EOF'
-import json, sys
-rows_path, out_json, work = sys.argv[1:4]
+python3 - "$rows" "$out_json" "$work" "$root" <<'EOF'
+import json, os, sys
+rows_path, out_json, work, root = sys.argv[1:5]
+
+def relative(path):
+    # Relative to the repository root when inside it; None (not recorded) otherwise.
+    rel = os.path.relpath(os.path.realpath(path), os.path.realpath(root))
+    return None if rel == ".." or rel.startswith(".." + os.sep) else rel
 ir = {}
 for line in open(rows_path):
     kernel, arg, ops, total = line.rstrip("\n").split("\t")
@@ -108,8 +116,9 @@ if extra:
         unit = " (per inserted frame)" if "build" in k else ""
         print(f"| {k}{unit} | {a:,} | {fmt(ir[(k, a)])} |")
 json.dump({"unit": "Ir per query (callgrind, toggle-collect on the kernel)",
-           "callgrind_dir": work,
+           "callgrind_dir": relative(work),
            "results": [{"kernel": k, "arg": a, "ir_per_op": v} for (k, a), v in sorted(ir.items())]},
           open(out_json, "w"), indent=1)
-print(f"\n(JSON: {out_json}; callgrind files: {work})")
+shown = lambda p: relative(p) or os.path.basename(p)
+print(f"\n(JSON: {shown(out_json)}; callgrind files: {relative(work) or 'a temporary directory'})")
 EOF

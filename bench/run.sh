@@ -16,11 +16,14 @@
 # Environment: JOBS (default 2), PIN (default 1), BUILD (default build-bench), FILTER (a
 # --benchmark_filter regex, default all), SKIP_ICOUNT=1, SKIP_MEMCHECK=1, REPS (default 5).
 # About 12-15 minutes on the 2-vCPU development VM; run nothing else heavy meanwhile.
+# The results carry no absolute paths: the benchmark binary is run from the repository root by a
+# relative path (Google Benchmark records argv[0] as "executable"), and icount.sh records paths
+# relative to the root, so checked-in results are the same on every machine.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/.." && pwd)"
-build="${BUILD:-$root/build-bench}"
+build="$(realpath -m "${BUILD:-$root/build-bench}")"
 jobs="${JOBS:-2}"
 pin="${PIN-1}"
 reps="${REPS:-5}"
@@ -41,7 +44,8 @@ else
   echo "run.sh: not pinned"
 fi
 
-bench="$build/bench/semgraph_bench"
+cd "$root"
+bench="$(realpath -m --relative-to="$root" "$build")/bench/semgraph_bench"
 json="$results/$stamp.json"
 # Which library version is measured (read-only git queries; no index writes).
 commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"

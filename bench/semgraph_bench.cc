@@ -4,7 +4,7 @@
 // reference at every depth (and tf2 when built with it), and every rejection's error code.
 //
 // Sinks: only the const overload of benchmark::DoNotOptimize (Use below); the non-const one
-// miscompiles with GCC 12 -O3 in Google Benchmark 1.7.1 (see peer-benchmarks.md).
+// miscompiles with GCC 12 -O3 in Google Benchmark 1.7.1.
 #include <benchmark/benchmark.h>
 #include <malloc.h>
 #include <pthread.h>
@@ -456,7 +456,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
   for (int n : {1'000, 10'000, 100'000, 1'000'000}) b->Arg(n);
 }
 // The median is a default aggregate; min is added because on this noisy machine the fastest
-// repetition is the more stable figure (peer-benchmarks.md, Noise).
+// repetition is the more stable figure (bench/README.md, noise).
 template <class B>
 B* Stats(B* b) {
   return b->ComputeStatistics("min", [](const std::vector<double>& v) {

@@ -1,5 +1,4 @@
-// tf2 behind tf2_peer.h. Compiled as C++17 (see the header). Set-ups as in
-// shared/reference/peer-benchmarks.md.
+// tf2 behind tf2_peer.h. Compiled as C++17 (see the header). Set-ups: bench/README.md.
 #include "tf2_peer.h"
 
 #include <benchmark/benchmark.h>

@@ -17,7 +17,7 @@
 //   remove t>h   12  the pose edge t -> h, every ordered pair
 //   untwist D>f  12  the twist edge D -> f, every pair
 // Every add names the bodies of its frames, so a frame that does not exist yet is created by
-// the add and attached to its body (spec §1). Each sequence is run from two starting scenes:
+// the add and attached to its body (docs/rules.md §1). Each sequence is run from two starting scenes:
 // EMPTY (every node created by the adds) and DECLARED (the three bodies and four frames added
 // first with AddBody/AddFrame, so the adds find unattached existing frames).
 //

@@ -6,7 +6,7 @@
 //
 // Checks after every operation (any failure prints the whole op sequence in scene-script
 // notation, then aborts):
-//   - kernel and model accept or reject alike, with the same error code (spec §4 order);
+//   - kernel and model accept or reject alike, with the same error code (the order of docs/rules.md §7);
 //   - a rejected operation and every query leave the kernel's Dump() byte-identical;
 //   - kernel.CheckInvariants() is empty;
 //   - the kernel's topology and stored values equal the model's (frames and their bodies, pose

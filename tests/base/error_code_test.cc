@@ -13,8 +13,8 @@
 namespace semgraph::base {
 namespace {
 
-// Every enumerator with its wire name, in enum order. The names come from
-// shared/spec/scene-graph.md, plus semantic_mismatch (this layer) and query_invalidated.
+// Every enumerator with its wire name, in enum order. The names come from the rules
+// (docs/rules.md §8), including semantic_mismatch (this layer) and query_invalidated.
 const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
   static const std::vector<std::pair<ErrorCode, std::string_view>> codes = {
       {ErrorCode::kOk, "ok"},
@@ -90,7 +90,7 @@ TEST(ErrorCode, NamesAreDistinctLowerSnakeCase) {
 }
 
 TEST(ErrorCode, EveryCodeNamedInTheSpecExists) {
-  // The codes of spec/scene-graph.md §1–§5, spelled as there.
+  // The codes of the scene graph's rules (docs/rules.md §1-§4, §8), spelled as there.
   for (std::string_view name :
        {"duplicate_body", "duplicate_frame", "unknown_body", "frame_without_body",
         "frame_body_mismatch", "invalid_name", "multiple_pose_parents", "pose_cycle", "self_edge",

@@ -61,8 +61,8 @@ constexpr int kBodies = 3;
 
 // ------------------------------------------------------------------ what the spec says
 
-/// The constraints each representation imposes, from spec/scene-graph.md §6 and
-/// semantics-research §4, written independently of the backends' own declarations.
+/// The constraints each representation imposes, from docs/rules.md §11 and
+/// docs/semantics.md D6, written independently of the backends' own declarations.
 struct SpecConstraints {
   bool point_is_origin = false;       ///< pose: e = origin of [a]
   bool ref_point_is_origin = false;   ///< pose: f = origin of [b]

@@ -1,4 +1,4 @@
-// Input validation of coord/validate.h (spec/scene-graph.md §4): non-finite numbers anywhere,
+// Input validation of coord/validate.h (docs/rules.md §5): non-finite numbers anywhere,
 // rotation tolerances and normalization, reflections, 4x4 shape, the order of the checks
 // (invalid_number -> invalid_rotation -> representation_constraint) and the error texts.
 //

@@ -1,11 +1,11 @@
 // SceneGraph constraints: every constraint case of the paper's Figs. 2, 4 and 6 (figures
-// reconstructed from their captions), one test per error code of spec/scene-graph.md §4, the
+// reconstructed from their captions), one test per error code of docs/rules.md §8, the
 // order of the codes when one operation breaks two rules, and the accepted operations around
 // them (value updates, removal and re-add, grasps, twist removal).
 //
 // Every rejection goes through RejectsAndKeeps: the code; phrases of the message, which must
 // name the offending frames/bodies and the relation they conflict with; and Dump() equal
-// before and after (names, ids, topology, values: spec §4 atomicity, including the name
+// before and after (names, ids, topology, values: docs/rules.md §6 atomicity, including the name
 // table, which a rejected add must roll back). Every accepted operation goes through Accepts:
 // CheckInvariants() empty afterwards. Semantic rules are the same for every representation, so
 // most tests are typed over both backends; the homogeneous backend's own constraints have
@@ -1341,7 +1341,7 @@ TYPED_TEST(SceneGraphConstraints, RemovingATwistEdgeRemovesItsTwistPathAndAllows
 // ====================================================================== homogeneous backend
 
 // The homogeneous transform imposes point = origin of [a], ref point = origin of [b] and
-// [r] = [b] on poses, and [r] = [b] on orientations (spec §6); positions and twists are free.
+// [r] = [b] on poses, and [r] = [b] on orientations (docs/rules.md §11); positions and twists are free.
 //
 // Fixture: BuildTwoTrees plus a second frame of C, {c} -> {c2}|C (constant).
 class SceneGraphHomogeneous : public ::testing::Test {

@@ -4,7 +4,7 @@
 // Method. A RigidBodyScene (tests/support/rigid_body_scene.h) holds K = 3..8 bodies with
 // absolute poses and twists in a world frame W and 2..4 frames bolted to each body at fixed
 // offsets. A naive Model (parent array, twist parents, existence flags; every rule of
-// spec/scene-graph.md §2-3 written out by walking the whole model) proposes only operations
+// docs/rules.md §2-3 written out by walking the whole model) proposes only operations
 // that the spec accepts, built from the world quantities: pose edges with random directions
 // and parents, same-body (constant) and cross-body, some in non-edge form (quaternion
 // backend), given as a quaternion (sometimes -q, sometimes off-unit within tolerance) or as a

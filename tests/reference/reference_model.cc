@@ -1,5 +1,5 @@
 // ReferenceModel: see reference_model.h. Every function is a literal transcription of a rule of
-// spec/scene-graph.md; nothing is incremental, nothing is cached.
+// docs/rules.md; nothing is incremental, nothing is cached.
 #include "reference_model.h"
 
 #include <algorithm>
@@ -11,8 +11,8 @@
 namespace semgraph::reference {
 namespace {
 
-constexpr double kRotationTolerance = 1e-6;  // spec §4: |‖q‖ − 1|, max|MᵀM − I|
-constexpr double kConstantTolerance = 1e-6;  // spec §2 P4
+constexpr double kRotationTolerance = 1e-6;  // docs/rules.md §5: |‖q‖ − 1|, max|MᵀM − I|
+constexpr double kConstantTolerance = 1e-6;  // docs/rules.md §2 P4
 
 bool Finite(const Eigen::Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
@@ -34,7 +34,7 @@ struct Partition {
   }
 };
 
-// spec §4: NaN/Inf anywhere -> invalid_number; improper rotation -> invalid_rotation;
+// docs/rules.md §5: NaN/Inf anywhere -> invalid_number; improper rotation -> invalid_rotation;
 // within tolerance -> normalized.
 ErrorCode ValidateRotation(const RotationInput& in, Eigen::Matrix3d* R) {
   if (!in.is_matrix) {
@@ -182,7 +182,7 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     e.X_TH = Transform{R, p};
     return ErrorCode::kOk;
   }
-  // Tentatively: create the missing nodes (spec §1), add the edge, check every invariant.
+  // Tentatively: create the missing nodes (docs/rules.md §1), add the edge, check every invariant.
   State next = s_;
   if (!head_exists) {
     next.bodies.insert(head_body);
@@ -383,7 +383,7 @@ Answer ReferenceModel::Ask(const Query& q) const {
   for (const std::string& n : frames) {
     if (!Find(n, r, &unused)) return fail(ErrorCode::kNoPosePath);
   }
-  // representation_constraint (spec §6): homogeneous poses need e = a, f = b, r = b;
+  // representation_constraint (docs/rules.md §11): homogeneous poses need e = a, f = b, r = b;
   // orientations r = b.
   if (representation_ == Representation::kHomogeneous) {
     if (q.kind == QueryKind::kPose && (e != o || f != b || r != b)) {

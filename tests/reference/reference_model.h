@@ -1,6 +1,6 @@
 // File: tests/reference/reference_model.h
 //
-// ReferenceModel: a deliberately naive executable reading of spec/scene-graph.md, the oracle of
+// ReferenceModel: a deliberately naive executable reading of docs/rules.md, the oracle of
 // the fuzzers and of the exhaustive small-scope check (fuzz/). It shares no code with core/:
 // plain containers, every invariant recomputed from scratch by graph search over the whole
 // scene after each tentative operation, queries by brute-force path search. Short enough to
@@ -10,13 +10,13 @@
 //   bodies_   std::set of body names
 //   frames_   std::map frame -> body
 //   poses_    vector of pose edges {tail, head, X_TH}: X_TH = (R_TH, p_TH) is the pose of {head}
-//             wrt {tail} expressed in [tail], i.e. PoseCoord({h}|H, {t}|T, [t]) (spec §2)
+//             wrt {tail} expressed in [tail], i.e. PoseCoord({h}|H, {t}|T, [t]) (docs/rules.md §2)
 //   twists_   vector of twist edges {tail body D, head frame h, v, w}: the screw twist
-//             TwistCoord(h|H, D, [h]) (spec §3)
+//             TwistCoord(h|H, D, [h]) (docs/rules.md §3)
 //
-// How an add works (spec §4 "every operation either fully succeeds or leaves the graph exactly
-// as it was"): the argument checks run in the spec's §4 order; then the operation is applied
-// to a COPY of the state, and Violation() recomputes P1, P2, P3, W3 on the copy from scratch; the
+// How an add works (docs/rules.md §6: "every build operation either succeeds completely or
+// leaves the graph exactly as it was"): the argument checks run in the order of docs/rules.md §7;
+// then the operation is applied to a COPY of the state, and Violation() recomputes P1, P2, P3, W3 on the copy from scratch; the
 // first violated rule in the §4 order is the error, and the copy is dropped. Otherwise the copy
 // becomes the state.
 //   P1 multiple_pose_parents  a frame is the head of at most one pose edge
@@ -38,7 +38,7 @@
 //     pose tree, including when the point's frame is created by this add).
 //   - names are ASCII: "valid" means non-empty, at most 255 bytes, no byte < 0x20 and no 0x7F.
 //     Non-ASCII bytes are treated as invalid (the library accepts UTF-8; the fuzzers send none).
-// SPEC AMBIGUITY, resolved like the library: spec §4 lists "node resolution
+// AMBIGUITY, resolved like the library: the order of checks lists "node resolution
 // (frame_body_mismatch, frame_without_body)" as one step. When the head and the tail break
 // different ones (head missing and no body given, tail on another body than the one named),
 // the model reports the head's error: frames are resolved one at a time, head first.

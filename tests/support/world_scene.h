@@ -18,7 +18,7 @@
 //   Frame i is named "f<i>": its origin point and its orientation frame share that name (the
 //   semgraph frame convention); body k is named "B<k>". names() holds them.
 //
-// Derived quantities (D in semantics-research §0; each is a one-line formula below):
+// Derived quantities (each is a one-line formula below; notation of docs/semantics.md §1):
 //   Position(e, f, r)             p_FE_R = R_WR^T (p_WE - p_WF)
 //   Rotation(b, a)                R_BA = R[b<-a] = R_WB^T R_WA
 //   OrientationOperator(a, b, r)  operator carrying [b] onto [a], expressed in [r]:
