@@ -8,7 +8,7 @@
 
 #include "semgraph/dot_writer.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 namespace {
 
 TEST(JsonString, EscapesQuotesBackslashesAndControlCharacters) {
@@ -88,4 +88,4 @@ TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {
 }
 
 }  // namespace
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

@@ -16,7 +16,7 @@
 
 #include "semgraph/core/scene_graph.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
 template <coord::Backend B>
 [[nodiscard]] std::string WriteDot(const core::SceneGraph<B>& graph);
@@ -29,4 +29,4 @@ extern template std::string WriteDot<coord::QuaternionBackend>(
 extern template std::string WriteDot<coord::HomogeneousBackend>(
     const core::SceneGraph<coord::HomogeneousBackend>&);
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

@@ -12,7 +12,7 @@
 #include "semgraph/script_reader.h"
 #include "semgraph/script_runner.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 namespace {
 
 constexpr int kExitOk = 0;
@@ -193,11 +193,11 @@ int Main(int argc, char** argv) {
 }
 
 }  // namespace
-}  // namespace semgraph::tools
+}  // namespace semgraph::script
 
 int main(int argc, char** argv) {
   try {
-    return semgraph::tools::Main(argc, argv);
+    return semgraph::script::Main(argc, argv);
   } catch (const std::exception& e) {
     // Only std::bad_alloc is expected here (a huge script); report it instead of aborting.
     std::fprintf(stderr, "semgraph: %s\n", e.what());

@@ -12,7 +12,7 @@
 
 #include "semgraph/semantics/error_code.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
 namespace {
 
@@ -300,4 +300,4 @@ template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::Qua
 template OpOutcome ApplyOp<coord::HomogeneousBackend>(core::SceneGraph<coord::HomogeneousBackend>&,
                                                       const ScriptOp&, std::size_t);
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

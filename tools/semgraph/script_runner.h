@@ -24,7 +24,7 @@
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/script_reader.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
 /// What one op did: its JSON line (without newline) and whether it succeeded.
 struct OpOutcome {
@@ -47,4 +47,4 @@ extern template OpOutcome ApplyOp<coord::QuaternionBackend>(
 extern template OpOutcome ApplyOp<coord::HomogeneousBackend>(
     core::SceneGraph<coord::HomogeneousBackend>&, const ScriptOp&, std::size_t);
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script
