@@ -5,19 +5,14 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <string>
 #include <string_view>
 
-#include "semgraph/dot_writer.h"
-#include "semgraph/script_reader.h"
-#include "semgraph/script_runner.h"
+#include "semgraph/script/scene_script.h"
 
 namespace semgraph::script {
 namespace {
-
-constexpr int kExitOk = 0;
-constexpr int kExitOpFailed = 1;
-constexpr int kExitMalformed = 2;
 
 constexpr std::string_view kHelp = R"(Usage: semgraph run FILE
        semgraph dot FILE
@@ -108,60 +103,16 @@ int Usage(std::string_view problem) {
   return kExitMalformed;
 }
 
-// Reads at most kMaxScriptBytes + 1 bytes: enough for ReadScript to report an oversized script
-// without holding all of it.
-bool ReadInput(const std::string& path, std::string* text, std::string* error) {
-  std::FILE* file = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    *error = std::strerror(errno);
-    return false;
-  }
-  char buffer[1 << 16];
-  bool ok = true;
-  while (text->size() <= kMaxScriptBytes) {
-    const std::size_t n = std::fread(buffer, 1, sizeof(buffer), file);
-    text->append(buffer, n);
-    if (n < sizeof(buffer)) {
-      if (std::ferror(file)) {
-        *error = std::strerror(errno);
-        ok = false;
-      }
-      break;
-    }
-  }
-  if (file != stdin) std::fclose(file);
-  return ok;
-}
-
-void PrintLine(std::FILE* stream, const std::string& line) {
-  std::fwrite(line.data(), 1, line.size(), stream);
-  std::fputc('\n', stream);
-}
-
-template <coord::Backend B>
-int Execute(const Script& script, Mode mode) {
-  core::SceneGraph<B> graph;
-  bool all_ok = true;
-  for (std::size_t i = 0; i < script.ops.size(); ++i) {
-    const OpOutcome outcome = ApplyOp(graph, script.ops[i], i);
-    all_ok = all_ok && outcome.ok;
-    if (mode == Mode::kRun) {
-      PrintLine(stdout, outcome.json);
-    } else if (!outcome.ok) {
-      PrintLine(stderr, outcome.json);  // stdout carries only the DOT text
-    }
-  }
-  if (mode == Mode::kDot) {
-    const std::string dot = WriteDot(graph);
-    std::fwrite(dot.data(), 1, dot.size(), stdout);
-  }
-  return all_ok ? kExitOk : kExitOpFailed;
+// One line and its newline; false (errno set) when the stream refuses it.
+bool PrintLine(std::FILE* stream, const std::string& line) {
+  return std::fwrite(line.data(), 1, line.size(), stream) == line.size() &&
+         std::fputc('\n', stream) != EOF;
 }
 
 int Main(int argc, char** argv) {
   if (argc == 2 && (std::string_view(argv[1]) == "--help" || std::string_view(argv[1]) == "-h")) {
     std::fwrite(kHelp.data(), 1, kHelp.size(), stdout);
-    return kExitOk;
+    return std::fflush(stdout) == 0 ? kExitOk : kExitOutputFailed;
   }
   if (argc != 3) return Usage("expected a command and a FILE");
   const std::string_view command = argv[1];
@@ -173,34 +124,49 @@ int Main(int argc, char** argv) {
   } else {
     return Usage("unknown command '" + std::string(command) + "'");
   }
-  const std::string path = argv[2];
-  const std::string display_name = path == "-" ? "<stdin>" : path;
-  std::string text, error;
-  if (!ReadInput(path, &text, &error)) {
-    std::fprintf(stderr, "%s: cannot read: %s\n", display_name.c_str(), error.c_str());
+  // The JSON lines are printed as the ops run, so that output starts at once and a large
+  // script is never held twice; a failed write stops the run (nobody would see the rest).
+  int write_errno = 0;
+  RunOptions options;
+  options.dot = mode == Mode::kDot;
+  options.on_op = [&](const OpResult& result) {
+    if (mode == Mode::kDot) {
+      if (!result.ok) PrintLine(stderr, result.json);  // stdout carries only the DOT text
+      return true;
+    }
+    if (PrintLine(stdout, result.json)) return true;
+    write_errno = errno;
+    return false;
+  };
+  const SceneRun run = RunSceneFile(argv[2], options);
+  if (run.status == kExitMalformed) {
+    PrintLine(stderr, run.error);
     return kExitMalformed;
   }
-  const auto script = ReadScript(text);
-  if (!script) {
-    const std::string message = FormatScriptError(display_name, script.error());
-    PrintLine(stderr, message);
-    return kExitMalformed;
+  if (write_errno == 0 && mode == Mode::kDot &&
+      std::fwrite(run.dot.data(), 1, run.dot.size(), stdout) != run.dot.size()) {
+    write_errno = errno;
   }
-  const int status = script->representation == Representation::kHomogeneous
-                         ? Execute<coord::HomogeneousBackend>(*script, mode)
-                         : Execute<coord::QuaternionBackend>(*script, mode);
-  return std::fflush(stdout) == 0 ? status : kExitMalformed;
+  if (write_errno == 0 && std::fflush(stdout) != 0) write_errno = errno;
+  if (write_errno != 0) {
+    std::fprintf(stderr, "semgraph: cannot write the output: %s\n", std::strerror(write_errno));
+    return kExitOutputFailed;
+  }
+  return run.status;
 }
 
 }  // namespace
 }  // namespace semgraph::script
 
 int main(int argc, char** argv) {
+  // The library reports running out of memory itself (with the file and the op); this catches
+  // what is left, e.g. building a message.
   try {
     return semgraph::script::Main(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fputs("semgraph: out of memory\n", stderr);
   } catch (const std::exception& e) {
-    // Only std::bad_alloc is expected here (a huge script); report it instead of aborting.
     std::fprintf(stderr, "semgraph: %s\n", e.what());
-    return 2;
   }
+  return semgraph::script::kExitMalformed;
 }

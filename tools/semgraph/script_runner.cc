@@ -1,5 +1,5 @@
 // Script runner: one scene-graph call per op, one JSON line per outcome. Contract:
-// script_runner.h; output format: spec/scene-script.md.
+// script_runner.h; output format: docs/scene-script.md.
 #include "semgraph/script_runner.h"
 
 #include <Eigen/Geometry>
@@ -59,7 +59,7 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
     for (const double v : f.values) {
       if (!std::isfinite(v)) {
         // Defensive: JSON has no Inf/NaN, and the graph's input bounds should prevent this.
-        return OpOutcome{false, "{\"op\": " + std::to_string(index) +
+        return OpOutcome{false, "invalid_number", "{\"op\": " + std::to_string(index) +
                                     ", \"ok\": false, \"error\": \"invalid_number\", "
                                     "\"message\": " +
                                     JsonString("the " + std::string(f.key) +
@@ -77,11 +77,12 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
     }
     json += ']';
   }
-  return OpOutcome{true, json + "}"};
+  return OpOutcome{true, "", json + "}"};
 }
 
 OpOutcome Failure(std::size_t index, semantics::ErrorCode code, std::string_view message) {
-  return OpOutcome{false, "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
+  return OpOutcome{false, std::string(semantics::ToString(code)),
+                   "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
                               JsonString(semantics::ToString(code)) +
                               ", \"message\": " + JsonString(message) + "}"};
 }

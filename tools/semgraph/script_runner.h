@@ -1,7 +1,7 @@
 // File: tools/semgraph/script_runner.h
 //
 // Applies the ops of a scene script (script_reader.h) to a SceneGraph<B> one at a time and
-// renders each outcome as one JSON line of spec/scene-script.md:
+// renders each outcome as one JSON line of docs/scene-script.md:
 //   {"op": i, "ok": true}                                   accepted add / remove
 //   {"op": i, "ok": false, "error": "<code>", "message": "<text>"}   rejected op, failed query
 //   {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z]}   pose query
@@ -26,9 +26,11 @@
 
 namespace semgraph::script {
 
-/// What one op did: its JSON line (without newline) and whether it succeeded.
+/// What one op did: whether it succeeded, its error code (snake_case; empty on success) and its
+/// JSON line (without newline).
 struct OpOutcome {
   bool ok = false;
+  std::string error;
   std::string json;
 };
 
