@@ -283,6 +283,13 @@ ops:
     "bad_two_rotations.yaml": "ops:\n  - {op: pose, of: a, body: A, wrt: b, ref_body: B, rotation: {rpy: [0, 0, 0], quaternion: [1, 0, 0, 0]}}\n",
     "bad_representation.yaml": "representation: euler\nops: []\n",
     "bad_deep_nesting.yaml": "ops: " + "[" * 200 + "]" * 200 + "\n",
+    # Four levels of 64 aliases: 64^4 copies of a 17-unit scalar, far above the 32 MiB expanded
+    # limit, in under 1 KB; refused at an alias of the last level.
+    "bad_alias_bomb.yaml": "a: &a [" + "xxxxxxxxxxxxxxxx," * 16 + "]\nb: &b [" + "*a," * 64 +
+                           "]\nc: &c [" + "*b," * 64 + "]\nd: &d [" + "*c," * 64 + "]\nops: [" +
+                           "*d," * 64 + "]\n",
+    # Aliased ops within the limit: each alias is one op, read as a copy.
+    "alias_ops.yaml": "ops: [&o {op: body, name: B}, *o, *o, *o, &f {op: frame, name: f, body: B}, *f]\n",
 }
 
 

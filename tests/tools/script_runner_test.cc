@@ -30,6 +30,15 @@ TEST(JsonString, PassesValidUtf8AndReplacesInvalidBytes) {
   EXPECT_EQ(JsonString("\x80x"), "\"\\ufffdx\"");  // stray continuation
 }
 
+TEST(JsonString, EscapesC1ControlsAndUnicodeLineSeparators) {
+  // U+0085 (next line), U+2028, U+2029 end lines for some readers; C1 controls are controls.
+  EXPECT_EQ(JsonString("a\xC2\x85" "b"), "\"a\\u0085b\"");
+  EXPECT_EQ(JsonString("\xC2\x80\xC2\x9F"), "\"\\u0080\\u009f\"");
+  EXPECT_EQ(JsonString("\xE2\x80\xA8\xE2\x80\xA9"), "\"\\u2028\\u2029\"");
+  // Their neighbours stay as they are: U+00A0, U+2027, U+202A.
+  EXPECT_EQ(JsonString("\xC2\xA0\xE2\x80\xA7\xE2\x80\xAA"), "\"\xC2\xA0\xE2\x80\xA7\xE2\x80\xAA\"");
+}
+
 TEST(JsonNumber, RoundTripsWithSeventeenDigits) {
   EXPECT_EQ(JsonNumber(0.0), "0");
   EXPECT_EQ(JsonNumber(-0.0), "0");

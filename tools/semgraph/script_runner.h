@@ -11,7 +11,8 @@
 // nonzero component is made positive, so the text is deterministic); strings are JSON-escaped,
 // control characters as \uXXXX, valid UTF-8 passed through, invalid bytes as U+FFFD. Should a
 // query result ever not be finite (the graph bounds its inputs, so it should not happen), it is
-// reported as invalid_number rather than printed, since JSON cannot carry it.
+// reported as invalid_number rather than printed, since JSON cannot carry it. A name longer
+// than kMaxEchoedNameBytes is cut in messages (its first bytes and its length).
 //
 // Cost: one scene-graph call per op plus the formatting. Thread safety: as the graph's
 // (an add needs exclusive access).
@@ -25,6 +26,11 @@
 #include "semgraph/script_reader.h"
 
 namespace semgraph::script {
+
+/// Names longer than this (no valid name is: semantics' kMaxNameBytes) are echoed in messages
+/// as their first kEchoedPrefixBytes bytes and their length: "xxxx... (8388608 bytes)".
+inline constexpr std::size_t kMaxEchoedNameBytes = 255;
+inline constexpr std::size_t kEchoedPrefixBytes = 40;
 
 /// What one op did: whether it succeeded, its error code (snake_case; empty on success) and its
 /// JSON line (without newline).
