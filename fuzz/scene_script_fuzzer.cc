@@ -1,4 +1,4 @@
-// scene_script_fuzzer: the scene-script reader and runner (tools/semgraph, spec/scene-script.md)
+// scene_script_fuzzer: the scene-script reader and runner (tools/semgraph, docs/scene-script.md)
 // on arbitrary bytes, in memory. Must never crash, hang or leak; a malformed script must give
 // the exit-2 result and a located error; a well-formed script must run.
 //
@@ -424,7 +424,7 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpO
   }
 }
 
-// Malformed variants of a script line (spec/scene-script.md: exit 2).
+// Malformed variants of a script line (docs/scene-script.md: exit 2).
 const char* const kMalformedOps[] = {
     "{op: frobnicate, name: a}",                                         // unknown op
     "{op: body}",                                                        // missing field

@@ -5,7 +5,8 @@
   run_script_test.py stdin TOOL SCRIPT PREFIX   the same, with the script on stdin (`-`)
   run_script_test.py dot   TOOL SCRIPT [DOT]    `TOOL dot SCRIPT` is DOT that `DOT -Tsvg` renders
                                                 (exit 77 = skipped when DOT is not given)
-  run_script_test.py cli   TOOL                 --help, usage errors, unreadable files, hostile
+  run_script_test.py cli   TOOL                 --help, --version, run/dot --help, usage errors,
+                                                unreadable files, hostile
                                                 input (huge, deeply nested, not UTF-8, alias
                                                 bombs), output failures, out of memory
 
@@ -156,6 +157,22 @@ def check_cli(tool):
     code, ex_out, ex_err = run_tool([tool, "run", "-"], input_bytes=example.encode())
     if code != 0 or len(ex_out.splitlines()) != example.count("- {op:"):
         fail("the --help example: exit %d\n%s%s" % (code, ex_out, ex_err))
+    for word in ("spec/", "shared/", "developers' guide"):
+        if word in out:
+            fail("--help refers outside the repository (%r)" % word)
+    # --version: the project version of the top-level CMakeLists.txt.
+    cmake = read(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "CMakeLists.txt"))
+    version = re.search(r"project\(semgraph VERSION ([0-9.]+)", cmake).group(1)
+    code, out, err = run_tool([tool, "--version"])
+    if code != 0 or out != "semgraph %s\n" % version:
+        fail("--version: exit %d, %r (expected semgraph %s)" % (code, out, version))
+    # Subcommand help, not a file named --help.
+    for command, needle in (("run", "print one JSON object per op"), ("dot", "Graphviz DOT")):
+        for flag in ("--help", "-h"):
+            code, out, err = run_tool([tool, command, flag])
+            if code != 0 or not out.startswith("Usage: semgraph %s FILE\n" % command) or \
+                    needle not in out or "Exit status:" not in out or err:
+                fail("%s %s: exit %d, stdout %r, stderr %r" % (command, flag, code, out[:300], err))
     for args in ([], ["run"], ["frobnicate", "x.yaml"], ["run", "a.yaml", "b.yaml"]):
         code, out, err = run_tool([tool] + args)
         if code != 2 or out or "Usage:" not in err:

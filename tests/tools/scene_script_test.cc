@@ -26,7 +26,9 @@ TEST(RunScene, GivesTheToolsLinesAndStatus) {
   EXPECT_EQ(run.status, kExitOpFailed);  // op 1 and op 4 fail
   EXPECT_TRUE(run.error.empty());
   ASSERT_EQ(run.ops.size(), 5u);
-  EXPECT_EQ(run.ops[0].json, "{\"op\": 0, \"ok\": true}");
+  EXPECT_EQ(run.ops[0].json, "{\"op\": 0, \"ok\": true, \"kind\": \"body\", \"line\": 2}");
+  EXPECT_EQ(run.ops[0].kind, "body");
+  EXPECT_EQ(run.ops[0].line, 2);
   EXPECT_TRUE(run.ops[0].ok);
   EXPECT_EQ(run.ops[1].index, 1u);
   EXPECT_FALSE(run.ops[1].ok);
@@ -34,7 +36,11 @@ TEST(RunScene, GivesTheToolsLinesAndStatus) {
   EXPECT_EQ(run.ops[1].json.rfind("{\"op\": 1, \"ok\": false, \"error\": \"duplicate_body\"", 0), 0u)
       << run.ops[1].json;
   // {c} is at [1, 0, 0.5] in [b]; the rotation does not move its origin.
-  EXPECT_EQ(run.ops[3].json, "{\"op\": 3, \"ok\": true, \"position\": [1,0,0.5]}");
+  EXPECT_EQ(run.ops[3].json,
+            "{\"op\": 3, \"ok\": true, \"position\": [1,0,0.5], \"kind\": \"query position\", "
+            "\"line\": 5}");
+  EXPECT_EQ(run.ops[3].kind, "query position");
+  EXPECT_EQ(run.ops[4].line, 6);
   EXPECT_EQ(run.ops[4].error, "unknown_frame");
   EXPECT_TRUE(run.dot.empty());
 }

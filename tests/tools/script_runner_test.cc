@@ -56,7 +56,10 @@ TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
   ScriptOp body;
   body.kind = OpKind::kBody;
   body.name = "B";
-  EXPECT_EQ(ApplyOp(graph, body, 0).json, "{\"op\": 0, \"ok\": true}");
+  body.location = {7, 3};
+  // The op's kind and its script line close every line.
+  EXPECT_EQ(ApplyOp(graph, body, 0).json,
+            "{\"op\": 0, \"ok\": true, \"kind\": \"body\", \"line\": 7}");
   const OpOutcome again = ApplyOp(graph, body, 1);
   EXPECT_FALSE(again.ok);
   EXPECT_EQ(again.json.rfind(
@@ -77,7 +80,18 @@ TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
   ScriptOp query = pose;
   query.kind = OpKind::kQuery;
   query.query_kind = QueryKind::kOrientation;
-  EXPECT_EQ(ApplyOp(graph, query, 3).json, "{\"op\": 3, \"ok\": true, \"quaternion\": [0,0,0,1]}");
+  query.location = {12, 5};
+  EXPECT_EQ(ApplyOp(graph, query, 3).json,
+            "{\"op\": 3, \"ok\": true, \"quaternion\": [0,0,0,1], \"kind\": \"query orientation\", "
+            "\"line\": 12}");
+  ScriptOp remove;
+  remove.kind = OpKind::kRemoveTwist;
+  remove.names.point = "a";
+  remove.names.ref_body = "W";
+  remove.location = {13, 5};
+  const OpOutcome no_edge = ApplyOp(graph, remove, 4);
+  EXPECT_EQ(no_edge.error, "no_such_edge");
+  EXPECT_TRUE(no_edge.json.ends_with("\", \"kind\": \"remove twist\", \"line\": 13}")) << no_edge.json;
 }
 
 TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {

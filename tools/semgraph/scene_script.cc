@@ -38,7 +38,8 @@ void Apply(const Script& script, core::SceneGraph<B>& graph, const RunOptions& o
     progress->line = script.ops[i].location.line;
     OpOutcome outcome = ApplyOp(graph, script.ops[i], i);
     all_ok = all_ok && outcome.ok;
-    OpResult result{i, outcome.ok, std::move(outcome.error), std::move(outcome.json)};
+    OpResult result{i, outcome.ok, std::move(outcome.error), std::move(outcome.json),
+                    OpLabel(script.ops[i]), script.ops[i].location.line};
     if (options.on_op) {
       if (!options.on_op(result)) break;
     } else {

@@ -323,8 +323,10 @@ std::string JsonNumber(double value) {
   return buffer;
 }
 
+namespace {
+
 template <coord::Backend B>
-OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
   switch (op.kind) {
     case OpKind::kBody:
@@ -344,6 +346,31 @@ OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
       return Query(std::as_const(graph), op, index);
   }
   semantics::DemandFailed("valid OpKind", __FILE__, __LINE__);
+}
+
+}  // namespace
+
+std::string OpLabel(const ScriptOp& op) {
+  switch (op.kind) {
+    case OpKind::kRemovePose:
+      return "remove pose";
+    case OpKind::kRemoveTwist:
+      return "remove twist";
+    case OpKind::kQuery:
+      return "query " + std::string(ToString(op.query_kind));
+    default:
+      return std::string(ToString(op.kind));
+  }
+}
+
+template <coord::Backend B>
+OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  OpOutcome outcome = ApplyOpUnlabelled(graph, op, index);
+  // The op's kind and script line close the object, after the keys of the original format.
+  outcome.json.pop_back();  // '}'
+  outcome.json += ", \"kind\": " + JsonString(OpLabel(op)) +
+                  ", \"line\": " + std::to_string(op.location.line) + "}";
+  return outcome;
 }
 
 template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::QuaternionBackend>&,

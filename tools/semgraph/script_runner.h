@@ -2,10 +2,12 @@
 //
 // Applies the ops of a scene script (script_reader.h) to a SceneGraph<B> one at a time and
 // renders each outcome as one JSON line of docs/scene-script.md:
-//   {"op": i, "ok": true}                                   accepted add / remove
-//   {"op": i, "ok": false, "error": "<code>", "message": "<text>"}   rejected op, failed query
-//   {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z]}   pose query
+//   {"op": i, "ok": true, "kind": K, "line": L}             accepted add / remove
+//   {"op": i, "ok": false, "error": "<code>", "message": "<text>", "kind": K, "line": L}
+//   {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z], "kind": K, "line": L}
 //   ... "position" / "quaternion" / "linear" + "angular" / "linear" / "angular" for the others.
+// K is OpLabel(op), L the op's line in the script; they come last, so that the original keys
+// keep their order.
 // Rules of the rendering: numbers are printed with 17 significant digits (they round-trip), -0
 // as 0; quaternions are given with w >= 0 (q and -q are one rotation; when w == 0 the first
 // nonzero component is made positive, so the text is deterministic); strings are JSON-escaped,
@@ -44,6 +46,10 @@ struct OpOutcome {
 /// std::bad_alloc); a rejection leaves `graph` unchanged (the scene graph's atomicity).
 template <coord::Backend B>
 [[nodiscard]] OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index);
+
+/// The op as the output's "kind" names it: "body", "frame", "pose", "twist", "remove pose",
+/// "remove twist", "query <kind>" ("query linear_velocity", ...).
+[[nodiscard]] std::string OpLabel(const ScriptOp& op);
 
 /// `text` as a JSON string literal, quotes included.
 [[nodiscard]] std::string JsonString(std::string_view text);

@@ -43,6 +43,8 @@ struct OpResult {
   bool ok = false;
   std::string error;  // the snake_case error code when !ok ("duplicate_body", ...), else empty
   std::string json;   // the tool's JSON line for the op (no newline)
+  std::string kind;   // "body", "frame", "pose", "twist", "remove pose", "query position", ...
+  int line = 0;       // the op's line in the script (1-based)
 };
 
 struct SceneRun {
