@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
 namespace semgraph::script {
 
@@ -125,11 +125,11 @@ std::string CapNames(std::string message, const ScriptOp& op) {
   return message;
 }
 
-OpOutcome Failure(const ScriptOp& op, std::size_t index, semantics::ErrorCode code,
+OpOutcome Failure(const ScriptOp& op, std::size_t index, base::ErrorCode code,
                   std::string_view message) {
-  return OpOutcome{false, std::string(semantics::ToString(code)),
+  return OpOutcome{false, std::string(base::ToString(code)),
                    "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
-                       JsonString(semantics::ToString(code)) +
+                       JsonString(base::ToString(code)) +
                        ", \"message\": " + JsonString(CapNames(std::string(message), op)) + "}"};
 }
 
@@ -207,7 +207,7 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
       return FromBuild(op, index, graph.AddPose(spec, R, p));
     }
   }
-  semantics::DemandFailed("valid RotationForm", __FILE__, __LINE__);
+  base::DemandFailed("valid RotationForm", __FILE__, __LINE__);
 }
 
 template <coord::Backend B>
@@ -252,7 +252,7 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
       return Success(index, {{"angular", Values(w->value)}});
     }
   }
-  semantics::DemandFailed("valid QueryKind", __FILE__, __LINE__);
+  base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
 }
 
 }  // namespace
@@ -345,7 +345,7 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
   }
-  semantics::DemandFailed("valid OpKind", __FILE__, __LINE__);
+  base::DemandFailed("valid OpKind", __FILE__, __LINE__);
 }
 
 }  // namespace

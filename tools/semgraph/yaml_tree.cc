@@ -19,7 +19,7 @@
 
 namespace semgraph::script {
 
-using semantics::Unexpected;
+using base::Unexpected;
 
 NodeView YamlTree::At(NodeId id) const noexcept {
   const Node& n = nodes_[id];
@@ -63,7 +63,7 @@ std::string Hex(unsigned char c) {
 
 // The text must be UTF-8 before yaml-cpp sees it: yaml-cpp picks UTF-16 or UTF-32 from a
 // byte-order mark or from NUL bytes among the first four, and copies invalid bytes into scalars.
-semantics::Expected<semantics::Ok, YamlError> CheckEncoding(std::string_view text) {
+base::Expected<base::Ok, YamlError> CheckEncoding(std::string_view text) {
   const auto starts = [&](std::string_view prefix) { return text.substr(0, prefix.size()) == prefix; };
   using namespace std::string_view_literals;
   if (starts("\x00\x00\xFE\xFF"sv) || starts("\xFF\xFE\x00\x00"sv)) {
@@ -96,7 +96,7 @@ semantics::Expected<semantics::Ok, YamlError> CheckEncoding(std::string_view tex
     }
     i += n;
   }
-  return semantics::Ok{};
+  return base::Ok{};
 }
 
 // yaml-cpp 0.7 gives the escapes \N and \_ as the single bytes 0x85 and 0xA0 (every other
@@ -315,7 +315,7 @@ class TreeBuilder final : public YAML::EventHandler {
   int documents_ = 0;
 };
 
-semantics::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
+base::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
                                                    const YamlLimits& limits) {
   if (text.size() > limits.max_bytes) {
     return Unexpected{YamlError{

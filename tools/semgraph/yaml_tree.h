@@ -34,7 +34,7 @@
 #include <string_view>
 #include <vector>
 
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/expected.h"
 
 namespace semgraph::script {
 
@@ -103,7 +103,7 @@ class YamlTree {
 };
 
 /// Parses one YAML document within `limits`. Never throws except std::bad_alloc.
-[[nodiscard]] semantics::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
+[[nodiscard]] base::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
                                                                  const YamlLimits& limits = {});
 
 /// YAML 1.2 core-schema float (which includes the decimal ints): [-+]? (digits [. digits?] |
