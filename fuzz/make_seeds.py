@@ -283,6 +283,46 @@ ops:
     "bad_two_rotations.yaml": "ops:\n  - {op: pose, of: a, body: A, wrt: b, ref_body: B, rotation: {rpy: [0, 0, 0], quaternion: [1, 0, 0, 0]}}\n",
     "bad_representation.yaml": "representation: euler\nops: []\n",
     "bad_deep_nesting.yaml": "ops: " + "[" * 200 + "]" * 200 + "\n",
+    # Four levels of 64 aliases: 64^4 copies of a 17-unit scalar, far above the 32 MiB expanded
+    # limit, in under 1 KB; refused at an alias of the last level.
+    "bad_alias_bomb.yaml": "a: &a [" + "xxxxxxxxxxxxxxxx," * 16 + "]\nb: &b [" + "*a," * 64 +
+                           "]\nc: &c [" + "*b," * 64 + "]\nd: &d [" + "*c," * 64 + "]\nops: [" +
+                           "*d," * 64 + "]\n",
+    # Aliased ops within the limit: each alias is one op, read as a copy.
+    "alias_ops.yaml": "ops: [&o {op: body, name: B}, *o, *o, *o, &f {op: frame, name: f, body: B}, *f]\n",
+}
+
+
+# yaml_tree_fuzzer: byte 0 even = the script limits, odd = tiny limits (8 levels, 64 nodes,
+# 300 expanded bytes). Every YAML feature the tree handles, and every way it refuses a text.
+YAML_SEEDS = {
+    "block.yaml": (0, b"ops:\n  - op: body\n    name: B\n  - op: frame\n    name: f\n    body:\n"),
+    "flow.yaml": (0, b"{a: [1, -2.5e3, .inf, .nan, ~, null, true], 'b c': \"d\", e: {}, f: []}\n"),
+    "scalars.yaml": (0, b"a: |\n  two\n  lines\nb: >\n  folded\n  text\nc: 'it''s'\nd: \"tab\\there\"\n"),
+    "escapes.yaml": (0, b'[\"\\N\", \"\\_\", \"\\L\", \"\\P\", \"\\u00A0\", \"\\x85\", \"\\U0001F600\", \"\\0\", \"\\e\", \"x\\_y\\Nz\"]\n'),
+    "bad_surrogate.yaml": (0, b'a: \"\\uD800\"\n'),
+    "bad_above_max.yaml": (0, b'a: \"\\U00110000\"\n'),
+    "tags.yaml": (0, b"[!!int 1, !!float 2, !!str 3, !custom x, ! y]\n"),
+    "complex_keys.yaml": (0, b"? [a, b]\n: c\n? {d: e}\n: f\ng:\n"),
+    "duplicate_keys.yaml": (0, b"{a: 1, a: 2}\n"),
+    "anchors.yaml": (0, b"base: &b {x: &v [1, 2, 3]}\nuse: [*b, *v, *b]\nscalar: &s text\nagain: *s\n"),
+    "alias_cycle.yaml": (0, b"a: &a [1, *a]\n"),
+    "unknown_alias.yaml": (0, b"a: *nowhere\n"),
+    "alias_bomb_tiny.yaml": (1, b"a: &a [x, x, x, x]\nb: &b [*a, *a, *a, *a]\nc: &c [*b, *b, *b, *b]\nd: [*c, *c]\n"),
+    "alias_bomb.yaml": (0, b"a: &a [" + b"xxxxxxxxxxxxxxxx," * 200 + b"]\nb: &b [" + b"*a," * 200 + b"]\nc: [" + b"*b," * 200 + b"]\n"),
+    "deep_tiny.yaml": (1, b"[" * 9 + b"]" * 9),
+    "deep.yaml": (0, b"[" * 70 + b"]" * 70),
+    "many_nodes_tiny.yaml": (1, b"[" + b"1," * 70 + b"]"),
+    "two_documents.yaml": (0, b"a: 1\n---\nb: 2\n"),
+    "document_end.yaml": (0, b"%YAML 1.2\n---\na: 1\n...\n"),
+    "empty.yaml": (0, b""),
+    "comment_only.yaml": (0, b"# nothing\n"),
+    "invalid_utf8.yaml": (0, b"a: caf\xe9\n"),
+    "nul.yaml": (0, b"a: b\x00c\n"),
+    "leading_nul.yaml": (0, b"\x00a\x00:\x00 \x00b\x00\n"),
+    "utf16_bom.yaml": (0, b"\xff\xfea\x00:\x00"),
+    "utf8_bom.yaml": (0, b"\xef\xbb\xbfa: b\n"),
+    "broken.yaml": (0, b"a: [1, 2\nb: }\n"),
 }
 
 
@@ -297,6 +337,11 @@ def main():
     for name, text in SCRIPTS.items():
         with open(os.path.join(script_dir, "seed_" + name), "wb") as f:
             f.write(b"\n" + text.encode())  # byte 0 even: raw mode
+    yaml_dir = os.path.join(HERE, "corpus", "yaml_tree_fuzzer")
+    os.makedirs(yaml_dir, exist_ok=True)
+    for name, (mode, text) in YAML_SEEDS.items():
+        with open(os.path.join(yaml_dir, "seed_" + name), "wb") as f:
+            f.write(bytes([mode]) + text)
     # Structured mode (byte 0 odd): a few fixed byte strings.
     for i, data in enumerate([bytes([1, 0, 23]) + bytes(range(0, 250, 3)),
                               bytes([3, 1, 20]) + bytes(range(250, 0, -7)) * 2,

@@ -1,4 +1,4 @@
-// scene_script_fuzzer: the scene-script reader and runner (tools/semgraph, spec/scene-script.md)
+// scene_script_fuzzer: the scene-script reader and runner (tools/semgraph, docs/scene-script.md)
 // on arbitrary bytes, in memory. Must never crash, hang or leak; a malformed script must give
 // the exit-2 result and a located error; a well-formed script must run.
 //
@@ -36,8 +36,8 @@
 namespace semgraph::fuzz {
 namespace {
 
-using tools::ReadScript;
-using tools::Representation;
+using script::ReadScript;
+using script::Representation;
 
 constexpr int kExitOk = 0, kExitOpFailed = 1, kExitMalformed = 2;
 
@@ -49,14 +49,14 @@ constexpr int kExitOk = 0, kExitOpFailed = 1, kExitMalformed = 2;
 }
 
 // `semgraph run` in memory: the exit status, and the JSON lines in *lines.
-int RunScript(std::string_view text, std::vector<tools::OpOutcome>* lines) {
+int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
   const auto script = ReadScript(text);
   if (!script) {
-    const tools::ScriptError& e = script.error();
+    const script::ScriptError& e = script.error();
     if (e.location.line < 1 || e.location.column < 1 || e.message.empty()) {
       Fail("a script error without a 1-based location or a message: " + e.message, text);
     }
-    const std::string formatted = tools::FormatScriptError("fuzz.yaml", e);
+    const std::string formatted = script::FormatScriptError("fuzz.yaml", e);
     if (formatted.rfind("fuzz.yaml:" + std::to_string(e.location.line) + ":", 0) != 0) {
       Fail("FormatScriptError does not start with FILE:LINE: " + formatted, text);
     }
@@ -65,7 +65,7 @@ int RunScript(std::string_view text, std::vector<tools::OpOutcome>* lines) {
   bool all_ok = true;
   const auto run = [&](auto graph) {
     for (std::size_t i = 0; i < script->ops.size(); ++i) {
-      tools::OpOutcome outcome = tools::ApplyOp(graph, script->ops[i], i);
+      script::OpOutcome outcome = script::ApplyOp(graph, script->ops[i], i);
       const std::string head = "{\"op\": " + std::to_string(i) + ", \"ok\": " + (outcome.ok ? "true" : "false");
       if (outcome.json.rfind(head, 0) != 0 || outcome.json.back() != '}' ||
           outcome.json.find('\n') != std::string::npos) {
@@ -94,7 +94,7 @@ const double kNumbers[] = {0.0, 1.0, -0.5, 0.2, 0.3, 1.25, -2.0, 0.1};
 struct GenOp {
   std::string yaml;
   enum Kind { kBody, kFrame, kPose, kTwist, kRemovePose, kRemoveTwist, kQuery } kind = kBody;
-  tools::QueryKind query = tools::QueryKind::kPose;
+  script::QueryKind query = script::QueryKind::kPose;
   std::string s[4];  // names, by kind
   std::string coord;
   int rotation_form = 0;  // 0 none, 1 quaternion, 2 rpy, 3 matrix
@@ -214,29 +214,29 @@ class Generator {
         break;
       default: {
         op.kind = GenOp::kQuery;
-        op.query = static_cast<tools::QueryKind>(in_.Below(6));
+        op.query = static_cast<script::QueryKind>(in_.Below(6));
         const char* kinds[] = {"pose", "position", "orientation", "twist", "linear_velocity", "angular_velocity"};
         op.yaml = std::string("{op: query, kind: ") + kinds[static_cast<int>(op.query)];
-        if (op.query <= tools::QueryKind::kOrientation) {
+        if (op.query <= script::QueryKind::kOrientation) {
           // of: X, wrt: Y (the shorthand), point/orientation and coord overrides sometimes.
           op.s[0] = Frame(), op.s[1] = Frame();
           op.coord = in_.OneIn(3) ? Frame() : "";
-          if (op.query == tools::QueryKind::kPose) op.yaml += ", of: " + Quote(op.s[0]) + ", wrt: " + Quote(op.s[1]);
-          if (op.query == tools::QueryKind::kPosition) op.yaml += ", point: " + Quote(op.s[0]) + ", ref_point: " + Quote(op.s[1]);
-          if (op.query == tools::QueryKind::kOrientation) {
+          if (op.query == script::QueryKind::kPose) op.yaml += ", of: " + Quote(op.s[0]) + ", wrt: " + Quote(op.s[1]);
+          if (op.query == script::QueryKind::kPosition) op.yaml += ", point: " + Quote(op.s[0]) + ", ref_point: " + Quote(op.s[1]);
+          if (op.query == script::QueryKind::kOrientation) {
             op.yaml += ", orientation: " + Quote(op.s[0]) + ", ref_orientation: " + Quote(op.s[1]);
           }
           // Position and orientation queries have no shorthand: coord is required (it may be
           // the empty name, an op error). Pose queries take it from wrt unless overridden.
-          const bool needs_coord = op.query != tools::QueryKind::kPose;
+          const bool needs_coord = op.query != script::QueryKind::kPose;
           if (needs_coord && op.coord.empty()) op.coord = op.s[1];
           if (needs_coord || !op.coord.empty()) op.yaml += ", coord: " + Quote(op.coord);
         } else {
-          op.s[0] = Frame(), op.s[1] = in_.Bool() || op.query == tools::QueryKind::kAngularVelocity ? Body() : "",
+          op.s[0] = Frame(), op.s[1] = in_.Bool() || op.query == script::QueryKind::kAngularVelocity ? Body() : "",
           op.s[2] = Body(), op.coord = Frame();
-          if (op.query != tools::QueryKind::kAngularVelocity) op.yaml += ", point: " + Quote(op.s[0]);
+          if (op.query != script::QueryKind::kAngularVelocity) op.yaml += ", point: " + Quote(op.s[0]);
           // The angular velocity has no point to take the body from: body is required there.
-          if (!op.s[1].empty() || op.query == tools::QueryKind::kAngularVelocity) {
+          if (!op.s[1].empty() || op.query == script::QueryKind::kAngularVelocity) {
             op.yaml += ", body: " + Quote(op.s[1]);
           }
           op.yaml += ", ref_body: " + Quote(op.s[2]) + ", coord: " + Quote(op.coord);
@@ -309,40 +309,40 @@ struct Direct {
     if (!op.coord.empty()) ps.coordinate_frame = op.coord;
     // (string_view on both sides: a std::string temporary here would leave the spec dangling.)
     const std::string_view point =
-        op.query == tools::QueryKind::kAngularVelocity ? std::string_view() : std::string_view(op.s[0]);
+        op.query == script::QueryKind::kAngularVelocity ? std::string_view() : std::string_view(op.s[0]);
     const core::TwistSpec ts = core::TwistSpec::Of(point, op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
     switch (op.query) {
-      case tools::QueryKind::kPose: {
+      case script::QueryKind::kPose: {
         const auto r = g.GetPose(ps);
         Take(r);
         if (ok) Push(B::TranslationOf(r->value)), Push(B::ToQuaternion(B::RotationOf(r->value)));
         break;
       }
-      case tools::QueryKind::kPosition: {
+      case script::QueryKind::kPosition: {
         const auto r = g.GetPosition(ps);
         Take(r);
         if (ok) Push(r->value);
         break;
       }
-      case tools::QueryKind::kOrientation: {
+      case script::QueryKind::kOrientation: {
         const auto r = g.GetOrientation(ps);
         Take(r);
         if (ok) Push(B::ToQuaternion(r->value));
         break;
       }
-      case tools::QueryKind::kTwist: {
+      case script::QueryKind::kTwist: {
         const auto r = g.GetTwist(ts);
         Take(r);
         if (ok) Push(r->linear), Push(r->angular);
         break;
       }
-      case tools::QueryKind::kLinearVelocity: {
+      case script::QueryKind::kLinearVelocity: {
         const auto r = g.GetLinearVelocity(ts);
         Take(r);
         if (ok) Push(r->value);
         break;
       }
-      case tools::QueryKind::kAngularVelocity: {
+      case script::QueryKind::kAngularVelocity: {
         const auto r = g.GetAngularVelocity(ts);
         Take(r);
         if (ok) Push(r->value);
@@ -383,12 +383,12 @@ std::string JsonErrorCode(const std::string& json) {
 }
 
 template <coord::Backend B>
-void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<tools::OpOutcome>& lines,
+void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpOutcome>& lines,
                     std::string_view text) {
   core::SceneGraph<B> graph;
   for (std::size_t i = 0; i < ops.size(); ++i) {
     const Direct<B> d(graph, ops[i]);
-    const tools::OpOutcome& line = lines[i];
+    const script::OpOutcome& line = lines[i];
     const std::string where = "op " + std::to_string(i) + " (" + ops[i].yaml + "): tool printed " + line.json;
     if (d.ok != line.ok) {
       // The tool reports a non-finite query result as invalid_number (JSON has no Inf/NaN).
@@ -405,8 +405,8 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<tools::OpOu
     if (printed.size() != expected.size()) Fail(where + ": wrong number count", text);
     // Quaternions: the tool prints the representative with w >= 0 (first nonzero positive).
     const bool query = ops[i].kind == GenOp::kQuery;
-    const bool quaternion_at_0 = query && ops[i].query == tools::QueryKind::kOrientation;
-    const bool quaternion_at_3 = query && ops[i].query == tools::QueryKind::kPose;
+    const bool quaternion_at_0 = query && ops[i].query == script::QueryKind::kOrientation;
+    const bool quaternion_at_3 = query && ops[i].query == script::QueryKind::kPose;
     if (quaternion_at_0 || quaternion_at_3) {
       const std::size_t at = quaternion_at_0 ? 0 : 3;
       for (std::size_t k = at; k < at + 4; ++k) {
@@ -424,7 +424,7 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<tools::OpOu
   }
 }
 
-// Malformed variants of a script line (spec/scene-script.md: exit 2).
+// Malformed variants of a script line (docs/scene-script.md: exit 2).
 const char* const kMalformedOps[] = {
     "{op: frobnicate, name: a}",                                         // unknown op
     "{op: body}",                                                        // missing field
@@ -452,7 +452,7 @@ void Structured(OpReader& in) {
   if (ops.empty()) text += "  []\n";
   for (const GenOp& op : ops) text += "  - " + op.yaml + "\n";
 
-  std::vector<tools::OpOutcome> lines;
+  std::vector<script::OpOutcome> lines;
   const int status = RunScript(text, &lines);
   if (status == kExitMalformed) Fail("a well-formed generated script was rejected as malformed", text);
   if (lines.size() != ops.size()) Fail("not one output line per op", text);

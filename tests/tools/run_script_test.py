@@ -5,8 +5,10 @@
   run_script_test.py stdin TOOL SCRIPT PREFIX   the same, with the script on stdin (`-`)
   run_script_test.py dot   TOOL SCRIPT [DOT]    `TOOL dot SCRIPT` is DOT that `DOT -Tsvg` renders
                                                 (exit 77 = skipped when DOT is not given)
-  run_script_test.py cli   TOOL                 --help, usage errors, unreadable files, hostile
-                                                input (huge, deeply nested)
+  run_script_test.py cli   TOOL                 --help, --version, run/dot --help, usage errors,
+                                                unreadable files, hostile
+                                                input (huge, deeply nested, not UTF-8, alias
+                                                bombs), output failures, out of memory
 
 Expectations of a script (PREFIX = scripts/NAME):
   PREFIX.expected_exit     the exit code (default 0)
@@ -70,8 +72,11 @@ def values_match(actual, expected, key):
 
 
 def compare_jsonl(actual_text, expected_text):
-    actual = actual_text.splitlines()
-    expected = [line for line in expected_text.splitlines() if line.strip()]
+    # Lines end at "\n" only (str.splitlines would also split at U+0085, U+2028, ...).
+    actual = actual_text.split("\n")
+    if actual and actual[-1] == "":
+        actual.pop()
+    expected = [line for line in expected_text.split("\n") if line.strip()]
     if len(actual) != len(expected):
         fail("stdout has %d lines, expected %d:\n%s" % (len(actual), len(expected), actual_text))
     for n, (a_line, e_line) in enumerate(zip(actual, expected)):
@@ -152,6 +157,22 @@ def check_cli(tool):
     code, ex_out, ex_err = run_tool([tool, "run", "-"], input_bytes=example.encode())
     if code != 0 or len(ex_out.splitlines()) != example.count("- {op:"):
         fail("the --help example: exit %d\n%s%s" % (code, ex_out, ex_err))
+    for word in ("spec/", "shared/", "developers' guide"):
+        if word in out:
+            fail("--help refers outside the repository (%r)" % word)
+    # --version: the project version of the top-level CMakeLists.txt.
+    cmake = read(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "CMakeLists.txt"))
+    version = re.search(r"project\(semgraph VERSION ([0-9.]+)", cmake).group(1)
+    code, out, err = run_tool([tool, "--version"])
+    if code != 0 or out != "semgraph %s\n" % version:
+        fail("--version: exit %d, %r (expected semgraph %s)" % (code, out, version))
+    # Subcommand help, not a file named --help.
+    for command, needle in (("run", "print one JSON object per op"), ("dot", "Graphviz DOT")):
+        for flag in ("--help", "-h"):
+            code, out, err = run_tool([tool, command, flag])
+            if code != 0 or not out.startswith("Usage: semgraph %s FILE\n" % command) or \
+                    needle not in out or "Exit status:" not in out or err:
+                fail("%s %s: exit %d, stdout %r, stderr %r" % (command, flag, code, out[:300], err))
     for args in ([], ["run"], ["frobnicate", "x.yaml"], ["run", "a.yaml", "b.yaml"]):
         code, out, err = run_tool([tool] + args)
         if code != 2 or out or "Usage:" not in err:
@@ -167,10 +188,81 @@ def check_cli(tool):
         code, out, err = run_tool([tool, "run", "-"], input_bytes=text)
         if code != 2 or out or needle not in err:
             fail("hostile input %r...: exit %d, stdout %r, stderr %r" % (text[:20], code, out[:200], err))
+    # Not UTF-8: refused with the position of the first bad byte and a message that says so;
+    # a leading NUL (UTF-16 big-endian) must not make the reader decode UTF-16.
+    encodings = [
+        (b"ops: [{op: body, name: caf\xe9}]", "<stdin>:1:27: byte 0xE9 is not valid UTF-8; the script must be UTF-8"),
+        ("ops: []".encode("utf-16-be"), "<stdin>:1:1: a raw NUL byte; the script must be UTF-8 text (NUL bytes at the start"),
+        ("ops: []".encode("utf-16"), "<stdin>:1:1: the text starts with a UTF-16 byte-order mark; the script must be UTF-8"),
+        (b"ops: [{op: body, name: a\x00b}]", "<stdin>:1:25: a raw NUL byte; the script must be UTF-8 text."),
+    ]
+    for text, needle in encodings:
+        code, out, err = run_tool([tool, "run", "-"], input_bytes=text)
+        if code != 2 or out or needle not in err:
+            fail("encoding %r: exit %d, stdout %r, stderr %r" % (text[:20], code, out[:200], err))
+    check_alias_bomb(tool)
+    check_output_failures(tool)
+    check_out_of_memory(tool)
     missing = "/nonexistent/semgraph/script.yaml"
     code, out, err = run_tool([tool, "run", missing])
     if code != 2 or out or missing + ": cannot read" not in err:
         fail("missing file: exit %d, stdout %r, stderr %r" % (code, out, err))
+
+
+def check_alias_bomb(tool):
+    """A 1 MiB name anchored once and aliased 500 times would expand to 500 MiB (and, before the
+    limit, took 524 MB of memory and printed 525 MB). Expanded size, in units of one a node plus
+    its text: root map 1, "ops" 4, list 1; the anchored op: map 1, "op" 3, "body" 5, "name" 5,
+    the name 1 + 2^20, together A = 2^20 + 15. After k aliases the total is 2^20 + 21 + k A,
+    at most 32 MiB = 2^25 for k <= 30: the 31st alias crosses. Line 1: 26 bytes before the
+    name, the name, '}' at 2^20 + 27, then ", *o" per alias: the k-th '*' at 2^20 + 30 + 4 (k - 1)."""
+    import resource
+    text = b"ops: [&o {op: body, name: " + b"x" * (1 << 20) + b"}" + b", *o" * 500 + b"]\n"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    code, out, err = run_tool([tool, "run", "-"], input_bytes=text)
+    column = (1 << 20) + 30 + 4 * 30
+    needle = "<stdin>:1:%d: the document is too large with its aliases expanded" % column
+    if code != 2 or out or needle not in err:
+        fail("alias bomb: exit %d, stdout %r, stderr %r (expected %r)" % (code, out[:200], err[:300], needle))
+    peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    if peak_kib > max(before, 64 * 1024):
+        fail("alias bomb: the tool peaked at %d KiB (more than 64 MiB)" % peak_kib)
+    # Within the limit, aliases work as copies: 30 aliases of a 1 MiB name are 31 ops.
+    ok_text = b"ops: [&o {op: body, name: " + b"x" * (1 << 20) + b"}" + b", *o" * 30 + b"]\n"
+    code, out, err = run_tool([tool, "run", "-"], input_bytes=ok_text)
+    lines = out.splitlines()
+    if code != 1 or len(lines) != 31 or "(1048576 bytes)" not in lines[30] or len(out) > 31 * 400:
+        fail("30 aliases: exit %d, %d lines, %d bytes, stderr %r" % (code, len(lines), len(out), err[:300]))
+
+
+def check_output_failures(tool):
+    """A failed write of the output exits 3 with a message on stderr."""
+    script = b"ops: [" + b"{op: body, name: b%d}, " * 1 % 0 + b"".join(b"{op: body, name: b%d}, " % i for i in range(1, 2000)) + b"]"
+    if os.path.exists("/dev/full"):
+        with open("/dev/full", "wb") as full:
+            p = subprocess.run([tool, "run", "-"], input=script, stdout=full, stderr=subprocess.PIPE, timeout=120)
+        err = p.stderr.decode("utf-8", "replace")
+        if p.returncode != 3 or "semgraph: cannot write the output: No space left on device" not in err:
+            fail("> /dev/full: exit %d, stderr %r" % (p.returncode, err))
+    # stdout closed (`semgraph run - >&-`).
+    p = subprocess.run("exec %s run - >&-" % tool, shell=True, input=script, stderr=subprocess.PIPE, timeout=120)
+    err = p.stderr.decode("utf-8", "replace")
+    if p.returncode != 3 or "semgraph: cannot write the output: Bad file descriptor" not in err:
+        fail("stdout closed: exit %d, stderr %r" % (p.returncode, err))
+
+
+def check_out_of_memory(tool):
+    """Running out of memory is exit 2 with a message naming the file, never an abort."""
+    import resource
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (96 << 20, 96 << 20))
+    # 14 MiB of poses between fresh frames: each op adds two frames and a body to the graph.
+    ops = b"".join(b"- {op: pose, of: f%d, body: B%d, wrt: w}\n" % (i, i) for i in range(300000))
+    p = subprocess.run([tool, "run", "-"], input=b"ops:\n" + ops, capture_output=True, timeout=300,
+                       preexec_fn=limit)
+    err = p.stderr.decode("utf-8", "replace")
+    if p.returncode != 2 or not re.search(r"^<stdin>(:\d+)?: out of memory while (reading the script|applying op \d+)", err, re.M):
+        fail("out of memory: exit %d, stderr %r, %d bytes of stdout" % (p.returncode, err[-500:], len(p.stdout)))
 
 
 def main(argv):

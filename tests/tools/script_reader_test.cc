@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-namespace semgraph::tools {
+namespace semgraph::script {
 namespace {
 
 Script ReadOk(const std::string& text) {
@@ -115,9 +115,11 @@ TEST(ReadScript, AliasesAreSharedNotCopied) {
       "  - {op: pose, of: c, wrt: b, position: *p}\n");
   ASSERT_EQ(s.ops.size(), 2u);
   EXPECT_EQ(s.ops[1].position, (std::array<double, 3>{1.0, 2.0, 3.0}));
-  // An anchor inside its own value forms a cycle; reading must still terminate.
-  EXPECT_NE(ReadBad("ops: [&m {op: body, name: *m}]").message.find("'name' must be a name"),
-            std::string::npos);
+  // An anchor inside its own value would form a cycle: refused where the alias is (1:27).
+  const ScriptError cycle = ReadBad("ops: [&m {op: body, name: *m}]");
+  EXPECT_EQ(cycle.location.column, 27);
+  EXPECT_NE(cycle.message.find("refers to a collection that contains it"), std::string::npos)
+      << cycle.message;
 }
 
 TEST(ReadScript, ReportsTheFirstProblemWithItsLocation) {
@@ -154,4 +156,4 @@ TEST(ReadScript, EmptyOpsListIsAValidScript) {
 }
 
 }  // namespace
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

@@ -8,7 +8,7 @@
 
 #include "semgraph/dot_writer.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 namespace {
 
 TEST(JsonString, EscapesQuotesBackslashesAndControlCharacters) {
@@ -30,6 +30,15 @@ TEST(JsonString, PassesValidUtf8AndReplacesInvalidBytes) {
   EXPECT_EQ(JsonString("\x80x"), "\"\\ufffdx\"");  // stray continuation
 }
 
+TEST(JsonString, EscapesC1ControlsAndUnicodeLineSeparators) {
+  // U+0085 (next line), U+2028, U+2029 end lines for some readers; C1 controls are controls.
+  EXPECT_EQ(JsonString("a\xC2\x85" "b"), "\"a\\u0085b\"");
+  EXPECT_EQ(JsonString("\xC2\x80\xC2\x9F"), "\"\\u0080\\u009f\"");
+  EXPECT_EQ(JsonString("\xE2\x80\xA8\xE2\x80\xA9"), "\"\\u2028\\u2029\"");
+  // Their neighbours stay as they are: U+00A0, U+2027, U+202A.
+  EXPECT_EQ(JsonString("\xC2\xA0\xE2\x80\xA7\xE2\x80\xAA"), "\"\xC2\xA0\xE2\x80\xA7\xE2\x80\xAA\"");
+}
+
 TEST(JsonNumber, RoundTripsWithSeventeenDigits) {
   EXPECT_EQ(JsonNumber(0.0), "0");
   EXPECT_EQ(JsonNumber(-0.0), "0");
@@ -47,7 +56,10 @@ TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
   ScriptOp body;
   body.kind = OpKind::kBody;
   body.name = "B";
-  EXPECT_EQ(ApplyOp(graph, body, 0).json, "{\"op\": 0, \"ok\": true}");
+  body.location = {7, 3};
+  // The op's kind and its script line close every line.
+  EXPECT_EQ(ApplyOp(graph, body, 0).json,
+            "{\"op\": 0, \"ok\": true, \"kind\": \"body\", \"line\": 7}");
   const OpOutcome again = ApplyOp(graph, body, 1);
   EXPECT_FALSE(again.ok);
   EXPECT_EQ(again.json.rfind(
@@ -68,7 +80,18 @@ TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
   ScriptOp query = pose;
   query.kind = OpKind::kQuery;
   query.query_kind = QueryKind::kOrientation;
-  EXPECT_EQ(ApplyOp(graph, query, 3).json, "{\"op\": 3, \"ok\": true, \"quaternion\": [0,0,0,1]}");
+  query.location = {12, 5};
+  EXPECT_EQ(ApplyOp(graph, query, 3).json,
+            "{\"op\": 3, \"ok\": true, \"quaternion\": [0,0,0,1], \"kind\": \"query orientation\", "
+            "\"line\": 12}");
+  ScriptOp remove;
+  remove.kind = OpKind::kRemoveTwist;
+  remove.names.point = "a";
+  remove.names.ref_body = "W";
+  remove.location = {13, 5};
+  const OpOutcome no_edge = ApplyOp(graph, remove, 4);
+  EXPECT_EQ(no_edge.error, "no_such_edge");
+  EXPECT_TRUE(no_edge.json.ends_with("\", \"kind\": \"remove twist\", \"line\": 13}")) << no_edge.json;
 }
 
 TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {
@@ -88,4 +111,4 @@ TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {
 }
 
 }  // namespace
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

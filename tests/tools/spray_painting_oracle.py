@@ -56,7 +56,7 @@ def cross(a, b):
 
 
 def rpy(roll, pitch, yaw):
-    # R = Rz(yaw) Ry(pitch) Rx(roll), as spec/scene-script.md says.
+    # R = Rz(yaw) Ry(pitch) Rx(roll), as docs/scene-script.md says.
     return mat_mul(rot_z(yaw), mat_mul(rot_y(pitch), rot_x(roll)))
 
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
 namespace {
 
@@ -64,4 +64,4 @@ template std::string WriteDot<coord::QuaternionBackend>(
 template std::string WriteDot<coord::HomogeneousBackend>(
     const core::SceneGraph<coord::HomogeneousBackend>&);
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

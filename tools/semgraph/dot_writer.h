@@ -1,10 +1,10 @@
 // File: tools/semgraph/dot_writer.h
 //
-// Graphviz DOT of a scene graph in the style of the paper's Fig. 8: each body is a cluster
-// labelled with its name, holding its frames (ellipses labelled {f}) and a small box for the body
-// itself; pose edges are solid arrows tail frame -> head frame (the stored pose is the head's
-// relative to the tail); twist edges are dashed arrows from the reference body's box to the head
-// frame.
+// Graphviz DOT of a scene graph in the style of the paper's Fig. 8 (WriteDot, declared in the
+// public semgraph/script/scene_script.h): each body is a cluster labelled with its name, holding
+// its frames (ellipses labelled {f}) and a small box for the body itself; pose edges are solid
+// arrows tail frame -> head frame (the stored pose is the head's relative to the tail); twist
+// edges are dashed arrows from the reference body's box to the head frame.
 //
 // Invariants of the output: node ids are synthetic (body_<i>, frame_<i>), so names never need to
 // be valid DOT ids; names appear only in quoted labels, escaped. The output is deterministic
@@ -13,20 +13,13 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
-#include "semgraph/core/scene_graph.h"
+#include "semgraph/script/scene_script.h"
 
-namespace semgraph::tools {
-
-template <coord::Backend B>
-[[nodiscard]] std::string WriteDot(const core::SceneGraph<B>& graph);
+namespace semgraph::script {
 
 /// `text` as a quoted DOT string for a label (quotes and backslashes escaped).
 [[nodiscard]] std::string DotLabel(std::string_view text);
 
-extern template std::string WriteDot<coord::QuaternionBackend>(
-    const core::SceneGraph<coord::QuaternionBackend>&);
-extern template std::string WriteDot<coord::HomogeneousBackend>(
-    const core::SceneGraph<coord::HomogeneousBackend>&);
-
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

@@ -1,45 +1,56 @@
-// semgraph: the command-line tool of spec/scene-script.md. Reads a scene script, applies it to a
-// scene graph and prints JSON Lines (`run`) or Graphviz DOT (`dot`). Exit 0: every op succeeded;
-// 1: an op was rejected or a query failed; 2: malformed script, unreadable file or bad usage.
+// semgraph: the command-line tool of docs/scene-script.md, a thin main over the library
+// semgraph::script (semgraph/script/scene_script.h). Reads a scene script, applies it to a
+// scene graph and prints JSON Lines (`run`) or Graphviz DOT (`dot`). Exit 0: every op
+// succeeded; 1: an op was rejected or a query failed; 2: malformed script, unreadable file,
+// out of memory or bad usage; 3: the output could not be written.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <initializer_list>
+#include <new>
 #include <string>
 #include <string_view>
 
-#include "semgraph/dot_writer.h"
-#include "semgraph/script_reader.h"
-#include "semgraph/script_runner.h"
+#include "semgraph/script/scene_script.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 namespace {
 
-constexpr int kExitOk = 0;
-constexpr int kExitOpFailed = 1;
-constexpr int kExitMalformed = 2;
-
-constexpr std::string_view kHelp = R"(Usage: semgraph run FILE
+constexpr std::string_view kUsage = R"(Usage: semgraph run FILE
        semgraph dot FILE
-       semgraph --help
+       semgraph --help | --version
+       semgraph run --help | semgraph dot --help
+)";
 
-Applies a scene script (YAML) to a semgraph pose/twist scene graph.
-
+constexpr std::string_view kRun = R"(
   run FILE   apply the ops in order; print one JSON object per op on stdout (JSON Lines)
+)";
+
+constexpr std::string_view kDot = R"(
   dot FILE   apply the ops, then print the resulting graph as Graphviz DOT on stdout: each
              body a cluster holding its frames {f} and a box for the body, pose edges solid
              (tail frame -> head frame), twist edges dashed (reference body -> head frame).
              Rejected ops and failed queries are printed as JSON lines on stderr.
+             Render it with Graphviz, e.g. semgraph dot FILE | dot -Tsvg > scene.svg
+)";
+
+constexpr std::string_view kFileAndExit = R"(
   FILE       a path, or - for standard input
 
 Exit status:
   0  every op succeeded
   1  an op was rejected or a query failed (all ops are still attempted and reported)
-  2  the script is malformed (bad YAML, unknown op or field, missing or mistyped field, a field
-     of another op, wrong array length, non-numeric number, unknown representation, rotation
-     without exactly one form), FILE cannot be read, or the command line is wrong. stderr then
-     says FILE:LINE:COLUMN: what is wrong; nothing is applied and nothing is printed on stdout.
+  2  the script is malformed (bad YAML, not UTF-8, unknown op or field, missing or mistyped
+     field, a field of another op, wrong array length, non-numeric number, unknown
+     representation, rotation without exactly one form, over a limit), FILE cannot be read,
+     memory ran out, or the command line is wrong. stderr then says FILE:LINE:COLUMN: what is
+     wrong; a malformed script applies nothing and prints nothing on stdout.
+  3  the output could not be written (a full disk, a closed stdout): the run stops, and
+     stderr says "semgraph: cannot write the output: <reason>".
+)";
 
+constexpr std::string_view kScript = R"(
 Script:
   representation: quaternion      # optional: quaternion (default) | homogeneous
   ops:                            # applied in order; op i of the output counts from 0
@@ -83,19 +94,31 @@ Values (metres, radians, seconds):
   .nan and .inf are YAML numbers; the scene graph rejects them (invalid_number), as it rejects
   non-unit quaternions and improper matrices (invalid_rotation).
 
-Output, one line per op:
-  {"op": i, "ok": true}
-  {"op": i, "ok": false, "error": "<code>", "message": "<text>"}
-  pose              {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z]}
-  position          {"op": i, "ok": true, "position": [x,y,z]}
-  orientation       {"op": i, "ok": true, "quaternion": [w,x,y,z]}
-  twist             {"op": i, "ok": true, "linear": [vx,vy,vz], "angular": [wx,wy,wz]}
-  linear_velocity   {"op": i, "ok": true, "linear": [vx,vy,vz]}
-  angular_velocity  {"op": i, "ok": true, "angular": [wx,wy,wz]}
-  Quaternions have w >= 0; numbers have 17 significant digits. Error codes (snake_case) and
-  the rules behind them: spec/scene-graph.md.
+)";
 
-Limits: a script of at most 16 MiB, YAML nested at most 64 levels deep.
+constexpr std::string_view kOutput = R"(
+Output, one line per op (i counts ops from 0; K is the op, e.g. "body", "remove twist",
+"query position"; L is the op's line in the script):
+  {"op": i, "ok": true, "kind": K, "line": L}
+  {"op": i, "ok": false, "error": "<code>", "message": "<text>", "kind": K, "line": L}
+  query pose              {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z], ...}
+  query position          {"op": i, "ok": true, "position": [x,y,z], ...}
+  query orientation       {"op": i, "ok": true, "quaternion": [w,x,y,z], ...}
+  query twist             {"op": i, "ok": true, "linear": [vx,vy,vz], "angular": [wx,wy,wz], ...}
+  query linear_velocity   {"op": i, "ok": true, "linear": [vx,vy,vz], ...}
+  query angular_velocity  {"op": i, "ok": true, "angular": [wx,wy,wz], ...}
+  (each ending in "kind" and "line"). Quaternions have w >= 0; numbers have 17 significant
+  digits. Error codes (snake_case), the rules behind them, and the whole format:
+  docs/scene-script.md in the semgraph sources.
+)";
+
+constexpr std::string_view kLimits = R"(
+Limits: a script of at most 16 MiB of UTF-8, YAML nested at most 64 levels deep, at most
+32 MiB with its aliases expanded; names longer than 255 bytes are cut in messages.
+)";
+
+constexpr std::string_view kMore = R"(
+The script format: semgraph --help, or docs/scene-script.md in the semgraph sources.
 )";
 
 enum class Mode { kRun, kDot };
@@ -103,65 +126,41 @@ enum class Mode { kRun, kDot };
 int Usage(std::string_view problem) {
   std::fprintf(stderr,
                "semgraph: %.*s\nUsage: semgraph run FILE | semgraph dot FILE | "
-               "semgraph --help\n",
+               "semgraph --help | semgraph --version\n",
                static_cast<int>(problem.size()), problem.data());
   return kExitMalformed;
 }
 
-// Reads at most kMaxScriptBytes + 1 bytes: enough for ReadScript to report an oversized script
-// without holding all of it.
-bool ReadInput(const std::string& path, std::string* text, std::string* error) {
-  std::FILE* file = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    *error = std::strerror(errno);
-    return false;
-  }
-  char buffer[1 << 16];
-  bool ok = true;
-  while (text->size() <= kMaxScriptBytes) {
-    const std::size_t n = std::fread(buffer, 1, sizeof(buffer), file);
-    text->append(buffer, n);
-    if (n < sizeof(buffer)) {
-      if (std::ferror(file)) {
-        *error = std::strerror(errno);
-        ok = false;
-      }
-      break;
-    }
-  }
-  if (file != stdin) std::fclose(file);
-  return ok;
+// One line and its newline; false (errno set) when the stream refuses it.
+bool PrintLine(std::FILE* stream, const std::string& line) {
+  return std::fwrite(line.data(), 1, line.size(), stream) == line.size() &&
+         std::fputc('\n', stream) != EOF;
 }
 
-void PrintLine(std::FILE* stream, const std::string& line) {
-  std::fwrite(line.data(), 1, line.size(), stream);
-  std::fputc('\n', stream);
-}
-
-template <coord::Backend B>
-int Execute(const Script& script, Mode mode) {
-  core::SceneGraph<B> graph;
-  bool all_ok = true;
-  for (std::size_t i = 0; i < script.ops.size(); ++i) {
-    const OpOutcome outcome = ApplyOp(graph, script.ops[i], i);
-    all_ok = all_ok && outcome.ok;
-    if (mode == Mode::kRun) {
-      PrintLine(stdout, outcome.json);
-    } else if (!outcome.ok) {
-      PrintLine(stderr, outcome.json);  // stdout carries only the DOT text
-    }
-  }
-  if (mode == Mode::kDot) {
-    const std::string dot = WriteDot(graph);
-    std::fwrite(dot.data(), 1, dot.size(), stdout);
-  }
-  return all_ok ? kExitOk : kExitOpFailed;
+// Writes the texts to stdout: kExitOk, or kExitOutputFailed (with the message) if it cannot.
+int Print(std::initializer_list<std::string_view> texts) {
+  for (const std::string_view text : texts) std::fwrite(text.data(), 1, text.size(), stdout);
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return kExitOk;
+  std::fprintf(stderr, "semgraph: cannot write the output: %s\n", std::strerror(errno));
+  return kExitOutputFailed;
 }
 
 int Main(int argc, char** argv) {
-  if (argc == 2 && (std::string_view(argv[1]) == "--help" || std::string_view(argv[1]) == "-h")) {
-    std::fwrite(kHelp.data(), 1, kHelp.size(), stdout);
-    return kExitOk;
+  const auto is_help = [](std::string_view arg) { return arg == "--help" || arg == "-h"; };
+  if (argc == 2 && is_help(argv[1])) {
+    return Print({kUsage, kRun, kDot, kFileAndExit, kScript, kOutput, kLimits});
+  }
+  if (argc == 2 && std::string_view(argv[1]) == "--version") {
+    return Print({"semgraph " SEMGRAPH_VERSION "\n"});
+  }
+  // `semgraph run --help`: the command's help, not a file named --help (./--help is one).
+  if (argc == 3 && is_help(argv[2])) {
+    if (std::string_view(argv[1]) == "run") {
+      return Print({"Usage: semgraph run FILE\n", kRun, kFileAndExit, kOutput, kLimits, kMore});
+    }
+    if (std::string_view(argv[1]) == "dot") {
+      return Print({"Usage: semgraph dot FILE\n", kDot, kFileAndExit, kLimits, kMore});
+    }
   }
   if (argc != 3) return Usage("expected a command and a FILE");
   const std::string_view command = argv[1];
@@ -173,34 +172,49 @@ int Main(int argc, char** argv) {
   } else {
     return Usage("unknown command '" + std::string(command) + "'");
   }
-  const std::string path = argv[2];
-  const std::string display_name = path == "-" ? "<stdin>" : path;
-  std::string text, error;
-  if (!ReadInput(path, &text, &error)) {
-    std::fprintf(stderr, "%s: cannot read: %s\n", display_name.c_str(), error.c_str());
+  // The JSON lines are printed as the ops run, so that output starts at once and a large
+  // script is never held twice; a failed write stops the run (nobody would see the rest).
+  int write_errno = 0;
+  RunOptions options;
+  options.dot = mode == Mode::kDot;
+  options.on_op = [&](const OpResult& result) {
+    if (mode == Mode::kDot) {
+      if (!result.ok) PrintLine(stderr, result.json);  // stdout carries only the DOT text
+      return true;
+    }
+    if (PrintLine(stdout, result.json)) return true;
+    write_errno = errno;
+    return false;
+  };
+  const SceneRun run = RunSceneFile(argv[2], options);
+  if (run.status == kExitMalformed) {
+    PrintLine(stderr, run.error);
     return kExitMalformed;
   }
-  const auto script = ReadScript(text);
-  if (!script) {
-    const std::string message = FormatScriptError(display_name, script.error());
-    PrintLine(stderr, message);
-    return kExitMalformed;
+  if (write_errno == 0 && mode == Mode::kDot &&
+      std::fwrite(run.dot.data(), 1, run.dot.size(), stdout) != run.dot.size()) {
+    write_errno = errno;
   }
-  const int status = script->representation == Representation::kHomogeneous
-                         ? Execute<coord::HomogeneousBackend>(*script, mode)
-                         : Execute<coord::QuaternionBackend>(*script, mode);
-  return std::fflush(stdout) == 0 ? status : kExitMalformed;
+  if (write_errno == 0 && std::fflush(stdout) != 0) write_errno = errno;
+  if (write_errno != 0) {
+    std::fprintf(stderr, "semgraph: cannot write the output: %s\n", std::strerror(write_errno));
+    return kExitOutputFailed;
+  }
+  return run.status;
 }
 
 }  // namespace
-}  // namespace semgraph::tools
+}  // namespace semgraph::script
 
 int main(int argc, char** argv) {
+  // The library reports running out of memory itself (with the file and the op); this catches
+  // what is left, e.g. building a message.
   try {
-    return semgraph::tools::Main(argc, argv);
+    return semgraph::script::Main(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fputs("semgraph: out of memory\n", stderr);
   } catch (const std::exception& e) {
-    // Only std::bad_alloc is expected here (a huge script); report it instead of aborting.
     std::fprintf(stderr, "semgraph: %s\n", e.what());
-    return 2;
   }
+  return semgraph::script::kExitMalformed;
 }

@@ -1,257 +1,21 @@
-// Scene-script reader. Contract: script_reader.h and spec/scene-script.md.
+// Scene-script reader: the schema of a scene script over the generic YAML tree (yaml_tree.h).
+// Contract: script_reader.h and docs/scene-script.md.
 //
-// Two stages. (1) yaml-cpp's event parser feeds TreeBuilder, which builds a compact tree and
-// enforces the size limits while parsing (yaml-cpp's own Node tree costs several hundred bytes a
-// node and has no depth limit below 2000). (2) Interpreter walks only the shapes a script may
-// have, so its work is bounded by the number of ops whatever aliases the document contains.
+// The Interpreter walks only the shapes a script may have, so its work is bounded by the
+// number of ops and fields, which the tree's expanded-size limit bounds whatever aliases the
+// document contains.
 #include "semgraph/script_reader.h"
 
-#include <yaml-cpp/eventhandler.h>
-#include <yaml-cpp/exceptions.h>
-#include <yaml-cpp/parser.h>
-
 #include <algorithm>
-#include <cstdlib>
-#include <istream>
-#include <limits>
 #include <set>
 #include <span>
-#include <streambuf>
 #include <utility>
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
 namespace {
 
 using base::Unexpected;
-
-constexpr std::uint32_t kNoNode = std::numeric_limits<std::uint32_t>::max();
-
-// ====================================================================== compact YAML tree
-
-enum class NodeKind : std::uint8_t { kNull, kScalar, kSequence, kMap };
-
-// How a scalar was written. Only plain scalars and those tagged !!int / !!float can be numbers:
-// a quoted "1" is a string, and accepting it would hide a typo-level mistake.
-enum class ScalarStyle : std::uint8_t { kPlain, kString, kNumberTag, kOtherTag };
-
-// 28 bytes a node plus its text: a 16 MiB script has at most ~8 M nodes ("1," is 2 bytes).
-struct YamlNode {
-  NodeKind kind = NodeKind::kNull;
-  ScalarStyle style = ScalarStyle::kPlain;
-  SourceLocation location;
-  std::uint32_t text_begin = 0, text_size = 0;      // scalars: in YamlTree::text
-  std::uint32_t first_child = 0, num_children = 0;  // collections: in YamlTree::children
-};
-
-struct YamlTree {
-  std::vector<YamlNode> nodes;
-  std::string text;                     // every scalar's text, concatenated
-  std::vector<std::uint32_t> children;  // grouped by parent; a map's keys and values alternate
-  std::uint32_t root = kNoNode;
-};
-
-// What the interpreter sees of a node.
-struct NodeView {
-  NodeKind kind;
-  ScalarStyle style;
-  SourceLocation location;
-  std::string_view text;
-  std::span<const std::uint32_t> children;
-};
-
-SourceLocation FromMark(const YAML::Mark& mark) {
-  // yaml-cpp marks are 0-based; a null mark (-1) has no position, so point at the start.
-  return SourceLocation{mark.line < 0 ? 1 : mark.line + 1, mark.column < 0 ? 1 : mark.column + 1};
-}
-
-// Thrown by TreeBuilder to stop yaml-cpp mid-document: its event API has no other way to stop.
-struct StopParsing {
-  ScriptError error;
-};
-
-ScalarStyle StyleOf(const std::string& tag) {
-  if (tag == "?") return ScalarStyle::kPlain;
-  if (tag == "!" || tag == "tag:yaml.org,2002:str") return ScalarStyle::kString;
-  if (tag == "tag:yaml.org,2002:int" || tag == "tag:yaml.org,2002:float") {
-    return ScalarStyle::kNumberTag;
-  }
-  return ScalarStyle::kOtherTag;
-}
-
-class TreeBuilder final : public YAML::EventHandler {
- public:
-  explicit TreeBuilder(YamlTree& tree) : tree_(tree) {}
-
-  void OnDocumentStart(const YAML::Mark& mark) override {
-    if (++documents_ > 1) Stop(mark, "a script is a single YAML document; this is a second one");
-  }
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override {
-    Add(mark, anchor, NodeKind::kNull, ScalarStyle::kPlain, {});
-  }
-  void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
-    // Shared, not copied: an alias costs one index however large its target.
-    if (anchor >= anchors_.size() || anchors_[anchor] == kNoNode) Stop(mark, "unknown alias");
-    Attach(anchors_[anchor]);
-  }
-  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
-                const std::string& value) override {
-    Add(mark, anchor, NodeKind::kScalar, StyleOf(tag), value);
-  }
-  void OnSequenceStart(const YAML::Mark& mark, const std::string& /*tag*/, YAML::anchor_t anchor,
-                       YAML::EmitterStyle::value /*style*/) override {
-    Open(mark, anchor, NodeKind::kSequence);
-  }
-  void OnSequenceEnd() override { open_.pop_back(); }
-  void OnMapStart(const YAML::Mark& mark, const std::string& /*tag*/, YAML::anchor_t anchor,
-                  YAML::EmitterStyle::value /*style*/) override {
-    Open(mark, anchor, NodeKind::kMap);
-  }
-  void OnMapEnd() override { open_.pop_back(); }
-
-  // Groups the recorded (parent, child) edges into YamlTree::children, in document order.
-  void Finish() {
-    for (const Edge& e : edges_) ++tree_.nodes[e.parent].num_children;
-    std::uint32_t offset = 0;
-    for (YamlNode& n : tree_.nodes) {
-      n.first_child = offset;
-      offset += n.num_children;
-      n.num_children = 0;  // refilled below
-    }
-    tree_.children.resize(edges_.size());
-    for (const Edge& e : edges_) {
-      YamlNode& parent = tree_.nodes[e.parent];
-      tree_.children[parent.first_child + parent.num_children++] = e.child;
-    }
-    edges_ = {};
-  }
-
- private:
-  struct Edge {
-    std::uint32_t parent, child;
-  };
-  struct OpenCollection {
-    std::uint32_t node;
-    std::uint32_t num_children;
-    std::uint32_t last_child;
-  };
-
-  [[noreturn]] static void Stop(const YAML::Mark& mark, std::string message) {
-    throw StopParsing{ScriptError{FromMark(mark), std::move(message)}};
-  }
-
-  std::uint32_t Add(const YAML::Mark& mark, YAML::anchor_t anchor, NodeKind kind, ScalarStyle style,
-                    const std::string& text) {
-    if (tree_.nodes.size() >= kMaxYamlNodes) {
-      Stop(mark, "the script has more than " + std::to_string(kMaxYamlNodes) + " YAML nodes");
-    }
-    const auto index = static_cast<std::uint32_t>(tree_.nodes.size());
-    YamlNode& node = tree_.nodes.emplace_back();
-    node.kind = kind;
-    node.style = style;
-    node.location = FromMark(mark);
-    node.text_begin = static_cast<std::uint32_t>(tree_.text.size());
-    node.text_size = static_cast<std::uint32_t>(text.size());
-    tree_.text += text;
-    if (kind == NodeKind::kNull && !open_.empty()) {
-      // An empty map value (`name:`) gets yaml-cpp's mark of the *next* token, often on the
-      // next line; its key is where the reader should look.
-      const OpenCollection& parent = open_.back();
-      if (tree_.nodes[parent.node].kind == NodeKind::kMap && parent.num_children % 2 == 1) {
-        node.location = tree_.nodes[parent.last_child].location;
-      }
-    }
-    Attach(index);
-    if (anchor != 0) {
-      if (anchor >= anchors_.size()) anchors_.resize(anchor + 1, kNoNode);
-      anchors_[anchor] = index;
-    }
-    return index;
-  }
-
-  void Open(const YAML::Mark& mark, YAML::anchor_t anchor, NodeKind kind) {
-    // Checked before yaml-cpp descends further, so its recursion stays this shallow.
-    if (open_.size() >= static_cast<std::size_t>(kMaxNestingDepth)) {
-      Stop(mark,
-           "the document is nested more than " + std::to_string(kMaxNestingDepth) + " levels deep");
-    }
-    const std::uint32_t index = Add(mark, anchor, kind, ScalarStyle::kPlain, {});
-    open_.push_back(OpenCollection{index, 0, kNoNode});
-  }
-
-  void Attach(std::uint32_t index) {
-    if (open_.empty()) {
-      tree_.root = index;
-      return;
-    }
-    OpenCollection& parent = open_.back();
-    edges_.push_back(Edge{parent.node, index});
-    ++parent.num_children;
-    parent.last_child = index;
-  }
-
-  YamlTree& tree_;
-  std::vector<Edge> edges_;             // (parent, child) in document order
-  std::vector<OpenCollection> open_;    // collections being filled, outermost first
-  std::vector<std::uint32_t> anchors_;  // yaml-cpp anchor id -> node
-  int documents_ = 0;
-};
-
-// yaml-cpp reads from an istream; this one reads the text in place instead of copying it.
-class ViewStreamBuf final : public std::streambuf {
- public:
-  explicit ViewStreamBuf(std::string_view text) {
-    // The get area is only read (never written), so dropping const is safe.
-    char* begin = const_cast<char*>(text.data());
-    setg(begin, begin, begin + text.size());
-  }
-};
-
-// ====================================================================== numbers
-
-// YAML 1.2 core-schema floats and decimal ints: [-+]? ( digits [. digits?] | . digits )
-// ([eE] [-+]? digits)?, plus [-+]?.inf and .nan. Anything else (hex, "1_000", "abc") is not a
-// number in a script.
-bool ParseNumber(std::string_view text, double* value) {
-  std::size_t i = 0;
-  bool negative = false;
-  if (i < text.size() && (text[i] == '+' || text[i] == '-')) {
-    negative = text[i] == '-';
-    ++i;
-  }
-  const std::string_view body = text.substr(i);
-  if (body == ".inf" || body == ".Inf" || body == ".INF") {
-    *value = negative ? -std::numeric_limits<double>::infinity()
-                      : std::numeric_limits<double>::infinity();
-    return true;
-  }
-  if (i == 0 && (body == ".nan" || body == ".NaN" || body == ".NAN")) {
-    *value = std::numeric_limits<double>::quiet_NaN();
-    return true;
-  }
-  const auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
-  std::size_t j = 0, mantissa_digits = 0;
-  while (j < body.size() && is_digit(body[j])) ++j, ++mantissa_digits;
-  if (j < body.size() && body[j] == '.') {
-    ++j;
-    while (j < body.size() && is_digit(body[j])) ++j, ++mantissa_digits;
-  }
-  if (mantissa_digits == 0) return false;
-  if (j < body.size() && (body[j] == 'e' || body[j] == 'E')) {
-    ++j;
-    if (j < body.size() && (body[j] == '+' || body[j] == '-')) ++j;
-    std::size_t exponent_digits = 0;
-    while (j < body.size() && is_digit(body[j])) ++j, ++exponent_digits;
-    if (exponent_digits == 0) return false;
-  }
-  if (j != body.size()) return false;
-  // The grammar above is a subset of strtod's (the program never changes the C locale). An
-  // overflow gives +-inf, which the scene graph then rejects as invalid_number.
-  const std::string copy(text);
-  *value = std::strtod(copy.c_str(), nullptr);
-  return true;
-}
 
 // ====================================================================== op shapes
 
@@ -373,30 +137,8 @@ std::string AllowedList(std::uint32_t allowed) {
 
 // Scalar text for a message: quoted, control bytes escaped (the message goes to a terminal),
 // long texts cut (at a UTF-8 character boundary).
-std::string Quoted(std::string_view text) {
-  const auto is_continuation = [&](std::size_t i) {
-    return (static_cast<unsigned char>(text[i]) & 0xC0u) == 0x80u;
-  };
-  std::size_t shown = std::min<std::size_t>(text.size(), 40);
-  while (shown > 0 && shown < text.size() && is_continuation(shown)) --shown;
-  std::string s = "\"";
-  for (std::size_t i = 0; i < shown; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c == '"' || c == '\\') {
-      s += '\\';
-      s += static_cast<char>(c);
-    } else if (c < 0x20 || c == 0x7F) {
-      static constexpr char kHex[] = "0123456789abcdef";
-      s += "\\x";
-      s += kHex[c >> 4];
-      s += kHex[c & 0xF];
-    } else {
-      s += static_cast<char>(c);
-    }
-  }
-  if (shown < text.size()) s += "...";
-  return s + "\"";
-}
+// Scalar text for a message: quoted, control bytes escaped, long texts cut (with their length).
+std::string Quoted(std::string_view text) { return QuoteForMessage(text); }
 
 // ====================================================================== interpreter
 
@@ -408,13 +150,7 @@ class Interpreter {
   const ScriptError& error() const { return error_; }
 
  private:
-  NodeView At(std::uint32_t i) const {
-    const YamlNode& n = tree_.nodes[i];
-    const std::string_view text = tree_.text;
-    const std::span<const std::uint32_t> children = tree_.children;
-    return NodeView{n.kind, n.style, n.location, text.substr(n.text_begin, n.text_size),
-                    children.subspan(n.first_child, n.num_children)};
-  }
+  NodeView At(NodeId i) const { return tree_.At(i); }
 
   bool Fail(SourceLocation location, std::string message) {
     error_ = ScriptError{location, std::move(message)};
@@ -472,7 +208,7 @@ bool Interpreter::ReadMap(std::uint32_t map, std::string_view what,
 }
 
 bool Interpreter::ReadDocument(Script* script) {
-  const std::uint32_t root = tree_.root;
+  const NodeId root = tree_.root();
   if (At(root).kind != NodeKind::kMap) {
     return Fail(root, "a script is a map with 'ops' (and optionally 'representation'), got " +
                           Describe(root));
@@ -659,7 +395,7 @@ bool Interpreter::ReadText(std::uint32_t node, std::string_view field, std::stri
 bool Interpreter::ReadNumber(std::uint32_t node, std::string_view what, double* out) {
   const NodeView n = At(node);
   const bool may_be_number = n.style == ScalarStyle::kPlain || n.style == ScalarStyle::kNumberTag;
-  if (n.kind != NodeKind::kScalar || !may_be_number || !ParseNumber(n.text, out)) {
+  if (n.kind != NodeKind::kScalar || !may_be_number || !ParseCoreNumber(n.text, out)) {
     return Fail(node, std::string(what) + " must be a number, got " + Describe(node));
   }
   return true;
@@ -745,21 +481,10 @@ base::Expected<Script, ScriptError> ReadScript(std::string_view text) {
     return Unexpected{ScriptError{
         {1, 1}, "the script is larger than " + std::to_string(kMaxScriptBytes >> 20) + " MiB"}};
   }
-  YamlTree tree;
-  try {
-    ViewStreamBuf buffer(text);
-    std::istream in(&buffer);
-    YAML::Parser parser(in);
-    TreeBuilder builder(tree);
-    while (parser.HandleNextDocument(builder)) {
-    }
-    builder.Finish();
-  } catch (const StopParsing& stop) {
-    return Unexpected{stop.error};
-  } catch (const YAML::Exception& e) {
-    return Unexpected{ScriptError{FromMark(e.mark), "invalid YAML: " + e.msg}};
-  }
-  if (tree.root == kNoNode) {
+  auto parsed = ParseYaml(text, kScriptLimits);
+  if (!parsed) return Unexpected{ScriptError{parsed.error().location, parsed.error().message}};
+  const YamlTree& tree = *parsed;
+  if (tree.root() == kNoNode) {
     return Unexpected{ScriptError{{1, 1}, "the script is empty; expected a map with 'ops'"}};
   }
   Script script;
@@ -810,4 +535,4 @@ std::string_view ToString(QueryKind kind) noexcept {
   return "?";
 }
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

@@ -1,6 +1,6 @@
 // File: tools/semgraph/script_reader.h
 //
-// Reads a scene script (spec/scene-script.md) into a list of typed operations. The whole
+// Reads a scene script (docs/scene-script.md) into a list of typed operations. The whole
 // document is parsed and validated here, before anything touches a scene graph, so that a
 // malformed script (bad YAML, unknown op, missing or mistyped field, a field of the wrong op,
 // wrong array length, non-numeric number, unknown representation, a rotation with zero or
@@ -12,12 +12,11 @@
 // invalid_name / invalid_number / invalid_rotation, so that the script and the C++ API agree.
 // `.nan`, `.inf` and `-.inf` are numbers to YAML and are passed through for that reason.
 //
-// Limits, so that hostile input cannot crash the tool: at most kMaxScriptBytes of text, YAML
-// nesting at most kMaxNestingDepth deep (checked while parsing, so yaml-cpp never recurses
-// deeper), at most kMaxYamlNodes nodes (more than a 16 MiB script can hold: a guard, not a
-// rule). yaml-cpp's own node tree (hundreds of bytes a node) is never built: a compact tree
-// (~40 bytes a node) is built from the parser's events instead. Aliases are shared, not
-// copied, so alias bombs cost nothing.
+// The text is parsed into the compact YAML tree of yaml_tree.h, within kScriptLimits, so that
+// hostile input cannot crash the tool: at most 16 MiB of UTF-8 text, nesting at most 64 levels
+// deep (checked while parsing, so yaml-cpp never recurses deeper), at most 2^23 nodes, and at
+// most 32 MiB with the aliases expanded (an alias bomb is refused at the alias that crosses
+// it; the reader copies names out of shared nodes, so this also bounds the Script's size).
 //
 // Cost: O(size of the text). Thread safety: ReadScript is a pure function.
 #pragma once
@@ -30,18 +29,15 @@
 #include <vector>
 
 #include "semgraph/base/expected.h"
+#include "semgraph/yaml_tree.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
-inline constexpr std::size_t kMaxScriptBytes = std::size_t{16} << 20;  // 16 MiB
-inline constexpr int kMaxNestingDepth = 64;
-inline constexpr std::size_t kMaxYamlNodes = std::size_t{1} << 23;
-
-/// A position in the script text, both 1-based.
-struct SourceLocation {
-  int line = 1;
-  int column = 1;
-};
+inline constexpr YamlLimits kScriptLimits{};
+inline constexpr std::size_t kMaxScriptBytes = kScriptLimits.max_bytes;  // 16 MiB
+inline constexpr int kMaxNestingDepth = kScriptLimits.max_depth;
+inline constexpr std::size_t kMaxYamlNodes = kScriptLimits.max_nodes;
+inline constexpr std::size_t kMaxExpandedBytes = kScriptLimits.max_expanded_bytes;  // 32 MiB
 
 enum class Representation : std::uint8_t { kQuaternion, kHomogeneous };
 
@@ -124,4 +120,4 @@ struct ScriptError {
 [[nodiscard]] std::string_view ToString(OpKind kind) noexcept;
 [[nodiscard]] std::string_view ToString(QueryKind kind) noexcept;
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script

@@ -1,9 +1,11 @@
 // Script runner: one scene-graph call per op, one JSON line per outcome. Contract:
-// script_runner.h; output format: spec/scene-script.md.
+// script_runner.h; output format: docs/scene-script.md.
 #include "semgraph/script_runner.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <initializer_list>
 #include <string>
@@ -12,7 +14,7 @@
 
 #include "semgraph/base/error_code.h"
 
-namespace semgraph::tools {
+namespace semgraph::script {
 
 namespace {
 
@@ -48,6 +50,22 @@ std::size_t Utf8SequenceLength(std::string_view s, std::size_t i) {
   return length;
 }
 
+// C1 controls (U+0080..U+009F) and the separators U+2028 / U+2029 are valid UTF-8 but break
+// lines for many readers (U+0085 is "next line"; Python's splitlines splits at all three): JSON
+// lines carry them escaped. `sequence` is one valid UTF-8 character; empty if it can stay.
+std::string_view LineBreakingEscape(std::string_view sequence) {
+  static constexpr std::string_view kC1[32] = {
+      "\\u0080", "\\u0081", "\\u0082", "\\u0083", "\\u0084", "\\u0085", "\\u0086", "\\u0087",
+      "\\u0088", "\\u0089", "\\u008a", "\\u008b", "\\u008c", "\\u008d", "\\u008e", "\\u008f",
+      "\\u0090", "\\u0091", "\\u0092", "\\u0093", "\\u0094", "\\u0095", "\\u0096", "\\u0097",
+      "\\u0098", "\\u0099", "\\u009a", "\\u009b", "\\u009c", "\\u009d", "\\u009e", "\\u009f"};
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(sequence[k]); };
+  if (sequence.size() == 2 && byte(0) == 0xC2 && byte(1) < 0xA0) return kC1[byte(1) - 0x80];
+  if (sequence == "\xE2\x80\xA8") return "\\u2028";
+  if (sequence == "\xE2\x80\xA9") return "\\u2029";
+  return {};
+}
+
 // One named result array of a successful query.
 struct ResultField {
   std::string_view key;
@@ -59,7 +77,7 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
     for (const double v : f.values) {
       if (!std::isfinite(v)) {
         // Defensive: JSON has no Inf/NaN, and the graph's input bounds should prevent this.
-        return OpOutcome{false, "{\"op\": " + std::to_string(index) +
+        return OpOutcome{false, "invalid_number", "{\"op\": " + std::to_string(index) +
                                     ", \"ok\": false, \"error\": \"invalid_number\", "
                                     "\"message\": " +
                                     JsonString("the " + std::string(f.key) +
@@ -77,18 +95,47 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
     }
     json += ']';
   }
-  return OpOutcome{true, json + "}"};
+  return OpOutcome{true, "", json + "}"};
 }
 
-OpOutcome Failure(std::size_t index, base::ErrorCode code, std::string_view message) {
-  return OpOutcome{false, "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
-                              JsonString(base::ToString(code)) +
-                              ", \"message\": " + JsonString(message) + "}"};
+// The graph's messages quote the names of the op whole. A name longer than any valid name
+// (kMaxEchoedNameBytes) is shown as its first bytes and its length instead, so that a hostile
+// megabyte name gives a short line.
+std::string CapNames(std::string message, const ScriptOp& op) {
+  const SemanticNames& n = op.names;
+  for (const std::string* name : {&op.name, &n.point, &n.orientation, &n.body, &n.ref_point,
+                                  &n.ref_orientation, &n.ref_body, &n.coord}) {
+    if (name->size() <= kMaxEchoedNameBytes) continue;
+    std::size_t shown = kEchoedPrefixBytes;
+    while (shown > 0 && (static_cast<unsigned char>((*name)[shown]) & 0xC0u) == 0x80u) --shown;
+    const std::string capped =
+        name->substr(0, shown) + "... (" + std::to_string(name->size()) + " bytes)";
+    const std::boyer_moore_horspool_searcher searcher(name->begin(), name->end());
+    std::string out;
+    auto from = message.cbegin();
+    for (;;) {
+      const auto found = std::search(from, message.cend(), searcher);
+      out.append(from, found);
+      if (found == message.cend()) break;
+      out += capped;
+      from = found + static_cast<std::ptrdiff_t>(name->size());
+    }
+    message = std::move(out);
+  }
+  return message;
 }
 
-OpOutcome FromBuild(std::size_t index, const core::BuildResult& result) {
+OpOutcome Failure(const ScriptOp& op, std::size_t index, base::ErrorCode code,
+                  std::string_view message) {
+  return OpOutcome{false, std::string(base::ToString(code)),
+                   "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
+                       JsonString(base::ToString(code)) +
+                       ", \"message\": " + JsonString(CapNames(std::string(message), op)) + "}"};
+}
+
+OpOutcome FromBuild(const ScriptOp& op, std::size_t index, const core::BuildResult& result) {
   if (result) return Success(index);
-  return Failure(index, result.error().code, result.error().message);
+  return Failure(op, index, result.error().code, result.error().message);
 }
 
 std::vector<double> Values(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
@@ -137,10 +184,10 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
   const RotationValue& r = op.rotation;
   switch (r.form) {
     case RotationForm::kIdentity:
-      return FromBuild(index, graph.AddPose(spec, Eigen::Quaterniond::Identity(), p));
+      return FromBuild(op, index, graph.AddPose(spec, Eigen::Quaterniond::Identity(), p));
     case RotationForm::kQuaternion:
       // Passed as written: normalizing here would hide invalid_rotation.
-      return FromBuild(index, graph.AddPose(spec,
+      return FromBuild(op, index, graph.AddPose(spec,
                                             Eigen::Quaterniond(r.quaternion[0], r.quaternion[1],
                                                                r.quaternion[2], r.quaternion[3]),
                                             p));
@@ -150,14 +197,14 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
       const Eigen::Quaterniond q = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) *
                                    Eigen::AngleAxisd(r.rpy[1], Eigen::Vector3d::UnitY()) *
                                    Eigen::AngleAxisd(r.rpy[0], Eigen::Vector3d::UnitX());
-      return FromBuild(index, graph.AddPose(spec, q, p));
+      return FromBuild(op, index, graph.AddPose(spec, q, p));
     }
     case RotationForm::kMatrix: {
       Eigen::Matrix3d R;
       for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) R(i, j) = r.matrix[i][j];
       }
-      return FromBuild(index, graph.AddPose(spec, R, p));
+      return FromBuild(op, index, graph.AddPose(spec, R, p));
     }
   }
   base::DemandFailed("valid RotationForm", __FILE__, __LINE__);
@@ -170,38 +217,38 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     case QueryKind::kPose: {
       const core::PoseSpec spec = PoseSpecOf(n);
       const auto X = graph.GetPose(spec);
-      if (!X) return Failure(index, X.error().code, graph.Describe(X.error(), spec));
+      if (!X) return Failure(op, index, X.error().code, graph.Describe(X.error(), spec));
       return Success(index, {{"position", Values(B::TranslationOf(X->value))},
                              {"quaternion", Values(B::ToQuaternion(B::RotationOf(X->value)))}});
     }
     case QueryKind::kPosition: {
       const core::PoseSpec spec = PoseSpecOf(n);
       const auto p = graph.GetPosition(spec);
-      if (!p) return Failure(index, p.error().code, graph.Describe(p.error(), spec));
+      if (!p) return Failure(op, index, p.error().code, graph.Describe(p.error(), spec));
       return Success(index, {{"position", Values(p->value)}});
     }
     case QueryKind::kOrientation: {
       const core::PoseSpec spec = PoseSpecOf(n);
       const auto R = graph.GetOrientation(spec);
-      if (!R) return Failure(index, R.error().code, graph.Describe(R.error(), spec));
+      if (!R) return Failure(op, index, R.error().code, graph.Describe(R.error(), spec));
       return Success(index, {{"quaternion", Values(B::ToQuaternion(R->value))}});
     }
     case QueryKind::kTwist: {
       const core::TwistSpec spec = TwistSpecOf(n);
       const auto V = graph.GetTwist(spec);
-      if (!V) return Failure(index, V.error().code, graph.Describe(V.error(), spec));
+      if (!V) return Failure(op, index, V.error().code, graph.Describe(V.error(), spec));
       return Success(index, {{"linear", Values(V->linear)}, {"angular", Values(V->angular)}});
     }
     case QueryKind::kLinearVelocity: {
       const core::TwistSpec spec = TwistSpecOf(n);
       const auto v = graph.GetLinearVelocity(spec);
-      if (!v) return Failure(index, v.error().code, graph.Describe(v.error(), spec));
+      if (!v) return Failure(op, index, v.error().code, graph.Describe(v.error(), spec));
       return Success(index, {{"linear", Values(v->value)}});
     }
     case QueryKind::kAngularVelocity: {
       const core::TwistSpec spec = TwistSpecOf(n);
       const auto w = graph.GetAngularVelocity(spec);
-      if (!w) return Failure(index, w.error().code, graph.Describe(w.error(), spec));
+      if (!w) return Failure(op, index, w.error().code, graph.Describe(w.error(), spec));
       return Success(index, {{"angular", Values(w->value)}});
     }
   }
@@ -222,6 +269,10 @@ std::string JsonString(std::string_view text) {
       if (length == 0) {
         s += "\\ufffd";  // JSON text must be UTF-8; keep the position of the bad byte visible
         ++i;
+      } else if (const std::string_view escaped = LineBreakingEscape(text.substr(i, length));
+                 !escaped.empty()) {
+        s += escaped;
+        i += length;
       } else {
         s.append(text.substr(i, length));
         i += length;
@@ -272,27 +323,54 @@ std::string JsonNumber(double value) {
   return buffer;
 }
 
+namespace {
+
 template <coord::Backend B>
-OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
   switch (op.kind) {
     case OpKind::kBody:
-      return FromBuild(index, graph.AddBody(op.name));
+      return FromBuild(op, index, graph.AddBody(op.name));
     case OpKind::kFrame:
-      return FromBuild(index, graph.AddFrame(op.name, n.body));
+      return FromBuild(op, index, graph.AddFrame(op.name, n.body));
     case OpKind::kPose:
       return AddPose(graph, op, index);
     case OpKind::kTwist:
-      return FromBuild(index,
+      return FromBuild(op, index,
                        graph.AddTwist(TwistSpecOf(n), ToVector(op.linear), ToVector(op.angular)));
     case OpKind::kRemovePose:
-      return FromBuild(index, graph.RemovePose(n.orientation, n.ref_orientation));
+      return FromBuild(op, index, graph.RemovePose(n.orientation, n.ref_orientation));
     case OpKind::kRemoveTwist:
-      return FromBuild(index, graph.RemoveTwist(n.point, n.ref_body));
+      return FromBuild(op, index, graph.RemoveTwist(n.point, n.ref_body));
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
   }
   base::DemandFailed("valid OpKind", __FILE__, __LINE__);
+}
+
+}  // namespace
+
+std::string OpLabel(const ScriptOp& op) {
+  switch (op.kind) {
+    case OpKind::kRemovePose:
+      return "remove pose";
+    case OpKind::kRemoveTwist:
+      return "remove twist";
+    case OpKind::kQuery:
+      return "query " + std::string(ToString(op.query_kind));
+    default:
+      return std::string(ToString(op.kind));
+  }
+}
+
+template <coord::Backend B>
+OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  OpOutcome outcome = ApplyOpUnlabelled(graph, op, index);
+  // The op's kind and script line close the object, after the keys of the original format.
+  outcome.json.pop_back();  // '}'
+  outcome.json += ", \"kind\": " + JsonString(OpLabel(op)) +
+                  ", \"line\": " + std::to_string(op.location.line) + "}";
+  return outcome;
 }
 
 template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::QuaternionBackend>&,
@@ -300,4 +378,4 @@ template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::Qua
 template OpOutcome ApplyOp<coord::HomogeneousBackend>(core::SceneGraph<coord::HomogeneousBackend>&,
                                                       const ScriptOp&, std::size_t);
 
-}  // namespace semgraph::tools
+}  // namespace semgraph::script
