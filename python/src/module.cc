@@ -1,0 +1,19 @@
+// The extension module semgraph._semgraph; the package semgraph (python/semgraph/__init__.py)
+// re-exports it with the exception classes of semgraph/_errors.py.
+#include <pybind11/pybind11.h>
+
+#include "graph.h"
+
+#ifndef SEMGRAPH_VERSION
+#define SEMGRAPH_VERSION "0.0.0"
+#endif
+
+PYBIND11_MODULE(_semgraph, m) {
+  namespace py = pybind11;
+  m.doc() = "The C++ kernel of semgraph; import semgraph, not this module.";
+  py::module_::import("numpy");  // results are numpy arrays: fail at import, not at first use
+  semgraph::python::InitErrors(py::module_::import("semgraph._errors"));
+  semgraph::python::BindGraph(m);
+  semgraph::python::BindScript(m);
+  m.attr("__version__") = SEMGRAPH_VERSION;
+}
