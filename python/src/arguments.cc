@@ -99,6 +99,17 @@ void NumbersArg(py::handle value, int rows, int size, double* out, const char* f
       if (ok) return;
     }
     // Fall through to numpy for the message (it reports the shape it sees).
+  } else if (py::array_t<double, py::array::c_style>::check_(value)) {
+    // Fast path: already float64 and contiguous, read in place.
+    const auto array = py::reinterpret_borrow<py::array_t<double, py::array::c_style>>(value);
+    const bool shape_ok = rows == 1 ? (array.ndim() == 1 && array.shape(0) == size)
+                                    : (array.ndim() == 2 && array.shape(0) == rows &&
+                                       array.shape(1) == size / rows);
+    if (shape_ok) {
+      const double* data = array.data();
+      for (int i = 0; i < size; ++i) out[i] = data[i];
+      return;
+    }
   } else if (!IsNumericArray(value)) {
     ThrowType(function, argument, what, value);
   }
