@@ -439,7 +439,7 @@ struct RejectScene {
   static void Expect(const semgraph::core::BuildResult& r, ErrorCode code, const char* what) {
     if (r) Fail(std::string(what) + ": the add was accepted");
     if (r.error().code != code) {
-      Fail(std::string(what) + ": expected " + std::string(semgraph::semantics::ToString(code)) +
+      Fail(std::string(what) + ": expected " + std::string(semgraph::base::ToString(code)) +
            ", got " + r.error().message);
     }
   }

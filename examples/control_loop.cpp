@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "semgraph/core/compiled_query.h"
+#include "semgraph/core/scene_graph.h"
 
 namespace sg = semgraph::core;
 using Eigen::AngleAxisd;
@@ -92,8 +92,8 @@ int main(int argc, char** argv) {
   auto next = std::chrono::steady_clock::now();
   for (int i = 0; i < cycles; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (X_OT->Evaluate(X) != semgraph::semantics::ErrorCode::kOk) return 1;
-    if (V_OT_W->Evaluate(v, w) != semgraph::semantics::ErrorCode::kOk) return 1;
+    if (X_OT->Evaluate(X) != semgraph::base::ErrorCode::kOk) return 1;
+    if (V_OT_W->Evaluate(v, w) != semgraph::base::ErrorCode::kOk) return 1;
     const auto t1 = std::chrono::steady_clock::now();
     eval_ns[i] = std::chrono::duration<double, std::nano>(t1 - t0).count();
     distance = X.translation.norm();  // a controller would servo on X and v here

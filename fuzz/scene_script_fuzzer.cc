@@ -30,7 +30,7 @@
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/script_reader.h"
 #include "semgraph/script_runner.h"
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 #include "support/op_reader.h"
 
 namespace semgraph::fuzz {
@@ -259,14 +259,14 @@ class Generator {
 template <coord::Backend B>
 struct Direct {
   bool ok = true;
-  semantics::ErrorCode code = semantics::ErrorCode::kOk;
+  base::ErrorCode code = base::ErrorCode::kOk;
   std::vector<double> numbers;
 
   static Eigen::Vector3d V(const double* v) { return {v[0], v[1], v[2]}; }
   template <class R>
   void Take(const R& r) {
     ok = r.has_value();
-    code = ok ? semantics::ErrorCode::kOk : r.error().code;
+    code = ok ? base::ErrorCode::kOk : r.error().code;
   }
   void Push(const Eigen::Vector3d& v) { numbers.insert(numbers.end(), {v.x(), v.y(), v.z()}); }
   void Push(const Eigen::Quaterniond& q) { numbers.insert(numbers.end(), {q.w(), q.x(), q.y(), q.z()}); }
@@ -394,11 +394,11 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<tools::OpOu
       // The tool reports a non-finite query result as invalid_number (JSON has no Inf/NaN).
       const bool non_finite = d.ok && JsonErrorCode(line.json) == "invalid_number" &&
                               std::any_of(d.numbers.begin(), d.numbers.end(), [](double x) { return !std::isfinite(x); });
-      if (!non_finite) Fail(where + ", the API says " + std::string(semantics::ToString(d.code)), text);
+      if (!non_finite) Fail(where + ", the API says " + std::string(base::ToString(d.code)), text);
       continue;
     }
-    if (!d.ok && JsonErrorCode(line.json) != semantics::ToString(d.code)) {
-      Fail(where + ", the API says " + std::string(semantics::ToString(d.code)), text);
+    if (!d.ok && JsonErrorCode(line.json) != base::ToString(d.code)) {
+      Fail(where + ", the API says " + std::string(base::ToString(d.code)), text);
     }
     if (!d.ok) continue;
     std::vector<double> printed = JsonArrayNumbers(line.json), expected = d.numbers;

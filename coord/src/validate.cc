@@ -256,7 +256,7 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
       }
       return out.str();
     default:
-      return std::string(semantics::ToString(error.code));
+      return std::string(base::ToString(error.code));
   }
 }
 

@@ -44,7 +44,7 @@
 #include "reference_model.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/scene_graph.h"
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
 namespace semgraph::fuzz {
 
@@ -53,7 +53,7 @@ using reference::Query;
 using reference::QueryKind;
 using reference::ReferenceModel;
 using reference::RotationInput;
-using semantics::ErrorCode;
+using base::ErrorCode;
 
 // ------------------------------------------------------------------ scene-script text
 
@@ -171,7 +171,7 @@ class Differential {
     std::fprintf(out, "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
     std::fprintf(out, "representation: %s\nops:\n", B::kName);
     for (const TraceLine& t : trace_) {
-      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(semantics::ToString(*t.code)) : "");
+      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "");
       std::fprintf(out, line[0] == '#' ? "  %s\n" : "  - %s\n", line.c_str());
     }
     std::fprintf(out, "==== end of trace ====\n");
@@ -362,8 +362,8 @@ class Differential {
     const ErrorCode code = result ? ErrorCode::kOk : result.error().code;
     Annotate(code);
     if (code != expected) {
-      Fail("kernel says " + std::string(semantics::ToString(code)) + ", model says " +
-           std::string(semantics::ToString(expected)) +
+      Fail("kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)) +
            (result ? std::string() : "\nkernel message: " + result.error().message));
     }
     if (!checks_) {
@@ -436,12 +436,12 @@ class Differential {
       if (k.invalidated) {
         if (got.code != ErrorCode::kQueryInvalidated) {
           Fail(which + ": an edge it used was removed, but Evaluate() returned " +
-               std::string(semantics::ToString(got.code)) + " instead of query_invalidated");
+               std::string(base::ToString(got.code)) + " instead of query_invalidated");
         }
         continue;
       }
       if (got.code != ErrorCode::kOk) {
-        Fail(which + ": Evaluate() returned " + std::string(semantics::ToString(got.code)) +
+        Fail(which + ": Evaluate() returned " + std::string(base::ToString(got.code)) +
              " though no edge it uses was removed");
       }
       CompareAnswer(which + " (re-evaluated)", k.zero_twist ? Answer{} : model_.Ask(k.query), got);
@@ -609,8 +609,8 @@ class Differential {
 
   void CompareAnswer(const std::string& what, const Answer& expected, const Outcome& got) {
     if (got.code != expected.code) {
-      Fail(what + ": kernel says " + std::string(semantics::ToString(got.code)) + ", model says " +
-           std::string(semantics::ToString(expected.code)));
+      Fail(what + ": kernel says " + std::string(base::ToString(got.code)) + ", model says " +
+           std::string(base::ToString(expected.code)));
     }
     if (got.code != ErrorCode::kOk) return;
     const double tol_p = 1e-9 * std::max(PositionScale(), expected.p.norm());

@@ -11,6 +11,8 @@ std::string Pt(const NameTable& n, Point e, Body C) { return Str(n, e.id()) + "|
 std::string Of(const NameTable& n, OrientationFrame a) { return "[" + Str(n, a.id()) + "]"; }
 std::string OfB(const NameTable& n, OrientationFrame a, Body C) { return Of(n, a) + "|" + Str(n, C.id()); }
 
+}  // namespace
+
 std::string_view FieldName(Field f) noexcept {
   switch (f) {
     case Field::kPoint: return "point";
@@ -23,6 +25,8 @@ std::string_view FieldName(Field f) noexcept {
   }
   return "field";
 }
+
+namespace {
 
 std::string_view RelationName(RelationKind k) noexcept {
   switch (k) {

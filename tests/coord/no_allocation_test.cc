@@ -86,7 +86,7 @@ namespace semgraph::coord {
 namespace {
 
 using semantics::Body;
-using semantics::ErrorCode;
+using base::ErrorCode;
 using semantics::Frame;
 using semantics::NameTable;
 

@@ -49,7 +49,7 @@ void PrintTo(ErrorCode code, std::ostream* os) { *os << ToString(code); }
 namespace semgraph::coord {
 namespace {
 
-using semantics::ErrorCode;
+using base::ErrorCode;
 using semantics::NameTable;
 using semgraph::testing::ExpectNear;
 using semgraph::testing::UniformIndex;

@@ -3,7 +3,7 @@
 //
 // Legend: the paper's spray-painting scene (examples/spray_painting_scene.h): B base {b},
 // E end effector {e}, O2 gun {o2}, O1 cylinder {o1} with paint point {f1}, C camera {c}.
-#include "semgraph/core/compiled_query.h"
+#include "semgraph/core/scene_graph.h"
 
 #include <gtest/gtest.h>
 
@@ -243,7 +243,8 @@ TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
   auto position = this->graph_.CompilePosition(PoseSpec::Of("f1").RelativeTo("e").ExpressedIn("c"));
   auto orientation = this->graph_.CompileOrientation(PoseSpec::Of("f1").RelativeTo("o2"));
   auto twist = this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("c"));
-  auto angular = this->graph_.CompileTwist(TwistSpec::Of("", "O1").RelativeTo("B").ExpressedIn("b"));
+  // An angular velocity is the angular part of any point's twist: the coordinate frame's origin.
+  auto angular = this->graph_.CompileTwist(TwistSpec::Of("b", "O1").RelativeTo("B").ExpressedIn("b"));
   auto pose_edge = this->graph_.FindPoseEdge("e", "b");
   auto twist_edge = this->graph_.FindTwistEdge("e", "B");
   ASSERT_TRUE(pose && position && orientation && twist && angular && pose_edge && twist_edge);
@@ -262,6 +263,19 @@ TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
     ASSERT_EQ(angular->Evaluate(v, w), ErrorCode::kOk);
   }
   EXPECT_EQ(g_allocations.load(), before);
+}
+
+// A twist query needs its point, compiled or not: an empty point is invalid_name in both, and
+// compiling must not substitute another point (it once used the coordinate frame's origin).
+TYPED_TEST(CompiledQueryTest, CompileTwistWithoutPointIsInvalidNameLikeGetTwist) {
+  const TwistSpec spec = TwistSpec::Of("", "O1").RelativeTo("B").ExpressedIn("b");
+  auto one_shot = this->graph_.GetTwist(spec);
+  auto compiled = this->graph_.CompileTwist(spec);
+  ASSERT_FALSE(one_shot);
+  ASSERT_FALSE(compiled);
+  EXPECT_EQ(one_shot.error().code, ErrorCode::kInvalidName);
+  EXPECT_EQ(compiled.error().code, ErrorCode::kInvalidName);
+  EXPECT_EQ(compiled.error().field, semantics::Field::kPoint);
 }
 
 // One writer flips the two joint edges between two poses; readers must only ever see one of

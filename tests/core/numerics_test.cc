@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "semgraph/core/compiled_query.h"
+#include "semgraph/core/scene_graph.h"
 
 namespace semgraph::core {
 namespace {

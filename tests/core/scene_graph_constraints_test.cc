@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 #include "support/tolerance.h"
 
 namespace semgraph::semantics {
@@ -109,15 +109,15 @@ template <class G, class Op>
   const std::string before = graph.Dump();
   const BuildResult result = op();
   if (result) {
-    return ::testing::AssertionFailure() << "accepted; expected " << semantics::ToString(code);
+    return ::testing::AssertionFailure() << "accepted; expected " << base::ToString(code);
   }
   const std::string& message = result.error().message;
   if (result.error().code != code) {
     return ::testing::AssertionFailure()
-           << "code " << semantics::ToString(result.error().code) << ", expected "
-           << semantics::ToString(code) << ": " << message;
+           << "code " << base::ToString(result.error().code) << ", expected "
+           << base::ToString(code) << ": " << message;
   }
-  const std::string tag = "rejected (" + std::string(semantics::ToString(code)) + ")";
+  const std::string tag = "rejected (" + std::string(base::ToString(code)) + ")";
   if (message.find(tag) == std::string::npos) {
     return ::testing::AssertionFailure() << "message lacks \"" << tag << "\": " << message;
   }
@@ -143,12 +143,12 @@ template <class G, class Result, class Spec>
                                       ErrorCode code,
                                       std::initializer_list<std::string_view> phrases = {}) {
   if (result)
-    return ::testing::AssertionFailure() << "succeeded; expected " << semantics::ToString(code);
+    return ::testing::AssertionFailure() << "succeeded; expected " << base::ToString(code);
   const std::string text = graph.Describe(result.error(), spec);
   if (result.error().code != code) {
     return ::testing::AssertionFailure()
-           << "code " << semantics::ToString(result.error().code) << ", expected "
-           << semantics::ToString(code) << ": " << text;
+           << "code " << base::ToString(result.error().code) << ", expected "
+           << base::ToString(code) << ": " << text;
   }
   for (std::string_view phrase : phrases) {
     if (text.find(phrase) == std::string::npos) {

@@ -26,7 +26,7 @@
 
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/scene_graph.h"
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 #include "support/alloc_counter.h"
 #include "support/rigid_body_scene.h"
 

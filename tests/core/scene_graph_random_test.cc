@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 #include "support/rigid_body_scene.h"
 #include "support/tolerance.h"
 #include "support/world_scene.h"
@@ -212,7 +212,7 @@ struct Tally {
   int non_edge_adds = 0, converted_twists = 0, same_body_edges = 0, cross_body_edges = 0;
   int removals = 0, regrasps = 0, updates = 0, constant_no_ops = 0;
   int illegal_attempts = 0;
-  int illegal_by_code[semantics::kNumErrorCodes] = {};  ///< rejections checked, by code
+  int illegal_by_code[base::kNumErrorCodes] = {};  ///< rejections checked, by code
 };
 
 template <class B>
@@ -437,7 +437,7 @@ class Harness {
   void ExpectRejected(const BuildResult& result, ErrorCode expected, const std::string& names_head,
                       const std::string& before, const std::string& what) {
     if (result) {
-      ADD_FAILURE() << what << " accepted; expected " << semantics::ToString(expected);
+      ADD_FAILURE() << what << " accepted; expected " << base::ToString(expected);
       return;
     }
     EXPECT_EQ(result.error().code, expected) << what << ": " << result.error().message;
@@ -713,12 +713,12 @@ class Harness {
   template <class Result>
   bool CheckOutcome(const Result& result, ErrorCode expected, const std::string& what) {
     if (expected == ErrorCode::kOk) {
-      EXPECT_TRUE(result) << what << " failed: " << semantics::ToString(result.error().code) << ": "
+      EXPECT_TRUE(result) << what << " failed: " << base::ToString(result.error().code) << ": "
                           << graph_.Describe(result.error());
       return static_cast<bool>(result);
     }
     if (result) {
-      ADD_FAILURE() << what << " succeeded; expected " << semantics::ToString(expected);
+      ADD_FAILURE() << what << " succeeded; expected " << base::ToString(expected);
       return false;
     }
     EXPECT_EQ(result.error().code, expected) << what << ": " << graph_.Describe(result.error());
@@ -783,7 +783,7 @@ void ExpectEveryIllegalKindSeen(const Tally& tally) {
        {ErrorCode::kSelfEdge, ErrorCode::kMultiplePoseParents, ErrorCode::kPoseCycle,
         ErrorCode::kDuplicatePosePath, ErrorCode::kTwistMergeConflict, ErrorCode::kTwistSameBody,
         ErrorCode::kMultipleTwistParents, ErrorCode::kDuplicateTwistPath}) {
-    EXPECT_GT(tally.illegal_by_code[static_cast<int>(code)], 0) << semantics::ToString(code);
+    EXPECT_GT(tally.illegal_by_code[static_cast<int>(code)], 0) << base::ToString(code);
   }
 }
 

@@ -59,11 +59,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
 namespace semgraph::reference {
 
-using semantics::ErrorCode;
+using base::ErrorCode;
 
 /// Pose of frame X wrt frame Y, expressed in [Y]: R_YX, p_YX.
 struct Transform {

@@ -49,10 +49,10 @@ std::string WriteDot(const core::SceneGraph<B>& graph) {
     }
     dot += "  }\n";
   }
-  graph.ForEachPoseEdge([&](core::FrameIndex tail, core::FrameIndex head) {
+  graph.topology().ForEachPoseEdge([&](core::FrameIndex tail, core::FrameIndex head) {
     dot += "  " + FrameId(tail) + " -> " + FrameId(head) + ";\n";
   });
-  graph.ForEachTwistEdge([&](core::BodyIndex tail, core::FrameIndex head) {
+  graph.topology().ForEachTwistEdge([&](core::BodyIndex tail, core::FrameIndex head) {
     dot += "  " + BodyId(tail) + " -> " + FrameId(head) + " [style=dashed];\n";
   });
   dot += "}\n";

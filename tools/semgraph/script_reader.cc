@@ -23,7 +23,7 @@ namespace semgraph::tools {
 
 namespace {
 
-using semantics::Unexpected;
+using base::Unexpected;
 
 constexpr std::uint32_t kNoNode = std::numeric_limits<std::uint32_t>::max();
 
@@ -740,7 +740,7 @@ bool Interpreter::ReadRotation(std::uint32_t node, RotationValue* out) {
 
 }  // namespace
 
-semantics::Expected<Script, ScriptError> ReadScript(std::string_view text) {
+base::Expected<Script, ScriptError> ReadScript(std::string_view text) {
   if (text.size() > kMaxScriptBytes) {
     return Unexpected{ScriptError{
         {1, 1}, "the script is larger than " + std::to_string(kMaxScriptBytes >> 20) + " MiB"}};

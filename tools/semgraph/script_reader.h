@@ -29,7 +29,7 @@
 #include <string_view>
 #include <vector>
 
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/expected.h"
 
 namespace semgraph::tools {
 
@@ -115,7 +115,7 @@ struct ScriptError {
 };
 
 /// Parses and validates a whole script. Never throws; never applies anything.
-[[nodiscard]] semantics::Expected<Script, ScriptError> ReadScript(std::string_view text);
+[[nodiscard]] base::Expected<Script, ScriptError> ReadScript(std::string_view text);
 
 /// "FILE:LINE:COLUMN: message", the tool's stderr line for a malformed script.
 [[nodiscard]] std::string FormatScriptError(std::string_view file_name, const ScriptError& error);

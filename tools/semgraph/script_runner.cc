@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
 namespace semgraph::tools {
 
@@ -80,9 +80,9 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
   return OpOutcome{true, json + "}"};
 }
 
-OpOutcome Failure(std::size_t index, semantics::ErrorCode code, std::string_view message) {
+OpOutcome Failure(std::size_t index, base::ErrorCode code, std::string_view message) {
   return OpOutcome{false, "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
-                              JsonString(semantics::ToString(code)) +
+                              JsonString(base::ToString(code)) +
                               ", \"message\": " + JsonString(message) + "}"};
 }
 
@@ -160,7 +160,7 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
       return FromBuild(index, graph.AddPose(spec, R, p));
     }
   }
-  semantics::DemandFailed("valid RotationForm", __FILE__, __LINE__);
+  base::DemandFailed("valid RotationForm", __FILE__, __LINE__);
 }
 
 template <coord::Backend B>
@@ -205,7 +205,7 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
       return Success(index, {{"angular", Values(w->value)}});
     }
   }
-  semantics::DemandFailed("valid QueryKind", __FILE__, __LINE__);
+  base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
 }
 
 }  // namespace
@@ -292,7 +292,7 @@ OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
   }
-  semantics::DemandFailed("valid OpKind", __FILE__, __LINE__);
+  base::DemandFailed("valid OpKind", __FILE__, __LINE__);
 }
 
 template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::QuaternionBackend>&,

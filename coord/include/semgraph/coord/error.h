@@ -19,13 +19,13 @@
 #include <string>
 #include <string_view>
 
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 #include "semgraph/semantics/mismatch.h"
 #include "semgraph/semantics/names.h"
 
 namespace semgraph::coord {
 
-using semantics::ErrorCode;
+using base::ErrorCode;
 
 /// Spec tolerance for rotations: | |q| - 1 | <= 1e-6; max |M^T M - I| <= 1e-6.
 inline constexpr double kRotationTolerance = 1e-6;

@@ -19,7 +19,7 @@
 namespace semgraph::coord {
 
 template <class T>
-using Result = semantics::Expected<T, Error>;
+using Result = base::Expected<T, Error>;
 
 namespace internal {
 inline Error SemanticError(const semantics::Mismatch& m) noexcept {

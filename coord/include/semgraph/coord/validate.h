@@ -13,13 +13,13 @@
 
 #include "semgraph/coord/error.h"
 #include "semgraph/coord/values.h"
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/expected.h"
 
 namespace semgraph::coord {
 
-using semantics::Expected;
-using semantics::Ok;
-using semantics::Unexpected;
+using base::Expected;
+using base::Ok;
+using base::Unexpected;
 
 [[nodiscard]] Expected<Eigen::Vector3d, Error> ValidateVector(const Eigen::Vector3d& v,
                                                               ValueRole role) noexcept;

@@ -1,13 +1,11 @@
 // File: semgraph/core/compiled_query.h
 //
-// Compiled queries: a query's semantics checked and its path resolved once (SceneGraph::Compile*,
-// build time, allocates), then evaluated any number of times on the real-time path.
-//
-// What compiling resolves: every pose edge on the (up to four) frame-to-frame paths the query
-// needs (paper Algorithm 1: the basic pose, the reference-point, point and coordinate-frame
-// changes), and for twists every twist edge on the TG path with its direction and the pose paths
-// that move it to the query's point and frame. Evaluate() then runs only the arithmetic: for a
-// frame-to-frame pose, one composition per edge, as a hand-written chain would.
+// Compiled queries: a query plan (query_plan.h: semantics checked, path resolved once, by
+// SceneGraph::Compile*, build time, allocates) with its chains flattened into an edge list,
+// then evaluated any number of times on the real-time path by the one evaluator (evaluate.h,
+// FlatSource). For a frame-to-frame pose that is one composition per edge, as a hand-written
+// chain would do. A compiled query reads the graph's EdgeValues only; it needs no access to the
+// graph's topology after compiling.
 //
 // Invariants: a compiled query holds, for every edge it reads, the edge's epoch at compile time;
 // removing an edge bumps its epoch, so Evaluate() of an affected query returns
@@ -23,11 +21,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "semgraph/core/scene_graph.h"
+#include "semgraph/core/edge_values.h"
+#include "semgraph/core/evaluate.h"
+#include "semgraph/core/query_plan.h"
 
 namespace semgraph::core {
 
-/// Shared machinery of the compiled queries: the resolved edges and the frame-to-frame paths.
+/// Shared machinery of the compiled queries: the flattened edges and the values they read.
 template <coord::Backend B>
 class CompiledQuery {
  public:
@@ -39,36 +39,18 @@ class CompiledQuery {
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return edges_.size(); }
 
  protected:
-  friend class SceneGraph<B>;
-  struct EdgeRef {
-    std::uint64_t expected_header;  // PoseValue<B>::ExpectedHeader(epoch of the edge when compiled)
-    std::uint32_t child;            // frame whose parent edge is read
-    [[nodiscard]] std::uint32_t epoch() const noexcept {
-      return static_cast<std::uint32_t>(expected_header >> 32);
-    }
-  };
-  // X_AF for a frame F below ancestor A: edges_[begin, end) from F upward.
-  struct Chain {
-    std::uint32_t begin = 0, end = 0;
-  };
-  // Basic pose X_BA (a wrt b in [b]) = X_CA * inverse(X_CB), C the common ancestor.
-  struct Basic {
-    Chain up_a, up_b;
-  };
-
+  using Chain = internal::FlatChain;
   CompiledQuery() = default;
-  explicit CompiledQuery(const SceneGraph<B>* graph) : graph_(graph) {}
+  explicit CompiledQuery(const EdgeValues<B>& values) : values_(&values) {}
 
-  /// Appends the basic-pose path between frames a and b (same tree) to edges_.
-  Basic AddBasic(FrameIndex a, FrameIndex b);
-  [[nodiscard]] bool EvalChain(Chain c, PoseCoords& X_AF, bool& identity) const noexcept;
-  /// Reads a twist edge's screw twist if its epoch is unchanged.
-  [[nodiscard]] bool LoadTwistEdge(std::uint32_t slot, std::uint32_t epoch, Eigen::Vector3d& v,
-                                   Eigen::Vector3d& w) const noexcept;
-  [[nodiscard]] bool EvalBasic(const Basic& basic, PoseCoords& X_BA) const noexcept;
+  /// Appends the edges of a one-shot chain to the list; returns their range.
+  Chain Flatten(const topology::SceneTopology& t, const ForestChain& c);
+  BasicPath<Chain> Flatten(const topology::SceneTopology& t, const BasicPath<ForestChain>& path);
+  PoseSteps<Chain> Flatten(const topology::SceneTopology& t, const PoseSteps<ForestChain>& s);
+  [[nodiscard]] internal::FlatSource<B> source() const noexcept { return {*values_, edges_.data()}; }
 
-  const SceneGraph<B>* graph_ = nullptr;
-  std::vector<EdgeRef> edges_;
+  const EdgeValues<B>* values_ = nullptr;
+  std::vector<internal::EdgeRef> edges_;
 };
 
 /// PoseCoord((e,[a])|C, (f,[b])|D, [r]).
@@ -76,16 +58,15 @@ template <coord::Backend B>
 class CompiledPose : public CompiledQuery<B> {
  public:
   CompiledPose() = default;
+  /// Made by SceneGraph::CompilePose from a checked plan of that graph.
+  CompiledPose(const topology::SceneTopology& t, const EdgeValues<B>& values, const PosePlan& plan);
   [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
-  /// Writes the pose (orientation operator and position, in [r]). kOk or kQueryInvalidated.
+  /// Writes the pose X (orientation operator and position, in [r]). kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X) const noexcept;
 
  private:
-  friend class SceneGraph<B>;
-  using Base = CompiledQuery<B>;
   semantics::PoseSemantics semantics_;
-  typename Base::Basic ab_, fb_, ea_, br_;
-  bool change_ref_point_ = false, change_point_ = false, change_frame_ = false;
+  PoseSteps<typename CompiledQuery<B>::Chain> steps_;
 };
 
 /// PositionCoord(e|C, f|D, [r]).
@@ -93,15 +74,14 @@ template <coord::Backend B>
 class CompiledPosition : public CompiledQuery<B> {
  public:
   CompiledPosition() = default;
+  CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values, const PositionPlan& plan);
   [[nodiscard]] const semantics::PositionSemantics& semantics() const noexcept { return semantics_; }
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p) const noexcept;
+  /// Writes p_FE_R, the position of e wrt f in [r]. kOk or kQueryInvalidated.
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R) const noexcept;
 
  private:
-  friend class SceneGraph<B>;
-  using Base = CompiledQuery<B>;
   semantics::PositionSemantics semantics_;
-  typename Base::Basic ef_, fr_;
-  bool change_frame_ = false;
+  PoseSteps<typename CompiledQuery<B>::Chain> steps_;
 };
 
 /// OrientationCoord([a]|C, [b]|D, [r]).
@@ -109,17 +89,17 @@ template <coord::Backend B>
 class CompiledOrientation : public CompiledQuery<B> {
  public:
   CompiledOrientation() = default;
+  CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                      const OrientationPlan& plan);
   [[nodiscard]] const semantics::OrientationSemantics& semantics() const noexcept {
     return semantics_;
   }
-  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& M) const noexcept;
+  /// Writes R_BA_R, the orientation operator of [a] wrt [b] in [r]. kOk or kQueryInvalidated.
+  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R) const noexcept;
 
  private:
-  friend class SceneGraph<B>;
-  using Base = CompiledQuery<B>;
   semantics::OrientationSemantics semantics_;
-  typename Base::Basic ab_, br_;
-  bool change_frame_ = false;
+  PoseSteps<typename CompiledQuery<B>::Chain> steps_;
 };
 
 /// TwistCoord(e|C, D, [r]); linear and angular velocity are its parts.
@@ -127,24 +107,15 @@ template <coord::Backend B>
 class CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
+  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
-  /// v: velocity of the point of C at e relative to D; w: angular velocity; both in [r].
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v, Eigen::Vector3d& w) const noexcept;
+  /// v_DCe_R: velocity of the point of C at e relative to D; w_DC_R: angular velocity; in [r].
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept;
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
  private:
-  friend class SceneGraph<B>;
-  using Base = CompiledQuery<B>;
-  struct Step {
-    std::uint32_t slot, epoch;  // twist edge
-    bool invert;                // traversed against its direction
-    bool move_point;            // head != e: v += p(h wrt e) x w
-    bool change_frame;          // head != r
-    typename Base::Basic eh;    // X_HE: e wrt h in [h]
-    typename Base::Basic hr;    // X_RH: h wrt r in [r]
-  };
   semantics::TwistSemantics semantics_;
-  std::vector<Step> steps_;
+  std::vector<TwistStep<typename CompiledQuery<B>::Chain>> steps_;
 };
 
 extern template class CompiledQuery<coord::QuaternionBackend>;

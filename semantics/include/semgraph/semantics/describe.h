@@ -32,5 +32,8 @@ namespace semgraph::semantics {
 
 /// "compose", "change_point", ...
 [[nodiscard]] std::string_view ToString(Operation op) noexcept;
+/// The role name of a field, e.g. "reference orientation frame": the one table of role names,
+/// used by every message that names an argument.
+[[nodiscard]] std::string_view FieldName(Field f) noexcept;
 
 }  // namespace semgraph::semantics

@@ -9,7 +9,7 @@
 
 #include <cstdint>
 
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 #include "semgraph/semantics/names.h"
 
 namespace semgraph::semantics {

@@ -20,25 +20,21 @@
 #include <memory>
 #include <vector>
 
-#include "semgraph/semantics/error_code.h"
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/error_code.h"
+#include "semgraph/base/expected.h"
+#include "semgraph/base/index.h"
 
 namespace semgraph::semantics {
 
-/// A dense id for an interned name. Default-constructed ids are invalid.
-class NameId {
- public:
-  static constexpr std::uint32_t kInvalid = std::numeric_limits<std::uint32_t>::max();
-  constexpr NameId() noexcept = default;
-  constexpr explicit NameId(std::uint32_t value) noexcept : value_(value) {}
-  [[nodiscard]] constexpr std::uint32_t value() const noexcept { return value_; }
-  [[nodiscard]] constexpr bool is_valid() const noexcept { return value_ != kInvalid; }
-  friend constexpr bool operator==(NameId, NameId) noexcept = default;
-  friend constexpr auto operator<=>(NameId, NameId) noexcept = default;
+// The foundations this layer's API is written in.
+using base::ErrorCode;
+using base::Expected;
+using base::Ok;
+using base::Unexpected;
 
- private:
-  std::uint32_t value_ = kInvalid;
-};
+/// A dense id for an interned name. Default-constructed ids are invalid.
+struct NameTag {};
+using NameId = base::StrongIndex<NameTag>;
 
 inline constexpr std::size_t kMaxNameBytes = 255;
 

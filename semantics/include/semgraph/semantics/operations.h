@@ -27,7 +27,7 @@
 // Cost: every function is O(1), noexcept, allocation-free and string-free.
 #pragma once
 
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/expected.h"
 #include "semgraph/semantics/mismatch.h"
 #include "semgraph/semantics/relations.h"
 

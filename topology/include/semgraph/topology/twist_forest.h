@@ -1,4 +1,4 @@
-// File: semgraph/core/twist_forest.h
+// File: semgraph/topology/twist_forest.h
 //
 // TwistForest: the body-level twist graph TG(P) of one pose tree P (spec §3). Nodes are bodies,
 // edges are twist edges D -> {h}|H seen undirected (a twist inverts), identified by an edge id
@@ -48,9 +48,9 @@
 #include <limits>
 #include <span>
 
-#include "semgraph/core/flat_map.h"
+#include "semgraph/topology/flat_map.h"
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 /// One step of a twist path: cross twist edge `edge` from body `from` to body `to`. The step
 /// follows the edge's direction iff `from` is the edge's tail (see TwistForest::FindEdge).
@@ -200,4 +200,4 @@ class TwistForest {
   FlatMap<TwistEdgeEnds> edges_;
 };
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,4 +1,4 @@
-#include "semgraph/core/twist_forest.h"
+#include "semgraph/topology/twist_forest.h"
 
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
-namespace semgraph::core {
+namespace semgraph::topology {
 namespace {
 
 constexpr std::size_t kNoPath = TwistForest::kNoPath;
@@ -437,4 +437,4 @@ TEST(TwistForest, StaysCorrectForThousandsOfBodies) {
 }
 
 }  // namespace
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,4 +1,4 @@
-// File: semgraph/semantics/expected.h
+// File: semgraph/base/expected.h
 //
 // Expected<T, E>: a value or an error, the return type of every fallible semgraph call
 // (std::expected is C++23; Debian has no tl-expected). Deliberately small: no monadic
@@ -10,23 +10,13 @@
 // Cost: construction and access are O(1), noexcept, allocation-free (beyond what T or E do).
 #pragma once
 
-#include <cstdio>
-#include <cstdlib>
 #include <new>
 #include <type_traits>
 #include <utility>
 
-namespace semgraph::semantics {
+#include "semgraph/base/demand.h"
 
-/// Always-on check for programming errors (wrong alternative accessed, broken invariant).
-/// Aborts with a message; never throws.
-[[noreturn]] void DemandFailed(const char* condition, const char* file, int line) noexcept;
-
-#define SEMGRAPH_DEMAND(condition)                                                   \
-  do {                                                                               \
-    if (!(condition)) [[unlikely]]                                                   \
-      ::semgraph::semantics::DemandFailed(#condition, __FILE__, __LINE__);           \
-  } while (false)
+namespace semgraph::base {
 
 /// Wraps an error so that `return Unexpected{err};` converts to any Expected<T, E>.
 template <class E>
@@ -132,4 +122,4 @@ class [[nodiscard]] Expected {
 /// Expected<void, E>: success carries nothing.
 struct Ok {};
 
-}  // namespace semgraph::semantics
+}  // namespace semgraph::base

@@ -1,4 +1,4 @@
-// File: semgraph/core/flat_map.h
+// File: semgraph/topology/flat_map.h
 //
 // FlatMap<V>: an open-addressing hash map from std::uint32_t keys to small trivially copyable
 // values, the per-body and per-edge store of the scene graph's topology structures. It exists
@@ -37,9 +37,9 @@
 #include <utility>
 #include <vector>
 
-#include "semgraph/semantics/expected.h"  // SEMGRAPH_DEMAND
+#include "semgraph/base/demand.h"
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 template <class V>
 class FlatMap {
@@ -213,4 +213,4 @@ class FlatMap {
   int shift_ = 64;  // 64 - log2(capacity); unused while slots_ is empty
 };
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,6 +1,6 @@
-// File: semgraph/semantics/error_code.h
+// File: semgraph/base/error_code.h
 //
-// The stable error codes of spec/scene-graph.md (snake_case names on the wire), plus
+// The stable error codes of docs/rules.md (snake_case names on the wire), plus
 // `semantic_mismatch` for a failed precondition of a semantic operation. One enum for every
 // layer, so that a code crosses layers unchanged.
 // Cost: ToString is a table lookup; it returns a static string (no allocation).
@@ -10,7 +10,7 @@
 #include <optional>
 #include <string_view>
 
-namespace semgraph::semantics {
+namespace semgraph::base {
 
 enum class ErrorCode : std::uint8_t {
   kOk = 0,
@@ -57,4 +57,4 @@ inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kQueryInvalida
 /// Inverse of ToString; nullopt for an unknown name.
 [[nodiscard]] std::optional<ErrorCode> ErrorCodeFromString(std::string_view name) noexcept;
 
-}  // namespace semgraph::semantics
+}  // namespace semgraph::base

@@ -1,4 +1,4 @@
-// File: semgraph/core/pose_forest.h
+// File: semgraph/topology/pose_forest.h
 //
 // PoseForest: the topology of the scene graph's pose forest over frames 0 .. n-1. A pose edge
 // tail -> head makes the tail the parent of the head (spec §2: P1, a frame has at most one pose
@@ -46,9 +46,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "semgraph/core/ids.h"
+#include "semgraph/topology/ids.h"
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 class PoseForest {
  public:
@@ -165,4 +165,4 @@ class PoseForest {
   std::vector<std::uint32_t> prev_sibling_;
 };
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

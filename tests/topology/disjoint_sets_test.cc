@@ -1,4 +1,4 @@
-#include "semgraph/core/disjoint_sets.h"
+#include "semgraph/topology/disjoint_sets.h"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +22,7 @@ void* operator new(std::size_t n) {
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
-namespace semgraph::core {
+namespace semgraph::topology {
 namespace {
 
 DisjointSets WithElements(std::uint32_t n) {
@@ -192,4 +192,4 @@ TEST(DisjointSets, RandomSplitsAgreeWithNaiveLabels) {
 }
 
 }  // namespace
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,4 +1,4 @@
-#include "semgraph/core/pose_forest.h"
+#include "semgraph/topology/pose_forest.h"
 
 #include <gtest/gtest.h>
 
@@ -26,7 +26,7 @@ void* operator new(std::size_t n) {
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
-namespace semgraph::core {
+namespace semgraph::topology {
 namespace {
 
 constexpr std::uint32_t kNone = FrameIndex::kInvalid;
@@ -416,4 +416,4 @@ TEST(PoseForestDeathTest, CutOfARootAborts) {
 }
 
 }  // namespace
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

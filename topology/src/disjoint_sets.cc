@@ -1,12 +1,12 @@
-#include "semgraph/core/disjoint_sets.h"
+#include "semgraph/topology/disjoint_sets.h"
 
 #include <algorithm>
 #include <limits>
 #include <utility>
 
-#include "semgraph/semantics/expected.h"  // SEMGRAPH_DEMAND
+#include "semgraph/base/demand.h"
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 void DisjointSets::Reserve(std::size_t n) {
   link_.reserve(n);
@@ -81,4 +81,4 @@ bool DisjointSets::CheckInvariants() const {
   return true;
 }
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,4 +1,4 @@
-#include "semgraph/core/flat_map.h"
+#include "semgraph/topology/flat_map.h"
 
 #include <gtest/gtest.h>
 
@@ -26,7 +26,7 @@ void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
-namespace semgraph::core {
+namespace semgraph::topology {
 namespace {
 
 struct Payload {
@@ -207,4 +207,4 @@ TEST(FlatMap, MovingLeavesTheSourceEmptyAndCopyingIsDeep) {
 }
 
 }  // namespace
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,12 +1,12 @@
-#include "semgraph/core/pose_forest.h"
+#include "semgraph/topology/pose_forest.h"
 
 #include <algorithm>
 #include <bit>
 #include <utility>
 
-#include "semgraph/semantics/expected.h"  // SEMGRAPH_DEMAND
+#include "semgraph/base/demand.h"
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 void PoseForest::Reserve(std::size_t n) {
   // reserve() only changes capacity, so a bad_alloc part way leaves the forest as it was.
@@ -212,4 +212,4 @@ bool PoseForest::CheckInvariants() const {
   return listed_children == non_roots;
 }
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

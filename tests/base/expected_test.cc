@@ -1,7 +1,7 @@
-// Tests for semgraph/semantics/expected.h: Expected<T, E> holds exactly one alternative, copies
+// Tests for semgraph/base/expected.h: Expected<T, E> holds exactly one alternative, copies
 // and moves it correctly (also across alternatives), constructs and destroys each alternative
 // exactly once, and aborts on access to the wrong alternative.
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/expected.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <type_traits>
 #include <utility>
 
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
-namespace semgraph::semantics {
+namespace semgraph::base {
 namespace {
 
 struct SmallError {
@@ -223,4 +223,4 @@ TEST(ExpectedDeathTest, DemandNamesTheFailedCondition) {
 }
 
 }  // namespace
-}  // namespace semgraph::semantics
+}  // namespace semgraph::base

@@ -1,4 +1,4 @@
-// File: semgraph/core/disjoint_sets.h
+// File: semgraph/topology/disjoint_sets.h
 //
 // DisjointSets: union-find over elements 0 .. n-1 (plain std::uint32_t). The scene graph uses
 // it for "which pose tree is a frame in": elements are frame indices, one set per pose tree, so
@@ -36,7 +36,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 class DisjointSets {
  public:
@@ -105,4 +105,4 @@ class DisjointSets {
   std::vector<std::uint32_t> size_;  // set size, meaningful at representatives only
 };
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,8 +1,8 @@
-#include "semgraph/core/twist_forest.h"
+#include "semgraph/topology/twist_forest.h"
 
 #include <utility>
 
-namespace semgraph::core {
+namespace semgraph::topology {
 
 // ---- Accessors --------------------------------------------------------------------------------
 
@@ -385,4 +385,4 @@ bool TwistForest::CheckInvariants() const {
   return ok;
 }
 
-}  // namespace semgraph::core
+}  // namespace semgraph::topology

@@ -1,10 +1,12 @@
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
 #include <array>
+#include <cstdio>
+#include <cstdlib>
 
-#include "semgraph/semantics/expected.h"
+#include "semgraph/base/demand.h"
 
-namespace semgraph::semantics {
+namespace semgraph::base {
 namespace {
 constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "ok",
@@ -54,4 +56,4 @@ void DemandFailed(const char* condition, const char* file, int line) noexcept {
   std::abort();
 }
 
-}  // namespace semgraph::semantics
+}  // namespace semgraph::base

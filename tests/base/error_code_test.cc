@@ -1,6 +1,6 @@
-// Tests for semgraph/semantics/error_code.h: every code has the spec's snake_case name, and
+// Tests for semgraph/base/error_code.h: every code has the spec's snake_case name, and
 // ToString / ErrorCodeFromString are inverse to each other.
-#include "semgraph/semantics/error_code.h"
+#include "semgraph/base/error_code.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-namespace semgraph::semantics {
+namespace semgraph::base {
 namespace {
 
 // Every enumerator with its wire name, in enum order. The names come from
@@ -131,4 +131,4 @@ TEST(ErrorCode, ToStringReturnsStaticStorage) {
 }
 
 }  // namespace
-}  // namespace semgraph::semantics
+}  // namespace semgraph::base

@@ -1,0 +1,279 @@
+// File: semgraph/core/evaluate.h
+//
+// The one evaluator of the paper's Algorithms 1-3 over a query plan (query_plan.h). Every
+// answer of the scene graph is computed here: one-shot queries, compiled queries, and the
+// edge-form conversion of AddPose / AddTwist (the plan run backwards: ToEdgeForm).
+//
+// The evaluator is generic over a chain source, which says how to compose X_AF for one chain:
+//   ForestSource  walks parent pointers from F up to A (one-shot queries, conversions). Debug and
+//                 SEMGRAPH_EXPENSIVE_CHECKS builds replay each chain through the checked
+//                 coord::Compose and demand the same semantics, verifying the shortcut below.
+//   FlatSource    composes a compiled query's flattened edge list, checking each edge's epoch
+//                 through its sequence lock (a removed edge fails the evaluation).
+// Why no semantic checks here: a plan is made only after every semantic check passed, and each
+// composition along a chain is valid by the forest invariant (the edge into g stores
+// PoseCoord({g}|G, {p}|P, [p]) and the next edge up starts at p). So only numbers remain, with
+// coord's kernels; the result carries the plan's semantics.
+//
+// Costs: O(edges on the plan's chains) backend compositions; noexcept, allocation-free,
+// lock-free, string-free. Thread safety: reads values through sequence locks only.
+#pragma once
+
+#include <cstdint>
+#include <type_traits>
+
+#include "semgraph/base/demand.h"
+#include "semgraph/coord/homogeneous_backend.h"
+#include "semgraph/coord/operations.h"
+#include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/edge_values.h"
+#include "semgraph/core/query_plan.h"
+
+namespace semgraph::core::internal {
+
+/// What a pose evaluation delivers: the whole pose, or only its translation or rotation (the
+/// position and orientation queries skip the other half's arithmetic).
+enum class Part { kPose, kTranslation, kRotation };
+
+/// Composes one-shot chains by walking the pose forest.
+template <coord::Backend B>
+class ForestSource {
+ public:
+  using Chain = ForestChain;
+  using PoseCoords = typename B::PoseCoords;
+
+  ForestSource(const topology::SceneTopology& t, const EdgeValues<B>& v) noexcept : t_(t), v_(v) {}
+
+  /// X_AF, A = c.to above F = c.from; identity when F == A.
+  bool EvalChain(const ForestChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+    identity = c.from == c.to;
+    if (identity) return true;
+    X_AF = v_.X_PF[c.from.value()].Load();
+    for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+      X_AF = B::ComposeChain(X_AF, v_.X_PF[g.value()].Load());
+    }
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+    ReplayChecked(c);
+#endif
+    return true;
+  }
+  bool LoadTwist(const TwistStep<ForestChain>& s, TwistNumbers& V) const noexcept {
+    V = v_.V_DH[s.edge.value()].Load();
+    return true;
+  }
+
+ private:
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+  coord::Pose<B> EdgePose(FrameIndex child) const noexcept {
+    const FrameIndex parent = t_.pose_parent(child);
+    return coord::Pose<B>{semantics::PoseSemantics::OfFrame(t_.FrameSem(child), t_.BodyOfSem(child),
+                                                            t_.FrameSem(parent), t_.BodyOfSem(parent),
+                                                            t_.FrameSem(parent).axes()),
+                          v_.X_PF[child.value()].Load()};
+  }
+  void ReplayChecked(const ForestChain& c) const noexcept {
+    coord::Pose<B> checked = EdgePose(c.from);
+    for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+      auto next = coord::Compose(checked, EdgePose(g));
+      SEMGRAPH_DEMAND(next.has_value());
+      checked = *next;
+    }
+    SEMGRAPH_DEMAND(checked.semantics ==
+                    semantics::PoseSemantics::OfFrame(t_.FrameSem(c.from), t_.BodyOfSem(c.from),
+                                                      t_.FrameSem(c.to), t_.BodyOfSem(c.to),
+                                                      t_.FrameSem(c.to).axes()));
+  }
+#endif
+  const topology::SceneTopology& t_;
+  const EdgeValues<B>& v_;
+};
+
+/// A compiled query's edge: the frame whose parent edge is read, and the sequence-lock header
+/// it must carry (its epoch when compiled, no write in progress).
+struct EdgeRef {
+  std::uint64_t expected_header;
+  std::uint32_t child;
+  [[nodiscard]] std::uint32_t epoch() const noexcept { return static_cast<std::uint32_t>(expected_header >> 32); }
+};
+/// X_AF of a compiled query: edges [begin, end) of its list, from F upward.
+struct FlatChain {
+  std::uint32_t begin = 0, end = 0;
+};
+
+/// Composes a compiled query's flattened chains; fails when an edge's epoch changed.
+template <coord::Backend B>
+class FlatSource {
+ public:
+  using Chain = FlatChain;
+  using PoseCoords = typename B::PoseCoords;
+
+  FlatSource(const EdgeValues<B>& v, const EdgeRef* edges) noexcept : v_(v), edges_(edges) {}
+
+  // The edges are stored from F upward and composed top-down, acc = acc * X_i, as a
+  // hand-written chain would (p += q p_i; q = q q_i for quaternions), so the loop-carried
+  // dependency is one rotation product.
+  bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+    identity = c.begin == c.end;
+    if (identity) return true;
+    const PoseValue<B>* values = v_.X_PF.data();
+    const EdgeRef* first = edges_ + c.begin;
+    const EdgeRef* e = edges_ + c.end - 1;
+    if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
+      // The hot case: rebuild each edge's quaternion and vector straight from the locked words
+      // (x y z w, then p), so nothing round-trips through the stack.
+      using Words = typename PoseValue<B>::Word[PoseValue<B>::kWords];
+      const auto load = [&](const EdgeRef& r, Eigen::Quaterniond& q, Eigen::Vector3d& p) {
+        Words w;
+        if (!values[r.child].LoadWords(w, r.expected_header)) return false;
+        q = Eigen::Quaterniond(w[3], w[0], w[1], w[2]);
+        p = Eigen::Vector3d(w[4], w[5], w[6]);
+        return true;
+      };
+      Eigen::Quaterniond q;
+      Eigen::Vector3d p;
+      if (!load(*e, q, p)) return false;
+      while (e != first) {
+        --e;
+        Eigen::Quaterniond q_i;
+        Eigen::Vector3d p_i;
+        if (!load(*e, q_i, p_i)) return false;
+        p += q * p_i;
+        q = q * q_i;
+      }
+      X_AF = PoseCoords{q, p};
+      return true;
+    } else {
+      PoseCoords acc;
+      if (!values[e->child].Load(acc, e->epoch())) return false;
+      while (e != first) {
+        --e;
+        PoseCoords X_i;
+        if (!values[e->child].Load(X_i, e->epoch())) return false;
+        acc = B::ComposeChain(X_i, acc);
+      }
+      X_AF = acc;
+      return true;
+    }
+  }
+  bool LoadTwist(const TwistStep<FlatChain>& s, TwistNumbers& V) const noexcept {
+    return v_.V_DH[s.edge.value()].Load(V, s.epoch);
+  }
+
+ private:
+  const EdgeValues<B>& v_;
+  const EdgeRef* edges_;
+};
+
+/// Algorithm 2: X_BA = X_CA X_CB^-1, with no composition with an identity.
+template <coord::Backend B, class Source>
+bool EvalBasic(const Source& src, const BasicPath<typename Source::Chain>& path,
+               typename B::PoseCoords& X_BA) noexcept {
+  typename B::PoseCoords X_CA, X_CB;
+  bool a_identity, b_identity;
+  if (!src.EvalChain(path.up_a, X_CA, a_identity) || !src.EvalChain(path.up_b, X_CB, b_identity)) {
+    return false;
+  }
+  if (b_identity) {
+    X_BA = a_identity ? B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero())
+                      : X_CA;
+  } else if (a_identity) {
+    X_BA = B::InvertChain(X_CB);
+  } else {
+    X_BA = B::ComposeChain(X_CA, B::InvertChain(X_CB));
+  }
+  return true;
+}
+
+/// Algorithm 1 on numbers: X_BA in [b], then reference point, point, coordinate frame.
+/// Writes R (orientation operator in [r]) unless P == kTranslation, p (position in [r]) unless
+/// P == kRotation. False when a compiled edge changed epoch.
+template <coord::Backend B, Part P, class Source>
+bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s, typename B::Rotation& R,
+                  Eigen::Vector3d& p) noexcept {
+  typename B::PoseCoords X_BA;
+  if (!EvalBasic<B>(src, s.ab, X_BA)) return false;
+  R = B::RotationOf(X_BA);
+  if constexpr (P != Part::kRotation) {
+    p = B::TranslationOf(X_BA);
+    if (s.change_ref_point) {  // p_FE = p_BE - p_BF
+      typename B::PoseCoords X_BF;
+      if (!EvalBasic<B>(src, s.fb, X_BF)) return false;
+      p -= B::TranslationOf(X_BF);
+    }
+    if (s.change_point) {  // p_BE = p_BA + R_BA p_AE_A
+      typename B::PoseCoords X_AE;
+      if (!EvalBasic<B>(src, s.ea, X_AE)) return false;
+      p += B::Rotate(R, B::TranslationOf(X_AE));
+    }
+  }
+  if (s.change_frame) {  // [b] -> [r]: p' = R_RB p, R' = R_RB R R_RB^T
+    typename B::PoseCoords X_RB;
+    if (!EvalBasic<B>(src, s.br, X_RB)) return false;
+    const typename B::Rotation R_RB = B::RotationOf(X_RB);
+    if constexpr (P == Part::kTranslation) {
+      p = B::Rotate(R_RB, p);
+    } else {
+      const auto X = coord::kernels::Reexpress<B>(B::MakePose(R, P == Part::kPose ? p : Eigen::Vector3d::Zero()), R_RB);
+      R = B::RotationOf(X);
+      if constexpr (P == Part::kPose) p = B::TranslationOf(X);
+    }
+  }
+  return true;
+}
+
+/// Algorithm 1 backwards: the edge form X_BA (a wrt b in [b]) of a pose given as
+/// (e,[a]) wrt (f,[b]) in [r], with the plan of that pose. The steps are undone in reverse:
+/// [r] -> [b], then the reference point f -> b (p += p_BF) and the point e -> a
+/// (p -= R_BA p_AE_A). The plan's basic pose ab is not read (it is the unknown).
+template <coord::Backend B>
+typename B::PoseCoords ToEdgeForm(const ForestSource<B>& src, const PoseSteps<ForestChain>& s,
+                                  const typename B::PoseCoords& X_given) noexcept {
+  typename B::PoseCoords X = X_given;
+  if (s.change_frame) {
+    typename B::PoseCoords X_RB;
+    EvalBasic<B>(src, s.br, X_RB);
+    X = coord::kernels::Reexpress<B>(X, B::Transpose(B::RotationOf(X_RB)));
+  }
+  typename B::Rotation R_BA = B::RotationOf(X);
+  Eigen::Vector3d p_BA = B::TranslationOf(X);
+  if (s.change_ref_point) {
+    typename B::PoseCoords X_BF;
+    EvalBasic<B>(src, s.fb, X_BF);
+    p_BA += B::TranslationOf(X_BF);
+  }
+  if (s.change_point) {
+    typename B::PoseCoords X_AE;
+    EvalBasic<B>(src, s.ea, X_AE);
+    p_BA -= B::Rotate(R_BA, B::TranslationOf(X_AE));
+  }
+  return B::MakePose(R_BA, p_BA);
+}
+
+/// Algorithm 3, one twist edge: its screw twist, inverted if traversed against its direction,
+/// moved to point e and re-expressed in [r], added to (v, w). False when a compiled edge
+/// changed epoch.
+template <coord::Backend B, class Source>
+bool AccumulateTwistStep(const Source& src, const TwistStep<typename Source::Chain>& s, Eigen::Vector3d& v,
+                         Eigen::Vector3d& w) noexcept {
+  TwistNumbers V;  // TwistCoord(h|H, D, [h])
+  if (!src.LoadTwist(s, V)) return false;
+  Eigen::Vector3d v_i = s.invert ? Eigen::Vector3d(-V.v_DHo_H) : V.v_DHo_H;
+  Eigen::Vector3d w_i = s.invert ? Eigen::Vector3d(-V.w_DH_H) : V.w_DH_H;
+  if (s.move_point) {  // v_e = v_h + p_EH x w, with p_EH = -p_HE (both in [h])
+    typename B::PoseCoords X_HE;
+    if (!EvalBasic<B>(src, s.eh, X_HE)) return false;
+    v_i = coord::kernels::ShiftLinear(v_i, w_i, -B::TranslationOf(X_HE));
+  }
+  if (s.change_frame) {
+    typename B::PoseCoords X_RH;
+    if (!EvalBasic<B>(src, s.hr, X_RH)) return false;
+    const typename B::Rotation R_RH = B::RotationOf(X_RH);
+    v_i = B::Rotate(R_RH, v_i);
+    w_i = B::Rotate(R_RH, w_i);
+  }
+  v += v_i;
+  w += w_i;
+  return true;
+}
+
+}  // namespace semgraph::core::internal

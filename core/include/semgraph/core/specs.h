@@ -1,0 +1,124 @@
+// File: semgraph/core/specs.h
+//
+// The words of the scene graph's API, with no numbers: the names of a query or an add by role
+// (PoseSpec, TwistSpec), and the two error types. Build-time calls return BuildError (a code
+// and a formatted message); queries return QueryError (small, trivially copyable, no strings;
+// SceneGraph::Describe formats it off the hot path).
+// Cost: all O(1) plain values; the builders copy string_views (no allocation, no ownership:
+// the names must outlive the spec).
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "semgraph/base/error_code.h"
+#include "semgraph/base/expected.h"
+#include "semgraph/coord/error.h"
+#include "semgraph/semantics/mismatch.h"
+#include "semgraph/semantics/names.h"
+
+namespace semgraph::core {
+
+using base::ErrorCode;
+using base::Expected;
+using base::Ok;
+using semantics::NameId;
+
+/// A rejected build-time operation: a stable code (docs/rules.md) and a message naming the
+/// frames / bodies involved and the existing relation it conflicts with.
+struct BuildError {
+  ErrorCode code = ErrorCode::kOk;
+  std::string message;
+};
+using BuildResult = Expected<Ok, BuildError>;
+
+/// A failed query: small, trivially copyable, no strings (formatted later by Describe).
+/// What `name`, `other` and `asked` hold depends on the code:
+///   invalid_name          field: the argument; no names (the name may be unprintable)
+///   unknown_frame/_body   name: the argument's name (invalid if never interned)
+///   frame_body_mismatch   name: the frame; other: its actual body; asked: the body the query named
+///   no_pose_path          name, other: the two frames in different pose trees
+///   no_twist_path         name, other: the two bodies no twist path joins
+///   representation_constraint, semantic_mismatch: detail
+struct QueryError {
+  ErrorCode code = ErrorCode::kOk;
+  semantics::Field field = semantics::Field::kPoint;  ///< the argument that is unknown/mismatched
+  NameId name;
+  NameId other;
+  NameId asked;
+  coord::Error detail;
+};
+template <class T>
+using QueryResult = Expected<T, QueryError>;
+
+/// The names of a pose, position or orientation, by role. Build with the helpers:
+///   PoseSpec::Of("f1", "O1").RelativeTo("o2", "O2").ExpressedIn("c")
+/// Of(x) sets point = orientation = x; RelativeTo(y) sets ref point = ref orientation =
+/// coordinate frame = y; ExpressedIn(r) then overrides the coordinate frame. Bodies may be empty
+/// when the frames exist (they are then taken from the frames, and checked when given).
+struct PoseSpec {
+  std::string_view point, orientation, body;
+  std::string_view ref_point, ref_orientation, ref_body;
+  std::string_view coordinate_frame;
+
+  static PoseSpec Of(std::string_view frame, std::string_view body_name = {}) {
+    PoseSpec s;
+    s.point = s.orientation = frame;
+    s.body = body_name;
+    return s;
+  }
+  PoseSpec& RelativeTo(std::string_view frame, std::string_view body_name = {}) {
+    ref_point = ref_orientation = coordinate_frame = frame;
+    ref_body = body_name;
+    return *this;
+  }
+  PoseSpec& ExpressedIn(std::string_view frame) {
+    coordinate_frame = frame;
+    return *this;
+  }
+  PoseSpec& AtPoint(std::string_view p) {
+    point = p;
+    return *this;
+  }
+  PoseSpec& RelativeToPoint(std::string_view p) {
+    ref_point = p;
+    return *this;
+  }
+  /// The name this spec gives to a role.
+  [[nodiscard]] std::string_view field(semantics::Field f) const noexcept {
+    switch (f) {
+      case semantics::Field::kPoint: return point;
+      case semantics::Field::kOrientation: return orientation;
+      case semantics::Field::kBody: return body;
+      case semantics::Field::kRefPoint: return ref_point;
+      case semantics::Field::kRefOrientation: return ref_orientation;
+      case semantics::Field::kRefBody: return ref_body;
+      case semantics::Field::kCoordinateFrame: return coordinate_frame;
+    }
+    return {};
+  }
+};
+
+/// The names of a twist / linear / angular velocity: point e (any frame's origin: the point of
+/// `body` coinciding with it), body C (default: the body of e's frame), ref body D, [r].
+///   TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2")
+struct TwistSpec {
+  std::string_view point, body, ref_body, coordinate_frame;
+
+  static TwistSpec Of(std::string_view point_name, std::string_view body_name = {}) {
+    TwistSpec s;
+    s.point = point_name;
+    s.body = body_name;
+    return s;
+  }
+  TwistSpec& RelativeTo(std::string_view body_name) {
+    ref_body = body_name;
+    return *this;
+  }
+  TwistSpec& ExpressedIn(std::string_view frame) {
+    coordinate_frame = frame;
+    return *this;
+  }
+};
+
+}  // namespace semgraph::core

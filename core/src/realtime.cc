@@ -1,0 +1,121 @@
+// The real-time write path: handles made at build time, then SetPose / SetTwist (noexcept,
+// allocation-free, lock-free, string-free). Contract: scene_graph.h, docs/realtime.md.
+#include "semgraph/core/scene_graph.h"
+#include "text.h"
+
+namespace semgraph::core {
+
+using base::Unexpected;
+using text::Reject;
+
+template <coord::Backend B>
+Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of,
+                                                            std::string_view relative_to) const {
+  const auto what = [&] {
+    return "handle of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
+  };
+  const topology::SceneTopology& t = topology_;
+  const FrameIndex h = FindFrame(of), tail = FindFrame(relative_to);
+  if (!h.is_valid() || !tail.is_valid()) {
+    return Unexpected{Reject(ErrorCode::kUnknownFrame, what(),
+                             "frame {" + std::string(h.is_valid() ? relative_to : of) + "} does not exist")
+                          .error()};
+  }
+  if (!topology::PoseEdgeExists(t, tail, h)) {
+    return Unexpected{Reject(ErrorCode::kNoSuchEdge, what(),
+                             "there is no pose edge " + text::Frame(t, tail) + " -> " + text::Frame(t, h))
+                          .error()};
+  }
+  if (topology::IsConstantEdge(t, tail, h)) {
+    return Unexpected{Reject(ErrorCode::kConstantPoseChange, what(),
+                             text::Frame(t, h) + " and " + text::Frame(t, tail) +
+                                 " are fixed to one body: their pose is constant")
+                          .error()};
+  }
+  return PoseHandle{h, values_.X_PF[h.value()].epoch()};
+}
+
+template <coord::Backend B>
+Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view of,
+                                                              std::string_view relative_to) const {
+  const auto what = [&] { return "handle of the twist of " + std::string(of) + " wrt " + std::string(relative_to); };
+  const topology::SceneTopology& t = topology_;
+  const FrameIndex h = FindFrame(of);
+  if (!h.is_valid()) {
+    return Unexpected{Reject(ErrorCode::kUnknownFrame, what(), "frame {" + std::string(of) + "} does not exist").error()};
+  }
+  const BodyIndex D = FindBody(relative_to);
+  if (!D.is_valid()) {
+    return Unexpected{
+        Reject(ErrorCode::kUnknownBody, what(), "body " + std::string(relative_to) + " does not exist").error()};
+  }
+  const TwistEdgeIndex edge = t.twist_edge_of(h);
+  if (!edge.is_valid() || t.twist_edge(edge).tail != D) {
+    return Unexpected{Reject(ErrorCode::kNoSuchEdge, what(),
+                             "there is no twist edge " + std::string(relative_to) + " -> " + text::Frame(t, h))
+                          .error()};
+  }
+  return TwistHandle{edge, values_.V_DH[edge.value()].epoch()};
+}
+
+namespace {
+// The rotation of a real-time pose update, validated (and normalized) without allocating.
+inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept { return coord::ValidateQuaternion(q); }
+inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::ValidateRotationMatrix(R); }
+}  // namespace
+
+template <coord::Backend B>
+template <class R>
+ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T) noexcept {
+  if (!edge.child.is_valid() || edge.child.value() >= values_.X_PF.size() ||
+      values_.X_PF[edge.child.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
+  if (!p) return p.error().code;
+  auto M = ValidateRotation(rotation);
+  if (!M) return M.error().code;
+  if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
+    values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(*M), *p));
+  } else {
+    values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromMatrix(*M), *p));
+  }
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ToHo_T) noexcept {
+  return SetPoseImpl(edge, q_TH, p_ToHo_T);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T) noexcept {
+  return SetPoseImpl(edge, R_TH, p_ToHo_T);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                  const Eigen::Vector3d& w_DH_H) noexcept {
+  if (!edge.slot.is_valid() || edge.slot.value() >= topology_.num_twist_edge_slots() ||
+      !topology_.twist_edge(edge.slot).alive || values_.V_DH[edge.slot.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
+  if (!v) return v.error().code;
+  auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
+  if (!w) return w.error().code;
+  values_.V_DH[edge.slot.value()].Store(TwistNumbers{*v, *w});
+  return ErrorCode::kOk;
+}
+
+#define SEMGRAPH_INSTANTIATE_REALTIME(B)                                                                    \
+  template Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view, std::string_view) const; \
+  template Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view, std::string_view) const; \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&) noexcept;    \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept;
+SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)
+SEMGRAPH_INSTANTIATE_REALTIME(coord::HomogeneousBackend)
+
+}  // namespace semgraph::core

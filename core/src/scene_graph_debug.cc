@@ -1,0 +1,77 @@
+// SceneGraph debug output and checks: Dump (canonical text of names, nodes, edges and values,
+// for tests and fuzzers comparing states), CheckInvariants (the topology's, from scratch, plus
+// the values' bookkeeping) and ApproximateBytesExcludingNames. Not on any production path.
+#include <sstream>
+
+#include "semgraph/core/scene_graph.h"
+#include "text.h"
+
+namespace semgraph::core {
+
+template <coord::Backend B>
+BodyIndex SceneGraph<B>::twist_parent(FrameIndex f) const noexcept {
+  const TwistEdgeIndex e = topology_.twist_edge_of(f);
+  return e.is_valid() ? topology_.twist_edge(e).tail : BodyIndex();
+}
+
+template <coord::Backend B>
+std::optional<coord::Twist> SceneGraph<B>::twist_value(FrameIndex f) const noexcept {
+  const TwistEdgeIndex e = topology_.twist_edge_of(f);
+  if (!e.is_valid()) return std::nullopt;
+  const TwistNumbers V = values_.V_DH[e.value()].Load();
+  return coord::Twist{topology_.twist_edge(e).semantics, V.v_DHo_H, V.w_DH_H};
+}
+
+template <coord::Backend B>
+std::string SceneGraph<B>::Dump() const {
+  const topology::SceneTopology& t = topology_;
+  const semantics::NameTable& names = t.names();
+  std::ostringstream out;
+  out.precision(17);
+  out << "representation " << B::kName << "\nnames " << names.size() << "\n";
+  for (std::size_t i = 0; i < names.size(); ++i) out << "  name " << i << " " << names.name(NameId(i)) << "\n";
+  out << "bodies " << t.num_bodies() << "\n";
+  for (std::size_t i = 0; i < t.num_bodies(); ++i) out << "  body " << i << " " << body_name(BodyIndex(i)) << "\n";
+  out << "frames " << t.num_frames() << "\n";
+  for (std::uint32_t i = 0; i < t.num_frames(); ++i) {
+    const FrameIndex f(i);
+    out << "  frame " << i << " " << text::Frame(t, f);
+    if (t.pose_parent(f).is_valid()) {
+      const auto X = values_.X_PF[i].Load();
+      const Eigen::Quaterniond q = B::ToQuaternion(B::RotationOf(X));
+      const Eigen::Vector3d p = B::TranslationOf(X);
+      out << " parent " << t.pose_parent(f).value() << " p " << p.x() << " " << p.y() << " " << p.z() << " q "
+          << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
+    }
+    if (const std::optional<coord::Twist> tw = twist_value(f)) {
+      out << " twist_parent " << body_name(twist_parent(f)) << " v " << tw->linear.transpose() << " w "
+          << tw->angular.transpose();
+    }
+    out << " tree " << t.forest().Root(f).value() << "\n";
+  }
+  return out.str();
+}
+
+template <coord::Backend B>
+std::string SceneGraph<B>::CheckInvariants() const {
+  std::string out = topology_.CheckInvariants();
+  if (values_.X_PF.size() != topology_.num_frames()) out += "pose value count mismatch\n";
+  if (values_.V_DH.size() < topology_.num_twist_edge_slots()) out += "twist value count mismatch\n";
+  return out;
+}
+
+template <coord::Backend B>
+std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept {
+  return sizeof(*this) - sizeof(topology_) + topology_.ApproximateBytesExcludingNames() + values_.ApproximateBytes();
+}
+
+#define SEMGRAPH_INSTANTIATE_DEBUG(B)                                                        \
+  template BodyIndex SceneGraph<B>::twist_parent(FrameIndex) const noexcept;                 \
+  template std::optional<coord::Twist> SceneGraph<B>::twist_value(FrameIndex) const noexcept; \
+  template std::string SceneGraph<B>::Dump() const;                                          \
+  template std::string SceneGraph<B>::CheckInvariants() const;                               \
+  template std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept;
+SEMGRAPH_INSTANTIATE_DEBUG(coord::QuaternionBackend)
+SEMGRAPH_INSTANTIATE_DEBUG(coord::HomogeneousBackend)
+
+}  // namespace semgraph::core

@@ -1,0 +1,35 @@
+// Text of the core's messages, formatted only when an operation is rejected or an error is
+// described (never on a query's or an accepted add's path). Implemented in describe.cc.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "semgraph/core/specs.h"
+#include "semgraph/topology/rules.h"
+#include "semgraph/topology/scene_topology.h"
+
+namespace semgraph::core::text {
+
+/// "{frame}|body".
+std::string Braced(std::string_view frame, std::string_view body);
+/// "{f}|F" of an existing frame.
+std::string Frame(const topology::SceneTopology& t, topology::FrameIndex f);
+/// "[x, y, z]" with 9 significant digits.
+std::string Vector(const Eigen::Vector3d& v);
+/// A rejection: "<what> rejected (<code>): <reason>".
+BuildResult Reject(ErrorCode code, const std::string& what, const std::string& reason);
+/// The relation of an AddPose as the user wrote it, e.g. "pose of {c}|C wrt {b}|B".
+std::string PoseAdd(const PoseSpec& spec);
+/// The relation of an AddTwist, e.g. "twist of o1|O1 wrt C in [c]".
+std::string TwistAdd(const TwistSpec& spec);
+/// The reason of a broken rule of a new pose edge tail {b} -> head {a} (rules.h).
+std::string PoseRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
+                     const topology::NewPoseEdge& ends, const PoseSpec& spec);
+/// The reason of a broken rule of a new twist edge D -> {e}|C.
+std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
+                      const topology::NewTwistEdge& ends);
+
+}  // namespace semgraph::core::text

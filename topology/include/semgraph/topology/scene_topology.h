@@ -1,0 +1,229 @@
+// File: semgraph/topology/scene_topology.h
+//
+// SceneTopology: everything of a scene graph that is not a number. Bodies and frames (nodes,
+// named through one NameTable), the pose forest over frames, which pose tree each frame is in,
+// and per pose tree its record: the multiset of bodies with frames in it (for P3) and its
+// body-level twist graph TG(P) (for W3/W4). Twist edges D -> {h}|H are kept here too, with the
+// semantics of their stored screw twist TwistCoord(h|H, D, [h]); their values live in
+// core::EdgeValues, indexed by the same FrameIndex / TwistEdgeIndex.
+//
+// It checks nothing itself: callers run the rules of rules.h first (in the order of
+// docs/rules.md) and only then mutate. Mutations keep every invariant below, or abort via
+// SEMGRAPH_DEMAND when called against a rule (a programming error, never a user error).
+//
+// Invariants (CheckInvariants in scene_topology_debug.cc verifies them from scratch):
+//  - every frame belongs to exactly one body; name -> frame and name -> body maps agree with
+//    the nodes; names are unique among frames and among bodies.
+//  - the pose forest is a forest (P1, P2); a union-find set per pose tree (trees_), and a tree
+//    record exactly for every tree with more than one frame or with a twist edge.
+//  - P3: in every pose tree the frames of one body are connected through same-body edges only
+//    (a record's body count equals 1 + the same-body edges among that body's frames).
+//  - W1: a frame has at most one twist edge into it; W2: no twist edge from a body to itself;
+//    W3: every tree's TG(P) is a forest, and holds exactly the live twist edges whose head is
+//    in that tree.
+//
+// Costs (n = frames, |T| = frames of an affected pose tree, b = bodies in a tree's body set):
+//   CreateBody, CreateFrame            O(1) amortized (grow the node and name arrays)
+//   LinkPose, new leaf frame           O(log n) amortized (union-find, jump pointer, body count)
+//   LinkPose, linking trees            O(|T|) (depths and jumps) + O(min(b1, b2)) (body-set merge)
+//                                      + O(twist edges of the smaller TG)
+//   CutPose                            O(|T|) for the tree being split (rebuilds its sets)
+//   LinkTwist / UnlinkTwist            O(depth in TG) / O(size of the detached part of TG)
+//   SameTree                           O(alpha(n)), noexcept, no allocation
+//   RecordOf, TreeHasBody              O(1) expected
+//   SharedBody                         O(min(b1, b2))
+// Thread safety: const methods may run concurrently; mutations need exclusive access.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "semgraph/semantics/names.h"
+#include "semgraph/semantics/relations.h"
+#include "semgraph/topology/disjoint_sets.h"
+#include "semgraph/topology/flat_map.h"
+#include "semgraph/topology/ids.h"
+#include "semgraph/topology/pose_forest.h"
+#include "semgraph/topology/twist_forest.h"
+
+namespace semgraph::topology {
+
+using semantics::NameId;
+
+/// A twist edge D -> {h}|H: its ends and the semantics TwistCoord(h|H, D, [h]) of its value.
+struct TwistEdge {
+  BodyIndex tail;   ///< D, the reference body
+  FrameIndex head;  ///< {h}, a frame of the moving body H
+  bool alive = false;
+  semantics::TwistSemantics semantics;
+};
+
+/// A pose tree's record: its bodies (with frame counts) and its twist graph TG(P), whose edge
+/// ids are TwistEdgeIndex values and node ids BodyIndex values.
+struct TreeRecord {
+  FlatMap<std::uint32_t> body_counts;
+  TwistForest twists;
+};
+
+class SceneTopology {
+ public:
+  SceneTopology() = default;
+  SceneTopology(const SceneTopology&) = delete;
+  SceneTopology& operator=(const SceneTopology&) = delete;
+  SceneTopology(SceneTopology&&) = default;
+  SceneTopology& operator=(SceneTopology&&) = default;
+
+  // ---------------------------------------------------------------- names and nodes
+
+  [[nodiscard]] const semantics::NameTable& names() const noexcept { return names_; }
+  /// The table, for interning the names of an add (rolled back by the caller on rejection).
+  [[nodiscard]] semantics::NameTable& mutable_names() noexcept { return names_; }
+
+  [[nodiscard]] std::size_t num_frames() const noexcept { return frames_.size(); }
+  [[nodiscard]] std::size_t num_bodies() const noexcept { return bodies_.size(); }
+  [[nodiscard]] std::size_t num_pose_edges() const noexcept { return num_pose_edges_; }
+  [[nodiscard]] std::size_t num_twist_edges() const noexcept { return num_twist_edges_; }
+
+  /// The frame / body named `id` (invalid if the name is not one). O(1), noexcept.
+  [[nodiscard]] FrameIndex FrameOfName(NameId id) const noexcept {
+    return id.is_valid() && id.value() < frame_of_name_.size() ? FrameIndex(frame_of_name_[id.value()])
+                                                                : FrameIndex();
+  }
+  [[nodiscard]] BodyIndex BodyOfName(NameId id) const noexcept {
+    return id.is_valid() && id.value() < body_of_name_.size() ? BodyIndex(body_of_name_[id.value()])
+                                                               : BodyIndex();
+  }
+  [[nodiscard]] FrameIndex FindFrame(std::string_view name) const noexcept {
+    return FrameOfName(names_.Find(name));
+  }
+  [[nodiscard]] BodyIndex FindBody(std::string_view name) const noexcept {
+    return BodyOfName(names_.Find(name));
+  }
+  [[nodiscard]] NameId frame_name_id(FrameIndex f) const noexcept { return frames_[f.value()].name; }
+  [[nodiscard]] NameId body_name_id(BodyIndex b) const noexcept { return bodies_[b.value()].name; }
+  [[nodiscard]] std::string_view frame_name(FrameIndex f) const noexcept {
+    return names_.name(frame_name_id(f));
+  }
+  [[nodiscard]] std::string_view body_name(BodyIndex b) const noexcept {
+    return names_.name(body_name_id(b));
+  }
+  [[nodiscard]] BodyIndex body_of(FrameIndex f) const noexcept { return frames_[f.value()].body; }
+
+  /// The semantic primitives of a node: {f}, its body, a body.
+  [[nodiscard]] semantics::Frame FrameSem(FrameIndex f) const noexcept {
+    return semantics::Frame(frame_name_id(f));
+  }
+  [[nodiscard]] semantics::Body BodySem(BodyIndex b) const noexcept {
+    return semantics::Body(body_name_id(b));
+  }
+  [[nodiscard]] semantics::Body BodyOfSem(FrameIndex f) const noexcept { return BodySem(body_of(f)); }
+
+  /// New nodes. The name must be interned and not yet name a node of that kind.
+  BodyIndex CreateBody(NameId name);
+  FrameIndex CreateFrame(NameId name, BodyIndex body);
+
+  // ---------------------------------------------------------------- pose forest
+
+  [[nodiscard]] const PoseForest& forest() const noexcept { return forest_; }
+  [[nodiscard]] FrameIndex pose_parent(FrameIndex f) const noexcept { return forest_.parent(f); }
+  /// True when a and b are in one pose tree. O(alpha(n)).
+  [[nodiscard]] bool SameTree(FrameIndex a, FrameIndex b) const noexcept {
+    return trees_.SameSet(a.value(), b.value());
+  }
+
+  /// Links the pose edge tail -> head (head a root of another tree; P1-P3 and W4 checked by
+  /// the caller) and merges the two trees' records.
+  void LinkPose(FrameIndex tail, FrameIndex head);
+  /// Removes the pose edge into `head`, splitting its tree; both parts get fresh records.
+  void CutPose(FrameIndex head);
+
+  // ---------------------------------------------------------------- tree records
+
+  /// The record of f's tree; nullptr for a single-frame tree without twist edges.
+  [[nodiscard]] const TreeRecord* RecordOf(FrameIndex f) const noexcept;
+  /// True when a frame of `body` is in f's tree. O(1) expected.
+  [[nodiscard]] bool TreeHasBody(FrameIndex f, BodyIndex body) const noexcept;
+  /// P3's question: a body with frames in the trees of both t and h, other than `allowed`
+  /// (invalid if none). O(min(b_t, b_h)).
+  [[nodiscard]] BodyIndex SharedBody(FrameIndex t, FrameIndex h, BodyIndex allowed) const noexcept;
+  /// A frame of `body` in the tree of `tree_member` (invalid if none). O(frames of body).
+  [[nodiscard]] FrameIndex SomeFrameOfBodyInTree(BodyIndex body, FrameIndex tree_member) const noexcept;
+
+  // ---------------------------------------------------------------- twist edges
+
+  /// The twist edge into frame f (invalid if none).
+  [[nodiscard]] TwistEdgeIndex twist_edge_of(FrameIndex f) const noexcept {
+    return frames_[f.value()].twist_edge;
+  }
+  [[nodiscard]] const TwistEdge& twist_edge(TwistEdgeIndex e) const noexcept {
+    return twist_edges_[e.value()];
+  }
+  /// Number of twist edge slots (live or free); values are kept per slot.
+  [[nodiscard]] std::size_t num_twist_edge_slots() const noexcept { return twist_edges_.size(); }
+  /// Adds the twist edge tail -> head (W1-W3 checked by the caller); returns its slot.
+  TwistEdgeIndex LinkTwist(BodyIndex tail, FrameIndex head, const semantics::TwistSemantics& s);
+  /// Removes a live twist edge from its tree's TG; its slot is reused later.
+  void UnlinkTwist(TwistEdgeIndex e);
+
+  // ---------------------------------------------------------------- iteration and checks
+
+  /// f(tail, head) for every pose edge, by head frame index.
+  template <class F>
+  void ForEachPoseEdge(F&& f) const {
+    for (std::uint32_t i = 0; i < frames_.size(); ++i) {
+      const FrameIndex head(i);
+      if (forest_.parent(head).is_valid()) f(forest_.parent(head), head);
+    }
+  }
+  /// f(tail body, head frame) for every live twist edge, by slot.
+  template <class F>
+  void ForEachTwistEdge(F&& f) const {
+    for (const TwistEdge& e : twist_edges_) {
+      if (e.alive) f(e.tail, e.head);
+    }
+  }
+  /// Every invariant above, from scratch (slow; tests). Empty when all hold
+  /// (scene_topology_debug.cc).
+  [[nodiscard]] std::string CheckInvariants() const;
+  /// Heap bytes, excluding the name strings and the name index.
+  [[nodiscard]] std::size_t ApproximateBytesExcludingNames() const noexcept;
+
+ private:
+  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  struct FrameNode {
+    NameId name;
+    BodyIndex body;
+    TwistEdgeIndex twist_edge;
+    std::uint32_t next_in_body = kNone;  // intrusive list of a body's frames
+  };
+  struct BodyNode {
+    NameId name;
+    std::uint32_t first_frame = kNone;
+  };
+
+  void GrowNameMaps();
+  TreeRecord* MutableRecordOf(FrameIndex f) noexcept;
+  TreeRecord& EnsureRecord(FrameIndex f);
+  TreeRecord& NewRecord(std::uint32_t rep, FrameIndex f);
+  void FreeRecord(std::uint32_t rep);
+  void RebuildTree(FrameIndex root, const std::vector<std::uint32_t>& twist_edges);
+
+  semantics::NameTable names_;
+  std::vector<std::uint32_t> frame_of_name_;  // NameId -> FrameIndex (kNone if not a frame)
+  std::vector<std::uint32_t> body_of_name_;   // NameId -> BodyIndex
+  std::vector<FrameNode> frames_;
+  std::vector<BodyNode> bodies_;
+  PoseForest forest_;
+  DisjointSets trees_;                    // which pose tree a frame is in
+  FlatMap<std::uint32_t> record_of_rep_;  // union-find representative -> records_ index
+  std::vector<TreeRecord> records_;
+  std::vector<std::uint32_t> free_records_;
+  std::vector<TwistEdge> twist_edges_;
+  std::vector<std::uint32_t> free_twist_edges_;
+  std::size_t num_pose_edges_ = 0;
+  std::size_t num_twist_edges_ = 0;
+};
+
+}  // namespace semgraph::topology
