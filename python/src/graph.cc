@@ -107,7 +107,7 @@ void Check(const core::BuildResult& r) {
   if (!r) ThrowRejected(r.error().code, r.error().message);
 }
 
-const char* FieldName(Field f) {
+const char* RoleName(Field f) {
   switch (f) {
     case Field::kPoint: return "point";
     case Field::kOrientation: return "orientation";
@@ -192,7 +192,7 @@ template <class G>
 [[noreturn]] void ThrowPoseQuery(const G& g, const core::QueryError& e, const core::PoseSpec& spec,
                                  const PoseNames& n) {
   const bool field = FieldApplies(e.code);
-  ThrowQuery(e.code, g.Describe(e, spec), field ? FieldName(e.field) : nullptr,
+  ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
              field ? n.Argument(e.field) : nullptr);
 }
 
@@ -200,7 +200,7 @@ template <class G>
 [[noreturn]] void ThrowTwistQuery(const G& g, const core::QueryError& e,
                                   const core::TwistSpec& spec) {
   const bool field = FieldApplies(e.code);
-  ThrowQuery(e.code, g.Describe(e, spec), field ? FieldName(e.field) : nullptr,
+  ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
              field ? TwistArgument(e.field) : nullptr);
 }
 
