@@ -16,4 +16,9 @@ PYBIND11_MODULE(_semgraph, m) {
   semgraph::python::BindGraph(m);
   semgraph::python::BindScript(m);
   m.attr("__version__") = SEMGRAPH_VERSION;
+#ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
+  m.attr("_has_tools") = true;  // dot() and run_script() work (the tool's library is linked)
+#else
+  m.attr("_has_tools") = false;
+#endif
 }

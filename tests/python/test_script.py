@@ -17,6 +17,8 @@ SCRIPTS = sorted(glob.glob(os.path.join(source_dir(), "tests", "tools", "scripts
 EXAMPLE = os.path.join(source_dir(), "examples", "spray_painting.yaml")
 
 needs_cli = pytest.mark.skipif(not os.path.exists(CLI), reason="the semgraph tool is not built")
+pytestmark = pytest.mark.skipif(not semgraph._semgraph._has_tools,
+                                reason="built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)")
 
 
 @needs_cli

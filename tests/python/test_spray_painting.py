@@ -144,6 +144,7 @@ def test_homogeneous_representation_matches_the_oracle(world):
     np.testing.assert_allclose(P.position, world.pose("f1", "f1", "o2", "o2", "c")[0], atol=1e-12, rtol=0)
 
 
+@pytest.mark.skipif(not semgraph._semgraph._has_tools, reason="built without the tool library")
 def test_dot_shows_every_body_frame_and_edge(spray):
     dot = spray.dot()
     assert dot.startswith("digraph")
