@@ -1,0 +1,59 @@
+"""semgraph: a constraint-checking scene graph of poses and twists of rigid bodies.
+
+Founded on the geometric relations semantics of De Laet et al. (IROS 2013): every relation
+names its point, orientation frame, body, reference point, reference orientation frame,
+reference body and coordinate frame, and every operation on relations is checked.
+
+    import semgraph
+    g = semgraph.SceneGraph()
+    g.add_pose(of="c", body="C", wrt="b", ref_body="B", position=[1.2, 0.4, 0.9], rpy=[0, 0.35, 2.36])
+    g.pose(of="c", wrt="b").position
+
+The numbers are computed by the C++ library (semgraph._semgraph); see docs/python.md.
+"""
+
+from ._errors import Error, QueryError, RejectedError, ScriptError
+from ._semgraph import (
+    AngularVelocity,
+    CompiledOrientation,
+    CompiledPose,
+    CompiledPosition,
+    CompiledTwist,
+    LinearVelocity,
+    Orientation,
+    Pose,
+    PoseBatch,
+    PoseHandle,
+    Position,
+    SceneGraph,
+    Twist,
+    TwistBatch,
+    TwistHandle,
+    __version__,
+)
+from ._script import ScriptRun, run_script, run_script_text
+
+__all__ = [
+    "AngularVelocity",
+    "CompiledOrientation",
+    "CompiledPose",
+    "CompiledPosition",
+    "CompiledTwist",
+    "Error",
+    "LinearVelocity",
+    "Orientation",
+    "Pose",
+    "PoseBatch",
+    "PoseHandle",
+    "Position",
+    "QueryError",
+    "RejectedError",
+    "SceneGraph",
+    "ScriptError",
+    "ScriptRun",
+    "Twist",
+    "TwistBatch",
+    "TwistHandle",
+    "run_script",
+    "run_script_text",
+]

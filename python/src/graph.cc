@@ -1,0 +1,1295 @@
+#include "graph.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstdio>
+#include <cstring>
+#include <optional>
+#include <type_traits>
+#include <utility>
+
+#include "arguments.h"
+#include "semgraph/coord/validate.h"
+#include "semgraph/semantics/describe.h"
+
+#ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
+#include "semgraph/dot_writer.h"
+#endif
+
+namespace semgraph::python {
+
+using core::ErrorCode;
+using semantics::Field;
+
+GraphBox::GraphBox(bool homogeneous)
+    : graph(homogeneous ? decltype(graph)(std::in_place_index<1>)
+                        : decltype(graph)(std::in_place_index<0>)) {}
+
+const char* GraphBox::representation() const noexcept {
+  return Visit([](const auto& g) -> const char* {
+    return std::decay_t<decltype(g)>::Backend::kName;
+  });
+}
+
+const semantics::NameTable& GraphBox::names() const noexcept {
+  return Visit([](const auto& g) -> const semantics::NameTable& { return g.names(); });
+}
+
+Eigen::Quaterniond CanonicalQuaternion(Eigen::Quaterniond q) noexcept {
+  const double c[4] = {q.w(), q.x(), q.y(), q.z()};
+  for (double x : c) {
+    if (x != 0.0) {
+      if (x < 0.0) q.coeffs() = -q.coeffs();
+      break;
+    }
+  }
+  return q;
+}
+
+// ====================================================================== errors
+
+namespace {
+py::handle g_rejected_error;
+py::handle g_query_error;
+}  // namespace
+
+void InitErrors(py::module_ errors) {
+  // Kept for the life of the process (never decref'd: the interpreter may be finalizing when
+  // static destructors run).
+  g_rejected_error = py::object(errors.attr("RejectedError")).release();
+  g_query_error = py::object(errors.attr("QueryError")).release();
+}
+
+void ThrowRejected(ErrorCode code, const std::string& message) {
+  py::object exc = g_rejected_error(py::str(std::string(ToString(code))), py::str(message));
+  PyErr_SetObject(g_rejected_error.ptr(), exc.ptr());
+  throw py::error_already_set();
+}
+
+void ThrowQuery(ErrorCode code, const std::string& message, const char* field,
+                const char* argument) {
+  py::object f = field ? py::object(py::str(field)) : py::object(py::none());
+  py::object a = argument ? py::object(py::str(argument)) : py::object(py::none());
+  py::object exc = g_query_error(py::str(std::string(ToString(code))), py::str(message), f, a);
+  PyErr_SetObject(g_query_error.ptr(), exc.ptr());
+  throw py::error_already_set();
+}
+
+namespace {
+
+// ====================================================================== helpers
+
+template <class T>
+struct BackendOf {
+  using type = typename T::Backend;
+};
+template <coord::Backend B>
+struct BackendOf<core::CompiledPose<B>> {
+  using type = B;
+};
+template <coord::Backend B>
+struct BackendOf<core::CompiledPosition<B>> {
+  using type = B;
+};
+template <coord::Backend B>
+struct BackendOf<core::CompiledOrientation<B>> {
+  using type = B;
+};
+template <coord::Backend B>
+struct BackendOf<core::CompiledTwist<B>> {
+  using type = B;
+};
+template <class T>
+using BackendOfT = typename BackendOf<std::decay_t<T>>::type;
+
+void Check(const core::BuildResult& r) {
+  if (!r) ThrowRejected(r.error().code, r.error().message);
+}
+
+const char* RoleName(Field f) {
+  switch (f) {
+    case Field::kPoint: return "point";
+    case Field::kOrientation: return "orientation";
+    case Field::kBody: return "body";
+    case Field::kRefPoint: return "ref_point";
+    case Field::kRefOrientation: return "ref_orientation";
+    case Field::kRefBody: return "ref_body";
+    case Field::kCoordinateFrame: return "coordinate_frame";
+  }
+  return "argument";
+}
+
+// Whether QueryError::field names the culprit for this code.
+bool FieldApplies(ErrorCode code) {
+  return code == ErrorCode::kInvalidName || code == ErrorCode::kUnknownFrame ||
+         code == ErrorCode::kUnknownBody || code == ErrorCode::kFrameBodyMismatch;
+}
+
+// The names of a pose/position/orientation, as the Python keywords gave them.
+struct PoseNames {
+  std::string_view of, body, wrt, ref_body, point, orientation, ref_point, ref_orientation,
+      expressed_in;
+
+  [[nodiscard]] core::PoseSpec Spec() const {
+    core::PoseSpec s = core::PoseSpec::Of(of, body).RelativeTo(wrt, ref_body);
+    if (!point.empty()) s.point = point;
+    if (!orientation.empty()) s.orientation = orientation;
+    if (!ref_point.empty()) s.ref_point = ref_point;
+    if (!ref_orientation.empty()) s.ref_orientation = ref_orientation;
+    if (!expressed_in.empty()) s.coordinate_frame = expressed_in;
+    return s;
+  }
+  // The keyword that supplied a field.
+  [[nodiscard]] const char* Argument(Field f) const {
+    switch (f) {
+      case Field::kPoint: return point.empty() ? "of" : "point";
+      case Field::kOrientation: return orientation.empty() ? "of" : "orientation";
+      case Field::kBody: return "body";
+      case Field::kRefPoint: return ref_point.empty() ? "wrt" : "ref_point";
+      case Field::kRefOrientation: return ref_orientation.empty() ? "wrt" : "ref_orientation";
+      case Field::kRefBody: return "ref_body";
+      case Field::kCoordinateFrame: return expressed_in.empty() ? "wrt" : "expressed_in";
+    }
+    return nullptr;
+  }
+};
+
+PoseNames ReadPoseNames(const char* fn, py::handle of, py::handle body, py::handle wrt,
+                        py::handle ref_body, py::handle point, py::handle orientation,
+                        py::handle ref_point, py::handle ref_orientation, py::handle expressed_in) {
+  PoseNames n;
+  n.of = NameArg(of, fn, "of");
+  n.body = NameArg(body, fn, "body");
+  n.wrt = NameArg(wrt, fn, "wrt");
+  n.ref_body = NameArg(ref_body, fn, "ref_body");
+  n.point = NameArg(point, fn, "point");
+  n.orientation = NameArg(orientation, fn, "orientation");
+  n.ref_point = NameArg(ref_point, fn, "ref_point");
+  n.ref_orientation = NameArg(ref_orientation, fn, "ref_orientation");
+  n.expressed_in = NameArg(expressed_in, fn, "expressed_in");
+  return n;
+}
+
+core::TwistSpec ReadTwistSpec(const char* fn, py::handle point, py::handle body,
+                              py::handle ref_body, py::handle expressed_in) {
+  return core::TwistSpec::Of(NameArg(point, fn, "point"), NameArg(body, fn, "body"))
+      .RelativeTo(NameArg(ref_body, fn, "ref_body"))
+      .ExpressedIn(NameArg(expressed_in, fn, "expressed_in"));
+}
+
+const char* TwistArgument(Field f) {
+  switch (f) {
+    case Field::kPoint: return "point";
+    case Field::kBody: return "body";
+    case Field::kRefBody: return "ref_body";
+    case Field::kCoordinateFrame: return "expressed_in";
+    default: return nullptr;
+  }
+}
+
+template <class G>
+[[noreturn]] void ThrowPoseQuery(const G& g, const core::QueryError& e, const core::PoseSpec& spec,
+                                 const PoseNames& n) {
+  const bool field = FieldApplies(e.code);
+  ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
+             field ? n.Argument(e.field) : nullptr);
+}
+
+template <class G>
+[[noreturn]] void ThrowTwistQuery(const G& g, const core::QueryError& e,
+                                  const core::TwistSpec& spec) {
+  const bool field = FieldApplies(e.code);
+  ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
+             field ? TwistArgument(e.field) : nullptr);
+}
+
+// ---------------------------------------------------------------- numpy out
+
+py::array_t<double> Array(const double* data, std::initializer_list<py::ssize_t> shape) {
+  py::array_t<double> a{std::vector<py::ssize_t>(shape)};
+  py::ssize_t n = 1;
+  for (py::ssize_t s : shape) n *= s;
+  std::memcpy(a.mutable_data(), data, static_cast<std::size_t>(n) * sizeof(double));
+  return a;
+}
+py::array_t<double> VectorArray(const Eigen::Vector3d& v) { return Array(v.data(), {3}); }
+py::array_t<double> QuaternionArray(const Eigen::Quaterniond& q) {
+  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+  return Array(wxyz, {4});
+}
+py::array_t<double> MatrixArray(const Eigen::Quaterniond& q) {
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> R = q.toRotationMatrix();
+  return Array(R.data(), {3, 3});
+}
+py::array_t<double> HomogeneousArray(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> T = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>::Identity();
+  T.topLeftCorner<3, 3>() = q.toRotationMatrix();
+  T.topRightCorner<3, 1>() = p;
+  return Array(T.data(), {4, 4});
+}
+
+std::string Numbers(const double* x, int n) {
+  std::string s = "[";
+  char buf[32];
+  for (int i = 0; i < n; ++i) {
+    std::snprintf(buf, sizeof(buf), "%.6g", x[i] == 0.0 ? 0.0 : x[i]);
+    s += (i ? ", " : "") + std::string(buf);
+  }
+  return s + "]";
+}
+std::string VectorText(const Eigen::Vector3d& v) { return Numbers(v.data(), 3); }
+std::string QuaternionText(const Eigen::Quaterniond& q) {
+  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+  return Numbers(wxyz, 4);
+}
+
+template <class S>
+std::string SemanticsText(const GraphPtr& graph, const S& s) {
+  return Describe(s, graph->names());
+}
+
+// ---------------------------------------------------------------- results from core values
+
+template <coord::Backend B>
+PoseResult MakePoseResult(const GraphPtr& graph, const semantics::PoseSemantics& s,
+                          const typename B::PoseCoords& X) {
+  return PoseResult{graph, s, CanonicalQuaternion(B::ToQuaternion(B::RotationOf(X))),
+                    B::TranslationOf(X)};
+}
+template <coord::Backend B>
+OrientationResult MakeOrientationResult(const GraphPtr& graph,
+                                        const semantics::OrientationSemantics& s,
+                                        const typename B::Rotation& M) {
+  return OrientationResult{graph, s, CanonicalQuaternion(B::ToQuaternion(M))};
+}
+
+// ---------------------------------------------------------------- compiled evaluation
+
+[[noreturn]] void ThrowInvalidated(const std::string& what) {
+  ThrowQuery(ErrorCode::kQueryInvalidated,
+             "the compiled query " + what +
+                 " reads a pose or twist edge that was removed after it was compiled; compile "
+                 "it again",
+             nullptr, nullptr);
+}
+
+PoseResult Evaluate(const CompiledPoseObject& c) {
+  return std::visit(
+      [&](const auto& q) {
+        using B = BackendOfT<decltype(q)>;
+        typename B::PoseCoords X;
+        if (q.Evaluate(X) != ErrorCode::kOk) ThrowInvalidated(SemanticsText(c.graph, q.semantics()));
+        return MakePoseResult<B>(c.graph, q.semantics(), X);
+      },
+      c.query);
+}
+PositionResult Evaluate(const CompiledPositionObject& c) {
+  return std::visit(
+      [&](const auto& q) {
+        Eigen::Vector3d p;
+        if (q.Evaluate(p) != ErrorCode::kOk) ThrowInvalidated(SemanticsText(c.graph, q.semantics()));
+        return PositionResult{c.graph, q.semantics(), p};
+      },
+      c.query);
+}
+OrientationResult Evaluate(const CompiledOrientationObject& c) {
+  return std::visit(
+      [&](const auto& q) {
+        using B = BackendOfT<decltype(q)>;
+        typename B::Rotation M;
+        if (q.Evaluate(M) != ErrorCode::kOk) ThrowInvalidated(SemanticsText(c.graph, q.semantics()));
+        return MakeOrientationResult<B>(c.graph, q.semantics(), M);
+      },
+      c.query);
+}
+std::string CompiledText(const CompiledTwistObject& c) {
+  return std::visit(
+      [&](const auto& q) {
+        switch (c.kind) {
+          case CompiledKind::kLinear: return SemanticsText(c.graph, c.linear_semantics);
+          case CompiledKind::kAngular: return SemanticsText(c.graph, c.angular_semantics);
+          default: return SemanticsText(c.graph, q.semantics());
+        }
+      },
+      c.query);
+}
+py::object Evaluate(const CompiledTwistObject& c) {
+  Eigen::Vector3d v, w;
+  const ErrorCode code = std::visit([&](const auto& q) { return q.Evaluate(v, w); }, c.query);
+  if (code != ErrorCode::kOk) ThrowInvalidated(CompiledText(c));
+  switch (c.kind) {
+    case CompiledKind::kLinear: return py::cast(LinearVelocityResult{c.graph, c.linear_semantics, v});
+    case CompiledKind::kAngular: return py::cast(AngularVelocityResult{c.graph, c.angular_semantics, w});
+    default:
+      return py::cast(TwistResult{
+          c.graph, std::visit([](const auto& q) { return q.semantics(); }, c.query), v, w});
+  }
+}
+
+// ---------------------------------------------------------------- graph methods
+
+GraphPtr Make(py::handle representation) {
+  const std::string_view r = NameArg(representation, "SceneGraph", "representation");
+  if (r == "quaternion" || r.empty()) return std::make_shared<GraphBox>(false);
+  if (r == "homogeneous") return std::make_shared<GraphBox>(true);
+  throw py::value_error("SceneGraph(): representation must be 'quaternion' or 'homogeneous', not '" +
+                        std::string(r) + "'");
+}
+
+[[noreturn]] void ThrowValue(const char* what, const std::string& context, const coord::Error& e,
+                             const semantics::NameTable& names) {
+  ThrowRejected(e.code, std::string(what) + " " + context + " rejected (" +
+                            std::string(ToString(e.code)) + "): " + coord::Describe(e, names));
+}
+
+std::string EdgeText(std::string_view wrt, std::string_view of) {
+  return "of the pose edge {" + std::string(wrt) + "} -> {" + std::string(of) + "}";
+}
+std::string TwistEdgeText(std::string_view ref_body, std::string_view point) {
+  return "of the twist edge " + std::string(ref_body) + " -> {" + std::string(point) + "}";
+}
+
+[[noreturn]] void ThrowRemoved(const char* what, const std::string& context) {
+  ThrowRejected(ErrorCode::kNoSuchEdge, std::string(what) + " " + context +
+                                            " rejected (no_such_edge): the edge was removed "
+                                            "after the handle was made");
+}
+
+void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::handle rotation,
+             py::handle quaternion, py::handle rotation_matrix, py::handle rpy) {
+  if (h.graph.get() != &box) {
+    throw py::value_error("set_pose(): the handle belongs to another SceneGraph");
+  }
+  const Eigen::Vector3d p = Vector3Arg(position, "set_pose", "position");
+  const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "set_pose");
+  // Validated here only for a message that says what is wrong; SetPose checks again.
+  auto vp = coord::ValidateVector(p, coord::ValueRole::kPosition);
+  if (!vp) ThrowValue("set_pose", EdgeText(h.wrt, h.of), vp.error(), box.names());
+  if (rot.is_matrix) {
+    auto v = coord::ValidateRotationMatrix(rot.R);
+    if (!v) ThrowValue("set_pose", EdgeText(h.wrt, h.of), v.error(), box.names());
+  } else {
+    auto v = coord::ValidateQuaternion(rot.q);
+    if (!v) ThrowValue("set_pose", EdgeText(h.wrt, h.of), v.error(), box.names());
+  }
+  ErrorCode code;
+  {
+    std::lock_guard<std::mutex> lock(box.writer);
+    code = box.Visit([&](auto& g) {
+      return rot.is_matrix ? g.SetPose(h.handle, rot.R, p) : g.SetPose(h.handle, rot.q, p);
+    });
+  }
+  if (code == ErrorCode::kNoSuchEdge) ThrowRemoved("set_pose", EdgeText(h.wrt, h.of));
+  if (code != ErrorCode::kOk) {
+    ThrowRejected(code, "set_pose " + EdgeText(h.wrt, h.of) + " rejected (" +
+                            std::string(ToString(code)) + ")");
+  }
+}
+
+void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::handle angular) {
+  if (h.graph.get() != &box) {
+    throw py::value_error("set_twist(): the handle belongs to another SceneGraph");
+  }
+  const Eigen::Vector3d v = Vector3Arg(linear, "set_twist", "linear");
+  const Eigen::Vector3d w = Vector3Arg(angular, "set_twist", "angular");
+  auto vv = coord::ValidateVector(v, coord::ValueRole::kLinearVelocity);
+  if (!vv) ThrowValue("set_twist", TwistEdgeText(h.ref_body, h.point), vv.error(), box.names());
+  auto vw = coord::ValidateVector(w, coord::ValueRole::kAngularVelocity);
+  if (!vw) ThrowValue("set_twist", TwistEdgeText(h.ref_body, h.point), vw.error(), box.names());
+  ErrorCode code;
+  {
+    std::lock_guard<std::mutex> lock(box.writer);
+    code = box.Visit([&](auto& g) { return g.SetTwist(h.handle, v, w); });
+  }
+  if (code == ErrorCode::kNoSuchEdge) ThrowRemoved("set_twist", TwistEdgeText(h.ref_body, h.point));
+  if (code != ErrorCode::kOk) {
+    ThrowRejected(code, "set_twist " + TwistEdgeText(h.ref_body, h.point) + " rejected (" +
+                            std::string(ToString(code)) + ")");
+  }
+}
+
+// ---------------------------------------------------------------- batches
+
+// Why a batch update was refused (filled without the GIL, raised with it).
+struct BatchFailure {
+  bool failed = false;
+  std::size_t row = 0;
+  bool removed = false;
+  coord::Error error;
+};
+
+bool SameHandle(const core::PoseHandle& a, const core::PoseHandle& b) {
+  return a.child == b.child && a.epoch == b.epoch;
+}
+bool SameHandle(const core::TwistHandle& a, const core::TwistHandle& b) {
+  return a.slot == b.slot && a.epoch == b.epoch;
+}
+
+// Rows of a pose batch: (N, 7) [x y z qw qx qy qz] or (N, 4, 4) homogeneous matrices.
+struct PoseRow {
+  Eigen::Vector3d p;
+  bool is_matrix;
+  Eigen::Quaterniond q;
+  Eigen::Matrix3d R;
+};
+PoseRow ReadPoseRow(const double* data, bool matrices, std::size_t i) {
+  PoseRow row;
+  row.is_matrix = matrices;
+  if (matrices) {
+    const double* T = data + 16 * i;
+    row.R << T[0], T[1], T[2], T[4], T[5], T[6], T[8], T[9], T[10];
+    row.p = {T[3], T[7], T[11]};
+  } else {
+    const double* x = data + 7 * i;
+    row.p = {x[0], x[1], x[2]};
+    row.q = Eigen::Quaterniond(x[3], x[4], x[5], x[6]);
+  }
+  return row;
+}
+
+void SetPoseBatch(PoseBatchObject& batch, py::handle values) {
+  auto array = FloatArrayArg(values, "PoseBatch.set", "values");
+  const auto n = static_cast<py::ssize_t>(batch.handles.size());
+  const bool rows7 = array.ndim() == 2 && array.shape(1) == 7;
+  const bool mats = array.ndim() == 3 && array.shape(1) == 4 && array.shape(2) == 4;
+  if (!rows7 && !mats) {
+    throw py::value_error("PoseBatch.set(): values must have shape (N, 7) [x, y, z, qw, qx, qy, "
+                          "qz] or (N, 4, 4), got " + ShapeText(array));
+  }
+  if (array.shape(0) != n) {
+    throw py::value_error("PoseBatch.set(): values has " + std::to_string(array.shape(0)) +
+                          " rows, the batch has " + std::to_string(n) + " edges");
+  }
+  const double* data = array.data();
+  GraphBox& box = *batch.graph;
+  BatchFailure failure;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(box.writer);
+    box.Visit([&](auto& g) {
+      const std::size_t count = batch.handles.size();
+      if (batch.checked_generation != box.topology_generation) {
+        for (std::size_t i = 0; i < count; ++i) {
+          auto current = g.FindPoseEdge(batch.of[i], batch.wrt[i]);
+          if (!current || !SameHandle(*current, batch.handles[i])) {
+            failure = {true, i, true, {}};
+            return;
+          }
+        }
+        batch.checked_generation = box.topology_generation;
+      }
+      // Every row is validated before any is stored: a refused batch changes nothing.
+      for (std::size_t i = 0; i < count; ++i) {
+        const PoseRow row = ReadPoseRow(data, mats, i);
+        auto vp = coord::ValidateVector(row.p, coord::ValueRole::kPosition);
+        if (!vp) {
+          failure = {true, i, false, vp.error()};
+          return;
+        }
+        if (mats) {
+          const double* T = data + 16 * i;
+          if (T[12] != 0.0 || T[13] != 0.0 || T[14] != 0.0 || T[15] != 1.0) {
+            coord::Error e;
+            e.code = ErrorCode::kInvalidRotation;
+            e.value.problem = coord::ValueProblem::kNotRigidTransform;
+            e.value.role = coord::ValueRole::kHomogeneousMatrix;
+            failure = {true, i, false, e};
+            return;
+          }
+          auto v = coord::ValidateRotationMatrix(row.R);
+          if (!v) {
+            failure = {true, i, false, v.error()};
+            return;
+          }
+        } else {
+          auto v = coord::ValidateQuaternion(row.q);
+          if (!v) {
+            failure = {true, i, false, v.error()};
+            return;
+          }
+        }
+      }
+      for (std::size_t i = 0; i < count; ++i) {
+        const PoseRow row = ReadPoseRow(data, mats, i);
+        const ErrorCode code = mats ? g.SetPose(batch.handles[i], row.R, row.p)
+                                    : g.SetPose(batch.handles[i], row.q, row.p);
+        if (code != ErrorCode::kOk) {  // not expected: every row and edge was checked above
+          coord::Error e;
+          e.code = code;
+          failure = {true, i, code == ErrorCode::kNoSuchEdge, e};
+          return;
+        }
+      }
+    });
+  }
+  if (!failure.failed) return;
+  const std::string context =
+      "row " + std::to_string(failure.row) + " " + EdgeText(batch.wrt[failure.row], batch.of[failure.row]);
+  if (failure.removed) ThrowRemoved("PoseBatch.set", context);
+  ThrowValue("PoseBatch.set", context, failure.error, box.names());
+}
+
+void SetTwistBatch(TwistBatchObject& batch, py::handle values) {
+  auto array = FloatArrayArg(values, "TwistBatch.set", "values");
+  const auto n = static_cast<py::ssize_t>(batch.handles.size());
+  if (array.ndim() != 2 || array.shape(1) != 6) {
+    throw py::value_error("TwistBatch.set(): values must have shape (N, 6) [vx, vy, vz, wx, wy, "
+                          "wz], got " + ShapeText(array));
+  }
+  if (array.shape(0) != n) {
+    throw py::value_error("TwistBatch.set(): values has " + std::to_string(array.shape(0)) +
+                          " rows, the batch has " + std::to_string(n) + " edges");
+  }
+  const double* data = array.data();
+  GraphBox& box = *batch.graph;
+  BatchFailure failure;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(box.writer);
+    box.Visit([&](auto& g) {
+      const std::size_t count = batch.handles.size();
+      if (batch.checked_generation != box.topology_generation) {
+        for (std::size_t i = 0; i < count; ++i) {
+          auto current = g.FindTwistEdge(batch.point[i], batch.ref_body[i]);
+          if (!current || !SameHandle(*current, batch.handles[i])) {
+            failure = {true, i, true, {}};
+            return;
+          }
+        }
+        batch.checked_generation = box.topology_generation;
+      }
+      for (std::size_t i = 0; i < count; ++i) {
+        const double* x = data + 6 * i;
+        auto vv = coord::ValidateVector(Eigen::Vector3d(x[0], x[1], x[2]),
+                                        coord::ValueRole::kLinearVelocity);
+        if (!vv) {
+          failure = {true, i, false, vv.error()};
+          return;
+        }
+        auto vw = coord::ValidateVector(Eigen::Vector3d(x[3], x[4], x[5]),
+                                        coord::ValueRole::kAngularVelocity);
+        if (!vw) {
+          failure = {true, i, false, vw.error()};
+          return;
+        }
+      }
+      for (std::size_t i = 0; i < count; ++i) {
+        const double* x = data + 6 * i;
+        const ErrorCode code = g.SetTwist(batch.handles[i], Eigen::Vector3d(x[0], x[1], x[2]),
+                                          Eigen::Vector3d(x[3], x[4], x[5]));
+        if (code != ErrorCode::kOk) {
+          coord::Error e;
+          e.code = code;
+          failure = {true, i, code == ErrorCode::kNoSuchEdge, e};
+          return;
+        }
+      }
+    });
+  }
+  if (!failure.failed) return;
+  const std::string context = "row " + std::to_string(failure.row) + " " +
+                              TwistEdgeText(batch.ref_body[failure.row], batch.point[failure.row]);
+  if (failure.removed) ThrowRemoved("TwistBatch.set", context);
+  ThrowValue("TwistBatch.set", context, failure.error, box.names());
+}
+
+template <class T>
+std::vector<std::shared_ptr<T>> HandleList(py::handle handles, const char* fn, const char* type) {
+  if (PyUnicode_Check(handles.ptr()) || !PySequence_Check(handles.ptr())) {
+    throw py::type_error(std::string(fn) + "(): handles must be a sequence of " + type +
+                         ", not " + TypeName(handles));
+  }
+  std::vector<std::shared_ptr<T>> out;
+  const py::sequence seq = py::reinterpret_borrow<py::sequence>(handles);
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    py::object item = seq[i];
+    if (!py::isinstance<T>(item)) {
+      throw py::type_error(std::string(fn) + "(): handles[" + std::to_string(i) + "] must be a " +
+                           type + ", not " + TypeName(item));
+    }
+    out.push_back(item.cast<std::shared_ptr<T>>());
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- docstrings
+
+constexpr const char* kPoseNamesDoc = R"(
+Names, by role (all keyword-only; a body may be omitted when its frame exists, and is checked
+when given):
+  of            the frame whose pose is meant: point = origin of `of`, orientation = [of]
+  body          the body `of` (and point/orientation) are fixed to
+  wrt           the reference frame: ref point = origin of `wrt`, ref orientation = [wrt],
+                and the coordinate frame [wrt] unless expressed_in is given
+  ref_body      the body `wrt` is fixed to
+  point, orientation, ref_point, ref_orientation
+                override the point / orientation frame / reference point / reference
+                orientation frame set by `of` and `wrt` (the paper's non-frame forms)
+  expressed_in  the coordinate frame [r] the result is expressed in)";
+
+constexpr const char* kRotationDoc = R"(
+Rotation, at most one of (identity when none is given):
+  rotation         a quaternion (w, x, y, z) or a 3x3 rotation matrix, told apart by shape
+  quaternion       (w, x, y, z), Hamilton convention, unit within 1e-6
+  rotation_matrix  3x3, rows as written; its columns are the axes of [orientation] in
+                   [ref_orientation]
+  rpy              (roll, pitch, yaw) in radians, R = Rz(yaw) Ry(pitch) Rx(roll)
+Numbers: lists, tuples or numpy arrays (converted to float64).)";
+
+std::string Doc(const char* head, const char* tail = "") {
+  return std::string(head) + tail;
+}
+
+}  // namespace
+
+// ====================================================================== bindings
+
+void BindGraph(py::module_& m) {
+  // ------------------------------------------------------------ results
+  py::class_<PoseResult>(m, "Pose", R"(The result of a pose query: PoseCoord((e,[a])|C, (f,[b])|D, [r]).
+
+position         p: position of the point e relative to the reference point f, in [r]
+quaternion       (w, x, y, z), w >= 0: the orientation of [a] relative to [b] as an operator
+                 expressed in [r] (when [r] = [b]: the rotation R_ba, columns = axes of [a] in [b])
+rotation_matrix  the same rotation as a 3x3 matrix
+matrix           the 4x4 homogeneous matrix [R p; 0 0 0 1]
+semantics        the relation in the paper's notation, e.g. 'PoseCoord({f1}|O1, {o2}|O2, [o2])')")
+      .def_property_readonly("position", [](const PoseResult& r) { return VectorArray(r.p); })
+      .def_property_readonly("quaternion", [](const PoseResult& r) { return QuaternionArray(r.q); })
+      .def_property_readonly("rotation_matrix", [](const PoseResult& r) { return MatrixArray(r.q); })
+      .def_property_readonly("matrix", [](const PoseResult& r) { return HomogeneousArray(r.q, r.p); })
+      .def_property_readonly("semantics", [](const PoseResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def("__repr__", [](const PoseResult& r) {
+        return "Pose(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) +
+               ", quaternion=" + QuaternionText(r.q) + ")";
+      });
+  py::class_<PositionResult>(m, "Position", R"(The result of a position query: PositionCoord(e|C, f|D, [r]).
+
+position   p: position of the point e relative to the point f, in [r]
+semantics  the relation in the paper's notation)")
+      .def_property_readonly("position", [](const PositionResult& r) { return VectorArray(r.p); })
+      .def_property_readonly("semantics", [](const PositionResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def("__repr__", [](const PositionResult& r) {
+        return "Position(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) + ")";
+      });
+  py::class_<OrientationResult>(m, "Orientation", R"(The result of an orientation query: OrientationCoord([a]|C, [b]|D, [r]).
+
+quaternion       (w, x, y, z), w >= 0: the operator carrying [b] onto [a], expressed in [r]
+                 (when [r] = [b]: R_ba, the columns are the axes of [a] in [b])
+rotation_matrix  the same as a 3x3 matrix
+semantics        the relation in the paper's notation)")
+      .def_property_readonly("quaternion", [](const OrientationResult& r) { return QuaternionArray(r.q); })
+      .def_property_readonly("rotation_matrix", [](const OrientationResult& r) { return MatrixArray(r.q); })
+      .def_property_readonly("semantics", [](const OrientationResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def("__repr__", [](const OrientationResult& r) {
+        return "Orientation(" + SemanticsText(r.graph, r.semantics) + ", quaternion=" + QuaternionText(r.q) + ")";
+      });
+  py::class_<TwistResult>(m, "Twist", R"(The result of a twist query: TwistCoord(e|C, D, [r]).
+
+linear     v: velocity of the point of body C at e, relative to body D, in [r]
+angular    w: angular velocity of C relative to D, in [r]
+semantics  the relation in the paper's notation)")
+      .def_property_readonly("linear", [](const TwistResult& r) { return VectorArray(r.v); })
+      .def_property_readonly("angular", [](const TwistResult& r) { return VectorArray(r.w); })
+      .def_property_readonly("semantics", [](const TwistResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def("__repr__", [](const TwistResult& r) {
+        return "Twist(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) +
+               ", angular=" + VectorText(r.w) + ")";
+      });
+  py::class_<LinearVelocityResult>(m, "LinearVelocity", R"(The result of a linear velocity query: LinearVelocityCoord(e|C, D, [r]).
+
+linear     v: velocity of the point of body C at e, relative to body D, in [r]
+semantics  the relation in the paper's notation)")
+      .def_property_readonly("linear", [](const LinearVelocityResult& r) { return VectorArray(r.v); })
+      .def_property_readonly("semantics", [](const LinearVelocityResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def("__repr__", [](const LinearVelocityResult& r) {
+        return "LinearVelocity(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) + ")";
+      });
+  py::class_<AngularVelocityResult>(m, "AngularVelocity", R"(The result of an angular velocity query: AngularVelocityCoord(C, D, [r]).
+
+angular    w: angular velocity of body C relative to body D, in [r]
+semantics  the relation in the paper's notation)")
+      .def_property_readonly("angular", [](const AngularVelocityResult& r) { return VectorArray(r.w); })
+      .def_property_readonly("semantics", [](const AngularVelocityResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def("__repr__", [](const AngularVelocityResult& r) {
+        return "AngularVelocity(" + SemanticsText(r.graph, r.semantics) + ", angular=" + VectorText(r.w) + ")";
+      });
+
+  // ------------------------------------------------------------ compiled queries
+  constexpr const char* kCompiledDoc = R"(
+Made by SceneGraph.compile_*(): the semantics were checked and the path resolved once; evaluate()
+costs only the compositions along the path and sees every later set_pose/set_twist/add_pose
+update of the edges it reads. It keeps its SceneGraph alive. After an edge it reads is removed,
+evaluate() raises QueryError with code 'query_invalidated' (never a wrong number): compile again.)";
+  py::class_<CompiledPoseObject, std::shared_ptr<CompiledPoseObject>>(
+      m, "CompiledPose", Doc("A compiled pose query.", kCompiledDoc).c_str())
+      .def("evaluate", [](const CompiledPoseObject& c) { return Evaluate(c); },
+           "The pose now (a Pose). Raises QueryError('query_invalidated') after a removal.")
+      .def_property_readonly("is_valid", [](const CompiledPoseObject& c) {
+        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
+      }, "True while every edge the query reads still exists.")
+      .def_property_readonly("num_pose_edges", [](const CompiledPoseObject& c) {
+        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
+      }, "Pose edges read per evaluation.")
+      .def("__repr__", [](const CompiledPoseObject& c) {
+        return "CompiledPose(" + std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) + ")";
+      });
+  py::class_<CompiledPositionObject, std::shared_ptr<CompiledPositionObject>>(
+      m, "CompiledPosition", Doc("A compiled position query.", kCompiledDoc).c_str())
+      .def("evaluate", [](const CompiledPositionObject& c) { return Evaluate(c); },
+           "The position now (a Position).")
+      .def_property_readonly("is_valid", [](const CompiledPositionObject& c) {
+        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
+      })
+      .def_property_readonly("num_pose_edges", [](const CompiledPositionObject& c) {
+        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
+      })
+      .def("__repr__", [](const CompiledPositionObject& c) {
+        return "CompiledPosition(" + std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) + ")";
+      });
+  py::class_<CompiledOrientationObject, std::shared_ptr<CompiledOrientationObject>>(
+      m, "CompiledOrientation", Doc("A compiled orientation query.", kCompiledDoc).c_str())
+      .def("evaluate", [](const CompiledOrientationObject& c) { return Evaluate(c); },
+           "The orientation now (an Orientation).")
+      .def_property_readonly("is_valid", [](const CompiledOrientationObject& c) {
+        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
+      })
+      .def_property_readonly("num_pose_edges", [](const CompiledOrientationObject& c) {
+        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
+      })
+      .def("__repr__", [](const CompiledOrientationObject& c) {
+        return "CompiledOrientation(" + std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) + ")";
+      });
+  py::class_<CompiledTwistObject, std::shared_ptr<CompiledTwistObject>>(
+      m, "CompiledTwist",
+      Doc("A compiled twist, linear velocity or angular velocity query (evaluate() returns a "
+          "Twist, LinearVelocity or AngularVelocity, as compiled).", kCompiledDoc).c_str())
+      .def("evaluate", [](const CompiledTwistObject& c) { return Evaluate(c); },
+           "The twist (or linear / angular velocity) now.")
+      .def_property_readonly("is_valid", [](const CompiledTwistObject& c) {
+        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
+      })
+      .def_property_readonly("num_pose_edges", [](const CompiledTwistObject& c) {
+        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
+      })
+      .def_property_readonly("num_twist_edges", [](const CompiledTwistObject& c) {
+        return std::visit([](const auto& q) { return q.num_twist_edges(); }, c.query);
+      }, "Twist edges read per evaluation.")
+      .def("__repr__", [](const CompiledTwistObject& c) { return "CompiledTwist(" + CompiledText(c) + ")"; });
+
+  // ------------------------------------------------------------ handles and batches
+  py::class_<PoseHandleObject, std::shared_ptr<PoseHandleObject>>(m, "PoseHandle",
+      R"(A resolved pose edge {wrt} -> {of} (SceneGraph.pose_handle), for O(1) updates with
+SceneGraph.set_pose or a PoseBatch. It keeps its SceneGraph alive.)")
+      .def_property_readonly("of", [](const PoseHandleObject& h) { return h.of; }, "The edge's head frame.")
+      .def_property_readonly("wrt", [](const PoseHandleObject& h) { return h.wrt; }, "The edge's tail frame.")
+      .def_property_readonly("is_valid", [](const PoseHandleObject& h) {
+        return h.graph->Visit([&](const auto& g) {
+          auto current = g.FindPoseEdge(h.of, h.wrt);
+          return current && SameHandle(*current, h.handle);
+        });
+      }, "False once the edge was removed (even if an edge with the same frames was added again).")
+      .def("__repr__", [](const PoseHandleObject& h) {
+        return "PoseHandle(of='" + h.of + "', wrt='" + h.wrt + "')";
+      });
+  py::class_<TwistHandleObject, std::shared_ptr<TwistHandleObject>>(m, "TwistHandle",
+      R"(A resolved twist edge ref_body -> {point} (SceneGraph.twist_handle), for O(1) updates
+with SceneGraph.set_twist or a TwistBatch. It keeps its SceneGraph alive.)")
+      .def_property_readonly("point", [](const TwistHandleObject& h) { return h.point; })
+      .def_property_readonly("ref_body", [](const TwistHandleObject& h) { return h.ref_body; })
+      .def_property_readonly("is_valid", [](const TwistHandleObject& h) {
+        return h.graph->Visit([&](const auto& g) {
+          auto current = g.FindTwistEdge(h.point, h.ref_body);
+          return current && SameHandle(*current, h.handle);
+        });
+      })
+      .def("__repr__", [](const TwistHandleObject& h) {
+        return "TwistHandle(point='" + h.point + "', ref_body='" + h.ref_body + "')";
+      });
+  py::class_<PoseBatchObject, std::shared_ptr<PoseBatchObject>>(m, "PoseBatch",
+      R"(N pose edges updated together from one array (SceneGraph.pose_batch).)")
+      .def("set", &SetPoseBatch, py::arg("values"),
+           R"(Sets the N edges from `values`: shape (N, 7), rows [x, y, z, qw, qx, qy, qz] (position
+of the head's origin in the tail, then the head's orientation in the tail as a unit quaternion),
+or shape (N, 4, 4), homogeneous matrices [R p; 0 0 0 1]. Every row is checked before any is
+stored, so a refused batch (RejectedError naming the row: invalid_number, invalid_rotation,
+no_such_edge) changes nothing. Runs without the GIL.)")
+      .def("__len__", [](const PoseBatchObject& b) { return b.handles.size(); })
+      .def("__repr__", [](const PoseBatchObject& b) {
+        return "PoseBatch(" + std::to_string(b.handles.size()) + " edges)";
+      });
+  py::class_<TwistBatchObject, std::shared_ptr<TwistBatchObject>>(m, "TwistBatch",
+      R"(N twist edges updated together from one array (SceneGraph.twist_batch).)")
+      .def("set", &SetTwistBatch, py::arg("values"),
+           R"(Sets the N screw twists from `values` of shape (N, 6), rows [vx, vy, vz, wx, wy, wz]:
+velocity of the head frame's origin and angular velocity of its body relative to the reference
+body, both in [head]. Checked first, atomic, without the GIL, as PoseBatch.set.)")
+      .def("__len__", [](const TwistBatchObject& b) { return b.handles.size(); })
+      .def("__repr__", [](const TwistBatchObject& b) {
+        return "TwistBatch(" + std::to_string(b.handles.size()) + " edges)";
+      });
+
+  // ------------------------------------------------------------ SceneGraph
+  py::class_<GraphBox, std::shared_ptr<GraphBox>> graph(m, "SceneGraph", R"(A constraint-checking scene graph of poses and twists of rigid bodies (De Laet et al.,
+IROS 2013).
+
+Bodies contain frames; pose edges {wrt} -> {of} store the pose of a frame relative to another,
+twist edges ref_body -> {point} the screw twist of a frame's body relative to another body.
+Every add is checked (one pose parent per frame, no cycles, frames of one body connected
+through constant same-body edges, one twist path, ...) and is atomic: a refused add raises
+RejectedError and changes nothing. Queries compose the stored relations along the graph,
+checking every step, and raise QueryError when the question has no answer.
+
+representation: 'quaternion' (default; unit quaternion + vector, any semantics) or
+'homogeneous' (4x4 matrices: poses must be between frame origins and expressed in the
+reference orientation frame, else representation_constraint).)");
+  graph.def(py::init([](py::handle representation) { return Make(representation); }),
+            py::arg("representation") = "quaternion");
+  graph.def_property_readonly("representation", &GraphBox::representation,
+                              "'quaternion' or 'homogeneous'.");
+  graph.def_property_readonly("num_frames", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) { return g.num_frames(); });
+  });
+  graph.def_property_readonly("num_bodies", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) { return g.num_bodies(); });
+  });
+  graph.def_property_readonly("num_pose_edges", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) { return g.num_pose_edges(); });
+  });
+  graph.def_property_readonly("num_twist_edges", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) { return g.num_twist_edges(); });
+  });
+  graph.def_property_readonly("frames", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) {
+      std::vector<std::string> out;
+      for (std::uint32_t i = 0; i < g.num_frames(); ++i) out.emplace_back(g.frame_name(core::FrameIndex(i)));
+      return out;
+    });
+  }, "Frame names, in creation order.");
+  graph.def_property_readonly("bodies", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) {
+      std::vector<std::string> out;
+      for (std::uint32_t i = 0; i < g.num_bodies(); ++i) out.emplace_back(g.body_name(core::BodyIndex(i)));
+      return out;
+    });
+  }, "Body names, in creation order.");
+  graph.def("body_of", [](const GraphBox& b, py::handle frame) -> py::object {
+    const std::string_view name = NameArg(frame, "body_of", "frame");
+    return b.Visit([&](const auto& g) -> py::object {
+      const core::FrameIndex f = g.FindFrame(name);
+      if (!f.is_valid()) return py::none();
+      return py::str(std::string(g.body_name(g.body_of(f))));
+    });
+  }, py::arg("frame"), "The name of the body a frame is fixed to, or None for an unknown frame.");
+  graph.def("__repr__", [](const GraphBox& b) {
+    return b.Visit([&](const auto& g) {
+      return "SceneGraph(representation='" + std::string(b.representation()) + "', frames=" +
+             std::to_string(g.num_frames()) + ", bodies=" + std::to_string(g.num_bodies()) +
+             ", pose_edges=" + std::to_string(g.num_pose_edges()) + ", twist_edges=" +
+             std::to_string(g.num_twist_edges()) + ")";
+    });
+  });
+
+  // ---- build
+  graph.def("add_body", [](GraphBox& b, py::handle name) {
+    const std::string_view n = NameArg(name, "add_body", "name");
+    std::lock_guard<std::mutex> lock(b.writer);
+    Check(b.Visit([&](auto& g) { return g.AddBody(n); }));
+  }, py::arg("name"), "Adds a body. RejectedError: invalid_name, duplicate_body.");
+  graph.def("add_frame", [](GraphBox& b, py::handle name, py::handle body) {
+    const std::string_view n = NameArg(name, "add_frame", "name");
+    const std::string_view bd = NameArg(body, "add_frame", "body");
+    std::lock_guard<std::mutex> lock(b.writer);
+    Check(b.Visit([&](auto& g) { return g.AddFrame(n, bd); }));
+  }, py::arg("name"), py::arg("body"),
+     "Adds a frame fixed to an existing body. RejectedError: invalid_name, frame_without_body, "
+     "duplicate_frame, unknown_body.");
+  graph.def("add_pose",
+      [](GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in, py::handle position,
+         py::handle rotation, py::handle quaternion, py::handle rotation_matrix, py::handle rpy) {
+        const PoseNames n = ReadPoseNames("add_pose", of, body, wrt, ref_body, point, orientation,
+                                          ref_point, ref_orientation, expressed_in);
+        const Eigen::Vector3d p = Vector3Arg(position, "add_pose", "position");
+        const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "add_pose");
+        const core::PoseSpec spec = n.Spec();
+        std::lock_guard<std::mutex> lock(b.writer);
+        Check(b.Visit([&](auto& g) {
+          return rot.is_matrix ? g.AddPose(spec, rot.R, p) : g.AddPose(spec, rot.q, p);
+        }));
+      },
+      py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),
+      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),
+      py::arg("point") = py::none(), py::arg("orientation") = py::none(),
+      py::arg("ref_point") = py::none(), py::arg("ref_orientation") = py::none(),
+      py::arg("expressed_in") = py::none(), py::arg("position") = py::none(),
+      py::arg("rotation") = py::none(), py::arg("quaternion") = py::none(),
+      py::arg("rotation_matrix") = py::none(), py::arg("rpy") = py::none(),
+      Doc(R"(Adds the pose of `of` (body `body`) relative to `wrt` (body `ref_body`), stored as the
+edge {wrt} -> {of}, or updates the value of that existing edge. Frames and bodies that do not
+exist yet are created. A pose in a non-edge form (other point, reference point or coordinate
+frame) is converted once. position: of's origin relative to wrt's origin, in [expressed_in]
+(default [wrt]); default (0, 0, 0).
+RejectedError (code): invalid_name, invalid_number, invalid_rotation, frame_body_mismatch,
+self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
+multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, ...
+)", (std::string(kPoseNamesDoc) + kRotationDoc).c_str()).c_str());
+  graph.def("add_twist",
+      [](GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in, py::handle linear, py::handle angular) {
+        const core::TwistSpec spec = ReadTwistSpec("add_twist", point, body, ref_body, expressed_in);
+        const Eigen::Vector3d v = Vector3Arg(linear, "add_twist", "linear");
+        const Eigen::Vector3d w = Vector3Arg(angular, "add_twist", "angular");
+        std::lock_guard<std::mutex> lock(b.writer);
+        Check(b.Visit([&](auto& g) { return g.AddTwist(spec, v, w); }));
+      },
+      py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),
+      py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none(),
+      py::arg("linear") = py::none(), py::arg("angular") = py::none(),
+      R"(Adds the twist of body `body` (default: the body of frame `point`) relative to body
+`ref_body`, as the twist edge ref_body -> {point}, or updates it.
+linear: velocity of the point of `body` at the origin of `point`; angular: angular velocity;
+both expressed in [expressed_in] (converted to [point] once when different); default zero.
+RejectedError: invalid_name, invalid_number, unknown_frame, unknown_body, frame_body_mismatch,
+twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path, ...)");
+  graph.def("remove_pose", [](GraphBox& b, py::handle of, py::handle wrt) {
+    const std::string_view o = NameArg(of, "remove_pose", "of");
+    const std::string_view w = NameArg(wrt, "remove_pose", "wrt");
+    std::lock_guard<std::mutex> lock(b.writer);
+    Check(b.Visit([&](auto& g) { return g.RemovePose(o, w); }));
+    ++b.topology_generation;
+  }, py::kw_only(), py::arg("of"), py::arg("wrt"),
+     "Removes the pose edge {wrt} -> {of}. RejectedError: invalid_name, unknown_frame, "
+     "no_such_edge. Compiled queries and handles that read it become invalid.");
+  graph.def("remove_twist", [](GraphBox& b, py::handle point, py::handle ref_body) {
+    const std::string_view p = NameArg(point, "remove_twist", "point");
+    const std::string_view r = NameArg(ref_body, "remove_twist", "ref_body");
+    std::lock_guard<std::mutex> lock(b.writer);
+    Check(b.Visit([&](auto& g) { return g.RemoveTwist(p, r); }));
+    ++b.topology_generation;
+  }, py::kw_only(), py::arg("point"), py::arg("ref_body"),
+     "Removes the twist edge ref_body -> {point}. RejectedError: invalid_name, unknown_frame, "
+     "unknown_body, no_such_edge.");
+
+  // ---- queries
+#define SEMGRAPH_POSE_ARGS                                                                       \
+  py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),                       \
+      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),                             \
+      py::arg("point") = py::none(), py::arg("orientation") = py::none(),                        \
+      py::arg("ref_point") = py::none(), py::arg("ref_orientation") = py::none(),                \
+      py::arg("expressed_in") = py::none()
+#define SEMGRAPH_TWIST_ARGS                                                                      \
+  py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),                    \
+      py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none()
+
+  constexpr const char* kQueryErrors = R"(
+QueryError (code, and .argument: the keyword at fault where there is one): invalid_name,
+unknown_frame, unknown_body, frame_body_mismatch, no_pose_path, representation_constraint, and
+for velocities no_twist_path.)";
+
+  graph.def("pose",
+      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames("pose", of, body, wrt, ref_body, point, orientation,
+                                          ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          using B = typename std::decay_t<decltype(g)>::Backend;
+          auto r = g.GetPose(spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return MakePoseResult<B>(self, r->semantics, r->value);
+        });
+      },
+      SEMGRAPH_POSE_ARGS,
+      Doc("The pose of `of` relative to `wrt`, expressed in `expressed_in` (a Pose).\n",
+          (std::string(kPoseNamesDoc) + kQueryErrors).c_str()).c_str());
+  graph.def("position",
+      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames("position", of, body, wrt, ref_body, point, orientation,
+                                          ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.GetPosition(spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return PositionResult{self, r->semantics, r->value};
+        });
+      },
+      SEMGRAPH_POSE_ARGS,
+      Doc("The position of the origin of `of` (or `point`) relative to the origin of `wrt` (or "
+          "`ref_point`), in `expressed_in` (a Position). Orientation names are ignored.\n",
+          (std::string(kPoseNamesDoc) + kQueryErrors).c_str()).c_str());
+  graph.def("orientation",
+      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames("orientation", of, body, wrt, ref_body, point,
+                                          orientation, ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          using B = typename std::decay_t<decltype(g)>::Backend;
+          auto r = g.GetOrientation(spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return MakeOrientationResult<B>(self, r->semantics, r->value);
+        });
+      },
+      SEMGRAPH_POSE_ARGS,
+      Doc("The orientation of [of] (or [orientation]) relative to [wrt] (or [ref_orientation]), "
+          "in `expressed_in` (an Orientation). Point names are ignored.\n",
+          (std::string(kPoseNamesDoc) + kQueryErrors).c_str()).c_str());
+  constexpr const char* kTwistNamesDoc = R"(
+Names (keyword-only):
+  point         a frame: the velocity is that of the point of `body` at this frame's origin
+  body          the moving body C (default: the body of `point`'s frame)
+  ref_body      the reference body D
+  expressed_in  the coordinate frame [r])";
+  graph.def("twist",
+      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in) {
+        const core::TwistSpec spec = ReadTwistSpec("twist", point, body, ref_body, expressed_in);
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.GetTwist(spec);
+          if (!r) ThrowTwistQuery(g, r.error(), spec);
+          return TwistResult{self, r->semantics, r->linear, r->angular};
+        });
+      },
+      SEMGRAPH_TWIST_ARGS,
+      Doc("The twist of `body` at `point` relative to `ref_body`, in `expressed_in` (a Twist).\n",
+          (std::string(kTwistNamesDoc) + kQueryErrors).c_str()).c_str());
+  graph.def("linear_velocity",
+      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in) {
+        const core::TwistSpec spec =
+            ReadTwistSpec("linear_velocity", point, body, ref_body, expressed_in);
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.GetLinearVelocity(spec);
+          if (!r) ThrowTwistQuery(g, r.error(), spec);
+          return LinearVelocityResult{self, r->semantics, r->value};
+        });
+      },
+      SEMGRAPH_TWIST_ARGS,
+      Doc("The velocity of the point of `body` at `point` relative to `ref_body`, in "
+          "`expressed_in` (a LinearVelocity).\n",
+          (std::string(kTwistNamesDoc) + kQueryErrors).c_str()).c_str());
+  graph.def("angular_velocity",
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in) {
+        const core::TwistSpec spec =
+            ReadTwistSpec("angular_velocity", py::none(), body, ref_body, expressed_in);
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.GetAngularVelocity(spec);
+          if (!r) ThrowTwistQuery(g, r.error(), spec);
+          return AngularVelocityResult{self, r->semantics, r->value};
+        });
+      },
+      py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
+      py::arg("expressed_in") = py::none(),
+      Doc("The angular velocity of `body` relative to `ref_body`, in `expressed_in` (an "
+          "AngularVelocity). No point is needed.", kQueryErrors).c_str());
+
+  // ---- compiled queries
+  graph.def("compile_pose",
+      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames("compile_pose", of, body, wrt, ref_body, point,
+                                          orientation, ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.CompilePose(spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return std::make_shared<CompiledPoseObject>(CompiledPoseObject{self, std::move(*r)});
+        });
+      },
+      SEMGRAPH_POSE_ARGS,
+      "The pose query of pose(), compiled (a CompiledPose); the same QueryErrors as pose().");
+  graph.def("compile_position",
+      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames("compile_position", of, body, wrt, ref_body, point,
+                                          orientation, ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.CompilePosition(spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return std::make_shared<CompiledPositionObject>(CompiledPositionObject{self, std::move(*r)});
+        });
+      },
+      SEMGRAPH_POSE_ARGS,
+      "The query of position(), compiled (a CompiledPosition).");
+  graph.def("compile_orientation",
+      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+         py::handle point, py::handle orientation, py::handle ref_point,
+         py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames("compile_orientation", of, body, wrt, ref_body, point,
+                                          orientation, ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.CompileOrientation(spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return std::make_shared<CompiledOrientationObject>(
+              CompiledOrientationObject{self, std::move(*r)});
+        });
+      },
+      SEMGRAPH_POSE_ARGS,
+      "The query of orientation(), compiled (a CompiledOrientation).");
+  graph.def("compile_twist",
+      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in) {
+        const core::TwistSpec spec = ReadTwistSpec("compile_twist", point, body, ref_body, expressed_in);
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto r = g.CompileTwist(spec);
+          if (!r) ThrowTwistQuery(g, r.error(), spec);
+          auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
+          c->kind = CompiledKind::kTwist;
+          return c;
+        });
+      },
+      SEMGRAPH_TWIST_ARGS, "The query of twist(), compiled (a CompiledTwist returning Twist).");
+  graph.def("compile_linear_velocity",
+      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in) {
+        const core::TwistSpec spec =
+            ReadTwistSpec("compile_linear_velocity", point, body, ref_body, expressed_in);
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto checked = g.GetLinearVelocity(spec);  // its semantics and errors
+          if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+          auto r = g.CompileTwist(spec);
+          if (!r) ThrowTwistQuery(g, r.error(), spec);
+          auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
+          c->kind = CompiledKind::kLinear;
+          c->linear_semantics = checked->semantics;
+          return c;
+        });
+      },
+      SEMGRAPH_TWIST_ARGS,
+      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity).");
+  graph.def("compile_angular_velocity",
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in) {
+        const core::TwistSpec spec =
+            ReadTwistSpec("compile_angular_velocity", py::none(), body, ref_body, expressed_in);
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto checked = g.GetAngularVelocity(spec);
+          if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+          // As GetAngularVelocity does: the twist at the coordinate frame's origin.
+          core::TwistSpec at_r = spec;
+          at_r.point = spec.coordinate_frame;
+          auto r = g.CompileTwist(at_r);
+          if (!r) ThrowTwistQuery(g, r.error(), spec);
+          auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
+          c->kind = CompiledKind::kAngular;
+          c->angular_semantics = checked->semantics;
+          return c;
+        });
+      },
+      py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
+      py::arg("expressed_in") = py::none(),
+      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity).");
+#undef SEMGRAPH_POSE_ARGS
+#undef SEMGRAPH_TWIST_ARGS
+
+  // ---- handles
+  graph.def("pose_handle", [](const GraphBox& b, py::handle of, py::handle wrt) {
+    const std::string_view o = NameArg(of, "pose_handle", "of");
+    const std::string_view w = NameArg(wrt, "pose_handle", "wrt");
+    GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+    return b.Visit([&](const auto& g) {
+      auto h = g.FindPoseEdge(o, w);
+      if (!h) ThrowRejected(h.error().code, h.error().message);
+      return std::make_shared<PoseHandleObject>(
+          PoseHandleObject{self, *h, std::string(o), std::string(w)});
+    });
+  }, py::kw_only(), py::arg("of"), py::arg("wrt"),
+     "The handle of the existing pose edge {wrt} -> {of} (a PoseHandle). RejectedError: "
+     "unknown_frame, no_such_edge, constant_pose_change (a same-body edge cannot be updated).");
+  graph.def("twist_handle", [](const GraphBox& b, py::handle point, py::handle ref_body) {
+    const std::string_view p = NameArg(point, "twist_handle", "point");
+    const std::string_view r = NameArg(ref_body, "twist_handle", "ref_body");
+    GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+    return b.Visit([&](const auto& g) {
+      auto h = g.FindTwistEdge(p, r);
+      if (!h) ThrowRejected(h.error().code, h.error().message);
+      return std::make_shared<TwistHandleObject>(
+          TwistHandleObject{self, *h, std::string(p), std::string(r)});
+    });
+  }, py::kw_only(), py::arg("point"), py::arg("ref_body"),
+     "The handle of the existing twist edge ref_body -> {point} (a TwistHandle). RejectedError: "
+     "unknown_frame, unknown_body, no_such_edge.");
+  graph.def("set_pose", &SetPose, py::arg("handle"), py::kw_only(),
+            py::arg("position") = py::none(), py::arg("rotation") = py::none(),
+            py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
+            py::arg("rpy") = py::none(),
+            Doc(R"(New value of the edge behind `handle`: the head's origin in the tail (position,
+default (0, 0, 0)) and the head's orientation in the tail, both in [tail]. O(1).
+RejectedError: invalid_number, invalid_rotation, no_such_edge (removed since the handle was
+made); the stored value is then unchanged. ValueError: a handle of another SceneGraph.
+)", kRotationDoc).c_str());
+  graph.def("set_twist", &SetTwist, py::arg("handle"), py::kw_only(),
+            py::arg("linear") = py::none(), py::arg("angular") = py::none(),
+            R"(New screw twist of the edge behind `handle`: velocity of the head frame's origin
+and angular velocity of its body relative to the reference body, both in [head]. O(1).
+RejectedError: invalid_number, no_such_edge.)");
+  graph.def("pose_batch", [](GraphBox& b, py::handle handles) {
+    auto list = HandleList<PoseHandleObject>(handles, "pose_batch", "PoseHandle");
+    auto batch = std::make_shared<PoseBatchObject>();
+    batch->graph = b.shared_from_this();
+    for (const auto& h : list) {
+      if (h->graph.get() != &b) throw py::value_error("pose_batch(): a handle belongs to another SceneGraph");
+      batch->handles.push_back(h->handle);
+      batch->of.push_back(h->of);
+      batch->wrt.push_back(h->wrt);
+    }
+    batch->checked_generation = b.topology_generation - 1;  // checked at the first set()
+    return batch;
+  }, py::arg("handles"),
+     "A PoseBatch over these PoseHandles, to update them all from one array (PoseBatch.set).");
+  graph.def("twist_batch", [](GraphBox& b, py::handle handles) {
+    auto list = HandleList<TwistHandleObject>(handles, "twist_batch", "TwistHandle");
+    auto batch = std::make_shared<TwistBatchObject>();
+    batch->graph = b.shared_from_this();
+    for (const auto& h : list) {
+      if (h->graph.get() != &b) throw py::value_error("twist_batch(): a handle belongs to another SceneGraph");
+      batch->handles.push_back(h->handle);
+      batch->point.push_back(h->point);
+      batch->ref_body.push_back(h->ref_body);
+    }
+    batch->checked_generation = b.topology_generation - 1;
+    return batch;
+  }, py::arg("handles"),
+     "A TwistBatch over these TwistHandles, to update them all from one array (TwistBatch.set).");
+
+  // ---- inspection
+  graph.def("dump", [](const GraphBox& b) { return b.Visit([](const auto& g) { return g.Dump(); }); },
+            "A canonical, complete text dump of the graph (names, topology, values), e.g. to "
+            "compare states.");
+  graph.def("check_invariants",
+            [](const GraphBox& b) { return b.Visit([](const auto& g) { return g.CheckInvariants(); }); },
+            "Verifies every invariant of the graph from scratch (slow); '' when all hold.");
+  graph.def("dot", [](const GraphBox& b) -> std::string {
+#ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
+    return b.Visit([](const auto& g) { return tools::WriteDot(g); });
+#else
+    (void)b;
+    throw std::runtime_error("dot(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
+#endif
+  }, R"(The graph as Graphviz DOT in the style of the paper's Fig. 8: a cluster per body holding its
+frames, pose edges solid (tail -> head), twist edges dashed (reference body -> head frame).)");
+}
+
+}  // namespace semgraph::python

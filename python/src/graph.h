@@ -1,0 +1,169 @@
+// File: python/src/graph.h
+//
+// The C++ objects behind the Python classes. Nothing here computes geometry: every number comes
+// from semgraph::core (SceneGraph, CompiledX, SetPose/SetTwist); this layer converts arguments,
+// shares ownership and turns error values into Python exceptions.
+//
+// Ownership (why nothing can dangle): a GraphBox is held by std::shared_ptr. The Python
+// SceneGraph, every result (for the names in its repr), compiled query, handle and batch hold
+// one, so a compiled query made from a graph keeps that graph alive after the Python SceneGraph
+// is gone; the SceneGraph<B> inside a box never moves (core's requirement for compiled queries).
+//
+// Concurrency: every Python call runs with the GIL held, except batch updates and script runs,
+// which release it. GraphBox::writer serializes every write (add, remove, set, batch set), so the
+// core's "one writer" and "topology changes need exclusive access" rules hold even when a batch
+// runs without the GIL; queries and compiled evaluations are readers (sequence locks) and take no
+// lock, as in C++.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "semgraph/core/compiled_query.h"
+#include "semgraph/core/scene_graph.h"
+
+namespace semgraph::python {
+
+namespace py = pybind11;
+
+using QuaternionGraph = core::SceneGraph<coord::QuaternionBackend>;
+using HomogeneousGraph = core::SceneGraph<coord::HomogeneousBackend>;
+
+struct GraphBox : std::enable_shared_from_this<GraphBox> {
+  explicit GraphBox(bool homogeneous);
+  GraphBox(const GraphBox&) = delete;
+  GraphBox& operator=(const GraphBox&) = delete;
+
+  template <class F>
+  decltype(auto) Visit(F&& f) {
+    return std::visit(std::forward<F>(f), graph);
+  }
+  template <class F>
+  decltype(auto) Visit(F&& f) const {
+    return std::visit(std::forward<F>(f), graph);
+  }
+  [[nodiscard]] const char* representation() const noexcept;
+  [[nodiscard]] const semantics::NameTable& names() const noexcept;
+
+  std::variant<QuaternionGraph, HomogeneousGraph> graph;
+  std::mutex writer;                    // held by every write (see the file comment)
+  std::uint64_t topology_generation = 0;  // bumped by every accepted removal (under writer)
+};
+using GraphPtr = std::shared_ptr<GraphBox>;
+
+// ---------------------------------------------------------------- results
+// Numbers are kept as C++ values and turned into numpy arrays when a property is read, so a
+// query costs one small object. Quaternions are stored with w >= 0 (when w == 0, the first
+// nonzero component > 0), the rule of the semgraph tool's output, so that q is deterministic.
+
+struct PoseResult {
+  GraphPtr graph;
+  semantics::PoseSemantics semantics;
+  Eigen::Quaterniond q;
+  Eigen::Vector3d p;
+};
+struct PositionResult {
+  GraphPtr graph;
+  semantics::PositionSemantics semantics;
+  Eigen::Vector3d p;
+};
+struct OrientationResult {
+  GraphPtr graph;
+  semantics::OrientationSemantics semantics;
+  Eigen::Quaterniond q;
+};
+struct TwistResult {
+  GraphPtr graph;
+  semantics::TwistSemantics semantics;
+  Eigen::Vector3d v, w;
+};
+struct LinearVelocityResult {
+  GraphPtr graph;
+  semantics::LinearVelocitySemantics semantics;
+  Eigen::Vector3d v;
+};
+struct AngularVelocityResult {
+  GraphPtr graph;
+  semantics::AngularVelocitySemantics semantics;
+  Eigen::Vector3d w;
+};
+
+/// q with the sign rule above.
+Eigen::Quaterniond CanonicalQuaternion(Eigen::Quaterniond q) noexcept;
+
+// ---------------------------------------------------------------- compiled queries
+
+template <template <class> class C>
+using PerBackend = std::variant<C<coord::QuaternionBackend>, C<coord::HomogeneousBackend>>;
+
+enum class CompiledKind : std::uint8_t { kPose, kPosition, kOrientation, kTwist, kLinear, kAngular };
+
+struct CompiledPoseObject {
+  GraphPtr graph;
+  PerBackend<core::CompiledPose> query;
+};
+struct CompiledPositionObject {
+  GraphPtr graph;
+  PerBackend<core::CompiledPosition> query;
+};
+struct CompiledOrientationObject {
+  GraphPtr graph;
+  PerBackend<core::CompiledOrientation> query;
+};
+/// Twist, linear velocity and angular velocity: one CompiledTwist (core has no separate kinds),
+/// results cut to the asked part with the semantics the one-shot query reported.
+struct CompiledTwistObject {
+  GraphPtr graph;
+  PerBackend<core::CompiledTwist> query;
+  CompiledKind kind = CompiledKind::kTwist;
+  semantics::LinearVelocitySemantics linear_semantics;
+  semantics::AngularVelocitySemantics angular_semantics;
+};
+
+// ---------------------------------------------------------------- handles and batches
+
+struct PoseHandleObject {
+  GraphPtr graph;
+  core::PoseHandle handle;
+  std::string of, wrt;
+};
+struct TwistHandleObject {
+  GraphPtr graph;
+  core::TwistHandle handle;
+  std::string point, ref_body;
+};
+struct PoseBatchObject {
+  GraphPtr graph;
+  std::vector<core::PoseHandle> handles;
+  std::vector<std::string> of, wrt;
+  std::uint64_t checked_generation = 0;  // handles known valid at this topology generation
+};
+struct TwistBatchObject {
+  GraphPtr graph;
+  std::vector<core::TwistHandle> handles;
+  std::vector<std::string> point, ref_body;
+  std::uint64_t checked_generation = 0;
+};
+
+// ---------------------------------------------------------------- errors
+
+/// Stores the exception classes defined in semgraph/_errors.py (called once, at import).
+void InitErrors(py::module_ errors);
+/// Raises semgraph.RejectedError(code, message).
+[[noreturn]] void ThrowRejected(core::ErrorCode code, const std::string& message);
+/// Raises semgraph.QueryError(code, message, field, argument).
+[[noreturn]] void ThrowQuery(core::ErrorCode code, const std::string& message, const char* field,
+                             const char* argument);
+
+/// Registers SceneGraph, the results, compiled queries, handles and batches.
+void BindGraph(py::module_& m);
+/// Registers run_script support (_run_script_text).
+void BindScript(py::module_& m);
+
+}  // namespace semgraph::python
