@@ -14,7 +14,7 @@
 #include "semgraph/semantics/describe.h"
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
-#include "semgraph/dot_writer.h"
+#include "semgraph/script/scene_script.h"
 #endif
 
 namespace semgraph::python {
@@ -1283,7 +1283,7 @@ RejectedError: invalid_number, no_such_edge.)");
             "Verifies every invariant of the graph from scratch (slow); '' when all hold.");
   graph.def("dot", [](const GraphBox& b) -> std::string {
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
-    return b.Visit([](const auto& g) { return tools::WriteDot(g); });
+    return b.Visit([](const auto& g) { return script::WriteDot(g); });
 #else
     (void)b;
     throw std::runtime_error("dot(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");

@@ -20,24 +20,24 @@ void BindScript(py::module_& m) {
   m.def("_run_script_text", [](py::bytes text, const std::string& file_name) -> py::tuple {
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
     const std::string data = text;
-    std::optional<tools::ScriptError> error;
+    std::optional<script::ScriptError> error;
     std::string formatted;
     GraphPtr graph;
     std::vector<std::string> lines;
     bool all_ok = true;
     {
       py::gil_scoped_release release;  // the graph is not shared with Python yet
-      auto script = tools::ReadScript(data);
+      auto script = script::ReadScript(data);
       if (!script) {
         error = script.error();
-        formatted = tools::FormatScriptError(file_name, *error);
+        formatted = script::FormatScriptError(file_name, *error);
       } else {
         graph = std::make_shared<GraphBox>(script->representation ==
-                                           tools::Representation::kHomogeneous);
+                                           script::Representation::kHomogeneous);
         graph->Visit([&](auto& g) {
           lines.reserve(script->ops.size());
           for (std::size_t i = 0; i < script->ops.size(); ++i) {
-            tools::OpOutcome outcome = tools::ApplyOp(g, script->ops[i], i);
+            script::OpOutcome outcome = script::ApplyOp(g, script->ops[i], i);
             all_ok = all_ok && outcome.ok;
             lines.push_back(std::move(outcome.json));
           }
