@@ -448,15 +448,12 @@ class Differential {
     }
   }
 
-  // Whether the compiled form is expected to fail like the one-shot query. CompileTwist serves
-  // the angular velocity too: it reads an empty point as the coordinate frame's origin, so a
-  // twist or linear-velocity query without a point compiles (GetTwist: invalid_name), and an
-  // angular-velocity query without a body takes the coordinate frame's body
+  // Whether the compiled form is expected to fail like the one-shot query. CompileTwist needs
+  // its point, as GetTwist does; an angular velocity is compiled as the twist at the coordinate
+  // frame's origin (what GetAngularVelocity asks), which without a body takes that frame's body
   // (GetAngularVelocity: invalid_name).
   static bool CompileComparable(const Query& q) {
     switch (q.kind) {
-      case QueryKind::kTwist:
-      case QueryKind::kLinearVelocity: return !q.point.empty();
       case QueryKind::kAngularVelocity: return !q.body.empty();
       default: return true;
     }
@@ -557,7 +554,9 @@ class Differential {
         break;
       }
       default: {
-        auto r = graph_.CompileTwist(TwistSpecOf(q));
+        core::TwistSpec spec = TwistSpecOf(q);
+        if (q.kind == QueryKind::kAngularVelocity) spec.point = spec.coordinate_frame;
+        auto r = graph_.CompileTwist(spec);
         if (!r) return Code(r);
         c = std::move(*r);
         break;
