@@ -39,7 +39,6 @@ class NameRollback {
 
 template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
-  values_.X_PF.reserve(values_.X_PF.size() + 1);  // before the topology changes: all or nothing
   const FrameIndex f = topology_.CreateFrame(name, body);
   values_.AddFrame();
   return f;
@@ -352,7 +351,6 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   const BodyIndex tail = D.is_valid() ? D : topology_.CreateBody(D_id);
   const FrameIndex head = e.is_valid() ? e : CreateFrame(e_id, C);
-  values_.V_DH.reserve(t.num_twist_edge_slots() + 1);
   const TwistEdgeIndex edge = topology_.LinkTwist(
       tail, head,
       semantics::TwistSemantics{semantics::Point(e_id), t.BodySem(C), t.BodySem(tail), semantics::OrientationFrame(e_id)});
