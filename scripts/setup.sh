@@ -3,7 +3,7 @@
 #
 #   scripts/setup.sh [--clang] [--bench] [--dot]
 #
-#   (always)  cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
+#   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
 #   --clang   clang libclang-rt-14-dev   (clang++ builds, sanitizers and libFuzzer with clang)
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
@@ -15,7 +15,7 @@ set -euo pipefail
 
 usage() { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; }
 
-packages=(cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy)
+packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy)
 for arg in "$@"; do
   case "$arg" in
     --clang) packages+=(clang libclang-rt-14-dev) ;;

@@ -20,6 +20,7 @@
 #include <string_view>
 
 #include "semgraph/base/error_code.h"
+#include "semgraph/coord/export.h"
 #include "semgraph/semantics/mismatch.h"
 #include "semgraph/semantics/names.h"
 
@@ -72,6 +73,7 @@ struct Error {
 /// One line naming what is wrong, e.g.
 /// "homogeneous representation: point e|C of the pose must be the origin of orientation frame
 /// [a]|C of the pose", or "quaternion norm differs from 1 by 0.2 (more than 1e-06)".
-[[nodiscard]] std::string Describe(const Error& error, const semantics::NameTable& names);
+[[nodiscard]] SEMGRAPH_COORD_EXPORT std::string Describe(const Error& error,
+                                                         const semantics::NameTable& names);
 
 }  // namespace semgraph::coord

@@ -11,9 +11,10 @@
 // Cost: O(1); a matrix input costs one 3x3 SVD. No allocation. Build-time, not hot path.
 #pragma once
 
-#include "semgraph/coord/error.h"
-#include "semgraph/coord/values.h"
 #include "semgraph/base/expected.h"
+#include "semgraph/coord/error.h"
+#include "semgraph/coord/export.h"
+#include "semgraph/coord/values.h"
 
 namespace semgraph::coord {
 
@@ -21,13 +22,13 @@ using base::Expected;
 using base::Ok;
 using base::Unexpected;
 
-[[nodiscard]] Expected<Eigen::Vector3d, Error> ValidateVector(const Eigen::Vector3d& v,
-                                                              ValueRole role) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Eigen::Vector3d, Error> ValidateVector(
+    const Eigen::Vector3d& v, ValueRole role) noexcept;
 /// Returns q / |q|.
-[[nodiscard]] Expected<Eigen::Quaterniond, Error> ValidateQuaternion(
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Eigen::Quaterniond, Error> ValidateQuaternion(
     const Eigen::Quaterniond& q) noexcept;
 /// Returns the nearest proper rotation.
-[[nodiscard]] Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(
     const Eigen::Matrix3d& R) noexcept;
 
 /// Whether backend B can hold these semantics; the error names B and the two names it requires
@@ -37,8 +38,8 @@ template <Backend B>
 template <Backend B>
 [[nodiscard]] Expected<Ok, Error> CheckRepresentation(const OrientationSemantics& s) noexcept;
 
-[[nodiscard]] Expected<Position, Error> MakePosition(const PositionSemantics& s,
-                                                     const Eigen::Vector3d& p) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Position, Error> MakePosition(
+    const PositionSemantics& s, const Eigen::Vector3d& p) noexcept;
 template <Backend B>
 [[nodiscard]] Expected<Orientation<B>, Error> MakeOrientation(const OrientationSemantics& s,
                                                               const Eigen::Quaterniond& q) noexcept;
@@ -56,22 +57,24 @@ template <Backend B>
 template <Backend B>
 [[nodiscard]] Expected<Pose<B>, Error> MakePose(const PoseSemantics& s,
                                                 const Eigen::Matrix4d& T) noexcept;
-[[nodiscard]] Expected<LinearVelocity, Error> MakeLinearVelocity(const LinearVelocitySemantics& s,
-                                                                 const Eigen::Vector3d& v) noexcept;
-[[nodiscard]] Expected<AngularVelocity, Error> MakeAngularVelocity(
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<LinearVelocity, Error> MakeLinearVelocity(
+    const LinearVelocitySemantics& s, const Eigen::Vector3d& v) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<AngularVelocity, Error> MakeAngularVelocity(
     const AngularVelocitySemantics& s, const Eigen::Vector3d& w) noexcept;
-[[nodiscard]] Expected<Twist, Error> MakeTwist(const TwistSemantics& s, const Eigen::Vector3d& v,
-                                               const Eigen::Vector3d& w) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Twist, Error> MakeTwist(
+    const TwistSemantics& s, const Eigen::Vector3d& v, const Eigen::Vector3d& w) noexcept;
 
 // ------------------------------------------------------------------ implementation
 
 namespace internal {
-Error RepresentationError(const char* representation, semantics::MismatchSide lhs,
-                          semantics::MismatchSide rhs) noexcept;
-Expected<Ok, Error> CheckPoseConstraints(const Constraints& c, const char* name,
-                                         const PoseSemantics& s) noexcept;
-Expected<Ok, Error> CheckOrientationConstraints(const Constraints& c, const char* name,
-                                                const OrientationSemantics& s) noexcept;
+SEMGRAPH_COORD_EXPORT Error RepresentationError(const char* representation,
+                                                semantics::MismatchSide lhs,
+                                                semantics::MismatchSide rhs) noexcept;
+SEMGRAPH_COORD_EXPORT Expected<Ok, Error> CheckPoseConstraints(const Constraints& c,
+                                                               const char* name,
+                                                               const PoseSemantics& s) noexcept;
+SEMGRAPH_COORD_EXPORT Expected<Ok, Error> CheckOrientationConstraints(
+    const Constraints& c, const char* name, const OrientationSemantics& s) noexcept;
 }  // namespace internal
 
 template <Backend B>
@@ -125,7 +128,8 @@ Expected<Pose<B>, Error> MakePose(const PoseSemantics& s, const Eigen::Matrix3d&
 }
 
 namespace internal {
-Expected<Ok, Error> ValidateHomogeneousShape(const Eigen::Matrix4d& T) noexcept;
+SEMGRAPH_COORD_EXPORT Expected<Ok, Error> ValidateHomogeneousShape(
+    const Eigen::Matrix4d& T) noexcept;
 }  // namespace internal
 
 template <Backend B>

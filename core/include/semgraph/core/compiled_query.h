@@ -23,6 +23,7 @@
 
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
+#include "semgraph/core/export.h"
 #include "semgraph/core/query_plan.h"
 
 namespace semgraph::core {
@@ -66,7 +67,7 @@ struct PoseCache {
 
 /// Shared machinery of the compiled queries: the flattened edges and the values they read.
 template <coord::Backend B>
-class CompiledQuery {
+class SEMGRAPH_CORE_EXPORT CompiledQuery {
  public:
   using PoseCoords = typename B::PoseCoords;
 
@@ -97,7 +98,7 @@ class CompiledQuery {
 
 /// PoseCoord((e,[a])|C, (f,[b])|D, [r]).
 template <coord::Backend B>
-class CompiledPose : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledPose : public CompiledQuery<B> {
  public:
   CompiledPose() = default;
   /// Made by SceneGraph::CompilePose from a checked plan of that graph.
@@ -116,7 +117,7 @@ class CompiledPose : public CompiledQuery<B> {
 
 /// PositionCoord(e|C, f|D, [r]).
 template <coord::Backend B>
-class CompiledPosition : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledPosition : public CompiledQuery<B> {
  public:
   CompiledPosition() = default;
   CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values, const PositionPlan& plan);
@@ -132,7 +133,7 @@ class CompiledPosition : public CompiledQuery<B> {
 
 /// OrientationCoord([a]|C, [b]|D, [r]).
 template <coord::Backend B>
-class CompiledOrientation : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledOrientation : public CompiledQuery<B> {
  public:
   CompiledOrientation() = default;
   CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
@@ -151,7 +152,7 @@ class CompiledOrientation : public CompiledQuery<B> {
 
 /// TwistCoord(e|C, D, [r]); linear and angular velocity are its parts.
 template <coord::Backend B>
-class CompiledTwist : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
   CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);

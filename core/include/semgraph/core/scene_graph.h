@@ -49,13 +49,14 @@
 #include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
+#include "semgraph/core/export.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core {
 
 template <coord::Backend B = coord::QuaternionBackend>
-class SceneGraph {
+class SEMGRAPH_CORE_EXPORT SceneGraph {
  public:
   using Backend = B;
   using Pose = coord::Pose<B>;

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/script/export.h"
 
 namespace semgraph::script {
 
@@ -65,29 +66,34 @@ struct RunOptions {
 };
 
 /// `semgraph run` on a script held in memory.
-[[nodiscard]] SceneRun RunScene(std::string_view text, const RunOptions& options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun RunScene(std::string_view text,
+                                                       const RunOptions& options = {});
 /// The same on a file ("-" reads standard input); an unreadable file is status kExitMalformed
 /// with "FILE: cannot read: <reason>". display_name defaults to the path (<stdin> for "-").
-[[nodiscard]] SceneRun RunSceneFile(const std::string& path, RunOptions options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun RunSceneFile(const std::string& path,
+                                                           RunOptions options = {});
 
 /// Applies a script to `graph`. RunOptions::dot is ignored (see WriteDot).
 template <coord::Backend B>
-[[nodiscard]] SceneRun LoadScene(std::string_view text, core::SceneGraph<B>& graph,
-                                 const RunOptions& options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun LoadScene(std::string_view text,
+                                                        core::SceneGraph<B>& graph,
+                                                        const RunOptions& options = {});
 template <coord::Backend B>
-[[nodiscard]] SceneRun LoadSceneFile(const std::string& path, core::SceneGraph<B>& graph,
-                                     RunOptions options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun LoadSceneFile(const std::string& path,
+                                                            core::SceneGraph<B>& graph,
+                                                            RunOptions options = {});
 
 /// The graph in Graphviz DOT, as `semgraph dot` prints it: bodies as clusters holding their
 /// frames, pose edges solid (tail frame -> head frame), twist edges dashed (reference body ->
 /// head frame). Deterministic; names appear only in escaped labels.
 template <coord::Backend B>
-[[nodiscard]] std::string WriteDot(const core::SceneGraph<B>& graph);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string WriteDot(const core::SceneGraph<B>& graph);
 
 /// Reads a script file ("-": standard input) without holding more than one byte beyond the
 /// script size limit (16 MiB), so that an oversized file is reported without being read whole.
 /// False, with the system's reason in *error, when it cannot be read.
-[[nodiscard]] bool ReadScriptFile(const std::string& path, std::string* text, std::string* error);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT bool ReadScriptFile(const std::string& path, std::string* text,
+                                                         std::string* error);
 
 extern template SceneRun LoadScene(std::string_view, core::SceneGraph<coord::QuaternionBackend>&,
                                    const RunOptions&);
