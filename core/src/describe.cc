@@ -28,6 +28,19 @@ std::string Vector(const Eigen::Vector3d& v) {
   return buf;
 }
 
+std::string StampText(std::int64_t ns) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.3f s", static_cast<double>(ns) * 1e-9);
+  return buf;
+}
+
+std::string StampRange(std::int64_t first_ns, std::int64_t last_ns) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "[%.3f, %.3f] s", static_cast<double>(first_ns) * 1e-9,
+                static_cast<double>(last_ns) * 1e-9);
+  return buf;
+}
+
 BuildResult Reject(ErrorCode code, const std::string& what, const std::string& reason) {
   return base::Unexpected{BuildError{code, what + " rejected (" + std::string(base::ToString(code)) + "): " + reason}};
 }
