@@ -110,8 +110,8 @@ QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(const Twis
   TwistSpec s = spec;
   s.point = spec.coordinate_frame;
   if (s.body.empty()) {
-    if (spec.coordinate_frame.empty()) return Unexpected{QueryError{ErrorCode::kInvalidName, Field::kCoordinateFrame, {}, {}, {}, {}}};
-    return Unexpected{QueryError{ErrorCode::kInvalidName, Field::kBody, {}, {}, {}, {}}};
+    if (spec.coordinate_frame.empty()) return Unexpected{QueryError{ErrorCode::kInvalidName, Field::kCoordinateFrame, {}, {}, {}, {}, {}}};
+    return Unexpected{QueryError{ErrorCode::kInvalidName, Field::kBody, {}, {}, {}, {}, {}}};
   }
   auto tw = GetTwist(s);
   if (!tw) {

@@ -270,6 +270,15 @@ class SceneGraph {
   template <class R>
   ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
                         std::optional<Stamp> stamp = std::nullopt) noexcept;
+  // Time (time_query.cc): every timed one-shot query runs the evaluator through RunTimed.
+  template <class Eval>
+  std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
+                                     Eval&& eval) const noexcept;
+  std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b, FrameIndex r,
+                                           const TimeTravel& travel, typename B::PoseCoords& X,
+                                           TimeReport& report) const noexcept;
+  QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
+                                              internal::EdgeRecorder* recorder) const noexcept;
   // Time (time_add.cc): the stamp rules of an update, then the store (value and history).
   internal::TimeContext ConversionContext(std::optional<Stamp> stamp) const noexcept;
   std::string DescribeConversionGap(const internal::TimeContext& tc, Stamp stamp) const;

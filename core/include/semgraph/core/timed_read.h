@@ -25,6 +25,7 @@
 #include "semgraph/base/error_code.h"
 #include "semgraph/coord/se3.h"
 #include "semgraph/core/edge_values.h"
+#include "semgraph/core/time.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core::internal {
@@ -289,6 +290,67 @@ void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, 
     rec.read_to = b.s1;
   }
   if (tc.recorder) tc.recorder->Record(rec);
+}
+
+/// A policy as the context's fields.
+struct PolicyParts {
+  bool at = false, latest_common = false;
+  std::int64_t t = 0, horizon = 0;
+  std::optional<Stamp> not_before;
+  [[nodiscard]] bool valid() const noexcept { return horizon >= 0; }  ///< else invalid_number
+};
+[[nodiscard]] inline PolicyParts PartsOf(const TimePolicy& policy) noexcept {
+  PolicyParts p;
+  if (const auto* a = std::get_if<At>(&policy)) {
+    p.at = true;
+    p.t = a->time.nanoseconds();
+    p.horizon = a->max_extrapolation.nanoseconds();
+    p.not_before = a->not_before;
+  } else if (const auto* c = std::get_if<LatestCommon>(&policy)) {
+    p.latest_common = true;
+    p.not_before = c->not_before;
+  } else {
+    p.not_before = std::get<Latest>(policy).not_before;
+  }
+  return p;
+}
+
+/// Runs `eval(TimeContext&)` (one evaluation of a plan) under the policy: latest common first
+/// probes the newest stamps of the used edges (a second evaluation), then evaluates at their
+/// minimum. Fills the report; returns kOk, kExtrapolation or kStale (then *failure says which
+/// edge), or what eval returned (a compiled query's kQueryInvalidated). `base` carries the
+/// histories, topology and recorder.
+template <class Eval>
+base::ErrorCode RunPolicy(const PolicyParts& p, const TimeContext& base, Eval&& eval, TimeReport& report,
+                          TimeFailure* failure = nullptr) noexcept {
+  report = TimeReport{};
+  TimeContext tc = base;
+  tc.at = p.at;
+  tc.t = p.t;
+  tc.horizon = p.horizon;
+  tc.has_not_before = p.not_before.has_value();
+  tc.not_before = p.not_before ? p.not_before->nanoseconds() : 0;
+  if (p.latest_common) {
+    TimeContext probe = base;  // latest, nothing recorded, no staleness
+    probe.recorder = nullptr;
+    if (const base::ErrorCode code = eval(probe); code != base::ErrorCode::kOk) return code;
+    if (probe.any_stamped) {
+      tc.at = true;
+      tc.t = probe.min_newest;
+    }
+  }
+  if (tc.at) report.time = Stamp::Nanoseconds(tc.t);
+  if (const base::ErrorCode code = eval(tc); code != base::ErrorCode::kOk) return code;
+  if (const base::ErrorCode code = tc.error(); code != base::ErrorCode::kOk) {
+    if (failure) *failure = tc.failure();
+    return code;
+  }
+  if (tc.read_any) {
+    report.oldest = Stamp::Nanoseconds(tc.oldest);
+    report.newest = Stamp::Nanoseconds(tc.newest);
+  }
+  report.extrapolated = tc.extrapolated;
+  return base::ErrorCode::kOk;
 }
 
 }  // namespace semgraph::core::internal
