@@ -97,8 +97,7 @@ std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext& tc
     edge = "pose of " + text::Frame(topology_, h) + " wrt " + text::Frame(topology_, topology_.pose_parent(h));
   }
   return "the value is converted with the graph's values at its stamp " + Seconds(stamp.nanoseconds()) + ", but the " +
-         edge + " has samples in [" + Seconds(f.first).substr(0, Seconds(f.first).size() - 2) + ", " + Seconds(f.last) +
-         "]";
+         edge + " has samples in " + text::StampRange(f.first, f.last);
 }
 
 // ---------------------------------------------------------------- histories

@@ -474,6 +474,13 @@ Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(const Twi
 }
 
 #define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                                        \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex, FrameIndex, FrameIndex, FrameIndex,  \
+                                                                   FrameIndex, const TimeTravel&,                  \
+                                                                   typename B::PoseCoords&, TimeReport&)           \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec&, const TimePolicy&,       \
+                                                                      TwistSource, internal::EdgeRecorder*)       \
+      const noexcept;                                                                                             \
   template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec&, const TimePolicy&)     \
       const noexcept;                                                                                             \
   template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec&, const TimePolicy&)    \

@@ -97,16 +97,22 @@ struct TimeOptions {
 
 /// Each stamped edge's newest sample (the default).
 struct Latest {
+  constexpr explicit Latest(std::optional<Stamp> not_before_ = std::nullopt) noexcept : not_before(not_before_) {}
   std::optional<Stamp> not_before;  ///< a used edge whose newest sample is older: stale
 };
 /// Every edge at `time`; outside an edge's samples, extrapolate up to max_extrapolation.
 struct At {
+  constexpr explicit At(Stamp time_, Duration max_extrapolation_ = {},
+                        std::optional<Stamp> not_before_ = std::nullopt) noexcept
+      : time(time_), max_extrapolation(max_extrapolation_), not_before(not_before_) {}
   Stamp time;
-  Duration max_extrapolation{};  ///< 0: never extrapolate; negative: invalid_number
+  Duration max_extrapolation;  ///< 0: never extrapolate; negative: invalid_number
   std::optional<Stamp> not_before;
 };
 /// At the newest time all used stamped edges have (tf2's Time(0)).
 struct LatestCommon {
+  constexpr explicit LatestCommon(std::optional<Stamp> not_before_ = std::nullopt) noexcept
+      : not_before(not_before_) {}
   std::optional<Stamp> not_before;
 };
 using TimePolicy = std::variant<Latest, At, LatestCommon>;
@@ -114,10 +120,14 @@ using TimePolicy = std::variant<Latest, At, LatestCommon>;
 /// Pose, position, orientation: the point side at `time`, the reference side at `ref_time`,
 /// through `fixed_frame`, assumed fixed between the two ([r] taken at ref_time).
 struct TimeTravel {
+  constexpr TimeTravel(Stamp time_, Stamp ref_time_, std::string_view fixed_frame_, Duration max_extrapolation_ = {},
+                       std::optional<Stamp> not_before_ = std::nullopt) noexcept
+      : time(time_), ref_time(ref_time_), fixed_frame(fixed_frame_), max_extrapolation(max_extrapolation_),
+        not_before(not_before_) {}
   Stamp time;
   Stamp ref_time;
   std::string_view fixed_frame;
-  Duration max_extrapolation{};
+  Duration max_extrapolation;
   std::optional<Stamp> not_before;
 };
 
