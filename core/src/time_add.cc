@@ -154,7 +154,8 @@ ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOp
   const std::int64_t s = stamp->nanoseconds();
   if (s < SaturatingSub(h->newest_stamp(), o.window.nanoseconds())) return ErrorCode::kStampTooOld;
   double stored[History::kValueWords];
-  if (h->ValueAt(s, stored) && !same(stored) && o.duplicate_stamp == DuplicatePolicy::kReject) {
+  if (s <= h->newest_stamp() && h->ValueAt(s, stored) && !same(stored) &&
+      o.duplicate_stamp == DuplicatePolicy::kReject) {
     return ErrorCode::kDuplicateStamp;
   }
   return ErrorCode::kOk;
@@ -177,11 +178,12 @@ void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoord
   PoseHistory& h = *values_.history.pose[head.value()];
   const std::int64_t s = stamp->nanoseconds();
   double w[7];
-  if (h.ValueAt(s, w) && SamePose<B>(w, X)) return;  // the same value again: kept as stored
+  const bool newest = s > h.newest_stamp();  // in order: no equal stamp to look for
+  if (!newest && h.ValueAt(s, w) && SamePose<B>(w, X)) return;  // the same value again: kept as stored
   PoseWords<B>(X, w);
-  const bool newest = s >= h.newest_stamp();
+  const bool becomes_newest = s >= h.newest_stamp();
   h.Insert(s, w, values_.history.options.window.nanoseconds());
-  if (newest) values_.X_PF[head.value()].Store(X);  // the untimed readers' value: the newest sample
+  if (becomes_newest) values_.X_PF[head.value()].Store(X);  // the untimed readers' value: the newest sample
 }
 
 template <coord::Backend B>
@@ -200,11 +202,11 @@ void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
   TwistHistory& h = *values_.history.twist[edge.value()];
   const std::int64_t s = stamp->nanoseconds();
   double w[6];
-  if (h.ValueAt(s, w) && SameTwist(w, V)) return;
+  if (s <= h.newest_stamp() && h.ValueAt(s, w) && SameTwist(w, V)) return;
   internal::WordsFromTwist(V, w);
-  const bool newest = s >= h.newest_stamp();
+  const bool becomes_newest = s >= h.newest_stamp();
   h.Insert(s, w, values_.history.options.window.nanoseconds());
-  if (newest) values_.V_DH[edge.value()].Store(V);
+  if (becomes_newest) values_.V_DH[edge.value()].Store(V);
 }
 
 template <coord::Backend B>

@@ -175,7 +175,8 @@ class SampleHistory {
     const std::uint64_t h = seq_.load(std::memory_order_relaxed);
     seq_.store(h + 1, std::memory_order_relaxed);  // odd: a write is in progress
     std::uint32_t n = size(), head = this->head();
-    std::uint32_t pos = LowerBound(stamp);
+    // In order (the common case) the new sample goes last: no search.
+    std::uint32_t pos = n > 0 && stamp > Stamp(head, n - 1) ? n : LowerBound(stamp);
     if (pos < n && Stamp(head, pos) == stamp) {
       StoreValues(head, pos, stamp, v);
     } else if (!(n == capacity_ && pos == 0)) {
