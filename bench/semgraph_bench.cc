@@ -326,11 +326,13 @@ void BM_RejectW3(benchmark::State& state) {
 // (including the clock read, clock_ns_p50), writer updates per second, the CPUs used.
 // latency_no_writer is the control: the same loop without the writer thread, so that the tail the
 // machine adds on its own (interrupts, preemption on a shared VM) can be told apart.
-// latency_under_writer_10khz: the writer updates the 8 edges once every 100 us (a 10 kHz control
-// loop, sleeping in between) instead of at full speed.
+// latency_under_writer_10khz / _1khz: the writer updates the chain's edges once every 100 us /
+// 1 ms (a 10 kHz / 1 kHz control loop, sleeping in between) instead of at full speed. The chain
+// depth is the benchmark's argument (8 or 64). Also reported: wall and thread CPU time per
+// evaluation (wall_ns_per_eval, cpu_ns_per_eval).
 void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanoseconds writer_period) {
-  constexpr int kDepth = 8;
-  constexpr std::size_t kEvals = 1'000'000;
+  const int kDepth = static_cast<int>(state.range(0));
+  const std::size_t kEvals = kDepth > 8 ? 300'000 : 1'000'000;
   auto& s = F2FScene<QuatB>(kDepth);
   const auto q = s.CompileOrDie(s.F2FSpec());
   std::vector<semgraph::core::PoseHandle> handles;
@@ -402,6 +404,8 @@ void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanosec
     }
     writes_at_start = writes.load(std::memory_order_relaxed);
     QuatB::PoseCoords X;
+    timespec cpu0{}, cpu1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
     const auto begin = Clock::now();
     for (auto& l : latency) {
       const auto t0 = Clock::now();
@@ -411,8 +415,15 @@ void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanosec
       l = (t1 - t0).count();
     }
     const auto end = Clock::now();
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
     writes_at_end = writes.load(std::memory_order_relaxed);
     seconds = std::chrono::duration<double>(end - begin).count();
+    // Thread CPU time beside wall time: on a shared machine the wall clock also counts the
+    // time the reader was preempted, the thread's CPU time does not.
+    const double cpu_seconds = static_cast<double>(cpu1.tv_sec - cpu0.tv_sec) +
+                               1e-9 * static_cast<double>(cpu1.tv_nsec - cpu0.tv_nsec);
+    state.counters["wall_ns_per_eval"] = 1e9 * seconds / static_cast<double>(latency.size());
+    state.counters["cpu_ns_per_eval"] = 1e9 * cpu_seconds / static_cast<double>(latency.size());
     state.SetIterationTime(seconds);
   }
   stop.store(true);
@@ -442,6 +453,9 @@ void BM_LatencyUnderWriter(benchmark::State& state) {
 }
 void BM_LatencyUnderWriter10kHz(benchmark::State& state) {
   LatencyLoop(state, true, std::chrono::microseconds(100));
+}
+void BM_LatencyUnderWriter1kHz(benchmark::State& state) {
+  LatencyLoop(state, true, std::chrono::microseconds(1000));
 }
 void BM_LatencyNoWriter(benchmark::State& state) { LatencyLoop(state, false, std::chrono::nanoseconds(0)); }
 
@@ -498,13 +512,15 @@ void Register() {
   Stats(benchmark::RegisterBenchmark("reject_P1", BM_RejectP1))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_P3", BM_RejectP3))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_W3", BM_RejectW3))->Apply(Sizes);
-  Stats(benchmark::RegisterBenchmark("latency_under_writer", BM_LatencyUnderWriter))
-      ->Iterations(1)
-      ->UseManualTime();
-  Stats(benchmark::RegisterBenchmark("latency_under_writer_10khz", BM_LatencyUnderWriter10kHz))
-      ->Iterations(1)
-      ->UseManualTime();
-  Stats(benchmark::RegisterBenchmark("latency_no_writer", BM_LatencyNoWriter))->Iterations(1)->UseManualTime();
+  // Latency at d = 8 and 64: a full-speed writer, a 10 kHz and a 1 kHz writer, and none.
+  using Fn = void (*)(benchmark::State&);
+  const std::pair<const char*, Fn> latency[] = {{"latency_under_writer", BM_LatencyUnderWriter},
+                                                {"latency_under_writer_10khz", BM_LatencyUnderWriter10kHz},
+                                                {"latency_under_writer_1khz", BM_LatencyUnderWriter1kHz},
+                                                {"latency_no_writer", BM_LatencyNoWriter}};
+  for (const auto& [name, fn] : latency) {
+    Stats(benchmark::RegisterBenchmark(name, fn))->Arg(8)->Arg(64)->Iterations(1)->UseManualTime();
+  }
 }
 
 // Every query of every scene against the reference, before anything is timed.
