@@ -459,6 +459,69 @@ void BM_LatencyUnderWriter1kHz(benchmark::State& state) {
 }
 void BM_LatencyNoWriter(benchmark::State& state) { LatencyLoop(state, false, std::chrono::nanoseconds(0)); }
 
+// ------------------------------------------------------------------ cold caches
+// A random tree of N = 200,000 frames (graph values and forest ~18 MB, far above L2) and 4,096
+// random pairs of its frames, queried in turn: every query walks memory no earlier query
+// warmed. semgraph one-shot by names beside tf2 static lookupTransform on the same tree (the
+// same frame names; tf2's answers are checked against semgraph's once, before timing).
+constexpr std::uint32_t kColdFrames = 200'000;
+constexpr std::size_t kColdPairs = 4096;
+std::vector<std::pair<std::uint32_t, std::uint32_t>> ColdPairs() {
+  std::mt19937_64 rng(kTreeSeed + 7);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs(kColdPairs);
+  for (auto& [a, b] : pairs) {
+    a = static_cast<std::uint32_t>(rng() % (kColdFrames + 1));
+    b = static_cast<std::uint32_t>(rng() % (kColdFrames + 1));
+  }
+  return pairs;
+}
+SceneGraph<QuatB>& ColdGraph() {
+  static SceneGraph<QuatB>* g = [] {
+    auto* graph = new SceneGraph<QuatB>();
+    AddTree(*graph, TreeOf(kColdFrames));
+    return graph;
+  }();
+  return *g;
+}
+void BM_ColdOneshotRandomPairs(benchmark::State& state) {
+  const RandomTree& t = TreeOf(kColdFrames);
+  const SceneGraph<QuatB>& g = ColdGraph();
+  const auto pairs = ColdPairs();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = pairs[i++ & (kColdPairs - 1)];
+    auto X = g.GetPose(PoseSpec::Of(t.frames[a]).RelativeTo(t.frames[b]));
+    if (!X) [[unlikely]] Fail("cold one-shot query failed");
+    Use(X->value);
+  }
+}
+#ifdef SEMGRAPH_HAVE_TF2
+void BM_ColdTf2StaticRandomPairs(benchmark::State& state) {
+  const RandomTree& t = TreeOf(kColdFrames);
+  static tf2peer::Buffer* buffer = [&] {
+    auto* b = new tf2peer::Buffer();
+    if (!b->InsertAllStatic(*Tf2TreeMessages(t))) Fail("tf2 cold tree");
+    return b;
+  }();
+  const auto pairs = ColdPairs();
+  // The same answers as semgraph's, for a few pairs (tf2's lookupTransform(target, source) is
+  // the pose of source in target: PoseSpec::Of(source).RelativeTo(target)).
+  for (std::size_t k = 0; k < 16; ++k) {
+    const auto& [a, b] = pairs[k];
+    const tf2peer::Pose7 X_tf2 = buffer->Lookup(t.frames[b], t.frames[a]);
+    auto X = ColdGraph().GetPose(PoseSpec::Of(t.frames[a]).RelativeTo(t.frames[b]));
+    if (!X || (X->value.translation - Eigen::Vector3d(X_tf2.x, X_tf2.y, X_tf2.z)).norm() > 1e-9) {
+      Fail("cold tf2 and semgraph disagree");
+    }
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = pairs[i++ & (kColdPairs - 1)];
+    buffer->LookupOnce(t.frames[b], t.frames[a]);
+  }
+}
+#endif
+
 // ------------------------------------------------------------------ registration
 
 constexpr int kDepths[] = {1, 2, 4, 8, 16, 32, 64};
@@ -512,6 +575,10 @@ void Register() {
   Stats(benchmark::RegisterBenchmark("reject_P1", BM_RejectP1))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_P3", BM_RejectP3))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_W3", BM_RejectW3))->Apply(Sizes);
+  Stats(benchmark::RegisterBenchmark("cold_oneshot_random_pairs", BM_ColdOneshotRandomPairs))->Arg(kColdFrames);
+#ifdef SEMGRAPH_HAVE_TF2
+  Stats(benchmark::RegisterBenchmark("cold_tf2_static_random_pairs", BM_ColdTf2StaticRandomPairs))->Arg(kColdFrames);
+#endif
   // Latency at d = 8 and 64: a full-speed writer, a 10 kHz and a 1 kHz writer, and none.
   using Fn = void (*)(benchmark::State&);
   const std::pair<const char*, Fn> latency[] = {{"latency_under_writer", BM_LatencyUnderWriter},

@@ -163,6 +163,15 @@ def main():
         p("### Rejections, ns per rejected add (median), by tree size N\n")
         p(table(["rule \\ N"] + [f"{n:,}" for n in ns_] + ["max/min"], rows) + "\n")
 
+    cold = [(f, get(res, f, 200000), (res.get((f, 200000), {}).get("median") or {}).get("cpu_time"))
+            for f in ["cold_oneshot_random_pairs", "cold_tf2_static_random_pairs"]]
+    if all(v is not None for _, v, _ in cold):
+        rows = [[f, fmt(v), fmt(c)] for f, v, c in cold]
+        rows.append(["tf2 / semgraph", f"{cold[1][1] / cold[0][1]:.2f}",
+                     "-" if cold[0][2] is None or cold[1][2] is None else f"{cold[1][2] / cold[0][2]:.2f}"])
+        p("### Cold caches: one-shot query of random frame pairs in a 200,000-frame tree, ns (median)\n")
+        p(table(["benchmark", "wall", "CPU"], rows) + "\n")
+
     lat_rows = []
     for f in ["latency_under_writer", "latency_under_writer_10khz", "latency_under_writer_1khz", "latency_no_writer"]:
         for d in [8, 64]:
