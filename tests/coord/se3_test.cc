@@ -120,7 +120,7 @@ TEST(Se3Test, LinearInterpolationIsLerpAndSlerp) {
     EXPECT_NEAR(X.q.norm(), 1.0, 1e-14);
   }
   // About a fixed axis: the angle is interpolated.
-  const QuatPose X = kernels::InterpolateLinear({Rz(0.2), {}}, {Rz(1.4), {}}, 0.25);
+  const QuatPose X = kernels::InterpolateLinear({Rz(0.2), Eigen::Vector3d::Zero()}, {Rz(1.4), Eigen::Vector3d::Zero()}, 0.25);
   ExpectNear(X.q, Rz(0.5), 1e-14);
   // Identical rotations.
   ExpectNear(kernels::Slerp(Rz(0.3), Rz(0.3), 0.6), Rz(0.3), 1e-15);
