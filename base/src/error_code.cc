@@ -36,6 +36,12 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "no_pose_path",
     "no_twist_path",
     "query_invalidated",
+    "invalid_model",
+    "duplicate_joint",
+    "unknown_joint",
+    "joint_limit",
+    "mimic_joint",
+    "joint_edge",
 };
 }  // namespace
 

@@ -44,6 +44,12 @@ const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
       {ErrorCode::kNoPosePath, "no_pose_path"},
       {ErrorCode::kNoTwistPath, "no_twist_path"},
       {ErrorCode::kQueryInvalidated, "query_invalidated"},
+      {ErrorCode::kInvalidModel, "invalid_model"},
+      {ErrorCode::kDuplicateJoint, "duplicate_joint"},
+      {ErrorCode::kUnknownJoint, "unknown_joint"},
+      {ErrorCode::kJointLimit, "joint_limit"},
+      {ErrorCode::kMimicJoint, "mimic_joint"},
+      {ErrorCode::kJointEdge, "joint_edge"},
   };
   return codes;
 }
