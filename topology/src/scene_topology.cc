@@ -26,10 +26,6 @@ BodyIndex SceneTopology::CreateBody(NameId name) {
 FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
   GrowNameMaps();
   SEMGRAPH_DEMAND(!FrameOfName(name).is_valid() && body.value() < bodies_.size());
-  // Reserve every array first, so that an allocation failure leaves the nodes unchanged.
-  frames_.reserve(frames_.size() + 1);
-  trees_.Reserve(trees_.size() + 1);
-  forest_.Reserve(forest_.size() + 1);
   const FrameIndex f = forest_.AddNode();
   const std::uint32_t uf = trees_.AddElement();
   SEMGRAPH_DEMAND(f.value() == frames_.size() && uf == f.value());
