@@ -147,8 +147,16 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   // 2. invalid_number, invalid_rotation.
   auto p_ok = coord::ValidateVector(spec.p_origin, coord::ValueRole::kPosition);
   if (!p_ok) return Reject(p_ok.error().code, what(), "origin: " + coord::Describe(p_ok.error(), names));
-  auto q_ok = coord::ValidateQuaternion(spec.q_origin);
-  if (!q_ok) return Reject(q_ok.error().code, what(), "origin: " + coord::Describe(q_ok.error(), names));
+  Eigen::Quaterniond q_origin;
+  if (spec.R_origin) {
+    auto R_ok = coord::ValidateRotationMatrix(*spec.R_origin);
+    if (!R_ok) return Reject(R_ok.error().code, what(), "origin: " + coord::Describe(R_ok.error(), names));
+    q_origin = Eigen::Quaterniond(*R_ok).normalized();
+  } else {
+    auto q_ok = coord::ValidateQuaternion(spec.q_origin);
+    if (!q_ok) return Reject(q_ok.error().code, what(), "origin: " + coord::Describe(q_ok.error(), names));
+    q_origin = *q_ok;
+  }
   const struct {
     double value;
     const char* role;
@@ -266,7 +274,7 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   j.name = std::string(spec.name);
   j.type = spec.type;
   j.alive = true;
-  j.q_origin = *q_ok;
+  j.q_origin = q_origin;
   j.p_origin = *p_ok;
   j.axis = movable ? Eigen::Vector3d(spec.axis / axis_norm) : Eigen::Vector3d::UnitX();
   j.lower = spec.lower;

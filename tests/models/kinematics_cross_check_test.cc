@@ -35,7 +35,7 @@ constexpr int kStates = 1000;
 constexpr double kTol = 1e-9;
 
 std::string ReadModel(const std::string& file) {
-  std::ifstream in(std::string(SEMGRAPH_TEST_MODELS) + "/" + file);
+  std::ifstream in(std::string(SEMGRAPH_ROBOT_MODELS) + "/" + file);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();

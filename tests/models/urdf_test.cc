@@ -21,7 +21,11 @@ using core::PoseSpec;
 using core::TwistSpec;
 using Graph = core::SceneGraph<>;
 
-std::string Model(const std::string& file) { return std::string(SEMGRAPH_TEST_MODELS) + "/" + file; }
+// The robot models ship in models/urdf; the broken ones are test data.
+std::string Model(const std::string& file) {
+  const bool robot = file == "arm6.urdf" || file == "arm7.urdf" || file == "mobile_manipulator.urdf";
+  return std::string(robot ? SEMGRAPH_ROBOT_MODELS : SEMGRAPH_TEST_MODELS) + "/" + file;
+}
 
 Eigen::Vector3d Position(const Graph& g, std::string_view of, std::string_view wrt) {
   auto p = g.GetPosition(PoseSpec::Of(of).RelativeTo(wrt));

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -56,6 +57,7 @@ struct JointSpec {
   std::string_view child, child_body;    ///< {c}|C
   Eigen::Quaterniond q_origin = Eigen::Quaterniond::Identity();  ///< R_PC at q = 0
   Eigen::Vector3d p_origin = Eigen::Vector3d::Zero();            ///< p_PoCo_P at q = 0
+  std::optional<Eigen::Matrix3d> R_origin;  ///< when set, R_PC at q = 0 as a matrix (not q_origin)
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();               ///< u in [c]; normalized
   double lower = 0, upper = 0;       ///< position limits (revolute, prismatic)
   std::string_view mimic;            ///< master joint's name; empty: not a mimic
