@@ -575,9 +575,14 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
     if (it == plan.columns.end()) it = plan.columns.insert(plan.columns.end(), column_joint);
     internal::JacobianStep<ForestChain> step;
     step.step = s;
+    step.step.move_point = false;  // moved with positions in [r] (EvaluateJacobian)
+    step.step.eh = {};
     j->TwistAt(scale, step.unit.v_DHo_H, step.unit.w_DH_H);
     step.column = static_cast<std::uint32_t>(it - plan.columns.begin());
     plan.steps.push_back(step);
+  }
+  if ((plan.change_point = plan.twist.point != plan.twist.frame && !plan.steps.empty())) {
+    plan.er = PlanBasic(topology_, plan.twist.point, plan.twist.frame);
   }
   return plan;
 }
@@ -590,7 +595,7 @@ Expected<Jacobian, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec& spec)
   out.semantics = plan->twist.semantics;
   out.joints = plan->columns;
   out.J.setZero(6, static_cast<Eigen::Index>(plan->columns.size()));
-  internal::EvaluateJacobian<B>(source(), plan->steps, out.J);
+  internal::EvaluateJacobian<B>(source(), plan->change_point, plan->er, plan->steps, out.J);
   return out;
 }
 
@@ -605,13 +610,13 @@ template <coord::Backend B>
 CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                       const internal::JacobianPlan& plan)
     : CompiledQuery<B>(values), semantics_(plan.twist.semantics), joints_(plan.columns) {
+  if ((change_point_ = plan.change_point)) er_ = this->Flatten(t, plan.er);
   steps_.reserve(plan.steps.size());
   for (const internal::JacobianStep<ForestChain>& s : plan.steps) {
     internal::JacobianStep<typename CompiledQuery<B>::Chain> flat;
     flat.step.edge = s.step.edge;
     flat.step.epoch = values.V_DH[s.step.edge.value()].epoch();
     flat.step.invert = s.step.invert;
-    if ((flat.step.move_point = s.step.move_point)) flat.step.eh = this->Flatten(t, s.step.eh);
     if ((flat.step.change_frame = s.step.change_frame)) flat.step.hr = this->Flatten(t, s.step.hr);
     flat.unit = s.unit;
     flat.column = s.column;
@@ -622,7 +627,8 @@ CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const Ed
 template <coord::Backend B>
 ErrorCode CompiledJacobian<B>::Evaluate(Eigen::Ref<JacobianMatrix> J) const noexcept {
   SEMGRAPH_DEMAND(static_cast<std::size_t>(J.cols()) == joints_.size());
-  return internal::EvaluateJacobian<B>(this->source(), steps_, J) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
+  return internal::EvaluateJacobian<B>(this->source(), change_point_, er_, steps_, J) ? ErrorCode::kOk
+                                                                                       : ErrorCode::kQueryInvalidated;
 }
 
 #define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                                          \

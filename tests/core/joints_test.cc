@@ -437,6 +437,74 @@ TEST_F(ArmTest, AMasterWithMimicsCannotBeRemoved) {
   EXPECT_EQ(g.num_joints(), 1u);
 }
 
+// J qdot + (the non-joint twists on the path) = the twist query, in every direction and for any
+// point and frame; columns in path order from the reference body; mimic merged.
+TEST_F(ArmTest, JacobiansTimesVelocitiesAreTwistsInEveryDirection) {
+  JointSpec m = Joint("m", JointType::kRevolute, "l2", "", "f", "F");
+  m.mimic = "j1";
+  m.multiplier = 0.5;
+  m.axis = {0, 1, 0};
+  m.p_origin = {0.2, 0, 0.1};
+  ASSERT_TRUE(g.AddJoint(m));
+  // A non-joint twist edge: the world W -> {b}|B (a moving base), and a camera frame on L1.
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b").RelativeTo("w", "W"), Rpy(0.2, 0.1, -0.3), Eigen::Vector3d(1, 2, 3)));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("b"), Eigen::Vector3d(0.1, -0.2, 0.3),
+                         Eigen::Vector3d(-0.05, 0.02, 0.04)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("cam", "L1").RelativeTo("l1"), Rpy(1, 0, 0), Eigen::Vector3d(0, 0.3, 0)));
+  const JointValue q[] = {{"j1", 0.4}, {"j2", 0.2}};
+  const JointValue qdot[] = {{"j1", 0.7}, {"j2", -0.3}};
+  ASSERT_TRUE(g.SetJoints(q, qdot));
+  const auto expect = [&](const TwistSpec& spec, std::vector<std::string> columns, bool base_twist) {
+    auto J = g.GetJacobian(spec);
+    auto V = g.GetTwist(spec);
+    ASSERT_TRUE(J && V);
+    std::vector<std::string> names;
+    Eigen::VectorXd qd(static_cast<Eigen::Index>(J->joints.size()));
+    for (std::size_t c = 0; c < J->joints.size(); ++c) {
+      names.emplace_back(g.joint_name(J->joints[c]));
+      qd(static_cast<Eigen::Index>(c)) = g.joint_velocity(J->joints[c]);
+    }
+    EXPECT_EQ(names, columns);
+    Eigen::Matrix<double, 6, 1> Jq = J->J * qd;
+    if (base_twist) {  // the non-joint edge W -> {b}, as a twist query of B wrt W at the same point/frame
+      TwistSpec only_base = spec;
+      const bool forward = spec.ref_body == "W";
+      only_base.body = forward ? "B" : "W";
+      only_base.ref_body = forward ? "W" : "B";
+      auto Vb = g.GetTwist(only_base);
+      ASSERT_TRUE(Vb);
+      // The twist of C wrt D = (C wrt B) + (B wrt W) when D = W; the other way round when C = W.
+      Jq.head<3>() += Vb->linear;
+      Jq.tail<3>() += Vb->angular;
+    }
+    EXPECT_LE((Jq.head<3>() - V->linear).norm(), 1e-12) << spec.point << " wrt " << spec.ref_body;
+    EXPECT_LE((Jq.tail<3>() - V->angular).norm(), 1e-12) << spec.point << " wrt " << spec.ref_body;
+    auto C = g.CompileJacobian(spec);
+    ASSERT_TRUE(C);
+    JacobianMatrix Jc(6, static_cast<Eigen::Index>(C->num_columns()));
+    ASSERT_EQ(C->Evaluate(Jc), ErrorCode::kOk);
+    EXPECT_LE((Jc - J->J).cwiseAbs().maxCoeff(), 1e-14);
+  };
+  expect(TwistSpec::Of("f").RelativeTo("B").ExpressedIn("b"), {"j1", "j2"}, false);
+  expect(TwistSpec::Of("f").RelativeTo("B").ExpressedIn("cam"), {"j1", "j2"}, false);
+  expect(TwistSpec::Of("cam", "F").RelativeTo("B").ExpressedIn("f"), {"j1", "j2"}, false);
+  // Reversed: the base relative to the finger; columns from F's side: m (as j1) first, then j2.
+  expect(TwistSpec::Of("b").RelativeTo("F").ExpressedIn("l2"), {"j1", "j2"}, false);
+  expect(TwistSpec::Of("l1").RelativeTo("L2").ExpressedIn("w"), {"j2"}, false);
+  // Through the non-joint edge.
+  expect(TwistSpec::Of("f").RelativeTo("W").ExpressedIn("w"), {"j1", "j2"}, true);
+  // No joints on the path: zero columns.
+  auto none = g.GetJacobian(TwistSpec::Of("l2").RelativeTo("L2").ExpressedIn("b"));
+  ASSERT_TRUE(none);
+  EXPECT_EQ(none->J.cols(), 0);
+  // The errors of a twist query.
+  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("nope").RelativeTo("B").ExpressedIn("b")).error().code,
+            ErrorCode::kUnknownFrame);
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("y", "Y"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d::Zero()));
+  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("x").RelativeTo("B").ExpressedIn("x")).error().code, ErrorCode::kNoTwistPath);
+}
+
 TEST(Joints, HomogeneousBackendStoresTheSameValues) {
   SceneGraph<coord::HomogeneousBackend> h;
   Graph q;

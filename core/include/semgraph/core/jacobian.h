@@ -6,15 +6,15 @@
 // in path order from D to C; a mimic adds multiplier x its column to its master's column (placed
 // where the first of the master and its mimics stands on the path). Rows: v (3) then w (3).
 //
-// How it is computed: a Jacobian is the twist query's plan (query_plan.h, ForEachTwistStep)
-// where each joint's step is evaluated by the one evaluator's AccumulateTwistStep (evaluate.h)
-// with the joint's twist at unit velocity in place of the stored value (UnitTwistSource), so the
-// point change, the re-expression and the inversion of a column are the twist query's own
-// arithmetic; non-joint steps are skipped.
+// How it is computed: on the twist query's plan (query_plan.h, PlanTwist and ForEachTwistStep:
+// the same path, the same inversions), keeping the joints' steps; every pose comes from the one
+// evaluator's EvalBasic (evaluate.h) over the query's chain source, so one-shot and compiled
+// Jacobians compose exactly as twist queries do. A column is the joint's unit twist re-expressed
+// in [r] and moved to e with positions in [r] (EvaluateJacobian below): one basic pose per
+// column instead of the twist step's two.
 //
 // Costs: planning as a twist query plus O(k) for the column assignment (k twist edges on the
-// path); evaluation O(sum over joint steps of their two basic poses), i.e. what the twist query
-// costs, per column. CompiledJacobian::Evaluate is noexcept, allocation-free, lock-free (it reads
+// path); evaluation O(sum over the joint steps of the chain h -> r) + one chain e -> r. CompiledJacobian::Evaluate is noexcept, allocation-free, lock-free (it reads
 // the edge values through their sequence locks, and fails with kQueryInvalidated when an edge
 // it reads, or a joint's twist edge, was removed). GetJacobian (one-shot) allocates its result.
 // Thread safety: as compiled queries (compiled_query.h).
@@ -58,39 +58,42 @@ struct JacobianStep {
 struct JacobianPlan {
   TwistPlan twist;
   std::vector<JointHandle> columns;
-  std::vector<JacobianStep<ForestChain>> steps;
-};
-
-/// A chain source that composes poses as `Inner` does and yields the unit twist in place of a
-/// stored twist value (after Inner's epoch check of the edge, so a removed joint's twist edge
-/// still invalidates a compiled Jacobian).
-template <class Inner>
-class UnitTwistSource {
- public:
-  using Chain = typename Inner::Chain;
-  using PoseCoords = typename Inner::PoseCoords;
-  UnitTwistSource(const Inner& inner, const TwistNumbers& unit) noexcept : inner_(inner), unit_(unit) {}
-  bool EvalChain(const Chain& c, PoseCoords& X, bool& identity) const noexcept {
-    return inner_.EvalChain(c, X, identity);
-  }
-  bool LoadTwist(const TwistStep<Chain>& s, TwistNumbers& V) const noexcept {
-    if (!inner_.LoadTwist(s, V)) return false;
-    V = unit_;
-    return true;
-  }
-
- private:
-  const Inner& inner_;
-  const TwistNumbers& unit_;
+  std::vector<JacobianStep<ForestChain>> steps;  ///< their `hr` (h wrt r) only; no `eh`
+  bool change_point = false;                     ///< e != r: X_RE is needed
+  BasicPath<ForestChain> er;                     ///< X_RE: e wrt r, in [r]
 };
 
 /// Fills J (6 x columns, zeroed first) from the steps; false when a compiled edge changed.
+/// Each column is the joint's unit twist (negated when the path crosses the joint from child
+/// to parent), re-expressed in [r] by X_RH and moved from h to e with the positions of both in
+/// [r]: v_e = v_h + w x (p_RE - p_RH). All poses come from the evaluator's EvalBasic, so the
+/// cost per column is one basic pose (h wrt r), plus X_RE once: about n^2 / 2 compositions for
+/// a serial chain of n joints expressed at its base.
 template <coord::Backend B, class Source, class Steps>
-bool EvaluateJacobian(const Source& src, const Steps& steps, Eigen::Ref<JacobianMatrix> J) noexcept {
+bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<typename Source::Chain>& er,
+                      const Steps& steps, Eigen::Ref<JacobianMatrix> J) noexcept {
   J.setZero();
+  Eigen::Vector3d p_RE = Eigen::Vector3d::Zero();
+  if (change_point) {
+    typename B::PoseCoords X_RE;
+    if (!EvalBasic<B>(src, er, X_RE)) return false;
+    p_RE = B::TranslationOf(X_RE);
+  }
   for (const auto& s : steps) {
-    Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-    if (!AccumulateTwistStep<B>(UnitTwistSource<Source>(src, s.unit), s.step, v, w)) return false;
+    TwistNumbers unused;
+    if (!src.LoadTwist(s.step, unused)) return false;  // the joint's twist edge still exists
+    Eigen::Vector3d v = s.step.invert ? Eigen::Vector3d(-s.unit.v_DHo_H) : s.unit.v_DHo_H;
+    Eigen::Vector3d w = s.step.invert ? Eigen::Vector3d(-s.unit.w_DH_H) : s.unit.w_DH_H;
+    Eigen::Vector3d p_RH = Eigen::Vector3d::Zero();
+    if (s.step.change_frame) {
+      typename B::PoseCoords X_RH;
+      if (!EvalBasic<B>(src, s.step.hr, X_RH)) return false;
+      const typename B::Rotation R_RH = B::RotationOf(X_RH);
+      v = B::Rotate(R_RH, v);
+      w = B::Rotate(R_RH, w);
+      p_RH = B::TranslationOf(X_RH);
+    }
+    v = coord::kernels::ShiftLinear(v, w, p_RH - p_RE);  // v + (p_RH - p_RE) x w = v + w x (p_RE - p_RH)
     J.col(s.column).template head<3>() += v;
     J.col(s.column).template tail<3>() += w;
   }
@@ -118,6 +121,8 @@ class CompiledJacobian : public CompiledQuery<B> {
   semantics::TwistSemantics semantics_;
   std::vector<JointHandle> joints_;
   std::vector<internal::JacobianStep<typename CompiledQuery<B>::Chain>> steps_;
+  bool change_point_ = false;
+  BasicPath<typename CompiledQuery<B>::Chain> er_;
 };
 
 extern template class CompiledJacobian<coord::QuaternionBackend>;
