@@ -38,6 +38,12 @@ class NameRollback {
 // ====================================================================== nodes
 
 template <coord::Backend B>
+void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
+  topology_.Reserve(frames, bodies);
+  values_.X_PF.reserve(frames);
+}
+
+template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
   const FrameIndex f = topology_.CreateFrame(name, body);
   values_.AddFrame();
@@ -450,6 +456,7 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
 }
 
 #define SEMGRAPH_INSTANTIATE_ADD(B)                                                                         \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                           \
   template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                                        \
   template BuildResult SceneGraph<B>::AddBody(std::string_view);                                            \
   template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);                         \

@@ -1,6 +1,8 @@
 // The real-time write path: handles made at build time, then SetPose / SetTwist (noexcept,
 // allocation-free, lock-free, string-free). Contract: scene_graph.h, docs/realtime.md.
 #include "semgraph/core/scene_graph.h"
+#include <cmath>
+
 #include "text.h"
 
 namespace semgraph::core {
@@ -105,6 +107,21 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, c
 }
 
 template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                          const Eigen::Vector3d& p_ToHo_T) noexcept {
+  if (!edge.child.is_valid() || edge.child.value() >= values_.X_PF.size() ||
+      values_.X_PF[edge.child.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+  SEMGRAPH_DEMAND(coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition).has_value());
+  SEMGRAPH_DEMAND(q_TH.coeffs().allFinite() && std::abs(q_TH.squaredNorm() - 1.0) <= 1e-12);
+#endif
+  values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(q_TH), p_ToHo_T));
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                   const Eigen::Vector3d& w_DH_H) noexcept {
   if (!edge.slot.is_valid() || edge.slot.value() >= topology_.num_twist_edge_slots() ||
@@ -124,7 +141,8 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
   template Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view, std::string_view) const; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&) noexcept;    \
-  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept;
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_REALTIME(coord::HomogeneousBackend)
 

@@ -124,6 +124,11 @@ Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
   return InternNew(name, found.hash);
 }
 
+void NameTable::Reserve(std::size_t n) {
+  records_.reserve(n);
+  while (2 * n > slots_.size()) Grow();
+}
+
 NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept {
   const std::uint32_t hash = Hash(name);
   if (slots_.empty()) return Lookup{NameId(), hash};

@@ -14,6 +14,16 @@ void SceneTopology::GrowNameMaps() {
   body_of_name_.resize(names_.size(), kNone);
 }
 
+void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
+  frames_.reserve(frames);
+  bodies_.reserve(bodies);
+  forest_.Reserve(frames);
+  trees_.Reserve(frames);
+  names_.Reserve(frames + bodies);
+  frame_of_name_.reserve(frames + bodies);
+  body_of_name_.reserve(frames + bodies);
+}
+
 BodyIndex SceneTopology::CreateBody(NameId name) {
   GrowNameMaps();
   SEMGRAPH_DEMAND(!BodyOfName(name).is_valid());

@@ -183,6 +183,36 @@ class FlatSource {
   const EdgeRef* edges_;
 };
 
+}  // namespace semgraph::core::internal
+
+namespace semgraph::core {
+template <coord::Backend B>
+struct PoseCache;
+}  // namespace semgraph::core
+
+namespace semgraph::core::internal {
+
+/// Composes a compiled query's chains through a caller-owned memo of partial products
+/// (PoseCache, compiled_query.h): reads every edge's header, reloads only the edges that
+/// changed, recomposes only the tree nodes above them. Same answers as FlatSource, up to the
+/// association of the products (rounding).
+template <coord::Backend B>
+class CachedSource {
+ public:
+  using Chain = FlatChain;
+  using PoseCoords = typename B::PoseCoords;
+
+  CachedSource(const EdgeValues<B>& v, const EdgeRef* edges, PoseCache<B>& cache) noexcept
+      : v_(v), edges_(edges), cache_(&cache) {}
+
+  bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept;
+
+ private:
+  const EdgeValues<B>& v_;
+  const EdgeRef* edges_;
+  PoseCache<B>* cache_;
+};
+
 /// Algorithm 2: X_BA = X_CA X_CB^-1, with no composition with an identity.
 template <coord::Backend B, class Source>
 bool EvalBasic(const Source& src, const BasicPath<typename Source::Chain>& path,

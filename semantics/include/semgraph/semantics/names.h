@@ -82,6 +82,8 @@ class NameTable {
   [[nodiscard]] std::string_view name(NameId id) const noexcept;
 
   [[nodiscard]] std::size_t size() const noexcept { return records_.size(); }
+  /// Room for `n` names in total in the index (the text arena grows by blocks anyway).
+  void Reserve(std::size_t n);
 
   /// Forgets every name interned after the first `n` (build-time rollback, so that a rejected
   /// operation leaves the table exactly as it was, arena space included). O(names dropped).
