@@ -31,13 +31,49 @@ std::string_view ToString(JointType type) noexcept {
 
 namespace internal {
 
+// sin and cos of x, for the joint setters (one call per revolute joint and update). |x| <= 1e5:
+// a Cody-Waite reduction by pi/2 (fdlibm's 33-bit split of pi/2; the reduction is exact to
+// ~1e-21 there) and fdlibm's minimax kernels on [-pi/4, pi/4] (within ~1 ulp), about a third
+// of libm's sincos; beyond 1e5 (a wheel after days of turning), std::sin and std::cos.
+void SinCos(double x, double& s, double& c) noexcept {
+  if (!(std::abs(x) <= 1e5)) {
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
+  }
+  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
+  constexpr double kPio2Hi = 1.57079632673412561417e+00;   // the first 33 bits of pi/2
+  constexpr double kPio2Lo = 6.07710050650619224932e-11;   // pi/2 - kPio2Hi
+  constexpr double kRound = 6755399441055744.0;            // 1.5 * 2^52: adds round to nearest
+  const double k = (x * kTwoOverPi + kRound) - kRound;
+  const double r = (x - k * kPio2Hi) - k * kPio2Lo;
+  const double z = r * r;
+  const double sr = r + r * z * (-1.66666666666666324348e-01 +
+                                 z * (8.33333333332248946124e-03 +
+                                      z * (-1.98412698298579493134e-04 +
+                                           z * (2.75573137070700676789e-06 +
+                                                z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))));
+  const double cr = 1.0 - 0.5 * z +
+                    z * z * (4.16666666666666019037e-02 +
+                             z * (-1.38888888888741095749e-03 +
+                                  z * (2.48015872894767294178e-05 +
+                                       z * (-2.75573143513906633035e-07 +
+                                            z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
+  switch (static_cast<long long>(k) & 3) {
+    case 0: s = sr; c = cr; return;
+    case 1: s = cr; c = -sr; return;
+    case 2: s = -sr; c = -cr; return;
+    default: s = -cr; c = sr; return;
+  }
+}
+
 void JointRecord::PoseAt(double position, Eigen::Quaterniond& q_PC, Eigen::Vector3d& p_PoCo_P) const noexcept {
   switch (type) {
     case JointType::kRevolute:
     case JointType::kContinuous: {
-      const double h = 0.5 * position;
-      const double s = std::sin(h);
-      q_PC = q_origin * Eigen::Quaterniond(std::cos(h), s * axis.x(), s * axis.y(), s * axis.z());
+      double s, c;
+      SinCos(0.5 * position, s, c);
+      q_PC = q_origin * Eigen::Quaterniond(c, s * axis.x(), s * axis.y(), s * axis.z());
       p_PoCo_P = p_origin;
       return;
     }
@@ -386,23 +422,24 @@ void SceneGraph<B>::ApplyJoint(std::uint32_t index, const double* q, const doubl
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept {
+  // One pass collects every failure; the first in the rules' order is reported, so a rejected
+  // set changes nothing (all or nothing) and costs one pass too.
   const std::size_t n = group.joints.size();
+  bool bad_number = false, unknown = false, mimic = false, limit = false;
   for (std::size_t i = 0; i < n; ++i) {
-    if ((q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]))) return ErrorCode::kInvalidNumber;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
+    bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
     const internal::JointRecord* j = joints_.Get(group.joints[i]);
-    if (!j || !j->movable()) return ErrorCode::kUnknownJoint;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (joints_.joints[group.joints[i].index].is_mimic()) return ErrorCode::kMimicJoint;
-  }
-  if (q) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const internal::JointRecord& j = joints_.joints[group.joints[i].index];
-      if (j.limited() && (q[i] < j.lower - kLimitSlack || q[i] > j.upper + kLimitSlack)) return ErrorCode::kJointLimit;
+    if (!j || !j->movable()) {
+      unknown = true;
+      continue;
     }
+    mimic |= j->is_mimic();
+    limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
   }
+  if (bad_number) return ErrorCode::kInvalidNumber;
+  if (unknown) return ErrorCode::kUnknownJoint;
+  if (mimic) return ErrorCode::kMimicJoint;
+  if (limit) return ErrorCode::kJointLimit;
   for (std::size_t i = 0; i < n; ++i) {
     ApplyJoint(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr);
   }
@@ -584,6 +621,32 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
   if ((plan.change_point = plan.twist.point != plan.twist.frame && !plan.steps.empty())) {
     plan.er = PlanBasic(topology_, plan.twist.point, plan.twist.frame);
   }
+  // Chain each step's h -> ancestor composition on the previous one's where it continues it:
+  // same ancestor c and reference chain, and the previous h on the way from this h up to c.
+  const auto continues = [&](const BasicPath<ForestChain>& prev, const BasicPath<ForestChain>& next) {
+    if (prev.up_a.to != next.up_a.to || prev.up_b.from != next.up_b.from || prev.up_b.to != next.up_b.to) return false;
+    for (FrameIndex g = next.up_a.from; g.is_valid(); g = topology_.pose_parent(g)) {
+      if (g == prev.up_a.from) return true;
+      if (g == next.up_a.to) return false;
+    }
+    return false;
+  };
+  const internal::JacobianStep<ForestChain>* prev = nullptr;
+  for (internal::JacobianStep<ForestChain>& s : plan.steps) {
+    if (!s.step.change_frame) {
+      prev = nullptr;  // h == r: the running composition is not updated
+      continue;
+    }
+    if (prev && continues(prev->step.hr, s.step.hr)) {
+      s.chained = true;
+      s.rest = ForestChain{s.step.hr.up_a.from, prev->step.hr.up_a.from};
+    }
+    prev = &s;
+  }
+  if (plan.change_point && prev && &plan.steps.back() == prev && continues(prev->step.hr, plan.er)) {
+    plan.e_chained = true;
+    plan.e_rest = ForestChain{plan.er.up_a.from, prev->step.hr.up_a.from};
+  }
   return plan;
 }
 
@@ -595,7 +658,8 @@ Expected<Jacobian, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec& spec)
   out.semantics = plan->twist.semantics;
   out.joints = plan->columns;
   out.J.setZero(6, static_cast<Eigen::Index>(plan->columns.size()));
-  internal::EvaluateJacobian<B>(source(), plan->change_point, plan->er, plan->steps, out.J);
+  internal::EvaluateJacobian<B>(source(), plan->change_point, plan->er, plan->e_chained, plan->e_rest, plan->steps,
+                                out.J);
   return out;
 }
 
@@ -611,6 +675,7 @@ CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const Ed
                                       const internal::JacobianPlan& plan)
     : CompiledQuery<B>(values), semantics_(plan.twist.semantics), joints_(plan.columns) {
   if ((change_point_ = plan.change_point)) er_ = this->Flatten(t, plan.er);
+  if ((e_chained_ = plan.e_chained)) e_rest_ = this->Flatten(t, plan.e_rest);
   steps_.reserve(plan.steps.size());
   for (const internal::JacobianStep<ForestChain>& s : plan.steps) {
     internal::JacobianStep<typename CompiledQuery<B>::Chain> flat;
@@ -620,6 +685,7 @@ CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const Ed
     if ((flat.step.change_frame = s.step.change_frame)) flat.step.hr = this->Flatten(t, s.step.hr);
     flat.unit = s.unit;
     flat.column = s.column;
+    if ((flat.chained = s.chained)) flat.rest = this->Flatten(t, s.rest);
     steps_.push_back(flat);
   }
 }
@@ -627,8 +693,9 @@ CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const Ed
 template <coord::Backend B>
 ErrorCode CompiledJacobian<B>::Evaluate(Eigen::Ref<JacobianMatrix> J) const noexcept {
   SEMGRAPH_DEMAND(static_cast<std::size_t>(J.cols()) == joints_.size());
-  return internal::EvaluateJacobian<B>(this->source(), change_point_, er_, steps_, J) ? ErrorCode::kOk
-                                                                                       : ErrorCode::kQueryInvalidated;
+  return internal::EvaluateJacobian<B>(this->source(), change_point_, er_, e_chained_, e_rest_, steps_, J)
+             ? ErrorCode::kOk
+             : ErrorCode::kQueryInvalidated;
 }
 
 #define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                                          \

@@ -4,6 +4,7 @@
 // W1-W4 applied to joint edges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -503,6 +504,22 @@ TEST_F(ArmTest, JacobiansTimesVelocitiesAreTwistsInEveryDirection) {
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("y", "Y"), Eigen::Quaterniond::Identity(),
                         Eigen::Vector3d::Zero()));
   EXPECT_EQ(g.GetJacobian(TwistSpec::Of("x").RelativeTo("B").ExpressedIn("x")).error().code, ErrorCode::kNoTwistPath);
+}
+
+TEST(Joints, SinCosAgreesWithLibm) {
+  double worst = 0;
+  for (int i = -200000; i <= 200000; ++i) {
+    const double x = i * 5.00123e-4;  // [-100, 100], not aligned with multiples of pi/2
+    double s, c;
+    internal::SinCos(x, s, c);
+    worst = std::max({worst, std::abs(s - std::sin(x)), std::abs(c - std::cos(x))});
+  }
+  for (double x : {0.0, -0.0, M_PI / 4, M_PI / 2, M_PI, 1e-300, 5e4 + 0.3, 1e5, 2e5, 1e12}) {
+    double s, c;
+    internal::SinCos(x, s, c);
+    worst = std::max({worst, std::abs(s - std::sin(x)), std::abs(c - std::cos(x))});
+  }
+  EXPECT_LE(worst, 4e-16);
 }
 
 TEST(Joints, HomogeneousBackendStoresTheSameValues) {

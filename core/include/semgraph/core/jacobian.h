@@ -53,6 +53,11 @@ struct JacobianStep {
   TwistStep<Chain> step;
   TwistNumbers unit;  ///< in [c], the joint's child frame
   std::uint32_t column = 0;
+  /// The previous step's chain up_a (its h up to the common ancestor with r) is the top of
+  /// this one's: compose only the edges from this h up to the previous h (`rest`). Serial
+  /// chains expressed at their base then cost O(n) compositions, not O(n^2).
+  bool chained = false;
+  Chain rest;
 };
 
 struct JacobianPlan {
@@ -61,41 +66,73 @@ struct JacobianPlan {
   std::vector<JacobianStep<ForestChain>> steps;  ///< their `hr` (h wrt r) only; no `eh`
   bool change_point = false;                     ///< e != r: X_RE is needed
   BasicPath<ForestChain> er;                     ///< X_RE: e wrt r, in [r]
+  bool e_chained = false;                        ///< er.up_a continues the last step's up_a
+  ForestChain e_rest;                            ///< then: e up to the last step's h
 };
+
+/// X_BA of a basic path whose chain up_a is X_CA, already composed (EvalBasic's second half).
+template <coord::Backend B, class Source>
+bool FinishBasic(const Source& src, const BasicPath<typename Source::Chain>& path,
+                 const typename B::PoseCoords& X_CA, typename B::PoseCoords& X_BA) noexcept {
+  typename B::PoseCoords X_CB;
+  bool b_identity;
+  if (!src.EvalChain(path.up_b, X_CB, b_identity)) return false;
+  X_BA = b_identity ? X_CA : B::ComposeChain(X_CA, B::InvertChain(X_CB));
+  return true;
+}
+
+/// X_CA of up_a: composed from scratch, or as `rest` on top of the previous X_CA.
+template <coord::Backend B, class Source>
+bool UpA(const Source& src, bool chained, const typename Source::Chain& rest,
+         const typename Source::Chain& up_a, typename B::PoseCoords& X_CA) noexcept {
+  typename B::PoseCoords X;
+  bool identity;
+  if (!src.EvalChain(chained ? rest : up_a, X, identity)) return false;
+  if (chained) {
+    if (!identity) X_CA = B::ComposeChain(X, X_CA);
+  } else {
+    X_CA = identity ? B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()) : X;
+  }
+  return true;
+}
 
 /// Fills J (6 x columns, zeroed first) from the steps; false when a compiled edge changed.
 /// Each column is the joint's unit twist (negated when the path crosses the joint from child
 /// to parent), re-expressed in [r] by X_RH and moved from h to e with the positions of both in
-/// [r]: v_e = v_h + w x (p_RE - p_RH). All poses come from the evaluator's EvalBasic, so the
-/// cost per column is one basic pose (h wrt r), plus X_RE once: about n^2 / 2 compositions for
-/// a serial chain of n joints expressed at its base.
-template <coord::Backend B, class Source, class Steps>
+/// [r]: v_e = v_h + w x (p_RE - p_RH) (first to r's origin, then all columns to e). Every chain
+/// is composed by the chain source (the one composition loop); a step whose chain continues the
+/// previous step's composes only its own edges, so a serial chain costs O(n) compositions.
+template <coord::Backend B, class Source, class Steps, class EChain>
 bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<typename Source::Chain>& er,
-                      const Steps& steps, Eigen::Ref<JacobianMatrix> J) noexcept {
+                      bool e_chained, const EChain& e_rest, const Steps& steps, Eigen::Ref<JacobianMatrix> J) noexcept {
   J.setZero();
-  Eigen::Vector3d p_RE = Eigen::Vector3d::Zero();
-  if (change_point) {
-    typename B::PoseCoords X_RE;
-    if (!EvalBasic<B>(src, er, X_RE)) return false;
-    p_RE = B::TranslationOf(X_RE);
-  }
+  typename B::PoseCoords X_CA = B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero());
   for (const auto& s : steps) {
     TwistNumbers unused;
     if (!src.LoadTwist(s.step, unused)) return false;  // the joint's twist edge still exists
     Eigen::Vector3d v = s.step.invert ? Eigen::Vector3d(-s.unit.v_DHo_H) : s.unit.v_DHo_H;
     Eigen::Vector3d w = s.step.invert ? Eigen::Vector3d(-s.unit.w_DH_H) : s.unit.w_DH_H;
-    Eigen::Vector3d p_RH = Eigen::Vector3d::Zero();
     if (s.step.change_frame) {
       typename B::PoseCoords X_RH;
-      if (!EvalBasic<B>(src, s.step.hr, X_RH)) return false;
+      if (!UpA<B>(src, s.chained, s.rest, s.step.hr.up_a, X_CA) || !FinishBasic<B>(src, s.step.hr, X_CA, X_RH)) {
+        return false;
+      }
       const typename B::Rotation R_RH = B::RotationOf(X_RH);
       v = B::Rotate(R_RH, v);
       w = B::Rotate(R_RH, w);
-      p_RH = B::TranslationOf(X_RH);
+      v = coord::kernels::ShiftLinear(v, w, B::TranslationOf(X_RH));  // to r's origin
     }
-    v = coord::kernels::ShiftLinear(v, w, p_RH - p_RE);  // v + (p_RH - p_RE) x w = v + w x (p_RE - p_RH)
     J.col(s.column).template head<3>() += v;
     J.col(s.column).template tail<3>() += w;
+  }
+  if (change_point) {  // all columns from r's origin to e: v += (-p_RE) x w
+    typename B::PoseCoords X_RE;
+    if (!UpA<B>(src, e_chained, e_rest, er.up_a, X_CA) || !FinishBasic<B>(src, er, X_CA, X_RE)) return false;
+    const Eigen::Vector3d p_ER = -B::TranslationOf(X_RE);
+    for (Eigen::Index c = 0; c < J.cols(); ++c) {
+      const Eigen::Vector3d w = J.col(c).template tail<3>();
+      J.col(c).template head<3>() = coord::kernels::ShiftLinear(J.col(c).template head<3>(), w, p_ER);
+    }
   }
   return true;
 }
@@ -123,6 +160,8 @@ class CompiledJacobian : public CompiledQuery<B> {
   std::vector<internal::JacobianStep<typename CompiledQuery<B>::Chain>> steps_;
   bool change_point_ = false;
   BasicPath<typename CompiledQuery<B>::Chain> er_;
+  bool e_chained_ = false;
+  typename CompiledQuery<B>::Chain e_rest_;
 };
 
 extern template class CompiledJacobian<coord::QuaternionBackend>;

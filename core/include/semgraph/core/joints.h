@@ -86,6 +86,9 @@ struct JointValue {
 
 namespace internal {
 
+/// sin(x) and cos(x) within ~1 ulp (fast for |x| <= 1e5, std::sin/cos beyond). noexcept.
+void SinCos(double x, double& s, double& c) noexcept;
+
 struct JointRecord {
   std::string name;
   JointType type = JointType::kFixed;
