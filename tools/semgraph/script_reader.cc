@@ -49,6 +49,7 @@ enum Field : int {
   kMimic,
   kPositions,
   kVelocities,
+  kRepair,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -59,9 +60,9 @@ constexpr std::string_view kFieldNames[kNumFields] = {
     "ref_body", "coord", "position",    "rotation",  "linear",
     "angular",  "file",  "prefix",      "type",      "parent",
     "child",    "parent_body", "child_body", "axis", "lower",
-    "upper",    "mimic", "positions",   "velocities"};
+    "upper",    "mimic", "positions",   "velocities", "repair"};
 
-static_assert(kFieldNames[kNumFields - 1] == "velocities", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "repair", "one name per Field, in order");
 static_assert(kNumFields <= 32, "fields are bits of a uint32_t");
 
 constexpr std::uint32_t Bit(Field f) { return std::uint32_t{1} << f; }
@@ -99,10 +100,10 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       // `body` is optional: a frame without it is the op error frame_without_body (spec).
       return {"a 'frame' op", Bit(kOp) | Bit(kName) | Bit(kBody), {{kName, kNoField}}};
     case OpKind::kPose:
-      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation),
+      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair),
               pose_required};
     case OpKind::kTwist:
-      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular),
+      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair),
               twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
@@ -433,6 +434,17 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     if ((op->has_velocities = value[kVelocities] != kNoNode) &&
         !ReadJointValues(value[kVelocities], "velocities", &op->velocities)) {
       return false;
+    }
+  }
+  if (value[kRepair] != kNoNode) {  // YAML 1.2 core schema booleans, plain style only
+    const NodeView n = At(value[kRepair]);
+    const bool plain = n.kind == NodeKind::kScalar && n.style == ScalarStyle::kPlain;
+    if (plain && (n.text == "true" || n.text == "True" || n.text == "TRUE")) {
+      op->repair = true;
+    } else if (plain && (n.text == "false" || n.text == "False" || n.text == "FALSE")) {
+      op->repair = false;
+    } else {
+      return Fail(value[kRepair], "'repair' must be true or false, got " + Describe(value[kRepair]));
     }
   }
   return true;

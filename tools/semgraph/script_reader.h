@@ -117,6 +117,7 @@ struct ScriptOp {
   // kJoints: the maps as written, in document order.
   bool has_positions = false, has_velocities = false;
   std::vector<std::pair<std::string, double>> positions, velocities;
+  bool repair = false;               // kPose, kTwist: repair a rejected relation (docs/repair.md)
 };
 
 struct Script {
