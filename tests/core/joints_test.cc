@@ -506,6 +506,20 @@ TEST_F(ArmTest, JacobiansTimesVelocitiesAreTwistsInEveryDirection) {
   EXPECT_EQ(g.GetJacobian(TwistSpec::Of("x").RelativeTo("B").ExpressedIn("x")).error().code, ErrorCode::kNoTwistPath);
 }
 
+// Repair (repair.cc) may re-root a pose tree by reversing edges; never through a joint's edge.
+TEST_F(ArmTest, RepairDoesNotRerootThroughAJoint) {
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("l2"), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 1)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("z", "Z").RelativeTo("y", "Y"), Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
+  const std::string before = g.Dump();
+  // z has a pose parent; the inverse (x wrt z) too, and re-rooting x's tree would reverse j2, j1.
+  auto r = g.AddPose(PoseSpec::Of("z").RelativeTo("x"), Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero(),
+                     RepairPolicy{});
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code, ErrorCode::kMultiplePoseParents);
+  EXPECT_EQ(g.Dump(), before);
+  EXPECT_EQ(g.CheckInvariants(), "");
+}
+
 TEST(Joints, SinCosAgreesWithLibm) {
   double worst = 0;
   for (int i = -200000; i <= 200000; ++i) {
