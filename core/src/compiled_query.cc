@@ -15,8 +15,8 @@ std::atomic<std::uint64_t> next_query_id{1};
 }  // namespace
 
 template <coord::Backend B>
-CompiledQuery<B>::CompiledQuery(const EdgeValues<B>& values)
-    : values_(&values), id_(next_query_id.fetch_add(1, std::memory_order_relaxed)) {}
+CompiledQuery<B>::CompiledQuery(const topology::SceneTopology& t, const EdgeValues<B>& values)
+    : topology_(&t), values_(&values), id_(next_query_id.fetch_add(1, std::memory_order_relaxed)) {}
 
 template <coord::Backend B>
 bool CompiledQuery<B>::is_valid() const noexcept {
@@ -24,6 +24,22 @@ bool CompiledQuery<B>::is_valid() const noexcept {
     if (values_->X_PF[e.child].epoch() != e.epoch()) return false;
   }
   return true;
+}
+
+template <coord::Backend B>
+template <class Eval>
+ErrorCode CompiledQuery<B>::RunTimed(const TimePolicy& policy, TimeReport& report, Eval&& eval) const noexcept {
+  const internal::PolicyParts parts = internal::PartsOf(policy);
+  if (!parts.valid()) return ErrorCode::kInvalidNumber;
+  internal::TimeContext base;
+  base.histories = &values_->history;
+  base.topology = topology_;
+  return internal::RunPolicy(
+      parts, base,
+      [&](internal::TimeContext& tc) {
+        return eval(this->source(tc)) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
+      },
+      report);
 }
 
 template <coord::Backend B>
@@ -149,7 +165,7 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const PoseSteps
 
 template <coord::Backend B>
 CompiledPose<B>::CompiledPose(const topology::SceneTopology& t, const EdgeValues<B>& values, const PosePlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B>
 ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X) const noexcept {
@@ -160,6 +176,18 @@ ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X) const noexcept {
   }
   X = B::MakePose(R, p);
   return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X, const TimePolicy& policy,
+                                    TimeReport& report) const noexcept {
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    return internal::EvaluatePose<B, internal::Part::kPose>(src, steps_, R, p);
+  });
+  if (code == ErrorCode::kOk) X = B::MakePose(R, p);
+  return code;
 }
 
 template <coord::Backend B>
@@ -176,7 +204,7 @@ ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X, PoseCache<B>& cac
 template <coord::Backend B>
 CompiledPosition<B>::CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                       const PositionPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B>
 ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R) const noexcept {
@@ -184,6 +212,18 @@ ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R) const noexcept 
   return internal::EvaluatePose<B, internal::Part::kTranslation>(this->source(), steps_, R, p_FE_R)
              ? ErrorCode::kOk
              : ErrorCode::kQueryInvalidated;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
+                                        TimeReport& report) const noexcept {
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    return internal::EvaluatePose<B, internal::Part::kTranslation>(src, steps_, R, p);
+  });
+  if (code == ErrorCode::kOk) p_FE_R = p;
+  return code;
 }
 
 template <coord::Backend B>
@@ -197,7 +237,7 @@ ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& c
 template <coord::Backend B>
 CompiledOrientation<B>::CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                             const OrientationPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B>
 ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R) const noexcept {
@@ -205,6 +245,51 @@ ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R) const n
   return internal::EvaluatePose<B, internal::Part::kRotation>(this->source(), steps_, R_BA_R, p)
              ? ErrorCode::kOk
              : ErrorCode::kQueryInvalidated;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
+                                           TimeReport& report) const noexcept {
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    return internal::EvaluatePose<B, internal::Part::kRotation>(src, steps_, R, p);
+  });
+  if (code == ErrorCode::kOk) R_BA_R = R;
+  return code;
+}
+
+template <coord::Backend B>
+CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan)
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
+  ForEachPoseDerivativeStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+    TwistStep<typename CompiledQuery<B>::Chain> flat;
+    flat.pose_edge = step.pose_edge;
+    flat.epoch = values.X_PF[step.pose_edge.value()].epoch();
+    flat.invert = step.invert;
+    if ((flat.move_point = step.move_point)) flat.eh = this->Flatten(t, step.eh);
+    if ((flat.change_frame = step.change_frame)) flat.hr = this->Flatten(t, step.hr);
+    steps_.push_back(flat);
+  });
+}
+
+template <coord::Backend B>
+ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
+                                     TimeReport& report) const noexcept {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    v.setZero();
+    w.setZero();
+    for (const auto& step : steps_) {
+      if (!internal::AccumulateTwistStep<B>(src, step, v, w)) return false;
+    }
+    return true;
+  });
+  if (code == ErrorCode::kOk) {
+    v_DCe_R = v;
+    w_DC_R = w;
+  }
+  return code;
 }
 
 template <coord::Backend B>
@@ -217,7 +302,7 @@ ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, PoseCac
 
 template <coord::Backend B>
 CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics) {
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
   ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
     TwistStep<typename CompiledQuery<B>::Chain> flat;
     flat.edge = step.edge;

@@ -380,8 +380,10 @@ BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord& joint) {
   SEMGRAPH_DEMAND(edge.is_valid());
   topology_.UnlinkTwist(edge);
   values_.V_DH[edge.value()].BumpEpoch();
+  DropTwistHistory(edge);
   topology_.CutPose(j.child);
   values_.X_PF[j.child.value()].BumpEpoch();
+  DropPoseHistory(j.child);
   if (j.is_mimic()) {
     auto& mimics = joints_.joints[j.master].mimics;
     mimics.erase(std::remove(mimics.begin(), mimics.end(), index), mimics.end());
@@ -673,7 +675,7 @@ Expected<CompiledJacobian<B>, QueryError> SceneGraph<B>::CompileJacobian(const T
 template <coord::Backend B>
 CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                       const internal::JacobianPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.twist.semantics), joints_(plan.columns) {
+    : CompiledQuery<B>(t, values), semantics_(plan.twist.semantics), joints_(plan.columns) {
   if ((change_point_ = plan.change_point)) er_ = this->Flatten(t, plan.er);
   if ((e_chained_ = plan.e_chained)) e_rest_ = this->Flatten(t, plan.e_rest);
   steps_.reserve(plan.steps.size());

@@ -47,6 +47,12 @@ enum class ErrorCode : std::uint8_t {
   kNoPosePath,
   kNoTwistPath,
   kQueryInvalidated,
+  // Time (docs/time.md): adds and updates of stamped values, then queries.
+  kStampMismatch,
+  kStampTooOld,
+  kDuplicateStamp,
+  kExtrapolation,
+  kStale,
   // Joints and robot models (docs/kinematics.md).
   kInvalidModel,
   kDuplicateJoint,

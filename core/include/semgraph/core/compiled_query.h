@@ -16,6 +16,11 @@
 // writer calling SceneGraph::SetPose/SetTwist. Each edge value is read untorn (sequence lock);
 // different edges of one path may come from different writer updates (there is no cross-edge
 // snapshot). Topology changes (add/remove) need exclusive access.
+// Time (docs/time.md): Evaluate(..., policy, report) reads every edge at the policy's time
+// through the same evaluator and reports what it read; also noexcept and allocation-free
+// (extrapolation plans its twist from the graph's topology, which is why a compiled query keeps
+// a pointer to it). Codes: kOk, kQueryInvalidated, kInvalidNumber (a negative horizon),
+// kExtrapolation, kStale.
 #pragma once
 
 #include <cstdint>
@@ -24,6 +29,8 @@
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/time.h"
+#include "semgraph/core/time_plan.h"
 
 namespace semgraph::core {
 
@@ -80,15 +87,22 @@ class CompiledQuery {
  protected:
   using Chain = internal::FlatChain;
   CompiledQuery() = default;
-  explicit CompiledQuery(const EdgeValues<B>& values);
+  CompiledQuery(const topology::SceneTopology& t, const EdgeValues<B>& values);
 
   /// Appends the edges of a one-shot chain to the list; returns their range.
   Chain Flatten(const topology::SceneTopology& t, const ForestChain& c);
   BasicPath<Chain> Flatten(const topology::SceneTopology& t, const BasicPath<ForestChain>& path);
   PoseSteps<Chain> Flatten(const topology::SceneTopology& t, const PoseSteps<ForestChain>& s);
   [[nodiscard]] internal::FlatSource<B> source() const noexcept { return {*values_, edges_.data()}; }
+  [[nodiscard]] internal::FlatSource<B> source(internal::TimeContext& tc) const noexcept {
+    return {*values_, edges_.data(), &tc};
+  }
+  /// Runs eval(const FlatSource<B>&) -> bool (false: invalidated) under the policy.
+  template <class Eval>
+  ErrorCode RunTimed(const TimePolicy& policy, TimeReport& report, Eval&& eval) const noexcept;
   [[nodiscard]] internal::CachedSource<B> source(PoseCache<B>& cache) const noexcept;
 
+  const topology::SceneTopology* topology_ = nullptr;
   const EdgeValues<B>* values_ = nullptr;
   std::vector<internal::EdgeRef> edges_;
   std::vector<Chain> chains_;  // every flattened chain, for MakeCache
@@ -105,6 +119,8 @@ class CompiledPose : public CompiledQuery<B> {
   [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
   /// Writes the pose X (orientation operator and position, in [r]). kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
   /// The same answer through a memo of partial products (PoseCache, from MakeCache() of this
   /// query): far fewer compositions when few edges changed since the last evaluation.
   [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, PoseCache<B>& cache) const noexcept;
@@ -123,6 +139,8 @@ class CompiledPosition : public CompiledQuery<B> {
   [[nodiscard]] const semantics::PositionSemantics& semantics() const noexcept { return semantics_; }
   /// Writes p_FE_R, the position of e wrt f in [r]. kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& cache) const noexcept;
 
  private:
@@ -142,6 +160,8 @@ class CompiledOrientation : public CompiledQuery<B> {
   }
   /// Writes R_BA_R, the orientation operator of [a] wrt [b] in [r]. kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, PoseCache<B>& cache) const noexcept;
 
  private:
@@ -155,9 +175,13 @@ class CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
   CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);
+  /// Twist source `poses`: the pose edges' derivatives (time_plan.h).
+  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   /// v_DCe_R: velocity of the point of C at e relative to D; w_DC_R: angular velocity; in [r].
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
  private:

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "semgraph/coord/backend.h"
+#include "semgraph/core/edge_history.h"
 #include "semgraph/core/seqlock_value.h"
 #include "semgraph/topology/ids.h"
 
@@ -60,6 +61,8 @@ template <coord::Backend B>
 struct EdgeValues {
   std::vector<PoseValue<B>> X_PF;  ///< by frame
   std::vector<TwistValue> V_DH;    ///< by twist edge slot
+  /// Stamped edges' samples (edge_history.h); X_PF / V_DH then hold the newest sample.
+  EdgeHistories history;
 
   /// The value of a new frame: the identity (it has no pose parent yet).
   void AddFrame() {
@@ -70,7 +73,7 @@ struct EdgeValues {
     if (V_DH.size() <= e.value()) V_DH.resize(e.value() + 1);
   }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue);
+    return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue) + history.ApproximateBytes();
   }
 };
 

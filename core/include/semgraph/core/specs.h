@@ -83,6 +83,15 @@ using BuildResult = Expected<Ok, BuildError>;
 ///   no_pose_path          name, other: the two frames in different pose trees
 ///   no_twist_path         name, other: the two bodies no twist path joins
 ///   representation_constraint, semantic_mismatch: detail
+///   extrapolation, stale  name: the edge's head frame; other: its tail frame (a pose edge) or
+///                         tail body (a twist edge, time.twist_edge); time: its samples, the time
+///   unknown_frame, no_pose_path with time.fixed_frame: about TimeTravel's fixed frame
+struct QueryTimeDetail {
+  bool twist_edge = false;
+  bool fixed_frame = false;
+  bool single_sample = false;  ///< extrapolation: a derivative of an edge with one sample
+  std::int64_t first = 0, last = 0, asked = 0;  ///< nanoseconds
+};
 struct QueryError {
   ErrorCode code = ErrorCode::kOk;
   semantics::Field field = semantics::Field::kPoint;  ///< the argument that is unknown/mismatched
@@ -90,6 +99,7 @@ struct QueryError {
   NameId other;
   NameId asked;
   coord::Error detail;
+  QueryTimeDetail time;
 };
 template <class T>
 using QueryResult = Expected<T, QueryError>;
