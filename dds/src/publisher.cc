@@ -23,6 +23,8 @@ struct Publisher::Impl {
   Entity participant, structure_writer, value_writer;
 };
 
+std::int64_t NowNs() noexcept { return internal::NowNs(); }
+
 Publisher::Publisher(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Publisher::~Publisher() = default;
 

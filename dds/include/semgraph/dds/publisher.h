@@ -31,6 +31,9 @@ namespace semgraph::dds {
 /// DDS's default domain (the id of the CYCLONEDDS_URI configuration, else 0).
 inline constexpr std::uint32_t kDefaultDomain = 0xFFFFFFFFu;
 
+/// The clock of value stamps (DDS's time: nanoseconds since the Unix epoch).
+[[nodiscard]] std::int64_t NowNs() noexcept;
+
 struct PublisherOptions {
   std::string owner;                     ///< a valid name, unique among publishers of a domain
   std::uint32_t domain = kDefaultDomain;
