@@ -60,7 +60,7 @@ int MirrorMain(long samples, long updates) {
       if (X.translation.x() != seen && static_cast<long>(latency_us.size()) < samples) {
         const double now = Seconds();
         seen = X.translation.x();
-        if (seen > 0) {
+        if (seen > 0 && X.translation.y() > 0) {  // phase 2 writes y = 0
           latency_us.push_back((now - X.translation.y()) * 1e6);
           recorded.fetch_add(1, std::memory_order_release);
         }
@@ -70,7 +70,12 @@ int MirrorMain(long samples, long updates) {
   std::printf("READY\n");
   std::fflush(stdout);
   // Throughput: the publisher's last update of the last edge carries x = -1.
-  mirror.WaitUntil([&] { return recorded.load(std::memory_order_acquire) >= samples - samples / 100; }, 30s);
+  mirror.WaitUntil(
+      [&] {
+        coord::QuaternionBackend::PoseCoords X;
+        return e0->Evaluate(X) == base::ErrorCode::kOk && X.translation.x() == static_cast<double>(samples);
+      },
+      60s);
   const std::uint64_t base_count = mirror.values_applied();
   double t0 = 0, t1 = 0;
   std::uint64_t first = 0;
@@ -81,7 +86,7 @@ int MirrorMain(long samples, long updates) {
       first = n;
     }
     coord::QuaternionBackend::PoseCoords X;
-    if (last->Evaluate(X) == base::ErrorCode::kOk && X.translation.x() == -1.0) {
+    if (t0 != 0 && last->Evaluate(X) == base::ErrorCode::kOk && X.translation.x() == -1.0) {
       t1 = Seconds();
       break;
     }
@@ -95,7 +100,7 @@ int MirrorMain(long samples, long updates) {
   auto pct = [&](double p) {
     return latency_us.empty() ? 0.0 : latency_us[std::min(latency_us.size() - 1, static_cast<std::size_t>(p * latency_us.size()))];
   };
-  std::printf("latency_samples %zu\nlatency_us p50 %.1f p99 %.1f p99.9 %.1f max %.1f\n", latency_us.size(), pct(0.5),
+  std::printf("latency_samples %zu of %ld sent (the reader sees only the newest value)\nlatency_us p50 %.1f p99 %.1f p99.9 %.1f max %.1f\n", latency_us.size(), samples, pct(0.5),
               pct(0.99), pct(0.999), latency_us.empty() ? 0.0 : latency_us.back());
   std::printf("throughput applied %llu in %.3f s: %.0f updates/s into the mirror (reader evaluations %ld)\n",
               static_cast<unsigned long long>(applied), t1 - t0, applied / std::max(1e-9, t1 - t0), evaluations.load());
