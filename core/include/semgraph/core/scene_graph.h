@@ -93,6 +93,16 @@ class SceneGraph {
   /// converted to the screw twist at {point} when coord != point, or updates that edge.
   BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                        const Eigen::Vector3d& w_angular);
+  /// The same adds with repair of a rejected relation (docs/repair.md): P1 -> the inverse pose
+  /// (after re-rooting the inverse's head tree if needed); W1 -> the inverse twist on a frame of
+  /// the reference body; an already determined relation (pose_cycle, or P1 within one tree;
+  /// duplicate_twist_path) -> accepted as a no-op when it equals the derived value within the
+  /// policy's tolerances, else refused with the discrepancy. Without a repair the result and
+  /// the graph are exactly those of the plain add.
+  Expected<RepairReport, BuildError> AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                                             const Eigen::Vector3d& p_position, const RepairPolicy& repair);
+  Expected<RepairReport, BuildError> AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                              const Eigen::Vector3d& w_angular, const RepairPolicy& repair);
   /// Removes the pose edge {relative_to} -> {of}. invalid_name -> unknown_frame -> no_such_edge.
   BuildResult RemovePose(std::string_view of, std::string_view relative_to);
   /// Removes the twist edge {relative_to} -> {of} (a body to a frame). invalid_name ->
@@ -218,6 +228,7 @@ class SceneGraph {
   template <class R>
   ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T) noexcept;
   FrameIndex CreateFrame(NameId name, BodyIndex body);
+  void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
 
   topology::SceneTopology topology_;
