@@ -225,8 +225,12 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
       return out.str();
     }
     case ErrorCode::kInvalidNumber:
-      out << RoleName(error.value.role) << " component " << int(error.value.component) << " is "
-          << error.value.magnitude;
+      out << RoleName(error.value.role) << " component " << int(error.value.component) << " is ";
+      if (std::isnan(error.value.magnitude)) {
+        out << "nan";  // whatever its sign bit: -nan and nan are one non-number to the user
+      } else {
+        out << error.value.magnitude;
+      }
       if (error.value.problem == ValueProblem::kTooLarge) {
         out << " (magnitude above " << kMaxMagnitude << ")";
       } else {
