@@ -1,5 +1,7 @@
 // The real-time write path: handles made at build time, then SetPose / SetTwist (noexcept,
 // allocation-free, lock-free, string-free). Contract: scene_graph.h, docs/realtime.md.
+#include <atomic>
+
 #include "semgraph/core/scene_graph.h"
 #include "text.h"
 
@@ -7,6 +9,13 @@ namespace semgraph::core {
 
 using base::Unexpected;
 using text::Reject;
+
+std::uint32_t GraphId::Next() noexcept {
+  static std::atomic<std::uint32_t> counter{0};
+  std::uint32_t id = counter.fetch_add(1, std::memory_order_relaxed) + 1;
+  while (id == 0) id = counter.fetch_add(1, std::memory_order_relaxed) + 1;  // 0 means "no graph"
+  return id;
+}
 
 template <coord::Backend B>
 Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of,
@@ -32,7 +41,7 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
                                  " are fixed to one body: their pose is constant")
                           .error()};
   }
-  return PoseHandle{h, values_.X_PF[h.value()].epoch()};
+  return PoseHandle{h, values_.X_PF[h.value()].epoch(), id_.value(), EdgeKind::kPose};
 }
 
 template <coord::Backend B>
@@ -55,7 +64,7 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
                              "there is no twist edge " + std::string(relative_to) + " -> " + text::Frame(t, h))
                           .error()};
   }
-  return TwistHandle{edge, values_.V_DH[edge.value()].epoch()};
+  return TwistHandle{edge, values_.V_DH[edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
 namespace {
@@ -67,10 +76,15 @@ inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::
 template <coord::Backend B>
 template <class R>
 ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T) noexcept {
-  if (!edge.child.is_valid() || edge.child.value() >= values_.X_PF.size() ||
+  // The handle cannot lie (edge_values.h): this graph's, a pose handle, a frame with a pose
+  // parent, the epoch it was made at, and a variable edge. O(1): a few loads.
+  if (edge.graph != id_.value() || edge.kind != EdgeKind::kPose || edge.child.value() >= values_.X_PF.size() ||
       values_.X_PF[edge.child.value()].epoch() != edge.epoch) {
     return ErrorCode::kNoSuchEdge;
   }
+  const FrameIndex tail = topology_.pose_parent(edge.child);
+  if (!tail.is_valid()) return ErrorCode::kNoSuchEdge;  // a root: no edge into it
+  if (topology_.body_of(tail) == topology_.body_of(edge.child)) return ErrorCode::kConstantPoseChange;  // P4
   auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
   if (!p) return p.error().code;
   auto M = ValidateRotation(rotation);
@@ -97,7 +111,7 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, c
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                   const Eigen::Vector3d& w_DH_H) noexcept {
-  if (!edge.slot.is_valid() || edge.slot.value() >= topology_.num_twist_edge_slots() ||
+  if (edge.graph != id_.value() || edge.kind != EdgeKind::kTwist || edge.slot.value() >= topology_.num_twist_edge_slots() ||
       !topology_.twist_edge(edge.slot).alive || values_.V_DH[edge.slot.value()].epoch() != edge.epoch) {
     return ErrorCode::kNoSuchEdge;
   }

@@ -110,13 +110,17 @@ class SceneGraph {
                                                                std::string_view relative_to) const;
   /// New value X_TH of the edge (rotation of the head in the tail, position of the head's origin
   /// in the tail, both in [tail]). O(1). Codes: kOk, kInvalidNumber, kInvalidRotation
-  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made).
+  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made, or
+  /// the handle is not one of this graph's pose handles: another graph's, default or forged,
+  /// naming no frame or a root frame), kConstantPoseChange (a forged handle naming a same-body
+  /// edge). On any code but kOk nothing is written.
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   /// New value V_DH of the screw twist of the edge D -> {h}|H: velocity of h's origin and
-  /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose.
+  /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose (kNoSuchEdge for
+  /// a removed edge, a free slot, or a handle not made by this graph's FindTwistEdge).
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                    const Eigen::Vector3d& w_DH_H) noexcept;
 
@@ -211,6 +215,7 @@ class SceneGraph {
 
   topology::SceneTopology topology_;
   EdgeValues<B> values_;
+  GraphId id_;  // stamped into handles; SetPose/SetTwist refuse other graphs' handles
 };
 
 extern template class SceneGraph<coord::QuaternionBackend>;
