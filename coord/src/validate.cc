@@ -2,6 +2,7 @@
 #include "semgraph/coord/validate.h"
 
 #include <Eigen/SVD>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -210,6 +211,12 @@ const char* RoleName(ValueRole role) noexcept {
 }
 }  // namespace
 
+std::string FormatNumber(double x) {
+  char buf[64];  // the shortest round-trip form of a double needs at most 24 characters
+  const auto r = std::to_chars(buf, buf + sizeof(buf), x);
+  return std::string(buf, r.ptr);
+}
+
 std::string Describe(const Error& error, const semantics::NameTable& names) {
   std::ostringstream out;
   switch (error.code) {
@@ -226,9 +233,9 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
     }
     case ErrorCode::kInvalidNumber:
       out << RoleName(error.value.role) << " component " << int(error.value.component) << " is "
-          << error.value.magnitude;
+          << FormatNumber(error.value.magnitude);
       if (error.value.problem == ValueProblem::kTooLarge) {
-        out << " (magnitude above " << kMaxMagnitude << ")";
+        out << " (magnitude above " << FormatNumber(kMaxMagnitude) << ")";
       } else {
         out << " (must be finite)";
       }
@@ -236,19 +243,19 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
     case ErrorCode::kInvalidRotation:
       switch (error.value.problem) {
         case ValueProblem::kQuaternionNorm:
-          out << "quaternion norm differs from 1 by " << error.value.magnitude << " (more than "
-              << kRotationTolerance << ")";
+          out << "quaternion norm differs from 1 by " << FormatNumber(error.value.magnitude) << " (more than "
+              << FormatNumber(kRotationTolerance) << ")";
           break;
         case ValueProblem::kNotOrthonormal:
-          out << "rotation matrix is not orthonormal: max |M^T M - I| = " << error.value.magnitude
-              << " (more than " << kRotationTolerance << ")";
+          out << "rotation matrix is not orthonormal: max |M^T M - I| = " << FormatNumber(error.value.magnitude)
+              << " (more than " << FormatNumber(kRotationTolerance) << ")";
           break;
         case ValueProblem::kReflection:
-          out << "rotation matrix has determinant " << error.value.magnitude
+          out << "rotation matrix has determinant " << FormatNumber(error.value.magnitude)
               << " (a reflection, not a rotation)";
           break;
         case ValueProblem::kNotRigidTransform:
-          out << "homogeneous matrix bottom row is not [0 0 0 1] (off by " << error.value.magnitude
+          out << "homogeneous matrix bottom row is not [0 0 0 1] (off by " << FormatNumber(error.value.magnitude)
               << ")";
           break;
         default:

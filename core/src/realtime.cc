@@ -3,6 +3,7 @@
 #include <atomic>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/semantics/describe.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -23,6 +24,12 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
   const auto what = [&] {
     return "handle of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
   };
+  // invalid_name -> unknown_frame -> no_such_edge -> constant_pose_change (as RemovePose).
+  for (std::string_view n : {of, relative_to}) {
+    if (auto ok = semantics::ValidateName(n); !ok) {
+      return Unexpected{Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n)).error()};
+    }
+  }
   const topology::SceneTopology& t = topology_;
   const FrameIndex h = FindFrame(of), tail = FindFrame(relative_to);
   if (!h.is_valid() || !tail.is_valid()) {
@@ -48,6 +55,12 @@ template <coord::Backend B>
 Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view of,
                                                               std::string_view relative_to) const {
   const auto what = [&] { return "handle of the twist of " + std::string(of) + " wrt " + std::string(relative_to); };
+  // invalid_name -> unknown_frame -> unknown_body -> no_such_edge (as RemoveTwist).
+  for (std::string_view n : {of, relative_to}) {
+    if (auto ok = semantics::ValidateName(n); !ok) {
+      return Unexpected{Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n)).error()};
+    }
+  }
   const topology::SceneTopology& t = topology_;
   const FrameIndex h = FindFrame(of);
   if (!h.is_valid()) {

@@ -72,6 +72,27 @@ TYPED_TEST(HandleTest, AGenuineHandleWritesItsEdge) {
   static_assert(noexcept(this->graph_.SetTwist(*t, this->p_, this->p_)));
 }
 
+TYPED_TEST(HandleTest, FindingAnEdgeChecksNamesFirst) {
+  // Before: FindPoseEdge("", "") said unknown_frame. Order: invalid_name -> unknown_frame ->
+  // (unknown_body) -> no_such_edge -> constant_pose_change.
+  const std::string before = this->graph_.Dump();
+  for (auto [of, wrt] : {std::pair{"", ""}, std::pair{"g", ""}, std::pair{"", "e2"}, std::pair{"g\x01", "zz"}}) {
+    auto pose = this->graph_.FindPoseEdge(of, wrt);
+    ASSERT_FALSE(pose);
+    EXPECT_EQ(pose.error().code, ErrorCode::kInvalidName) << of << " " << wrt;
+    auto twist = this->graph_.FindTwistEdge(of, wrt);
+    ASSERT_FALSE(twist);
+    EXPECT_EQ(twist.error().code, ErrorCode::kInvalidName) << of << " " << wrt;
+  }
+  const auto empty = this->graph_.FindPoseEdge("", "");
+  EXPECT_NE(empty.error().message.find("invalid_name): name is empty"), std::string::npos) << empty.error().message;
+  EXPECT_EQ(this->graph_.FindPoseEdge("zz", "e2").error().code, ErrorCode::kUnknownFrame);
+  EXPECT_EQ(this->graph_.FindTwistEdge("g", "ZZ").error().code, ErrorCode::kUnknownBody);
+  EXPECT_EQ(this->graph_.FindPoseEdge("g", "b").error().code, ErrorCode::kNoSuchEdge);
+  EXPECT_EQ(this->graph_.FindTwistEdge("g", "B").error().code, ErrorCode::kNoSuchEdge);
+  EXPECT_EQ(this->graph_.Dump(), before);
+}
+
 TYPED_TEST(HandleTest, HandMadeAndDefaultHandlesAreRefused) {
   const FrameIndex g = this->frame("g");
   this->ExpectPoseRefused(PoseHandle{}, ErrorCode::kNoSuchEdge);

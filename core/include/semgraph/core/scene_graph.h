@@ -100,12 +100,13 @@ class SceneGraph {
   // noexcept, allocation-free, lock-free and string-free. One writer thread may call
   // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks).
 
-  /// Handle of the existing pose edge {relative_to} -> {of}: unknown_frame, no_such_edge, or
-  /// constant_pose_change for a same-body (constant) edge, which cannot be updated.
+  /// Handle of the existing pose edge {relative_to} -> {of}: invalid_name, unknown_frame,
+  /// no_such_edge, or constant_pose_change for a same-body (constant) edge, which cannot be
+  /// updated.
   [[nodiscard]] Expected<PoseHandle, BuildError> FindPoseEdge(std::string_view of,
                                                              std::string_view relative_to) const;
-  /// Handle of the existing twist edge {relative_to} (a body) -> {of}: unknown_frame,
-  /// unknown_body, no_such_edge.
+  /// Handle of the existing twist edge {relative_to} (a body) -> {of}: invalid_name,
+  /// unknown_frame, unknown_body, no_such_edge.
   [[nodiscard]] Expected<TwistHandle, BuildError> FindTwistEdge(std::string_view of,
                                                                std::string_view relative_to) const;
   /// New value X_TH of the edge (rotation of the head in the tail, position of the head's origin
