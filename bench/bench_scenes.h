@@ -381,6 +381,7 @@ inline const RandomTree& TreeOf(std::uint32_t n) {
 /// Adds t1..tN to `g` in order (the timed part of build_random_tree).
 template <class B>
 inline void AddTree(SceneGraph<B>& g, const RandomTree& t) {
+  g.Reserve(t.n + 1, t.n + 1);  // the size is known: no reallocation while building
   for (std::uint32_t i = 1; i <= t.n; ++i) {
     const std::uint32_t par = t.parent[i];
     auto r = g.AddPose(PoseSpec::Of(t.frames[i], t.bodies[i]).RelativeTo(t.frames[par], t.bodies[par]),

@@ -38,8 +38,13 @@ class NameRollback {
 // ====================================================================== nodes
 
 template <coord::Backend B>
+void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
+  topology_.Reserve(frames, bodies);
+  values_.X_PF.reserve(frames);
+}
+
+template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
-  values_.X_PF.reserve(values_.X_PF.size() + 1);  // before the topology changes: all or nothing
   const FrameIndex f = topology_.CreateFrame(name, body);
   values_.AddFrame();
   return f;
@@ -121,15 +126,29 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
                               {spec.ref_orientation, Field::kRefOrientation, true},
                               {spec.ref_body, Field::kRefBody, false},
                               {spec.coordinate_frame, Field::kCoordinateFrame, true}};
+  // Same view (the builders copy one view into several fields) before same text; the last byte
+  // decides most mismatches of names that share a prefix.
+  const auto same_name = [](std::string_view x, std::string_view y) {
+    return x.size() == y.size() && (x.data() == y.data() || (!x.empty() && x.back() == y.back() && x == y));
+  };
   NameId found[7];
+  std::uint32_t hash[7] = {};
+  int first[7];  // the first field with the same name
   for (int i = 0; i < 7; ++i) {
     const NamedField& n = named[i];
+    first[i] = i;
     if (n.value.empty() && !n.required) continue;
-    int same = -1;
-    for (int j = 0; j < i && same < 0; ++j) {
-      if (named[j].value == n.value) same = j;
+    for (int j = 0; j < i && first[i] == i; ++j) {
+      if (same_name(named[j].value, n.value)) first[i] = j;
     }
-    found[i] = same >= 0 ? found[same] : names.Find(n.value);
+    if (first[i] < i) {
+      found[i] = found[first[i]];
+      hash[i] = hash[first[i]];
+      continue;
+    }
+    const semantics::NameTable::Lookup lookup = names.FindWithHash(n.value);
+    found[i] = lookup.id;
+    hash[i] = lookup.hash;
     if (found[i].is_valid()) continue;
     if (auto ok = semantics::ValidateName(n.value); !ok) {
       return Reject(ErrorCode::kInvalidName, what(),
@@ -152,7 +171,8 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
 
   // 4. Node resolution. Names are interned now (rolled back on rejection).
   for (int i = 0; i < 7; ++i) {
-    if (!found[i].is_valid() && !named[i].value.empty()) found[i] = *names.Intern(named[i].value);
+    if (found[i].is_valid() || named[i].value.empty()) continue;
+    found[i] = first[i] < i ? found[first[i]] : names.InternNew(named[i].value, hash[i]);
   }
   const NameId e_id = found[0], a_id = found[1], C_id = found[2];
   const NameId f_id = found[3], b_id = found[4], D_id = found[5];
@@ -352,7 +372,6 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   const BodyIndex tail = D.is_valid() ? D : topology_.CreateBody(D_id);
   const FrameIndex head = e.is_valid() ? e : CreateFrame(e_id, C);
-  values_.V_DH.reserve(t.num_twist_edge_slots() + 1);
   const TwistEdgeIndex edge = topology_.LinkTwist(
       tail, head,
       semantics::TwistSemantics{semantics::Point(e_id), t.BodySem(C), t.BodySem(tail), semantics::OrientationFrame(e_id)});
@@ -421,6 +440,7 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
 }
 
 #define SEMGRAPH_INSTANTIATE_ADD(B)                                                                         \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                           \
   template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                                        \
   template BuildResult SceneGraph<B>::AddBody(std::string_view);                                            \
   template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);                         \

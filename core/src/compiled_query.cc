@@ -52,8 +52,8 @@ CompiledPose<B>::CompiledPose(const topology::SceneTopology& t, const EdgeValues
 
 template <coord::Backend B>
 ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X) const noexcept {
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  typename B::Rotation R;
+  Eigen::Vector3d p;  // written by the evaluator before any use (Evaluate returns early otherwise)
   if (!internal::EvaluatePose<B, internal::Part::kPose>(this->source(), steps_, R, p)) {
     return ErrorCode::kQueryInvalidated;
   }
@@ -68,7 +68,7 @@ CompiledPosition<B>::CompiledPosition(const topology::SceneTopology& t, const Ed
 
 template <coord::Backend B>
 ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R) const noexcept {
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  typename B::Rotation R;  // the rotation half, unused by a position
   return internal::EvaluatePose<B, internal::Part::kTranslation>(this->source(), steps_, R, p_FE_R)
              ? ErrorCode::kOk
              : ErrorCode::kQueryInvalidated;
@@ -81,7 +81,7 @@ CompiledOrientation<B>::CompiledOrientation(const topology::SceneTopology& t, co
 
 template <coord::Backend B>
 ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R) const noexcept {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p;  // the translation half, unused by an orientation
   return internal::EvaluatePose<B, internal::Part::kRotation>(this->source(), steps_, R_BA_R, p)
              ? ErrorCode::kOk
              : ErrorCode::kQueryInvalidated;

@@ -41,11 +41,16 @@ std::optional<QueryError> InvalidBodyNames(std::string_view body, std::string_vi
 std::optional<QueryError> ResolveFrameNames(const SceneTopology& t, std::span<const std::string_view> fields,
                                             std::span<const Field> kinds, std::span<NameId> ids,
                                             std::string_view body, std::string_view ref_body) noexcept {
+  // Same view (the builders copy one view into several fields) before same text.
+  // Names often share a prefix and differ at the end: the last byte decides most mismatches.
+  const auto same_name = [](std::string_view x, std::string_view y) {
+    return x.size() == y.size() && (x.data() == y.data() || (!x.empty() && x.back() == y.back() && x == y));
+  };
   bool all_found = true;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     std::size_t same = i;
     for (std::size_t j = 0; j < i && same == i; ++j) {
-      if (fields[j] == fields[i]) same = j;
+      if (same_name(fields[j], fields[i])) same = j;
     }
     ids[i] = same < i ? ids[same] : t.names().Find(fields[i]);
     all_found &= t.FrameOfName(ids[i]).is_valid();
@@ -109,7 +114,7 @@ std::optional<QueryError> CheckResolved(const SceneTopology& t, std::span<const 
     }
   }
   for (const PathCheck& c : path_checks) {
-    if (!t.SameTree(out[c.x], out[c.y])) {
+    if (out[c.x] != out[c.y] && !t.SameTree(out[c.x], out[c.y])) {
       return QError(ErrorCode::kNoPosePath, frames[c.x].field, t.frame_name_id(out[c.x]),
                     t.frame_name_id(out[c.y]));
     }
@@ -217,6 +222,24 @@ Expected<TwistPlan, QueryError> PlanTwist(const SceneTopology& t, const semantic
 // ====================================================================== by names
 
 Expected<PosePlan, QueryError> PlanPose(const SceneTopology& t, const PoseSpec& spec) noexcept {
+  // Frame-to-frame fast path, PoseSpec::Of(a).RelativeTo(b) with no bodies named: two names, one
+  // basic pose. Any failure takes the general path below, which reports in the rules' order.
+  if (spec.point.data() == spec.orientation.data() && spec.point.size() == spec.orientation.size() &&
+      spec.ref_point.data() == spec.ref_orientation.data() && spec.ref_point.size() == spec.ref_orientation.size() &&
+      spec.coordinate_frame.data() == spec.ref_orientation.data() &&
+      spec.coordinate_frame.size() == spec.ref_orientation.size() && spec.body.empty() && spec.ref_body.empty()) {
+    const NameId a_id = t.names().Find(spec.orientation), b_id = t.names().Find(spec.ref_orientation);
+    const FrameIndex a = t.FrameOfName(a_id), b = t.FrameOfName(b_id);
+    if (a.is_valid() && b.is_valid() && (a == b || t.SameTree(a, b))) {
+      const semantics::Body C = t.BodyOfSem(a), D = t.BodyOfSem(b);
+      PosePlan plan;
+      plan.semantics = semantics::PoseSemantics{semantics::Point(a_id), semantics::OrientationFrame(a_id), C,
+                                                semantics::Point(b_id), semantics::OrientationFrame(b_id), D,
+                                                semantics::OrientationFrame(b_id)};
+      plan.steps.ab = PlanBasic(t, a, b);
+      return plan;
+    }
+  }
   const std::string_view fields[] = {spec.point, spec.orientation, spec.ref_point, spec.ref_orientation,
                                      spec.coordinate_frame};
   const Field kinds[] = {Field::kPoint, Field::kOrientation, Field::kRefPoint, Field::kRefOrientation,

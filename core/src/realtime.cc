@@ -1,6 +1,7 @@
 // The real-time write path: handles made at build time, then SetPose / SetTwist (noexcept,
 // allocation-free, lock-free, string-free). Contract: scene_graph.h, docs/realtime.md.
 #include <atomic>
+#include <cmath>
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
@@ -81,6 +82,21 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
 }
 
 namespace {
+// The handle cannot lie (edge_values.h): this graph's, a pose handle, a frame with a pose
+// parent, the epoch it was made at, and a variable edge. O(1): a few loads.
+template <coord::Backend B>
+ErrorCode CheckPoseHandle(const PoseHandle& edge, std::uint32_t graph, const topology::SceneTopology& t,
+                          const EdgeValues<B>& values) noexcept {
+  if (edge.graph != graph || edge.kind != EdgeKind::kPose || edge.child.value() >= values.X_PF.size() ||
+      values.X_PF[edge.child.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  const FrameIndex tail = t.pose_parent(edge.child);
+  if (!tail.is_valid()) return ErrorCode::kNoSuchEdge;                                       // a root: no edge into it
+  if (t.body_of(tail) == t.body_of(edge.child)) return ErrorCode::kConstantPoseChange;  // P4: constant
+  return ErrorCode::kOk;
+}
+
 // The rotation of a real-time pose update, validated (and normalized) without allocating.
 inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept { return coord::ValidateQuaternion(q); }
 inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::ValidateRotationMatrix(R); }
@@ -89,15 +105,7 @@ inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::
 template <coord::Backend B>
 template <class R>
 ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T) noexcept {
-  // The handle cannot lie (edge_values.h): this graph's, a pose handle, a frame with a pose
-  // parent, the epoch it was made at, and a variable edge. O(1): a few loads.
-  if (edge.graph != id_.value() || edge.kind != EdgeKind::kPose || edge.child.value() >= values_.X_PF.size() ||
-      values_.X_PF[edge.child.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
-  const FrameIndex tail = topology_.pose_parent(edge.child);
-  if (!tail.is_valid()) return ErrorCode::kNoSuchEdge;  // a root: no edge into it
-  if (topology_.body_of(tail) == topology_.body_of(edge.child)) return ErrorCode::kConstantPoseChange;  // P4
+  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
   auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
   if (!p) return p.error().code;
   auto M = ValidateRotation(rotation);
@@ -122,6 +130,18 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, c
 }
 
 template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                          const Eigen::Vector3d& p_ToHo_T) noexcept {
+  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+  SEMGRAPH_DEMAND(coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition).has_value());
+  SEMGRAPH_DEMAND(q_TH.coeffs().allFinite() && std::abs(q_TH.squaredNorm() - 1.0) <= 1e-12);
+#endif
+  values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(q_TH), p_ToHo_T));
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                   const Eigen::Vector3d& w_DH_H) noexcept {
   if (edge.graph != id_.value() || edge.kind != EdgeKind::kTwist || edge.slot.value() >= topology_.num_twist_edge_slots() ||
@@ -141,7 +161,8 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
   template Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view, std::string_view) const; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&) noexcept;    \
-  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept;
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_REALTIME(coord::HomogeneousBackend)
 

@@ -16,85 +16,91 @@ QueryError QError(const coord::Error& detail) {
   e.detail = detail;
   return e;
 }
+
+// Answers a planned query: the backend's check where the query has one, then the evaluator.
+// Each one-shot query is planned exactly once, by names or by ids.
+template <coord::Backend B>
+QueryResult<coord::Pose<B>> Answer(const internal::ForestSource<B>& src,
+                                   const Expected<PosePlan, QueryError>& plan) noexcept {
+  if (!plan) return Unexpected{plan.error()};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  internal::EvaluatePose<B, Part::kPose>(src, plan->steps, R, p);
+  return coord::Pose<B>{plan->semantics, B::MakePose(R, p)};
+}
+
+template <coord::Backend B>
+QueryResult<coord::Position> Answer(const internal::ForestSource<B>& src,
+                                    const Expected<PositionPlan, QueryError>& plan) noexcept {
+  if (!plan) return Unexpected{plan.error()};
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p_FoEo_R = Eigen::Vector3d::Zero();
+  internal::EvaluatePose<B, Part::kTranslation>(src, plan->steps, R, p_FoEo_R);
+  return coord::Position{plan->semantics, p_FoEo_R};
+}
+
+template <coord::Backend B>
+QueryResult<coord::Orientation<B>> Answer(const internal::ForestSource<B>& src,
+                                          const Expected<OrientationPlan, QueryError>& plan) noexcept {
+  if (!plan) return Unexpected{plan.error()};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
+  typename B::Rotation R_BA_R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  internal::EvaluatePose<B, Part::kRotation>(src, plan->steps, R_BA_R, p);
+  return coord::Orientation<B>{plan->semantics, R_BA_R};
+}
+
+template <coord::Backend B>
+QueryResult<coord::Twist> Answer(const topology::SceneTopology& t, const internal::ForestSource<B>& src,
+                                 const Expected<TwistPlan, QueryError>& plan) noexcept {
+  if (!plan) return Unexpected{plan.error()};
+  Eigen::Vector3d v_DCe_R = Eigen::Vector3d::Zero(), w_DC_R = Eigen::Vector3d::Zero();
+  ForEachTwistStep(t, *plan, [&](const TwistStep<ForestChain>& step) {
+    internal::AccumulateTwistStep<B>(src, step, v_DCe_R, w_DC_R);
+  });
+  return coord::Twist{plan->semantics, v_DCe_R, w_DC_R};
+}
 }  // namespace
 
 // ====================================================================== one-shot
 
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const semantics::PoseSemantics& q) const noexcept {
-  auto plan = PlanPose(topology_, q);
-  if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kPose>(source(), plan->steps, R, p);
-  return Pose{plan->semantics, B::MakePose(R, p)};
+  return Answer(source(), PlanPose(topology_, q));
+}
+template <coord::Backend B>
+QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const PoseSpec& spec) const noexcept {
+  return Answer(source(), PlanPose(topology_, spec));
 }
 
 template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(const semantics::PositionSemantics& q) const noexcept {
-  auto plan = PlanPosition(topology_, q);
-  if (!plan) return Unexpected{plan.error()};
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p_FoEo_R = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kTranslation>(source(), plan->steps, R, p_FoEo_R);
-  return coord::Position{plan->semantics, p_FoEo_R};
+  return Answer(source(), PlanPosition(topology_, q));
+}
+template <coord::Backend B>
+QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) const noexcept {
+  return Answer(source(), PlanPosition(topology_, spec));
 }
 
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
     const semantics::OrientationSemantics& q) const noexcept {
-  auto plan = PlanOrientation(topology_, q);
-  if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
-  typename B::Rotation R_BA_R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kRotation>(source(), plan->steps, R_BA_R, p);
-  return Orientation{plan->semantics, R_BA_R};
+  return Answer(source(), PlanOrientation(topology_, q));
+}
+template <coord::Backend B>
+QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
+    const PoseSpec& spec) const noexcept {
+  return Answer(source(), PlanOrientation(topology_, spec));
 }
 
 template <coord::Backend B>
 QueryResult<coord::Twist> SceneGraph<B>::GetTwist(const semantics::TwistSemantics& q) const noexcept {
-  auto plan = PlanTwist(topology_, q);
-  if (!plan) return Unexpected{plan.error()};
-  Eigen::Vector3d v_DCe_R = Eigen::Vector3d::Zero(), w_DC_R = Eigen::Vector3d::Zero();
-  const internal::ForestSource<B> src = source();
-  ForEachTwistStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
-    internal::AccumulateTwistStep<B>(src, step, v_DCe_R, w_DC_R);
-  });
-  return coord::Twist{plan->semantics, v_DCe_R, w_DC_R};
+  return Answer(topology_, source(), PlanTwist(topology_, q));
 }
-
-template <coord::Backend B>
-QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const PoseSpec& spec) const noexcept {
-  auto plan = PlanPose(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  return GetPose(plan->semantics);
-}
-
-template <coord::Backend B>
-QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) const noexcept {
-  auto plan = PlanPosition(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p_FoEo_R = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kTranslation>(source(), plan->steps, R, p_FoEo_R);
-  return coord::Position{plan->semantics, p_FoEo_R};
-}
-
-template <coord::Backend B>
-QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
-    const PoseSpec& spec) const noexcept {
-  auto plan = PlanOrientation(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  return GetOrientation(plan->semantics);
-}
-
 template <coord::Backend B>
 QueryResult<coord::Twist> SceneGraph<B>::GetTwist(const TwistSpec& spec) const noexcept {
-  auto plan = PlanTwist(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  return GetTwist(plan->semantics);
+  return Answer(topology_, source(), PlanTwist(topology_, spec));
 }
 
 template <coord::Backend B>
@@ -110,8 +116,10 @@ QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(const Twis
   TwistSpec s = spec;
   s.point = spec.coordinate_frame;
   if (s.body.empty()) {
-    if (spec.coordinate_frame.empty()) return Unexpected{QueryError{ErrorCode::kInvalidName, Field::kCoordinateFrame, {}, {}, {}, {}}};
-    return Unexpected{QueryError{ErrorCode::kInvalidName, Field::kBody, {}, {}, {}, {}}};
+    QueryError e;
+    e.code = ErrorCode::kInvalidName;
+    e.field = spec.coordinate_frame.empty() ? Field::kCoordinateFrame : Field::kBody;
+    return Unexpected{e};
   }
   auto tw = GetTwist(s);
   if (!tw) {

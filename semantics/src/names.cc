@@ -118,8 +118,25 @@ void NameTable::Grow() {
 }
 
 Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
-  if (const NameId found = Find(name); found.is_valid()) return found;
+  const Lookup found = FindWithHash(name);
+  if (found.id.is_valid()) return found.id;
   if (auto valid = ValidateName(name); !valid) return Unexpected{valid.error()};
+  return InternNew(name, found.hash);
+}
+
+void NameTable::Reserve(std::size_t n) {
+  records_.reserve(n);
+  while (2 * n > slots_.size()) Grow();
+}
+
+NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept {
+  const std::uint32_t hash = Hash(name);
+  if (slots_.empty()) return Lookup{NameId(), hash};
+  const std::uint32_t slot = slots_[Probe(name, hash)];
+  return Lookup{slot == 0 ? NameId() : NameId(slot - 1), hash};
+}
+
+NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
   if (2 * (records_.size() + 1) > slots_.size()) Grow();
   if (block_fill_ + name.size() > kBlockBytes) {
     blocks_.push_back(std::make_unique<char[]>(kBlockBytes));
@@ -128,7 +145,6 @@ Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
   char* text = blocks_.back().get() + block_fill_;
   std::memcpy(text, name.data(), name.size());
   block_fill_ += name.size();
-  const std::uint32_t hash = Hash(name);
   const NameId id(static_cast<std::uint32_t>(records_.size()));
   records_.push_back(Record{text, static_cast<std::uint32_t>(name.size()), hash});
   slots_[Probe(name, hash)] = id.value() + 1;

@@ -35,11 +35,12 @@ class HandleTest : public ::testing::Test {
   // A value every refused call tries to write: visibly different from every stored one.
   const Quaterniond q_ = Quaterniond(Eigen::AngleAxisd(0.5, Vector3d::UnitZ()));
   const Vector3d p_ = Vector3d(7, 8, 9);
-  // SetPose with both rotation forms; expects `code` from each and an unchanged graph.
+  // SetPose with both rotation forms and SetPoseUnchecked; expects `code` from each and an unchanged graph.
   void ExpectPoseRefused(const PoseHandle& h, ErrorCode code) {
     const std::string before = graph_.Dump();
     EXPECT_EQ(graph_.SetPose(h, q_, p_), code);
     EXPECT_EQ(graph_.SetPose(h, q_.toRotationMatrix(), p_), code);
+    EXPECT_EQ(graph_.SetPoseUnchecked(h, q_, p_), code);
     EXPECT_EQ(graph_.Dump(), before);
     EXPECT_EQ(graph_.CheckInvariants(), "");
   }

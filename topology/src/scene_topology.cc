@@ -14,6 +14,16 @@ void SceneTopology::GrowNameMaps() {
   body_of_name_.resize(names_.size(), kNone);
 }
 
+void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
+  frames_.reserve(frames);
+  bodies_.reserve(bodies);
+  forest_.Reserve(frames);
+  trees_.Reserve(frames);
+  names_.Reserve(frames + bodies);
+  frame_of_name_.reserve(frames + bodies);
+  body_of_name_.reserve(frames + bodies);
+}
+
 BodyIndex SceneTopology::CreateBody(NameId name) {
   GrowNameMaps();
   SEMGRAPH_DEMAND(!BodyOfName(name).is_valid());
@@ -26,10 +36,6 @@ BodyIndex SceneTopology::CreateBody(NameId name) {
 FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
   GrowNameMaps();
   SEMGRAPH_DEMAND(!FrameOfName(name).is_valid() && body.value() < bodies_.size());
-  // Reserve every array first, so that an allocation failure leaves the nodes unchanged.
-  frames_.reserve(frames_.size() + 1);
-  trees_.Reserve(trees_.size() + 1);
-  forest_.Reserve(forest_.size() + 1);
   const FrameIndex f = forest_.AddNode();
   const std::uint32_t uf = trees_.AddElement();
   SEMGRAPH_DEMAND(f.value() == frames_.size() && uf == f.value());

@@ -44,16 +44,31 @@ class ForestSource {
 
   ForestSource(const topology::SceneTopology& t, const EdgeValues<B>& v) noexcept : t_(t), v_(v) {}
 
-  /// X_AF, A = c.to above F = c.from; identity when F == A.
+  /// X_AF, A = c.to above F = c.from; identity when F == A. Composed bottom-up (each parent's
+  /// edge is prepended: acc = X_PG acc), straight from the locked words for quaternions.
   bool EvalChain(const ForestChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
     identity = c.from == c.to;
     if (identity) return true;
-    X_AF = v_.X_PF[c.from.value()].Load();
-    for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
-      X_AF = B::ComposeChain(X_AF, v_.X_PF[g.value()].Load());
+    if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
+      typename PoseValue<B>::Word w[PoseValue<B>::kWords];
+      v_.X_PF[c.from.value()].LoadWords(w);
+      Eigen::Quaterniond q(w[3], w[0], w[1], w[2]);
+      Eigen::Vector3d p(w[4], w[5], w[6]);
+      for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+        v_.X_PF[g.value()].LoadWords(w);
+        const Eigen::Quaterniond q_g(w[3], w[0], w[1], w[2]);
+        p = q_g * p + Eigen::Vector3d(w[4], w[5], w[6]);
+        q = q_g * q;
+      }
+      X_AF = PoseCoords{q, p};
+    } else {
+      X_AF = v_.X_PF[c.from.value()].Load();
+      for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+        X_AF = B::ComposeChain(X_AF, v_.X_PF[g.value()].Load());
+      }
     }
 #if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
-    ReplayChecked(c);
+    ReplayChecked(c, X_AF);
 #endif
     return true;
   }
@@ -71,7 +86,9 @@ class ForestSource {
                                                             t_.FrameSem(parent).axes()),
                           v_.X_PF[child.value()].Load()};
   }
-  void ReplayChecked(const ForestChain& c) const noexcept {
+  // The chain again through the checked coord::Compose: the same semantics as the shortcut,
+  // and the same numbers up to rounding.
+  void ReplayChecked(const ForestChain& c, const PoseCoords& X_AF) const noexcept {
     coord::Pose<B> checked = EdgePose(c.from);
     for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
       auto next = coord::Compose(checked, EdgePose(g));
@@ -82,6 +99,8 @@ class ForestSource {
                     semantics::PoseSemantics::OfFrame(t_.FrameSem(c.from), t_.BodyOfSem(c.from),
                                                       t_.FrameSem(c.to), t_.BodyOfSem(c.to),
                                                       t_.FrameSem(c.to).axes()));
+    const double scale = 1.0 + B::TranslationOf(X_AF).norm();
+    SEMGRAPH_DEMAND((B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <= 1e-9 * scale);
   }
 #endif
   const topology::SceneTopology& t_;

@@ -69,6 +69,11 @@ class SceneGraph {
 
   // ---------------------------------------------------------------- build (allocates)
 
+  /// Reserves room for `frames` frames and `bodies` bodies in total (and their names, at
+  /// `name_bytes` bytes each on average), so that building a scene of known size does not
+  /// reallocate as it grows.
+  void Reserve(std::size_t frames, std::size_t bodies);
+
   /// invalid_name -> duplicate_body.
   BuildResult AddBody(std::string_view name);
   /// invalid_name -> frame_without_body (empty body) -> duplicate_frame -> unknown_body.
@@ -119,6 +124,13 @@ class SceneGraph {
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
+  /// SetPose for a caller that guarantees the input: finite numbers, |position| <= 1e12, and a
+  /// unit quaternion (|q| within 1e-12 of 1, e.g. one this graph returned or one normalized by
+  /// the caller). Skips validation: about half of SetPose's cost. Debug builds check the
+  /// guarantee (SEMGRAPH_DEMAND). Codes: kOk, and the handle checks of SetPose
+  /// (kNoSuchEdge, kConstantPoseChange).
+  [[nodiscard]] ErrorCode SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                           const Eigen::Vector3d& p_ToHo_T) noexcept;
   /// New value V_DH of the screw twist of the edge D -> {h}|H: velocity of h's origin and
   /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose (kNoSuchEdge for
   /// a removed edge, a free slot, or a handle not made by this graph's FindTwistEdge).

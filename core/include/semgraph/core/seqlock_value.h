@@ -102,6 +102,17 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     }
   }
 
+  /// The raw words of a consistent value whatever the epoch (the one-shot query path, which
+  /// holds no epoch: it reads the graph as it is).
+  void LoadWords(Word (&words)[kWords]) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;  // a write is in progress; it is a handful of stores
+      LoadWords(words, std::make_index_sequence<kWords>{});
+      if (header_.load(std::memory_order_relaxed) == h1) return;
+    }
+  }
+
   /// Reads a consistent value whatever the epoch.
   [[nodiscard]] T Load() const noexcept {
     T out;

@@ -67,11 +67,23 @@ class NameTable {
   /// The id of an already interned name, or an invalid id. Allocation-free.
   [[nodiscard]] NameId Find(std::string_view name) const noexcept;
 
+  /// Find, also giving the name's hash, so that a build operation that looks a name up and
+  /// then interns it hashes it once (InternNew).
+  struct Lookup {
+    NameId id;
+    std::uint32_t hash = 0;
+  };
+  [[nodiscard]] Lookup FindWithHash(std::string_view name) const noexcept;
+  /// Interns a name known to be valid and not interned, with its hash from FindWithHash.
+  NameId InternNew(std::string_view name, std::uint32_t hash);
+
   /// The text of an interned id; "<invalid>" for an invalid id. O(1). The view stays valid for
   /// the table's lifetime (until TruncateTo drops the name): the text never moves.
   [[nodiscard]] std::string_view name(NameId id) const noexcept;
 
   [[nodiscard]] std::size_t size() const noexcept { return records_.size(); }
+  /// Room for `n` names in total in the index (the text arena grows by blocks anyway).
+  void Reserve(std::size_t n);
 
   /// Forgets every name interned after the first `n` (build-time rollback, so that a rejected
   /// operation leaves the table exactly as it was, arena space included). O(names dropped).

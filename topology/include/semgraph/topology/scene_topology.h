@@ -120,6 +120,10 @@ class SceneTopology {
   }
   [[nodiscard]] semantics::Body BodyOfSem(FrameIndex f) const noexcept { return BodySem(body_of(f)); }
 
+  /// Reserves room for `frames` frames and `bodies` bodies in total (nodes, forest, tree sets,
+  /// name maps and names), so that a build of known size does not reallocate.
+  void Reserve(std::size_t frames, std::size_t bodies);
+
   /// New nodes. The name must be interned and not yet name a node of that kind.
   BodyIndex CreateBody(NameId name);
   FrameIndex CreateFrame(NameId name, BodyIndex body);
