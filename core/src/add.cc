@@ -45,6 +45,7 @@ void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
 
 template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
+  values_.ReserveFrames(values_.X_PF.size() + 1);  // before the topology changes: all or nothing
   const FrameIndex f = topology_.CreateFrame(name, body);
   values_.AddFrame();
   return f;
@@ -276,7 +277,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     return Reject(v->code, what(), text::PoseRule(t, *v, ends, spec));
   }
 
-  // 13. Apply: create nodes, link, store the value.
+  // 13. Apply: create nodes, link, store the value. Every allocation first (a std::bad_alloc
+  // there still rolls the names back and changes nothing else), then the changes, none of
+  // which allocates.
+  const std::size_t new_bodies = (C.is_valid() ? 0 : 1) + (D.is_valid() || C_name == D_name ? 0 : 1);
+  const std::size_t new_frames = (a.is_valid() ? 0 : 1) + (b.is_valid() ? 0 : 1);
+  topology_.ReserveNodes(new_bodies, new_frames);
+  values_.ReserveFrames(values_.X_PF.size() + new_frames);
+  topology_.ReserveLinkPose(b, a);
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   if (!D.is_valid()) D = C_name == D_name ? C : topology_.CreateBody(D_name);
@@ -367,7 +375,11 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   }
   if (auto v = topology::CheckNewTwistEdge(t, ends)) return Reject(v->code, what(), text::TwistRule(t, *v, ends));
 
-  // Apply.
+  // Apply: every allocation first (as in AddPose), then the changes.
+  topology_.ReserveNodes((C.is_valid() ? 0 : 1) + (D.is_valid() ? 0 : 1), e.is_valid() ? 0 : 1);
+  values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
+  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
+  topology_.ReserveLinkTwist(e);
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   const BodyIndex tail = D.is_valid() ? D : topology_.CreateBody(D_id);

@@ -1,5 +1,6 @@
 #include "semgraph/semantics/names.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <iterator>
@@ -161,15 +162,17 @@ std::size_t NameTable::Probe(std::string_view name, std::uint32_t hash) const no
 }
 
 void NameTable::Grow() {
-  std::vector<std::uint32_t> old = std::move(slots_);
-  slots_.assign(old.empty() ? 16 : 2 * old.size(), 0);
-  const std::size_t mask = slots_.size() - 1;
-  for (const std::uint32_t slot : old) {
+  // The new index is filled before it replaces the old one: an allocation failure leaves the
+  // table as it was.
+  std::vector<std::uint32_t> grown(slots_.empty() ? 16 : 2 * slots_.size(), 0);
+  const std::size_t mask = grown.size() - 1;
+  for (const std::uint32_t slot : slots_) {
     if (slot == 0) continue;
     std::size_t i = records_[slot - 1].hash & mask;
-    while (slots_[i] != 0) i = (i + 1) & mask;
-    slots_[i] = slot;
+    while (grown[i] != 0) i = (i + 1) & mask;
+    grown[i] = slot;
   }
+  slots_.swap(grown);
 }
 
 Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
@@ -192,9 +195,14 @@ NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept 
 }
 
 NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
+  // Every allocation first (index, record array, a new arena block), each of which leaves the
+  // table unchanged when it fails; then the name goes in without allocating.
   if (2 * (records_.size() + 1) > slots_.size()) Grow();
+  if (records_.size() == records_.capacity()) records_.reserve(std::max<std::size_t>(16, 2 * records_.size()));
   if (block_fill_ + name.size() > kBlockBytes) {
-    blocks_.push_back(std::make_unique<char[]>(kBlockBytes));
+    if (blocks_.size() == blocks_.capacity()) blocks_.reserve(std::max<std::size_t>(4, 2 * blocks_.size()));
+    auto block = std::make_unique<char[]>(kBlockBytes);
+    blocks_.push_back(std::move(block));  // within capacity: cannot throw
     block_fill_ = 0;
   }
   char* text = blocks_.back().get() + block_fill_;

@@ -17,6 +17,7 @@
 // the arrays (AddFrame, AddTwistSlot) needs exclusive access.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -112,8 +113,19 @@ struct EdgeValues {
   void AddTwistSlot(topology::TwistEdgeIndex e) {
     if (V_DH.size() <= e.value()) V_DH.resize(e.value() + 1);
   }
+  /// Room for `frames` frame values / `slots` twist slot values in total (growing at least
+  /// twofold), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
+  /// call these before their first change (all or nothing under std::bad_alloc).
+  void ReserveFrames(std::size_t frames) { Grow(X_PF, frames); }
+  void ReserveTwistSlots(std::size_t slots) { Grow(V_DH, slots); }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
     return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue);
+  }
+
+ private:
+  template <class T>
+  static void Grow(std::vector<T>& v, std::size_t n) {
+    if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
   }
 };
 

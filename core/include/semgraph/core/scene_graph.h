@@ -33,7 +33,9 @@
 //   rejection of P1, P2, P3, W3         O(log n) + O(min(b1, b2)); never walks a pose tree
 //   GetPose/Position/Orientation        O(log n + d) compositions (common ancestor by jumps)
 //   GetTwist and velocities             O(k (log n + d))
-// Build-time calls allocate and return Expected<Ok, BuildError> with a formatted message.
+// Build-time calls allocate and return Expected<Ok, BuildError> with a formatted message. Out
+// of memory, they throw std::bad_alloc and leave the graph exactly as it was: each makes every
+// allocation it needs before its first change (tests/core/add_out_of_memory_test.cc).
 // Queries are noexcept, allocation-free, lock-free; they return a small QueryError.
 // Thread safety: const queries may run concurrently with each other; any add/remove needs
 // exclusive access.
