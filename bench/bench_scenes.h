@@ -49,6 +49,8 @@ namespace semgraph_bench {
 
 using semgraph::core::CompiledPose;
 using semgraph::core::CompiledTwist;
+using semgraph::core::PoseCache;
+using semgraph::core::PoseHandle;
 using semgraph::core::ErrorCode;
 using semgraph::core::PoseSpec;
 using semgraph::core::SceneGraph;

@@ -36,6 +36,16 @@ __attribute__((noinline)) int icount_compiled_pose_f2f_homogeneous(const Compile
 __attribute__((noinline)) int icount_compiled_pose_changes(const CompiledPose<QuatB>* q, QuatB::PoseCoords* X) {
   return static_cast<int>(q->Evaluate(*X));
 }
+// The memoized evaluation (PoseCache): Ir inside the evaluation only; the SetPose calls that
+// change edges between evaluations are outside the counted function.
+__attribute__((noinline)) int icount_compiled_pose_cached_one(const CompiledPose<QuatB>* q, PoseCache<QuatB>* c,
+                                                             QuatB::PoseCoords* X) {
+  return static_cast<int>(q->Evaluate(*X, *c));
+}
+__attribute__((noinline)) int icount_compiled_pose_cached_all(const CompiledPose<QuatB>* q, PoseCache<QuatB>* c,
+                                                             QuatB::PoseCoords* X) {
+  return static_cast<int>(q->Evaluate(*X, *c));
+}
 __attribute__((noinline)) int icount_compiled_twist(const CompiledTwist<QuatB>* q, Eigen::Vector3d* v,
                                                     Eigen::Vector3d* w) {
   return static_cast<int>(q->Evaluate(*v, *w));
@@ -85,6 +95,7 @@ int Usage() {
   std::fprintf(stderr,
                "usage: semgraph_icount KERNEL D ITERS\n"
                "kernels: compiled_pose_f2f compiled_pose_f2f_homogeneous compiled_pose_changes\n"
+               "         compiled_pose_cached_one compiled_pose_cached_all\n"
                "         compiled_twist oneshot_by_names raw_eigen_quat_chain raw_eigen_iso_chain\n"
                "         reject_P1 reject_P3 reject_W3 build_random_tree%s\n",
 #ifdef SEMGRAPH_HAVE_TF2
@@ -123,6 +134,32 @@ int main(int argc, char** argv) {
       const std::string of = s.frames.back(), wrt = s.frames.front();
       for (long i = 0; i < iters; ++i) Check(icount_oneshot_by_names(&s.graph, &of, &wrt), "oneshot_by_names");
     }
+  } else if (kernel == "compiled_pose_cached_one" || kernel == "compiled_pose_cached_all") {
+    // One edge (cycling along the chain) or every edge changed before each evaluation.
+    ChainScene<QuatB> s(d, false, 0);
+    VerifyF2F(s);
+    const auto q = s.CompileOrDie(s.F2FSpec());
+    auto cache = q.MakeCache();
+    std::vector<PoseHandle> handles;
+    for (int i = 1; i <= d; ++i) {
+      auto h = s.graph.FindPoseEdge(s.frames[static_cast<std::size_t>(i)], s.frames[static_cast<std::size_t>(i - 1)]);
+      if (!h) Fail("FindPoseEdge");
+      handles.push_back(*h);
+    }
+    const bool all = kernel == "compiled_pose_cached_all";
+    const Link* links = Poses().links.data();
+    QuatB::PoseCoords X;
+    Check(static_cast<int>(q.Evaluate(X, cache)), "cached warm-up");
+    for (long i = 0; i < iters; ++i) {
+      for (int k = 0; k < (all ? d : 1); ++k) {
+        const int e = all ? k : static_cast<int>(i % d);
+        const Link& l = links[e];
+        Check(static_cast<int>(s.graph.SetPose(handles[static_cast<std::size_t>(e)], (i & 1) ? l.q : l.q.conjugate(), l.p)), "SetPose");
+      }
+      Check(all ? icount_compiled_pose_cached_all(&q, &cache, &X) : icount_compiled_pose_cached_one(&q, &cache, &X),
+            kernel.c_str());
+    }
+    Use(X);
   } else if (kernel == "compiled_pose_f2f_homogeneous") {
     ChainScene<HomB> s(d, false, 0);
     VerifyF2F(s);

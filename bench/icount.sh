@@ -33,7 +33,7 @@ mkdir -p "$work" "$(dirname "$out_json")"
 command -v valgrind >/dev/null || { echo "icount.sh: valgrind is not installed" >&2; exit 1; }
 [ -x "$bin" ] || { echo "icount.sh: $bin not found (build first: bench/run.sh or cmake --build)" >&2; exit 1; }
 
-kernels="compiled_pose_f2f compiled_pose_f2f_homogeneous compiled_pose_changes oneshot_by_names raw_eigen_quat_chain raw_eigen_iso_chain"
+kernels="compiled_pose_f2f compiled_pose_f2f_homogeneous compiled_pose_changes compiled_pose_cached_one compiled_pose_cached_all oneshot_by_names raw_eigen_quat_chain raw_eigen_iso_chain"
 have_tf2=0
 if "$bin" tf2_lookup_static 1 1 >/dev/null 2>&1; then
   have_tf2=1
@@ -103,6 +103,8 @@ print("| ratio \\ d | " + " | ".join(str(d) for d in depths) + " |")
 print("|---|" + "---:|" * len(depths))
 for name, a, b in [("compiled_pose_f2f / raw_eigen_quat_chain", "compiled_pose_f2f", "raw_eigen_quat_chain"),
                    ("compiled_pose_f2f_homogeneous / raw_eigen_iso_chain", "compiled_pose_f2f_homogeneous", "raw_eigen_iso_chain"),
+                   ("compiled_pose_cached_one / raw_eigen_quat_chain", "compiled_pose_cached_one", "raw_eigen_quat_chain"),
+                   ("compiled_pose_cached_all / raw_eigen_quat_chain", "compiled_pose_cached_all", "raw_eigen_quat_chain"),
                    ("oneshot_by_names / raw_eigen_quat_chain", "oneshot_by_names", "raw_eigen_quat_chain"),
                    ("tf2_lookup_static / oneshot_by_names", "tf2_lookup_static", "oneshot_by_names")]:
     vals = [ratio(a, b, d) for d in depths]

@@ -326,11 +326,13 @@ void BM_RejectW3(benchmark::State& state) {
 // (including the clock read, clock_ns_p50), writer updates per second, the CPUs used.
 // latency_no_writer is the control: the same loop without the writer thread, so that the tail the
 // machine adds on its own (interrupts, preemption on a shared VM) can be told apart.
-// latency_under_writer_10khz: the writer updates the 8 edges once every 100 us (a 10 kHz control
-// loop, sleeping in between) instead of at full speed.
+// latency_under_writer_10khz / _1khz: the writer updates the chain's edges once every 100 us /
+// 1 ms (a 10 kHz / 1 kHz control loop, sleeping in between) instead of at full speed. The chain
+// depth is the benchmark's argument (8 or 64). Also reported: wall and thread CPU time per
+// evaluation (wall_ns_per_eval, cpu_ns_per_eval).
 void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanoseconds writer_period) {
-  constexpr int kDepth = 8;
-  constexpr std::size_t kEvals = 1'000'000;
+  const int kDepth = static_cast<int>(state.range(0));
+  const std::size_t kEvals = kDepth > 8 ? 300'000 : 1'000'000;
   auto& s = F2FScene<QuatB>(kDepth);
   const auto q = s.CompileOrDie(s.F2FSpec());
   std::vector<semgraph::core::PoseHandle> handles;
@@ -402,6 +404,8 @@ void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanosec
     }
     writes_at_start = writes.load(std::memory_order_relaxed);
     QuatB::PoseCoords X;
+    timespec cpu0{}, cpu1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
     const auto begin = Clock::now();
     for (auto& l : latency) {
       const auto t0 = Clock::now();
@@ -411,8 +415,15 @@ void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanosec
       l = (t1 - t0).count();
     }
     const auto end = Clock::now();
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
     writes_at_end = writes.load(std::memory_order_relaxed);
     seconds = std::chrono::duration<double>(end - begin).count();
+    // Thread CPU time beside wall time: on a shared machine the wall clock also counts the
+    // time the reader was preempted, the thread's CPU time does not.
+    const double cpu_seconds = static_cast<double>(cpu1.tv_sec - cpu0.tv_sec) +
+                               1e-9 * static_cast<double>(cpu1.tv_nsec - cpu0.tv_nsec);
+    state.counters["wall_ns_per_eval"] = 1e9 * seconds / static_cast<double>(latency.size());
+    state.counters["cpu_ns_per_eval"] = 1e9 * cpu_seconds / static_cast<double>(latency.size());
     state.SetIterationTime(seconds);
   }
   stop.store(true);
@@ -443,7 +454,73 @@ void BM_LatencyUnderWriter(benchmark::State& state) {
 void BM_LatencyUnderWriter10kHz(benchmark::State& state) {
   LatencyLoop(state, true, std::chrono::microseconds(100));
 }
+void BM_LatencyUnderWriter1kHz(benchmark::State& state) {
+  LatencyLoop(state, true, std::chrono::microseconds(1000));
+}
 void BM_LatencyNoWriter(benchmark::State& state) { LatencyLoop(state, false, std::chrono::nanoseconds(0)); }
+
+// ------------------------------------------------------------------ cold caches
+// A random tree of N = 200,000 frames (graph values and forest ~18 MB, far above L2) and 4,096
+// random pairs of its frames, queried in turn: every query walks memory no earlier query
+// warmed. semgraph one-shot by names beside tf2 static lookupTransform on the same tree (the
+// same frame names; tf2's answers are checked against semgraph's once, before timing).
+constexpr std::uint32_t kColdFrames = 200'000;
+constexpr std::size_t kColdPairs = 4096;
+std::vector<std::pair<std::uint32_t, std::uint32_t>> ColdPairs() {
+  std::mt19937_64 rng(kTreeSeed + 7);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs(kColdPairs);
+  for (auto& [a, b] : pairs) {
+    a = static_cast<std::uint32_t>(rng() % (kColdFrames + 1));
+    b = static_cast<std::uint32_t>(rng() % (kColdFrames + 1));
+  }
+  return pairs;
+}
+SceneGraph<QuatB>& ColdGraph() {
+  static SceneGraph<QuatB>* g = [] {
+    auto* graph = new SceneGraph<QuatB>();
+    AddTree(*graph, TreeOf(kColdFrames));
+    return graph;
+  }();
+  return *g;
+}
+void BM_ColdOneshotRandomPairs(benchmark::State& state) {
+  const RandomTree& t = TreeOf(kColdFrames);
+  const SceneGraph<QuatB>& g = ColdGraph();
+  const auto pairs = ColdPairs();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = pairs[i++ & (kColdPairs - 1)];
+    auto X = g.GetPose(PoseSpec::Of(t.frames[a]).RelativeTo(t.frames[b]));
+    if (!X) [[unlikely]] Fail("cold one-shot query failed");
+    Use(X->value);
+  }
+}
+#ifdef SEMGRAPH_HAVE_TF2
+void BM_ColdTf2StaticRandomPairs(benchmark::State& state) {
+  const RandomTree& t = TreeOf(kColdFrames);
+  static tf2peer::Buffer* buffer = [&] {
+    auto* b = new tf2peer::Buffer();
+    if (!b->InsertAllStatic(*Tf2TreeMessages(t))) Fail("tf2 cold tree");
+    return b;
+  }();
+  const auto pairs = ColdPairs();
+  // The same answers as semgraph's, for a few pairs (tf2's lookupTransform(target, source) is
+  // the pose of source in target: PoseSpec::Of(source).RelativeTo(target)).
+  for (std::size_t k = 0; k < 16; ++k) {
+    const auto& [a, b] = pairs[k];
+    const tf2peer::Pose7 X_tf2 = buffer->Lookup(t.frames[b], t.frames[a]);
+    auto X = ColdGraph().GetPose(PoseSpec::Of(t.frames[a]).RelativeTo(t.frames[b]));
+    if (!X || (X->value.translation - Eigen::Vector3d(X_tf2.x, X_tf2.y, X_tf2.z)).norm() > 1e-9) {
+      Fail("cold tf2 and semgraph disagree");
+    }
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& [a, b] = pairs[i++ & (kColdPairs - 1)];
+    buffer->LookupOnce(t.frames[b], t.frames[a]);
+  }
+}
+#endif
 
 // ------------------------------------------------------------------ registration
 
@@ -498,13 +575,19 @@ void Register() {
   Stats(benchmark::RegisterBenchmark("reject_P1", BM_RejectP1))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_P3", BM_RejectP3))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_W3", BM_RejectW3))->Apply(Sizes);
-  Stats(benchmark::RegisterBenchmark("latency_under_writer", BM_LatencyUnderWriter))
-      ->Iterations(1)
-      ->UseManualTime();
-  Stats(benchmark::RegisterBenchmark("latency_under_writer_10khz", BM_LatencyUnderWriter10kHz))
-      ->Iterations(1)
-      ->UseManualTime();
-  Stats(benchmark::RegisterBenchmark("latency_no_writer", BM_LatencyNoWriter))->Iterations(1)->UseManualTime();
+  Stats(benchmark::RegisterBenchmark("cold_oneshot_random_pairs", BM_ColdOneshotRandomPairs))->Arg(kColdFrames);
+#ifdef SEMGRAPH_HAVE_TF2
+  Stats(benchmark::RegisterBenchmark("cold_tf2_static_random_pairs", BM_ColdTf2StaticRandomPairs))->Arg(kColdFrames);
+#endif
+  // Latency at d = 8 and 64: a full-speed writer, a 10 kHz and a 1 kHz writer, and none.
+  using Fn = void (*)(benchmark::State&);
+  const std::pair<const char*, Fn> latency[] = {{"latency_under_writer", BM_LatencyUnderWriter},
+                                                {"latency_under_writer_10khz", BM_LatencyUnderWriter10kHz},
+                                                {"latency_under_writer_1khz", BM_LatencyUnderWriter1kHz},
+                                                {"latency_no_writer", BM_LatencyNoWriter}};
+  for (const auto& [name, fn] : latency) {
+    Stats(benchmark::RegisterBenchmark(name, fn))->Arg(8)->Arg(64)->Iterations(1)->UseManualTime();
+  }
 }
 
 // Every query of every scene against the reference, before anything is timed.

@@ -95,4 +95,16 @@ bool Buffer::InsertAllStatic(const TreeMessages& messages) {
   return ok;
 }
 
+void Buffer::LookupOnce(const std::string& target, const std::string& source) const {
+  const geometry_msgs::TransformStamped out = impl_->buffer.lookupTransform(target, source, ros::Time(0));
+  benchmark::DoNotOptimize(out);
+}
+
+Pose7 Buffer::Lookup(const std::string& target, const std::string& source) const {
+  const geometry_msgs::TransformStamped out = impl_->buffer.lookupTransform(target, source, ros::Time(0));
+  const auto& q = out.transform.rotation;
+  const auto& p = out.transform.translation;
+  return Pose7{q.w, q.x, q.y, q.z, p.x, p.y, p.z};
+}
+
 }  // namespace semgraph_bench::tf2peer

@@ -70,6 +70,11 @@ class Buffer {
   /// setTransform(msg, "bench", is_static = true) for every message in order (the timed part of
   /// tf2_build_tree_static). False if tf2 rejected one.
   bool InsertAllStatic(const TreeMessages& messages);
+  /// The timed kernel of the cold-cache benchmark: lookupTransform(target, source, Time(0)),
+  /// its result passed to benchmark::DoNotOptimize.
+  void LookupOnce(const std::string& target, const std::string& source) const;
+  /// The same lookup, returned (for the set-up check against semgraph).
+  [[nodiscard]] Pose7 Lookup(const std::string& target, const std::string& source) const;
 
  private:
   struct Impl;

@@ -36,6 +36,11 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "no_pose_path",
     "no_twist_path",
     "query_invalidated",
+    "stamp_mismatch",
+    "stamp_too_old",
+    "duplicate_stamp",
+    "extrapolation",
+    "stale",
 };
 }  // namespace
 

@@ -106,9 +106,29 @@ BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Matrix3d& 
   return AddPoseImpl(spec, R_rotation, p_position);
 }
 
+// Stamped values (docs/time.md; the stamp rules live in time_add.cc).
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                                   const Eigen::Vector3d& p_position, Stamp stamp) {
+  return AddPoseImpl(spec, q_rotation, p_position, stamp);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
+                                   const Eigen::Vector3d& p_position, Stamp stamp) {
+  return AddPoseImpl(spec, R_rotation, p_position, stamp);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                    const Eigen::Vector3d& w_angular, Stamp stamp) {
+  return AddTwistImpl(spec, v_linear, w_angular, stamp);
+}
+
 template <coord::Backend B>
 template <class R>
-BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position) {
+BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position,
+                                       std::optional<Stamp> stamp) {
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::PoseAdd(spec); };  // formatted only on rejection
@@ -247,7 +267,13 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   if (e_id != a_id || f_id != b_id || r_id != b_id) {
     const PoseSteps<ForestChain> steps =
         PlanChanges(t, e_id != a_id ? e : a, a, f_id != b_id ? f : b, b, r_id != b_id ? r : b);
-    X_BA = internal::ToEdgeForm<B>(source(), steps, X_BA);
+    // A stamped value is converted with the values at its stamp (docs/time.md).
+    internal::TimeContext at_stamp = ConversionContext(stamp);
+    X_BA = internal::ToEdgeForm<B>(internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr), steps,
+                                   X_BA);
+    if (at_stamp.error() != ErrorCode::kOk) {
+      return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
+    }
   }
 
   // 8. P4: an existing edge b -> a is a value update, or constant_pose_change.
@@ -267,7 +293,11 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
                         ", so their pose is constant; it is already set (position " + text::Vector(p_stored) +
                         "); remove the edge first to recalibrate");
     }
-    values_.X_PF[a.value()].Store(X_BA);
+    // A value update: the stamp rules, then the value (and the sample of a stamped edge).
+    if (const ErrorCode code = CheckPoseSample(a, X_BA, stamp); code != ErrorCode::kOk) {
+      return Reject(code, what(), DescribeSampleRejection(code, false, a.value(), stamp));
+    }
+    StorePoseSample(a, X_BA, stamp);
     rollback.Commit();
     return Ok{};
   }
@@ -278,13 +308,15 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   }
 
   // 13. Apply: create nodes, link, store the value. Every allocation first (a std::bad_alloc
-  // there still rolls the names back and changes nothing else), then the changes, none of
-  // which allocates.
+  // there still rolls the names back and changes nothing else; a stamped inter-body edge's
+  // history too), then the changes, none of which allocates.
   const std::size_t new_bodies = (C.is_valid() ? 0 : 1) + (D.is_valid() || C_name == D_name ? 0 : 1);
   const std::size_t new_frames = (a.is_valid() ? 0 : 1) + (b.is_valid() ? 0 : 1);
   topology_.ReserveNodes(new_bodies, new_frames);
   values_.ReserveFrames(values_.X_PF.size() + new_frames);
   topology_.ReserveLinkPose(b, a);
+  std::unique_ptr<PoseHistory> history;
+  if (stamp && !ends.same_body) history = NewPoseHistory();
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   if (!D.is_valid()) D = C_name == D_name ? C : topology_.CreateBody(D_name);
@@ -292,6 +324,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   const FrameIndex tail = b.is_valid() ? b : CreateFrame(b_id, D);
   topology_.LinkPose(tail, head);
   values_.X_PF[head.value()].Store(X_BA);
+  if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp);
   return Ok{};
 }
 
@@ -300,6 +333,12 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                                     const Eigen::Vector3d& w_angular) {
+  return AddTwistImpl(spec, v_linear, w_angular, std::nullopt);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                        const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp) {
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::TwistAdd(spec); };  // formatted only on rejection
@@ -360,8 +399,13 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
                     "coordinate frame [" + std::string(spec.coordinate_frame) +
                         "] must be a frame in the pose tree of {" + std::string(spec.point) + "}");
     }
-    typename B::PoseCoords X_ER;  // [r] wrt [e] in [e]
-    internal::EvalBasic<B>(source(), PlanBasic(t, r, e), X_ER);
+    typename B::PoseCoords X_ER;  // [r] wrt [e] in [e], at the stamp of a stamped value
+    internal::TimeContext at_stamp = ConversionContext(stamp);
+    internal::EvalBasic<B>(internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr),
+                           PlanBasic(t, r, e), X_ER);
+    if (at_stamp.error() != ErrorCode::kOk) {
+      return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
+    }
     const typename B::Rotation R_ER = B::RotationOf(X_ER);
     v_DEo_E = B::Rotate(R_ER, v_DEo_E);
     w_DE_E = B::Rotate(R_ER, w_DE_E);
@@ -369,17 +413,25 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   // W1 -> W3; an existing edge D -> {e} is a value update.
   const topology::NewTwistEdge ends{D, e, C};
   if (e.is_valid() && t.twist_edge_of(e).is_valid() && D.is_valid() && t.twist_edge(t.twist_edge_of(e)).tail == D) {
-    values_.V_DH[t.twist_edge_of(e).value()].Store(TwistNumbers{v_DEo_E, w_DE_E});
+    const TwistEdgeIndex existing = t.twist_edge_of(e);
+    const TwistNumbers V{v_DEo_E, w_DE_E};
+    if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
+      return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
+    }
+    StoreTwistSample(existing, V, stamp);
     rollback.Commit();
     return Ok{};
   }
   if (auto v = topology::CheckNewTwistEdge(t, ends)) return Reject(v->code, what(), text::TwistRule(t, *v, ends));
 
-  // Apply: every allocation first (as in AddPose), then the changes.
+  // Apply: every allocation first (as in AddPose; a stamped edge's history too), then the
+  // changes.
   topology_.ReserveNodes((C.is_valid() ? 0 : 1) + (D.is_valid() ? 0 : 1), e.is_valid() ? 0 : 1);
   values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
   values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
   topology_.ReserveLinkTwist(e);
+  std::unique_ptr<TwistHistory> history;
+  if (stamp) history = NewTwistHistory();
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   const BodyIndex tail = D.is_valid() ? D : topology_.CreateBody(D_id);
@@ -389,6 +441,7 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
       semantics::TwistSemantics{semantics::Point(e_id), t.BodySem(C), t.BodySem(tail), semantics::OrientationFrame(e_id)});
   values_.AddTwistSlot(edge);
   values_.V_DH[edge.value()].Store(TwistNumbers{v_DEo_E, w_DE_E});
+  if (history) InstallTwistHistory(edge, std::move(history), TwistNumbers{v_DEo_E, w_DE_E}, *stamp);
   return Ok{};
 }
 
@@ -419,6 +472,7 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
   }
   topology_.CutPose(h);
   values_.X_PF[h.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
+  DropPoseHistory(h);                   // removing an edge drops its history
   return Ok{};
 }
 
@@ -448,6 +502,7 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
   }
   topology_.UnlinkTwist(edge);
   values_.V_DH[edge.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
+  DropTwistHistory(edge);
   return Ok{};
 }
 
@@ -460,6 +515,11 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
                                               const Eigen::Vector3d&);                                      \
   template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&, const Eigen::Vector3d&); \
   template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&); \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&, const Eigen::Vector3d&, Stamp); \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&, const Eigen::Vector3d&, Stamp); \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp); \
+  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, \
+                                                   std::optional<Stamp>);                                   \
   template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);                       \
   template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);
 SEMGRAPH_INSTANTIATE_ADD(coord::QuaternionBackend)

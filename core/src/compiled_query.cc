@@ -2,10 +2,21 @@
 // (evaluate.h, FlatSource). Contract: compiled_query.h.
 #include "semgraph/core/compiled_query.h"
 
+#include <atomic>
+#include <bit>
+
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/quaternion_backend.h"
 
 namespace semgraph::core {
+
+namespace {
+std::atomic<std::uint64_t> next_query_id{1};
+}  // namespace
+
+template <coord::Backend B>
+CompiledQuery<B>::CompiledQuery(const topology::SceneTopology& t, const EdgeValues<B>& values)
+    : topology_(&t), values_(&values), id_(next_query_id.fetch_add(1, std::memory_order_relaxed)) {}
 
 template <coord::Backend B>
 bool CompiledQuery<B>::is_valid() const noexcept {
@@ -16,6 +27,22 @@ bool CompiledQuery<B>::is_valid() const noexcept {
 }
 
 template <coord::Backend B>
+template <class Eval>
+ErrorCode CompiledQuery<B>::RunTimed(const TimePolicy& policy, TimeReport& report, Eval&& eval) const noexcept {
+  const internal::PolicyParts parts = internal::PartsOf(policy);
+  if (!parts.valid()) return ErrorCode::kInvalidNumber;
+  internal::TimeContext base;
+  base.histories = &values_->history;
+  base.topology = topology_;
+  return internal::RunPolicy(
+      parts, base,
+      [&](internal::TimeContext& tc) {
+        return eval(this->source(tc)) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
+      },
+      report);
+}
+
+template <coord::Backend B>
 auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const ForestChain& c) -> Chain {
   Chain flat;
   flat.begin = static_cast<std::uint32_t>(edges_.size());
@@ -23,8 +50,98 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const ForestCha
     edges_.push_back(internal::EdgeRef{PoseValue<B>::ExpectedHeader(values_->X_PF[g.value()].epoch()), g.value()});
   }
   flat.end = static_cast<std::uint32_t>(edges_.size());
+  if (flat.end != flat.begin) chains_.push_back(flat);
   return flat;
 }
+
+template <coord::Backend B>
+PoseCache<B> CompiledQuery<B>::MakeCache() const {
+  PoseCache<B> cache;
+  cache.query_id = id_;
+  cache.tree_of_begin.assign(edges_.size(), 0);
+  cache.headers.assign(edges_.size(), ~std::uint64_t{0});  // no header is odd with epoch 2^32-1
+  std::size_t nodes = 0, longest = 0;
+  for (const Chain& c : chains_) {
+    typename PoseCache<B>::Tree tree;
+    const std::uint32_t n = c.end - c.begin;
+    tree.leaves = std::bit_ceil(n);
+    tree.node_offset = static_cast<std::uint32_t>(nodes);
+    cache.tree_of_begin[c.begin] = static_cast<std::uint32_t>(cache.trees.size());
+    cache.trees.push_back(tree);
+    nodes += 2 * tree.leaves;
+    longest = std::max<std::size_t>(longest, n);
+  }
+  // Padding leaves (and everything before the first build) are the identity.
+  cache.nodes.assign(nodes, B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
+  cache.changed.resize(longest);
+  return cache;
+}
+
+template <coord::Backend B>
+internal::CachedSource<B> CompiledQuery<B>::source(PoseCache<B>& cache) const noexcept {
+  SEMGRAPH_DEMAND(cache.query_id == id_);  // a cache made by MakeCache() of this query (or a copy)
+  return {*values_, edges_.data(), cache};
+}
+
+namespace internal {
+
+// Leaves are the chain's edges top first (leaf i = edge end - 1 - i), so node k = left * right
+// = ComposeChain(node 2k + 1, node 2k) composes upper with lower, as the chain does.
+//
+// Policy, per chain: scan every header; with k changed edges of n, recompose the k paths above
+// them when the tree is built and k log n <= n, else rebuild the tree (n - 1 compositions, the
+// cost of the uncached chain). When more than half the edges changed, the next kSkip
+// evaluations compose the chain directly without scanning (FlatSource: the uncached cost), and
+// the one after scans again: a query whose edges all change every time costs about what the
+// uncached query costs, and one whose edges calm down finds its tree again.
+template <coord::Backend B>
+bool CachedSource<B>::EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+  constexpr std::uint32_t kSkip = 15;
+  identity = c.begin == c.end;
+  if (identity) return true;
+  PoseCache<B>& cache = *cache_;
+  typename PoseCache<B>::Tree& tree = cache.trees[cache.tree_of_begin[c.begin]];
+  if (tree.skip > 0) {
+    --tree.skip;
+    ++tree.unscanned;
+    tree.built = false;
+    return FlatSource<B>(v_, edges_).EvalChain(c, X_AF, identity);
+  }
+  PoseCoords* const node = cache.nodes.data() + tree.node_offset;
+  const PoseValue<B>* const values = v_.X_PF.data();
+  std::uint64_t* const headers = cache.headers.data() + c.begin;
+  std::uint32_t* const changed_leaves = cache.changed.data();
+  const EdgeRef* const refs = edges_ + c.begin;
+  const std::uint32_t n = c.end - c.begin, leaves = tree.leaves;
+  std::uint32_t changed = 0;
+  for (std::uint32_t j = n; j-- > 0;) {  // edge j of the chain is leaf n - 1 - j
+    const PoseValue<B>& value = values[refs[j].child];
+    if (value.header() == headers[j]) continue;  // unchanged since cached
+    const std::uint32_t leaf = n - 1 - j;
+    if (!value.LoadWithHeader(node[leaves + leaf], refs[j].expected_header, headers[j])) return false;
+    changed_leaves[changed++] = leaf;
+  }
+  const std::uint32_t height = static_cast<std::uint32_t>(std::countr_zero(leaves));
+  if (tree.built && changed * height <= n) {  // recompose the paths above the changed leaves
+    for (std::uint32_t i = 0; i < changed; ++i) {
+      for (std::uint32_t k = (leaves + changed_leaves[i]) / 2; k >= 1; k /= 2) {
+        node[k] = B::ComposeChain(node[2 * k + 1], node[2 * k]);
+      }
+    }
+  } else {
+    for (std::uint32_t k = leaves - 1; k >= 1; --k) node[k] = B::ComposeChain(node[2 * k + 1], node[2 * k]);
+    // Busy: more than half the edges changed per evaluation since the last scan (not counting
+    // the first scan, which loads everything).
+    if (tree.scanned && 2 * changed > n * (tree.unscanned + 1)) tree.skip = kSkip;
+    tree.built = true;
+  }
+  tree.scanned = true;
+  tree.unscanned = 0;
+  X_AF = node[1];
+  return true;
+}
+
+}  // namespace internal
 
 template <coord::Backend B>
 auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const BasicPath<ForestChain>& path)
@@ -48,7 +165,7 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const PoseSteps
 
 template <coord::Backend B>
 CompiledPose<B>::CompiledPose(const topology::SceneTopology& t, const EdgeValues<B>& values, const PosePlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B>
 ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X) const noexcept {
@@ -62,9 +179,32 @@ ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X) const noexcept {
 }
 
 template <coord::Backend B>
+ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X, const TimePolicy& policy,
+                                    TimeReport& report) const noexcept {
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    return internal::EvaluatePose<B, internal::Part::kPose>(src, steps_, R, p);
+  });
+  if (code == ErrorCode::kOk) X = B::MakePose(R, p);
+  return code;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X, PoseCache<B>& cache) const noexcept {
+  typename B::Rotation R;
+  Eigen::Vector3d p;  // written by the evaluator before any use (Evaluate returns early otherwise)
+  if (!internal::EvaluatePose<B, internal::Part::kPose>(this->source(cache), steps_, R, p)) {
+    return ErrorCode::kQueryInvalidated;
+  }
+  X = B::MakePose(R, p);
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
 CompiledPosition<B>::CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                       const PositionPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B>
 ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R) const noexcept {
@@ -75,9 +215,29 @@ ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R) const noexcept 
 }
 
 template <coord::Backend B>
+ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
+                                        TimeReport& report) const noexcept {
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    return internal::EvaluatePose<B, internal::Part::kTranslation>(src, steps_, R, p);
+  });
+  if (code == ErrorCode::kOk) p_FE_R = p;
+  return code;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& cache) const noexcept {
+  typename B::Rotation R;  // the rotation half, unused by a position
+  return internal::EvaluatePose<B, internal::Part::kTranslation>(this->source(cache), steps_, R, p_FE_R)
+             ? ErrorCode::kOk
+             : ErrorCode::kQueryInvalidated;
+}
+
+template <coord::Backend B>
 CompiledOrientation<B>::CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                             const OrientationPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B>
 ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R) const noexcept {
@@ -88,8 +248,61 @@ ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R) const n
 }
 
 template <coord::Backend B>
+ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
+                                           TimeReport& report) const noexcept {
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    return internal::EvaluatePose<B, internal::Part::kRotation>(src, steps_, R, p);
+  });
+  if (code == ErrorCode::kOk) R_BA_R = R;
+  return code;
+}
+
+template <coord::Backend B>
+CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan)
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
+  ForEachPoseDerivativeStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+    TwistStep<typename CompiledQuery<B>::Chain> flat;
+    flat.pose_edge = step.pose_edge;
+    flat.epoch = values.X_PF[step.pose_edge.value()].epoch();
+    flat.invert = step.invert;
+    if ((flat.move_point = step.move_point)) flat.eh = this->Flatten(t, step.eh);
+    if ((flat.change_frame = step.change_frame)) flat.hr = this->Flatten(t, step.hr);
+    steps_.push_back(flat);
+  });
+}
+
+template <coord::Backend B>
+ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
+                                     TimeReport& report) const noexcept {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    v.setZero();
+    w.setZero();
+    for (const auto& step : steps_) {
+      if (!internal::AccumulateTwistStep<B>(src, step, v, w)) return false;
+    }
+    return true;
+  });
+  if (code == ErrorCode::kOk) {
+    v_DCe_R = v;
+    w_DC_R = w;
+  }
+  return code;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, PoseCache<B>& cache) const noexcept {
+  Eigen::Vector3d p;  // the translation half, unused by an orientation
+  return internal::EvaluatePose<B, internal::Part::kRotation>(this->source(cache), steps_, R_BA_R, p)
+             ? ErrorCode::kOk
+             : ErrorCode::kQueryInvalidated;
+}
+
+template <coord::Backend B>
 CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan)
-    : CompiledQuery<B>(values), semantics_(plan.semantics) {
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
   ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
     TwistStep<typename CompiledQuery<B>::Chain> flat;
     flat.edge = step.edge;

@@ -25,6 +25,19 @@ std::string Vector(const Eigen::Vector3d& v) {
   return "[" + coord::FormatNumber(v.x()) + ", " + coord::FormatNumber(v.y()) + ", " + coord::FormatNumber(v.z()) + "]";
 }
 
+std::string StampText(std::int64_t ns) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.3f s", static_cast<double>(ns) * 1e-9);
+  return buf;
+}
+
+std::string StampRange(std::int64_t first_ns, std::int64_t last_ns) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "[%.3f, %.3f] s", static_cast<double>(first_ns) * 1e-9,
+                static_cast<double>(last_ns) * 1e-9);
+  return buf;
+}
+
 BuildResult Reject(ErrorCode code, const std::string& what, const std::string& reason) {
   return base::Unexpected{BuildError{code, what + " rejected (" + std::string(base::ToString(code)) + "): " + reason}};
 }
@@ -109,7 +122,35 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) c
   const semantics::NameTable& names = topology_.names();
   const std::string role(semantics::FieldName(e.field));
   const std::string name = e.name.is_valid() ? std::string(names.name(e.name)) : std::string(spec.field(e.field));
+  const auto frame_text = [&](NameId id) {
+    const FrameIndex f = topology_.FrameOfName(id);
+    return f.is_valid() ? text::Frame(topology_, f) : "{" + std::string(names.name(id)) + "}";
+  };
+  const auto edge_text = [&] {
+    return (e.time.twist_edge ? "twist of " : "pose of ") + frame_text(e.name) + " wrt " +
+           (e.time.twist_edge ? std::string(names.name(e.other)) : frame_text(e.other));
+  };
+  if (e.time.fixed_frame && e.code == ErrorCode::kUnknownFrame) {
+    return "the fixed frame of the time travel " + (e.name.is_valid() ? "{" + name + "} " : std::string()) +
+           "does not exist";
+  }
+  if (e.time.fixed_frame && e.code == ErrorCode::kNoPosePath) {
+    return "the fixed frame {" + name + "} is not in the pose tree of the query's frames";
+  }
   switch (e.code) {
+    case ErrorCode::kExtrapolation:
+      if (e.time.single_sample) {
+        return edge_text() + " has a single sample (at " + text::StampText(e.time.first) +
+               "): no derivative; asked " + text::StampText(e.time.asked);
+      }
+      return edge_text() + " has samples in " + text::StampRange(e.time.first, e.time.last) + "; asked " +
+             text::StampText(e.time.asked);
+    case ErrorCode::kStale:
+      return edge_text() + " is stale: its newest sample is at " + text::StampText(e.time.last) +
+             ", older than not_before " + text::StampText(e.time.asked);
+    case ErrorCode::kInvalidNumber:
+      if (e.detail.code == ErrorCode::kOk) return "the extrapolation horizon (max_extrapolation) is negative";
+      return coord::Describe(e.detail, names);
     case ErrorCode::kInvalidName:
       return "the " + role + " name is missing or invalid";
     case ErrorCode::kUnknownFrame:

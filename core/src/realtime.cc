@@ -97,6 +97,17 @@ ErrorCode CheckPoseHandle(const PoseHandle& edge, std::uint32_t graph, const top
   return ErrorCode::kOk;
 }
 
+// The same for a twist handle: this graph's, a twist handle, a live slot, its epoch.
+template <coord::Backend B>
+ErrorCode CheckTwistHandle(const TwistHandle& edge, std::uint32_t graph, const topology::SceneTopology& t,
+                           const EdgeValues<B>& values) noexcept {
+  if (edge.graph != graph || edge.kind != EdgeKind::kTwist || edge.slot.value() >= t.num_twist_edge_slots() ||
+      !t.twist_edge(edge.slot).alive || values.V_DH[edge.slot.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  return ErrorCode::kOk;
+}
+
 // The rotation of a real-time pose update, validated (and normalized) without allocating.
 inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept { return coord::ValidateQuaternion(q); }
 inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::ValidateRotationMatrix(R); }
@@ -104,17 +115,22 @@ inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::
 
 template <coord::Backend B>
 template <class R>
-ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T) noexcept {
+ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
+                                     std::optional<Stamp> stamp) noexcept {
   if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
   auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
   if (!p) return p.error().code;
   auto M = ValidateRotation(rotation);
   if (!M) return M.error().code;
+  typename B::PoseCoords X;
   if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
-    values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(*M), *p));
+    X = B::MakePose(B::FromQuaternion(*M), *p);
   } else {
-    values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromMatrix(*M), *p));
+    X = B::MakePose(B::FromMatrix(*M), *p);
   }
+  // The stamp rules (time_add.cc): a timeless edge takes unstamped values only, and back.
+  if (const ErrorCode code = CheckPoseSample(edge.child, X, stamp); code != ErrorCode::kOk) return code;
+  StorePoseSample(edge.child, X, stamp);
   return ErrorCode::kOk;
 }
 
@@ -137,6 +153,7 @@ ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterni
   SEMGRAPH_DEMAND(coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition).has_value());
   SEMGRAPH_DEMAND(q_TH.coeffs().allFinite() && std::abs(q_TH.squaredNorm() - 1.0) <= 1e-12);
 #endif
+  if (values_.history.pose_of(edge.child.value())) return ErrorCode::kStampMismatch;  // a stamped edge
   values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(q_TH), p_ToHo_T));
   return ErrorCode::kOk;
 }
@@ -144,15 +161,42 @@ ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterni
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                   const Eigen::Vector3d& w_DH_H) noexcept {
-  if (edge.graph != id_.value() || edge.kind != EdgeKind::kTwist || edge.slot.value() >= topology_.num_twist_edge_slots() ||
-      !topology_.twist_edge(edge.slot).alive || values_.V_DH[edge.slot.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
+  if (const ErrorCode c = CheckTwistHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
   auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
   if (!v) return v.error().code;
   auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
   if (!w) return w.error().code;
-  values_.V_DH[edge.slot.value()].Store(TwistNumbers{*v, *w});
+  return SetTwistSample(edge, TwistNumbers{*v, *w}, std::nullopt);
+}
+
+// Stamped updates (docs/time.md): the same validation, then the stamp rules and the sample.
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH, const Eigen::Vector3d& p_ToHo_T,
+                                 Stamp stamp) noexcept {
+  return SetPoseImpl(edge, q_TH, p_ToHo_T, stamp);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T,
+                                 Stamp stamp) noexcept {
+  return SetPoseImpl(edge, R_TH, p_ToHo_T, stamp);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
+                                  Stamp stamp) noexcept {
+  if (const ErrorCode c = CheckTwistHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
+  auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
+  if (!v) return v.error().code;
+  auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
+  if (!w) return w.error().code;
+  return SetTwistSample(edge, TwistNumbers{*v, *w}, stamp);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept {
+  if (const ErrorCode code = CheckTwistSample(edge.slot, V, stamp); code != ErrorCode::kOk) return code;
+  StoreTwistSample(edge.slot, V, stamp);
   return ErrorCode::kOk;
 }
 
@@ -162,6 +206,10 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&) noexcept;    \
   template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&, Stamp) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&, Stamp) noexcept; \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp) noexcept; \
+  template ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle, const TwistNumbers&, std::optional<Stamp>) noexcept; \
   template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_REALTIME(coord::HomogeneousBackend)

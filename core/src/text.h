@@ -2,6 +2,7 @@
 // described (never on a query's or an accepted add's path). Implemented in describe.cc.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -31,5 +32,9 @@ std::string PoseRule(const topology::SceneTopology& t, const topology::RuleViola
 /// The reason of a broken rule of a new twist edge D -> {e}|C.
 std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
                       const topology::NewTwistEdge& ends);
+
+/// A stamp in seconds with millisecond digits, "12.480 s"; a range "[12.000, 12.480] s".
+std::string StampText(std::int64_t ns);
+std::string StampRange(std::int64_t first_ns, std::int64_t last_ns);
 
 }  // namespace semgraph::core::text

@@ -81,6 +81,9 @@ std::string_view ToString(Operation op) noexcept {
     case Operation::kChangeCoordinateFrame: return "change_coordinate_frame";
     case Operation::kScrewTransform: return "screw_transform";
     case Operation::kCombine: return "combine";
+    case Operation::kIntegrate: return "integrate";
+    case Operation::kDifferentiate: return "differentiate";
+    case Operation::kInterpolate: return "interpolate";
   }
   return "operation";
 }

@@ -44,6 +44,11 @@ const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
       {ErrorCode::kNoPosePath, "no_pose_path"},
       {ErrorCode::kNoTwistPath, "no_twist_path"},
       {ErrorCode::kQueryInvalidated, "query_invalidated"},
+      {ErrorCode::kStampMismatch, "stamp_mismatch"},
+      {ErrorCode::kStampTooOld, "stamp_too_old"},
+      {ErrorCode::kDuplicateStamp, "duplicate_stamp"},
+      {ErrorCode::kExtrapolation, "extrapolation"},
+      {ErrorCode::kStale, "stale"},
   };
   return codes;
 }

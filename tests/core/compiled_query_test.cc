@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <random>
 #include <thread>
 
 #include "../../examples/spray_painting_scene.h"
@@ -264,6 +265,77 @@ TYPED_TEST(CompiledQueryTest, CompileTwistWithoutPointIsInvalidNameLikeGetTwist)
   EXPECT_EQ(compiled.error().field, semantics::Field::kPoint);
 }
 
+// The memoized evaluation (PoseCache) equals the plain one after any interleaving of value
+// updates and evaluations: a 40-frame chain with branches (so the queries have two chains and
+// every step of Algorithm 1), where each round changes none, one, a few or every edge.
+TYPED_TEST(CompiledQueryTest, CachedEvaluationEqualsUncachedAfterRandomUpdates) {
+  using B = TypeParam;
+  SceneGraph<B> g;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto random_q = [&] { return Quaterniond(u(rng), u(rng), u(rng), u(rng) + 2).normalized(); };
+  const auto random_p = [&] { return Vector3d(u(rng), u(rng), u(rng)); };
+  std::vector<PoseHandle> handles;
+  for (int i = 1; i <= 40; ++i) {
+    const int parent = i <= 30 ? i - 1 : 10 + (i - 31);  // a trunk of 30, and branches off it
+    const std::string of = "n" + std::to_string(i), wrt = "n" + std::to_string(parent);
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of(of, "N" + std::to_string(i)).RelativeTo(wrt, "N" + std::to_string(parent)),
+                          random_q(), random_p()));
+    auto h = g.FindPoseEdge(of, wrt);
+    ASSERT_TRUE(h);
+    handles.push_back(*h);
+  }
+  // A point on the body of [a] and a reference point on the body of [b] (constant mounts).
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("pe", "N29").RelativeTo("n29", "N29"), random_q(), random_p()));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("pf", "N3").RelativeTo("n3", "N3"), random_q(), random_p()));
+  const std::string e = "pe", a = "n29", f = "pf", b = "n3", r = "n38";  // frames on several branches
+  // The homogeneous representation only holds poses of frames in the reference frame.
+  constexpr bool kHomogeneous = std::is_same_v<B, coord::HomogeneousBackend>;
+  PoseSpec general = PoseSpec::Of(a).RelativeTo(b).ExpressedIn(kHomogeneous ? b : r);
+  if (!kHomogeneous) {
+    general.point = e;
+    general.ref_point = f;
+  }
+  auto pose = g.CompilePose(general);
+  auto position = g.CompilePosition(PoseSpec::Of("n40").RelativeTo("n35").ExpressedIn(r));
+  auto orientation = g.CompileOrientation(PoseSpec::Of(a).RelativeTo(b));
+  ASSERT_TRUE(pose && position && orientation);
+  auto pose_cache = pose->MakeCache();
+  auto position_cache = position->MakeCache();
+  auto orientation_cache = orientation->MakeCache();
+  for (int round = 0; round < 400; ++round) {
+    const int changes = round % 7 == 0 ? 40 : round % 3;  // every edge, none, one or two
+    for (int k = 0; k < changes; ++k) {
+      const PoseHandle h = changes == 40 ? handles[k] : handles[rng() % handles.size()];
+      ASSERT_EQ(g.SetPose(h, random_q(), random_p()), ErrorCode::kOk);
+    }
+    typename B::PoseCoords X, X_cached;
+    ASSERT_EQ(pose->Evaluate(X), ErrorCode::kOk);
+    ASSERT_EQ(pose->Evaluate(X_cached, pose_cache), ErrorCode::kOk);
+    EXPECT_LT((B::TranslationOf(X) - B::TranslationOf(X_cached)).norm(), 1e-12) << "round " << round;
+    EXPECT_LT((B::ToMatrix(B::RotationOf(X)) - B::ToMatrix(B::RotationOf(X_cached))).norm(), 1e-12);
+    Vector3d p, p_cached;
+    ASSERT_EQ(position->Evaluate(p), ErrorCode::kOk);
+    ASSERT_EQ(position->Evaluate(p_cached, position_cache), ErrorCode::kOk);
+    EXPECT_LT((p - p_cached).norm(), 1e-12);
+    typename B::Rotation R, R_cached;
+    ASSERT_EQ(orientation->Evaluate(R), ErrorCode::kOk);
+    ASSERT_EQ(orientation->Evaluate(R_cached, orientation_cache), ErrorCode::kOk);
+    EXPECT_LT((B::ToMatrix(R) - B::ToMatrix(R_cached)).norm(), 1e-12);
+  }
+  // The cache allocates nothing when evaluating, and a removed edge invalidates it too.
+  typename B::PoseCoords X;
+  const std::size_t before = AllocationCounter::total();
+  for (int i = 0; i < 100; ++i) {
+    ASSERT_EQ(g.SetPose(handles[i % 40], random_q(), random_p()), ErrorCode::kOk);
+    ASSERT_EQ(pose->Evaluate(X, pose_cache), ErrorCode::kOk);
+  }
+  EXPECT_EQ(AllocationCounter::total(), before);
+  ASSERT_TRUE(g.RemovePose("n25", "n24"));
+  EXPECT_EQ(pose->Evaluate(X, pose_cache), ErrorCode::kQueryInvalidated);
+  EXPECT_GT(pose_cache.bytes(), 0u);
+}
+
 // One writer flips the two joint edges between two poses; readers must only ever see one of
 // the four combinations of untorn edge values (each edge is read under its sequence lock).
 TEST(CompiledQueryConcurrency, ReadersNeverSeeTornEdgeValues) {
@@ -295,9 +367,10 @@ TEST(CompiledQueryConcurrency, ReadersNeverSeeTornEdgeValues) {
     allowed.push_back(B::ComposeChain(X2, X1));
   }
   int bad = 0;
+  auto cache = query->MakeCache();  // the memoized evaluation must be as untorn as the plain one
   for (int n = 0; n < 50000; ++n) {
     B::PoseCoords X;
-    ASSERT_EQ(query->Evaluate(X), ErrorCode::kOk);
+    ASSERT_EQ((n & 1) ? query->Evaluate(X, cache) : query->Evaluate(X), ErrorCode::kOk);
     bool match = false;
     for (const B::PoseCoords& A : allowed) {
       match |= (X.translation - A.translation).norm() < 1e-12 && X.rotation.angularDistance(A.rotation) < 1e-9;

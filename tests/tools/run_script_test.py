@@ -68,6 +68,9 @@ def values_match(actual, expected, key):
         if key == "quaternion" and abs(expected[0]) <= TOLERANCE:
             return all(values_match(a, -e, None) for a, e in zip(actual, expected))
         return False
+    if isinstance(expected, dict):  # e.g. a repair's "discrepancy": same keys, values match
+        return isinstance(actual, dict) and list(actual.keys()) == list(expected.keys()) and \
+            all(values_match(actual[k], expected[k], k) for k in expected)
     return False
 
 

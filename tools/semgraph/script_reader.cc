@@ -36,6 +36,7 @@ enum Field : int {
   kRotation,
   kLinear,
   kAngular,
+  kRepair,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -44,9 +45,9 @@ constexpr std::string_view kFieldNames[kNumFields] = {
     "op",       "kind",  "name",        "body",      "of",
     "wrt",      "point", "orientation", "ref_point", "ref_orientation",
     "ref_body", "coord", "position",    "rotation",  "linear",
-    "angular"};
+    "angular",  "repair"};
 
-static_assert(kFieldNames[kNumFields - 1] == "angular", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "repair", "one name per Field, in order");
 
 constexpr std::uint32_t Bit(Field f) { return std::uint32_t{1} << f; }
 
@@ -83,10 +84,10 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       // `body` is optional: a frame without it is the op error frame_without_body (spec).
       return {"a 'frame' op", Bit(kOp) | Bit(kName) | Bit(kBody), {{kName, kNoField}}};
     case OpKind::kPose:
-      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation),
+      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair),
               pose_required};
     case OpKind::kTwist:
-      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular),
+      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair),
               twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
@@ -379,6 +380,17 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     }
   }
   if (value[kRotation] != kNoNode && !ReadRotation(value[kRotation], &op->rotation)) return false;
+  if (value[kRepair] != kNoNode) {  // YAML 1.2 core schema booleans, plain style only
+    const NodeView n = At(value[kRepair]);
+    const bool plain = n.kind == NodeKind::kScalar && n.style == ScalarStyle::kPlain;
+    if (plain && (n.text == "true" || n.text == "True" || n.text == "TRUE")) {
+      op->repair = true;
+    } else if (plain && (n.text == "false" || n.text == "False" || n.text == "FALSE")) {
+      op->repair = false;
+    } else {
+      return Fail(value[kRepair], "'repair' must be true or false, got " + Describe(value[kRepair]));
+    }
+  }
   return true;
 }
 

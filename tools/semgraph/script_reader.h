@@ -97,6 +97,7 @@ struct ScriptOp {
   std::array<double, 3> position{};  // kPose (metres)
   std::array<double, 3> linear{};    // kTwist (m/s)
   std::array<double, 3> angular{};   // kTwist (rad/s)
+  bool repair = false;               // kPose, kTwist: repair a rejected relation (docs/repair.md)
 };
 
 struct Script {

@@ -177,11 +177,52 @@ core::TwistSpec TwistSpecOf(const SemanticNames& n) {
   return s;
 }
 
+// A repairing add: the plain result, plus "repair" (the strategy applied) on success, or the
+// "discrepancy" of a refused consistency check.
+OpOutcome FromRepair(const ScriptOp& op, std::size_t index,
+                     const base::Expected<core::RepairReport, core::BuildError>& result) {
+  if (!result) {
+    OpOutcome out = Failure(op, index, result.error().code, result.error().message);
+    if (const auto& d = result.error().discrepancy) {
+      out.json.pop_back();  // '}'
+      const bool twist = op.kind == OpKind::kTwist;
+      out.json += std::string(", \"discrepancy\": {\"") + (twist ? "linear" : "position") + "\": " +
+                  JsonNumber(d->position) + ", \"" + (twist ? "angular" : "angle") + "\": " +
+                  JsonNumber(d->angle) + "}}";
+    }
+    return out;
+  }
+  OpOutcome out = Success(index);
+  out.json.pop_back();  // '}'
+  out.json += ", \"repair\": " + JsonString(core::ToString(result->applied)) + "}";
+  return out;
+}
+
 template <coord::Backend B>
 OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const core::PoseSpec spec = PoseSpecOf(op.names);
   const Eigen::Vector3d p = ToVector(op.position);
   const RotationValue& r = op.rotation;
+  if (op.repair) {
+    // The repairing add takes a quaternion; a rotation that is not one is validated as given
+    // first, so that an invalid one is refused exactly as without repair.
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    if (r.form == RotationForm::kQuaternion) {
+      q = Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3]);
+    } else if (r.form == RotationForm::kRpy) {
+      q = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(r.rpy[1], Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(r.rpy[0], Eigen::Vector3d::UnitX());
+    } else if (r.form == RotationForm::kMatrix) {
+      Eigen::Matrix3d R;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) R(i, j) = r.matrix[i][j];
+      }
+      auto valid = coord::ValidateRotationMatrix(R);
+      if (!valid) return FromBuild(op, index, graph.AddPose(spec, R, p));
+      q = Eigen::Quaterniond(*valid);
+    }
+    return FromRepair(op, index, graph.AddPose(spec, q, p, core::RepairPolicy{}));
+  }
   switch (r.form) {
     case RotationForm::kIdentity:
       return FromBuild(op, index, graph.AddPose(spec, Eigen::Quaterniond::Identity(), p));
@@ -336,6 +377,11 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
     case OpKind::kPose:
       return AddPose(graph, op, index);
     case OpKind::kTwist:
+      if (op.repair) {
+        return FromRepair(op, index,
+                          graph.AddTwist(TwistSpecOf(n), ToVector(op.linear), ToVector(op.angular),
+                                         core::RepairPolicy{}));
+      }
       return FromBuild(op, index,
                        graph.AddTwist(TwistSpecOf(n), ToVector(op.linear), ToVector(op.angular)));
     case OpKind::kRemovePose:

@@ -121,6 +121,41 @@ void PoseForest::Cut(FrameIndex child) {
   RecomputeSubtree(c);
 }
 
+void PoseForest::Reroot(FrameIndex v) {
+  SEMGRAPH_DEMAND(v.value() < size());
+  const auto unlink = [this](std::uint32_t c) {  // c out of its parent's child list, O(1)
+    const std::uint32_t p = parent_[c], prev = prev_sibling_[c], next = next_sibling_[c];
+    if (prev != kNone) {
+      next_sibling_[prev] = next;
+    } else {
+      first_child_[p] = next;
+    }
+    if (next != kNone) prev_sibling_[next] = prev;
+    prev_sibling_[c] = next_sibling_[c] = kNone;
+  };
+  const auto push_child = [this](std::uint32_t p, std::uint32_t c) {
+    parent_[c] = p;
+    prev_sibling_[c] = kNone;
+    next_sibling_[c] = first_child_[p];
+    if (first_child_[p] != kNone) prev_sibling_[first_child_[p]] = c;
+    first_child_[p] = c;
+  };
+  // Walk up from v, turning each edge parent -> child into child -> parent.
+  std::uint32_t child = v.value();
+  std::uint32_t parent = parent_[child];
+  if (parent == kNone) return;  // already the root
+  unlink(child);
+  parent_[child] = kNone;
+  while (parent != kNone) {
+    const std::uint32_t grandparent = parent_[parent];
+    if (grandparent != kNone) unlink(parent);
+    push_child(child, parent);
+    child = parent;
+    parent = grandparent;
+  }
+  RecomputeSubtree(v.value());
+}
+
 FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noexcept {
   std::uint32_t v = Checked(f);
   if (d > depth_[v]) return FrameIndex();

@@ -47,9 +47,15 @@ enum class ErrorCode : std::uint8_t {
   kNoPosePath,
   kNoTwistPath,
   kQueryInvalidated,
+  // Time (docs/time.md): adds and updates of stamped values, then queries.
+  kStampMismatch,
+  kStampTooOld,
+  kDuplicateStamp,
+  kExtrapolation,
+  kStale,
 };
 
-inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kQueryInvalidated) + 1;
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kStale) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
 [[nodiscard]] std::string_view ToString(ErrorCode code) noexcept;

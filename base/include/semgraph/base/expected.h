@@ -102,6 +102,7 @@ class [[nodiscard]] Expected {
   }
   const T& operator*() const& noexcept { return value(); }
   T& operator*() & noexcept { return value(); }
+  T&& operator*() && noexcept { return std::move(*this).value(); }
   const T* operator->() const noexcept { return &value(); }
   T* operator->() noexcept { return &value(); }
 

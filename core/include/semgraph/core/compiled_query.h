@@ -16,6 +16,11 @@
 // writer calling SceneGraph::SetPose/SetTwist. Each edge value is read untorn (sequence lock);
 // different edges of one path may come from different writer updates (there is no cross-edge
 // snapshot). Topology changes (add/remove) need exclusive access.
+// Time (docs/time.md): Evaluate(..., policy, report) reads every edge at the policy's time
+// through the same evaluator and reports what it read; also noexcept and allocation-free
+// (extrapolation plans its twist from the graph's topology, which is why a compiled query keeps
+// a pointer to it). Codes: kOk, kQueryInvalidated, kInvalidNumber (a negative horizon),
+// kExtrapolation, kStale.
 #pragma once
 
 #include <cstdint>
@@ -24,8 +29,47 @@
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/time.h"
+#include "semgraph/core/time_plan.h"
 
 namespace semgraph::core {
+
+/// A caller-owned memo of a compiled pose, position or orientation query: per chain of the
+/// query, a balanced tree of partial products over its edges, with the sequence-lock header
+/// each edge value was read under. Made by MakeCache() (allocates); used by Evaluate(out, cache)
+/// (no allocation). Opaque to callers.
+///
+/// Why: in a control loop most edges of a path are constant (mountings, calibrations) or change
+/// less often than the query runs. An evaluation reads every edge's header (a load and a
+/// compare), reloads only the edges whose header changed, and recomposes only the tree nodes
+/// above them: O(n + k log n) for k changed edges of n, instead of n compositions. When most
+/// edges changed it rebuilds the tree and composes the next few evaluations directly, as the
+/// uncached query does, then looks again (compiled_query.cc: the policy).
+/// Invariants: a cached leaf is the value its edge had under the cached header (so it is never
+/// torn: it was read under the sequence lock); an internal node is the product of its children
+/// whenever `built`. Cost: 2 * next_pow2(n) pose values + n headers per chain (bytes()).
+/// Thread safety: one cache per evaluating thread; the compiled query itself stays shareable.
+template <coord::Backend B>
+struct PoseCache {
+  struct Tree {
+    std::uint32_t leaves = 0;       // power of two >= the chain's edges
+    std::uint32_t node_offset = 0;  // nodes_[node_offset + k], k = 1 .. 2 * leaves - 1
+    std::uint32_t skip = 0;         // evaluations left that compose directly (busy chain)
+    std::uint32_t unscanned = 0;    // evaluations composed directly since the last scan
+    bool built = false;             // internal nodes are the products of their children
+    bool scanned = false;           // every leaf has been loaded once
+  };
+  std::uint64_t query_id = 0;                  // the compiled query (and its copies) it serves
+  std::vector<Tree> trees;                     // one per chain
+  std::vector<std::uint32_t> tree_of_begin;    // by edge index: the tree of the chain starting there
+  std::vector<std::uint64_t> headers;          // by edge index: header of the cached leaf value
+  std::vector<typename B::PoseCoords> nodes;   // every tree's nodes
+  std::vector<std::uint32_t> changed;          // scratch: changed leaves of one chain
+  [[nodiscard]] std::size_t bytes() const noexcept {
+    return trees.capacity() * sizeof(Tree) + tree_of_begin.capacity() * 4 + headers.capacity() * 8 +
+           nodes.capacity() * sizeof(typename B::PoseCoords) + changed.capacity() * 4;
+  }
+};
 
 /// Shared machinery of the compiled queries: the flattened edges and the values they read.
 template <coord::Backend B>
@@ -37,20 +81,32 @@ class CompiledQuery {
   [[nodiscard]] bool is_valid() const noexcept;
   /// Number of pose edges read per evaluation (the path length).
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return edges_.size(); }
+  /// A memo for Evaluate(out, cache) (build time, allocates; PoseCache).
+  [[nodiscard]] PoseCache<B> MakeCache() const;
 
  protected:
   using Chain = internal::FlatChain;
   CompiledQuery() = default;
-  explicit CompiledQuery(const EdgeValues<B>& values) : values_(&values) {}
+  CompiledQuery(const topology::SceneTopology& t, const EdgeValues<B>& values);
 
   /// Appends the edges of a one-shot chain to the list; returns their range.
   Chain Flatten(const topology::SceneTopology& t, const ForestChain& c);
   BasicPath<Chain> Flatten(const topology::SceneTopology& t, const BasicPath<ForestChain>& path);
   PoseSteps<Chain> Flatten(const topology::SceneTopology& t, const PoseSteps<ForestChain>& s);
   [[nodiscard]] internal::FlatSource<B> source() const noexcept { return {*values_, edges_.data()}; }
+  [[nodiscard]] internal::FlatSource<B> source(internal::TimeContext& tc) const noexcept {
+    return {*values_, edges_.data(), &tc};
+  }
+  /// Runs eval(const FlatSource<B>&) -> bool (false: invalidated) under the policy.
+  template <class Eval>
+  ErrorCode RunTimed(const TimePolicy& policy, TimeReport& report, Eval&& eval) const noexcept;
+  [[nodiscard]] internal::CachedSource<B> source(PoseCache<B>& cache) const noexcept;
 
+  const topology::SceneTopology* topology_ = nullptr;
   const EdgeValues<B>* values_ = nullptr;
   std::vector<internal::EdgeRef> edges_;
+  std::vector<Chain> chains_;  // every flattened chain, for MakeCache
+  std::uint64_t id_ = 0;       // shared by copies (same edges): identifies the caches it made
 };
 
 /// PoseCoord((e,[a])|C, (f,[b])|D, [r]).
@@ -63,6 +119,11 @@ class CompiledPose : public CompiledQuery<B> {
   [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
   /// Writes the pose X (orientation operator and position, in [r]). kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
+  /// The same answer through a memo of partial products (PoseCache, from MakeCache() of this
+  /// query): far fewer compositions when few edges changed since the last evaluation.
+  [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, PoseCache<B>& cache) const noexcept;
 
  private:
   semantics::PoseSemantics semantics_;
@@ -78,6 +139,9 @@ class CompiledPosition : public CompiledQuery<B> {
   [[nodiscard]] const semantics::PositionSemantics& semantics() const noexcept { return semantics_; }
   /// Writes p_FE_R, the position of e wrt f in [r]. kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& cache) const noexcept;
 
  private:
   semantics::PositionSemantics semantics_;
@@ -96,6 +160,9 @@ class CompiledOrientation : public CompiledQuery<B> {
   }
   /// Writes R_BA_R, the orientation operator of [a] wrt [b] in [r]. kOk or kQueryInvalidated.
   [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, PoseCache<B>& cache) const noexcept;
 
  private:
   semantics::OrientationSemantics semantics_;
@@ -108,9 +175,13 @@ class CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
   CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);
+  /// Twist source `poses`: the pose edges' derivatives (time_plan.h).
+  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   /// v_DCe_R: velocity of the point of C at e relative to D; w_DC_R: angular velocity; in [r].
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
+                                   TimeReport& report) const noexcept;
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
  private:

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "semgraph/coord/backend.h"
+#include "semgraph/core/edge_history.h"
 #include "semgraph/core/seqlock_value.h"
 #include "semgraph/topology/ids.h"
 
@@ -104,6 +105,8 @@ template <coord::Backend B>
 struct EdgeValues {
   std::vector<PoseValue<B>> X_PF;  ///< by frame
   std::vector<TwistValue> V_DH;    ///< by twist edge slot
+  /// Stamped edges' samples (edge_history.h); X_PF / V_DH then hold the newest sample.
+  EdgeHistories history;
 
   /// The value of a new frame: the identity (it has no pose parent yet).
   void AddFrame() {
@@ -119,7 +122,7 @@ struct EdgeValues {
   void ReserveFrames(std::size_t frames) { Grow(X_PF, frames); }
   void ReserveTwistSlots(std::size_t slots) { Grow(V_DH, slots); }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue);
+    return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue) + history.ApproximateBytes();
   }
 
  private:

@@ -10,6 +10,9 @@
 //                 coord::Compose and demand the same semantics, verifying the shortcut below.
 //   FlatSource    composes a compiled query's flattened edge list, checking each edge's epoch
 //                 through its sequence lock (a removed edge fails the evaluation).
+// Time (timed_read.h): given a TimeContext, both sources read each edge at the policy's time
+// (interpolated, extrapolated, differentiated) through the same functions; without one they
+// read each edge's current value, as before time existed. The composition is the same.
 // Why no semantic checks here: a plan is made only after every semantic check passed, and each
 // composition along a chain is valid by the forest invariant (the edge into g stores
 // PoseCoord({g}|G, {p}|P, [p]) and the next edge up starts at p). So only numbers remain, with
@@ -28,6 +31,7 @@
 #include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/timed_read.h"
 
 namespace semgraph::core::internal {
 
@@ -42,14 +46,20 @@ class ForestSource {
   using Chain = ForestChain;
   using PoseCoords = typename B::PoseCoords;
 
-  ForestSource(const topology::SceneTopology& t, const EdgeValues<B>& v) noexcept : t_(t), v_(v) {}
+  ForestSource(const topology::SceneTopology& t, const EdgeValues<B>& v, TimeContext* time = nullptr) noexcept
+      : t_(t), v_(v), time_(time) {}
 
   /// X_AF, A = c.to above F = c.from; identity when F == A. Composed bottom-up (each parent's
   /// edge is prepended: acc = X_PG acc), straight from the locked words for quaternions.
   bool EvalChain(const ForestChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
     identity = c.from == c.to;
     if (identity) return true;
-    if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
+    if (time_) {  // each edge at the policy's time (timed_read.h)
+      X_AF = Edge(c.from);
+      for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+        X_AF = B::ComposeChain(X_AF, Edge(g));
+      }
+    } else if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
       typename PoseValue<B>::Word w[PoseValue<B>::kWords];
       v_.X_PF[c.from.value()].LoadWords(w);
       Eigen::Quaterniond q(w[3], w[0], w[1], w[2]);
@@ -73,11 +83,25 @@ class ForestSource {
     return true;
   }
   bool LoadTwist(const TwistStep<ForestChain>& s, TwistNumbers& V) const noexcept {
-    V = v_.V_DH[s.edge.value()].Load();
+    if (s.pose_edge.is_valid()) {
+      TimeContext latest;  // a derivative without a context: of the newest segment
+      latest.histories = &v_.history;
+      DerivePoseAt<B>(v_, s.pose_edge.value(), time_ ? *time_ : latest, V);
+    } else if (time_) {
+      ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
+    } else {
+      V = v_.V_DH[s.edge.value()].Load();
+    }
     return true;
   }
 
  private:
+  PoseCoords Edge(FrameIndex g) const noexcept {
+    if (!time_) return v_.X_PF[g.value()].Load();
+    PoseCoords X;
+    ReadPoseAt<B>(v_, g.value(), *time_, X);
+    return X;
+  }
 #if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
   coord::Pose<B> EdgePose(FrameIndex child) const noexcept {
     const FrameIndex parent = t_.pose_parent(child);
@@ -99,12 +123,14 @@ class ForestSource {
                     semantics::PoseSemantics::OfFrame(t_.FrameSem(c.from), t_.BodyOfSem(c.from),
                                                       t_.FrameSem(c.to), t_.BodyOfSem(c.to),
                                                       t_.FrameSem(c.to).axes()));
+    if (time_) return;  // the replay composes the current values; a timed read uses others
     const double scale = 1.0 + B::TranslationOf(X_AF).norm();
     SEMGRAPH_DEMAND((B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <= 1e-9 * scale);
   }
 #endif
   const topology::SceneTopology& t_;
   const EdgeValues<B>& v_;
+  TimeContext* time_;
 };
 
 /// A compiled query's edge: the frame whose parent edge is read, and the sequence-lock header
@@ -126,7 +152,8 @@ class FlatSource {
   using Chain = FlatChain;
   using PoseCoords = typename B::PoseCoords;
 
-  FlatSource(const EdgeValues<B>& v, const EdgeRef* edges) noexcept : v_(v), edges_(edges) {}
+  FlatSource(const EdgeValues<B>& v, const EdgeRef* edges, TimeContext* time = nullptr) noexcept
+      : v_(v), edges_(edges), time_(time) {}
 
   // The edges are stored from F upward and composed top-down, acc = acc * X_i, as a
   // hand-written chain would (p += q p_i; q = q q_i for quaternions), so the loop-carried
@@ -137,6 +164,23 @@ class FlatSource {
     const PoseValue<B>* values = v_.X_PF.data();
     const EdgeRef* first = edges_ + c.begin;
     const EdgeRef* e = edges_ + c.end - 1;
+    if (time_) {  // each edge at the policy's time, after its epoch check; composed top-down
+      const auto load = [&](const EdgeRef& r, PoseCoords& X) {
+        if (values[r.child].epoch() != r.epoch()) return false;
+        ReadPoseAt<B>(v_, r.child, *time_, X);
+        return true;
+      };
+      PoseCoords acc;
+      if (!load(*e, acc)) return false;
+      while (e != first) {
+        --e;
+        PoseCoords X_i;
+        if (!load(*e, X_i)) return false;
+        acc = B::ComposeChain(X_i, acc);
+      }
+      X_AF = acc;
+      return true;
+    }
     if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
       // The hot case: rebuild each edge's quaternion and vector straight from the locked words
       // (x y z w, then p), so nothing round-trips through the stack.
@@ -175,12 +219,53 @@ class FlatSource {
     }
   }
   bool LoadTwist(const TwistStep<FlatChain>& s, TwistNumbers& V) const noexcept {
-    return v_.V_DH[s.edge.value()].Load(V, s.epoch);
+    if (s.pose_edge.is_valid()) {
+      if (v_.X_PF[s.pose_edge.value()].epoch() != s.epoch) return false;
+      TimeContext latest;
+      latest.histories = &v_.history;
+      DerivePoseAt<B>(v_, s.pose_edge.value(), time_ ? *time_ : latest, V);
+      return true;
+    }
+    if (!time_) return v_.V_DH[s.edge.value()].Load(V, s.epoch);
+    if (v_.V_DH[s.edge.value()].epoch() != s.epoch) return false;
+    ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
+    return true;
   }
 
  private:
   const EdgeValues<B>& v_;
   const EdgeRef* edges_;
+  TimeContext* time_;
+};
+
+}  // namespace semgraph::core::internal
+
+namespace semgraph::core {
+template <coord::Backend B>
+struct PoseCache;
+}  // namespace semgraph::core
+
+namespace semgraph::core::internal {
+
+/// Composes a compiled query's chains through a caller-owned memo of partial products
+/// (PoseCache, compiled_query.h): reads every edge's header, reloads only the edges that
+/// changed, recomposes only the tree nodes above them. Same answers as FlatSource, up to the
+/// association of the products (rounding).
+template <coord::Backend B>
+class CachedSource {
+ public:
+  using Chain = FlatChain;
+  using PoseCoords = typename B::PoseCoords;
+
+  CachedSource(const EdgeValues<B>& v, const EdgeRef* edges, PoseCache<B>& cache) noexcept
+      : v_(v), edges_(edges), cache_(&cache) {}
+
+  bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept;
+
+ private:
+  const EdgeValues<B>& v_;
+  const EdgeRef* edges_;
+  PoseCache<B>* cache_;
 };
 
 /// Algorithm 2: X_BA = X_CA X_CB^-1, with no composition with an identity.
@@ -294,6 +379,42 @@ bool AccumulateTwistStep(const Source& src, const TwistStep<typename Source::Cha
   }
   v += v_i;
   w += w_i;
+  return true;
+}
+
+/// The screw twist TwistCoord(h|H, T, [h]) of the pose edge {t}|T -> {h}|H into `frame`, at
+/// stamp s, from the twist edges (a twist query planned and evaluated here, at s, without
+/// extrapolation). The samples it reads count in the parent's oldest / newest; its edges are
+/// not "used" (no not_before, no latest common, not recorded). False: no twist path, or a twist
+/// edge on it has no data at s.
+template <coord::Backend B>
+bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s, TimeContext& parent,
+                        Eigen::Vector3d& v_out, Eigen::Vector3d& w_out) noexcept {
+  if (parent.topology == nullptr) return false;
+  const topology::SceneTopology& t = *parent.topology;
+  const FrameIndex h(frame);
+  const FrameIndex tail = t.pose_parent(h);
+  if (!tail.is_valid()) return false;
+  const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail), t.FrameSem(h).axes()};
+  auto plan = PlanTwist(t, q);
+  if (!plan) return false;
+  TimeContext nested;
+  nested.at = true;
+  nested.t = s;
+  nested.nested = true;
+  nested.histories = parent.histories;
+  nested.topology = parent.topology;
+  const ForestSource<B> src(t, v, &nested);
+  v_out.setZero();
+  w_out.setZero();
+  ForEachTwistStep(t, *plan, [&](const TwistStep<ForestChain>& step) {
+    AccumulateTwistStep<B>(src, step, v_out, w_out);
+  });
+  if (nested.extrapolation.code != base::ErrorCode::kOk) return false;
+  if (nested.read_any) {
+    parent.Read(nested.oldest);
+    parent.Read(nested.newest);
+  }
   return true;
 }
 

@@ -61,9 +61,12 @@ struct PoseSteps {
 
 /// One twist edge of Algorithm 3: its stored screw twist TwistCoord(h|H, D, [h]), traversed
 /// along (invert = false) or against its direction, moved to point e and re-expressed in [r].
+/// A step may instead be a pose edge's own screw twist, differentiated from its history (twist
+/// source `poses`, time_plan.h): then pose_edge is the edge's head frame and `edge` is unused.
 template <class Chain>
 struct TwistStep {
   TwistEdgeIndex edge;
+  FrameIndex pose_edge;     ///< valid: the derivative of the pose edge into this frame
   std::uint32_t epoch = 0;  ///< compiled queries: the edge's epoch when compiled
   bool invert = false;
   bool move_point = false;    ///< h != e: v += p_EH x w, with X_HE

@@ -45,6 +45,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/operations.h"
@@ -52,6 +53,7 @@
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/specs.h"
+#include "semgraph/core/time.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core {
@@ -64,6 +66,10 @@ class SceneGraph {
   using Orientation = coord::Orientation<B>;
 
   SceneGraph() = default;
+  /// A graph with time options (docs/time.md). A window that is not positive, or a sample
+  /// capacity below 2, is refused (invalid_number) and no graph is made.
+  [[nodiscard]] static Expected<SceneGraph, BuildError> Create(const TimeOptions& options);
+  [[nodiscard]] const TimeOptions& time_options() const noexcept { return values_.history.options; }
   SceneGraph(const SceneGraph&) = delete;
   SceneGraph& operator=(const SceneGraph&) = delete;
   SceneGraph(SceneGraph&&) = default;
@@ -95,11 +101,75 @@ class SceneGraph {
   /// converted to the screw twist at {point} when coord != point, or updates that edge.
   BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                        const Eigen::Vector3d& w_angular);
+  /// The same adds with repair of a rejected relation (docs/repair.md): P1 -> the inverse pose
+  /// (after re-rooting the inverse's head tree if needed); W1 -> the inverse twist on a frame of
+  /// the reference body; an already determined relation (pose_cycle, or P1 within one tree;
+  /// duplicate_twist_path) -> accepted as a no-op when it equals the derived value within the
+  /// policy's tolerances, else refused with the discrepancy. Without a repair the result and
+  /// the graph are exactly those of the plain add.
+  Expected<RepairReport, BuildError> AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                                             const Eigen::Vector3d& p_position, const RepairPolicy& repair);
+  Expected<RepairReport, BuildError> AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                              const Eigen::Vector3d& w_angular, const RepairPolicy& repair);
   /// Removes the pose edge {relative_to} -> {of}. invalid_name -> unknown_frame -> no_such_edge.
   BuildResult RemovePose(std::string_view of, std::string_view relative_to);
   /// Removes the twist edge {relative_to} -> {of} (a body to a frame). invalid_name ->
   /// unknown_frame/unknown_body -> no_such_edge.
   BuildResult RemoveTwist(std::string_view of, std::string_view relative_to);
+
+  // ---------------------------------------------------------------- time (docs/time.md)
+  // A stamped value: the edge becomes stamped on its first value (its history is allocated
+  // then, `sample_capacity` samples), or gets a new sample. Same checks as the unstamped adds,
+  // then stamp_mismatch -> stamp_too_old -> duplicate_stamp; a value in another form is
+  // converted with the graph's values at the stamp (extrapolation when there are none). A
+  // same-body (constant) edge is timeless: the stamp then only serves the conversion.
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation, const Eigen::Vector3d& p_position,
+                      Stamp stamp);
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation, const Eigen::Vector3d& p_position,
+                      Stamp stamp);
+  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear, const Eigen::Vector3d& w_angular,
+                       Stamp stamp);
+  /// A stamped sample of a stamped edge by handle: O(1) amortized in order, O(later samples)
+  /// out of order; never allocates. Codes as SetPose, then kStampMismatch (a timeless edge),
+  /// kStampTooOld, kDuplicateStamp (policy reject, another value at that stamp).
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH, const Eigen::Vector3d& p_ToHo_T,
+                                  Stamp stamp) noexcept;
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T,
+                                  Stamp stamp) noexcept;
+  [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
+                                   Stamp stamp) noexcept;
+
+  /// Queries under a time policy: the same queries with every edge's value as the policy
+  /// selects, and what was read (TimeReport). Error order: as the untimed query, invalid_number
+  /// (a negative horizon) after invalid_name, then ... -> extrapolation -> stale.
+  [[nodiscard]] QueryResult<Timed<Pose>> GetPose(const PoseSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::Position>> GetPosition(const PoseSpec& spec,
+                                                                const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<Orientation>> GetOrientation(const PoseSpec& spec,
+                                                               const TimePolicy& policy) const noexcept;
+  /// Time travel: the point side at travel.time, the reference side at travel.ref_time, through
+  /// travel.fixed_frame (unknown_frame, or no_pose_path when not in the query's pose tree).
+  [[nodiscard]] QueryResult<Timed<Pose>> GetPose(const PoseSpec& spec, const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::Position>> GetPosition(const PoseSpec& spec,
+                                                                const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<Orientation>> GetOrientation(const PoseSpec& spec,
+                                                               const TimeTravel& travel) const noexcept;
+  /// Twists from the twist edges (default) or differentiated from the pose history.
+  [[nodiscard]] QueryResult<Timed<coord::Twist>> GetTwist(const TwistSpec& spec, const TimePolicy& policy,
+                                                          TwistSource source = TwistSource::kTwists) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::LinearVelocity>> GetLinearVelocity(
+      const TwistSpec& spec, const TimePolicy& policy, TwistSource source = TwistSource::kTwists) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::AngularVelocity>> GetAngularVelocity(
+      const TwistSpec& spec, const TimePolicy& policy, TwistSource source = TwistSource::kTwists) const noexcept;
+  /// Diagnostics (allocates): every edge the query uses, with its samples and the ones read.
+  [[nodiscard]] Expected<std::vector<EdgeUse>, QueryError> ExplainPose(const PoseSpec& spec,
+                                                                      const TimePolicy& policy) const;
+  [[nodiscard]] Expected<std::vector<EdgeUse>, QueryError> ExplainTwist(
+      const TwistSpec& spec, const TimePolicy& policy, TwistSource source = TwistSource::kTwists) const;
+  /// A compiled twist whose twists come from `source` (CompileTwist(spec) = kTwists).
+  [[nodiscard]] Expected<CompiledTwist<B>, QueryError> CompileTwist(const TwistSpec& spec, TwistSource source) const;
+  /// Heap bytes of one stored pose sample (a stamped edge preallocates sample_capacity of them).
+  [[nodiscard]] static constexpr std::size_t BytesPerPoseSample() noexcept { return PoseHistory::BytesPerSample(); }
 
   // ---------------------------------------------------------------- real-time path
   // See docs/realtime.md. Handles and compiled queries are made at build time (they allocate
@@ -222,10 +292,39 @@ class SceneGraph {
 
  private:
   template <class R>
-  BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position);
+  BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position,
+                          std::optional<Stamp> stamp = std::nullopt);
+  BuildResult AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear, const Eigen::Vector3d& w_angular,
+                           std::optional<Stamp> stamp);
   template <class R>
-  ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T) noexcept;
+  ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
+                        std::optional<Stamp> stamp = std::nullopt) noexcept;
+  // Time (time_query.cc): every timed one-shot query runs the evaluator through RunTimed.
+  template <class Eval>
+  std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
+                                     Eval&& eval) const noexcept;
+  std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b, FrameIndex r,
+                                           const TimeTravel& travel, typename B::PoseCoords& X,
+                                           TimeReport& report) const noexcept;
+  QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
+                                              internal::EdgeRecorder* recorder) const noexcept;
+  // Time (time_add.cc): the stamp rules of an update, then the store (value and history).
+  internal::TimeContext ConversionContext(std::optional<Stamp> stamp) const noexcept;
+  std::string DescribeConversionGap(const internal::TimeContext& tc, Stamp stamp) const;
+  std::unique_ptr<PoseHistory> NewPoseHistory();
+  std::unique_ptr<TwistHistory> NewTwistHistory();
+  void InstallPoseHistory(FrameIndex head, std::unique_ptr<PoseHistory> h, const typename B::PoseCoords& X, Stamp s);
+  void InstallTwistHistory(TwistEdgeIndex edge, std::unique_ptr<TwistHistory> h, const TwistNumbers& V, Stamp s);
+  void DropPoseHistory(FrameIndex head) noexcept;
+  void DropTwistHistory(TwistEdgeIndex edge) noexcept;
+  ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) const noexcept;
+  void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) noexcept;
+  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp) const noexcept;
+  void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept;
+  ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept;
+  std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index, std::optional<Stamp> stamp) const;
   FrameIndex CreateFrame(NameId name, BodyIndex body);
+  void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
 
   topology::SceneTopology topology_;

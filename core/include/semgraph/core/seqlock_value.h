@@ -102,6 +102,30 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     }
   }
 
+  /// The current header (epoch << 32 | sequence): a reader that cached a value together with the
+  /// header it was read under knows the value is unchanged while the header is. Acquire load.
+  [[nodiscard]] std::uint64_t header() const noexcept { return header_.load(std::memory_order_acquire); }
+
+  /// A consistent value and the header it was read under, if the epoch is still the one of
+  /// `expected_header`; false otherwise.
+  [[nodiscard]] bool LoadWithHeader(T& out, std::uint64_t expected_header, std::uint64_t& header) const noexcept {
+    Word words[kWords];
+    for (;;) {
+      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+      if ((h1 ^ expected_header) & kCheckMask) {  // another epoch, or a write in progress
+        if ((h1 ^ expected_header) >> 32) return false;
+        continue;
+      }
+      LoadWords(words, std::make_index_sequence<kWords>{});
+      if (header_.load(std::memory_order_relaxed) == h1) {
+        header = h1;
+        break;
+      }
+    }
+    std::memcpy(static_cast<void*>(&out), static_cast<const void*>(words), Bytes);
+    return true;
+  }
+
   /// The raw words of a consistent value whatever the epoch (the one-shot query path, which
   /// holds no epoch: it reads the graph as it is).
   void LoadWords(Word (&words)[kWords]) const noexcept {

@@ -8,6 +8,9 @@
 // the names must outlive the spec).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -24,11 +27,51 @@ using base::Expected;
 using base::Ok;
 using semantics::NameId;
 
+/// How far a relation is from what the graph already determines (repair's consistency check):
+/// for poses the position error (m) and the rotation angle error (rad); for twists the linear
+/// (m/s) and angular (rad/s) velocity errors, as the norms of the differences.
+struct Discrepancy {
+  double position = 0;
+  double angle = 0;
+};
+
 /// A rejected build-time operation: a stable code (docs/rules.md) and a message naming the
 /// frames / bodies involved and the existing relation it conflicts with.
 struct BuildError {
   ErrorCode code = ErrorCode::kOk;
   std::string message;
+  /// Set when a repair's consistency check refused the relation: how far it is from the value
+  /// the graph derives (docs/repair.md).
+  std::optional<Discrepancy> discrepancy = std::nullopt;
+};
+
+/// Opt-in repair of a rejected AddPose / AddTwist (docs/repair.md). Each strategy is tried
+/// only for the rule it answers; a relation no strategy accepts keeps its original error.
+struct RepairPolicy {
+  bool invert = true;             ///< P1 / W1: add the inverse relation instead
+  bool reroot = true;             ///< the inverse's head has a pose parent: re-root its tree first
+  bool check_consistency = true;  ///< already determined: accept if equal to the derived value
+  double position_tolerance = 1e-9;  ///< m (m/s for twists); compared with Discrepancy::position
+  double angle_tolerance = 1e-9;     ///< rad (rad/s for twists); compared with Discrepancy::angle
+};
+enum class RepairKind : std::uint8_t { kNone, kInverted, kRerooted, kConsistent };
+/// "none", "inverted", "rerooted", "consistent".
+[[nodiscard]] constexpr std::string_view ToString(RepairKind k) noexcept {
+  switch (k) {
+    case RepairKind::kNone: return "none";
+    case RepairKind::kInverted: return "inverted";
+    case RepairKind::kRerooted: return "rerooted";
+    case RepairKind::kConsistent: return "consistent";
+  }
+  return "none";
+}
+/// What a repairing add did.
+struct RepairReport {
+  RepairKind applied = RepairKind::kNone;  ///< kNone: accepted as given
+  std::string change;                      ///< the relation actually added, or why it was a no-op
+  std::size_t reversed_edges = 0;          ///< kRerooted: pose edges reversed (their handles and
+                                           ///< the compiled queries using them are invalidated)
+  Discrepancy discrepancy;                 ///< kConsistent: the measured difference
 };
 using BuildResult = Expected<Ok, BuildError>;
 
@@ -40,6 +83,15 @@ using BuildResult = Expected<Ok, BuildError>;
 ///   no_pose_path          name, other: the two frames in different pose trees
 ///   no_twist_path         name, other: the two bodies no twist path joins
 ///   representation_constraint, semantic_mismatch: detail
+///   extrapolation, stale  name: the edge's head frame; other: its tail frame (a pose edge) or
+///                         tail body (a twist edge, time.twist_edge); time: its samples, the time
+///   unknown_frame, no_pose_path with time.fixed_frame: about TimeTravel's fixed frame
+struct QueryTimeDetail {
+  bool twist_edge = false;
+  bool fixed_frame = false;
+  bool single_sample = false;  ///< extrapolation: a derivative of an edge with one sample
+  std::int64_t first = 0, last = 0, asked = 0;  ///< nanoseconds
+};
 struct QueryError {
   ErrorCode code = ErrorCode::kOk;
   semantics::Field field = semantics::Field::kPoint;  ///< the argument that is unknown/mismatched
@@ -47,6 +99,7 @@ struct QueryError {
   NameId other;
   NameId asked;
   coord::Error detail;
+  QueryTimeDetail time;
 };
 template <class T>
 using QueryResult = Expected<T, QueryError>;

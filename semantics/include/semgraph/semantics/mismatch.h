@@ -24,6 +24,10 @@ enum class Operation : std::uint8_t {
   kChangeCoordinateFrame,
   kScrewTransform,
   kCombine,  // Pose(Position, Orientation) or Twist(LinearVelocity, AngularVelocity)
+  // Time (time_operations.h): integration, differentiation, interpolation of an edge's motion.
+  kIntegrate,
+  kDifferentiate,
+  kInterpolate,
 };
 
 enum class RelationKind : std::uint8_t {

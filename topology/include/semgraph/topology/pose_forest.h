@@ -30,6 +30,7 @@
 //   AddNode                                  O(1) amortized (allocates when the arrays grow)
 //   Link(parent, root)                       O(log n + size of root's tree)
 //   Cut(child)                               O(size of child's subtree)
+//   Reroot(v)                                O(size of v's tree)
 //   parent, depth, is_root, first_child,
 //   next_sibling, size                       O(1)
 //   Root, AncestorAtDepth, IsAncestor,
@@ -76,6 +77,10 @@ class PoseForest {
   /// recomputed depths and jumps. Cost O(size of child's subtree).
   /// @pre `child` is a node of this forest and has a parent (aborts otherwise).
   void Cut(FrameIndex child);
+  /// Makes v the root of its tree by reversing the edges on the path from v to the old root
+  /// (the parent of each node on it becomes its child). The tree keeps its nodes; depths and
+  /// jumps are recomputed. O(size of the tree).
+  void Reroot(FrameIndex v);
 
   // Cheap accessors. @pre f is a node of this forest (checked by assert in debug builds only).
 

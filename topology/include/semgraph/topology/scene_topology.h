@@ -32,6 +32,7 @@
 //   LinkPose, linking trees            O(|T|) (depths and jumps) + O(min(b1, b2)) (body-set merge)
 //                                      + O(twist edges of the smaller TG)
 //   CutPose                            O(|T|) for the tree being split (rebuilds its sets)
+//   RerootPose                         O(|T|) (depths and jumps of the tree)
 //   LinkTwist / UnlinkTwist            O(depth in TG) / O(size of the detached part of TG)
 //   SameTree                           O(alpha(n)), noexcept, no allocation
 //   RecordOf, TreeHasBody              O(1) expected
@@ -153,6 +154,9 @@ class SceneTopology {
   void LinkPose(FrameIndex tail, FrameIndex head);
   /// Removes the pose edge into `head`, splitting its tree; both parts get fresh records.
   void CutPose(FrameIndex head);
+  /// Makes v the root of its pose tree by reversing the edges on its path to the root (the
+  /// tree's frames, bodies and twist graph are unchanged, so its record stays). O(|T|).
+  void RerootPose(FrameIndex v) { forest_.Reroot(v); }
 
   // ---------------------------------------------------------------- tree records
 
@@ -193,6 +197,13 @@ class SceneTopology {
     for (std::uint32_t i = 0; i < frames_.size(); ++i) {
       const FrameIndex head(i);
       if (forest_.parent(head).is_valid()) f(forest_.parent(head), head);
+    }
+  }
+  /// f(frame) for every frame of `body`, newest first.
+  template <class F>
+  void ForEachFrameOfBody(BodyIndex body, F&& f) const {
+    for (std::uint32_t i = bodies_[body.value()].first_frame; i != kNone; i = frames_[i].next_in_body) {
+      f(FrameIndex(i));
     }
   }
   /// f(tail body, head frame) for every live twist edge, by slot.

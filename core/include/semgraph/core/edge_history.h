@@ -1,0 +1,270 @@
+// File: semgraph/core/edge_history.h
+//
+// The sample history of a stamped edge (docs/time.md): SampleHistory<N> keeps up to `capacity`
+// samples (stamp + N value words) sorted by stamp in a ring buffer allocated once, when the
+// edge becomes stamped (build time). One writer inserts samples while any number of readers
+// look up the bracket of a time, lock-free, with a sequence lock over the whole history (as
+// SeqLockValue does for one value): a reader never returns a torn sample or a half-shifted
+// history, it retries when a write overlapped its read. Every word is a std::atomic (the
+// ThreadSanitizer build checks the protocol).
+//   PoseHistory   N = 7: the pose (x y z w of the quaternion, then p), 64 bytes per sample
+//   TwistHistory  N = 6: (v, w) in [h], 56 bytes per sample
+//
+// Invariants: 0 < size <= capacity; stamps strictly increasing from the oldest; after every
+// insert no sample is older than newest - window. Costs: an in-order insert O(1) (plus the
+// samples the window drops); out of order O(samples after it) (a shift); a lookup O(log size)
+// stamp loads + 2 samples copied; all noexcept, allocation-free, lock-free.
+// Thread safety: one writer (Insert); readers (Find*, Newest*) concurrent with it. Creating and
+// destroying a history needs exclusive access (build phase).
+#pragma once
+
+#include <atomic>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "semgraph/core/time.h"
+
+namespace semgraph::core {
+
+/// a - b saturated to int64 (window arithmetic near the ends of the stamp range).
+[[nodiscard]] constexpr std::int64_t SaturatingSub(std::int64_t a, std::int64_t b) noexcept {
+  std::int64_t r = 0;
+  if (__builtin_sub_overflow(a, b, &r)) return b > 0 ? INT64_MIN : INT64_MAX;
+  return r;
+}
+
+template <std::size_t N>
+class SampleHistory {
+ public:
+  static constexpr std::size_t kValueWords = N;
+  static constexpr std::size_t kSampleWords = N + 1;
+  using Values = double[N];
+
+  /// Allocates capacity samples (>= 2).
+  explicit SampleHistory(std::size_t capacity)
+      : capacity_(static_cast<std::uint32_t>(capacity < 2 ? 2 : capacity)),
+        words_(new std::atomic<std::uint64_t>[capacity_ * kSampleWords]) {}
+
+  [[nodiscard]] std::uint32_t capacity() const noexcept { return capacity_; }
+  [[nodiscard]] static constexpr std::size_t BytesPerSample() noexcept { return kSampleWords * 8; }
+
+  /// What a reader sees of time t: the bracket s0 <= t <= s1 (s0 == s1 when t is a stamp or
+  /// the history holds one sample at t), or t before the first / after the last sample.
+  struct Bracket {
+    enum class Where : std::uint8_t { kInside, kBefore, kAfter } where = Where::kInside;
+    std::int64_t s0 = 0, s1 = 0;  ///< kInside: the bracket; kBefore/kAfter: the nearest sample (s0 = s1)
+    std::int64_t first = 0, last = 0;  ///< the whole range
+    double v0[N] = {}, v1[N] = {};
+    bool exact = false;  ///< t equals s0 (only v0 is meaningful)
+  };
+
+  /// The bracket of t. Lock-free; retries only while a write overlaps.
+  void Find(std::int64_t t, Bracket& out) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;
+      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      if (n == 0 || n > capacity_) continue;  // never for a history in use (it has a sample)
+      out.first = Stamp(head, 0);
+      out.last = Stamp(head, n - 1);
+      if (t <= out.first) {
+        out.where = t == out.first ? Bracket::Where::kInside : Bracket::Where::kBefore;
+        out.s0 = out.s1 = out.first;
+        out.exact = true;
+        LoadValues(head, 0, out.v0);
+      } else if (t >= out.last) {
+        out.where = t == out.last ? Bracket::Where::kInside : Bracket::Where::kAfter;
+        out.s0 = out.s1 = out.last;
+        out.exact = true;
+        LoadValues(head, n - 1, out.v0);
+      } else {
+        // first < t < last: the first index with stamp > t, in (0, n - 1].
+        std::uint32_t lo = 1, hi = n - 1;
+        while (lo < hi) {
+          const std::uint32_t mid = lo + (hi - lo) / 2;
+          if (Stamp(head, mid) > t) hi = mid; else lo = mid + 1;
+        }
+        out.where = Bracket::Where::kInside;
+        out.s0 = Stamp(head, lo - 1);
+        out.exact = out.s0 == t;
+        out.s1 = Stamp(head, lo);
+        LoadValues(head, lo - 1, out.v0);
+        LoadValues(head, lo, out.v1);
+      }
+      if (seq_.load(std::memory_order_relaxed) == h1) return;
+    }
+  }
+
+  /// The segment a derivative at t uses: [s_i, s_i+1] containing t, the one after t when t is a
+  /// stamp, the last one at the newest stamp. False when t is outside the samples or there is
+  /// one sample.
+  [[nodiscard]] bool FindSegment(std::int64_t t, Bracket& out) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;
+      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      if (n == 0 || n > capacity_) continue;
+      out.first = Stamp(head, 0);
+      out.last = Stamp(head, n - 1);
+      bool ok = n >= 2 && t >= out.first && t <= out.last;
+      if (ok) {
+        std::uint32_t lo = 1, hi = n - 1;  // first index with stamp > t, or n - 1 at the newest
+        while (lo < hi) {
+          const std::uint32_t mid = lo + (hi - lo) / 2;
+          if (Stamp(head, mid) > t) hi = mid; else lo = mid + 1;
+        }
+        out.where = Bracket::Where::kInside;
+        out.s0 = Stamp(head, lo - 1);
+        out.s1 = Stamp(head, lo);
+        out.exact = false;
+        LoadValues(head, lo - 1, out.v0);
+        LoadValues(head, lo, out.v1);
+      } else {
+        out.where = t < out.first ? Bracket::Where::kBefore : Bracket::Where::kAfter;
+      }
+      if (seq_.load(std::memory_order_relaxed) == h1) return ok;
+    }
+  }
+
+  /// The newest sample (stamp and value).
+  void Newest(std::int64_t& stamp, double (&v)[N], std::int64_t& first) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;
+      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      if (n == 0 || n > capacity_) continue;
+      stamp = Stamp(head, n - 1);
+      first = Stamp(head, 0);
+      LoadValues(head, n - 1, v);
+      if (seq_.load(std::memory_order_relaxed) == h1) return;
+    }
+  }
+  /// The newest stamp only.
+  [[nodiscard]] std::int64_t NewestStamp() const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;
+      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      if (n == 0 || n > capacity_) continue;
+      const std::int64_t s = Stamp(head, n - 1);
+      if (seq_.load(std::memory_order_relaxed) == h1) return s;
+    }
+  }
+
+  // ---------------------------------------------------------------- the writer's side
+  // The writer reads without the lock (it is the only one changing the history).
+
+  [[nodiscard]] std::uint32_t size() const noexcept { return size_.load(std::memory_order_relaxed); }
+  [[nodiscard]] std::int64_t newest_stamp() const noexcept { return Stamp(head(), size() - 1); }
+  [[nodiscard]] std::int64_t oldest_stamp() const noexcept { return Stamp(head(), 0); }
+  /// The value stored at exactly `stamp`, if any.
+  [[nodiscard]] bool ValueAt(std::int64_t stamp, double (&v)[N]) const noexcept {
+    const std::uint32_t i = LowerBound(stamp);
+    if (i >= size() || Stamp(head(), i) != stamp) return false;
+    LoadValues(head(), i, v);
+    return true;
+  }
+
+  /// Inserts (or replaces the value at an equal stamp), then drops the oldest sample when full
+  /// and every sample older than newest - window. The caller checked stamp_too_old and the
+  /// duplicate policy. A sample older than all while the history is full is dropped at once.
+  void Insert(std::int64_t stamp, const double (&v)[N], std::int64_t window_ns) noexcept {
+    const std::uint64_t h = seq_.load(std::memory_order_relaxed);
+    seq_.store(h + 1, std::memory_order_relaxed);  // odd: a write is in progress
+    std::uint32_t n = size(), head = this->head();
+    // In order (the common case) the new sample goes last: no search.
+    std::uint32_t pos = n > 0 && stamp > Stamp(head, n - 1) ? n : LowerBound(stamp);
+    if (pos < n && Stamp(head, pos) == stamp) {
+      StoreValues(head, pos, stamp, v);
+    } else if (!(n == capacity_ && pos == 0)) {
+      if (n == capacity_) {  // full: drop the oldest
+        head = Next(head);
+        --n;
+        --pos;
+      }
+      for (std::uint32_t i = n; i > pos; --i) CopySample(head, i - 1, i);  // shift the later ones
+      StoreValues(head, pos, stamp, v);
+      ++n;
+    }
+    const std::int64_t keep_from = SaturatingSub(Stamp(head, n - 1), window_ns);
+    while (n > 1 && Stamp(head, 0) < keep_from) {
+      head = Next(head);
+      --n;
+    }
+    head_.store(head, std::memory_order_release);
+    size_.store(n, std::memory_order_release);
+    seq_.store(h + 2, std::memory_order_release);
+  }
+
+ private:
+  std::uint32_t head() const noexcept { return head_.load(std::memory_order_relaxed); }
+  std::uint32_t Next(std::uint32_t i) const noexcept { return i + 1 == capacity_ ? 0 : i + 1; }
+  std::size_t Slot(std::uint32_t head, std::uint32_t i) const noexcept {
+    std::uint32_t s = head + i;
+    if (s >= capacity_) s -= capacity_;
+    return static_cast<std::size_t>(s < capacity_ ? s : 0) * kSampleWords;  // bounded even if torn
+  }
+  std::int64_t Stamp(std::uint32_t head, std::uint32_t i) const noexcept {
+    return static_cast<std::int64_t>(words_[Slot(head, i)].load(std::memory_order_acquire));
+  }
+  void LoadValues(std::uint32_t head, std::uint32_t i, double (&v)[N]) const noexcept {
+    const std::size_t s = Slot(head, i);
+    for (std::size_t k = 0; k < N; ++k) v[k] = std::bit_cast<double>(words_[s + 1 + k].load(std::memory_order_acquire));
+  }
+  void StoreValues(std::uint32_t head, std::uint32_t i, std::int64_t stamp, const double (&v)[N]) noexcept {
+    const std::size_t s = Slot(head, i);
+    words_[s].store(static_cast<std::uint64_t>(stamp), std::memory_order_release);
+    for (std::size_t k = 0; k < N; ++k) words_[s + 1 + k].store(std::bit_cast<std::uint64_t>(v[k]), std::memory_order_release);
+  }
+  void CopySample(std::uint32_t head, std::uint32_t from, std::uint32_t to) noexcept {
+    const std::size_t a = Slot(head, from), b = Slot(head, to);
+    for (std::size_t k = 0; k < kSampleWords; ++k) {
+      words_[b + k].store(words_[a + k].load(std::memory_order_relaxed), std::memory_order_release);
+    }
+  }
+  // Writer only: the first index whose stamp is >= stamp.
+  std::uint32_t LowerBound(std::int64_t stamp) const noexcept {
+    std::uint32_t lo = 0, hi = size();
+    const std::uint32_t h = head();
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (Stamp(h, mid) < stamp) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+  }
+
+  std::atomic<std::uint64_t> seq_{0};
+  std::atomic<std::uint32_t> head_{0}, size_{0};
+  std::uint32_t capacity_;
+  std::unique_ptr<std::atomic<std::uint64_t>[]> words_;
+};
+
+using PoseHistory = SampleHistory<7>;   ///< quaternion x y z w, then p
+using TwistHistory = SampleHistory<6>;  ///< v, then w, both in [h]
+static_assert(PoseHistory::BytesPerSample() == 64);
+
+/// The histories of a graph's stamped edges: by frame (the pose edge into it) and by twist edge
+/// slot; nullptr for a timeless (or constant) edge. Grown and filled at build time only.
+struct EdgeHistories {
+  TimeOptions options;  ///< the graph's (validated when the graph is made)
+  std::vector<std::unique_ptr<PoseHistory>> pose;
+  std::vector<std::unique_ptr<TwistHistory>> twist;
+
+  [[nodiscard]] const PoseHistory* pose_of(std::uint32_t frame) const noexcept {
+    return frame < pose.size() ? pose[frame].get() : nullptr;
+  }
+  [[nodiscard]] const TwistHistory* twist_of(std::uint32_t slot) const noexcept {
+    return slot < twist.size() ? twist[slot].get() : nullptr;
+  }
+  [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
+    std::size_t bytes = pose.capacity() * sizeof(void*) + twist.capacity() * sizeof(void*);
+    for (const auto& h : pose) if (h) bytes += sizeof(PoseHistory) + h->capacity() * PoseHistory::BytesPerSample();
+    for (const auto& h : twist) if (h) bytes += sizeof(TwistHistory) + h->capacity() * TwistHistory::BytesPerSample();
+    return bytes;
+  }
+};
+
+}  // namespace semgraph::core

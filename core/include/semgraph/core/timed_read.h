@@ -1,0 +1,356 @@
+// File: semgraph/core/timed_read.h
+//
+// The time dimension of the one evaluator (evaluate.h): how an edge's value is read at a query's
+// time. Both chain sources (ForestSource, FlatSource) read each edge through these functions
+// when given a TimeContext, so one-shot, compiled and conversion paths share them:
+//   timeless edge        its value (X_PF / V_DH)
+//   policy latest        the newest sample
+//   policy at t          inside the samples: interpolated (pose: screw or linear, twist: linear;
+//                        at a stamp only that sample); outside: within the horizon a twist
+//                        edge holds its nearest sample and a pose edge is integrated with its
+//                        screw twist at the nearest sample (ExtrapolationTwist, evaluate.h),
+//                        else an extrapolation failure naming the edge and its range
+//   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t
+// The context collects what the answer reports (oldest / newest stamp read, extrapolated), the
+// minimum newest stamp of the stamped edges read (latest common), the first extrapolation and
+// the first stale failure, and optionally records each edge read (the diagnostic call).
+// A failure does not stop the evaluation (the numbers are then not used); the caller reports it.
+// Costs: O(log samples) per stamped edge; noexcept, allocation-free, lock-free.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <optional>
+
+#include "semgraph/base/error_code.h"
+#include "semgraph/coord/se3.h"
+#include "semgraph/core/edge_values.h"
+#include "semgraph/core/time.h"
+#include "semgraph/topology/scene_topology.h"
+
+namespace semgraph::core::internal {
+
+/// Which edge failed and why (turned into a QueryError by the caller, who has the names).
+struct TimeFailure {
+  base::ErrorCode code = base::ErrorCode::kOk;
+  bool twist_edge = false;    ///< index is a twist edge slot (else a frame: the pose edge into it)
+  std::uint32_t index = 0;
+  std::int64_t first = 0, last = 0, asked = 0;  ///< the edge's samples and the time asked
+  bool single_sample = false;  ///< a derivative of an edge with one sample
+};
+
+/// One edge read, for the diagnostic call (SceneGraph::ExplainPose / ExplainTwist).
+struct EdgeRead {
+  enum class Kind : std::uint8_t { kPose, kTwist, kPoseDerivative } kind = Kind::kPose;
+  std::uint32_t index = 0;
+  bool stamped = false, extrapolated = false, has_read = false;
+  std::int64_t first = 0, last = 0, read_from = 0, read_to = 0;
+};
+class EdgeRecorder {
+ public:
+  virtual void Record(const EdgeRead& r) noexcept = 0;
+
+ protected:
+  ~EdgeRecorder() = default;
+};
+
+struct TimeContext {
+  // The policy.
+  bool at = false;             ///< false: each edge's newest sample
+  std::int64_t t = 0;          ///< at: the time
+  std::int64_t horizon = 0;    ///< at: extrapolation allowed up to this many ns
+  bool nested = false;         ///< the twist read to extrapolate an edge: no further extrapolation
+  bool has_not_before = false;
+  std::int64_t not_before = 0;
+  const EdgeHistories* histories = nullptr;
+  const topology::SceneTopology* topology = nullptr;  ///< for extrapolation (twist plans)
+  EdgeRecorder* recorder = nullptr;
+
+  // What was read.
+  bool read_any = false;
+  std::int64_t oldest = INT64_MAX, newest = INT64_MIN;
+  bool any_stamped = false;
+  std::int64_t min_newest = INT64_MAX;  ///< over the stamped edges used
+  bool extrapolated = false;
+  TimeFailure extrapolation, stale;
+
+  void Read(std::int64_t s) noexcept {
+    read_any = true;
+    oldest = std::min(oldest, s);
+    newest = std::max(newest, s);
+  }
+  /// A used stamped edge with newest sample `last`: latest common and not_before.
+  void Used(bool twist_edge, std::uint32_t index, std::int64_t first, std::int64_t last) noexcept {
+    any_stamped = true;
+    min_newest = std::min(min_newest, last);
+    if (has_not_before && last < not_before && stale.code == base::ErrorCode::kOk) {
+      stale = TimeFailure{base::ErrorCode::kStale, twist_edge, index, first, last, not_before, false};
+    }
+  }
+  void Fail(bool twist_edge, std::uint32_t index, std::int64_t first, std::int64_t last, bool single = false) noexcept {
+    if (extrapolation.code == base::ErrorCode::kOk) {
+      extrapolation = TimeFailure{base::ErrorCode::kExtrapolation, twist_edge, index, first, last, t, single};
+    }
+  }
+  [[nodiscard]] base::ErrorCode error() const noexcept {
+    if (extrapolation.code != base::ErrorCode::kOk) return extrapolation.code;
+    return stale.code;
+  }
+  [[nodiscard]] const TimeFailure& failure() const noexcept {
+    return extrapolation.code != base::ErrorCode::kOk ? extrapolation : stale;
+  }
+};
+
+/// Seconds between two stamps a <= b (exact difference in unsigned arithmetic, then rounded).
+[[nodiscard]] inline double SecondsBetween(std::int64_t a, std::int64_t b) noexcept {
+  return static_cast<double>(static_cast<std::uint64_t>(b) - static_cast<std::uint64_t>(a)) * 1e-9;
+}
+/// (t - s0) / (s1 - s0) for s0 <= t <= s1, s0 < s1.
+[[nodiscard]] inline double Fraction(std::int64_t s0, std::int64_t t, std::int64_t s1) noexcept {
+  return static_cast<double>(static_cast<std::uint64_t>(t) - static_cast<std::uint64_t>(s0)) /
+         static_cast<double>(static_cast<std::uint64_t>(s1) - static_cast<std::uint64_t>(s0));
+}
+
+inline coord::kernels::QuatPose PoseFromWords(const double (&w)[7]) noexcept {
+  return {Eigen::Quaterniond(w[3], w[0], w[1], w[2]), Eigen::Vector3d(w[4], w[5], w[6])};
+}
+inline void WordsFromPose(const Eigen::Quaterniond& q, const Eigen::Vector3d& p, double (&w)[7]) noexcept {
+  w[0] = q.x(); w[1] = q.y(); w[2] = q.z(); w[3] = q.w();
+  w[4] = p.x(); w[5] = p.y(); w[6] = p.z();
+}
+inline TwistNumbers TwistFromWords(const double (&w)[6]) noexcept {
+  return {Eigen::Vector3d(w[0], w[1], w[2]), Eigen::Vector3d(w[3], w[4], w[5])};
+}
+inline void WordsFromTwist(const TwistNumbers& V, double (&w)[6]) noexcept {
+  for (int k = 0; k < 3; ++k) {
+    w[k] = V.v_DHo_H[k];
+    w[3 + k] = V.w_DH_H[k];
+  }
+}
+
+/// The screw twist of the pose edge into `frame` at stamp s, from the twist edges (no
+/// extrapolation); false when there is no twist path or no twist data at s. Defined in
+/// evaluate.h (it runs the evaluator).
+template <coord::Backend B>
+bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s, TimeContext& parent,
+                        Eigen::Vector3d& v_out, Eigen::Vector3d& w_out) noexcept;
+
+/// The value of the pose edge into `frame` under the context's policy.
+template <coord::Backend B>
+void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, typename B::PoseCoords& X) noexcept {
+  using coord::kernels::QuatPose;
+  const PoseHistory* h = v.history.pose_of(frame);
+  EdgeRead rec;
+  rec.kind = EdgeRead::Kind::kPose;
+  rec.index = frame;
+  if (h == nullptr) {
+    X = v.X_PF[frame].Load();
+    if (tc.recorder) tc.recorder->Record(rec);
+    return;
+  }
+  rec.stamped = true;
+  double w0[7];
+  QuatPose out;
+  if (!tc.at) {
+    std::int64_t s = 0, first = 0;
+    h->Newest(s, w0, first);
+    out = PoseFromWords(w0);
+    tc.Read(s);
+    if (!tc.nested) tc.Used(false, frame, first, s);
+    rec.first = first; rec.last = s; rec.read_from = rec.read_to = s; rec.has_read = true;
+  } else {
+    PoseHistory::Bracket b;
+    h->Find(tc.t, b);
+    rec.first = b.first;
+    rec.last = b.last;
+    if (!tc.nested) tc.Used(false, frame, b.first, b.last);
+    using Where = PoseHistory::Bracket::Where;
+    if (b.where == Where::kInside) {
+      rec.has_read = true;
+      rec.read_from = b.s0;
+      if (b.exact) {
+        out = PoseFromWords(b.v0);
+        tc.Read(b.s0);
+        rec.read_to = b.s0;
+      } else {
+        out = coord::kernels::Interpolate(v.history.options.interpolation, PoseFromWords(b.v0), PoseFromWords(b.v1),
+                                          Fraction(b.s0, tc.t, b.s1));
+        tc.Read(b.s0);
+        tc.Read(b.s1);
+        rec.read_to = b.s1;
+      }
+    } else {
+      out = PoseFromWords(b.v0);  // the nearest sample
+      const std::int64_t gap = b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
+      Eigen::Vector3d vv, ww;
+      if (!tc.nested && gap <= tc.horizon && ExtrapolationTwist<B>(v, frame, b.s0, tc, vv, ww)) {
+        const double dt = b.where == Where::kBefore ? -SecondsBetween(tc.t, b.s0) : SecondsBetween(b.s0, tc.t);
+        out = coord::kernels::Integrate(out, vv, ww, dt);
+        tc.Read(b.s0);
+        tc.extrapolated = true;
+        rec.extrapolated = true;
+        rec.has_read = true;
+        rec.read_from = rec.read_to = b.s0;
+      } else {
+        tc.Fail(false, frame, b.first, b.last);
+      }
+    }
+  }
+  X = B::MakePose(B::FromQuaternion(out.q), out.p);
+  if (tc.recorder) tc.recorder->Record(rec);
+}
+
+/// The value of twist edge `slot` under the context's policy.
+template <coord::Backend B>
+void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, TwistNumbers& V) noexcept {
+  const TwistHistory* h = v.history.twist_of(slot);
+  EdgeRead rec;
+  rec.kind = EdgeRead::Kind::kTwist;
+  rec.index = slot;
+  if (h == nullptr) {
+    V = v.V_DH[slot].Load();
+    if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
+    return;
+  }
+  rec.stamped = true;
+  if (!tc.at) {
+    std::int64_t s = 0, first = 0;
+    double w[6];
+    h->Newest(s, w, first);
+    V = TwistFromWords(w);
+    tc.Read(s);
+    if (!tc.nested) tc.Used(true, slot, first, s);
+    rec.first = first; rec.last = s; rec.read_from = rec.read_to = s; rec.has_read = true;
+  } else {
+    TwistHistory::Bracket b;
+    h->Find(tc.t, b);
+    rec.first = b.first;
+    rec.last = b.last;
+    if (!tc.nested) tc.Used(true, slot, b.first, b.last);
+    using Where = TwistHistory::Bracket::Where;
+    V = TwistFromWords(b.v0);
+    if (b.where == Where::kInside) {
+      rec.has_read = true;
+      rec.read_from = b.s0;
+      tc.Read(b.s0);
+      rec.read_to = b.s0;
+      if (!b.exact) {
+        const TwistNumbers V1 = TwistFromWords(b.v1);
+        const double lambda = Fraction(b.s0, tc.t, b.s1);
+        V.v_DHo_H += lambda * (V1.v_DHo_H - V.v_DHo_H);
+        V.w_DH_H += lambda * (V1.w_DH_H - V.w_DH_H);
+        tc.Read(b.s1);
+        rec.read_to = b.s1;
+      }
+    } else {
+      const std::int64_t gap = b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
+      if (!tc.nested && gap <= tc.horizon) {  // hold the nearest sample
+        tc.Read(b.s0);
+        tc.extrapolated = true;
+        rec.extrapolated = rec.has_read = true;
+        rec.read_from = rec.read_to = b.s0;
+      } else {
+        tc.Fail(true, slot, b.first, b.last);
+      }
+    }
+  }
+  if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
+}
+
+/// The screw twist TwistCoord(h|H, T, [h]) of the pose edge into `frame` from its history at
+/// the policy's time (latest: the newest sample, the segment before it); zero for a timeless
+/// edge. Never extrapolates.
+template <coord::Backend B>
+void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, TwistNumbers& V) noexcept {
+  const PoseHistory* h = v.history.pose_of(frame);
+  EdgeRead rec;
+  rec.kind = EdgeRead::Kind::kPoseDerivative;
+  rec.index = frame;
+  V = TwistNumbers{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  if (h == nullptr) {
+    if (tc.recorder) tc.recorder->Record(rec);
+    return;
+  }
+  rec.stamped = true;
+  const std::int64_t t = tc.at ? tc.t : h->NewestStamp();
+  PoseHistory::Bracket b;
+  const bool ok = h->FindSegment(t, b);
+  rec.first = b.first;
+  rec.last = b.last;
+  tc.Used(false, frame, b.first, b.last);
+  if (!ok) {
+    tc.Fail(false, frame, b.first, b.last, b.first == b.last);
+  } else {
+    coord::kernels::SegmentTwist(v.history.options.interpolation, PoseFromWords(b.v0), PoseFromWords(b.v1),
+                                 SecondsBetween(b.s0, b.s1), Fraction(b.s0, t, b.s1), V.v_DHo_H, V.w_DH_H);
+    tc.Read(b.s0);
+    tc.Read(b.s1);
+    rec.has_read = true;
+    rec.read_from = b.s0;
+    rec.read_to = b.s1;
+  }
+  if (tc.recorder) tc.recorder->Record(rec);
+}
+
+/// A policy as the context's fields.
+struct PolicyParts {
+  bool at = false, latest_common = false;
+  std::int64_t t = 0, horizon = 0;
+  std::optional<Stamp> not_before;
+  [[nodiscard]] bool valid() const noexcept { return horizon >= 0; }  ///< else invalid_number
+};
+[[nodiscard]] inline PolicyParts PartsOf(const TimePolicy& policy) noexcept {
+  PolicyParts p;
+  if (const auto* a = std::get_if<At>(&policy)) {
+    p.at = true;
+    p.t = a->time.nanoseconds();
+    p.horizon = a->max_extrapolation.nanoseconds();
+    p.not_before = a->not_before;
+  } else if (const auto* c = std::get_if<LatestCommon>(&policy)) {
+    p.latest_common = true;
+    p.not_before = c->not_before;
+  } else {
+    p.not_before = std::get<Latest>(policy).not_before;
+  }
+  return p;
+}
+
+/// Runs `eval(TimeContext&)` (one evaluation of a plan) under the policy: latest common first
+/// probes the newest stamps of the used edges (a second evaluation), then evaluates at their
+/// minimum. Fills the report; returns kOk, kExtrapolation or kStale (then *failure says which
+/// edge), or what eval returned (a compiled query's kQueryInvalidated). `base` carries the
+/// histories, topology and recorder.
+template <class Eval>
+base::ErrorCode RunPolicy(const PolicyParts& p, const TimeContext& base, Eval&& eval, TimeReport& report,
+                          TimeFailure* failure = nullptr) noexcept {
+  report = TimeReport{};
+  TimeContext tc = base;
+  tc.at = p.at;
+  tc.t = p.t;
+  tc.horizon = p.horizon;
+  tc.has_not_before = p.not_before.has_value();
+  tc.not_before = p.not_before ? p.not_before->nanoseconds() : 0;
+  if (p.latest_common) {
+    TimeContext probe = base;  // latest, nothing recorded, no staleness
+    probe.recorder = nullptr;
+    if (const base::ErrorCode code = eval(probe); code != base::ErrorCode::kOk) return code;
+    if (probe.any_stamped) {
+      tc.at = true;
+      tc.t = probe.min_newest;
+    }
+  }
+  if (tc.at) report.time = Stamp::Nanoseconds(tc.t);
+  if (const base::ErrorCode code = eval(tc); code != base::ErrorCode::kOk) return code;
+  if (const base::ErrorCode code = tc.error(); code != base::ErrorCode::kOk) {
+    if (failure) *failure = tc.failure();
+    return code;
+  }
+  if (tc.read_any) {
+    report.oldest = Stamp::Nanoseconds(tc.oldest);
+    report.newest = Stamp::Nanoseconds(tc.newest);
+  }
+  report.extrapolated = tc.extrapolated;
+  return base::ErrorCode::kOk;
+}
+
+}  // namespace semgraph::core::internal

@@ -1,0 +1,512 @@
+// Queries under a time policy (docs/time.md): plan (query_plan.cc, time_plan.h) -> the policy
+// (internal::RunPolicy: latest common probes, then evaluates) -> the one evaluator over a
+// ForestSource that reads each edge at the policy's time. Time travel composes two evaluations
+// through the fixed frame; the diagnostic call records every edge the evaluation reads.
+#include <algorithm>
+
+#include "semgraph/core/scene_graph.h"
+#include "semgraph/core/time_plan.h"
+#include "text.h"
+
+namespace semgraph::core {
+
+using base::Unexpected;
+using internal::Part;
+using internal::PolicyParts;
+using internal::TimeContext;
+using internal::TimeFailure;
+using semantics::Field;
+
+// ====================================================================== plan
+
+Expected<PoseTwistPlan, QueryError> PlanPoseTwist(const topology::SceneTopology& t, const TwistSpec& spec) noexcept {
+  auto twist = PlanTwist(t, spec);
+  if (!twist && twist.error().code != ErrorCode::kNoTwistPath) return Unexpected{twist.error()};
+  PoseTwistPlan plan;
+  // Every name check passed (no_twist_path is the planner's last check): resolve again.
+  const FrameIndex e = t.FindFrame(spec.point), r = t.FindFrame(spec.coordinate_frame);
+  const BodyIndex C = spec.body.empty() ? t.body_of(e) : t.FindBody(spec.body);
+  const BodyIndex D = t.FindBody(spec.ref_body);
+  plan.point = e;
+  plan.frame = r;
+  plan.semantics = semantics::TwistSemantics{t.FrameSem(e).origin(), t.BodySem(C), t.BodySem(D), t.FrameSem(r).axes()};
+  if (C == D) return plan;  // zero; no edge used
+  plan.c = t.SomeFrameOfBodyInTree(C, e);
+  plan.d = t.SomeFrameOfBodyInTree(D, e);
+  for (const auto& [frame, body] : {std::pair{plan.c, C}, std::pair{plan.d, D}}) {
+    if (!frame.is_valid()) {
+      QueryError err;
+      err.code = ErrorCode::kNoPosePath;
+      err.field = body == C ? Field::kBody : Field::kRefBody;
+      err.name = t.frame_name_id(e);
+      err.other = t.body_name_id(body);
+      return Unexpected{err};
+    }
+  }
+  return plan;
+}
+
+// ====================================================================== helpers
+
+namespace {
+
+QueryError FromFailure(const topology::SceneTopology& t, const TimeFailure& f) {
+  QueryError e;
+  e.code = f.code;
+  e.time.twist_edge = f.twist_edge;
+  e.time.single_sample = f.single_sample;
+  e.time.first = f.first;
+  e.time.last = f.last;
+  e.time.asked = f.asked;
+  if (f.twist_edge) {
+    const auto& edge = t.twist_edge(TwistEdgeIndex(f.index));
+    e.name = t.frame_name_id(edge.head);
+    e.other = t.body_name_id(edge.tail);
+  } else {
+    const FrameIndex h(f.index);
+    e.name = t.frame_name_id(h);
+    e.other = t.frame_name_id(t.pose_parent(h));
+  }
+  return e;
+}
+
+QueryError InvalidHorizon() {
+  QueryError e;
+  e.code = ErrorCode::kInvalidNumber;
+  return e;
+}
+
+// invalid_name -> invalid_number (the policy) -> the plan's other errors.
+template <class Plan>
+std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& plan, bool policy_valid) {
+  if (!plan && plan.error().code == ErrorCode::kInvalidName) return plan.error();
+  if (!policy_valid) return InvalidHorizon();
+  if (!plan) return plan.error();
+  return std::nullopt;
+}
+
+}  // namespace
+
+// The one driver of every timed one-shot query: eval(TimeContext&) runs the evaluator.
+template <coord::Backend B>
+template <class Eval>
+std::optional<QueryError> SceneGraph<B>::RunTimed(const TimePolicy& policy, TimeReport& report,
+                                                  internal::EdgeRecorder* recorder, Eval&& eval) const noexcept {
+  TimeContext base;
+  base.histories = &values_.history;
+  base.topology = &topology_;
+  base.recorder = recorder;
+  TimeFailure failure;
+  const ErrorCode code = internal::RunPolicy(
+      internal::PartsOf(policy), base,
+      [&](TimeContext& tc) {
+        eval(tc);
+        return ErrorCode::kOk;
+      },
+      report, &failure);
+  if (code != ErrorCode::kOk) return FromFailure(topology_, failure);
+  return std::nullopt;
+}
+
+// ====================================================================== pose, position, orientation
+
+template <coord::Backend B>
+QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
+                                                                       const TimePolicy& policy) const noexcept {
+  auto plan = PlanPose(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  TimeReport report;
+  if (auto e = RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
+        internal::EvaluatePose<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, R, p);
+      })) {
+    return Unexpected{*e};
+  }
+  return Timed<Pose>{Pose{plan->semantics, B::MakePose(R, p)}, report};
+}
+
+template <coord::Backend B>
+QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
+                                                               const TimePolicy& policy) const noexcept {
+  auto plan = PlanPosition(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  TimeReport report;
+  if (auto e = RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
+        internal::EvaluatePose<B, Part::kTranslation>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps,
+                                                      R, p);
+      })) {
+    return Unexpected{*e};
+  }
+  return Timed<coord::Position>{coord::Position{plan->semantics, p}, report};
+}
+
+template <coord::Backend B>
+QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
+    const PoseSpec& spec, const TimePolicy& policy) const noexcept {
+  auto plan = PlanOrientation(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  TimeReport report;
+  if (auto e = RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
+        internal::EvaluatePose<B, Part::kRotation>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, R,
+                                                   p);
+      })) {
+    return Unexpected{*e};
+  }
+  return Timed<Orientation>{Orientation{plan->semantics, R}, report};
+}
+
+// ====================================================================== time travel
+
+// X = PoseCoord((e,[a]), (f,[b]), [r]) with the point side at t1 and the reference side at t2:
+//   Y1 = (e,[a]) wrt {x} in [x] at t1;  Y2 = {x} wrt (f,[b]) in [b] at t2;
+//   X in [b] = Y2 * Y1 (one chain composition), then [b] -> [r] with R_RB at t2.
+template <coord::Backend B>
+std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
+                                                        FrameIndex r, const TimeTravel& travel,
+                                                        typename B::PoseCoords& X, TimeReport& report) const noexcept {
+  if (travel.max_extrapolation.nanoseconds() < 0) return InvalidHorizon();
+  QueryError fixed_error;
+  fixed_error.time.fixed_frame = true;
+  if (!semantics::ValidateName(travel.fixed_frame)) {
+    fixed_error.code = ErrorCode::kInvalidName;
+    return fixed_error;
+  }
+  const FrameIndex x = topology_.FindFrame(travel.fixed_frame);
+  if (!x.is_valid()) {
+    fixed_error.code = ErrorCode::kUnknownFrame;
+    fixed_error.name = topology_.names().Find(travel.fixed_frame);
+    return fixed_error;
+  }
+  if (!topology_.SameTree(x, b)) {
+    fixed_error.code = ErrorCode::kNoPosePath;
+    fixed_error.name = topology_.frame_name_id(x);
+    fixed_error.other = topology_.frame_name_id(b);
+    return fixed_error;
+  }
+  const auto side = [&](Stamp t, const PoseSteps<ForestChain>& steps, typename B::PoseCoords& Y,
+                        TimeReport& rep) -> std::optional<QueryError> {
+    typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    const TimePolicy at = At{t, travel.max_extrapolation, travel.not_before};
+    if (auto err = RunTimed(at, rep, nullptr, [&](TimeContext& tc) {
+          internal::EvaluatePose<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), steps, R, p);
+        })) {
+      return err;
+    }
+    Y = B::MakePose(R, p);
+    return std::nullopt;
+  };
+  typename B::PoseCoords Y1, Y2;
+  TimeReport r1, r2;
+  if (auto err = side(travel.time, PlanPoseSteps(topology_, e, a, x, x, x), Y1, r1)) return err;
+  if (auto err = side(travel.ref_time, PlanPoseSteps(topology_, x, x, f, b, b), Y2, r2)) return err;
+  X = B::ComposeChain(Y1, Y2);
+  if (r != b) {
+    TimeReport r3;
+    typename B::PoseCoords X_RB;
+    const TimePolicy at = At{travel.ref_time, travel.max_extrapolation, travel.not_before};
+    if (auto err = RunTimed(at, r3, nullptr, [&](TimeContext& tc) {
+          internal::EvalBasic<B>(internal::ForestSource<B>(topology_, values_, &tc), PlanBasic(topology_, b, r), X_RB);
+        })) {
+      return err;
+    }
+    X = coord::kernels::Reexpress<B>(X, B::RotationOf(X_RB));
+    for (const TimeReport* s : {&r3}) {
+      if (s->oldest) r2.oldest = r2.oldest ? std::min(*r2.oldest, *s->oldest) : s->oldest;
+      if (s->newest) r2.newest = r2.newest ? std::max(*r2.newest, *s->newest) : s->newest;
+      r2.extrapolated |= s->extrapolated;
+    }
+  }
+  report = TimeReport{};
+  report.time = travel.time;
+  report.ref_time = travel.ref_time;
+  for (const TimeReport* s : {&r1, &r2}) {
+    if (s->oldest) report.oldest = report.oldest ? std::min(*report.oldest, *s->oldest) : s->oldest;
+    if (s->newest) report.newest = report.newest ? std::max(*report.newest, *s->newest) : s->newest;
+    report.extrapolated |= s->extrapolated;
+  }
+  return std::nullopt;
+}
+
+template <coord::Backend B>
+QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
+                                                                       const TimeTravel& travel) const noexcept {
+  auto plan = PlanPose(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, travel.max_extrapolation.nanoseconds() >= 0)) return Unexpected{*e};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  const auto& q = plan->semantics;
+  const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
+  Timed<Pose> out{Pose{q, {}}, {}};
+  if (auto e = TimeTravelPose(F(q.point.id()), F(q.orientation.id()), F(q.ref_point.id()), F(q.ref_orientation.id()),
+                              F(q.coordinate_frame.id()), travel, out.value.value, out.time)) {
+    return Unexpected{*e};
+  }
+  return out;
+}
+
+template <coord::Backend B>
+QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
+                                                               const TimeTravel& travel) const noexcept {
+  auto plan = PlanPosition(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, travel.max_extrapolation.nanoseconds() >= 0)) return Unexpected{*e};
+  const auto& q = plan->semantics;
+  const FrameIndex e = topology_.FrameOfName(q.point.id()), f = topology_.FrameOfName(q.ref_point.id());
+  typename B::PoseCoords X;
+  TimeReport report;
+  if (auto err = TimeTravelPose(e, e, f, f, topology_.FrameOfName(q.coordinate_frame.id()), travel, X, report)) {
+    return Unexpected{*err};
+  }
+  return Timed<coord::Position>{coord::Position{q, B::TranslationOf(X)}, report};
+}
+
+template <coord::Backend B>
+QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
+    const PoseSpec& spec, const TimeTravel& travel) const noexcept {
+  auto plan = PlanOrientation(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, travel.max_extrapolation.nanoseconds() >= 0)) return Unexpected{*e};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  const auto& q = plan->semantics;
+  const FrameIndex a = topology_.FrameOfName(q.orientation.id()), b = topology_.FrameOfName(q.ref_orientation.id());
+  typename B::PoseCoords X;
+  TimeReport report;
+  if (auto err = TimeTravelPose(a, a, b, b, topology_.FrameOfName(q.coordinate_frame.id()), travel, X, report)) {
+    return Unexpected{*err};
+  }
+  return Timed<Orientation>{Orientation{q, B::RotationOf(X)}, report};
+}
+
+// ====================================================================== twists
+
+template <coord::Backend B>
+QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(const TwistSpec& spec, const TimePolicy& policy,
+                                                         TwistSource source) const noexcept {
+  return TimedTwist(spec, policy, source, nullptr);
+}
+
+template <coord::Backend B>
+QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec& spec, const TimePolicy& policy,
+                                                           TwistSource source,
+                                                           internal::EdgeRecorder* recorder) const noexcept {
+  const bool valid = internal::PartsOf(policy).valid();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  TimeReport report;
+  if (source == TwistSource::kPoses) {
+    auto plan = PlanPoseTwist(topology_, spec);
+    if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
+    if (auto e = RunTimed(policy, report, recorder, [&](TimeContext& tc) {
+          const internal::ForestSource<B> src(topology_, values_, &tc);
+          v.setZero();
+          w.setZero();
+          ForEachPoseDerivativeStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
+            internal::AccumulateTwistStep<B>(src, step, v, w);
+          });
+        })) {
+      return Unexpected{*e};
+    }
+    return Timed<coord::Twist>{coord::Twist{plan->semantics, v, w}, report};
+  }
+  auto plan = PlanTwist(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
+  if (auto e = RunTimed(policy, report, recorder, [&](TimeContext& tc) {
+        const internal::ForestSource<B> src(topology_, values_, &tc);
+        v.setZero();
+        w.setZero();
+        ForEachTwistStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
+          internal::AccumulateTwistStep<B>(src, step, v, w);
+        });
+      })) {
+    return Unexpected{*e};
+  }
+  return Timed<coord::Twist>{coord::Twist{plan->semantics, v, w}, report};
+}
+
+template <coord::Backend B>
+QueryResult<Timed<coord::LinearVelocity>> SceneGraph<B>::GetLinearVelocity(const TwistSpec& spec,
+                                                                           const TimePolicy& policy,
+                                                                           TwistSource source) const noexcept {
+  auto tw = GetTwist(spec, policy, source);
+  if (!tw) return Unexpected{tw.error()};
+  return Timed<coord::LinearVelocity>{coord::LinearOf(tw->value), tw->time};
+}
+
+template <coord::Backend B>
+QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(const TwistSpec& spec,
+                                                                             const TimePolicy& policy,
+                                                                             TwistSource source) const noexcept {
+  TwistSpec s = spec;  // the angular velocity needs no point: the coordinate frame's origin
+  s.point = spec.coordinate_frame;
+  if (s.body.empty()) {
+    QueryError e;
+    e.code = ErrorCode::kInvalidName;
+    e.field = spec.coordinate_frame.empty() ? Field::kCoordinateFrame : Field::kBody;
+    return Unexpected{e};
+  }
+  auto tw = GetTwist(s, policy, source);
+  if (!tw) {
+    QueryError e = tw.error();
+    if (e.field == Field::kPoint) e.field = Field::kCoordinateFrame;
+    return Unexpected{e};
+  }
+  return Timed<coord::AngularVelocity>{coord::AngularOf(tw->value), tw->time};
+}
+
+template <coord::Backend B>
+Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec& spec, TwistSource source) const {
+  if (source == TwistSource::kTwists) return CompileTwist(spec);
+  auto plan = PlanPoseTwist(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  return CompiledTwist<B>(topology_, values_, *plan);
+}
+
+// ====================================================================== diagnostics
+
+namespace {
+
+class CollectingRecorder final : public internal::EdgeRecorder {
+ public:
+  void Record(const internal::EdgeRead& r) noexcept override {
+    try {
+      reads.push_back(r);
+    } catch (...) {
+      overflow = true;
+    }
+  }
+  std::vector<internal::EdgeRead> reads;
+  bool overflow = false;
+};
+
+template <coord::Backend B>
+std::vector<EdgeUse> Summarize(const topology::SceneTopology& t, const std::vector<internal::EdgeRead>& reads) {
+  std::vector<EdgeUse> out;
+  std::vector<std::pair<int, std::uint32_t>> keys;
+  for (const internal::EdgeRead& r : reads) {
+    const std::pair<int, std::uint32_t> key{static_cast<int>(r.kind), r.index};
+    auto it = std::find(keys.begin(), keys.end(), key);
+    EdgeUse* use;
+    if (it == keys.end()) {
+      keys.push_back(key);
+      out.emplace_back();
+      use = &out.back();
+      use->kind = static_cast<EdgeUse::Kind>(r.kind);
+      if (r.kind == internal::EdgeRead::Kind::kTwist) {
+        const auto& e = t.twist_edge(TwistEdgeIndex(r.index));
+        use->of = t.frame_name(e.head);
+        use->relative_to = t.body_name(e.tail);
+      } else {
+        use->of = t.frame_name(FrameIndex(r.index));
+        use->relative_to = t.frame_name(t.pose_parent(FrameIndex(r.index)));
+      }
+      use->stamped = r.stamped;
+      if (r.stamped) {
+        use->first = Stamp::Nanoseconds(r.first);
+        use->last = Stamp::Nanoseconds(r.last);
+      }
+    } else {
+      use = &out[static_cast<std::size_t>(it - keys.begin())];
+    }
+    if (r.has_read) {
+      use->read_from = use->read_from ? std::min(*use->read_from, Stamp::Nanoseconds(r.read_from))
+                                      : Stamp::Nanoseconds(r.read_from);
+      use->read_to = use->read_to ? std::max(*use->read_to, Stamp::Nanoseconds(r.read_to))
+                                  : Stamp::Nanoseconds(r.read_to);
+    }
+    use->extrapolated |= r.extrapolated;
+  }
+  return out;
+}
+
+}  // namespace
+
+template <coord::Backend B>
+Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const PoseSpec& spec,
+                                                                     const TimePolicy& policy) const {
+  auto plan = PlanPose(topology_, spec);
+  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
+  CollectingRecorder recorder;
+  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  TimeReport report;
+  // The edges are listed even when the query fails at its time: what failed is what the user
+  // asks about.
+  (void)RunTimed(policy, report, &recorder, [&](TimeContext& tc) {
+    internal::EvaluatePose<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, R, p);
+  });
+  return Summarize<B>(topology_, recorder.reads);
+}
+
+template <coord::Backend B>
+Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(const TwistSpec& spec,
+                                                                      const TimePolicy& policy,
+                                                                      TwistSource source) const {
+  CollectingRecorder recorder;
+  auto tw = TimedTwist(spec, policy, source, &recorder);
+  if (!tw && (tw.error().code != ErrorCode::kExtrapolation && tw.error().code != ErrorCode::kStale)) {
+    return Unexpected{tw.error()};
+  }
+  return Summarize<B>(topology_, recorder.reads);
+}
+
+#define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                                        \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex, FrameIndex, FrameIndex, FrameIndex,  \
+                                                                   FrameIndex, const TimeTravel&,                  \
+                                                                   typename B::PoseCoords&, TimeReport&)           \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec&, const TimePolicy&,       \
+                                                                      TwistSource, internal::EdgeRecorder*)       \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec&, const TimePolicy&)     \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec&, const TimePolicy&)    \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(const PoseSpec&,         \
+                                                                                        const TimePolicy&)       \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec&, const TimeTravel&)     \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec&, const TimeTravel&)    \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(const PoseSpec&,         \
+                                                                                        const TimeTravel&)       \
+      const noexcept;                                                                                             \
+  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(const TwistSpec&, const TimePolicy&,         \
+                                                                    TwistSource) const noexcept;                  \
+  template QueryResult<Timed<coord::LinearVelocity>> SceneGraph<B>::GetLinearVelocity(                           \
+      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                                          \
+  template QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(                         \
+      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                                          \
+  template Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec&, TwistSource) const; \
+  template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const PoseSpec&,                \
+                                                                                 const TimePolicy&) const;        \
+  template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(                               \
+      const TwistSpec&, const TimePolicy&, TwistSource) const;
+SEMGRAPH_INSTANTIATE_TIME_QUERY(coord::QuaternionBackend)
+SEMGRAPH_INSTANTIATE_TIME_QUERY(coord::HomogeneousBackend)
+
+}  // namespace semgraph::core
