@@ -14,6 +14,10 @@
 // n stops at the first value the operation no longer reaches: n - 1 is the number of its
 // allocation points. Each operation runs at several fill levels of the scene, so that every
 // container is met full. The counts are printed (operations x fill levels x allocation points).
+// Operations: AddBody, AddFrame, AddPose (new leaf, constant leaf, linking two trees or a single
+// frame, a new root, two new frames, a value update, the non-edge form, stamped, repaired by the
+// inverse and by re-rooting, rejections), AddTwist (new edge, new frame and bodies, converted,
+// update, stamped, rejected), RemovePose (splits, leaves, rejected), RemoveTwist.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -119,6 +123,12 @@ struct Operation {
   ErrorCode expected;  // kOk, or the rejection's code
 };
 
+// A repairing add's result as a plain one (its report is checked by tests/core/repair_test.cc).
+BuildResult Plain(const Expected<RepairReport, BuildError>& r) {
+  if (r) return Ok{};
+  return base::Unexpected{r.error()};
+}
+
 template <class B>
 std::vector<Operation<B>> Operations() {
   const Quaterniond q = Rotation(0.7);
@@ -158,6 +168,15 @@ std::vector<Operation<B>> Operations() {
        ErrorCode::kOk},
       {"AddTwist rejected (W3)", [=](G& g) { return g.AddTwist(TwistSpec::Of("a2").RelativeTo("W").ExpressedIn("a2"), v, w); },
        ErrorCode::kDuplicateTwistPath},
+      {"AddPose stamped", [=](G& g) { return g.AddPose(PoseSpec::Of("l", "L").RelativeTo("c"), q, p, Stamp::Nanoseconds(7)); },
+       ErrorCode::kOk},
+      {"AddTwist stamped",
+       [=](G& g) { return g.AddTwist(TwistSpec::Of("s").RelativeTo("W").ExpressedIn("s"), v, w, Stamp::Nanoseconds(7)); },
+       ErrorCode::kOk},
+      {"AddPose repaired by the inverse",
+       [=](G& g) { return Plain(g.AddPose(PoseSpec::Of("a").RelativeTo("s"), q, p, RepairPolicy{})); }, ErrorCode::kOk},
+      {"AddPose repaired by re-rooting",
+       [=](G& g) { return Plain(g.AddPose(PoseSpec::Of("a").RelativeTo("q"), q, p, RepairPolicy{})); }, ErrorCode::kOk},
       {"RemovePose split", [](G& g) { return g.RemovePose("b", "a"); }, ErrorCode::kOk},
       {"RemovePose leaf with a twist", [](G& g) { return g.RemovePose("c", "b"); }, ErrorCode::kOk},
       {"RemovePose constant leaf", [](G& g) { return g.RemovePose("a2", "a"); }, ErrorCode::kOk},
