@@ -163,20 +163,23 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
   // A frame about to be created (invalid index) is a single-frame tree without a record.
   TreeRecord* rec_t = tail.is_valid() ? MutableRecordOf(tail) : nullptr;
   TreeRecord* rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
-  const std::size_t bodies = (rec_t ? rec_t->body_counts.size() : 1) + (rec_h ? rec_h->body_counts.size() : 1);
-  // The tail's tree gets a record first when it has none; whichever record is kept receives
-  // the other's bodies (at most `bodies` in all) and twist edges.
-  if (!rec_t) ReserveNewRecord(bodies);
-  if (rec_t) rec_t->body_counts.Reserve(bodies);
+  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1, b_h = rec_h ? rec_h->body_counts.size() : 1;
+  // The tail's tree gets a record first when it has none. Without a head record (a single
+  // frame) the tail's record receives one body; otherwise the record LinkPose keeps (the larger
+  // body set, the tail's on a tie) receives the other's bodies and twist edges. Only the kept
+  // record grows: reserving the dropped one too would cost O(larger set) per link.
+  const bool keep_tail = !rec_h || b_t >= b_h;
+  const std::size_t kept_bodies = b_t + b_h;
+  if (!rec_t) {
+    ReserveNewRecord(keep_tail ? kept_bodies : 1);
+  } else if (keep_tail) {
+    rec_t->body_counts.Reserve(kept_bodies);
+  }
   if (rec_h) {
-    rec_h->body_counts.Reserve(bodies);
+    if (!keep_tail) rec_h->body_counts.Reserve(kept_bodies);
     GrowCapacity(free_records_, free_records_.size() + 1);  // the dropped record
-    // The kept record is chosen as LinkPose does (the larger body set; the tail's on a tie). A
-    // new record's TG is empty, and merging with an empty TG allocates nothing.
-    if (rec_t) {
-      const bool keep_tail = rec_t->body_counts.size() >= rec_h->body_counts.size();
-      (keep_tail ? rec_t : rec_h)->twists.ReserveMerge((keep_tail ? rec_h : rec_t)->twists);
-    }
+    // A new record's TG is empty, and merging with an empty TG allocates nothing.
+    if (rec_t) (keep_tail ? rec_t : rec_h)->twists.ReserveMerge((keep_tail ? rec_h : rec_t)->twists);
   }
 }
 
