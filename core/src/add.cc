@@ -45,6 +45,7 @@ void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
 
 template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
+  values_.ReserveFrames(values_.X_PF.size() + 1);  // before the topology changes: all or nothing
   const FrameIndex f = topology_.CreateFrame(name, body);
   values_.AddFrame();
   return f;
@@ -312,8 +313,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     return Reject(v->code, what(), text::PoseRule(t, *v, ends, spec));
   }
 
-  // 13. Apply: create nodes, link, store the value. A stamped inter-body edge gets its history,
-  // allocated first (all or nothing).
+  // 13. Apply: create nodes, link, store the value. Every allocation first (a std::bad_alloc
+  // there still rolls the names back and changes nothing else; a stamped inter-body edge's
+  // history too), then the changes, none of which allocates.
+  const std::size_t new_bodies = (C.is_valid() ? 0 : 1) + (D.is_valid() || C_name == D_name ? 0 : 1);
+  const std::size_t new_frames = (a.is_valid() ? 0 : 1) + (b.is_valid() ? 0 : 1);
+  topology_.ReserveNodes(new_bodies, new_frames);
+  values_.ReserveFrames(values_.X_PF.size() + new_frames);
+  topology_.ReserveLinkPose(b, a);
   std::unique_ptr<PoseHistory> history;
   if (stamp && !ends.same_body) history = NewPoseHistory();
   rollback.Commit();
@@ -428,7 +435,12 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   }
   if (auto v = topology::CheckNewTwistEdge(t, ends)) return Reject(v->code, what(), text::TwistRule(t, *v, ends));
 
-  // Apply (a stamped edge's history allocated first).
+  // Apply: every allocation first (as in AddPose; a stamped edge's history too), then the
+  // changes.
+  topology_.ReserveNodes((C.is_valid() ? 0 : 1) + (D.is_valid() ? 0 : 1), e.is_valid() ? 0 : 1);
+  values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
+  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
+  topology_.ReserveLinkTwist(e);
   std::unique_ptr<TwistHistory> history;
   if (stamp) history = NewTwistHistory();
   rollback.Commit();

@@ -33,7 +33,9 @@
 //   rejection of P1, P2, P3, W3         O(log n) + O(min(b1, b2)); never walks a pose tree
 //   GetPose/Position/Orientation        O(log n + d) compositions (common ancestor by jumps)
 //   GetTwist and velocities             O(k (log n + d))
-// Build-time calls allocate and return Expected<Ok, BuildError> with a formatted message.
+// Build-time calls allocate and return Expected<Ok, BuildError> with a formatted message. Out
+// of memory, they throw std::bad_alloc and leave the graph exactly as it was: each makes every
+// allocation it needs before its first change (tests/core/add_out_of_memory_test.cc).
 // Queries are noexcept, allocation-free, lock-free; they return a small QueryError.
 // Thread safety: const queries may run concurrently with each other; any add/remove needs
 // exclusive access.
@@ -178,17 +180,21 @@ class SceneGraph {
   // noexcept, allocation-free, lock-free and string-free. One writer thread may call
   // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks).
 
-  /// Handle of the existing pose edge {relative_to} -> {of}: unknown_frame, no_such_edge, or
-  /// constant_pose_change for a same-body (constant) edge, which cannot be updated.
+  /// Handle of the existing pose edge {relative_to} -> {of}: invalid_name, unknown_frame,
+  /// no_such_edge, or constant_pose_change for a same-body (constant) edge, which cannot be
+  /// updated.
   [[nodiscard]] Expected<PoseHandle, BuildError> FindPoseEdge(std::string_view of,
                                                              std::string_view relative_to) const;
-  /// Handle of the existing twist edge {relative_to} (a body) -> {of}: unknown_frame,
-  /// unknown_body, no_such_edge.
+  /// Handle of the existing twist edge {relative_to} (a body) -> {of}: invalid_name,
+  /// unknown_frame, unknown_body, no_such_edge.
   [[nodiscard]] Expected<TwistHandle, BuildError> FindTwistEdge(std::string_view of,
                                                                std::string_view relative_to) const;
   /// New value X_TH of the edge (rotation of the head in the tail, position of the head's origin
   /// in the tail, both in [tail]). O(1). Codes: kOk, kInvalidNumber, kInvalidRotation
-  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made).
+  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made, or
+  /// the handle is not one of this graph's pose handles: another graph's, default or forged,
+  /// naming no frame or a root frame), kConstantPoseChange (a forged handle naming a same-body
+  /// edge). On any code but kOk nothing is written.
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
@@ -196,11 +202,13 @@ class SceneGraph {
   /// SetPose for a caller that guarantees the input: finite numbers, |position| <= 1e12, and a
   /// unit quaternion (|q| within 1e-12 of 1, e.g. one this graph returned or one normalized by
   /// the caller). Skips validation: about half of SetPose's cost. Debug builds check the
-  /// guarantee (SEMGRAPH_DEMAND). Codes: kOk, kNoSuchEdge.
+  /// guarantee (SEMGRAPH_DEMAND). Codes: kOk, and the handle checks of SetPose
+  /// (kNoSuchEdge, kConstantPoseChange).
   [[nodiscard]] ErrorCode SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                            const Eigen::Vector3d& p_ToHo_T) noexcept;
   /// New value V_DH of the screw twist of the edge D -> {h}|H: velocity of h's origin and
-  /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose.
+  /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose (kNoSuchEdge for
+  /// a removed edge, a free slot, or a handle not made by this graph's FindTwistEdge).
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                    const Eigen::Vector3d& w_DH_H) noexcept;
 
@@ -369,6 +377,7 @@ class SceneGraph {
   topology::SceneTopology topology_;
   EdgeValues<B> values_;
   internal::JointTable joints_;
+  GraphId id_;  // stamped into handles; SetPose/SetTwist refuse other graphs' handles
 };
 
 extern template class SceneGraph<coord::QuaternionBackend>;
