@@ -2,8 +2,9 @@
 #include "semgraph/coord/validate.h"
 
 #include <Eigen/SVD>
+#include <charconv>
 #include <cmath>
-#include <sstream>
+#include <string>
 
 #include "semgraph/semantics/describe.h"
 
@@ -215,51 +216,48 @@ const char* RoleName(ValueRole role) noexcept {
 }
 }  // namespace
 
+std::string FormatNumber(double x) {
+  if (std::isnan(x)) return "nan";  // whatever its sign bit: one non-number to the user
+  char buf[64];  // the shortest round-trip form of a double needs at most 24 characters
+  const auto r = std::to_chars(buf, buf + sizeof(buf), x);
+  return std::string(buf, r.ptr);
+}
+
 std::string Describe(const Error& error, const semantics::NameTable& names) {
-  std::ostringstream out;
+  // Plain string concatenation, not a stream: a stream swallows std::bad_alloc (it sets badbit
+  // and yields a cut text), while every build operation lets it through unchanged.
+  const std::string magnitude = FormatNumber(error.value.magnitude);
+  const std::string tolerance = FormatNumber(kRotationTolerance);
   switch (error.code) {
     case ErrorCode::kSemanticMismatch:
       return semantics::Describe(error.mismatch, names);
     case ErrorCode::kRepresentationConstraint: {
       const bool origin = error.mismatch.lhs.field == semantics::Field::kPoint ||
                           error.mismatch.lhs.field == semantics::Field::kRefPoint;
-      out << "the " << (error.representation ? error.representation : "chosen")
-          << " representation requires " << semantics::Describe(error.mismatch.lhs, names)
-          << (origin ? " to be the origin of " : " to be ")
-          << semantics::Describe(error.mismatch.rhs, names);
-      return out.str();
+      return std::string("the ") + (error.representation ? error.representation : "chosen") +
+             " representation requires " + semantics::Describe(error.mismatch.lhs, names) +
+             (origin ? " to be the origin of " : " to be ") + semantics::Describe(error.mismatch.rhs, names);
     }
     case ErrorCode::kInvalidNumber:
-      out << RoleName(error.value.role) << " component " << int(error.value.component) << " is "
-          << error.value.magnitude;
-      if (error.value.problem == ValueProblem::kTooLarge) {
-        out << " (magnitude above " << kMaxMagnitude << ")";
-      } else {
-        out << " (must be finite)";
-      }
-      return out.str();
+      return std::string(RoleName(error.value.role)) + " component " + std::to_string(int(error.value.component)) +
+             " is " + magnitude +
+             (error.value.problem == ValueProblem::kTooLarge
+                  ? " (magnitude above " + FormatNumber(kMaxMagnitude) + ")"
+                  : std::string(" (must be finite)"));
     case ErrorCode::kInvalidRotation:
       switch (error.value.problem) {
         case ValueProblem::kQuaternionNorm:
-          out << "quaternion norm differs from 1 by " << error.value.magnitude << " (more than "
-              << kRotationTolerance << ")";
-          break;
+          return "quaternion norm differs from 1 by " + magnitude + " (more than " + tolerance + ")";
         case ValueProblem::kNotOrthonormal:
-          out << "rotation matrix is not orthonormal: max |M^T M - I| = " << error.value.magnitude
-              << " (more than " << kRotationTolerance << ")";
-          break;
+          return "rotation matrix is not orthonormal: max |M^T M - I| = " + magnitude + " (more than " + tolerance +
+                 ")";
         case ValueProblem::kReflection:
-          out << "rotation matrix has determinant " << error.value.magnitude
-              << " (a reflection, not a rotation)";
-          break;
+          return "rotation matrix has determinant " + magnitude + " (a reflection, not a rotation)";
         case ValueProblem::kNotRigidTransform:
-          out << "homogeneous matrix bottom row is not [0 0 0 1] (off by " << error.value.magnitude
-              << ")";
-          break;
+          return "homogeneous matrix bottom row is not [0 0 0 1] (off by " + magnitude + ")";
         default:
-          out << "invalid rotation";
+          return "invalid rotation";
       }
-      return out.str();
     default:
       return std::string(base::ToString(error.code));
   }

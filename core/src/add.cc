@@ -60,6 +60,7 @@ void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
 
 template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
+  values_.ReserveFrames(values_.X_PF.size() + 1);  // before the topology changes: all or nothing
   const FrameIndex f = topology_.CreateFrame(name, body);
   values_.AddFrame();
   return f;
@@ -291,8 +292,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     X_BA = B::MakePose(Renormalized<B>(B::RotationOf(X_BA)), B::TranslationOf(X_BA));
   }
 
-  // 8. P4: an existing edge b -> a is a value update, or constant_pose_change.
+  // 8. P4: an existing edge b -> a is a value update, or constant_pose_change; a joint's edge
+  // is driven by its state only (joint_edge, in P4's place).
   if (topology::PoseEdgeExists(t, b, a)) {
+    if (const internal::JointRecord* j = joints_.OfChild(a)) {
+      return Reject(ErrorCode::kJointEdge, what(),
+                    "the pose edge " + text::Frame(t, b) + " -> " + text::Frame(t, a) + " belongs to joint " + j->name +
+                        "; set the joint's position instead");
+    }
     if (topology::IsConstantEdge(t, b, a)) {
       const auto stored = values_.X_PF[a.value()].Load();
       const Eigen::Matrix3d dR = B::ToMatrix(B::RotationOf(stored)) - B::ToMatrix(B::RotationOf(X_BA));
@@ -322,8 +329,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     return Reject(v->code, what(), text::PoseRule(t, *v, ends, spec));
   }
 
-  // 13. Apply: create nodes, link, store the value. A stamped inter-body edge gets its history,
-  // allocated first (all or nothing).
+  // 13. Apply: create nodes, link, store the value. Every allocation first (a std::bad_alloc
+  // there still rolls the names back and changes nothing else; a stamped inter-body edge's
+  // history too), then the changes, none of which allocates.
+  const std::size_t new_bodies = (C.is_valid() ? 0 : 1) + (D.is_valid() || C_name == D_name ? 0 : 1);
+  const std::size_t new_frames = (a.is_valid() ? 0 : 1) + (b.is_valid() ? 0 : 1);
+  topology_.ReserveNodes(new_bodies, new_frames);
+  values_.ReserveFrames(values_.X_PF.size() + new_frames);
+  topology_.ReserveLinkPose(b, a);
   std::unique_ptr<PoseHistory> history;
   if (stamp && !ends.same_body) history = NewPoseHistory();
   rollback.Commit();
@@ -422,6 +435,11 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   // W1 -> W3; an existing edge D -> {e} is a value update.
   const topology::NewTwistEdge ends{D, e, C};
   if (e.is_valid() && t.twist_edge_of(e).is_valid() && D.is_valid() && t.twist_edge(t.twist_edge_of(e)).tail == D) {
+    if (const internal::JointRecord* j = joints_.OfChild(e)) {  // joint_edge, before W1
+      return Reject(ErrorCode::kJointEdge, what(),
+                    "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, e) + " belongs to joint " +
+                        j->name + "; set the joint's velocity instead");
+    }
     const TwistEdgeIndex existing = t.twist_edge_of(e);
     const TwistNumbers V{v_DEo_E, w_DE_E};
     if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
@@ -433,7 +451,12 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   }
   if (auto v = topology::CheckNewTwistEdge(t, ends)) return Reject(v->code, what(), text::TwistRule(t, *v, ends));
 
-  // Apply (a stamped edge's history allocated first).
+  // Apply: every allocation first (as in AddPose; a stamped edge's history too), then the
+  // changes.
+  topology_.ReserveNodes((C.is_valid() ? 0 : 1) + (D.is_valid() ? 0 : 1), e.is_valid() ? 0 : 1);
+  values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
+  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
+  topology_.ReserveLinkTwist(e);
   std::unique_ptr<TwistHistory> history;
   if (stamp) history = NewTwistHistory();
   rollback.Commit();
@@ -474,6 +497,7 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
                       (p.is_valid() ? " (the pose parent of " + text::Frame(t, h) + " is " + text::Frame(t, p) + ")"
                                     : " (" + text::Frame(t, h) + " has no pose parent)"));
   }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) return RemoveJoint(*j);  // joints.cc
   topology_.CutPose(h);
   values_.X_PF[h.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
   DropPoseHistory(h);                   // removing an edge drops its history
@@ -503,6 +527,10 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
                       (!edge.is_valid() ? " (" + text::Frame(t, h) + " has no twist parent)"
                                         : " (its twist parent is " + std::string(t.body_name(t.twist_edge(edge).tail)) +
                                               ")"));
+  }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Reject(ErrorCode::kJointEdge, what(),
+                  "it is the twist edge of joint " + j->name + "; remove the joint's pose edge to remove the joint");
   }
   topology_.UnlinkTwist(edge);
   values_.V_DH[edge.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid

@@ -1,14 +1,13 @@
 // Every text of the core: rejection messages of adds and removals, and the description of a
 // query error. Formatted off the hot path only; role names come from the one table,
 // semantics::FieldName.
-#include "semgraph/semantics/describe.h"
-
 #include <algorithm>
 #include <cstdio>
 #include <utility>
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/semantics/describe.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -27,9 +26,8 @@ std::string Frame(const topology::SceneTopology& t, topology::FrameIndex f) {
 }
 
 std::string Vector(const Eigen::Vector3d& v) {
-  char buf[128];
-  std::snprintf(buf, sizeof(buf), "[%.9g, %.9g, %.9g]", v.x(), v.y(), v.z());
-  return buf;
+  // Round-trip digits (coord::FormatNumber), so the stored value is shown exactly.
+  return "[" + coord::FormatNumber(v.x()) + ", " + coord::FormatNumber(v.y()) + ", " + coord::FormatNumber(v.z()) + "]";
 }
 
 std::string StampText(std::int64_t ns) {

@@ -1,8 +1,10 @@
 // The real-time write path: handles made at build time, then SetPose / SetTwist (noexcept,
 // allocation-free, lock-free, string-free). Contract: scene_graph.h, docs/realtime.md.
-#include "semgraph/core/scene_graph.h"
+#include <atomic>
 #include <cmath>
 
+#include "semgraph/core/scene_graph.h"
+#include "semgraph/semantics/describe.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -10,12 +12,25 @@ namespace semgraph::core {
 using base::Unexpected;
 using text::Reject;
 
+std::uint32_t GraphId::Next() noexcept {
+  static std::atomic<std::uint32_t> counter{0};
+  std::uint32_t id = counter.fetch_add(1, std::memory_order_relaxed) + 1;
+  while (id == 0) id = counter.fetch_add(1, std::memory_order_relaxed) + 1;  // 0 means "no graph"
+  return id;
+}
+
 template <coord::Backend B>
 Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of,
                                                             std::string_view relative_to) const {
   const auto what = [&] {
     return "handle of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
   };
+  // invalid_name -> unknown_frame -> no_such_edge -> constant_pose_change (as RemovePose).
+  for (std::string_view n : {of, relative_to}) {
+    if (auto ok = semantics::ValidateName(n); !ok) {
+      return Unexpected{Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n)).error()};
+    }
+  }
   const topology::SceneTopology& t = topology_;
   const FrameIndex h = FindFrame(of), tail = FindFrame(relative_to);
   if (!h.is_valid() || !tail.is_valid()) {
@@ -28,19 +43,30 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
                              "there is no pose edge " + text::Frame(t, tail) + " -> " + text::Frame(t, h))
                           .error()};
   }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Unexpected{Reject(ErrorCode::kJointEdge, what(),
+                             "the edge belongs to joint " + j->name + ": set the joint's position instead")
+                          .error()};
+  }
   if (topology::IsConstantEdge(t, tail, h)) {
     return Unexpected{Reject(ErrorCode::kConstantPoseChange, what(),
                              text::Frame(t, h) + " and " + text::Frame(t, tail) +
                                  " are fixed to one body: their pose is constant")
                           .error()};
   }
-  return PoseHandle{h, values_.X_PF[h.value()].epoch()};
+  return PoseHandle{h, values_.X_PF[h.value()].epoch(), id_.value(), EdgeKind::kPose};
 }
 
 template <coord::Backend B>
 Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view of,
                                                               std::string_view relative_to) const {
   const auto what = [&] { return "handle of the twist of " + std::string(of) + " wrt " + std::string(relative_to); };
+  // invalid_name -> unknown_frame -> unknown_body -> no_such_edge (as RemoveTwist).
+  for (std::string_view n : {of, relative_to}) {
+    if (auto ok = semantics::ValidateName(n); !ok) {
+      return Unexpected{Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n)).error()};
+    }
+  }
   const topology::SceneTopology& t = topology_;
   const FrameIndex h = FindFrame(of);
   if (!h.is_valid()) {
@@ -57,10 +83,41 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
                              "there is no twist edge " + std::string(relative_to) + " -> " + text::Frame(t, h))
                           .error()};
   }
-  return TwistHandle{edge, values_.V_DH[edge.value()].epoch()};
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Unexpected{Reject(ErrorCode::kJointEdge, what(),
+                             "the edge belongs to joint " + j->name + ": set the joint's velocity instead")
+                          .error()};
+  }
+  return TwistHandle{edge, values_.V_DH[edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
 namespace {
+// The handle cannot lie (edge_values.h): this graph's, a pose handle, a frame with a pose
+// parent, the epoch it was made at, and a variable edge. O(1): a few loads.
+template <coord::Backend B>
+ErrorCode CheckPoseHandle(const PoseHandle& edge, std::uint32_t graph, const topology::SceneTopology& t,
+                          const EdgeValues<B>& values) noexcept {
+  if (edge.graph != graph || edge.kind != EdgeKind::kPose || edge.child.value() >= values.X_PF.size() ||
+      values.X_PF[edge.child.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  const FrameIndex tail = t.pose_parent(edge.child);
+  if (!tail.is_valid()) return ErrorCode::kNoSuchEdge;                                       // a root: no edge into it
+  if (t.body_of(tail) == t.body_of(edge.child)) return ErrorCode::kConstantPoseChange;  // P4: constant
+  return ErrorCode::kOk;
+}
+
+// The same for a twist handle: this graph's, a twist handle, a live slot, its epoch.
+template <coord::Backend B>
+ErrorCode CheckTwistHandle(const TwistHandle& edge, std::uint32_t graph, const topology::SceneTopology& t,
+                           const EdgeValues<B>& values) noexcept {
+  if (edge.graph != graph || edge.kind != EdgeKind::kTwist || edge.slot.value() >= t.num_twist_edge_slots() ||
+      !t.twist_edge(edge.slot).alive || values.V_DH[edge.slot.value()].epoch() != edge.epoch) {
+    return ErrorCode::kNoSuchEdge;
+  }
+  return ErrorCode::kOk;
+}
+
 // The rotation of a real-time pose update, validated (and normalized) without allocating.
 inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept { return coord::ValidateQuaternion(q); }
 inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::ValidateRotationMatrix(R); }
@@ -70,10 +127,7 @@ template <coord::Backend B>
 template <class R>
 ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
                                      std::optional<Stamp> stamp) noexcept {
-  if (!edge.child.is_valid() || edge.child.value() >= values_.X_PF.size() ||
-      values_.X_PF[edge.child.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
+  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
   auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
   if (!p) return p.error().code;
   auto M = ValidateRotation(rotation);
@@ -104,10 +158,7 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, c
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                           const Eigen::Vector3d& p_ToHo_T) noexcept {
-  if (!edge.child.is_valid() || edge.child.value() >= values_.X_PF.size() ||
-      values_.X_PF[edge.child.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
+  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
 #if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
   SEMGRAPH_DEMAND(coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition).has_value());
   SEMGRAPH_DEMAND(q_TH.coeffs().allFinite() && std::abs(q_TH.squaredNorm() - 1.0) <= 1e-12);
@@ -120,10 +171,7 @@ ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterni
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                   const Eigen::Vector3d& w_DH_H) noexcept {
-  if (!edge.slot.is_valid() || edge.slot.value() >= topology_.num_twist_edge_slots() ||
-      !topology_.twist_edge(edge.slot).alive || values_.V_DH[edge.slot.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
+  if (const ErrorCode c = CheckTwistHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
   auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
   if (!v) return v.error().code;
   auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
@@ -147,10 +195,7 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, c
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
                                   Stamp stamp) noexcept {
-  if (!edge.slot.is_valid() || edge.slot.value() >= topology_.num_twist_edge_slots() ||
-      !topology_.twist_edge(edge.slot).alive || values_.V_DH[edge.slot.value()].epoch() != edge.epoch) {
-    return ErrorCode::kNoSuchEdge;
-  }
+  if (const ErrorCode c = CheckTwistHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
   auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
   if (!v) return v.error().code;
   auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);

@@ -15,6 +15,9 @@
 #include <cstdio>
 #include <vector>
 
+#include <optional>
+#include <vector>
+
 #include "semgraph/core/scene_graph.h"
 #include "text.h"
 
@@ -104,8 +107,11 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
   const PoseSpec inverse = PoseSpec::Of(spec.ref_orientation, spec.ref_body).RelativeTo(spec.orientation, spec.body);
   const Eigen::Quaterniond q_AB = B::ToQuaternion(B::RotationOf(X_AB));
   const Eigen::Vector3d p_AB = B::TranslationOf(X_AB);
+  // Reports are written before the graph changes: a std::bad_alloc after the change would
+  // break the all-or-nothing promise of a build operation.
+  std::string inverted_text = "added the inverse: " + text::PoseAdd(inverse);
   auto inverted = AddPose(inverse, q_AB, p_AB);
-  if (inverted) return RepairReport{RepairKind::kInverted, "added the inverse: " + text::PoseAdd(inverse), 0, {}};
+  if (inverted) return RepairReport{RepairKind::kInverted, std::move(inverted_text), 0, {}};
   if (inverted.error().code != ErrorCode::kMultiplePoseParents || !repair.reroot || !b.is_valid()) {
     return Unexpected{error};
   }
@@ -115,19 +121,47 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
   if (topology::CheckP2(t, ends) || topology::CheckP3(t, ends) || topology::CheckW4(t, ends)) {
     return Unexpected{error};
   }
+  // A joint's pose edge has a direction (parent -> child: X_origin M(q)); re-rooting through
+  // one would reverse it, so a path with a joint is not re-rooted (kinematics.md).
+  for (FrameIndex x = b; x.is_valid() && t.pose_parent(x).is_valid(); x = t.pose_parent(x)) {
+    if (joints_.OfChild(x)) return Unexpected{error};
+  }
   const FrameIndex old_root = t.forest().Root(b);
   const std::size_t reversed = t.forest().depth(b);
+  std::string rerooted_text = "re-rooted the pose tree of " + text::Frame(t, b) + " at it (" +
+                              std::to_string(reversed) + " edges reversed), then added the inverse: " +
+                              text::PoseAdd(inverse);
+  // For an exact undo: the path b -> root and its edge values, saved before the re-root (an
+  // undo by a second re-root would invert every value twice, off by rounding).
+  std::vector<FrameIndex> path;
+  std::vector<typename B::PoseCoords> X_saved;
+  path.reserve(reversed + 1);
+  X_saved.reserve(reversed + 1);
+  for (FrameIndex x = b; x.is_valid(); x = t.pose_parent(x)) {
+    path.push_back(x);
+    X_saved.push_back(values_.X_PF[x.value()].Load());
+  }
+  topology_.ReserveLinkPose(a, b);  // the add's link, reserved before anything changes
+  const auto undo = [&]() noexcept {  // allocation-free: the forest re-roots in place
+    topology_.RerootPose(old_root);
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      values_.X_PF[path[i].value()].BumpEpoch();  // handles of the twice-reversed edges stay invalid
+      values_.X_PF[path[i].value()].Store(X_saved[i]);
+    }
+  };
   RerootAt(b);
-  auto rerooted = AddPose(inverse, q_AB, p_AB);
-  if (!rerooted) {  // not expected (the rules passed above); leave the graph as it was
-    RerootAt(old_root);
+  std::optional<BuildResult> rerooted;
+  try {
+    rerooted = AddPose(inverse, q_AB, p_AB);
+  } catch (...) {  // out of memory in the add (its rule checks allocate): back to the old tree
+    undo();
+    throw;
+  }
+  if (!*rerooted) {  // not expected (the rules passed above); leave the graph as it was
+    undo();
     return Unexpected{error};
   }
-  return RepairReport{RepairKind::kRerooted,
-                      "re-rooted the pose tree of " + text::Frame(t, b) + " at it (" + std::to_string(reversed) +
-                          " edges reversed), then added the inverse: " + text::PoseAdd(inverse),
-                      reversed,
-                      {}};
+  return RepairReport{RepairKind::kRerooted, std::move(rerooted_text), reversed, {}};
 }
 
 template <coord::Backend B>
@@ -166,9 +200,10 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(const TwistSpec& spec
   const Eigen::Vector3d v_CDh_R = coord::kernels::ShiftLinear(-v_linear, w_CD_R, p_HE_R->value);
   const TwistSpec inverse =
       TwistSpec::Of(t.frame_name(h), t.body_name(D)).RelativeTo(t.body_name(C)).ExpressedIn(spec.coordinate_frame);
+  std::string inverted_text = "added the inverse: " + text::TwistAdd(inverse);  // before the change
   auto inverted = AddTwist(inverse, v_CDh_R, w_CD_R);
   if (!inverted) return Unexpected{error};
-  return RepairReport{RepairKind::kInverted, "added the inverse: " + text::TwistAdd(inverse), 0, {}};
+  return RepairReport{RepairKind::kInverted, std::move(inverted_text), 0, {}};
 }
 
 #define SEMGRAPH_INSTANTIATE_REPAIR(B)                                                                      \

@@ -419,12 +419,8 @@ struct BatchFailure {
   coord::Error error;
 };
 
-bool SameHandle(const core::PoseHandle& a, const core::PoseHandle& b) {
-  return a.child == b.child && a.epoch == b.epoch;
-}
-bool SameHandle(const core::TwistHandle& a, const core::TwistHandle& b) {
-  return a.slot == b.slot && a.epoch == b.epoch;
-}
+bool SameHandle(const core::PoseHandle& a, const core::PoseHandle& b) { return a == b; }
+bool SameHandle(const core::TwistHandle& a, const core::TwistHandle& b) { return a == b; }
 
 // Rows of a pose batch: (N, 7) [x y z qw qx qy qz] or (N, 4, 4) homogeneous matrices.
 struct PoseRow {

@@ -1,18 +1,23 @@
 #include "semgraph/semantics/names.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <string>
 
 namespace semgraph::semantics {
 
 namespace {
 // Length of the UTF-8 sequence starting at s[i], or 0 if it is not a valid, shortest-form,
-// non-surrogate sequence.
-std::size_t Utf8SequenceLength(std::string_view s, std::size_t i) noexcept {
+// non-surrogate sequence; its code point in `cp`.
+std::size_t Utf8SequenceLength(std::string_view s, std::size_t i, std::uint32_t& cp) noexcept {
   const auto b0 = static_cast<unsigned char>(s[i]);
   std::size_t n;
-  std::uint32_t cp;
-  if (b0 < 0x80) return 1;
+  if (b0 < 0x80) {
+    cp = b0;
+    return 1;
+  }
   if ((b0 & 0xE0) == 0xC0) {
     n = 2;
     cp = b0 & 0x1F;
@@ -36,11 +41,50 @@ std::size_t Utf8SequenceLength(std::string_view s, std::size_t i) noexcept {
   return n;
 }
 
-// True when s[i] starts a C1 control character (U+0080..U+009F, shortest form C2 80..C2 9F):
-// valid UTF-8, but not printable.
-bool IsC1Control(std::string_view s, std::size_t i) noexcept {
-  return static_cast<unsigned char>(s[i]) == 0xC2 && i + 1 < s.size() &&
-         (static_cast<unsigned char>(s[i + 1]) & 0xE0) == 0x80;
+// The printable rule (docs/rules.md §1): which code points a name may not hold, and why.
+enum class Unprintable : std::uint8_t { kNone, kControl, kInvisible, kSeparator, kSpace, kNoncharacter };
+
+struct Range {
+  std::uint32_t first, last;
+};
+// Invisible or layout-changing characters: every format character (general category Cf) except
+// the prepended concatenation marks, which print as visible signs (U+0600-0605, U+06DD, U+070F,
+// U+0890-0891, U+08E2, U+110BD, U+110CD), and every default-ignorable code point (Unicode's list
+// of characters a renderer shows as nothing: soft hyphen, zero-width characters, bidi controls,
+// word joiner and invisible operators, byte-order mark, variation selectors, Hangul fillers,
+// tag characters; assigned or reserved), as of Unicode 15. Sorted, disjoint.
+constexpr Range kInvisible[] = {
+    {0x00AD, 0x00AD}, {0x034F, 0x034F}, {0x061C, 0x061C}, {0x115F, 0x1160},   {0x17B4, 0x17B5},
+    {0x180B, 0x180F}, {0x200B, 0x200F}, {0x202A, 0x202E}, {0x2060, 0x206F},   {0x3164, 0x3164},
+    {0xFE00, 0xFE0F}, {0xFEFF, 0xFEFF}, {0xFFA0, 0xFFA0}, {0xFFF0, 0xFFFB},   {0x13430, 0x1343F},
+    {0x1BCA0, 0x1BCA3}, {0x1D173, 0x1D17A}, {0xE0000, 0xE0FFF},
+};
+// Space separators (Zs) other than U+0020: they print like an ASCII space but are other bytes.
+constexpr Range kSpaces[] = {{0x00A0, 0x00A0}, {0x1680, 0x1680}, {0x2000, 0x200A},
+                             {0x202F, 0x202F}, {0x205F, 0x205F}, {0x3000, 0x3000}};
+
+bool InRanges(std::uint32_t cp, const Range* ranges, std::size_t n) noexcept {
+  for (std::size_t k = 0; k < n && ranges[k].first <= cp; ++k) {
+    if (cp <= ranges[k].last) return true;
+  }
+  return false;
+}
+
+Unprintable Classify(std::uint32_t cp) noexcept {
+  if (cp < 0x20 || (cp >= 0x7F && cp <= 0x9F)) return Unprintable::kControl;
+  if (cp < 0xA0) return Unprintable::kNone;  // the rest of ASCII is printable
+  if (cp == 0x2028 || cp == 0x2029) return Unprintable::kSeparator;
+  if ((cp >= 0xFDD0 && cp <= 0xFDEF) || (cp & 0xFFFE) == 0xFFFE) return Unprintable::kNoncharacter;
+  if (InRanges(cp, kSpaces, std::size(kSpaces))) return Unprintable::kSpace;
+  if (InRanges(cp, kInvisible, std::size(kInvisible))) return Unprintable::kInvisible;
+  return Unprintable::kNone;
+}
+
+// "U+200B" (at least four hex digits).
+std::string CodePointText(std::uint32_t cp) {
+  char buf[16];
+  std::snprintf(buf, sizeof(buf), "U+%04X", static_cast<unsigned>(cp));
+  return buf;
 }
 }  // namespace
 
@@ -51,24 +95,23 @@ Expected<Ok, NameError> ValidateName(std::string_view name) noexcept {
   }
   for (std::size_t i = 0; i < name.size();) {
     const auto b = static_cast<unsigned char>(name[i]);
-    if (b < 0x80) {
-      if (b < 0x20 || b == 0x7F) {
-        return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotPrintable, i}};
-      }
+    if (b >= 0x20 && b < 0x7F) {  // printable ASCII: the common case
       ++i;
       continue;
     }
-    if (IsC1Control(name, i)) {
-      return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotPrintable, i}};
-    }
-    const std::size_t n = Utf8SequenceLength(name, i);
+    std::uint32_t cp = 0;
+    const std::size_t n = Utf8SequenceLength(name, i, cp);
     if (n == 0) return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotUtf8, i}};
+    if (Classify(cp) != Unprintable::kNone) {
+      return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotPrintable, i, cp}};
+    }
     i += n;
   }
   return Ok{};
 }
 
 std::string Describe(const NameError& error, std::string_view name) {
+  const std::string at = "byte " + std::to_string(error.byte_offset) + " of the name is ";
   switch (error.problem) {
     case NameProblem::kEmpty:
       return "name is empty";
@@ -76,9 +119,22 @@ std::string Describe(const NameError& error, std::string_view name) {
       return "name is " + std::to_string(name.size()) + " bytes long (at most " +
              std::to_string(kMaxNameBytes) + ")";
     case NameProblem::kNotPrintable:
-      return "byte " + std::to_string(error.byte_offset) + " of the name is a control character";
+      switch (Classify(error.code_point)) {
+        case Unprintable::kInvisible:
+          return at + CodePointText(error.code_point) + ", an invisible or formatting character";
+        case Unprintable::kSeparator:
+          return at + CodePointText(error.code_point) + ", a line or paragraph separator";
+        case Unprintable::kSpace:
+          return at + CodePointText(error.code_point) + ", a space other than U+0020";
+        case Unprintable::kNoncharacter:
+          return at + CodePointText(error.code_point) + ", a noncharacter";
+        case Unprintable::kControl:
+        case Unprintable::kNone:
+          break;
+      }
+      return at + "a control character";
     case NameProblem::kNotUtf8:
-      return "byte " + std::to_string(error.byte_offset) + " of the name is not valid UTF-8";
+      return at + "not valid UTF-8";
   }
   return "invalid name";
 }
@@ -106,15 +162,17 @@ std::size_t NameTable::Probe(std::string_view name, std::uint32_t hash) const no
 }
 
 void NameTable::Grow() {
-  std::vector<std::uint32_t> old = std::move(slots_);
-  slots_.assign(old.empty() ? 16 : 2 * old.size(), 0);
-  const std::size_t mask = slots_.size() - 1;
-  for (const std::uint32_t slot : old) {
+  // The new index is filled before it replaces the old one: an allocation failure leaves the
+  // table as it was.
+  std::vector<std::uint32_t> grown(slots_.empty() ? 16 : 2 * slots_.size(), 0);
+  const std::size_t mask = grown.size() - 1;
+  for (const std::uint32_t slot : slots_) {
     if (slot == 0) continue;
     std::size_t i = records_[slot - 1].hash & mask;
-    while (slots_[i] != 0) i = (i + 1) & mask;
-    slots_[i] = slot;
+    while (grown[i] != 0) i = (i + 1) & mask;
+    grown[i] = slot;
   }
+  slots_.swap(grown);
 }
 
 Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
@@ -137,9 +195,14 @@ NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept 
 }
 
 NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
+  // Every allocation first (index, record array, a new arena block), each of which leaves the
+  // table unchanged when it fails; then the name goes in without allocating.
   if (2 * (records_.size() + 1) > slots_.size()) Grow();
+  if (records_.size() == records_.capacity()) records_.reserve(std::max<std::size_t>(16, 2 * records_.size()));
   if (block_fill_ + name.size() > kBlockBytes) {
-    blocks_.push_back(std::make_unique<char[]>(kBlockBytes));
+    if (blocks_.size() == blocks_.capacity()) blocks_.reserve(std::max<std::size_t>(4, 2 * blocks_.size()));
+    auto block = std::make_unique<char[]>(kBlockBytes);
+    blocks_.push_back(std::move(block));  // within capacity: cannot throw
     block_fill_ = 0;
   }
   char* text = blocks_.back().get() + block_fill_;

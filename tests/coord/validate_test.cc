@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <ostream>
 #include <random>
@@ -159,6 +161,46 @@ TEST(Validate, HugeComponentsAreInvalidNumbers) {
   auto tw = MakeTwist(n.Tw(), Eigen::Vector3d::Zero(), Eigen::Vector3d(1e300, 0, 0));
   ASSERT_FALSE(tw);
   EXPECT_EQ(tw.error().value.role, ValueRole::kAngularVelocity);
+}
+
+TEST(Validate, MessagesShowTheOffendingNumberWithRoundTripDigits) {
+  // Before: 6 significant digits, so 1000000000000.5 read "1e+12 (magnitude above 1e+12)".
+  Names n;
+  auto pos = MakePosition(n.Pos(), Eigen::Vector3d(0, 0, 1000000000000.5));
+  ASSERT_FALSE(pos);
+  EXPECT_EQ(Describe(pos.error(), n.table), "position component 2 is 1000000000000.5 (magnitude above 1e+12)");
+  auto tw = MakeTwist(n.Tw(), Eigen::Vector3d(-1.0000000000001e12, 0, 0), Eigen::Vector3d::Zero());
+  ASSERT_FALSE(tw);
+  EXPECT_EQ(Describe(tw.error(), n.table),
+            "linear velocity component 0 is -1000000000000.1 (magnitude above 1e+12)");
+  // A quaternion 2e-6 off unit: the norm error printed is the computed one, exactly.
+  auto q = ValidateQuaternion(Eigen::Quaterniond(1.000002, 0, 0, 0));
+  ASSERT_FALSE(q);
+  const std::string text = Describe(q.error(), n.table);
+  const std::string prefix = "quaternion norm differs from 1 by ";
+  ASSERT_EQ(text.rfind(prefix, 0), 0u) << text;
+  EXPECT_EQ(std::strtod(text.c_str() + prefix.size(), nullptr), q.error().value.magnitude) << text;
+  EXPECT_TRUE(Contains(text, "(more than 1e-06)")) << text;
+}
+
+TEST(Validate, FormatNumberIsTheShortestExactForm) {
+  EXPECT_EQ(FormatNumber(0.1), "0.1");
+  EXPECT_EQ(FormatNumber(1e12), "1e+12");
+  EXPECT_EQ(FormatNumber(1000000000000.5), "1000000000000.5");
+  EXPECT_EQ(FormatNumber(-0.0), "-0");
+  EXPECT_EQ(FormatNumber(kNaN), "nan");
+  EXPECT_EQ(FormatNumber(-kInf), "-inf");
+  EXPECT_EQ(FormatNumber(0.1 + 0.2), "0.30000000000000004");
+  std::mt19937_64 rng(13);
+  for (int i = 0; i < 10000; ++i) {
+    const std::uint64_t bits = rng();
+    double x;
+    std::memcpy(&x, &bits, sizeof(x));
+    if (!std::isfinite(x)) continue;
+    const std::string text = FormatNumber(x);
+    EXPECT_EQ(std::strtod(text.c_str(), nullptr), x) << text;
+    EXPECT_LE(text.size(), 24u) << text;
+  }
 }
 
 TEST(Validate, SubnormalComponentsAreFlushedToZero) {

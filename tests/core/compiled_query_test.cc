@@ -14,25 +14,11 @@
 #include <thread>
 
 #include "../../examples/spray_painting_scene.h"
+#include "support/alloc_counter.h"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+// Allocations are counted by the suite's one replacement of operator new/delete
+// (support/alloc_counter.h: every form, so it links with sanitizer runtimes too).
+using semgraph::testing::AllocationCounter;
 
 namespace semgraph::core {
 namespace {
@@ -252,7 +238,7 @@ TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
   typename B::PoseCoords X;
   typename B::Rotation M;
   Vector3d p, v, w;
-  const long before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   for (int i = 0; i < 1000; ++i) {
     const double s = 1e-3 * i;
     ASSERT_EQ(this->graph_.SetPose(*pose_edge, scene::Rpy(s, 0.2, -s), Vector3d(s, 0.1, 0.7)), ErrorCode::kOk);
@@ -263,7 +249,7 @@ TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
     ASSERT_EQ(twist->Evaluate(v, w), ErrorCode::kOk);
     ASSERT_EQ(angular->Evaluate(v, w), ErrorCode::kOk);
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
 }
 
 // A twist query needs its point, compiled or not: an empty point is invalid_name in both, and
@@ -339,12 +325,12 @@ TYPED_TEST(CompiledQueryTest, CachedEvaluationEqualsUncachedAfterRandomUpdates) 
   }
   // The cache allocates nothing when evaluating, and a removed edge invalidates it too.
   typename B::PoseCoords X;
-  const long before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   for (int i = 0; i < 100; ++i) {
     ASSERT_EQ(g.SetPose(handles[i % 40], random_q(), random_p()), ErrorCode::kOk);
     ASSERT_EQ(pose->Evaluate(X, pose_cache), ErrorCode::kOk);
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   ASSERT_TRUE(g.RemovePose("n25", "n24"));
   EXPECT_EQ(pose->Evaluate(X, pose_cache), ErrorCode::kQueryInvalidated);
   EXPECT_GT(pose_cache.bytes(), 0u);

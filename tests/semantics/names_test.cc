@@ -1,5 +1,6 @@
-// Tests for semgraph/semantics/names.h: interning, lookup without insertion, and the spec's name
-// rule ("non-empty, printable, at most 255 bytes"), byte by byte.
+// Tests for semgraph/semantics/names.h: interning, lookup without insertion, and the name rule
+// ("non-empty, printable, at most 255 bytes"; printable as defined in docs/rules.md §1), byte by
+// byte and code point by code point.
 #include "semgraph/semantics/names.h"
 
 #include <gtest/gtest.h>
@@ -298,7 +299,7 @@ TEST(NameRule, ReportsTheFirstBadByte) {
 
 TEST(NameRule, AcceptsValidUtf8OfEveryLength) {
   ExpectAccepted("caf\xC3\xA9");                 // U+00E9, 2 bytes
-  ExpectAccepted("\xC2\xA0");                    // U+00A0, first code point after C1
+  ExpectAccepted("\xC2\xA1");                    // U+00A1, first printable after C1 and U+00A0
   ExpectAccepted("\xDF\xBF");                    // U+07FF, largest 2-byte
   ExpectAccepted("\xE0\xA0\x80");                // U+0800, smallest 3-byte
   ExpectAccepted("\xE4\xB8\xAD\xE6\x96\x87");    // U+4E2D U+6587
@@ -307,7 +308,7 @@ TEST(NameRule, AcceptsValidUtf8OfEveryLength) {
   ExpectAccepted("\xEF\xBF\xBD");                // U+FFFD
   ExpectAccepted("\xF0\x90\x80\x80");            // U+10000, smallest 4-byte
   ExpectAccepted("robot_\xF0\x9F\xA4\x96");      // U+1F916
-  ExpectAccepted("\xF4\x8F\xBF\xBF");            // U+10FFFF, largest code point
+  ExpectAccepted("\xF4\x8F\xBF\xBD");            // U+10FFFD, largest printable code point
   ExpectAccepted("\xCE\xB1|\xCE\xB2 [\xCE\xB3]");  // Greek letters mixed with ASCII
 }
 
@@ -372,6 +373,123 @@ TEST(NameRule, RejectsC1ControlCharactersAsNotPrintable) {
   }
 }
 
+// ---------------------------------------------------------------- Printable (docs/rules.md §1)
+
+// UTF-8 of code point cp, encoded here independently of names.cc.
+std::string Utf8(char32_t cp) {
+  std::string out;
+  if (cp < 0x80) {
+    out += static_cast<char>(cp);
+  } else if (cp < 0x800) {
+    out += static_cast<char>(0xC0 | (cp >> 6));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else if (cp < 0x10000) {
+    out += static_cast<char>(0xE0 | (cp >> 12));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (cp >> 18));
+    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  }
+  return out;
+}
+
+// "x" + cp + "y" is refused at byte 1 as not printable, naming cp.
+void ExpectNotPrintable(char32_t cp) {
+  SCOPED_TRACE(::testing::Message() << "U+" << std::hex << static_cast<unsigned>(cp));
+  const std::string name = "x" + Utf8(cp) + "y";
+  ExpectRejected(name, NameProblem::kNotPrintable, 1);
+  EXPECT_EQ(ValidateName(name).error().code_point, static_cast<std::uint32_t>(cp));
+  // Also alone and at the end: the position is the character's first byte.
+  ExpectRejected(Utf8(cp), NameProblem::kNotPrintable, 0);
+  ExpectRejected("abc" + Utf8(cp), NameProblem::kNotPrintable, 3);
+}
+void ExpectPrintable(char32_t cp) {
+  SCOPED_TRACE(::testing::Message() << "U+" << std::hex << static_cast<unsigned>(cp));
+  ExpectAccepted("x" + Utf8(cp) + "y");
+}
+void ExpectRangeNotPrintable(char32_t first, char32_t last) {
+  for (char32_t cp = first; cp <= last; ++cp) ExpectNotPrintable(cp);
+}
+
+// Before: U+200B, U+FEFF, U+2028, U+FFFE and U+00A0 were accepted, so "x" and U+200B "x" were
+// two bodies that print alike.
+TEST(NameRule, RefusesInvisibleAndFormattingCharacters) {
+  ExpectNotPrintable(0x00AD);               // soft hyphen
+  ExpectRangeNotPrintable(0x200B, 0x200F);  // zero width space, (non-)joiner, LRM, RLM
+  ExpectRangeNotPrintable(0x202A, 0x202E);  // bidi embeddings and overrides
+  ExpectRangeNotPrintable(0x2060, 0x2064);  // word joiner, invisible operators
+  ExpectRangeNotPrintable(0x2066, 0x2069);  // bidi isolates
+  ExpectNotPrintable(0xFEFF);               // byte-order mark / zero width no-break space
+  ExpectRangeNotPrintable(0xE0000, 0xE007F);  // tag characters (and the reserved E0000)
+  // The rest of Unicode's format characters and default-ignorable code points.
+  ExpectNotPrintable(0x034F);               // combining grapheme joiner
+  ExpectNotPrintable(0x061C);               // Arabic letter mark (a bidi control)
+  ExpectRangeNotPrintable(0x115F, 0x1160);  // Hangul fillers
+  ExpectNotPrintable(0x3164);
+  ExpectNotPrintable(0xFFA0);
+  ExpectRangeNotPrintable(0x180B, 0x180F);  // Mongolian variation selectors, vowel separator
+  ExpectRangeNotPrintable(0xFE00, 0xFE0F);  // variation selectors
+  ExpectRangeNotPrintable(0xFFF9, 0xFFFB);  // interlinear annotation
+  ExpectRangeNotPrintable(0x13430, 0x1343F);  // Egyptian hieroglyph format controls
+  ExpectRangeNotPrintable(0x1D173, 0x1D17A);  // musical symbol format controls
+  ExpectNotPrintable(0xE0100);              // variation selector 17
+  ExpectNotPrintable(0xE0FFF);
+}
+
+TEST(NameRule, RefusesLineAndParagraphSeparators) {
+  ExpectNotPrintable(0x2028);
+  ExpectNotPrintable(0x2029);
+}
+
+TEST(NameRule, RefusesNoncharactersInEveryPlane) {
+  ExpectRangeNotPrintable(0xFDD0, 0xFDEF);
+  for (char32_t plane = 0; plane <= 0x10; ++plane) {
+    ExpectNotPrintable(plane * 0x10000 + 0xFFFE);
+    ExpectNotPrintable(plane * 0x10000 + 0xFFFF);
+    ExpectPrintable(plane * 0x10000 + 0xFFFD);  // the last character before them
+  }
+}
+
+TEST(NameRule, RefusesEverySpaceButTheAsciiOne) {
+  ExpectAccepted("a b");
+  ExpectNotPrintable(0x00A0);  // no-break space
+  ExpectNotPrintable(0x1680);  // ogham space mark
+  ExpectRangeNotPrintable(0x2000, 0x200A);  // en quad .. hair space
+  ExpectNotPrintable(0x202F);  // narrow no-break space
+  ExpectNotPrintable(0x205F);  // medium mathematical space
+  ExpectNotPrintable(0x3000);  // ideographic space
+}
+
+TEST(NameRule, AcceptsVisibleNeighboursOfTheRefusedCharacters) {
+  for (char32_t cp : {0x00A1, 0x00AC, 0x00AE, 0x034E, 0x0350, 0x0600, 0x06DD, 0x070F, 0x08E2, 0x110BD,
+                      0x1680 - 1, 0x1681, 0x1FFF, 0x2010, 0x2027, 0x2025, 0x2030, 0x205E, 0x2070, 0x3001,
+                      0x3163, 0x3165, 0xFDCF, 0xFDF0, 0xFDFD, 0xFE10, 0xFEFE, 0xFF01, 0xFFFC, 0xFFFD, 0x1342F,
+                      0x13440, 0x1F600, 0xDFFFD, 0xE1000, 0xF0000, 0x10FFFD}) {
+    ExpectPrintable(cp);
+  }
+  ExpectAccepted("\xE4\xB8\xAD\xE6\x96\x87 caf\xC3\xA9 \xCE\xB1\xCE\xB2");  // letters of every script
+}
+
+TEST(NameRule, EveryCodePointIsClassifiedOnce) {
+  // Exhaustive over Unicode: exactly the refused set is refused, by the classes above. The
+  // count is the sum of the listed ranges (computed by hand from docs/rules.md §1).
+  std::size_t refused = 0;
+  for (char32_t cp = 0; cp <= 0x10FFFF; ++cp) {
+    if (cp >= 0xD800 && cp <= 0xDFFF) continue;  // surrogates are not UTF-8
+    const auto r = ValidateName(Utf8(cp));
+    if (!r) {
+      ASSERT_EQ(r.error().problem, NameProblem::kNotPrintable) << std::hex << static_cast<unsigned>(cp);
+      ++refused;
+    }
+  }
+  // controls 65 (0x00-0x1F, 0x7F-0x9F) + separators 2 + noncharacters 32 + 34 + spaces 16 +
+  // invisible: 1 + 1 + 1 + 2 + 2 + 5 + 5 + 5 + 16 + 1 + 16 + 1 + 1 + 12 + 16 + 4 + 8 + 4096.
+  EXPECT_EQ(refused, 65u + 2u + 66u + 16u + (1 + 1 + 1 + 2 + 2 + 5 + 5 + 5 + 16 + 1 + 16 + 1 + 1 + 12 + 16 + 4 + 8 + 4096));
+}
+
 // ---------------------------------------------------------------- Messages
 
 TEST(NameRule, DescribesEachProblem) {
@@ -385,6 +503,16 @@ TEST(NameRule, DescribesEachProblem) {
             "byte 0 of the name is a control character");
   EXPECT_EQ(Describe(ValidateName("ok\xFF").error(), "ok\xFF"),
             "byte 2 of the name is not valid UTF-8");
+  EXPECT_EQ(Describe(ValidateName("\xE2\x80\x8Bx").error(), "\xE2\x80\x8Bx"),
+            "byte 0 of the name is U+200B, an invisible or formatting character");
+  EXPECT_EQ(Describe(ValidateName("a\xE2\x80\xA8").error(), "a\xE2\x80\xA8"),
+            "byte 1 of the name is U+2028, a line or paragraph separator");
+  EXPECT_EQ(Describe(ValidateName("a\xC2\xA0" "b").error(), "a\xC2\xA0" "b"),
+            "byte 1 of the name is U+00A0, a space other than U+0020");
+  EXPECT_EQ(Describe(ValidateName("\xF4\x8F\xBF\xBF").error(), "\xF4\x8F\xBF\xBF"),
+            "byte 0 of the name is U+10FFFF, a noncharacter");
+  EXPECT_EQ(Describe(ValidateName("\xF3\xA0\x80\x81").error(), "\xF3\xA0\x80\x81"),
+            "byte 0 of the name is U+E0001, an invisible or formatting character");
 }
 
 }  // namespace

@@ -13,18 +13,29 @@ namespace {
 
 std::atomic<bool> g_armed{false};
 std::atomic<std::size_t> g_count{0};
+std::atomic<std::size_t> g_total{0};
+std::atomic<std::size_t> g_fail_at{0};
+std::atomic<bool> g_failed{false};
 
-void Count() noexcept {
-  if (g_armed.load(std::memory_order_relaxed)) g_count.fetch_add(1, std::memory_order_relaxed);
+// Counts one allocation; false when it is the one chosen to fail.
+bool Count() noexcept {
+  g_total.fetch_add(1, std::memory_order_relaxed);
+  if (!g_armed.load(std::memory_order_relaxed)) return true;
+  const std::size_t n = g_count.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (n == g_fail_at.load(std::memory_order_relaxed)) {
+    g_failed.store(true, std::memory_order_relaxed);
+    return false;
+  }
+  return true;
 }
 
 void* AllocateOrNull(std::size_t size) noexcept {
-  Count();
+  if (!Count()) return nullptr;
   return std::malloc(size == 0 ? 1 : size);
 }
 
 void* AllocateAlignedOrNull(std::size_t size, std::align_val_t alignment) noexcept {
-  Count();
+  if (!Count()) return nullptr;
   std::size_t a = static_cast<std::size_t>(alignment);
   if (a < sizeof(void*)) a = sizeof(void*);
   const std::size_t rounded =
@@ -46,10 +57,21 @@ void* AllocateAlignedOrThrow(std::size_t size, std::align_val_t alignment) {
 
 void AllocationCounter::Arm() noexcept {
   g_count.store(0, std::memory_order_relaxed);
+  g_fail_at.store(0, std::memory_order_relaxed);
+  g_failed.store(false, std::memory_order_relaxed);
   g_armed.store(true, std::memory_order_seq_cst);
 }
 
-void AllocationCounter::Disarm() noexcept { g_armed.store(false, std::memory_order_seq_cst); }
+void AllocationCounter::FailAt(std::size_t n) noexcept { g_fail_at.store(n, std::memory_order_seq_cst); }
+
+bool AllocationCounter::failed() noexcept { return g_failed.load(std::memory_order_relaxed); }
+
+std::size_t AllocationCounter::total() noexcept { return g_total.load(std::memory_order_relaxed); }
+
+void AllocationCounter::Disarm() noexcept {
+  g_armed.store(false, std::memory_order_seq_cst);
+  g_fail_at.store(0, std::memory_order_relaxed);
+}
 
 std::size_t AllocationCounter::count() noexcept { return g_count.load(std::memory_order_relaxed); }
 

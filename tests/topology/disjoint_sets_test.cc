@@ -9,18 +9,11 @@
 #include <random>
 #include <vector>
 
-// Counts global allocations, so ReadOnlyQueriesDoNotAllocate can prove the header's claim.
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
+#include "support/alloc_counter.h"
 
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// Allocations are counted by the suite's one replacement of operator new/delete
+// (support/alloc_counter.h: every form, so it links with sanitizer runtimes too).
+using semgraph::testing::AllocationCounter;
 
 namespace semgraph::topology {
 namespace {
@@ -127,11 +120,11 @@ TEST(DisjointSets, ReadOnlyQueriesDoNotAllocate) {
   DisjointSets sets = WithElements(64);
   for (std::uint32_t x = 1; x < 64; ++x) sets.Union(x - 1, x);
   std::uint32_t sink = 0;
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   for (std::uint32_t x = 0; x < 64; ++x) {
     sink += sets.FindConst(x) + sets.SizeOf(x) + sets.SameSet(x, 63 - x) + sets.Find(x);
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_NE(sink, 0u);
 }
 

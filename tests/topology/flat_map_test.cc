@@ -10,21 +10,11 @@
 #include <unordered_map>
 #include <vector>
 
-// Counts every global allocation, so tests can prove that a block of code allocates nothing.
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
+#include "support/alloc_counter.h"
 
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return ::operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+// Allocations are counted by the suite's one replacement of operator new/delete
+// (support/alloc_counter.h: every form, so it links with sanitizer runtimes too).
+using semgraph::testing::AllocationCounter;
 
 namespace semgraph::topology {
 namespace {
@@ -56,16 +46,16 @@ void ExpectSameContents(const FlatMap<Payload>& map,
 }
 
 TEST(FlatMap, DefaultConstructedMapOwnsNoMemoryUntilFirstInsert) {
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   FlatMap<Payload> map;
   EXPECT_EQ(map.Find(7), nullptr);
   EXPECT_FALSE(map.Erase(7));
   map.Clear();
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_EQ(map.capacity(), 0u);
   EXPECT_TRUE(map.empty());
   map.Insert(7, Payload{1, 2});
-  EXPECT_EQ(g_allocations.load(), before + 1);
+  EXPECT_EQ(AllocationCounter::total(), before + 1);
   EXPECT_EQ(map.capacity(), 8u);
 }
 
@@ -163,27 +153,27 @@ TEST(FlatMap, FindAndEraseDoNotAllocate) {
   FlatMap<Payload> map;
   for (std::uint32_t key = 0; key < 5000; ++key) map.Insert(key * 7, Payload{key, key});
   const FlatMap<Payload>& view = map;
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   std::uint64_t sum = 0;
   for (std::uint32_t key = 0; key < 50000; ++key) {
     if (const Payload* found = view.Find(key)) sum += found->b;
   }
   for (std::uint32_t key = 0; key < 5000; key += 2) map.Erase(key * 7);
   view.ForEach([&sum](std::uint32_t, const Payload& value) { sum += value.a; });
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_GT(sum, 0u);
 }
 
 TEST(FlatMap, ReserveAndClearAvoidLaterAllocations) {
   FlatMap<std::uint32_t> map;
   map.Reserve(1000);
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   for (std::uint32_t key = 0; key < 1000; ++key) map.Insert(key, key);
   map.Clear();
   EXPECT_TRUE(map.empty());
   EXPECT_EQ(map.Find(5), nullptr);
   for (std::uint32_t key = 0; key < 1000; ++key) map.Insert(key + 1, key);
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_EQ(map.size(), 1000u);
   EXPECT_GE(map.ApproximateBytes(), map.capacity() * sizeof(std::uint32_t));
 }

@@ -12,19 +12,11 @@
 #include <utility>
 #include <vector>
 
-// Counts global allocations, so QueriesDoNotAllocate can prove the "no allocation" claim of
-// the header. (A shared guard in tests/support would serve every test; this file keeps its own.)
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
+#include "support/alloc_counter.h"
 
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// Allocations are counted by the suite's one replacement of operator new/delete
+// (support/alloc_counter.h: every form, so it links with sanitizer runtimes too).
+using semgraph::testing::AllocationCounter;
 
 namespace semgraph::topology {
 namespace {
@@ -376,7 +368,7 @@ TEST(PoseForest, QueriesDoNotAllocate) {
   PoseForest forest = WithNodes(64);
   for (std::uint32_t v = 1; v < 64; ++v) forest.Link(F((v - 1) / 2), F(v));  // a heap shape
   std::uint32_t sink = 0;
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   for (std::uint32_t a = 0; a < 64; ++a) {
     for (std::uint32_t b = 0; b < 64; ++b) {
       sink += forest.CommonAncestor(F(a), F(b)).value() + forest.Root(F(a)).value() +
@@ -385,7 +377,7 @@ TEST(PoseForest, QueriesDoNotAllocate) {
     }
   }
   forest.ForEachInSubtree(F(0), [&](FrameIndex f) { sink += f.value(); });
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_NE(sink, 0u);
 }
 

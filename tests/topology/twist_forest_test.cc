@@ -14,21 +14,11 @@
 #include <set>
 #include <vector>
 
-// Counts every global allocation, so tests can prove that the queries allocate nothing.
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
+#include "support/alloc_counter.h"
 
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return ::operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+// Allocations are counted by the suite's one replacement of operator new/delete
+// (support/alloc_counter.h: every form, so it links with sanitizer runtimes too).
+using semgraph::testing::AllocationCounter;
 
 namespace semgraph::topology {
 namespace {
@@ -293,7 +283,7 @@ TEST(TwistForest, QueriesDoNotAllocate) {
     forest.Link(1000 + body, body, static_cast<std::uint32_t>(rng() % body));
   }
   std::vector<PathStep> out(200);
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = AllocationCounter::total();
   std::size_t total = 0;
   for (std::uint32_t u = 0; u < 210; u += 3) {
     for (std::uint32_t v = 0; v < 210; ++v) {
@@ -303,14 +293,14 @@ TEST(TwistForest, QueriesDoNotAllocate) {
       total += forest.FindRoot(v) + forest.depth(v) + forest.parent(v);
     }
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_GT(total, 0u);
 }
 
 TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
   constexpr std::uint32_t kBodies = 30;
   for (const std::uint32_t seed : {1u, 2u, 3u}) {
-    SCOPED_TRACE(testing::Message() << "seed " << seed);
+    SCOPED_TRACE(::testing::Message() << "seed " << seed);
     std::mt19937 rng(seed);
     auto body = [&rng] { return static_cast<std::uint32_t>(rng() % kBodies); };
     // Sparse, non-dense edge ids; a fresh one per edge.
@@ -321,7 +311,7 @@ TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
     int merges = 0;
     int rejected_merges = 0;
     for (int op = 0; op < 700; ++op) {
-      SCOPED_TRACE(testing::Message() << "op " << op);
+      SCOPED_TRACE(::testing::Message() << "op " << op);
       const std::uint32_t roll = rng() % 100;
       if (roll < 45) {
         const std::uint32_t tail = body();
@@ -373,7 +363,7 @@ TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
         model.edges.clear();
       }
       ExpectMatches(forest, model, kBodies);
-      if (testing::Test::HasFatalFailure()) return;
+      if (::testing::Test::HasFatalFailure()) return;
     }
     EXPECT_GT(merges, 10);
     EXPECT_GT(rejected_merges, 10);

@@ -9,6 +9,10 @@
 namespace semgraph::topology {
 
 void DisjointSets::Reserve(std::size_t n) {
+  // Geometric growth, so that reserving one more element at a time stays O(1) amortized.
+  const std::size_t capacity = std::min(link_.capacity(), size_.capacity());
+  if (n <= capacity) return;
+  n = std::max(n, 2 * capacity);
   link_.reserve(n);
   size_.reserve(n);
 }

@@ -9,6 +9,12 @@
 namespace semgraph::topology {
 
 void PoseForest::Reserve(std::size_t n) {
+  // Geometric growth, so that reserving one more node at a time stays O(1) amortized.
+  const std::size_t capacity =
+      std::min({parent_.capacity(), depth_.capacity(), jump_.capacity(), first_child_.capacity(),
+                next_sibling_.capacity(), prev_sibling_.capacity()});
+  if (n <= capacity) return;
+  n = std::max(n, 2 * capacity);
   // reserve() only changes capacity, so a bad_alloc part way leaves the forest as it was.
   parent_.reserve(n);
   depth_.reserve(n);

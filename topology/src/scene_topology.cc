@@ -1,11 +1,21 @@
 // SceneTopology: nodes, pose trees and their records, twist edges. Contract: scene_topology.h.
 #include "semgraph/topology/scene_topology.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "semgraph/base/demand.h"
 
 namespace semgraph::topology {
+
+namespace {
+// Makes room for n elements in v, growing at least twofold (O(1) amortized per element). On
+// std::bad_alloc v is unchanged.
+template <class T>
+void GrowCapacity(std::vector<T>& v, std::size_t n) {
+  if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
+}
+}  // namespace
 
 // ====================================================================== nodes
 
@@ -24,7 +34,17 @@ void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
   body_of_name_.reserve(frames + bodies);
 }
 
+void SceneTopology::ReserveNodes(std::size_t bodies, std::size_t frames) {
+  GrowCapacity(frame_of_name_, names_.size());
+  GrowCapacity(body_of_name_, names_.size());
+  GrowCapacity(bodies_, bodies_.size() + bodies);
+  GrowCapacity(frames_, frames_.size() + frames);
+  forest_.Reserve(forest_.size() + frames);
+  trees_.Reserve(trees_.size() + frames);
+}
+
 BodyIndex SceneTopology::CreateBody(NameId name) {
+  ReserveNodes(1, 0);  // every allocation before the first change
   GrowNameMaps();
   SEMGRAPH_DEMAND(!BodyOfName(name).is_valid());
   const BodyIndex b(static_cast<std::uint32_t>(bodies_.size()));
@@ -34,6 +54,7 @@ BodyIndex SceneTopology::CreateBody(NameId name) {
 }
 
 FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
+  ReserveNodes(0, 1);  // every allocation before the first change
   GrowNameMaps();
   SEMGRAPH_DEMAND(!FrameOfName(name).is_valid() && body.value() < bodies_.size());
   const FrameIndex f = forest_.AddNode();
@@ -65,15 +86,25 @@ TreeRecord& SceneTopology::EnsureRecord(FrameIndex f) {
   return NewRecord(rep, f);
 }
 
-TreeRecord& SceneTopology::NewRecord(std::uint32_t rep, FrameIndex f) {
-  std::uint32_t index;
-  if (!free_records_.empty()) {
-    index = free_records_.back();
-    free_records_.pop_back();
-  } else {
-    index = static_cast<std::uint32_t>(records_.size());
-    records_.emplace_back();
+void SceneTopology::ReserveNewRecord(std::size_t bodies) {
+  // A spare free record (an invisible change: free records hold nothing), with room for
+  // `bodies` bodies and one twist edge, and room for its entry in record_of_rep_.
+  if (free_records_.empty()) {
+    GrowCapacity(free_records_, 1);
+    GrowCapacity(records_, records_.size() + 1);
+    records_.emplace_back();  // within capacity: does not allocate (empty maps own no memory)
+    free_records_.push_back(static_cast<std::uint32_t>(records_.size() - 1));
   }
+  TreeRecord& spare = records_[free_records_.back()];
+  spare.body_counts.Reserve(bodies);
+  spare.twists.ReserveLink();
+  record_of_rep_.Reserve(record_of_rep_.size() + 1);
+}
+
+TreeRecord& SceneTopology::NewRecord(std::uint32_t rep, FrameIndex f) {
+  ReserveNewRecord(1);  // no-op when the caller reserved (every mutation below is then allocation-free)
+  const std::uint32_t index = free_records_.back();
+  free_records_.pop_back();
   records_[index].body_counts.Clear();
   records_[index].twists.Clear();
   records_[index].body_counts.Insert(body_of(f).value(), 1);
@@ -84,6 +115,7 @@ TreeRecord& SceneTopology::NewRecord(std::uint32_t rep, FrameIndex f) {
 void SceneTopology::FreeRecord(std::uint32_t rep) {
   const std::uint32_t* index = record_of_rep_.Find(rep);
   SEMGRAPH_DEMAND(index != nullptr);
+  GrowCapacity(free_records_, free_records_.size() + 1);  // before any change
   records_[*index].body_counts.Clear();
   records_[*index].twists.Clear();
   free_records_.push_back(*index);
@@ -127,7 +159,30 @@ FrameIndex SceneTopology::SomeFrameOfBodyInTree(BodyIndex body, FrameIndex tree_
 
 // ====================================================================== pose edges
 
+void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
+  // A frame about to be created (invalid index) is a single-frame tree without a record.
+  TreeRecord* rec_t = tail.is_valid() ? MutableRecordOf(tail) : nullptr;
+  TreeRecord* rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
+  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1, b_h = rec_h ? rec_h->body_counts.size() : 1;
+  // The tail's tree gets a record first when it has none. Without a head record (a single
+  // frame) the tail's record receives one body; otherwise the record LinkPose keeps (the larger
+  // body set, the tail's on a tie) receives the other's bodies and twist edges. Only the kept
+  // record grows: reserving the dropped one too would cost O(larger set) per link.
+  const bool keep_tail = !rec_h || b_t >= b_h;
+  const std::size_t kept_bodies = b_t + b_h;
+  if (rec_t && keep_tail) rec_t->body_counts.Reserve(kept_bodies);
+  if (rec_h) {
+    if (!keep_tail) rec_h->body_counts.Reserve(kept_bodies);
+    GrowCapacity(free_records_, free_records_.size() + 1);  // the dropped record
+    // A new record's TG is empty, and merging with an empty TG allocates nothing.
+    if (rec_t) (keep_tail ? rec_t : rec_h)->twists.ReserveMerge((keep_tail ? rec_h : rec_t)->twists);
+  }
+  // Last: a new record may grow records_, which would leave rec_t / rec_h dangling.
+  if (!rec_t) ReserveNewRecord(keep_tail ? kept_bodies : 1);
+}
+
 void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
+  ReserveLinkPose(tail, head);  // every allocation first: the changes below cannot fail
   const std::uint32_t rep_t = trees_.Find(tail.value());
   const std::uint32_t rep_h = trees_.Find(head.value());
   const std::uint32_t* idx_t = record_of_rep_.Find(rep_t);
@@ -165,57 +220,83 @@ void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
   record_of_rep_.Insert(rep, keep);
 }
 
-// Rebuilds the union-find set and the record of the tree rooted at `root` after a split.
-// `twist_edges` holds the twist edges of the old tree; those whose head is in this tree are
-// linked into its new TG. O(|tree| + twist edges).
-void SceneTopology::RebuildTree(FrameIndex root, const std::vector<std::uint32_t>& twist_edges) {
-  std::size_t count = 0;
+void SceneTopology::InstallTree(FrameIndex root, TreeRecord&& record) noexcept {
+  std::size_t frames = 0;
   forest_.ForEachInSubtree(root, [&](FrameIndex f) {
     trees_.Union(root.value(), f.value());
-    ++count;
+    ++frames;
   });
-  bool has_twist = false;
-  for (std::uint32_t e : twist_edges) {
-    if (trees_.SameSet(twist_edges_[e].head.value(), root.value())) has_twist = true;
-  }
-  if (count == 1 && !has_twist) return;  // a single frame needs no record
-  TreeRecord& rec = NewRecord(trees_.Find(root.value()), root);
-  rec.body_counts.Clear();
-  forest_.ForEachInSubtree(root, [&](FrameIndex f) {
-    rec.body_counts.FindOrInsert(body_of(f).value(), 0) += 1;
-  });
-  for (std::uint32_t e : twist_edges) {
-    const TwistEdge& te = twist_edges_[e];
-    if (trees_.SameSet(te.head.value(), root.value())) {
-      rec.twists.Link(e, te.tail.value(), body_of(te.head).value());
-    }
-  }
+  if (frames == 1 && record.twists.empty()) return;  // a single frame without twists needs no record
+  // A record slot was reserved by CutPose: popping it and inserting into record_of_rep_ do not
+  // allocate, and the moves only swap storage.
+  const std::uint32_t index = free_records_.back();
+  free_records_.pop_back();
+  records_[index].body_counts = std::move(record.body_counts);
+  records_[index].twists = std::move(record.twists);
+  record_of_rep_.Insert(trees_.Find(root.value()), index);
 }
 
 void SceneTopology::CutPose(FrameIndex head) {
   const FrameIndex tail = forest_.parent(head);
   SEMGRAPH_DEMAND(tail.is_valid());
-  // Collect the old tree's twist edges, split the forest, then rebuild both trees' sets.
-  std::vector<std::uint32_t> twist_edges;
   const std::uint32_t old_rep = trees_.Find(head.value());
-  if (const std::uint32_t* index = record_of_rep_.Find(old_rep)) {
-    records_[*index].twists.ForEachEdge(
-        [&](std::uint32_t edge, std::uint32_t, std::uint32_t) { twist_edges.push_back(edge); });
-    FreeRecord(old_rep);
+  const std::uint32_t* old_index = record_of_rep_.Find(old_rep);
+  SEMGRAPH_DEMAND(old_index != nullptr);  // a tree with an edge has a record
+  const TreeRecord& old = records_[*old_index];
+
+  // 1. Plan the two new records (everything that allocates), changing nothing: the bodies of
+  // head's subtree (counted by walking it) and the rest (the old counts minus those), and each
+  // part's twist edges (those whose head frame is in head's subtree go below). O(|subtree| +
+  // bodies + twist edges (log n)).
+  TreeRecord below, above;
+  forest_.ForEachInSubtree(head, [&](FrameIndex f) { below.body_counts.FindOrInsert(body_of(f).value(), 0) += 1; });
+  above.body_counts = old.body_counts;
+  below.body_counts.ForEach([&](std::uint32_t body, std::uint32_t count) {
+    std::uint32_t& rest = *above.body_counts.Find(body);
+    rest -= count;
+  });
+  below.body_counts.ForEach([&](std::uint32_t body, std::uint32_t) {
+    if (*above.body_counts.Find(body) == 0) above.body_counts.Erase(body);
+  });
+  old.twists.ForEachEdge([&](std::uint32_t edge, std::uint32_t from, std::uint32_t to) {
+    (forest_.IsAncestor(head, twist_edges_[edge].head) ? below : above).twists.Link(edge, from, to);
+  });
+  // Room for the second record (the old one is freed and reused for the first) and for the
+  // record_of_rep_ entries (one erased, at most two inserted).
+  GrowCapacity(free_records_, free_records_.size() + 2);
+  if (free_records_.empty()) GrowCapacity(records_, records_.size() + 1);
+  record_of_rep_.Reserve(record_of_rep_.size() + 1);
+
+  // 2. Apply: nothing below allocates.
+  FreeRecord(old_rep);
+  if (free_records_.size() < 2) {
+    records_.emplace_back();  // within capacity
+    free_records_.push_back(static_cast<std::uint32_t>(records_.size() - 1));
   }
   const FrameIndex old_root = forest_.Root(tail);
   forest_.ForEachInSubtree(old_root, [&](FrameIndex f) { trees_.Reset(f.value()); });
   forest_.Cut(head);
   --num_pose_edges_;
-  RebuildTree(old_root, twist_edges);
-  RebuildTree(head, twist_edges);
+  InstallTree(old_root, std::move(above));
+  InstallTree(head, std::move(below));
 }
 
 // ====================================================================== twist edges
 
+void SceneTopology::ReserveLinkTwist(FrameIndex head) {
+  if (free_twist_edges_.empty()) GrowCapacity(twist_edges_, twist_edges_.size() + 1);
+  // A frame about to be created (invalid index) is a single-frame tree without a record.
+  if (TreeRecord* rec = head.is_valid() ? MutableRecordOf(head) : nullptr) {
+    rec->twists.ReserveLink();
+  } else {
+    ReserveNewRecord(1);
+  }
+}
+
 TwistEdgeIndex SceneTopology::LinkTwist(BodyIndex tail, FrameIndex head,
                                         const semantics::TwistSemantics& s) {
   SEMGRAPH_DEMAND(!frames_[head.value()].twist_edge.is_valid() && tail != body_of(head));
+  ReserveLinkTwist(head);  // every allocation first: the changes below cannot fail
   std::uint32_t index;
   if (!free_twist_edges_.empty()) {
     index = free_twist_edges_.back();
@@ -241,6 +322,9 @@ void SceneTopology::UnlinkTwist(TwistEdgeIndex e) {
   const FrameIndex h = te.head;
   TreeRecord* rec = MutableRecordOf(h);
   SEMGRAPH_DEMAND(rec != nullptr);
+  // The two lists that may grow, before any change (TwistForest::Unlink never allocates).
+  GrowCapacity(free_twist_edges_, free_twist_edges_.size() + 1);
+  GrowCapacity(free_records_, free_records_.size() + 1);
   rec->twists.Unlink(e.value());
   frames_[h.value()].twist_edge = TwistEdgeIndex();
   te.alive = false;

@@ -243,8 +243,9 @@ void TwistForest::Link(std::uint32_t edge, std::uint32_t tail, std::uint32_t hea
   const std::uint32_t head_root = FindRoot(head);
   SEMGRAPH_DEMAND(tail_root != head_root);
 
-  // All insertions first: they may rehash, so no Node reference is held across them.
-  nodes_.Reserve(nodes_.size() + 2);
+  // All insertions first: they may rehash, so no Node reference is held across them. Both
+  // maps are grown before either changes, so an allocation failure changes nothing.
+  ReserveLink();
   nodes_.FindOrInsert(tail, Node{});
   nodes_.FindOrInsert(head, Node{});
   edges_.Insert(edge, TwistEdgeEnds{tail, head});
@@ -291,9 +292,25 @@ void TwistForest::Unlink(std::uint32_t edge) {
   if (root_alone) nodes_.Erase(root);
 }
 
+void TwistForest::ReserveLink() {
+  nodes_.Reserve(nodes_.size() + 2);
+  edges_.Reserve(edges_.size() + 1);
+}
+
+void TwistForest::ReserveMerge(TwistForest& other) {
+  // With one side empty, Merge links nothing (at most it swaps): nothing to reserve.
+  if (&other == this || empty() || other.empty()) return;
+  // Merge keeps the storage of the forest with more edges and links the other's edges into it.
+  TwistForest& survivor = other.num_edges() > num_edges() ? other : *this;
+  survivor.nodes_.Reserve(nodes_.size() + other.nodes_.size() + 2);
+  survivor.edges_.Reserve(edges_.size() + other.edges_.size());
+}
+
 void TwistForest::Merge(TwistForest&& other) {
   SEMGRAPH_DEMAND(&other != this || empty());
   if (&other == this) return;
+  // Room for every edge first (strong guarantee: the Links below then never allocate).
+  ReserveMerge(other);
   // Link the smaller set of edges into the larger structure; which object ends up owning the
   // storage does not matter, the result is the same forest.
   if (other.num_edges() > num_edges()) std::swap(*this, other);

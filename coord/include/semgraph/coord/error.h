@@ -70,6 +70,12 @@ struct Error {
   ValueDetail value;                     ///< kInvalidNumber, kInvalidRotation
 };
 
+/// x in the fewest digits that read back as exactly x (std::to_chars, shortest round trip):
+/// "0.1", "1000000000000.5", "1e+12", "-0", "nan", "-inf". Every number in a message is written
+/// so, so that a message never shows a rounded value that would not be the offending one
+/// (1000000000000.5 is not "1e+12").
+[[nodiscard]] SEMGRAPH_COORD_EXPORT std::string FormatNumber(double x);
+
 /// One line naming what is wrong, e.g.
 /// "homogeneous representation: point e|C of the pose must be the origin of orientation frame
 /// [a]|C of the pose", or "quaternion norm differs from 1 by 0.2 (more than 1e-06)".

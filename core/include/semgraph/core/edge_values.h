@@ -10,12 +10,14 @@
 // stored rotation is valid for B (validated before Store); each value's epoch is bumped when its
 // edge is removed, so handles and compiled queries made before see kNoSuchEdge /
 // kQueryInvalidated instead of another edge's numbers.
+// Handles (PoseHandle, TwistHandle) name their graph (GraphId), kind, edge and epoch.
 // Costs: AddFrame / AddTwistSlot O(1) amortized (they allocate); Load/Store O(1), noexcept,
 // lock-free, allocation-free (seqlock_value.h).
 // Thread safety: one writer (Store, BumpEpoch) with any number of concurrent readers; growing
 // the arrays (AddFrame, AddTwistSlot) needs exclusive access.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -46,15 +48,57 @@ struct TwistNumbers {
 };
 using TwistValue = SeqLockValue<TwistNumbers>;
 
+/// Which graph made a handle: a process-wide unique id per SceneGraph object, drawn from one
+/// global atomic counter (0 is never drawn: it means "no graph"). A move hands the id to the
+/// new object and draws a fresh one for the moved-from object, so handles follow the graph's
+/// contents and never apply to whatever is built later in the emptied object. After 2^32 - 1
+/// graphs in one process the counter wraps and ids may repeat.
+/// Cost: one relaxed atomic increment per construction or move.
+class GraphId {
+ public:
+  GraphId() noexcept : value_(Next()) {}
+  GraphId(GraphId&& other) noexcept : value_(other.value_) { other.value_ = Next(); }
+  GraphId& operator=(GraphId&& other) noexcept {
+    if (this != &other) {
+      value_ = other.value_;
+      other.value_ = Next();
+    }
+    return *this;
+  }
+  GraphId(const GraphId&) = delete;
+  GraphId& operator=(const GraphId&) = delete;
+  [[nodiscard]] std::uint32_t value() const noexcept { return value_; }
+
+ private:
+  static std::uint32_t Next() noexcept;  // realtime.cc: one counter for the whole process
+  std::uint32_t value_;
+};
+
+/// What a handle refers to. A handle made by hand, default-constructed, or whose bytes came from
+/// the other handle type has the wrong kind (or graph 0) and is refused.
+enum class EdgeKind : std::uint8_t { kNone = 0, kPose = 1, kTwist = 2 };
+
 /// A resolved pose edge, for O(1) value updates from a control loop (SceneGraph::SetPose).
+/// It cannot lie: SetPose checks, in O(1), that it was made by this graph (graph), is a pose
+/// handle (kind), names a frame of the graph that has a pose parent through a variable
+/// (different-body) edge, and that the edge was not removed since (epoch); otherwise it returns
+/// a code and writes nothing. Any handle passing these checks names an edge FindPoseEdge would
+/// give a handle for, so a forged one can only do what a genuine one does.
 struct PoseHandle {
   topology::FrameIndex child;  ///< the edge's head frame
   std::uint32_t epoch = 0;     ///< the edge's epoch when the handle was made
+  std::uint32_t graph = 0;     ///< GraphId of the graph that made it
+  EdgeKind kind = EdgeKind::kNone;
+  friend bool operator==(const PoseHandle&, const PoseHandle&) = default;
 };
-/// A resolved twist edge, for O(1) value updates (SceneGraph::SetTwist).
+/// A resolved twist edge, for O(1) value updates (SceneGraph::SetTwist); checked like
+/// PoseHandle (graph, kind, a live slot, epoch).
 struct TwistHandle {
   topology::TwistEdgeIndex slot;
   std::uint32_t epoch = 0;
+  std::uint32_t graph = 0;
+  EdgeKind kind = EdgeKind::kNone;
+  friend bool operator==(const TwistHandle&, const TwistHandle&) = default;
 };
 
 template <coord::Backend B>
@@ -72,8 +116,19 @@ struct EdgeValues {
   void AddTwistSlot(topology::TwistEdgeIndex e) {
     if (V_DH.size() <= e.value()) V_DH.resize(e.value() + 1);
   }
+  /// Room for `frames` frame values / `slots` twist slot values in total (growing at least
+  /// twofold), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
+  /// call these before their first change (all or nothing under std::bad_alloc).
+  void ReserveFrames(std::size_t frames) { Grow(X_PF, frames); }
+  void ReserveTwistSlots(std::size_t slots) { Grow(V_DH, slots); }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
     return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue) + history.ApproximateBytes();
+  }
+
+ private:
+  template <class T>
+  static void Grow(std::vector<T>& v, std::size_t n) {
+    if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
   }
 };
 

@@ -33,7 +33,9 @@
 //   rejection of P1, P2, P3, W3         O(log n) + O(min(b1, b2)); never walks a pose tree
 //   GetPose/Position/Orientation        O(log n + d) compositions (common ancestor by jumps)
 //   GetTwist and velocities             O(k (log n + d))
-// Build-time calls allocate and return Expected<Ok, BuildError> with a formatted message.
+// Build-time calls allocate and return Expected<Ok, BuildError> with a formatted message. Out
+// of memory, they throw std::bad_alloc and leave the graph exactly as it was: each makes every
+// allocation it needs before its first change (tests/core/add_out_of_memory_test.cc).
 // Queries are noexcept, allocation-free, lock-free; they return a small QueryError.
 // Thread safety: const queries may run concurrently with each other; any add/remove needs
 // exclusive access.
@@ -41,6 +43,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -51,6 +54,8 @@
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
+#include "semgraph/core/jacobian.h"
+#include "semgraph/core/joints.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/core/time.h"
 #include "semgraph/topology/scene_topology.h"
@@ -176,17 +181,21 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // noexcept, allocation-free, lock-free and string-free. One writer thread may call
   // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks).
 
-  /// Handle of the existing pose edge {relative_to} -> {of}: unknown_frame, no_such_edge, or
-  /// constant_pose_change for a same-body (constant) edge, which cannot be updated.
+  /// Handle of the existing pose edge {relative_to} -> {of}: invalid_name, unknown_frame,
+  /// no_such_edge, or constant_pose_change for a same-body (constant) edge, which cannot be
+  /// updated.
   [[nodiscard]] Expected<PoseHandle, BuildError> FindPoseEdge(std::string_view of,
                                                              std::string_view relative_to) const;
-  /// Handle of the existing twist edge {relative_to} (a body) -> {of}: unknown_frame,
-  /// unknown_body, no_such_edge.
+  /// Handle of the existing twist edge {relative_to} (a body) -> {of}: invalid_name,
+  /// unknown_frame, unknown_body, no_such_edge.
   [[nodiscard]] Expected<TwistHandle, BuildError> FindTwistEdge(std::string_view of,
                                                                std::string_view relative_to) const;
   /// New value X_TH of the edge (rotation of the head in the tail, position of the head's origin
   /// in the tail, both in [tail]). O(1). Codes: kOk, kInvalidNumber, kInvalidRotation
-  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made).
+  /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made, or
+  /// the handle is not one of this graph's pose handles: another graph's, default or forged,
+  /// naming no frame or a root frame), kConstantPoseChange (a forged handle naming a same-body
+  /// edge). On any code but kOk nothing is written.
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
@@ -194,11 +203,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// SetPose for a caller that guarantees the input: finite numbers, |position| <= 1e12, and a
   /// unit quaternion (|q| within 1e-12 of 1, e.g. one this graph returned or one normalized by
   /// the caller). Skips validation: about half of SetPose's cost. Debug builds check the
-  /// guarantee (SEMGRAPH_DEMAND). Codes: kOk, kNoSuchEdge.
+  /// guarantee (SEMGRAPH_DEMAND). Codes: kOk, and the handle checks of SetPose
+  /// (kNoSuchEdge, kConstantPoseChange).
   [[nodiscard]] ErrorCode SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                            const Eigen::Vector3d& p_ToHo_T) noexcept;
   /// New value V_DH of the screw twist of the edge D -> {h}|H: velocity of h's origin and
-  /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose.
+  /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose (kNoSuchEdge for
+  /// a removed edge, a free slot, or a handle not made by this graph's FindTwistEdge).
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                    const Eigen::Vector3d& w_DH_H) noexcept;
 
@@ -242,6 +253,45 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] QueryResult<Orientation> GetOrientation(
       const semantics::OrientationSemantics& q) const noexcept;
   [[nodiscard]] QueryResult<coord::Twist> GetTwist(const semantics::TwistSemantics& q) const noexcept;
+
+  // ---------------------------------------------------------------- joints (joints.cc)
+  // A joint owns a pose edge and a twist edge whose values follow its state (joints.h,
+  // docs/kinematics.md). Adds and removals are build time; setting states by group is the
+  // real-time path (O(joints), noexcept, no allocation, lock-free for readers).
+
+  /// Adds a joint. invalid_name -> invalid_number / invalid_rotation -> invalid_model (axis,
+  /// limits, mimic) -> duplicate_joint -> node resolution -> self_edge / twist_same_body ->
+  /// joint_edge -> P1, P2, P3, W4 -> W1, W3 (its twist edge). Atomic.
+  BuildResult AddJoint(const JointSpec& spec);
+  /// unknown_joint (no joint of that name).
+  [[nodiscard]] Expected<JointHandle, BuildError> FindJoint(std::string_view name) const;
+  /// The layout of a joint-state vector: these joints in this order. unknown_joint (no such
+  /// movable joint), mimic_joint (a mimic: it follows its master), duplicate_joint (named twice).
+  [[nodiscard]] Expected<JointGroup, BuildError> MakeJointGroup(std::span<const std::string_view> names) const;
+  /// Every independent movable joint (no fixed, no mimic joints), in the order they were added.
+  [[nodiscard]] JointGroup AllJoints() const;
+  /// Sets positions and velocities by name, all or nothing: invalid_number -> unknown_joint ->
+  /// mimic_joint -> joint_limit. A joint keeps the fields it is not given. Build time (messages).
+  BuildResult SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities);
+  /// Real-time setters: values in the group's order (size must equal group.size()). All or
+  /// nothing: kInvalidNumber -> kUnknownJoint (a joint removed since the group was made) ->
+  /// kJointLimit. O(joints + mimics), noexcept, allocation-free.
+  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q) noexcept;
+  [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot) noexcept;
+  [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
+                                        std::span<const double> qdot) noexcept;
+  /// Joint state and names (a stale handle: NaN / empty).
+  [[nodiscard]] double joint_position(JointHandle j) const noexcept;
+  [[nodiscard]] double joint_velocity(JointHandle j) const noexcept;
+  [[nodiscard]] std::string_view joint_name(JointHandle j) const noexcept;
+  [[nodiscard]] std::size_t num_joints() const noexcept { return joints_.num_alive; }
+  [[nodiscard]] const internal::JointTable& joint_table() const noexcept { return joints_; }
+
+  /// The semantic Jacobian of TwistCoord(point|body, ref_body, [coord]) (jacobian.h): one
+  /// column per independent joint on the twist path, in path order from ref_body. The errors
+  /// of GetTwist. Allocates the result (use CompileJacobian on the real-time path).
+  [[nodiscard]] Expected<Jacobian, QueryError> GetJacobian(const TwistSpec& spec) const;
+  [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(const TwistSpec& spec) const;
 
   // ---------------------------------------------------------------- inspection
 
@@ -319,9 +369,16 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   FrameIndex CreateFrame(NameId name, BodyIndex body);
   void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
+  // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.
+  BuildResult RemoveJoint(const internal::JointRecord& joint);
+  void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
+  ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept;
+  Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;
   EdgeValues<B> values_;
+  internal::JointTable joints_;
+  GraphId id_;  // stamped into handles; SetPose/SetTwist refuse other graphs' handles
 };
 
 extern template class SceneGraph<coord::QuaternionBackend>;

@@ -6,8 +6,10 @@
 //
 // Invariants:
 //  - ids are dense: 0 .. size()-1, in order of first interning; an id never changes or dies.
-//  - every interned name is valid: non-empty, at most kMaxNameBytes bytes, printable ASCII or
-//    valid UTF-8 with no control characters (spec: "non-empty, printable, at most 255 bytes").
+//  - every interned name is valid: non-empty, at most kMaxNameBytes bytes, valid UTF-8 and
+//    printable: no control characters, no invisible or formatting characters (format
+//    characters and default-ignorable code points), no line or paragraph separators, no spaces
+//    other than U+0020, no noncharacters (the definition and its reasons: docs/rules.md §1).
 // Costs: Intern O(|name|) amortized (one hash, one copy into a 64 KiB arena on first sight; no
 // allocation per name); Find O(|name|), allocation-free; name(id) O(1).
 // Thread safety: const methods may run concurrently; Intern needs exclusive access.
@@ -15,9 +17,9 @@
 
 #include <cstdint>
 #include <limits>
-#include <memory>
 #include <string>
 #include <string_view>
+#include <memory>
 #include <vector>
 
 #include "semgraph/base/error_code.h"
@@ -46,15 +48,15 @@ struct NameError {
   ErrorCode code = ErrorCode::kInvalidName;
   NameProblem problem = NameProblem::kEmpty;
   std::size_t byte_offset = 0;  ///< offending byte for kNotPrintable / kNotUtf8
+  std::uint32_t code_point = 0;  ///< the character that is not printable (kNotPrintable)
 };
 
-/// Checks the spec's name rule without interning. O(|name|), allocation-free.
-[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Expected<Ok, NameError> ValidateName(
-    std::string_view name) noexcept;
+/// Checks the name rule without interning. O(|name|), allocation-free.
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Expected<Ok, NameError> ValidateName(std::string_view name) noexcept;
 
-/// Human-readable reason, e.g. "name is empty", "byte 3 of the name is a control character".
-[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const NameError& error,
-                                                             std::string_view name);
+/// Human-readable reason, e.g. "name is empty", "byte 3 of the name is a control character",
+/// "byte 0 of the name is U+200B, an invisible or formatting character".
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const NameError& error, std::string_view name);
 
 class SEMGRAPH_SEMANTICS_EXPORT NameTable {
  public:

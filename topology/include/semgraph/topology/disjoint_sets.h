@@ -47,7 +47,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT DisjointSets {
   /// Number of elements.
   [[nodiscard]] std::size_t size() const noexcept { return link_.size(); }
 
-  /// Reserves room for `n` elements, so that the next AddElement calls up to n do not allocate.
+  /// Reserves room for `n` elements in total (growing at least twofold when it grows), so that
+  /// AddElement up to n elements does not allocate. On std::bad_alloc the sets are unchanged.
   void Reserve(std::size_t n);
 
   /// Adds a singleton set {size()} and returns its element (= the old size()).

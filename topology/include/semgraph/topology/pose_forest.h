@@ -59,7 +59,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   /// Number of nodes (frames 0 .. size()-1).
   [[nodiscard]] std::size_t size() const noexcept { return parent_.size(); }
 
-  /// Reserves room for `n` nodes, so that the next n AddNode calls do not allocate.
+  /// Reserves room for `n` nodes in total (growing at least twofold when it grows, so that
+  /// reserving one more at a time is O(1) amortized): AddNode up to n nodes does not allocate.
+  /// On std::bad_alloc the forest is unchanged.
   void Reserve(std::size_t n);
 
   /// Adds a new isolated root and returns its index (= the old size()). O(1) amortized.

@@ -10,6 +10,10 @@
 // It checks nothing itself: callers run the rules of rules.h first (in the order of
 // docs/rules.md) and only then mutate. Mutations keep every invariant below, or abort via
 // SEMGRAPH_DEMAND when called against a rule (a programming error, never a user error).
+// Allocation failure: every mutation makes all its allocations before its first change, so a
+// std::bad_alloc leaves the topology unchanged (strong guarantee); the Reserve* calls let a
+// caller that makes several mutations in a row (create nodes, then link them) allocate for all
+// of them first. Reservations change capacities only (and may add an empty spare record).
 //
 // Invariants (CheckInvariants in scene_topology_debug.cc verifies them from scratch):
 //  - every frame belongs to exactly one body; name -> frame and name -> body maps agree with
@@ -126,6 +130,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// name maps and names), so that a build of known size does not reallocate.
   void Reserve(std::size_t frames, std::size_t bodies);
 
+  /// Room for `bodies` new bodies and `frames` new frames, whose names are interned already, so
+  /// that the CreateBody / CreateFrame calls that follow do not allocate. Changes nothing else.
+  void ReserveNodes(std::size_t bodies, std::size_t frames);
   /// New nodes. The name must be interned and not yet name a node of that kind.
   BodyIndex CreateBody(NameId name);
   FrameIndex CreateFrame(NameId name, BodyIndex body);
@@ -139,6 +146,10 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
     return trees_.SameSet(a.value(), b.value());
   }
 
+  /// Room for LinkPose(tail, head), so that it does not allocate; an invalid index stands for
+  /// a frame not created yet (a single-frame tree). A caller that creates nodes and then links
+  /// them reserves first (with ReserveNodes), so that nothing changes unless all succeeds.
+  void ReserveLinkPose(FrameIndex tail, FrameIndex head);
   /// Links the pose edge tail -> head (head a root of another tree; P1-P3 and W4 checked by
   /// the caller) and merges the two trees' records.
   void LinkPose(FrameIndex tail, FrameIndex head);
@@ -171,6 +182,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   }
   /// Number of twist edge slots (live or free); values are kept per slot.
   [[nodiscard]] std::size_t num_twist_edge_slots() const noexcept { return twist_edges_.size(); }
+  /// Room for LinkTwist(..., head, ...), so that it does not allocate; an invalid head stands
+  /// for a frame not created yet.
+  void ReserveLinkTwist(FrameIndex head);
   /// Adds the twist edge tail -> head (W1-W3 checked by the caller); returns its slot.
   TwistEdgeIndex LinkTwist(BodyIndex tail, FrameIndex head, const semantics::TwistSemantics& s);
   /// Removes a live twist edge from its tree's TG; its slot is reused later.
@@ -224,7 +238,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   TreeRecord& EnsureRecord(FrameIndex f);
   TreeRecord& NewRecord(std::uint32_t rep, FrameIndex f);
   void FreeRecord(std::uint32_t rep);
-  void RebuildTree(FrameIndex root, const std::vector<std::uint32_t>& twist_edges);
+  void ReserveNewRecord(std::size_t bodies);
+  void InstallTree(FrameIndex root, TreeRecord&& record) noexcept;
 
   semantics::NameTable names_;
   std::vector<std::uint32_t> frame_of_name_;  // NameId -> FrameIndex (kNone if not a frame)

@@ -31,7 +31,7 @@
 //    endpoint and hung under the other endpoint, so over any sequence of links a body is
 //    re-levelled O(log n) times.
 //  - Unlink: O(d + size of the part below the edge), which is re-levelled; the part that stays
-//    is untouched.
+//    is untouched. Never allocates.
 //  - CanMerge: O(m * (d + alpha)) with m = edges of the smaller forest; allocates a temporary
 //    union-find over at most 2m bodies.
 //  - Merge: links the edges of the smaller forest into the larger one (swapping first if
@@ -128,7 +128,14 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
 
   // ---- Mutations: exclusive access; may allocate; invalidate FindEdge pointers. -------------
 
-  /// Adds twist edge `edge` = tail -> head, creating the bodies as needed.
+  /// Room for one more Link (two bodies, one edge), so that it does not allocate.
+  void ReserveLink();
+  /// Room for Merge(other) (in whichever of the two keeps its storage), so that it does not
+  /// allocate. Changes neither forest's contents.
+  void ReserveMerge(TwistForest& other);
+
+  /// Adds twist edge `edge` = tail -> head, creating the bodies as needed. Strong guarantee:
+  /// when an allocation fails (std::bad_alloc) the forest is unchanged.
   /// @pre edge, tail, head != kNone; tail != head; `edge` absent; !Connected(tail, head).
   /// Preconditions are checked (SEMGRAPH_DEMAND aborts) before anything changes.
   /// O(depth + size of the smaller of the two trees), which is the one rerooted.
@@ -141,6 +148,7 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
 
   /// Moves every edge of `other` into this forest; `other` is left empty. The surviving
   /// storage is that of the larger forest, and the smaller one's edges are linked into it.
+  /// Allocates (ReserveMerge) before it changes anything: on std::bad_alloc both are unchanged.
   /// @pre CanMerge(other), &other != this (checked edge by edge through Link's checks, which
   /// abort on violation, possibly after some edges were moved).
   void Merge(TwistForest&& other);
