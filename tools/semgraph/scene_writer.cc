@@ -25,6 +25,14 @@
 // (coord/validate.h: normalizing is idempotent). Pose edges are written in edge form (the stored
 // value X_PF in [P]) and twist edges at their head in its frame, so nothing is converted.
 //
+// Joints: each live joint as a `joint` op (origin, axis, limits, mimic as stored), in table
+// order; one creates its frames where the order of ids needs it (a joint interns [p, c, P, C]
+// and creates P, C, then c, p), the others follow the edges; then one `joints` op with the
+// states. A joint's own pose and twist edges are not written (they follow from its state). The
+// generation of a slot that held removed joints is rebuilt (the joint is removed and added again
+// as often); records of removed joints that no live joint took over are not: such a graph comes
+// back with its live joints renumbered (in order).
+//
 // Cost: O((names + frames + edges) * k) with k the number of children of a frame looked at, plus
 // the text. Thread safety: reads the graph only.
 #include <cstdio>
@@ -76,10 +84,20 @@ class Writer {
   explicit Writer(const core::SceneGraph<B>& g) : g_(g), t_(g.topology()) {
     pose_done_.assign(g.num_frames(), false);
     twist_done_.assign(g.num_frames(), false);
+    joint_child_.assign(g.num_frames(), false);
+    joints_at_.resize(g.num_frames());
+    const auto& joints = g.joint_table().joints;
+    joint_done_.assign(joints.size(), false);
+    for (std::uint32_t k = 0; k < joints.size(); ++k) {
+      if (!joints[k].alive) continue;
+      joint_child_[joints[k].child.value()] = true;
+      joints_at_[joints[k].child.value()].push_back(k);
+      joints_at_[joints[k].parent.value()].push_back(k);
+    }
     children_.resize(g.num_frames());
     for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
       const FrameIndex p = g.pose_parent(FrameIndex(i));
-      if (p.is_valid()) children_[p.value()].push_back(FrameIndex(i));
+      if (p.is_valid() && !joint_child_[i]) children_[p.value()].push_back(FrameIndex(i));
     }
   }
 
@@ -95,12 +113,14 @@ class Writer {
       return out_;
     }
     CreateNodes();
+    // A joint's pose and twist edges are the joint's: written as the joint, below.
     t_.ForEachPoseEdge([&](FrameIndex tail, FrameIndex head) {
-      if (!pose_done_[head.value()]) Pose(head, tail);
+      if (!pose_done_[head.value()] && !joint_child_[head.value()]) Pose(head, tail);
     });
     t_.ForEachTwistEdge([&](BodyIndex tail, FrameIndex head) {
-      if (!twist_done_[head.value()]) Twist(head, tail);
+      if (!twist_done_[head.value()] && !joint_child_[head.value()]) Twist(head, tail);
     });
+    Joints();
     return out_;
   }
 
@@ -117,6 +137,13 @@ class Writer {
   Effects TwistEffects(FrameIndex h, BodyIndex D) const {
     const BodyIndex H = g_.body_of(h);
     return {{FrameName(h), BodyName(H), BodyName(D)}, {H, D}, {h}};
+  }
+
+  // A joint op interns [p, c, P, C], creates the bodies P, C, then the frames c, p (AddJoint).
+  Effects JointEffects(const core::internal::JointRecord& j) const {
+    return {{FrameName(j.parent), FrameName(j.child), BodyName(j.parent_body), BodyName(j.child_body)},
+            {j.parent_body, j.child_body},
+            {j.child, j.parent}};
   }
 
   // Applies `e` to `c` if every name, body and frame it would make new is the next one (and
@@ -194,6 +221,66 @@ class Writer {
             ", ref_body: " + Quoted(BodyName(D)) + "}\n";
   }
 
+  // Every live joint in index order (a mimic after its master), with its origin, axis and
+  // limits as stored, then one `joints` op with the states of the independent movable joints
+  // (a mimic's follows; a fixed joint has none). The joint's edges follow from its state.
+  void Joint(std::uint32_t k) {
+    const core::internal::JointTable& table = g_.joint_table();
+    const core::internal::JointRecord& j = table.joints[k];
+    out_ += "  - {op: joint, name: " + JsonString(j.name) + ", type: " + std::string(core::ToString(j.type)) +
+            ", parent: " + Quoted(FrameName(j.parent)) + ", parent_body: " + Quoted(BodyName(j.parent_body)) +
+            ", child: " + Quoted(FrameName(j.child)) + ", child_body: " + Quoted(BodyName(j.child_body)) +
+            ", position: " + Numbers(j.p_origin, 3) + ", rotation: {quaternion: ";
+    const double wxyz[4] = {j.q_origin.w(), j.q_origin.x(), j.q_origin.y(), j.q_origin.z()};
+    out_ += Numbers(wxyz, 4) + "}";
+    if (j.movable()) out_ += ", axis: " + Numbers(j.axis, 3);
+    if (j.limited()) out_ += ", lower: " + Number(j.lower) + ", upper: " + Number(j.upper);
+    if (j.is_mimic()) {
+      out_ += ", mimic: {joint: " + JsonString(table.joints[j.master].name) +
+              ", multiplier: " + Number(j.multiplier) + ", offset: " + Number(j.offset) + "}";
+    }
+    out_ += "}\n";
+    // A slot that held removed joints before: remove and add again as often, so that the slot's
+    // generation (what its handles carry) comes back too. Every slot before k is live then, so
+    // the add takes slot k again.
+    // (A joint added and removed by the replay itself counts: SlotAddedAndRemoved.)
+    const std::size_t op_begin = out_.rfind("  - {op: joint, ");
+    const std::string op = out_.substr(op_begin);
+    for (std::uint32_t n = SlotGeneration(live_slots_); n < j.generation; ++n) {
+      RemovePose(j.child, j.parent);
+      out_ += op;
+    }
+    ++live_slots_;
+    joint_done_[k] = true;
+  }
+
+  // The replay's joint table: slots [0, live_slots_) hold live joints (written in table order),
+  // and a joint added and removed at once leaves the next slot dead one generation further.
+  std::uint32_t SlotGeneration(std::uint32_t slot) const {
+    return slot < replay_generation_.size() ? replay_generation_[slot] : 0;
+  }
+  void SlotAddedAndRemoved() {
+    if (replay_generation_.size() <= live_slots_) replay_generation_.resize(live_slots_ + 1, 0);
+    ++replay_generation_[live_slots_];
+  }
+
+  void Joints() {
+    const core::internal::JointTable& table = g_.joint_table();
+    std::string positions, velocities;
+    for (std::uint32_t k = 0; k < table.joints.size(); ++k) {
+      const core::internal::JointRecord& j = table.joints[k];
+      if (!j.alive) continue;
+      if (!joint_done_[k]) Joint(k);
+      if (j.movable() && !j.is_mimic()) {
+        positions += (positions.empty() ? "" : ", ") + JsonString(j.name) + ": " + Number(j.q);
+        velocities += (velocities.empty() ? "" : ", ") + JsonString(j.name) + ": " + Number(j.qdot);
+      }
+    }
+    if (!positions.empty()) {
+      out_ += "  - {op: joints, positions: {" + positions + "}, velocities: {" + velocities + "}}\n";
+    }
+  }
+
   // ------------------------------------------------------------------ the replay
   void CreateNodes() {
     const std::uint32_t num_bodies = static_cast<std::uint32_t>(g_.num_bodies());
@@ -235,7 +322,8 @@ class Writer {
       return true;
     }
     // The graph's own edges at the next frame.
-    if (const FrameIndex p = g_.pose_parent(nf); p.is_valid() && Fits(PoseEffects(nf, p), c)) {
+    if (const FrameIndex p = g_.pose_parent(nf); p.is_valid() && !joint_child_[nf.value()] &&
+                                                   Fits(PoseEffects(nf, p), c)) {
       Pose(nf, p);
       return true;
     }
@@ -245,8 +333,28 @@ class Writer {
         return true;
       }
     }
-    if (const BodyIndex D = g_.twist_parent(nf); D.is_valid() && Fits(TwistEffects(nf, D), c)) {
+    if (const BodyIndex D = g_.twist_parent(nf); D.is_valid() && !joint_child_[nf.value()] &&
+                                                  Fits(TwistEffects(nf, D), c)) {
       Twist(nf, D);
+      return true;
+    }
+    // A joint at the next frame; the joints before it in the table come first (their frames
+    // exist: they were added before it), so that every joint keeps its index.
+    const auto& joints = g_.joint_table().joints;
+    const auto exists = [&](const core::internal::JointRecord& j) {
+      return j.parent.value() < c.frame && j.child.value() < c.frame;  // bodies exist before frames
+    };
+    for (const std::uint32_t k : joints_at_[nf.value()]) {
+      if (joint_done_[k]) continue;
+      bool earlier_ready = true;
+      for (std::uint32_t i = 0; i < k && earlier_ready; ++i) {
+        earlier_ready = !joints[i].alive || joint_done_[i] || exists(joints[i]);
+      }
+      if (!earlier_ready || !Fits(JointEffects(joints[k]), c)) continue;
+      for (std::uint32_t i = 0; i < k; ++i) {
+        if (joints[i].alive && !joint_done_[i]) Joint(i);
+      }
+      Joint(k);
       return true;
     }
     // An edge that only creates the nodes, removed at once.
@@ -278,6 +386,24 @@ class Writer {
         return true;
       }
     }
+    // Frames made by a joint that is gone: only a joint interns its parent's name first and
+    // creates its child frame first. Added and removed at once (a removed joint's record stays
+    // in the table: the graph had one too).
+    if (c.frame + 1 < num_frames) {
+      const FrameIndex next(c.frame + 1);
+      const BodyIndex P = g_.body_of(next), C = g_.body_of(nf);
+      const Effects e{{FrameName(next), FrameName(nf), BodyName(P), BodyName(C)}, {P, C}, {nf, next}};
+      if (P != C && FrameName(next) != FrameName(nf) && Fits(e, c)) {
+        std::string name = "semgraph export joint";
+        while (g_.joint_table().Find(name) != nullptr) name += "'";
+        out_ += "  - {op: joint, name: " + JsonString(name) + ", type: fixed, parent: " + Quoted(FrameName(next)) +
+                ", parent_body: " + Quoted(BodyName(P)) + ", child: " + Quoted(FrameName(nf)) +
+                ", child_body: " + Quoted(BodyName(C)) + "}\n";
+        RemovePose(nf, next);
+        SlotAddedAndRemoved();
+        return true;
+      }
+    }
     return false;
   }
 
@@ -297,6 +423,11 @@ class Writer {
   const core::SceneGraph<B>& g_;
   const topology::SceneTopology& t_;
   std::vector<bool> pose_done_, twist_done_;  // by head frame: the edge is written
+  std::vector<bool> joint_child_;             // by frame: the head of a joint's edges
+  std::vector<std::vector<std::uint32_t>> joints_at_;  // by frame: live joints with it as an end
+  std::vector<bool> joint_done_;              // by joint index: written
+  std::uint32_t live_slots_ = 0;              // joints written so far (SlotGeneration)
+  std::vector<std::uint32_t> replay_generation_;
   std::vector<std::vector<FrameIndex>> children_;
   std::string out_;
 };
