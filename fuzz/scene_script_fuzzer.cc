@@ -348,6 +348,14 @@ struct Direct {
         if (ok) Push(r->value);
         break;
       }
+      case script::QueryKind::kJacobian: {  // the script prints the rows in order (v, then w)
+        const auto r = g.GetJacobian(ts);
+        Take(r);
+        for (Eigen::Index row = 0; ok && row < 6; ++row) {
+          for (Eigen::Index c = 0; c < r->J.cols(); ++c) numbers.push_back(r->J(row, c));
+        }
+        break;
+      }
     }
   }
 };

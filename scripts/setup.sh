@@ -1,26 +1,29 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages semgraph needs, skipping those already installed.
 #
-#   scripts/setup.sh [--clang] [--bench] [--dot]
+#   scripts/setup.sh [--clang] [--bench] [--dot] [--dds]
 #
 #   (always)  cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
+#             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
 #   --clang   clang libclang-rt-14-dev   (clang++ builds, sanitizers and libFuzzer with clang)
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
+#   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
 #
 # Idempotent: when everything is installed it only says so. Installing needs root; as
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
 
-packages=(cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy)
+packages=(cmake g++ make libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
 for arg in "$@"; do
   case "$arg" in
     --clang) packages+=(clang libclang-rt-14-dev) ;;
     --bench) packages+=(libtf2-dev valgrind) ;;
     --dot) packages+=(graphviz) ;;
+    --dds) packages+=(cyclonedds-dev cyclonedds-tools) ;;
     -h | --help) usage; exit 0 ;;
     *) echo "setup.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
   esac

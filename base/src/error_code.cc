@@ -41,6 +41,12 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "duplicate_stamp",
     "extrapolation",
     "stale",
+    "invalid_model",
+    "duplicate_joint",
+    "unknown_joint",
+    "joint_limit",
+    "mimic_joint",
+    "joint_edge",
 };
 }  // namespace
 

@@ -212,6 +212,7 @@ const char* RoleName(ValueRole role) noexcept {
 }  // namespace
 
 std::string FormatNumber(double x) {
+  if (std::isnan(x)) return "nan";  // whatever its sign bit: one non-number to the user
   char buf[64];  // the shortest round-trip form of a double needs at most 24 characters
   const auto r = std::to_chars(buf, buf + sizeof(buf), x);
   return std::string(buf, r.ptr);

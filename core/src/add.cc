@@ -276,8 +276,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     }
   }
 
-  // 8. P4: an existing edge b -> a is a value update, or constant_pose_change.
+  // 8. P4: an existing edge b -> a is a value update, or constant_pose_change; a joint's edge
+  // is driven by its state only (joint_edge, in P4's place).
   if (topology::PoseEdgeExists(t, b, a)) {
+    if (const internal::JointRecord* j = joints_.OfChild(a)) {
+      return Reject(ErrorCode::kJointEdge, what(),
+                    "the pose edge " + text::Frame(t, b) + " -> " + text::Frame(t, a) + " belongs to joint " + j->name +
+                        "; set the joint's position instead");
+    }
     if (topology::IsConstantEdge(t, b, a)) {
       const auto stored = values_.X_PF[a.value()].Load();
       const Eigen::Matrix3d dR = B::ToMatrix(B::RotationOf(stored)) - B::ToMatrix(B::RotationOf(X_BA));
@@ -413,6 +419,11 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   // W1 -> W3; an existing edge D -> {e} is a value update.
   const topology::NewTwistEdge ends{D, e, C};
   if (e.is_valid() && t.twist_edge_of(e).is_valid() && D.is_valid() && t.twist_edge(t.twist_edge_of(e)).tail == D) {
+    if (const internal::JointRecord* j = joints_.OfChild(e)) {  // joint_edge, before W1
+      return Reject(ErrorCode::kJointEdge, what(),
+                    "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, e) + " belongs to joint " +
+                        j->name + "; set the joint's velocity instead");
+    }
     const TwistEdgeIndex existing = t.twist_edge_of(e);
     const TwistNumbers V{v_DEo_E, w_DE_E};
     if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
@@ -470,6 +481,7 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
                       (p.is_valid() ? " (the pose parent of " + text::Frame(t, h) + " is " + text::Frame(t, p) + ")"
                                     : " (" + text::Frame(t, h) + " has no pose parent)"));
   }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) return RemoveJoint(*j);  // joints.cc
   topology_.CutPose(h);
   values_.X_PF[h.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
   DropPoseHistory(h);                   // removing an edge drops its history
@@ -499,6 +511,10 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
                       (!edge.is_valid() ? " (" + text::Frame(t, h) + " has no twist parent)"
                                         : " (its twist parent is " + std::string(t.body_name(t.twist_edge(edge).tail)) +
                                               ")"));
+  }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Reject(ErrorCode::kJointEdge, what(),
+                  "it is the twist edge of joint " + j->name + "; remove the joint's pose edge to remove the joint");
   }
   topology_.UnlinkTwist(edge);
   values_.V_DH[edge.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid

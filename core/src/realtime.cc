@@ -43,6 +43,11 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
                              "there is no pose edge " + text::Frame(t, tail) + " -> " + text::Frame(t, h))
                           .error()};
   }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Unexpected{Reject(ErrorCode::kJointEdge, what(),
+                             "the edge belongs to joint " + j->name + ": set the joint's position instead")
+                          .error()};
+  }
   if (topology::IsConstantEdge(t, tail, h)) {
     return Unexpected{Reject(ErrorCode::kConstantPoseChange, what(),
                              text::Frame(t, h) + " and " + text::Frame(t, tail) +
@@ -76,6 +81,11 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
   if (!edge.is_valid() || t.twist_edge(edge).tail != D) {
     return Unexpected{Reject(ErrorCode::kNoSuchEdge, what(),
                              "there is no twist edge " + std::string(relative_to) + " -> " + text::Frame(t, h))
+                          .error()};
+  }
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Unexpected{Reject(ErrorCode::kJointEdge, what(),
+                             "the edge belongs to joint " + j->name + ": set the joint's velocity instead")
                           .error()};
   }
   return TwistHandle{edge, values_.V_DH[edge.value()].epoch(), id_.value(), EdgeKind::kTwist};

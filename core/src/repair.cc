@@ -121,6 +121,11 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
   if (topology::CheckP2(t, ends) || topology::CheckP3(t, ends) || topology::CheckW4(t, ends)) {
     return Unexpected{error};
   }
+  // A joint's pose edge has a direction (parent -> child: X_origin M(q)); re-rooting through
+  // one would reverse it, so a path with a joint is not re-rooted (kinematics.md).
+  for (FrameIndex x = b; x.is_valid() && t.pose_parent(x).is_valid(); x = t.pose_parent(x)) {
+    if (joints_.OfChild(x)) return Unexpected{error};
+  }
   const FrameIndex old_root = t.forest().Root(b);
   const std::size_t reversed = t.forest().depth(b);
   std::string rerooted_text = "re-rooted the pose tree of " + text::Frame(t, b) + " at it (" +

@@ -49,6 +49,17 @@ std::string SceneGraph<B>::Dump() const {
     }
     out << " tree " << t.forest().Root(f).value() << "\n";
   }
+  out << "joints " << joints_.num_alive << "\n";
+  for (std::uint32_t i = 0; i < joints_.joints.size(); ++i) {
+    const internal::JointRecord& j = joints_.joints[i];
+    out << "  joint " << i << " generation " << j.generation;
+    if (j.alive) {
+      out << " " << j.name << " " << ToString(j.type) << " " << t.frame_name(j.parent) << " -> "
+          << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
+      if (j.is_mimic()) out << " mimic " << joints_.joints[j.master].name;
+    }
+    out << "\n";
+  }
   return out.str();
 }
 

@@ -29,15 +29,18 @@ class ScriptRun:
         return f"ScriptRun(ops={len(self.outcomes)}, failed={failed}, graph={self.graph!r})"
 
 
-def run_script_text(text: Union[str, bytes], file_name: str = "<string>") -> ScriptRun:
-    """Applies a scene script given as text; see run_script."""
+def run_script_text(text: Union[str, bytes], file_name: str = "<string>", base_dir: str = "") -> ScriptRun:
+    """Applies a scene script given as text; see run_script. `base_dir` is the folder a
+    relative `urdf` file is read from (empty: the working folder)."""
     if isinstance(text, str):
         text = text.encode("utf-8")
     elif not isinstance(text, (bytes, bytearray)):
         raise TypeError(f"run_script_text(): text must be a str or bytes, not {type(text).__name__}")
     if not isinstance(file_name, str):
         raise TypeError(f"run_script_text(): file_name must be a str, not {type(file_name).__name__}")
-    result = _semgraph._run_script_text(bytes(text), file_name)
+    if not isinstance(base_dir, str):
+        raise TypeError(f"run_script_text(): base_dir must be a str, not {type(base_dir).__name__}")
+    result = _semgraph._run_script_text(bytes(text), file_name, base_dir)
     if not result[0]:
         _, line, column, message, formatted = result
         raise ScriptError(formatted, line, column, message)
@@ -56,4 +59,5 @@ def run_script(path: Union[str, "os.PathLike[str]"]) -> ScriptRun:
         raise TypeError(f"run_script(): path must be a str or os.PathLike, not {type(path).__name__}")
     with open(path, "rb") as f:
         text = f.read()
-    return run_script_text(text, os.fspath(path))
+    # A relative `urdf` file is read from the script's folder, as the tool does.
+    return run_script_text(text, os.fspath(path), os.path.dirname(os.fspath(path)))

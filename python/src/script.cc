@@ -17,7 +17,7 @@
 namespace semgraph::python {
 
 void BindScript(py::module_& m) {
-  m.def("_run_script_text", [](py::bytes text, const std::string& file_name) -> py::tuple {
+  m.def("_run_script_text", [](py::bytes text, const std::string& file_name, const std::string& base_dir) -> py::tuple {
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
     const std::string data = text;
     std::optional<script::ScriptError> error;
@@ -37,7 +37,7 @@ void BindScript(py::module_& m) {
         graph->Visit([&](auto& g) {
           lines.reserve(script->ops.size());
           for (std::size_t i = 0; i < script->ops.size(); ++i) {
-            script::OpOutcome outcome = script::ApplyOp(g, script->ops[i], i);
+            script::OpOutcome outcome = script::ApplyOp(g, script->ops[i], i, base_dir);
             all_ok = all_ok && outcome.ok;
             lines.push_back(std::move(outcome.json));
           }
@@ -52,10 +52,11 @@ void BindScript(py::module_& m) {
 #else
     (void)text;
     (void)file_name;
+    (void)base_dir;
     throw std::runtime_error(
         "run_script(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
 #endif
-  }, py::arg("text"), py::arg("file_name"));
+  }, py::arg("text"), py::arg("file_name"), py::arg("base_dir") = std::string());
 }
 
 }  // namespace semgraph::python

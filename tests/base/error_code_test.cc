@@ -49,6 +49,12 @@ const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
       {ErrorCode::kDuplicateStamp, "duplicate_stamp"},
       {ErrorCode::kExtrapolation, "extrapolation"},
       {ErrorCode::kStale, "stale"},
+      {ErrorCode::kInvalidModel, "invalid_model"},
+      {ErrorCode::kDuplicateJoint, "duplicate_joint"},
+      {ErrorCode::kUnknownJoint, "unknown_joint"},
+      {ErrorCode::kJointLimit, "joint_limit"},
+      {ErrorCode::kMimicJoint, "mimic_joint"},
+      {ErrorCode::kJointEdge, "joint_edge"},
   };
   return codes;
 }

@@ -8,6 +8,7 @@
 // it is exactly X(t) in linear mode; a torn or mixed read would break that identity.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 
@@ -93,7 +94,9 @@ TEST(TimeRealtimeTest, OneWriterAppendsWhileReadersEvaluateAtAnyTime) {
   std::atomic<std::int64_t> written{0};
   std::atomic<int> bad{0};
   std::atomic<long> reads{0};
+  std::atomic<int> started{0};
   std::thread writer([&] {
+    while (started.load(std::memory_order_acquire) < 2) std::this_thread::yield();  // overlap readers
     for (std::int64_t i = 1; i <= kSamples; ++i) {
       // Mostly in order; every 7th sample arrives late (out of order, shifting the history).
       const std::int64_t s = i % 7 == 0 ? i - 3 : i;
@@ -105,7 +108,13 @@ TEST(TimeRealtimeTest, OneWriterAppendsWhileReadersEvaluateAtAnyTime) {
   for (int k = 0; k < 2; ++k) {
     readers.emplace_back([&, k] {
       std::uint64_t x = 12345 + k;
-      while (written.load(std::memory_order_acquire) < kSamples) {
+      long mine = 0;
+      started.fetch_add(1, std::memory_order_release);
+      // While the writer runs, then 100 more reads each against the final history (a loaded
+      // machine may run the writer to its end before a reader gets a core).
+      for (;;) {
+        const bool writing = written.load(std::memory_order_acquire) < kSamples;
+        if (!writing && mine++ >= 100) break;
         const std::int64_t newest = written.load(std::memory_order_acquire);
         x = x * 6364136223846793005ull + 1442695040888963407ull;
         const std::int64_t t = newest - static_cast<std::int64_t>(x >> 40) % 900;  // within the window

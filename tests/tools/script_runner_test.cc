@@ -110,5 +110,28 @@ TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {
   EXPECT_NE(dot.find("  body_1 -> frame_0 [style=dashed];\n"), std::string::npos) << dot;
 }
 
+TEST(WriteDot, LabelsJointEdgesWithTypeAndName) {
+  core::SceneGraph<coord::QuaternionBackend> graph;
+  core::JointSpec j;
+  j.name = "elbow";
+  j.type = core::JointType::kRevolute;
+  j.parent = "upper";
+  j.parent_body = "Upper";
+  j.child = "fore";
+  j.child_body = "Fore";
+  j.lower = -1;
+  j.upper = 1;
+  ASSERT_TRUE(graph.AddJoint(j));
+  ASSERT_TRUE(graph.AddPose(core::PoseSpec::Of("cam", "Cam").RelativeTo("fore"), Eigen::Quaterniond::Identity(),
+                            Eigen::Vector3d::Zero()));
+  const std::string dot = WriteDot(graph);
+  // {upper} is frame 1, {fore} frame 0; body Upper is body 0.
+  EXPECT_NE(dot.find("  frame_1 -> frame_0 [label=\"revolute elbow\", penwidth=2];\n"), std::string::npos) << dot;
+  EXPECT_NE(dot.find("  body_0 -> frame_0 [style=dashed, label=\"revolute elbow\", penwidth=2];\n"),
+            std::string::npos)
+      << dot;
+  EXPECT_NE(dot.find("  frame_0 -> frame_2;\n"), std::string::npos) << dot;  // an ordinary edge
+}
+
 }  // namespace
 }  // namespace semgraph::script

@@ -49,11 +49,20 @@ std::string WriteDot(const core::SceneGraph<B>& graph) {
     }
     dot += "  }\n";
   }
+  // A joint's two edges are drawn bold and labelled with its type and name.
+  const auto joint_label = [&](core::FrameIndex head) -> std::string {
+    const core::internal::JointRecord* j = graph.joint_table().OfChild(head);
+    if (!j) return {};
+    return "label=" + DotLabel(std::string(core::ToString(j->type)) + " " + j->name) + ", penwidth=2";
+  };
   graph.topology().ForEachPoseEdge([&](core::FrameIndex tail, core::FrameIndex head) {
-    dot += "  " + FrameId(tail) + " -> " + FrameId(head) + ";\n";
+    const std::string joint = joint_label(head);
+    dot += "  " + FrameId(tail) + " -> " + FrameId(head) + (joint.empty() ? "" : " [" + joint + "]") + ";\n";
   });
   graph.topology().ForEachTwistEdge([&](core::BodyIndex tail, core::FrameIndex head) {
-    dot += "  " + BodyId(tail) + " -> " + FrameId(head) + " [style=dashed];\n";
+    const std::string joint = joint_label(head);
+    dot += "  " + BodyId(tail) + " -> " + FrameId(head) + " [style=dashed" + (joint.empty() ? "" : ", " + joint) +
+           "];\n";
   });
   dot += "}\n";
   return dot;

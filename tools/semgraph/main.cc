@@ -13,6 +13,9 @@
 #include <string_view>
 
 #include "semgraph/script/scene_script.h"
+#if SEMGRAPH_WITH_DDS
+#include "dds_commands.h"  // serve, echo, monitor, dot --live
+#endif
 
 namespace semgraph::script {
 namespace {
@@ -21,6 +24,7 @@ constexpr std::string_view kUsage = R"(Usage: semgraph run FILE
        semgraph dot FILE
        semgraph --help | --version
        semgraph run --help | semgraph dot --help
+       semgraph serve | echo | monitor | dot --live ... (with DDS; semgraph serve --help)
 )";
 
 constexpr std::string_view kRun = R"(
@@ -162,6 +166,9 @@ int Main(int argc, char** argv) {
       return Print({"Usage: semgraph dot FILE\n", kDot, kFileAndExit, kLimits, kMore});
     }
   }
+#if SEMGRAPH_WITH_DDS
+  if (IsDdsCommand(argc, argv)) return RunDdsCommand(argc, argv);
+#endif
   if (argc != 3) return Usage("expected a command and a FILE");
   const std::string_view command = argv[1];
   Mode mode;

@@ -36,7 +36,7 @@ void Apply(const Script& script, core::SceneGraph<B>& graph, const RunOptions& o
   for (std::size_t i = 0; i < script.ops.size(); ++i) {
     progress->op = i;
     progress->line = script.ops[i].location.line;
-    OpOutcome outcome = ApplyOp(graph, script.ops[i], i);
+    OpOutcome outcome = ApplyOp(graph, script.ops[i], i, options.base_dir);
     all_ok = all_ok && outcome.ok;
     OpResult result{i, outcome.ok, std::move(outcome.error), std::move(outcome.json),
                     OpLabel(script.ops[i]), script.ops[i].location.line};
@@ -79,6 +79,10 @@ SceneRun Unreadable(const std::string& name, const std::string& reason) {
 void DefaultName(const std::string& path, RunOptions* options) {
   if (options->display_name == RunOptions{}.display_name) {
     options->display_name = path == "-" ? "<stdin>" : path;
+  }
+  if (options->base_dir.empty() && path != "-") {  // the script's folder
+    const std::size_t slash = path.rfind('/');
+    options->base_dir = slash == std::string::npos ? std::string() : path.substr(0, slash == 0 ? 1 : slash);
   }
 }
 

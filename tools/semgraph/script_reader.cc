@@ -36,6 +36,19 @@ enum Field : int {
   kRotation,
   kLinear,
   kAngular,
+  kFile,
+  kPrefix,
+  kType,
+  kParent,
+  kChild,
+  kParentBody,
+  kChildBody,
+  kAxis,
+  kLower,
+  kUpper,
+  kMimic,
+  kPositions,
+  kVelocities,
   kRepair,
   kNumFields,
 };
@@ -45,9 +58,12 @@ constexpr std::string_view kFieldNames[kNumFields] = {
     "op",       "kind",  "name",        "body",      "of",
     "wrt",      "point", "orientation", "ref_point", "ref_orientation",
     "ref_body", "coord", "position",    "rotation",  "linear",
-    "angular",  "repair"};
+    "angular",  "file",  "prefix",      "type",      "parent",
+    "child",    "parent_body", "child_body", "axis", "lower",
+    "upper",    "mimic", "positions",   "velocities", "repair"};
 
 static_assert(kFieldNames[kNumFields - 1] == "repair", "one name per Field, in order");
+static_assert(kNumFields <= 32, "fields are bits of a uint32_t");
 
 constexpr std::uint32_t Bit(Field f) { return std::uint32_t{1} << f; }
 
@@ -97,6 +113,16 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       return {"a 'remove' op of kind 'twist'",
               kHeader | Bit(kPoint) | Bit(kRefBody),
               {{kPoint, kNoField}, {kRefBody, kNoField}}};
+    case OpKind::kUrdf:
+      return {"an 'urdf' op", Bit(kOp) | Bit(kFile) | Bit(kPrefix), {{kFile, kNoField}}};
+    case OpKind::kJoint:
+      return {"a 'joint' op",
+              Bit(kOp) | Bit(kName) | Bit(kType) | Bit(kParent) | Bit(kChild) | Bit(kParentBody) |
+                  Bit(kChildBody) | Bit(kPosition) | Bit(kRotation) | Bit(kAxis) | Bit(kLower) |
+                  Bit(kUpper) | Bit(kMimic),
+              {{kName, kNoField}, {kType, kNoField}, {kParent, kNoField}, {kChild, kNoField}}};
+    case OpKind::kJoints:
+      return {"a 'joints' op", Bit(kOp) | Bit(kPositions) | Bit(kVelocities), {}};
     case OpKind::kQuery:
       break;
   }
@@ -117,6 +143,8 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       return {"a 'twist' query", kHeader | kTwistNames, twist_required};
     case QueryKind::kLinearVelocity:
       return {"a 'linear_velocity' query", kHeader | kTwistNames, twist_required};
+    case QueryKind::kJacobian:
+      return {"a 'jacobian' query", kHeader | kTwistNames, twist_required};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
       return {"an 'angular_velocity' query",
@@ -184,6 +212,9 @@ class Interpreter {
   bool ReadNumber(std::uint32_t node, std::string_view what, double* out);
   bool ReadVector3(std::uint32_t node, std::string_view field, std::array<double, 3>* out);
   bool ReadRotation(std::uint32_t node, RotationValue* out);
+  bool ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
+  bool ReadJointValues(std::uint32_t node, std::string_view field,
+                       std::vector<std::pair<std::string, double>>* out);
 
   const YamlTree& tree_;
   ScriptError error_;
@@ -267,7 +298,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   }
   if (value[kOp] == kNoNode) return Fail(node, "an op needs an 'op' field");
   const NodeView op_name = At(value[kOp]);
-  static constexpr std::string_view kOps = "body, frame, pose, twist, remove, query";
+  static constexpr std::string_view kOps = "body, frame, pose, twist, remove, query, urdf, joint, joints";
   if (op_name.kind != NodeKind::kScalar) {
     return Fail(value[kOp],
                 "'op' must be one of " + std::string(kOps) + ", got " + Describe(value[kOp]));
@@ -282,6 +313,12 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     op->kind = OpKind::kPose;
   } else if (op_name.text == "twist") {
     op->kind = OpKind::kTwist;
+  } else if (op_name.text == "urdf") {
+    op->kind = OpKind::kUrdf;
+  } else if (op_name.text == "joint") {
+    op->kind = OpKind::kJoint;
+  } else if (op_name.text == "joints") {
+    op->kind = OpKind::kJoints;
   } else if (op_name.text == "remove") {
     if (value[kKind] == kNoNode) return Fail(node, "a 'remove' op needs 'kind' (pose or twist)");
     if (kind_is_text && kind_text == "pose") {
@@ -295,7 +332,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   } else if (op_name.text == "query") {
     op->kind = OpKind::kQuery;
     static constexpr std::string_view kQueries =
-        "pose, position, orientation, twist, linear_velocity, angular_velocity";
+        "pose, position, orientation, twist, linear_velocity, angular_velocity, jacobian";
     if (value[kKind] == kNoNode) {
       return Fail(node, "a 'query' op needs 'kind' (one of " + std::string(kQueries) + ")");
     }
@@ -305,7 +342,8 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
         {"orientation", QueryKind::kOrientation},
         {"twist", QueryKind::kTwist},
         {"linear_velocity", QueryKind::kLinearVelocity},
-        {"angular_velocity", QueryKind::kAngularVelocity}};
+        {"angular_velocity", QueryKind::kAngularVelocity},
+        {"jacobian", QueryKind::kJacobian}};
     bool found = false;
     for (const auto& [text, kind] : kKinds) {
       if (kind_is_text && kind_text == text) {
@@ -380,6 +418,24 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     }
   }
   if (value[kRotation] != kNoNode && !ReadRotation(value[kRotation], &op->rotation)) return false;
+  if (op->kind == OpKind::kUrdf) {
+    if (!ReadText(value[kFile], "file", &op->file)) return false;
+    if (value[kPrefix] != kNoNode && !ReadText(value[kPrefix], "prefix", &op->prefix)) return false;
+  }
+  if (op->kind == OpKind::kJoint && !ReadJointFields(node, value, op)) return false;
+  if (op->kind == OpKind::kJoints) {
+    if (value[kPositions] == kNoNode && value[kVelocities] == kNoNode) {
+      return Fail(node, "a 'joints' op needs 'positions' or 'velocities' (or both)");
+    }
+    if ((op->has_positions = value[kPositions] != kNoNode) &&
+        !ReadJointValues(value[kPositions], "positions", &op->positions)) {
+      return false;
+    }
+    if ((op->has_velocities = value[kVelocities] != kNoNode) &&
+        !ReadJointValues(value[kVelocities], "velocities", &op->velocities)) {
+      return false;
+    }
+  }
   if (value[kRepair] != kNoNode) {  // YAML 1.2 core schema booleans, plain style only
     const NodeView n = At(value[kRepair]);
     const bool plain = n.kind == NodeKind::kScalar && n.style == ScalarStyle::kPlain;
@@ -390,6 +446,87 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     } else {
       return Fail(value[kRepair], "'repair' must be true or false, got " + Describe(value[kRepair]));
     }
+  }
+  return true;
+}
+
+bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
+                                  ScriptOp* op) {
+  static constexpr std::pair<std::string_view, JointKind> kTypes[] = {{"revolute", JointKind::kRevolute},
+                                                                      {"continuous", JointKind::kContinuous},
+                                                                      {"prismatic", JointKind::kPrismatic},
+                                                                      {"fixed", JointKind::kFixed}};
+  const NodeView type = At(value[kType]);
+  bool found = false;
+  for (const auto& [text, kind] : kTypes) {
+    if (type.kind == NodeKind::kScalar && type.text == text) {
+      op->joint_type = kind;
+      found = true;
+    }
+  }
+  if (!found) {
+    return Fail(value[kType], "the 'type' of a joint must be one of revolute, continuous, prismatic, fixed, got " +
+                                  Describe(value[kType]));
+  }
+  const std::pair<Field, std::string*> names[] = {{kParent, &op->names.ref_orientation},
+                                                  {kParentBody, &op->names.ref_body},
+                                                  {kChild, &op->names.orientation},
+                                                  {kChildBody, &op->names.body}};
+  for (const auto& [field, out] : names) {
+    if (value[field] != kNoNode && !ReadText(value[field], kFieldNames[field], out)) return false;
+  }
+  if (value[kAxis] != kNoNode && !ReadVector3(value[kAxis], "axis", &op->axis)) return false;
+  const bool limited = op->joint_type == JointKind::kRevolute || op->joint_type == JointKind::kPrismatic;
+  for (const auto& [field, out] : {std::pair{kLower, &op->lower}, std::pair{kUpper, &op->upper}}) {
+    if (value[field] == kNoNode) {
+      if (limited) {
+        return Fail(node, "a '" + std::string(type.text) + "' joint needs '" + std::string(kFieldNames[field]) + "'");
+      }
+      continue;
+    }
+    if (!ReadNumber(value[field], "'" + std::string(kFieldNames[field]) + "'", out)) return false;
+  }
+  if (value[kMimic] != kNoNode) {
+    const std::uint32_t m = value[kMimic];
+    if (At(m).kind != NodeKind::kMap) {
+      return Fail(m, "'mimic' must be a map {joint, multiplier, offset}, got " + Describe(m));
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if (!ReadMap(m, "'mimic'", &pairs)) return false;
+    bool has_joint = false;
+    for (const auto& [key, v] : pairs) {
+      const std::string_view k = At(key).text;
+      if (k == "joint") {
+        if (!ReadText(v, "joint", &op->mimic_joint)) return false;
+        has_joint = true;
+      } else if (k == "multiplier") {
+        if (!ReadNumber(v, "'multiplier'", &op->mimic_multiplier)) return false;
+      } else if (k == "offset") {
+        if (!ReadNumber(v, "'offset'", &op->mimic_offset)) return false;
+      } else {
+        return Fail(key, "unknown field " + Quoted(k) + " in 'mimic' (its fields: joint, multiplier, offset)");
+      }
+    }
+    if (!has_joint) return Fail(m, "'mimic' needs 'joint'");
+    op->has_mimic = true;
+  }
+  return true;
+}
+
+bool Interpreter::ReadJointValues(std::uint32_t node, std::string_view field,
+                                  std::vector<std::pair<std::string, double>>* out) {
+  if (At(node).kind != NodeKind::kMap) {
+    return Fail(node, "'" + std::string(field) + "' must be a map of joint names to numbers, got " + Describe(node));
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  if (!ReadMap(node, "'" + std::string(field) + "'", &pairs)) return false;
+  out->reserve(pairs.size());
+  for (const auto& [key, v] : pairs) {
+    double x = 0;
+    if (!ReadNumber(v, "the value of joint " + Quoted(At(key).text) + " in '" + std::string(field) + "'", &x)) {
+      return false;
+    }
+    out->emplace_back(std::string(At(key).text), x);
   }
   return true;
 }
@@ -525,6 +662,12 @@ std::string_view ToString(OpKind kind) noexcept {
       return "remove";
     case OpKind::kQuery:
       return "query";
+    case OpKind::kUrdf:
+      return "urdf";
+    case OpKind::kJoint:
+      return "joint";
+    case OpKind::kJoints:
+      return "joints";
   }
   return "?";
 }
@@ -543,6 +686,8 @@ std::string_view ToString(QueryKind kind) noexcept {
       return "linear_velocity";
     case QueryKind::kAngularVelocity:
       return "angular_velocity";
+    case QueryKind::kJacobian:
+      return "jacobian";
   }
   return "?";
 }

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "semgraph/base/expected.h"
@@ -48,7 +49,10 @@ enum class OpKind : std::uint8_t {
   kTwist,
   kRemovePose,
   kRemoveTwist,
-  kQuery
+  kQuery,
+  kUrdf,    // load a robot model (docs/kinematics.md)
+  kJoint,   // add one joint
+  kJoints,  // set joint states
 };
 
 enum class QueryKind : std::uint8_t {
@@ -58,7 +62,10 @@ enum class QueryKind : std::uint8_t {
   kTwist,
   kLinearVelocity,
   kAngularVelocity,
+  kJacobian,
 };
+
+enum class JointKind : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed };
 
 /// The names of an op's semantics after the shorthand is applied (`of: X` sets point and
 /// orientation, `wrt: Y` sets ref_point, ref_orientation and coord; explicit fields override).
@@ -97,6 +104,19 @@ struct ScriptOp {
   std::array<double, 3> position{};  // kPose (metres)
   std::array<double, 3> linear{};    // kTwist (m/s)
   std::array<double, 3> angular{};   // kTwist (rad/s)
+  // kUrdf: the file as written (resolved by the runner) and the name prefix.
+  std::string file, prefix;
+  // kJoint: name in `name`; parent / parent_body / child / child_body in names.ref_orientation,
+  // names.ref_body, names.orientation, names.body; X_origin in `position` + `rotation`.
+  JointKind joint_type = JointKind::kFixed;
+  std::array<double, 3> axis{1.0, 0.0, 0.0};
+  double lower = 0.0, upper = 0.0;
+  bool has_mimic = false;
+  std::string mimic_joint;
+  double mimic_multiplier = 1.0, mimic_offset = 0.0;
+  // kJoints: the maps as written, in document order.
+  bool has_positions = false, has_velocities = false;
+  std::vector<std::pair<std::string, double>> positions, velocities;
   bool repair = false;               // kPose, kTwist: repair a rejected relation (docs/repair.md)
 };
 

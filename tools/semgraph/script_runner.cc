@@ -13,6 +13,9 @@
 #include <vector>
 
 #include "semgraph/base/error_code.h"
+#if SEMGRAPH_SCRIPT_HAS_MODELS
+#include "semgraph/models/urdf.h"
+#endif
 
 namespace semgraph::script {
 
@@ -104,7 +107,7 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
 std::string CapNames(std::string message, const ScriptOp& op) {
   const SemanticNames& n = op.names;
   for (const std::string* name : {&op.name, &n.point, &n.orientation, &n.body, &n.ref_point,
-                                  &n.ref_orientation, &n.ref_body, &n.coord}) {
+                                  &n.ref_orientation, &n.ref_body, &n.coord, &op.mimic_joint}) {
     if (name->size() <= kMaxEchoedNameBytes) continue;
     std::size_t shown = kEchoedPrefixBytes;
     while (shown > 0 && (static_cast<unsigned char>((*name)[shown]) & 0xC0u) == 0x80u) --shown;
@@ -251,6 +254,118 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
   base::DemandFailed("valid RotationForm", __FILE__, __LINE__);
 }
 
+core::JointType JointTypeOf(JointKind k) {
+  switch (k) {
+    case JointKind::kRevolute: return core::JointType::kRevolute;
+    case JointKind::kContinuous: return core::JointType::kContinuous;
+    case JointKind::kPrismatic: return core::JointType::kPrismatic;
+    case JointKind::kFixed: return core::JointType::kFixed;
+  }
+  return core::JointType::kFixed;
+}
+
+template <coord::Backend B>
+OpOutcome AddJoint(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  const SemanticNames& n = op.names;
+  core::JointSpec s;
+  s.name = op.name;
+  s.type = JointTypeOf(op.joint_type);
+  s.parent = n.ref_orientation;
+  s.parent_body = n.ref_body;
+  s.child = n.orientation;
+  s.child_body = n.body;
+  s.p_origin = ToVector(op.position);
+  const RotationValue& r = op.rotation;
+  switch (r.form) {
+    case RotationForm::kIdentity: break;
+    case RotationForm::kQuaternion:
+      s.q_origin = Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3]);
+      break;
+    case RotationForm::kRpy:
+      s.q_origin = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) *
+                   Eigen::AngleAxisd(r.rpy[1], Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(r.rpy[0], Eigen::Vector3d::UnitX());
+      break;
+    case RotationForm::kMatrix: {
+      Eigen::Matrix3d R;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) R(i, j) = r.matrix[i][j];
+      }
+      s.R_origin = R;
+      break;
+    }
+  }
+  s.axis = ToVector(op.axis);
+  s.lower = op.lower;
+  s.upper = op.upper;
+  if (op.has_mimic) {
+    s.mimic = op.mimic_joint;
+    s.multiplier = op.mimic_multiplier;
+    s.offset = op.mimic_offset;
+  }
+  return FromBuild(op, index, graph.AddJoint(s));
+}
+
+template <coord::Backend B>
+OpOutcome SetJoints(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  std::vector<core::JointValue> q, qdot;
+  for (const auto& [name, value] : op.positions) q.push_back({name, value});
+  for (const auto& [name, value] : op.velocities) qdot.push_back({name, value});
+  return FromBuild(op, index, graph.SetJoints(q, qdot));
+}
+
+template <coord::Backend B>
+OpOutcome LoadUrdf(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index, std::string_view base_dir) {
+#if SEMGRAPH_SCRIPT_HAS_MODELS
+  std::string path = op.file;
+  const bool uri = path.rfind("file://", 0) == 0 || path.rfind("package://", 0) == 0;
+  if (!uri && !path.empty() && path.front() != '/' && !base_dir.empty()) path = std::string(base_dir) + "/" + path;
+  auto robot = models::LoadUrdfFile(graph, path, op.prefix);
+  if (!robot) {
+    // Name the file as the script wrote it, not as resolved against the script's folder.
+    std::string message = robot.error().message;
+    if (const std::size_t at = message.find(path); at != std::string::npos && path != op.file) {
+      message.replace(at, path.size(), op.file);
+    }
+    return Failure(op, index, robot.error().code, message);
+  }
+  return Success(index);
+#else
+  (void)graph;
+  (void)base_dir;
+  return Failure(op, index, base::ErrorCode::kInvalidModel,
+                 "robot model " + op.file + " rejected (invalid_model): this tool was built without semgraph::models");
+#endif
+}
+
+template <coord::Backend B>
+OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  const core::TwistSpec spec = TwistSpecOf(op.names);
+  const auto J = graph.GetJacobian(spec);
+  if (!J) return Failure(op, index, J.error().code, graph.Describe(J.error(), spec));
+  if (!J->J.allFinite()) return Failure(op, index, base::ErrorCode::kInvalidNumber, "the Jacobian is not finite");
+  std::string json = "{\"op\": " + std::to_string(index) + ", \"ok\": true, \"joints\": [";
+  for (std::size_t c = 0; c < J->joints.size(); ++c) {
+    if (c > 0) json += ", ";
+    json += JsonString(graph.joint_name(J->joints[c]));
+  }
+  json += "]";
+  for (int part = 0; part < 2; ++part) {
+    json += part == 0 ? ", \"linear\": [" : ", \"angular\": [";
+    for (int row = 0; row < 3; ++row) {
+      if (row > 0) json += ", ";
+      json += "[";
+      for (Eigen::Index c = 0; c < J->J.cols(); ++c) {
+        if (c > 0) json += ",";
+        json += JsonNumber(J->J(3 * part + row, c));
+      }
+      json += "]";
+    }
+    json += "]";
+  }
+  return OpOutcome{true, "", json + "}"};
+}
+
 template <coord::Backend B>
 OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
@@ -292,6 +407,8 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
       if (!w) return Failure(op, index, w.error().code, graph.Describe(w.error(), spec));
       return Success(index, {{"angular", Values(w->value)}});
     }
+    case QueryKind::kJacobian:
+      return Jacobian(graph, op, index);
   }
   base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
 }
@@ -367,7 +484,8 @@ std::string JsonNumber(double value) {
 namespace {
 
 template <coord::Backend B>
-OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+                            std::string_view base_dir) {
   const SemanticNames& n = op.names;
   switch (op.kind) {
     case OpKind::kBody:
@@ -390,6 +508,12 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
       return FromBuild(op, index, graph.RemoveTwist(n.point, n.ref_body));
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
+    case OpKind::kUrdf:
+      return LoadUrdf(graph, op, index, base_dir);
+    case OpKind::kJoint:
+      return AddJoint(graph, op, index);
+    case OpKind::kJoints:
+      return SetJoints(graph, op, index);
   }
   base::DemandFailed("valid OpKind", __FILE__, __LINE__);
 }
@@ -410,8 +534,8 @@ std::string OpLabel(const ScriptOp& op) {
 }
 
 template <coord::Backend B>
-OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
-  OpOutcome outcome = ApplyOpUnlabelled(graph, op, index);
+OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index, std::string_view base_dir) {
+  OpOutcome outcome = ApplyOpUnlabelled(graph, op, index, base_dir);
   // The op's kind and script line close the object, after the keys of the original format.
   outcome.json.pop_back();  // '}'
   outcome.json += ", \"kind\": " + JsonString(OpLabel(op)) +
@@ -420,8 +544,8 @@ OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
 }
 
 template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::QuaternionBackend>&,
-                                                     const ScriptOp&, std::size_t);
+                                                     const ScriptOp&, std::size_t, std::string_view);
 template OpOutcome ApplyOp<coord::HomogeneousBackend>(core::SceneGraph<coord::HomogeneousBackend>&,
-                                                      const ScriptOp&, std::size_t);
+                                                      const ScriptOp&, std::size_t, std::string_view);
 
 }  // namespace semgraph::script

@@ -5,7 +5,8 @@
 //   {"op": i, "ok": true, "kind": K, "line": L}             accepted add / remove
 //   {"op": i, "ok": false, "error": "<code>", "message": "<text>", "kind": K, "line": L}
 //   {"op": i, "ok": true, "position": [x,y,z], "quaternion": [w,x,y,z], "kind": K, "line": L}
-//   ... "position" / "quaternion" / "linear" + "angular" / "linear" / "angular" for the others.
+//   ... "position" / "quaternion" / "linear" + "angular" / "linear" / "angular" for the others;
+//   a jacobian query: "joints": [names], "linear": [[row x], [row y], [row z]], "angular": [...].
 // K is OpLabel(op), L the op's line in the script; they come last, so that the original keys
 // keep their order.
 // Rules of the rendering: numbers are printed with 17 significant digits (they round-trip), -0
@@ -44,8 +45,10 @@ struct OpOutcome {
 
 /// Applies `op`, the op numbered `index` in its script, to `graph`. Never throws (except
 /// std::bad_alloc); a rejection leaves `graph` unchanged (the scene graph's atomicity).
+/// `base_dir` resolves a relative `urdf` file (the script's folder; empty: the working folder).
 template <coord::Backend B>
-[[nodiscard]] OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index);
+[[nodiscard]] OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+                                std::string_view base_dir = {});
 
 /// The op as the output's "kind" names it: "body", "frame", "pose", "twist", "remove pose",
 /// "remove twist", "query <kind>" ("query linear_velocity", ...).
@@ -57,8 +60,8 @@ template <coord::Backend B>
 [[nodiscard]] std::string JsonNumber(double value);
 
 extern template OpOutcome ApplyOp<coord::QuaternionBackend>(
-    core::SceneGraph<coord::QuaternionBackend>&, const ScriptOp&, std::size_t);
+    core::SceneGraph<coord::QuaternionBackend>&, const ScriptOp&, std::size_t, std::string_view);
 extern template OpOutcome ApplyOp<coord::HomogeneousBackend>(
-    core::SceneGraph<coord::HomogeneousBackend>&, const ScriptOp&, std::size_t);
+    core::SceneGraph<coord::HomogeneousBackend>&, const ScriptOp&, std::size_t, std::string_view);
 
 }  // namespace semgraph::script

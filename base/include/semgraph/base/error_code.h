@@ -53,9 +53,16 @@ enum class ErrorCode : std::uint8_t {
   kDuplicateStamp,
   kExtrapolation,
   kStale,
+  // Joints and robot models (docs/kinematics.md).
+  kInvalidModel,
+  kDuplicateJoint,
+  kUnknownJoint,
+  kJointLimit,
+  kMimicJoint,
+  kJointEdge,
 };
 
-inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kStale) + 1;
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kJointEdge) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
 [[nodiscard]] std::string_view ToString(ErrorCode code) noexcept;

@@ -43,6 +43,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,8 @@
 #include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
+#include "semgraph/core/jacobian.h"
+#include "semgraph/core/joints.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/core/time.h"
 #include "semgraph/topology/scene_topology.h"
@@ -250,6 +253,45 @@ class SceneGraph {
       const semantics::OrientationSemantics& q) const noexcept;
   [[nodiscard]] QueryResult<coord::Twist> GetTwist(const semantics::TwistSemantics& q) const noexcept;
 
+  // ---------------------------------------------------------------- joints (joints.cc)
+  // A joint owns a pose edge and a twist edge whose values follow its state (joints.h,
+  // docs/kinematics.md). Adds and removals are build time; setting states by group is the
+  // real-time path (O(joints), noexcept, no allocation, lock-free for readers).
+
+  /// Adds a joint. invalid_name -> invalid_number / invalid_rotation -> invalid_model (axis,
+  /// limits, mimic) -> duplicate_joint -> node resolution -> self_edge / twist_same_body ->
+  /// joint_edge -> P1, P2, P3, W4 -> W1, W3 (its twist edge). Atomic.
+  BuildResult AddJoint(const JointSpec& spec);
+  /// unknown_joint (no joint of that name).
+  [[nodiscard]] Expected<JointHandle, BuildError> FindJoint(std::string_view name) const;
+  /// The layout of a joint-state vector: these joints in this order. unknown_joint (no such
+  /// movable joint), mimic_joint (a mimic: it follows its master), duplicate_joint (named twice).
+  [[nodiscard]] Expected<JointGroup, BuildError> MakeJointGroup(std::span<const std::string_view> names) const;
+  /// Every independent movable joint (no fixed, no mimic joints), in the order they were added.
+  [[nodiscard]] JointGroup AllJoints() const;
+  /// Sets positions and velocities by name, all or nothing: invalid_number -> unknown_joint ->
+  /// mimic_joint -> joint_limit. A joint keeps the fields it is not given. Build time (messages).
+  BuildResult SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities);
+  /// Real-time setters: values in the group's order (size must equal group.size()). All or
+  /// nothing: kInvalidNumber -> kUnknownJoint (a joint removed since the group was made) ->
+  /// kJointLimit. O(joints + mimics), noexcept, allocation-free.
+  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q) noexcept;
+  [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot) noexcept;
+  [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
+                                        std::span<const double> qdot) noexcept;
+  /// Joint state and names (a stale handle: NaN / empty).
+  [[nodiscard]] double joint_position(JointHandle j) const noexcept;
+  [[nodiscard]] double joint_velocity(JointHandle j) const noexcept;
+  [[nodiscard]] std::string_view joint_name(JointHandle j) const noexcept;
+  [[nodiscard]] std::size_t num_joints() const noexcept { return joints_.num_alive; }
+  [[nodiscard]] const internal::JointTable& joint_table() const noexcept { return joints_; }
+
+  /// The semantic Jacobian of TwistCoord(point|body, ref_body, [coord]) (jacobian.h): one
+  /// column per independent joint on the twist path, in path order from ref_body. The errors
+  /// of GetTwist. Allocates the result (use CompileJacobian on the real-time path).
+  [[nodiscard]] Expected<Jacobian, QueryError> GetJacobian(const TwistSpec& spec) const;
+  [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(const TwistSpec& spec) const;
+
   // ---------------------------------------------------------------- inspection
 
   [[nodiscard]] const semantics::NameTable& names() const noexcept { return topology_.names(); }
@@ -326,9 +368,15 @@ class SceneGraph {
   FrameIndex CreateFrame(NameId name, BodyIndex body);
   void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
+  // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.
+  BuildResult RemoveJoint(const internal::JointRecord& joint);
+  void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
+  ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept;
+  Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;
   EdgeValues<B> values_;
+  internal::JointTable joints_;
   GraphId id_;  // stamped into handles; SetPose/SetTwist refuse other graphs' handles
 };
 

@@ -62,6 +62,9 @@ struct RunOptions {
   /// When set, each result is handed here as soon as its op is applied, instead of being kept
   /// in SceneRun::ops; returning false stops the run (the remaining ops are not applied).
   std::function<bool(const OpResult&)> on_op;
+  /// The folder a relative `urdf` file is read from; empty: the working folder. The *File
+  /// calls set it to the script's folder when it is empty (not for standard input).
+  std::string base_dir;
 };
 
 /// `semgraph run` on a script held in memory.

@@ -1,0 +1,75 @@
+// File: semgraph/dds/publisher.h
+//
+// Publisher: shares one process's scene graph over DDS (docs/distributed.md). It owns every
+// body, frame, pose edge and twist edge of its graph and publishes
+//   - the structure: the whole set of elements, one sample per owner on the structure topic
+//     (reliable, transient-local, keep-last 1: a late mirror receives the latest structure),
+//     re-sent by PublishStructure() after adds and removals (a removal is an element that is no
+//     longer in the set);
+//   - values: one sample per edge update on the value topic (reliable, transient-local,
+//     keep-last 1 per edge), numbered per edge so that mirrors drop repeats and reorders.
+// Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
+// process is a new incarnation of the same owner name and mirrors reconcile to it.
+//
+// Only the quaternion backend (SceneGraph<>) is shared; edges go on the wire in edge form
+// (pose: X_TH of {tail} -> {head} in [tail]; twist: the screw twist at {head} in [head]).
+// Costs: PublishStructure O(frames + edges) and one DDS sample (allocates); SetPose/SetTwist
+// O(1) for the graph plus one DDS write of a 100-byte sample (the DDS write takes Cyclone's
+// locks and allocates its serialized sample: it is not on the real-time path).
+// Thread safety: one thread uses a Publisher and its graph (the graph's own rules apply to
+// readers of compiled queries on other threads).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "semgraph/core/scene_graph.h"
+
+namespace semgraph::dds {
+
+/// DDS's default domain (the id of the CYCLONEDDS_URI configuration, else 0).
+inline constexpr std::uint32_t kDefaultDomain = 0xFFFFFFFFu;
+
+/// The clock of value stamps (DDS's time: nanoseconds since the Unix epoch).
+[[nodiscard]] std::int64_t NowNs() noexcept;
+
+struct PublisherOptions {
+  std::string owner;                     ///< a valid name, unique among publishers of a domain
+  std::uint32_t domain = kDefaultDomain;
+};
+
+class Publisher {
+ public:
+  /// Joins the domain and creates the writers. Fails (message) when the owner name is not a
+  /// valid name or DDS refuses. The graph must outlive the publisher and must not move.
+  static base::Expected<std::unique_ptr<Publisher>, std::string> Create(core::SceneGraph<>& graph,
+                                                                        PublisherOptions options);
+  ~Publisher();
+  Publisher(const Publisher&) = delete;
+  Publisher& operator=(const Publisher&) = delete;
+
+  /// Publishes the graph's whole structure with every edge's current value (call it after the
+  /// graph's adds and removals). Build time: allocates.
+  [[nodiscard]] base::Expected<base::Ok, std::string> PublishStructure();
+
+  /// Sets the value in the graph (SceneGraph::SetPose, same codes), then publishes it when
+  /// the graph accepted it. A failed DDS write does not change the code (the graph holds the
+  /// value); it is counted in write_failures().
+  [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                        const Eigen::Vector3d& p_ToHo_T) noexcept;
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H) noexcept;
+
+  [[nodiscard]] const std::string& owner() const noexcept;
+  [[nodiscard]] std::uint64_t source() const noexcept;
+  [[nodiscard]] std::uint64_t revision() const noexcept;
+  [[nodiscard]] std::uint64_t write_failures() const noexcept;
+
+ private:
+  struct Impl;
+  explicit Publisher(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace semgraph::dds

@@ -1,0 +1,641 @@
+// Mirror (mirror.h): the receive thread, the deterministic replay of the owners' structures,
+// and the value path through handles.
+#include "semgraph/dds/mirror.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <tuple>
+#include <unordered_map>
+#include <utility>
+
+#include "wire.h"
+
+namespace semgraph::dds {
+
+using internal::Entity;
+using internal::TopicKind;
+
+namespace {
+
+constexpr std::uint32_t kMaxElements = 1u << 20;  // per structure sample
+constexpr std::size_t kMaxPending = 1u << 16;     // values waiting for their structure
+constexpr int kTakeBatch = 256;
+
+struct Row {
+  std::uint8_t kind = 0;
+  std::uint32_t edge = 0;
+  std::uint64_t seq = 0;
+  std::string head, head_body, tail, tail_body;
+  double n[7] = {0, 0, 0, 0, 0, 0, 0};
+};
+
+struct OwnerRec {
+  std::string owner;
+  std::uint64_t source = 0;
+  std::int64_t started_ns = 0;
+  std::uint64_t revision = 0;
+  bool alive = false;
+  std::vector<Row> rows;
+};
+
+struct ValueKey {
+  std::uint64_t source;
+  std::uint32_t edge;
+  std::uint8_t kind;
+  bool operator==(const ValueKey&) const = default;
+};
+struct ValueKeyHash {
+  std::size_t operator()(const ValueKey& k) const noexcept {
+    std::uint64_t h = k.source * 0x9E3779B97F4A7C15ull ^ (std::uint64_t{k.edge} << 1 | k.kind);
+    h ^= h >> 31;
+    return static_cast<std::size_t>(h * 0xBF58476D1CE4E5B9ull);
+  }
+};
+
+struct Slot {
+  bool twist = false;
+  bool settable = false;  // false for a constant (same-body) pose edge: no handle
+  core::PoseHandle pose;
+  core::TwistHandle twist_handle;
+  std::uint64_t seq = 0;
+  std::uint64_t received = 0;
+  std::int64_t stamp_ns = 0, receive_ns = 0;
+  std::string owner, head, tail;
+};
+
+struct Pending {
+  std::uint64_t seq = 0;
+  std::int64_t stamp_ns = 0;
+  double n[7];
+};
+
+// An edge of the replica and where it came from.
+struct Applied {
+  std::string owner;
+  std::uint64_t source = 0;
+  const Row* row = nullptr;  // valid during a reconcile only
+  bool twist = false;
+  std::string head, head_body, tail, tail_body;
+  double n[7];
+  std::uint32_t edge = 0;
+  std::uint64_t seq = 0;
+  bool Same(const Applied& o) const {
+    if (owner != o.owner || twist != o.twist || head != o.head || head_body != o.head_body ||
+        tail != o.tail || tail_body != o.tail_body) {
+      return false;
+    }
+    // A constant (same-body) pose edge changes only through the structure.
+    if (!twist && head_body == tail_body) return std::equal(n, n + 7, o.n);
+    return true;
+  }
+};
+
+bool Finite(const double* n, int k) {
+  for (int i = 0; i < k; ++i) {
+    if (!std::isfinite(n[i])) return false;
+  }
+  return true;
+}
+bool UnitQuaternion(const double* n) {
+  const double norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2] + n[3] * n[3];
+  return std::abs(std::sqrt(norm2) - 1.0) <= 1e-6;
+}
+std::string Str(const char* s) { return s == nullptr ? std::string() : std::string(s); }
+bool GoodName(const std::string& s) { return static_cast<bool>(semantics::ValidateName(s)); }
+
+const char* KindName(std::uint8_t k) {
+  switch (k) {
+    case semgraph_wire_ELEMENT_BODY: return "body";
+    case semgraph_wire_ELEMENT_FRAME: return "frame";
+    case semgraph_wire_ELEMENT_POSE: return "pose";
+    case semgraph_wire_ELEMENT_TWIST: return "twist";
+  }
+  return "?";
+}
+
+// Checks one structure sample and copies it out; the reason when it is malformed.
+std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
+  out->owner = Str(s.owner);
+  if (!GoodName(out->owner)) return "the owner name is not a valid name";
+  if (s.elements._length > kMaxElements) return "more than 1048576 elements";
+  if (s.elements._length > 0 && s.elements._buffer == nullptr) return "elements missing";
+  out->source = s.source;
+  out->started_ns = s.started_ns;
+  out->revision = s.revision;
+  out->rows.clear();
+  out->rows.reserve(s.elements._length);
+  std::map<std::pair<std::uint8_t, std::string>, int> heads;
+  std::map<std::pair<std::uint8_t, std::uint32_t>, int> ids;
+  for (std::uint32_t i = 0; i < s.elements._length; ++i) {
+    const semgraph_wire_Element& e = s.elements._buffer[i];
+    Row r;
+    r.kind = e.kind;
+    r.edge = e.edge;
+    r.seq = e.seq;
+    r.head = Str(e.head);
+    r.head_body = Str(e.head_body);
+    r.tail = Str(e.tail);
+    r.tail_body = Str(e.tail_body);
+    std::copy(e.numbers, e.numbers + 7, r.n);
+    const std::string at = "element " + std::to_string(i) + " (" + KindName(e.kind) + " '" + r.head + "'): ";
+    if (e.kind > semgraph_wire_ELEMENT_TWIST) return "element " + std::to_string(i) + ": unknown kind " + std::to_string(e.kind);
+    if (!GoodName(r.head)) return at + "invalid name";
+    if (e.kind != semgraph_wire_ELEMENT_BODY && !GoodName(r.head_body)) return at + "invalid body name";
+    if (e.kind >= semgraph_wire_ELEMENT_POSE) {
+      if (!GoodName(r.tail)) return at + "invalid reference name";
+      if (e.kind == semgraph_wire_ELEMENT_POSE && !GoodName(r.tail_body)) return at + "invalid reference body name";
+      if (!Finite(r.n, 7)) return at + "a number is not finite (invalid_number)";
+      if (e.kind == semgraph_wire_ELEMENT_POSE && !UnitQuaternion(r.n)) return at + "not a unit quaternion (invalid_rotation)";
+      if (!heads.emplace(std::pair{e.kind, r.head}, 0).second) return at + "a second edge into the same frame";
+      if (!ids.emplace(std::pair{e.kind, e.edge}, 0).second) return at + "a second edge with the same id";
+    }
+    out->rows.push_back(std::move(r));
+  }
+  return {};
+}
+
+}  // namespace
+
+struct Mirror::Impl {
+  MirrorOptions options;
+  core::SceneGraph<> graph;
+  Entity participant, structure_reader, value_reader, status_writer, waitset, guard;
+  std::thread thread;
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> generation{0}, values{0}, rejected{0};
+
+  mutable std::mutex state_mutex;     // everything below; held by the receive thread per batch
+  mutable std::mutex topology_mutex;  // topology changes of `graph` (WithGraph)
+  std::map<std::string, OwnerRec> owners;
+  std::map<dds_instance_handle_t, std::string> owner_of_instance;
+  std::map<std::pair<bool, std::string>, Applied> applied;  // (twist, head) -> edge
+  std::unordered_map<ValueKey, Slot, ValueKeyHash> slots;
+  std::unordered_map<ValueKey, Pending, ValueKeyHash> pending;
+  std::vector<Report> reports, refusals;
+  std::uint64_t serial = 0;
+  std::uint64_t log_count = 0;
+
+  void Log(const std::string& line) {
+    if (options.log) {
+      options.log(line);
+    } else {
+      std::fprintf(stderr, "semgraph-dds: %s\n", line.c_str());
+    }
+  }
+  void Emit(Report r) {
+    if (status_writer.ok()) {
+      semgraph_wire_Status s{};
+      s.mirror = options.name.data();
+      s.serial = ++serial;
+      s.event = r.event.data();
+      s.owner = r.owner.data();
+      s.code = r.code.data();
+      s.message = r.message.data();
+      (void)dds_write(status_writer.get(), &s);
+    }
+    if (options.on_report) options.on_report(r);
+    reports.push_back(std::move(r));
+  }
+  void Reject(const std::string& owner, const std::string& what) {
+    rejected.fetch_add(1, std::memory_order_relaxed);
+    // Hostile streams must not flood the log: the first 20, then every 1000th.
+    if (log_count < 20 || log_count % 1000 == 0) Log("rejected " + what);
+    ++log_count;
+    Emit({"rejected_message", owner, "malformed_message", what});
+  }
+
+  void Loop();
+  void TakeStructure();
+  void TakeValues();
+  void Reconcile();
+  void ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what);
+};
+
+Mirror::Mirror(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Mirror::~Mirror() {
+  impl_->stop.store(true);
+  if (impl_->guard.ok()) dds_set_guardcondition(impl_->guard.get(), true);
+  if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOptions options) {
+  auto impl = std::make_unique<Impl>();
+  impl->options = std::move(options);
+  Impl& m = *impl;
+  m.participant = Entity(dds_create_participant(m.options.domain, nullptr, nullptr));
+  if (!m.participant.ok()) return base::Unexpected(internal::DdsError("cannot join the DDS domain", m.participant.get()));
+  const dds_entity_t p = m.participant.get();
+  const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
+  const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
+  const dds_entity_t tt = internal::CreateTopic(p, TopicKind::kStatus);
+  if (st < 0 || vt < 0 || tt < 0) return base::Unexpected(std::string("cannot create the DDS topics"));
+  m.structure_reader = Entity(internal::CreateReader(p, st, TopicKind::kStructure));
+  m.value_reader = Entity(internal::CreateReader(p, vt, TopicKind::kValue));
+  m.status_writer = Entity(internal::CreateWriter(p, tt, TopicKind::kStatus));
+  m.waitset = Entity(dds_create_waitset(p));
+  m.guard = Entity(dds_create_guardcondition(p));
+  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.status_writer.ok() || !m.waitset.ok() ||
+      !m.guard.ok()) {
+    return base::Unexpected(std::string("cannot create the DDS readers and writers"));
+  }
+  const dds_entity_t c1 = dds_create_readcondition(m.structure_reader.get(), DDS_ANY_STATE);
+  const dds_entity_t c2 = dds_create_readcondition(m.value_reader.get(), DDS_ANY_STATE);
+  if (dds_waitset_attach(m.waitset.get(), c1, 1) < 0 || dds_waitset_attach(m.waitset.get(), c2, 2) < 0 ||
+      dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
+    return base::Unexpected(std::string("cannot attach the DDS conditions"));
+  }
+  m.thread = std::thread([&m] { m.Loop(); });
+  return std::unique_ptr<Mirror>(new Mirror(std::move(impl)));
+}
+
+void Mirror::Impl::Loop() {
+  while (!stop.load()) {
+    (void)dds_waitset_wait(waitset.get(), nullptr, 0, DDS_MSECS(100));
+    if (stop.load()) break;
+    TakeStructure();
+    TakeValues();
+  }
+}
+
+void Mirror::Impl::TakeStructure() {
+  bool changed = false;
+  std::lock_guard<std::mutex> lock(state_mutex);
+  for (;;) {
+    void* samples[16] = {nullptr};
+    dds_sample_info_t infos[16];
+    const dds_return_t n = dds_take(structure_reader.get(), samples, infos, 16, 16);
+    if (n <= 0) break;
+    for (int i = 0; i < n; ++i) {
+      const dds_sample_info_t& info = infos[i];
+      if (info.valid_data) {
+        OwnerRec rec;
+        const std::string why = ParseStructure(*static_cast<const semgraph_wire_Structure*>(samples[i]), &rec);
+        if (!why.empty()) {
+          Reject(rec.owner, "structure from owner '" + rec.owner + "': " + why);
+          continue;
+        }
+        rec.alive = true;
+        owner_of_instance[info.instance_handle] = rec.owner;
+        auto it = owners.find(rec.owner);
+        if (it != owners.end() && it->second.source == rec.source && it->second.revision >= rec.revision) {
+          continue;  // a repeat or an older revision of this incarnation
+        }
+        const bool was_dead = it != owners.end() && !it->second.alive;
+        const std::string name = rec.owner;
+        owners[name] = std::move(rec);
+        if (was_dead) Emit({"alive", name, "", "publisher '" + name + "' is alive again"});
+        changed = true;
+      } else if (info.instance_state == DDS_IST_NOT_ALIVE_NO_WRITERS ||
+                 info.instance_state == DDS_IST_NOT_ALIVE_DISPOSED) {
+        auto name = owner_of_instance.find(info.instance_handle);
+        if (name == owner_of_instance.end()) continue;
+        auto it = owners.find(name->second);
+        if (it == owners.end() || !it->second.alive) continue;
+        it->second.alive = false;
+        Emit({"liveliness_lost", it->first, "",
+              "publisher '" + it->first + "' is gone; its edges keep their last values"});
+      }
+    }
+    dds_return_loan(structure_reader.get(), samples, n);
+    if (n < 16) break;
+  }
+  if (changed) {
+    std::lock_guard<std::mutex> topo(topology_mutex);
+    if (options.topology_hook) {
+      options.topology_hook([this] { Reconcile(); });
+    } else {
+      Reconcile();
+    }
+    generation.fetch_add(1, std::memory_order_release);
+    if (options.on_change) options.on_change();
+  }
+}
+
+void Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
+                              const std::string& what) {
+  base::ErrorCode code;
+  if (slot.twist) {
+    code = graph.SetTwist(slot.twist_handle, Eigen::Vector3d(n[0], n[1], n[2]), Eigen::Vector3d(n[3], n[4], n[5]));
+  } else if (slot.settable) {
+    code = graph.SetPose(slot.pose, Eigen::Quaterniond(n[0], n[1], n[2], n[3]), Eigen::Vector3d(n[4], n[5], n[6]));
+  } else {
+    Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
+    return;
+  }
+  if (code != base::ErrorCode::kOk) {
+    Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)));
+    return;
+  }
+  slot.seq = seq;
+  ++slot.received;
+  slot.stamp_ns = stamp;
+  slot.receive_ns = internal::NowNs();
+}
+
+void Mirror::Impl::TakeValues() {
+  static thread_local semgraph_wire_Value buffer[kTakeBatch];
+  static thread_local void* ptrs[kTakeBatch];
+  static thread_local dds_sample_info_t infos[kTakeBatch];
+  for (int i = 0; i < kTakeBatch; ++i) ptrs[i] = &buffer[i];
+  for (;;) {
+    const dds_return_t n = dds_take(value_reader.get(), ptrs, infos, kTakeBatch, kTakeBatch);
+    if (n <= 0) break;
+    std::uint64_t applied_now = 0;
+    {
+      std::lock_guard<std::mutex> lock(state_mutex);
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const semgraph_wire_Value& v = buffer[i];
+        const bool pose = v.kind == semgraph_wire_VALUE_POSE;
+        if (v.kind > semgraph_wire_VALUE_TWIST || !Finite(v.numbers, 7) || (pose && !UnitQuaternion(v.numbers))) {
+          Reject("", "value of edge " + std::to_string(v.edge) + " from source " + std::to_string(v.source) +
+                         (v.kind > semgraph_wire_VALUE_TWIST ? ": unknown kind"
+                          : !Finite(v.numbers, 7)            ? ": a number is not finite (invalid_number)"
+                                                             : ": not a unit quaternion (invalid_rotation)"));
+          continue;
+        }
+        const ValueKey key{v.source, v.edge, v.kind};
+        auto it = slots.find(key);
+        if (it == slots.end()) {
+          // Its structure may still be on the way: keep the latest value until it comes.
+          auto p = pending.find(key);
+          if (p == pending.end()) {
+            if (pending.size() >= kMaxPending) {
+              Reject("", "value of unknown edge " + std::to_string(v.edge) + " (too many unknown edges)");
+              continue;
+            }
+            p = pending.emplace(key, Pending{}).first;
+          }
+          if (v.seq > p->second.seq) {
+            p->second.seq = v.seq;
+            p->second.stamp_ns = v.stamp_ns;
+            std::copy(v.numbers, v.numbers + 7, p->second.n);
+          }
+          continue;
+        }
+        if (v.seq <= it->second.seq) continue;  // a repeat or an older value
+        ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, "value");
+        ++applied_now;
+      }
+    }
+    if (applied_now > 0) {
+      values.fetch_add(applied_now, std::memory_order_release);
+      if (options.on_change) options.on_change();
+    }
+    if (n < kTakeBatch) break;
+  }
+}
+
+// The replica from scratch in a scratch graph, then the live graph brought to it (mirror.h).
+void Mirror::Impl::Reconcile() {
+  std::vector<const OwnerRec*> order;
+  for (const auto& [name, rec] : owners) order.push_back(&rec);
+  std::sort(order.begin(), order.end(), [](const OwnerRec* a, const OwnerRec* b) {
+    return std::tie(a->started_ns, a->owner) < std::tie(b->started_ns, b->owner);
+  });
+
+  core::SceneGraph<> scratch;
+  std::vector<Applied> desired;
+  std::vector<Report> refused;
+  std::map<std::pair<bool, std::string>, std::string> edge_owner;
+  auto refuse = [&](const OwnerRec& o, const Row&, base::ErrorCode code, const std::string& text) {
+    refused.push_back({"refused", o.owner, std::string(base::ToString(code)),
+                       "owner '" + o.owner + "': " + text});
+  };
+  for (const OwnerRec* o : order) {
+    for (std::uint8_t kind = 0; kind <= semgraph_wire_ELEMENT_TWIST; ++kind) {
+      for (const Row& r : o->rows) {
+        if (r.kind != kind) continue;
+        if (kind == semgraph_wire_ELEMENT_BODY) {
+          if (scratch.FindBody(r.head).is_valid()) continue;
+          auto res = scratch.AddBody(r.head);
+          if (!res) refuse(*o, r, res.error().code, res.error().message);
+        } else if (kind == semgraph_wire_ELEMENT_FRAME) {
+          const core::FrameIndex f = scratch.FindFrame(r.head);
+          if (f.is_valid() && scratch.body_name(scratch.body_of(f)) == r.head_body) continue;
+          if (!scratch.FindBody(r.head_body).is_valid()) (void)scratch.AddBody(r.head_body);
+          auto res = scratch.AddFrame(r.head, r.head_body);
+          if (!res) refuse(*o, r, res.error().code, res.error().message);
+        } else {
+          const bool twist = kind == semgraph_wire_ELEMENT_TWIST;
+          const std::string what = std::string(twist ? "twist of {" : "pose of {") + r.head + "}|" + r.head_body +
+                                   " wrt " + (twist ? r.tail : "{" + r.tail + "}|" + r.tail_body);
+          auto prior = edge_owner.find({twist, r.head});
+          if (prior != edge_owner.end()) {
+            const base::ErrorCode code =
+                twist ? base::ErrorCode::kMultipleTwistParents : base::ErrorCode::kMultiplePoseParents;
+            refuse(*o, r, code,
+                   what + " rejected (" + std::string(base::ToString(code)) + "): {" + r.head + "} already has a " +
+                       (twist ? "twist" : "pose") + " parent published by '" + prior->second + "'");
+            continue;
+          }
+          core::BuildResult res =
+              twist ? scratch.AddTwist(core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head),
+                                       Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]))
+                    : scratch.AddPose(core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body),
+                                      Eigen::Quaterniond(r.n[0], r.n[1], r.n[2], r.n[3]),
+                                      Eigen::Vector3d(r.n[4], r.n[5], r.n[6]));
+          if (!res) {
+            refuse(*o, r, res.error().code, res.error().message);
+            continue;
+          }
+          edge_owner[{twist, r.head}] = o->owner;
+          Applied a;
+          a.owner = o->owner;
+          a.source = o->source;
+          a.row = &r;
+          a.twist = twist;
+          a.head = r.head;
+          a.head_body = r.head_body;
+          a.tail = r.tail;
+          a.tail_body = twist ? std::string() : r.tail_body;
+          std::copy(r.n, r.n + 7, a.n);
+          a.edge = r.edge;
+          a.seq = r.seq;
+          desired.push_back(std::move(a));
+        }
+      }
+    }
+  }
+
+  // Bring the replica to `desired`: removals first (twists, then poses), then the adds in the
+  // deterministic order. Every intermediate edge set is a subset of the accepted one, so the
+  // adds pass the same checks they passed on the scratch graph.
+  std::map<std::pair<bool, std::string>, const Applied*> want;
+  for (const Applied& a : desired) want[{a.twist, a.head}] = &a;
+  for (const bool twist : {true, false}) {
+    for (auto it = applied.begin(); it != applied.end();) {
+      if (it->first.first != twist) {
+        ++it;
+        continue;
+      }
+      auto w = want.find(it->first);
+      if (w != want.end() && w->second->Same(it->second)) {
+        ++it;
+        continue;
+      }
+      const core::BuildResult res = twist ? graph.RemoveTwist(it->second.head, it->second.tail)
+                                          : graph.RemovePose(it->second.head, it->second.tail);
+      if (!res) Log("cannot remove " + it->second.head + ": " + res.error().message);
+      it = applied.erase(it);
+    }
+  }
+  for (std::uint32_t i = 0; i < scratch.num_bodies(); ++i) {
+    const std::string_view b = scratch.body_name(core::BodyIndex(i));
+    if (!graph.FindBody(b).is_valid()) (void)graph.AddBody(b);
+  }
+  for (std::uint32_t i = 0; i < scratch.num_frames(); ++i) {
+    const core::FrameIndex f(i);
+    if (!graph.FindFrame(scratch.frame_name(f)).is_valid()) {
+      (void)graph.AddFrame(scratch.frame_name(f), scratch.body_name(scratch.body_of(f)));
+    }
+  }
+  std::unordered_map<ValueKey, Slot, ValueKeyHash> new_slots;
+  for (const Applied& a : desired) {
+    const Row& r = *a.row;
+    auto have = applied.find({a.twist, a.head});
+    bool added = false;
+    if (have == applied.end()) {
+      const core::BuildResult res =
+          a.twist ? graph.AddTwist(core::TwistSpec::Of(a.head, a.head_body).RelativeTo(a.tail).ExpressedIn(a.head),
+                                   Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]))
+                  : graph.AddPose(core::PoseSpec::Of(a.head, a.head_body).RelativeTo(a.tail, a.tail_body),
+                                  Eigen::Quaterniond(r.n[0], r.n[1], r.n[2], r.n[3]),
+                                  Eigen::Vector3d(r.n[4], r.n[5], r.n[6]));
+      if (!res) {
+        // Only a name clash with a frame the replica kept from an earlier structure can do this.
+        refused.push_back({"refused", a.owner, std::string(base::ToString(res.error().code)),
+                           "owner '" + a.owner + "': " + res.error().message});
+        continue;
+      }
+      have = applied.emplace(std::pair{a.twist, a.head}, a).first;
+      added = true;
+    } else {
+      have->second.source = a.source;
+      have->second.edge = a.edge;
+    }
+    have->second.row = nullptr;
+    const std::uint8_t vkind = a.twist ? semgraph_wire_VALUE_TWIST : semgraph_wire_VALUE_POSE;
+    const ValueKey key{a.source, a.edge, vkind};
+    Slot slot;
+    auto old = slots.find(key);
+    const bool known = old != slots.end() && !added;
+    if (known) slot = std::move(old->second);
+    slot.twist = a.twist;
+    slot.owner = a.owner;
+    slot.head = a.head;
+    slot.tail = a.tail;
+    if (a.twist) {
+      auto h = graph.FindTwistEdge(a.head, a.tail);
+      slot.settable = static_cast<bool>(h);
+      if (h) slot.twist_handle = *h;
+    } else {
+      auto h = graph.FindPoseEdge(a.head, a.tail);
+      slot.settable = static_cast<bool>(h);
+      if (h) slot.pose = *h;
+    }
+    if (added) {
+      slot.seq = r.seq;
+    } else if (!known || r.seq > slot.seq) {
+      // A kept edge under a new incarnation, or a newer value announced by the structure.
+      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, "structure value");
+      slot.seq = r.seq;
+    }
+    auto p = pending.find(key);
+    if (p != pending.end()) {
+      if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
+      pending.erase(p);
+    }
+    new_slots.emplace(key, std::move(slot));
+  }
+  slots = std::move(new_slots);
+
+  // Report each refusal once, in the deterministic order.
+  for (const Report& r : refused) {
+    const bool known = std::any_of(refusals.begin(), refusals.end(), [&](const Report& o) {
+      return o.owner == r.owner && o.code == r.code && o.message == r.message;
+    });
+    if (!known) Emit(r);
+  }
+  refusals = std::move(refused);
+}
+
+const core::SceneGraph<>& Mirror::graph() const noexcept { return impl_->graph; }
+
+void Mirror::WithGraph(const std::function<void(const core::SceneGraph<>&)>& fn) const {
+  std::lock_guard<std::mutex> topo(impl_->topology_mutex);
+  fn(impl_->graph);
+}
+
+std::uint64_t Mirror::structure_generation() const noexcept { return impl_->generation.load(std::memory_order_acquire); }
+std::uint64_t Mirror::values_applied() const noexcept { return impl_->values.load(std::memory_order_acquire); }
+std::uint64_t Mirror::messages_rejected() const noexcept { return impl_->rejected.load(std::memory_order_acquire); }
+
+std::vector<OwnerState> Mirror::Owners() const {
+  std::lock_guard<std::mutex> lock(impl_->state_mutex);
+  std::vector<OwnerState> out;
+  for (const auto& [name, o] : impl_->owners) {
+    out.push_back({name, o.source, o.started_ns, o.revision, o.alive, o.rows.size()});
+  }
+  return out;
+}
+
+std::vector<EdgeState> Mirror::Edges() const {
+  std::lock_guard<std::mutex> lock(impl_->state_mutex);
+  std::vector<EdgeState> out;
+  for (const auto& [key, s] : impl_->slots) {
+    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns});
+  }
+  std::sort(out.begin(), out.end(), [](const EdgeState& a, const EdgeState& b) {
+    return std::tie(a.twist, a.head) < std::tie(b.twist, b.head);
+  });
+  return out;
+}
+
+std::vector<Report> Mirror::Reports() const {
+  std::lock_guard<std::mutex> lock(impl_->state_mutex);
+  return impl_->reports;
+}
+
+std::vector<Report> Mirror::Refusals() const {
+  std::lock_guard<std::mutex> lock(impl_->state_mutex);
+  return impl_->refusals;
+}
+
+bool Mirror::CaughtUp() const {
+  std::lock_guard<std::mutex> lock(impl_->state_mutex);
+  if (impl_->owners.empty()) return false;
+  for (const auto& [name, o] : impl_->owners) {
+    for (const Row& r : o.rows) {
+      if (r.kind < semgraph_wire_ELEMENT_POSE) continue;
+      const std::uint8_t vkind = r.kind == semgraph_wire_ELEMENT_TWIST ? semgraph_wire_VALUE_TWIST : semgraph_wire_VALUE_POSE;
+      auto it = impl_->slots.find({o.source, r.edge, vkind});
+      if (it == impl_->slots.end()) {
+        // Refused edges have no slot; any other missing edge means not caught up.
+        const bool refused = std::any_of(impl_->refusals.begin(), impl_->refusals.end(),
+                                         [&](const Report& rep) { return rep.owner == name; });
+        if (!refused) return false;
+        continue;
+      }
+      if (it->second.seq < r.seq) return false;
+    }
+  }
+  return true;
+}
+
+bool Mirror::WaitUntil(const std::function<bool()>& pred, std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!pred()) {
+    if (std::chrono::steady_clock::now() >= deadline) return pred();
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
+}  // namespace semgraph::dds

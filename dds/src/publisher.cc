@@ -1,0 +1,183 @@
+// Publisher (publisher.h): the graph's structure as one sample per owner, values per edge.
+#include "semgraph/dds/publisher.h"
+
+#include <random>
+#include <vector>
+
+#include "wire.h"
+
+namespace semgraph::dds {
+
+using internal::Entity;
+using internal::TopicKind;
+
+struct Publisher::Impl {
+  core::SceneGraph<>* graph = nullptr;
+  std::string owner;
+  std::uint64_t source = 0;
+  std::int64_t started_ns = 0;
+  std::uint64_t revision = 0;
+  std::uint64_t write_failures = 0;
+  // Per frame (the edge id of the pose or twist edge into it): values published so far.
+  std::vector<std::uint64_t> pose_seq, twist_seq;
+  Entity participant, structure_writer, value_writer;
+};
+
+std::int64_t NowNs() noexcept { return internal::NowNs(); }
+
+Publisher::Publisher(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Publisher::~Publisher() = default;
+
+base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::SceneGraph<>& graph,
+                                                                          PublisherOptions options) {
+  if (!semantics::ValidateName(options.owner)) {
+    return base::Unexpected(std::string("publisher owner '") + options.owner + "' is not a valid name");
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->graph = &graph;
+  impl->owner = std::move(options.owner);
+  std::random_device rd;
+  impl->source = (static_cast<std::uint64_t>(rd()) << 32) ^ rd() ^
+                 static_cast<std::uint64_t>(internal::NowNs());
+  impl->started_ns = internal::NowNs();
+  impl->participant = Entity(dds_create_participant(options.domain, nullptr, nullptr));
+  if (!impl->participant.ok()) {
+    return base::Unexpected(internal::DdsError("cannot join the DDS domain", impl->participant.get()));
+  }
+  const dds_entity_t p = impl->participant.get();
+  const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
+  const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
+  if (st < 0 || vt < 0) return base::Unexpected(internal::DdsError("cannot create the topics", st < 0 ? st : vt));
+  impl->structure_writer = Entity(internal::CreateWriter(p, st, TopicKind::kStructure));
+  impl->value_writer = Entity(internal::CreateWriter(p, vt, TopicKind::kValue));
+  if (!impl->structure_writer.ok() || !impl->value_writer.ok()) {
+    return base::Unexpected(std::string("cannot create the DDS writers"));
+  }
+  return std::unique_ptr<Publisher>(new Publisher(std::move(impl)));
+}
+
+namespace {
+
+void PutPose(double* n, const coord::QuaternionBackend::PoseCoords& X) {
+  const Eigen::Quaterniond& q = X.rotation;
+  n[0] = q.w(); n[1] = q.x(); n[2] = q.y(); n[3] = q.z();
+  n[4] = X.translation.x(); n[5] = X.translation.y(); n[6] = X.translation.z();
+}
+
+void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  for (int i = 0; i < 3; ++i) {
+    n[i] = v[i];
+    n[3 + i] = w[i];
+  }
+  n[6] = 0.0;
+}
+
+}  // namespace
+
+base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
+  Impl& m = *impl_;
+  const core::SceneGraph<>& g = *m.graph;
+  m.pose_seq.resize(g.num_frames(), 0);
+  m.twist_seq.resize(g.num_frames(), 0);
+  // Names are copied into strings first: the sample points into them.
+  struct Row {
+    std::uint8_t kind;
+    std::uint32_t edge;
+    std::uint64_t seq;
+    std::string head, head_body, tail, tail_body;
+    double numbers[7] = {0, 0, 0, 0, 0, 0, 0};
+  };
+  std::vector<Row> rows;
+  rows.reserve(g.num_bodies() + 3 * g.num_frames());
+  for (std::uint32_t i = 0; i < g.num_bodies(); ++i) {
+    rows.push_back({semgraph_wire_ELEMENT_BODY, 0, 0, std::string(g.body_name(core::BodyIndex(i))), {}, {}, {}});
+  }
+  for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
+    const core::FrameIndex f(i);
+    rows.push_back({semgraph_wire_ELEMENT_FRAME, 0, 0, std::string(g.frame_name(f)),
+                    std::string(g.body_name(g.body_of(f))), {}, {}});
+  }
+  for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
+    const core::FrameIndex f(i);
+    const core::FrameIndex t = g.pose_parent(f);
+    if (!t.is_valid()) continue;
+    Row r{semgraph_wire_ELEMENT_POSE, i, m.pose_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
+          std::string(g.frame_name(t)), std::string(g.body_name(g.body_of(t)))};
+    PutPose(r.numbers, g.pose_value(f));
+    rows.push_back(std::move(r));
+  }
+  for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
+    const core::FrameIndex f(i);
+    const core::BodyIndex d = g.twist_parent(f);
+    if (!d.is_valid()) continue;
+    const auto V = g.twist_value(f);
+    Row r{semgraph_wire_ELEMENT_TWIST, i, m.twist_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
+          std::string(g.body_name(d)), {}};
+    PutTwist(r.numbers, V->linear, V->angular);
+    rows.push_back(std::move(r));
+  }
+  std::vector<semgraph_wire_Element> elements(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    semgraph_wire_Element& e = elements[k];
+    e.kind = rows[k].kind;
+    e.edge = rows[k].edge;
+    e.seq = rows[k].seq;
+    e.head = rows[k].head.data();
+    e.head_body = rows[k].head_body.data();
+    e.tail = rows[k].tail.data();
+    e.tail_body = rows[k].tail_body.data();
+    for (int j = 0; j < 7; ++j) e.numbers[j] = rows[k].numbers[j];
+  }
+  semgraph_wire_Structure s{};
+  s.owner = m.owner.data();
+  s.source = m.source;
+  s.started_ns = m.started_ns;
+  s.revision = ++m.revision;
+  s.elements._length = s.elements._maximum = static_cast<std::uint32_t>(elements.size());
+  s.elements._buffer = elements.data();
+  s.elements._release = false;
+  const dds_return_t rc = dds_write(m.structure_writer.get(), &s);
+  if (rc != DDS_RETCODE_OK) return base::Unexpected(internal::DdsError("cannot publish the structure", rc));
+  return base::Ok{};
+}
+
+base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                   const Eigen::Vector3d& p_ToHo_T) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T);
+  if (code != base::ErrorCode::kOk) return code;
+  const std::uint32_t id = edge.child.value();
+  semgraph_wire_Value v{};
+  v.source = m.source;
+  v.edge = id;
+  v.kind = semgraph_wire_VALUE_POSE;
+  v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
+  v.stamp_ns = internal::NowNs();
+  PutPose(v.numbers, m.graph->pose_value(edge.child));
+  if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  return code;
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H);
+  if (code != base::ErrorCode::kOk) return code;
+  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
+  semgraph_wire_Value v{};
+  v.source = m.source;
+  v.edge = id;
+  v.kind = semgraph_wire_VALUE_TWIST;
+  v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
+  v.stamp_ns = internal::NowNs();
+  PutTwist(v.numbers, v_DHo_H, w_DH_H);
+  if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  return code;
+}
+
+const std::string& Publisher::owner() const noexcept { return impl_->owner; }
+std::uint64_t Publisher::source() const noexcept { return impl_->source; }
+std::uint64_t Publisher::revision() const noexcept { return impl_->revision; }
+std::uint64_t Publisher::write_failures() const noexcept { return impl_->write_failures; }
+
+}  // namespace semgraph::dds

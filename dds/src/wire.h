@@ -1,0 +1,104 @@
+// Internal to semgraph_dds: the generated wire types, topic names and QoS, and an owning
+// wrapper for DDS entities. Not installed.
+#pragma once
+
+#include <dds/dds.h>
+
+#include <cstdint>
+#include <string>
+
+#include "semgraph_wire.h"
+
+namespace semgraph::dds::internal {
+
+inline constexpr const char* kStructureTopic = "semgraph_structure";
+inline constexpr const char* kValueTopic = "semgraph_values";
+inline constexpr const char* kStatusTopic = "semgraph_status";
+
+/// Owns one DDS entity (participant, topic, reader, writer, waitset, condition): deletes it,
+/// and with it its children, on destruction.
+class Entity {
+ public:
+  Entity() = default;
+  explicit Entity(dds_entity_t e) : e_(e) {}
+  Entity(const Entity&) = delete;
+  Entity& operator=(const Entity&) = delete;
+  Entity(Entity&& o) noexcept : e_(o.e_) { o.e_ = 0; }
+  Entity& operator=(Entity&& o) noexcept {
+    if (this != &o) {
+      Reset();
+      e_ = o.e_;
+      o.e_ = 0;
+    }
+    return *this;
+  }
+  ~Entity() { Reset(); }
+  void Reset() {
+    if (e_ > 0) dds_delete(e_);
+    e_ = 0;
+  }
+  [[nodiscard]] dds_entity_t get() const noexcept { return e_; }
+  [[nodiscard]] bool ok() const noexcept { return e_ > 0; }
+
+ private:
+  dds_entity_t e_ = 0;
+};
+
+/// "what: <DDS's text for rc>".
+inline std::string DdsError(const char* what, dds_return_t rc) {
+  return std::string(what) + ": " + dds_strretcode(rc);
+}
+
+enum class TopicKind { kStructure, kValue, kStatus };
+
+/// The QoS of each topic, used by its writers and readers alike (docs/distributed.md):
+///   structure  reliable, transient-local, keep-last 1 per owner (the whole structure)
+///   values     reliable, transient-local, keep-last 1 per edge (the latest value)
+///   status     reliable, transient-local, keep-last 64 per mirror
+/// Liveliness automatic: a publisher is alive while its participant's lease is renewed (the
+/// lease duration is the domain's configuration: Discovery/LeaseDuration).
+inline dds_qos_t* MakeQos(TopicKind kind) {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, kind == TopicKind::kStatus ? 64 : 1);
+  dds_qset_destination_order(qos, DDS_DESTINATIONORDER_BY_RECEPTION_TIMESTAMP);
+  return qos;
+}
+
+/// Creates a topic with its QoS; a negative return is DDS's error.
+inline dds_entity_t CreateTopic(dds_entity_t participant, TopicKind kind) {
+  const dds_topic_descriptor_t* desc = kind == TopicKind::kStructure ? &semgraph_wire_Structure_desc
+                                       : kind == TopicKind::kValue   ? &semgraph_wire_Value_desc
+                                                                     : &semgraph_wire_Status_desc;
+  const char* name = kind == TopicKind::kStructure ? kStructureTopic
+                     : kind == TopicKind::kValue   ? kValueTopic
+                                                   : kStatusTopic;
+  dds_qos_t* qos = MakeQos(kind);
+  const dds_entity_t t = dds_create_topic(participant, desc, name, qos, nullptr);
+  dds_delete_qos(qos);
+  return t;
+}
+
+inline dds_entity_t CreateWriter(dds_entity_t participant, dds_entity_t topic, TopicKind kind) {
+  dds_qos_t* qos = MakeQos(kind);
+  const dds_entity_t w = dds_create_writer(participant, topic, qos, nullptr);
+  dds_delete_qos(qos);
+  return w;
+}
+
+inline dds_entity_t CreateReader(dds_entity_t participant, dds_entity_t topic, TopicKind kind) {
+  dds_qos_t* qos = MakeQos(kind);
+  if (kind == TopicKind::kValue) {
+    // A mirror may fall behind under a burst; keep every edge's latest value, never block the
+    // publisher for an old one (keep-last 1 per edge already drops superseded values).
+    dds_qset_resource_limits(qos, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  }
+  const dds_entity_t r = dds_create_reader(participant, topic, qos, nullptr);
+  dds_delete_qos(qos);
+  return r;
+}
+
+inline std::int64_t NowNs() noexcept { return dds_time(); }
+
+}  // namespace semgraph::dds::internal

@@ -1,0 +1,116 @@
+// A child process of a test: spawned with its stdout in a temporary file, killed (SIGKILL) and
+// reaped on destruction, so that no test leaves a process behind.
+#pragma once
+
+#include <signal.h>
+#include <spawn.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace semgraph::dds_test {
+
+class Child {
+ public:
+  explicit Child(const std::vector<std::string>& args) {
+    char path[] = "/tmp/semgraph_dds_child_XXXXXX";
+    const int fd = mkstemp(path);
+    out_path_ = path;
+    close(fd);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, out_path_.c_str(), O_WRONLY | O_TRUNC, 0600);
+    std::vector<char*> argv;
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  ~Child() {
+    Kill();
+    std::remove(out_path_.c_str());
+  }
+  [[nodiscard]] bool started() const { return pid_ > 0; }
+  /// SIGKILL and reap (idempotent).
+  void Kill() {
+    if (pid_ > 0 && !exited_) {
+      kill(pid_, SIGKILL);
+      int status = 0;
+      waitpid(pid_, &status, 0);
+      exited_ = true;
+    }
+  }
+  /// Waits for the exit up to `timeout`; the exit code, or -1 (then it is killed).
+  int Wait(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (pid_ > 0 && !exited_) {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        exited_ = true;
+        code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        break;
+      }
+      if (std::chrono::steady_clock::now() >= deadline) {
+        Kill();
+        return -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return code_;
+  }
+  [[nodiscard]] std::string Output() const {
+    std::ifstream in(out_path_);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  /// Waits until the output holds a line equal to `line` (true), or the timeout.
+  bool WaitForLine(const std::string& line, std::chrono::milliseconds timeout) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      const std::string out = Output();
+      if (out.find(line + "\n") != std::string::npos) return true;
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool exited_ = false;
+  int code_ = -1;
+  std::string out_path_;
+};
+
+/// The lines of `text` that start with `prefix` + " ", without the prefix.
+inline std::vector<std::string> LinesWith(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(prefix + " ", 0) == 0) out.push_back(line.substr(prefix.size() + 1));
+  }
+  return out;
+}
+
+/// Parses "name n0 n1 ..." into numbers (empty when the line is an error line).
+inline std::vector<double> Numbers(const std::string& line, std::string* name) {
+  std::istringstream in(line);
+  in >> *name;
+  std::vector<double> v;
+  for (double x; in >> x;) v.push_back(x);
+  return v;
+}
+
+}  // namespace semgraph::dds_test

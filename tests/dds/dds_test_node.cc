@@ -1,0 +1,150 @@
+// dds_test_node: the processes of the multi-process DDS tests (distributed_test.cc).
+//
+//   dds_test_node robot DOMAIN OWNER STEPS         publish the robot scene (scenes.h), stream
+//       STEPS joint updates at 1 kHz (object at 30 Hz), then add the frame `done`, republish the
+//       structure, print "P" answers and "READY", and stay until killed (at most 20 s).
+//   dds_test_node robot_v2 DOMAIN OWNER            the robot's restarted incarnation without the
+//       object (edges c->o and the twist gone) and with a new edge {probe} wrt {tool}.
+//   dds_test_node claim DOMAIN OWNER PARENT         publish {PARENT} wrt {w} and {o}|O wrt {PARENT}
+//       (a conflicting claim when two owners run it with different parents), stay at most 20 s.
+//   dds_test_node mirror DOMAIN NAME FRAME OWNERS LIMIT_MS   mirror until frame FRAME exists, OWNERS
+//       owners are known and the replica is caught up; then print refusals ("R owner code")
+//       and answers ("Q ..."), and exit 0; exit 1 when LIMIT_MS passes first.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+
+#include "scenes.h"
+#include "semgraph/dds/mirror.h"
+#include "semgraph/dds/publisher.h"
+
+namespace {
+
+using namespace semgraph;
+using namespace std::chrono_literals;
+
+void StayAlive() {
+  std::fflush(stdout);
+  std::this_thread::sleep_for(20s);  // the driver kills it long before
+}
+
+int Robot(std::uint32_t domain, const std::string& owner, int steps) {
+  core::SceneGraph<> g;
+  if (!dds_test::BuildRobot(g)) return 3;
+  auto pub = dds::Publisher::Create(g, {owner, domain});
+  if (!pub) {
+    std::fprintf(stderr, "%s\n", pub.error().c_str());
+    return 3;
+  }
+  if (!(*pub)->PublishStructure()) return 3;
+  auto j1 = g.FindPoseEdge("l1", "b");
+  auto j2 = g.FindPoseEdge("l2", "l1");
+  auto obj = g.FindPoseEdge("o", "c");
+  auto vel = g.FindTwistEdge("o", "C");
+  if (!j1 || !j2 || !obj || !vel) return 3;
+  std::this_thread::sleep_for(300ms);  // let the mirrors match
+  auto next = std::chrono::steady_clock::now();
+  int j = 0;
+  for (int k = 1; k <= steps; ++k) {
+    next += 1ms;
+    std::this_thread::sleep_until(next);
+    (void)(*pub)->SetPose(*j1, dds_test::Rz(dds_test::Theta1(k)), {0, 0, 0.5});
+    (void)(*pub)->SetPose(*j2, dds_test::Ry(dds_test::Theta2(k)), {0.4, 0, 0});
+    if (k % 33 == 0) {
+      ++j;
+      (void)(*pub)->SetPose(*obj, dds_test::Rx(dds_test::ObjectRoll(j)), dds_test::ObjectPosition(j));
+      (void)(*pub)->SetTwist(*vel, {0.01 * j, 0, 0}, {0, 0, 0.1});
+    }
+  }
+  if (!g.AddFrame("done", "W") || !(*pub)->PublishStructure()) return 3;
+  std::printf("STEPS %d %d\n", steps, j);
+  std::string answers = dds_test::Answers(g);
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    if (answers[i] == 'Q' && (i == 0 || answers[i - 1] == '\n')) answers[i] = 'P';
+  }
+  std::fputs(answers.c_str(), stdout);
+  std::puts("READY");
+  StayAlive();
+  return 0;
+}
+
+int RobotV2(std::uint32_t domain, const std::string& owner) {
+  core::SceneGraph<> g;
+  if (!dds_test::BuildRobot(g)) return 3;
+  if (!g.RemoveTwist("o", "C") || !g.RemovePose("o", "c")) return 3;
+  if (!g.AddPose(core::PoseSpec::Of("probe", "P").RelativeTo("tool", "L2"), dds_test::Rz(0.5), {0, 0, 0.05})) return 3;
+  if (!g.AddFrame("restarted", "W")) return 3;
+  auto pub = dds::Publisher::Create(g, {owner, domain});
+  if (!pub || !(*pub)->PublishStructure()) return 3;
+  std::puts("READY");
+  StayAlive();
+  return 0;
+}
+
+int Claim(std::uint32_t domain, const std::string& owner, const std::string& parent) {
+  core::SceneGraph<> g;
+  const std::string body = parent == "c" ? "C" : "G";
+  const Eigen::Vector3d p_parent = parent == "c" ? Eigen::Vector3d(1, 0, 1) : Eigen::Vector3d(0, 2, 0);
+  if (!g.AddPose(core::PoseSpec::Of(parent, body).RelativeTo("w", "W"), dds_test::Rz(0.25), p_parent) ||
+      !g.AddPose(core::PoseSpec::Of("o", "O").RelativeTo(parent, body), dds_test::Rx(0.5), {0.3, 0, 0}) ||
+      !g.AddFrame(owner + "_done", "W")) {
+    return 3;
+  }
+  auto pub = dds::Publisher::Create(g, {owner, domain});
+  if (!pub || !(*pub)->PublishStructure()) return 3;
+  std::puts("READY");
+  StayAlive();
+  return 0;
+}
+
+int MirrorMain(std::uint32_t domain, const std::string& name, const std::string& frame, std::size_t owners,
+               int limit_ms) {
+  auto m = dds::Mirror::Create({name, domain, {}, {}, {}, {}});
+  if (!m) {
+    std::fprintf(stderr, "%s\n", m.error().c_str());
+    return 3;
+  }
+  dds::Mirror& mirror = **m;
+  const bool done = mirror.WaitUntil(
+      [&] {
+        bool has = false;
+        mirror.WithGraph([&](const core::SceneGraph<>& g) {
+          has = true;
+          for (std::size_t a = 0, b; a <= frame.size(); a = b + 1) {
+            b = frame.find(',', a);
+            if (b == std::string::npos) b = frame.size();
+            has = has && g.FindFrame(frame.substr(a, b - a)).is_valid();
+          }
+        });
+        return has && mirror.Owners().size() == owners && mirror.CaughtUp();
+      },
+      std::chrono::milliseconds(limit_ms));
+  if (!done) {
+    std::puts("TIMEOUT");
+    return 1;
+  }
+  for (const dds::Report& r : mirror.Refusals()) std::printf("R %s %s\n", r.owner.c_str(), r.code.c_str());
+  std::string answers;
+  mirror.WithGraph([&](const core::SceneGraph<>& g) { answers = dds_test::Answers(g); });
+  std::fputs(answers.c_str(), stdout);
+  std::puts("DONE");
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "";
+  if (argc < 4) return 2;
+  const auto domain = static_cast<std::uint32_t>(std::atoi(argv[2]));
+  if (mode == "robot" && argc == 5) return Robot(domain, argv[3], std::atoi(argv[4]));
+  if (mode == "robot_v2" && argc == 4) return RobotV2(domain, argv[3]);
+  if (mode == "claim" && argc == 5) return Claim(domain, argv[3], argv[4]);
+  if (mode == "mirror" && argc == 7) {
+    return MirrorMain(domain, argv[3], argv[4], static_cast<std::size_t>(std::atoi(argv[5])), std::atoi(argv[6]));
+  }
+  return 2;
+}

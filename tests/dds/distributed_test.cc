@@ -1,0 +1,172 @@
+// Multi-process tests of distributed scenes (docs/distributed.md), on loopback only
+// (CYCLONEDDS_URI = tests/dds/cyclonedds-loopback.xml, set by ctest). Each test has its own DDS
+// domain (tests run in parallel), bounds its time, and kills its processes (child_process.h).
+// Values are checked against products computed by hand (scenes.h), and mirrors against the
+// publisher within 1e-12.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "child_process.h"
+#include "scenes.h"
+#include "semgraph/dds/mirror.h"
+
+namespace semgraph::dds_test {
+namespace {
+
+using namespace std::chrono_literals;
+
+const std::string kNode = SEMGRAPH_DDS_TEST_NODE;
+
+std::map<std::string, std::vector<double>> Parse(const std::vector<std::string>& lines) {
+  std::map<std::string, std::vector<double>> out;
+  for (const std::string& l : lines) {
+    std::string name;
+    std::vector<double> v = Numbers(l, &name);
+    out[name] = v;
+  }
+  return out;
+}
+
+void ExpectNear(const std::vector<double>& a, const std::vector<double>& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-12) << what << " [" << i << "]";
+}
+
+std::vector<double> PoseNumbers(const Eigen::Isometry3d& X) {
+  Eigen::Quaterniond q(X.linear());
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  return {q.w(), q.x(), q.y(), q.z(), X.translation().x(), X.translation().y(), X.translation().z()};
+}
+std::vector<double> Canonical(std::vector<double> v) {  // q and -q are one rotation
+  if (v.size() == 7 && v[0] < 0) {
+    for (int i = 0; i < 4; ++i) v[i] = -v[i];
+  }
+  return v;
+}
+
+TEST(DistributedTest, TwoMirrorProcessesAnswerAsThePublisher) {
+  const int kSteps = 1000;  // 1 s of 1 kHz joint updates, object at 30 Hz
+  Child m1({kNode, "mirror", "11", "m1", "done", "1", "9000"});
+  Child m2({kNode, "mirror", "11", "m2", "done", "1", "9000"});
+  Child pub({kNode, "robot", "11", "arm", std::to_string(kSteps)});
+  ASSERT_TRUE(pub.started() && m1.started() && m2.started());
+  ASSERT_EQ(m1.Wait(10s), 0) << m1.Output();
+  ASSERT_EQ(m2.Wait(10s), 0) << m2.Output();
+  ASSERT_TRUE(pub.WaitForLine("READY", 5s)) << pub.Output();
+  const auto p = Parse(LinesWith(pub.Output(), "P"));
+  const auto steps = LinesWith(pub.Output(), "STEPS");
+  ASSERT_EQ(steps.size(), 1u);
+  int k = 0, j = 0;
+  ASSERT_EQ(std::sscanf(steps[0].c_str(), "%d %d", &k, &j), 2);
+  EXPECT_EQ(k, kSteps);
+  // The publisher against the hand-made products.
+  ExpectNear(Canonical(p.at("tool_in_w")), PoseNumbers(ExpectedToolInWorld(k)), "publisher tool_in_w");
+  ExpectNear(Canonical(p.at("o_in_w")), PoseNumbers(ExpectedObjectInWorld(j)), "publisher o_in_w");
+  ASSERT_EQ(p.at("twist_o_C_w").size(), 7u);
+  for (Child* m : {&m1, &m2}) {
+    const auto q = Parse(LinesWith(m->Output(), "Q"));
+    ASSERT_EQ(q.size(), p.size());
+    for (const auto& [name, value] : p) ExpectNear(q.at(name), value, "mirror " + name);
+    EXPECT_TRUE(LinesWith(m->Output(), "R").empty()) << m->Output();
+  }
+}
+
+TEST(DistributedTest, ConflictingRelationRefusedAlikeOnBothMirrors) {
+  Child m1({kNode, "mirror", "12", "m1", "perception_done,gripper_done", "2", "9000"});
+  Child a({kNode, "claim", "12", "perception", "c"});
+  ASSERT_TRUE(a.WaitForLine("READY", 5s)) << a.Output();
+  std::this_thread::sleep_for(100ms);  // perception's incarnation starts first
+  Child b({kNode, "claim", "12", "gripper", "g"});
+  Child m2({kNode, "mirror", "12", "m2", "perception_done,gripper_done", "2", "9000"});
+  ASSERT_EQ(m1.Wait(10s), 0) << m1.Output();
+  ASSERT_EQ(m2.Wait(10s), 0) << m2.Output();
+  for (Child* m : {&m1, &m2}) {
+    EXPECT_EQ(LinesWith(m->Output(), "R"), std::vector<std::string>{"gripper multiple_pose_parents"})
+        << m->Output();
+    const auto q = Parse(LinesWith(m->Output(), "Q"));
+    // o stays where perception put it: X_wc X_co.
+    const Eigen::Isometry3d X_wo = Iso(Rz(0.25), {1, 0, 1}) * Iso(Rx(0.5), {0.3, 0, 0});
+    ExpectNear(Canonical(q.at("o_in_w")), PoseNumbers(X_wo), "o_in_w");
+  }
+  EXPECT_EQ(LinesWith(m1.Output(), "Q"), LinesWith(m2.Output(), "Q"));
+}
+
+bool HasReport(const dds::Mirror& m, const std::string& event, const std::string& owner) {
+  for (const dds::Report& r : m.Reports()) {
+    if (r.event == event && r.owner == owner) return true;
+  }
+  return false;
+}
+
+TEST(DistributedTest, KilledPublisherKeepsValuesAndRestartReconciles) {
+  auto made = dds::Mirror::Create({"driver", 13, {}, {}, {}, {}});
+  ASSERT_TRUE(made) << made.error();
+  dds::Mirror& mirror = **made;
+  Child pub({kNode, "robot", "13", "arm", "300"});
+  ASSERT_TRUE(pub.WaitForLine("READY", 5s)) << pub.Output();
+  auto has = [&](const char* frame) {
+    bool found = false;
+    mirror.WithGraph([&](const core::SceneGraph<>& g) { found = g.FindFrame(frame).is_valid(); });
+    return found;
+  };
+  ASSERT_TRUE(mirror.WaitUntil([&] { return has("done") && mirror.CaughtUp(); }, 5s));
+  const auto p = Parse(LinesWith(pub.Output(), "P"));
+  std::optional<core::CompiledPose<coord::QuaternionBackend>> tool;
+  mirror.WithGraph([&](const core::SceneGraph<>& g) {
+    auto c = g.CompilePose(core::PoseSpec::Of("tool").RelativeTo("w"));
+    if (c) tool.emplace(std::move(*c));
+  });
+  ASSERT_TRUE(tool.has_value());
+
+  pub.Kill();  // kill -9 mid-life
+  ASSERT_TRUE(mirror.WaitUntil([&] { return HasReport(mirror, "liveliness_lost", "arm"); }, 5s));
+  // The last values stay.
+  std::string answers;
+  mirror.WithGraph([&](const core::SceneGraph<>& g) { answers = Answers(g); });
+  const auto kept = Parse(LinesWith(answers, "Q"));
+  for (const auto& [name, value] : p) ExpectNear(kept.at(name), value, "kept " + name);
+  ASSERT_EQ(mirror.Owners().size(), 1u);
+  EXPECT_FALSE(mirror.Owners()[0].alive);
+
+  Child again({kNode, "robot_v2", "13", "arm"});
+  ASSERT_TRUE(mirror.WaitUntil([&] { return has("restarted") && mirror.CaughtUp(); }, 5s)) << again.Output();
+  EXPECT_TRUE(HasReport(mirror, "alive", "arm"));
+  mirror.WithGraph([&](const core::SceneGraph<>& g) {
+    // No leftover: the object's pose and twist are gone; the new edge is there; nothing twice.
+    EXPECT_FALSE(g.pose_parent(g.FindFrame("o")).is_valid());
+    EXPECT_FALSE(g.twist_parent(g.FindFrame("o")).is_valid());
+    EXPECT_EQ(g.num_pose_edges(), 6u);  // b, l1, l2, tool, c, probe
+    EXPECT_EQ(g.num_twist_edges(), 0u);
+    EXPECT_TRUE(g.CheckInvariants().empty());
+    auto X = g.GetPose(core::PoseSpec::Of("probe").RelativeTo("w"));
+    ASSERT_TRUE(X);
+    const Eigen::Isometry3d X_wp = ExpectedToolInWorld(0) * Iso(Rz(0.5), {0, 0, 0.05});
+    ExpectNear(Canonical({X->value.rotation.w(), X->value.rotation.x(), X->value.rotation.y(),
+                          X->value.rotation.z(), X->value.translation.x(), X->value.translation.y(),
+                          X->value.translation.z()}),
+               PoseNumbers(X_wp), "probe_in_w");
+  });
+  // Kept edges kept their handles: the query compiled before the kill still evaluates, to the
+  // restarted publisher's values.
+  coord::QuaternionBackend::PoseCoords X_wt;
+  ASSERT_EQ(tool->Evaluate(X_wt), base::ErrorCode::kOk);
+  const Eigen::Vector3d p_expected = ExpectedToolInWorld(0).translation();
+  EXPECT_NEAR((X_wt.translation - p_expected).norm(), 0.0, 1e-12);
+  EXPECT_EQ(mirror.Owners().size(), 1u);
+  EXPECT_TRUE(mirror.Owners()[0].alive);
+}
+
+TEST(DistributedTest, LateMirrorCatchesUp) {
+  Child pub({kNode, "robot", "14", "arm", "200"});
+  ASSERT_TRUE(pub.WaitForLine("READY", 5s)) << pub.Output();
+  Child late({kNode, "mirror", "14", "late", "done", "1", "5000"});
+  ASSERT_EQ(late.Wait(7s), 0) << late.Output();
+  const auto p = Parse(LinesWith(pub.Output(), "P"));
+  const auto q = Parse(LinesWith(late.Output(), "Q"));
+  ASSERT_EQ(q.size(), p.size());
+  for (const auto& [name, value] : p) ExpectNear(q.at(name), value, "late " + name);
+}
+
+}  // namespace
+}  // namespace semgraph::dds_test
