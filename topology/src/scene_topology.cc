@@ -172,6 +172,8 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
   const std::size_t kept_bodies = b_t + b_h;
   if (!rec_t) {
     ReserveNewRecord(keep_tail ? kept_bodies : 1);
+    // That may have grown records_: the head's record moved.
+    rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
   } else if (keep_tail) {
     rec_t->body_counts.Reserve(kept_bodies);
   }
