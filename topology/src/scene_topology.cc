@@ -170,19 +170,15 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
   // record grows: reserving the dropped one too would cost O(larger set) per link.
   const bool keep_tail = !rec_h || b_t >= b_h;
   const std::size_t kept_bodies = b_t + b_h;
-  if (!rec_t) {
-    ReserveNewRecord(keep_tail ? kept_bodies : 1);
-    // That may have grown records_: the head's record moved.
-    rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
-  } else if (keep_tail) {
-    rec_t->body_counts.Reserve(kept_bodies);
-  }
+  if (rec_t && keep_tail) rec_t->body_counts.Reserve(kept_bodies);
   if (rec_h) {
     if (!keep_tail) rec_h->body_counts.Reserve(kept_bodies);
     GrowCapacity(free_records_, free_records_.size() + 1);  // the dropped record
     // A new record's TG is empty, and merging with an empty TG allocates nothing.
     if (rec_t) (keep_tail ? rec_t : rec_h)->twists.ReserveMerge((keep_tail ? rec_h : rec_t)->twists);
   }
+  // Last: a new record may grow records_, which would leave rec_t / rec_h dangling.
+  if (!rec_t) ReserveNewRecord(keep_tail ? kept_bodies : 1);
 }
 
 void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
