@@ -183,13 +183,13 @@ struct Operands {
   std::optional<Pose<B>> X_BA_C;  // {a} wrt {b} in [c]
   std::optional<Pose<B>> X_CB_B;  // {b} wrt {c} in [b]
 
-  LinearVelocity v_B_Aa_B = *MakeLinearVelocity({a.origin(), A, Bb, b.axes()}, p1);
-  LinearVelocity v_C_Ba_B = *MakeLinearVelocity({a.origin(), Bb, C, b.axes()}, p2);
+  LinearVelocity v_BAa_B = *MakeLinearVelocity({a.origin(), A, Bb, b.axes()}, p1);
+  LinearVelocity v_CBa_B = *MakeLinearVelocity({a.origin(), Bb, C, b.axes()}, p2);
   AngularVelocity w_BA_B = *MakeAngularVelocity({A, Bb, b.axes()}, p2);
   AngularVelocity w_CB_B = *MakeAngularVelocity({Bb, C, b.axes()}, p1);
-  Twist V_B_Aa_B = *MakeTwist({a.origin(), A, Bb, b.axes()}, p1, p2);
-  Twist V_C_Ba_B = *MakeTwist({a.origin(), Bb, C, b.axes()}, p2, p1);
-  Twist V_B_Aa_A = *MakeTwist({a.origin(), A, Bb, a.axes()}, p2, p1);
+  Twist V_BAa_B = *MakeTwist({a.origin(), A, Bb, b.axes()}, p1, p2);
+  Twist V_CBa_B = *MakeTwist({a.origin(), Bb, C, b.axes()}, p2, p1);
+  Twist V_BAa_A = *MakeTwist({a.origin(), A, Bb, a.axes()}, p2, p1);
 
   Operands() {
     if (auto o = MakeOrientation<B>({a.axes(), A, b.axes(), Bb, c.axes()}, q1)) O_BA_C = *o;
@@ -250,35 +250,35 @@ void RunAll(const Operands<B>& o, Outcomes& out) {
     out.Add(Compose(*o.X_BA_C, *o.X_CB_B));               // semantic (coordinate forms)
   }
   // ---------------------------------------------------------------- Linear / angular velocity
-  out.AddValue(Inverse(o.v_B_Aa_B));
-  out.Add(Compose(o.v_B_Aa_B, o.v_C_Ba_B));               // ok
-  out.Add(Compose(o.v_C_Ba_B, o.v_B_Aa_B));               // semantic
-  out.Add(ChangeCoordinateFrame(o.v_B_Aa_B, o.O_CB_C));   // ok
-  out.Add(ChangeCoordinateFrame(o.v_B_Aa_B, o.O_AA2_A));  // semantic
+  out.AddValue(Inverse(o.v_BAa_B));
+  out.Add(Compose(o.v_BAa_B, o.v_CBa_B));               // ok
+  out.Add(Compose(o.v_CBa_B, o.v_BAa_B));               // semantic
+  out.Add(ChangeCoordinateFrame(o.v_BAa_B, o.O_CB_C));   // ok
+  out.Add(ChangeCoordinateFrame(o.v_BAa_B, o.O_AA2_A));  // semantic
   out.AddValue(Inverse(o.w_BA_B));
   out.Add(Compose(o.w_BA_B, o.w_CB_B));                   // ok
   out.Add(Compose(o.w_CB_B, o.w_BA_B));                   // semantic
   out.Add(ChangeCoordinateFrame(o.w_BA_B, o.O_CB_C));     // ok
   out.Add(ChangeCoordinateFrame(o.w_BA_B, o.O_AA2_A));    // semantic
   // ---------------------------------------------------------------- Twist
-  out.AddValue(Inverse(o.V_B_Aa_B));
-  out.Add(Compose(o.V_B_Aa_B, o.V_C_Ba_B));               // ok
-  out.Add(Compose(o.V_C_Ba_B, o.V_B_Aa_B));               // semantic
-  out.Add(ChangePoint(o.V_B_Aa_B, o.p_BA_B));             // ok: a -> b
-  out.Add(ChangePoint(o.V_B_Aa_B, o.p_CB_B));             // semantic
-  out.Add(ChangeCoordinateFrame(o.V_B_Aa_B, o.O_CB_C));   // ok
-  out.Add(ChangeCoordinateFrame(o.V_B_Aa_B, o.O_AA2_A));  // semantic
-  out.Add(ScrewTransform(o.V_B_Aa_A, o.X_BA_B));          // ok
-  out.Add(ScrewTransform(o.V_B_Aa_B, o.X_BA_B));          // semantic
-  out.AddValue(LinearOf(o.V_B_Aa_B));
-  out.AddValue(AngularOf(o.V_B_Aa_B));
-  out.Add(Combine(o.v_B_Aa_B, o.w_BA_B));                 // ok
-  out.Add(Combine(o.v_B_Aa_B, o.w_CB_B));                 // semantic
+  out.AddValue(Inverse(o.V_BAa_B));
+  out.Add(Compose(o.V_BAa_B, o.V_CBa_B));               // ok
+  out.Add(Compose(o.V_CBa_B, o.V_BAa_B));               // semantic
+  out.Add(ChangePoint(o.V_BAa_B, o.p_BA_B));             // ok: a -> b
+  out.Add(ChangePoint(o.V_BAa_B, o.p_CB_B));             // semantic
+  out.Add(ChangeCoordinateFrame(o.V_BAa_B, o.O_CB_C));   // ok
+  out.Add(ChangeCoordinateFrame(o.V_BAa_B, o.O_AA2_A));  // semantic
+  out.Add(ScrewTransform(o.V_BAa_A, o.X_BA_B));          // ok
+  out.Add(ScrewTransform(o.V_BAa_B, o.X_BA_B));          // semantic
+  out.AddValue(LinearOf(o.V_BAa_B));
+  out.AddValue(AngularOf(o.V_BAa_B));
+  out.Add(Combine(o.v_BAa_B, o.w_BA_B));                 // ok
+  out.Add(Combine(o.v_BAa_B, o.w_CB_B));                 // semantic
   // ---------------------------------------------------------------- kernels
   out.Sum(B::TranslationOf(kernels::ComposeSameFrame<B>(o.X_BA_B.value, o.X_CB_C.value)));
   out.Sum(B::TranslationOf(kernels::InverseSameFrame<B>(o.X_BA_B.value)));
   out.Sum(B::TranslationOf(kernels::Reexpress<B>(o.X_BA_B.value, o.O_CB_C.value)));
-  out.Sum(kernels::ShiftLinear(o.V_B_Aa_B.linear, o.V_B_Aa_B.angular, o.p_BA_B.value));
+  out.Sum(kernels::ShiftLinear(o.V_BAa_B.linear, o.V_BAa_B.angular, o.p_BA_B.value));
 }
 
 template <class B>
@@ -352,7 +352,7 @@ TYPED_TEST(NoAllocation, MakeAcceptedOrRejected) {
       armed.Add(MakeOrientation<B>(edge_o, o.q2));
       armed.Add(MakeOrientation<B>(edge_o, R));
       armed.Add(MakePosition(o.p_BA_B.semantics, o.p2));
-      armed.Add(MakeTwist(o.V_B_Aa_B.semantics, o.p1, o.p2));
+      armed.Add(MakeTwist(o.V_BAa_B.semantics, o.p1, o.p2));
       invalid += !MakePose<B>(edge, q_bad, o.p1).has_value();
       invalid += !MakePose<B>(edge, o.q1, nan_v).has_value();
       invalid += !MakeOrientation<B>(edge_o, Eigen::Matrix3d(-R)).has_value();

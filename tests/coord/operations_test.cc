@@ -22,9 +22,9 @@
 //              O_BA_B is the plain rotation matrix R_BA = R[b<-a]
 //   X_FE_R     Pose of (e,[a]) wrt (f,[b]) expressed in [r] (monogram by the points; in frame
 //              form e = a and f = b, and X_FE_F is the scene-graph edge {e} wrt {f} in [f])
-//   v_D_CE_R   LinearVelocity of the point of body C coinciding with e, relative to D, in [r]
+//   v_DCe_R   LinearVelocity of the point of body C coinciding with e, relative to D, in [r]
 //   w_DC_R     AngularVelocity of body C relative to body D, in [r]
-//   V_D_CE_R   Twist (v_D_CE_R, w_DC_R)
+//   V_DCe_R   Twist (v_DCe_R, w_DC_R)
 // A trailing 2 marks the new entity of a change (e2 is the new point e', r2 the new [r]).
 #include <gtest/gtest.h>
 
@@ -1010,8 +1010,8 @@ TYPED_TEST(CoordOperations, LinearVelocityInverse) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
     const int r = s.w.RandomFrame();
-    const LinearVelocity v_D_CE_R = s.L(e, C, D, r);
-    s.ExpectLinear(Inverse(v_D_CE_R), e, D, C, r);
+    const LinearVelocity v_DCe_R = s.L(e, C, D, r);
+    s.ExpectLinear(Inverse(v_DCe_R), e, D, C, r);
     s.Counted();
   }
   // No precondition: there is no semantic rejection to check.
@@ -1025,14 +1025,14 @@ TYPED_TEST(CoordOperations, LinearVelocityCompose) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C), E = s.w.RandomBodyOtherThan(D);
-    const LinearVelocity v_D_CE_R = s.L(e, C, D, r), v_E_DE_R = s.L(e, D, E, r);
-    if (const auto v_E_CE_R = s.Check(Compose(v_D_CE_R, v_E_DE_R), true)) {
-      s.ExpectLinear(*v_E_CE_R, e, C, E, r);
+    const LinearVelocity v_DCe_R = s.L(e, C, D, r), v_EDe_R = s.L(e, D, E, r);
+    if (const auto v_ECe_R = s.Check(Compose(v_DCe_R, v_EDe_R), true)) {
+      s.ExpectLinear(*v_ECe_R, e, C, E, r);
     }
     // Velocities of different points do not add.
-    s.ExpectRejected(v_D_CE_R, s.L(s.w.RandomFrameOtherThan(e), D, E, r), kCompose);
+    s.ExpectRejected(v_DCe_R, s.L(s.w.RandomFrameOtherThan(e), D, E, r), kCompose);
     // The first's reference body is not the second's body.
-    s.ExpectRejected(v_D_CE_R, s.L(e, s.w.RandomBodyOtherThan(D), E, r), kCompose);
+    s.ExpectRejected(v_DCe_R, s.L(e, s.w.RandomBodyOtherThan(D), E, r), kCompose);
   }
   ExpectExercised(t, true, false, true);
 }
@@ -1045,14 +1045,14 @@ TYPED_TEST(CoordOperations, LinearVelocityChangeCoordinateFrame) {
     Scene<B> s(seed, t);
     const int e = s.w.RandomFrame(), C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
     const int r = s.w.RandomFrame(), r2 = s.w.RandomFrame();
-    const LinearVelocity v_D_CE_R = s.L(e, C, D, r);
+    const LinearVelocity v_DCe_R = s.L(e, C, D, r);
     const auto O_R2R = CoordinateChange(s, r, r2);
     if (!O_R2R) continue;
-    if (const auto v_D_CE_R2 = s.Check(ChangeCoordinateFrame(v_D_CE_R, *O_R2R), true)) {
+    if (const auto v_D_CE_R2 = s.Check(ChangeCoordinateFrame(v_DCe_R, *O_R2R), true)) {
       s.ExpectLinear(*v_D_CE_R2, e, C, D, r2);
     }
     if (const auto O_R2R3 = s.O(s.w.RandomFrameOtherThan(r), r2, r2)) {
-      s.ExpectRejected(v_D_CE_R, *O_R2R3, kChangeCoordinateFrame);
+      s.ExpectRejected(v_DCe_R, *O_R2R3, kChangeCoordinateFrame);
     }
   }
   ExpectExercised(t, true, kPinsCoordinateFrame<B>, true);
@@ -1119,8 +1119,8 @@ TYPED_TEST(CoordOperations, TwistInverse) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
     const int r = s.w.RandomFrame();
-    const Twist V_D_CE_R = s.V(e, C, D, r);
-    s.ExpectTwist(Inverse(V_D_CE_R), e, D, C, r);
+    const Twist V_DCe_R = s.V(e, C, D, r);
+    s.ExpectTwist(Inverse(V_DCe_R), e, D, C, r);
     s.Counted();
   }
   // No precondition: there is no semantic rejection to check.
@@ -1134,13 +1134,13 @@ TYPED_TEST(CoordOperations, TwistCompose) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C), E = s.w.RandomBodyOtherThan(D);
-    const Twist V_D_CE_R = s.V(e, C, D, r), V_E_DE_R = s.V(e, D, E, r);
-    if (const auto V_E_CE_R = s.Check(Compose(V_D_CE_R, V_E_DE_R), true)) {
-      s.ExpectTwist(*V_E_CE_R, e, C, E, r);
+    const Twist V_DCe_R = s.V(e, C, D, r), V_EDe_R = s.V(e, D, E, r);
+    if (const auto V_ECe_R = s.Check(Compose(V_DCe_R, V_EDe_R), true)) {
+      s.ExpectTwist(*V_ECe_R, e, C, E, r);
     }
     // Twists with different velocity reference points do not add.
-    s.ExpectRejected(V_D_CE_R, s.V(s.w.RandomFrameOtherThan(e), D, E, r), kCompose);
-    s.ExpectRejected(V_D_CE_R, s.V(e, D, E, s.w.RandomFrameOtherThan(r)), kCompose);
+    s.ExpectRejected(V_DCe_R, s.V(s.w.RandomFrameOtherThan(e), D, E, r), kCompose);
+    s.ExpectRejected(V_DCe_R, s.V(e, D, E, s.w.RandomFrameOtherThan(r)), kCompose);
   }
   ExpectExercised(t, true, false, true);
 }
@@ -1152,14 +1152,14 @@ TYPED_TEST(CoordOperations, TwistChangePoint) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), f = s.w.RandomFrameOtherThan(e), r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
-    const Twist V_D_CE_R = s.V(e, C, D, r);
+    const Twist V_DCe_R = s.V(e, C, D, r);
     const Position p_FE_R = s.P(e, f, r);  // old point wrt new point
-    if (const auto V_D_CF_R = s.Check(ChangePoint(V_D_CE_R, p_FE_R), true)) {
-      s.ExpectTwist(*V_D_CF_R, f, C, D, r);
+    if (const auto V_DCf_R = s.Check(ChangePoint(V_DCe_R, p_FE_R), true)) {
+      s.ExpectTwist(*V_DCf_R, f, C, D, r);
     }
     // The position is not of the twist's point; it is in another coordinate frame.
-    s.ExpectRejected(V_D_CE_R, s.P(s.w.RandomFrameOtherThan(e), f, r), kChangePoint);
-    s.ExpectRejected(V_D_CE_R, s.P(e, f, s.w.RandomFrameOtherThan(r)), kChangePoint);
+    s.ExpectRejected(V_DCe_R, s.P(s.w.RandomFrameOtherThan(e), f, r), kChangePoint);
+    s.ExpectRejected(V_DCe_R, s.P(e, f, s.w.RandomFrameOtherThan(r)), kChangePoint);
   }
   ExpectExercised(t, true, false, true);
 }
@@ -1172,20 +1172,20 @@ TYPED_TEST(CoordOperations, TwistChangePointAddsAngularVelocityCrossLeverArm) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), f = s.w.RandomFrameOtherThan(e), r = s.w.RandomFrame();
     const int C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
-    const Twist V_D_CE_R = s.V(e, C, D, r);
-    const auto V_D_CF_R = ChangePoint(V_D_CE_R, s.P(e, f, r));
-    ASSERT_TRUE(V_D_CF_R) << Describe(V_D_CF_R.error(), s.names());
+    const Twist V_DCe_R = s.V(e, C, D, r);
+    const auto V_DCf_R = ChangePoint(V_DCe_R, s.P(e, f, r));
+    ASSERT_TRUE(V_DCf_R) << Describe(V_DCf_R.error(), s.names());
     // p_new - p_old = position of f wrt e in [r], straight from the world.
     const Eigen::Vector3d p_EF_R = s.w.Position(f, e, r);
-    const Eigen::Vector3d shift = V_D_CE_R.angular.cross(p_EF_R);
+    const Eigen::Vector3d shift = V_DCe_R.angular.cross(p_EF_R);
     ASSERT_GT(shift.norm(), 1e-6) << "degenerate scene: the lever arm changes nothing";
-    ExpectNear(V_D_CF_R->linear, V_D_CE_R.linear + shift);
-    ExpectNear(V_D_CF_R->angular, V_D_CE_R.angular);
+    ExpectNear(V_DCf_R->linear, V_DCe_R.linear + shift);
+    ExpectNear(V_DCf_R->angular, V_DCe_R.angular);
     // And moving it back restores the original.
-    const auto V_D_CE_R_again = ChangePoint(*V_D_CF_R, s.P(f, e, r));
+    const auto V_D_CE_R_again = ChangePoint(*V_DCf_R, s.P(f, e, r));
     ASSERT_TRUE(V_D_CE_R_again);
-    ExpectNear(V_D_CE_R_again->linear, V_D_CE_R.linear);
-    EXPECT_TRUE(V_D_CE_R_again->semantics == V_D_CE_R.semantics);
+    ExpectNear(V_D_CE_R_again->linear, V_DCe_R.linear);
+    EXPECT_TRUE(V_D_CE_R_again->semantics == V_DCe_R.semantics);
     s.Counted();
   }
   ExpectExercised(t, true, false, false);
@@ -1199,14 +1199,14 @@ TYPED_TEST(CoordOperations, TwistChangeCoordinateFrame) {
     Scene<B> s(seed, t);
     const int e = s.w.RandomFrame(), C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
     const int r = s.w.RandomFrame(), r2 = s.w.RandomFrame();
-    const Twist V_D_CE_R = s.V(e, C, D, r);
+    const Twist V_DCe_R = s.V(e, C, D, r);
     const auto O_R2R = CoordinateChange(s, r, r2);
     if (!O_R2R) continue;
-    if (const auto V_D_CE_R2 = s.Check(ChangeCoordinateFrame(V_D_CE_R, *O_R2R), true)) {
+    if (const auto V_D_CE_R2 = s.Check(ChangeCoordinateFrame(V_DCe_R, *O_R2R), true)) {
       s.ExpectTwist(*V_D_CE_R2, e, C, D, r2);
     }
     if (const auto O_R2R3 = s.O(s.w.RandomFrameOtherThan(r), r2, r2)) {
-      s.ExpectRejected(V_D_CE_R, *O_R2R3, kChangeCoordinateFrame);
+      s.ExpectRejected(V_DCe_R, *O_R2R3, kChangeCoordinateFrame);
     }
   }
   ExpectExercised(t, true, kPinsCoordinateFrame<B>, true);
@@ -1224,9 +1224,9 @@ TYPED_TEST(CoordOperations, TwistScrewTransform) {
     x.r = x.b;
     const auto X_FE_F = s.X(x);
     if (!X_FE_F) continue;
-    const Twist V_D_CE_A = s.V(x.e, C, D, x.a);
-    if (const auto V_D_CF_B = s.Check(ScrewTransform(V_D_CE_A, *X_FE_F), true)) {
-      s.ExpectTwist(*V_D_CF_B, x.f, C, D, x.b);
+    const Twist V_DCe_A = s.V(x.e, C, D, x.a);
+    if (const auto V_DCf_B = s.Check(ScrewTransform(V_DCe_A, *X_FE_F), true)) {
+      s.ExpectTwist(*V_DCf_B, x.f, C, D, x.b);
     }
     // The twist is at another point; it is expressed in another frame than [a].
     s.ExpectRejected(s.V(s.w.RandomFrameOtherThan(x.e), C, D, x.a), *X_FE_F, kScrewTransform);
@@ -1234,7 +1234,7 @@ TYPED_TEST(CoordOperations, TwistScrewTransform) {
     // The pose is not expressed in its reference frame (quaternion backend only).
     PoseChoice y = x;
     y.r = s.w.RandomFrameOtherThan(x.b);
-    if (const auto X_FE_R = s.X(y)) s.ExpectRejected(V_D_CE_A, *X_FE_R, kScrewTransform);
+    if (const auto X_FE_R = s.X(y)) s.ExpectRejected(V_DCe_A, *X_FE_R, kScrewTransform);
   }
   ExpectExercised(t, true, kPinsPoints<B> || kPinsCoordinateFrame<B>, true);
 }
@@ -1274,14 +1274,14 @@ TYPED_TEST(CoordOperations, TwistCombine) {
     Scene<TypeParam> s(seed, t);
     const int e = s.w.RandomFrame(), C = s.w.RandomBody(), D = s.w.RandomBodyOtherThan(C);
     const int r = s.w.RandomFrame();
-    const LinearVelocity v_D_CE_R = s.L(e, C, D, r);
+    const LinearVelocity v_DCe_R = s.L(e, C, D, r);
     const AngularVelocity w_DC_R = s.W(C, D, r);
-    if (const auto V_D_CE_R = s.Check(Combine(v_D_CE_R, w_DC_R), true)) {
-      s.ExpectTwist(*V_D_CE_R, e, C, D, r);
+    if (const auto V_DCe_R = s.Check(Combine(v_DCe_R, w_DC_R), true)) {
+      s.ExpectTwist(*V_DCe_R, e, C, D, r);
     }
     // Different reference bodies; different coordinate frames.
-    s.ExpectRejected(v_D_CE_R, s.W(C, s.w.RandomBodyOtherThan(D), r), kCombine);
-    s.ExpectRejected(v_D_CE_R, s.W(C, D, s.w.RandomFrameOtherThan(r)), kCombine);
+    s.ExpectRejected(v_DCe_R, s.W(C, s.w.RandomBodyOtherThan(D), r), kCombine);
+    s.ExpectRejected(v_DCe_R, s.W(C, D, s.w.RandomFrameOtherThan(r)), kCombine);
   }
   ExpectExercised(t, true, false, true);
 }

@@ -14,9 +14,9 @@
 // Legend:
 //   {x}|X        frame x fixed to body X (point x, orientation frame [x])
 //   t -> h       pose edge, stores PoseCoord({h}|H, {t}|T, [t]) = X_TH
-//   D ~> {h}     twist edge, stores the screw twist TwistCoord(h|H, D, [h]) = V_D_HH_H
+//   D ~> {h}     twist edge, stores the screw twist TwistCoord(h|H, D, [h]) = V_DHh_H
 //   X_TH         pose of frame h in frame t: rotation R_TH, position p_TH (of h's origin, in [t])
-//   V_D_CE_R     twist of body C wrt body D at point e in [r]: (v_D_CE_R, w_DC_R)
+//   V_DCe_R     twist of body C wrt body D at point e in [r]: (v_DCe_R, w_DC_R)
 //   Pose(k)      the k-th test value: a distinct proper rotation and position (Dump tells
 //                values apart)
 #include <gtest/gtest.h>

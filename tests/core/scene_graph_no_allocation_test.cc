@@ -13,7 +13,7 @@
 // Legend:
 //   {x}|X     frame x on body X;  t -> h pose edge;  D ~> {h} twist edge
 //   X_FE_R    pose of (e,[a]) wrt (f,[b]) in [r];  p_FE_R position;  O_BA_R orientation
-//   V_D_CE_R  twist of C wrt D at point e in [r]
+//   V_DCe_R  twist of C wrt D at point e in [r]
 #include <gtest/gtest.h>
 
 #include <cstddef>

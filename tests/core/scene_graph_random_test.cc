@@ -24,7 +24,7 @@
 //   X_FE_R     pose of (e,[a])|C wrt (f,[b])|D expressed in [r]: value (O_BA_R, p_FE_R)
 //   p_FE_R     position of point e wrt point f, in [r]
 //   O_BA_R     orientation operator carrying [b] onto [a], in [r] (R_BA when r = b)
-//   V_D_CE_R   twist of body C wrt body D, reference point e, in [r]: (v_D_CE_R, w_DC_R)
+//   V_DCe_R   twist of body C wrt body D, reference point e, in [r]: (v_DCe_R, w_DC_R)
 //   t -> h     a pose edge (tail t, head h); D ~> h a twist edge (body D, head frame h)
 #include <gtest/gtest.h>
 
@@ -664,24 +664,24 @@ class Harness {
             .ExpressedIn(Name(r));
     const std::string what = "GetTwist(TwistCoord(" + Name(e) + "|" + scene_.body_name(C) + ", " +
                              scene_.body_name(D) + ", [" + Name(r) + "]))";
-    const Eigen::Vector3d v_D_CE_R = scene_.LinearVelocity(e, C, D, r);
+    const Eigen::Vector3d v_DCe_R = scene_.LinearVelocity(e, C, D, r);
     const Eigen::Vector3d w_DC_R = scene_.AngularVelocity(C, D, r);
     if (Chance(0.5)) {
-      const auto V_D_CE_R =
+      const auto V_DCe_R =
           Chance(0.3)
               ? graph_.GetTwist(semantics::TwistSemantics{Point(e), BodyId(C), BodyId(D), Axes(r)})
               : graph_.GetTwist(spec);
-      if (!CheckOutcome(V_D_CE_R, expected, what)) return;
-      EXPECT_TRUE(Near(V_D_CE_R->linear, v_D_CE_R, kTol)) << what << ": linear";
-      EXPECT_TRUE(Near(V_D_CE_R->angular, w_DC_R, kTol)) << what << ": angular";
-      EXPECT_TRUE(V_D_CE_R->semantics ==
+      if (!CheckOutcome(V_DCe_R, expected, what)) return;
+      EXPECT_TRUE(Near(V_DCe_R->linear, v_DCe_R, kTol)) << what << ": linear";
+      EXPECT_TRUE(Near(V_DCe_R->angular, w_DC_R, kTol)) << what << ": angular";
+      EXPECT_TRUE(V_DCe_R->semantics ==
                   (semantics::TwistSemantics{Point(e), BodyId(C), BodyId(D), Axes(r)}))
           << what << ": semantics";
       ++tally_.twist;
     } else {
       const auto v = graph_.GetLinearVelocity(spec);
       if (!CheckOutcome(v, expected, "linear velocity of " + what)) return;
-      EXPECT_TRUE(Near(v->value, v_D_CE_R, kTol)) << "linear velocity of " << what;
+      EXPECT_TRUE(Near(v->value, v_DCe_R, kTol)) << "linear velocity of " << what;
       ++tally_.linear;
     }
   }

@@ -278,14 +278,14 @@ TEST(TimeTest, AtASampleStampEveryAnswerEqualsTheTimelessGraph) {
     }
     for (int a = 0; a < kFrames; ++a) {
       for (int b = 0; b < kFrames; ++b) {
-        const std::string na = name(a), nb = name(b), nr = name((a + b + k) % kFrames);
+        const std::string na = name(a), nb = name(b), nr = name((a + b + k) % kFrames), rb = body(b);
         PoseSpec ps = PoseSpec::Of(na).RelativeTo(nb).ExpressedIn(nr);
         auto X = stamped.GetPose(ps, At{S(k * 0.1)});
         auto Y = plain.GetPose(ps);
         ASSERT_TRUE(X.has_value() && Y.has_value());
         ExpectNear(X->value.value.rotation, Y->value.rotation, 1e-12);
         ExpectNear(X->value.value.translation, Y->value.translation, 1e-12);
-        const TwistSpec ts = TwistSpec::Of(na).RelativeTo(body(b)).ExpressedIn(nr);
+        const TwistSpec ts = TwistSpec::Of(na).RelativeTo(rb).ExpressedIn(nr);
         auto V = stamped.GetTwist(ts, At{S(k * 0.1)});
         auto W = plain.GetTwist(ts);
         ASSERT_TRUE(V.has_value() && W.has_value());
