@@ -144,7 +144,7 @@ fi
 
 # ---------------------------------------------------------------- pkg-config consumer
 cxx="$(cache_value CMAKE_CXX_COMPILER "$cache")"
-read -r -a cxx_flags <<<"$(cache_value CMAKE_CXX_FLAGS "$cache") -std=c++20 -O1"
+read -r -a cxx_flags <<<"$(cache_value CMAKE_CXX_FLAGS "$cache") -std=c++20 -O0"  # nothing inlined
 pc() { PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config "$@"; }
 [ "$(pc --modversion semgraph)" = "$version" ] || fail "pkg-config does not find semgraph $version"
 run_env=()

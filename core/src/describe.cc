@@ -290,6 +290,9 @@ std::string Reason(const topology::SceneTopology& t, const QueryError& e, const 
     case ErrorCode::kNoTwistPath:
       reason = NoTwistPath(t, e);
       break;
+    case ErrorCode::kQueryInvalidated:
+      reason = "an edge the compiled query reads was removed after it was compiled; compile it again";
+      break;
     default:
       reason = coord::Describe(e.detail, names);
       break;

@@ -54,9 +54,20 @@ int Graph() {
   if (!X) return 1;
   const Eigen::Vector3d p = X->value.translation;
   if ((p - Eigen::Vector3d(1, 0.5, 0)).norm() > 1e-12) return 1;
+  // The compiled query gives the same answer in the same type; Eigen isometries in and out.
+  // (Inline members of the explicitly instantiated templates: the pkg-config build of this
+  // file is at -O0, where they are not inlined.)
+  const auto compiled = g.CompilePose(PoseSpec::Of("t").RelativeTo("b"));
+  if (!compiled) return 1;
+  const auto Y = compiled->Evaluate();
+  if (!Y || !(Y->semantics == X->semantics)) return 1;
+  const Eigen::Isometry3d T_BT = Y->ToIsometry();
+  if ((T_BT.translation() - p).norm() > 1e-12 || g.num_frames() != 3) return 1;
+  if (!g.AddPose(PoseSpec::Of("k", "K").RelativeTo("t"), T_BT)) return 1;
   // An unknown frame is a query error, described with its code.
   const auto missing = g.GetPose(PoseSpec::Of("nowhere").RelativeTo("b"));
   if (missing || missing.error().code != semgraph::base::ErrorCode::kUnknownFrame) return 1;
+  if (g.Describe(missing.error()).rfind("query failed (unknown_frame): ", 0) != 0) return 1;
   std::printf("semgraph consumer: p_BoTo_B = [%g, %g, %g]\n", p.x(), p.y(), p.z());
   return 0;
 }

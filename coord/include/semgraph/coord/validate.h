@@ -145,6 +145,11 @@ SEMGRAPH_COORD_EXPORT Expected<Ok, Error> ValidateHomogeneousShape(
 }  // namespace internal
 
 template <Backend B>
+Expected<Pose<B>, Error> Pose<B>::FromIsometry(const PoseSemantics& s, const Eigen::Isometry3d& X) noexcept {
+  return MakePose<B>(s, Eigen::Matrix3d(X.linear()), Eigen::Vector3d(X.translation()));
+}
+
+template <Backend B>
 Expected<Pose<B>, Error> MakePose(const PoseSemantics& s, const Eigen::Matrix4d& T) noexcept {
   if (auto ok = internal::ValidateHomogeneousShape(T); !ok) return Unexpected{ok.error()};
   return MakePose<B>(s, Eigen::Matrix3d(T.topLeftCorner<3, 3>()),

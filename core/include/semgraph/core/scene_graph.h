@@ -102,6 +102,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// coord = ref_orientation).
   BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
                       const Eigen::Vector3d& p_position);
+  /// Same, from an Eigen isometry: X.linear() the rotation matrix, X.translation() the position
+  /// (e.g. coord::Pose<B>::ToIsometry() of a query's answer).
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Isometry3d& X) {
+    return AddPose(spec, Eigen::Matrix3d(X.linear()), Eigen::Vector3d(X.translation()));
+  }
   /// Adds TwistCoord(point|body, ref_body, [coord]) as the twist edge ref_body -> {point}|body,
   /// converted to the screw twist at {point} when coord != point, or updates that edge.
   BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
@@ -201,6 +206,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
+  /// SetPose from an Eigen isometry X_TH (linear() = R_TH, translation() = p_ToHo_T).
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Isometry3d& X_TH) noexcept {
+    return SetPose(edge, Eigen::Matrix3d(X_TH.linear()), Eigen::Vector3d(X_TH.translation()));
+  }
   /// SetPose for a caller that guarantees the input: finite numbers, |position| <= 1e12, and a
   /// unit quaternion (|q| within 1e-12 of 1, e.g. one this graph returned or one normalized by
   /// the caller). Skips validation: about half of SetPose's cost. Debug builds check the
