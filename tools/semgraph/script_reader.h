@@ -24,6 +24,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -66,6 +67,9 @@ enum class QueryKind : std::uint8_t {
 };
 
 enum class JointKind : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed };
+
+/// A query's time policy as written: none (latest), `at: <seconds>`, `at: latest_common`.
+enum class AtKind : std::uint8_t { kLatest, kTime, kLatestCommon };
 
 /// The names of an op's semantics after the shorthand is applied (`of: X` sets point and
 /// orientation, `wrt: Y` sets ref_point, ref_orientation and coord; explicit fields override).
@@ -118,10 +122,29 @@ struct ScriptOp {
   bool has_positions = false, has_velocities = false;
   std::vector<std::pair<std::string, double>> positions, velocities;
   bool repair = false;               // kPose, kTwist: repair a rejected relation (docs/repair.md)
+  // Time (docs/scene-script.md, "Time"), in seconds as written: the runner converts them to
+  // nanoseconds (a non-finite or out-of-range time is then the op error invalid_number).
+  std::optional<double> stamp;                     // kPose, kTwist, kJoints
+  AtKind at = AtKind::kLatest;                     // queries: the time policy
+  double at_seconds = 0;                           // AtKind::kTime
+  std::optional<double> max_extrapolation, not_before;
+  std::optional<double> ref_at;                    // time travel: with `fixed`, and at = kTime
+  std::string fixed;
+  bool source_poses = false;                       // velocity kinds: differentiate the poses
+};
+
+/// The document's `time` map: the graph's time options (docs/time.md). Checked here: a window
+/// that is not a finite positive time is a malformed script.
+struct TimeSettings {
+  bool given = false;
+  std::int64_t window_ns = 10'000'000'000;  // 10 s
+  bool linear = false;                      // interpolation: screw (false) or linear
+  bool reject_duplicates = false;           // duplicate_stamp: replace (false) or reject
 };
 
 struct Script {
   Representation representation = Representation::kQuaternion;
+  TimeSettings time;
   std::vector<ScriptOp> ops;
 };
 
