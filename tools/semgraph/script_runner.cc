@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <cstdio>
+#include <cstdlib>
 #include <initializer_list>
 #include <limits>
 #include <optional>
@@ -207,8 +208,11 @@ OpOutcome FromRepair(const ScriptOp& op, std::size_t index,
 
 // "'at' nan s": a time field and its value for a message (any double, NaN included).
 std::string TimeText(std::string_view field, double seconds) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", seconds);
+  char buffer[48];  // the shortest of 15 or 17 digits that reads back as the value
+  std::snprintf(buffer, sizeof(buffer), "%.15g", seconds);
+  if (std::isfinite(seconds) && std::strtod(buffer, nullptr) != seconds) {
+    std::snprintf(buffer, sizeof(buffer), "%.17g", seconds);
+  }
   return "'" + std::string(field) + "' " + buffer + " s";
 }
 
