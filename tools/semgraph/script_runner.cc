@@ -500,11 +500,15 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
   QueryTime time;
   if (std::string reason; !TimeOf(op, &time, &reason)) {
     // The query's order: invalid_name before invalid_number. A negative horizon makes the graph
-    // check the names and stop at invalid_number.
+    // check the names the kind uses and stop at invalid_number.
     const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
     core::QueryError error;
-    if (pose_kind) {
+    if (op.query_kind == QueryKind::kPose) {
       error = graph.GetPose(pose_spec, probe).error();
+    } else if (op.query_kind == QueryKind::kPosition) {
+      error = graph.GetPosition(pose_spec, probe).error();
+    } else if (op.query_kind == QueryKind::kOrientation) {
+      error = graph.GetOrientation(pose_spec, probe).error();
     } else if (op.query_kind == QueryKind::kAngularVelocity) {
       error = graph.GetAngularVelocity(twist_spec, probe).error();
     } else {
