@@ -149,6 +149,30 @@ TEST(JointTimeTest, InterpolatesInJointSpaceInBothModes) {
   }
 }
 
+TEST(JointTimeTest, JacobianAtATime) {
+  Graph g = Robot(Interpolation::kScrew);
+  TwoSamples(g);
+  // At 1.5 s (q1 = 0.4, q2 = 0.2), point l2 in [base]: j1 turns about z through (0, 0, 0.5), l2 is
+  // at Rz(0.4) (1, 0.2, 0) from it; j2 slides along Rz(0.4) Rz(pi/2) x.
+  const auto J = g.GetJacobian(TwistSpec::Of("l2").RelativeTo("Base").ExpressedIn("base"), At{S(1.5)});
+  ASSERT_TRUE(J.has_value());
+  ASSERT_EQ(J->value.J.cols(), 2);
+  const double c = std::cos(0.4), s = std::sin(0.4);
+  Eigen::Matrix<double, 6, 2> expected;
+  expected << -(s + 0.2 * c), -s,  //
+      c - 0.2 * s, c,              //
+      0, 0,                        //
+      0, 0,                        //
+      0, 0,                        //
+      1, 0;
+  ExpectNear(J->value.J, expected, 1e-12);
+  EXPECT_EQ(*J->time.time, S(1.5));
+  EXPECT_EQ(*J->time.oldest, S(1.0));
+  EXPECT_EQ(*J->time.newest, S(2.0));
+  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("l2").RelativeTo("Base").ExpressedIn("base"), At{S(3.0)}).error().code,
+            ErrorCode::kExtrapolation);
+}
+
 TEST(JointTimeTest, ExtrapolatesWithTheJointVelocity) {
   Graph g = Robot(Interpolation::kScrew);
   TwoSamples(g);

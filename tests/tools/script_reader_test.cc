@@ -210,8 +210,11 @@ TEST(ReadScriptTime, ReadsStampsAndQueryTimes) {
       "  - {op: query, kind: orientation, of: o, wrt: w, at: 2, ref_at: 3, fixed: w}\n"
       "  - {op: query, kind: twist, point: o, ref_body: W, coord: o, source: poses, at: .nan}\n"
       "  - {op: query, kind: linear_velocity, point: o, ref_body: W, coord: o, source: twists}\n"
-      "  - {op: query, kind: angular_velocity, body: O, ref_body: W, coord: o, not_before: 4}\n");
-  ASSERT_EQ(s.ops.size(), 10u);
+      "  - {op: query, kind: angular_velocity, body: O, ref_body: W, coord: o, not_before: 4}\n"
+      "  - {op: query, kind: jacobian, point: o, ref_body: W, coord: o, at: latest_common, max_extrapolation: 0}\n");
+  ASSERT_EQ(s.ops.size(), 11u);
+  EXPECT_EQ(s.ops[10].at, AtKind::kLatestCommon);
+  EXPECT_EQ(s.ops[10].max_extrapolation, 0.0);
   EXPECT_EQ(s.ops[0].stamp, 1.5);
   EXPECT_EQ(s.ops[1].stamp, -2.0);
   EXPECT_EQ(s.ops[2].stamp, 3e-3);
@@ -248,7 +251,10 @@ TEST(ReadScriptTime, RefusesMisplacedAndMistypedTimeFieldsWhereTheyAre) {
        "field \"fixed\" is not part of an 'angular_velocity' query"},
       {"{op: query, kind: pose, of: a, wrt: b, source: poses}", 44, "field \"source\" is not part of a 'pose' query"},
       {"{op: query, kind: position, of: a, wrt: b, stamp: 1}", 48, "field \"stamp\" is not part of a 'position' query"},
-      {"{op: query, kind: jacobian, point: a, ref_body: B, coord: a, at: 1}", 66, "not part of a 'jacobian' query"},
+      {"{op: query, kind: jacobian, point: a, ref_body: B, coord: a, at: 1, source: poses}", 73,
+       "field \"source\" is not part of a 'jacobian' query"},
+      {"{op: query, kind: jacobian, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 1}", 66,
+       "field \"ref_at\" is not part of a 'jacobian' query"},
       {"{op: joint, name: j, type: fixed, parent: a, child: b, stamp: 1}", 60, "not part of a 'joint' op"},
       {"{op: urdf, file: r.urdf, stamp: 1}", 30, "not part of an 'urdf' op"},
       // Mistyped values.

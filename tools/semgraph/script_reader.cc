@@ -93,8 +93,8 @@ struct Shape {
 Shape ShapeOf(OpKind op, QueryKind query) {
   constexpr std::uint64_t kHeader = Bit(kOp) | Bit(kKind);
   constexpr std::uint64_t kShorthand = Bit(kOf) | Bit(kWrt);
-  // Time (the document's Time section): a query's policy, time travel for the pose kinds, the
-  // twist source for the velocity kinds (not the Jacobian's: its library call has no time).
+  // Time (the document's Time section): a query's policy (every kind), time travel for the
+  // pose kinds, the twist source for the velocity kinds.
   constexpr std::uint64_t kQueryTime = Bit(kAt) | Bit(kMaxExtrapolation) | Bit(kNotBefore);
   constexpr std::uint64_t kPoseTime = kQueryTime | Bit(kRefAt) | Bit(kFixed);
   constexpr std::uint64_t kTwistTime = kQueryTime | Bit(kSource);
@@ -160,7 +160,7 @@ Shape ShapeOf(OpKind op, QueryKind query) {
     case QueryKind::kLinearVelocity:
       return {"a 'linear_velocity' query", kHeader | kTwistNames | kTwistTime, twist_required};
     case QueryKind::kJacobian:
-      return {"a 'jacobian' query", kHeader | kTwistNames, twist_required};
+      return {"a 'jacobian' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
       return {"an 'angular_velocity' query",

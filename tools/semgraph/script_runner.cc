@@ -404,34 +404,6 @@ OpOutcome LoadUrdf(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
 #endif
 }
 
-template <coord::Backend B>
-OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
-  const core::TwistSpec spec = TwistSpecOf(op.names);
-  const auto J = graph.GetJacobian(spec);
-  if (!J) return Failure(op, index, J.error().code, graph.Describe(J.error(), spec));
-  if (!J->J.allFinite()) return Failure(op, index, base::ErrorCode::kInvalidNumber, "the Jacobian is not finite");
-  std::string json = "{\"op\": " + std::to_string(index) + ", \"ok\": true, \"joints\": [";
-  for (std::size_t c = 0; c < J->joints.size(); ++c) {
-    if (c > 0) json += ", ";
-    json += JsonString(graph.joint_name(J->joints[c]));
-  }
-  json += "]";
-  for (int part = 0; part < 2; ++part) {
-    json += part == 0 ? ", \"linear\": [" : ", \"angular\": [";
-    for (int row = 0; row < 3; ++row) {
-      if (row > 0) json += ", ";
-      json += "[";
-      for (Eigen::Index c = 0; c < J->J.cols(); ++c) {
-        if (c > 0) json += ",";
-        json += JsonNumber(J->J(3 * part + row, c));
-      }
-      json += "]";
-    }
-    json += "]";
-  }
-  return OpOutcome{true, "", json + "}"};
-}
-
 // A query's time policy from the op's fields. False, with the reason, when a time is not valid
 // (not finite, out of range, or a negative horizon).
 struct QueryTime {
@@ -490,9 +462,38 @@ OpOutcome WithTime(OpOutcome out, const core::TimeReport& t) {
 }
 
 template <coord::Backend B>
+OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+                   const core::TimePolicy& policy) {
+  const core::TwistSpec spec = TwistSpecOf(op.names);
+  const auto timed = graph.GetJacobian(spec, policy);
+  if (!timed) return Failure(op, index, timed.error().code, graph.Describe(timed.error(), spec));
+  const core::Jacobian* J = &timed->value;
+  if (!J->J.allFinite()) return Failure(op, index, base::ErrorCode::kInvalidNumber, "the Jacobian is not finite");
+  std::string json = "{\"op\": " + std::to_string(index) + ", \"ok\": true, \"joints\": [";
+  for (std::size_t c = 0; c < J->joints.size(); ++c) {
+    if (c > 0) json += ", ";
+    json += JsonString(graph.joint_name(J->joints[c]));
+  }
+  json += "]";
+  for (int part = 0; part < 2; ++part) {
+    json += part == 0 ? ", \"linear\": [" : ", \"angular\": [";
+    for (int row = 0; row < 3; ++row) {
+      if (row > 0) json += ", ";
+      json += "[";
+      for (Eigen::Index c = 0; c < J->J.cols(); ++c) {
+        if (c > 0) json += ",";
+        json += JsonNumber(J->J(3 * part + row, c));
+      }
+      json += "]";
+    }
+    json += "]";
+  }
+  return WithTime(OpOutcome{true, "", json + "}"}, timed->time);
+}
+
+template <coord::Backend B>
 OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
-  if (op.query_kind == QueryKind::kJacobian) return Jacobian(graph, op, index);
   const bool pose_kind = op.query_kind == QueryKind::kPose || op.query_kind == QueryKind::kPosition ||
                          op.query_kind == QueryKind::kOrientation;
   const core::PoseSpec pose_spec = PoseSpecOf(n);
@@ -520,6 +521,7 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     }
     return Failure(op, index, base::ErrorCode::kInvalidNumber, reason);
   }
+  if (op.query_kind == QueryKind::kJacobian) return Jacobian(graph, op, index, time.policy);
   const core::TwistSource source = op.source_poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
   // One call per kind, with the policy or the time travel.
   const auto pose_query = [&](auto&& get) {

@@ -306,6 +306,9 @@ class SceneGraph {
   /// column per independent joint on the twist path, in path order from ref_body. The errors
   /// of GetTwist. Allocates the result (use CompileJacobian on the real-time path).
   [[nodiscard]] Expected<Jacobian, QueryError> GetJacobian(const TwistSpec& spec) const;
+  /// The same under a time policy (docs/time.md): the poses, and the joints' twist edges, at the
+  /// policy's time; the errors of a timed twist query. Allocates the result.
+  [[nodiscard]] Expected<Timed<Jacobian>, QueryError> GetJacobian(const TwistSpec& spec, const TimePolicy& policy) const;
   [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(const TwistSpec& spec) const;
 
   // ---------------------------------------------------------------- inspection
