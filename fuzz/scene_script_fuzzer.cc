@@ -197,7 +197,7 @@ class Generator {
       y += ", max_extrapolation: " + Text(*op.horizon);
     }
     if (in_.OneIn(5)) y += TimeField("not_before", &op.not_before);
-    if (!pose_kind && in_.OneIn(3)) {
+    if (!pose_kind && op.query != script::QueryKind::kJacobian && in_.OneIn(3)) {
       op.poses = in_.Bool();
       y += op.poses ? ", source: poses" : ", source: twists";
     }
@@ -280,8 +280,9 @@ class Generator {
         break;
       default: {
         op.kind = GenOp::kQuery;
-        op.query = static_cast<script::QueryKind>(in_.Below(6));
-        const char* kinds[] = {"pose", "position", "orientation", "twist", "linear_velocity", "angular_velocity"};
+        op.query = static_cast<script::QueryKind>(in_.Below(7));
+        const char* kinds[] = {"pose", "position", "orientation", "twist", "linear_velocity", "angular_velocity",
+                               "jacobian"};
         op.yaml = std::string("{op: query, kind: ") + kinds[static_cast<int>(op.query)];
         if (op.query <= script::QueryKind::kOrientation) {
           // of: X, wrt: Y (the shorthand), point/orientation and coord overrides sometimes.
@@ -477,11 +478,12 @@ struct Direct {
         break;
       }
       case script::QueryKind::kJacobian: {  // the script prints the rows in order (v, then w)
-        const auto r = g.GetJacobian(ts);
+        const auto r = g.GetJacobian(ts, policy);
         Take(r);
         for (Eigen::Index row = 0; ok && row < 6; ++row) {
-          for (Eigen::Index c = 0; c < r->J.cols(); ++c) numbers.push_back(r->J(row, c));
+          for (Eigen::Index c = 0; c < r->value.J.cols(); ++c) numbers.push_back(r->value.J(row, c));
         }
+        if (ok) time = r->time;
         break;
       }
     }
