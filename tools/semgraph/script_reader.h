@@ -7,6 +7,12 @@
 // several forms) applies nothing: ReadScript() then returns a ScriptError with the 1-based line
 // and column of the offending node.
 //
+// Time fields (docs/scene-script.md, Time) are checked for shape and placement here: a time
+// field on an op that does not take it, time travel without both `ref_at` and `fixed` or with
+// an `at` that is not a number, and a `time` map with a bad entry (a window that is not a
+// finite positive time included) make the script malformed. The values of stamps and query
+// times are kept in seconds as written; their range is the runner's (invalid_number).
+//
 // What is deliberately *not* checked here: names (empty, unprintable, too long) and numbers
 // (NaN, Inf, non-unit quaternions). Those are the scene graph's rules and are reported per op as
 // invalid_name / invalid_number / invalid_rotation, so that the script and the C++ API agree.
