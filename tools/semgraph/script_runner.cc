@@ -519,7 +519,7 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
       return Failure(op, index, error.code,
                      pose_kind ? graph.Describe(error, pose_spec) : graph.Describe(error, twist_spec));
     }
-    return Failure(op, index, base::ErrorCode::kInvalidNumber, reason);
+    return Failure(op, index, base::ErrorCode::kInvalidNumber, "query failed (invalid_number): " + reason);
   }
   if (op.query_kind == QueryKind::kJacobian) return Jacobian(graph, op, index, time.policy);
   const core::TwistSource source = op.source_poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
