@@ -288,6 +288,43 @@ ops:
     "bad_alias_bomb.yaml": "a: &a [" + "xxxxxxxxxxxxxxxx," * 16 + "]\nb: &b [" + "*a," * 64 +
                            "]\nc: &c [" + "*b," * 64 + "]\nd: &d [" + "*c," * 64 + "]\nops: [" +
                            "*d," * 64 + "]\n",
+    # Time: stamps, every query time field, the errors (docs/scene-script.md, Time).
+    "time.yaml": """time: {interpolation: screw, duplicate_stamp: replace, window: 10}
+ops:
+  - {op: pose, of: o, body: O, wrt: w, ref_body: W, stamp: 1}
+  - {op: pose, of: o, wrt: w, position: [2, 0, 0], rotation: {rpy: [0, 0, 1.5707963267948966]}, stamp: 2}
+  - {op: twist, point: o, ref_body: W, coord: o, linear: [1.57, -1.57, 0], angular: [0, 0, 1.57], stamp: 1}
+  - {op: twist, point: o, ref_body: W, coord: o, linear: [1.57, -1.57, 0], angular: [0, 0, 1.57], stamp: 2}
+  - {op: pose, of: s, body: S, wrt: w, position: [0, 0, 1], stamp: 1}
+  - {op: pose, of: s, wrt: w, position: [0, 0, 2], stamp: 1.25}
+  - {op: query, kind: pose, of: o, wrt: w, at: 1.5}
+  - {op: query, kind: twist, point: o, ref_body: W, coord: o, at: 1.5, source: poses}
+  - {op: query, kind: pose, of: o, wrt: w, at: 2.5, max_extrapolation: 0.5}
+  - {op: query, kind: pose, of: o, wrt: s, at: latest_common}
+  - {op: query, kind: position, of: o, wrt: s, at: 1.5, ref_at: 1.125, fixed: w}
+  - {op: query, kind: angular_velocity, body: O, ref_body: W, coord: w, not_before: 1.5}
+  - {op: joint, name: j, type: revolute, parent: base, parent_body: Base, child: l1, child_body: L1, axis: [0, 0, 1], lower: -3, upper: 3}
+  - {op: joints, positions: {j: 0.2}, velocities: {j: 0.5}, stamp: 1}
+  - {op: joints, positions: {j: 0.6}, stamp: 2}
+  - {op: joints, positions: {j: 0.1}}
+  - {op: query, kind: orientation, of: l1, wrt: base, at: 1.5}
+""",
+    "time_errors.yaml": """time: {window: 0.5, duplicate_stamp: reject, interpolation: linear}
+ops:
+  - {op: pose, of: o, body: O, wrt: w, ref_body: W, stamp: 1}
+  - {op: pose, of: o, wrt: w, position: [1, 0, 0], stamp: 2}
+  - {op: pose, of: o, wrt: w, stamp: 1.4}
+  - {op: pose, of: o, wrt: w, position: [1, 0, 1], stamp: 2}
+  - {op: pose, of: o, wrt: w, position: [5, 0, 0]}
+  - {op: pose, of: o, wrt: w, stamp: .nan}
+  - {op: twist, point: o, ref_body: W, coord: o, stamp: 1e10}
+  - {op: query, kind: pose, of: o, wrt: w, at: .inf}
+  - {op: query, kind: pose, of: o, wrt: w, at: 1.75, max_extrapolation: -0.001}
+  - {op: query, kind: pose, of: o, wrt: w, at: 1.75, ref_at: 1.8, fixed: nowhere}
+""",
+    "bad_time_field.yaml": "ops:\n  - {op: body, name: B, stamp: 1}\n",
+    "bad_time_window.yaml": "time: {window: -1}\nops: []\n",
+    "bad_time_travel.yaml": "ops:\n  - {op: query, kind: pose, of: a, wrt: b, at: latest_common, ref_at: 1, fixed: b}\n",
     # Aliased ops within the limit: each alias is one op, read as a copy.
     "alias_ops.yaml": "ops: [&o {op: body, name: B}, *o, *o, *o, &f {op: frame, name: f, body: B}, *f]\n",
 }
@@ -345,7 +382,10 @@ def main():
     # Structured mode (byte 0 odd): a few fixed byte strings.
     for i, data in enumerate([bytes([1, 0, 23]) + bytes(range(0, 250, 3)),
                               bytes([3, 1, 20]) + bytes(range(250, 0, -7)) * 2,
-                              bytes([5, 0, 12]) + bytes([2, 0, 1, 2, 1, 3, 2, 1, 0, 1, 0, 7] * 6)]):
+                              bytes([5, 0, 12]) + bytes([2, 0, 1, 2, 1, 3, 2, 1, 0, 1, 0, 7] * 6),
+                              # with a time map and many time decisions (stamps, at, travel)
+                              bytes([7, 0, 0, 1, 0, 1, 22]) + bytes([2, 3, 0, 1, 2, 3, 4, 0, 1, 0, 6, 0, 1, 2, 0, 3] * 8),
+                              bytes([9, 1, 0, 0, 1, 0, 23]) + bytes(range(7, 250, 5)) * 2]):
         with open(os.path.join(script_dir, "seed_structured_%d" % i), "wb") as f:
             f.write(data)
 

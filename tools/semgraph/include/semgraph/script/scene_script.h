@@ -17,8 +17,8 @@
 // "out of memory ..." in `error`; the graph then holds every op before the failing one, and
 // the failing op may be partly applied.
 //
-// LoadScene ignores the script's `representation` (the graph's backend decides); RunScene uses
-// it. Costs: O(script) to read, then one scene-graph call per op. Thread safety: the calls share
+// LoadScene ignores the script's `representation` and `time` map (the graph's backend and time
+// options decide); RunScene uses both. Costs: O(script) to read, then one scene-graph call per op. Thread safety: the calls share
 // nothing; a graph passed in must not be used by another thread meanwhile.
 #pragma once
 
