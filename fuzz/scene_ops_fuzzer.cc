@@ -224,6 +224,7 @@ class Fuzzer {
       case 8: case 9: AddTwist(); break;
       case 10: ReAddTwist(); break;
       case 11: RemoveTwist(); break;
+      case 12: case 13: case 14: Extended(); break;
       case 18: d_.Keep(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
       default: d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
     }
@@ -318,6 +319,126 @@ class Fuzzer {
     }
     const std::string point = Frame();
     d_.RemoveTwist(point, Body());
+  }
+
+  // ---------------------------------------------------------------- extended ops (one more byte)
+
+  void Extended() {
+    switch (in_.Byte() % 4) {
+      case 0: RepairPose(); break;
+      case 1: RepairPoseConflict(); break;
+      case 2: RepairPoseDetermined(); break;
+      default: RepairTwist(); break;
+    }
+  }
+
+  // A repair policy: the default most often, a strategy switched off, or another tolerance
+  // (0, 1e-12: the rounding of a derived value decides; 1e-3: the 1e-3 changes sit on it).
+  reference::RepairPolicy Policy() {
+    reference::RepairPolicy p;
+    const std::uint8_t b = in_.Byte();
+    if (b < 160) return p;
+    switch (b % 8) {
+      case 0: p.invert = false; break;
+      case 1: p.reroot = false; break;
+      case 2: p.check_consistency = false; break;
+      case 3: p.position_tolerance = p.angle_tolerance = 0.0; break;
+      case 4: p.position_tolerance = p.angle_tolerance = 1e-12; break;
+      case 5: p.position_tolerance = 1e-6, p.angle_tolerance = 2e-4; break;
+      case 6: p.position_tolerance = p.angle_tolerance = 1e-3; break;
+      default: p.position_tolerance = 2e-3, p.angle_tolerance = 1e-9; break;
+    }
+    return p;
+  }
+
+  // The repairing AddPose takes a quaternion: a matrix choice is passed as its quaternion.
+  Eigen::Quaterniond QuaternionChoice() {
+    const RotationInput r = Rotation();
+    return r.is_matrix ? Eigen::Quaterniond(r.R) : r.q;
+  }
+
+  void RepairPose() {
+    const std::string head = Frame();
+    const std::string head_body = BodyFor(head);
+    const std::string tail = in_.OneIn(16) ? head : FrameNear(head);
+    const std::string tail_body = BodyFor(tail);
+    const Eigen::Quaterniond q = QuaternionChoice();
+    d_.PoseRepair(head, head_body, tail, tail_body, q, Position(), Policy());
+  }
+
+  // A frame that has a pose parent, posed wrt another frame: P1 -> invert (or re-root when the
+  // other frame has a parent too), or a consistency check when both are in one tree.
+  void RepairPoseConflict() {
+    const auto& poses = d_.model().poses();
+    if (poses.empty()) return RepairPose();
+    const reference::PoseEdge e = poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+    const std::string tail = Frame();
+    const Eigen::Quaterniond q = QuaternionChoice();
+    d_.PoseRepair(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), tail, BodyFor(tail), q,
+                  Position(), Policy());
+  }
+
+  // A relation the graph already determines (both frames in one tree), with the derived value
+  // exactly, or changed within / outside the tolerance.
+  void RepairPoseDetermined() {
+    const std::string head = Frame();
+    const std::string tail = FrameNear(head);
+    Query query;
+    query.kind = QueryKind::kPose;
+    query.point = query.orientation = head;
+    query.ref_point = query.ref_orientation = query.coord = tail;
+    const Answer derived = d_.model().Ask(query);
+    if (derived.code != ErrorCode::kOk) return RepairPose();
+    Eigen::Quaterniond q(derived.M);
+    Eigen::Vector3d p = derived.p;
+    switch (in_.Below(8)) {
+      case 1: q = Eigen::Quaterniond(-q.coeffs()); break;
+      case 2: p += Eigen::Vector3d::Constant(1e-10); break;
+      case 3: p += Eigen::Vector3d(0.0, 1e-3, 0.0); break;
+      case 4: q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-10, Eigen::Vector3d::UnitY())); break;
+      case 5: q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ())); break;
+      case 6: q = QuaternionChoice(), p = Position(); break;
+      default: break;
+    }
+    d_.PoseRepair(head, BodyFor(head), tail, BodyFor(tail), q, p, Policy());
+  }
+
+  // A twist on a point that has a twist parent, wrt another body (W1 -> the inverse twist), or
+  // a twist the graph already derives (W3 -> consistency), exact or changed.
+  void RepairTwist() {
+    const auto& twists = d_.model().twists();
+    std::string point = Frame(), ref_body = Body();
+    if (!twists.empty()) {
+      const reference::TwistEdge& t = twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+      switch (in_.Below(4)) {
+        case 0: point = t.head; break;  // W1 when ref_body is another body
+        case 1: case 2: {  // a frame of t's tree, wrt a body t's edge joins: mostly W3
+          point = FrameNear(t.head);
+          const auto it = d_.model().frames().find(point);
+          const std::string& H = d_.model().frames().at(t.head);
+          ref_body = it != d_.model().frames().end() && it->second == t.tail_body ? H : t.tail_body;
+          break;
+        }
+        default: break;
+      }
+    }
+    const std::string body = BodyFor(point);
+    const std::string coord = TwistCoord(point);
+    Query query;
+    query.kind = QueryKind::kTwist;
+    query.point = point;
+    query.ref_body = ref_body;
+    query.coord = coord;
+    const Answer derived = d_.model().Ask(query);
+    Eigen::Vector3d v = derived.v, w = derived.w;
+    switch (derived.code == ErrorCode::kOk ? in_.Below(6) : 5) {
+      case 1: v += Eigen::Vector3d(1e-10, 0.0, 0.0); break;
+      case 2: w += Eigen::Vector3d(0.0, 0.0, 1e-3); break;
+      case 3: v += Eigen::Vector3d(0.0, 2e-3, 0.0); break;
+      case 4: case 5: v = Velocity(), w = Velocity(); break;
+      default: break;
+    }
+    d_.TwistRepair(point, body, ref_body, coord, v, w, Policy());
   }
 
   Query MakeQuery(QueryKind kind) {

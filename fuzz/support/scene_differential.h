@@ -171,7 +171,8 @@ class Differential {
     std::fprintf(out, "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
     std::fprintf(out, "representation: %s\nops:\n", B::kName);
     for (const TraceLine& t : trace_) {
-      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "");
+      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "") +
+                               (t.note.empty() ? "" : " (" + t.note + ")");
       std::fprintf(out, line[0] == '#' ? "  %s\n" : "  - %s\n", line.c_str());
     }
     std::fprintf(out, "==== end of trace ====\n");
@@ -212,6 +213,48 @@ class Differential {
     });
     core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
     return Finish(graph_.AddTwist(spec, v, w), model_.AddTwist(point, body, ref_body, coord, v, w));
+  }
+
+  /// Edge-form pose add with repair (docs/repair.md): besides the checks of Pose, the same
+  /// repair applied (none / inverted / rerooted / consistent), the same number of reversed
+  /// edges, the same discrepancy (reported on a consistent check and on a refused one), kept
+  /// compiled queries that read a reversed edge invalidated. A consistency check whose
+  /// discrepancy is within rounding of a tolerance may go either way (no change either way).
+  ErrorCode PoseRepair(const std::string& head, const std::string& head_body, const std::string& tail,
+                       const std::string& tail_body, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                       const reference::RepairPolicy& policy) {
+    Begin([=] {
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
+             Field("ref_body", tail_body) + ", position: " + YamlVector(p) +
+             ", rotation: " + YamlRotation(RotationOf(q)) + ", repair: true}" + PolicyComment(policy);
+    });
+    const reference::RepairOutcome expected = model_.AddPoseRepair(head, head_body, tail, tail_body, q, p, policy);
+    for (const std::string& key : expected.reversed_keys) Removed(key);  // before CheckKept
+    const core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
+    return FinishRepair(graph_.AddPose(spec, q, p, KernelPolicy(policy)), expected);
+  }
+
+  /// Twist add with repair; the inverse twist's frame is the kernel's choice among the model's
+  /// candidates (docs/repair.md does not say which frame of the reference body).
+  ErrorCode TwistRepair(const std::string& point, const std::string& body, const std::string& ref_body,
+                        const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                        const reference::RepairPolicy& policy) {
+    Begin([=] {
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " +
+             YamlName(ref_body) + ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) +
+             ", angular: " + YamlVector(w) + ", repair: true}" + PolicyComment(policy);
+    });
+    const core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    auto result = graph_.AddTwist(spec, v, w, KernelPolicy(policy));
+    const auto kernel_choice = [&](const std::vector<std::string>& candidates) {
+      for (const std::string& h : candidates) {
+        const core::FrameIndex f = graph_.FindFrame(h);
+        if (f.is_valid() && graph_.twist_parent(f).is_valid()) return h;  // the one it just added
+      }
+      return candidates.front();  // the kernel refused: any candidate gives the same decision
+    };
+    return FinishRepair(std::move(result), model_.AddTwistRepair(point, body, ref_body, coord, v, w, policy,
+                                                                 kernel_choice));
   }
 
   ErrorCode RemovePose(const std::string& of, const std::string& wrt) {
@@ -345,9 +388,10 @@ class Differential {
   struct TraceLine {
     std::function<std::string()> render;
     std::optional<ErrorCode> code;
+    std::string note;  // e.g. the repair applied
   };
   void Begin(std::function<std::string()> render) {
-    trace_.push_back(TraceLine{std::move(render), std::nullopt});
+    trace_.push_back(TraceLine{std::move(render), std::nullopt, {}});
     if (checks_) before_ = CurrentDump();
   }
   void Annotate(ErrorCode code) { trace_.back().code = code; }
@@ -379,6 +423,102 @@ class Differential {
     CompareState();
     CheckKept();
     return code;
+  }
+
+  static core::RepairPolicy KernelPolicy(const reference::RepairPolicy& p) {
+    core::RepairPolicy k;
+    k.invert = p.invert;
+    k.reroot = p.reroot;
+    k.check_consistency = p.check_consistency;
+    k.position_tolerance = p.position_tolerance;
+    k.angle_tolerance = p.angle_tolerance;
+    return k;
+  }
+  static RotationInput RotationOf(const Eigen::Quaterniond& q) {
+    RotationInput r;
+    r.q = q;
+    return r;
+  }
+  static std::string PolicyComment(const reference::RepairPolicy& p) {
+    const reference::RepairPolicy d;
+    if (p.invert == d.invert && p.reroot == d.reroot && p.check_consistency == d.check_consistency &&
+        p.position_tolerance == d.position_tolerance && p.angle_tolerance == d.angle_tolerance) {
+      return "";
+    }
+    return "   # RepairPolicy{invert " + std::to_string(p.invert) + ", reroot " + std::to_string(p.reroot) +
+           ", check_consistency " + std::to_string(p.check_consistency) + ", position_tolerance " +
+           YamlNumber(p.position_tolerance) + ", angle_tolerance " + YamlNumber(p.angle_tolerance) + "}";
+  }
+  static reference::RepairKind KindOf(core::RepairKind k) {
+    switch (k) {
+      case core::RepairKind::kNone: return reference::RepairKind::kNone;
+      case core::RepairKind::kInverted: return reference::RepairKind::kInverted;
+      case core::RepairKind::kRerooted: return reference::RepairKind::kRerooted;
+      case core::RepairKind::kConsistent: return reference::RepairKind::kConsistent;
+    }
+    return reference::RepairKind::kNone;
+  }
+  static const char* KindText(reference::RepairKind k) {
+    switch (k) {
+      case reference::RepairKind::kNone: return "none";
+      case reference::RepairKind::kInverted: return "inverted";
+      case reference::RepairKind::kRerooted: return "rerooted";
+      case reference::RepairKind::kConsistent: return "consistent";
+    }
+    return "?";
+  }
+
+  // A repairing add: the decision and the report, then every check of Finish.
+  ErrorCode FinishRepair(base::Expected<core::RepairReport, core::BuildError> result,
+                         const reference::RepairOutcome& expected) {
+    const ErrorCode code = result ? ErrorCode::kOk : result.error().code;
+    // A consistency check at its tolerance's boundary: either decision (neither changes anything).
+    const bool either = expected.borderline &&
+                        (code == ErrorCode::kOk ? result->applied == core::RepairKind::kConsistent
+                                                : expected.applied == reference::RepairKind::kConsistent);
+    if (code != expected.code && !either) {
+      Annotate(code);
+      Fail("repairing add: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected.code)) + " (model repair: " + KindText(expected.applied) + ")" +
+           (result ? std::string() : "\nkernel message: " + result.error().message));
+    }
+    if (result && result->applied != core::RepairKind::kNone) trace_.back().note = KindText(KindOf(result->applied));
+    if (!result && result.error().discrepancy) trace_.back().note = "discrepancy";
+    const double tol = 1e-9 * PositionScale();
+    const double tol_v = 1e-9 * TwistScale();
+    const auto same_discrepancy = [&](const core::Discrepancy& d) {
+      return std::abs(d.position - expected.position) <= std::max(tol, tol_v) &&
+             std::abs(d.angle - expected.angle) <= std::max(1e-9, tol_v);
+    };
+    if (result) {
+      if (KindOf(result->applied) != expected.applied && !either) {
+        Fail(std::string("repairing add: kernel applied ") + KindText(KindOf(result->applied)) + ", model " +
+             KindText(expected.applied));
+      }
+      if (result->reversed_edges != expected.reversed_edges) {
+        Fail("repairing add: kernel reversed " + std::to_string(result->reversed_edges) + " edges, model " +
+             std::to_string(expected.reversed_edges));
+      }
+      if (result->applied == core::RepairKind::kConsistent && !same_discrepancy(result->discrepancy)) {
+        Fail("repairing add: the consistent check's discrepancy differs: kernel " +
+             YamlNumber(result->discrepancy.position) + " / " + YamlNumber(result->discrepancy.angle) + ", model " +
+             YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
+      }
+      if (result->applied != core::RepairKind::kNone && result->change.empty()) Fail("a repair without a change text");
+    } else {
+      const bool refused_check = expected.has_discrepancy && expected.applied != reference::RepairKind::kConsistent;
+      if (result.error().discrepancy.has_value() != (refused_check || (either && expected.has_discrepancy))) {
+        Fail("repairing add refused: discrepancy reported " + std::to_string(result.error().discrepancy.has_value()) +
+             ", model's consistency check refused it " + std::to_string(refused_check));
+      }
+      if (result.error().discrepancy && !same_discrepancy(*result.error().discrepancy)) {
+        Fail("repairing add refused: the discrepancy differs: kernel " +
+             YamlNumber(result.error().discrepancy->position) + " / " + YamlNumber(result.error().discrepancy->angle) +
+             ", model " + YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
+      }
+    }
+    core::BuildResult plain = result ? core::BuildResult(base::Ok{}) : core::BuildResult(base::Unexpected{result.error()});
+    return Finish(plain, code);
   }
 
   // The kernel's nodes, edges and stored values against the model's.
@@ -633,7 +773,7 @@ class Differential {
     const Answer expected = model_.Ask(q);
     const Outcome got = OneShot(q);
     if (got.code != expected.code || got.code == ErrorCode::kOk) {
-      trace_.push_back(TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt});
+      trace_.push_back(TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt, {}});
       CompareAnswer("final sweep query", expected, got);
       CompareAnswer("final sweep query, compiled", expected, Compiled(q, nullptr));
       trace_.pop_back();

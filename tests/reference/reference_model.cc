@@ -66,6 +66,16 @@ Transform Invert(const Transform& X_AB) {  // -> X_BA
   return {X_AB.R.transpose(), -(X_AB.R.transpose() * X_AB.p)};
 }
 
+// The rotation angle of R in [0, pi]: atan2(|sin|, cos) from the skew part and the trace
+// (accurate for small angles, unlike acos of the trace).
+double RotationAngle(const Eigen::Matrix3d& R) {
+  const Eigen::Vector3d s(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+  return std::atan2(0.5 * s.norm(), 0.5 * (R.trace() - 1.0));
+}
+
+// Whether x is within `margin` of the tolerance: the check may go either way by rounding.
+bool NearTolerance(double x, double tolerance, double margin) { return std::abs(x - tolerance) <= margin; }
+
 }  // namespace
 
 bool ReferenceModel::ValidName(const std::string& name) {
@@ -214,6 +224,146 @@ ErrorCode ReferenceModel::RemovePose(const std::string& of, const std::string& w
     }
   }
   return ErrorCode::kNoSuchEdge;
+}
+
+// ============================================================ repair (docs/repair.md)
+
+std::vector<std::string> ReferenceModel::Reroot(const std::string& frame) {
+  std::vector<std::size_t> path;  // indices of the edges frame..root, walked before changing any
+  for (std::string x = frame;;) {
+    std::size_t i = 0;
+    while (i < s_.poses.size() && s_.poses[i].head != x) ++i;
+    if (i == s_.poses.size()) break;
+    path.push_back(i);
+    x = s_.poses[i].tail;
+  }
+  std::vector<std::string> keys;
+  for (const std::size_t i : path) {
+    PoseEdge& e = s_.poses[i];
+    keys.push_back(PoseKey(e.tail, e.head));
+    e = PoseEdge{e.head, e.tail, Invert(e.X_TH)};
+  }
+  return keys;
+}
+
+RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::string& head_body,
+                                            const std::string& tail, const std::string& tail_body,
+                                            const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                                            const RepairPolicy& policy) {
+  RotationInput rotation;
+  rotation.q = q;
+  RepairOutcome out;
+  out.code = AddPose(head, head_body, tail, tail_body, rotation, p);
+  if (out.code != ErrorCode::kMultiplePoseParents && out.code != ErrorCode::kPoseCycle) return out;
+  // Both codes come after every argument check: the rotation is valid, the head exists.
+  Eigen::Matrix3d R;
+  ValidateRotation(rotation, &R);
+  const std::map<std::string, std::string> tree = Trees(s_);
+  const bool determined = s_.frames.count(head) && s_.frames.count(tail) && tree.at(head) == tree.at(tail);
+  if (determined) {
+    if (!policy.check_consistency) return out;
+    Transform X_TH;
+    Find(head, tail, &X_TH);
+    out.has_discrepancy = true;
+    out.position = (X_TH.p - p).norm();
+    out.angle = RotationAngle(X_TH.R.transpose() * R);
+    double scale = 1.0 + p.norm();
+    for (const PoseEdge& e : s_.poses) scale += e.X_TH.p.norm();
+    out.borderline = NearTolerance(out.position, policy.position_tolerance, 1e-12 * scale) ||
+                     NearTolerance(out.angle, policy.angle_tolerance, 1e-12);
+    if (out.position <= policy.position_tolerance && out.angle <= policy.angle_tolerance) {
+      out.code = ErrorCode::kOk;
+      out.applied = RepairKind::kConsistent;
+    }
+    return out;
+  }
+  if (out.code != ErrorCode::kMultiplePoseParents || !policy.invert) return out;
+  const Transform X_HT = Invert(Transform{R, p});
+  RotationInput inverse;
+  inverse.is_matrix = true;
+  inverse.R = X_HT.R;
+  const ErrorCode plain = out.code;
+  const ErrorCode inverted = AddPose(tail, tail_body, head, head_body, inverse, X_HT.p);
+  if (inverted == ErrorCode::kOk) {
+    out.code = ErrorCode::kOk;
+    out.applied = RepairKind::kInverted;
+    return out;
+  }
+  if (inverted != ErrorCode::kMultiplePoseParents || !policy.reroot) return out;
+  const State saved = s_;
+  std::vector<std::string> keys = Reroot(tail);
+  if (AddPose(tail, tail_body, head, head_body, inverse, X_HT.p) != ErrorCode::kOk) {
+    s_ = saved;
+    out.code = plain;
+    return out;
+  }
+  out.code = ErrorCode::kOk;
+  out.applied = RepairKind::kRerooted;
+  out.reversed_edges = keys.size();
+  out.reversed_keys = std::move(keys);
+  return out;
+}
+
+RepairOutcome ReferenceModel::AddTwistRepair(const std::string& point, const std::string& body,
+                                             const std::string& ref_body, const std::string& coord,
+                                             const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                                             const RepairPolicy& policy,
+                                             const std::function<std::string(const std::vector<std::string>&)>& choose) {
+  RepairOutcome out;
+  out.code = AddTwist(point, body, ref_body, coord, v, w);
+  if (out.code == ErrorCode::kDuplicateTwistPath) {
+    if (!policy.check_consistency) return out;
+    Query q;
+    q.kind = QueryKind::kTwist;
+    q.point = point;
+    q.body = body;
+    q.ref_body = ref_body;
+    q.coord = coord;
+    const Answer derived = Ask(q);
+    if (derived.code != ErrorCode::kOk) return out;
+    out.has_discrepancy = true;
+    out.position = (derived.v - v).norm();
+    out.angle = (derived.w - w).norm();
+    double scale = 1.0 + v.norm() + w.norm();
+    double lever = 1.0;
+    for (const PoseEdge& e : s_.poses) lever += e.X_TH.p.norm();
+    for (const TwistEdge& t : s_.twists) scale += t.v.norm() + t.w.norm() * lever;
+    out.borderline = NearTolerance(out.position, policy.position_tolerance, 1e-12 * scale) ||
+                     NearTolerance(out.angle, policy.angle_tolerance, 1e-12 * scale);
+    if (out.position <= policy.position_tolerance && out.angle <= policy.angle_tolerance) {
+      out.code = ErrorCode::kOk;
+      out.applied = RepairKind::kConsistent;
+    }
+    return out;
+  }
+  if (out.code != ErrorCode::kMultipleTwistParents || !policy.invert) return out;
+  // W1 comes after the conversion: the point and [coord] exist, in one tree.
+  const std::string C = s_.frames.at(point);
+  const std::map<std::string, std::string> tree = Trees(s_);
+  std::vector<std::string> candidates;
+  for (const auto& [frame, frame_body] : s_.frames) {
+    if (frame_body != ref_body || tree.at(frame) != tree.at(point)) continue;
+    bool has_parent = false;
+    for (const TwistEdge& t : s_.twists) has_parent = has_parent || t.head == frame;
+    if (!has_parent) candidates.push_back(frame);
+  }
+  if (candidates.empty()) return out;
+  const std::string h = choose(candidates);
+  if (std::find(candidates.begin(), candidates.end(), h) == candidates.end()) return out;
+  // The twist of ref_body wrt C: -w, and at {h}: v_h = -v + (-w) x (p_h - p_e), all in [coord].
+  Transform X_RE, X_RH;
+  Find(point, coord, &X_RE);
+  Find(h, coord, &X_RH);
+  const Eigen::Vector3d w_inv = -w;
+  const Eigen::Vector3d v_inv = -v + w_inv.cross(X_RH.p - X_RE.p);
+  const ErrorCode plain = out.code;
+  if (AddTwist(h, ref_body, C, coord, v_inv, w_inv) != ErrorCode::kOk) {
+    out.code = plain;
+    return out;
+  }
+  out.code = ErrorCode::kOk;
+  out.applied = RepairKind::kInverted;
+  return out;
 }
 
 // ============================================================ twist edges

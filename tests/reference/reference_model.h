@@ -51,6 +51,7 @@
 // R <- (R + R^-T)/2, independent of the library's SVD). Values are stored as 3x3 matrices.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -112,6 +113,29 @@ struct TwistEdge {
   Eigen::Vector3d v, w;  // at {head}, in [head]
 };
 
+/// Repair of a rejected add (docs/repair.md), the model's own copy of the policy.
+struct RepairPolicy {
+  bool invert = true;
+  bool reroot = true;
+  bool check_consistency = true;
+  double position_tolerance = 1e-9;  // m (m/s for twists)
+  double angle_tolerance = 1e-9;     // rad (rad/s for twists)
+};
+enum class RepairKind { kNone, kInverted, kRerooted, kConsistent };
+
+/// What a repairing add did, or why it was refused.
+struct RepairOutcome {
+  ErrorCode code = ErrorCode::kOk;         // kOk: accepted (as given or repaired)
+  RepairKind applied = RepairKind::kNone;  // with code kOk
+  std::size_t reversed_edges = 0;          // kRerooted
+  std::vector<std::string> reversed_keys;  // kRerooted: PoseKey of each reversed edge, old direction
+  bool has_discrepancy = false;            // a consistency check ran (kConsistent, or refused)
+  double position = 0, angle = 0;          // its discrepancy
+  /// The discrepancy is within a rounding error of a tolerance: the check may go either way
+  /// (both outcomes leave the graph unchanged).
+  bool borderline = false;
+};
+
 class ReferenceModel {
  public:
   explicit ReferenceModel(Representation representation = Representation::kQuaternion)
@@ -136,6 +160,29 @@ class ReferenceModel {
                     const Eigen::Vector3d& p);
   ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
                      const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+  /// The same adds with repair (docs/repair.md), the rule table read literally:
+  ///   pose, plain add refused by
+  ///     P1 or P2 with both frames in one pose tree (already determined): consistency check of
+  ///        the given X_TH against the derived pose (|dp| and the rotation angle of R_derived^T R
+  ///        against the tolerances); kConsistent, no change; else the plain error + discrepancy;
+  ///     P1 otherwise: the inverse edge head -> tail with X_TH^-1 through the plain add; if
+  ///        that is refused by P1 (the tail has a pose parent), the tail's tree is re-rooted at
+  ///        the tail (each edge on the path tail..root reversed, value inverted) and the inverse
+  ///        added again; refused again -> the re-rooting is undone, the plain error.
+  ///   twist, plain add refused by
+  ///     W3 duplicate_twist_path: consistency check against the derived twist (|dv|, |dw|);
+  ///     W1 multiple_twist_parents: the inverse twist (-v, -w, moved to the new point h:
+  ///        v_h = v_e + w' x (p_h - p_e)) on a frame h of ref_body in the point's tree with no
+  ///        twist parent. WHICH such frame is not specified (docs/repair.md says "a frame"):
+  ///        `choose` picks one of the candidates (the differential passes the kernel's choice).
+  ///   Anything else, or a strategy switched off, or a repair add refused: the plain error.
+  RepairOutcome AddPoseRepair(const std::string& head, const std::string& head_body, const std::string& tail,
+                              const std::string& tail_body, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                              const RepairPolicy& policy);
+  RepairOutcome AddTwistRepair(const std::string& point, const std::string& body, const std::string& ref_body,
+                               const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                               const RepairPolicy& policy,
+                               const std::function<std::string(const std::vector<std::string>&)>& choose);
   ErrorCode RemovePose(const std::string& of, const std::string& wrt);
   ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body);
 
@@ -182,6 +229,10 @@ class ReferenceModel {
   /// a sign each (+1 when the path crosses the edge from its head's body to its tail body).
   bool TwistPath(const std::string& e, const std::string& C, const std::string& D,
                  std::vector<std::pair<int, double>>* path) const;
+
+  /// Reverses the pose edges on the path from `frame` to its tree's root (values inverted);
+  /// returns their PoseKeys in the old direction.
+  std::vector<std::string> Reroot(const std::string& frame);
 
   Representation representation_;
   State s_;
