@@ -224,7 +224,7 @@ class Fuzzer {
       case 8: case 9: AddTwist(); break;
       case 10: ReAddTwist(); break;
       case 11: RemoveTwist(); break;
-      case 12: case 13: case 14: Extended(); break;
+      case 13: case 14: Extended(); break;
       case 18: d_.Keep(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
       default: d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
     }
@@ -324,12 +324,133 @@ class Fuzzer {
   // ---------------------------------------------------------------- extended ops (one more byte)
 
   void Extended() {
-    switch (in_.Byte() % 4) {
+    switch (in_.Byte() % 12) {
       case 0: RepairPose(); break;
       case 1: RepairPoseConflict(); break;
       case 2: RepairPoseDetermined(); break;
-      default: RepairTwist(); break;
+      case 3: RepairTwist(); break;
+      case 4: AddJoint(); break;
+      case 5: SetJoints(); break;
+      case 6: Group(); break;
+      case 7: d_.AskJacobian(JacobianQuery()); break;
+      default: RepairPose(); break;
     }
+  }
+
+  // ---------------------------------------------------------------- joints
+
+  std::string JointName() {
+    const std::uint8_t b = in_.Byte();
+    static const char* const kJoints[] = {"j0", "j1", "j2", "j3"};
+    return b < 248 ? kJoints[b % 4] : SpecialName(b, true);
+  }
+  // An existing joint's name (often), else any joint name.
+  std::string SomeJoint() {
+    const auto& joints = d_.model().joints();
+    if (!joints.empty() && !in_.OneIn(4)) return joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].name;
+    return JointName();
+  }
+
+  void AddJoint() {
+    static const Eigen::Vector3d kAxes[] = {
+        {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.3, -0.2, 0.9}, {0, 0, -2}, {0, 0, 0}, {1e-13, 0, 0}};
+    static const double kLimits[][2] = {{-1, 1}, {-3.2, 3.2}, {0, 0.5}, {0.2, 1.0}, {1, -1}, {-0.5, -0.1}, {0, 0}, {-2, 2}};
+    static const double kMultipliers[] = {1, -1, 0.5, 2, kNaN, 1, -0.25, 3};
+    static const double kOffsets[] = {0, 0.1, -0.3, 0.25, 0, 0.1, -1.0, kInf};
+    reference::JointInput in;
+    in.name = JointName();
+    in.type = static_cast<reference::JointType>(in_.Below(4));
+    // The parent: often an existing joint's child (chains), else any frame.
+    const auto& joints = d_.model().joints();
+    in.parent = !joints.empty() && in_.Bool() ? joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].child : Frame();
+    in.parent_body = BodyFor(in.parent);
+    in.child = in_.OneIn(16) ? in.parent : Frame();
+    in.child_body = BodyFor(in.child);
+    const std::uint8_t rotation = in_.Byte();
+    in.q_origin = Rotations()[rotation % 8];
+    if (rotation >= 224) {  // an invalid or non-unit origin now and then
+      const RotationInput r = ModifyRotation(in.q_origin, rotation >> 2, rotation);
+      in.q_origin = r.is_matrix ? Eigen::Quaterniond(r.R) : r.q;
+    }
+    in.p_origin = in_.OneIn(16) ? Position() : kPositions[in_.Below(6)];  // mostly finite
+    in.axis = kAxes[in_.Below(8)];
+    if (in_.OneIn(32)) in.axis.y() = kNaN;
+    if (in_.OneIn(32)) in.lower = kNaN;
+    const auto& limits = kLimits[in_.Below(8)];
+    in.lower = limits[0];
+    in.upper = limits[1];
+    if (in_.OneIn(4)) {
+      in.mimic = SomeJoint();
+      in.multiplier = kMultipliers[in_.Below(8)];
+      in.offset = kOffsets[in_.Below(8)];
+    }
+    d_.Joint(in);
+  }
+
+  // A joint value: near the joint's limits (inside, at the slack, outside) or from a table.
+  double JointValueFor(const std::string& name) {
+    static const double kValues[] = {0, 0.5, -0.7, 1.0, 3.0, -2.5, kNaN, kInf};
+    const reference::Joint* j = nullptr;
+    for (const reference::Joint& x : d_.model().joints()) {
+      if (x.name == name) j = &x;
+    }
+    const std::uint8_t b = in_.Byte();
+    if (!j || b < 128) return kValues[b % 8];
+    switch (b % 8) {
+      case 0: return j->lower;
+      case 1: return j->upper;
+      case 2: return j->upper + 5e-10;  // within the slack: accepted as given
+      case 3: return j->upper + 2e-9;   // outside: joint_limit
+      case 4: return j->lower - 2e-9;
+      case 5: return 0.5 * (j->lower + j->upper);
+      case 6: return j->lower + 0.3 * (j->upper - j->lower);
+      default: return 40.0 + j->q;  // a wheel that turned (continuous)
+    }
+  }
+
+  void SetJoints() {
+    typename Differential<B>::JointValues positions, velocities;
+    for (std::uint32_t n = in_.Below(4); n > 0; --n) {
+      const std::string name = SomeJoint();
+      positions.emplace_back(name, JointValueFor(name));
+    }
+    for (std::uint32_t n = in_.Below(3); n > 0; --n) {
+      const std::string name = SomeJoint();
+      velocities.emplace_back(name, JointValueFor(name));
+    }
+    d_.SetJoints(positions, velocities);
+  }
+
+  // MakeJointGroup (names of existing joints, mostly) or a real-time set of the kept group.
+  void Group() {
+    if (in_.OneIn(3)) {
+      std::vector<std::string> names;
+      for (std::uint32_t n = 1 + in_.Below(4); n > 0; --n) names.push_back(SomeJoint());
+      d_.MakeGroup(names);
+      return;
+    }
+    const int which = static_cast<int>(in_.Below(3));
+    if (!d_.has_group()) return;
+    std::vector<double> values;
+    for (const std::string& name : d_.GroupJoints()) {
+      values.push_back(JointValueFor(name));
+      values.push_back(JointValueFor(std::string()));  // a velocity from the table
+    }
+    d_.SetGroup(which, values);
+  }
+
+  // A twist query's arguments, pointed at joint children and parent bodies.
+  Query JacobianQuery() {
+    Query q = MakeQuery(QueryKind::kTwist);
+    const auto& joints = d_.model().joints();
+    if (!joints.empty() && in_.Bool()) {
+      const reference::Joint& j = joints[in_.Below(static_cast<std::uint32_t>(joints.size()))];
+      q.point = j.child;
+      q.coord = FrameNear(j.child);
+      const reference::Joint& k = joints[in_.Below(static_cast<std::uint32_t>(joints.size()))];
+      q.ref_body = k.parent_body;
+    }
+    return q;
   }
 
   // A repair policy: the default most often, a strategy switched off, or another tolerance

@@ -257,10 +257,176 @@ class Differential {
                                                                  kernel_choice));
   }
 
+  // ---------------------------------------------------------------- joints
+
+  ErrorCode Joint(const reference::JointInput& in) {
+    Begin([=] {
+      std::string s = "{op: joint, name: " + YamlName(in.name) + ", type: " + JointTypeName(in.type) +
+                      ", parent: " + YamlName(in.parent) + Field("parent_body", in.parent_body) +
+                      ", child: " + YamlName(in.child) + Field("child_body", in.child_body) +
+                      ", position: " + YamlVector(in.p_origin) + ", rotation: " + YamlRotation(RotationOf(in.q_origin)) +
+                      ", axis: " + YamlVector(in.axis) + ", lower: " + YamlNumber(in.lower) +
+                      ", upper: " + YamlNumber(in.upper);
+      if (!in.mimic.empty()) {
+        s += ", mimic: {joint: " + YamlName(in.mimic) + ", multiplier: " + YamlNumber(in.multiplier) +
+             ", offset: " + YamlNumber(in.offset) + "}";
+      }
+      return s + "}";
+    });
+    core::JointSpec spec;
+    spec.name = in.name;
+    spec.type = static_cast<core::JointType>(static_cast<int>(in.type));  // same order
+    spec.parent = in.parent;
+    spec.parent_body = in.parent_body;
+    spec.child = in.child;
+    spec.child_body = in.child_body;
+    spec.q_origin = in.q_origin;
+    spec.p_origin = in.p_origin;
+    spec.axis = in.axis;
+    spec.lower = in.lower;
+    spec.upper = in.upper;
+    spec.mimic = in.mimic;
+    spec.multiplier = in.multiplier;
+    spec.offset = in.offset;
+    return Finish(graph_.AddJoint(spec), model_.AddJoint(in));
+  }
+
+  using JointValues = std::vector<std::pair<std::string, double>>;
+  ErrorCode SetJoints(const JointValues& positions, const JointValues& velocities) {
+    Begin([=] {
+      const auto map = [](const JointValues& list) {
+        std::string s = "{";
+        for (std::size_t i = 0; i < list.size(); ++i) {
+          s += (i ? ", " : "") + YamlName(list[i].first) + ": " + YamlNumber(list[i].second);
+        }
+        return s + "}";
+      };
+      return "{op: joints, positions: " + map(positions) + ", velocities: " + map(velocities) + "}";
+    });
+    std::vector<core::JointValue> q, qdot;
+    for (const auto& [name, value] : positions) q.push_back(core::JointValue{name, value});
+    for (const auto& [name, value] : velocities) qdot.push_back(core::JointValue{name, value});
+    return Finish(graph_.SetJoints(q, qdot), model_.SetJoints(positions, velocities));
+  }
+
+  /// MakeJointGroup(names): the same code; on success the group is kept for SetGroup.
+  ErrorCode MakeGroup(const std::vector<std::string>& names) {
+    Begin([=] {
+      std::string s = "# MakeJointGroup([";
+      for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + YamlName(names[i]);
+      return s + "])";
+    });
+    std::vector<std::string_view> views(names.begin(), names.end());
+    auto kernel = graph_.MakeJointGroup(views);
+    std::vector<std::uint64_t> serials;
+    const ErrorCode expected = model_.MakeGroup(names, &serials);
+    const ErrorCode code = kernel ? ErrorCode::kOk : kernel.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("MakeJointGroup: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (kernel) {
+      group_ = std::move(*kernel);
+      model_group_ = std::move(serials);
+    }
+    return code;
+  }
+
+  /// The model's names of the kept group's joints (a removed one: empty), in group order.
+  std::vector<std::string> GroupJoints() const {
+    std::vector<std::string> names;
+    for (const std::uint64_t serial : model_group_) {
+      names.emplace_back();
+      for (const reference::Joint& j : model_.joints()) {
+        if (j.serial == serial) names.back() = j.name;
+      }
+    }
+    return names;
+  }
+  bool has_group() const { return group_.has_value(); }
+
+  /// The kept group's SetJointPositions (q only), SetJointVelocities (qdot only) or
+  /// SetJointState (both); `values` has two numbers per joint (q, qdot). No group: nothing.
+  ErrorCode SetGroup(int which, const std::vector<double>& values) {
+    if (!group_) return ErrorCode::kOk;
+    const std::size_t n = group_->size();
+    std::vector<double> q(n), qdot(n);
+    for (std::size_t i = 0; i < n; ++i) q[i] = values[2 * i], qdot[i] = values[2 * i + 1];
+    Begin([=] {
+      std::string s = std::string("# ") + (which == 0 ? "SetJointPositions" : which == 1 ? "SetJointVelocities" : "SetJointState") + "(group, [";
+      for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(q[i]);
+      s += "], [";
+      for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(qdot[i]);
+      return s + "])";
+    });
+    const double* mq = which != 1 ? q.data() : nullptr;
+    const double* mqdot = which != 0 ? qdot.data() : nullptr;
+    const ErrorCode expected = model_.SetGroup(model_group_, mq, mqdot);
+    const ErrorCode code = which == 0   ? graph_.SetJointPositions(*group_, q)
+                           : which == 1 ? graph_.SetJointVelocities(*group_, qdot)
+                                        : graph_.SetJointState(*group_, q, qdot);
+    core::BuildResult result = base::Ok{};
+    if (code != ErrorCode::kOk) result = base::Unexpected{core::BuildError{code, "(real-time setter: a code only)"}};
+    return Finish(result, expected);
+  }
+
+  /// A Jacobian query (the twist query's arguments): same code as the model's twist query, same
+  /// column joints in order, same matrix (one-shot and compiled).
+  void AskJacobian(const Query& query) {
+    Begin([=] {
+      return "{op: query, kind: jacobian, point: " + YamlName(query.point) + Field("body", query.body) +
+             ", ref_body: " + YamlName(query.ref_body) + ", coord: " + YamlName(query.coord) + "}";
+    });
+    const reference::JacobianAnswer expected = model_.Jacobian(query);
+    Query twist = query;
+    twist.kind = QueryKind::kTwist;
+    const core::TwistSpec spec = TwistSpecOf(twist);
+    const auto one_shot = graph_.GetJacobian(spec);
+    Annotate(one_shot ? ErrorCode::kOk : one_shot.error().code);
+    const auto compare = [&](const char* what, ErrorCode code, const std::vector<core::JointHandle>& joints,
+                             const core::JacobianMatrix& J) {
+      if (code != expected.code) {
+        Fail(std::string(what) + ": kernel says " + std::string(base::ToString(code)) + ", model says " +
+             std::string(base::ToString(expected.code)));
+      }
+      if (code != ErrorCode::kOk) return;
+      std::string kernel_joints, model_joints;
+      for (const core::JointHandle h : joints) kernel_joints += std::string(graph_.joint_name(h)) + " ";
+      for (const std::string& j : expected.joints) model_joints += j + " ";
+      if (kernel_joints != model_joints) Fail(std::string(what) + ": columns [" + kernel_joints + "] vs model [" + model_joints + "]");
+      const double tol = 1e-9 * PositionScale();
+      if (J.cols() != expected.J.cols() || (J.cols() > 0 && !Near(J, expected.J, tol))) {
+        const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+        std::ostringstream out;
+        out << what << ": values differ\n  kernel " << J.format(fmt) << "\n  model  " << expected.J.format(fmt);
+        Fail(out.str());
+      }
+    };
+    if (one_shot) {
+      compare("jacobian", ErrorCode::kOk, one_shot->joints, one_shot->J);
+    } else {
+      compare("jacobian", one_shot.error().code, {}, core::JacobianMatrix(6, 0));
+    }
+    const auto compiled = graph_.CompileJacobian(spec);
+    if (!compiled) {
+      compare("compiled jacobian", compiled.error().code, {}, core::JacobianMatrix(6, 0));
+    } else {
+      core::JacobianMatrix J(6, static_cast<Eigen::Index>(compiled->num_columns()));
+      const ErrorCode code = compiled->Evaluate(J);
+      compare("compiled jacobian", code, compiled->joints(), J);
+    }
+  }
+
   ErrorCode RemovePose(const std::string& of, const std::string& wrt) {
     Begin([=] { return "{op: remove, kind: pose, of: " + YamlName(of) + ", wrt: " + YamlName(wrt) + "}"; });
+    std::string joint_twist;  // the joint's twist edge goes with its pose edge
+    for (const reference::Joint& j : model_.joints()) {
+      if (j.child == of && j.parent == wrt) joint_twist = ReferenceModel::TwistKey(j.parent_body, of);
+    }
     const ErrorCode expected = model_.RemovePose(of, wrt);
     if (expected == ErrorCode::kOk) Removed(ReferenceModel::PoseKey(wrt, of));  // before CheckKept
+    if (expected == ErrorCode::kOk && !joint_twist.empty()) Removed(joint_twist);
     return Finish(graph_.RemovePose(of, wrt), expected);
   }
 
@@ -425,6 +591,15 @@ class Differential {
     return code;
   }
 
+  static const char* JointTypeName(reference::JointType t) {
+    switch (t) {
+      case reference::JointType::kRevolute: return "revolute";
+      case reference::JointType::kContinuous: return "continuous";
+      case reference::JointType::kPrismatic: return "prismatic";
+      case reference::JointType::kFixed: return "fixed";
+    }
+    return "?";
+  }
   static core::RepairPolicy KernelPolicy(const reference::RepairPolicy& p) {
     core::RepairPolicy k;
     k.invert = p.invert;
@@ -546,6 +721,19 @@ class Differential {
       const auto X = graph_.pose_value(h);
       if (!Near(B::ToMatrix(B::RotationOf(X)), e.X_TH.R, 1e-9) || !Near(B::TranslationOf(X), e.X_TH.p, tol)) {
         Fail("stored value of the pose edge " + e.tail + " -> " + e.head + " differs");
+      }
+    }
+    if (graph_.num_joints() != model_.joints().size()) {
+      Fail("joint counts differ: kernel " + std::to_string(graph_.num_joints()) + ", model " +
+           std::to_string(model_.joints().size()));
+    }
+    for (const reference::Joint& j : model_.joints()) {
+      const auto h = graph_.FindJoint(j.name);
+      if (!h) Fail("joint " + j.name + " is missing in the kernel");
+      const double q = graph_.joint_position(*h), qdot = graph_.joint_velocity(*h);
+      if (!(std::abs(q - j.q) <= 1e-12 * (1 + std::abs(j.q))) || !(std::abs(qdot - j.qdot) <= 1e-12 * (1 + std::abs(j.qdot)))) {
+        Fail("state of joint " + j.name + " differs: kernel q " + YamlNumber(q) + " qdot " + YamlNumber(qdot) +
+             ", model q " + YamlNumber(j.q) + " qdot " + YamlNumber(j.qdot));
       }
     }
     const double tol_v = 1e-9 * TwistScale();
@@ -788,6 +976,8 @@ class Differential {
   bool dump_valid_ = false;
   bool checks_ = true;
   std::deque<Kept> kept_;
+  std::optional<core::JointGroup> group_;    // the last group made (SetGroup)
+  std::vector<std::uint64_t> model_group_;   // the model's serials of the same joints
 };
 
 }  // namespace semgraph::fuzz

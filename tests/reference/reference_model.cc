@@ -184,6 +184,7 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
   // The existing edge tail -> head: constant (same body) or updated (different bodies).
   for (PoseEdge& e : s_.poses) {
     if (e.tail != tail || e.head != head) continue;
+    if (JointOfChild(s_, head)) return ErrorCode::kJointEdge;  // driven by its joint's state only
     if (s_.frames.at(head) == s_.frames.at(tail)) {
       const bool same_R = (e.X_TH.R - R).cwiseAbs().maxCoeff() <= kConstantTolerance;
       const bool same_p = (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
@@ -219,6 +220,18 @@ ErrorCode ReferenceModel::RemovePose(const std::string& of, const std::string& w
   if (!s_.frames.count(of) || !s_.frames.count(wrt)) return ErrorCode::kUnknownFrame;
   for (std::size_t i = 0; i < s_.poses.size(); ++i) {
     if (s_.poses[i].tail == wrt && s_.poses[i].head == of) {
+      if (const Joint* j = JointOfChild(s_, of)) {  // the joint's pose edge: removes the joint
+        for (const Joint& m : s_.joints) {
+          if (m.master == j->name) return ErrorCode::kJointEdge;  // a live mimic follows it
+        }
+        const std::string name = j->name;
+        s_.twists.erase(std::remove_if(s_.twists.begin(), s_.twists.end(),
+                                       [&](const TwistEdge& t) { return t.head == of; }),
+                        s_.twists.end());
+        s_.joints.erase(std::remove_if(s_.joints.begin(), s_.joints.end(),
+                                       [&](const Joint& x) { return x.name == name; }),
+                        s_.joints.end());
+      }
       s_.poses.erase(s_.poses.begin() + static_cast<std::ptrdiff_t>(i));
       return ErrorCode::kOk;
     }
@@ -290,6 +303,13 @@ RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::
     return out;
   }
   if (inverted != ErrorCode::kMultiplePoseParents || !policy.reroot) return out;
+  // A joint's pose edge has a direction (parent -> child): a path through one is not reversed.
+  for (std::string x = tail;;) {
+    const auto e = std::find_if(s_.poses.begin(), s_.poses.end(), [&](const PoseEdge& pe) { return pe.head == x; });
+    if (e == s_.poses.end()) break;
+    if (JointOfChild(s_, x)) return out;
+    x = e->tail;
+  }
   const State saved = s_;
   std::vector<std::string> keys = Reroot(tail);
   if (AddPose(tail, tail_body, head, head_body, inverse, X_HT.p) != ErrorCode::kOk) {
@@ -366,6 +386,247 @@ RepairOutcome ReferenceModel::AddTwistRepair(const std::string& point, const std
   return out;
 }
 
+// ============================================================ joints (docs/kinematics.md)
+
+const Joint* ReferenceModel::JointOfChild(const State& s, const std::string& child) {
+  for (const Joint& j : s.joints) {
+    if (j.child == child) return &j;
+  }
+  return nullptr;
+}
+
+Transform ReferenceModel::JointPose(const Joint& j, double q) {
+  Transform M;  // M(q)
+  if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) {
+    Eigen::Matrix3d K;  // [u]x
+    K << 0, -j.u.z(), j.u.y(), j.u.z(), 0, -j.u.x(), -j.u.y(), j.u.x(), 0;
+    M.R = Eigen::Matrix3d::Identity() + std::sin(q) * K + (1.0 - std::cos(q)) * K * K;  // Rodrigues
+  } else if (j.type == JointType::kPrismatic) {
+    M.p = q * j.u;
+  }
+  return Compose(j.X_origin, M);
+}
+
+void ReferenceModel::Drive(State& s, const std::string& name) {
+  for (Joint& j : s.joints) {
+    if (j.name != name) continue;
+    for (PoseEdge& e : s.poses) {
+      if (e.head == j.child) e.X_TH = JointPose(j, j.q);
+    }
+    for (TwistEdge& t : s.twists) {
+      if (t.head != j.child) continue;
+      t.v.setZero();
+      t.w.setZero();
+      if (j.type == JointType::kPrismatic) t.v = j.qdot * j.u;
+      if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) t.w = j.qdot * j.u;
+    }
+  }
+  for (Joint& m : s.joints) {
+    if (m.master != name) continue;
+    for (const Joint& j : s.joints) {
+      if (j.name == name) m.q = m.multiplier * j.q + m.offset, m.qdot = m.multiplier * j.qdot;
+    }
+    Drive(s, m.name);
+  }
+}
+
+ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
+  for (const std::string* n : {&in.name, &in.parent, &in.parent_body, &in.child, &in.child_body, &in.mimic}) {
+    const bool optional = n == &in.parent_body || n == &in.child_body || n == &in.mimic;
+    if (!(optional && n->empty()) && !ValidName(*n)) return ErrorCode::kInvalidName;
+  }
+  if (!Finite(in.p_origin)) return ErrorCode::kInvalidNumber;
+  RotationInput rotation;
+  rotation.q = in.q_origin;
+  Eigen::Matrix3d R;
+  if (const ErrorCode c = ValidateRotation(rotation, &R); c != ErrorCode::kOk) return c;
+  for (double x : {in.axis.x(), in.axis.y(), in.axis.z(), in.lower, in.upper, in.multiplier, in.offset}) {
+    if (!std::isfinite(x)) return ErrorCode::kInvalidNumber;
+  }
+  Joint j;
+  j.name = in.name;
+  j.type = in.type;
+  if (j.movable() && in.axis.norm() < 1e-12) return ErrorCode::kInvalidModel;
+  if (j.limited() && !(in.lower <= in.upper)) return ErrorCode::kInvalidModel;
+  const Joint* master = nullptr;
+  if (!in.mimic.empty()) {
+    if (!j.movable()) return ErrorCode::kInvalidModel;
+    for (const Joint& m : s_.joints) {
+      if (m.name == in.mimic) master = &m;
+    }
+    if (!master || !master->movable() || !master->master.empty()) return ErrorCode::kInvalidModel;
+  }
+  for (const Joint& other : s_.joints) {
+    if (other.name == in.name) return ErrorCode::kDuplicateJoint;
+  }
+  const bool child_exists = s_.frames.count(in.child) > 0, parent_exists = s_.frames.count(in.parent) > 0;
+  for (const auto& [frame, body, exists] : {std::tuple{in.child, in.child_body, child_exists},
+                                           std::tuple{in.parent, in.parent_body, parent_exists}}) {
+    if (exists && !body.empty() && s_.frames.at(frame) != body) return ErrorCode::kFrameBodyMismatch;
+    if (!exists && body.empty()) return ErrorCode::kFrameWithoutBody;
+  }
+  if (in.parent == in.child) return ErrorCode::kSelfEdge;
+  const std::string P = parent_exists ? s_.frames.at(in.parent) : in.parent_body;
+  const std::string C = child_exists ? s_.frames.at(in.child) : in.child_body;
+  if (P == C) return ErrorCode::kTwistSameBody;
+  for (const PoseEdge& e : s_.poses) {
+    if (e.tail == in.parent && e.head == in.child && JointOfChild(s_, in.child)) return ErrorCode::kJointEdge;
+  }
+  j.parent = in.parent;
+  j.child = in.child;
+  j.parent_body = P;
+  j.X_origin = Transform{R, in.p_origin};
+  j.u = j.movable() ? Eigen::Vector3d(in.axis / in.axis.norm()) : Eigen::Vector3d::UnitX();
+  j.lower = in.lower;
+  j.upper = in.upper;
+  if (master) {
+    j.master = master->name;
+    j.multiplier = in.multiplier;
+    j.offset = in.offset;
+    j.q = j.multiplier * master->q + j.offset;
+    j.qdot = j.multiplier * master->qdot;
+  } else if (j.limited()) {
+    j.q = std::clamp(0.0, j.lower, j.upper);
+  }
+  State next = s_;
+  next.bodies.insert(P);
+  next.bodies.insert(C);
+  next.frames[in.child] = C;
+  next.frames[in.parent] = P;
+  next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}});
+  switch (Violation(next)) {
+    case Rule::kP1: return ErrorCode::kMultiplePoseParents;
+    case Rule::kP2: return ErrorCode::kPoseCycle;
+    case Rule::kP3: return ErrorCode::kDuplicatePosePath;
+    case Rule::kW3: return ErrorCode::kTwistMergeConflict;
+    case Rule::kNone: break;
+  }
+  for (const TwistEdge& t : next.twists) {
+    if (t.head == in.child) return ErrorCode::kMultipleTwistParents;
+  }
+  next.twists.push_back(TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+  if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
+  j.serial = next_serial_++;
+  next.joints.push_back(j);
+  Drive(next, j.name);
+  s_ = std::move(next);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::SetJoints(const std::vector<std::pair<std::string, double>>& positions,
+                                    const std::vector<std::pair<std::string, double>>& velocities) {
+  const auto find = [&](const std::string& name) -> Joint* {
+    for (Joint& j : s_.joints) {
+      if (j.name == name) return &j;
+    }
+    return nullptr;
+  };
+  for (const auto* list : {&positions, &velocities}) {
+    for (const auto& [name, value] : *list) {
+      if (!std::isfinite(value)) return ErrorCode::kInvalidNumber;
+    }
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const auto& [name, value] : *list) {
+      if (!find(name) || !find(name)->movable()) return ErrorCode::kUnknownJoint;
+    }
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const auto& [name, value] : *list) {
+      if (!find(name)->master.empty()) return ErrorCode::kMimicJoint;
+    }
+  }
+  for (const auto& [name, value] : positions) {
+    const Joint* j = find(name);
+    if (j->limited() && (value < j->lower - 1e-9 || value > j->upper + 1e-9)) return ErrorCode::kJointLimit;
+  }
+  for (const auto& [name, value] : positions) find(name)->q = value, Drive(s_, name);
+  for (const auto& [name, value] : velocities) find(name)->qdot = value, Drive(s_, name);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::MakeGroup(const std::vector<std::string>& names, std::vector<std::uint64_t>* serials) const {
+  serials->clear();
+  for (const std::string& name : names) {
+    const Joint* j = nullptr;
+    for (const Joint& x : s_.joints) {
+      if (x.name == name) j = &x;
+    }
+    if (!j || !j->movable()) return ErrorCode::kUnknownJoint;
+    if (!j->master.empty()) return ErrorCode::kMimicJoint;
+    if (std::find(serials->begin(), serials->end(), j->serial) != serials->end()) return ErrorCode::kDuplicateJoint;
+    serials->push_back(j->serial);
+  }
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot) {
+  std::vector<Joint*> joints;
+  bool bad_number = false;
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    bad_number = bad_number || (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
+    Joint* found = nullptr;
+    for (Joint& j : s_.joints) {
+      if (j.serial == group[i]) found = &j;
+    }
+    joints.push_back(found);
+  }
+  if (bad_number) return ErrorCode::kInvalidNumber;
+  for (const Joint* j : joints) {
+    if (!j) return ErrorCode::kUnknownJoint;
+  }
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    if (q && joints[i]->limited() && !(q[i] >= joints[i]->lower - 1e-9 && q[i] <= joints[i]->upper + 1e-9)) {
+      return ErrorCode::kJointLimit;
+    }
+  }
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    if (q) joints[i]->q = q[i];
+    if (qdot) joints[i]->qdot = qdot[i];
+    Drive(s_, joints[i]->name);
+  }
+  return ErrorCode::kOk;
+}
+
+JacobianAnswer ReferenceModel::Jacobian(const Query& query) const {
+  JacobianAnswer out;
+  Query q = query;
+  q.kind = QueryKind::kTwist;
+  out.code = Ask(q).code;
+  out.J.resize(6, 0);
+  if (out.code != ErrorCode::kOk) return out;
+  const std::string C = q.body.empty() ? s_.frames.at(q.point) : q.body;
+  if (C == q.ref_body) return out;
+  std::vector<std::pair<int, double>> path;
+  TwistPath(q.point, C, q.ref_body, &path);
+  Transform X_RE;
+  Find(q.point, q.coord, &X_RE);
+  std::vector<Eigen::Matrix<double, 6, 1>> columns;
+  for (const auto& [index, sign] : path) {  // from D to C
+    const TwistEdge& t = s_.twists[index];
+    const Joint* j = JointOfChild(s_, t.head);
+    if (!j || !j->movable()) continue;
+    const std::string key = j->master.empty() ? j->name : j->master;
+    const double factor = j->master.empty() ? 1.0 : j->multiplier;
+    std::size_t c = std::find(out.joints.begin(), out.joints.end(), key) - out.joints.begin();
+    if (c == out.joints.size()) {
+      out.joints.push_back(key);
+      columns.push_back(Eigen::Matrix<double, 6, 1>::Zero());
+    }
+    // The unit twist at {child} in [child], re-expressed in [r] and moved to e.
+    Transform X_RH;
+    Find(t.head, q.coord, &X_RH);
+    Eigen::Vector3d v_h = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+    if (j->type == JointType::kPrismatic) v_h = X_RH.R * j->u;
+    else w = X_RH.R * j->u;
+    columns[c].head<3>() += factor * sign * (v_h + w.cross(X_RE.p - X_RH.p));
+    columns[c].tail<3>() += factor * sign * w;
+  }
+  out.J.resize(6, static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t c = 0; c < columns.size(); ++c) out.J.col(static_cast<Eigen::Index>(c)) = columns[c];
+  return out;
+}
+
 // ============================================================ twist edges
 
 ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& body,
@@ -392,6 +653,7 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
   for (TwistEdge& t : s_.twists) {
     if (t.head != point) continue;
     if (t.tail_body != ref_body) return ErrorCode::kMultipleTwistParents;
+    if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
     t.v = v_e;
     t.w = w_e;
     return ErrorCode::kOk;
@@ -412,6 +674,7 @@ ErrorCode ReferenceModel::RemoveTwist(const std::string& point, const std::strin
   if (!s_.bodies.count(ref_body)) return ErrorCode::kUnknownBody;
   for (std::size_t i = 0; i < s_.twists.size(); ++i) {
     if (s_.twists[i].head == point && s_.twists[i].tail_body == ref_body) {
+      if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
       s_.twists.erase(s_.twists.begin() + static_cast<std::ptrdiff_t>(i));
       return ErrorCode::kOk;
     }

@@ -51,6 +51,7 @@
 // R <- (R + R^-T)/2, independent of the library's SVD). Values are stored as 3x3 matrices.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <set>
@@ -111,6 +112,35 @@ struct PoseEdge {
 struct TwistEdge {
   std::string tail_body, head;
   Eigen::Vector3d v, w;  // at {head}, in [head]
+};
+
+/// Joints (docs/kinematics.md): the model's own reading. A joint owns the pose edge
+/// parent -> child with X_origin M(q) and the twist edge parent body -> {child} with xi(qdot).
+enum class JointType { kRevolute, kContinuous, kPrismatic, kFixed };
+struct JointInput {
+  std::string name, parent, parent_body, child, child_body, mimic;
+  JointType type = JointType::kFixed;
+  Eigen::Quaterniond q_origin = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+  double lower = 0, upper = 0, multiplier = 1, offset = 0;
+};
+struct Joint {
+  std::string name, parent, child, parent_body, master;  // master: empty unless a mimic
+  JointType type = JointType::kFixed;
+  Transform X_origin;
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX();  // unit axis in [child]
+  double lower = 0, upper = 0, multiplier = 1, offset = 0;
+  double q = 0, qdot = 0;
+  std::uint64_t serial = 0;  // unique per add: a group made before a removal goes stale
+  bool movable() const { return type != JointType::kFixed; }
+  bool limited() const { return type == JointType::kRevolute || type == JointType::kPrismatic; }
+};
+/// A Jacobian answer: the columns' joints (masters) in column order, rows v then w.
+struct JacobianAnswer {
+  ErrorCode code = ErrorCode::kOk;
+  std::vector<std::string> joints;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J;
 };
 
 /// Repair of a rejected add (docs/repair.md), the model's own copy of the policy.
@@ -184,6 +214,33 @@ class ReferenceModel {
                                const RepairPolicy& policy,
                                const std::function<std::string(const std::vector<std::string>&)>& choose);
   ErrorCode RemovePose(const std::string& of, const std::string& wrt);
+
+  /// Joints. AddJoint: invalid_name (name, parent, parent body, child, child body, mimic) ->
+  /// invalid_number / invalid_rotation (origin position, origin rotation, axis, limits,
+  /// multiplier, offset) -> invalid_model (|axis| < 1e-12 for a movable joint; lower > upper
+  /// for revolute/prismatic; mimic: a fixed mimic, or a master missing, fixed or a mimic) ->
+  /// duplicate_joint -> node resolution (child, then parent) -> self_edge -> twist_same_body ->
+  /// joint_edge -> the pose edge's P1, P2, P3, W4 -> W1, W3 of the twist edge. Initial state:
+  /// q = clamp(0, lower, upper) (limited) or 0, qdot = 0; a mimic follows its master.
+  /// Edges: a joint's pose edge re-added / its twist edge re-added or removed: joint_edge; its
+  /// pose edge removed: the joint is removed (joint_edge while live mimics follow it).
+  ErrorCode AddJoint(const JointInput& in);
+  /// By name, all or nothing: invalid_number (positions, velocities) -> unknown_joint (missing
+  /// or fixed) -> mimic_joint -> joint_limit (outside [lower - 1e-9, upper + 1e-9]).
+  ErrorCode SetJoints(const std::vector<std::pair<std::string, double>>& positions,
+                      const std::vector<std::pair<std::string, double>>& velocities);
+  /// A joint-state vector layout: each name's serial. unknown_joint -> mimic_joint ->
+  /// duplicate_joint, per name in order.
+  ErrorCode MakeGroup(const std::vector<std::string>& names, std::vector<std::uint64_t>* serials) const;
+  /// Sets a group (q and/or qdot may be null): invalid_number -> unknown_joint (a joint removed
+  /// since the group was made) -> joint_limit.
+  ErrorCode SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot);
+  /// Jacobian(e|C, D, [r]) of a twist query: its errors; columns from the TG path (D to C) as
+  /// the unit twists of its movable joints' edges moved to e, in [r], signed by direction; a
+  /// mimic adds multiplier x its column to its master's (placed at the first of them met).
+  JacobianAnswer Jacobian(const Query& q) const;
+  const std::vector<Joint>& joints() const { return s_.joints; }
+
   ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body);
 
   /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
@@ -215,7 +272,14 @@ class ReferenceModel {
     std::map<std::string, std::string> frames;  // frame -> body
     std::vector<PoseEdge> poses;
     std::vector<TwistEdge> twists;
+    std::vector<Joint> joints;  // live joints, in add order
   };
+  static const Joint* JointOfChild(const State& s, const std::string& child);
+  /// Writes joint j's pose and twist edge values from its q, qdot (and its mimics').
+  static void Drive(State& s, const std::string& joint);
+  /// X_origin M(q), by the model's own Rodrigues formula.
+  static Transform JointPose(const Joint& j, double q);
+  std::uint64_t next_serial_ = 1;
   enum class Rule { kNone, kP1, kP2, kP3, kW3 };
 
   /// First violated invariant of `s` in the order P1, P2, P3, W3 (from scratch).
