@@ -134,7 +134,8 @@ Eigen::Vector3d ModifyVector(Eigen::Vector3d v, std::uint32_t modifier, std::uin
 template <coord::Backend B>
 class Fuzzer {
  public:
-  Fuzzer(const std::uint8_t* data, std::size_t size) : in_(data, size) {}
+  Fuzzer(const std::uint8_t* data, std::size_t size, const reference::TimeOptions& time)
+      : in_(data, size), d_(time) {}
 
   void Run() {
     for (std::size_t n = 0; n < kMaxOps && !in_.empty(); ++n) Step();
@@ -333,8 +334,180 @@ class Fuzzer {
       case 5: SetJoints(); break;
       case 6: Group(); break;
       case 7: d_.AskJacobian(JacobianQuery()); break;
-      default: RepairPose(); break;
+      case 8: StampedPose(); break;
+      case 9: StampedTwist(); break;
+      default: d_.AskTimed(TimedQuery(), TimePolicy()); break;
     }
+  }
+
+  // ---------------------------------------------------------------- time
+
+  // Stamps (ns): around 1-3 s, a nanosecond apart, far ahead (beyond the 10 s window of the
+  // first ones) and negative.
+  std::int64_t StampChoice() {
+    static const std::int64_t kStamps[] = {1000000000, 1500000000, 2000000000, 2500000000, 3000000000,
+                                           1000000001, 1250000000, 12000000000, -1000000000, 0,
+                                           2000000000, 3000000000, 1750000000, 4000000000, 2000000001, 500000000};
+    return kStamps[in_.Below(16)];
+  }
+
+  // The next sample's stamp after an edge's newest: in order (0.5 s, 1 ns later), the same
+  // stamp (a duplicate), out of order, beyond the window (12 s), or from the table.
+  std::int64_t NextStamp(std::int64_t newest) {
+    switch (in_.Below(8)) {
+      case 0: case 1: return newest + 500000000;
+      case 2: return newest + 1;
+      case 3: return newest;
+      case 4: return newest - 250000000;
+      case 5: return newest + 12000000000;
+      case 6: return newest + 300000000;
+      default: return StampChoice();
+    }
+  }
+
+  // A query time relative to a stamped edge's samples: at one, between two, just outside.
+  std::int64_t TimeNear(const std::vector<std::int64_t>& stamps) {
+    const std::int64_t a = stamps[in_.Below(static_cast<std::uint32_t>(stamps.size()))];
+    const std::int64_t b = stamps[in_.Below(static_cast<std::uint32_t>(stamps.size()))];
+    switch (in_.Below(6)) {
+      case 0: return a;
+      case 1: return a + (b - a) / 4;
+      case 2: return a + (b - a) / 2;
+      case 3: return stamps.back() + 200000000;
+      case 4: return stamps.front() - 100000000;
+      default: return a + 1;
+    }
+  }
+
+  // A query through a stamped edge (a pose across it, or a twist at its head), or any query.
+  Query TimedQuery() {
+    struct Focus {
+      std::string head, tail;
+      std::vector<std::int64_t> stamps;
+    };
+    std::vector<Focus> edges;
+    for (const reference::PoseEdge& e : d_.model().poses()) {
+      if (!e.stamped) continue;
+      edges.push_back({e.head, e.tail, {}});
+      for (const reference::PoseSample& x : e.samples) edges.back().stamps.push_back(x.t);
+    }
+    for (const reference::TwistEdge& t : d_.model().twists()) {
+      if (!t.stamped) continue;
+      edges.push_back({t.head, std::string(), {}});
+      for (const reference::TwistSample& x : t.samples) edges.back().stamps.push_back(x.t);
+    }
+    focus_stamps_.clear();
+    if (edges.empty() || in_.OneIn(4)) return MakeQuery(static_cast<QueryKind>(in_.Below(6)));
+    const Focus& focus = edges[in_.Below(static_cast<std::uint32_t>(edges.size()))];
+    focus_stamps_ = focus.stamps;  // TimePolicy picks times around these
+    const std::string& head = focus.head;
+    Query q;
+    q.kind = static_cast<QueryKind>(in_.Below(6));
+    q.point = q.orientation = head;
+    q.ref_point = q.ref_orientation = !focus.tail.empty() && in_.Bool() ? focus.tail : FrameNear(head);
+    q.coord = in_.Bool() ? q.ref_orientation : FrameNear(head);
+    if (q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity || q.kind == QueryKind::kAngularVelocity) {
+      q.body = d_.model().frames().at(head);
+      q.ref_body = Body();
+      for (const reference::TwistEdge& t : d_.model().twists()) {
+        if (t.head == head && in_.Bool()) q.ref_body = t.tail_body;
+      }
+      if (q.kind == QueryKind::kAngularVelocity) q.point.clear();
+    }
+    if (q.kind == QueryKind::kPosition) q.orientation.clear(), q.ref_orientation.clear();
+    if (q.kind == QueryKind::kOrientation) q.point.clear(), q.ref_point.clear();
+    return q;
+  }
+
+  reference::TimeQuery TimePolicy() {
+    static const std::int64_t kTimes[] = {1000000000, 1250000000, 1750000000, 2000000000, 3500000000, 12000000000,
+                                          0, 2600000000};
+    static const std::int64_t kHorizons[] = {0, 0, 0, 500000000, 2000000000, -1, 0, 100000000};
+    reference::TimeQuery p;
+    switch (in_.Below(4)) {
+      case 0: p.kind = reference::TimeQuery::Kind::kLatest; break;
+      case 1: p.kind = reference::TimeQuery::Kind::kLatestCommon; break;
+      default: {
+        p.kind = reference::TimeQuery::Kind::kAt;
+        std::vector<std::vector<std::int64_t>> histories;
+        if (!focus_stamps_.empty() && !in_.OneIn(4)) histories.push_back(focus_stamps_);
+        for (const reference::PoseEdge& e : d_.model().poses()) {
+          if (e.stamped) histories.emplace_back();
+          for (const reference::PoseSample& x : e.samples) histories.back().push_back(x.t);
+        }
+        for (const reference::TwistEdge& e : d_.model().twists()) {
+          if (e.stamped) histories.emplace_back();
+          for (const reference::TwistSample& x : e.samples) histories.back().push_back(x.t);
+        }
+        if (!histories.empty() && !in_.OneIn(4)) {
+          p.t = TimeNear(histories[focus_stamps_.empty() ? in_.Below(static_cast<std::uint32_t>(histories.size())) : 0]);
+        } else {
+          p.t = in_.OneIn(3) ? StampChoice() : kTimes[in_.Below(8)];
+        }
+        p.horizon = kHorizons[in_.Below(8)];
+        break;
+      }
+    }
+    if (in_.OneIn(4)) p.not_before = StampChoice();
+    return p;
+  }
+
+  // A stamped sample: mostly of an existing edge (its next sample), else a new edge.
+  void StampedPose() {
+    const auto& poses = d_.model().poses();
+    const std::int64_t stamp = StampChoice();
+    std::vector<const reference::PoseEdge*> stamped;  // mostly a stamped edge's next sample
+    for (const reference::PoseEdge& x : poses) {
+      if (x.stamped) stamped.push_back(&x);
+    }
+    if (poses.empty() || (stamped.empty() ? !in_.OneIn(4) : in_.OneIn(4))) {
+      const std::string head = Frame();
+      const std::string head_body = BodyFor(head);
+      const std::string tail = Frame();
+      const RotationInput rotation = Rotation();
+      d_.StampedPose(head, head_body, tail, BodyFor(tail), rotation, Position(), stamp);
+      return;
+    }
+    const reference::PoseEdge e = !stamped.empty() && !in_.OneIn(4)
+                                      ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
+                                      : poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+    const std::int64_t next = e.stamped ? NextStamp(e.samples.back().t) : stamp;
+    RotationInput rotation = AsQuaternion(Eigen::Quaterniond(e.X_TH.R));
+    Eigen::Vector3d p = e.X_TH.p;
+    switch (in_.Below(6)) {
+      case 0: break;  // the same value (a no-op at an existing stamp)
+      case 1: p += Eigen::Vector3d(0.1, -0.05, 0.02); break;
+      case 2: rotation = AsQuaternion(rotation.q * Rpy(0.05, 0.3, -0.2)); break;
+      case 3: rotation = AsQuaternion(rotation.q * Rpy(0.0, 0.0, 2.0)), p += Eigen::Vector3d(0.0, 0.3, 0.0); break;
+      default: rotation = Rotation(), p = Position(); break;
+    }
+    d_.StampedPose(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), e.tail, std::string(),
+                   rotation, p, next);
+  }
+
+  void StampedTwist() {
+    const auto& twists = d_.model().twists();
+    const std::int64_t stamp = StampChoice();
+    std::vector<const reference::TwistEdge*> stamped;
+    for (const reference::TwistEdge& x : twists) {
+      if (x.stamped) stamped.push_back(&x);
+    }
+    if (twists.empty() || (stamped.empty() ? !in_.OneIn(4) : in_.OneIn(4))) {
+      const std::string point = Frame();
+      const std::string body = BodyFor(point);
+      const std::string ref_body = Body();
+      const std::string coord = TwistCoord(point);
+      const Eigen::Vector3d v = Velocity();
+      d_.StampedTwist(point, body, ref_body, coord, v, Velocity(), stamp);
+      return;
+    }
+    const reference::TwistEdge t = !stamped.empty() && !in_.OneIn(4)
+                                       ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
+                                       : twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+    const std::string coord = TwistCoord(t.head);
+    const Eigen::Vector3d v = Velocity();
+    d_.StampedTwist(t.head, std::string(), t.tail_body, coord, v, Velocity(),
+                    t.stamped ? NextStamp(t.samples.back().t) : stamp);
   }
 
   // ---------------------------------------------------------------- joints
@@ -606,6 +779,7 @@ class Fuzzer {
 
   OpReader in_;
   Differential<B> d_;
+  std::vector<std::int64_t> focus_stamps_;  // the stamps of the edge the last timed query crosses
 };
 
 }  // namespace
@@ -614,7 +788,11 @@ class Fuzzer {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const bool homogeneous = (data[0] & 1u) != 0;
-  semgraph::fuzz::Fuzzer<semgraph::coord::QuaternionBackend>(data + 1, size - 1).Run();
-  if (homogeneous) semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1).Run();
+  semgraph::reference::TimeOptions time;  // bits 1-3: the graph's time options
+  time.linear = (data[0] & 2u) != 0;
+  time.reject_duplicates = (data[0] & 4u) != 0;
+  if (data[0] & 8u) time.window_ns = 1000000000, time.capacity = 3;  // 1 s, 3 samples: pruning
+  semgraph::fuzz::Fuzzer<semgraph::coord::QuaternionBackend>(data + 1, size - 1, time).Run();
+  if (homogeneous) semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1, time).Run();
   return 0;
 }

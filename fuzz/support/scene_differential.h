@@ -150,9 +150,19 @@ class Differential {
   using Graph = core::SceneGraph<B>;
   static constexpr bool kHomogeneous = std::is_same_v<B, coord::HomogeneousBackend>;
 
-  Differential()
-      : model_(kHomogeneous ? reference::Representation::kHomogeneous
-                            : reference::Representation::kQuaternion) {}
+  explicit Differential(const reference::TimeOptions& time = reference::TimeOptions{})
+      : model_(kHomogeneous ? reference::Representation::kHomogeneous : reference::Representation::kQuaternion,
+               time),
+        time_(time) {
+    core::TimeOptions options;
+    options.window = core::Duration::Nanoseconds(time.window_ns);
+    options.sample_capacity = time.capacity;
+    options.interpolation = time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
+    options.duplicate_stamp = time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+    auto g = Graph::Create(options);
+    if (!g) Fail("SceneGraph::Create refused the time options: " + g.error().message);
+    graph_ = std::move(*g);
+  }
 
   const ReferenceModel& model() const { return model_; }
   const Graph& graph() const { return graph_; }
@@ -169,7 +179,10 @@ class Differential {
   /// The op sequence so far, one line per op in scene-script notation with the kernel's result.
   void PrintTrace(std::FILE* out) const {
     std::fprintf(out, "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
-    std::fprintf(out, "representation: %s\nops:\n", B::kName);
+    std::fprintf(out, "representation: %s\n", B::kName);
+    std::fprintf(out, "# time options: window %lld ns, capacity %zu, %s interpolation, duplicate stamps: %s\nops:\n",
+                 static_cast<long long>(time_.window_ns), time_.capacity, time_.linear ? "linear" : "screw",
+                 time_.reject_duplicates ? "reject" : "replace");
     for (const TraceLine& t : trace_) {
       const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "") +
                                (t.note.empty() ? "" : " (" + t.note + ")");
@@ -418,6 +431,63 @@ class Differential {
     }
   }
 
+  // ---------------------------------------------------------------- time
+
+  /// A stamped edge-form pose add (the quaternion or matrix overload, as given).
+  ErrorCode StampedPose(const std::string& head, const std::string& head_body, const std::string& tail,
+                        const std::string& tail_body, const RotationInput& rotation, const Eigen::Vector3d& p,
+                        std::int64_t stamp) {
+    Begin([=] {
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
+             Field("ref_body", tail_body) + ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) +
+             ", stamp: " + StampText(stamp) + "}";
+    });
+    const core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
+    const core::Stamp s = core::Stamp::Nanoseconds(stamp);
+    const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p, s) : graph_.AddPose(spec, rotation.q, p, s);
+    return Finish(result, model_.AddPose(head, head_body, tail, tail_body, rotation, p, stamp));
+  }
+
+  ErrorCode StampedTwist(const std::string& point, const std::string& body, const std::string& ref_body,
+                         const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                         std::int64_t stamp) {
+    Begin([=] {
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " + YamlName(ref_body) +
+             ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) +
+             ", stamp: " + StampText(stamp) + "}";
+    });
+    const core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    return Finish(graph_.AddTwist(spec, v, w, core::Stamp::Nanoseconds(stamp)),
+                  model_.AddTwist(point, body, ref_body, coord, v, w, stamp));
+  }
+
+  /// A query under a time policy, one-shot and compiled: same code, same value (unless the
+  /// model reports an interpolation across a half turn, which the spec leaves open), the same
+  /// time answered and extrapolated flag, and when not extrapolated the same oldest / newest
+  /// stamps read.
+  void AskTimed(const Query& q, const reference::TimeQuery& policy) {
+    Begin([=] { return QueryText(q) + "   # time: " + PolicyText(policy); });
+    const std::string before = CurrentDump();
+    const reference::TimedAnswer expected = model_.AskAt(q, policy);
+    const core::TimePolicy kernel_policy = KernelTimePolicy(policy);
+    core::TimeReport report;
+    const Outcome got = OneShotTimed(q, kernel_policy, &report);
+    Annotate(got.code);
+    CompareTimed("timed query", expected, got, report);
+    if (CompileComparable(q)) {
+      // Compiling fails as the untimed query does; the policy's errors come at evaluation.
+      core::TimeReport compiled_report;
+      bool compile_failed = false;
+      const Outcome compiled = CompiledTimed(q, kernel_policy, &compiled_report, &compile_failed);
+      if (compile_failed) {
+        CompareAnswer("compiling the timed query", model_.Ask(q), compiled);
+      } else {
+        CompareTimed("compiled timed query", expected, compiled, compiled_report);
+      }
+    }
+    if (graph_.Dump() != before) Fail("a timed query changed the graph's Dump()");
+  }
+
   ErrorCode RemovePose(const std::string& of, const std::string& wrt) {
     Begin([=] { return "{op: remove, kind: pose, of: " + YamlName(of) + ", wrt: " + YamlName(wrt) + "}"; });
     std::string joint_twist;  // the joint's twist edge goes with its pose edge
@@ -589,6 +659,131 @@ class Differential {
     CompareState();
     CheckKept();
     return code;
+  }
+
+  static std::string StampText(std::int64_t ns) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.9f", static_cast<double>(ns) * 1e-9);
+    return buf;
+  }
+  static std::string PolicyText(const reference::TimeQuery& p) {
+    std::string s = p.kind == reference::TimeQuery::Kind::kLatest   ? "latest"
+                    : p.kind == reference::TimeQuery::Kind::kAt     ? "at " + StampText(p.t) + " horizon " + StampText(p.horizon)
+                                                                    : "latest_common";
+    if (p.not_before) s += ", not_before " + StampText(*p.not_before);
+    return s;
+  }
+  static core::TimePolicy KernelTimePolicy(const reference::TimeQuery& p) {
+    std::optional<core::Stamp> not_before;
+    if (p.not_before) not_before = core::Stamp::Nanoseconds(*p.not_before);
+    switch (p.kind) {
+      case reference::TimeQuery::Kind::kAt:
+        return core::At(core::Stamp::Nanoseconds(p.t), core::Duration::Nanoseconds(p.horizon), not_before);
+      case reference::TimeQuery::Kind::kLatestCommon: return core::LatestCommon(not_before);
+      default: return core::Latest(not_before);
+    }
+  }
+
+  Outcome OneShotTimed(const Query& q, const core::TimePolicy& policy, core::TimeReport* report) const {
+    Outcome o;
+    const auto take = [&](const auto& r) {
+      if (!r) {
+        o.code = r.error().code;
+        return false;
+      }
+      *report = r->time;
+      return true;
+    };
+    switch (q.kind) {
+      case QueryKind::kPose: {
+        const auto r = graph_.GetPose(PoseSpecOf(q), policy);
+        if (take(r)) o.M = B::ToMatrix(B::RotationOf(r->value.value)), o.p = B::TranslationOf(r->value.value);
+        break;
+      }
+      case QueryKind::kPosition: {
+        const auto r = graph_.GetPosition(PoseSpecOf(q), policy);
+        if (take(r)) o.p = r->value.value;
+        break;
+      }
+      case QueryKind::kOrientation: {
+        const auto r = graph_.GetOrientation(PoseSpecOf(q), policy);
+        if (take(r)) o.M = B::ToMatrix(r->value.value);
+        break;
+      }
+      case QueryKind::kTwist: {
+        const auto r = graph_.GetTwist(TwistSpecOf(q), policy);
+        if (take(r)) o.v = r->value.linear, o.w = r->value.angular;
+        break;
+      }
+      case QueryKind::kLinearVelocity: {
+        const auto r = graph_.GetLinearVelocity(TwistSpecOf(q), policy);
+        if (take(r)) o.v = r->value.value;
+        break;
+      }
+      case QueryKind::kAngularVelocity: {
+        const auto r = graph_.GetAngularVelocity(TwistSpecOf(q), policy);
+        if (take(r)) o.w = r->value.value;
+        break;
+      }
+    }
+    return o;
+  }
+
+  Outcome CompiledTimed(const Query& q, const core::TimePolicy& policy, core::TimeReport* report,
+                        bool* compile_failed) const {
+    Outcome o;
+    CompiledAny c;
+    {
+      const Outcome compiled = Compiled(q, &c);  // the compile's code (and an untimed evaluation)
+      if (compiled.code != ErrorCode::kOk && std::holds_alternative<std::monostate>(c)) {
+        *compile_failed = true;
+        return compiled;
+      }
+    }
+    if (const auto* pose = std::get_if<core::CompiledPose<B>>(&c)) {
+      typename B::PoseCoords X;
+      o.code = pose->Evaluate(X, policy, *report);
+      if (o.code == ErrorCode::kOk) o.M = B::ToMatrix(B::RotationOf(X)), o.p = B::TranslationOf(X);
+    } else if (const auto* position = std::get_if<core::CompiledPosition<B>>(&c)) {
+      o.code = position->Evaluate(o.p, policy, *report);
+    } else if (const auto* orientation = std::get_if<core::CompiledOrientation<B>>(&c)) {
+      typename B::Rotation M;
+      o.code = orientation->Evaluate(M, policy, *report);
+      if (o.code == ErrorCode::kOk) o.M = B::ToMatrix(M);
+    } else if (const auto* twist = std::get_if<core::CompiledTwist<B>>(&c)) {
+      o.code = twist->Evaluate(o.v, o.w, policy, *report);
+      if (q.kind == QueryKind::kLinearVelocity) o.w.setZero();
+      if (q.kind == QueryKind::kAngularVelocity) o.v.setZero();
+    }
+    return o;
+  }
+
+  void CompareTimed(const std::string& what, const reference::TimedAnswer& expected, const Outcome& got,
+                    const core::TimeReport& report) {
+    if (expected.ambiguous) {  // only the decision
+      if (got.code != expected.answer.code) {
+        Fail(what + ": kernel says " + std::string(base::ToString(got.code)) + ", model says " +
+             std::string(base::ToString(expected.answer.code)));
+      }
+    } else {
+      CompareAnswer(what, expected.answer, got);
+    }
+    if (got.code != ErrorCode::kOk) return;
+    const auto ns = [](const std::optional<core::Stamp>& s) {
+      return s ? std::optional<std::int64_t>(s->nanoseconds()) : std::nullopt;
+    };
+    const auto text = [](const std::optional<std::int64_t>& s) { return s ? std::to_string(*s) : std::string("none"); };
+    if (ns(report.time) != expected.time) {
+      Fail(what + ": time answered: kernel " + text(ns(report.time)) + ", model " + text(expected.time));
+    }
+    if (report.extrapolated != expected.extrapolated) {
+      Fail(what + ": extrapolated: kernel " + std::to_string(report.extrapolated) + ", model " +
+           std::to_string(expected.extrapolated));
+    }
+    if (!expected.extrapolated && (ns(report.oldest) != expected.oldest || ns(report.newest) != expected.newest)) {
+      Fail(what + ": stamps read: kernel [" + text(ns(report.oldest)) + ", " + text(ns(report.newest)) + "], model [" +
+           text(expected.oldest) + ", " + text(expected.newest) + "]");
+    }
   }
 
   static const char* JointTypeName(reference::JointType t) {
@@ -976,6 +1171,7 @@ class Differential {
   bool dump_valid_ = false;
   bool checks_ = true;
   std::deque<Kept> kept_;
+  reference::TimeOptions time_;
   std::optional<core::JointGroup> group_;    // the last group made (SetGroup)
   std::vector<std::uint64_t> model_group_;   // the model's serials of the same joints
 };

@@ -13,6 +13,7 @@ namespace {
 
 constexpr double kRotationTolerance = 1e-6;  // docs/rules.md §5: |‖q‖ − 1|, max|MᵀM − I|
 constexpr double kConstantTolerance = 1e-6;  // docs/rules.md §2 P4
+constexpr double kPi = 3.14159265358979323846;
 
 bool Finite(const Eigen::Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
@@ -66,11 +67,112 @@ Transform Invert(const Transform& X_AB) {  // -> X_BA
   return {X_AB.R.transpose(), -(X_AB.R.transpose() * X_AB.p)};
 }
 
+// a - b saturated to int64 (windows near the ends of the stamp range).
+std::int64_t SubSat(std::int64_t a, std::int64_t b) {
+  std::int64_t r = 0;
+  if (__builtin_sub_overflow(a, b, &r)) return b > 0 ? INT64_MIN : INT64_MAX;
+  return r;
+}
+
+bool SamePose(const Transform& a, const Transform& b) {  // P4's tolerance
+  return (a.R - b.R).cwiseAbs().maxCoeff() <= kConstantTolerance &&
+         (a.p - b.p).norm() <= kConstantTolerance * std::max(1.0, a.p.norm());
+}
+bool SameTwist(const TwistSample& a, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  return (a.v - v).norm() <= 1e-6 * std::max(1.0, a.v.norm()) && (a.w - w).norm() <= 1e-6 * std::max(1.0, a.w.norm());
+}
+
+// The stamp rules of an update (time.md §1-2): stamp_mismatch -> stamp_too_old -> duplicate_stamp.
+template <class Sample, class Same>
+ErrorCode CheckStamp(bool stamped, const std::vector<Sample>& samples, std::optional<std::int64_t> stamp,
+                     const TimeOptions& o, Same&& same) {
+  if (!stamp) return stamped ? ErrorCode::kStampMismatch : ErrorCode::kOk;
+  if (!stamped) return ErrorCode::kStampMismatch;
+  if (*stamp < SubSat(samples.back().t, o.window_ns)) return ErrorCode::kStampTooOld;
+  for (const Sample& x : samples) {
+    if (x.t == *stamp && !same(x) && o.reject_duplicates) return ErrorCode::kDuplicateStamp;
+  }
+  return ErrorCode::kOk;
+}
+
+// Inserts (an equal stamp: replaced unless the same value), drops the oldest over capacity and
+// every sample older than newest - window.
+template <class Sample, class Same>
+void InsertSample(std::vector<Sample>& samples, const Sample& x, const TimeOptions& o, Same&& same) {
+  auto it = std::find_if(samples.begin(), samples.end(), [&](const Sample& y) { return y.t >= x.t; });
+  if (it != samples.end() && it->t == x.t) {
+    if (!same(*it)) *it = x;
+  } else {
+    samples.insert(it, x);
+    if (samples.size() > o.capacity) samples.erase(samples.begin());
+  }
+  const std::int64_t keep_from = SubSat(samples.back().t, o.window_ns);
+  while (samples.size() > 1 && samples.front().t < keep_from) samples.erase(samples.begin());
+}
+
 // The rotation angle of R in [0, pi]: atan2(|sin|, cos) from the skew part and the trace
 // (accurate for small angles, unlike acos of the trace).
 double RotationAngle(const Eigen::Matrix3d& R) {
   const Eigen::Vector3d s(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
   return std::atan2(0.5 * s.norm(), 0.5 * (R.trace() - 1.0));
+}
+
+Eigen::Matrix3d Hat(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return W;
+}
+
+// exp([w]x), Rodrigues; the series below 1e-4 rad.
+Eigen::Matrix3d RotExp(const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  const Eigen::Matrix3d W = Hat(w);
+  if (th < 1e-4) return Eigen::Matrix3d::Identity() + (1.0 - th * th / 6.0) * W + (0.5 - th * th / 24.0) * W * W;
+  return Eigen::Matrix3d::Identity() + std::sin(th) / th * W + (1.0 - std::cos(th)) / (th * th) * W * W;
+}
+
+// The rotation vector of R (angle in [0, pi]); *near_pi when the angle is within 1e-6 of pi,
+// where the axis sign is not determined (the spec leaves interpolation there to the library).
+Eigen::Vector3d RotLog(const Eigen::Matrix3d& R, bool* near_pi) {
+  const Eigen::Vector3d s(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));  // 2 sin(th) u
+  const double th = std::atan2(0.5 * s.norm(), 0.5 * (R.trace() - 1.0));
+  if (th > kPi - 1e-6) *near_pi = true;
+  if (th < 1e-4) return (0.5 + th * th / 12.0) * s;
+  if (th < kPi - 1e-3) return th / (2.0 * std::sin(th)) * s;
+  // Near pi: the axis from the symmetric part (R + I)/2 = u u^T (+ O(pi - th)), its sign from s.
+  const Eigen::Matrix3d S = 0.5 * (R + Eigen::Matrix3d::Identity());
+  int k = 0;
+  S.diagonal().maxCoeff(&k);
+  Eigen::Vector3d u = S.col(k).normalized();
+  if (u.dot(s) < 0) u = -u;
+  return th * u;
+}
+
+// SE(3) Exp of the screw twist (v, w) (time.md's convention: X^-1 dX = ([w]x, v)).
+Transform SE3Exp(const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  const Eigen::Matrix3d W = Hat(w);
+  Eigen::Matrix3d V;
+  if (th < 1e-4) {
+    V = Eigen::Matrix3d::Identity() + (0.5 - th * th / 24.0) * W + (1.0 / 6.0 - th * th / 120.0) * W * W;
+  } else {
+    V = Eigen::Matrix3d::Identity() + (1.0 - std::cos(th)) / (th * th) * W + (th - std::sin(th)) / (th * th * th) * W * W;
+  }
+  return Transform{RotExp(w), V * v};
+}
+
+// SE(3) Log: (v, w) with Exp(v, w) = X.
+void SE3Log(const Transform& X, Eigen::Vector3d* v, Eigen::Vector3d* w, bool* near_pi) {
+  *w = RotLog(X.R, near_pi);
+  const double th = w->norm();
+  const Eigen::Matrix3d W = Hat(*w);
+  double c;
+  if (th < 1e-4) {
+    c = 1.0 / 12.0 + th * th / 720.0;
+  } else {
+    c = (1.0 - th * std::sin(th) / (2.0 * (1.0 - std::cos(th)))) / (th * th);
+  }
+  *v = (Eigen::Matrix3d::Identity() - 0.5 * W + c * W * W) * X.p;
 }
 
 // Whether x is within `margin` of the tolerance: the check may go either way by rounding.
@@ -154,7 +256,8 @@ ErrorCode ReferenceModel::AddFrame(const std::string& name, const std::string& b
 
 ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& head_body,
                                   const std::string& tail, const std::string& tail_body,
-                                  const RotationInput& rotation, const Eigen::Vector3d& p) {
+                                  const RotationInput& rotation, const Eigen::Vector3d& p,
+                                  std::optional<std::int64_t> stamp) {
   // invalid_name (bodies are optional).
   if (!ValidName(head) || !ValidName(tail)) return ErrorCode::kInvalidName;
   if ((!head_body.empty() && !ValidName(head_body)) || (!tail_body.empty() && !ValidName(tail_body))) {
@@ -188,9 +291,17 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     if (s_.frames.at(head) == s_.frames.at(tail)) {
       const bool same_R = (e.X_TH.R - R).cwiseAbs().maxCoeff() <= kConstantTolerance;
       const bool same_p = (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
-      return same_R && same_p ? ErrorCode::kOk : ErrorCode::kConstantPoseChange;
+      return same_R && same_p ? ErrorCode::kOk : ErrorCode::kConstantPoseChange;  // (a stamp is ignored)
     }
-    e.X_TH = Transform{R, p};
+    const Transform X{R, p};
+    const auto same = [&](const PoseSample& x) { return SamePose(x.X, X); };
+    if (const ErrorCode c = CheckStamp(e.stamped, e.samples, stamp, time_, same); c != ErrorCode::kOk) return c;
+    if (!stamp) {
+      e.X_TH = X;
+      return ErrorCode::kOk;
+    }
+    InsertSample(e.samples, PoseSample{*stamp, X}, time_, same);
+    e.X_TH = e.samples.back().X;
     return ErrorCode::kOk;
   }
   // Tentatively: create the missing nodes (docs/rules.md §1), add the edge, check every invariant.
@@ -203,7 +314,11 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     next.bodies.insert(tail_body);
     next.frames[tail] = tail_body;
   }
-  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}});
+  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}, false, {}});
+  if (stamp && next.frames.at(head) != next.frames.at(tail)) {  // a stamped edge between bodies
+    next.poses.back().stamped = true;
+    next.poses.back().samples.push_back(PoseSample{*stamp, Transform{R, p}});
+  }
   switch (Violation(next)) {
     case Rule::kP1: return ErrorCode::kMultiplePoseParents;
     case Rule::kP2: return ErrorCode::kPoseCycle;
@@ -254,7 +369,7 @@ std::vector<std::string> ReferenceModel::Reroot(const std::string& frame) {
   for (const std::size_t i : path) {
     PoseEdge& e = s_.poses[i];
     keys.push_back(PoseKey(e.tail, e.head));
-    e = PoseEdge{e.head, e.tail, Invert(e.X_TH)};
+    e = PoseEdge{e.head, e.tail, Invert(e.X_TH), false, {}};
   }
   return keys;
 }
@@ -303,11 +418,12 @@ RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::
     return out;
   }
   if (inverted != ErrorCode::kMultiplePoseParents || !policy.reroot) return out;
-  // A joint's pose edge has a direction (parent -> child): a path through one is not reversed.
+  // A joint's pose edge has a direction (parent -> child), a stamped edge's history belongs to
+  // it: a path through either is not reversed (docs/repair.md).
   for (std::string x = tail;;) {
     const auto e = std::find_if(s_.poses.begin(), s_.poses.end(), [&](const PoseEdge& pe) { return pe.head == x; });
     if (e == s_.poses.end()) break;
-    if (JointOfChild(s_, x)) return out;
+    if (JointOfChild(s_, x) || e->stamped) return out;  // nor one with a stamped edge
     x = e->tail;
   }
   const State saved = s_;
@@ -493,7 +609,7 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   next.bodies.insert(C);
   next.frames[in.child] = C;
   next.frames[in.parent] = P;
-  next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}});
+  next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}, false, {}});
   switch (Violation(next)) {
     case Rule::kP1: return ErrorCode::kMultiplePoseParents;
     case Rule::kP2: return ErrorCode::kPoseCycle;
@@ -504,7 +620,7 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   for (const TwistEdge& t : next.twists) {
     if (t.head == in.child) return ErrorCode::kMultipleTwistParents;
   }
-  next.twists.push_back(TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+  next.twists.push_back(TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   j.serial = next_serial_++;
   next.joints.push_back(j);
@@ -631,7 +747,8 @@ JacobianAnswer ReferenceModel::Jacobian(const Query& query) const {
 
 ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& body,
                                    const std::string& ref_body, const std::string& coord,
-                                   const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+                                   const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                                   std::optional<std::int64_t> stamp) {
   if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord)) return ErrorCode::kInvalidName;
   if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
   if (!Finite(v) || !Finite(w)) return ErrorCode::kInvalidNumber;
@@ -647,6 +764,18 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     if (!point_exists || !s_.frames.count(coord) || !Find(coord, point, &X_ER)) {
       return ErrorCode::kTwistNotConvertible;
     }
+    if (stamp) {  // converted with the values at the stamp: the orientation of [r] wrt [e]
+      Query o;
+      o.kind = QueryKind::kOrientation;
+      o.orientation = coord;
+      o.ref_orientation = o.coord = point;
+      TimeQuery at;
+      at.kind = TimeQuery::Kind::kAt;
+      at.t = *stamp;
+      const TimedAnswer a = AskAt(o, at);
+      if (a.answer.code == ErrorCode::kExtrapolation) return ErrorCode::kExtrapolation;
+      X_ER.R = a.answer.M;
+    }
     v_e = X_ER.R * v;
     w_e = X_ER.R * w;
   }
@@ -654,15 +783,24 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     if (t.head != point) continue;
     if (t.tail_body != ref_body) return ErrorCode::kMultipleTwistParents;
     if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
-    t.v = v_e;
-    t.w = w_e;
+    const auto same = [&](const TwistSample& x) { return SameTwist(x, v_e, w_e); };
+    if (const ErrorCode c = CheckStamp(t.stamped, t.samples, stamp, time_, same); c != ErrorCode::kOk) return c;
+    if (!stamp) {
+      t.v = v_e;
+      t.w = w_e;
+      return ErrorCode::kOk;
+    }
+    InsertSample(t.samples, TwistSample{*stamp, v_e, w_e}, time_, same);
+    t.v = t.samples.back().v;
+    t.w = t.samples.back().w;
     return ErrorCode::kOk;
   }
   State next = s_;
   next.bodies.insert(C);
   next.bodies.insert(ref_body);
   next.frames[point] = C;
-  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e});
+  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}});
+  if (stamp) next.twists.back().samples.push_back(TwistSample{*stamp, v_e, w_e});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   s_ = std::move(next);
   return ErrorCode::kOk;
@@ -831,6 +969,147 @@ Answer ReferenceModel::Ask(const Query& q) const {
   if (q.kind == QueryKind::kLinearVelocity) a.w.setZero();  // only the asked part
   if (q.kind == QueryKind::kAngularVelocity) a.v.setZero();
   return a;
+}
+
+// ============================================================ time (docs/time.md)
+
+bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon, const std::set<std::string>& used, State* at,
+                              TimedAnswer* report) const {
+  const auto read = [&](std::int64_t s) {
+    report->oldest = report->oldest ? std::min(*report->oldest, s) : s;
+    report->newest = report->newest ? std::max(*report->newest, s) : s;
+  };
+  for (PoseEdge& e : at->poses) {
+    if (!e.stamped || !used.count(PoseKey(e.tail, e.head))) continue;
+    const std::vector<PoseSample>& S = e.samples;
+    if (t >= S.front().t && t <= S.back().t) {
+      std::size_t i = 0;
+      while (S[i].t < t) ++i;  // S[i].t >= t
+      if (S[i].t == t) {
+        e.X_TH = S[i].X;
+        read(t);
+        continue;
+      }
+      const PoseSample &a = S[i - 1], &b = S[i];
+      const double lambda = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+      read(a.t);
+      read(b.t);
+      bool near_pi = false;
+      if (time_.linear) {  // lerp + slerp (the geodesic of the relative rotation, shorter arc)
+        const Eigen::Vector3d w = RotLog(a.X.R.transpose() * b.X.R, &near_pi);
+        e.X_TH = Transform{a.X.R * RotExp(lambda * w), (1.0 - lambda) * a.X.p + lambda * b.X.p};
+      } else {  // screw: X_a Exp(lambda Log(X_a^-1 X_b))
+        Eigen::Vector3d v, w;
+        SE3Log(Compose(Invert(a.X), b.X), &v, &w, &near_pi);
+        e.X_TH = Compose(a.X, SE3Exp(lambda * v, lambda * w));
+      }
+      report->ambiguous = report->ambiguous || near_pi;
+      continue;
+    }
+    const PoseSample& k = t < S.front().t ? S.front() : S.back();
+    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <= static_cast<double>(horizon))) {
+      return false;
+    }
+    // Integrated with the edge's screw twist TwistCoord(h|H, T, [h]) at s_k from the twist edges.
+    Query xi;
+    xi.kind = QueryKind::kTwist;
+    xi.point = xi.coord = e.head;
+    xi.body = s_.frames.at(e.head);
+    xi.ref_body = s_.frames.at(e.tail);
+    TimeQuery at_k;
+    at_k.kind = TimeQuery::Kind::kAt;
+    at_k.t = k.t;
+    const TimedAnswer twist = AskAt(xi, at_k);
+    if (twist.answer.code != ErrorCode::kOk) return false;
+    const double dt = static_cast<double>(t - k.t) * 1e-9;
+    e.X_TH = Compose(k.X, SE3Exp(dt * twist.answer.v, dt * twist.answer.w));
+    report->extrapolated = true;
+    report->ambiguous = report->ambiguous || twist.ambiguous;
+    read(k.t);
+  }
+  for (TwistEdge& e : at->twists) {
+    if (!e.stamped || !used.count(TwistKey(e.tail_body, e.head))) continue;
+    const std::vector<TwistSample>& S = e.samples;
+    if (t >= S.front().t && t <= S.back().t) {
+      std::size_t i = 0;
+      while (S[i].t < t) ++i;
+      if (S[i].t == t) {
+        e.v = S[i].v, e.w = S[i].w;
+        read(t);
+        continue;
+      }
+      const TwistSample &a = S[i - 1], &b = S[i];
+      const double lambda = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+      e.v = (1.0 - lambda) * a.v + lambda * b.v;
+      e.w = (1.0 - lambda) * a.w + lambda * b.w;
+      read(a.t);
+      read(b.t);
+      continue;
+    }
+    const TwistSample& k = t < S.front().t ? S.front() : S.back();
+    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <= static_cast<double>(horizon))) {
+      return false;
+    }
+    e.v = k.v, e.w = k.w;  // held
+    report->extrapolated = true;
+    read(k.t);
+  }
+  return true;
+}
+
+TimedAnswer ReferenceModel::AskAt(const Query& q, const TimeQuery& policy) const {
+  TimedAnswer out;
+  out.answer = Ask(q);
+  if (out.answer.code == ErrorCode::kInvalidName) return out;
+  if (policy.kind == TimeQuery::Kind::kAt && policy.horizon < 0) {
+    out.answer = Answer{};
+    out.answer.code = ErrorCode::kInvalidNumber;
+    return out;
+  }
+  if (out.answer.code != ErrorCode::kOk) return out;
+  const bool twist_kind = q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity ||
+                          q.kind == QueryKind::kAngularVelocity;
+  const std::string& own = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
+  const bool zero = twist_kind && (q.body.empty() ? s_.frames.at(own) : q.body) == q.ref_body;
+  const std::set<std::string> used = zero ? std::set<std::string>{} : UsedEdges(q);
+  // The used stamped edges' newest stamps.
+  std::vector<std::int64_t> newest;
+  for (const PoseEdge& e : s_.poses) {
+    if (e.stamped && used.count(PoseKey(e.tail, e.head))) newest.push_back(e.samples.back().t);
+  }
+  for (const TwistEdge& e : s_.twists) {
+    if (e.stamped && used.count(TwistKey(e.tail_body, e.head))) newest.push_back(e.samples.back().t);
+  }
+  std::optional<std::int64_t> t;
+  if (policy.kind == TimeQuery::Kind::kAt) t = policy.t;
+  if (policy.kind == TimeQuery::Kind::kLatestCommon && !newest.empty()) {
+    t = *std::min_element(newest.begin(), newest.end());
+  }
+  ReferenceModel at = *this;
+  if (t) {
+    if (!ValuesAt(*t, policy.kind == TimeQuery::Kind::kAt ? policy.horizon : 0, used, &at.s_, &out)) {
+      out.answer = Answer{};
+      out.answer.code = ErrorCode::kExtrapolation;
+      return out;
+    }
+  } else {
+    for (const std::int64_t s : newest) {  // latest: each edge's newest sample is read
+      out.oldest = out.oldest ? std::min(*out.oldest, s) : s;
+      out.newest = out.newest ? std::max(*out.newest, s) : s;
+    }
+  }
+  if (policy.not_before) {
+    for (const std::int64_t s : newest) {
+      if (s < *policy.not_before) {
+        out.answer = Answer{};
+        out.answer.code = ErrorCode::kStale;
+        return out;
+      }
+    }
+  }
+  out.time = t;
+  out.answer = at.Ask(q);
+  return out;
 }
 
 std::set<std::string> ReferenceModel::UsedEdges(const Query& q) const {

@@ -54,6 +54,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -104,14 +105,52 @@ struct Answer {
   Eigen::Vector3d w = Eigen::Vector3d::Zero();
 };
 
+/// Time (docs/time.md): a stamped edge keeps its samples sorted by stamp (nanoseconds); its
+/// untimed value (X_TH, v/w) is the newest sample's.
+struct PoseSample {
+  std::int64_t t = 0;
+  Transform X;
+};
+struct TwistSample {
+  std::int64_t t = 0;
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+};
+
 struct PoseEdge {
   std::string tail, head;
   Transform X_TH;
+  bool stamped = false;
+  std::vector<PoseSample> samples;
 };
 
 struct TwistEdge {
   std::string tail_body, head;
   Eigen::Vector3d v, w;  // at {head}, in [head]
+  bool stamped = false;
+  std::vector<TwistSample> samples;
+};
+
+/// The model's copy of the graph's time options.
+struct TimeOptions {
+  std::int64_t window_ns = 10'000'000'000;
+  std::size_t capacity = 1024;
+  bool linear = false;             // interpolation: screw (false) or linear (lerp + slerp)
+  bool reject_duplicates = false;  // duplicate stamps: replace (false) or reject
+};
+
+/// A query's time policy: latest, at t (horizon), latest common; not_before with any.
+struct TimeQuery {
+  enum class Kind { kLatest, kAt, kLatestCommon } kind = Kind::kLatest;
+  std::int64_t t = 0, horizon = 0;
+  std::optional<std::int64_t> not_before;
+};
+/// What a timed answer reports (docs/time.md), and whether its value may be compared: an
+/// interpolation across a half turn is implementation-defined (the spec says tests avoid it).
+struct TimedAnswer {
+  Answer answer;
+  std::optional<std::int64_t> time, oldest, newest;
+  bool extrapolated = false;
+  bool ambiguous = false;
 };
 
 /// Joints (docs/kinematics.md): the model's own reading. A joint owns the pose edge
@@ -168,8 +207,9 @@ struct RepairOutcome {
 
 class ReferenceModel {
  public:
-  explicit ReferenceModel(Representation representation = Representation::kQuaternion)
-      : representation_(representation) {}
+  explicit ReferenceModel(Representation representation = Representation::kQuaternion,
+                          const TimeOptions& time = TimeOptions{})
+      : representation_(representation), time_(time) {}
 
   // Spec §4 orders, per operation:
   //   body:   invalid_name -> duplicate_body
@@ -185,11 +225,30 @@ class ReferenceModel {
   // Empty head_body / tail_body / body mean "not given".
   ErrorCode AddBody(const std::string& name);
   ErrorCode AddFrame(const std::string& name, const std::string& body);
+  // Time: an add with a stamp gives a stamped edge (a new edge between bodies) or a sample
+  // (an existing one); same-body edges ignore it. After every other rule: stamp_mismatch (a
+  // stamped value for a timeless edge or the reverse) -> stamp_too_old (older than newest -
+  // window) -> duplicate_stamp (policy reject, another value at a stamp: P4's tolerance for
+  // poses, 1e-6 max(1, |stored|) per vector for twists; the same value is a no-op). Then the
+  // sample is inserted; when over capacity the oldest goes; samples older than newest - window
+  // go. A stamped twist given in another frame is converted at its stamp (no values there:
+  // extrapolation, in twist_not_convertible's place).
   ErrorCode AddPose(const std::string& head, const std::string& head_body, const std::string& tail,
                     const std::string& tail_body, const RotationInput& rotation,
-                    const Eigen::Vector3d& p);
+                    const Eigen::Vector3d& p, std::optional<std::int64_t> stamp = std::nullopt);
   ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
-                     const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+                     const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                     std::optional<std::int64_t> stamp = std::nullopt);
+
+  /// A query under a time policy: the codes of Ask, with invalid_number (negative horizon)
+  /// right after invalid_name, then extrapolation (a used stamped edge without a value at the
+  /// time), then stale (not_before). The value: Ask on the graph whose used edges hold their
+  /// values at the time: inside a sample range interpolated (screw: X_i Exp(lambda Log(X_i^-1
+  /// X_i+1)) by the model's own SE(3) Exp/Log; linear: lerp + slerp; twists componentwise);
+  /// outside, within the horizon, a twist edge holds its nearest sample and a pose edge is
+  /// integrated X_k Exp((t - s_k) xi) with xi = TwistCoord(h|H, T, [h]) at s_k from the twist
+  /// edges (no extrapolation). Used edges: as UsedEdges (none for a velocity of C wrt C).
+  TimedAnswer AskAt(const Query& q, const TimeQuery& policy) const;
   /// The same adds with repair (docs/repair.md), the rule table read literally:
   ///   pose, plain add refused by
   ///     P1 or P2 with both frames in one pose tree (already determined): consistency check of
@@ -298,7 +357,12 @@ class ReferenceModel {
   /// returns their PoseKeys in the old direction.
   std::vector<std::string> Reroot(const std::string& frame);
 
+  /// The value of every used stamped edge at time t written into a copy of the state; false
+  /// (and *failure = extrapolation) when one has none. Records the stamps read.
+  bool ValuesAt(std::int64_t t, std::int64_t horizon, const std::set<std::string>& used, State* at,
+                TimedAnswer* report) const;
   Representation representation_;
+  TimeOptions time_;
   State s_;
 };
 
