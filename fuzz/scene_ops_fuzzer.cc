@@ -7,8 +7,13 @@
 //
 // Input format (every byte string is a valid input; see support/op_reader.h):
 //   byte 0            bit 0: also run the sequence on the homogeneous backend (the quaternion
-//                     backend always runs); the rest of the input is decoded once per backend
-//   then ops          one op-code byte, then the op's arguments (names, value choices)
+//                     backend always runs); the rest of the input is decoded once per backend.
+//                     Time options: bit 1 linear interpolation (else screw), bit 2 duplicate
+//                     stamps rejected (else replaced), bit 3 a 1 s window and 3 samples per edge
+//   then ops          one op-code byte (% 20), then the op's arguments (names, value choices);
+//                     13 and 14 are extended ops, one more byte (% 12): 0-3 repairing adds,
+//                     4 joint, 5 joint states by name, 6 joint group made / set, 7 Jacobian,
+//                     8 stamped pose, 9 stamped twist, 10-11 a query under a time policy
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -20,7 +25,8 @@
 // Re-adding an existing edge uses the stored value with such a modifier.
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's frame or another frame of
-// its tree). Caps: at most kMaxOps ops per backend run.
+// its tree; their repair; joints; stamped adds and time policies: tests/reference/reference_model.h).
+// Caps: at most kMaxOps ops per backend run.
 // Debugging: SEMGRAPH_FUZZ_TRACE=1 prints every input's op sequence (e.g. with the replay main).
 #include <cstddef>
 #include <cstdint>
@@ -336,7 +342,11 @@ class Fuzzer {
       case 7: d_.AskJacobian(JacobianQuery()); break;
       case 8: StampedPose(); break;
       case 9: StampedTwist(); break;
-      default: d_.AskTimed(TimedQuery(), TimePolicy()); break;
+      default: {
+        const Query q = TimedQuery();  // (reads in this order: a function's arguments have none)
+        d_.AskTimed(q, TimePolicy());
+        break;
+      }
     }
   }
 
@@ -464,8 +474,10 @@ class Fuzzer {
       const std::string head = Frame();
       const std::string head_body = BodyFor(head);
       const std::string tail = Frame();
+      const std::string tail_body = BodyFor(tail);
       const RotationInput rotation = Rotation();
-      d_.StampedPose(head, head_body, tail, BodyFor(tail), rotation, Position(), stamp);
+      const Eigen::Vector3d p = Position();
+      d_.StampedPose(head, head_body, tail, tail_body, rotation, p, stamp);
       return;
     }
     const reference::PoseEdge e = !stamped.empty() && !in_.OneIn(4)
@@ -506,8 +518,8 @@ class Fuzzer {
                                        : twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
     const std::string coord = TwistCoord(t.head);
     const Eigen::Vector3d v = Velocity();
-    d_.StampedTwist(t.head, std::string(), t.tail_body, coord, v, Velocity(),
-                    t.stamped ? NextStamp(t.samples.back().t) : stamp);
+    const Eigen::Vector3d w = Velocity();
+    d_.StampedTwist(t.head, std::string(), t.tail_body, coord, v, w, t.stamped ? NextStamp(t.samples.back().t) : stamp);
   }
 
   // ---------------------------------------------------------------- joints
@@ -657,7 +669,8 @@ class Fuzzer {
     const std::string tail = in_.OneIn(16) ? head : FrameNear(head);
     const std::string tail_body = BodyFor(tail);
     const Eigen::Quaterniond q = QuaternionChoice();
-    d_.PoseRepair(head, head_body, tail, tail_body, q, Position(), Policy());
+    const Eigen::Vector3d p = Position();
+    d_.PoseRepair(head, head_body, tail, tail_body, q, p, Policy());
   }
 
   // A frame that has a pose parent, posed wrt another frame: P1 -> invert (or re-root when the
@@ -668,8 +681,10 @@ class Fuzzer {
     const reference::PoseEdge e = poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
     const std::string tail = Frame();
     const Eigen::Quaterniond q = QuaternionChoice();
-    d_.PoseRepair(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), tail, BodyFor(tail), q,
-                  Position(), Policy());
+    const std::string head_body = in_.Bool() ? std::string() : d_.model().frames().at(e.head);
+    const std::string tail_body = BodyFor(tail);
+    const Eigen::Vector3d p = Position();
+    d_.PoseRepair(e.head, head_body, tail, tail_body, q, p, Policy());
   }
 
   // A relation the graph already determines (both frames in one tree), with the derived value
@@ -694,7 +709,9 @@ class Fuzzer {
       case 6: q = QuaternionChoice(), p = Position(); break;
       default: break;
     }
-    d_.PoseRepair(head, BodyFor(head), tail, BodyFor(tail), q, p, Policy());
+    const std::string head_body = BodyFor(head);
+    const std::string tail_body = BodyFor(tail);
+    d_.PoseRepair(head, head_body, tail, tail_body, q, p, Policy());
   }
 
   // A twist on a point that has a twist parent, wrt another body (W1 -> the inverse twist), or

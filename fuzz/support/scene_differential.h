@@ -18,8 +18,15 @@
 //     and otherwise the value of the one-shot query of that moment. (Exception, a reported spec
 //     ambiguity: a velocity of a body relative to itself stays valid and zero; see Keep.)
 //
+//   - repairing adds (PoseRepair, TwistRepair): the same strategy, number of reversed edges and
+//     discrepancy; kept compiled queries reading a reversed edge invalidated;
+//   - joints (Joint, SetJoints, MakeGroup, SetGroup): codes, joint states, edge values;
+//     AskJacobian: the columns' joints in order and the matrix, one-shot and compiled;
+//   - time (StampedPose, StampedTwist, AskTimed): codes, values, and the TimeReport (time
+//     answered, extrapolated, stamps read when not extrapolated), one-shot and compiled.
+//
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
-// tree); see tests/reference/reference_model.h.
+// tree; repair, joints, time); see tests/reference/reference_model.h.
 // Cost: each op costs the model's from-scratch checks, O(scene^2) with maps; fine for scenes
 // of a few dozen frames. Not thread-safe.
 #pragma once

@@ -13,6 +13,9 @@
 //             wrt {tail} expressed in [tail], i.e. PoseCoord({h}|H, {t}|T, [t]) (docs/rules.md §2)
 //   twists_   vector of twist edges {tail body D, head frame h, v, w}: the screw twist
 //             TwistCoord(h|H, D, [h]) (docs/rules.md §3)
+//   a stamped edge also keeps its samples (sorted by stamp; the plain value is the newest);
+//   joints_   live joints {name, type, parent, child, X_origin, axis, limits, mimic, q, qdot}:
+//             their edges are ordinary entries of poses_ / twists_ whose values Drive() writes.
 //
 // How an add works (docs/rules.md §6: "every build operation either succeeds completely or
 // leaves the graph exactly as it was"): the argument checks run in the order of docs/rules.md §7;
@@ -45,6 +48,25 @@
 //
 // Queries (all six kinds, any point / orientation / reference / coordinate frame) are covered
 // fully, including the homogeneous representation's constraints.
+//
+// REPAIR (docs/repair.md), covered for the edge-form pose adds and the twist adds above:
+// invert (P1, W1), re-root (the inverse refused by P1; never through a joint's or a stamped
+// edge), consistency checks (P1 within one tree, P2, W3) with their discrepancy, every policy
+// switch and tolerance. Not covered: repair of pose adds in other forms (the library converts
+// them to the edge form first). Left open by the docs and taken from the caller: WHICH frame
+// of the reference body carries an inverted twist (AddTwistRepair's `choose`).
+// JOINTS (docs/kinematics.md): revolute, continuous, prismatic, fixed; limits, mimic joints,
+// protection of a joint's edges, removal through its pose edge, state by name and by group,
+// semantic Jacobians (one column formula of the model's own, no finite differences). Not
+// covered: origins given as matrices, URDF loading (models/), joint handles' generations
+// beyond "a group made before a removal is stale".
+// TIME (docs/time.md): stamped edge-form pose adds and twist adds (converted at their stamp),
+// window, capacity, duplicate policies, out-of-order samples; policies latest, at (with a
+// horizon: twist edges held, pose edges integrated with the twist edges' screw twist),
+// latest common, not_before, for every query kind. Not covered: time travel, twist source
+// `poses` (differentiation), stamped SetPose/SetTwist by handle (the same Check/Store as the
+// stamped add), Explain*; the stamps read are compared only for answers not extrapolated (the
+// spec also counts the stamps the integrating twist reads).
 //
 // Numbers: a quaternion rotation is normalized to q/|q| and turned into a matrix; a matrix
 // rotation is replaced by its nearest rotation (polar decomposition by Newton iteration
