@@ -331,6 +331,8 @@ def scene_ops_seeds():
     track = (lambda o: o
              .stamped_pose("b", "B", "c", "A", 0, (3, 0), (1, 0))
              .next_sample(0, 0, 2).next_sample(0, 4, 1).next_sample(0, 3, 1)
+             .next_sample(0, 2, 1)          # 1.5 s + 1 ns: a 4th sample (capacity 3: the oldest goes)
+             .timed_pose(0, near=(0, 1, 1))  # between the first two kept samples
              .stamped_twist("b", "A", 0, (2, 0), (3, 0))
              .stamped_twist("b", "A", 2, (1, 0), (2, 0), twists_exist=True)
              .timed_pose(0, near=(0, 1, 2)).timed_pose(0, kind=1, near=(0, 2, 1))
