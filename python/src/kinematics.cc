@@ -160,13 +160,16 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
   if (positions.is_none() && velocities.is_none()) return;
   const auto group = GroupArg(box, names, "set_joints");
   const std::size_t n = group->group.size();
-  py::array_t<double, py::array::c_style> q, qdot;
-  if (!positions.is_none()) q = StateArg(positions, n, "set_joints", "positions");
-  if (!velocities.is_none()) qdot = StateArg(velocities, n, "set_joints", "velocities");
+  // (A default py::array is an empty array, not a null one: track what was given explicitly.)
+  const bool has_q = !positions.is_none(), has_qdot = !velocities.is_none();
+  py::array_t<double, py::array::c_style> q_array, qdot_array;
+  if (has_q) q_array = StateArg(positions, n, "set_joints", "positions");
+  if (has_qdot) qdot_array = StateArg(velocities, n, "set_joints", "velocities");
   std::lock_guard<std::mutex> lock(box.writer);
   box.Visit([&](auto& g) {
-    const std::span<const double> sq(q ? q.data() : nullptr, q ? n : 0);
-    const std::span<const double> sv(qdot ? qdot.data() : nullptr, qdot ? n : 0);
+    const bool q = has_q, qdot = has_qdot;
+    const std::span<const double> sq(q ? q_array.data() : nullptr, q ? n : 0);
+    const std::span<const double> sv(qdot ? qdot_array.data() : nullptr, qdot ? n : 0);
     ErrorCode code;
     if (q && qdot) {
       code = g.SetJointState(group->group, sq, sv);
