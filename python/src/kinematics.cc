@@ -79,7 +79,8 @@ std::vector<std::string> JointNames(const G& g, const std::vector<core::JointHan
 
 /// names=: None -> every independent movable joint, a JointGroup of this graph, or a sequence of
 /// joint names (MakeJointGroup: RejectedError unknown_joint, mimic_joint, duplicate_joint).
-std::shared_ptr<JointGroupObject> GroupArg(GraphBox& box, py::handle names, const char* fn) {
+std::shared_ptr<JointGroupObject> GroupArg(GraphBox& box, py::handle names, const char* fn,
+                                           bool with_names = true) {
   if (py::isinstance<JointGroupObject>(names)) {
     auto group = names.cast<std::shared_ptr<JointGroupObject>>();
     if (group->graph.get() != &box) {
@@ -92,7 +93,7 @@ std::shared_ptr<JointGroupObject> GroupArg(GraphBox& box, py::handle names, cons
   if (names.is_none()) {
     box.Visit([&](const auto& g) {
       out->group = g.AllJoints();
-      out->names = JointNames(g, out->group.joints);
+      if (with_names) out->names = JointNames(g, out->group.joints);
     });
     return out;
   }
@@ -158,7 +159,7 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
     return;
   }
   if (positions.is_none() && velocities.is_none()) return;
-  const auto group = GroupArg(box, names, "set_joints");
+  const auto group = GroupArg(box, names, "set_joints", false);
   const std::size_t n = group->group.size();
   // (A default py::array is an empty array, not a null one: track what was given explicitly.)
   const bool has_q = !positions.is_none(), has_qdot = !velocities.is_none();
@@ -199,7 +200,7 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
 }
 
 py::array_t<double> JointValues(GraphBox& box, py::handle names, bool velocity, const char* fn) {
-  const auto group = GroupArg(box, names, fn);
+  const auto group = GroupArg(box, names, fn, false);
   py::array_t<double> out(static_cast<py::ssize_t>(group->group.size()));
   double* x = out.mutable_data();
   box.Visit([&](const auto& g) {
