@@ -8,14 +8,47 @@ if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_L
   target_compile_options(semgraph_warnings INTERFACE -Wno-restrict)
 endif()
 
-# semgraph_add_layer(NAME <layer> SOURCES ... DEPS ...): one static library per layer,
-# target semgraph_<layer>, alias semgraph::<layer>, headers under <layer>/include.
+include(GenerateExportHeader)
+
+# semgraph_library_properties(<target> <layer>): what every installed library of semgraph gets.
+#  - Static or shared as BUILD_SHARED_LIBS says (shared: VERSION = the project version and
+#    SOVERSION = MAJOR.MINOR, since compatibility is promised within a minor version, as the
+#    package's config-version file says).
+#  - Symbols hidden unless exported: the headers mark the API with SEMGRAPH_<LAYER>_EXPORT, from
+#    semgraph/<layer>/export.h, generated here (GenerateExportHeader) into the build tree and
+#    installed with the other headers. A static build defines SEMGRAPH_<LAYER>_STATIC_DEFINE for
+#    itself and its users (the macros are then empty).
+function(semgraph_library_properties t layer)
+  string(TOUPPER ${layer} LAYER)
+  set_target_properties(${t} PROPERTIES
+      POSITION_INDEPENDENT_CODE ON
+      CXX_VISIBILITY_PRESET hidden
+      VISIBILITY_INLINES_HIDDEN ON
+      VERSION ${PROJECT_VERSION}
+      SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
+      INSTALL_RPATH "$ORIGIN")  # shared: each library finds the layers below it beside itself
+  set(dir ${CMAKE_CURRENT_BINARY_DIR}/export_include)
+  generate_export_header(${t}
+      BASE_NAME SEMGRAPH_${LAYER}
+      EXPORT_FILE_NAME ${dir}/semgraph/${layer}/export.h)
+  target_include_directories(${t} PUBLIC $<BUILD_INTERFACE:${dir}>)
+  get_target_property(type ${t} TYPE)
+  if(NOT type STREQUAL "SHARED_LIBRARY")
+    target_compile_definitions(${t} PUBLIC SEMGRAPH_${LAYER}_STATIC_DEFINE)
+  endif()
+  set_property(GLOBAL APPEND PROPERTY SEMGRAPH_EXPORT_HEADER_DIRS ${dir})
+endfunction()
+
+# semgraph_add_layer(NAME <layer> SOURCES ... DEPS ...): one library per layer (static, or
+# shared with BUILD_SHARED_LIBS), target semgraph_<layer>, alias semgraph::<layer>, headers
+# under <layer>/include plus the generated semgraph/<layer>/export.h.
 function(semgraph_add_layer)
   cmake_parse_arguments(A "" "NAME" "SOURCES;DEPS" ${ARGN})
   set(t semgraph_${A_NAME})
-  add_library(${t} STATIC ${A_SOURCES})
+  add_library(${t} ${A_SOURCES})
   add_library(semgraph::${A_NAME} ALIAS ${t})
-  set_target_properties(${t} PROPERTIES EXPORT_NAME ${A_NAME} POSITION_INDEPENDENT_CODE ON)
+  set_target_properties(${t} PROPERTIES EXPORT_NAME ${A_NAME})
+  semgraph_library_properties(${t} ${A_NAME})
   target_include_directories(${t} PUBLIC
       $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
       $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)

@@ -62,15 +62,16 @@ cf::Answers AskSemgraph() {
   a.can_w_o = graph.GetPose(PoseSpec::Of("o").RelativeTo("w")).has_value();
   const auto w_k = graph.GetPose(PoseSpec::Of("k").RelativeTo("w"));
   a.can_w_k = w_k.has_value();
-  if (!w_k) std::printf("semgraph, pose of k wrt w: %s (%s)\n", std::string(ToString(w_k.error().code)).c_str(),
-              graph.Describe(w_k.error(), PoseSpec::Of("k").RelativeTo("w")).c_str());
+  if (!w_k) {
+    std::printf("semgraph, pose of k wrt w: %s\n",
+                graph.Describe(w_k.error(), PoseSpec::Of("k").RelativeTo("w")).c_str());
+  }
 
   // Velocities follow twist edges, not pose edges: the camera mount C-B and the parked base B-W
   // carry no motion, but a twist query across them needs that said, as zero twists.
   const TwistSpec V_WO_W = TwistSpec::Of("o", "O").RelativeTo("W").ExpressedIn("w");
   if (const auto before = graph.GetTwist(V_WO_W); !before) {
-    std::printf("semgraph, twist of O wrt W before the zero twists: %s (%s)\n",
-                std::string(ToString(before.error().code)).c_str(),
+    std::printf("semgraph, twist of O wrt W before the zero twists: %s\n",
                 graph.Describe(before.error(), V_WO_W).c_str());
   }
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();

@@ -44,7 +44,7 @@ std::string Quat(Quaterniond q) {
 template <class T>
 T Need(const sg::QueryResult<T>& r, const sg::SceneGraph<>& graph) {
   if (!r) {
-    std::fprintf(stderr, "query failed: %s\n", graph.Describe(r.error()).c_str());
+    std::fprintf(stderr, "%s\n", graph.Describe(r.error()).c_str());
     std::exit(1);
   }
   return *r;

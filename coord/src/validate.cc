@@ -62,7 +62,8 @@ Expected<Eigen::Quaterniond, Error> ValidateQuaternion(const Eigen::Quaterniond&
     return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kQuaternionNorm,
                                  ValueRole::kQuaternion, 0, off)};
   }
-  Eigen::Quaterniond out(q.coeffs() / norm);
+  // Unit to rounding (kUnitRounding): kept as given, so that normalizing is idempotent.
+  Eigen::Quaterniond out = off <= kUnitRounding ? q : Eigen::Quaterniond(q.coeffs() / norm);
   for (int i = 0; i < 4; ++i) out.coeffs()[i] = FlushSubnormal(out.coeffs()[i]);
   return out;
 }
@@ -87,10 +88,14 @@ Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(const Eigen::Matrix3d& R
     return Unexpected{ValueError(ErrorCode::kInvalidRotation, ValueProblem::kReflection,
                                  ValueRole::kRotationMatrix, 0, det)};
   }
-  // Polar decomposition: the nearest rotation is U V^T (det > 0 and near-orthonormal, so the
-  // singular values are all close to 1 and no sign fix is needed).
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d out = svd.matrixU() * svd.matrixV().transpose();
+  // Orthonormal to rounding (kOrthonormalRounding): kept as given, so that normalizing is
+  // idempotent. Otherwise the polar decomposition: the nearest rotation is U V^T (det > 0 and
+  // near-orthonormal, so the singular values are all close to 1 and no sign fix is needed).
+  Eigen::Matrix3d out = R;
+  if (!(off <= kOrthonormalRounding)) {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    out = svd.matrixU() * svd.matrixV().transpose();
+  }
   for (int i = 0; i < 9; ++i) out.data()[i] = FlushSubnormal(out.data()[i]);
   return out;
 }

@@ -33,6 +33,21 @@ class NameRollback {
   bool armed_ = true;
 };
 
+// A converted rotation is a product of stored ones: normalized as an input would be, so that
+// every stored rotation is one that validation keeps as it is (coord/validate.h).
+template <coord::Backend B>
+typename B::Rotation Renormalized(const typename B::Rotation& M) noexcept {
+  if constexpr (std::is_same_v<typename B::Rotation, Eigen::Quaterniond>) {
+    const auto q = coord::ValidateQuaternion(M);
+    return q ? *q : M;
+  } else if constexpr (std::is_same_v<typename B::Rotation, Eigen::Matrix3d>) {
+    const auto R = coord::ValidateRotationMatrix(M);
+    return R ? *R : M;
+  } else {
+    return M;
+  }
+}
+
 }  // namespace
 
 // ====================================================================== nodes
@@ -274,6 +289,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     if (at_stamp.error() != ErrorCode::kOk) {
       return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
     }
+    X_BA = B::MakePose(Renormalized<B>(B::RotationOf(X_BA)), B::TranslationOf(X_BA));
   }
 
   // 8. P4: an existing edge b -> a is a value update, or constant_pose_change; a joint's edge

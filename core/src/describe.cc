@@ -1,6 +1,11 @@
 // Every text of the core: rejection messages of adds and removals, and the description of a
 // query error. Formatted off the hot path only; role names come from the one table,
 // semantics::FieldName.
+#include <algorithm>
+#include <cstdio>
+#include <utility>
+#include <vector>
+
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
 #include "text.h"
@@ -62,6 +67,81 @@ std::string TwistAdd(const TwistSpec& spec) {
          " wrt " + std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
 }
 
+namespace {
+
+// The frames from `top` down to `bottom` (an ancestor of it, or itself), top first.
+std::vector<topology::FrameIndex> DownPath(const topology::SceneTopology& t,
+                                           topology::FrameIndex top, topology::FrameIndex bottom) {
+  std::vector<topology::FrameIndex> path;
+  for (topology::FrameIndex f = bottom; f != top; f = t.pose_parent(f)) path.push_back(f);
+  path.push_back(top);
+  return {path.rbegin(), path.rend()};
+}
+
+std::string Joined(const std::vector<std::string>& frames) {
+  std::string s;
+  for (const std::string& f : frames) s += (s.empty() ? "" : " -> ") + f;
+  return s;
+}
+
+// P3: the new edge {b} -> {a} would join two frames x1 (on the tail's side) and x2 (on the
+// head's side) of one body X through frames of other bodies. Both routes from their meeting
+// point down to X are named: the one the tail's tree already has, and the one through the
+// new edge. A frame that does not exist yet is the tree of its own body, so it is X's frame
+// on its side.
+std::string DuplicatePosePath(const topology::SceneTopology& t, const topology::RuleViolation& v,
+                              const topology::NewPoseEdge& ends, const PoseSpec& spec) {
+  const std::string X(t.body_name(v.body));
+  const std::string new_tail = "{" + std::string(spec.ref_orientation) + "}|" + X;
+  const std::string new_head = "{" + std::string(spec.orientation) + "}|" + X;
+  std::vector<std::string> existing, through_edge;  // from the meeting point down to X
+  std::string meeting, x1;
+  // Each route ends at the first frame of X it meets.
+  const auto append_until_X = [&](const std::vector<topology::FrameIndex>& path,
+                                  std::vector<std::string>& out) {
+    for (topology::FrameIndex f : path) {
+      out.push_back(Frame(t, f));
+      if (t.body_of(f) == v.body) break;
+    }
+  };
+  if (ends.tail.is_valid()) {
+    const topology::FrameIndex top = t.forest().CommonAncestor(v.frame, ends.tail);
+    meeting = Frame(t, top);
+    append_until_X(DownPath(t, top, v.frame), existing);
+    for (topology::FrameIndex f : DownPath(t, top, ends.tail)) through_edge.push_back(Frame(t, f));
+  } else {  // a new tail frame of X
+    meeting = new_tail;
+    existing.push_back(new_tail);
+    through_edge.push_back(new_tail);
+  }
+  x1 = existing.back();
+  if (ends.head.is_valid()) {  // the head is a root (P1 passed): x2 lies below it
+    append_until_X(DownPath(t, ends.head, v.other), through_edge);
+  } else {  // a new head frame of X
+    through_edge.push_back(new_head);
+  }
+  const std::string x2 = through_edge.back();
+  std::string reason = "body " + X + " would be reachable twice from " + meeting + ": ";
+  reason += existing.size() == 1 ? "at " + existing[0] + " itself" : "through " + Joined(existing);
+  reason += ", and through the new edge, " + Joined(through_edge) +
+            "; the frames of one body may be joined only through that body's own frames. ";
+  // The fix: hang the new edge's end on X by a frame of X on the other side.
+  if (ends.head_body == v.body) {
+    reason += "Give {" + std::string(spec.orientation) + "} its pose relative to a frame of " + X +
+              " (such as " + x1 + ") instead";
+  } else if (ends.tail_body == v.body) {
+    reason += "Give {" + std::string(spec.ref_orientation) + "} its pose relative to a frame of " +
+              X + " (such as " + x2 + ") instead";
+  } else {
+    reason += "Join the two trees through frames of " + X + " (such as " + x1 + " and " + x2 +
+              ") instead";
+  }
+  reason += ", or remove one of the two paths first";
+  return reason;
+}
+
+}  // namespace
+
 std::string PoseRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
                      const topology::NewPoseEdge& ends, const PoseSpec& spec) {
   switch (v.code) {
@@ -70,14 +150,8 @@ std::string PoseRule(const topology::SceneTopology& t, const topology::RuleViola
     case ErrorCode::kPoseCycle:  // P2
       return Frame(t, ends.tail) + " is already connected below " + Frame(t, ends.head) +
              " (through the pose tree rooted at " + Frame(t, v.frame) + "); the edge would close a cycle";
-    case ErrorCode::kDuplicatePosePath: {  // P3
-      std::string reason = "body " + std::string(t.body_name(v.body)) + " would be reachable twice: ";
-      reason += v.frame.is_valid() ? Frame(t, v.frame) : "{" + std::string(spec.ref_orientation) + "}";
-      reason += " is in the pose tree of {" + std::string(spec.ref_orientation) + "} and ";
-      reason += v.other.is_valid() ? Frame(t, v.other) : "{" + std::string(spec.orientation) + "}";
-      reason += " is in the pose tree of {" + std::string(spec.orientation) + "}";
-      return reason;
-    }
+    case ErrorCode::kDuplicatePosePath:  // P3
+      return DuplicatePosePath(t, v, ends, spec);
     case ErrorCode::kTwistMergeConflict:  // W4
       return "joining the pose trees of " + Frame(t, ends.tail) + " and " + Frame(t, ends.head) +
              " would give two twist paths between the same bodies (their twist edges would form a cycle)";
@@ -102,41 +176,71 @@ std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViol
 
 }  // namespace text
 
-template <coord::Backend B>
-std::string SceneGraph<B>::Describe(const QueryError& e) const {
-  return Describe(e, PoseSpec{});
+namespace {
+
+// no_twist_path: C and D are not joined by the twist edges of the pose tree of the query's
+// point (e.asked). Names the first link of the pose path from C to D that no twist edge
+// spans: two bodies mounted one on the other with no twist between them, typically a static
+// mount that needs a zero twist.
+std::string NoTwistPath(const topology::SceneTopology& t, const QueryError& e) {
+  const topology::BodyIndex C = t.BodyOfName(e.name), D = t.BodyOfName(e.other);
+  std::string text = "no twist path joins body " + std::string(t.names().name(e.name)) +
+                     " and body " + std::string(t.names().name(e.other));
+  const topology::FrameIndex point = t.FrameOfName(e.asked);
+  if (!point.is_valid() || !C.is_valid() || !D.is_valid()) return text + " in this pose tree";
+  text += " in the pose tree of " + text::Frame(t, point);
+  const topology::TreeRecord* rec = t.RecordOf(point);
+  const auto connected = [&](topology::BodyIndex u, topology::BodyIndex v) {
+    return u == v || (rec != nullptr && rec->twists.Connected(u.value(), v.value()));
+  };
+  // A frame of the tree on X's side: one of X's own, or the head of a twist edge that X's
+  // twist edges reach.
+  const auto side = [&](topology::BodyIndex X) {
+    topology::FrameIndex f = t.SomeFrameOfBodyInTree(X, point);
+    if (!f.is_valid() && rec != nullptr) {
+      rec->twists.ForEachEdge([&](std::uint32_t edge, std::uint32_t, std::uint32_t) {
+        const topology::FrameIndex h = t.twist_edge(topology::TwistEdgeIndex(edge)).head;
+        if (!f.is_valid() && connected(t.body_of(h), X)) f = h;
+      });
+    }
+    return f;
+  };
+  const topology::FrameIndex x = side(C), y = side(D);
+  for (const auto& [body, frame] : {std::pair{C, x}, std::pair{D, y}}) {
+    if (!frame.is_valid()) {
+      return text + ": body " + std::string(t.body_name(body)) +
+             " has no frame and no twist edge in that tree; a twist relates bodies of one pose "
+             "tree only";
+    }
+  }
+  // The pose path x .. y, through their common ancestor; the first hop between two bodies that
+  // no twist path joins is a missing twist edge.
+  const topology::FrameIndex top = t.forest().CommonAncestor(x, y);
+  std::vector<topology::FrameIndex> path = text::DownPath(t, top, x);
+  std::reverse(path.begin(), path.end());
+  const std::vector<topology::FrameIndex> down = text::DownPath(t, top, y);
+  path.insert(path.end(), down.begin() + 1, down.end());
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const topology::BodyIndex U = t.body_of(path[i]), V = t.body_of(path[i + 1]);
+    if (connected(U, V)) continue;
+    const bool down_edge = t.pose_parent(path[i + 1]) == path[i];
+    const topology::FrameIndex parent = down_edge ? path[i] : path[i + 1];
+    const topology::FrameIndex child = down_edge ? path[i + 1] : path[i];
+    const std::string P(t.body_name(t.body_of(parent))), K(t.body_name(t.body_of(child)));
+    return text + ": no twist edge joins body " + K + " and body " + P + " (the mount " +
+           text::Frame(t, child) + " wrt " + text::Frame(t, parent) + "); add the twist of " +
+           text::Frame(t, child) + " wrt " + P + ", a zero twist if the mount is static";
+  }
+  return text;
 }
 
-template <coord::Backend B>
-std::string SceneGraph<B>::Describe(const QueryError& e, const TwistSpec& spec) const {
-  PoseSpec p;
-  p.point = spec.point;
-  p.body = spec.body;
-  p.ref_body = spec.ref_body;
-  p.coordinate_frame = spec.coordinate_frame;
-  return Describe(e, p);
-}
-
-template <coord::Backend B>
-std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) const {
-  const semantics::NameTable& names = topology_.names();
-  const std::string role(semantics::FieldName(e.field));
-  const std::string name = e.name.is_valid() ? std::string(names.name(e.name)) : std::string(spec.field(e.field));
-  const auto frame_text = [&](NameId id) {
-    const FrameIndex f = topology_.FrameOfName(id);
-    return f.is_valid() ? text::Frame(topology_, f) : "{" + std::string(names.name(id)) + "}";
-  };
-  const auto edge_text = [&] {
-    return (e.time.twist_edge ? "twist of " : "pose of ") + frame_text(e.name) + " wrt " +
-           (e.time.twist_edge ? std::string(names.name(e.other)) : frame_text(e.other));
-  };
-  if (e.time.fixed_frame && e.code == ErrorCode::kUnknownFrame) {
-    return "the fixed frame of the time travel " + (e.name.is_valid() ? "{" + name + "} " : std::string()) +
-           "does not exist";
-  }
-  if (e.time.fixed_frame && e.code == ErrorCode::kNoPosePath) {
-    return "the fixed frame {" + name + "} is not in the pose tree of the query's frames";
-  }
+// The reason part of a query error's text (no code). `given`: the spec's name for the field.
+template <class EdgeText>
+std::string Reason(const topology::SceneTopology& t, const QueryError& e, const std::string& role,
+                   const std::string& name, bool named, std::string_view given,
+                   const EdgeText& edge_text) {
+  const semantics::NameTable& names = t.names();
+  std::string reason;
   switch (e.code) {
     case ErrorCode::kExtrapolation:
       if (e.time.single_sample) {
@@ -152,24 +256,108 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) c
       if (e.detail.code == ErrorCode::kOk) return "the extrapolation horizon (max_extrapolation) is negative";
       return coord::Describe(e.detail, names);
     case ErrorCode::kInvalidName:
-      return "the " + role + " name is missing or invalid";
+      reason = "the " + role + " name is missing or invalid";
+      if (!given.empty()) {  // the spec says which: name the problem
+        if (auto problem = semantics::ValidateName(given); !problem) {
+          reason += ": " + semantics::Describe(problem.error(), given);
+        }
+      }
+      break;
     case ErrorCode::kUnknownFrame:
-      return "the " + role + " names frame {" + name + "}, which does not exist";
+      reason = named ? "the " + role + " names frame {" + name + "}, which does not exist"
+                     : "the " + role +
+                           " names a frame that does not exist (pass the query's spec to Describe "
+                           "for its name)";
+      break;
     case ErrorCode::kUnknownBody:
-      return "the " + role + " names body " + name + ", which does not exist";
+      reason = named
+                   ? "the " + role + " names body " + name + ", which does not exist"
+                   : "the " + role +
+                         " names a body that does not exist (pass the query's spec to Describe for "
+                         "its name)";
+      break;
     case ErrorCode::kFrameBodyMismatch:
-      return "the " + role + " {" + name + "} is attached to body " + std::string(names.name(e.other)) +
-             (e.asked.is_valid() ? ", not to body " + std::string(names.name(e.asked)) + " named in the query"
-                                 : ", not to the body named in the query");
+      reason = "the " + role + " {" + name + "} is attached to body " +
+               std::string(names.name(e.other)) +
+               (e.asked.is_valid()
+                    ? ", not to body " + std::string(names.name(e.asked)) + " named in the query"
+                    : ", not to the body named in the query");
+      break;
     case ErrorCode::kNoPosePath:
-      return "{" + name + "} and {" + std::string(names.name(e.other)) +
-             "} are in different pose trees: no pose path joins them";
+      reason = "{" + name + "} and {" + std::string(names.name(e.other)) +
+               "} are in different pose trees: no pose path joins them";
+      break;
     case ErrorCode::kNoTwistPath:
-      return "no twist path joins body " + std::string(names.name(e.name)) + " and body " +
-             std::string(names.name(e.other)) + " in this pose tree";
+      reason = NoTwistPath(t, e);
+      break;
+    case ErrorCode::kQueryInvalidated:
+      reason = "an edge the compiled query reads was removed after it was compiled; compile it again";
+      break;
     default:
-      return coord::Describe(e.detail, names);
+      reason = coord::Describe(e.detail, names);
+      break;
   }
+  return reason;
+}
+
+// The reason of a query error; `spec` (may be null) gives the names that were never interned.
+std::string QueryReasonOf(const topology::SceneTopology& t, const QueryError& e,
+                          const PoseSpec* spec) {
+  const semantics::NameTable& names = t.names();
+  const std::string role(semantics::FieldName(e.field));
+  const std::string_view given = spec != nullptr ? spec->field(e.field) : std::string_view();
+  const std::string name = e.name.is_valid() ? std::string(names.name(e.name)) : std::string(given);
+  const bool named = e.name.is_valid() || !given.empty();
+  const auto frame_text = [&](NameId id) {
+    const FrameIndex f = t.FrameOfName(id);
+    return f.is_valid() ? text::Frame(t, f) : "{" + std::string(names.name(id)) + "}";
+  };
+  const auto edge_text = [&] {
+    return (e.time.twist_edge ? "twist of " : "pose of ") + frame_text(e.name) + " wrt " +
+           (e.time.twist_edge ? std::string(names.name(e.other)) : frame_text(e.other));
+  };
+  std::string reason;
+  if (e.time.fixed_frame && e.code == ErrorCode::kUnknownFrame) {
+    reason = "the fixed frame of the time travel " + (named ? "{" + name + "} " : std::string()) +
+             "does not exist";
+  } else if (e.time.fixed_frame && e.code == ErrorCode::kNoPosePath) {
+    reason = "the fixed frame {" + name + "} is not in the pose tree of the query's frames";
+  } else {
+    reason = Reason(t, e, role, name, named, given, edge_text);
+  }
+  return reason;
+}
+
+// "query failed (<code>): <reason>", as a rejected build call's "... rejected (<code>): ...".
+std::string QueryText(const topology::SceneTopology& t, const QueryError& e, const PoseSpec* spec) {
+  return "query failed (" + std::string(base::ToString(e.code)) + "): " + QueryReasonOf(t, e, spec);
+}
+
+}  // namespace
+
+std::string text::QueryReason(const topology::SceneTopology& t, const QueryError& e,
+                              const PoseSpec* spec) {
+  return QueryReasonOf(t, e, spec);
+}
+
+template <coord::Backend B>
+std::string SceneGraph<B>::Describe(const QueryError& e) const {
+  return QueryText(topology_, e, nullptr);
+}
+
+template <coord::Backend B>
+std::string SceneGraph<B>::Describe(const QueryError& e, const TwistSpec& spec) const {
+  PoseSpec p;
+  p.point = spec.point;
+  p.body = spec.body;
+  p.ref_body = spec.ref_body;
+  p.coordinate_frame = spec.coordinate_frame;
+  return QueryText(topology_, e, &p);
+}
+
+template <coord::Backend B>
+std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) const {
+  return QueryText(topology_, e, &spec);
 }
 
 #define SEMGRAPH_INSTANTIATE_DESCRIBE(B)                                                      \

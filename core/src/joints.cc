@@ -312,7 +312,10 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   j.alive = true;
   j.q_origin = q_origin;
   j.p_origin = *p_ok;
-  j.axis = movable ? Eigen::Vector3d(spec.axis / axis_norm) : Eigen::Vector3d::UnitX();
+  // A unit axis (to rounding) is kept as given, as rotations are (coord/validate.h), so that
+  // adding a joint again with the stored axis stores the same axis (scene export).
+  const bool unit_axis = std::abs(axis_norm - 1.0) <= coord::kUnitRounding;
+  j.axis = !movable ? Eigen::Vector3d::UnitX() : unit_axis ? spec.axis : Eigen::Vector3d(spec.axis / axis_norm);
   j.lower = spec.lower;
   j.upper = spec.upper;
   j.master = master;

@@ -203,7 +203,7 @@ Expected<TwistPlan, QueryError> PlanTwist(const SceneTopology& t, const semantic
   if (plan.body == plan.ref_body) return plan;  // zero twist
   const topology::TreeRecord* rec = t.RecordOf(plan.point);
   if (!rec || !rec->twists.Connected(plan.body.value(), plan.ref_body.value())) {
-    return Unexpected{QError(ErrorCode::kNoTwistPath, Field::kBody, q.body.id(), q.ref_body.id())};
+    return Unexpected{QError(ErrorCode::kNoTwistPath, Field::kBody, q.body.id(), q.ref_body.id(), q.point.id())};
   }
   // Youngest common ancestor of C and D in the rooted TG, by depth.
   const topology::TwistForest& tg = rec->twists;

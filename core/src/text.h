@@ -37,4 +37,9 @@ std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViol
 std::string StampText(std::int64_t ns);
 std::string StampRange(std::int64_t first_ns, std::int64_t last_ns);
 
+/// The reason of a query error, without the "query failed (<code>): " of Describe (for build
+/// calls that plan a query and report its failure as their own). `spec` may be null.
+std::string QueryReason(const topology::SceneTopology& t, const QueryError& e,
+                        const PoseSpec* spec);
+
 }  // namespace semgraph::core::text

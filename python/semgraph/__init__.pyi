@@ -459,6 +459,8 @@ class SceneGraph:
     def check_invariants(self) -> str: ...
     def dot(self) -> str:
         """Graphviz DOT in the style of the paper's Fig. 8."""
+    def to_script(self) -> str:
+        """The graph as a scene script that rebuilds it (same names, ids, edges, values)."""
 
 class ScriptRun:
     graph: SceneGraph

@@ -1424,6 +1424,17 @@ RejectedError: invalid_number, no_such_edge, stamp_mismatch, stamp_too_old, dupl
 #endif
   }, R"(The graph as Graphviz DOT in the style of the paper's Fig. 8: a cluster per body holding its
 frames, pose edges solid (tail -> head), twist edges dashed (reference body -> head frame).)");
+  graph.def("to_script", [](const GraphBox& b) -> std::string {
+#ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
+    return b.Visit([](const auto& g) { return script::WriteScene(g); });
+#else
+    (void)b;
+    throw std::runtime_error(
+        "to_script(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
+#endif
+  }, R"(The graph as a scene script (YAML, like `semgraph export`) that rebuilds it:
+run_script_text(g.to_script()).graph has the same names, ids, edges and values (its dump() is
+g.dump()). Save it to a file to load the scene later with run_script.)");
 
   BindTime(m, graph);
   BindKinematics(m, graph);

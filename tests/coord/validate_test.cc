@@ -267,6 +267,46 @@ TEST(Validate, QuaternionNormWithinToleranceIsNormalized) {
   }
 }
 
+// Normalizing is idempotent: a rotation that came out of validation (or is unit to rounding)
+// goes through again bit for bit, so a value read back from a graph and added again is stored
+// as it was (scene export relies on it). Random inputs off by up to the tolerance, and values
+// off by a few ulps (products of rotations).
+TEST(Validate, NormalizingIsIdempotent) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> off(-9e-7, 9e-7);
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Quaterniond unit = SomeQuaternion(static_cast<unsigned>(i));
+    const Eigen::Quaterniond q(unit.coeffs() * (1.0 + off(rng)));
+    const auto once = ValidateQuaternion(q);
+    ASSERT_TRUE(once);
+    const auto twice = ValidateQuaternion(*once);
+    ASSERT_TRUE(twice);
+    ASSERT_EQ(once->coeffs(), twice->coeffs()) << i;
+
+    Eigen::Matrix3d R = unit.toRotationMatrix();
+    R(i % 3, (i / 3) % 3) += off(rng) / 4;
+    const auto R_once = ValidateRotationMatrix(R);
+    ASSERT_TRUE(R_once);
+    const auto R_twice = ValidateRotationMatrix(*R_once);
+    ASSERT_TRUE(R_twice);
+    ASSERT_EQ(*R_once, *R_twice) << i;
+  }
+  // A quaternion off unit by 2 ulp is kept; by 1e-14 (a long product) it is normalized.
+  Eigen::Quaterniond near = SomeQuaternion(3);
+  near.coeffs() *= 1.0 + 4.440892098500626e-16;
+  if (std::abs(near.norm() - 1.0) <= kUnitRounding) {
+    EXPECT_EQ(ValidateQuaternion(near)->coeffs(), near.coeffs());
+  }
+  const Eigen::Quaterniond drifted(SomeQuaternion(3).coeffs() * (1.0 + 1e-14));
+  EXPECT_NE(ValidateQuaternion(drifted)->coeffs(), drifted.coeffs());
+  EXPECT_NEAR(ValidateQuaternion(drifted)->norm(), 1.0, 1e-15);
+  Eigen::Matrix3d M = SomeRotation(4);
+  M(0, 1) += 1e-13;
+  EXPECT_NE(*ValidateRotationMatrix(M), M);
+  EXPECT_LT((ValidateRotationMatrix(M)->transpose() * *ValidateRotationMatrix(M) -
+             Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-14);
+}
+
 // ================================================================== rotation matrices
 
 TEST(Validate, NonFiniteRotationMatrixEntryIsInvalidNumberRowMajor) {

@@ -323,7 +323,8 @@ TYPED_TEST(SceneGraphConstraints, Figure4PoseOfAWrtDIsRejectedBecauseCWouldBeRea
   EXPECT_TRUE(
       RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
                       {"pose of {a}|A wrt {d}|D", "body C would be reachable twice",
-                       "{c2}|C is in the pose tree of {d}", "{c1}|C is in the pose tree of {a}"},
+                       "from {d}|D: through {d}|D -> {c2}|C", "through the new edge, {d}|D -> {a}|A -> {c1}|C",
+                       "(such as {c2}|C and {c1}|C)"},
                       [&] { return AddEdge(g, "a", "A", "d", "D", 6); }));
 }
 
@@ -855,7 +856,8 @@ TYPED_TEST(SceneGraphConstraints, DuplicatePosePathRejectsASecondChainBetweenTwo
   EXPECT_TRUE(
       RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
                       {"pose of {c2}|C wrt {b}|B", "body C would be reachable twice",
-                       "{c}|C is in the pose tree of {b}", "{c2}|C is in the pose tree of {c2}"},
+                       "from {b}|B: through {b}|B -> {c}|C", "through the new edge, {b}|B -> {c2}|C",
+                       "Give {c2} its pose relative to a frame of C (such as {c}|C)"},
                       [&] { return AddEdge(g, "c2", "C", "b", "B"); }));
   // Linking the other way round is the same second chain.
   EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath, {"body C would be reachable twice"},
@@ -868,14 +870,16 @@ TYPED_TEST(SceneGraphConstraints, DuplicatePosePathRejectsANewTailFrameOnABodyOf
   // {a} is a root whose tree holds C; a new frame {c9}|C as its parent would reach C twice.
   EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
                               {"pose of {a}|A wrt {c9}|C",
-                               "body C would be reachable twice: {c9} is in the pose tree of {c9}",
-                               "{c}|C is in the pose tree of {a}"},
+                               "body C would be reachable twice from {c9}|C: at {c9}|C itself",
+                               "through the new edge, {c9}|C -> {a}|A -> {b}|B -> {c}|C",
+                               "Give {c9} its pose relative to a frame of C (such as {c}|C)"},
                               [&] { return AddEdge(g, "a", "A", "c9", "C"); }));
   // And a new head frame {b9}|B under {c}, whose tree already holds B.
   EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
                               {"pose of {b9}|B wrt {c}|C",
-                               "body B would be reachable twice: {b}|B is in the pose tree of {c}",
-                               "{b9} is in the pose tree of {b9}"},
+                               "body B would be reachable twice from {b}|B: at {b}|B itself",
+                               "through the new edge, {b}|B -> {c}|C -> {b9}|B",
+                               "Give {b9} its pose relative to a frame of B (such as {b}|B)"},
                               [&] { return AddEdge(g, "b9", "B", "c", "C"); }));
 }
 
@@ -922,7 +926,8 @@ TYPED_TEST(SceneGraphConstraints,
   EXPECT_TRUE(
       RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
                       {"pose of {a2}|A wrt {a1}|A", "body C would be reachable twice",
-                       "{c1}|C is in the pose tree of {a1}", "{c2}|C is in the pose tree of {a2}"},
+                       "from {a1}|A: through {a1}|A -> {c1}|C", "through the new edge, {a1}|A -> {a2}|A -> {c2}|C",
+                       "(such as {c1}|C and {c2}|C)"},
                       [&] { return AddEdge(g, "a2", "A", "a1", "A", 3); }));
   // Without the third body it is fine.
   ASSERT_TRUE(Accepts(g, g.RemovePose("c2", "a2")));

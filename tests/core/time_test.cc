@@ -132,7 +132,7 @@ TEST(TimeTest, ExtrapolationIntegratesTheMeasuredTwistAndSaysSo) {
   auto refused = g.GetPose(kOinW, At{S(1.2)});
   ASSERT_FALSE(refused.has_value());
   EXPECT_EQ(refused.error().code, ErrorCode::kExtrapolation);
-  EXPECT_EQ(g.Describe(refused.error(), kOinW), "pose of {o}|O wrt {w}|W has samples in [0.000, 1.000] s; asked 1.200 s");
+  EXPECT_EQ(g.Describe(refused.error(), kOinW), "query failed (extrapolation): pose of {o}|O wrt {w}|W has samples in [0.000, 1.000] s; asked 1.200 s");
   // Within the horizon: X(1) Exp(0.2 xi) = the analytic motion at 1.2 (forwards and backwards).
   for (double s : {1.2, 1.5, -0.3}) {
     auto X = g.GetPose(kOinW, At{S(s), Duration::Milliseconds(500)});
@@ -401,7 +401,7 @@ TEST_F(TimeErrorsTest, QueryErrorsInOrder) {
   auto e = g.GetTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), Latest{S(10.2)});
   ASSERT_FALSE(e.has_value());
   EXPECT_EQ(e.error().code, ErrorCode::kStale);
-  EXPECT_EQ(g.Describe(e.error()), "twist of {o}|O wrt W is stale: its newest sample is at 10.000 s, older than not_before 10.200 s");
+  EXPECT_EQ(g.Describe(e.error()), "query failed (stale): twist of {o}|O wrt W is stale: its newest sample is at 10.000 s, older than not_before 10.200 s");
   EXPECT_TRUE(g.GetPose(kOinW, Latest{S(10.2)}).has_value());
   // extrapolation before stale.
   e = g.GetTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), At{S(12), {}, S(11)});

@@ -151,3 +151,16 @@ def test_dot_shows_every_body_frame_and_edge(spray):
     for name in ["{b}", "{c}", "{o1}", "{f1}", "{e}", "{o2}", "\"B\"", "\"O1\""]:
         assert name in dot
     assert dot.count("style=dashed") >= 4  # the twist edges
+
+
+@pytest.mark.skipif(not semgraph._semgraph._has_tools, reason="built without the tool library")
+def test_to_script_rebuilds_the_same_graph(spray):
+    text = spray.to_script()
+    assert text.splitlines()[2] == "representation: quaternion"
+    rebuilt = semgraph.run_script_text(text)
+    assert rebuilt.ok, rebuilt.json_lines
+    assert rebuilt.graph.dump() == spray.dump()
+    # A later change shows in the next script, and only there.
+    spray.add_pose(of="o2", body="O2", wrt="e", ref_body="E", position=[0.125, 0, 0])
+    assert semgraph.run_script_text(spray.to_script()).graph.dump() == spray.dump()
+    assert rebuilt.graph.dump() != spray.dump()

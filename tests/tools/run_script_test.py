@@ -5,7 +5,10 @@
   run_script_test.py stdin TOOL SCRIPT PREFIX   the same, with the script on stdin (`-`)
   run_script_test.py dot   TOOL SCRIPT [DOT]    `TOOL dot SCRIPT` is DOT that `DOT -Tsvg` renders
                                                 (exit 77 = skipped when DOT is not given)
-  run_script_test.py cli   TOOL                 --help, --version, run/dot --help, usage errors,
+  run_script_test.py export TOOL SCRIPT         `TOOL export SCRIPT` is a script that `TOOL run`
+                                                applies without an error, and whose own export
+                                                is itself (a fixed point)
+  run_script_test.py cli   TOOL                 --help, --version, run/dot/export --help, usage errors,
                                                 unreadable files, hostile
                                                 input (huge, deeply nested, not UTF-8, alias
                                                 bombs), output failures, out of memory
@@ -151,6 +154,21 @@ def check_dot(tool, script, dot):
         fail("dot -Tsvg failed (%d): %s" % (p.returncode, p.stderr.decode()))
 
 
+def check_export(tool, script):
+    code, out, err = run_tool([tool, "export", script])
+    run_code, _, _ = run_tool([tool, "run", script])
+    if code != run_code or code == 2:
+        fail("export exited %d (run: %d): %s" % (code, run_code, err))
+    if not out.startswith("# A scene written by semgraph") or "\nops:\n" not in out or "op: query" in out:
+        fail("export printed no scene script:\n" + out)
+    code, lines, err = run_tool([tool, "run", "-"], input_bytes=out.encode())
+    if code != 0 or err or '"ok": false' in lines:
+        fail("the exported script does not run cleanly (exit %d):\n%s%s\n%s" % (code, lines, err, out))
+    code, again, err = run_tool([tool, "export", "-"], input_bytes=out.encode())
+    if code != 0 or again != out:
+        fail("the export of the exported script differs (exit %d):\n%s\n---\n%s" % (code, out, again))
+
+
 def check_cli(tool):
     code, out, err = run_tool([tool, "--help"])
     if code != 0 or "Usage: semgraph run FILE" not in out or "angular_velocity" not in out:
@@ -170,7 +188,8 @@ def check_cli(tool):
     if code != 0 or out != "semgraph %s\n" % version:
         fail("--version: exit %d, %r (expected semgraph %s)" % (code, out, version))
     # Subcommand help, not a file named --help.
-    for command, needle in (("run", "print one JSON object per op"), ("dot", "Graphviz DOT")):
+    for command, needle in (("run", "print one JSON object per op"), ("dot", "Graphviz DOT"),
+                            ("export", "scene script that rebuilds")):
         for flag in ("--help", "-h"):
             code, out, err = run_tool([tool, command, flag])
             if code != 0 or not out.startswith("Usage: semgraph %s FILE\n" % command) or \
@@ -281,6 +300,8 @@ def main(argv):
         check_script(argv[2], argv[3], argv[4], mode == "stdin")
     elif mode == "dot":
         check_dot(argv[2], argv[3], argv[4] if len(argv) > 4 else "")
+    elif mode == "export":
+        check_export(argv[2], argv[3])
     elif mode == "cli":
         check_cli(argv[2])
     else:

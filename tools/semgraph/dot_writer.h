@@ -21,6 +21,6 @@
 namespace semgraph::script {
 
 /// `text` as a quoted DOT string for a label (quotes and backslashes escaped).
-[[nodiscard]] std::string DotLabel(std::string_view text);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string DotLabel(std::string_view text);
 
 }  // namespace semgraph::script

@@ -1,6 +1,7 @@
 // semgraph: the command-line tool of docs/scene-script.md, a thin main over the library
 // semgraph::script (semgraph/script/scene_script.h). Reads a scene script, applies it to a
-// scene graph and prints JSON Lines (`run`) or Graphviz DOT (`dot`). Exit 0: every op
+// scene graph and prints JSON Lines (`run`), Graphviz DOT (`dot`) or the resulting graph as a
+// scene script that rebuilds it (`export`). Exit 0: every op
 // succeeded; 1: an op was rejected or a query failed; 2: malformed script, unreadable file,
 // out of memory or bad usage; 3: the output could not be written.
 #include <cerrno>
@@ -22,8 +23,9 @@ namespace {
 
 constexpr std::string_view kUsage = R"(Usage: semgraph run FILE
        semgraph dot FILE
+       semgraph export FILE
        semgraph --help | --version
-       semgraph run --help | semgraph dot --help
+       semgraph run --help | semgraph dot --help | semgraph export --help
        semgraph serve | echo | monitor | dot --live ... (with DDS; semgraph serve --help)
 )";
 
@@ -37,6 +39,15 @@ constexpr std::string_view kDot = R"(
              (tail frame -> head frame), twist edges dashed (reference body -> head frame).
              Rejected ops and failed queries are printed as JSON lines on stderr.
              Render it with Graphviz, e.g. semgraph dot FILE | dot -Tsvg > scene.svg
+)";
+
+constexpr std::string_view kExport = R"(
+  export FILE
+             apply the ops, then print the resulting graph as a scene script that rebuilds
+             it: `semgraph run` of the output gives the same names, ids, edges and values
+             (17 significant digits), e.g. to save a scene built by a longer script, with its
+             updates and removals, as its final state. Queries leave no trace in it.
+             Rejected ops and failed queries are printed as JSON lines on stderr.
 )";
 
 constexpr std::string_view kFileAndExit = R"(
@@ -125,12 +136,12 @@ constexpr std::string_view kMore = R"(
 The script format: semgraph --help, or docs/scene-script.md in the semgraph sources.
 )";
 
-enum class Mode { kRun, kDot };
+enum class Mode { kRun, kDot, kExport };
 
 int Usage(std::string_view problem) {
   std::fprintf(stderr,
                "semgraph: %.*s\nUsage: semgraph run FILE | semgraph dot FILE | "
-               "semgraph --help | semgraph --version\n",
+               "semgraph export FILE | semgraph --help | semgraph --version\n",
                static_cast<int>(problem.size()), problem.data());
   return kExitMalformed;
 }
@@ -152,7 +163,7 @@ int Print(std::initializer_list<std::string_view> texts) {
 int Main(int argc, char** argv) {
   const auto is_help = [](std::string_view arg) { return arg == "--help" || arg == "-h"; };
   if (argc == 2 && is_help(argv[1])) {
-    return Print({kUsage, kRun, kDot, kFileAndExit, kScript, kOutput, kLimits});
+    return Print({kUsage, kRun, kDot, kExport, kFileAndExit, kScript, kOutput, kLimits});
   }
   if (argc == 2 && std::string_view(argv[1]) == "--version") {
     return Print({"semgraph " SEMGRAPH_VERSION "\n"});
@@ -165,6 +176,9 @@ int Main(int argc, char** argv) {
     if (std::string_view(argv[1]) == "dot") {
       return Print({"Usage: semgraph dot FILE\n", kDot, kFileAndExit, kLimits, kMore});
     }
+    if (std::string_view(argv[1]) == "export") {
+      return Print({"Usage: semgraph export FILE\n", kExport, kFileAndExit, kLimits, kMore});
+    }
   }
 #if SEMGRAPH_WITH_DDS
   if (IsDdsCommand(argc, argv)) return RunDdsCommand(argc, argv);
@@ -176,6 +190,8 @@ int Main(int argc, char** argv) {
     mode = Mode::kRun;
   } else if (command == "dot") {
     mode = Mode::kDot;
+  } else if (command == "export") {
+    mode = Mode::kExport;
   } else {
     return Usage("unknown command '" + std::string(command) + "'");
   }
@@ -184,9 +200,10 @@ int Main(int argc, char** argv) {
   int write_errno = 0;
   RunOptions options;
   options.dot = mode == Mode::kDot;
+  options.scene = mode == Mode::kExport;
   options.on_op = [&](const OpResult& result) {
-    if (mode == Mode::kDot) {
-      if (!result.ok) PrintLine(stderr, result.json);  // stdout carries only the DOT text
+    if (mode != Mode::kRun) {
+      if (!result.ok) PrintLine(stderr, result.json);  // stdout carries only the DOT / script
       return true;
     }
     if (PrintLine(stdout, result.json)) return true;
@@ -198,8 +215,9 @@ int Main(int argc, char** argv) {
     PrintLine(stderr, run.error);
     return kExitMalformed;
   }
-  if (write_errno == 0 && mode == Mode::kDot &&
-      std::fwrite(run.dot.data(), 1, run.dot.size(), stdout) != run.dot.size()) {
+  const std::string& text = mode == Mode::kDot ? run.dot : run.scene;
+  if (write_errno == 0 && mode != Mode::kRun &&
+      std::fwrite(text.data(), 1, text.size(), stdout) != text.size()) {
     write_errno = errno;
   }
   if (write_errno == 0 && std::fflush(stdout) != 0) write_errno = errno;

@@ -117,6 +117,7 @@ SceneRun RunScene(std::string_view text, const RunOptions& options) {
     const auto go = [&](auto graph) {
       Apply(script, graph, options, run, progress);
       if (options.dot) run->dot = WriteDot(graph);
+      if (options.scene) run->scene = WriteScene(graph);
     };
     if (script.representation == Representation::kHomogeneous) {
       go(core::SceneGraph<coord::HomogeneousBackend>());

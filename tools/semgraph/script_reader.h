@@ -132,13 +132,15 @@ struct ScriptError {
 };
 
 /// Parses and validates a whole script. Never throws; never applies anything.
-[[nodiscard]] base::Expected<Script, ScriptError> ReadScript(std::string_view text);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT base::Expected<Script, ScriptError> ReadScript(
+    std::string_view text);
 
 /// "FILE:LINE:COLUMN: message", the tool's stderr line for a malformed script.
-[[nodiscard]] std::string FormatScriptError(std::string_view file_name, const ScriptError& error);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string FormatScriptError(std::string_view file_name,
+                                                                   const ScriptError& error);
 
 /// The spelling of an op kind or query kind in scripts ("pose", "linear_velocity", ...).
-[[nodiscard]] std::string_view ToString(OpKind kind) noexcept;
-[[nodiscard]] std::string_view ToString(QueryKind kind) noexcept;
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string_view ToString(OpKind kind) noexcept;
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string_view ToString(QueryKind kind) noexcept;
 
 }  // namespace semgraph::script

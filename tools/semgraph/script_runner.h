@@ -47,17 +47,17 @@ struct OpOutcome {
 /// std::bad_alloc); a rejection leaves `graph` unchanged (the scene graph's atomicity).
 /// `base_dir` resolves a relative `urdf` file (the script's folder; empty: the working folder).
 template <coord::Backend B>
-[[nodiscard]] OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
                                 std::string_view base_dir = {});
 
 /// The op as the output's "kind" names it: "body", "frame", "pose", "twist", "remove pose",
 /// "remove twist", "query <kind>" ("query linear_velocity", ...).
-[[nodiscard]] std::string OpLabel(const ScriptOp& op);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string OpLabel(const ScriptOp& op);
 
 /// `text` as a JSON string literal, quotes included.
-[[nodiscard]] std::string JsonString(std::string_view text);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string JsonString(std::string_view text);
 /// `value` with 17 significant digits (%.17g), -0 as 0. @pre value is finite.
-[[nodiscard]] std::string JsonNumber(double value);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string JsonNumber(double value);
 
 extern template OpOutcome ApplyOp<coord::QuaternionBackend>(
     core::SceneGraph<coord::QuaternionBackend>&, const ScriptOp&, std::size_t, std::string_view);

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "semgraph/base/expected.h"
+#include "semgraph/script/export.h"
 
 namespace semgraph::script {
 
@@ -75,7 +76,7 @@ struct NodeView {
   std::span<const NodeId> children;  // sequences: items; maps: key, value, key, value, ...
 };
 
-class YamlTree {
+class SEMGRAPH_SCRIPT_EXPORT YamlTree {
  public:
   /// The document's root node; kNoNode for an empty document.
   [[nodiscard]] NodeId root() const noexcept { return root_; }
@@ -103,17 +104,18 @@ class YamlTree {
 };
 
 /// Parses one YAML document within `limits`. Never throws except std::bad_alloc.
-[[nodiscard]] base::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
-                                                                 const YamlLimits& limits = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT base::Expected<YamlTree, YamlError> ParseYaml(
+    std::string_view text, const YamlLimits& limits = {});
 
 /// YAML 1.2 core-schema float (which includes the decimal ints): [-+]? (digits [. digits?] |
 /// . digits) ([eE] [-+]? digits)?, [-+]?.inf (.Inf, .INF), .nan (.NaN, .NAN). Anything else
 /// (hex, octal, "1_000", "abc", "inf") is not a number; false then. Overflow gives +-inf.
-[[nodiscard]] bool ParseCoreNumber(std::string_view text, double* value);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT bool ParseCoreNumber(std::string_view text, double* value);
 
 /// `text` for a message: in double quotes, `"` and `\` escaped, control bytes as \xHH, and cut
 /// (at a character boundary) after `max_shown` bytes; a cut text ends in `..." (N bytes)`, so
 /// that a message never echoes megabytes.
-[[nodiscard]] std::string QuoteForMessage(std::string_view text, std::size_t max_shown = 40);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string QuoteForMessage(std::string_view text,
+                                                                 std::size_t max_shown = 40);
 
 }  // namespace semgraph::script

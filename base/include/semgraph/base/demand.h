@@ -7,10 +7,13 @@
 // Cost: one predictable branch when the condition holds.
 #pragma once
 
+#include "semgraph/base/export.h"
+
 namespace semgraph::base {
 
 /// Prints "semgraph: internal check failed: <condition> at <file>:<line>" and aborts.
-[[noreturn]] void DemandFailed(const char* condition, const char* file, int line) noexcept;
+[[noreturn]] SEMGRAPH_BASE_EXPORT void DemandFailed(const char* condition, const char* file,
+                                                    int line) noexcept;
 
 }  // namespace semgraph::base
 

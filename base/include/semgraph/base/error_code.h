@@ -10,6 +10,8 @@
 #include <optional>
 #include <string_view>
 
+#include "semgraph/base/export.h"
+
 namespace semgraph::base {
 
 enum class ErrorCode : std::uint8_t {
@@ -65,9 +67,10 @@ enum class ErrorCode : std::uint8_t {
 inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kJointEdge) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
-[[nodiscard]] std::string_view ToString(ErrorCode code) noexcept;
+[[nodiscard]] SEMGRAPH_BASE_EXPORT std::string_view ToString(ErrorCode code) noexcept;
 
 /// Inverse of ToString; nullopt for an unknown name.
-[[nodiscard]] std::optional<ErrorCode> ErrorCodeFromString(std::string_view name) noexcept;
+[[nodiscard]] SEMGRAPH_BASE_EXPORT std::optional<ErrorCode> ErrorCodeFromString(
+    std::string_view name) noexcept;
 
 }  // namespace semgraph::base

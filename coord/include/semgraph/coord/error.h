@@ -20,6 +20,7 @@
 #include <string_view>
 
 #include "semgraph/base/error_code.h"
+#include "semgraph/coord/export.h"
 #include "semgraph/semantics/mismatch.h"
 #include "semgraph/semantics/names.h"
 
@@ -73,11 +74,12 @@ struct Error {
 /// "0.1", "1000000000000.5", "1e+12", "-0", "nan", "-inf". Every number in a message is written
 /// so, so that a message never shows a rounded value that would not be the offending one
 /// (1000000000000.5 is not "1e+12").
-[[nodiscard]] std::string FormatNumber(double x);
+[[nodiscard]] SEMGRAPH_COORD_EXPORT std::string FormatNumber(double x);
 
 /// One line naming what is wrong, e.g.
 /// "homogeneous representation: point e|C of the pose must be the origin of orientation frame
 /// [a]|C of the pose", or "quaternion norm differs from 1 by 0.2 (more than 1e-06)".
-[[nodiscard]] std::string Describe(const Error& error, const semantics::NameTable& names);
+[[nodiscard]] SEMGRAPH_COORD_EXPORT std::string Describe(const Error& error,
+                                                         const semantics::NameTable& names);
 
 }  // namespace semgraph::coord

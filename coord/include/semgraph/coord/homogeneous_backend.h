@@ -9,10 +9,11 @@
 #pragma once
 
 #include "semgraph/coord/backend.h"
+#include "semgraph/coord/export.h"
 
 namespace semgraph::coord {
 
-struct HomogeneousBackend {
+struct SEMGRAPH_COORD_EXPORT HomogeneousBackend {
   static constexpr const char* kName = "homogeneous";
   static constexpr Constraints kConstraints{true, true, true};
 

@@ -10,10 +10,11 @@
 #pragma once
 
 #include "semgraph/coord/backend.h"
+#include "semgraph/coord/export.h"
 
 namespace semgraph::coord {
 
-struct QuaternionBackend {
+struct SEMGRAPH_COORD_EXPORT QuaternionBackend {
   static constexpr const char* kName = "quaternion";
   static constexpr Constraints kConstraints{};
 

@@ -7,7 +7,8 @@
 //   Position            value = p: position of point e wrt point f, expressed in [r]
 //   Orientation<B>      value = M: operator carrying [b] onto [a], expressed in [r]
 //                       (= R[b<-a] when [r] = [b])
-//   Pose<B>             value = (M, p) in one B::PoseCoords
+//   Pose<B>             value = (M, p) in one B::PoseCoords; ToIsometry / FromIsometry convert
+//                       to and from Eigen::Isometry3d
 //   LinearVelocity      value = v of point e fixed to C, relative to D, in [r]
 //   AngularVelocity     value = w of C relative to D, in [r]
 //   Twist               linear = v (of the velocity reference point), angular = w, both in [r]
@@ -19,8 +20,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
+#include "semgraph/base/expected.h"
 #include "semgraph/coord/backend.h"
+#include "semgraph/coord/error.h"
 #include "semgraph/semantics/relations.h"
 
 namespace semgraph::coord {
@@ -47,6 +51,20 @@ template <Backend B>
 struct Pose {
   PoseSemantics semantics;
   typename B::PoseCoords value;
+
+  /// The value as an Eigen isometry: linear() = M, translation() = p (both in [r]), e.g.
+  /// X_BA for PoseSpec::Of("a").RelativeTo("b"). O(1).
+  [[nodiscard]] Eigen::Isometry3d ToIsometry() const noexcept {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = B::ToMatrix(B::RotationOf(value));
+    X.translation() = B::TranslationOf(value);
+    return X;
+  }
+  /// A checked pose from an isometry, as MakePose(s, X.linear(), X.translation()) (validate.h):
+  /// invalid_number -> invalid_rotation -> representation_constraint. O(1) (one 3x3 SVD when
+  /// the rotation is not orthonormal to rounding).
+  [[nodiscard]] static base::Expected<Pose, Error> FromIsometry(const PoseSemantics& s,
+                                                               const Eigen::Isometry3d& X) noexcept;
 };
 
 struct LinearVelocity {
@@ -66,3 +84,6 @@ struct Twist {
 };
 
 }  // namespace semgraph::coord
+
+// Pose<B>::FromIsometry is defined with the checked constructors it uses.
+#include "semgraph/coord/validate.h"

@@ -11,6 +11,8 @@
 // removing an edge bumps its epoch, so Evaluate() of an affected query returns
 // kQueryInvalidated (never a wrong number). Adding edges never changes an existing path (pose
 // trees and TG(P) stay forests), so it invalidates nothing. Recompile to recover.
+// One result type: Evaluate() returns the answer as the one-shot query does (QueryResult<Pose>
+// like GetPose, with the semantics), the Evaluate(out) forms write bare coordinates.
 // Costs: Evaluate O(edges on the path), noexcept, no allocation, no lock, no string.
 // Thread safety: Evaluate is const and may run on any number of threads concurrently with one
 // writer calling SceneGraph::SetPose/SetTwist. Each edge value is read untorn (sequence lock);
@@ -28,6 +30,7 @@
 
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
+#include "semgraph/core/export.h"
 #include "semgraph/core/query_plan.h"
 #include "semgraph/core/time.h"
 #include "semgraph/core/time_plan.h"
@@ -73,7 +76,7 @@ struct PoseCache {
 
 /// Shared machinery of the compiled queries: the flattened edges and the values they read.
 template <coord::Backend B>
-class CompiledQuery {
+class SEMGRAPH_CORE_EXPORT CompiledQuery {
  public:
   using PoseCoords = typename B::PoseCoords;
 
@@ -109,9 +112,25 @@ class CompiledQuery {
   std::uint64_t id_ = 0;       // shared by copies (same edges): identifies the caches it made
 };
 
+namespace internal {
+template <coord::Backend B>
+typename B::PoseCoords IdentityPose() noexcept {
+  return B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero());
+}
+/// A compiled query's answer as the one-shot queries give it: the value, or a QueryError with
+/// only the code (kQueryInvalidated: the query says nothing more).
+template <class T>
+QueryResult<T> Answer(ErrorCode code, const T& value) noexcept {
+  if (code == ErrorCode::kOk) return value;
+  QueryError e;
+  e.code = code;
+  return base::Unexpected{e};
+}
+}  // namespace internal
+
 /// PoseCoord((e,[a])|C, (f,[b])|D, [r]).
 template <coord::Backend B>
-class CompiledPose : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledPose : public CompiledQuery<B> {
  public:
   CompiledPose() = default;
   /// Made by SceneGraph::CompilePose from a checked plan of that graph.
@@ -124,6 +143,16 @@ class CompiledPose : public CompiledQuery<B> {
   /// The same answer through a memo of partial products (PoseCache, from MakeCache() of this
   /// query): far fewer compositions when few edges changed since the last evaluation.
   [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, PoseCache<B>& cache) const noexcept;
+  /// The answer in GetPose's result type: the pose with its semantics, or the error
+  /// (kQueryInvalidated). The same numbers as Evaluate(X).
+  [[nodiscard]] QueryResult<coord::Pose<B>> Evaluate() const noexcept {
+    coord::Pose<B> X{semantics_, internal::IdentityPose<B>()};
+    return internal::Answer(Evaluate(X.value), X);
+  }
+  [[nodiscard]] QueryResult<coord::Pose<B>> Evaluate(PoseCache<B>& cache) const noexcept {
+    coord::Pose<B> X{semantics_, internal::IdentityPose<B>()};
+    return internal::Answer(Evaluate(X.value, cache), X);
+  }
 
  private:
   semantics::PoseSemantics semantics_;
@@ -132,7 +161,7 @@ class CompiledPose : public CompiledQuery<B> {
 
 /// PositionCoord(e|C, f|D, [r]).
 template <coord::Backend B>
-class CompiledPosition : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledPosition : public CompiledQuery<B> {
  public:
   CompiledPosition() = default;
   CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values, const PositionPlan& plan);
@@ -142,6 +171,11 @@ class CompiledPosition : public CompiledQuery<B> {
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
                                    TimeReport& report) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& cache) const noexcept;
+  /// In GetPosition's result type (see CompiledPose::Evaluate()).
+  [[nodiscard]] QueryResult<coord::Position> Evaluate() const noexcept {
+    coord::Position p{semantics_, Eigen::Vector3d::Zero()};
+    return internal::Answer(Evaluate(p.value), p);
+  }
 
  private:
   semantics::PositionSemantics semantics_;
@@ -150,7 +184,7 @@ class CompiledPosition : public CompiledQuery<B> {
 
 /// OrientationCoord([a]|C, [b]|D, [r]).
 template <coord::Backend B>
-class CompiledOrientation : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledOrientation : public CompiledQuery<B> {
  public:
   CompiledOrientation() = default;
   CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
@@ -163,6 +197,11 @@ class CompiledOrientation : public CompiledQuery<B> {
   [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
                                    TimeReport& report) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, PoseCache<B>& cache) const noexcept;
+  /// In GetOrientation's result type (see CompiledPose::Evaluate()).
+  [[nodiscard]] QueryResult<coord::Orientation<B>> Evaluate() const noexcept {
+    coord::Orientation<B> R{semantics_, B::RotationOf(internal::IdentityPose<B>())};
+    return internal::Answer(Evaluate(R.value), R);
+  }
 
  private:
   semantics::OrientationSemantics semantics_;
@@ -171,7 +210,7 @@ class CompiledOrientation : public CompiledQuery<B> {
 
 /// TwistCoord(e|C, D, [r]); linear and angular velocity are its parts.
 template <coord::Backend B>
-class CompiledTwist : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
   CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);
@@ -182,6 +221,11 @@ class CompiledTwist : public CompiledQuery<B> {
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
                                    TimeReport& report) const noexcept;
+  /// In GetTwist's result type (see CompiledPose::Evaluate()).
+  [[nodiscard]] QueryResult<coord::Twist> Evaluate() const noexcept {
+    coord::Twist V{semantics_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    return internal::Answer(Evaluate(V.linear, V.angular), V);
+  }
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
  private:

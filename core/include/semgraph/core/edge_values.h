@@ -24,6 +24,7 @@
 
 #include "semgraph/coord/backend.h"
 #include "semgraph/core/edge_history.h"
+#include "semgraph/core/export.h"
 #include "semgraph/core/seqlock_value.h"
 #include "semgraph/topology/ids.h"
 
@@ -54,7 +55,7 @@ using TwistValue = SeqLockValue<TwistNumbers>;
 /// contents and never apply to whatever is built later in the emptied object. After 2^32 - 1
 /// graphs in one process the counter wraps and ids may repeat.
 /// Cost: one relaxed atomic increment per construction or move.
-class GraphId {
+class SEMGRAPH_CORE_EXPORT GraphId {
  public:
   GraphId() noexcept : value_(Next()) {}
   GraphId(GraphId&& other) noexcept : value_(other.value_) { other.value_ = Next(); }

@@ -331,28 +331,39 @@ bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s,
 /// (e,[a]) wrt (f,[b]) in [r], with the plan of that pose. The steps are undone in reverse:
 /// [r] -> [b], then the reference point f -> b (p += p_BF) and the point e -> a
 /// (p -= R_BA p_AE_A). The plan's basic pose ab is not read (it is the unknown).
-template <coord::Backend B>
-typename B::PoseCoords ToEdgeForm(const ForestSource<B>& src, const PoseSteps<ForestChain>& s,
-                                  const typename B::PoseCoords& X_given) noexcept {
+/// Over any chain source: false when a compiled edge changed epoch (X_BA then unspecified).
+/// Converting handles (converting_handles.h) run it over their flattened chains.
+template <coord::Backend B, class Source>
+bool ToEdgeForm(const Source& src, const PoseSteps<typename Source::Chain>& s,
+                const typename B::PoseCoords& X_given, typename B::PoseCoords& X_BA) noexcept {
   typename B::PoseCoords X = X_given;
   if (s.change_frame) {
     typename B::PoseCoords X_RB;
-    EvalBasic<B>(src, s.br, X_RB);
+    if (!EvalBasic<B>(src, s.br, X_RB)) return false;
     X = coord::kernels::Reexpress<B>(X, B::Transpose(B::RotationOf(X_RB)));
   }
   typename B::Rotation R_BA = B::RotationOf(X);
   Eigen::Vector3d p_BA = B::TranslationOf(X);
   if (s.change_ref_point) {
     typename B::PoseCoords X_BF;
-    EvalBasic<B>(src, s.fb, X_BF);
+    if (!EvalBasic<B>(src, s.fb, X_BF)) return false;
     p_BA += B::TranslationOf(X_BF);
   }
   if (s.change_point) {
     typename B::PoseCoords X_AE;
-    EvalBasic<B>(src, s.ea, X_AE);
+    if (!EvalBasic<B>(src, s.ea, X_AE)) return false;
     p_BA -= B::Rotate(R_BA, B::TranslationOf(X_AE));
   }
-  return B::MakePose(R_BA, p_BA);
+  X_BA = B::MakePose(R_BA, p_BA);
+  return true;
+}
+/// The one-shot form (AddPose): the forest's chains cannot fail.
+template <coord::Backend B>
+typename B::PoseCoords ToEdgeForm(const ForestSource<B>& src, const PoseSteps<ForestChain>& s,
+                                  const typename B::PoseCoords& X_given) noexcept {
+  typename B::PoseCoords X_BA = X_given;
+  ToEdgeForm<B>(src, s, X_given, X_BA);
+  return X_BA;
 }
 
 /// Algorithm 3, one twist edge: its screw twist, inverted if traversed against its direction,

@@ -25,6 +25,7 @@
 
 #include <Eigen/Core>
 
+#include "semgraph/core/export.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/joints.h"
@@ -141,7 +142,7 @@ bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<type
 
 /// A compiled Jacobian (SceneGraph::CompileJacobian): evaluate into caller storage.
 template <coord::Backend B>
-class CompiledJacobian : public CompiledQuery<B> {
+class SEMGRAPH_CORE_EXPORT CompiledJacobian : public CompiledQuery<B> {
  public:
   CompiledJacobian() = default;
   CompiledJacobian(const topology::SceneTopology& t, const EdgeValues<B>& values,

@@ -38,6 +38,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "semgraph/core/export.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/topology/ids.h"
 
@@ -46,7 +47,7 @@ namespace semgraph::core {
 enum class JointType : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed };
 
 /// "revolute", "continuous", "prismatic", "fixed".
-[[nodiscard]] std::string_view ToString(JointType type) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT std::string_view ToString(JointType type) noexcept;
 
 /// The joint a SceneGraph::AddJoint adds, by role. Frames and bodies are created as for a pose
 /// add (a missing frame needs its body). Names are views: they must outlive the call.
@@ -87,7 +88,7 @@ struct JointValue {
 namespace internal {
 
 /// sin(x) and cos(x) within ~1 ulp (fast for |x| <= 1e5, std::sin/cos beyond). noexcept.
-void SinCos(double x, double& s, double& c) noexcept;
+SEMGRAPH_CORE_EXPORT void SinCos(double x, double& s, double& c) noexcept;
 
 struct JointRecord {
   std::string name;

@@ -29,6 +29,7 @@
 
 #include <cstdint>
 
+#include "semgraph/core/export.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/semantics/relations.h"
 #include "semgraph/topology/scene_topology.h"
@@ -95,37 +96,37 @@ struct TwistPlan {
 };
 
 /// The basic-pose path of a wrt b (same tree). O(log n).
-[[nodiscard]] BasicPath<ForestChain> PlanBasic(const topology::SceneTopology& t, FrameIndex a,
-                                               FrameIndex b) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT BasicPath<ForestChain> PlanBasic(
+    const topology::SceneTopology& t, FrameIndex a, FrameIndex b) noexcept;
 
 /// Algorithm 1's steps for (e,[a]) wrt (f,[b]) in [r], all frames of one tree. O(log n) each.
-[[nodiscard]] PoseSteps<ForestChain> PlanPoseSteps(const topology::SceneTopology& t, FrameIndex e,
-                                                   FrameIndex a, FrameIndex f, FrameIndex b,
-                                                   FrameIndex r) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT PoseSteps<ForestChain> PlanPoseSteps(
+    const topology::SceneTopology& t, FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
+    FrameIndex r) noexcept;
 /// The same steps without the basic pose ab (left empty): what the edge-form conversion of an
 /// add needs, where a or b may not exist yet. Only the frames of a change that is made (f != b,
 /// e != a, r != b) must exist.
-[[nodiscard]] PoseSteps<ForestChain> PlanChanges(const topology::SceneTopology& t, FrameIndex e,
-                                                 FrameIndex a, FrameIndex f, FrameIndex b,
-                                                 FrameIndex r) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT PoseSteps<ForestChain> PlanChanges(
+    const topology::SceneTopology& t, FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
+    FrameIndex r) noexcept;
 
 /// Planners by names (the spec's fields) and by this graph's name ids.
-[[nodiscard]] Expected<PosePlan, QueryError> PlanPose(const topology::SceneTopology& t,
-                                                      const PoseSpec& spec) noexcept;
-[[nodiscard]] Expected<PosePlan, QueryError> PlanPose(const topology::SceneTopology& t,
-                                                      const semantics::PoseSemantics& q) noexcept;
-[[nodiscard]] Expected<PositionPlan, QueryError> PlanPosition(const topology::SceneTopology& t,
-                                                              const PoseSpec& spec) noexcept;
-[[nodiscard]] Expected<PositionPlan, QueryError> PlanPosition(
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<PosePlan, QueryError> PlanPose(
+    const topology::SceneTopology& t, const PoseSpec& spec) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<PosePlan, QueryError> PlanPose(
+    const topology::SceneTopology& t, const semantics::PoseSemantics& q) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<PositionPlan, QueryError> PlanPosition(
+    const topology::SceneTopology& t, const PoseSpec& spec) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<PositionPlan, QueryError> PlanPosition(
     const topology::SceneTopology& t, const semantics::PositionSemantics& q) noexcept;
-[[nodiscard]] Expected<OrientationPlan, QueryError> PlanOrientation(const topology::SceneTopology& t,
-                                                                    const PoseSpec& spec) noexcept;
-[[nodiscard]] Expected<OrientationPlan, QueryError> PlanOrientation(
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<OrientationPlan, QueryError> PlanOrientation(
+    const topology::SceneTopology& t, const PoseSpec& spec) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<OrientationPlan, QueryError> PlanOrientation(
     const topology::SceneTopology& t, const semantics::OrientationSemantics& q) noexcept;
-[[nodiscard]] Expected<TwistPlan, QueryError> PlanTwist(const topology::SceneTopology& t,
-                                                        const TwistSpec& spec) noexcept;
-[[nodiscard]] Expected<TwistPlan, QueryError> PlanTwist(const topology::SceneTopology& t,
-                                                        const semantics::TwistSemantics& q) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<TwistPlan, QueryError> PlanTwist(
+    const topology::SceneTopology& t, const TwistSpec& spec) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<TwistPlan, QueryError> PlanTwist(
+    const topology::SceneTopology& t, const semantics::TwistSemantics& q) noexcept;
 
 /// The steps of a twist plan, in order (C's side up to the ancestor, then D's side), each
 /// passed to f(const TwistStep<ForestChain>&). O(k log n) for k twist edges; no allocation.

@@ -52,7 +52,9 @@
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/core/compiled_query.h"
+#include "semgraph/core/converting_handles.h"
 #include "semgraph/core/edge_values.h"
+#include "semgraph/core/export.h"
 #include "semgraph/core/jacobian.h"
 #include "semgraph/core/joints.h"
 #include "semgraph/core/specs.h"
@@ -62,7 +64,7 @@
 namespace semgraph::core {
 
 template <coord::Backend B = coord::QuaternionBackend>
-class SceneGraph {
+class SEMGRAPH_CORE_EXPORT SceneGraph {
  public:
   using Backend = B;
   using Pose = coord::Pose<B>;
@@ -100,6 +102,11 @@ class SceneGraph {
   /// coord = ref_orientation).
   BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
                       const Eigen::Vector3d& p_position);
+  /// Same, from an Eigen isometry: X.linear() the rotation matrix, X.translation() the position
+  /// (e.g. coord::Pose<B>::ToIsometry() of a query's answer).
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Isometry3d& X) {
+    return AddPose(spec, Eigen::Matrix3d(X.linear()), Eigen::Vector3d(X.translation()));
+  }
   /// Adds TwistCoord(point|body, ref_body, [coord]) as the twist edge ref_body -> {point}|body,
   /// converted to the screw twist at {point} when coord != point, or updates that edge.
   BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
@@ -199,6 +206,10 @@ class SceneGraph {
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
                                   const Eigen::Vector3d& p_ToHo_T) noexcept;
+  /// SetPose from an Eigen isometry X_TH (linear() = R_TH, translation() = p_ToHo_T).
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Isometry3d& X_TH) noexcept {
+    return SetPose(edge, Eigen::Matrix3d(X_TH.linear()), Eigen::Vector3d(X_TH.translation()));
+  }
   /// SetPose for a caller that guarantees the input: finite numbers, |position| <= 1e12, and a
   /// unit quaternion (|q| within 1e-12 of 1, e.g. one this graph returned or one normalized by
   /// the caller). Skips validation: about half of SetPose's cost. Debug builds check the
@@ -211,6 +222,32 @@ class SceneGraph {
   /// a removed edge, a free slot, or a handle not made by this graph's FindTwistEdge).
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                    const Eigen::Vector3d& w_DH_H) noexcept;
+
+  /// Values in another form than the edge's, converted on the real-time path through a plan
+  /// made here (converting_handles.h, docs/realtime.md). The twist edge {relative_to} (a body)
+  /// -> {of}, taking twists in [expressed_in] (a frame of of's pose tree): the errors of
+  /// FindTwistEdge, then invalid_name / unknown_frame (expressed_in), twist_not_convertible.
+  [[nodiscard]] Expected<ConvertingTwistHandle<B>, BuildError> FindTwistEdge(
+      std::string_view of, std::string_view relative_to, std::string_view expressed_in) const;
+  /// The pose edge that AddPose(spec, ...) would update ([ref_orientation] -> [orientation]),
+  /// taking poses in the form of `spec`: the query errors of the spec (as GetPose), then those
+  /// of FindPoseEdge, representation_constraint, and pose_not_convertible when [r] lies below
+  /// the edge itself (the conversion would read the value being set).
+  [[nodiscard]] Expected<ConvertingPoseHandle<B>, BuildError> FindPoseEdge(
+      const PoseSpec& spec) const;
+  /// TwistCoord(h|H, D, [r]) in [r], rotated into [h] by R_HR and written as SetTwist(edge.edge())
+  /// writes. Codes: kInvalidNumber (the input), kQueryInvalidated (an edge of the conversion was
+  /// removed; nothing written), then SetTwist's. O(edges between r and h).
+  [[nodiscard]] ErrorCode SetTwist(const ConvertingTwistHandle<B>& edge,
+                                   const Eigen::Vector3d& v_DHo_R,
+                                   const Eigen::Vector3d& w_DH_R) noexcept;
+  /// The pose in the handle's form, converted to the edge form as AddPose converts it, then
+  /// written as SetPose(edge.edge()) writes. Codes: kInvalidNumber / kInvalidRotation (the
+  /// input), kQueryInvalidated, then SetPose's. O(edges of the conversion).
+  [[nodiscard]] ErrorCode SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Quaterniond& q,
+                                  const Eigen::Vector3d& p) noexcept;
+  [[nodiscard]] ErrorCode SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Matrix3d& R,
+                                  const Eigen::Vector3d& p) noexcept;
 
   /// Compiled queries: the semantics are checked and the path resolved once (the same errors
   /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
@@ -366,6 +403,9 @@ class SceneGraph {
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept;
   std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index, std::optional<Stamp> stamp) const;
   FrameIndex CreateFrame(NameId name, BodyIndex body);
+  template <class R>
+  ErrorCode SetConvertedPose(const ConvertingPoseHandle<B>& edge, const R& rotation,
+                             const Eigen::Vector3d& p) noexcept;
   void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
   // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.

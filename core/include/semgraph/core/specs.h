@@ -81,7 +81,7 @@ using BuildResult = Expected<Ok, BuildError>;
 ///   unknown_frame/_body   name: the argument's name (invalid if never interned)
 ///   frame_body_mismatch   name: the frame; other: its actual body; asked: the body the query named
 ///   no_pose_path          name, other: the two frames in different pose trees
-///   no_twist_path         name, other: the two bodies no twist path joins
+///   no_twist_path         name, other: the two bodies no twist path joins; asked: the point
 ///   representation_constraint, semantic_mismatch: detail
 ///   extrapolation, stale  name: the edge's head frame; other: its tail frame (a pose edge) or
 ///                         tail body (a twist edge, time.twist_edge); time: its samples, the time

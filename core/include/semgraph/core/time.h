@@ -28,6 +28,7 @@
 
 #include "semgraph/base/expected.h"
 #include "semgraph/coord/se3.h"
+#include "semgraph/core/export.h"
 
 namespace semgraph::core {
 
@@ -67,7 +68,8 @@ inline constexpr double kMaxStampSeconds = 9.2e9;
 
 /// Seconds -> nanoseconds, rounded to nearest (ties away from zero), exactly. nullopt when the
 /// value is not finite or |seconds| > kMaxStampSeconds (the caller reports invalid_number).
-[[nodiscard]] std::optional<std::int64_t> NanosecondsFromSeconds(double seconds) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT std::optional<std::int64_t> NanosecondsFromSeconds(
+    double seconds) noexcept;
 [[nodiscard]] inline std::optional<Stamp> StampFromSeconds(double seconds) noexcept {
   auto ns = NanosecondsFromSeconds(seconds);
   if (!ns) return std::nullopt;

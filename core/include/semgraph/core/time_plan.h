@@ -9,6 +9,7 @@
 // contribute zero and are skipped. Costs: O(log n + path) per step enumeration, no allocation.
 #pragma once
 
+#include "semgraph/core/export.h"
 #include "semgraph/core/query_plan.h"
 
 namespace semgraph::core {
@@ -21,8 +22,8 @@ struct PoseTwistPlan {
 
 /// Names resolved and checked as PlanTwist does, except that no twist path is needed; C or D
 /// without a frame in e's pose tree: no_pose_path (name: e, other: the body).
-[[nodiscard]] Expected<PoseTwistPlan, QueryError> PlanPoseTwist(const topology::SceneTopology& t,
-                                                                const TwistSpec& spec) noexcept;
+[[nodiscard]] SEMGRAPH_CORE_EXPORT Expected<PoseTwistPlan, QueryError> PlanPoseTwist(
+    const topology::SceneTopology& t, const TwistSpec& spec) noexcept;
 
 /// The steps: c's side up to the common ancestor (along), then d's side (inverted).
 template <class F>

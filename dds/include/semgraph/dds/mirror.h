@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "semgraph/dds/export.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/dds/publisher.h"
 
@@ -84,7 +85,7 @@ struct EdgeState {
   std::int64_t last_receive_ns = 0;
 };
 
-class Mirror {
+class SEMGRAPH_DDS_EXPORT Mirror {
  public:
   static base::Expected<std::unique_ptr<Mirror>, std::string> Create(MirrorOptions options);
   /// Stops the receive thread and leaves the domain.

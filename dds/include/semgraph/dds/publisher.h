@@ -24,6 +24,7 @@
 #include <memory>
 #include <string>
 
+#include "semgraph/dds/export.h"
 #include "semgraph/core/scene_graph.h"
 
 namespace semgraph::dds {
@@ -32,14 +33,14 @@ namespace semgraph::dds {
 inline constexpr std::uint32_t kDefaultDomain = 0xFFFFFFFFu;
 
 /// The clock of value stamps (DDS's time: nanoseconds since the Unix epoch).
-[[nodiscard]] std::int64_t NowNs() noexcept;
+[[nodiscard]] SEMGRAPH_DDS_EXPORT std::int64_t NowNs() noexcept;
 
 struct PublisherOptions {
   std::string owner;                     ///< a valid name, unique among publishers of a domain
   std::uint32_t domain = kDefaultDomain;
 };
 
-class Publisher {
+class SEMGRAPH_DDS_EXPORT Publisher {
  public:
   /// Joins the domain and creates the writers. Fails (message) when the owner name is not a
   /// valid name or DDS refuses. The graph must outlive the publisher and must not move.

@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "semgraph/models/export.h"
 #include "semgraph/core/scene_graph.h"
 
 namespace semgraph::models {
@@ -47,11 +48,11 @@ struct Robot {
 /// Loads a URDF file: an absolute or relative path (relative to the working folder) or a
 /// file:// URI. An empty prefix is no prefix.
 template <coord::Backend B>
-[[nodiscard]] base::Expected<Robot, core::BuildError> LoadUrdfFile(core::SceneGraph<B>& graph, std::string_view file,
+[[nodiscard]] SEMGRAPH_MODELS_EXPORT base::Expected<Robot, core::BuildError> LoadUrdfFile(core::SceneGraph<B>& graph, std::string_view file,
                                                                    std::string_view prefix = {});
 /// Loads a URDF document given as text.
 template <coord::Backend B>
-[[nodiscard]] base::Expected<Robot, core::BuildError> LoadUrdfString(core::SceneGraph<B>& graph,
+[[nodiscard]] SEMGRAPH_MODELS_EXPORT base::Expected<Robot, core::BuildError> LoadUrdfString(core::SceneGraph<B>& graph,
                                                                      std::string_view xml,
                                                                      std::string_view prefix = {});
 

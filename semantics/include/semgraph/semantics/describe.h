@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "semgraph/semantics/export.h"
 #include "semgraph/semantics/mismatch.h"
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/relations.h"
@@ -13,27 +14,35 @@
 namespace semgraph::semantics {
 
 /// "PositionCoord(e|C, f|D, [r])"
-[[nodiscard]] std::string Describe(const PositionSemantics& s, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const PositionSemantics& s,
+                                                             const NameTable& names);
 /// "OrientationCoord([a]|C, [b]|D, [r])"
-[[nodiscard]] std::string Describe(const OrientationSemantics& s, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const OrientationSemantics& s,
+                                                             const NameTable& names);
 /// "PoseCoord((e,[a])|C, (f,[b])|D, [r])", or "PoseCoord({a}|C, {b}|D, [r])" in frame form.
-[[nodiscard]] std::string Describe(const PoseSemantics& s, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const PoseSemantics& s,
+                                                             const NameTable& names);
 /// "LinearVelocityCoord(e|C, D, [r])"
-[[nodiscard]] std::string Describe(const LinearVelocitySemantics& s, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const LinearVelocitySemantics& s,
+                                                             const NameTable& names);
 /// "AngularVelocityCoord(C, D, [r])"
-[[nodiscard]] std::string Describe(const AngularVelocitySemantics& s, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const AngularVelocitySemantics& s,
+                                                             const NameTable& names);
 /// "TwistCoord(e|C, D, [r])"
-[[nodiscard]] std::string Describe(const TwistSemantics& s, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const TwistSemantics& s,
+                                                             const NameTable& names);
 /// "compose: reference point f|D of the first does not match point g|D of the second"
-[[nodiscard]] std::string Describe(const Mismatch& m, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const Mismatch& m,
+                                                             const NameTable& names);
 
 /// One side of a mismatch: "reference point f|D of the first".
-[[nodiscard]] std::string Describe(const MismatchSide& side, const NameTable& names);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const MismatchSide& side,
+                                                             const NameTable& names);
 
 /// "compose", "change_point", ...
-[[nodiscard]] std::string_view ToString(Operation op) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string_view ToString(Operation op) noexcept;
 /// The role name of a field, e.g. "reference orientation frame": the one table of role names,
 /// used by every message that names an argument.
-[[nodiscard]] std::string_view FieldName(Field f) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string_view FieldName(Field f) noexcept;
 
 }  // namespace semgraph::semantics

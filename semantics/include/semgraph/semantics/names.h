@@ -25,6 +25,7 @@
 #include "semgraph/base/error_code.h"
 #include "semgraph/base/expected.h"
 #include "semgraph/base/index.h"
+#include "semgraph/semantics/export.h"
 
 namespace semgraph::semantics {
 
@@ -51,13 +52,13 @@ struct NameError {
 };
 
 /// Checks the name rule without interning. O(|name|), allocation-free.
-[[nodiscard]] Expected<Ok, NameError> ValidateName(std::string_view name) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Expected<Ok, NameError> ValidateName(std::string_view name) noexcept;
 
 /// Human-readable reason, e.g. "name is empty", "byte 3 of the name is a control character",
 /// "byte 0 of the name is U+200B, an invisible or formatting character".
-[[nodiscard]] std::string Describe(const NameError& error, std::string_view name);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const NameError& error, std::string_view name);
 
-class NameTable {
+class SEMGRAPH_SEMANTICS_EXPORT NameTable {
  public:
   NameTable() = default;
   NameTable(const NameTable&) = delete;  // returned string_views point into the arena

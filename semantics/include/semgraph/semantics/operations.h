@@ -28,6 +28,7 @@
 #pragma once
 
 #include "semgraph/base/expected.h"
+#include "semgraph/semantics/export.h"
 #include "semgraph/semantics/mismatch.h"
 #include "semgraph/semantics/relations.h"
 
@@ -49,112 +50,122 @@ using Checked = Expected<S, Mismatch>;
 
 // ---------------------------------------------------------------- Position
 /// PositionCoord(e|C, f|D, [r]) -> PositionCoord(f|D, e|C, [r]).
-[[nodiscard]] PositionSemantics Inverse(const PositionSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT PositionSemantics
+Inverse(const PositionSemantics& X) noexcept;
 /// Checks: X.ref_point = Y.point, X.ref_body = Y.body, X.[r] = Y.[r].
-[[nodiscard]] Checked<PositionSemantics> Compose(const PositionSemantics& X,
-                                                 const PositionSemantics& Y) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PositionSemantics> Compose(
+    const PositionSemantics& X, const PositionSemantics& Y) noexcept;
 /// Checks: A.ref_point = X.point, A.ref_body = X.body, A.body = X.body, A.[r] = X.[r].
-[[nodiscard]] Checked<PositionSemantics> ChangePoint(const PositionSemantics& X,
-                                                     const PositionSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PositionSemantics> ChangePoint(
+    const PositionSemantics& X, const PositionSemantics& A) noexcept;
 /// Checks: A.point = X.ref_point, A.body = X.ref_body, A.ref_body = X.ref_body, A.[r] = X.[r].
-[[nodiscard]] Checked<PositionSemantics> ChangeRefPoint(const PositionSemantics& X,
-                                                        const PositionSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PositionSemantics> ChangeRefPoint(
+    const PositionSemantics& X, const PositionSemantics& A) noexcept;
 /// Checks: O.orientation = X.[r], O.[r] in {O.orientation, O.ref_orientation}.
-[[nodiscard]] Checked<PositionSemantics> ChangeCoordinateFrame(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PositionSemantics> ChangeCoordinateFrame(
     const PositionSemantics& X, const OrientationSemantics& O) noexcept;
 
 // ---------------------------------------------------------------- Orientation
 /// ([a]|C, [b]|D, [r]) -> ([b]|D, [a]|C, [r]); value M^T.
-[[nodiscard]] OrientationSemantics Inverse(const OrientationSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT OrientationSemantics
+Inverse(const OrientationSemantics& X) noexcept;
 /// The inverse re-expressed in the new reference frame. Checks: X.[r] = X.ref_orientation.
 /// ([a]|C, [b]|D, [b]) -> ([b]|D, [a]|C, [a]); value R^T.
-[[nodiscard]] Checked<OrientationSemantics> InverseInNewRef(const OrientationSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<OrientationSemantics> InverseInNewRef(
+    const OrientationSemantics& X) noexcept;
 /// Checks: X.ref_orientation = Y.orientation, X.ref_body = Y.body, then the coordinate form.
-[[nodiscard]] Checked<Composition<OrientationSemantics>> Compose(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<Composition<OrientationSemantics>> Compose(
     const OrientationSemantics& X, const OrientationSemantics& Y) noexcept;
 /// Checks: A.ref_orientation = X.orientation, A.ref_body = X.body, A.body = X.body, then the
 /// coordinate form of Compose(A, X).
-[[nodiscard]] Checked<Composition<OrientationSemantics>> ChangeOrientationFrame(
-    const OrientationSemantics& X, const OrientationSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<Composition<OrientationSemantics>>
+ChangeOrientationFrame(const OrientationSemantics& X, const OrientationSemantics& A) noexcept;
 /// Checks: A.orientation = X.ref_orientation, A.body = X.ref_body, A.ref_body = X.ref_body,
 /// then the coordinate form of Compose(X, A).
-[[nodiscard]] Checked<Composition<OrientationSemantics>> ChangeRefOrientationFrame(
-    const OrientationSemantics& X, const OrientationSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<Composition<OrientationSemantics>>
+ChangeRefOrientationFrame(const OrientationSemantics& X, const OrientationSemantics& A) noexcept;
 /// Checks: O.orientation = X.[r], O.[r] in {O.orientation, O.ref_orientation}.
-[[nodiscard]] Checked<OrientationSemantics> ChangeCoordinateFrame(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<OrientationSemantics> ChangeCoordinateFrame(
     const OrientationSemantics& X, const OrientationSemantics& O) noexcept;
 
 // ---------------------------------------------------------------- Pose
 /// ((e,[a])|C, (f,[b])|D, [r]) -> ((f,[b])|D, (e,[a])|C, [r]); value (-p, M^T).
-[[nodiscard]] PoseSemantics Inverse(const PoseSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT PoseSemantics Inverse(const PoseSemantics& X) noexcept;
 /// Checks: X.[r] = X.ref_orientation. Result expressed in X.orientation; value (-R^T p, R^T).
-[[nodiscard]] Checked<PoseSemantics> InverseInNewRef(const PoseSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> InverseInNewRef(
+    const PoseSemantics& X) noexcept;
 /// Checks: X.ref_point = Y.point, X.ref_orientation = Y.orientation, X.ref_body = Y.body, then the
 /// coordinate form. Result ((e,[a])|C, (g,[c])|E, Y.[r]).
-[[nodiscard]] Checked<Composition<PoseSemantics>> Compose(const PoseSemantics& X,
-                                                          const PoseSemantics& Y) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<Composition<PoseSemantics>> Compose(
+    const PoseSemantics& X, const PoseSemantics& Y) noexcept;
 /// As Position ChangePoint, on the position part; the orientation is unchanged.
-[[nodiscard]] Checked<PoseSemantics> ChangePoint(const PoseSemantics& X,
-                                                 const PositionSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> ChangePoint(
+    const PoseSemantics& X, const PositionSemantics& A) noexcept;
 /// As Position ChangeRefPoint, on the position part.
-[[nodiscard]] Checked<PoseSemantics> ChangeRefPoint(const PoseSemantics& X,
-                                                    const PositionSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> ChangeRefPoint(
+    const PoseSemantics& X, const PositionSemantics& A) noexcept;
 /// As Orientation ChangeOrientationFrame; the position is unchanged.
-[[nodiscard]] Checked<Composition<PoseSemantics>> ChangeOrientationFrame(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<Composition<PoseSemantics>> ChangeOrientationFrame(
     const PoseSemantics& X, const OrientationSemantics& A) noexcept;
 /// As Orientation ChangeRefOrientationFrame. In the chain form the result is expressed in the
 /// new reference orientation frame, so the position is re-expressed too (p' = R_A p).
-[[nodiscard]] Checked<Composition<PoseSemantics>> ChangeRefOrientationFrame(
-    const PoseSemantics& X, const OrientationSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<Composition<PoseSemantics>>
+ChangeRefOrientationFrame(const PoseSemantics& X, const OrientationSemantics& A) noexcept;
 /// Checks: O.orientation = X.[r], O.[r] in {O.orientation, O.ref_orientation}.
-[[nodiscard]] Checked<PoseSemantics> ChangeCoordinateFrame(const PoseSemantics& X,
-                                                           const OrientationSemantics& O) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> ChangeCoordinateFrame(
+    const PoseSemantics& X, const OrientationSemantics& O) noexcept;
 /// The parts of a pose.
-[[nodiscard]] PositionSemantics PositionOf(const PoseSemantics& X) noexcept;
-[[nodiscard]] OrientationSemantics OrientationOf(const PoseSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT PositionSemantics
+PositionOf(const PoseSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT OrientationSemantics
+OrientationOf(const PoseSemantics& X) noexcept;
 /// Pose(P, O). Checks: P.body = O.body, P.ref_body = O.ref_body, P.[r] = O.[r].
-[[nodiscard]] Checked<PoseSemantics> Combine(const PositionSemantics& P,
-                                             const OrientationSemantics& O) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> Combine(
+    const PositionSemantics& P, const OrientationSemantics& O) noexcept;
 
 // ---------------------------------------------------------------- Linear / angular velocity
 /// (e|C, D, [r]) -> (e|D, C, [r]); value -v.
-[[nodiscard]] LinearVelocitySemantics Inverse(const LinearVelocitySemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT LinearVelocitySemantics
+Inverse(const LinearVelocitySemantics& X) noexcept;
 /// Checks: X.point = Y.point, X.ref_body = Y.body, X.[r] = Y.[r].
-[[nodiscard]] Checked<LinearVelocitySemantics> Compose(const LinearVelocitySemantics& X,
-                                                       const LinearVelocitySemantics& Y) noexcept;
-[[nodiscard]] Checked<LinearVelocitySemantics> ChangeCoordinateFrame(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<LinearVelocitySemantics> Compose(
+    const LinearVelocitySemantics& X, const LinearVelocitySemantics& Y) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<LinearVelocitySemantics> ChangeCoordinateFrame(
     const LinearVelocitySemantics& X, const OrientationSemantics& O) noexcept;
 
-[[nodiscard]] AngularVelocitySemantics Inverse(const AngularVelocitySemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT AngularVelocitySemantics
+Inverse(const AngularVelocitySemantics& X) noexcept;
 /// Checks: X.ref_body = Y.body, X.[r] = Y.[r].
-[[nodiscard]] Checked<AngularVelocitySemantics> Compose(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<AngularVelocitySemantics> Compose(
     const AngularVelocitySemantics& X, const AngularVelocitySemantics& Y) noexcept;
-[[nodiscard]] Checked<AngularVelocitySemantics> ChangeCoordinateFrame(
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<AngularVelocitySemantics> ChangeCoordinateFrame(
     const AngularVelocitySemantics& X, const OrientationSemantics& O) noexcept;
 
 // ---------------------------------------------------------------- Twist
 /// (e|C, D, [r]) -> (e|D, C, [r]); value (-v, -w).
-[[nodiscard]] TwistSemantics Inverse(const TwistSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT TwistSemantics Inverse(const TwistSemantics& X) noexcept;
 /// Checks: X.point = Y.point, X.ref_body = Y.body, X.[r] = Y.[r]. Result (e|X.body, Y.ref_body, [r]).
-[[nodiscard]] Checked<TwistSemantics> Compose(const TwistSemantics& X,
-                                              const TwistSemantics& Y) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> Compose(
+    const TwistSemantics& X, const TwistSemantics& Y) noexcept;
 /// Change of velocity reference point. A = Position(old point e wrt new point f, [r]).
 /// Checks: A.point = X.point, A.[r] = X.[r]. Result point f (a point of X.body coinciding with
 /// f). A's bodies are not checked: the vector between two points at an instant does not depend
 /// on which bodies they are fixed to (docs/semantics.md, decision D3).
-[[nodiscard]] Checked<TwistSemantics> ChangePoint(const TwistSemantics& X,
-                                                  const PositionSemantics& A) noexcept;
-[[nodiscard]] Checked<TwistSemantics> ChangeCoordinateFrame(const TwistSemantics& X,
-                                                            const OrientationSemantics& O) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> ChangePoint(
+    const TwistSemantics& X, const PositionSemantics& A) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> ChangeCoordinateFrame(
+    const TwistSemantics& X, const OrientationSemantics& O) noexcept;
 /// Screw transform by a pose P = Pose((e,[a]), (f,[b]), [b]) (KDL Frame*Twist).
 /// Checks: X.point = P.point, X.[r] = P.orientation, P.[r] = P.ref_orientation.
 /// Result (f|X.body, X.ref_body, [b]); value w' = R w, v' = R v + p(e/f) x w'.
-[[nodiscard]] Checked<TwistSemantics> ScrewTransform(const TwistSemantics& X,
-                                                     const PoseSemantics& P) noexcept;
-[[nodiscard]] LinearVelocitySemantics LinearOf(const TwistSemantics& X) noexcept;
-[[nodiscard]] AngularVelocitySemantics AngularOf(const TwistSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> ScrewTransform(
+    const TwistSemantics& X, const PoseSemantics& P) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT LinearVelocitySemantics
+LinearOf(const TwistSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT AngularVelocitySemantics
+AngularOf(const TwistSemantics& X) noexcept;
 /// Twist(L, W). Checks: L.body = W.body, L.ref_body = W.ref_body, L.[r] = W.[r].
-[[nodiscard]] Checked<TwistSemantics> Combine(const LinearVelocitySemantics& L,
-                                              const AngularVelocitySemantics& W) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> Combine(
+    const LinearVelocitySemantics& L, const AngularVelocitySemantics& W) noexcept;
 
 }  // namespace semgraph::semantics

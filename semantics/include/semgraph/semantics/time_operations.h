@@ -13,6 +13,7 @@
 // Cost: O(1) id comparisons; noexcept, allocation-free.
 #pragma once
 
+#include "semgraph/semantics/export.h"
 #include "semgraph/semantics/operations.h"
 
 namespace semgraph::semantics {
@@ -24,21 +25,24 @@ namespace semgraph::semantics {
 }
 
 /// Checks: X in edge form (point = origin of [a], ref point = origin of [b], [r] = [b]).
-[[nodiscard]] Checked<PoseSemantics> RequireEdgeForm(Operation op, const PoseSemantics& X) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> RequireEdgeForm(
+    Operation op, const PoseSemantics& X) noexcept;
 
 /// Checks: X in edge form; xi = EdgeScrewTwist(X) field by field. Result: X's semantics.
-[[nodiscard]] Checked<PoseSemantics> Integrate(const PoseSemantics& X, const TwistSemantics& xi) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> Integrate(
+    const PoseSemantics& X, const TwistSemantics& xi) noexcept;
 
 /// Checks: X0 == X1 (field by field), edge form. Result: EdgeScrewTwist(X0).
-[[nodiscard]] Checked<TwistSemantics> Differentiate(const PoseSemantics& X0,
-                                                    const PoseSemantics& X1) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> Differentiate(
+    const PoseSemantics& X0, const PoseSemantics& X1) noexcept;
 
 /// Checks: X0 == X1 field by field; with `screw`, also the edge form. Result: X0's semantics.
-[[nodiscard]] Checked<PoseSemantics> Interpolate(const PoseSemantics& X0, const PoseSemantics& X1,
-                                                 bool screw) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<PoseSemantics> Interpolate(const PoseSemantics& X0,
+                                                                           const PoseSemantics& X1,
+                                                                           bool screw) noexcept;
 
 /// Twists of one edge interpolated componentwise: X0 == X1. Result: X0's semantics.
-[[nodiscard]] Checked<TwistSemantics> Interpolate(const TwistSemantics& X0,
-                                                  const TwistSemantics& X1) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> Interpolate(
+    const TwistSemantics& X0, const TwistSemantics& X1) noexcept;
 
 }  // namespace semgraph::semantics

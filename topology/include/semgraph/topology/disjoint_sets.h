@@ -36,9 +36,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "semgraph/topology/export.h"
+
 namespace semgraph::topology {
 
-class DisjointSets {
+class SEMGRAPH_TOPOLOGY_EXPORT DisjointSets {
  public:
   DisjointSets() = default;
 

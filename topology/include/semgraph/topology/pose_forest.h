@@ -47,11 +47,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "semgraph/topology/export.h"
 #include "semgraph/topology/ids.h"
 
 namespace semgraph::topology {
 
-class PoseForest {
+class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
  public:
   PoseForest() = default;
 

@@ -27,6 +27,7 @@
 #include <optional>
 
 #include "semgraph/base/error_code.h"
+#include "semgraph/topology/export.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::topology {
@@ -50,16 +51,23 @@ struct NewPoseEdge {
 
 /// P4: true when the pose edge tail -> head exists and joins two frames of one body, so its
 /// value is constant.
-[[nodiscard]] bool IsConstantEdge(const SceneTopology& t, FrameIndex tail, FrameIndex head) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT bool IsConstantEdge(const SceneTopology& t, FrameIndex tail,
+                                                           FrameIndex head) noexcept;
 /// True when the pose edge tail -> head exists (the add is then a value update).
-[[nodiscard]] bool PoseEdgeExists(const SceneTopology& t, FrameIndex tail, FrameIndex head) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT bool PoseEdgeExists(const SceneTopology& t, FrameIndex tail,
+                                                           FrameIndex head) noexcept;
 
-[[nodiscard]] std::optional<RuleViolation> CheckP1(const SceneTopology& t, const NewPoseEdge& e) noexcept;
-[[nodiscard]] std::optional<RuleViolation> CheckP2(const SceneTopology& t, const NewPoseEdge& e) noexcept;
-[[nodiscard]] std::optional<RuleViolation> CheckP3(const SceneTopology& t, const NewPoseEdge& e) noexcept;
-[[nodiscard]] std::optional<RuleViolation> CheckW4(const SceneTopology& t, const NewPoseEdge& e);
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckP1(
+    const SceneTopology& t, const NewPoseEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckP2(
+    const SceneTopology& t, const NewPoseEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckP3(
+    const SceneTopology& t, const NewPoseEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckW4(const SceneTopology& t,
+                                                                            const NewPoseEdge& e);
 /// P1 -> P2 -> P3 -> W4, for a new pose edge (not an update of an existing one).
-[[nodiscard]] std::optional<RuleViolation> CheckNewPoseEdge(const SceneTopology& t, const NewPoseEdge& e);
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckNewPoseEdge(
+    const SceneTopology& t, const NewPoseEdge& e);
 
 /// The ends of a twist edge being added: D -> {h}|H (head and bodies invalid when new).
 struct NewTwistEdge {
@@ -69,10 +77,12 @@ struct NewTwistEdge {
 };
 /// W2 is decided on names by the caller (bodies may not exist yet): kTwistSameBody.
 /// W1: {h} has a twist edge from a body other than D (an edge from D is a value update).
-[[nodiscard]] std::optional<RuleViolation> CheckW1(const SceneTopology& t, const NewTwistEdge& e) noexcept;
-[[nodiscard]] std::optional<RuleViolation> CheckW3(const SceneTopology& t, const NewTwistEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckW1(
+    const SceneTopology& t, const NewTwistEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckW3(
+    const SceneTopology& t, const NewTwistEdge& e) noexcept;
 /// W1 -> W3.
-[[nodiscard]] std::optional<RuleViolation> CheckNewTwistEdge(const SceneTopology& t,
-                                                             const NewTwistEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckNewTwistEdge(
+    const SceneTopology& t, const NewTwistEdge& e) noexcept;
 
 }  // namespace semgraph::topology

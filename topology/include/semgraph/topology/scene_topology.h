@@ -48,6 +48,7 @@
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/relations.h"
 #include "semgraph/topology/disjoint_sets.h"
+#include "semgraph/topology/export.h"
 #include "semgraph/topology/flat_map.h"
 #include "semgraph/topology/ids.h"
 #include "semgraph/topology/pose_forest.h"
@@ -72,7 +73,7 @@ struct TreeRecord {
   TwistForest twists;
 };
 
-class SceneTopology {
+class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
  public:
   SceneTopology() = default;
   SceneTopology(const SceneTopology&) = delete;

@@ -48,6 +48,7 @@
 #include <limits>
 #include <span>
 
+#include "semgraph/topology/export.h"
 #include "semgraph/topology/flat_map.h"
 
 namespace semgraph::topology {
@@ -68,7 +69,7 @@ struct TwistEdgeEnds {
   friend bool operator==(const TwistEdgeEnds&, const TwistEdgeEnds&) = default;
 };
 
-class TwistForest {
+class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
  public:
   /// No body / no edge; also never a valid id.
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;

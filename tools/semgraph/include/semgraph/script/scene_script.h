@@ -7,6 +7,7 @@
 //   RunScene(text)            = `semgraph run`: a fresh graph of the script's representation
 //   LoadScene(text, graph)    applies the script to a graph of yours (and leaves it there)
 //   RunSceneFile / LoadSceneFile   the same from a file
+//   WriteScene(graph)         the graph as a script that rebuilds it (`semgraph export`)
 //
 // Contract, as the tool's: the whole script is read and checked before anything is applied; a
 // malformed one (status kExitMalformed) applies nothing and `error` says FILE:LINE:COLUMN: what
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/script/export.h"
 
 namespace semgraph::script {
 
@@ -52,6 +54,7 @@ struct SceneRun {
   std::string error;            // status kExitMalformed: "FILE:LINE:COLUMN: message"
   std::vector<OpResult> ops;    // one per op applied, in order (unless on_op took them)
   std::string dot;              // RunOptions::dot: the final graph in Graphviz DOT
+  std::string scene;            // RunOptions::scene: the final graph as a script (WriteScene)
 };
 
 struct RunOptions {
@@ -59,6 +62,8 @@ struct RunOptions {
   std::string display_name = "<script>";
   /// Also render the final graph (RunScene*: into SceneRun::dot).
   bool dot = false;
+  /// Also write the final graph as a scene script (RunScene*: into SceneRun::scene).
+  bool scene = false;
   /// When set, each result is handed here as soon as its op is applied, instead of being kept
   /// in SceneRun::ops; returning false stops the run (the remaining ops are not applied).
   std::function<bool(const OpResult&)> on_op;
@@ -68,29 +73,48 @@ struct RunOptions {
 };
 
 /// `semgraph run` on a script held in memory.
-[[nodiscard]] SceneRun RunScene(std::string_view text, const RunOptions& options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun RunScene(std::string_view text,
+                                                       const RunOptions& options = {});
 /// The same on a file ("-" reads standard input); an unreadable file is status kExitMalformed
 /// with "FILE: cannot read: <reason>". display_name defaults to the path (<stdin> for "-").
-[[nodiscard]] SceneRun RunSceneFile(const std::string& path, RunOptions options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun RunSceneFile(const std::string& path,
+                                                           RunOptions options = {});
 
-/// Applies a script to `graph`. RunOptions::dot is ignored (see WriteDot).
+/// Applies a script to `graph`. RunOptions::dot and ::scene are ignored (see WriteDot,
+/// WriteScene).
 template <coord::Backend B>
-[[nodiscard]] SceneRun LoadScene(std::string_view text, core::SceneGraph<B>& graph,
-                                 const RunOptions& options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun LoadScene(std::string_view text,
+                                                        core::SceneGraph<B>& graph,
+                                                        const RunOptions& options = {});
 template <coord::Backend B>
-[[nodiscard]] SceneRun LoadSceneFile(const std::string& path, core::SceneGraph<B>& graph,
-                                     RunOptions options = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun LoadSceneFile(const std::string& path,
+                                                            core::SceneGraph<B>& graph,
+                                                            RunOptions options = {});
 
 /// The graph in Graphviz DOT, as `semgraph dot` prints it: bodies as clusters holding their
 /// frames, pose edges solid (tail frame -> head frame), twist edges dashed (reference body ->
 /// head frame). Deterministic; names appear only in escaped labels.
 template <coord::Backend B>
-[[nodiscard]] std::string WriteDot(const core::SceneGraph<B>& graph);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string WriteDot(const core::SceneGraph<B>& graph);
+
+/// The graph as a scene script (YAML, docs/scene-script.md) that rebuilds it: running the text
+/// on a fresh graph of the same backend (RunScene, LoadScene, `semgraph run`) gives a graph
+/// with the same names, bodies and frames under the same ids, the same pose and twist edges and
+/// the same values bit for bit (Dump() is identical), for every graph built through the
+/// public calls. Save and load: write the text to a file, LoadSceneFile it later.
+/// The script has `body` and `frame` ops, each pose edge once in edge form (position and the
+/// stored rotation: a quaternion [w, x, y, z], or the matrix for the homogeneous backend) and
+/// each twist edge once as its stored screw twist (coord = its head frame), with numbers in 17
+/// significant digits; where the order of ids needs it, an edge creates its frames or an edge
+/// added and removed at once does. Cost: O(graph) text. Thread safety: reads the graph only.
+template <coord::Backend B>
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string WriteScene(const core::SceneGraph<B>& graph);
 
 /// Reads a script file ("-": standard input) without holding more than one byte beyond the
 /// script size limit (16 MiB), so that an oversized file is reported without being read whole.
 /// False, with the system's reason in *error, when it cannot be read.
-[[nodiscard]] bool ReadScriptFile(const std::string& path, std::string* text, std::string* error);
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT bool ReadScriptFile(const std::string& path, std::string* text,
+                                                         std::string* error);
 
 extern template SceneRun LoadScene(std::string_view, core::SceneGraph<coord::QuaternionBackend>&,
                                    const RunOptions&);
@@ -102,5 +126,7 @@ extern template SceneRun LoadSceneFile(const std::string&,
                                        core::SceneGraph<coord::HomogeneousBackend>&, RunOptions);
 extern template std::string WriteDot(const core::SceneGraph<coord::QuaternionBackend>&);
 extern template std::string WriteDot(const core::SceneGraph<coord::HomogeneousBackend>&);
+extern template std::string WriteScene(const core::SceneGraph<coord::QuaternionBackend>&);
+extern template std::string WriteScene(const core::SceneGraph<coord::HomogeneousBackend>&);
 
 }  // namespace semgraph::script
