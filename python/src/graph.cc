@@ -679,6 +679,9 @@ update of the edges it reads. It keeps its SceneGraph alive. After an edge it re
 evaluate() raises QueryError with code 'query_invalidated' (never a wrong number): compile again.)";
   py::class_<CompiledPoseObject, std::shared_ptr<CompiledPoseObject>>(
       m, "CompiledPose", Doc("A compiled pose query.", kCompiledDoc).c_str())
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledPoseObject& c) { return Evaluate(c); })
       .def("evaluate", [](const CompiledPoseObject& c, py::handle at, py::handle max_extrapolation,
                           py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
            py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
@@ -697,6 +700,9 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       });
   py::class_<CompiledPositionObject, std::shared_ptr<CompiledPositionObject>>(
       m, "CompiledPosition", Doc("A compiled position query.", kCompiledDoc).c_str())
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledPositionObject& c) { return Evaluate(c); })
       .def("evaluate", [](const CompiledPositionObject& c, py::handle at, py::handle max_extrapolation,
                           py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
            py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
@@ -713,6 +719,9 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       });
   py::class_<CompiledOrientationObject, std::shared_ptr<CompiledOrientationObject>>(
       m, "CompiledOrientation", Doc("A compiled orientation query.", kCompiledDoc).c_str())
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledOrientationObject& c) { return Evaluate(c); })
       .def("evaluate", [](const CompiledOrientationObject& c, py::handle at, py::handle max_extrapolation,
                           py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
            py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
@@ -731,6 +740,9 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       m, "CompiledTwist",
       Doc("A compiled twist, linear velocity or angular velocity query (evaluate() returns a "
           "Twist, LinearVelocity or AngularVelocity, as compiled).", kCompiledDoc).c_str())
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledTwistObject& c) { return Evaluate(c); })
       .def("evaluate", [](const CompiledTwistObject& c, py::handle at, py::handle max_extrapolation,
                           py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
            py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
