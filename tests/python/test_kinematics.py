@@ -214,6 +214,10 @@ def arm6_path():
     return os.path.join(source_dir(), "models", "urdf", "arm6.urdf")
 
 
+needs_models = pytest.mark.skipif(not semgraph._semgraph._has_models, reason="built without the models layer")
+
+
+@needs_models
 def test_urdf_arm_matches_hand_computed_kinematics():
     g = semgraph.SceneGraph()
     robot = g.load_urdf(arm6_path(), prefix="r/")
@@ -246,6 +250,7 @@ def test_urdf_arm_matches_hand_computed_kinematics():
     assert left.root == "l/base_link" and len(g.joint_names) == 12
 
 
+@needs_models
 def test_urdf_load_errors_change_nothing():
     g = semgraph.SceneGraph()
     g.load_urdf(arm6_path(), prefix="r/")
@@ -264,3 +269,9 @@ def test_urdf_load_errors_change_nothing():
         assert g.dump() == before
     with pytest.raises(TypeError):
         g.load_urdf(42)
+
+
+@pytest.mark.skipif(semgraph._semgraph._has_models, reason="built with the models layer")
+def test_urdf_without_the_models_layer_raises():
+    with pytest.raises(RuntimeError, match="without robot models"):
+        semgraph.SceneGraph().load_urdf(arm6_path())
