@@ -275,3 +275,15 @@ def test_urdf_load_errors_change_nothing():
 def test_urdf_without_the_models_layer_raises():
     with pytest.raises(RuntimeError, match="without robot models"):
         semgraph.SceneGraph().load_urdf(arm6_path())
+
+
+def test_compiled_jacobian_and_groups_keep_their_graph_alive():
+    import gc
+    g = planar_arm()
+    c = g.compile_jacobian(point="ee", ref_body="Base", expressed_in="base")
+    group = g.joint_group(["j2", "j1"])
+    J = g.jacobian(point="ee", ref_body="Base", expressed_in="base")
+    del g
+    gc.collect()
+    np.testing.assert_allclose(c.evaluate().matrix, planar_jacobian(0.0, 0.0), atol=1e-15)
+    assert group.names == ["j2", "j1"] and "TwistCoord(ee|L2, Base, [base])" in J.semantics

@@ -357,3 +357,10 @@ def test_time_options_and_time_keywords_are_checked():
     assert e.value.code == "invalid_number"
     with pytest.raises(ValueError, match="stamp= and repair="):
         g.add_pose(of="b", wrt="w", stamp=1.0, repair=True)
+
+
+def test_explain_twist_from_poses_lists_the_differentiated_edges():
+    g = helix_graph()
+    uses = g.explain_twist(point="b", ref_body="W", expressed_in="b", at=0.6, source="poses")
+    assert [(u.kind, u.of, u.relative_to, u.read_from, u.read_to) for u in uses] == [
+        ("pose_derivative", "b", "w", 0.5, 0.75)]
