@@ -602,7 +602,7 @@ semantics        the relation in the paper's notation, e.g. 'PoseCoord({f1}|O1, 
       }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const PoseResult& r) {
         return "Pose(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) +
-               ", quaternion=" + QuaternionText(r.q) + ")";
+               ", quaternion=" + QuaternionText(r.q) + TimeSuffix(r.time) + ")";
       });
   py::class_<PositionResult>(m, "Position", R"(The result of a position query: PositionCoord(e|C, f|D, [r]).
 
@@ -614,7 +614,8 @@ semantics  the relation in the paper's notation)")
         return r.time ? TimeReportObject(*r.time) : py::none();
       }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const PositionResult& r) {
-        return "Position(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) + ")";
+        return "Position(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) +
+               TimeSuffix(r.time) + ")";
       });
   py::class_<OrientationResult>(m, "Orientation", R"(The result of an orientation query: OrientationCoord([a]|C, [b]|D, [r]).
 
@@ -629,7 +630,8 @@ semantics        the relation in the paper's notation)")
         return r.time ? TimeReportObject(*r.time) : py::none();
       }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const OrientationResult& r) {
-        return "Orientation(" + SemanticsText(r.graph, r.semantics) + ", quaternion=" + QuaternionText(r.q) + ")";
+        return "Orientation(" + SemanticsText(r.graph, r.semantics) + ", quaternion=" + QuaternionText(r.q) +
+               TimeSuffix(r.time) + ")";
       });
   py::class_<TwistResult>(m, "Twist", R"(The result of a twist query: TwistCoord(e|C, D, [r]).
 
@@ -644,7 +646,7 @@ semantics  the relation in the paper's notation)")
       }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const TwistResult& r) {
         return "Twist(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) +
-               ", angular=" + VectorText(r.w) + ")";
+               ", angular=" + VectorText(r.w) + TimeSuffix(r.time) + ")";
       });
   py::class_<LinearVelocityResult>(m, "LinearVelocity", R"(The result of a linear velocity query: LinearVelocityCoord(e|C, D, [r]).
 
@@ -656,7 +658,8 @@ semantics  the relation in the paper's notation)")
         return r.time ? TimeReportObject(*r.time) : py::none();
       }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const LinearVelocityResult& r) {
-        return "LinearVelocity(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) + ")";
+        return "LinearVelocity(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) +
+               TimeSuffix(r.time) + ")";
       });
   py::class_<AngularVelocityResult>(m, "AngularVelocity", R"(The result of an angular velocity query: AngularVelocityCoord(C, D, [r]).
 
@@ -668,7 +671,8 @@ semantics  the relation in the paper's notation)")
         return r.time ? TimeReportObject(*r.time) : py::none();
       }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const AngularVelocityResult& r) {
-        return "AngularVelocity(" + SemanticsText(r.graph, r.semantics) + ", angular=" + VectorText(r.w) + ")";
+        return "AngularVelocity(" + SemanticsText(r.graph, r.semantics) + ", angular=" + VectorText(r.w) +
+               TimeSuffix(r.time) + ")";
       });
 
   // ------------------------------------------------------------ compiled queries

@@ -171,6 +171,18 @@ core::TwistSource TwistSourceArg(py::handle value, const char* fn) {
 
 py::object TimeReportObject(const core::TimeReport& report) { return py::cast(report); }
 
+std::string TimeReportText(const core::TimeReport& r) {
+  auto t = [](const std::optional<core::Stamp>& s) { return s ? SecondsText(s->nanoseconds()) : std::string("None"); };
+  std::string out = "TimeReport(time=" + t(r.time);
+  if (r.ref_time) out += ", ref_time=" + t(r.ref_time);
+  return out + ", oldest=" + t(r.oldest) + ", newest=" + t(r.newest) +
+         ", extrapolated=" + (r.extrapolated ? "True" : "False") + ")";
+}
+
+std::string TimeSuffix(const std::optional<core::TimeReport>& r) {
+  return r ? ", time=" + TimeReportText(*r) : std::string();
+}
+
 void BindTime(py::module_& m, GraphClass& graph) {
   py::class_<core::TimeReport>(m, "TimeReport", R"(What a timed query read (the `time` of its result).
 
@@ -189,15 +201,7 @@ Times are float seconds; the *_ns twins are the exact int nanoseconds.)")
       .def_property_readonly("newest", [](const core::TimeReport& r) { return Seconds(r.newest); })
       .def_property_readonly("newest_ns", [](const core::TimeReport& r) { return Nanos(r.newest); })
       .def_property_readonly("extrapolated", [](const core::TimeReport& r) { return r.extrapolated; })
-      .def("__repr__", [](const core::TimeReport& r) {
-        auto t = [](const std::optional<core::Stamp>& s) {
-          return s ? SecondsText(s->nanoseconds()) : std::string("None");
-        };
-        std::string out = "TimeReport(time=" + t(r.time);
-        if (r.ref_time) out += ", ref_time=" + t(r.ref_time);
-        return out + ", oldest=" + t(r.oldest) + ", newest=" + t(r.newest) +
-               ", extrapolated=" + (r.extrapolated ? "True" : "False") + ")";
-      });
+      .def("__repr__", [](const core::TimeReport& r) { return TimeReportText(r); });
 
   py::class_<EdgeUseObject>(m, "EdgeUse", R"(One edge a query uses (SceneGraph.explain_pose / explain_twist).
 

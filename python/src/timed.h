@@ -20,6 +20,7 @@
 #include <pybind11/pybind11.h>
 
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "semgraph/core/time.h"
@@ -54,5 +55,9 @@ core::TwistSource TwistSourceArg(py::handle value, const char* function);
 
 /// A Python TimeReport object (the class registered by BindTime).
 py::object TimeReportObject(const core::TimeReport& report);
+/// "TimeReport(time=0.450000000 s, oldest=..., newest=..., extrapolated=False)".
+std::string TimeReportText(const core::TimeReport& report);
+/// ", time=TimeReport(...)" for a result's repr, or "" for an untimed result.
+std::string TimeSuffix(const std::optional<core::TimeReport>& report);
 
 }  // namespace semgraph::python

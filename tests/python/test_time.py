@@ -91,6 +91,9 @@ def test_screw_interpolation_reproduces_the_constant_screw_motion():
     X = g.pose(of="b", wrt="w", at=0.6)
     assert (X.time.oldest, X.time.newest) == (0.5, 0.75)  # the bracket read
     assert "TimeReport(time=0.600000000 s" in repr(X.time)
+    assert repr(X).endswith(", time=TimeReport(time=0.600000000 s, oldest=0.500000000 s, newest=0.750000000 s, "
+                            "extrapolated=False))")
+    assert "time=" not in repr(g.pose(of="b", wrt="w"))
 
 
 def test_linear_interpolation_is_lerp_of_positions_and_slerp_of_rotations():
