@@ -14,6 +14,7 @@
 #include "timed.h"
 #include "semgraph/coord/validate.h"
 #include "semgraph/semantics/describe.h"
+#include "semgraph/semantics/operations.h"
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
 #include "semgraph/script/scene_script.h"
@@ -1307,45 +1308,60 @@ Names (keyword-only):
       "or 'poses' (the pose history's time derivative; evaluate under a time policy).");
   graph.def("compile_linear_velocity",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in) {
+         py::handle expressed_in, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_linear_velocity", point, body, ref_body, expressed_in);
+        const core::TwistSource src = TwistSourceArg(source, "compile_linear_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto checked = g.GetLinearVelocity(spec);  // its semantics and errors
-          if (!checked) ThrowTwistQuery(g, checked.error(), spec);
-          auto r = g.CompileTwist(spec);
+          semantics::LinearVelocitySemantics linear;
+          if (src == core::TwistSource::kTwists) {
+            auto checked = g.GetLinearVelocity(spec);  // its semantics and errors
+            if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+            linear = checked->semantics;
+          }
+          auto r = g.CompileTwist(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
+          // From poses there is no untimed query to ask: the linear part of the compiled twist.
+          if (src == core::TwistSource::kPoses) linear = semantics::LinearOf(r->semantics());
           auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kLinear;
-          c->linear_semantics = checked->semantics;
+          c->linear_semantics = linear;
           return c;
         });
       },
-      SEMGRAPH_TWIST_ARGS,
-      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity).");
+      SEMGRAPH_TWIST_ARGS, py::arg("source") = py::none(),
+      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity); source as "
+      "compile_twist.");
   graph.def("compile_angular_velocity",
-      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in) {
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_angular_velocity", py::none(), body, ref_body, expressed_in);
+        const core::TwistSource src = TwistSourceArg(source, "compile_angular_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto checked = g.GetAngularVelocity(spec);
-          if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+          semantics::AngularVelocitySemantics angular;
+          if (src == core::TwistSource::kTwists) {
+            auto checked = g.GetAngularVelocity(spec);
+            if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+            angular = checked->semantics;
+          }
           // As GetAngularVelocity does: the twist at the coordinate frame's origin.
           core::TwistSpec at_r = spec;
           at_r.point = spec.coordinate_frame;
-          auto r = g.CompileTwist(at_r);
+          auto r = g.CompileTwist(at_r, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
+          if (src == core::TwistSource::kPoses) angular = semantics::AngularOf(r->semantics());
           auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kAngular;
-          c->angular_semantics = checked->semantics;
+          c->angular_semantics = angular;
           return c;
         });
       },
       py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("expressed_in") = py::none(),
-      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity).");
+      py::arg("expressed_in") = py::none(), py::arg("source") = py::none(),
+      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity); source as "
+      "compile_twist.");
 #undef SEMGRAPH_POSE_ARGS
 #undef SEMGRAPH_TWIST_ARGS
 #undef SEMGRAPH_TIME_ARGS

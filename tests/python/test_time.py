@@ -268,6 +268,16 @@ def test_compiled_queries_evaluate_at_a_time():
     t = g.compile_twist(point="b", ref_body="W", expressed_in="b", source="poses").evaluate(at=0.6)
     np.testing.assert_allclose(t.linear, V_WB_b, atol=1e-10)
     assert t.time.time == pytest.approx(0.6)
+    lv = g.compile_linear_velocity(point="b", ref_body="W", expressed_in="b", source="poses").evaluate(at=0.6)
+    np.testing.assert_allclose(lv.linear, V_WB_b, atol=1e-10)
+    assert lv.semantics == g.linear_velocity(point="b", ref_body="W", expressed_in="b", at=0.6,
+                                             source="poses").semantics
+    av = g.compile_angular_velocity(body="B", ref_body="W", expressed_in="w", source="poses").evaluate(at=0.6)
+    np.testing.assert_allclose(av.angular, [0, 0, OMEGA], atol=1e-10)
+    assert av.semantics == "AngularVelocityCoord(B, W, [w])"
+    with pytest.raises(semgraph.QueryError) as e:  # no twist edges: the default source has no path
+        g.compile_linear_velocity(point="b", ref_body="W", expressed_in="b")
+    assert e.value.code == "no_twist_path"
 
 
 def test_stamped_set_pose_by_handle_in_and_out_of_order():
