@@ -57,15 +57,6 @@ constexpr int kExitOk = 0, kExitOpFailed = 1, kExitMalformed = 2;
   std::abort();
 }
 
-// The graph options of a script's `time` map (as RunScene makes them).
-core::TimeOptions TimeOptionsOf(const script::TimeSettings& t) {
-  core::TimeOptions o;
-  o.window = core::Duration::Nanoseconds(t.window_ns);
-  o.interpolation = t.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
-  o.duplicate_stamp = t.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
-  return o;
-}
-
 // `semgraph run` in memory: the exit status, and the JSON lines in *lines.
 int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
   const auto script = ReadScript(text);
@@ -94,7 +85,7 @@ int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
     }
     if (!graph.CheckInvariants().empty()) Fail("CheckInvariants() after the script", text);
   };
-  const core::TimeOptions time = TimeOptionsOf(script->time);
+  const core::TimeOptions time = script::TimeOptionsOf(script->time);
   if (script->representation == Representation::kHomogeneous) {
     run(*core::SceneGraph<coord::HomogeneousBackend>::Create(time));
   } else {
@@ -681,7 +672,7 @@ void Structured(OpReader& in) {
     }
     time_map += "}\n";
   }
-  const core::TimeOptions time = TimeOptionsOf(settings);
+  const core::TimeOptions time = script::TimeOptionsOf(settings);
   const std::string header = time_map + (homogeneous ? "representation: homogeneous\nops:\n" : "ops:\n");
   std::string text = header;
   if (ops.empty()) text += "  []\n";

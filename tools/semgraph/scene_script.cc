@@ -119,11 +119,7 @@ SceneRun RunScene(std::string_view text, const RunOptions& options) {
       if (options.dot) run->dot = WriteDot(graph);
       if (options.scene) run->scene = WriteScene(graph);
     };
-    // The document's time options (the reader checked the window: Create cannot refuse them).
-    core::TimeOptions time;
-    time.window = core::Duration::Nanoseconds(script.time.window_ns);
-    time.interpolation = script.time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
-    time.duplicate_stamp = script.time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+    const core::TimeOptions time = TimeOptionsOf(script.time);  // Create cannot refuse them
     if (script.representation == Representation::kHomogeneous) {
       go(*core::SceneGraph<coord::HomogeneousBackend>::Create(time));
     } else {

@@ -668,6 +668,14 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
 
 }  // namespace
 
+core::TimeOptions TimeOptionsOf(const TimeSettings& time) {
+  core::TimeOptions options;
+  options.window = core::Duration::Nanoseconds(time.window_ns);
+  options.interpolation = time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
+  options.duplicate_stamp = time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+  return options;
+}
+
 std::string OpLabel(const ScriptOp& op) {
   switch (op.kind) {
     case OpKind::kRemovePose:
