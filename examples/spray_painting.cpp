@@ -122,8 +122,7 @@ int main() {
   auto r3 = graph.AddTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("B").ExpressedIn("f1"), Vector3d::Zero(), Vector3d::Zero());
   std::printf("  %s\n", r3 ? "accepted?!" : r3.error().message.c_str());
   auto q = graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "E"));
-  std::printf("  query PoseCoord({f1}|O1, {o2}|E, [o2]) failed (%s): %s\n",
-              std::string(semgraph::base::ToString(q.error().code)).c_str(),
-              graph.Describe(q.error()).c_str());
+  // Describe names the code itself: "query failed (frame_body_mismatch): ...".
+  std::printf("  query PoseCoord({f1}|O1, {o2}|E, [o2]): %s\n", graph.Describe(q.error()).c_str());
   return 0;
 }
