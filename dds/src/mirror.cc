@@ -229,12 +229,12 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   impl->options = std::move(options);
   Impl& m = *impl;
   m.participant = Entity(dds_create_participant(m.options.domain, nullptr, nullptr));
-  if (!m.participant.ok()) return base::Unexpected(internal::DdsError("cannot join the DDS domain", m.participant.get()));
+  if (!m.participant.ok()) return base::Unexpected{internal::DdsError("cannot join the DDS domain", m.participant.get())};
   const dds_entity_t p = m.participant.get();
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
   const dds_entity_t tt = internal::CreateTopic(p, TopicKind::kStatus);
-  if (st < 0 || vt < 0 || tt < 0) return base::Unexpected(std::string("cannot create the DDS topics"));
+  if (st < 0 || vt < 0 || tt < 0) return base::Unexpected{std::string("cannot create the DDS topics")};
   m.structure_reader = Entity(internal::CreateReader(p, st, TopicKind::kStructure));
   m.value_reader = Entity(internal::CreateReader(p, vt, TopicKind::kValue));
   m.status_writer = Entity(internal::CreateWriter(p, tt, TopicKind::kStatus));
@@ -242,13 +242,13 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   m.guard = Entity(dds_create_guardcondition(p));
   if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.status_writer.ok() || !m.waitset.ok() ||
       !m.guard.ok()) {
-    return base::Unexpected(std::string("cannot create the DDS readers and writers"));
+    return base::Unexpected{std::string("cannot create the DDS readers and writers")};
   }
   const dds_entity_t c1 = dds_create_readcondition(m.structure_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c2 = dds_create_readcondition(m.value_reader.get(), DDS_ANY_STATE);
   if (dds_waitset_attach(m.waitset.get(), c1, 1) < 0 || dds_waitset_attach(m.waitset.get(), c2, 2) < 0 ||
       dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
-    return base::Unexpected(std::string("cannot attach the DDS conditions"));
+    return base::Unexpected{std::string("cannot attach the DDS conditions")};
   }
   m.thread = std::thread([&m] { m.Loop(); });
   return std::unique_ptr<Mirror>(new Mirror(std::move(impl)));
@@ -618,8 +618,9 @@ bool Mirror::CaughtUp() const {
       auto it = impl_->slots.find({o.source, r.edge, vkind});
       if (it == impl_->slots.end()) {
         // Refused edges have no slot; any other missing edge means not caught up.
+        const auto& owner = name;  // clang 14 cannot capture a structured binding
         const bool refused = std::any_of(impl_->refusals.begin(), impl_->refusals.end(),
-                                         [&](const Report& rep) { return rep.owner == name; });
+                                         [&](const Report& rep) { return rep.owner == owner; });
         if (!refused) return false;
         continue;
       }

@@ -31,7 +31,7 @@ Publisher::~Publisher() = default;
 base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::SceneGraph<>& graph,
                                                                           PublisherOptions options) {
   if (!semantics::ValidateName(options.owner)) {
-    return base::Unexpected(std::string("publisher owner '") + options.owner + "' is not a valid name");
+    return base::Unexpected{std::string("publisher owner '") + options.owner + "' is not a valid name"};
   }
   auto impl = std::make_unique<Impl>();
   impl->graph = &graph;
@@ -42,16 +42,16 @@ base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::
   impl->started_ns = internal::NowNs();
   impl->participant = Entity(dds_create_participant(options.domain, nullptr, nullptr));
   if (!impl->participant.ok()) {
-    return base::Unexpected(internal::DdsError("cannot join the DDS domain", impl->participant.get()));
+    return base::Unexpected{internal::DdsError("cannot join the DDS domain", impl->participant.get())};
   }
   const dds_entity_t p = impl->participant.get();
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
-  if (st < 0 || vt < 0) return base::Unexpected(internal::DdsError("cannot create the topics", st < 0 ? st : vt));
+  if (st < 0 || vt < 0) return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt)};
   impl->structure_writer = Entity(internal::CreateWriter(p, st, TopicKind::kStructure));
   impl->value_writer = Entity(internal::CreateWriter(p, vt, TopicKind::kValue));
   if (!impl->structure_writer.ok() || !impl->value_writer.ok()) {
-    return base::Unexpected(std::string("cannot create the DDS writers"));
+    return base::Unexpected{std::string("cannot create the DDS writers")};
   }
   return std::unique_ptr<Publisher>(new Publisher(std::move(impl)));
 }
@@ -137,7 +137,7 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   s.elements._buffer = elements.data();
   s.elements._release = false;
   const dds_return_t rc = dds_write(m.structure_writer.get(), &s);
-  if (rc != DDS_RETCODE_OK) return base::Unexpected(internal::DdsError("cannot publish the structure", rc));
+  if (rc != DDS_RETCODE_OK) return base::Unexpected{internal::DdsError("cannot publish the structure", rc)};
   return base::Ok{};
 }
 
