@@ -6,13 +6,17 @@
 Measures, on the paper's spray-painting scene (examples/spray_painting_scene.h), the wall time
 per call from Python of: a one-shot pose query (f1 wrt o2, a 5-edge path), the same query
 compiled and evaluated, a twist query one-shot and compiled, set_pose through a handle, and a
-PoseBatch.set of N edges from one (N, 7) array (per call and per edge). Each figure is the
+PoseBatch.set of N edges from one (N, 7) array (per call and per edge); with time, the same
+pose query at a time between two samples of a stamped edge (one-shot and compiled) and a
+stamped set_pose; with kinematics, the Jacobian of the 6-DOF arm of models/urdf/arm6.urdf
+(one-shot and compiled) and set_joints from an array. Each figure is the
 best of --repeat runs of a timeit loop (best, not mean: the machine is shared), with the cost of
 an empty Python call printed for reference.
 """
 
 import argparse
 import math
+import os
 import timeit
 
 import numpy as np
@@ -79,7 +83,29 @@ def main():
     def noop(**kwargs):
         return None
 
-    env = dict(g=g, q=q, t=t, h=h, p=p, quat=quat, batch=batch, values=values, noop=noop)
+    # Time: the same scene with e wrt b stamped (100 samples, 10 ms apart).
+    gt = semgraph.SceneGraph()
+    for of, body, wrt, ref_body, angles, pos in POSES:
+        if of == "e":
+            for k in range(100):
+                gt.add_pose(of=of, body=body, wrt=wrt, ref_body=ref_body, position=pos, rpy=angles,
+                            stamp=k * 10_000_000)
+        else:
+            gt.add_pose(of=of, body=body, wrt=wrt, ref_body=ref_body, position=pos, rpy=angles)
+    qt = gt.compile_pose(of="f1", wrt="o2")
+    ht = gt.pose_handle(of="e", wrt="b")
+    stamps = iter(range(1_000_000_000, 10**18, 1000))
+
+    # Kinematics: the 6-DOF arm.
+    urdf = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "urdf", "arm6.urdf")
+    arm = semgraph.SceneGraph()
+    robot = arm.load_urdf(urdf)
+    arm.set_joints(np.array([0.1, -0.5, 0.9, -0.4, 0.3, 0.2]))
+    cj = arm.compile_jacobian(point="tool0", ref_body="base_link", expressed_in="base_link")
+    qj = np.array([0.2, -0.4, 1.0, -0.3, 0.2, 0.1])
+
+    env = dict(g=g, q=q, t=t, h=h, p=p, quat=quat, batch=batch, values=values, noop=noop, gt=gt, qt=qt, ht=ht,
+               stamps=stamps, arm=arm, cj=cj, qj=qj, group=robot.group)
     rows = [
         ("empty Python call noop(of=, wrt=)", 'noop(of="f1", wrt="o2")', args.number),
         ("one-shot g.pose(of=, wrt=) (5 edges)", 'g.pose(of="f1", wrt="o2")', args.number),
@@ -92,6 +118,22 @@ def main():
         ("g.set_pose(h, position=list, quaternion=list)",
          "g.set_pose(h, position=[0.55, -0.15, 0.7], quaternion=[1.0, 0.0, 0.0, 0.0])", args.number),
         (f"batch.set((N, 7) array), N = {n}", "batch.set(values)", max(1, args.number // n)),
+        ("stamped one-shot gt.pose(of=, wrt=, at=0.505) (float s)", 'gt.pose(of="f1", wrt="o2", at=0.505)',
+         args.number),
+        ("stamped one-shot gt.pose(of=, wrt=, at=505_000_000) (int ns)",
+         'gt.pose(of="f1", wrt="o2", at=505_000_000)', args.number),
+        ("stamped one-shot gt.pose(of=, wrt=, at='latest')", 'gt.pose(of="f1", wrt="o2", at="latest")',
+         args.number),
+        ("compiled qt.evaluate(at=0.505)", "qt.evaluate(at=0.505)", args.number),
+        ("stamped gt.set_pose(ht, ..., stamp=int) (in order)",
+         "gt.set_pose(ht, position=p, quaternion=quat, stamp=next(stamps))", args.number),
+        ("arm.jacobian(point=, ref_body=, expressed_in=) (6 DOF)",
+         'arm.jacobian(point="tool0", ref_body="base_link", expressed_in="base_link")', args.number // 2),
+        ("arm.jacobian(...).matrix (a new (6, 6) array)",
+         'arm.jacobian(point="tool0", ref_body="base_link", expressed_in="base_link").matrix', args.number // 2),
+        ("compiled cj.evaluate() (6 DOF)", "cj.evaluate()", args.number),
+        ("arm.set_joints(ndarray (6,), names=group)", "arm.set_joints(qj, names=group)", args.number),
+        ("arm.set_joints(ndarray (6,)) (names looked up)", "arm.set_joints(qj)", args.number),
     ]
     print(f"semgraph {semgraph.__version__}, best of {args.repeat} runs")
     print(f"{'call':58s} {'per call':>12s}")

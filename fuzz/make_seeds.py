@@ -7,8 +7,10 @@
 
 One scene_ops seed per constraint case of the paper's Figs. 2, 4 and 6 (unique body, unique
 frame, frame without body, constant pose, multiple pose parents, duplicate pose path, multiple
-twist parents, duplicate twist path), the W4 twist merge conflict, and the spray-painting scene
-of §V, each on the quaternion backend and (second file) also on the homogeneous one.
+twist parents, duplicate twist path), the W4 twist merge conflict, the spray-painting scene
+of §V, repair on Figs. 4 and 6 (invert, re-root, consistency), a jointed arm (limits, mimic,
+groups, Jacobians, removal) and a stamped track under every time policy (and the time options),
+each on the quaternion backend and (second file) also on the homogeneous one.
 The encoder below mirrors Fuzzer<B>::Step() in scene_ops_fuzzer.cc; keep them in step.
 
 Usage: python3 fuzz/make_seeds.py   (from anywhere)
@@ -96,6 +98,119 @@ class Ops:
         return self.byte(12).byte(5).frame_name(coord).byte(1).body_name(body).body_name(ref_body)
 
 
+    # ---- extended ops (Step(): 13, then Extended(): byte % 12). Each encoder mirrors its
+    # decoder in scene_ops_fuzzer.cc; `policy` is Policy()'s byte (< 160: the default).
+    def ext(self, sub):
+        return self.byte(13).byte(sub)
+
+    def repair_pose(self, head, head_body, tail, tail_body, rotation=(0, 0), position=(0, 0), policy=0):
+        self.ext(0).frame_name(head).body_for(head_body).byte(1)  # OneIn(16) false: tail read
+        self.byte(0).frame_name(tail).body_for(tail_body)          # FrameNear: any frame
+        return self.value(*rotation).value(*position).byte(policy)
+
+    def repair_conflict(self, edge_index, tail, tail_body, rotation=(0, 0), position=(0, 0), omit_head_body=True,
+                        policy=0):  # a frame with a pose parent, posed wrt `tail`
+        self.ext(1).byte(edge_index).frame_name(tail).value(*rotation)
+        self.byte(1 if omit_head_body else 0).body_for(tail_body)
+        return self.value(*position).byte(policy)
+
+    def repair_determined(self, head, tail, choice=0, policy=0):
+        # choice: 0 the derived value, 2 position + 1e-10, 3 position + 1e-3 (refused with the
+        # discrepancy), 5 rotation + 1e-4 rad (the derived pose must exist)
+        return self.ext(2).frame_name(head).byte(0).frame_name(tail).byte(choice).byte(0).byte(0).byte(policy)
+
+    def repair_twist(self, point, ref_body, twist_index=None, case=3, choice=0, policy=0):
+        # case 0: the point is twist #twist_index's head (W1 when ref_body differs); 3: as given.
+        # choice (when the derived twist exists): 0 derived, 2 w + 1e-3, 4 values from the tables
+        self.ext(3).frame_name(point).body_name(ref_body)
+        if twist_index is not None:
+            self.byte(twist_index).byte(case)
+        self.byte(0).byte(0)  # BodyFor: omitted; TwistCoord: the point's frame
+        if choice is not None:
+            self.byte(choice)
+        if choice is None or choice == 4:
+            self.value(1, 0).value(2, 0)
+        return self.byte(policy)
+
+    def joint(self, name, jtype, parent, parent_body, child, child_body, rotation=0, position=0, axis=2,
+              limits=0, mimic=None, have_joints=False):
+        # jtype 0 revolute, 1 continuous, 2 prismatic, 3 fixed; axis: kAxes index (2 = z, 0 = x,
+        # 6 = none); limits: kLimits index (0 = [-1, 1], 2 = [0, 0.5], 4 = [1, -1]); mimic:
+        # (master's index among the joints, multiplier index, offset index)
+        self.ext(4).byte(name).byte(jtype)
+        if have_joints:
+            self.byte(0)  # the parent: any frame
+        self.frame_name(parent).body_for(parent_body).byte(1).frame_name(child).body_for(child_body)
+        self.byte(rotation).byte(1).byte(position).byte(axis).byte(1).byte(1).byte(limits)
+        if mimic is None:
+            return self.byte(1)
+        return self.byte(0).byte(1).byte(mimic[0]).byte(mimic[1]).byte(mimic[2])
+
+    def set_joints(self, positions, velocities=()):
+        # (joint index, value byte): < 128 kValues[b % 8] (0, 0.5, -0.7, 1, 3, -2.5, NaN, Inf);
+        # >= 128 relative: 128 lower, 129 upper, 130 upper + 5e-10, 131 upper + 2e-9, 133 mid
+        self.ext(5).byte(len(positions))
+        for index, value in positions:
+            self.byte(1).byte(index).byte(value)
+        self.byte(len(velocities))
+        for index, value in velocities:
+            self.byte(1).byte(index).byte(value)
+        return self
+
+    def make_group(self, joints):
+        self.ext(6).byte(0).byte(len(joints) - 1)
+        for index in joints:
+            self.byte(1).byte(index)
+        return self
+
+    def set_group(self, which, values):  # which: 0 positions, 1 velocities, 2 both; (q, qdot) bytes
+        self.ext(6).byte(1).byte(which)
+        for q, qdot in values:
+            self.byte(q).byte(qdot)
+        return self
+
+    def jacobian(self, point, ref_body, body=None):  # at the point, in its frame
+        self.ext(7).frame_name(point)
+        self.byte(1) if body is None else self.byte(0).body_name(body)
+        return self.body_name(ref_body).byte(1).byte(0)  # coord = point; not a joint's child
+
+    def stamped_pose(self, head, head_body, tail, tail_body, stamp, rotation=(0, 0), position=(0, 0),
+                     poses_exist=False, stamped_exist=False):
+        # a new edge; stamp: kStamps index (0 1 s, 1 1.5 s, 2 2 s, 3 2.5 s, 4 3 s)
+        self.ext(8).byte(stamp)
+        if poses_exist:
+            self.byte(1 if not stamped_exist else 0)  # the "new edge" branch
+        self.frame_name(head).body_for(head_body).frame_name(tail).body_for(tail_body)
+        return self.value(*rotation).value(*position)
+
+    def next_sample(self, stamped_index, when, change):
+        # the next sample of stamped pose edge #stamped_index. when: 0 newest + 0.5 s, 2 + 1 ns,
+        # 3 the same stamp, 4 newest - 0.25 s (out of order), 5 + 12 s (beyond the window);
+        # change: 0 the same value, 1 position moved, 2 rotated, 3 both
+        return self.ext(8).byte(0).byte(1).byte(1).byte(stamped_index).byte(when).byte(change).byte(1)
+
+    def stamped_twist(self, point, ref_body, stamp, v=(1, 0), w=(2, 0), twists_exist=False):
+        self.ext(9).byte(stamp)
+        if twists_exist:
+            self.byte(0)  # OneIn(4) true: the arguments below (an existing edge gets a sample)
+        return self.frame_name(point).byte(0).body_name(ref_body).byte(0).value(*v).value(*w)
+
+    def timed_pose(self, focus, kind=0, to_tail=True, policy=2, near=(0, 0, 2), horizon=0, not_before=None):
+        # a pose (0), position (1) or orientation (2) query from stamped edge #focus's head to its
+        # tail, under policy 0 latest, 1 latest common, 2 at a time near the edge's stamps:
+        # near = (sample a, sample b, case: 0 at a, 1 a + (b-a)/4, 2 halfway, 3 newest + 0.2 s,
+        # 4 oldest - 0.1 s); horizon: kHorizons index (3 = 0.5 s, 4 = 2 s, 5 = -1 ns)
+        self.ext(10).byte(1).byte(focus).byte(kind).byte(1 if to_tail else 0)
+        if not to_tail:
+            self.byte(0).frame_name("a")
+        self.byte(1).byte(policy)
+        if policy >= 2:
+            self.byte(1).byte(1).byte(near[0]).byte(near[1]).byte(near[2]).byte(horizon)
+        if not_before is None:
+            return self.byte(1)
+        return self.byte(0).byte(not_before)
+
+
 def scene_ops_seeds():
     seeds = {}
     # Fig. 2: unique bodies, unique frames, frame attached to a body.
@@ -164,11 +279,79 @@ def scene_ops_seeds():
              .remove_pose("h", "c").pose("h", "D", "g", "C", (0, 0), (4, 0))  # grasp
              .ask_pose("i", "b").ask_twist("i", "D", "A"))
     seeds["spray_painting"] = spray(Ops())
+    # Repair (docs/repair.md), the paper's Fig. 4: {d}|D -> {c2}|C, {a}|A -> {c1}|C; c2 = c,
+    # c1 = e; {f}|F. "c wrt f" is refused by P1 and added inverted; "b wrt f" then needs a
+    # re-root of f's tree (2 edges reversed; the kept query over d -> c is invalidated); "d wrt
+    # f" is already determined: consistent with the derived value, refused 1e-3 m off.
+    seeds["repair_fig4"] = (
+        Ops().pose("c", "C", "d", "D", (3, 0), (1, 0)).pose("e", "C", "a", "A", (4, 0), (2, 0))
+        .pose("b", "B", "h", "E", (1, 0), (3, 0))
+        .ask_pose("c", "d", keep=True)
+        .repair_pose("c", None, "f", "F", (5, 0), (4, 0))      # inverted
+        .repair_pose("e", None, "f", None, (1, 0), (1, 0))     # re-root refused by P3: P1 stays
+        .repair_conflict(2, "f", None, (6, 0), (5, 0))         # b wrt f: re-rooted
+        .repair_determined("d", "f", 0)                        # consistent
+        .repair_determined("d", "f", 3)                        # refused, 1e-3 m
+        .repair_determined("d", "f", 3, policy=166)            # tolerance 1e-3: at the boundary
+        .repair_determined("c", "d", 5, policy=162)            # consistency checks off
+        .ask_pose("b", "d").ask_pose("f", "a"))
+    # Fig. 6: e|C has the twist parent D; its twist wrt F is added inverted on {f}|F; then the
+    # twist of C wrt F at {g}|C is already determined (consistent, then 1e-3 rad/s off).
+    seeds["repair_fig6"] = (
+        Ops().pose("f", "F", "e", "C", (3, 0), (2, 0)).pose("g", "C", "e", "C", (0, 0), (4, 0))
+        .twist("e", "C", "D")
+        .repair_twist("e", "F", twist_index=0, case=0, choice=None)  # W1 -> inverted on f
+        .repair_twist("g", "F", twist_index=0, case=3, choice=0)  # W3 -> consistent
+        .repair_twist("g", "F", twist_index=0, case=3, choice=2)  # W3 -> discrepancy
+        .ask_twist("g", "C", "F").ask_twist("f", "F", "D"))
+    # Joints: j0 revolute a|A -> b|B about z in [-1, 1], j1 prismatic b -> c|C along x in
+    # [0, 0.5], j2 continuous c -> d|D, j3 a mimic of j0 (multiplier -1, offset 0.1) d -> e|E.
+    arm = (lambda o: o
+           .joint(0, 0, "a", "A", "b", "B", rotation=3, position=1, axis=2, limits=0)
+           .joint(1, 2, "b", None, "c", "C", rotation=4, position=2, axis=0, limits=2, have_joints=True)
+           .joint(2, 1, "c", None, "d", "D", rotation=5, position=3, axis=4, have_joints=True)
+           .joint(3, 0, "d", None, "e", "E", rotation=1, position=4, axis=1, limits=0, mimic=(0, 1, 1),
+                  have_joints=True)
+           .joint(0, 0, "e", None, "f", "F", have_joints=True)             # duplicate_joint
+           .joint(1, 0, "f", "F", "g", "A", axis=6, have_joints=True)       # invalid_model (no axis)
+           .set_joints([(0, 1), (1, 130)], [(0, 3), (2, 5)])               # 0.5, upper + 5e-10
+           .set_joints([(0, 131)])                                          # joint_limit
+           .set_joints([(3, 1)])                                            # mimic_joint
+           .jacobian("e", "A").jacobian("c", "D").ask_twist("e", "E", "A")
+           .make_group([0, 1, 2]).set_group(2, [(1, 3), (133, 2), (4, 5)])
+           .jacobian("e", "A", body="E").ask_pose("e", "a")
+           .remove_pose("b", "a")                                           # j0 has a mimic: joint_edge
+           .remove_pose("e", "d")                                           # removes j3
+           .remove_pose("b", "a")                                           # removes j0
+           .set_group(0, [(1, 0), (1, 0), (1, 0)])                          # unknown_joint (stale)
+           .jacobian("e", "A"))
+    seeds["joints_arm"] = arm(Ops())
+    # Time: {o}|B stamped wrt {c}|A at 1, 1.5, 1.25 (out of order), 1.5 again (duplicate),
+    # and a stamped twist; queries between samples, latest common, with and without a horizon.
+    track = (lambda o: o
+             .stamped_pose("b", "B", "c", "A", 0, (3, 0), (1, 0))
+             .next_sample(0, 0, 2).next_sample(0, 4, 1).next_sample(0, 3, 1)
+             .next_sample(0, 2, 1)          # 1.5 s + 1 ns: a 4th sample (capacity 3: the oldest goes)
+             .timed_pose(0, near=(0, 1, 1))  # between the first two kept samples
+             .stamped_twist("b", "A", 0, (2, 0), (3, 0))
+             .stamped_twist("b", "A", 2, (1, 0), (2, 0), twists_exist=True)
+             .timed_pose(0, near=(0, 1, 2)).timed_pose(0, kind=1, near=(0, 2, 1))
+             .timed_pose(0, policy=1).timed_pose(0, policy=0, not_before=4)
+             .timed_pose(0, near=(0, 0, 3))                           # extrapolation
+             .timed_pose(0, near=(0, 0, 3), horizon=3)                # integrated with the twist
+             .timed_pose(0, near=(0, 0, 4), horizon=4)                # before the first sample
+             .timed_pose(0, near=(0, 0, 0), horizon=5)                # negative horizon
+             .next_sample(0, 5, 3)                                    # 12 s later: older ones pruned
+             .timed_pose(0, near=(0, 0, 2)).timed_pose(0, kind=2, near=(0, 1, 1)))
+    seeds["time_track"] = track(Ops())
+    for name, byte0 in (("linear", 2), ("reject", 4), ("small_window", 8)):
+        seeds["time_track_" + name] = track(Ops())
+        seeds["time_track_" + name].b[0] = byte0
     out = {}
     for name, ops in seeds.items():
         out[name] = bytes(ops.b)
         homogeneous = bytearray(ops.b)
-        homogeneous[0] = 1
+        homogeneous[0] |= 1
         out[name + "_homogeneous"] = bytes(homogeneous)
     # Invalid numbers and names on an existing scene.
     bad = spray(Ops(True))
@@ -288,6 +471,43 @@ ops:
     "bad_alias_bomb.yaml": "a: &a [" + "xxxxxxxxxxxxxxxx," * 16 + "]\nb: &b [" + "*a," * 64 +
                            "]\nc: &c [" + "*b," * 64 + "]\nd: &d [" + "*c," * 64 + "]\nops: [" +
                            "*d," * 64 + "]\n",
+    # Time: stamps, every query time field, the errors (docs/scene-script.md, Time).
+    "time.yaml": """time: {interpolation: screw, duplicate_stamp: replace, window: 10}
+ops:
+  - {op: pose, of: o, body: O, wrt: w, ref_body: W, stamp: 1}
+  - {op: pose, of: o, wrt: w, position: [2, 0, 0], rotation: {rpy: [0, 0, 1.5707963267948966]}, stamp: 2}
+  - {op: twist, point: o, ref_body: W, coord: o, linear: [1.57, -1.57, 0], angular: [0, 0, 1.57], stamp: 1}
+  - {op: twist, point: o, ref_body: W, coord: o, linear: [1.57, -1.57, 0], angular: [0, 0, 1.57], stamp: 2}
+  - {op: pose, of: s, body: S, wrt: w, position: [0, 0, 1], stamp: 1}
+  - {op: pose, of: s, wrt: w, position: [0, 0, 2], stamp: 1.25}
+  - {op: query, kind: pose, of: o, wrt: w, at: 1.5}
+  - {op: query, kind: twist, point: o, ref_body: W, coord: o, at: 1.5, source: poses}
+  - {op: query, kind: pose, of: o, wrt: w, at: 2.5, max_extrapolation: 0.5}
+  - {op: query, kind: pose, of: o, wrt: s, at: latest_common}
+  - {op: query, kind: position, of: o, wrt: s, at: 1.5, ref_at: 1.125, fixed: w}
+  - {op: query, kind: angular_velocity, body: O, ref_body: W, coord: w, not_before: 1.5}
+  - {op: joint, name: j, type: revolute, parent: base, parent_body: Base, child: l1, child_body: L1, axis: [0, 0, 1], lower: -3, upper: 3}
+  - {op: joints, positions: {j: 0.2}, velocities: {j: 0.5}, stamp: 1}
+  - {op: joints, positions: {j: 0.6}, stamp: 2}
+  - {op: joints, positions: {j: 0.1}}
+  - {op: query, kind: orientation, of: l1, wrt: base, at: 1.5}
+""",
+    "time_errors.yaml": """time: {window: 0.5, duplicate_stamp: reject, interpolation: linear}
+ops:
+  - {op: pose, of: o, body: O, wrt: w, ref_body: W, stamp: 1}
+  - {op: pose, of: o, wrt: w, position: [1, 0, 0], stamp: 2}
+  - {op: pose, of: o, wrt: w, stamp: 1.4}
+  - {op: pose, of: o, wrt: w, position: [1, 0, 1], stamp: 2}
+  - {op: pose, of: o, wrt: w, position: [5, 0, 0]}
+  - {op: pose, of: o, wrt: w, stamp: .nan}
+  - {op: twist, point: o, ref_body: W, coord: o, stamp: 1e10}
+  - {op: query, kind: pose, of: o, wrt: w, at: .inf}
+  - {op: query, kind: pose, of: o, wrt: w, at: 1.75, max_extrapolation: -0.001}
+  - {op: query, kind: pose, of: o, wrt: w, at: 1.75, ref_at: 1.8, fixed: nowhere}
+""",
+    "bad_time_field.yaml": "ops:\n  - {op: body, name: B, stamp: 1}\n",
+    "bad_time_window.yaml": "time: {window: -1}\nops: []\n",
+    "bad_time_travel.yaml": "ops:\n  - {op: query, kind: pose, of: a, wrt: b, at: latest_common, ref_at: 1, fixed: b}\n",
     # Aliased ops within the limit: each alias is one op, read as a copy.
     "alias_ops.yaml": "ops: [&o {op: body, name: B}, *o, *o, *o, &f {op: frame, name: f, body: B}, *f]\n",
 }
@@ -345,7 +565,10 @@ def main():
     # Structured mode (byte 0 odd): a few fixed byte strings.
     for i, data in enumerate([bytes([1, 0, 23]) + bytes(range(0, 250, 3)),
                               bytes([3, 1, 20]) + bytes(range(250, 0, -7)) * 2,
-                              bytes([5, 0, 12]) + bytes([2, 0, 1, 2, 1, 3, 2, 1, 0, 1, 0, 7] * 6)]):
+                              bytes([5, 0, 12]) + bytes([2, 0, 1, 2, 1, 3, 2, 1, 0, 1, 0, 7] * 6),
+                              # with a time map and many time decisions (stamps, at, travel)
+                              bytes([7, 0, 0, 1, 0, 1, 22]) + bytes([2, 3, 0, 1, 2, 3, 4, 0, 1, 0, 6, 0, 1, 2, 0, 3] * 8),
+                              bytes([9, 1, 0, 0, 1, 0, 23]) + bytes(range(7, 250, 5)) * 2]):
         with open(os.path.join(script_dir, "seed_structured_%d" % i), "wb") as f:
             f.write(data)
 

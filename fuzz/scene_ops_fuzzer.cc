@@ -7,8 +7,13 @@
 //
 // Input format (every byte string is a valid input; see support/op_reader.h):
 //   byte 0            bit 0: also run the sequence on the homogeneous backend (the quaternion
-//                     backend always runs); the rest of the input is decoded once per backend
-//   then ops          one op-code byte, then the op's arguments (names, value choices)
+//                     backend always runs); the rest of the input is decoded once per backend.
+//                     Time options: bit 1 linear interpolation (else screw), bit 2 duplicate
+//                     stamps rejected (else replaced), bit 3 a 1 s window and 3 samples per edge
+//   then ops          one op-code byte (% 20), then the op's arguments (names, value choices);
+//                     13 and 14 are extended ops, one more byte (% 12): 0-3 repairing adds,
+//                     4 joint, 5 joint states by name, 6 joint group made / set, 7 Jacobian,
+//                     8 stamped pose, 9 stamped twist, 10-11 a query under a time policy
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -20,7 +25,8 @@
 // Re-adding an existing edge uses the stored value with such a modifier.
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's frame or another frame of
-// its tree). Caps: at most kMaxOps ops per backend run.
+// its tree; their repair; joints; stamped adds and time policies: tests/reference/reference_model.h).
+// Caps: at most kMaxOps ops per backend run.
 // Debugging: SEMGRAPH_FUZZ_TRACE=1 prints every input's op sequence (e.g. with the replay main).
 #include <cstddef>
 #include <cstdint>
@@ -134,7 +140,8 @@ Eigen::Vector3d ModifyVector(Eigen::Vector3d v, std::uint32_t modifier, std::uin
 template <coord::Backend B>
 class Fuzzer {
  public:
-  Fuzzer(const std::uint8_t* data, std::size_t size) : in_(data, size) {}
+  Fuzzer(const std::uint8_t* data, std::size_t size, const reference::TimeOptions& time)
+      : in_(data, size), d_(time) {}
 
   void Run() {
     for (std::size_t n = 0; n < kMaxOps && !in_.empty(); ++n) Step();
@@ -224,6 +231,7 @@ class Fuzzer {
       case 8: case 9: AddTwist(); break;
       case 10: ReAddTwist(); break;
       case 11: RemoveTwist(); break;
+      case 13: case 14: Extended(); break;
       case 18: d_.Keep(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
       default: d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
     }
@@ -320,6 +328,430 @@ class Fuzzer {
     d_.RemoveTwist(point, Body());
   }
 
+  // ---------------------------------------------------------------- extended ops (one more byte)
+
+  void Extended() {
+    switch (in_.Byte() % 12) {
+      case 0: RepairPose(); break;
+      case 1: RepairPoseConflict(); break;
+      case 2: RepairPoseDetermined(); break;
+      case 3: RepairTwist(); break;
+      case 4: AddJoint(); break;
+      case 5: SetJoints(); break;
+      case 6: Group(); break;
+      case 7: d_.AskJacobian(JacobianQuery()); break;
+      case 8: StampedPose(); break;
+      case 9: StampedTwist(); break;
+      default: {
+        const Query q = TimedQuery();  // (reads in this order: a function's arguments have none)
+        d_.AskTimed(q, TimePolicy());
+        break;
+      }
+    }
+  }
+
+  // ---------------------------------------------------------------- time
+
+  // Stamps (ns): around 1-3 s, a nanosecond apart, far ahead (beyond the 10 s window of the
+  // first ones) and negative.
+  std::int64_t StampChoice() {
+    static const std::int64_t kStamps[] = {1000000000, 1500000000, 2000000000, 2500000000, 3000000000,
+                                           1000000001, 1250000000, 12000000000, -1000000000, 0,
+                                           2000000000, 3000000000, 1750000000, 4000000000, 2000000001, 500000000};
+    return kStamps[in_.Below(16)];
+  }
+
+  // The next sample's stamp after an edge's newest: in order (0.5 s, 1 ns later), the same
+  // stamp (a duplicate), out of order, beyond the window (12 s), or from the table.
+  std::int64_t NextStamp(std::int64_t newest) {
+    switch (in_.Below(8)) {
+      case 0: case 1: return newest + 500000000;
+      case 2: return newest + 1;
+      case 3: return newest;
+      case 4: return newest - 250000000;
+      case 5: return newest + 12000000000;
+      case 6: return newest + 300000000;
+      default: return StampChoice();
+    }
+  }
+
+  // A query time relative to a stamped edge's samples: at one, between two, just outside.
+  std::int64_t TimeNear(const std::vector<std::int64_t>& stamps) {
+    const std::int64_t a = stamps[in_.Below(static_cast<std::uint32_t>(stamps.size()))];
+    const std::int64_t b = stamps[in_.Below(static_cast<std::uint32_t>(stamps.size()))];
+    switch (in_.Below(6)) {
+      case 0: return a;
+      case 1: return a + (b - a) / 4;
+      case 2: return a + (b - a) / 2;
+      case 3: return stamps.back() + 200000000;
+      case 4: return stamps.front() - 100000000;
+      default: return a + 1;
+    }
+  }
+
+  // A query through a stamped edge (a pose across it, or a twist at its head), or any query.
+  Query TimedQuery() {
+    struct Focus {
+      std::string head, tail;
+      std::vector<std::int64_t> stamps;
+    };
+    std::vector<Focus> edges;
+    for (const reference::PoseEdge& e : d_.model().poses()) {
+      if (!e.stamped) continue;
+      edges.push_back({e.head, e.tail, {}});
+      for (const reference::PoseSample& x : e.samples) edges.back().stamps.push_back(x.t);
+    }
+    for (const reference::TwistEdge& t : d_.model().twists()) {
+      if (!t.stamped) continue;
+      edges.push_back({t.head, std::string(), {}});
+      for (const reference::TwistSample& x : t.samples) edges.back().stamps.push_back(x.t);
+    }
+    focus_stamps_.clear();
+    if (edges.empty() || in_.OneIn(4)) return MakeQuery(static_cast<QueryKind>(in_.Below(6)));
+    const Focus& focus = edges[in_.Below(static_cast<std::uint32_t>(edges.size()))];
+    focus_stamps_ = focus.stamps;  // TimePolicy picks times around these
+    const std::string& head = focus.head;
+    Query q;
+    q.kind = static_cast<QueryKind>(in_.Below(6));
+    q.point = q.orientation = head;
+    q.ref_point = q.ref_orientation = !focus.tail.empty() && in_.Bool() ? focus.tail : FrameNear(head);
+    q.coord = in_.Bool() ? q.ref_orientation : FrameNear(head);
+    if (q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity || q.kind == QueryKind::kAngularVelocity) {
+      q.body = d_.model().frames().at(head);
+      q.ref_body = Body();
+      for (const reference::TwistEdge& t : d_.model().twists()) {
+        if (t.head == head && in_.Bool()) q.ref_body = t.tail_body;
+      }
+      if (q.kind == QueryKind::kAngularVelocity) q.point.clear();
+    }
+    if (q.kind == QueryKind::kPosition) q.orientation.clear(), q.ref_orientation.clear();
+    if (q.kind == QueryKind::kOrientation) q.point.clear(), q.ref_point.clear();
+    return q;
+  }
+
+  reference::TimeQuery TimePolicy() {
+    static const std::int64_t kTimes[] = {1000000000, 1250000000, 1750000000, 2000000000, 3500000000, 12000000000,
+                                          0, 2600000000};
+    static const std::int64_t kHorizons[] = {0, 0, 0, 500000000, 2000000000, -1, 0, 100000000};
+    reference::TimeQuery p;
+    switch (in_.Below(4)) {
+      case 0: p.kind = reference::TimeQuery::Kind::kLatest; break;
+      case 1: p.kind = reference::TimeQuery::Kind::kLatestCommon; break;
+      default: {
+        p.kind = reference::TimeQuery::Kind::kAt;
+        std::vector<std::vector<std::int64_t>> histories;
+        if (!focus_stamps_.empty() && !in_.OneIn(4)) histories.push_back(focus_stamps_);
+        for (const reference::PoseEdge& e : d_.model().poses()) {
+          if (e.stamped) histories.emplace_back();
+          for (const reference::PoseSample& x : e.samples) histories.back().push_back(x.t);
+        }
+        for (const reference::TwistEdge& e : d_.model().twists()) {
+          if (e.stamped) histories.emplace_back();
+          for (const reference::TwistSample& x : e.samples) histories.back().push_back(x.t);
+        }
+        if (!histories.empty() && !in_.OneIn(4)) {
+          p.t = TimeNear(histories[focus_stamps_.empty() ? in_.Below(static_cast<std::uint32_t>(histories.size())) : 0]);
+        } else {
+          p.t = in_.OneIn(3) ? StampChoice() : kTimes[in_.Below(8)];
+        }
+        p.horizon = kHorizons[in_.Below(8)];
+        break;
+      }
+    }
+    if (in_.OneIn(4)) p.not_before = StampChoice();
+    return p;
+  }
+
+  // A stamped sample: mostly of an existing edge (its next sample), else a new edge.
+  void StampedPose() {
+    const auto& poses = d_.model().poses();
+    const std::int64_t stamp = StampChoice();
+    std::vector<const reference::PoseEdge*> stamped;  // mostly a stamped edge's next sample
+    for (const reference::PoseEdge& x : poses) {
+      if (x.stamped) stamped.push_back(&x);
+    }
+    if (poses.empty() || (stamped.empty() ? !in_.OneIn(4) : in_.OneIn(4))) {
+      const std::string head = Frame();
+      const std::string head_body = BodyFor(head);
+      const std::string tail = Frame();
+      const std::string tail_body = BodyFor(tail);
+      const RotationInput rotation = Rotation();
+      const Eigen::Vector3d p = Position();
+      d_.StampedPose(head, head_body, tail, tail_body, rotation, p, stamp);
+      return;
+    }
+    const reference::PoseEdge e = !stamped.empty() && !in_.OneIn(4)
+                                      ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
+                                      : poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+    const std::int64_t next = e.stamped ? NextStamp(e.samples.back().t) : stamp;
+    RotationInput rotation = AsQuaternion(Eigen::Quaterniond(e.X_TH.R));
+    Eigen::Vector3d p = e.X_TH.p;
+    switch (in_.Below(6)) {
+      case 0: break;  // the same value (a no-op at an existing stamp)
+      case 1: p += Eigen::Vector3d(0.1, -0.05, 0.02); break;
+      case 2: rotation = AsQuaternion(rotation.q * Rpy(0.05, 0.3, -0.2)); break;
+      case 3: rotation = AsQuaternion(rotation.q * Rpy(0.0, 0.0, 2.0)), p += Eigen::Vector3d(0.0, 0.3, 0.0); break;
+      default: rotation = Rotation(), p = Position(); break;
+    }
+    d_.StampedPose(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), e.tail, std::string(),
+                   rotation, p, next);
+  }
+
+  void StampedTwist() {
+    const auto& twists = d_.model().twists();
+    const std::int64_t stamp = StampChoice();
+    std::vector<const reference::TwistEdge*> stamped;
+    for (const reference::TwistEdge& x : twists) {
+      if (x.stamped) stamped.push_back(&x);
+    }
+    if (twists.empty() || (stamped.empty() ? !in_.OneIn(4) : in_.OneIn(4))) {
+      const std::string point = Frame();
+      const std::string body = BodyFor(point);
+      const std::string ref_body = Body();
+      const std::string coord = TwistCoord(point);
+      const Eigen::Vector3d v = Velocity();
+      d_.StampedTwist(point, body, ref_body, coord, v, Velocity(), stamp);
+      return;
+    }
+    const reference::TwistEdge t = !stamped.empty() && !in_.OneIn(4)
+                                       ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
+                                       : twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+    const std::string coord = TwistCoord(t.head);
+    const Eigen::Vector3d v = Velocity();
+    const Eigen::Vector3d w = Velocity();
+    d_.StampedTwist(t.head, std::string(), t.tail_body, coord, v, w, t.stamped ? NextStamp(t.samples.back().t) : stamp);
+  }
+
+  // ---------------------------------------------------------------- joints
+
+  std::string JointName() {
+    const std::uint8_t b = in_.Byte();
+    static const char* const kJoints[] = {"j0", "j1", "j2", "j3"};
+    return b < 248 ? kJoints[b % 4] : SpecialName(b, true);
+  }
+  // An existing joint's name (often), else any joint name.
+  std::string SomeJoint() {
+    const auto& joints = d_.model().joints();
+    if (!joints.empty() && !in_.OneIn(4)) return joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].name;
+    return JointName();
+  }
+
+  void AddJoint() {
+    static const Eigen::Vector3d kAxes[] = {
+        {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.3, -0.2, 0.9}, {0, 0, -2}, {0, 0, 0}, {1e-13, 0, 0}};
+    static const double kLimits[][2] = {{-1, 1}, {-3.2, 3.2}, {0, 0.5}, {0.2, 1.0}, {1, -1}, {-0.5, -0.1}, {0, 0}, {-2, 2}};
+    static const double kMultipliers[] = {1, -1, 0.5, 2, kNaN, 1, -0.25, 3};
+    static const double kOffsets[] = {0, 0.1, -0.3, 0.25, 0, 0.1, -1.0, kInf};
+    reference::JointInput in;
+    in.name = JointName();
+    in.type = static_cast<reference::JointType>(in_.Below(4));
+    // The parent: often an existing joint's child (chains), else any frame.
+    const auto& joints = d_.model().joints();
+    in.parent = !joints.empty() && in_.Bool() ? joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].child : Frame();
+    in.parent_body = BodyFor(in.parent);
+    in.child = in_.OneIn(16) ? in.parent : Frame();
+    in.child_body = BodyFor(in.child);
+    const std::uint8_t rotation = in_.Byte();
+    in.q_origin = Rotations()[rotation % 8];
+    if (rotation >= 224) {  // an invalid or non-unit origin now and then
+      const RotationInput r = ModifyRotation(in.q_origin, rotation >> 2, rotation);
+      in.q_origin = r.is_matrix ? Eigen::Quaterniond(r.R) : r.q;
+    }
+    in.p_origin = in_.OneIn(16) ? Position() : kPositions[in_.Below(6)];  // mostly finite
+    in.axis = kAxes[in_.Below(8)];
+    if (in_.OneIn(32)) in.axis.y() = kNaN;
+    if (in_.OneIn(32)) in.lower = kNaN;
+    const auto& limits = kLimits[in_.Below(8)];
+    in.lower = limits[0];
+    in.upper = limits[1];
+    if (in_.OneIn(4)) {
+      in.mimic = SomeJoint();
+      in.multiplier = kMultipliers[in_.Below(8)];
+      in.offset = kOffsets[in_.Below(8)];
+    }
+    d_.Joint(in);
+  }
+
+  // A joint value: near the joint's limits (inside, at the slack, outside) or from a table.
+  double JointValueFor(const std::string& name) {
+    static const double kValues[] = {0, 0.5, -0.7, 1.0, 3.0, -2.5, kNaN, kInf};
+    const reference::Joint* j = nullptr;
+    for (const reference::Joint& x : d_.model().joints()) {
+      if (x.name == name) j = &x;
+    }
+    const std::uint8_t b = in_.Byte();
+    if (!j || b < 128) return kValues[b % 8];
+    switch (b % 8) {
+      case 0: return j->lower;
+      case 1: return j->upper;
+      case 2: return j->upper + 5e-10;  // within the slack: accepted as given
+      case 3: return j->upper + 2e-9;   // outside: joint_limit
+      case 4: return j->lower - 2e-9;
+      case 5: return 0.5 * (j->lower + j->upper);
+      case 6: return j->lower + 0.3 * (j->upper - j->lower);
+      default: return 40.0 + j->q;  // a wheel that turned (continuous)
+    }
+  }
+
+  void SetJoints() {
+    typename Differential<B>::JointValues positions, velocities;
+    for (std::uint32_t n = in_.Below(4); n > 0; --n) {
+      const std::string name = SomeJoint();
+      positions.emplace_back(name, JointValueFor(name));
+    }
+    for (std::uint32_t n = in_.Below(3); n > 0; --n) {
+      const std::string name = SomeJoint();
+      velocities.emplace_back(name, JointValueFor(name));
+    }
+    d_.SetJoints(positions, velocities);
+  }
+
+  // MakeJointGroup (names of existing joints, mostly) or a real-time set of the kept group.
+  void Group() {
+    if (in_.OneIn(3)) {
+      std::vector<std::string> names;
+      for (std::uint32_t n = 1 + in_.Below(4); n > 0; --n) names.push_back(SomeJoint());
+      d_.MakeGroup(names);
+      return;
+    }
+    const int which = static_cast<int>(in_.Below(3));
+    if (!d_.has_group()) return;
+    std::vector<double> values;
+    for (const std::string& name : d_.GroupJoints()) {
+      values.push_back(JointValueFor(name));
+      values.push_back(JointValueFor(std::string()));  // a velocity from the table
+    }
+    d_.SetGroup(which, values);
+  }
+
+  // A twist query's arguments, pointed at joint children and parent bodies.
+  Query JacobianQuery() {
+    Query q = MakeQuery(QueryKind::kTwist);
+    const auto& joints = d_.model().joints();
+    if (!joints.empty() && in_.Bool()) {
+      const reference::Joint& j = joints[in_.Below(static_cast<std::uint32_t>(joints.size()))];
+      q.point = j.child;
+      q.coord = FrameNear(j.child);
+      const reference::Joint& k = joints[in_.Below(static_cast<std::uint32_t>(joints.size()))];
+      q.ref_body = k.parent_body;
+    }
+    return q;
+  }
+
+  // A repair policy: the default most often, a strategy switched off, or another tolerance
+  // (0, 1e-12: the rounding of a derived value decides; 1e-3: the 1e-3 changes sit on it).
+  reference::RepairPolicy Policy() {
+    reference::RepairPolicy p;
+    const std::uint8_t b = in_.Byte();
+    if (b < 160) return p;
+    switch (b % 8) {
+      case 0: p.invert = false; break;
+      case 1: p.reroot = false; break;
+      case 2: p.check_consistency = false; break;
+      case 3: p.position_tolerance = p.angle_tolerance = 0.0; break;
+      case 4: p.position_tolerance = p.angle_tolerance = 1e-12; break;
+      case 5: p.position_tolerance = 1e-6, p.angle_tolerance = 2e-4; break;
+      case 6: p.position_tolerance = p.angle_tolerance = 1e-3; break;
+      default: p.position_tolerance = 2e-3, p.angle_tolerance = 1e-9; break;
+    }
+    return p;
+  }
+
+  // The repairing AddPose takes a quaternion: a matrix choice is passed as its quaternion.
+  Eigen::Quaterniond QuaternionChoice() {
+    const RotationInput r = Rotation();
+    return r.is_matrix ? Eigen::Quaterniond(r.R) : r.q;
+  }
+
+  void RepairPose() {
+    const std::string head = Frame();
+    const std::string head_body = BodyFor(head);
+    const std::string tail = in_.OneIn(16) ? head : FrameNear(head);
+    const std::string tail_body = BodyFor(tail);
+    const Eigen::Quaterniond q = QuaternionChoice();
+    const Eigen::Vector3d p = Position();
+    d_.PoseRepair(head, head_body, tail, tail_body, q, p, Policy());
+  }
+
+  // A frame that has a pose parent, posed wrt another frame: P1 -> invert (or re-root when the
+  // other frame has a parent too), or a consistency check when both are in one tree.
+  void RepairPoseConflict() {
+    const auto& poses = d_.model().poses();
+    if (poses.empty()) return RepairPose();
+    const reference::PoseEdge e = poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+    const std::string tail = Frame();
+    const Eigen::Quaterniond q = QuaternionChoice();
+    const std::string head_body = in_.Bool() ? std::string() : d_.model().frames().at(e.head);
+    const std::string tail_body = BodyFor(tail);
+    const Eigen::Vector3d p = Position();
+    d_.PoseRepair(e.head, head_body, tail, tail_body, q, p, Policy());
+  }
+
+  // A relation the graph already determines (both frames in one tree), with the derived value
+  // exactly, or changed within / outside the tolerance.
+  void RepairPoseDetermined() {
+    const std::string head = Frame();
+    const std::string tail = FrameNear(head);
+    Query query;
+    query.kind = QueryKind::kPose;
+    query.point = query.orientation = head;
+    query.ref_point = query.ref_orientation = query.coord = tail;
+    const Answer derived = d_.model().Ask(query);
+    if (derived.code != ErrorCode::kOk) return RepairPose();
+    Eigen::Quaterniond q(derived.M);
+    Eigen::Vector3d p = derived.p;
+    switch (in_.Below(8)) {
+      case 1: q = Eigen::Quaterniond(-q.coeffs()); break;
+      case 2: p += Eigen::Vector3d::Constant(1e-10); break;
+      case 3: p += Eigen::Vector3d(0.0, 1e-3, 0.0); break;
+      case 4: q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-10, Eigen::Vector3d::UnitY())); break;
+      case 5: q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ())); break;
+      case 6: q = QuaternionChoice(), p = Position(); break;
+      default: break;
+    }
+    const std::string head_body = BodyFor(head);
+    const std::string tail_body = BodyFor(tail);
+    d_.PoseRepair(head, head_body, tail, tail_body, q, p, Policy());
+  }
+
+  // A twist on a point that has a twist parent, wrt another body (W1 -> the inverse twist), or
+  // a twist the graph already derives (W3 -> consistency), exact or changed.
+  void RepairTwist() {
+    const auto& twists = d_.model().twists();
+    std::string point = Frame(), ref_body = Body();
+    if (!twists.empty()) {
+      const reference::TwistEdge& t = twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+      switch (in_.Below(4)) {
+        case 0: point = t.head; break;  // W1 when ref_body is another body
+        case 1: case 2: {  // a frame of t's tree, wrt a body t's edge joins: mostly W3
+          point = FrameNear(t.head);
+          const auto it = d_.model().frames().find(point);
+          const std::string& H = d_.model().frames().at(t.head);
+          ref_body = it != d_.model().frames().end() && it->second == t.tail_body ? H : t.tail_body;
+          break;
+        }
+        default: break;
+      }
+    }
+    const std::string body = BodyFor(point);
+    const std::string coord = TwistCoord(point);
+    Query query;
+    query.kind = QueryKind::kTwist;
+    query.point = point;
+    query.ref_body = ref_body;
+    query.coord = coord;
+    const Answer derived = d_.model().Ask(query);
+    Eigen::Vector3d v = derived.v, w = derived.w;
+    switch (derived.code == ErrorCode::kOk ? in_.Below(6) : 5) {
+      case 1: v += Eigen::Vector3d(1e-10, 0.0, 0.0); break;
+      case 2: w += Eigen::Vector3d(0.0, 0.0, 1e-3); break;
+      case 3: v += Eigen::Vector3d(0.0, 2e-3, 0.0); break;
+      case 4: case 5: v = Velocity(), w = Velocity(); break;
+      default: break;
+    }
+    d_.TwistRepair(point, body, ref_body, coord, v, w, Policy());
+  }
+
   Query MakeQuery(QueryKind kind) {
     Query q;
     q.kind = kind;
@@ -364,6 +796,7 @@ class Fuzzer {
 
   OpReader in_;
   Differential<B> d_;
+  std::vector<std::int64_t> focus_stamps_;  // the stamps of the edge the last timed query crosses
 };
 
 }  // namespace
@@ -372,7 +805,11 @@ class Fuzzer {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const bool homogeneous = (data[0] & 1u) != 0;
-  semgraph::fuzz::Fuzzer<semgraph::coord::QuaternionBackend>(data + 1, size - 1).Run();
-  if (homogeneous) semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1).Run();
+  semgraph::reference::TimeOptions time;  // bits 1-3: the graph's time options
+  time.linear = (data[0] & 2u) != 0;
+  time.reject_duplicates = (data[0] & 4u) != 0;
+  if (data[0] & 8u) time.window_ns = 1000000000, time.capacity = 3;  // 1 s, 3 samples: pruning
+  semgraph::fuzz::Fuzzer<semgraph::coord::QuaternionBackend>(data + 1, size - 1, time).Run();
+  if (homogeneous) semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1, time).Run();
   return 0;
 }

@@ -17,12 +17,21 @@
 //                         (unknown op, missing or mistyped field, wrong array length, a field of
 //                         another op, two rotation forms, unknown representation, broken YAML,
 //                         ...) is spliced in at a decoded position and must give status 2.
+//                         Time (docs/scene-script.md, Time): a `time` map sometimes (mode,
+//                         duplicate policy, window), stamps on pose and twist ops (sometimes
+//                         NaN or out of range), and on queries `at` (a time or latest_common),
+//                         `max_extrapolation` (sometimes negative), `not_before`, time travel
+//                         (`ref_at` + `fixed`) and `source`; the API side makes the same timed
+//                         calls, and the time keys printed ("time", "ref_time", "oldest",
+//                         "newest", "extrapolated") must equal its TimeReport. Misplaced and
+//                         malformed time fields are among the malformed variants.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -76,10 +85,11 @@ int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
     }
     if (!graph.CheckInvariants().empty()) Fail("CheckInvariants() after the script", text);
   };
+  const core::TimeOptions time = script::TimeOptionsOf(script->time);
   if (script->representation == Representation::kHomogeneous) {
-    run(core::SceneGraph<coord::HomogeneousBackend>());
+    run(*core::SceneGraph<coord::HomogeneousBackend>::Create(time));
   } else {
-    run(core::SceneGraph<coord::QuaternionBackend>());
+    run(*core::SceneGraph<coord::QuaternionBackend>::Create(time));
   }
   return all_ok ? kExitOk : kExitOpFailed;
 }
@@ -89,6 +99,8 @@ int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
 const char* const kBodies[] = {"A", "B", "C", "D"};
 const char* const kFrames[] = {"a", "b", "c", "d", "e", "f", "g", "h"};
 const double kNumbers[] = {0.0, 1.0, -0.5, 0.2, 0.3, 1.25, -2.0, 0.1};
+// Times (seconds): mostly a few stamps apart, sometimes invalid (NaN, beyond 9.2e9 s).
+const double kTimes[] = {0.0, 0.1, 0.25, 0.5, 1.0, 0.2, 0.3, 2.0};
 
 // One generated op: its YAML line, and how to apply it directly with the API.
 struct GenOp {
@@ -100,6 +112,10 @@ struct GenOp {
   int rotation_form = 0;  // 0 none, 1 quaternion, 2 rpy, 3 matrix
   double rot[9] = {};
   double pos[3] = {}, lin[3] = {}, ang[3] = {};
+  // Time: the stamp of a pose/twist op; a query's fields (docs/scene-script.md, Time).
+  std::optional<double> stamp, at, horizon, not_before, ref_at;
+  bool latest_common = false, poses = false;
+  std::string fixed;
 };
 
 class Generator {
@@ -139,6 +155,47 @@ class Generator {
     std::snprintf(buf, sizeof(buf), "%.17g", x);
     return buf;
   }
+  double Time() {
+    const std::uint8_t b = in_.Byte();
+    if (b == 255) return std::nan("");
+    if (b == 254) return 1e10;  // beyond 9.2e9 s
+    return kTimes[b % 8] * (1 + (b >> 3) % 2);
+  }
+  std::string TimeField(const char* key, std::optional<double>* out) {
+    *out = Time();
+    return std::string(", ") + key + ": " + Text(**out);
+  }
+  // The time fields of a query of kind k (each sometimes).
+  std::string QueryTime(GenOp& op) {
+    std::string y;
+    const bool pose_kind = op.query <= script::QueryKind::kOrientation;
+    const bool travel = pose_kind && in_.OneIn(4);
+    if (travel || in_.OneIn(2)) {
+      if (!travel && in_.OneIn(4)) {
+        op.latest_common = true;
+        y += ", at: latest_common";
+      } else {
+        y += TimeField("at", &op.at);
+      }
+    }
+    if (travel) {
+      y += TimeField("ref_at", &op.ref_at);
+      op.fixed = Frame();
+      y += ", fixed: " + Quote(op.fixed);
+    }
+    if (in_.OneIn(3)) {
+      op.horizon = in_.OneIn(6) ? -0.1 : Time();
+      y += ", max_extrapolation: " + Text(*op.horizon);
+    }
+    if (in_.OneIn(5)) y += TimeField("not_before", &op.not_before);
+    if (!pose_kind && op.query != script::QueryKind::kJacobian && in_.OneIn(3)) {
+      op.poses = in_.Bool();
+      y += op.poses ? ", source: poses" : ", source: twists";
+    }
+    return y;
+  }
+  std::string Stamp(GenOp& op) { return in_.OneIn(2) ? TimeField("stamp", &op.stamp) : ""; }
+
   std::string Vector(double* v) {
     for (int i = 0; i < 3; ++i) v[i] = Number();
     return "[" + Text(v[0]) + ", " + Text(v[1]) + ", " + Text(v[2]) + "]";
@@ -188,7 +245,7 @@ class Generator {
           }
           op.yaml += "]}";
         }
-        op.yaml += "}";
+        op.yaml += Stamp(op) + "}";
         break;
       }
       case 4:
@@ -199,7 +256,7 @@ class Generator {
                   ", ref_body: " + Quote(op.s[2]) + ", coord: " + Quote(op.coord);
         if (in_.Bool()) op.yaml += ", linear: " + Vector(op.lin);
         if (in_.Bool()) op.yaml += ", angular: " + Vector(op.ang);
-        op.yaml += "}";
+        op.yaml += Stamp(op) + "}";
         break;
       case 5:
         if (in_.Bool()) {
@@ -214,8 +271,9 @@ class Generator {
         break;
       default: {
         op.kind = GenOp::kQuery;
-        op.query = static_cast<script::QueryKind>(in_.Below(6));
-        const char* kinds[] = {"pose", "position", "orientation", "twist", "linear_velocity", "angular_velocity"};
+        op.query = static_cast<script::QueryKind>(in_.Below(7));
+        const char* kinds[] = {"pose", "position", "orientation", "twist", "linear_velocity", "angular_velocity",
+                               "jacobian"};
         op.yaml = std::string("{op: query, kind: ") + kinds[static_cast<int>(op.query)];
         if (op.query <= script::QueryKind::kOrientation) {
           // of: X, wrt: Y (the shorthand), point/orientation and coord overrides sometimes.
@@ -241,7 +299,7 @@ class Generator {
           }
           op.yaml += ", ref_body: " + Quote(op.s[2]) + ", coord: " + Quote(op.coord);
         }
-        op.yaml += "}";
+        op.yaml += QueryTime(op) + "}";
       }
     }
     return op;
@@ -261,6 +319,7 @@ struct Direct {
   bool ok = true;
   base::ErrorCode code = base::ErrorCode::kOk;
   std::vector<double> numbers;
+  core::TimeReport time;  // a query's, as the tool must print it
 
   static Eigen::Vector3d V(const double* v) { return {v[0], v[1], v[2]}; }
   template <class R>
@@ -279,29 +338,70 @@ struct Direct {
         core::PoseSpec spec = core::PoseSpec::Of(op.s[0], op.s[1]).RelativeTo(op.s[2], op.s[3]);
         if (!op.coord.empty()) spec.coordinate_frame = op.coord;
         const Eigen::Vector3d p = V(op.pos);
-        if (op.rotation_form == 0) Take(g.AddPose(spec, Eigen::Quaterniond::Identity(), p));
-        if (op.rotation_form == 1) Take(g.AddPose(spec, Eigen::Quaterniond(op.rot[0], op.rot[1], op.rot[2], op.rot[3]), p));
+        std::optional<core::Stamp> st;
+        if (op.stamp && !(st = core::StampFromSeconds(*op.stamp))) {
+          // An invalid stamp is invalid_number, after invalid_name: the add's order, which a
+          // NaN position reproduces without changing anything.
+          Take(g.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(std::nan(""), 0, 0)));
+          break;
+        }
+        const auto add = [&](const auto& R) { return st ? g.AddPose(spec, R, p, *st) : g.AddPose(spec, R, p); };
+        if (op.rotation_form == 0) Take(add(Eigen::Quaterniond::Identity()));
+        if (op.rotation_form == 1) Take(add(Eigen::Quaterniond(op.rot[0], op.rot[1], op.rot[2], op.rot[3])));
         if (op.rotation_form == 2) {
           const Eigen::Quaterniond q = Eigen::AngleAxisd(op.rot[2], Eigen::Vector3d::UnitZ()) *
                                        Eigen::AngleAxisd(op.rot[1], Eigen::Vector3d::UnitY()) *
                                        Eigen::AngleAxisd(op.rot[0], Eigen::Vector3d::UnitX());
-          Take(g.AddPose(spec, q, p));
+          Take(add(q));
         }
         if (op.rotation_form == 3) {
           Eigen::Matrix3d R;
           for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = op.rot[i];
-          Take(g.AddPose(spec, R, p));
+          Take(add(R));
         }
         break;
       }
-      case GenOp::kTwist:
-        Take(g.AddTwist(core::TwistSpec::Of(op.s[0], op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord),
-                        V(op.lin), V(op.ang)));
+      case GenOp::kTwist: {
+        const core::TwistSpec spec = core::TwistSpec::Of(op.s[0], op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
+        std::optional<core::Stamp> st;
+        if (op.stamp && !(st = core::StampFromSeconds(*op.stamp))) {
+          Take(g.AddTwist(spec, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero()));
+          break;
+        }
+        Take(st ? g.AddTwist(spec, V(op.lin), V(op.ang), *st) : g.AddTwist(spec, V(op.lin), V(op.ang)));
         break;
+      }
       case GenOp::kRemovePose: Take(g.RemovePose(op.s[0], op.s[1])); break;
       case GenOp::kRemoveTwist: Take(g.RemoveTwist(op.s[0], op.s[1])); break;
       case GenOp::kQuery: Query(g, op); break;
     }
+  }
+
+  // The query's policy from its fields; false when a time is invalid (then the error is
+  // invalid_number, after invalid_name).
+  static bool PolicyOf(const GenOp& op, core::TimePolicy* policy, std::optional<core::TimeTravel>* travel) {
+    const auto ns = [](std::optional<double> x, std::int64_t* out) {
+      if (!x) return true;
+      const auto v = core::NanosecondsFromSeconds(*x);
+      if (v) *out = *v;
+      return v.has_value();
+    };
+    std::int64_t at = 0, ref_at = 0, not_before = 0, horizon = 0;
+    if (!ns(op.at, &at) || !ns(op.ref_at, &ref_at) || !ns(op.not_before, &not_before)) return false;
+    if (op.horizon && (*op.horizon < 0 || !ns(op.horizon, &horizon))) return false;
+    std::optional<core::Stamp> nb;
+    if (op.not_before) nb = core::Stamp::Nanoseconds(not_before);
+    const core::Duration h = core::Duration::Nanoseconds(horizon);
+    if (op.ref_at) {
+      travel->emplace(core::Stamp::Nanoseconds(at), core::Stamp::Nanoseconds(ref_at), op.fixed, h, nb);
+    } else if (op.at) {
+      *policy = core::At{core::Stamp::Nanoseconds(at), h, nb};
+    } else if (op.latest_common) {
+      *policy = core::LatestCommon{nb};
+    } else {
+      *policy = core::Latest{nb};
+    }
+    return true;
   }
 
   void Query(const core::SceneGraph<B>& g, const GenOp& op) {
@@ -311,53 +411,126 @@ struct Direct {
     const std::string_view point =
         op.query == script::QueryKind::kAngularVelocity ? std::string_view() : std::string_view(op.s[0]);
     const core::TwistSpec ts = core::TwistSpec::Of(point, op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
+    core::TimePolicy policy = core::Latest{};
+    std::optional<core::TimeTravel> travel;
+    if (!PolicyOf(op, &policy, &travel)) {
+      const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
+      if (op.query == script::QueryKind::kPose) {
+        Take(g.GetPose(ps, probe));
+      } else if (op.query == script::QueryKind::kPosition) {
+        Take(g.GetPosition(ps, probe));
+      } else if (op.query == script::QueryKind::kOrientation) {
+        Take(g.GetOrientation(ps, probe));
+      } else if (op.query == script::QueryKind::kAngularVelocity) {
+        Take(g.GetAngularVelocity(ts, probe));
+      } else {
+        Take(g.GetTwist(ts, probe));
+      }
+      return;
+    }
+    const core::TwistSource source = op.poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
+    const bool timed = op.at || op.latest_common || op.not_before || op.horizon || op.ref_at || op.poses;
+    const auto pose_call = [&](auto&& get) { return travel ? get(*travel) : get(policy); };
+    switch (op.query) {
+      case script::QueryKind::kPose: {
+        const auto r = pose_call([&](const auto& t) { return g.GetPose(ps, t); });
+        Take(r);
+        if (ok) Push(B::TranslationOf(r->value.value)), Push(B::ToQuaternion(B::RotationOf(r->value.value))), time = r->time;
+        break;
+      }
+      case script::QueryKind::kPosition: {
+        const auto r = pose_call([&](const auto& t) { return g.GetPosition(ps, t); });
+        Take(r);
+        if (ok) Push(r->value.value), time = r->time;
+        break;
+      }
+      case script::QueryKind::kOrientation: {
+        const auto r = pose_call([&](const auto& t) { return g.GetOrientation(ps, t); });
+        Take(r);
+        if (ok) Push(B::ToQuaternion(r->value.value)), time = r->time;
+        break;
+      }
+      case script::QueryKind::kTwist: {
+        const auto r = g.GetTwist(ts, policy, source);
+        Take(r);
+        if (ok) Push(r->value.linear), Push(r->value.angular), time = r->time;
+        break;
+      }
+      case script::QueryKind::kLinearVelocity: {
+        const auto r = g.GetLinearVelocity(ts, policy, source);
+        Take(r);
+        if (ok) Push(r->value.value), time = r->time;
+        break;
+      }
+      case script::QueryKind::kAngularVelocity: {
+        const auto r = g.GetAngularVelocity(ts, policy, source);
+        Take(r);
+        if (ok) Push(r->value.value), time = r->time;
+        break;
+      }
+      case script::QueryKind::kJacobian: {  // the script prints the rows in order (v, then w)
+        const auto r = g.GetJacobian(ts, policy);
+        Take(r);
+        for (Eigen::Index row = 0; ok && row < 6; ++row) {
+          for (Eigen::Index c = 0; c < r->value.J.cols(); ++c) numbers.push_back(r->value.J(row, c));
+        }
+        if (ok) time = r->time;
+        break;
+      }
+    }
+    if (!timed && op.query != script::QueryKind::kJacobian) Untimed(g, op, ps, ts);
+  }
+
+  // A query without time fields: the untimed API must give the same code and numbers as the
+  // timed one at the latest samples (the tool calls the timed one).
+  void Untimed(const core::SceneGraph<B>& g, const GenOp& op, const core::PoseSpec& ps, const core::TwistSpec& ts) {
+    Direct u;
     switch (op.query) {
       case script::QueryKind::kPose: {
         const auto r = g.GetPose(ps);
-        Take(r);
-        if (ok) Push(B::TranslationOf(r->value)), Push(B::ToQuaternion(B::RotationOf(r->value)));
+        u.Take(r);
+        if (u.ok) u.Push(B::TranslationOf(r->value)), u.Push(B::ToQuaternion(B::RotationOf(r->value)));
         break;
       }
       case script::QueryKind::kPosition: {
         const auto r = g.GetPosition(ps);
-        Take(r);
-        if (ok) Push(r->value);
+        u.Take(r);
+        if (u.ok) u.Push(r->value);
         break;
       }
       case script::QueryKind::kOrientation: {
         const auto r = g.GetOrientation(ps);
-        Take(r);
-        if (ok) Push(B::ToQuaternion(r->value));
+        u.Take(r);
+        if (u.ok) u.Push(B::ToQuaternion(r->value));
         break;
       }
       case script::QueryKind::kTwist: {
         const auto r = g.GetTwist(ts);
-        Take(r);
-        if (ok) Push(r->linear), Push(r->angular);
+        u.Take(r);
+        if (u.ok) u.Push(r->linear), u.Push(r->angular);
         break;
       }
       case script::QueryKind::kLinearVelocity: {
         const auto r = g.GetLinearVelocity(ts);
-        Take(r);
-        if (ok) Push(r->value);
+        u.Take(r);
+        if (u.ok) u.Push(r->value);
         break;
       }
       case script::QueryKind::kAngularVelocity: {
         const auto r = g.GetAngularVelocity(ts);
-        Take(r);
-        if (ok) Push(r->value);
+        u.Take(r);
+        if (u.ok) u.Push(r->value);
         break;
       }
-      case script::QueryKind::kJacobian: {  // the script prints the rows in order (v, then w)
-        const auto r = g.GetJacobian(ts);
-        Take(r);
-        for (Eigen::Index row = 0; ok && row < 6; ++row) {
-          for (Eigen::Index c = 0; c < r->J.cols(); ++c) numbers.push_back(r->J(row, c));
-        }
-        break;
-      }
+      case script::QueryKind::kJacobian: return;
+    }
+    untimed_differs = u.code != code || u.numbers.size() != numbers.size();
+    for (std::size_t k = 0; !untimed_differs && k < numbers.size(); ++k) {
+      untimed_differs = std::abs(u.numbers[k] - numbers[k]) > 1e-9 * std::max(1.0, std::abs(numbers[k]));
     }
   }
+  bool untimed_differs = false;
+  Direct() = default;
 };
 
 // The numbers of a JSON line, in order of appearance inside [...] arrays.
@@ -382,6 +555,14 @@ std::vector<double> JsonArrayNumbers(const std::string& json) {
   return out;
 }
 
+// The number after "key": at the top level of a JSON line (nullopt when the key is absent).
+std::optional<double> JsonKeyNumber(const std::string& json, const std::string& key) {
+  const std::string k = "\"" + key + "\": ";
+  const std::size_t at = json.find(k);
+  if (at == std::string::npos) return std::nullopt;
+  return std::strtod(json.c_str() + at + k.size(), nullptr);
+}
+
 std::string JsonErrorCode(const std::string& json) {
   const std::string key = "\"error\": \"";
   const std::size_t at = json.find(key);
@@ -392,8 +573,8 @@ std::string JsonErrorCode(const std::string& json) {
 
 template <coord::Backend B>
 void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpOutcome>& lines,
-                    std::string_view text) {
-  core::SceneGraph<B> graph;
+                    std::string_view text, const core::TimeOptions& time) {
+  core::SceneGraph<B> graph = *core::SceneGraph<B>::Create(time);
   for (std::size_t i = 0; i < ops.size(); ++i) {
     const Direct<B> d(graph, ops[i]);
     const script::OpOutcome& line = lines[i];
@@ -409,6 +590,21 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpO
       Fail(where + ", the API says " + std::string(base::ToString(d.code)), text);
     }
     if (!d.ok) continue;
+    if (d.untimed_differs) Fail(where + ": the untimed API disagrees with the timed one at the latest samples", text);
+    if (ops[i].kind == GenOp::kQuery) {  // the time keys: exactly the report's
+      const std::pair<const char*, const std::optional<core::Stamp>*> keys[] = {
+          {"time", &d.time.time}, {"ref_time", &d.time.ref_time}, {"oldest", &d.time.oldest}, {"newest", &d.time.newest}};
+      for (const auto& [key, stamp] : keys) {
+        const std::optional<double> printed = JsonKeyNumber(line.json, key);
+        if (printed.has_value() != stamp->has_value() ||
+            (printed && *printed != static_cast<double>((*stamp)->nanoseconds()) / 1e9)) {
+          Fail(where + ": time key \"" + key + "\" differs from the API's report", text);
+        }
+      }
+      if ((line.json.find("\"extrapolated\": true") != std::string::npos) != d.time.extrapolated) {
+        Fail(where + ": \"extrapolated\" differs from the API's report", text);
+      }
+    }
     std::vector<double> printed = JsonArrayNumbers(line.json), expected = d.numbers;
     if (printed.size() != expected.size()) Fail(where + ": wrong number count", text);
     // Quaternions: the tool prints the representative with w >= 0 (first nonzero positive).
@@ -447,6 +643,13 @@ const char* const kMalformedOps[] = {
     "{op: twist, point: a, ref_body: B}",                                // coord missing
     "{op: pose, of: a, wrt: b, position: [0, 0, 0",                     // broken flow sequence
     "[op, body]",                                                        // op not a map
+    "{op: body, name: A, stamp: 1}",                                     // a time field of another op
+    "{op: query, kind: twist, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 0}",  // travel on a twist
+    "{op: query, kind: pose, of: a, wrt: b, source: poses}",             // source on a pose query
+    "{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2}",          // ref_at without fixed
+    "{op: query, kind: pose, of: a, wrt: b, at: latest_common, ref_at: 2, fixed: b}",  // travel needs a time
+    "{op: query, kind: pose, of: a, wrt: b, at: soon}",                  // at not a time
+    "{op: pose, of: a, wrt: b, stamp: 1, repair: true}",                 // repair takes no stamp
 };
 
 void Structured(OpReader& in) {
@@ -455,7 +658,22 @@ void Structured(OpReader& in) {
   std::vector<GenOp> ops;
   const std::size_t n = in.Below(24);
   for (std::size_t i = 0; i < n && !in.empty(); ++i) ops.push_back(gen.Op());
-  const std::string header = homogeneous ? "representation: homogeneous\nops:\n" : "ops:\n";
+  // The document's time map, sometimes (the graph options both sides use).
+  script::TimeSettings settings;
+  std::string time_map;
+  if (in.OneIn(2)) {
+    settings.linear = in.Bool();
+    settings.reject_duplicates = in.Bool();
+    time_map = std::string("time: {interpolation: ") + (settings.linear ? "linear" : "screw") +
+               ", duplicate_stamp: " + (settings.reject_duplicates ? "reject" : "replace");
+    if (in.Bool()) {
+      settings.window_ns = 500000000;  // 0.5 s: some samples drop, some are too old
+      time_map += ", window: 0.5";
+    }
+    time_map += "}\n";
+  }
+  const core::TimeOptions time = script::TimeOptionsOf(settings);
+  const std::string header = time_map + (homogeneous ? "representation: homogeneous\nops:\n" : "ops:\n");
   std::string text = header;
   if (ops.empty()) text += "  []\n";
   for (const GenOp& op : ops) text += "  - " + op.yaml + "\n";
@@ -465,9 +683,9 @@ void Structured(OpReader& in) {
   if (status == kExitMalformed) Fail("a well-formed generated script was rejected as malformed", text);
   if (lines.size() != ops.size()) Fail("not one output line per op", text);
   if (homogeneous) {
-    CompareWithApi<coord::HomogeneousBackend>(ops, lines, text);
+    CompareWithApi<coord::HomogeneousBackend>(ops, lines, text, time);
   } else {
-    CompareWithApi<coord::QuaternionBackend>(ops, lines, text);
+    CompareWithApi<coord::QuaternionBackend>(ops, lines, text, time);
   }
 
   // One malformed line spliced in: the whole script is malformed.
@@ -477,7 +695,9 @@ void Structured(OpReader& in) {
     if (i == at) bad += std::string("  - ") + kMalformedOps[in.Below(std::size(kMalformedOps))] + "\n";
     if (i < ops.size()) bad += "  - " + ops[i].yaml + "\n";
   }
-  if (in.OneIn(8)) bad = "representation: octonion\n" + bad.substr(header.size() - 5);  // unknown representation
+  const std::uint32_t document = in.Below(8);
+  if (document == 0) bad = "representation: octonion\n" + bad.substr(header.size() - 5);  // unknown representation
+  if (document == 1) bad = "time: {window: 0}\n" + bad.substr(time_map.size());  // a window that is not positive
   if (RunScript(bad, nullptr) != kExitMalformed) Fail("a malformed script was not rejected with status 2", bad);
 }
 

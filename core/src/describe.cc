@@ -305,7 +305,9 @@ std::string QueryReasonOf(const topology::SceneTopology& t, const QueryError& e,
                           const PoseSpec* spec) {
   const semantics::NameTable& names = t.names();
   const std::string role(semantics::FieldName(e.field));
-  const std::string_view given = spec != nullptr ? spec->field(e.field) : std::string_view();
+  // A time travel's fixed frame is not a field of the spec: never name a field for it.
+  const std::string_view given =
+      spec != nullptr && !e.time.fixed_frame ? spec->field(e.field) : std::string_view();
   const std::string name = e.name.is_valid() ? std::string(names.name(e.name)) : std::string(given);
   const bool named = e.name.is_valid() || !given.empty();
   const auto frame_text = [&](NameId id) {

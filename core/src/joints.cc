@@ -105,6 +105,13 @@ namespace {
 constexpr double kLimitSlack = 1e-9;
 constexpr std::uint32_t kNoJoint = 0xFFFFFFFFu;
 
+// A joint set without a stamp (and its mimics, which follow it): its edges are timeless.
+void MarkTimeless(internal::JointTable& joints, std::uint32_t index) noexcept {
+  internal::JointRecord& j = joints.joints[index];
+  j.timeless = true;
+  for (std::uint32_t m : j.mimics) joints.joints[m].timeless = true;
+}
+
 std::string JointWhat(std::string_view name) {
   return "joint " + (name.empty() ? std::string("\"\"") : std::string(name));
 }
@@ -430,7 +437,7 @@ ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, cons
   // One pass collects every failure; the first in the rules' order is reported, so a rejected
   // set changes nothing (all or nothing) and costs one pass too.
   const std::size_t n = group.joints.size();
-  bool bad_number = false, unknown = false, mimic = false, limit = false;
+  bool bad_number = false, unknown = false, mimic = false, limit = false, stamped = false;
   for (std::size_t i = 0; i < n; ++i) {
     bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
     const internal::JointRecord* j = joints_.Get(group.joints[i]);
@@ -440,13 +447,16 @@ ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, cons
     }
     mimic |= j->is_mimic();
     limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
+    stamped |= values_.history.pose_of(j->child.value()) != nullptr;  // its states need a stamp
   }
   if (bad_number) return ErrorCode::kInvalidNumber;
   if (unknown) return ErrorCode::kUnknownJoint;
   if (mimic) return ErrorCode::kMimicJoint;
   if (limit) return ErrorCode::kJointLimit;
+  if (stamped) return ErrorCode::kStampMismatch;
   for (std::size_t i = 0; i < n; ++i) {
     ApplyJoint(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr);
+    MarkTimeless(joints_, group.joints[i].index);
   }
   return ErrorCode::kOk;
 }
@@ -510,9 +520,22 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
                         ", " + Num(j->upper) + "]");
     }
   }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const JointValue& v : *list) {
+      const internal::JointRecord* j = joints_.Find(v.joint);
+      if (values_.history.pose_of(j->child.value()) != nullptr) {
+        return Reject(ErrorCode::kStampMismatch, what(),
+                      "joint " + j->name + ": " +
+                          DescribeSampleRejection(ErrorCode::kStampMismatch, false, j->child.value(), std::nullopt));
+      }
+    }
+  }
   for (const JointValue& v : positions) ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, &v.value, nullptr);
   for (const JointValue& v : velocities) {
     ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, nullptr, &v.value);
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const JointValue& v : *list) MarkTimeless(joints_, joints_.HandleOf(*joints_.Find(v.joint)).index);
   }
   return Ok{};
 }

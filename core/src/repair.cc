@@ -122,9 +122,11 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
     return Unexpected{error};
   }
   // A joint's pose edge has a direction (parent -> child: X_origin M(q)); re-rooting through
-  // one would reverse it, so a path with a joint is not re-rooted (kinematics.md).
+  // one would reverse it, so a path with a joint is not re-rooted (kinematics.md). Nor one with
+  // a stamped edge: its history belongs to the edge into its head frame, and linear
+  // interpolation of inverted samples is not the inverse of the interpolation (docs/repair.md).
   for (FrameIndex x = b; x.is_valid() && t.pose_parent(x).is_valid(); x = t.pose_parent(x)) {
-    if (joints_.OfChild(x)) return Unexpected{error};
+    if (joints_.OfChild(x) || values_.history.pose_of(x.value())) return Unexpected{error};
   }
   const FrameIndex old_root = t.forest().Root(b);
   const std::size_t reversed = t.forest().depth(b);

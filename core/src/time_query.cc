@@ -473,6 +473,28 @@ Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(const Twi
   return Summarize<B>(topology_, recorder.reads);
 }
 
+// ====================================================================== Jacobian at a time
+
+// The Jacobian's poses (and the joints' twist edges it checks) read at the policy's time, by the
+// one evaluator of GetJacobian (joints.cc).
+template <coord::Backend B>
+Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec& spec,
+                                                                 const TimePolicy& policy) const {
+  auto plan = PlanJacobian(spec);
+  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
+  Timed<Jacobian> out;
+  out.value.semantics = plan->twist.semantics;
+  out.value.joints = plan->columns;
+  out.value.J.setZero(6, static_cast<Eigen::Index>(plan->columns.size()));
+  if (auto e = RunTimed(policy, out.time, nullptr, [&](TimeContext& tc) {
+        internal::EvaluateJacobian<B>(internal::ForestSource<B>(topology_, values_, &tc), plan->change_point, plan->er,
+                                      plan->e_chained, plan->e_rest, plan->steps, out.value.J);
+      })) {
+    return Unexpected{*e};
+  }
+  return out;
+}
+
 #define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                                        \
   template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex, FrameIndex, FrameIndex, FrameIndex,  \
                                                                    FrameIndex, const TimeTravel&,                  \
@@ -505,7 +527,8 @@ Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(const Twi
   template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const PoseSpec&,                \
                                                                                  const TimePolicy&) const;        \
   template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(                               \
-      const TwistSpec&, const TimePolicy&, TwistSource) const;
+      const TwistSpec&, const TimePolicy&, TwistSource) const;                                                   \
+  template Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec&, const TimePolicy&) const;
 SEMGRAPH_INSTANTIATE_TIME_QUERY(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_TIME_QUERY(coord::HomogeneousBackend)
 

@@ -18,8 +18,15 @@
 //     and otherwise the value of the one-shot query of that moment. (Exception, a reported spec
 //     ambiguity: a velocity of a body relative to itself stays valid and zero; see Keep.)
 //
+//   - repairing adds (PoseRepair, TwistRepair): the same strategy, number of reversed edges and
+//     discrepancy; kept compiled queries reading a reversed edge invalidated;
+//   - joints (Joint, SetJoints, MakeGroup, SetGroup): codes, joint states, edge values;
+//     AskJacobian: the columns' joints in order and the matrix, one-shot and compiled;
+//   - time (StampedPose, StampedTwist, AskTimed): codes, values, and the TimeReport (time
+//     answered, extrapolated, stamps read when not extrapolated), one-shot and compiled.
+//
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
-// tree); see tests/reference/reference_model.h.
+// tree; repair, joints, time); see tests/reference/reference_model.h.
 // Cost: each op costs the model's from-scratch checks, O(scene^2) with maps; fine for scenes
 // of a few dozen frames. Not thread-safe.
 #pragma once
@@ -150,9 +157,19 @@ class Differential {
   using Graph = core::SceneGraph<B>;
   static constexpr bool kHomogeneous = std::is_same_v<B, coord::HomogeneousBackend>;
 
-  Differential()
-      : model_(kHomogeneous ? reference::Representation::kHomogeneous
-                            : reference::Representation::kQuaternion) {}
+  explicit Differential(const reference::TimeOptions& time = reference::TimeOptions{})
+      : model_(kHomogeneous ? reference::Representation::kHomogeneous : reference::Representation::kQuaternion,
+               time),
+        time_(time) {
+    core::TimeOptions options;
+    options.window = core::Duration::Nanoseconds(time.window_ns);
+    options.sample_capacity = time.capacity;
+    options.interpolation = time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
+    options.duplicate_stamp = time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+    auto g = Graph::Create(options);
+    if (!g) Fail("SceneGraph::Create refused the time options: " + g.error().message);
+    graph_ = std::move(*g);
+  }
 
   const ReferenceModel& model() const { return model_; }
   const Graph& graph() const { return graph_; }
@@ -169,9 +186,13 @@ class Differential {
   /// The op sequence so far, one line per op in scene-script notation with the kernel's result.
   void PrintTrace(std::FILE* out) const {
     std::fprintf(out, "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
-    std::fprintf(out, "representation: %s\nops:\n", B::kName);
+    std::fprintf(out, "representation: %s\n", B::kName);
+    std::fprintf(out, "# time options: window %lld ns, capacity %zu, %s interpolation, duplicate stamps: %s\nops:\n",
+                 static_cast<long long>(time_.window_ns), time_.capacity, time_.linear ? "linear" : "screw",
+                 time_.reject_duplicates ? "reject" : "replace");
     for (const TraceLine& t : trace_) {
-      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "");
+      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "") +
+                               (t.note.empty() ? "" : " (" + t.note + ")");
       std::fprintf(out, line[0] == '#' ? "  %s\n" : "  - %s\n", line.c_str());
     }
     std::fprintf(out, "==== end of trace ====\n");
@@ -214,10 +235,275 @@ class Differential {
     return Finish(graph_.AddTwist(spec, v, w), model_.AddTwist(point, body, ref_body, coord, v, w));
   }
 
+  /// Edge-form pose add with repair (docs/repair.md): besides the checks of Pose, the same
+  /// repair applied (none / inverted / rerooted / consistent), the same number of reversed
+  /// edges, the same discrepancy (reported on a consistent check and on a refused one), kept
+  /// compiled queries that read a reversed edge invalidated. A consistency check whose
+  /// discrepancy is within rounding of a tolerance may go either way (no change either way).
+  ErrorCode PoseRepair(const std::string& head, const std::string& head_body, const std::string& tail,
+                       const std::string& tail_body, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                       const reference::RepairPolicy& policy) {
+    Begin([=] {
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
+             Field("ref_body", tail_body) + ", position: " + YamlVector(p) +
+             ", rotation: " + YamlRotation(RotationOf(q)) + ", repair: true}" + PolicyComment(policy);
+    });
+    const reference::RepairOutcome expected = model_.AddPoseRepair(head, head_body, tail, tail_body, q, p, policy);
+    for (const std::string& key : expected.reversed_keys) Removed(key);  // before CheckKept
+    const core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
+    return FinishRepair(graph_.AddPose(spec, q, p, KernelPolicy(policy)), expected);
+  }
+
+  /// Twist add with repair; the inverse twist's frame is the kernel's choice among the model's
+  /// candidates (docs/repair.md does not say which frame of the reference body).
+  ErrorCode TwistRepair(const std::string& point, const std::string& body, const std::string& ref_body,
+                        const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                        const reference::RepairPolicy& policy) {
+    Begin([=] {
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " +
+             YamlName(ref_body) + ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) +
+             ", angular: " + YamlVector(w) + ", repair: true}" + PolicyComment(policy);
+    });
+    const core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    auto result = graph_.AddTwist(spec, v, w, KernelPolicy(policy));
+    const auto kernel_choice = [&](const std::vector<std::string>& candidates) {
+      for (const std::string& h : candidates) {
+        const core::FrameIndex f = graph_.FindFrame(h);
+        if (f.is_valid() && graph_.twist_parent(f).is_valid()) return h;  // the one it just added
+      }
+      return candidates.front();  // the kernel refused: any candidate gives the same decision
+    };
+    return FinishRepair(std::move(result), model_.AddTwistRepair(point, body, ref_body, coord, v, w, policy,
+                                                                 kernel_choice));
+  }
+
+  // ---------------------------------------------------------------- joints
+
+  ErrorCode Joint(const reference::JointInput& in) {
+    Begin([=] {
+      std::string s = "{op: joint, name: " + YamlName(in.name) + ", type: " + JointTypeName(in.type) +
+                      ", parent: " + YamlName(in.parent) + Field("parent_body", in.parent_body) +
+                      ", child: " + YamlName(in.child) + Field("child_body", in.child_body) +
+                      ", position: " + YamlVector(in.p_origin) + ", rotation: " + YamlRotation(RotationOf(in.q_origin)) +
+                      ", axis: " + YamlVector(in.axis) + ", lower: " + YamlNumber(in.lower) +
+                      ", upper: " + YamlNumber(in.upper);
+      if (!in.mimic.empty()) {
+        s += ", mimic: {joint: " + YamlName(in.mimic) + ", multiplier: " + YamlNumber(in.multiplier) +
+             ", offset: " + YamlNumber(in.offset) + "}";
+      }
+      return s + "}";
+    });
+    core::JointSpec spec;
+    spec.name = in.name;
+    spec.type = static_cast<core::JointType>(static_cast<int>(in.type));  // same order
+    spec.parent = in.parent;
+    spec.parent_body = in.parent_body;
+    spec.child = in.child;
+    spec.child_body = in.child_body;
+    spec.q_origin = in.q_origin;
+    spec.p_origin = in.p_origin;
+    spec.axis = in.axis;
+    spec.lower = in.lower;
+    spec.upper = in.upper;
+    spec.mimic = in.mimic;
+    spec.multiplier = in.multiplier;
+    spec.offset = in.offset;
+    return Finish(graph_.AddJoint(spec), model_.AddJoint(in));
+  }
+
+  using JointValues = std::vector<std::pair<std::string, double>>;
+  ErrorCode SetJoints(const JointValues& positions, const JointValues& velocities) {
+    Begin([=] {
+      const auto map = [](const JointValues& list) {
+        std::string s = "{";
+        for (std::size_t i = 0; i < list.size(); ++i) {
+          s += (i ? ", " : "") + YamlName(list[i].first) + ": " + YamlNumber(list[i].second);
+        }
+        return s + "}";
+      };
+      return "{op: joints, positions: " + map(positions) + ", velocities: " + map(velocities) + "}";
+    });
+    std::vector<core::JointValue> q, qdot;
+    for (const auto& [name, value] : positions) q.push_back(core::JointValue{name, value});
+    for (const auto& [name, value] : velocities) qdot.push_back(core::JointValue{name, value});
+    return Finish(graph_.SetJoints(q, qdot), model_.SetJoints(positions, velocities));
+  }
+
+  /// MakeJointGroup(names): the same code; on success the group is kept for SetGroup.
+  ErrorCode MakeGroup(const std::vector<std::string>& names) {
+    Begin([=] {
+      std::string s = "# MakeJointGroup([";
+      for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + YamlName(names[i]);
+      return s + "])";
+    });
+    std::vector<std::string_view> views(names.begin(), names.end());
+    auto kernel = graph_.MakeJointGroup(views);
+    std::vector<std::uint64_t> serials;
+    const ErrorCode expected = model_.MakeGroup(names, &serials);
+    const ErrorCode code = kernel ? ErrorCode::kOk : kernel.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("MakeJointGroup: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (kernel) {
+      group_ = std::move(*kernel);
+      model_group_ = std::move(serials);
+    }
+    return code;
+  }
+
+  /// The model's names of the kept group's joints (a removed one: empty), in group order.
+  std::vector<std::string> GroupJoints() const {
+    std::vector<std::string> names;
+    for (const std::uint64_t serial : model_group_) {
+      names.emplace_back();
+      for (const reference::Joint& j : model_.joints()) {
+        if (j.serial == serial) names.back() = j.name;
+      }
+    }
+    return names;
+  }
+  bool has_group() const { return group_.has_value(); }
+
+  /// The kept group's SetJointPositions (q only), SetJointVelocities (qdot only) or
+  /// SetJointState (both); `values` has two numbers per joint (q, qdot). No group: nothing.
+  ErrorCode SetGroup(int which, const std::vector<double>& values) {
+    if (!group_) return ErrorCode::kOk;
+    const std::size_t n = group_->size();
+    std::vector<double> q(n), qdot(n);
+    for (std::size_t i = 0; i < n; ++i) q[i] = values[2 * i], qdot[i] = values[2 * i + 1];
+    Begin([=] {
+      std::string s = std::string("# ") + (which == 0 ? "SetJointPositions" : which == 1 ? "SetJointVelocities" : "SetJointState") + "(group, [";
+      for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(q[i]);
+      s += "], [";
+      for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(qdot[i]);
+      return s + "])";
+    });
+    const double* mq = which != 1 ? q.data() : nullptr;
+    const double* mqdot = which != 0 ? qdot.data() : nullptr;
+    const ErrorCode expected = model_.SetGroup(model_group_, mq, mqdot);
+    const ErrorCode code = which == 0   ? graph_.SetJointPositions(*group_, q)
+                           : which == 1 ? graph_.SetJointVelocities(*group_, qdot)
+                                        : graph_.SetJointState(*group_, q, qdot);
+    core::BuildResult result = base::Ok{};
+    if (code != ErrorCode::kOk) result = base::Unexpected{core::BuildError{code, "(real-time setter: a code only)"}};
+    return Finish(result, expected);
+  }
+
+  /// A Jacobian query (the twist query's arguments): same code as the model's twist query, same
+  /// column joints in order, same matrix (one-shot and compiled).
+  void AskJacobian(const Query& query) {
+    Begin([=] {
+      return "{op: query, kind: jacobian, point: " + YamlName(query.point) + Field("body", query.body) +
+             ", ref_body: " + YamlName(query.ref_body) + ", coord: " + YamlName(query.coord) + "}";
+    });
+    const reference::JacobianAnswer expected = model_.Jacobian(query);
+    Query twist = query;
+    twist.kind = QueryKind::kTwist;
+    const core::TwistSpec spec = TwistSpecOf(twist);
+    const auto one_shot = graph_.GetJacobian(spec);
+    Annotate(one_shot ? ErrorCode::kOk : one_shot.error().code);
+    const auto compare = [&](const char* what, ErrorCode code, const std::vector<core::JointHandle>& joints,
+                             const core::JacobianMatrix& J) {
+      if (code != expected.code) {
+        Fail(std::string(what) + ": kernel says " + std::string(base::ToString(code)) + ", model says " +
+             std::string(base::ToString(expected.code)));
+      }
+      if (code != ErrorCode::kOk) return;
+      std::string kernel_joints, model_joints;
+      for (const core::JointHandle h : joints) kernel_joints += std::string(graph_.joint_name(h)) + " ";
+      for (const std::string& j : expected.joints) model_joints += j + " ";
+      if (kernel_joints != model_joints) Fail(std::string(what) + ": columns [" + kernel_joints + "] vs model [" + model_joints + "]");
+      const double tol = 1e-9 * PositionScale();
+      if (J.cols() != expected.J.cols() || (J.cols() > 0 && !Near(J, expected.J, tol))) {
+        const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+        std::ostringstream out;
+        out << what << ": values differ\n  kernel " << J.format(fmt) << "\n  model  " << expected.J.format(fmt);
+        Fail(out.str());
+      }
+    };
+    if (one_shot) {
+      compare("jacobian", ErrorCode::kOk, one_shot->joints, one_shot->J);
+    } else {
+      compare("jacobian", one_shot.error().code, {}, core::JacobianMatrix(6, 0));
+    }
+    const auto compiled = graph_.CompileJacobian(spec);
+    if (!compiled) {
+      compare("compiled jacobian", compiled.error().code, {}, core::JacobianMatrix(6, 0));
+    } else {
+      core::JacobianMatrix J(6, static_cast<Eigen::Index>(compiled->num_columns()));
+      const ErrorCode code = compiled->Evaluate(J);
+      compare("compiled jacobian", code, compiled->joints(), J);
+    }
+  }
+
+  // ---------------------------------------------------------------- time
+
+  /// A stamped edge-form pose add (the quaternion or matrix overload, as given).
+  ErrorCode StampedPose(const std::string& head, const std::string& head_body, const std::string& tail,
+                        const std::string& tail_body, const RotationInput& rotation, const Eigen::Vector3d& p,
+                        std::int64_t stamp) {
+    Begin([=] {
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
+             Field("ref_body", tail_body) + ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) +
+             ", stamp: " + StampText(stamp) + "}";
+    });
+    const core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
+    const core::Stamp s = core::Stamp::Nanoseconds(stamp);
+    const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p, s) : graph_.AddPose(spec, rotation.q, p, s);
+    return Finish(result, model_.AddPose(head, head_body, tail, tail_body, rotation, p, stamp));
+  }
+
+  ErrorCode StampedTwist(const std::string& point, const std::string& body, const std::string& ref_body,
+                         const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                         std::int64_t stamp) {
+    Begin([=] {
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " + YamlName(ref_body) +
+             ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) +
+             ", stamp: " + StampText(stamp) + "}";
+    });
+    const core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    return Finish(graph_.AddTwist(spec, v, w, core::Stamp::Nanoseconds(stamp)),
+                  model_.AddTwist(point, body, ref_body, coord, v, w, stamp));
+  }
+
+  /// A query under a time policy, one-shot and compiled: same code, same value (unless the
+  /// model reports an interpolation across a half turn, which the spec leaves open), the same
+  /// time answered and extrapolated flag, and when not extrapolated the same oldest / newest
+  /// stamps read.
+  void AskTimed(const Query& q, const reference::TimeQuery& policy) {
+    Begin([=] { return QueryText(q) + "   # time: " + PolicyText(policy); });
+    const std::string before = CurrentDump();
+    const reference::TimedAnswer expected = model_.AskAt(q, policy);
+    const core::TimePolicy kernel_policy = KernelTimePolicy(policy);
+    core::TimeReport report;
+    const Outcome got = OneShotTimed(q, kernel_policy, &report);
+    Annotate(got.code);
+    CompareTimed("timed query", expected, got, report);
+    if (CompileComparable(q)) {
+      // Compiling fails as the untimed query does; the policy's errors come at evaluation.
+      core::TimeReport compiled_report;
+      bool compile_failed = false;
+      const Outcome compiled = CompiledTimed(q, kernel_policy, &compiled_report, &compile_failed);
+      if (compile_failed) {
+        CompareAnswer("compiling the timed query", model_.Ask(q), compiled);
+      } else {
+        CompareTimed("compiled timed query", expected, compiled, compiled_report);
+      }
+    }
+    if (graph_.Dump() != before) Fail("a timed query changed the graph's Dump()");
+  }
+
   ErrorCode RemovePose(const std::string& of, const std::string& wrt) {
     Begin([=] { return "{op: remove, kind: pose, of: " + YamlName(of) + ", wrt: " + YamlName(wrt) + "}"; });
+    std::string joint_twist;  // the joint's twist edge goes with its pose edge
+    for (const reference::Joint& j : model_.joints()) {
+      if (j.child == of && j.parent == wrt) joint_twist = ReferenceModel::TwistKey(j.parent_body, of);
+    }
     const ErrorCode expected = model_.RemovePose(of, wrt);
     if (expected == ErrorCode::kOk) Removed(ReferenceModel::PoseKey(wrt, of));  // before CheckKept
+    if (expected == ErrorCode::kOk && !joint_twist.empty()) Removed(joint_twist);
     return Finish(graph_.RemovePose(of, wrt), expected);
   }
 
@@ -345,9 +631,10 @@ class Differential {
   struct TraceLine {
     std::function<std::string()> render;
     std::optional<ErrorCode> code;
+    std::string note;  // e.g. the repair applied
   };
   void Begin(std::function<std::string()> render) {
-    trace_.push_back(TraceLine{std::move(render), std::nullopt});
+    trace_.push_back(TraceLine{std::move(render), std::nullopt, {}});
     if (checks_) before_ = CurrentDump();
   }
   void Annotate(ErrorCode code) { trace_.back().code = code; }
@@ -381,6 +668,236 @@ class Differential {
     return code;
   }
 
+  static std::string StampText(std::int64_t ns) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.9f", static_cast<double>(ns) * 1e-9);
+    return buf;
+  }
+  static std::string PolicyText(const reference::TimeQuery& p) {
+    std::string s = p.kind == reference::TimeQuery::Kind::kLatest   ? "latest"
+                    : p.kind == reference::TimeQuery::Kind::kAt     ? "at " + StampText(p.t) + " horizon " + StampText(p.horizon)
+                                                                    : "latest_common";
+    if (p.not_before) s += ", not_before " + StampText(*p.not_before);
+    return s;
+  }
+  static core::TimePolicy KernelTimePolicy(const reference::TimeQuery& p) {
+    std::optional<core::Stamp> not_before;
+    if (p.not_before) not_before = core::Stamp::Nanoseconds(*p.not_before);
+    switch (p.kind) {
+      case reference::TimeQuery::Kind::kAt:
+        return core::At(core::Stamp::Nanoseconds(p.t), core::Duration::Nanoseconds(p.horizon), not_before);
+      case reference::TimeQuery::Kind::kLatestCommon: return core::LatestCommon(not_before);
+      default: return core::Latest(not_before);
+    }
+  }
+
+  Outcome OneShotTimed(const Query& q, const core::TimePolicy& policy, core::TimeReport* report) const {
+    Outcome o;
+    const auto take = [&](const auto& r) {
+      if (!r) {
+        o.code = r.error().code;
+        return false;
+      }
+      *report = r->time;
+      return true;
+    };
+    switch (q.kind) {
+      case QueryKind::kPose: {
+        const auto r = graph_.GetPose(PoseSpecOf(q), policy);
+        if (take(r)) o.M = B::ToMatrix(B::RotationOf(r->value.value)), o.p = B::TranslationOf(r->value.value);
+        break;
+      }
+      case QueryKind::kPosition: {
+        const auto r = graph_.GetPosition(PoseSpecOf(q), policy);
+        if (take(r)) o.p = r->value.value;
+        break;
+      }
+      case QueryKind::kOrientation: {
+        const auto r = graph_.GetOrientation(PoseSpecOf(q), policy);
+        if (take(r)) o.M = B::ToMatrix(r->value.value);
+        break;
+      }
+      case QueryKind::kTwist: {
+        const auto r = graph_.GetTwist(TwistSpecOf(q), policy);
+        if (take(r)) o.v = r->value.linear, o.w = r->value.angular;
+        break;
+      }
+      case QueryKind::kLinearVelocity: {
+        const auto r = graph_.GetLinearVelocity(TwistSpecOf(q), policy);
+        if (take(r)) o.v = r->value.value;
+        break;
+      }
+      case QueryKind::kAngularVelocity: {
+        const auto r = graph_.GetAngularVelocity(TwistSpecOf(q), policy);
+        if (take(r)) o.w = r->value.value;
+        break;
+      }
+    }
+    return o;
+  }
+
+  Outcome CompiledTimed(const Query& q, const core::TimePolicy& policy, core::TimeReport* report,
+                        bool* compile_failed) const {
+    Outcome o;
+    CompiledAny c;
+    {
+      const Outcome compiled = Compiled(q, &c);  // the compile's code (and an untimed evaluation)
+      if (compiled.code != ErrorCode::kOk && std::holds_alternative<std::monostate>(c)) {
+        *compile_failed = true;
+        return compiled;
+      }
+    }
+    if (const auto* pose = std::get_if<core::CompiledPose<B>>(&c)) {
+      typename B::PoseCoords X;
+      o.code = pose->Evaluate(X, policy, *report);
+      if (o.code == ErrorCode::kOk) o.M = B::ToMatrix(B::RotationOf(X)), o.p = B::TranslationOf(X);
+    } else if (const auto* position = std::get_if<core::CompiledPosition<B>>(&c)) {
+      o.code = position->Evaluate(o.p, policy, *report);
+    } else if (const auto* orientation = std::get_if<core::CompiledOrientation<B>>(&c)) {
+      typename B::Rotation M;
+      o.code = orientation->Evaluate(M, policy, *report);
+      if (o.code == ErrorCode::kOk) o.M = B::ToMatrix(M);
+    } else if (const auto* twist = std::get_if<core::CompiledTwist<B>>(&c)) {
+      o.code = twist->Evaluate(o.v, o.w, policy, *report);
+      if (q.kind == QueryKind::kLinearVelocity) o.w.setZero();
+      if (q.kind == QueryKind::kAngularVelocity) o.v.setZero();
+    }
+    return o;
+  }
+
+  void CompareTimed(const std::string& what, const reference::TimedAnswer& expected, const Outcome& got,
+                    const core::TimeReport& report) {
+    if (expected.ambiguous) {  // only the decision
+      if (got.code != expected.answer.code) {
+        Fail(what + ": kernel says " + std::string(base::ToString(got.code)) + ", model says " +
+             std::string(base::ToString(expected.answer.code)));
+      }
+    } else {
+      CompareAnswer(what, expected.answer, got);
+    }
+    if (got.code != ErrorCode::kOk) return;
+    const auto ns = [](const std::optional<core::Stamp>& s) {
+      return s ? std::optional<std::int64_t>(s->nanoseconds()) : std::nullopt;
+    };
+    const auto text = [](const std::optional<std::int64_t>& s) { return s ? std::to_string(*s) : std::string("none"); };
+    if (ns(report.time) != expected.time) {
+      Fail(what + ": time answered: kernel " + text(ns(report.time)) + ", model " + text(expected.time));
+    }
+    if (report.extrapolated != expected.extrapolated) {
+      Fail(what + ": extrapolated: kernel " + std::to_string(report.extrapolated) + ", model " +
+           std::to_string(expected.extrapolated));
+    }
+    if (!expected.extrapolated && (ns(report.oldest) != expected.oldest || ns(report.newest) != expected.newest)) {
+      Fail(what + ": stamps read: kernel [" + text(ns(report.oldest)) + ", " + text(ns(report.newest)) + "], model [" +
+           text(expected.oldest) + ", " + text(expected.newest) + "]");
+    }
+  }
+
+  static const char* JointTypeName(reference::JointType t) {
+    switch (t) {
+      case reference::JointType::kRevolute: return "revolute";
+      case reference::JointType::kContinuous: return "continuous";
+      case reference::JointType::kPrismatic: return "prismatic";
+      case reference::JointType::kFixed: return "fixed";
+    }
+    return "?";
+  }
+  static core::RepairPolicy KernelPolicy(const reference::RepairPolicy& p) {
+    core::RepairPolicy k;
+    k.invert = p.invert;
+    k.reroot = p.reroot;
+    k.check_consistency = p.check_consistency;
+    k.position_tolerance = p.position_tolerance;
+    k.angle_tolerance = p.angle_tolerance;
+    return k;
+  }
+  static RotationInput RotationOf(const Eigen::Quaterniond& q) {
+    RotationInput r;
+    r.q = q;
+    return r;
+  }
+  static std::string PolicyComment(const reference::RepairPolicy& p) {
+    const reference::RepairPolicy d;
+    if (p.invert == d.invert && p.reroot == d.reroot && p.check_consistency == d.check_consistency &&
+        p.position_tolerance == d.position_tolerance && p.angle_tolerance == d.angle_tolerance) {
+      return "";
+    }
+    return "   # RepairPolicy{invert " + std::to_string(p.invert) + ", reroot " + std::to_string(p.reroot) +
+           ", check_consistency " + std::to_string(p.check_consistency) + ", position_tolerance " +
+           YamlNumber(p.position_tolerance) + ", angle_tolerance " + YamlNumber(p.angle_tolerance) + "}";
+  }
+  static reference::RepairKind KindOf(core::RepairKind k) {
+    switch (k) {
+      case core::RepairKind::kNone: return reference::RepairKind::kNone;
+      case core::RepairKind::kInverted: return reference::RepairKind::kInverted;
+      case core::RepairKind::kRerooted: return reference::RepairKind::kRerooted;
+      case core::RepairKind::kConsistent: return reference::RepairKind::kConsistent;
+    }
+    return reference::RepairKind::kNone;
+  }
+  static const char* KindText(reference::RepairKind k) {
+    switch (k) {
+      case reference::RepairKind::kNone: return "none";
+      case reference::RepairKind::kInverted: return "inverted";
+      case reference::RepairKind::kRerooted: return "rerooted";
+      case reference::RepairKind::kConsistent: return "consistent";
+    }
+    return "?";
+  }
+
+  // A repairing add: the decision and the report, then every check of Finish.
+  ErrorCode FinishRepair(base::Expected<core::RepairReport, core::BuildError> result,
+                         const reference::RepairOutcome& expected) {
+    const ErrorCode code = result ? ErrorCode::kOk : result.error().code;
+    // A consistency check at its tolerance's boundary: either decision (neither changes anything).
+    const bool either = expected.borderline &&
+                        (code == ErrorCode::kOk ? result->applied == core::RepairKind::kConsistent
+                                                : expected.applied == reference::RepairKind::kConsistent);
+    if (code != expected.code && !either) {
+      Annotate(code);
+      Fail("repairing add: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected.code)) + " (model repair: " + KindText(expected.applied) + ")" +
+           (result ? std::string() : "\nkernel message: " + result.error().message));
+    }
+    if (result && result->applied != core::RepairKind::kNone) trace_.back().note = KindText(KindOf(result->applied));
+    if (!result && result.error().discrepancy) trace_.back().note = "discrepancy";
+    const double tol = 1e-9 * PositionScale();
+    const double tol_v = 1e-9 * TwistScale();
+    const auto same_discrepancy = [&](const core::Discrepancy& d) {
+      return std::abs(d.position - expected.position) <= std::max(tol, tol_v) &&
+             std::abs(d.angle - expected.angle) <= std::max(1e-9, tol_v);
+    };
+    if (result) {
+      if (KindOf(result->applied) != expected.applied && !either) {
+        Fail(std::string("repairing add: kernel applied ") + KindText(KindOf(result->applied)) + ", model " +
+             KindText(expected.applied));
+      }
+      if (result->reversed_edges != expected.reversed_edges) {
+        Fail("repairing add: kernel reversed " + std::to_string(result->reversed_edges) + " edges, model " +
+             std::to_string(expected.reversed_edges));
+      }
+      if (result->applied == core::RepairKind::kConsistent && !same_discrepancy(result->discrepancy)) {
+        Fail("repairing add: the consistent check's discrepancy differs: kernel " +
+             YamlNumber(result->discrepancy.position) + " / " + YamlNumber(result->discrepancy.angle) + ", model " +
+             YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
+      }
+      if (result->applied != core::RepairKind::kNone && result->change.empty()) Fail("a repair without a change text");
+    } else {
+      const bool refused_check = expected.has_discrepancy && expected.applied != reference::RepairKind::kConsistent;
+      if (result.error().discrepancy.has_value() != (refused_check || (either && expected.has_discrepancy))) {
+        Fail("repairing add refused: discrepancy reported " + std::to_string(result.error().discrepancy.has_value()) +
+             ", model's consistency check refused it " + std::to_string(refused_check));
+      }
+      if (result.error().discrepancy && !same_discrepancy(*result.error().discrepancy)) {
+        Fail("repairing add refused: the discrepancy differs: kernel " +
+             YamlNumber(result.error().discrepancy->position) + " / " + YamlNumber(result.error().discrepancy->angle) +
+             ", model " + YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
+      }
+    }
+    core::BuildResult plain = result ? core::BuildResult(base::Ok{}) : core::BuildResult(base::Unexpected{result.error()});
+    return Finish(plain, code);
+  }
+
   // The kernel's nodes, edges and stored values against the model's.
   void CompareState() {
     const auto& frames = model_.frames();
@@ -406,6 +923,19 @@ class Differential {
       const auto X = graph_.pose_value(h);
       if (!Near(B::ToMatrix(B::RotationOf(X)), e.X_TH.R, 1e-9) || !Near(B::TranslationOf(X), e.X_TH.p, tol)) {
         Fail("stored value of the pose edge " + e.tail + " -> " + e.head + " differs");
+      }
+    }
+    if (graph_.num_joints() != model_.joints().size()) {
+      Fail("joint counts differ: kernel " + std::to_string(graph_.num_joints()) + ", model " +
+           std::to_string(model_.joints().size()));
+    }
+    for (const reference::Joint& j : model_.joints()) {
+      const auto h = graph_.FindJoint(j.name);
+      if (!h) Fail("joint " + j.name + " is missing in the kernel");
+      const double q = graph_.joint_position(*h), qdot = graph_.joint_velocity(*h);
+      if (!(std::abs(q - j.q) <= 1e-12 * (1 + std::abs(j.q))) || !(std::abs(qdot - j.qdot) <= 1e-12 * (1 + std::abs(j.qdot)))) {
+        Fail("state of joint " + j.name + " differs: kernel q " + YamlNumber(q) + " qdot " + YamlNumber(qdot) +
+             ", model q " + YamlNumber(j.q) + " qdot " + YamlNumber(j.qdot));
       }
     }
     const double tol_v = 1e-9 * TwistScale();
@@ -633,7 +1163,7 @@ class Differential {
     const Answer expected = model_.Ask(q);
     const Outcome got = OneShot(q);
     if (got.code != expected.code || got.code == ErrorCode::kOk) {
-      trace_.push_back(TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt});
+      trace_.push_back(TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt, {}});
       CompareAnswer("final sweep query", expected, got);
       CompareAnswer("final sweep query, compiled", expected, Compiled(q, nullptr));
       trace_.pop_back();
@@ -648,6 +1178,9 @@ class Differential {
   bool dump_valid_ = false;
   bool checks_ = true;
   std::deque<Kept> kept_;
+  reference::TimeOptions time_;
+  std::optional<core::JointGroup> group_;    // the last group made (SetGroup)
+  std::vector<std::uint64_t> model_group_;   // the model's serials of the same joints
 };
 
 }  // namespace semgraph::fuzz

@@ -1,7 +1,7 @@
 # Type stubs of semgraph (the public API; the implementation is the C++ extension _semgraph).
 # Names are keyword-only roles; numbers are lists, tuples or numpy arrays, results numpy float64.
 import os
-from typing import List, Optional, Sequence, Union
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -11,6 +11,10 @@ __version__: str
 ArrayLike = npt.ArrayLike
 Vector = np.ndarray  # shape (3,), float64
 Name = Optional[str]
+# A time: int = nanoseconds (exact), float = seconds (rounded to the nearest ns). Also durations.
+Time = Union[int, float]
+# A query's at=: a time, "latest" (each edge's newest sample) or "latest_common" (tf2's Time(0)).
+At = Union[int, float, str, None]
 
 class Error(Exception):
     """Base class of semgraph's errors."""
@@ -19,7 +23,8 @@ class RejectedError(Error):
     """A build-time operation was refused; nothing changed."""
     code: str  # snake_case error code, e.g. "multiple_pose_parents"
     message: str
-    def __init__(self, code: str, message: str) -> None: ...
+    discrepancy: Optional[Tuple[float, float]]  # repair's refused consistency check: (position, angle)
+    def __init__(self, code: str, message: str, discrepancy: Optional[Tuple[float, float]] = ...) -> None: ...
 
 class QueryError(Error):
     """A query has no answer."""
@@ -35,6 +40,118 @@ class ScriptError(Error, ValueError):
     column: int
     message: str
     def __init__(self, text: str, line: int, column: int, message: str) -> None: ...
+
+class TimeReport:
+    """What a timed query read. Times in float seconds; *_ns: exact int nanoseconds."""
+    @property
+    def time(self) -> Optional[float]:
+        """The time answered (at=; latest_common when a stamped edge was used)."""
+    @property
+    def time_ns(self) -> Optional[int]: ...
+    @property
+    def ref_time(self) -> Optional[float]:
+        """Time travel: the reference side's time."""
+    @property
+    def ref_time_ns(self) -> Optional[int]: ...
+    @property
+    def oldest(self) -> Optional[float]:
+        """The oldest stamp of the samples read (None: only timeless edges)."""
+    @property
+    def oldest_ns(self) -> Optional[int]: ...
+    @property
+    def newest(self) -> Optional[float]:
+        """The newest stamp of the samples read."""
+    @property
+    def newest_ns(self) -> Optional[int]: ...
+    @property
+    def extrapolated(self) -> bool:
+        """An edge was extrapolated (at= with max_extrapolation=)."""
+
+class EdgeUse:
+    """One edge a query uses (explain_pose / explain_twist)."""
+    kind: str  # "pose", "twist" or "pose_derivative"
+    of: str  # head frame
+    relative_to: str  # tail frame (pose) or tail body (twist)
+    stamped: bool
+    extrapolated: bool
+    @property
+    def first(self) -> Optional[float]:
+        """The edge's oldest sample (s); None when timeless."""
+    @property
+    def first_ns(self) -> Optional[int]: ...
+    @property
+    def last(self) -> Optional[float]: ...
+    @property
+    def last_ns(self) -> Optional[int]: ...
+    @property
+    def read_from(self) -> Optional[float]:
+        """The samples read: one stamp (read_from == read_to) or the bracket around the time."""
+    @property
+    def read_from_ns(self) -> Optional[int]: ...
+    @property
+    def read_to(self) -> Optional[float]: ...
+    @property
+    def read_to_ns(self) -> Optional[int]: ...
+
+class RepairPolicy:
+    """How add_pose / add_twist(..., repair=) repairs a rejected relation (docs/repair.md)."""
+    invert: bool
+    reroot: bool
+    check_consistency: bool
+    position_tolerance: float  # m (m/s for twists)
+    angle_tolerance: float  # rad (rad/s for twists)
+    def __init__(self, *, invert: bool = True, reroot: bool = True, check_consistency: bool = True,
+                 position_tolerance: float = 1e-9, angle_tolerance: float = 1e-9) -> None: ...
+
+class RepairReport:
+    """What a repairing add did."""
+    @property
+    def applied(self) -> str:
+        """'none', 'inverted', 'rerooted' or 'consistent'."""
+    change: str  # the relation actually added, or why it was a no-op
+    reversed_edges: int  # 'rerooted': pose edges reversed
+    @property
+    def discrepancy(self) -> Optional[Tuple[float, float]]:
+        """'consistent': (position, angle) measured; None otherwise."""
+
+class JointGroup:
+    """A joint-state layout: these joints in this order."""
+    names: List[str]
+    def __len__(self) -> int: ...
+
+class Jacobian:
+    """Jacobian(e|C, D, [r]): TwistCoord(e|C, D, [r]) = J qdot + non-joint twists."""
+    @property
+    def matrix(self) -> np.ndarray:
+        """(6, n): rows v_x v_y v_z then w_x w_y w_z; column i is joints[i]."""
+    @property
+    def linear(self) -> np.ndarray:
+        """(3, n): the velocity rows."""
+    @property
+    def angular(self) -> np.ndarray:
+        """(3, n): the angular velocity rows."""
+    joints: List[str]
+    @property
+    def semantics(self) -> str: ...
+
+class CompiledJacobian:
+    """A compiled Jacobian query; keeps its graph alive."""
+    def evaluate(self) -> Jacobian: ...
+    joints: List[str]
+    @property
+    def is_valid(self) -> bool: ...
+
+class Robot:
+    """What load_urdf created (prefixed names)."""
+    name: str
+    prefix: str
+    root: str
+    links: List[str]
+    joints: List[str]
+    mimic_joints: List[str]
+    fixed_joints: List[str]
+    floating_joints: List[str]
+    group: JointGroup
 
 class Pose:
     """PoseCoord((e,[a])|C, (f,[b])|D, [r])."""
@@ -53,6 +170,9 @@ class Pose:
     @property
     def semantics(self) -> str:
         """The relation in the paper's notation, e.g. 'PoseCoord({f1}|O1, {o2}|O2, [o2])'."""
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read; None without time keywords."""
 
 class Position:
     """PositionCoord(e|C, f|D, [r])."""
@@ -60,6 +180,9 @@ class Position:
     def position(self) -> np.ndarray: ...
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read; None without time keywords."""
 
 class Orientation:
     """OrientationCoord([a]|C, [b]|D, [r])."""
@@ -69,6 +192,9 @@ class Orientation:
     def rotation_matrix(self) -> np.ndarray: ...
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read; None without time keywords."""
 
 class Twist:
     """TwistCoord(e|C, D, [r])."""
@@ -80,6 +206,9 @@ class Twist:
         """(3,): angular velocity of C relative to D, in [r]."""
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read; None without time keywords."""
 
 class LinearVelocity:
     """LinearVelocityCoord(e|C, D, [r])."""
@@ -87,6 +216,9 @@ class LinearVelocity:
     def linear(self) -> np.ndarray: ...
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read; None without time keywords."""
 
 class AngularVelocity:
     """AngularVelocityCoord(C, D, [r])."""
@@ -94,25 +226,29 @@ class AngularVelocity:
     def angular(self) -> np.ndarray: ...
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read; None without time keywords."""
 
 class CompiledPose:
     """A compiled pose query; keeps its graph alive."""
-    def evaluate(self) -> Pose:
-        """The pose now. QueryError('query_invalidated') once an edge it reads was removed."""
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None) -> Pose:
+        """The pose now, or under a time policy (as SceneGraph.pose). QueryError('query_invalidated')
+        once an edge it reads was removed; extrapolation / stale / invalid_number under a policy."""
     @property
     def is_valid(self) -> bool: ...
     @property
     def num_pose_edges(self) -> int: ...
 
 class CompiledPosition:
-    def evaluate(self) -> Position: ...
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None) -> Position: ...
     @property
     def is_valid(self) -> bool: ...
     @property
     def num_pose_edges(self) -> int: ...
 
 class CompiledOrientation:
-    def evaluate(self) -> Orientation: ...
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None) -> Orientation: ...
     @property
     def is_valid(self) -> bool: ...
     @property
@@ -120,7 +256,7 @@ class CompiledOrientation:
 
 class CompiledTwist:
     """A compiled twist, linear velocity or angular velocity query."""
-    def evaluate(self) -> Union[Twist, LinearVelocity, AngularVelocity]: ...
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None) -> Union[Twist, LinearVelocity, AngularVelocity]: ...
     @property
     def is_valid(self) -> bool: ...
     @property
@@ -163,7 +299,16 @@ class SceneGraph:
     representation: "quaternion" (default) or "homogeneous" (poses between frame origins,
     expressed in the reference orientation frame only).
     """
-    def __init__(self, representation: str = "quaternion") -> None: ...
+    def __init__(self, representation: str = "quaternion", *, window: Optional[Time] = None,
+                 interpolation: Optional[str] = None, duplicate_stamp: Optional[str] = None,
+                 sample_capacity: Optional[int] = None) -> None:
+        """window: history per stamped edge (default 10 s); interpolation: "screw" (default) or
+        "linear" (tf2's); duplicate_stamp: "replace" (default) or "reject"; sample_capacity:
+        samples per stamped edge (default 1024). RejectedError invalid_number: window <= 0,
+        sample_capacity < 2."""
+    @property
+    def time_options(self) -> Dict[str, Union[float, int, str]]:
+        """window (s), window_ns, interpolation, duplicate_stamp, sample_capacity."""
     @property
     def representation(self) -> str: ...
     @property
@@ -189,37 +334,56 @@ class SceneGraph:
                  ref_orientation: Name = None, expressed_in: Name = None,
                  position: Optional[ArrayLike] = None, rotation: Optional[ArrayLike] = None,
                  quaternion: Optional[ArrayLike] = None, rotation_matrix: Optional[ArrayLike] = None,
-                 rpy: Optional[ArrayLike] = None) -> None:
+                 rpy: Optional[ArrayLike] = None, stamp: Optional[Time] = None,
+                 repair: Union[bool, RepairPolicy, None] = None) -> Optional[RepairReport]:
         """Adds (or updates) the pose of `of` relative to `wrt` as the edge {wrt} -> {of}.
 
         position: of's origin relative to wrt's origin in [expressed_in or wrt], default 0.
         At most one rotation form: rotation (4 numbers = quaternion, 3x3 = matrix),
         quaternion (w, x, y, z), rotation_matrix (3x3), rpy (roll, pitch, yaw; R = Rz Ry Rx).
+        stamp: a stamped sample (int ns or float s). repair: True or a RepairPolicy: repair a
+        P1 / pose_cycle rejection and return a RepairReport (None without repair).
         RejectedError on any violated rule; the graph is then unchanged."""
     def add_twist(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
                   expressed_in: Name = None, linear: Optional[ArrayLike] = None,
-                  angular: Optional[ArrayLike] = None) -> None:
+                  angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None,
+                  repair: Union[bool, RepairPolicy, None] = None) -> Optional[RepairReport]:
         """Adds (or updates) the twist of `body` (default: point's body) relative to `ref_body`
-        as the edge ref_body -> {point}; linear/angular in [expressed_in]."""
+        as the edge ref_body -> {point}; linear/angular in [expressed_in]. stamp, repair: as
+        add_pose (repair: W1 by the inverse twist, duplicate_twist_path by consistency)."""
     def remove_pose(self, *, of: str, wrt: str) -> None: ...
     def remove_twist(self, *, point: str, ref_body: str) -> None: ...
 
     def pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
              point: Name = None, orientation: Name = None, ref_point: Name = None,
-             ref_orientation: Name = None, expressed_in: Name = None) -> Pose:
-        """The pose of `of` relative to `wrt`, in `expressed_in` (default [wrt]). QueryError."""
+             ref_orientation: Name = None, expressed_in: Name = None, at: At = None,
+             max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None,
+             ref_at: Optional[Time] = None, fixed: Name = None) -> Pose:
+        """The pose of `of` relative to `wrt`, in `expressed_in` (default [wrt]). QueryError.
+
+        Time (times: int ns or float s): at= a time, "latest" or "latest_common";
+        max_extrapolation= with at=<time>; not_before= (stale); time travel: at=, ref_at=,
+        fixed=. The result's .time is then a TimeReport."""
     def position(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
                  point: Name = None, orientation: Name = None, ref_point: Name = None,
-                 ref_orientation: Name = None, expressed_in: Name = None) -> Position: ...
+                 ref_orientation: Name = None, expressed_in: Name = None, at: At = None,
+                 max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None,
+                 ref_at: Optional[Time] = None, fixed: Name = None) -> Position: ...
     def orientation(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
                     point: Name = None, orientation: Name = None, ref_point: Name = None,
-                    ref_orientation: Name = None, expressed_in: Name = None) -> Orientation: ...
+                 ref_orientation: Name = None, expressed_in: Name = None, at: At = None,
+                    max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None,
+                    ref_at: Optional[Time] = None, fixed: Name = None) -> Orientation: ...
     def twist(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-              expressed_in: Name = None) -> Twist: ...
+              expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
+              not_before: Optional[Time] = None, source: Optional[str] = None) -> Twist:
+        """source: "twists" (default) or "poses" (the pose history's time derivative)."""
     def linear_velocity(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-                        expressed_in: Name = None) -> LinearVelocity: ...
+                        expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
+                        not_before: Optional[Time] = None, source: Optional[str] = None) -> LinearVelocity: ...
     def angular_velocity(self, *, body: Name = None, ref_body: Name = None,
-                         expressed_in: Name = None) -> AngularVelocity: ...
+                         expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
+                         not_before: Optional[Time] = None, source: Optional[str] = None) -> AngularVelocity: ...
 
     def compile_pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
                      point: Name = None, orientation: Name = None, ref_point: Name = None,
@@ -231,21 +395,65 @@ class SceneGraph:
                             point: Name = None, orientation: Name = None, ref_point: Name = None,
                             ref_orientation: Name = None, expressed_in: Name = None) -> CompiledOrientation: ...
     def compile_twist(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-                      expressed_in: Name = None) -> CompiledTwist: ...
+                      expressed_in: Name = None, source: Optional[str] = None) -> CompiledTwist: ...
     def compile_linear_velocity(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-                                expressed_in: Name = None) -> CompiledTwist: ...
+                                expressed_in: Name = None, source: Optional[str] = None) -> CompiledTwist: ...
     def compile_angular_velocity(self, *, body: Name = None, ref_body: Name = None,
-                                 expressed_in: Name = None) -> CompiledTwist: ...
+                                 expressed_in: Name = None, source: Optional[str] = None) -> CompiledTwist: ...
 
     def pose_handle(self, *, of: str, wrt: str) -> PoseHandle: ...
     def twist_handle(self, *, point: str, ref_body: str) -> TwistHandle: ...
     def set_pose(self, handle: PoseHandle, *, position: Optional[ArrayLike] = None,
                  rotation: Optional[ArrayLike] = None, quaternion: Optional[ArrayLike] = None,
-                 rotation_matrix: Optional[ArrayLike] = None, rpy: Optional[ArrayLike] = None) -> None: ...
+                 rotation_matrix: Optional[ArrayLike] = None, rpy: Optional[ArrayLike] = None,
+                 stamp: Optional[Time] = None) -> None:
+        """stamp: a new sample of a stamped edge (int ns or float s)."""
     def set_twist(self, handle: TwistHandle, *, linear: Optional[ArrayLike] = None,
-                  angular: Optional[ArrayLike] = None) -> None: ...
+                  angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None) -> None: ...
     def pose_batch(self, handles: Sequence[PoseHandle]) -> PoseBatch: ...
     def twist_batch(self, handles: Sequence[TwistHandle]) -> TwistBatch: ...
+
+    def explain_pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
+                     point: Name = None, orientation: Name = None, ref_point: Name = None,
+                     ref_orientation: Name = None, expressed_in: Name = None, at: At = None,
+                     max_extrapolation: Optional[Time] = None,
+                     not_before: Optional[Time] = None) -> List[EdgeUse]:
+        """The edges pose(...) uses with their samples and the ones read (also when it fails)."""
+    def explain_twist(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                      expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
+                      not_before: Optional[Time] = None, source: Optional[str] = None) -> List[EdgeUse]: ...
+
+    def add_joint(self, name: str, *, type: str, parent: str, child: str, parent_body: Name = None,
+                  child_body: Name = None, position: Optional[ArrayLike] = None,
+                  rotation: Optional[ArrayLike] = None, quaternion: Optional[ArrayLike] = None,
+                  rotation_matrix: Optional[ArrayLike] = None, rpy: Optional[ArrayLike] = None,
+                  axis: Optional[ArrayLike] = None, lower: Optional[float] = None,
+                  upper: Optional[float] = None, mimic: Name = None, multiplier: Optional[float] = None,
+                  offset: Optional[float] = None) -> None:
+        """type: "revolute", "continuous", "prismatic" or "fixed". X_origin (position, rotation):
+        child relative to parent at q = 0; axis in [child] (default x); mimic: q = multiplier *
+        q_master + offset. RejectedError (invalid_model, duplicate_joint, ...)."""
+    @property
+    def num_joints(self) -> int: ...
+    @property
+    def joint_names(self) -> List[str]:
+        """Independent movable joints in add order: the default array layout."""
+    def joint_group(self, names: Sequence[str]) -> JointGroup: ...
+    def set_joints(self, positions: Union[ArrayLike, Mapping[str, float], None] = None,
+                   velocities: Union[ArrayLike, Mapping[str, float], None] = None, *,
+                   names: Union[Sequence[str], JointGroup, None] = None) -> None:
+        """Arrays in the layout of `names` (default joint_names), or dicts by joint name.
+        All or nothing: invalid_number, unknown_joint, mimic_joint, joint_limit."""
+    def joint_positions(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray: ...
+    def joint_velocities(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray: ...
+    def jacobian(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                 expressed_in: Name = None) -> Jacobian:
+        """Jacobian of TwistCoord(point|body, ref_body, [expressed_in]) at the current state."""
+    def compile_jacobian(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                         expressed_in: Name = None) -> CompiledJacobian: ...
+    def load_urdf(self, path: Union[str, "os.PathLike[str]"], *, prefix: str = "") -> Robot:
+        """Loads a URDF file (atomic; without the GIL). RejectedError invalid_model, ..."""
+    def load_urdf_string(self, xml: str, *, prefix: str = "") -> Robot: ...
 
     def dump(self) -> str: ...
     def check_invariants(self) -> str: ...

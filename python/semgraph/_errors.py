@@ -1,6 +1,6 @@
 """The exceptions of semgraph (raised by the C++ kernel, defined here so they are plain Python)."""
 
-from typing import Optional
+from typing import Optional, Tuple
 
 
 class Error(Exception):
@@ -10,20 +10,25 @@ class Error(Exception):
 class RejectedError(Error):
     """A build-time operation (add, remove, handle lookup, set) was refused; nothing changed.
 
-    code:    the stable snake_case error code, e.g. "multiple_pose_parents", "invalid_rotation"
-    message: what was refused and why, naming the frames, bodies and the conflicting relation
+    code:        the stable snake_case error code, e.g. "multiple_pose_parents", "invalid_rotation"
+    message:     what was refused and why, naming the frames, bodies and the conflicting relation
+    discrepancy: for a repair whose consistency check refused the relation (add_pose/add_twist
+                 with repair=), (position, angle): how far it is from the value the graph
+                 derives (m and rad; m/s and rad/s for twists); None otherwise
     """
 
-    def __init__(self, code: str, message: str) -> None:
+    def __init__(self, code: str, message: str,
+                 discrepancy: Optional[Tuple[float, float]] = None) -> None:
         super().__init__(message)
         self.code = code
         self.message = message
+        self.discrepancy = discrepancy
 
     def __str__(self) -> str:
         return self.message if self.code in self.message else f"{self.message} ({self.code})"
 
     def __reduce__(self):
-        return (type(self), (self.code, self.message))
+        return (type(self), (self.code, self.message, self.discrepancy))
 
 
 class QueryError(Error):

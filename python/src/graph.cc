@@ -10,8 +10,11 @@
 #include <utility>
 
 #include "arguments.h"
+#include "common.h"
+#include "timed.h"
 #include "semgraph/coord/validate.h"
 #include "semgraph/semantics/describe.h"
+#include "semgraph/semantics/operations.h"
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
 #include "semgraph/script/scene_script.h"
@@ -25,6 +28,8 @@ using semantics::Field;
 GraphBox::GraphBox(bool homogeneous)
     : graph(homogeneous ? decltype(graph)(std::in_place_index<1>)
                         : decltype(graph)(std::in_place_index<0>)) {}
+GraphBox::GraphBox(bool, QuaternionGraph&& made) : graph(std::in_place_index<0>, std::move(made)) {}
+GraphBox::GraphBox(bool, HomogeneousGraph&& made) : graph(std::in_place_index<1>, std::move(made)) {}
 
 const char* GraphBox::representation() const noexcept {
   return Visit([](const auto& g) -> const char* {
@@ -67,6 +72,14 @@ void ThrowRejected(ErrorCode code, const std::string& message) {
   throw py::error_already_set();
 }
 
+void ThrowRejected(const core::BuildError& error) {
+  if (!error.discrepancy) ThrowRejected(error.code, error.message);
+  py::object d = py::make_tuple(error.discrepancy->position, error.discrepancy->angle);
+  py::object exc = g_rejected_error(py::str(std::string(ToString(error.code))), py::str(error.message), d);
+  PyErr_SetObject(g_rejected_error.ptr(), exc.ptr());
+  throw py::error_already_set();
+}
+
 void ThrowQuery(ErrorCode code, const std::string& message, const char* field,
                 const char* argument) {
   py::object f = field ? py::object(py::str(field)) : py::object(py::none());
@@ -78,192 +91,6 @@ void ThrowQuery(ErrorCode code, const std::string& message, const char* field,
 
 namespace {
 
-// ====================================================================== helpers
-
-template <class T>
-struct BackendOf {
-  using type = typename T::Backend;
-};
-template <coord::Backend B>
-struct BackendOf<core::CompiledPose<B>> {
-  using type = B;
-};
-template <coord::Backend B>
-struct BackendOf<core::CompiledPosition<B>> {
-  using type = B;
-};
-template <coord::Backend B>
-struct BackendOf<core::CompiledOrientation<B>> {
-  using type = B;
-};
-template <coord::Backend B>
-struct BackendOf<core::CompiledTwist<B>> {
-  using type = B;
-};
-template <class T>
-using BackendOfT = typename BackendOf<std::decay_t<T>>::type;
-
-void Check(const core::BuildResult& r) {
-  if (!r) ThrowRejected(r.error().code, r.error().message);
-}
-
-const char* RoleName(Field f) {
-  switch (f) {
-    case Field::kPoint: return "point";
-    case Field::kOrientation: return "orientation";
-    case Field::kBody: return "body";
-    case Field::kRefPoint: return "ref_point";
-    case Field::kRefOrientation: return "ref_orientation";
-    case Field::kRefBody: return "ref_body";
-    case Field::kCoordinateFrame: return "coordinate_frame";
-  }
-  return "argument";
-}
-
-// Whether QueryError::field names the culprit for this code.
-bool FieldApplies(ErrorCode code) {
-  return code == ErrorCode::kInvalidName || code == ErrorCode::kUnknownFrame ||
-         code == ErrorCode::kUnknownBody || code == ErrorCode::kFrameBodyMismatch;
-}
-
-// The names of a pose/position/orientation, as the Python keywords gave them.
-struct PoseNames {
-  std::string_view of, body, wrt, ref_body, point, orientation, ref_point, ref_orientation,
-      expressed_in;
-
-  [[nodiscard]] core::PoseSpec Spec() const {
-    core::PoseSpec s = core::PoseSpec::Of(of, body).RelativeTo(wrt, ref_body);
-    if (!point.empty()) s.point = point;
-    if (!orientation.empty()) s.orientation = orientation;
-    if (!ref_point.empty()) s.ref_point = ref_point;
-    if (!ref_orientation.empty()) s.ref_orientation = ref_orientation;
-    if (!expressed_in.empty()) s.coordinate_frame = expressed_in;
-    return s;
-  }
-  // The keyword that supplied a field.
-  [[nodiscard]] const char* Argument(Field f) const {
-    switch (f) {
-      case Field::kPoint: return point.empty() ? "of" : "point";
-      case Field::kOrientation: return orientation.empty() ? "of" : "orientation";
-      case Field::kBody: return "body";
-      case Field::kRefPoint: return ref_point.empty() ? "wrt" : "ref_point";
-      case Field::kRefOrientation: return ref_orientation.empty() ? "wrt" : "ref_orientation";
-      case Field::kRefBody: return "ref_body";
-      case Field::kCoordinateFrame: return expressed_in.empty() ? "wrt" : "expressed_in";
-    }
-    return nullptr;
-  }
-};
-
-PoseNames ReadPoseNames(const char* fn, py::handle of, py::handle body, py::handle wrt,
-                        py::handle ref_body, py::handle point, py::handle orientation,
-                        py::handle ref_point, py::handle ref_orientation, py::handle expressed_in) {
-  PoseNames n;
-  n.of = NameArg(of, fn, "of");
-  n.body = NameArg(body, fn, "body");
-  n.wrt = NameArg(wrt, fn, "wrt");
-  n.ref_body = NameArg(ref_body, fn, "ref_body");
-  n.point = NameArg(point, fn, "point");
-  n.orientation = NameArg(orientation, fn, "orientation");
-  n.ref_point = NameArg(ref_point, fn, "ref_point");
-  n.ref_orientation = NameArg(ref_orientation, fn, "ref_orientation");
-  n.expressed_in = NameArg(expressed_in, fn, "expressed_in");
-  return n;
-}
-
-core::TwistSpec ReadTwistSpec(const char* fn, py::handle point, py::handle body,
-                              py::handle ref_body, py::handle expressed_in) {
-  return core::TwistSpec::Of(NameArg(point, fn, "point"), NameArg(body, fn, "body"))
-      .RelativeTo(NameArg(ref_body, fn, "ref_body"))
-      .ExpressedIn(NameArg(expressed_in, fn, "expressed_in"));
-}
-
-const char* TwistArgument(Field f) {
-  switch (f) {
-    case Field::kPoint: return "point";
-    case Field::kBody: return "body";
-    case Field::kRefBody: return "ref_body";
-    case Field::kCoordinateFrame: return "expressed_in";
-    default: return nullptr;
-  }
-}
-
-template <class G>
-[[noreturn]] void ThrowPoseQuery(const G& g, const core::QueryError& e, const core::PoseSpec& spec,
-                                 const PoseNames& n) {
-  const bool field = FieldApplies(e.code);
-  ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
-             field ? n.Argument(e.field) : nullptr);
-}
-
-template <class G>
-[[noreturn]] void ThrowTwistQuery(const G& g, const core::QueryError& e,
-                                  const core::TwistSpec& spec) {
-  const bool field = FieldApplies(e.code);
-  ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
-             field ? TwistArgument(e.field) : nullptr);
-}
-
-// ---------------------------------------------------------------- numpy out
-
-py::array_t<double> Array(const double* data, std::initializer_list<py::ssize_t> shape) {
-  py::array_t<double> a{std::vector<py::ssize_t>(shape)};
-  py::ssize_t n = 1;
-  for (py::ssize_t s : shape) n *= s;
-  std::memcpy(a.mutable_data(), data, static_cast<std::size_t>(n) * sizeof(double));
-  return a;
-}
-py::array_t<double> VectorArray(const Eigen::Vector3d& v) { return Array(v.data(), {3}); }
-py::array_t<double> QuaternionArray(const Eigen::Quaterniond& q) {
-  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
-  return Array(wxyz, {4});
-}
-py::array_t<double> MatrixArray(const Eigen::Quaterniond& q) {
-  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> R = q.toRotationMatrix();
-  return Array(R.data(), {3, 3});
-}
-py::array_t<double> HomogeneousArray(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
-  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> T = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>::Identity();
-  T.topLeftCorner<3, 3>() = q.toRotationMatrix();
-  T.topRightCorner<3, 1>() = p;
-  return Array(T.data(), {4, 4});
-}
-
-std::string Numbers(const double* x, int n) {
-  std::string s = "[";
-  char buf[32];
-  for (int i = 0; i < n; ++i) {
-    std::snprintf(buf, sizeof(buf), "%.6g", x[i] == 0.0 ? 0.0 : x[i]);
-    s += (i ? ", " : "") + std::string(buf);
-  }
-  return s + "]";
-}
-std::string VectorText(const Eigen::Vector3d& v) { return Numbers(v.data(), 3); }
-std::string QuaternionText(const Eigen::Quaterniond& q) {
-  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
-  return Numbers(wxyz, 4);
-}
-
-template <class S>
-std::string SemanticsText(const GraphPtr& graph, const S& s) {
-  return Describe(s, graph->names());
-}
-
-// ---------------------------------------------------------------- results from core values
-
-template <coord::Backend B>
-PoseResult MakePoseResult(const GraphPtr& graph, const semantics::PoseSemantics& s,
-                          const typename B::PoseCoords& X) {
-  return PoseResult{graph, s, CanonicalQuaternion(B::ToQuaternion(B::RotationOf(X))),
-                    B::TranslationOf(X)};
-}
-template <coord::Backend B>
-OrientationResult MakeOrientationResult(const GraphPtr& graph,
-                                        const semantics::OrientationSemantics& s,
-                                        const typename B::Rotation& M) {
-  return OrientationResult{graph, s, CanonicalQuaternion(B::ToQuaternion(M))};
-}
-
 // ---------------------------------------------------------------- compiled evaluation
 
 [[noreturn]] void ThrowInvalidated(const std::string& what) {
@@ -274,32 +101,64 @@ OrientationResult MakeOrientationResult(const GraphPtr& graph,
              nullptr, nullptr);
 }
 
-PoseResult Evaluate(const CompiledPoseObject& c) {
+// A compiled query's code under a time policy: kOk, or raises (QueryError).
+void CheckCompiled(ErrorCode code, const std::string& what, const core::TimePolicy* policy) {
+  if (code == ErrorCode::kOk) return;
+  if (code == ErrorCode::kQueryInvalidated || policy == nullptr) ThrowInvalidated(what);
+  std::string why;
+  switch (code) {
+    case ErrorCode::kExtrapolation:
+      why = "an edge it reads has no sample around the time asked and may not be extrapolated there";
+      break;
+    case ErrorCode::kStale: why = "an edge it reads has no sample at or after not_before"; break;
+    case ErrorCode::kInvalidNumber: why = "max_extrapolation is negative"; break;
+    default: why = "the time policy cannot be answered"; break;
+  }
+  ThrowQuery(code,
+             "the compiled query " + what + " failed (" + std::string(ToString(code)) + "): " + why +
+                 "; explain_pose / explain_twist with the same names and time keywords lists the edges and "
+                 "their samples",
+             nullptr, nullptr);
+}
+
+PoseResult Evaluate(const CompiledPoseObject& c, const core::TimePolicy* policy = nullptr) {
   return std::visit(
       [&](const auto& q) {
         using B = BackendOfT<decltype(q)>;
         typename B::PoseCoords X;
-        if (q.Evaluate(X) != ErrorCode::kOk) ThrowInvalidated(SemanticsText(c.graph, q.semantics()));
-        return MakePoseResult<B>(c.graph, q.semantics(), X);
+        core::TimeReport report;
+        CheckCompiled(policy ? q.Evaluate(X, *policy, report) : q.Evaluate(X),
+                      SemanticsText(c.graph, q.semantics()), policy);
+        PoseResult r = MakePoseResult<B>(c.graph, q.semantics(), X);
+        if (policy) r.time = report;
+        return r;
       },
       c.query);
 }
-PositionResult Evaluate(const CompiledPositionObject& c) {
+PositionResult Evaluate(const CompiledPositionObject& c, const core::TimePolicy* policy = nullptr) {
   return std::visit(
       [&](const auto& q) {
         Eigen::Vector3d p;
-        if (q.Evaluate(p) != ErrorCode::kOk) ThrowInvalidated(SemanticsText(c.graph, q.semantics()));
-        return PositionResult{c.graph, q.semantics(), p};
+        core::TimeReport report;
+        CheckCompiled(policy ? q.Evaluate(p, *policy, report) : q.Evaluate(p),
+                      SemanticsText(c.graph, q.semantics()), policy);
+        PositionResult r{c.graph, q.semantics(), p};
+        if (policy) r.time = report;
+        return r;
       },
       c.query);
 }
-OrientationResult Evaluate(const CompiledOrientationObject& c) {
+OrientationResult Evaluate(const CompiledOrientationObject& c, const core::TimePolicy* policy = nullptr) {
   return std::visit(
       [&](const auto& q) {
         using B = BackendOfT<decltype(q)>;
         typename B::Rotation M;
-        if (q.Evaluate(M) != ErrorCode::kOk) ThrowInvalidated(SemanticsText(c.graph, q.semantics()));
-        return MakeOrientationResult<B>(c.graph, q.semantics(), M);
+        core::TimeReport report;
+        CheckCompiled(policy ? q.Evaluate(M, *policy, report) : q.Evaluate(M),
+                      SemanticsText(c.graph, q.semantics()), policy);
+        OrientationResult r = MakeOrientationResult<B>(c.graph, q.semantics(), M);
+        if (policy) r.time = report;
+        return r;
       },
       c.query);
 }
@@ -314,27 +173,92 @@ std::string CompiledText(const CompiledTwistObject& c) {
       },
       c.query);
 }
-py::object Evaluate(const CompiledTwistObject& c) {
+py::object Evaluate(const CompiledTwistObject& c, const core::TimePolicy* policy = nullptr) {
   Eigen::Vector3d v, w;
-  const ErrorCode code = std::visit([&](const auto& q) { return q.Evaluate(v, w); }, c.query);
-  if (code != ErrorCode::kOk) ThrowInvalidated(CompiledText(c));
+  core::TimeReport report;
+  const ErrorCode code = std::visit(
+      [&](const auto& q) { return policy ? q.Evaluate(v, w, *policy, report) : q.Evaluate(v, w); }, c.query);
+  if (code != ErrorCode::kOk) CheckCompiled(code, CompiledText(c), policy);
+  std::optional<core::TimeReport> time;
+  if (policy) time = report;
   switch (c.kind) {
-    case CompiledKind::kLinear: return py::cast(LinearVelocityResult{c.graph, c.linear_semantics, v});
-    case CompiledKind::kAngular: return py::cast(AngularVelocityResult{c.graph, c.angular_semantics, w});
+    case CompiledKind::kLinear: return py::cast(LinearVelocityResult{c.graph, c.linear_semantics, v, time});
+    case CompiledKind::kAngular: return py::cast(AngularVelocityResult{c.graph, c.angular_semantics, w, time});
     default:
       return py::cast(TwistResult{
-          c.graph, std::visit([](const auto& q) { return q.semantics(); }, c.query), v, w});
+          c.graph, std::visit([](const auto& q) { return q.semantics(); }, c.query), v, w, time});
   }
+}
+
+// evaluate(*, at=, max_extrapolation=, not_before=): the compiled query under that policy.
+template <class C>
+py::object EvaluateAt(const C& c, py::handle at, py::handle max_extrapolation, py::handle not_before) {
+  const TimeQuery t = TimeQueryArgs("evaluate", at, max_extrapolation, not_before, py::none(), py::none(), false);
+  auto object = [](auto&& result) -> py::object {
+    if constexpr (std::is_same_v<std::decay_t<decltype(result)>, py::object>) {
+      return std::move(result);
+    } else {
+      return py::cast(std::move(result));
+    }
+  };
+  if (t.kind == TimeQuery::Kind::kNone) return object(Evaluate(c));
+  return object(Evaluate(c, &t.policy));
 }
 
 // ---------------------------------------------------------------- graph methods
 
-GraphPtr Make(py::handle representation) {
+GraphPtr Make(py::handle representation, py::handle window, py::handle interpolation,
+               py::handle duplicate_stamp, py::handle sample_capacity) {
   const std::string_view r = NameArg(representation, "SceneGraph", "representation");
-  if (r == "quaternion" || r.empty()) return std::make_shared<GraphBox>(false);
-  if (r == "homogeneous") return std::make_shared<GraphBox>(true);
-  throw py::value_error("SceneGraph(): representation must be 'quaternion' or 'homogeneous', not '" +
-                        std::string(r) + "'");
+  if (!(r == "quaternion" || r.empty() || r == "homogeneous")) {
+    throw py::value_error("SceneGraph(): representation must be 'quaternion' or 'homogeneous', not '" +
+                          std::string(r) + "'");
+  }
+  const bool homogeneous = r == "homogeneous";
+  if (window.is_none() && interpolation.is_none() && duplicate_stamp.is_none() && sample_capacity.is_none()) {
+    return std::make_shared<GraphBox>(homogeneous);
+  }
+  core::TimeOptions options;
+  if (!window.is_none()) {
+    options.window = core::Duration::Nanoseconds(NanosecondsArg(window, "SceneGraph", "window", false));
+  }
+  if (!interpolation.is_none()) {
+    const std::string_view i = NameArg(interpolation, "SceneGraph", "interpolation");
+    if (i == "screw") {
+      options.interpolation = core::Interpolation::kScrew;
+    } else if (i == "linear") {
+      options.interpolation = core::Interpolation::kLinear;
+    } else {
+      throw py::value_error("SceneGraph(): interpolation must be 'screw' or 'linear', not '" + std::string(i) + "'");
+    }
+  }
+  if (!duplicate_stamp.is_none()) {
+    const std::string_view d = NameArg(duplicate_stamp, "SceneGraph", "duplicate_stamp");
+    if (d == "replace") {
+      options.duplicate_stamp = core::DuplicatePolicy::kReplace;
+    } else if (d == "reject") {
+      options.duplicate_stamp = core::DuplicatePolicy::kReject;
+    } else {
+      throw py::value_error("SceneGraph(): duplicate_stamp must be 'replace' or 'reject', not '" + std::string(d) +
+                            "'");
+    }
+  }
+  if (!sample_capacity.is_none()) {
+    if (PyBool_Check(sample_capacity.ptr()) || !PyIndex_Check(sample_capacity.ptr())) {
+      throw py::type_error("SceneGraph(): sample_capacity must be an int, not " + TypeName(sample_capacity));
+    }
+    const auto n = sample_capacity.cast<long long>();
+    // Negative: below the core's minimum of 2, which it refuses with its own message.
+    options.sample_capacity = n < 0 ? 0 : static_cast<std::size_t>(n);
+  }
+  auto make = [&](auto tag) -> GraphPtr {
+    using G = typename decltype(tag)::type;
+    auto made = G::Create(options);
+    if (!made) ThrowRejected(made.error());
+    return std::make_shared<GraphBox>(homogeneous, std::move(*made));
+  };
+  if (homogeneous) return make(std::type_identity<HomogeneousGraph>{});
+  return make(std::type_identity<QuaternionGraph>{});
 }
 
 [[noreturn]] void ThrowValue(const char* what, const std::string& context, const coord::Error& e,
@@ -356,13 +280,28 @@ std::string TwistEdgeText(std::string_view ref_body, std::string_view point) {
                                             "after the handle was made");
 }
 
+// Why a stamped sample was refused (the codes of the stamped SetPose / SetTwist).
+std::string StampWhy(ErrorCode code, const std::optional<core::Stamp>& t) {
+  const std::string at = t ? " " + std::to_string(t->nanoseconds()) + " ns" : std::string();
+  switch (code) {
+    case ErrorCode::kStampMismatch:
+      return t ? ": the edge is timeless (its first value had no stamp); remove and re-add it to stamp it"
+               : ": the edge is stamped; give stamp=";
+    case ErrorCode::kStampTooOld: return ": the stamp" + at + " is older than the edge's newest sample minus the window";
+    case ErrorCode::kDuplicateStamp:
+      return ": the edge has another value at the stamp" + at + " (duplicate_stamp='reject')";
+    default: return "";
+  }
+}
+
 void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::handle rotation,
-             py::handle quaternion, py::handle rotation_matrix, py::handle rpy) {
+             py::handle quaternion, py::handle rotation_matrix, py::handle rpy, py::handle stamp) {
   if (h.graph.get() != &box) {
     throw py::value_error("set_pose(): the handle belongs to another SceneGraph");
   }
   const Eigen::Vector3d p = Vector3Arg(position, "set_pose", "position");
   const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "set_pose");
+  const std::optional<core::Stamp> t = OptionalStampArg(stamp, "set_pose", "stamp", false);
   // Validated here only for a message that says what is wrong; SetPose checks again.
   auto vp = coord::ValidateVector(p, coord::ValueRole::kPosition);
   if (!vp) ThrowValue("set_pose", EdgeText(h.wrt, h.of), vp.error(), box.names());
@@ -377,22 +316,25 @@ void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::
   {
     std::lock_guard<std::mutex> lock(box.writer);
     code = box.Visit([&](auto& g) {
+      if (t) return rot.is_matrix ? g.SetPose(h.handle, rot.R, p, *t) : g.SetPose(h.handle, rot.q, p, *t);
       return rot.is_matrix ? g.SetPose(h.handle, rot.R, p) : g.SetPose(h.handle, rot.q, p);
     });
   }
   if (code == ErrorCode::kNoSuchEdge) ThrowRemoved("set_pose", EdgeText(h.wrt, h.of));
   if (code != ErrorCode::kOk) {
     ThrowRejected(code, "set_pose " + EdgeText(h.wrt, h.of) + " rejected (" +
-                            std::string(ToString(code)) + ")");
+                            std::string(ToString(code)) + ")" + StampWhy(code, t));
   }
 }
 
-void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::handle angular) {
+void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::handle angular,
+              py::handle stamp) {
   if (h.graph.get() != &box) {
     throw py::value_error("set_twist(): the handle belongs to another SceneGraph");
   }
   const Eigen::Vector3d v = Vector3Arg(linear, "set_twist", "linear");
   const Eigen::Vector3d w = Vector3Arg(angular, "set_twist", "angular");
+  const std::optional<core::Stamp> t = OptionalStampArg(stamp, "set_twist", "stamp", false);
   auto vv = coord::ValidateVector(v, coord::ValueRole::kLinearVelocity);
   if (!vv) ThrowValue("set_twist", TwistEdgeText(h.ref_body, h.point), vv.error(), box.names());
   auto vw = coord::ValidateVector(w, coord::ValueRole::kAngularVelocity);
@@ -400,12 +342,12 @@ void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::
   ErrorCode code;
   {
     std::lock_guard<std::mutex> lock(box.writer);
-    code = box.Visit([&](auto& g) { return g.SetTwist(h.handle, v, w); });
+    code = box.Visit([&](auto& g) { return t ? g.SetTwist(h.handle, v, w, *t) : g.SetTwist(h.handle, v, w); });
   }
   if (code == ErrorCode::kNoSuchEdge) ThrowRemoved("set_twist", TwistEdgeText(h.ref_body, h.point));
   if (code != ErrorCode::kOk) {
     ThrowRejected(code, "set_twist " + TwistEdgeText(h.ref_body, h.point) + " rejected (" +
-                            std::string(ToString(code)) + ")");
+                            std::string(ToString(code)) + ")" + StampWhy(code, t));
   }
 }
 
@@ -656,9 +598,12 @@ semantics        the relation in the paper's notation, e.g. 'PoseCoord({f1}|O1, 
       .def_property_readonly("rotation_matrix", [](const PoseResult& r) { return MatrixArray(r.q); })
       .def_property_readonly("matrix", [](const PoseResult& r) { return HomogeneousArray(r.q, r.p); })
       .def_property_readonly("semantics", [](const PoseResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly("time", [](const PoseResult& r) -> py::object {
+        return r.time ? TimeReportObject(*r.time) : py::none();
+      }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const PoseResult& r) {
         return "Pose(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) +
-               ", quaternion=" + QuaternionText(r.q) + ")";
+               ", quaternion=" + QuaternionText(r.q) + TimeSuffix(r.time) + ")";
       });
   py::class_<PositionResult>(m, "Position", R"(The result of a position query: PositionCoord(e|C, f|D, [r]).
 
@@ -666,8 +611,12 @@ position   p: position of the point e relative to the point f, in [r]
 semantics  the relation in the paper's notation)")
       .def_property_readonly("position", [](const PositionResult& r) { return VectorArray(r.p); })
       .def_property_readonly("semantics", [](const PositionResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly("time", [](const PositionResult& r) -> py::object {
+        return r.time ? TimeReportObject(*r.time) : py::none();
+      }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const PositionResult& r) {
-        return "Position(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) + ")";
+        return "Position(" + SemanticsText(r.graph, r.semantics) + ", position=" + VectorText(r.p) +
+               TimeSuffix(r.time) + ")";
       });
   py::class_<OrientationResult>(m, "Orientation", R"(The result of an orientation query: OrientationCoord([a]|C, [b]|D, [r]).
 
@@ -678,8 +627,12 @@ semantics        the relation in the paper's notation)")
       .def_property_readonly("quaternion", [](const OrientationResult& r) { return QuaternionArray(r.q); })
       .def_property_readonly("rotation_matrix", [](const OrientationResult& r) { return MatrixArray(r.q); })
       .def_property_readonly("semantics", [](const OrientationResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly("time", [](const OrientationResult& r) -> py::object {
+        return r.time ? TimeReportObject(*r.time) : py::none();
+      }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const OrientationResult& r) {
-        return "Orientation(" + SemanticsText(r.graph, r.semantics) + ", quaternion=" + QuaternionText(r.q) + ")";
+        return "Orientation(" + SemanticsText(r.graph, r.semantics) + ", quaternion=" + QuaternionText(r.q) +
+               TimeSuffix(r.time) + ")";
       });
   py::class_<TwistResult>(m, "Twist", R"(The result of a twist query: TwistCoord(e|C, D, [r]).
 
@@ -689,9 +642,12 @@ semantics  the relation in the paper's notation)")
       .def_property_readonly("linear", [](const TwistResult& r) { return VectorArray(r.v); })
       .def_property_readonly("angular", [](const TwistResult& r) { return VectorArray(r.w); })
       .def_property_readonly("semantics", [](const TwistResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly("time", [](const TwistResult& r) -> py::object {
+        return r.time ? TimeReportObject(*r.time) : py::none();
+      }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const TwistResult& r) {
         return "Twist(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) +
-               ", angular=" + VectorText(r.w) + ")";
+               ", angular=" + VectorText(r.w) + TimeSuffix(r.time) + ")";
       });
   py::class_<LinearVelocityResult>(m, "LinearVelocity", R"(The result of a linear velocity query: LinearVelocityCoord(e|C, D, [r]).
 
@@ -699,8 +655,12 @@ linear     v: velocity of the point of body C at e, relative to body D, in [r]
 semantics  the relation in the paper's notation)")
       .def_property_readonly("linear", [](const LinearVelocityResult& r) { return VectorArray(r.v); })
       .def_property_readonly("semantics", [](const LinearVelocityResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly("time", [](const LinearVelocityResult& r) -> py::object {
+        return r.time ? TimeReportObject(*r.time) : py::none();
+      }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const LinearVelocityResult& r) {
-        return "LinearVelocity(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) + ")";
+        return "LinearVelocity(" + SemanticsText(r.graph, r.semantics) + ", linear=" + VectorText(r.v) +
+               TimeSuffix(r.time) + ")";
       });
   py::class_<AngularVelocityResult>(m, "AngularVelocity", R"(The result of an angular velocity query: AngularVelocityCoord(C, D, [r]).
 
@@ -708,8 +668,12 @@ angular    w: angular velocity of body C relative to body D, in [r]
 semantics  the relation in the paper's notation)")
       .def_property_readonly("angular", [](const AngularVelocityResult& r) { return VectorArray(r.w); })
       .def_property_readonly("semantics", [](const AngularVelocityResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly("time", [](const AngularVelocityResult& r) -> py::object {
+        return r.time ? TimeReportObject(*r.time) : py::none();
+      }, "What a timed query read (a TimeReport), or None for a query without time keywords.")
       .def("__repr__", [](const AngularVelocityResult& r) {
-        return "AngularVelocity(" + SemanticsText(r.graph, r.semantics) + ", angular=" + VectorText(r.w) + ")";
+        return "AngularVelocity(" + SemanticsText(r.graph, r.semantics) + ", angular=" + VectorText(r.w) +
+               TimeSuffix(r.time) + ")";
       });
 
   // ------------------------------------------------------------ compiled queries
@@ -720,8 +684,16 @@ update of the edges it reads. It keeps its SceneGraph alive. After an edge it re
 evaluate() raises QueryError with code 'query_invalidated' (never a wrong number): compile again.)";
   py::class_<CompiledPoseObject, std::shared_ptr<CompiledPoseObject>>(
       m, "CompiledPose", Doc("A compiled pose query.", kCompiledDoc).c_str())
-      .def("evaluate", [](const CompiledPoseObject& c) { return Evaluate(c); },
-           "The pose now (a Pose). Raises QueryError('query_invalidated') after a removal.")
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledPoseObject& c) { return Evaluate(c); })
+      .def("evaluate", [](const CompiledPoseObject& c, py::handle at, py::handle max_extrapolation,
+                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+           py::arg("not_before") = py::none(),
+           "The pose now (a Pose); with at= / not_before= (as SceneGraph.pose: a time, 'latest', "
+           "'latest_common') under that time policy, with .time. Raises QueryError('query_invalidated') "
+           "after a removal, and extrapolation / stale / invalid_number under a time policy.")
       .def_property_readonly("is_valid", [](const CompiledPoseObject& c) {
         return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
       }, "True while every edge the query reads still exists.")
@@ -733,7 +705,13 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       });
   py::class_<CompiledPositionObject, std::shared_ptr<CompiledPositionObject>>(
       m, "CompiledPosition", Doc("A compiled position query.", kCompiledDoc).c_str())
-      .def("evaluate", [](const CompiledPositionObject& c) { return Evaluate(c); },
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledPositionObject& c) { return Evaluate(c); })
+      .def("evaluate", [](const CompiledPositionObject& c, py::handle at, py::handle max_extrapolation,
+                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+           py::arg("not_before") = py::none(),
            "The position now (a Position).")
       .def_property_readonly("is_valid", [](const CompiledPositionObject& c) {
         return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
@@ -746,7 +724,13 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       });
   py::class_<CompiledOrientationObject, std::shared_ptr<CompiledOrientationObject>>(
       m, "CompiledOrientation", Doc("A compiled orientation query.", kCompiledDoc).c_str())
-      .def("evaluate", [](const CompiledOrientationObject& c) { return Evaluate(c); },
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledOrientationObject& c) { return Evaluate(c); })
+      .def("evaluate", [](const CompiledOrientationObject& c, py::handle at, py::handle max_extrapolation,
+                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+           py::arg("not_before") = py::none(),
            "The orientation now (an Orientation).")
       .def_property_readonly("is_valid", [](const CompiledOrientationObject& c) {
         return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
@@ -761,7 +745,13 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       m, "CompiledTwist",
       Doc("A compiled twist, linear velocity or angular velocity query (evaluate() returns a "
           "Twist, LinearVelocity or AngularVelocity, as compiled).", kCompiledDoc).c_str())
-      .def("evaluate", [](const CompiledTwistObject& c) { return Evaluate(c); },
+      // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
+      // for parsing the time keywords.
+      .def("evaluate", [](const CompiledTwistObject& c) { return Evaluate(c); })
+      .def("evaluate", [](const CompiledTwistObject& c, py::handle at, py::handle max_extrapolation,
+                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+           py::arg("not_before") = py::none(),
            "The twist (or linear / angular velocity) now.")
       .def_property_readonly("is_valid", [](const CompiledTwistObject& c) {
         return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
@@ -826,8 +816,10 @@ body, both in [head]. Checked first, atomic, without the GIL, as PoseBatch.set.)
         return "TwistBatch(" + std::to_string(b.handles.size()) + " edges)";
       });
 
+  BindRepair(m);
+
   // ------------------------------------------------------------ SceneGraph
-  py::class_<GraphBox, std::shared_ptr<GraphBox>> graph(m, "SceneGraph", R"(A constraint-checking scene graph of poses and twists of rigid bodies (De Laet et al.,
+  GraphClass graph(m, "SceneGraph", R"(A constraint-checking scene graph of poses and twists of rigid bodies (De Laet et al.,
 IROS 2013).
 
 Bodies contain frames; pose edges {wrt} -> {of} store the pose of a frame relative to another,
@@ -840,8 +832,34 @@ checking every step, and raise QueryError when the question has no answer.
 representation: 'quaternion' (default; unit quaternion + vector, any semantics) or
 'homogeneous' (4x4 matrices: poses must be between frame origins and expressed in the
 reference orientation frame, else representation_constraint).)");
-  graph.def(py::init([](py::handle representation) { return Make(representation); }),
-            py::arg("representation") = "quaternion");
+  graph.def(py::init(&Make), py::arg("representation") = "quaternion", py::kw_only(),
+            py::arg("window") = py::none(), py::arg("interpolation") = py::none(),
+            py::arg("duplicate_stamp") = py::none(), py::arg("sample_capacity") = py::none(),
+            R"(A new, empty graph.
+
+representation   'quaternion' (default) or 'homogeneous'
+Time options (docs/time.md; used by stamped values, defaults in brackets):
+window           the history kept per stamped edge [10 s]: samples older than the edge's newest
+                 minus the window are dropped; a time (int nanoseconds or float seconds)
+interpolation    'screw' [default] (constant screw twist between samples) or 'linear' (tf2's:
+                 positions linearly, rotations by slerp)
+duplicate_stamp  'replace' [default] or 'reject' (another value at an existing stamp is
+                 refused with duplicate_stamp)
+sample_capacity  samples per stamped edge, preallocated when the edge gets its first stamp [1024]
+RejectedError invalid_number: a window that is not positive, a sample_capacity below 2.)");
+  graph.def_property_readonly("time_options", [](const GraphBox& b) {
+    return b.Visit([](const auto& g) {
+      const core::TimeOptions& o = g.time_options();
+      py::dict d;
+      d["window"] = static_cast<double>(o.window.nanoseconds()) / 1e9;
+      d["window_ns"] = o.window.nanoseconds();
+      d["interpolation"] = o.interpolation == core::Interpolation::kScrew ? "screw" : "linear";
+      d["duplicate_stamp"] = o.duplicate_stamp == core::DuplicatePolicy::kReplace ? "replace" : "reject";
+      d["sample_capacity"] = o.sample_capacity;
+      return d;
+    });
+  }, "The graph's time options as a dict: window (s), window_ns, interpolation, duplicate_stamp, "
+     "sample_capacity.");
   graph.def_property_readonly("representation", &GraphBox::representation,
                               "'quaternion' or 'homogeneous'.");
   graph.def_property_readonly("num_frames", [](const GraphBox& b) {
@@ -905,16 +923,39 @@ reference orientation frame, else representation_constraint).)");
       [](GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
          py::handle point, py::handle orientation, py::handle ref_point,
          py::handle ref_orientation, py::handle expressed_in, py::handle position,
-         py::handle rotation, py::handle quaternion, py::handle rotation_matrix, py::handle rpy) {
+         py::handle rotation, py::handle quaternion, py::handle rotation_matrix, py::handle rpy,
+         py::handle stamp, py::handle repair) -> py::object {
         const PoseNames n = ReadPoseNames("add_pose", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const Eigen::Vector3d p = Vector3Arg(position, "add_pose", "position");
         const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "add_pose");
+        const std::optional<core::Stamp> t = OptionalStampArg(stamp, "add_pose", "stamp", false);
+        const std::optional<core::RepairPolicy> policy = RepairArg(repair, "add_pose");
+        if (t && policy) {
+          throw py::value_error("add_pose(): stamp= and repair= cannot be combined (repair applies to timeless "
+                                "relations)");
+        }
         const core::PoseSpec spec = n.Spec();
         std::lock_guard<std::mutex> lock(b.writer);
+        if (policy) {
+          return b.Visit([&](auto& g) -> py::object {
+            // The core repairs quaternion values: a valid matrix is converted; an invalid one is
+            // refused by the plain add, with its message (and no change).
+            Eigen::Quaterniond q = rot.q;
+            if (rot.is_matrix) {
+              if (!coord::ValidateRotationMatrix(rot.R)) Check(g.AddPose(spec, rot.R, p));
+              q = Eigen::Quaterniond(rot.R).normalized();
+            }
+            auto r = g.AddPose(spec, q, p, *policy);
+            if (!r) ThrowRejected(r.error());
+            return py::cast(std::move(*r));
+          });
+        }
         Check(b.Visit([&](auto& g) {
+          if (t) return rot.is_matrix ? g.AddPose(spec, rot.R, p, *t) : g.AddPose(spec, rot.q, p, *t);
           return rot.is_matrix ? g.AddPose(spec, rot.R, p) : g.AddPose(spec, rot.q, p);
         }));
+        return py::none();
       },
       py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),
       py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),
@@ -923,33 +964,62 @@ reference orientation frame, else representation_constraint).)");
       py::arg("expressed_in") = py::none(), py::arg("position") = py::none(),
       py::arg("rotation") = py::none(), py::arg("quaternion") = py::none(),
       py::arg("rotation_matrix") = py::none(), py::arg("rpy") = py::none(),
+      py::arg("stamp") = py::none(), py::arg("repair") = py::none(),
       Doc(R"(Adds the pose of `of` (body `body`) relative to `wrt` (body `ref_body`), stored as the
 edge {wrt} -> {of}, or updates the value of that existing edge. Frames and bodies that do not
 exist yet are created. A pose in a non-edge form (other point, reference point or coordinate
 frame) is converted once. position: of's origin relative to wrt's origin, in [expressed_in]
 (default [wrt]); default (0, 0, 0).
+stamp   a stamped sample (docs/time.md): int nanoseconds or float seconds. The edge becomes
+        stamped on its first value; a value in another form is converted with the graph's
+        values at the stamp. Same-body edges are timeless (the stamp only serves the conversion).
+repair  True or a RepairPolicy: repair a rejection by P1 / pose_cycle (docs/repair.md) and
+        return a RepairReport; without it (the default) the add returns None. Not with stamp.
 RejectedError (code): invalid_name, invalid_number, invalid_rotation, frame_body_mismatch,
 self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
-multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, ...
+multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, joint_edge;
+with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation (a conversion at a
+stamp the other edges have no values for); with repair a refused consistency check keeps its
+code and has .discrepancy = (position, angle).
 )", (std::string(kPoseNamesDoc) + kRotationDoc).c_str()).c_str());
   graph.def("add_twist",
       [](GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in, py::handle linear, py::handle angular) {
+         py::handle expressed_in, py::handle linear, py::handle angular, py::handle stamp,
+         py::handle repair) -> py::object {
         const core::TwistSpec spec = ReadTwistSpec("add_twist", point, body, ref_body, expressed_in);
         const Eigen::Vector3d v = Vector3Arg(linear, "add_twist", "linear");
         const Eigen::Vector3d w = Vector3Arg(angular, "add_twist", "angular");
+        const std::optional<core::Stamp> t = OptionalStampArg(stamp, "add_twist", "stamp", false);
+        const std::optional<core::RepairPolicy> policy = RepairArg(repair, "add_twist");
+        if (t && policy) {
+          throw py::value_error("add_twist(): stamp= and repair= cannot be combined (repair applies to timeless "
+                                "relations)");
+        }
         std::lock_guard<std::mutex> lock(b.writer);
-        Check(b.Visit([&](auto& g) { return g.AddTwist(spec, v, w); }));
+        if (policy) {
+          return b.Visit([&](auto& g) -> py::object {
+            auto r = g.AddTwist(spec, v, w, *policy);
+            if (!r) ThrowRejected(r.error());
+            return py::cast(std::move(*r));
+          });
+        }
+        Check(b.Visit([&](auto& g) { return t ? g.AddTwist(spec, v, w, *t) : g.AddTwist(spec, v, w); }));
+        return py::none();
       },
       py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),
       py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none(),
       py::arg("linear") = py::none(), py::arg("angular") = py::none(),
+      py::arg("stamp") = py::none(), py::arg("repair") = py::none(),
       R"(Adds the twist of body `body` (default: the body of frame `point`) relative to body
 `ref_body`, as the twist edge ref_body -> {point}, or updates it.
 linear: velocity of the point of `body` at the origin of `point`; angular: angular velocity;
 both expressed in [expressed_in] (converted to [point] once when different); default zero.
+stamp: a stamped sample (int nanoseconds or float seconds), as for add_pose.
+repair: True or a RepairPolicy: repair a rejection by W1 (the inverse twist on a frame of the
+reference body) or duplicate_twist_path (consistency check); returns a RepairReport.
 RejectedError: invalid_name, invalid_number, unknown_frame, unknown_body, frame_body_mismatch,
-twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path, ...)");
+twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path,
+joint_edge; with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation.)");
   graph.def("remove_pose", [](GraphBox& b, py::handle of, py::handle wrt) {
     const std::string_view o = NameArg(of, "remove_pose", "of");
     const std::string_view w = NameArg(wrt, "remove_pose", "wrt");
@@ -979,67 +1049,118 @@ twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_
 #define SEMGRAPH_TWIST_ARGS                                                                      \
   py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),                    \
       py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none()
+#define SEMGRAPH_TIME_ARGS                                                                       \
+  py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),                          \
+      py::arg("not_before") = py::none(), py::arg("ref_at") = py::none(), py::arg("fixed") = py::none()
+#define SEMGRAPH_TWIST_TIME_ARGS                                                                 \
+  py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),                          \
+      py::arg("not_before") = py::none(), py::arg("source") = py::none()
 
   constexpr const char* kQueryErrors = R"(
 QueryError (code, and .argument: the keyword at fault where there is one): invalid_name,
 unknown_frame, unknown_body, frame_body_mismatch, no_pose_path, representation_constraint, and
-for velocities no_twist_path.)";
+for velocities no_twist_path; under a time policy also invalid_number (a negative
+max_extrapolation), extrapolation (an edge has no sample around the time; the message names it
+and its range) and stale (not_before).)";
+  constexpr const char* kTimeCommonDoc = R"(
+Time (docs/time.md; times are int nanoseconds or float seconds; none given: each edge's current
+value, and .time is None; given: the result's .time is a TimeReport):
+  at                 a time: every stamped edge at that time (interpolated); 'latest': each
+                     edge's newest sample; 'latest_common': at the newest time all stamped
+                     edges used have (tf2's Time(0))
+  max_extrapolation  with at=<time>: how far beyond an edge's samples it may be extrapolated
+                     (with the twists the graph has); default 0, never
+  not_before         any policy: an edge whose newest sample is older fails with stale)";
+  const std::string time_doc = std::string(kTimeCommonDoc) + R"(
+  ref_at, fixed      time travel: the point side at `at`, the reference side at `ref_at`,
+                     through the frame `fixed`, assumed fixed between the two)";
+  const std::string twist_time_doc = std::string(kTimeCommonDoc) + R"(
+  source             'twists' (default: the twist edges) or 'poses' (the time derivative of the
+                     pose history; no twist edge read))";
+  const char* kTimeDoc = time_doc.c_str();
+  const char* kTwistTimeDoc = twist_time_doc.c_str();
 
   graph.def("pose",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
          py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in) {
+         py::handle ref_orientation, py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle not_before, py::handle ref_at, py::handle fixed) {
+        const TimeQuery t = TimeQueryArgs("pose", at, max_extrapolation, not_before, ref_at, fixed, true);
         const PoseNames n = ReadPoseNames("pose", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
           using B = typename std::decay_t<decltype(g)>::Backend;
-          auto r = g.GetPose(spec);
+          if (t.kind == TimeQuery::Kind::kNone) {
+            auto r = g.GetPose(spec);
+            if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+            return MakePoseResult<B>(self, r->semantics, r->value);
+          }
+          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetPose(spec, *t.travel) : g.GetPose(spec, t.policy);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          return MakePoseResult<B>(self, r->semantics, r->value);
+          PoseResult out = MakePoseResult<B>(self, r->value.semantics, r->value.value);
+          out.time = r->time;
+          return out;
         });
       },
-      SEMGRAPH_POSE_ARGS,
+      SEMGRAPH_POSE_ARGS, SEMGRAPH_TIME_ARGS,
       Doc("The pose of `of` relative to `wrt`, expressed in `expressed_in` (a Pose).\n",
-          (std::string(kPoseNamesDoc) + kQueryErrors).c_str()).c_str());
+          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str()).c_str());
   graph.def("position",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
          py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in) {
+         py::handle ref_orientation, py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle not_before, py::handle ref_at, py::handle fixed) {
+        const TimeQuery t = TimeQueryArgs("position", at, max_extrapolation, not_before, ref_at, fixed, true);
         const PoseNames n = ReadPoseNames("position", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto r = g.GetPosition(spec);
+          if (t.kind == TimeQuery::Kind::kNone) {
+            auto r = g.GetPosition(spec);
+            if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+            return PositionResult{self, r->semantics, r->value};
+          }
+          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetPosition(spec, *t.travel) : g.GetPosition(spec, t.policy);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          return PositionResult{self, r->semantics, r->value};
+          return PositionResult{self, r->value.semantics, r->value.value, r->time};
         });
       },
-      SEMGRAPH_POSE_ARGS,
+      SEMGRAPH_POSE_ARGS, SEMGRAPH_TIME_ARGS,
       Doc("The position of the origin of `of` (or `point`) relative to the origin of `wrt` (or "
           "`ref_point`), in `expressed_in` (a Position). Orientation names are ignored.\n",
-          (std::string(kPoseNamesDoc) + kQueryErrors).c_str()).c_str());
+          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str()).c_str());
   graph.def("orientation",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
          py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in) {
+         py::handle ref_orientation, py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle not_before, py::handle ref_at, py::handle fixed) {
+        const TimeQuery t = TimeQueryArgs("orientation", at, max_extrapolation, not_before, ref_at, fixed, true);
         const PoseNames n = ReadPoseNames("orientation", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
           using B = typename std::decay_t<decltype(g)>::Backend;
-          auto r = g.GetOrientation(spec);
+          if (t.kind == TimeQuery::Kind::kNone) {
+            auto r = g.GetOrientation(spec);
+            if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+            return MakeOrientationResult<B>(self, r->semantics, r->value);
+          }
+          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetOrientation(spec, *t.travel)
+                                                      : g.GetOrientation(spec, t.policy);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          return MakeOrientationResult<B>(self, r->semantics, r->value);
+          OrientationResult out = MakeOrientationResult<B>(self, r->value.semantics, r->value.value);
+          out.time = r->time;
+          return out;
         });
       },
-      SEMGRAPH_POSE_ARGS,
+      SEMGRAPH_POSE_ARGS, SEMGRAPH_TIME_ARGS,
       Doc("The orientation of [of] (or [orientation]) relative to [wrt] (or [ref_orientation]), "
           "in `expressed_in` (an Orientation). Point names are ignored.\n",
-          (std::string(kPoseNamesDoc) + kQueryErrors).c_str()).c_str());
+          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str()).c_str());
   constexpr const char* kTwistNamesDoc = R"(
 Names (keyword-only):
   point         a frame: the velocity is that of the point of `body` at this frame's origin
@@ -1048,49 +1169,75 @@ Names (keyword-only):
   expressed_in  the coordinate frame [r])";
   graph.def("twist",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in) {
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation, py::handle not_before,
+         py::handle source) {
         const core::TwistSpec spec = ReadTwistSpec("twist", point, body, ref_body, expressed_in);
+        const TimeQuery t = TimeQueryArgs("twist", at, max_extrapolation, not_before, py::none(), py::none(), false);
+        const core::TwistSource src = TwistSourceArg(source, "twist");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto r = g.GetTwist(spec);
+          if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
+            auto r = g.GetTwist(spec);
+            if (!r) ThrowTwistQuery(g, r.error(), spec);
+            return TwistResult{self, r->semantics, r->linear, r->angular};
+          }
+          auto r = g.GetTwist(spec, t.policy, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
-          return TwistResult{self, r->semantics, r->linear, r->angular};
+          return TwistResult{self, r->value.semantics, r->value.linear, r->value.angular, r->time};
         });
       },
-      SEMGRAPH_TWIST_ARGS,
+      SEMGRAPH_TWIST_ARGS, SEMGRAPH_TWIST_TIME_ARGS,
       Doc("The twist of `body` at `point` relative to `ref_body`, in `expressed_in` (a Twist).\n",
-          (std::string(kTwistNamesDoc) + kQueryErrors).c_str()).c_str());
+          (std::string(kTwistNamesDoc) + kTwistTimeDoc + kQueryErrors).c_str()).c_str());
   graph.def("linear_velocity",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in) {
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation, py::handle not_before,
+         py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("linear_velocity", point, body, ref_body, expressed_in);
+        const TimeQuery t =
+            TimeQueryArgs("linear_velocity", at, max_extrapolation, not_before, py::none(), py::none(), false);
+        const core::TwistSource src = TwistSourceArg(source, "linear_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto r = g.GetLinearVelocity(spec);
+          if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
+            auto r = g.GetLinearVelocity(spec);
+            if (!r) ThrowTwistQuery(g, r.error(), spec);
+            return LinearVelocityResult{self, r->semantics, r->value};
+          }
+          auto r = g.GetLinearVelocity(spec, t.policy, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
-          return LinearVelocityResult{self, r->semantics, r->value};
+          return LinearVelocityResult{self, r->value.semantics, r->value.value, r->time};
         });
       },
-      SEMGRAPH_TWIST_ARGS,
+      SEMGRAPH_TWIST_ARGS, SEMGRAPH_TWIST_TIME_ARGS,
       Doc("The velocity of the point of `body` at `point` relative to `ref_body`, in "
           "`expressed_in` (a LinearVelocity).\n",
-          (std::string(kTwistNamesDoc) + kQueryErrors).c_str()).c_str());
+          (std::string(kTwistNamesDoc) + kTwistTimeDoc + kQueryErrors).c_str()).c_str());
   graph.def("angular_velocity",
-      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in) {
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in, py::handle at,
+         py::handle max_extrapolation, py::handle not_before, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("angular_velocity", py::none(), body, ref_body, expressed_in);
+        const TimeQuery t =
+            TimeQueryArgs("angular_velocity", at, max_extrapolation, not_before, py::none(), py::none(), false);
+        const core::TwistSource src = TwistSourceArg(source, "angular_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto r = g.GetAngularVelocity(spec);
+          if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
+            auto r = g.GetAngularVelocity(spec);
+            if (!r) ThrowTwistQuery(g, r.error(), spec);
+            return AngularVelocityResult{self, r->semantics, r->value};
+          }
+          auto r = g.GetAngularVelocity(spec, t.policy, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
-          return AngularVelocityResult{self, r->semantics, r->value};
+          return AngularVelocityResult{self, r->value.semantics, r->value.value, r->time};
         });
       },
       py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("expressed_in") = py::none(),
+      py::arg("expressed_in") = py::none(), SEMGRAPH_TWIST_TIME_ARGS,
       Doc("The angular velocity of `body` relative to `ref_body`, in `expressed_in` (an "
-          "AngularVelocity). No point is needed.", kQueryErrors).c_str());
+          "AngularVelocity). No point is needed.\n", (std::string(kTwistTimeDoc) + kQueryErrors).c_str()).c_str());
 
   // ---- compiled queries
   graph.def("compile_pose",
@@ -1144,61 +1291,81 @@ Names (keyword-only):
       "The query of orientation(), compiled (a CompiledOrientation).");
   graph.def("compile_twist",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in) {
+         py::handle expressed_in, py::handle source) {
         const core::TwistSpec spec = ReadTwistSpec("compile_twist", point, body, ref_body, expressed_in);
+        const core::TwistSource src = TwistSourceArg(source, "compile_twist");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto r = g.CompileTwist(spec);
+          auto r = g.CompileTwist(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kTwist;
           return c;
         });
       },
-      SEMGRAPH_TWIST_ARGS, "The query of twist(), compiled (a CompiledTwist returning Twist).");
+      SEMGRAPH_TWIST_ARGS, py::arg("source") = py::none(),
+      "The query of twist(), compiled (a CompiledTwist returning Twist). source: 'twists' (default) "
+      "or 'poses' (the pose history's time derivative; evaluate under a time policy).");
   graph.def("compile_linear_velocity",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in) {
+         py::handle expressed_in, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_linear_velocity", point, body, ref_body, expressed_in);
+        const core::TwistSource src = TwistSourceArg(source, "compile_linear_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto checked = g.GetLinearVelocity(spec);  // its semantics and errors
-          if (!checked) ThrowTwistQuery(g, checked.error(), spec);
-          auto r = g.CompileTwist(spec);
+          semantics::LinearVelocitySemantics linear;
+          if (src == core::TwistSource::kTwists) {
+            auto checked = g.GetLinearVelocity(spec);  // its semantics and errors
+            if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+            linear = checked->semantics;
+          }
+          auto r = g.CompileTwist(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
+          // From poses there is no untimed query to ask: the linear part of the compiled twist.
+          if (src == core::TwistSource::kPoses) linear = semantics::LinearOf(r->semantics());
           auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kLinear;
-          c->linear_semantics = checked->semantics;
+          c->linear_semantics = linear;
           return c;
         });
       },
-      SEMGRAPH_TWIST_ARGS,
-      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity).");
+      SEMGRAPH_TWIST_ARGS, py::arg("source") = py::none(),
+      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity); source as "
+      "compile_twist.");
   graph.def("compile_angular_velocity",
-      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in) {
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_angular_velocity", py::none(), body, ref_body, expressed_in);
+        const core::TwistSource src = TwistSourceArg(source, "compile_angular_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          auto checked = g.GetAngularVelocity(spec);
-          if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+          semantics::AngularVelocitySemantics angular;
+          if (src == core::TwistSource::kTwists) {
+            auto checked = g.GetAngularVelocity(spec);
+            if (!checked) ThrowTwistQuery(g, checked.error(), spec);
+            angular = checked->semantics;
+          }
           // As GetAngularVelocity does: the twist at the coordinate frame's origin.
           core::TwistSpec at_r = spec;
           at_r.point = spec.coordinate_frame;
-          auto r = g.CompileTwist(at_r);
+          auto r = g.CompileTwist(at_r, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
+          if (src == core::TwistSource::kPoses) angular = semantics::AngularOf(r->semantics());
           auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kAngular;
-          c->angular_semantics = checked->semantics;
+          c->angular_semantics = angular;
           return c;
         });
       },
       py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("expressed_in") = py::none(),
-      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity).");
+      py::arg("expressed_in") = py::none(), py::arg("source") = py::none(),
+      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity); source as "
+      "compile_twist.");
 #undef SEMGRAPH_POSE_ARGS
 #undef SEMGRAPH_TWIST_ARGS
+#undef SEMGRAPH_TIME_ARGS
+#undef SEMGRAPH_TWIST_TIME_ARGS
 
   // ---- handles
   graph.def("pose_handle", [](const GraphBox& b, py::handle of, py::handle wrt) {
@@ -1230,17 +1397,20 @@ Names (keyword-only):
   graph.def("set_pose", &SetPose, py::arg("handle"), py::kw_only(),
             py::arg("position") = py::none(), py::arg("rotation") = py::none(),
             py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
-            py::arg("rpy") = py::none(),
+            py::arg("rpy") = py::none(), py::arg("stamp") = py::none(),
             Doc(R"(New value of the edge behind `handle`: the head's origin in the tail (position,
 default (0, 0, 0)) and the head's orientation in the tail, both in [tail]. O(1).
+stamp: a new sample of a stamped edge (int nanoseconds or float seconds); never allocates.
 RejectedError: invalid_number, invalid_rotation, no_such_edge (removed since the handle was
-made); the stored value is then unchanged. ValueError: a handle of another SceneGraph.
+made), stamp_mismatch (a stamp for a timeless edge, or none for a stamped one), stamp_too_old,
+duplicate_stamp; the stored value is then unchanged. ValueError: a handle of another SceneGraph.
 )", kRotationDoc).c_str());
   graph.def("set_twist", &SetTwist, py::arg("handle"), py::kw_only(),
-            py::arg("linear") = py::none(), py::arg("angular") = py::none(),
+            py::arg("linear") = py::none(), py::arg("angular") = py::none(), py::arg("stamp") = py::none(),
             R"(New screw twist of the edge behind `handle`: velocity of the head frame's origin
 and angular velocity of its body relative to the reference body, both in [head]. O(1).
-RejectedError: invalid_number, no_such_edge.)");
+stamp: a new sample of a stamped edge (int nanoseconds or float seconds).
+RejectedError: invalid_number, no_such_edge, stamp_mismatch, stamp_too_old, duplicate_stamp.)");
   graph.def("pose_batch", [](GraphBox& b, py::handle handles) {
     auto list = HandleList<PoseHandleObject>(handles, "pose_batch", "PoseHandle");
     auto batch = std::make_shared<PoseBatchObject>();
@@ -1297,6 +1467,9 @@ frames, pose edges solid (tail -> head), twist edges dashed (reference body -> h
   }, R"(The graph as a scene script (YAML, like `semgraph export`) that rebuilds it:
 run_script_text(g.to_script()).graph has the same names, ids, edges and values (its dump() is
 g.dump()). Save it to a file to load the scene later with run_script.)");
+
+  BindTime(m, graph);
+  BindKinematics(m, graph);
 }
 
 }  // namespace semgraph::python

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -37,6 +38,9 @@ using HomogeneousGraph = core::SceneGraph<coord::HomogeneousBackend>;
 
 struct GraphBox : std::enable_shared_from_this<GraphBox> {
   explicit GraphBox(bool homogeneous);
+  /// A graph made by SceneGraph<B>::Create(options) (the caller checked that it succeeds).
+  GraphBox(bool homogeneous, core::SceneGraph<coord::QuaternionBackend>&& made);
+  GraphBox(bool homogeneous, core::SceneGraph<coord::HomogeneousBackend>&& made);
   GraphBox(const GraphBox&) = delete;
   GraphBox& operator=(const GraphBox&) = delete;
 
@@ -59,7 +63,8 @@ using GraphPtr = std::shared_ptr<GraphBox>;
 
 // ---------------------------------------------------------------- results
 // Numbers are kept as C++ values and turned into numpy arrays when a property is read, so a
-// query costs one small object. Quaternions are stored with w >= 0 (when w == 0, the first
+// query costs one small object. `time` is set when the query was asked under a time policy
+// (what the core's Timed<T> reported), empty otherwise. Quaternions are stored with w >= 0 (when w == 0, the first
 // nonzero component > 0), the rule of the semgraph tool's output, so that q is deterministic.
 
 struct PoseResult {
@@ -67,31 +72,37 @@ struct PoseResult {
   semantics::PoseSemantics semantics;
   Eigen::Quaterniond q;
   Eigen::Vector3d p;
+  std::optional<core::TimeReport> time = std::nullopt;
 };
 struct PositionResult {
   GraphPtr graph;
   semantics::PositionSemantics semantics;
   Eigen::Vector3d p;
+  std::optional<core::TimeReport> time = std::nullopt;
 };
 struct OrientationResult {
   GraphPtr graph;
   semantics::OrientationSemantics semantics;
   Eigen::Quaterniond q;
+  std::optional<core::TimeReport> time = std::nullopt;
 };
 struct TwistResult {
   GraphPtr graph;
   semantics::TwistSemantics semantics;
   Eigen::Vector3d v, w;
+  std::optional<core::TimeReport> time = std::nullopt;
 };
 struct LinearVelocityResult {
   GraphPtr graph;
   semantics::LinearVelocitySemantics semantics;
   Eigen::Vector3d v;
+  std::optional<core::TimeReport> time = std::nullopt;
 };
 struct AngularVelocityResult {
   GraphPtr graph;
   semantics::AngularVelocitySemantics semantics;
   Eigen::Vector3d w;
+  std::optional<core::TimeReport> time = std::nullopt;
 };
 
 /// q with the sign rule above.
@@ -155,8 +166,9 @@ struct TwistBatchObject {
 
 /// Stores the exception classes defined in semgraph/_errors.py (called once, at import).
 void InitErrors(py::module_ errors);
-/// Raises semgraph.RejectedError(code, message).
+/// Raises semgraph.RejectedError(code, message[, discrepancy]).
 [[noreturn]] void ThrowRejected(core::ErrorCode code, const std::string& message);
+[[noreturn]] void ThrowRejected(const core::BuildError& error);
 /// Raises semgraph.QueryError(code, message, field, argument).
 [[noreturn]] void ThrowQuery(core::ErrorCode code, const std::string& message, const char* field,
                              const char* argument);
@@ -165,5 +177,17 @@ void InitErrors(py::module_ errors);
 void BindGraph(py::module_& m);
 /// Registers run_script support (_run_script_text).
 void BindScript(py::module_& m);
+
+using GraphClass = py::class_<GraphBox, std::shared_ptr<GraphBox>>;
+/// Registers TimeReport and EdgeUse, and SceneGraph.explain_pose / explain_twist (timed.cc).
+void BindTime(py::module_& m, GraphClass& graph);
+/// Registers RepairPolicy and RepairReport (repair.cc).
+void BindRepair(py::module_& m);
+/// repair=: None / False -> no repair, True -> RepairPolicy(), a RepairPolicy -> it (TypeError
+/// otherwise).
+std::optional<core::RepairPolicy> RepairArg(py::handle repair, const char* function);
+/// Registers joints, Jacobians and URDF loading: JointGroup, Jacobian, CompiledJacobian, Robot
+/// and their SceneGraph methods (kinematics.cc).
+void BindKinematics(py::module_& m, GraphClass& graph);
 
 }  // namespace semgraph::python

@@ -21,4 +21,9 @@ PYBIND11_MODULE(_semgraph, m) {
 #else
   m.attr("_has_tools") = false;
 #endif
+#ifdef SEMGRAPH_PYTHON_WITH_MODELS
+  m.attr("_has_models") = true;  // load_urdf() works (the models layer, urdfdom, is linked)
+#else
+  m.attr("_has_models") = false;
+#endif
 }

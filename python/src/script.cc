@@ -32,8 +32,13 @@ void BindScript(py::module_& m) {
         error = script.error();
         formatted = script::FormatScriptError(file_name, *error);
       } else {
-        graph = std::make_shared<GraphBox>(script->representation ==
-                                           script::Representation::kHomogeneous);
+        // A fresh graph with the script's representation and time options, as the tool makes.
+        const core::TimeOptions time = script::TimeOptionsOf(script->time);
+        if (script->representation == script::Representation::kHomogeneous) {
+          graph = std::make_shared<GraphBox>(true, *core::SceneGraph<coord::HomogeneousBackend>::Create(time));
+        } else {
+          graph = std::make_shared<GraphBox>(false, *core::SceneGraph<coord::QuaternionBackend>::Create(time));
+        }
         graph->Visit([&](auto& g) {
           lines.reserve(script->ops.size());
           for (std::size_t i = 0; i < script->ops.size(); ++i) {

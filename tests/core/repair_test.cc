@@ -268,6 +268,42 @@ TYPED_TEST(Repair, RandomScenesAnswerLikeTheWorldAfterRepairs) {
 }
 
 // Re-rooting a 100,000-frame chain at its leaf: O(|T|), every edge reversed with its value.
+// Regression (found by the differential fuzzer): a re-root through a stamped edge moved the
+// edge's value to the other frame's slot but left its sample history in the head frame's slot,
+// so the new edge into that frame answered timed queries with the old edge's samples. A path
+// with a stamped edge is not re-rooted now: the relation keeps its error, nothing changes.
+TYPED_TEST(Repair, ReRootingThroughAStampedEdgeIsRefusedAndChangesNothing) {
+  auto g = *SceneGraph<TypeParam>::Create(TimeOptions{});
+  const Pose X_BE1{Rot(0.2, {0, 0, 1}), {1, 0, 0}}, X_BE2{Rot(0.6, {0, 0, 1}), {2, 0, 0}};
+  const auto spec_e = PoseSpec::Of("e", "E").RelativeTo("b", "D");
+  ASSERT_TRUE(g.AddPose(spec_e, X_BE1.q, X_BE1.p, Stamp::Nanoseconds(1000000000)));
+  ASSERT_TRUE(g.AddPose(spec_e, X_BE2.q, X_BE2.p, Stamp::Nanoseconds(2000000000)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "F").RelativeTo("f", "A"), Rot(0.1, {1, 0, 0}), Vector3d(0, 1, 0)));
+  const std::string before = g.Dump();
+  // c wrt e: c has the parent f (P1); the inverse e wrt c: e has the parent b (P1); re-rooting
+  // e's tree would reverse the stamped edge b -> e.
+  auto r = g.AddPose(PoseSpec::Of("c").RelativeTo("e"), Rot(0.3, {0, 1, 0}), Vector3d(0, 0, 1), RepairPolicy{});
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code, ErrorCode::kMultiplePoseParents);
+  EXPECT_EQ(g.Dump(), before);
+  // The stamped edge still interpolates its own samples: at 1.5 s, halfway (a rotation about z
+  // by 0.4 rad; screw motion between (Rz(0.2), (1,0,0)) and (Rz(0.6), (2,0,0))).
+  auto X = g.GetPose(PoseSpec::Of("e").RelativeTo("b"), At(Stamp::Nanoseconds(1500000000)));
+  ASSERT_TRUE(X) << g.Describe(X.error());
+  using B = TypeParam;
+  EXPECT_LT((B::ToMatrix(B::RotationOf(X->value.value)) - Rot(0.4, {0, 0, 1}).toRotationMatrix()).norm(), 1e-12);
+  // The screw motion's position halfway: X_1 Exp(Log(X_1^-1 X_2) / 2), built by hand: a planar
+  // rotation by 0.4 rad about z; X_1^-1 X_2 = (Rz(0.4), Rz(-0.2) (1, 0, 0)); its half screw
+  // turns by 0.2 about the same fixed point c of the plane: p(1/2) = c + Rz(0.2) (p_1 - c).
+  const Pose rel = X_BE1.inverse() * X_BE2;
+  const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
+  const Eigen::Matrix2d R04 = Eigen::Rotation2Dd(0.4).toRotationMatrix();
+  const Eigen::Vector2d c = (I2 - R04).inverse() * rel.p.head<2>();  // fixed point of rel in X_1's frame
+  const Eigen::Vector2d half = c + Eigen::Rotation2Dd(0.2).toRotationMatrix() * (-c);
+  const Vector3d p_half = X_BE1.q * Vector3d(half.x(), half.y(), 0) + X_BE1.p;
+  EXPECT_LT((B::TranslationOf(X->value.value) - p_half).norm(), 1e-12);
+}
+
 TEST(RepairDeep, ReRootingALongChainReversesEveryEdgeExactly) {
   constexpr int kFrames = 100000;
   SceneGraph<> g;

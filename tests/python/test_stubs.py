@@ -49,3 +49,61 @@ def test_scene_graph_methods_document_their_keywords():
         assert word in doc, word
     assert "QueryError" in semgraph.SceneGraph.pose.__doc__
     assert "expressed_in" in semgraph.SceneGraph.twist.__doc__
+
+
+def pybind_keywords(doc):
+    """The parameter names of a pybind11 signature line 'name(self: T, *, a: object = None) -> R'."""
+    import re
+    line = doc.splitlines()[0]
+    inner = line[line.index("(") + 1:line.rindex(")")]
+    return [m.group(1) for m in re.finditer(r"(?:^|, )(\w+): ", inner) if m.group(1) != "self"]
+
+
+def stub_signatures(tree, class_name):
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef) and node.name == class_name:
+            out = {}
+            for f in node.body:
+                if isinstance(f, ast.FunctionDef) and not any(
+                        isinstance(d, ast.Name) and d.id == "property" for d in f.decorator_list):
+                    a = f.args
+                    out[f.name] = [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs if x.arg != "self"]
+            return out
+    raise KeyError(class_name)
+
+
+def test_stub_signatures_match_the_module():
+    """Every keyword of every method (the time, repair and joint keywords included) is in the
+    stub, in the module's order, so that the stubs cannot lag behind the module."""
+    tree = stub_tree()
+    checked = 0
+    for class_name in ["SceneGraph", "CompiledPose", "CompiledPosition", "CompiledOrientation", "CompiledTwist",
+                       "CompiledJacobian", "RepairPolicy", "PoseBatch", "TwistBatch"]:
+        cls = getattr(semgraph, class_name)
+        for name, stub_args in stub_signatures(tree, class_name).items():
+            if name.startswith("__") and name != "__init__":
+                continue
+            doc = getattr(cls, name).__doc__
+            if not doc or "Overloaded function" in doc:
+                continue
+            assert pybind_keywords(doc) == stub_args, (class_name, name)
+            checked += 1
+    assert checked > 40
+
+
+def test_time_kinematics_and_repair_keywords_are_documented():
+    g = semgraph.SceneGraph
+    for word in ["at", "max_extrapolation", "not_before", "latest_common", "ref_at", "fixed", "TimeReport",
+                 "nanoseconds", "seconds", "extrapolation", "stale"]:
+        assert word in g.pose.__doc__, word
+    for word in ["source", "poses", "twists"]:
+        assert word in g.twist.__doc__, word
+    for word in ["stamp", "repair", "RepairPolicy", "RepairReport", "discrepancy"]:
+        assert word in g.add_pose.__doc__, word
+    for word in ["window", "interpolation", "screw", "linear", "duplicate_stamp", "sample_capacity"]:
+        assert word in g.__init__.__doc__, word
+    for word in ["revolute", "prismatic", "continuous", "fixed", "axis", "lower", "upper", "mimic", "multiplier"]:
+        assert word in g.add_joint.__doc__, word
+    for word in ["6 x n", "joints", "expressed_in"]:
+        assert word in g.jacobian.__doc__, word
+    assert "without the GIL" in g.load_urdf.__doc__

@@ -13,6 +13,7 @@ namespace {
 
 constexpr double kRotationTolerance = 1e-6;  // docs/rules.md §5: |‖q‖ − 1|, max|MᵀM − I|
 constexpr double kConstantTolerance = 1e-6;  // docs/rules.md §2 P4
+constexpr double kPi = 3.14159265358979323846;
 
 bool Finite(const Eigen::Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
@@ -65,6 +66,117 @@ Transform Compose(const Transform& X_AB, const Transform& X_BC) {  // -> X_AC
 Transform Invert(const Transform& X_AB) {  // -> X_BA
   return {X_AB.R.transpose(), -(X_AB.R.transpose() * X_AB.p)};
 }
+
+// a - b saturated to int64 (windows near the ends of the stamp range).
+std::int64_t SubSat(std::int64_t a, std::int64_t b) {
+  std::int64_t r = 0;
+  if (__builtin_sub_overflow(a, b, &r)) return b > 0 ? INT64_MIN : INT64_MAX;
+  return r;
+}
+
+bool SamePose(const Transform& a, const Transform& b) {  // P4's tolerance
+  return (a.R - b.R).cwiseAbs().maxCoeff() <= kConstantTolerance &&
+         (a.p - b.p).norm() <= kConstantTolerance * std::max(1.0, a.p.norm());
+}
+bool SameTwist(const TwistSample& a, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  return (a.v - v).norm() <= 1e-6 * std::max(1.0, a.v.norm()) && (a.w - w).norm() <= 1e-6 * std::max(1.0, a.w.norm());
+}
+
+// The stamp rules of an update (time.md §1-2): stamp_mismatch -> stamp_too_old -> duplicate_stamp.
+template <class Sample, class Same>
+ErrorCode CheckStamp(bool stamped, const std::vector<Sample>& samples, std::optional<std::int64_t> stamp,
+                     const TimeOptions& o, Same&& same) {
+  if (!stamp) return stamped ? ErrorCode::kStampMismatch : ErrorCode::kOk;
+  if (!stamped) return ErrorCode::kStampMismatch;
+  if (*stamp < SubSat(samples.back().t, o.window_ns)) return ErrorCode::kStampTooOld;
+  for (const Sample& x : samples) {
+    if (x.t == *stamp && !same(x) && o.reject_duplicates) return ErrorCode::kDuplicateStamp;
+  }
+  return ErrorCode::kOk;
+}
+
+// Inserts (an equal stamp: replaced unless the same value), drops the oldest over capacity and
+// every sample older than newest - window.
+template <class Sample, class Same>
+void InsertSample(std::vector<Sample>& samples, const Sample& x, const TimeOptions& o, Same&& same) {
+  auto it = std::find_if(samples.begin(), samples.end(), [&](const Sample& y) { return y.t >= x.t; });
+  if (it != samples.end() && it->t == x.t) {
+    if (!same(*it)) *it = x;
+  } else {
+    samples.insert(it, x);
+    if (samples.size() > o.capacity) samples.erase(samples.begin());
+  }
+  const std::int64_t keep_from = SubSat(samples.back().t, o.window_ns);
+  while (samples.size() > 1 && samples.front().t < keep_from) samples.erase(samples.begin());
+}
+
+// The rotation angle of R in [0, pi]: atan2(|sin|, cos) from the skew part and the trace
+// (accurate for small angles, unlike acos of the trace).
+double RotationAngle(const Eigen::Matrix3d& R) {
+  const Eigen::Vector3d s(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+  return std::atan2(0.5 * s.norm(), 0.5 * (R.trace() - 1.0));
+}
+
+Eigen::Matrix3d Hat(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return W;
+}
+
+// exp([w]x), Rodrigues; the series below 1e-4 rad.
+Eigen::Matrix3d RotExp(const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  const Eigen::Matrix3d W = Hat(w);
+  if (th < 1e-4) return Eigen::Matrix3d::Identity() + (1.0 - th * th / 6.0) * W + (0.5 - th * th / 24.0) * W * W;
+  return Eigen::Matrix3d::Identity() + std::sin(th) / th * W + (1.0 - std::cos(th)) / (th * th) * W * W;
+}
+
+// The rotation vector of R (angle in [0, pi]); *near_pi when the angle is within 1e-6 of pi,
+// where the axis sign is not determined (the spec leaves interpolation there to the library).
+Eigen::Vector3d RotLog(const Eigen::Matrix3d& R, bool* near_pi) {
+  const Eigen::Vector3d s(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));  // 2 sin(th) u
+  const double th = std::atan2(0.5 * s.norm(), 0.5 * (R.trace() - 1.0));
+  if (th > kPi - 1e-6) *near_pi = true;
+  if (th < 1e-4) return (0.5 + th * th / 12.0) * s;
+  if (th < kPi - 1e-3) return th / (2.0 * std::sin(th)) * s;
+  // Near pi: the axis from the symmetric part (R + I)/2 = u u^T (+ O(pi - th)), its sign from s.
+  const Eigen::Matrix3d S = 0.5 * (R + Eigen::Matrix3d::Identity());
+  int k = 0;
+  S.diagonal().maxCoeff(&k);
+  Eigen::Vector3d u = S.col(k).normalized();
+  if (u.dot(s) < 0) u = -u;
+  return th * u;
+}
+
+// SE(3) Exp of the screw twist (v, w) (time.md's convention: X^-1 dX = ([w]x, v)).
+Transform SE3Exp(const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  const Eigen::Matrix3d W = Hat(w);
+  Eigen::Matrix3d V;
+  if (th < 1e-4) {
+    V = Eigen::Matrix3d::Identity() + (0.5 - th * th / 24.0) * W + (1.0 / 6.0 - th * th / 120.0) * W * W;
+  } else {
+    V = Eigen::Matrix3d::Identity() + (1.0 - std::cos(th)) / (th * th) * W + (th - std::sin(th)) / (th * th * th) * W * W;
+  }
+  return Transform{RotExp(w), V * v};
+}
+
+// SE(3) Log: (v, w) with Exp(v, w) = X.
+void SE3Log(const Transform& X, Eigen::Vector3d* v, Eigen::Vector3d* w, bool* near_pi) {
+  *w = RotLog(X.R, near_pi);
+  const double th = w->norm();
+  const Eigen::Matrix3d W = Hat(*w);
+  double c;
+  if (th < 1e-4) {
+    c = 1.0 / 12.0 + th * th / 720.0;
+  } else {
+    c = (1.0 - th * std::sin(th) / (2.0 * (1.0 - std::cos(th)))) / (th * th);
+  }
+  *v = (Eigen::Matrix3d::Identity() - 0.5 * W + c * W * W) * X.p;
+}
+
+// Whether x is within `margin` of the tolerance: the check may go either way by rounding.
+bool NearTolerance(double x, double tolerance, double margin) { return std::abs(x - tolerance) <= margin; }
 
 }  // namespace
 
@@ -144,7 +256,8 @@ ErrorCode ReferenceModel::AddFrame(const std::string& name, const std::string& b
 
 ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& head_body,
                                   const std::string& tail, const std::string& tail_body,
-                                  const RotationInput& rotation, const Eigen::Vector3d& p) {
+                                  const RotationInput& rotation, const Eigen::Vector3d& p,
+                                  std::optional<std::int64_t> stamp) {
   // invalid_name (bodies are optional).
   if (!ValidName(head) || !ValidName(tail)) return ErrorCode::kInvalidName;
   if ((!head_body.empty() && !ValidName(head_body)) || (!tail_body.empty() && !ValidName(tail_body))) {
@@ -174,12 +287,21 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
   // The existing edge tail -> head: constant (same body) or updated (different bodies).
   for (PoseEdge& e : s_.poses) {
     if (e.tail != tail || e.head != head) continue;
+    if (JointOfChild(s_, head)) return ErrorCode::kJointEdge;  // driven by its joint's state only
     if (s_.frames.at(head) == s_.frames.at(tail)) {
       const bool same_R = (e.X_TH.R - R).cwiseAbs().maxCoeff() <= kConstantTolerance;
       const bool same_p = (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
-      return same_R && same_p ? ErrorCode::kOk : ErrorCode::kConstantPoseChange;
+      return same_R && same_p ? ErrorCode::kOk : ErrorCode::kConstantPoseChange;  // (a stamp is ignored)
     }
-    e.X_TH = Transform{R, p};
+    const Transform X{R, p};
+    const auto same = [&](const PoseSample& x) { return SamePose(x.X, X); };
+    if (const ErrorCode c = CheckStamp(e.stamped, e.samples, stamp, time_, same); c != ErrorCode::kOk) return c;
+    if (!stamp) {
+      e.X_TH = X;
+      return ErrorCode::kOk;
+    }
+    InsertSample(e.samples, PoseSample{*stamp, X}, time_, same);
+    e.X_TH = e.samples.back().X;
     return ErrorCode::kOk;
   }
   // Tentatively: create the missing nodes (docs/rules.md §1), add the edge, check every invariant.
@@ -192,7 +314,11 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     next.bodies.insert(tail_body);
     next.frames[tail] = tail_body;
   }
-  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}});
+  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}, false, {}});
+  if (stamp && next.frames.at(head) != next.frames.at(tail)) {  // a stamped edge between bodies
+    next.poses.back().stamped = true;
+    next.poses.back().samples.push_back(PoseSample{*stamp, Transform{R, p}});
+  }
   switch (Violation(next)) {
     case Rule::kP1: return ErrorCode::kMultiplePoseParents;
     case Rule::kP2: return ErrorCode::kPoseCycle;
@@ -209,6 +335,18 @@ ErrorCode ReferenceModel::RemovePose(const std::string& of, const std::string& w
   if (!s_.frames.count(of) || !s_.frames.count(wrt)) return ErrorCode::kUnknownFrame;
   for (std::size_t i = 0; i < s_.poses.size(); ++i) {
     if (s_.poses[i].tail == wrt && s_.poses[i].head == of) {
+      if (const Joint* j = JointOfChild(s_, of)) {  // the joint's pose edge: removes the joint
+        for (const Joint& m : s_.joints) {
+          if (m.master == j->name) return ErrorCode::kJointEdge;  // a live mimic follows it
+        }
+        const std::string name = j->name;
+        s_.twists.erase(std::remove_if(s_.twists.begin(), s_.twists.end(),
+                                       [&](const TwistEdge& t) { return t.head == of; }),
+                        s_.twists.end());
+        s_.joints.erase(std::remove_if(s_.joints.begin(), s_.joints.end(),
+                                       [&](const Joint& x) { return x.name == name; }),
+                        s_.joints.end());
+      }
       s_.poses.erase(s_.poses.begin() + static_cast<std::ptrdiff_t>(i));
       return ErrorCode::kOk;
     }
@@ -216,11 +354,401 @@ ErrorCode ReferenceModel::RemovePose(const std::string& of, const std::string& w
   return ErrorCode::kNoSuchEdge;
 }
 
+// ============================================================ repair (docs/repair.md)
+
+std::vector<std::string> ReferenceModel::Reroot(const std::string& frame) {
+  std::vector<std::size_t> path;  // indices of the edges frame..root, walked before changing any
+  for (std::string x = frame;;) {
+    std::size_t i = 0;
+    while (i < s_.poses.size() && s_.poses[i].head != x) ++i;
+    if (i == s_.poses.size()) break;
+    path.push_back(i);
+    x = s_.poses[i].tail;
+  }
+  std::vector<std::string> keys;
+  for (const std::size_t i : path) {
+    PoseEdge& e = s_.poses[i];
+    keys.push_back(PoseKey(e.tail, e.head));
+    e = PoseEdge{e.head, e.tail, Invert(e.X_TH), false, {}};
+  }
+  return keys;
+}
+
+RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::string& head_body,
+                                            const std::string& tail, const std::string& tail_body,
+                                            const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                                            const RepairPolicy& policy) {
+  RotationInput rotation;
+  rotation.q = q;
+  RepairOutcome out;
+  out.code = AddPose(head, head_body, tail, tail_body, rotation, p);
+  if (out.code != ErrorCode::kMultiplePoseParents && out.code != ErrorCode::kPoseCycle) return out;
+  // Both codes come after every argument check: the rotation is valid, the head exists.
+  Eigen::Matrix3d R;
+  ValidateRotation(rotation, &R);
+  const std::map<std::string, std::string> tree = Trees(s_);
+  const bool determined = s_.frames.count(head) && s_.frames.count(tail) && tree.at(head) == tree.at(tail);
+  if (determined) {
+    if (!policy.check_consistency) return out;
+    Transform X_TH;
+    Find(head, tail, &X_TH);
+    out.has_discrepancy = true;
+    out.position = (X_TH.p - p).norm();
+    out.angle = RotationAngle(X_TH.R.transpose() * R);
+    double scale = 1.0 + p.norm();
+    for (const PoseEdge& e : s_.poses) scale += e.X_TH.p.norm();
+    out.borderline = NearTolerance(out.position, policy.position_tolerance, 1e-12 * scale) ||
+                     NearTolerance(out.angle, policy.angle_tolerance, 1e-12);
+    if (out.position <= policy.position_tolerance && out.angle <= policy.angle_tolerance) {
+      out.code = ErrorCode::kOk;
+      out.applied = RepairKind::kConsistent;
+    }
+    return out;
+  }
+  if (out.code != ErrorCode::kMultiplePoseParents || !policy.invert) return out;
+  const Transform X_HT = Invert(Transform{R, p});
+  RotationInput inverse;
+  inverse.is_matrix = true;
+  inverse.R = X_HT.R;
+  const ErrorCode plain = out.code;
+  const ErrorCode inverted = AddPose(tail, tail_body, head, head_body, inverse, X_HT.p);
+  if (inverted == ErrorCode::kOk) {
+    out.code = ErrorCode::kOk;
+    out.applied = RepairKind::kInverted;
+    return out;
+  }
+  if (inverted != ErrorCode::kMultiplePoseParents || !policy.reroot) return out;
+  // A joint's pose edge has a direction (parent -> child), a stamped edge's history belongs to
+  // it: a path through either is not reversed (docs/repair.md).
+  for (std::string x = tail;;) {
+    const auto e = std::find_if(s_.poses.begin(), s_.poses.end(), [&](const PoseEdge& pe) { return pe.head == x; });
+    if (e == s_.poses.end()) break;
+    if (JointOfChild(s_, x) || e->stamped) return out;  // nor one with a stamped edge
+    x = e->tail;
+  }
+  const State saved = s_;
+  std::vector<std::string> keys = Reroot(tail);
+  if (AddPose(tail, tail_body, head, head_body, inverse, X_HT.p) != ErrorCode::kOk) {
+    s_ = saved;
+    out.code = plain;
+    return out;
+  }
+  out.code = ErrorCode::kOk;
+  out.applied = RepairKind::kRerooted;
+  out.reversed_edges = keys.size();
+  out.reversed_keys = std::move(keys);
+  return out;
+}
+
+RepairOutcome ReferenceModel::AddTwistRepair(const std::string& point, const std::string& body,
+                                             const std::string& ref_body, const std::string& coord,
+                                             const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                                             const RepairPolicy& policy,
+                                             const std::function<std::string(const std::vector<std::string>&)>& choose) {
+  RepairOutcome out;
+  out.code = AddTwist(point, body, ref_body, coord, v, w);
+  if (out.code == ErrorCode::kDuplicateTwistPath) {
+    if (!policy.check_consistency) return out;
+    Query q;
+    q.kind = QueryKind::kTwist;
+    q.point = point;
+    q.body = body;
+    q.ref_body = ref_body;
+    q.coord = coord;
+    const Answer derived = Ask(q);
+    if (derived.code != ErrorCode::kOk) return out;
+    out.has_discrepancy = true;
+    out.position = (derived.v - v).norm();
+    out.angle = (derived.w - w).norm();
+    double scale = 1.0 + v.norm() + w.norm();
+    double lever = 1.0;
+    for (const PoseEdge& e : s_.poses) lever += e.X_TH.p.norm();
+    for (const TwistEdge& t : s_.twists) scale += t.v.norm() + t.w.norm() * lever;
+    out.borderline = NearTolerance(out.position, policy.position_tolerance, 1e-12 * scale) ||
+                     NearTolerance(out.angle, policy.angle_tolerance, 1e-12 * scale);
+    if (out.position <= policy.position_tolerance && out.angle <= policy.angle_tolerance) {
+      out.code = ErrorCode::kOk;
+      out.applied = RepairKind::kConsistent;
+    }
+    return out;
+  }
+  if (out.code != ErrorCode::kMultipleTwistParents || !policy.invert) return out;
+  // W1 comes after the conversion: the point and [coord] exist, in one tree.
+  const std::string C = s_.frames.at(point);
+  const std::map<std::string, std::string> tree = Trees(s_);
+  std::vector<std::string> candidates;
+  for (const auto& [frame, frame_body] : s_.frames) {
+    if (frame_body != ref_body || tree.at(frame) != tree.at(point)) continue;
+    bool has_parent = false;
+    for (const TwistEdge& t : s_.twists) has_parent = has_parent || t.head == frame;
+    if (!has_parent) candidates.push_back(frame);
+  }
+  if (candidates.empty()) return out;
+  const std::string h = choose(candidates);
+  if (std::find(candidates.begin(), candidates.end(), h) == candidates.end()) return out;
+  // The twist of ref_body wrt C: -w, and at {h}: v_h = -v + (-w) x (p_h - p_e), all in [coord].
+  Transform X_RE, X_RH;
+  Find(point, coord, &X_RE);
+  Find(h, coord, &X_RH);
+  const Eigen::Vector3d w_inv = -w;
+  const Eigen::Vector3d v_inv = -v + w_inv.cross(X_RH.p - X_RE.p);
+  const ErrorCode plain = out.code;
+  if (AddTwist(h, ref_body, C, coord, v_inv, w_inv) != ErrorCode::kOk) {
+    out.code = plain;
+    return out;
+  }
+  out.code = ErrorCode::kOk;
+  out.applied = RepairKind::kInverted;
+  return out;
+}
+
+// ============================================================ joints (docs/kinematics.md)
+
+const Joint* ReferenceModel::JointOfChild(const State& s, const std::string& child) {
+  for (const Joint& j : s.joints) {
+    if (j.child == child) return &j;
+  }
+  return nullptr;
+}
+
+Transform ReferenceModel::JointPose(const Joint& j, double q) {
+  Transform M;  // M(q)
+  if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) {
+    Eigen::Matrix3d K;  // [u]x
+    K << 0, -j.u.z(), j.u.y(), j.u.z(), 0, -j.u.x(), -j.u.y(), j.u.x(), 0;
+    M.R = Eigen::Matrix3d::Identity() + std::sin(q) * K + (1.0 - std::cos(q)) * K * K;  // Rodrigues
+  } else if (j.type == JointType::kPrismatic) {
+    M.p = q * j.u;
+  }
+  return Compose(j.X_origin, M);
+}
+
+void ReferenceModel::Drive(State& s, const std::string& name) {
+  for (Joint& j : s.joints) {
+    if (j.name != name) continue;
+    for (PoseEdge& e : s.poses) {
+      if (e.head == j.child) e.X_TH = JointPose(j, j.q);
+    }
+    for (TwistEdge& t : s.twists) {
+      if (t.head != j.child) continue;
+      t.v.setZero();
+      t.w.setZero();
+      if (j.type == JointType::kPrismatic) t.v = j.qdot * j.u;
+      if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) t.w = j.qdot * j.u;
+    }
+  }
+  for (Joint& m : s.joints) {
+    if (m.master != name) continue;
+    for (const Joint& j : s.joints) {
+      if (j.name == name) m.q = m.multiplier * j.q + m.offset, m.qdot = m.multiplier * j.qdot;
+    }
+    Drive(s, m.name);
+  }
+}
+
+ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
+  for (const std::string* n : {&in.name, &in.parent, &in.parent_body, &in.child, &in.child_body, &in.mimic}) {
+    const bool optional = n == &in.parent_body || n == &in.child_body || n == &in.mimic;
+    if (!(optional && n->empty()) && !ValidName(*n)) return ErrorCode::kInvalidName;
+  }
+  if (!Finite(in.p_origin)) return ErrorCode::kInvalidNumber;
+  RotationInput rotation;
+  rotation.q = in.q_origin;
+  Eigen::Matrix3d R;
+  if (const ErrorCode c = ValidateRotation(rotation, &R); c != ErrorCode::kOk) return c;
+  for (double x : {in.axis.x(), in.axis.y(), in.axis.z(), in.lower, in.upper, in.multiplier, in.offset}) {
+    if (!std::isfinite(x)) return ErrorCode::kInvalidNumber;
+  }
+  Joint j;
+  j.name = in.name;
+  j.type = in.type;
+  if (j.movable() && in.axis.norm() < 1e-12) return ErrorCode::kInvalidModel;
+  if (j.limited() && !(in.lower <= in.upper)) return ErrorCode::kInvalidModel;
+  const Joint* master = nullptr;
+  if (!in.mimic.empty()) {
+    if (!j.movable()) return ErrorCode::kInvalidModel;
+    for (const Joint& m : s_.joints) {
+      if (m.name == in.mimic) master = &m;
+    }
+    if (!master || !master->movable() || !master->master.empty()) return ErrorCode::kInvalidModel;
+  }
+  for (const Joint& other : s_.joints) {
+    if (other.name == in.name) return ErrorCode::kDuplicateJoint;
+  }
+  const bool child_exists = s_.frames.count(in.child) > 0, parent_exists = s_.frames.count(in.parent) > 0;
+  for (const auto& [frame, body, exists] : {std::tuple{in.child, in.child_body, child_exists},
+                                           std::tuple{in.parent, in.parent_body, parent_exists}}) {
+    if (exists && !body.empty() && s_.frames.at(frame) != body) return ErrorCode::kFrameBodyMismatch;
+    if (!exists && body.empty()) return ErrorCode::kFrameWithoutBody;
+  }
+  if (in.parent == in.child) return ErrorCode::kSelfEdge;
+  const std::string P = parent_exists ? s_.frames.at(in.parent) : in.parent_body;
+  const std::string C = child_exists ? s_.frames.at(in.child) : in.child_body;
+  if (P == C) return ErrorCode::kTwistSameBody;
+  for (const PoseEdge& e : s_.poses) {
+    if (e.tail == in.parent && e.head == in.child && JointOfChild(s_, in.child)) return ErrorCode::kJointEdge;
+  }
+  j.parent = in.parent;
+  j.child = in.child;
+  j.parent_body = P;
+  j.X_origin = Transform{R, in.p_origin};
+  j.u = j.movable() ? Eigen::Vector3d(in.axis / in.axis.norm()) : Eigen::Vector3d::UnitX();
+  j.lower = in.lower;
+  j.upper = in.upper;
+  if (master) {
+    j.master = master->name;
+    j.multiplier = in.multiplier;
+    j.offset = in.offset;
+    j.q = j.multiplier * master->q + j.offset;
+    j.qdot = j.multiplier * master->qdot;
+  } else if (j.limited()) {
+    j.q = std::clamp(0.0, j.lower, j.upper);
+  }
+  State next = s_;
+  next.bodies.insert(P);
+  next.bodies.insert(C);
+  next.frames[in.child] = C;
+  next.frames[in.parent] = P;
+  next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}, false, {}});
+  switch (Violation(next)) {
+    case Rule::kP1: return ErrorCode::kMultiplePoseParents;
+    case Rule::kP2: return ErrorCode::kPoseCycle;
+    case Rule::kP3: return ErrorCode::kDuplicatePosePath;
+    case Rule::kW3: return ErrorCode::kTwistMergeConflict;
+    case Rule::kNone: break;
+  }
+  for (const TwistEdge& t : next.twists) {
+    if (t.head == in.child) return ErrorCode::kMultipleTwistParents;
+  }
+  next.twists.push_back(TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}});
+  if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
+  j.serial = next_serial_++;
+  next.joints.push_back(j);
+  Drive(next, j.name);
+  s_ = std::move(next);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::SetJoints(const std::vector<std::pair<std::string, double>>& positions,
+                                    const std::vector<std::pair<std::string, double>>& velocities) {
+  const auto find = [&](const std::string& name) -> Joint* {
+    for (Joint& j : s_.joints) {
+      if (j.name == name) return &j;
+    }
+    return nullptr;
+  };
+  for (const auto* list : {&positions, &velocities}) {
+    for (const auto& [name, value] : *list) {
+      if (!std::isfinite(value)) return ErrorCode::kInvalidNumber;
+    }
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const auto& [name, value] : *list) {
+      if (!find(name) || !find(name)->movable()) return ErrorCode::kUnknownJoint;
+    }
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const auto& [name, value] : *list) {
+      if (!find(name)->master.empty()) return ErrorCode::kMimicJoint;
+    }
+  }
+  for (const auto& [name, value] : positions) {
+    const Joint* j = find(name);
+    if (j->limited() && (value < j->lower - 1e-9 || value > j->upper + 1e-9)) return ErrorCode::kJointLimit;
+  }
+  for (const auto& [name, value] : positions) find(name)->q = value, Drive(s_, name);
+  for (const auto& [name, value] : velocities) find(name)->qdot = value, Drive(s_, name);
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::MakeGroup(const std::vector<std::string>& names, std::vector<std::uint64_t>* serials) const {
+  serials->clear();
+  for (const std::string& name : names) {
+    const Joint* j = nullptr;
+    for (const Joint& x : s_.joints) {
+      if (x.name == name) j = &x;
+    }
+    if (!j || !j->movable()) return ErrorCode::kUnknownJoint;
+    if (!j->master.empty()) return ErrorCode::kMimicJoint;
+    if (std::find(serials->begin(), serials->end(), j->serial) != serials->end()) return ErrorCode::kDuplicateJoint;
+    serials->push_back(j->serial);
+  }
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot) {
+  std::vector<Joint*> joints;
+  bool bad_number = false;
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    bad_number = bad_number || (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
+    Joint* found = nullptr;
+    for (Joint& j : s_.joints) {
+      if (j.serial == group[i]) found = &j;
+    }
+    joints.push_back(found);
+  }
+  if (bad_number) return ErrorCode::kInvalidNumber;
+  for (const Joint* j : joints) {
+    if (!j) return ErrorCode::kUnknownJoint;
+  }
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    if (q && joints[i]->limited() && !(q[i] >= joints[i]->lower - 1e-9 && q[i] <= joints[i]->upper + 1e-9)) {
+      return ErrorCode::kJointLimit;
+    }
+  }
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    if (q) joints[i]->q = q[i];
+    if (qdot) joints[i]->qdot = qdot[i];
+    Drive(s_, joints[i]->name);
+  }
+  return ErrorCode::kOk;
+}
+
+JacobianAnswer ReferenceModel::Jacobian(const Query& query) const {
+  JacobianAnswer out;
+  Query q = query;
+  q.kind = QueryKind::kTwist;
+  out.code = Ask(q).code;
+  out.J.resize(6, 0);
+  if (out.code != ErrorCode::kOk) return out;
+  const std::string C = q.body.empty() ? s_.frames.at(q.point) : q.body;
+  if (C == q.ref_body) return out;
+  std::vector<std::pair<int, double>> path;
+  TwistPath(q.point, C, q.ref_body, &path);
+  Transform X_RE;
+  Find(q.point, q.coord, &X_RE);
+  std::vector<Eigen::Matrix<double, 6, 1>> columns;
+  for (const auto& [index, sign] : path) {  // from D to C
+    const TwistEdge& t = s_.twists[index];
+    const Joint* j = JointOfChild(s_, t.head);
+    if (!j || !j->movable()) continue;
+    const std::string key = j->master.empty() ? j->name : j->master;
+    const double factor = j->master.empty() ? 1.0 : j->multiplier;
+    std::size_t c = std::find(out.joints.begin(), out.joints.end(), key) - out.joints.begin();
+    if (c == out.joints.size()) {
+      out.joints.push_back(key);
+      columns.push_back(Eigen::Matrix<double, 6, 1>::Zero());
+    }
+    // The unit twist at {child} in [child], re-expressed in [r] and moved to e.
+    Transform X_RH;
+    Find(t.head, q.coord, &X_RH);
+    Eigen::Vector3d v_h = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+    if (j->type == JointType::kPrismatic) v_h = X_RH.R * j->u;
+    else w = X_RH.R * j->u;
+    columns[c].head<3>() += factor * sign * (v_h + w.cross(X_RE.p - X_RH.p));
+    columns[c].tail<3>() += factor * sign * w;
+  }
+  out.J.resize(6, static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t c = 0; c < columns.size(); ++c) out.J.col(static_cast<Eigen::Index>(c)) = columns[c];
+  return out;
+}
+
 // ============================================================ twist edges
 
 ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& body,
                                    const std::string& ref_body, const std::string& coord,
-                                   const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+                                   const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                                   std::optional<std::int64_t> stamp) {
   if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord)) return ErrorCode::kInvalidName;
   if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
   if (!Finite(v) || !Finite(w)) return ErrorCode::kInvalidNumber;
@@ -236,21 +764,43 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     if (!point_exists || !s_.frames.count(coord) || !Find(coord, point, &X_ER)) {
       return ErrorCode::kTwistNotConvertible;
     }
+    if (stamp) {  // converted with the values at the stamp: the orientation of [r] wrt [e]
+      Query o;
+      o.kind = QueryKind::kOrientation;
+      o.orientation = coord;
+      o.ref_orientation = o.coord = point;
+      TimeQuery at;
+      at.kind = TimeQuery::Kind::kAt;
+      at.t = *stamp;
+      const TimedAnswer a = AskAt(o, at);
+      if (a.answer.code == ErrorCode::kExtrapolation) return ErrorCode::kExtrapolation;
+      X_ER.R = a.answer.M;
+    }
     v_e = X_ER.R * v;
     w_e = X_ER.R * w;
   }
   for (TwistEdge& t : s_.twists) {
     if (t.head != point) continue;
     if (t.tail_body != ref_body) return ErrorCode::kMultipleTwistParents;
-    t.v = v_e;
-    t.w = w_e;
+    if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
+    const auto same = [&](const TwistSample& x) { return SameTwist(x, v_e, w_e); };
+    if (const ErrorCode c = CheckStamp(t.stamped, t.samples, stamp, time_, same); c != ErrorCode::kOk) return c;
+    if (!stamp) {
+      t.v = v_e;
+      t.w = w_e;
+      return ErrorCode::kOk;
+    }
+    InsertSample(t.samples, TwistSample{*stamp, v_e, w_e}, time_, same);
+    t.v = t.samples.back().v;
+    t.w = t.samples.back().w;
     return ErrorCode::kOk;
   }
   State next = s_;
   next.bodies.insert(C);
   next.bodies.insert(ref_body);
   next.frames[point] = C;
-  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e});
+  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}});
+  if (stamp) next.twists.back().samples.push_back(TwistSample{*stamp, v_e, w_e});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   s_ = std::move(next);
   return ErrorCode::kOk;
@@ -262,6 +812,7 @@ ErrorCode ReferenceModel::RemoveTwist(const std::string& point, const std::strin
   if (!s_.bodies.count(ref_body)) return ErrorCode::kUnknownBody;
   for (std::size_t i = 0; i < s_.twists.size(); ++i) {
     if (s_.twists[i].head == point && s_.twists[i].tail_body == ref_body) {
+      if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
       s_.twists.erase(s_.twists.begin() + static_cast<std::ptrdiff_t>(i));
       return ErrorCode::kOk;
     }
@@ -418,6 +969,147 @@ Answer ReferenceModel::Ask(const Query& q) const {
   if (q.kind == QueryKind::kLinearVelocity) a.w.setZero();  // only the asked part
   if (q.kind == QueryKind::kAngularVelocity) a.v.setZero();
   return a;
+}
+
+// ============================================================ time (docs/time.md)
+
+bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon, const std::set<std::string>& used, State* at,
+                              TimedAnswer* report) const {
+  const auto read = [&](std::int64_t s) {
+    report->oldest = report->oldest ? std::min(*report->oldest, s) : s;
+    report->newest = report->newest ? std::max(*report->newest, s) : s;
+  };
+  for (PoseEdge& e : at->poses) {
+    if (!e.stamped || !used.count(PoseKey(e.tail, e.head))) continue;
+    const std::vector<PoseSample>& S = e.samples;
+    if (t >= S.front().t && t <= S.back().t) {
+      std::size_t i = 0;
+      while (S[i].t < t) ++i;  // S[i].t >= t
+      if (S[i].t == t) {
+        e.X_TH = S[i].X;
+        read(t);
+        continue;
+      }
+      const PoseSample &a = S[i - 1], &b = S[i];
+      const double lambda = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+      read(a.t);
+      read(b.t);
+      bool near_pi = false;
+      if (time_.linear) {  // lerp + slerp (the geodesic of the relative rotation, shorter arc)
+        const Eigen::Vector3d w = RotLog(a.X.R.transpose() * b.X.R, &near_pi);
+        e.X_TH = Transform{a.X.R * RotExp(lambda * w), (1.0 - lambda) * a.X.p + lambda * b.X.p};
+      } else {  // screw: X_a Exp(lambda Log(X_a^-1 X_b))
+        Eigen::Vector3d v, w;
+        SE3Log(Compose(Invert(a.X), b.X), &v, &w, &near_pi);
+        e.X_TH = Compose(a.X, SE3Exp(lambda * v, lambda * w));
+      }
+      report->ambiguous = report->ambiguous || near_pi;
+      continue;
+    }
+    const PoseSample& k = t < S.front().t ? S.front() : S.back();
+    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <= static_cast<double>(horizon))) {
+      return false;
+    }
+    // Integrated with the edge's screw twist TwistCoord(h|H, T, [h]) at s_k from the twist edges.
+    Query xi;
+    xi.kind = QueryKind::kTwist;
+    xi.point = xi.coord = e.head;
+    xi.body = s_.frames.at(e.head);
+    xi.ref_body = s_.frames.at(e.tail);
+    TimeQuery at_k;
+    at_k.kind = TimeQuery::Kind::kAt;
+    at_k.t = k.t;
+    const TimedAnswer twist = AskAt(xi, at_k);
+    if (twist.answer.code != ErrorCode::kOk) return false;
+    const double dt = static_cast<double>(t - k.t) * 1e-9;
+    e.X_TH = Compose(k.X, SE3Exp(dt * twist.answer.v, dt * twist.answer.w));
+    report->extrapolated = true;
+    report->ambiguous = report->ambiguous || twist.ambiguous;
+    read(k.t);
+  }
+  for (TwistEdge& e : at->twists) {
+    if (!e.stamped || !used.count(TwistKey(e.tail_body, e.head))) continue;
+    const std::vector<TwistSample>& S = e.samples;
+    if (t >= S.front().t && t <= S.back().t) {
+      std::size_t i = 0;
+      while (S[i].t < t) ++i;
+      if (S[i].t == t) {
+        e.v = S[i].v, e.w = S[i].w;
+        read(t);
+        continue;
+      }
+      const TwistSample &a = S[i - 1], &b = S[i];
+      const double lambda = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+      e.v = (1.0 - lambda) * a.v + lambda * b.v;
+      e.w = (1.0 - lambda) * a.w + lambda * b.w;
+      read(a.t);
+      read(b.t);
+      continue;
+    }
+    const TwistSample& k = t < S.front().t ? S.front() : S.back();
+    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <= static_cast<double>(horizon))) {
+      return false;
+    }
+    e.v = k.v, e.w = k.w;  // held
+    report->extrapolated = true;
+    read(k.t);
+  }
+  return true;
+}
+
+TimedAnswer ReferenceModel::AskAt(const Query& q, const TimeQuery& policy) const {
+  TimedAnswer out;
+  out.answer = Ask(q);
+  if (out.answer.code == ErrorCode::kInvalidName) return out;
+  if (policy.kind == TimeQuery::Kind::kAt && policy.horizon < 0) {
+    out.answer = Answer{};
+    out.answer.code = ErrorCode::kInvalidNumber;
+    return out;
+  }
+  if (out.answer.code != ErrorCode::kOk) return out;
+  const bool twist_kind = q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity ||
+                          q.kind == QueryKind::kAngularVelocity;
+  const std::string& own = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
+  const bool zero = twist_kind && (q.body.empty() ? s_.frames.at(own) : q.body) == q.ref_body;
+  const std::set<std::string> used = zero ? std::set<std::string>{} : UsedEdges(q);
+  // The used stamped edges' newest stamps.
+  std::vector<std::int64_t> newest;
+  for (const PoseEdge& e : s_.poses) {
+    if (e.stamped && used.count(PoseKey(e.tail, e.head))) newest.push_back(e.samples.back().t);
+  }
+  for (const TwistEdge& e : s_.twists) {
+    if (e.stamped && used.count(TwistKey(e.tail_body, e.head))) newest.push_back(e.samples.back().t);
+  }
+  std::optional<std::int64_t> t;
+  if (policy.kind == TimeQuery::Kind::kAt) t = policy.t;
+  if (policy.kind == TimeQuery::Kind::kLatestCommon && !newest.empty()) {
+    t = *std::min_element(newest.begin(), newest.end());
+  }
+  ReferenceModel at = *this;
+  if (t) {
+    if (!ValuesAt(*t, policy.kind == TimeQuery::Kind::kAt ? policy.horizon : 0, used, &at.s_, &out)) {
+      out.answer = Answer{};
+      out.answer.code = ErrorCode::kExtrapolation;
+      return out;
+    }
+  } else {
+    for (const std::int64_t s : newest) {  // latest: each edge's newest sample is read
+      out.oldest = out.oldest ? std::min(*out.oldest, s) : s;
+      out.newest = out.newest ? std::max(*out.newest, s) : s;
+    }
+  }
+  if (policy.not_before) {
+    for (const std::int64_t s : newest) {
+      if (s < *policy.not_before) {
+        out.answer = Answer{};
+        out.answer.code = ErrorCode::kStale;
+        return out;
+      }
+    }
+  }
+  out.time = t;
+  out.answer = at.Ask(q);
+  return out;
 }
 
 std::set<std::string> ReferenceModel::UsedEdges(const Query& q) const {

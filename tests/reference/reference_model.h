@@ -13,6 +13,9 @@
 //             wrt {tail} expressed in [tail], i.e. PoseCoord({h}|H, {t}|T, [t]) (docs/rules.md §2)
 //   twists_   vector of twist edges {tail body D, head frame h, v, w}: the screw twist
 //             TwistCoord(h|H, D, [h]) (docs/rules.md §3)
+//   a stamped edge also keeps its samples (sorted by stamp; the plain value is the newest);
+//   joints_   live joints {name, type, parent, child, X_origin, axis, limits, mimic, q, qdot}:
+//             their edges are ordinary entries of poses_ / twists_ whose values Drive() writes.
 //
 // How an add works (docs/rules.md §6: "every build operation either succeeds completely or
 // leaves the graph exactly as it was"): the argument checks run in the order of docs/rules.md §7;
@@ -46,12 +49,34 @@
 // Queries (all six kinds, any point / orientation / reference / coordinate frame) are covered
 // fully, including the homogeneous representation's constraints.
 //
+// REPAIR (docs/repair.md), covered for the edge-form pose adds and the twist adds above:
+// invert (P1, W1), re-root (the inverse refused by P1; never through a joint's or a stamped
+// edge), consistency checks (P1 within one tree, P2, W3) with their discrepancy, every policy
+// switch and tolerance. Not covered: repair of pose adds in other forms (the library converts
+// them to the edge form first). Left open by the docs and taken from the caller: WHICH frame
+// of the reference body carries an inverted twist (AddTwistRepair's `choose`).
+// JOINTS (docs/kinematics.md): revolute, continuous, prismatic, fixed; limits, mimic joints,
+// protection of a joint's edges, removal through its pose edge, state by name and by group,
+// semantic Jacobians (one column formula of the model's own, no finite differences). Not
+// covered: origins given as matrices, URDF loading (models/), joint handles' generations
+// beyond "a group made before a removal is stale".
+// TIME (docs/time.md): stamped edge-form pose adds and twist adds (converted at their stamp),
+// window, capacity, duplicate policies, out-of-order samples; policies latest, at (with a
+// horizon: twist edges held, pose edges integrated with the twist edges' screw twist),
+// latest common, not_before, for every query kind. Not covered: time travel, twist source
+// `poses` (differentiation), stamped SetPose/SetTwist by handle (the same Check/Store as the
+// stamped add), Explain*; the stamps read are compared only for answers not extrapolated (the
+// spec also counts the stamps the integrating twist reads).
+//
 // Numbers: a quaternion rotation is normalized to q/|q| and turned into a matrix; a matrix
 // rotation is replaced by its nearest rotation (polar decomposition by Newton iteration
 // R <- (R + R^-T)/2, independent of the library's SVD). Values are stored as 3x3 matrices.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -102,20 +127,111 @@ struct Answer {
   Eigen::Vector3d w = Eigen::Vector3d::Zero();
 };
 
+/// Time (docs/time.md): a stamped edge keeps its samples sorted by stamp (nanoseconds); its
+/// untimed value (X_TH, v/w) is the newest sample's.
+struct PoseSample {
+  std::int64_t t = 0;
+  Transform X;
+};
+struct TwistSample {
+  std::int64_t t = 0;
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+};
+
 struct PoseEdge {
   std::string tail, head;
   Transform X_TH;
+  bool stamped = false;
+  std::vector<PoseSample> samples;
 };
 
 struct TwistEdge {
   std::string tail_body, head;
   Eigen::Vector3d v, w;  // at {head}, in [head]
+  bool stamped = false;
+  std::vector<TwistSample> samples;
+};
+
+/// The model's copy of the graph's time options.
+struct TimeOptions {
+  std::int64_t window_ns = 10'000'000'000;
+  std::size_t capacity = 1024;
+  bool linear = false;             // interpolation: screw (false) or linear (lerp + slerp)
+  bool reject_duplicates = false;  // duplicate stamps: replace (false) or reject
+};
+
+/// A query's time policy: latest, at t (horizon), latest common; not_before with any.
+struct TimeQuery {
+  enum class Kind { kLatest, kAt, kLatestCommon } kind = Kind::kLatest;
+  std::int64_t t = 0, horizon = 0;
+  std::optional<std::int64_t> not_before;
+};
+/// What a timed answer reports (docs/time.md), and whether its value may be compared: an
+/// interpolation across a half turn is implementation-defined (the spec says tests avoid it).
+struct TimedAnswer {
+  Answer answer;
+  std::optional<std::int64_t> time, oldest, newest;
+  bool extrapolated = false;
+  bool ambiguous = false;
+};
+
+/// Joints (docs/kinematics.md): the model's own reading. A joint owns the pose edge
+/// parent -> child with X_origin M(q) and the twist edge parent body -> {child} with xi(qdot).
+enum class JointType { kRevolute, kContinuous, kPrismatic, kFixed };
+struct JointInput {
+  std::string name, parent, parent_body, child, child_body, mimic;
+  JointType type = JointType::kFixed;
+  Eigen::Quaterniond q_origin = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+  double lower = 0, upper = 0, multiplier = 1, offset = 0;
+};
+struct Joint {
+  std::string name, parent, child, parent_body, master;  // master: empty unless a mimic
+  JointType type = JointType::kFixed;
+  Transform X_origin;
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX();  // unit axis in [child]
+  double lower = 0, upper = 0, multiplier = 1, offset = 0;
+  double q = 0, qdot = 0;
+  std::uint64_t serial = 0;  // unique per add: a group made before a removal goes stale
+  bool movable() const { return type != JointType::kFixed; }
+  bool limited() const { return type == JointType::kRevolute || type == JointType::kPrismatic; }
+};
+/// A Jacobian answer: the columns' joints (masters) in column order, rows v then w.
+struct JacobianAnswer {
+  ErrorCode code = ErrorCode::kOk;
+  std::vector<std::string> joints;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J;
+};
+
+/// Repair of a rejected add (docs/repair.md), the model's own copy of the policy.
+struct RepairPolicy {
+  bool invert = true;
+  bool reroot = true;
+  bool check_consistency = true;
+  double position_tolerance = 1e-9;  // m (m/s for twists)
+  double angle_tolerance = 1e-9;     // rad (rad/s for twists)
+};
+enum class RepairKind { kNone, kInverted, kRerooted, kConsistent };
+
+/// What a repairing add did, or why it was refused.
+struct RepairOutcome {
+  ErrorCode code = ErrorCode::kOk;         // kOk: accepted (as given or repaired)
+  RepairKind applied = RepairKind::kNone;  // with code kOk
+  std::size_t reversed_edges = 0;          // kRerooted
+  std::vector<std::string> reversed_keys;  // kRerooted: PoseKey of each reversed edge, old direction
+  bool has_discrepancy = false;            // a consistency check ran (kConsistent, or refused)
+  double position = 0, angle = 0;          // its discrepancy
+  /// The discrepancy is within a rounding error of a tolerance: the check may go either way
+  /// (both outcomes leave the graph unchanged).
+  bool borderline = false;
 };
 
 class ReferenceModel {
  public:
-  explicit ReferenceModel(Representation representation = Representation::kQuaternion)
-      : representation_(representation) {}
+  explicit ReferenceModel(Representation representation = Representation::kQuaternion,
+                          const TimeOptions& time = TimeOptions{})
+      : representation_(representation), time_(time) {}
 
   // Spec §4 orders, per operation:
   //   body:   invalid_name -> duplicate_body
@@ -131,12 +247,81 @@ class ReferenceModel {
   // Empty head_body / tail_body / body mean "not given".
   ErrorCode AddBody(const std::string& name);
   ErrorCode AddFrame(const std::string& name, const std::string& body);
+  // Time: an add with a stamp gives a stamped edge (a new edge between bodies) or a sample
+  // (an existing one); same-body edges ignore it. After every other rule: stamp_mismatch (a
+  // stamped value for a timeless edge or the reverse) -> stamp_too_old (older than newest -
+  // window) -> duplicate_stamp (policy reject, another value at a stamp: P4's tolerance for
+  // poses, 1e-6 max(1, |stored|) per vector for twists; the same value is a no-op). Then the
+  // sample is inserted; when over capacity the oldest goes; samples older than newest - window
+  // go. A stamped twist given in another frame is converted at its stamp (no values there:
+  // extrapolation, in twist_not_convertible's place).
   ErrorCode AddPose(const std::string& head, const std::string& head_body, const std::string& tail,
                     const std::string& tail_body, const RotationInput& rotation,
-                    const Eigen::Vector3d& p);
+                    const Eigen::Vector3d& p, std::optional<std::int64_t> stamp = std::nullopt);
   ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
-                     const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+                     const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                     std::optional<std::int64_t> stamp = std::nullopt);
+
+  /// A query under a time policy: the codes of Ask, with invalid_number (negative horizon)
+  /// right after invalid_name, then extrapolation (a used stamped edge without a value at the
+  /// time), then stale (not_before). The value: Ask on the graph whose used edges hold their
+  /// values at the time: inside a sample range interpolated (screw: X_i Exp(lambda Log(X_i^-1
+  /// X_i+1)) by the model's own SE(3) Exp/Log; linear: lerp + slerp; twists componentwise);
+  /// outside, within the horizon, a twist edge holds its nearest sample and a pose edge is
+  /// integrated X_k Exp((t - s_k) xi) with xi = TwistCoord(h|H, T, [h]) at s_k from the twist
+  /// edges (no extrapolation). Used edges: as UsedEdges (none for a velocity of C wrt C).
+  TimedAnswer AskAt(const Query& q, const TimeQuery& policy) const;
+  /// The same adds with repair (docs/repair.md), the rule table read literally:
+  ///   pose, plain add refused by
+  ///     P1 or P2 with both frames in one pose tree (already determined): consistency check of
+  ///        the given X_TH against the derived pose (|dp| and the rotation angle of R_derived^T R
+  ///        against the tolerances); kConsistent, no change; else the plain error + discrepancy;
+  ///     P1 otherwise: the inverse edge head -> tail with X_TH^-1 through the plain add; if
+  ///        that is refused by P1 (the tail has a pose parent), the tail's tree is re-rooted at
+  ///        the tail (each edge on the path tail..root reversed, value inverted) and the inverse
+  ///        added again; refused again -> the re-rooting is undone, the plain error.
+  ///   twist, plain add refused by
+  ///     W3 duplicate_twist_path: consistency check against the derived twist (|dv|, |dw|);
+  ///     W1 multiple_twist_parents: the inverse twist (-v, -w, moved to the new point h:
+  ///        v_h = v_e + w' x (p_h - p_e)) on a frame h of ref_body in the point's tree with no
+  ///        twist parent. WHICH such frame is not specified (docs/repair.md says "a frame"):
+  ///        `choose` picks one of the candidates (the differential passes the kernel's choice).
+  ///   Anything else, or a strategy switched off, or a repair add refused: the plain error.
+  RepairOutcome AddPoseRepair(const std::string& head, const std::string& head_body, const std::string& tail,
+                              const std::string& tail_body, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                              const RepairPolicy& policy);
+  RepairOutcome AddTwistRepair(const std::string& point, const std::string& body, const std::string& ref_body,
+                               const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                               const RepairPolicy& policy,
+                               const std::function<std::string(const std::vector<std::string>&)>& choose);
   ErrorCode RemovePose(const std::string& of, const std::string& wrt);
+
+  /// Joints. AddJoint: invalid_name (name, parent, parent body, child, child body, mimic) ->
+  /// invalid_number / invalid_rotation (origin position, origin rotation, axis, limits,
+  /// multiplier, offset) -> invalid_model (|axis| < 1e-12 for a movable joint; lower > upper
+  /// for revolute/prismatic; mimic: a fixed mimic, or a master missing, fixed or a mimic) ->
+  /// duplicate_joint -> node resolution (child, then parent) -> self_edge -> twist_same_body ->
+  /// joint_edge -> the pose edge's P1, P2, P3, W4 -> W1, W3 of the twist edge. Initial state:
+  /// q = clamp(0, lower, upper) (limited) or 0, qdot = 0; a mimic follows its master.
+  /// Edges: a joint's pose edge re-added / its twist edge re-added or removed: joint_edge; its
+  /// pose edge removed: the joint is removed (joint_edge while live mimics follow it).
+  ErrorCode AddJoint(const JointInput& in);
+  /// By name, all or nothing: invalid_number (positions, velocities) -> unknown_joint (missing
+  /// or fixed) -> mimic_joint -> joint_limit (outside [lower - 1e-9, upper + 1e-9]).
+  ErrorCode SetJoints(const std::vector<std::pair<std::string, double>>& positions,
+                      const std::vector<std::pair<std::string, double>>& velocities);
+  /// A joint-state vector layout: each name's serial. unknown_joint -> mimic_joint ->
+  /// duplicate_joint, per name in order.
+  ErrorCode MakeGroup(const std::vector<std::string>& names, std::vector<std::uint64_t>* serials) const;
+  /// Sets a group (q and/or qdot may be null): invalid_number -> unknown_joint (a joint removed
+  /// since the group was made) -> joint_limit.
+  ErrorCode SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot);
+  /// Jacobian(e|C, D, [r]) of a twist query: its errors; columns from the TG path (D to C) as
+  /// the unit twists of its movable joints' edges moved to e, in [r], signed by direction; a
+  /// mimic adds multiplier x its column to its master's (placed at the first of them met).
+  JacobianAnswer Jacobian(const Query& q) const;
+  const std::vector<Joint>& joints() const { return s_.joints; }
+
   ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body);
 
   /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
@@ -168,7 +353,14 @@ class ReferenceModel {
     std::map<std::string, std::string> frames;  // frame -> body
     std::vector<PoseEdge> poses;
     std::vector<TwistEdge> twists;
+    std::vector<Joint> joints;  // live joints, in add order
   };
+  static const Joint* JointOfChild(const State& s, const std::string& child);
+  /// Writes joint j's pose and twist edge values from its q, qdot (and its mimics').
+  static void Drive(State& s, const std::string& joint);
+  /// X_origin M(q), by the model's own Rodrigues formula.
+  static Transform JointPose(const Joint& j, double q);
+  std::uint64_t next_serial_ = 1;
   enum class Rule { kNone, kP1, kP2, kP3, kW3 };
 
   /// First violated invariant of `s` in the order P1, P2, P3, W3 (from scratch).
@@ -183,7 +375,16 @@ class ReferenceModel {
   bool TwistPath(const std::string& e, const std::string& C, const std::string& D,
                  std::vector<std::pair<int, double>>* path) const;
 
+  /// Reverses the pose edges on the path from `frame` to its tree's root (values inverted);
+  /// returns their PoseKeys in the old direction.
+  std::vector<std::string> Reroot(const std::string& frame);
+
+  /// The value of every used stamped edge at time t written into a copy of the state; false
+  /// (and *failure = extrapolation) when one has none. Records the stamps read.
+  bool ValuesAt(std::int64_t t, std::int64_t horizon, const std::set<std::string>& used, State* at,
+                TimedAnswer* report) const;
   Representation representation_;
+  TimeOptions time_;
   State s_;
 };
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "semgraph/dot_writer.h"
 
@@ -92,6 +93,44 @@ TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
   const OpOutcome no_edge = ApplyOp(graph, remove, 4);
   EXPECT_EQ(no_edge.error, "no_such_edge");
   EXPECT_TRUE(no_edge.json.ends_with("\", \"kind\": \"remove twist\", \"line\": 13}")) << no_edge.json;
+}
+
+// Time keys: those that apply, after the value keys and before kind/line; seconds as the nearest
+// double of the nanoseconds (17 digits). A graph of yours keeps its own time options.
+TEST(ApplyOp, RendersTheTimeKeysThatApply) {
+  core::TimeOptions options;
+  options.interpolation = core::Interpolation::kLinear;
+  auto graph = *core::SceneGraph<coord::QuaternionBackend>::Create(options);
+  const auto script = ReadScript(
+      "ops:\n"
+      "  - {op: pose, of: o, body: O, wrt: w, ref_body: W, stamp: 0.1}\n"
+      "  - {op: pose, of: o, wrt: w, position: [1, 0, 0], stamp: 0.3}\n"
+      "  - {op: query, kind: position, of: o, wrt: w, at: 0.2}\n"
+      "  - {op: query, kind: position, of: o, wrt: w}\n"
+      "  - {op: query, kind: position, of: w, wrt: w, at: latest_common}\n"
+      "  - {op: query, kind: position, of: w, wrt: w, at: 5}\n"
+      "  - {op: query, kind: position, of: o, wrt: w, at: 0.2, ref_at: 0.3, fixed: w}\n"
+      "  - {op: pose, of: o, wrt: w, position: [2, 0, 0], stamp: 9.3e9}\n");
+  ASSERT_TRUE(script.has_value()) << script.error().message;
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < script->ops.size(); ++i) out.push_back(ApplyOp(graph, script->ops[i], i).json);
+  EXPECT_EQ(out[2],
+            "{\"op\": 2, \"ok\": true, \"position\": [0.5,0,0], \"time\": 0.20000000000000001, \"oldest\": "
+            "0.10000000000000001, \"newest\": 0.29999999999999999, \"kind\": \"query position\", \"line\": 4}");
+  EXPECT_EQ(out[3],
+            "{\"op\": 3, \"ok\": true, \"position\": [1,0,0], \"oldest\": 0.29999999999999999, \"newest\": "
+            "0.29999999999999999, \"kind\": \"query position\", \"line\": 5}");
+  // No stamped edge used: latest common reports no time; `at` reports the time asked.
+  EXPECT_EQ(out[4], "{\"op\": 4, \"ok\": true, \"position\": [0,0,0], \"kind\": \"query position\", \"line\": 6}");
+  EXPECT_EQ(out[5], "{\"op\": 5, \"ok\": true, \"position\": [0,0,0], \"time\": 5, \"kind\": \"query position\", "
+                    "\"line\": 7}");
+  EXPECT_EQ(out[6],
+            "{\"op\": 6, \"ok\": true, \"position\": [0.5,0,0], \"time\": 0.20000000000000001, \"ref_time\": "
+            "0.29999999999999999, \"oldest\": 0.10000000000000001, \"newest\": 0.29999999999999999, \"kind\": "
+            "\"query position\", \"line\": 8}");
+  EXPECT_NE(out[7].find("\"error\": \"invalid_number\""), std::string::npos) << out[7];
+  EXPECT_NE(out[7].find("'stamp' 9300000000 s is not a finite time"), std::string::npos) << out[7];
+  EXPECT_EQ(graph.time_options().interpolation, core::Interpolation::kLinear);
 }
 
 TEST(WriteDot, QuotesNamesAndDrawsPoseEdgesSolidAndTwistEdgesDashed) {

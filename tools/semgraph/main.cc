@@ -109,6 +109,20 @@ Values (metres, radians, seconds):
   .nan and .inf are YAML numbers; the scene graph rejects them (invalid_number), as it rejects
   non-unit quaternions and improper matrices (invalid_rotation).
 
+Time (seconds; kept as whole nanoseconds):
+  time: {window: 10, interpolation: screw | linear, duplicate_stamp: replace | reject}
+                            optional top-level map, each key optional (a window that is not a
+                            finite positive time is a malformed script)
+  stamp: t                  on pose, twist and joints ops: the value is a sample at t
+  at: t | latest_common     on queries (none: each edge's newest sample)
+  max_extrapolation: h      on queries: allow t up to h outside an edge's samples
+  not_before: t             on queries: fail with stale if a used edge has nothing since t
+  ref_at: t2, fixed: f      pose/position/orientation queries: the reference side at t2,
+                            through frame f (time travel; both, with a numeric at)
+  source: twists | poses    twist/linear_velocity/angular_velocity queries
+  A time field on an op that does not take it is a malformed script; a non-finite or
+  out-of-range time, or a negative horizon, is the op error invalid_number.
+
 )";
 
 constexpr std::string_view kOutput = R"(
@@ -122,7 +136,9 @@ Output, one line per op (i counts ops from 0; K is the op, e.g. "body", "remove 
   query twist             {"op": i, "ok": true, "linear": [vx,vy,vz], "angular": [wx,wy,wz], ...}
   query linear_velocity   {"op": i, "ok": true, "linear": [vx,vy,vz], ...}
   query angular_velocity  {"op": i, "ok": true, "angular": [wx,wy,wz], ...}
-  (each ending in "kind" and "line"). Quaternions have w >= 0; numbers have 17 significant
+  (each ending in "kind" and "line"). A query that asked a time or read stamped data adds
+  the keys that apply: "time", "ref_time", "oldest", "newest" (seconds), "extrapolated": true.
+  Quaternions have w >= 0; numbers have 17 significant
   digits. Error codes (snake_case), the rules behind them, and the whole format:
   docs/scene-script.md in the semgraph sources.
 )";

@@ -119,10 +119,11 @@ SceneRun RunScene(std::string_view text, const RunOptions& options) {
       if (options.dot) run->dot = WriteDot(graph);
       if (options.scene) run->scene = WriteScene(graph);
     };
+    const core::TimeOptions time = TimeOptionsOf(script.time);  // Create cannot refuse them
     if (script.representation == Representation::kHomogeneous) {
-      go(core::SceneGraph<coord::HomogeneousBackend>());
+      go(*core::SceneGraph<coord::HomogeneousBackend>::Create(time));
     } else {
-      go(core::SceneGraph<coord::QuaternionBackend>());
+      go(*core::SceneGraph<coord::QuaternionBackend>::Create(time));
     }
   });
 }

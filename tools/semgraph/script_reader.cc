@@ -6,6 +6,8 @@
 // document contains.
 #include "semgraph/script_reader.h"
 
+#include "semgraph/core/time.h"
+
 #include <algorithm>
 #include <set>
 #include <span>
@@ -50,6 +52,13 @@ enum Field : int {
   kPositions,
   kVelocities,
   kRepair,
+  kStamp,
+  kAt,
+  kMaxExtrapolation,
+  kNotBefore,
+  kRefAt,
+  kFixed,
+  kSource,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -60,12 +69,14 @@ constexpr std::string_view kFieldNames[kNumFields] = {
     "ref_body", "coord", "position",    "rotation",  "linear",
     "angular",  "file",  "prefix",      "type",      "parent",
     "child",    "parent_body", "child_body", "axis", "lower",
-    "upper",    "mimic", "positions",   "velocities", "repair"};
+    "upper",    "mimic", "positions",   "velocities", "repair",
+    "stamp",    "at",    "max_extrapolation", "not_before", "ref_at",
+    "fixed",    "source"};
 
-static_assert(kFieldNames[kNumFields - 1] == "repair", "one name per Field, in order");
-static_assert(kNumFields <= 32, "fields are bits of a uint32_t");
+static_assert(kFieldNames[kNumFields - 1] == "source", "one name per Field, in order");
+static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
 
-constexpr std::uint32_t Bit(Field f) { return std::uint32_t{1} << f; }
+constexpr std::uint64_t Bit(Field f) { return std::uint64_t{1} << f; }
 
 // One op variant: the fields it accepts and the ones it needs. A required field may be
 // supplied by a shorthand instead (`of` for point/orientation, `wrt` for the reference side).
@@ -75,17 +86,22 @@ struct Requirement {
 };
 struct Shape {
   std::string_view label;  // for messages: "a 'pose' op", "a 'position' query"
-  std::uint32_t allowed = 0;
+  std::uint64_t allowed = 0;
   std::vector<Requirement> required;
 };
 
 Shape ShapeOf(OpKind op, QueryKind query) {
-  constexpr std::uint32_t kHeader = Bit(kOp) | Bit(kKind);
-  constexpr std::uint32_t kShorthand = Bit(kOf) | Bit(kWrt);
-  constexpr std::uint32_t kPoseNames = kShorthand | Bit(kPoint) | Bit(kOrientation) | Bit(kBody) |
+  constexpr std::uint64_t kHeader = Bit(kOp) | Bit(kKind);
+  constexpr std::uint64_t kShorthand = Bit(kOf) | Bit(kWrt);
+  // Time (the document's Time section): a query's policy (every kind), time travel for the
+  // pose kinds, the twist source for the velocity kinds.
+  constexpr std::uint64_t kQueryTime = Bit(kAt) | Bit(kMaxExtrapolation) | Bit(kNotBefore);
+  constexpr std::uint64_t kPoseTime = kQueryTime | Bit(kRefAt) | Bit(kFixed);
+  constexpr std::uint64_t kTwistTime = kQueryTime | Bit(kSource);
+  constexpr std::uint64_t kPoseNames = kShorthand | Bit(kPoint) | Bit(kOrientation) | Bit(kBody) |
                                        Bit(kRefPoint) | Bit(kRefOrientation) | Bit(kRefBody) |
                                        Bit(kCoord);
-  constexpr std::uint32_t kTwistNames = Bit(kPoint) | Bit(kBody) | Bit(kRefBody) | Bit(kCoord);
+  constexpr std::uint64_t kTwistNames = Bit(kPoint) | Bit(kBody) | Bit(kRefBody) | Bit(kCoord);
   const std::vector<Requirement> pose_required = {{kPoint, kOf},
                                                   {kOrientation, kOf},
                                                   {kRefPoint, kWrt},
@@ -100,10 +116,10 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       // `body` is optional: a frame without it is the op error frame_without_body (spec).
       return {"a 'frame' op", Bit(kOp) | Bit(kName) | Bit(kBody), {{kName, kNoField}}};
     case OpKind::kPose:
-      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair),
+      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair) | Bit(kStamp),
               pose_required};
     case OpKind::kTwist:
-      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair),
+      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair) | Bit(kStamp),
               twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
@@ -122,39 +138,39 @@ Shape ShapeOf(OpKind op, QueryKind query) {
                   Bit(kUpper) | Bit(kMimic),
               {{kName, kNoField}, {kType, kNoField}, {kParent, kNoField}, {kChild, kNoField}}};
     case OpKind::kJoints:
-      return {"a 'joints' op", Bit(kOp) | Bit(kPositions) | Bit(kVelocities), {}};
+      return {"a 'joints' op", Bit(kOp) | Bit(kPositions) | Bit(kVelocities) | Bit(kStamp), {}};
     case OpKind::kQuery:
       break;
   }
   switch (query) {
     case QueryKind::kPose:
-      return {"a 'pose' query", kHeader | kPoseNames, pose_required};
+      return {"a 'pose' query", kHeader | kPoseNames | kPoseTime, pose_required};
     case QueryKind::kPosition:
       return {"a 'position' query",
               kHeader | kShorthand | Bit(kPoint) | Bit(kBody) | Bit(kRefPoint) | Bit(kRefBody) |
-                  Bit(kCoord),
+                  Bit(kCoord) | kPoseTime,
               {{kPoint, kOf}, {kRefPoint, kWrt}, {kCoord, kWrt}}};
     case QueryKind::kOrientation:
       return {"an 'orientation' query",
               kHeader | kShorthand | Bit(kOrientation) | Bit(kBody) | Bit(kRefOrientation) |
-                  Bit(kRefBody) | Bit(kCoord),
+                  Bit(kRefBody) | Bit(kCoord) | kPoseTime,
               {{kOrientation, kOf}, {kRefOrientation, kWrt}, {kCoord, kWrt}}};
     case QueryKind::kTwist:
-      return {"a 'twist' query", kHeader | kTwistNames, twist_required};
+      return {"a 'twist' query", kHeader | kTwistNames | kTwistTime, twist_required};
     case QueryKind::kLinearVelocity:
-      return {"a 'linear_velocity' query", kHeader | kTwistNames, twist_required};
+      return {"a 'linear_velocity' query", kHeader | kTwistNames | kTwistTime, twist_required};
     case QueryKind::kJacobian:
-      return {"a 'jacobian' query", kHeader | kTwistNames, twist_required};
+      return {"a 'jacobian' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
       return {"an 'angular_velocity' query",
-              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord),
+              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord) | kTwistTime,
               {{kBody, kNoField}, {kRefBody, kNoField}, {kCoord, kNoField}}};
   }
   return {};
 }
 
-std::string AllowedList(std::uint32_t allowed) {
+std::string AllowedList(std::uint64_t allowed) {
   std::string s;
   for (int f = 0; f < kNumFields; ++f) {
     if ((allowed & Bit(static_cast<Field>(f))) == 0) continue;
@@ -215,6 +231,8 @@ class Interpreter {
   bool ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
   bool ReadJointValues(std::uint32_t node, std::string_view field,
                        std::vector<std::pair<std::string, double>>* out);
+  bool ReadTimeSettings(std::uint32_t node, TimeSettings* out);
+  bool ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
 
   const YamlTree& tree_;
   ScriptError error_;
@@ -242,7 +260,7 @@ bool Interpreter::ReadMap(std::uint32_t map, std::string_view what,
 bool Interpreter::ReadDocument(Script* script) {
   const NodeId root = tree_.root();
   if (At(root).kind != NodeKind::kMap) {
-    return Fail(root, "a script is a map with 'ops' (and optionally 'representation'), got " +
+    return Fail(root, "a script is a map with 'ops' (and optionally 'representation' and 'time'), got " +
                           Describe(root));
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
@@ -262,9 +280,11 @@ bool Interpreter::ReadDocument(Script* script) {
       }
     } else if (name == "ops") {
       ops = value;
+    } else if (name == "time") {
+      if (!ReadTimeSettings(value, &script->time)) return false;
     } else {
       return Fail(key, "unknown top-level field " + Quoted(name) +
-                           " (expected 'representation' and 'ops')");
+                           " (expected 'representation', 'time' and 'ops')");
     }
   }
   if (ops == kNoNode) return Fail(root, "the script has no 'ops' list");
@@ -436,6 +456,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
       return false;
     }
   }
+  if (!ReadOpTime(node, value, op)) return false;
   if (value[kRepair] != kNoNode) {  // YAML 1.2 core schema booleans, plain style only
     const NodeView n = At(value[kRepair]);
     const bool plain = n.kind == NodeKind::kScalar && n.style == ScalarStyle::kPlain;
@@ -509,6 +530,105 @@ bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint
     }
     if (!has_joint) return Fail(m, "'mimic' needs 'joint'");
     op->has_mimic = true;
+  }
+  return true;
+}
+
+bool Interpreter::ReadTimeSettings(std::uint32_t node, TimeSettings* out) {
+  static constexpr std::string_view kKeys = "window, interpolation, duplicate_stamp";
+  if (At(node).kind != NodeKind::kMap) {
+    return Fail(node, "'time' must be a map with any of " + std::string(kKeys) + ", got " + Describe(node));
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  if (!ReadMap(node, "'time'", &pairs)) return false;
+  out->given = true;
+  for (const auto& [key, v] : pairs) {
+    const std::string_view k = At(key).text;
+    const NodeView n = At(v);
+    const bool scalar = n.kind == NodeKind::kScalar;
+    if (k == "window") {
+      // The graph refuses a window that is not a finite positive time; a script states it, so
+      // a bad one is a malformed script (nothing is applied).
+      double seconds = 0;
+      if (!ReadNumber(v, "'window'", &seconds)) return false;
+      const auto ns = core::NanosecondsFromSeconds(seconds);
+      if (!ns || *ns <= 0) {
+        return Fail(v, "'window' must be a finite positive time in seconds (at least 1 ns, at most 9.2e9 s), got " +
+                           Describe(v));
+      }
+      out->window_ns = *ns;
+    } else if (k == "interpolation") {
+      if (scalar && n.text == "screw") {
+        out->linear = false;
+      } else if (scalar && n.text == "linear") {
+        out->linear = true;
+      } else {
+        return Fail(v, "'interpolation' must be screw or linear, got " + Describe(v));
+      }
+    } else if (k == "duplicate_stamp") {
+      if (scalar && n.text == "replace") {
+        out->reject_duplicates = false;
+      } else if (scalar && n.text == "reject") {
+        out->reject_duplicates = true;
+      } else {
+        return Fail(v, "'duplicate_stamp' must be replace or reject, got " + Describe(v));
+      }
+    } else {
+      return Fail(key, "unknown field " + Quoted(k) + " in 'time' (its fields: " + std::string(kKeys) + ")");
+    }
+  }
+  return true;
+}
+
+bool Interpreter::ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
+                             ScriptOp* op) {
+  // The shape admitted each field only on the ops that take it; here their values.
+  const std::pair<Field, std::optional<double>*> numbers[] = {{kStamp, &op->stamp},
+                                                               {kMaxExtrapolation, &op->max_extrapolation},
+                                                               {kNotBefore, &op->not_before},
+                                                               {kRefAt, &op->ref_at}};
+  for (const auto& [field, out] : numbers) {
+    if (value[field] == kNoNode) continue;
+    double seconds = 0;
+    if (!ReadNumber(value[field], "'" + std::string(kFieldNames[field]) + "' (seconds)", &seconds)) return false;
+    *out = seconds;
+  }
+  if (value[kAt] != kNoNode) {
+    const NodeView n = At(value[kAt]);
+    if (n.kind == NodeKind::kScalar && n.text == "latest_common") {
+      op->at = AtKind::kLatestCommon;
+    } else {
+      const bool may_be_number = n.style == ScalarStyle::kPlain || n.style == ScalarStyle::kNumberTag;
+      if (n.kind != NodeKind::kScalar || !may_be_number || !ParseCoreNumber(n.text, &op->at_seconds)) {
+        return Fail(value[kAt], "'at' must be a time in seconds or latest_common, got " + Describe(value[kAt]));
+      }
+      op->at = AtKind::kTime;
+    }
+  }
+  if ((value[kRefAt] == kNoNode) != (value[kFixed] == kNoNode)) {
+    return Fail(value[kRefAt] != kNoNode ? value[kRefAt] : value[kFixed],
+                "time travel needs both 'ref_at' (the reference side's time) and 'fixed' (the frame fixed "
+                "between the two times)");
+  }
+  if (value[kFixed] != kNoNode) {
+    if (!ReadText(value[kFixed], "fixed", &op->fixed)) return false;
+    if (op->at != AtKind::kTime) {
+      return Fail(value[kAt] != kNoNode ? value[kAt] : node,
+                  "time travel ('ref_at', 'fixed') needs 'at' as a time in seconds (the point side's time)");
+    }
+  }
+  if (value[kSource] != kNoNode) {
+    const NodeView n = At(value[kSource]);
+    if (n.kind == NodeKind::kScalar && n.text == "twists") {
+      op->source_poses = false;
+    } else if (n.kind == NodeKind::kScalar && n.text == "poses") {
+      op->source_poses = true;
+    } else {
+      return Fail(value[kSource], "'source' must be twists or poses, got " + Describe(value[kSource]));
+    }
+  }
+  if (value[kStamp] != kNoNode && value[kRepair] != kNoNode) {
+    return Fail(value[kRepair], "'repair' does not take a stamped value: give either 'repair' or 'stamp'");
   }
   return true;
 }

@@ -7,6 +7,12 @@
 // several forms) applies nothing: ReadScript() then returns a ScriptError with the 1-based line
 // and column of the offending node.
 //
+// Time fields (docs/scene-script.md, Time) are checked for shape and placement here: a time
+// field on an op that does not take it, time travel without both `ref_at` and `fixed` or with
+// an `at` that is not a number, and a `time` map with a bad entry (a window that is not a
+// finite positive time included) make the script malformed. The values of stamps and query
+// times are kept in seconds as written; their range is the runner's (invalid_number).
+//
 // What is deliberately *not* checked here: names (empty, unprintable, too long) and numbers
 // (NaN, Inf, non-unit quaternions). Those are the scene graph's rules and are reported per op as
 // invalid_name / invalid_number / invalid_rotation, so that the script and the C++ API agree.
@@ -24,6 +30,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -66,6 +73,9 @@ enum class QueryKind : std::uint8_t {
 };
 
 enum class JointKind : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed };
+
+/// A query's time policy as written: none (latest), `at: <seconds>`, `at: latest_common`.
+enum class AtKind : std::uint8_t { kLatest, kTime, kLatestCommon };
 
 /// The names of an op's semantics after the shorthand is applied (`of: X` sets point and
 /// orientation, `wrt: Y` sets ref_point, ref_orientation and coord; explicit fields override).
@@ -118,10 +128,29 @@ struct ScriptOp {
   bool has_positions = false, has_velocities = false;
   std::vector<std::pair<std::string, double>> positions, velocities;
   bool repair = false;               // kPose, kTwist: repair a rejected relation (docs/repair.md)
+  // Time (docs/scene-script.md, "Time"), in seconds as written: the runner converts them to
+  // nanoseconds (a non-finite or out-of-range time is then the op error invalid_number).
+  std::optional<double> stamp;                     // kPose, kTwist, kJoints
+  AtKind at = AtKind::kLatest;                     // queries: the time policy
+  double at_seconds = 0;                           // AtKind::kTime
+  std::optional<double> max_extrapolation, not_before;
+  std::optional<double> ref_at;                    // time travel: with `fixed`, and at = kTime
+  std::string fixed;
+  bool source_poses = false;                       // velocity kinds: differentiate the poses
+};
+
+/// The document's `time` map: the graph's time options (docs/time.md). Checked here: a window
+/// that is not a finite positive time is a malformed script.
+struct TimeSettings {
+  bool given = false;
+  std::int64_t window_ns = 10'000'000'000;  // 10 s
+  bool linear = false;                      // interpolation: screw (false) or linear
+  bool reject_duplicates = false;           // duplicate_stamp: replace (false) or reject
 };
 
 struct Script {
   Representation representation = Representation::kQuaternion;
+  TimeSettings time;
   std::vector<ScriptOp> ops;
 };
 

@@ -7,7 +7,10 @@
 #include <cmath>
 #include <functional>
 #include <cstdio>
+#include <cstdlib>
 #include <initializer_list>
+#include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -201,11 +204,56 @@ OpOutcome FromRepair(const ScriptOp& op, std::size_t index,
   return out;
 }
 
+// ---------------------------------------------------------------- time (docs/scene-script.md)
+
+// "'at' nan s": a time field and its value for a message (any double, NaN included).
+std::string TimeText(std::string_view field, double seconds) {
+  char buffer[48];  // the shortest of 15 or 17 digits that reads back as the value
+  std::snprintf(buffer, sizeof(buffer), "%.15g", seconds);
+  if (std::isfinite(seconds) && std::strtod(buffer, nullptr) != seconds) {
+    std::snprintf(buffer, sizeof(buffer), "%.17g", seconds);
+  }
+  return "'" + std::string(field) + "' " + buffer + " s";
+}
+
+std::string NotATime(std::string_view field, double seconds) {
+  return TimeText(field, seconds) + " is not a finite time within +-9.2e9 s";
+}
+
+// A graph's invalid_number message with the reason replaced ("X rejected (invalid_number): ...").
+std::string WithReason(const std::string& message, std::string_view reason) {
+  static constexpr std::string_view kTag = "(invalid_number): ";
+  const std::size_t at = message.find(kTag);
+  if (at == std::string::npos) return std::string(reason);
+  return message.substr(0, at + kTag.size()) + std::string(reason);
+}
+
+// The op's stamp in nanoseconds; false (with the reason) when it is not a valid time.
+bool StampOf(const ScriptOp& op, std::optional<core::Stamp>* stamp, std::string* reason) {
+  if (!op.stamp) return true;
+  *stamp = core::StampFromSeconds(*op.stamp);
+  if (!*stamp) *reason = NotATime("stamp", *op.stamp);
+  return stamp->has_value();
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 template <coord::Backend B>
 OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const core::PoseSpec spec = PoseSpecOf(op.names);
   const Eigen::Vector3d p = ToVector(op.position);
   const RotationValue& r = op.rotation;
+  std::optional<core::Stamp> stamp;
+  if (std::string reason; !StampOf(op, &stamp, &reason)) {
+    // The add's own order: invalid_name comes before invalid_number. A position of NaN makes
+    // the graph check the names and stop at invalid_number, changing nothing.
+    const auto probe = graph.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(kNaN, 0, 0));
+    if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
+    return Failure(op, index, base::ErrorCode::kInvalidNumber, WithReason(probe.error().message, reason));
+  }
+  const auto add = [&](const auto& rotation) {
+    return stamp ? graph.AddPose(spec, rotation, p, *stamp) : graph.AddPose(spec, rotation, p);
+  };
   if (op.repair) {
     // The repairing add takes a quaternion; a rotation that is not one is validated as given
     // first, so that an invalid one is refused exactly as without repair.
@@ -228,27 +276,25 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
   }
   switch (r.form) {
     case RotationForm::kIdentity:
-      return FromBuild(op, index, graph.AddPose(spec, Eigen::Quaterniond::Identity(), p));
+      return FromBuild(op, index, add(Eigen::Quaterniond::Identity()));
     case RotationForm::kQuaternion:
       // Passed as written: normalizing here would hide invalid_rotation.
-      return FromBuild(op, index, graph.AddPose(spec,
-                                            Eigen::Quaterniond(r.quaternion[0], r.quaternion[1],
-                                                               r.quaternion[2], r.quaternion[3]),
-                                            p));
+      return FromBuild(op, index,
+                       add(Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3])));
     case RotationForm::kRpy: {
       // R = Rz(yaw) Ry(pitch) Rx(roll); a non-finite angle gives a non-finite quaternion, which
       // the graph reports as invalid_number.
       const Eigen::Quaterniond q = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) *
                                    Eigen::AngleAxisd(r.rpy[1], Eigen::Vector3d::UnitY()) *
                                    Eigen::AngleAxisd(r.rpy[0], Eigen::Vector3d::UnitX());
-      return FromBuild(op, index, graph.AddPose(spec, q, p));
+      return FromBuild(op, index, add(q));
     }
     case RotationForm::kMatrix: {
       Eigen::Matrix3d R;
       for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) R(i, j) = r.matrix[i][j];
       }
-      return FromBuild(op, index, graph.AddPose(spec, R, p));
+      return FromBuild(op, index, add(R));
     }
   }
   base::DemandFailed("valid RotationForm", __FILE__, __LINE__);
@@ -307,11 +353,31 @@ OpOutcome AddJoint(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
 }
 
 template <coord::Backend B>
+OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  const core::TwistSpec spec = TwistSpecOf(op.names);
+  if (op.repair) {
+    return FromRepair(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), core::RepairPolicy{}));
+  }
+  std::optional<core::Stamp> stamp;
+  if (std::string reason; !StampOf(op, &stamp, &reason)) {
+    const auto probe = graph.AddTwist(spec, Eigen::Vector3d(kNaN, 0, 0), Eigen::Vector3d::Zero());  // as AddPose
+    if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
+    return Failure(op, index, base::ErrorCode::kInvalidNumber, WithReason(probe.error().message, reason));
+  }
+  if (stamp) return FromBuild(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), *stamp));
+  return FromBuild(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular)));
+}
+
+template <coord::Backend B>
 OpOutcome SetJoints(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   std::vector<core::JointValue> q, qdot;
   for (const auto& [name, value] : op.positions) q.push_back({name, value});
   for (const auto& [name, value] : op.velocities) qdot.push_back({name, value});
-  return FromBuild(op, index, graph.SetJoints(q, qdot));
+  std::optional<core::Stamp> stamp;
+  if (std::string reason; !StampOf(op, &stamp, &reason)) {  // invalid_number comes first for joint states
+    return Failure(op, index, base::ErrorCode::kInvalidNumber, "joint state rejected (invalid_number): " + reason);
+  }
+  return FromBuild(op, index, stamp ? graph.SetJoints(q, qdot, *stamp) : graph.SetJoints(q, qdot));
 }
 
 template <coord::Backend B>
@@ -338,11 +404,70 @@ OpOutcome LoadUrdf(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
 #endif
 }
 
+// A query's time policy from the op's fields. False, with the reason, when a time is not valid
+// (not finite, out of range, or a negative horizon).
+struct QueryTime {
+  core::TimePolicy policy = core::Latest{};
+  std::optional<core::TimeTravel> travel;
+};
+
+bool TimeOf(const ScriptOp& op, QueryTime* out, std::string* reason) {
+  const auto time = [&](std::string_view field, double seconds, std::optional<std::int64_t>* ns) {
+    *ns = core::NanosecondsFromSeconds(seconds);
+    if (!*ns) *reason = NotATime(field, seconds);
+    return ns->has_value();
+  };
+  std::optional<std::int64_t> at, not_before_ns, horizon_ns, ref_at;
+  if (op.at == AtKind::kTime && !time("at", op.at_seconds, &at)) return false;
+  if (op.ref_at && !time("ref_at", *op.ref_at, &ref_at)) return false;
+  if (op.not_before && !time("not_before", *op.not_before, &not_before_ns)) return false;
+  if (op.max_extrapolation) {
+    if (*op.max_extrapolation < 0) {  // negative before rounding (-1e-10 s too)
+      *reason = TimeText("max_extrapolation", *op.max_extrapolation) + " is negative";
+      return false;
+    }
+    if (!time("max_extrapolation", *op.max_extrapolation, &horizon_ns)) return false;
+  }
+  std::optional<core::Stamp> not_before;
+  if (not_before_ns) not_before = core::Stamp::Nanoseconds(*not_before_ns);
+  const core::Duration horizon = core::Duration::Nanoseconds(horizon_ns.value_or(0));
+  if (ref_at) {
+    out->travel.emplace(core::Stamp::Nanoseconds(*at), core::Stamp::Nanoseconds(*ref_at), op.fixed, horizon,
+                        not_before);
+  } else if (op.at == AtKind::kTime) {
+    out->policy = core::At{core::Stamp::Nanoseconds(*at), horizon, not_before};
+  } else if (op.at == AtKind::kLatestCommon) {
+    out->policy = core::LatestCommon{not_before};
+  } else {
+    out->policy = core::Latest{not_before};
+  }
+  return true;
+}
+
+// A stamp in seconds, as printed: the nearest double of ns / 1e9 (round-trips through %.17g).
+double Seconds(core::Stamp s) { return static_cast<double>(s.nanoseconds()) / 1e9; }
+
+// Appends the time keys of a successful query: those that apply, in the documented order.
+OpOutcome WithTime(OpOutcome out, const core::TimeReport& t) {
+  if (!out.ok) return out;
+  std::string keys;
+  const std::pair<std::string_view, const std::optional<core::Stamp>*> stamps[] = {
+      {"time", &t.time}, {"ref_time", &t.ref_time}, {"oldest", &t.oldest}, {"newest", &t.newest}};
+  for (const auto& [key, stamp] : stamps) {
+    if (*stamp) keys += ", \"" + std::string(key) + "\": " + JsonNumber(Seconds(**stamp));
+  }
+  if (t.extrapolated) keys += ", \"extrapolated\": true";
+  out.json.insert(out.json.size() - 1, keys);
+  return out;
+}
+
 template <coord::Backend B>
-OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+                   const core::TimePolicy& policy) {
   const core::TwistSpec spec = TwistSpecOf(op.names);
-  const auto J = graph.GetJacobian(spec);
-  if (!J) return Failure(op, index, J.error().code, graph.Describe(J.error(), spec));
+  const auto timed = graph.GetJacobian(spec, policy);
+  if (!timed) return Failure(op, index, timed.error().code, graph.Describe(timed.error(), spec));
+  const core::Jacobian* J = &timed->value;
   if (!J->J.allFinite()) return Failure(op, index, base::ErrorCode::kInvalidNumber, "the Jacobian is not finite");
   std::string json = "{\"op\": " + std::to_string(index) + ", \"ok\": true, \"joints\": [";
   for (std::size_t c = 0; c < J->joints.size(); ++c) {
@@ -363,52 +488,81 @@ OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::si
     }
     json += "]";
   }
-  return OpOutcome{true, "", json + "}"};
+  return WithTime(OpOutcome{true, "", json + "}"}, timed->time);
 }
 
 template <coord::Backend B>
 OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
+  const bool pose_kind = op.query_kind == QueryKind::kPose || op.query_kind == QueryKind::kPosition ||
+                         op.query_kind == QueryKind::kOrientation;
+  const core::PoseSpec pose_spec = PoseSpecOf(n);
+  const core::TwistSpec twist_spec = TwistSpecOf(n);
+  QueryTime time;
+  if (std::string reason; !TimeOf(op, &time, &reason)) {
+    // The query's order: invalid_name before invalid_number. A negative horizon makes the graph
+    // check the names the kind uses and stop at invalid_number.
+    const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
+    core::QueryError error;
+    if (op.query_kind == QueryKind::kPose) {
+      error = graph.GetPose(pose_spec, probe).error();
+    } else if (op.query_kind == QueryKind::kPosition) {
+      error = graph.GetPosition(pose_spec, probe).error();
+    } else if (op.query_kind == QueryKind::kOrientation) {
+      error = graph.GetOrientation(pose_spec, probe).error();
+    } else if (op.query_kind == QueryKind::kAngularVelocity) {
+      error = graph.GetAngularVelocity(twist_spec, probe).error();
+    } else {
+      error = graph.GetTwist(twist_spec, probe).error();
+    }
+    if (error.code != base::ErrorCode::kInvalidNumber) {
+      return Failure(op, index, error.code,
+                     pose_kind ? graph.Describe(error, pose_spec) : graph.Describe(error, twist_spec));
+    }
+    return Failure(op, index, base::ErrorCode::kInvalidNumber, "query failed (invalid_number): " + reason);
+  }
+  if (op.query_kind == QueryKind::kJacobian) return Jacobian(graph, op, index, time.policy);
+  const core::TwistSource source = op.source_poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
+  // One call per kind, with the policy or the time travel.
+  const auto pose_query = [&](auto&& get) {
+    return time.travel ? get(*time.travel) : get(time.policy);
+  };
   switch (op.query_kind) {
     case QueryKind::kPose: {
-      const core::PoseSpec spec = PoseSpecOf(n);
-      const auto X = graph.GetPose(spec);
-      if (!X) return Failure(op, index, X.error().code, graph.Describe(X.error(), spec));
-      return Success(index, {{"position", Values(B::TranslationOf(X->value))},
-                             {"quaternion", Values(B::ToQuaternion(B::RotationOf(X->value)))}});
+      const auto X = pose_query([&](const auto& t) { return graph.GetPose(pose_spec, t); });
+      if (!X) return Failure(op, index, X.error().code, graph.Describe(X.error(), pose_spec));
+      return WithTime(Success(index, {{"position", Values(B::TranslationOf(X->value.value))},
+                                      {"quaternion", Values(B::ToQuaternion(B::RotationOf(X->value.value)))}}),
+                      X->time);
     }
     case QueryKind::kPosition: {
-      const core::PoseSpec spec = PoseSpecOf(n);
-      const auto p = graph.GetPosition(spec);
-      if (!p) return Failure(op, index, p.error().code, graph.Describe(p.error(), spec));
-      return Success(index, {{"position", Values(p->value)}});
+      const auto p = pose_query([&](const auto& t) { return graph.GetPosition(pose_spec, t); });
+      if (!p) return Failure(op, index, p.error().code, graph.Describe(p.error(), pose_spec));
+      return WithTime(Success(index, {{"position", Values(p->value.value)}}), p->time);
     }
     case QueryKind::kOrientation: {
-      const core::PoseSpec spec = PoseSpecOf(n);
-      const auto R = graph.GetOrientation(spec);
-      if (!R) return Failure(op, index, R.error().code, graph.Describe(R.error(), spec));
-      return Success(index, {{"quaternion", Values(B::ToQuaternion(R->value))}});
+      const auto R = pose_query([&](const auto& t) { return graph.GetOrientation(pose_spec, t); });
+      if (!R) return Failure(op, index, R.error().code, graph.Describe(R.error(), pose_spec));
+      return WithTime(Success(index, {{"quaternion", Values(B::ToQuaternion(R->value.value))}}), R->time);
     }
     case QueryKind::kTwist: {
-      const core::TwistSpec spec = TwistSpecOf(n);
-      const auto V = graph.GetTwist(spec);
-      if (!V) return Failure(op, index, V.error().code, graph.Describe(V.error(), spec));
-      return Success(index, {{"linear", Values(V->linear)}, {"angular", Values(V->angular)}});
+      const auto V = graph.GetTwist(twist_spec, time.policy, source);
+      if (!V) return Failure(op, index, V.error().code, graph.Describe(V.error(), twist_spec));
+      return WithTime(Success(index, {{"linear", Values(V->value.linear)}, {"angular", Values(V->value.angular)}}),
+                      V->time);
     }
     case QueryKind::kLinearVelocity: {
-      const core::TwistSpec spec = TwistSpecOf(n);
-      const auto v = graph.GetLinearVelocity(spec);
-      if (!v) return Failure(op, index, v.error().code, graph.Describe(v.error(), spec));
-      return Success(index, {{"linear", Values(v->value)}});
+      const auto v = graph.GetLinearVelocity(twist_spec, time.policy, source);
+      if (!v) return Failure(op, index, v.error().code, graph.Describe(v.error(), twist_spec));
+      return WithTime(Success(index, {{"linear", Values(v->value.value)}}), v->time);
     }
     case QueryKind::kAngularVelocity: {
-      const core::TwistSpec spec = TwistSpecOf(n);
-      const auto w = graph.GetAngularVelocity(spec);
-      if (!w) return Failure(op, index, w.error().code, graph.Describe(w.error(), spec));
-      return Success(index, {{"angular", Values(w->value)}});
+      const auto w = graph.GetAngularVelocity(twist_spec, time.policy, source);
+      if (!w) return Failure(op, index, w.error().code, graph.Describe(w.error(), twist_spec));
+      return WithTime(Success(index, {{"angular", Values(w->value.value)}}), w->time);
     }
     case QueryKind::kJacobian:
-      return Jacobian(graph, op, index);
+      break;
   }
   base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
 }
@@ -495,13 +649,7 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
     case OpKind::kPose:
       return AddPose(graph, op, index);
     case OpKind::kTwist:
-      if (op.repair) {
-        return FromRepair(op, index,
-                          graph.AddTwist(TwistSpecOf(n), ToVector(op.linear), ToVector(op.angular),
-                                         core::RepairPolicy{}));
-      }
-      return FromBuild(op, index,
-                       graph.AddTwist(TwistSpecOf(n), ToVector(op.linear), ToVector(op.angular)));
+      return AddTwist(graph, op, index);
     case OpKind::kRemovePose:
       return FromBuild(op, index, graph.RemovePose(n.orientation, n.ref_orientation));
     case OpKind::kRemoveTwist:
@@ -519,6 +667,14 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
 }
 
 }  // namespace
+
+core::TimeOptions TimeOptionsOf(const TimeSettings& time) {
+  core::TimeOptions options;
+  options.window = core::Duration::Nanoseconds(time.window_ns);
+  options.interpolation = time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
+  options.duplicate_stamp = time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+  return options;
+}
 
 std::string OpLabel(const ScriptOp& op) {
   switch (op.kind) {

@@ -50,6 +50,10 @@ template <coord::Backend B>
 [[nodiscard]] SEMGRAPH_SCRIPT_EXPORT OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
                                 std::string_view base_dir = {});
 
+/// The graph options a script's `time` map asks for (the reader checked the window, so
+/// SceneGraph<B>::Create accepts them). One conversion for the tool, RunScene and Python.
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT core::TimeOptions TimeOptionsOf(const TimeSettings& time);
+
 /// The op as the output's "kind" names it: "body", "frame", "pose", "twist", "remove pose",
 /// "remove twist", "query <kind>" ("query linear_velocity", ...).
 [[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string OpLabel(const ScriptOp& op);

@@ -104,7 +104,10 @@ struct JointRecord {
   std::uint32_t master = 0xFFFFFFFFu;  ///< mimic: the master's index
   double multiplier = 1, offset = 0;
   std::vector<std::uint32_t> mimics;   ///< master: its mimics' indices
-  double q = 0, qdot = 0;
+  double q = 0, qdot = 0;  ///< the current state (stamped joints: the newest sample's)
+  /// Set without a stamp at least once (docs/time.md): its edges are timeless and take no
+  /// stamped state (stamp_mismatch). A stamped joint is one whose edges have histories.
+  bool timeless = false;
 
   [[nodiscard]] bool movable() const noexcept { return type != JointType::kFixed; }
   [[nodiscard]] bool is_mimic() const noexcept { return master != 0xFFFFFFFFu; }

@@ -320,6 +320,22 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot) noexcept;
   [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
                                         std::span<const double> qdot) noexcept;
+  /// Stamped joint states (joint_time.cc; docs/kinematics.md, docs/time.md): a sample of
+  /// (q, qdot) at `stamp` for each joint given and its mimics; a field not given keeps its value
+  /// of the joint's newest sample. A joint's first state decides what its edges are: set
+  /// without a stamp they are timeless, with one they keep histories (allocated by this call on
+  /// a joint's first stamped state). invalid_number -> unknown_joint -> mimic_joint ->
+  /// joint_limit -> stamp_mismatch -> stamp_too_old -> duplicate_stamp; all or nothing.
+  BuildResult SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities, Stamp stamp);
+  /// Real-time stamped setters, for joints that are stamped already (their first stamped state
+  /// given by SetJoints with a stamp, else kStampMismatch; a mimic added since then too): codes
+  /// as the unstamped ones, then kStampMismatch -> kStampTooOld -> kDuplicateStamp. All or
+  /// nothing; O(joints + mimics) in order; noexcept, allocation-free, lock-free for readers.
+  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q, Stamp stamp) noexcept;
+  [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
+                                             Stamp stamp) noexcept;
+  [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
+                                        std::span<const double> qdot, Stamp stamp) noexcept;
   /// Joint state and names (a stale handle: NaN / empty).
   [[nodiscard]] double joint_position(JointHandle j) const noexcept;
   [[nodiscard]] double joint_velocity(JointHandle j) const noexcept;
@@ -331,6 +347,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// column per independent joint on the twist path, in path order from ref_body. The errors
   /// of GetTwist. Allocates the result (use CompileJacobian on the real-time path).
   [[nodiscard]] Expected<Jacobian, QueryError> GetJacobian(const TwistSpec& spec) const;
+  /// The same under a time policy (docs/time.md): the poses, and the joints' twist edges, at the
+  /// policy's time; the errors of a timed twist query. Allocates the result.
+  [[nodiscard]] Expected<Timed<Jacobian>, QueryError> GetJacobian(const TwistSpec& spec, const TimePolicy& policy) const;
   [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(const TwistSpec& spec) const;
 
   // ---------------------------------------------------------------- inspection
@@ -416,6 +435,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   BuildResult RemoveJoint(const internal::JointRecord& joint);
   void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
   ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept;
+  // Stamped joint states (joint_time.cc).
+  ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot, Stamp stamp) noexcept;
+  ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot, std::int64_t s) const noexcept;
+  void StoreJointSample(std::uint32_t index, const double* q, const double* qdot, std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;

@@ -17,8 +17,8 @@
 // "out of memory ..." in `error`; the graph then holds every op before the failing one, and
 // the failing op may be partly applied.
 //
-// LoadScene ignores the script's `representation` (the graph's backend decides); RunScene uses
-// it. Costs: O(script) to read, then one scene-graph call per op. Thread safety: the calls share
+// LoadScene ignores the script's `representation` and `time` map (the graph's backend and time
+// options decide); RunScene uses both. Costs: O(script) to read, then one scene-graph call per op. Thread safety: the calls share
 // nothing; a graph passed in must not be used by another thread meanwhile.
 #pragma once
 
@@ -106,7 +106,9 @@ template <coord::Backend B>
 /// stored rotation: a quaternion [w, x, y, z], or the matrix for the homogeneous backend) and
 /// each twist edge once as its stored screw twist (coord = its head frame), with numbers in 17
 /// significant digits; where the order of ids needs it, an edge creates its frames or an edge
-/// added and removed at once does. Cost: O(graph) text. Thread safety: reads the graph only.
+/// added and removed at once does. Time is not written: a stamped edge is written with its
+/// newest value and no stamp (the current state, no history; docs/scene-script.md, Export).
+/// Cost: O(graph) text. Thread safety: reads the graph only.
 template <coord::Backend B>
 [[nodiscard]] SEMGRAPH_SCRIPT_EXPORT std::string WriteScene(const core::SceneGraph<B>& graph);
 

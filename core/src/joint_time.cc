@@ -1,0 +1,310 @@
+// Stamped joint states (docs/kinematics.md "Time", docs/time.md): a state given with a stamp is
+// a sample of (q, qdot) of each joint given and of its mimics, written into the histories of the
+// joint's pose edge (X_origin M(q)) and twist edge (the twist of qdot), so the one evaluator reads
+// joint edges exactly as any stamped edge. Contract: scene_graph.h (SetJoints with a stamp, the
+// stamped SetJointPositions / Velocities / State).
+//
+// Interpolation: a joint's edges are interpolated as edges (the graph's mode). For revolute,
+// continuous and prismatic joints both modes give the joint-space interpolation (q and qdot
+// linear) as long as q moves by less than half a turn between two samples of one joint: the
+// relative motion of two samples is a rotation about the fixed axis u (or a translation along
+// it), which screw and slerp both follow at a constant rate. The pose edge's derivative (source
+// poses) is then the twist of (q1 - q0) / (s1 - s0), and its extrapolation with the twist edge
+// integrates q + qdot (t - s).
+//
+// A sample at an existing stamp is identical when q and qdot are each within
+// 1e-9 max(1, |stored|): the stored q and qdot are recovered from the edge samples (revolute:
+// the angle of X_origin^-1 X about u, modulo a full turn; prismatic: the offset along u).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "semgraph/core/scene_graph.h"
+#include "semgraph/core/timed_read.h"
+#include "text.h"
+
+namespace semgraph::core {
+
+using text::Reject;
+
+namespace {
+
+constexpr double kLimitSlack = 1e-9;     // as the unstamped setters (joints.cc)
+constexpr double kSameJointValue = 1e-9;  // kinematics.md: identical samples
+
+bool Near(double a, double b) { return std::abs(a - b) <= kSameJointValue * std::max(1.0, std::abs(b)); }
+
+// The (q, qdot) a joint's edge samples hold.
+void StoredJointState(const internal::JointRecord& j, const double (&pose)[7], const double (&twist)[6], double& q,
+                      double& qdot) noexcept {
+  const auto X = internal::PoseFromWords(pose);
+  const TwistNumbers V = internal::TwistFromWords(twist);
+  if (j.type == JointType::kPrismatic) {
+    q = j.axis.dot(j.q_origin.conjugate() * (X.p - j.p_origin));
+    qdot = j.axis.dot(V.v_DHo_H);
+  } else {
+    const Eigen::Quaterniond r = j.q_origin.conjugate() * X.q;
+    q = 2.0 * std::atan2(r.vec().dot(j.axis), r.w());
+    qdot = j.axis.dot(V.w_DH_H);
+  }
+}
+
+// A revolute angle equals another modulo a full turn (both give the same edge value).
+bool SameAngle(double q, double stored) {
+  const double d = std::remainder(q - stored, 2.0 * std::numbers::pi);
+  return std::abs(d) <= kSameJointValue * std::max(1.0, std::abs(q));
+}
+
+}  // namespace
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord& j, double q, double qdot,
+                                          std::int64_t s) const noexcept {
+  const PoseHistory* hp = values_.history.pose_of(j.child.value());
+  const TwistHistory* ht = values_.history.twist_of(topology_.twist_edge_of(j.child).value());
+  if (j.timeless || !hp || !ht) return ErrorCode::kStampMismatch;
+  const TimeOptions& o = values_.history.options;
+  if (s < SaturatingSub(hp->newest_stamp(), o.window.nanoseconds())) return ErrorCode::kStampTooOld;
+  if (o.duplicate_stamp == DuplicatePolicy::kReject && s <= hp->newest_stamp()) {
+    double pw[7], tw[6];
+    if (hp->ValueAt(s, pw) && ht->ValueAt(s, tw)) {
+      double q0 = 0, qdot0 = 0;
+      StoredJointState(j, pw, tw, q0, qdot0);
+      const bool same_q = j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0);
+      if (!same_q || !Near(qdot, qdot0)) return ErrorCode::kDuplicateStamp;
+    }
+  }
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+void SceneGraph<B>::StoreJointSample(std::uint32_t index, const double* q_given, const double* qdot_given,
+                                     std::int64_t s) noexcept {
+  internal::JointRecord& j = joints_.joints[index];
+  const double q = q_given ? *q_given : j.q, qdot = qdot_given ? *qdot_given : j.qdot;
+  const TwistEdgeIndex edge = topology_.twist_edge_of(j.child);
+  PoseHistory& hp = *values_.history.pose[j.child.value()];
+  TwistHistory& ht = *values_.history.twist[edge.value()];
+  double pw[7], tw[6];
+  bool identical = false;
+  if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
+    double q0 = 0, qdot0 = 0;
+    StoredJointState(j, pw, tw, q0, qdot0);
+    identical = (j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0)) && Near(qdot, qdot0);
+  }
+  if (!identical) {  // the same sample again is a no-op that keeps the stored one
+    Eigen::Quaterniond q_PC;
+    Eigen::Vector3d p_PC;
+    j.PoseAt(q, q_PC, p_PC);
+    TwistNumbers V;
+    j.TwistAt(qdot, V.v_DHo_H, V.w_DH_H);
+    internal::WordsFromPose(q_PC, p_PC, pw);
+    internal::WordsFromTwist(V, tw);
+    const bool becomes_newest = s >= hp.newest_stamp();
+    const std::int64_t window = values_.history.options.window.nanoseconds();
+    hp.Insert(s, pw, window);
+    ht.Insert(s, tw, window);
+    if (becomes_newest) {  // the untimed readers' values and the state: the newest sample's
+      j.q = q;
+      j.qdot = qdot;
+      values_.X_PF[j.child.value()].Store(B::MakePose(B::FromQuaternion(q_PC), p_PC));
+      values_.V_DH[edge.value()].Store(V);
+    }
+  }
+  for (std::uint32_t m : j.mimics) {
+    const internal::JointRecord& mj = joints_.joints[m];
+    const double qm = mj.multiplier * q + mj.offset, qdotm = mj.multiplier * qdot;
+    StoreJointSample(m, &qm, &qdotm, s);  // a mimic has no mimics: depth 1
+  }
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
+                                         Stamp stamp) noexcept {
+  // As SetGroup: one pass collects every failure and the first in the rules' order is reported.
+  const std::size_t n = group.joints.size();
+  const std::int64_t s = stamp.nanoseconds();
+  bool bad_number = false, unknown = false, mimic = false, limit = false;
+  ErrorCode time = ErrorCode::kOk;  // the first stamp failure in the order of the codes
+  const auto note = [&time](ErrorCode c) {
+    if (c != ErrorCode::kOk && (time == ErrorCode::kOk || c < time)) time = c;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
+    const internal::JointRecord* j = joints_.Get(group.joints[i]);
+    if (!j || !j->movable()) {
+      unknown = true;
+      continue;
+    }
+    mimic |= j->is_mimic();
+    limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
+    const double qi = q ? q[i] : j->q, qdoti = qdot ? qdot[i] : j->qdot;
+    note(CheckJointSample(*j, qi, qdoti, s));
+    for (std::uint32_t m : j->mimics) {
+      const internal::JointRecord& mj = joints_.joints[m];
+      note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
+    }
+  }
+  if (bad_number) return ErrorCode::kInvalidNumber;
+  if (unknown) return ErrorCode::kUnknownJoint;
+  if (mimic) return ErrorCode::kMimicJoint;
+  if (limit) return ErrorCode::kJointLimit;
+  if (time != ErrorCode::kOk) return time;
+  for (std::size_t i = 0; i < n; ++i) StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q, Stamp stamp) noexcept {
+  SEMGRAPH_DEMAND(q.size() == group.size());
+  return SetGroupStamped(group, q.data(), nullptr, stamp);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
+                                            Stamp stamp) noexcept {
+  SEMGRAPH_DEMAND(qdot.size() == group.size());
+  return SetGroupStamped(group, nullptr, qdot.data(), stamp);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q, std::span<const double> qdot,
+                                       Stamp stamp) noexcept {
+  SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size());
+  return SetGroupStamped(group, q.data(), qdot.data(), stamp);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities,
+                                     Stamp stamp) {
+  // The rules before time, with the messages of the unstamped set (joints.cc).
+  const auto what = [] { return std::string("joint state"); };
+  for (const auto* list : {&positions, &velocities}) {
+    for (const JointValue& v : *list) {
+      if (!std::isfinite(v.value)) {
+        return Reject(ErrorCode::kInvalidNumber, what(),
+                      std::string(list == &positions ? "position" : "velocity") + " of joint " +
+                          std::string(v.joint) + " is not a finite number");
+      }
+    }
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const JointValue& v : *list) {
+      const internal::JointRecord* j = joints_.Find(v.joint);
+      if (!j) return Reject(ErrorCode::kUnknownJoint, what(), "there is no joint named " + std::string(v.joint));
+      if (!j->movable()) return Reject(ErrorCode::kUnknownJoint, what(), "joint " + j->name + " is fixed: it has no state");
+    }
+  }
+  for (const auto* list : {&positions, &velocities}) {
+    for (const JointValue& v : *list) {
+      const internal::JointRecord* j = joints_.Find(v.joint);
+      if (j->is_mimic()) {
+        return Reject(ErrorCode::kMimicJoint, what(),
+                      "joint " + j->name + " mimics joint " + joints_.joints[j->master].name + "; set the master instead");
+      }
+    }
+  }
+  for (const JointValue& v : positions) {
+    const internal::JointRecord* j = joints_.Find(v.joint);
+    if (j->limited() && (v.value < j->lower - kLimitSlack || v.value > j->upper + kLimitSlack)) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "position %.9g of joint ", v.value);
+      char lim[64];
+      std::snprintf(lim, sizeof lim, " is outside its limits [%.9g, %.9g]", j->lower, j->upper);
+      return Reject(ErrorCode::kJointLimit, what(), buf + j->name + lim);
+    }
+  }
+  // The sample of each joint given: its given fields, the others of its newest sample (its
+  // state). A joint named in both maps gives one sample.
+  struct Sample {
+    std::uint32_t index;
+    const double* q;
+    const double* qdot;
+  };
+  std::vector<Sample> samples;
+  samples.reserve(positions.size() + velocities.size());
+  const auto sample_of = [&](const JointValue& v) -> Sample& {
+    const std::uint32_t index = joints_.HandleOf(*joints_.Find(v.joint)).index;
+    for (Sample& x : samples) {
+      if (x.index == index) return x;
+    }
+    return samples.emplace_back(Sample{index, nullptr, nullptr});
+  };
+  for (const JointValue& v : positions) sample_of(v).q = &v.value;
+  for (const JointValue& v : velocities) sample_of(v).qdot = &v.value;
+  const std::int64_t s = stamp.nanoseconds();
+  // A joint never set yet becomes stamped: its (and its mimics') histories are made first, so a
+  // refusal below or running out of memory changes nothing.
+  std::vector<std::uint32_t> fresh;  // joints (and mimics) that get histories
+  for (const Sample& x : samples) {
+    const internal::JointRecord& j = joints_.joints[x.index];
+    for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
+      const std::uint32_t idx = k == 0 ? x.index : j.mimics[k - 1];
+      const internal::JointRecord& jk = joints_.joints[idx];
+      if (!jk.timeless && values_.history.pose_of(jk.child.value()) == nullptr) fresh.push_back(idx);
+    }
+  }
+  // The stamp rules, on the joints that are stamped already (and the timeless ones); the first
+  // failure in the order of the codes is reported.
+  ErrorCode worst = ErrorCode::kOk;
+  std::string worst_reason;
+  for (const Sample& x : samples) {
+    const internal::JointRecord& j = joints_.joints[x.index];
+    const double q = x.q ? *x.q : j.q, qdot = x.qdot ? *x.qdot : j.qdot;
+    for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
+      const std::uint32_t idx = k == 0 ? x.index : j.mimics[k - 1];
+      if (std::find(fresh.begin(), fresh.end(), idx) != fresh.end()) continue;
+      const internal::JointRecord& jk = joints_.joints[idx];
+      const double qk = k == 0 ? q : jk.multiplier * q + jk.offset, qdotk = k == 0 ? qdot : jk.multiplier * qdot;
+      const ErrorCode code = CheckJointSample(jk, qk, qdotk, s);
+      if (code == ErrorCode::kOk || (worst != ErrorCode::kOk && code >= worst)) continue;
+      worst = code;
+      std::string reason = "joint " + jk.name + ": ";
+      if (code == ErrorCode::kStampMismatch && jk.timeless) {
+        reason += "it was set without a stamp, so its edges are timeless and take no stamped state";
+      } else {
+        reason += DescribeSampleRejection(code, false, jk.child.value(), stamp);
+      }
+      worst_reason = std::move(reason);
+    }
+  }
+  if (worst != ErrorCode::kOk) return Reject(worst, what(), worst_reason);
+  std::vector<std::unique_ptr<PoseHistory>> new_pose;
+  std::vector<std::unique_ptr<TwistHistory>> new_twist;
+  new_pose.reserve(fresh.size());
+  new_twist.reserve(fresh.size());
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    new_pose.push_back(NewPoseHistory());
+    new_twist.push_back(NewTwistHistory());
+  }
+  // No failure from here on. A fresh joint's first sample is its current state (the newest
+  // "sample" of a joint without one), replaced at once by StoreJointSample at the same stamp.
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    const internal::JointRecord& j = joints_.joints[fresh[i]];
+    Eigen::Quaterniond q_PC;
+    Eigen::Vector3d p_PC;
+    j.PoseAt(j.q, q_PC, p_PC);
+    TwistNumbers V;
+    j.TwistAt(j.qdot, V.v_DHo_H, V.w_DH_H);
+    InstallPoseHistory(j.child, std::move(new_pose[i]), B::MakePose(B::FromQuaternion(q_PC), p_PC), stamp);
+    InstallTwistHistory(topology_.twist_edge_of(j.child), std::move(new_twist[i]), V, stamp);
+  }
+  for (const Sample& x : samples) StoreJointSample(x.index, x.q, x.qdot, s);
+  return Ok{};
+}
+
+#define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                                          \
+  template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, std::int64_t)    \
+      const noexcept;                                                                                               \
+  template void SceneGraph<B>::StoreJointSample(std::uint32_t, const double*, const double*, std::int64_t) noexcept; \
+  template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*, const double*, Stamp) noexcept; \
+  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>, Stamp) noexcept;  \
+  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, Stamp) noexcept; \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>, std::span<const double>, \
+                                                  Stamp) noexcept;                                                 \
+  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>, Stamp);
+SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::QuaternionBackend)
+SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::HomogeneousBackend)
+
+}  // namespace semgraph::core
