@@ -55,7 +55,7 @@ typename B::Rotation Renormalized(const typename B::Rotation& M) noexcept {
 template <coord::Backend B>
 void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
   topology_.Reserve(frames, bodies);
-  values_.X_PF.reserve(frames);
+  values_.ReserveFrames(frames);
 }
 
 template <coord::Backend B>

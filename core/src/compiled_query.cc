@@ -21,7 +21,7 @@ CompiledQuery<B>::CompiledQuery(const topology::SceneTopology& t, const EdgeValu
 template <coord::Backend B>
 bool CompiledQuery<B>::is_valid() const noexcept {
   for (const internal::EdgeRef& e : edges_) {
-    if (values_->X_PF[e.child].epoch() != e.epoch()) return false;
+    if (static_cast<const PoseValue<B>*>(e.value)->epoch() != e.epoch()) return false;
   }
   return true;
 }
@@ -47,7 +47,8 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const ForestCha
   Chain flat;
   flat.begin = static_cast<std::uint32_t>(edges_.size());
   for (FrameIndex g = c.from; g != c.to; g = t.pose_parent(g)) {
-    edges_.push_back(internal::EdgeRef{PoseValue<B>::ExpectedHeader(values_->X_PF[g.value()].epoch()), g.value()});
+    const PoseValue<B>& value = values_->X_PF[g.value()];
+    edges_.push_back(internal::EdgeRef{PoseValue<B>::ExpectedHeader(value.epoch()), &value, g.value()});
   }
   flat.end = static_cast<std::uint32_t>(edges_.size());
   if (flat.end != flat.begin) chains_.push_back(flat);
@@ -108,14 +109,13 @@ bool CachedSource<B>::EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& iden
     return FlatSource<B>(v_, edges_).EvalChain(c, X_AF, identity);
   }
   PoseCoords* const node = cache.nodes.data() + tree.node_offset;
-  const PoseValue<B>* const values = v_.X_PF.data();
   std::uint64_t* const headers = cache.headers.data() + c.begin;
   std::uint32_t* const changed_leaves = cache.changed.data();
   const EdgeRef* const refs = edges_ + c.begin;
   const std::uint32_t n = c.end - c.begin, leaves = tree.leaves;
   std::uint32_t changed = 0;
   for (std::uint32_t j = n; j-- > 0;) {  // edge j of the chain is leaf n - 1 - j
-    const PoseValue<B>& value = values[refs[j].child];
+    const PoseValue<B>& value = *static_cast<const PoseValue<B>*>(refs[j].value);
     if (value.header() == headers[j]) continue;  // unchanged since cached
     const std::uint32_t leaf = n - 1 - j;
     if (!value.LoadWithHeader(node[leaves + leaf], refs[j].expected_header, headers[j])) return false;

@@ -350,7 +350,7 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const FrameIndex head = c.is_valid() ? c : CreateFrame(c_id, C_body);
   const FrameIndex tail = p.is_valid() ? p : CreateFrame(p_id, P_body);
   topology_.LinkPose(tail, head);
-  values_.V_DH.reserve(t.num_twist_edge_slots() + 1);
+  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
   const TwistEdgeIndex edge = topology_.LinkTwist(
       P_body, head,
       semantics::TwistSemantics{semantics::Point(c_id), t.BodySem(C_body), t.BodySem(P_body),

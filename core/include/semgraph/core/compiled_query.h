@@ -17,7 +17,12 @@
 // Thread safety: Evaluate is const and may run on any number of threads concurrently with one
 // writer calling SceneGraph::SetPose/SetTwist. Each edge value is read untorn (sequence lock);
 // different edges of one path may come from different writer updates (there is no cross-edge
-// snapshot). Topology changes (add/remove) need exclusive access.
+// snapshot). The writer may also change the topology (add/remove) meanwhile: each edge is read
+// through the address of its value, taken at compile time (values never move: stable_array.h),
+// and its epoch check turns a removal into kQueryInvalidated, so an untimed Evaluate answers for
+// the graph it was compiled on or is invalidated. Not under concurrent topology changes: the
+// timed forms and twists from pose derivatives (they read sample histories and the topology,
+// which a change frees or rewrites; docs/realtime.md).
 // Time (docs/time.md): Evaluate(..., policy, report) reads every edge at the policy's time
 // through the same evaluator and reports what it read; also noexcept and allocation-free
 // (extrapolation plans its twist from the graph's topology, which is why a compiled query keeps

@@ -11,10 +11,15 @@
 // edge is removed, so handles and compiled queries made before see kNoSuchEdge /
 // kQueryInvalidated instead of another edge's numbers.
 // Handles (PoseHandle, TwistHandle) name their graph (GraphId), kind, edge and epoch.
-// Costs: AddFrame / AddTwistSlot O(1) amortized (they allocate); Load/Store O(1), noexcept,
+// The values live in StableArrays (stable_array.h): a value never moves while the graph lives,
+// so a compiled query holds pointers to its edges' values, and readers may keep evaluating while
+// the writer adds frames and edges (frames are never deleted; a removed edge's value stays, with
+// its epoch bumped, and a twist slot reused later keeps counting its epoch).
+// Costs: AddFrame / AddTwistSlot O(1) amortized (they allocate a block at most doubling the
+// capacity); by-index access a bit scan and a directory load; Load/Store O(1), noexcept,
 // lock-free, allocation-free (seqlock_value.h).
-// Thread safety: one writer (Store, BumpEpoch) with any number of concurrent readers; growing
-// the arrays (AddFrame, AddTwistSlot) needs exclusive access.
+// Thread safety: one writer (Store, BumpEpoch, AddFrame, AddTwistSlot, Reserve*) with any number
+// of concurrent readers of values that existed when the reader learned of them.
 #pragma once
 
 #include <algorithm>
@@ -26,6 +31,7 @@
 #include "semgraph/core/edge_history.h"
 #include "semgraph/core/export.h"
 #include "semgraph/core/seqlock_value.h"
+#include "semgraph/core/stable_array.h"
 #include "semgraph/topology/ids.h"
 
 namespace semgraph::core {
@@ -104,32 +110,26 @@ struct TwistHandle {
 
 template <coord::Backend B>
 struct EdgeValues {
-  std::vector<PoseValue<B>> X_PF;  ///< by frame
-  std::vector<TwistValue> V_DH;    ///< by twist edge slot
+  StableArray<PoseValue<B>> X_PF;  ///< by frame
+  StableArray<TwistValue> V_DH;    ///< by twist edge slot
   /// Stamped edges' samples (edge_history.h); X_PF / V_DH then hold the newest sample.
   EdgeHistories history;
 
   /// The value of a new frame: the identity (it has no pose parent yet).
   void AddFrame() {
-    X_PF.emplace_back(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
+    X_PF.EmplaceBack(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
   }
   /// Makes room for the value of twist edge slot `e`.
   void AddTwistSlot(topology::TwistEdgeIndex e) {
-    if (V_DH.size() <= e.value()) V_DH.resize(e.value() + 1);
+    if (V_DH.size() <= e.value()) V_DH.Resize(e.value() + 1);
   }
-  /// Room for `frames` frame values / `slots` twist slot values in total (growing at least
-  /// twofold), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
+  /// Room for `frames` frame values / `slots` twist slot values in total (blocks of doubling
+  /// size), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
   /// call these before their first change (all or nothing under std::bad_alloc).
-  void ReserveFrames(std::size_t frames) { Grow(X_PF, frames); }
-  void ReserveTwistSlots(std::size_t slots) { Grow(V_DH, slots); }
+  void ReserveFrames(std::size_t frames) { X_PF.Reserve(frames); }
+  void ReserveTwistSlots(std::size_t slots) { V_DH.Reserve(slots); }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    return X_PF.capacity() * sizeof(PoseValue<B>) + V_DH.capacity() * sizeof(TwistValue) + history.ApproximateBytes();
-  }
-
- private:
-  template <class T>
-  static void Grow(std::vector<T>& v, std::size_t n) {
-    if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
+    return X_PF.bytes() + V_DH.bytes() + history.ApproximateBytes();
   }
 };
 

@@ -133,10 +133,13 @@ class ForestSource {
   TimeContext* time_;
 };
 
-/// A compiled query's edge: the frame whose parent edge is read, and the sequence-lock header
-/// it must carry (its epoch when compiled, no write in progress).
+/// A compiled query's edge: the frame whose parent edge is read, the address of that edge's
+/// value (a PoseValue<B> of the graph's EdgeValues: stable while the graph lives, so the hot
+/// loop needs no index arithmetic and the writer may add edges meanwhile), and the sequence-lock
+/// header it must carry (its epoch when compiled, no write in progress).
 struct EdgeRef {
   std::uint64_t expected_header;
+  const void* value;
   std::uint32_t child;
   [[nodiscard]] std::uint32_t epoch() const noexcept { return static_cast<std::uint32_t>(expected_header >> 32); }
 };
@@ -161,7 +164,6 @@ class FlatSource {
   bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
     identity = c.begin == c.end;
     if (identity) return true;
-    const PoseValue<B>* values = v_.X_PF.data();
     const EdgeRef* first = edges_ + c.begin;
     const EdgeRef* e = edges_ + c.end - 1;
     if (time_) return EvalChainAt(first, e, X_AF);
@@ -171,7 +173,7 @@ class FlatSource {
       using Words = typename PoseValue<B>::Word[PoseValue<B>::kWords];
       const auto load = [&](const EdgeRef& r, Eigen::Quaterniond& q, Eigen::Vector3d& p) {
         Words w;
-        if (!values[r.child].LoadWords(w, r.expected_header)) return false;
+        if (!Value(r).LoadWords(w, r.expected_header)) return false;
         q = Eigen::Quaterniond(w[3], w[0], w[1], w[2]);
         p = Eigen::Vector3d(w[4], w[5], w[6]);
         return true;
@@ -191,11 +193,11 @@ class FlatSource {
       return true;
     } else {
       PoseCoords acc;
-      if (!values[e->child].Load(acc, e->epoch())) return false;
+      if (!Value(*e).Load(acc, e->epoch())) return false;
       while (e != first) {
         --e;
         PoseCoords X_i;
-        if (!values[e->child].Load(X_i, e->epoch())) return false;
+        if (!Value(*e).Load(X_i, e->epoch())) return false;
         acc = B::ComposeChain(X_i, acc);
       }
       X_AF = acc;
@@ -222,9 +224,8 @@ class FlatSource {
   // arithmetic (with this branch inline, GCC 12 called Eigen's quaternion-vector product out of
   // line: 1.39x the raw chain's instructions at d = 8 instead of 1.15x).
   [[gnu::noinline]] bool EvalChainAt(const EdgeRef* first, const EdgeRef* e, PoseCoords& X_AF) const noexcept {
-    const PoseValue<B>* values = v_.X_PF.data();
     const auto load = [&](const EdgeRef& r, PoseCoords& X) {
-      if (values[r.child].epoch() != r.epoch()) return false;
+      if (Value(r).epoch() != r.epoch()) return false;
       ReadPoseAt<B>(v_, r.child, *time_, X);
       return true;
     };
@@ -239,6 +240,7 @@ class FlatSource {
     X_AF = acc;
     return true;
   }
+  static const PoseValue<B>& Value(const EdgeRef& r) noexcept { return *static_cast<const PoseValue<B>*>(r.value); }
   const EdgeValues<B>& v_;
   const EdgeRef* edges_;
   TimeContext* time_;

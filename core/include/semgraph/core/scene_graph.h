@@ -185,7 +185,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // See docs/realtime.md. Handles and compiled queries are made at build time (they allocate
   // and may fail with a rich error); afterwards SetPose/SetTwist and CompiledX::Evaluate are
   // noexcept, allocation-free, lock-free and string-free. One writer thread may call
-  // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks).
+  // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks);
+  // the same writer thread may also change the topology (Add*, Remove*) meanwhile: untimed
+  // compiled evaluations then answer for the graph they were compiled on or return
+  // kQueryInvalidated (docs/realtime.md, "Topology changes while readers run"). One-shot queries
+  // by name, Find*Edge and Compile* read the topology: same thread as the changes.
 
   /// Handle of the existing pose edge {relative_to} -> {of}: invalid_name, unknown_frame,
   /// no_such_edge, or constant_pose_change for a same-body (constant) edge, which cannot be

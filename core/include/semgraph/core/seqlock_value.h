@@ -14,8 +14,8 @@
 // Store wrote (never a mix of two writes).
 // Costs: Store = 2 header stores + sizeof(T)/8 word stores; Load = 2 header loads + the word
 // loads (plain moves on x86-64), retried only when a write overlapped the read.
-// Thread safety: one writer at a time (per value); readers concurrent with it. Copying (which
-// std::vector needs to grow) is only allowed with exclusive access: the graph's build phase.
+// Thread safety: one writer at a time (per value); readers concurrent with it. Copying is only
+// allowed with exclusive access (the graph's values never move: stable_array.h).
 #pragma once
 
 #include <atomic>
