@@ -249,9 +249,18 @@ void BuildRandomScene(core::SceneGraph<B>& g, std::mt19937_64& rng, int num_ops)
       const core::JointValue qdot[] = {{pick(joint_names), normal(rng)}};
       (void)g.SetJoints(q, qdot);
     } else if (u < 0.58) {  // a pose given in another form: converted to the edge form once
-      PoseSpec spec = PoseSpec::Of(pick(frames), pick(bodies)).RelativeTo(existing_frame());
-      if (unit(rng) < 0.5) spec.ExpressedIn(existing_frame());
-      if (unit(rng) < 0.3) spec.RelativeToPoint(existing_frame());
+      // A spec views its names: each one is kept in a string that outlives the add.
+      const std::string ref = existing_frame();
+      PoseSpec spec = PoseSpec::Of(pick(frames), pick(bodies)).RelativeTo(ref);
+      std::string coord, ref_point;
+      if (unit(rng) < 0.5) {
+        coord = existing_frame();
+        spec.ExpressedIn(coord);
+      }
+      if (unit(rng) < 0.3) {
+        ref_point = existing_frame();
+        spec.RelativeToPoint(ref_point);
+      }
       (void)g.AddPose(spec, quat(), vec());
     } else if (!has_frames) {
       continue;
@@ -261,7 +270,8 @@ void BuildRandomScene(core::SceneGraph<B>& g, std::mt19937_64& rng, int num_ops)
       if (p.is_valid()) (void)g.AddPose(PoseSpec::Of(of).RelativeTo(g.frame_name(p)), quat(), vec());
     } else if (u < 0.82) {
       TwistSpec spec = TwistSpec::Of(pick(frames), pick(bodies)).RelativeTo(pick(bodies));
-      spec.ExpressedIn(unit(rng) < 0.5 ? spec.point : existing_frame());
+      const std::string coord = unit(rng) < 0.5 ? std::string(spec.point) : existing_frame();  // the spec views it
+      spec.ExpressedIn(coord);
       (void)g.AddTwist(spec, vec(), vec());
     } else if (u < 0.92) {
       const std::string of = existing_frame();
