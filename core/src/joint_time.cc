@@ -17,7 +17,6 @@
 // the angle of X_origin^-1 X about u, modulo a full turn; prismatic: the offset along u).
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 #include "semgraph/core/scene_graph.h"
@@ -178,43 +177,9 @@ ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities,
                                      Stamp stamp) {
-  // The rules before time, with the messages of the unstamped set (joints.cc).
   const auto what = [] { return std::string("joint state"); };
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
-      if (!std::isfinite(v.value)) {
-        return Reject(ErrorCode::kInvalidNumber, what(),
-                      std::string(list == &positions ? "position" : "velocity") + " of joint " +
-                          std::string(v.joint) + " is not a finite number");
-      }
-    }
-  }
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
-      const internal::JointRecord* j = joints_.Find(v.joint);
-      if (!j) return Reject(ErrorCode::kUnknownJoint, what(), "there is no joint named " + std::string(v.joint));
-      if (!j->movable()) return Reject(ErrorCode::kUnknownJoint, what(), "joint " + j->name + " is fixed: it has no state");
-    }
-  }
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
-      const internal::JointRecord* j = joints_.Find(v.joint);
-      if (j->is_mimic()) {
-        return Reject(ErrorCode::kMimicJoint, what(),
-                      "joint " + j->name + " mimics joint " + joints_.joints[j->master].name + "; set the master instead");
-      }
-    }
-  }
-  for (const JointValue& v : positions) {
-    const internal::JointRecord* j = joints_.Find(v.joint);
-    if (j->limited() && (v.value < j->lower - kLimitSlack || v.value > j->upper + kLimitSlack)) {
-      char buf[96];
-      std::snprintf(buf, sizeof buf, "position %.9g of joint ", v.value);
-      char lim[64];
-      std::snprintf(lim, sizeof lim, " is outside its limits [%.9g, %.9g]", j->lower, j->upper);
-      return Reject(ErrorCode::kJointLimit, what(), buf + j->name + lim);
-    }
-  }
+  // The rules before time, shared with the unstamped set (joints.cc).
+  if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
   // The sample of each joint given: its given fields, the others of its newest sample (its
   // state). A joint named in both maps gives one sample.
   struct Sample {

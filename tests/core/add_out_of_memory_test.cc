@@ -17,7 +17,8 @@
 // Operations: AddBody, AddFrame, AddPose (new leaf, constant leaf, linking two trees or a single
 // frame, a new root, two new frames, a value update, the non-edge form, stamped, repaired by the
 // inverse and by re-rooting, rejections), AddTwist (new edge, new frame and bodies, converted,
-// update, stamped, rejected), RemovePose (splits, leaves, rejected), RemoveTwist.
+// update, stamped, rejected), RemovePose (splits, leaves, rejected), RemoveTwist, AddJoint (new
+// frames, linking two trees, a mimic, rejected) and the removal of a joint (RemovePose of its edge).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,6 +41,23 @@ using Eigen::Vector3d;
 using semgraph::testing::AllocationCounter;
 
 Quaterniond Rotation(double angle) { return Quaterniond(Eigen::AngleAxisd(angle, Vector3d(1, 2, 3).normalized())); }
+
+JointSpec Joint(std::string_view name, JointType type, std::string_view parent, std::string_view parent_body,
+                std::string_view child, std::string_view child_body) {
+  JointSpec j;
+  j.name = name;
+  j.type = type;
+  j.parent = parent;
+  j.parent_body = parent_body;
+  j.child = child;
+  j.child_body = child_body;
+  j.q_origin = Rotation(0.4);
+  j.p_origin = Vector3d(0.1, 0.2, -0.3);
+  j.axis = Vector3d(0, 0, 1);
+  j.lower = -2;
+  j.upper = 2;
+  return j;
+}
 
 // Two pose trees with twist graphs, a single frame, a body without frames, and a removed pose
 // edge and twist edge (so that free records and free twist slots exist):
@@ -85,6 +103,16 @@ void BuildScene(SceneGraph<B>& g, int fill) {
   twist("u", "U", "T", 6);
   ASSERT_TRUE(g.RemoveTwist("u", "T"));
   ASSERT_TRUE(g.RemovePose("u", "r"));
+  // tree 3, two joints: {jw}|JW <-(j1, revolute) {ja}|JA <-(j2, prismatic) {jb}|JB, and j3 =
+  // a mimic of j1 from {jb} to {jc}|JC.
+  ASSERT_TRUE(g.AddJoint(Joint("j1", JointType::kRevolute, "jw", "JW", "ja", "JA")));
+  ASSERT_TRUE(g.AddJoint(Joint("j2", JointType::kPrismatic, "ja", "JA", "jb", "JB")));
+  JointSpec j3 = Joint("j3", JointType::kRevolute, "jb", "JB", "jc", "JC");
+  j3.mimic = "j1";
+  j3.multiplier = -0.5;
+  ASSERT_TRUE(g.AddJoint(j3));
+  const JointValue q[] = {{"j1", 0.3}, {"j2", 0.2}};
+  ASSERT_TRUE(g.SetJoints(q, {}));
 }
 
 // Every pose query between the scene's frames (and the frames operations create) and every
@@ -93,8 +121,10 @@ void BuildScene(SceneGraph<B>& g, int fill) {
 template <class B>
 std::vector<double> Answers(const SceneGraph<B>& g) {
   static const char* const kFrames[] = {"w", "a", "a2", "b", "c", "p", "q", "r", "s", "u",
-                                        "n", "l", "c2", "top", "x", "y", "d"};
-  static const char* const kBodies[] = {"W", "A", "B", "C", "P", "Q", "R", "S", "T", "U", "N", "L", "Top", "X", "Y", "D"};
+                                        "n", "l", "c2", "top", "x", "y", "d",
+                                        "jw", "ja", "jb", "jc", "kp", "kc"};
+  static const char* const kBodies[] = {"W", "A", "B", "C", "P", "Q", "R", "S", "T", "U", "N", "L", "Top", "X", "Y", "D",
+                                        "JW", "JA", "JB", "JC", "KP", "KC"};
   std::vector<double> out;
   out.reserve(8192);
   for (const char* of : kFrames) {
@@ -185,6 +215,28 @@ std::vector<Operation<B>> Operations() {
       {"RemoveTwist inner", [](G& g) { return g.RemoveTwist("b", "A"); }, ErrorCode::kOk},
       {"RemoveTwist last of a tree", [](G& g) { return g.RemoveTwist("r", "Q"); }, ErrorCode::kOk},
       {"RemoveTwist rejected", [](G& g) { return g.RemoveTwist("b", "W"); }, ErrorCode::kNoSuchEdge},
+      {"AddJoint new frames and bodies",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kRevolute, "kp", "KP", "kc", "KC")); }, ErrorCode::kOk},
+      {"AddJoint linking two trees",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kPrismatic, "c", "C", "p", "P")); }, ErrorCode::kOk},
+      {"AddJoint a single frame under a tree",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kContinuous, "jc", "JC", "s", "S")); }, ErrorCode::kOk},
+      {"AddJoint fixed, new child",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kFixed, "b", "B", "kc", "KC")); }, ErrorCode::kOk},
+      {"AddJoint mimic",
+       [](G& g) {
+         JointSpec k = Joint("k1", JointType::kRevolute, "jc", "JC", "kc", "KC");
+         k.mimic = "j1";
+         return g.AddJoint(k);
+       },
+       ErrorCode::kOk},
+      {"AddJoint rejected (duplicate name)",
+       [](G& g) { return g.AddJoint(Joint("j1", JointType::kRevolute, "kp", "KP", "kc", "KC")); },
+       ErrorCode::kDuplicateJoint},
+      {"RemovePose of a joint (mimic)", [](G& g) { return g.RemovePose("jc", "jb"); }, ErrorCode::kOk},
+      {"RemovePose of a joint (inner)", [](G& g) { return g.RemovePose("jb", "ja"); }, ErrorCode::kOk},
+      {"RemovePose of a mimicked joint, rejected", [](G& g) { return g.RemovePose("ja", "jw"); },
+       ErrorCode::kJointEdge},
   };
 }
 

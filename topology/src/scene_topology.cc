@@ -336,6 +336,35 @@ void SceneTopology::UnlinkTwist(TwistEdgeIndex e) {
   }
 }
 
+void SceneTopology::ReserveLinkJoint(FrameIndex tail, FrameIndex head) {
+  ReserveLinkPose(tail, head);
+  if (free_twist_edges_.empty()) GrowCapacity(twist_edges_, twist_edges_.size() + 1);
+  // The twist edge goes into the merged tree's TG. Which storage holds it after LinkPose: the
+  // kept record is the tail side's (its record, or the spare ReserveLinkPose prepared, which has
+  // room for one edge) unless the head's record has more bodies (as ReserveLinkPose decides), and
+  // TwistForest::Merge keeps the storage of the forest with more edges (the kept one on a tie).
+  // That storage needs room for the other side's bodies and edges and one more edge.
+  TreeRecord* rec_t = tail.is_valid() ? MutableRecordOf(tail) : nullptr;
+  TreeRecord* rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
+  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1, b_h = rec_h ? rec_h->body_counts.size() : 1;
+  const std::size_t e_t = rec_t ? rec_t->twists.num_edges() : 0, e_h = rec_h ? rec_h->twists.num_edges() : 0;
+  const bool keep_tail = !rec_h || b_t >= b_h;
+  const bool storage_tail = e_t != e_h ? e_t > e_h : keep_tail;
+  if (storage_tail) {
+    if (rec_t) rec_t->twists.ReserveMore(2 + (rec_h ? rec_h->twists.num_bodies() : 0), 1 + e_h);
+    // else: the spare record (empty TG with room for one edge), and e_h == 0: nothing merges.
+  } else {
+    rec_h->twists.ReserveMore(2 + (rec_t ? rec_t->twists.num_bodies() : 0), 1 + e_t);
+  }
+}
+
+void SceneTopology::ReserveUnlinkAfterCut() {
+  // CutPose may leave up to one more free record than before, UnlinkTwist frees a twist slot
+  // and possibly one more record.
+  GrowCapacity(free_twist_edges_, free_twist_edges_.size() + 1);
+  GrowCapacity(free_records_, free_records_.size() + 3);
+}
+
 std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {
   std::size_t bytes = sizeof(*this);
   bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);

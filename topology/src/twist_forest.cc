@@ -297,6 +297,11 @@ void TwistForest::ReserveLink() {
   edges_.Reserve(edges_.size() + 1);
 }
 
+void TwistForest::ReserveMore(std::size_t bodies, std::size_t edges) {
+  nodes_.Reserve(nodes_.size() + bodies);
+  edges_.Reserve(edges_.size() + edges);
+}
+
 void TwistForest::ReserveMerge(TwistForest& other) {
   // With one side empty, Merge links nothing (at most it swaps): nothing to reserve.
   if (&other == this || empty() || other.empty()) return;

@@ -434,6 +434,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.
   BuildResult RemoveJoint(const internal::JointRecord& joint);
   void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
+  // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or not.
+  BuildResult CheckJointValues(std::span<const JointValue> positions, std::span<const JointValue> velocities) const;
   ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept;
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot, Stamp stamp) noexcept;

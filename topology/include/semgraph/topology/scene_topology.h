@@ -190,6 +190,17 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// Removes a live twist edge from its tree's TG; its slot is reused later.
   void UnlinkTwist(TwistEdgeIndex e);
 
+  // A joint is a pose edge and a twist edge made or removed together; these reserve for the
+  // pair, so that a joint's add or removal is all or nothing under std::bad_alloc.
+
+  /// Room for LinkPose(tail, head) followed by LinkTwist(..., head, ...) into the merged tree
+  /// (invalid indices: frames not created yet). Changes capacities only.
+  void ReserveLinkJoint(FrameIndex tail, FrameIndex head);
+  /// Room for CutPose(head) followed by UnlinkTwist of the twist edge into head: CutPose makes
+  /// all its allocations before its first change, so a caller that cuts first and then unlinks
+  /// needs only UnlinkTwist's list growth reserved beforehand. Changes capacities only.
+  void ReserveUnlinkAfterCut();
+
   // ---------------------------------------------------------------- iteration and checks
 
   /// f(tail, head) for every pose edge, by head frame index.

@@ -133,6 +133,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
   /// Room for Merge(other) (in whichever of the two keeps its storage), so that it does not
   /// allocate. Changes neither forest's contents.
   void ReserveMerge(TwistForest& other);
+  /// Room for `bodies` more bodies and `edges` more edges than this forest holds, so that
+  /// Links and Merges adding no more than that into this storage do not allocate.
+  void ReserveMore(std::size_t bodies, std::size_t edges);
 
   /// Adds twist edge `edge` = tail -> head, creating the bodies as needed. Strong guarantee:
   /// when an allocation fails (std::bad_alloc) the forest is unchanged.
