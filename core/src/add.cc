@@ -344,7 +344,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   if (!D.is_valid()) D = C_name == D_name ? C : topology_.CreateBody(D_name);
   const FrameIndex head = a.is_valid() ? a : CreateFrame(a_id, C);
   const FrameIndex tail = b.is_valid() ? b : CreateFrame(b_id, D);
-  topology_.LinkPose(tail, head);
+  topology_.LinkPoseReserved(tail, head);  // reserved above
   values_.X_PF[head.value()].Store(X_BA);
   if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp);
   return Ok{};

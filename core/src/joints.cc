@@ -371,7 +371,7 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const BodyIndex C_body = C.is_valid() ? C : topology_.CreateBody(C_name);
   const FrameIndex head = c.is_valid() ? c : CreateFrame(c_id, C_body);
   const FrameIndex tail = p.is_valid() ? p : CreateFrame(p_id, P_body);
-  topology_.LinkPose(tail, head);
+  topology_.LinkPoseReserved(tail, head);  // reserved above (ReserveLinkJoint)
   const TwistEdgeIndex edge = topology_.LinkTwist(
       P_body, head,
       semantics::TwistSemantics{semantics::Point(c_id), t.BodySem(C_body), t.BodySem(P_body),

@@ -25,22 +25,28 @@ void SceneTopology::GrowNameMaps() {
 }
 
 void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
-  frames_.reserve(frames);
-  bodies_.reserve(bodies);
-  forest_.Reserve(frames);
-  trees_.Reserve(frames);
+  GrowNodes(bodies > bodies_.size() ? bodies - bodies_.size() : 0, frames > frames_.size() ? frames - frames_.size() : 0);
   names_.Reserve(frames + bodies);
-  frame_of_name_.reserve(frames + bodies);
-  body_of_name_.reserve(frames + bodies);
+  GrowCapacity(frame_of_name_, frames + bodies);
+  GrowCapacity(body_of_name_, frames + bodies);
+  name_map_room_ = std::min(frame_of_name_.capacity(), body_of_name_.capacity());
 }
 
-void SceneTopology::ReserveNodes(std::size_t bodies, std::size_t frames) {
-  GrowCapacity(frame_of_name_, names_.size());
-  GrowCapacity(body_of_name_, names_.size());
-  GrowCapacity(bodies_, bodies_.size() + bodies);
-  GrowCapacity(frames_, frames_.size() + frames);
-  forest_.Reserve(forest_.size() + frames);
-  trees_.Reserve(trees_.size() + frames);
+void SceneTopology::GrowNodes(std::size_t bodies, std::size_t frames) {
+  // Each array of a kind to the same target, so that the room is one number per kind. On
+  // std::bad_alloc part way, capacities grew but the rooms stay as they were (still true).
+  const std::size_t frame_target = std::max({frames_.size() + frames, 2 * frames_.size(), std::size_t{8}});
+  const std::size_t body_target = std::max({bodies_.size() + bodies, 2 * bodies_.size(), std::size_t{8}});
+  const std::size_t name_target = std::max(names_.size(), name_map_room_);
+  GrowCapacity(frame_of_name_, name_target);
+  GrowCapacity(body_of_name_, name_target);
+  GrowCapacity(bodies_, body_target);
+  GrowCapacity(frames_, frame_target);
+  forest_.Reserve(frame_target);
+  trees_.Reserve(frame_target);
+  frame_room_ = frame_target - frames_.size();
+  body_room_ = body_target - bodies_.size();
+  name_map_room_ = std::min(frame_of_name_.capacity(), body_of_name_.capacity());
 }
 
 BodyIndex SceneTopology::CreateBody(NameId name) {
@@ -49,6 +55,7 @@ BodyIndex SceneTopology::CreateBody(NameId name) {
   SEMGRAPH_DEMAND(!BodyOfName(name).is_valid());
   const BodyIndex b(static_cast<std::uint32_t>(bodies_.size()));
   bodies_.push_back(BodyNode{name, kNone});
+  --body_room_;
   body_of_name_[name.value()] = b.value();
   return b;
 }
@@ -61,6 +68,7 @@ FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
   const std::uint32_t uf = trees_.AddElement();
   SEMGRAPH_DEMAND(f.value() == frames_.size() && uf == f.value());
   frames_.push_back(FrameNode{name, body, TwistEdgeIndex(), bodies_[body.value()].first_frame});
+  --frame_room_;
   bodies_[body.value()].first_frame = f.value();
   frame_of_name_[name.value()] = f.value();
   return f;
@@ -183,6 +191,10 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
 
 void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
   ReserveLinkPose(tail, head);  // every allocation first: the changes below cannot fail
+  LinkPoseReserved(tail, head);
+}
+
+void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
   const std::uint32_t rep_t = trees_.Find(tail.value());
   const std::uint32_t rep_h = trees_.Find(head.value());
   const std::uint32_t* idx_t = record_of_rep_.Find(rep_t);
