@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 
 #include "semgraph/base/demand.h"
@@ -139,10 +140,9 @@ class NameRollback {
 
 // True when bodies u and v are joined in TG(P1) U TG(P2) (either may be null): a temporary
 // union-find over the edges of both. Build time only.
-bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistForest* b, std::uint32_t u,
-                      std::uint32_t v) {
-  std::unordered_map<std::uint32_t, std::uint32_t> parent;
-  const auto find = [&](std::uint32_t x) {
+bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistForest* b, BodyIndex u, BodyIndex v) {
+  std::map<BodyIndex, BodyIndex> parent;
+  const auto find = [&](BodyIndex x) {
     auto it = parent.find(x);
     if (it == parent.end()) return x;
     while (it->second != x) {
@@ -151,7 +151,7 @@ bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistFores
     }
     return x;
   };
-  const auto unite = [&](std::uint32_t x, std::uint32_t y) {
+  const auto unite = [&](BodyIndex x, BodyIndex y) {
     parent.try_emplace(x, x);
     parent.try_emplace(y, y);
     x = find(x);
@@ -159,7 +159,7 @@ bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistFores
     if (x != y) parent[x] = y;
   };
   for (const topology::TwistForest* f : {a, b}) {
-    if (f) f->ForEachEdge([&](std::uint32_t, std::uint32_t tail, std::uint32_t head) { unite(tail, head); });
+    if (f) f->ForEachEdge([&](TwistEdgeIndex, BodyIndex tail, BodyIndex head) { unite(tail, head); });
   }
   return u == v || (parent.count(u) && parent.count(v) && find(u) == find(v));
 }
@@ -304,8 +304,7 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   if (P.is_valid() && C.is_valid()) {
     const topology::TreeRecord* rec_p = p.is_valid() ? t.RecordOf(p) : nullptr;
     const topology::TreeRecord* rec_c = c.is_valid() ? t.RecordOf(c) : nullptr;
-    if (ConnectedInUnion(rec_p ? &rec_p->twists : nullptr, rec_c ? &rec_c->twists : nullptr, P.value(),
-                         C.value())) {
+    if (ConnectedInUnion(rec_p ? &rec_p->twists : nullptr, rec_c ? &rec_c->twists : nullptr, P, C)) {
       return Reject(ErrorCode::kDuplicateTwistPath, what(),
                     "the twist of " + std::string(t.body_name(C)) + " relative to " + std::string(t.body_name(P)) +
                         " already follows from the twist edges of the pose trees it joins");
@@ -654,9 +653,9 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
   std::size_t c_count = 0;
   {
     // Count C's side first: ForEachTwistStep walks C's side, then D's side.
-    std::uint32_t body = plan.twist.body.value();
+    BodyIndex body = plan.twist.body;
     if (plan.twist.tg) {
-      for (; body != plan.twist.ancestor.value(); body = plan.twist.tg->parent(body)) ++c_count;
+      for (; body != plan.twist.ancestor; body = plan.twist.tg->parent(body)) ++c_count;
     }
   }
   std::size_t seen = 0;

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "support/alloc_counter.h"
 
 namespace semgraph::core {
@@ -268,12 +269,12 @@ TYPED_TEST(AddOutOfMemory, EveryBuildOperationIsAllOrNothingAtEveryAllocation) {
       // The reference: the operation on an untouched scene.
       SceneGraph<B> reference;
       BuildScene(reference, fill);
-      const std::string untouched = reference.Dump();
+      const std::string untouched = Dump(reference);
       const std::vector<double> untouched_answers = Answers(reference);
       ASSERT_EQ(CodeOf(op.run(reference)), op.expected);
-      const std::string after = reference.Dump();
+      const std::string after = Dump(reference);
       const std::vector<double> after_answers = Answers(reference);
-      ASSERT_EQ(reference.CheckInvariants(), "");
+      ASSERT_EQ(CheckInvariants(reference), "");
 
       std::size_t n = 1;
       for (;; ++n) {
@@ -295,22 +296,22 @@ TYPED_TEST(AddOutOfMemory, EveryBuildOperationIsAllOrNothingAtEveryAllocation) {
         if (!failed) {  // the operation made fewer than n allocations
           ASSERT_FALSE(threw);
           EXPECT_EQ(code, op.expected);
-          EXPECT_EQ(g.Dump(), after);
+          EXPECT_EQ(Dump(g), after);
           break;
         }
         // What went wrong, if anything (the first problem only: one line per broken point).
         std::string problem;
         if (!threw) {
           problem = "an allocation failed but the operation returned normally";
-        } else if (g.Dump() != before) {
+        } else if (Dump(g) != before) {
           problem = "Dump changed";
-        } else if (const std::string broken = g.CheckInvariants(); !broken.empty()) {
+        } else if (const std::string broken = CheckInvariants(g); !broken.empty()) {
           problem = "invariants broken: " + broken;
         } else if (Answers(g) != before_answers) {
           problem = "query answers changed";
-        } else if (CodeOf(op.run(g)) != op.expected || g.Dump() != after) {
+        } else if (CodeOf(op.run(g)) != op.expected || Dump(g) != after) {
           problem = "the operation, run again, gives another result";
-        } else if (!g.CheckInvariants().empty() || Answers(g) != after_answers) {
+        } else if (!CheckInvariants(g).empty() || Answers(g) != after_answers) {
           problem = "the operation, run again, breaks the graph";
         }
         if (!problem.empty()) {

@@ -270,8 +270,8 @@ void SceneTopology::CutPose(FrameIndex head) {
   below.body_counts.ForEach([&](std::uint32_t body, std::uint32_t) {
     if (*above.body_counts.Find(body) == 0) above.body_counts.Erase(body);
   });
-  old.twists.ForEachEdge([&](std::uint32_t edge, std::uint32_t from, std::uint32_t to) {
-    (forest_.IsAncestor(head, twist_edges_[edge].head) ? below : above).twists.Link(edge, from, to);
+  old.twists.ForEachEdge([&](TwistEdgeIndex edge, BodyIndex from, BodyIndex to) {
+    (forest_.IsAncestor(head, twist_edges_[edge.value()].head) ? below : above).twists.Link(edge, from, to);
   });
   // Room for the second record (the old one is freed and reused for the first) and for the
   // record_of_rep_ entries (one erased, at most two inserted).
@@ -323,7 +323,7 @@ TwistEdgeIndex SceneTopology::LinkTwist(BodyIndex tail, FrameIndex head,
   te.alive = true;
   te.semantics = s;
   frames_[head.value()].twist_edge = TwistEdgeIndex(index);
-  EnsureRecord(head).twists.Link(index, tail.value(), body_of(head).value());
+  EnsureRecord(head).twists.Link(TwistEdgeIndex(index), tail, body_of(head));
   ++num_twist_edges_;
   return TwistEdgeIndex(index);
 }
@@ -337,7 +337,7 @@ void SceneTopology::UnlinkTwist(TwistEdgeIndex e) {
   // The two lists that may grow, before any change (TwistForest::Unlink never allocates).
   GrowCapacity(free_twist_edges_, free_twist_edges_.size() + 1);
   GrowCapacity(free_records_, free_records_.size() + 1);
-  rec->twists.Unlink(e.value());
+  rec->twists.Unlink(e);
   frames_[h.value()].twist_edge = TwistEdgeIndex();
   te.alive = false;
   free_twist_edges_.push_back(e.value());
