@@ -300,10 +300,6 @@ class HistoryTable {
   /// The history of edge i, or nullptr (timeless). Any thread (acquire: the history's first
   /// sample, written before the pointer was stored, is visible).
   [[nodiscard]] const H* of(std::size_t i) const noexcept { return table_[i].load(std::memory_order_acquire); }
-  /// The writer's view, for any index (nullptr past the table).
-  [[nodiscard]] const H* writer_of(std::size_t i) const noexcept {
-    return i < table_.size() ? table_[i].load(std::memory_order_relaxed) : nullptr;
-  }
   /// The writer's history of edge i (stamped: not null).
   [[nodiscard]] H& writable(std::size_t i) noexcept { return *table_[i].load(std::memory_order_relaxed); }
 
