@@ -337,7 +337,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   topology_.ReserveNodes(new_bodies, new_frames);
   values_.ReserveFrames(values_.X_PF.size() + new_frames);
   topology_.ReserveLinkPose(b, a);
-  std::unique_ptr<PoseHistory> history;
+  PoseHistoryLease history;
   if (stamp && !ends.same_body) history = NewPoseHistory();
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
@@ -457,7 +457,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
   values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
   topology_.ReserveLinkTwist(e);
-  std::unique_ptr<TwistHistory> history;
+  TwistHistoryLease history;
   if (stamp) history = NewTwistHistory();
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);

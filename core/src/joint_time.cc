@@ -83,8 +83,8 @@ void SceneGraph<B>::StoreJointSample(std::uint32_t index, const double* q_given,
   internal::JointRecord& j = joints_.joints[index];
   const double q = q_given ? *q_given : j.q, qdot = qdot_given ? *qdot_given : j.qdot;
   const TwistEdgeIndex edge = topology_.twist_edge_of(j.child);
-  PoseHistory& hp = *values_.history.pose[j.child.value()];
-  TwistHistory& ht = *values_.history.twist[edge.value()];
+  PoseHistory& hp = values_.history.pose.writable(j.child.value());
+  TwistHistory& ht = values_.history.twist.writable(edge.value());
   double pw[7], tw[6];
   bool identical = false;
   if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
@@ -235,8 +235,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
     }
   }
   if (worst != ErrorCode::kOk) return Reject(worst, what(), worst_reason);
-  std::vector<std::unique_ptr<PoseHistory>> new_pose;
-  std::vector<std::unique_ptr<TwistHistory>> new_twist;
+  std::vector<PoseHistoryLease> new_pose;
+  std::vector<TwistHistoryLease> new_twist;
   new_pose.reserve(fresh.size());
   new_twist.reserve(fresh.size());
   for (std::size_t i = 0; i < fresh.size(); ++i) {

@@ -416,10 +416,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Time (time_add.cc): the stamp rules of an update, then the store (value and history).
   internal::TimeContext ConversionContext(std::optional<Stamp> stamp) const noexcept;
   std::string DescribeConversionGap(const internal::TimeContext& tc, Stamp stamp) const;
-  std::unique_ptr<PoseHistory> NewPoseHistory();
-  std::unique_ptr<TwistHistory> NewTwistHistory();
-  void InstallPoseHistory(FrameIndex head, std::unique_ptr<PoseHistory> h, const typename B::PoseCoords& X, Stamp s);
-  void InstallTwistHistory(TwistEdgeIndex edge, std::unique_ptr<TwistHistory> h, const TwistNumbers& V, Stamp s);
+  PoseHistoryLease NewPoseHistory();
+  TwistHistoryLease NewTwistHistory();
+  void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X, Stamp s);
+  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s);
   void DropPoseHistory(FrameIndex head) noexcept;
   void DropTwistHistory(TwistEdgeIndex edge) noexcept;
   ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) const noexcept;
