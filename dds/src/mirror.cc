@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <tuple>
 #include <unordered_map>
@@ -25,6 +26,8 @@ namespace {
 constexpr std::uint32_t kMaxElements = 1u << 20;  // per structure sample
 constexpr std::size_t kMaxPending = 1u << 16;     // values waiting for their structure
 constexpr int kTakeBatch = 256;
+constexpr std::uint32_t kMaxSampleCapacity = 1u << 20;  // per stamped edge (a hostile one must not exhaust memory)
+constexpr std::size_t kMaxPendingSamples = 1024;        // per edge waiting for its structure
 
 struct Row {
   std::uint8_t kind = 0;
@@ -32,6 +35,8 @@ struct Row {
   std::uint64_t seq = 0;
   std::string head, head_body, tail, tail_body;
   double n[7] = {0, 0, 0, 0, 0, 0, 0};
+  bool stamped = false;
+  std::int64_t time_ns = 0;
 };
 
 struct OwnerRec {
@@ -41,6 +46,9 @@ struct OwnerRec {
   std::uint64_t revision = 0;
   bool alive = false;
   std::vector<Row> rows;
+  bool has_time = false;  // the structure gave time options
+  core::TimeOptions time;
+  bool any_stamped = false;
 };
 
 struct ValueKey {
@@ -59,12 +67,14 @@ struct ValueKeyHash {
 
 struct Slot {
   bool twist = false;
+  bool stamped = false;   // a stamped edge: values come as stamped samples
   bool settable = false;  // false for a constant (same-body) pose edge: no handle
   core::PoseHandle pose;
   core::TwistHandle twist_handle;
   std::uint64_t seq = 0;
   std::uint64_t received = 0;
   std::int64_t stamp_ns = 0, receive_ns = 0;
+  std::int64_t time_ns = 0;  // stamped: the newest sample's stamp applied
   std::string owner, head, tail;
 };
 
@@ -72,6 +82,7 @@ struct Pending {
   std::uint64_t seq = 0;
   std::int64_t stamp_ns = 0;
   double n[7];
+  std::int64_t time_ns = 0;  // a stamped sample's stamp
 };
 
 // An edge of the replica and where it came from.
@@ -84,9 +95,10 @@ struct Applied {
   double n[7];
   std::uint32_t edge = 0;
   std::uint64_t seq = 0;
+  bool stamped = false;
   bool Same(const Applied& o) const {
     if (owner != o.owner || twist != o.twist || head != o.head || head_body != o.head_body ||
-        tail != o.tail || tail_body != o.tail_body) {
+        tail != o.tail || tail_body != o.tail_body || stamped != o.stamped) {
       return false;
     }
     // A constant (same-body) pose edge changes only through the structure.
@@ -105,6 +117,9 @@ bool UnitQuaternion(const double* n) {
   const double norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2] + n[3] * n[3];
   return std::abs(std::sqrt(norm2) - 1.0) <= 1e-6;
 }
+// Stamps the graph accepts (core/time.h: |t| <= kMaxStampSeconds).
+constexpr std::int64_t kMaxStampNs = 9'200'000'000'000'000'000;
+bool GoodStamp(std::int64_t t) { return t >= -kMaxStampNs && t <= kMaxStampNs; }
 std::string Str(const char* s) { return s == nullptr ? std::string() : std::string(s); }
 bool GoodName(const std::string& s) { return static_cast<bool>(semantics::ValidateName(s)); }
 
@@ -142,6 +157,8 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     r.tail = Str(e.tail);
     r.tail_body = Str(e.tail_body);
     std::copy(e.numbers, e.numbers + 7, r.n);
+    r.stamped = e.stamped;
+    r.time_ns = e.time_ns;
     const std::string at = "element " + std::to_string(i) + " (" + KindName(e.kind) + " '" + r.head + "'): ";
     if (e.kind > semgraph_wire_ELEMENT_TWIST) return "element " + std::to_string(i) + ": unknown kind " + std::to_string(e.kind);
     if (!GoodName(r.head)) return at + "invalid name";
@@ -153,10 +170,35 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
       if (e.kind == semgraph_wire_ELEMENT_POSE && !UnitQuaternion(r.n)) return at + "not a unit quaternion (invalid_rotation)";
       if (!heads.emplace(std::pair{e.kind, r.head}, 0).second) return at + "a second edge into the same frame";
       if (!ids.emplace(std::pair{e.kind, e.edge}, 0).second) return at + "a second edge with the same id";
+      if (r.stamped && !GoodStamp(r.time_ns)) return at + "the stamp is out of range (invalid_number)";
+      if (r.stamped && e.kind == semgraph_wire_ELEMENT_POSE && r.head_body == r.tail_body) {
+        return at + "a constant (same-body) edge cannot be stamped";
+      }
+      out->any_stamped = out->any_stamped || r.stamped;
+    } else if (e.stamped) {
+      return at + "only edges can be stamped";
     }
     out->rows.push_back(std::move(r));
   }
+  // Time options: sample_capacity 0 = not given.
+  if (s.sample_capacity != 0) {
+    if (s.window_ns <= 0) return "time options: the window is not positive (invalid_number)";
+    if (s.sample_capacity < 2 || s.sample_capacity > kMaxSampleCapacity) {
+      return "time options: sample capacity " + std::to_string(s.sample_capacity) + " is outside [2, 1048576]";
+    }
+    if (s.interpolation > 1 || s.duplicate_stamp > 1) return "time options: unknown interpolation or duplicate policy";
+    out->has_time = true;
+    out->time.window = core::Duration::Nanoseconds(s.window_ns);
+    out->time.interpolation = static_cast<core::Interpolation>(s.interpolation);
+    out->time.duplicate_stamp = static_cast<core::DuplicatePolicy>(s.duplicate_stamp);
+    out->time.sample_capacity = s.sample_capacity;
+  }
   return {};
+}
+
+bool SameTime(const core::TimeOptions& a, const core::TimeOptions& b) {
+  return a.window == b.window && a.interpolation == b.interpolation && a.duplicate_stamp == b.duplicate_stamp &&
+         a.sample_capacity == b.sample_capacity;
 }
 
 }  // namespace
@@ -164,10 +206,10 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
 struct Mirror::Impl {
   MirrorOptions options;
   core::SceneGraph<> graph;
-  Entity participant, structure_reader, value_reader, status_writer, waitset, guard;
+  Entity participant, structure_reader, value_reader, sample_reader, status_writer, waitset, guard;
   std::thread thread;
   std::atomic<bool> stop{false};
-  std::atomic<std::uint64_t> generation{0}, values{0}, rejected{0};
+  std::atomic<std::uint64_t> generation{0}, values{0}, rejected{0}, dropped{0};
 
   mutable std::mutex state_mutex;     // everything below; held by the receive thread per batch
   mutable std::mutex topology_mutex;  // topology changes of `graph` (WithGraph)
@@ -176,6 +218,8 @@ struct Mirror::Impl {
   std::map<std::pair<bool, std::string>, Applied> applied;  // (twist, head) -> edge
   std::unordered_map<ValueKey, Slot, ValueKeyHash> slots;
   std::unordered_map<ValueKey, Pending, ValueKeyHash> pending;
+  std::unordered_map<ValueKey, std::vector<Pending>, ValueKeyHash> pending_samples;
+  std::map<std::string, std::uint64_t> time_warned;  // owner -> revision whose options differ
   std::vector<Report> reports, refusals;
   std::uint64_t serial = 0;
   std::uint64_t log_count = 0;
@@ -211,9 +255,11 @@ struct Mirror::Impl {
 
   void Loop();
   void TakeStructure();
-  void TakeValues();
+  void TakeValues(dds_entity_t reader, bool samples);
   void Reconcile();
-  void ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what);
+  // Applies a value (time: a stamped sample's stamp); true when the graph took it.
+  bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what,
+                  std::optional<std::int64_t> time = std::nullopt);
 };
 
 Mirror::Mirror(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -234,19 +280,24 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
   const dds_entity_t tt = internal::CreateTopic(p, TopicKind::kStatus);
-  if (st < 0 || vt < 0 || tt < 0) return base::Unexpected{std::string("cannot create the DDS topics")};
+  const dds_entity_t at = internal::CreateTopic(p, TopicKind::kSample);
+  if (st < 0 || vt < 0 || tt < 0 || at < 0) return base::Unexpected{std::string("cannot create the DDS topics")};
   m.structure_reader = Entity(internal::CreateReader(p, st, TopicKind::kStructure));
   m.value_reader = Entity(internal::CreateReader(p, vt, TopicKind::kValue));
+  m.sample_reader = Entity(internal::CreateReader(p, at, TopicKind::kSample));
   m.status_writer = Entity(internal::CreateWriter(p, tt, TopicKind::kStatus));
   m.waitset = Entity(dds_create_waitset(p));
   m.guard = Entity(dds_create_guardcondition(p));
-  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.status_writer.ok() || !m.waitset.ok() ||
+  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.sample_reader.ok() || !m.status_writer.ok() ||
+      !m.waitset.ok() ||
       !m.guard.ok()) {
     return base::Unexpected{std::string("cannot create the DDS readers and writers")};
   }
   const dds_entity_t c1 = dds_create_readcondition(m.structure_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c2 = dds_create_readcondition(m.value_reader.get(), DDS_ANY_STATE);
+  const dds_entity_t c3 = dds_create_readcondition(m.sample_reader.get(), DDS_ANY_STATE);
   if (dds_waitset_attach(m.waitset.get(), c1, 1) < 0 || dds_waitset_attach(m.waitset.get(), c2, 2) < 0 ||
+      dds_waitset_attach(m.waitset.get(), c3, 3) < 0 ||
       dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
     return base::Unexpected{std::string("cannot attach the DDS conditions")};
   }
@@ -259,7 +310,8 @@ void Mirror::Impl::Loop() {
     (void)dds_waitset_wait(waitset.get(), nullptr, 0, DDS_MSECS(100));
     if (stop.load()) break;
     TakeStructure();
-    TakeValues();
+    TakeValues(value_reader.get(), false);
+    TakeValues(sample_reader.get(), true);
   }
 }
 
@@ -317,34 +369,53 @@ void Mirror::Impl::TakeStructure() {
   }
 }
 
-void Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                              const std::string& what) {
+bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
+                              const std::string& what, std::optional<std::int64_t> time) {
+  if (time.has_value() != slot.stamped) {
+    Reject(slot.owner, what + (time ? ": a stamped sample for the unstamped edge into '"
+                                    : ": an unstamped value for the stamped edge into '") +
+                           slot.head + "'");
+    return false;
+  }
   base::ErrorCode code;
+  const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
+  const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
+  const Eigen::Vector3d p(n[4], n[5], n[6]);
   if (slot.twist) {
-    code = graph.SetTwist(slot.twist_handle, Eigen::Vector3d(n[0], n[1], n[2]), Eigen::Vector3d(n[3], n[4], n[5]));
+    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time))
+                : graph.SetTwist(slot.twist_handle, a, b);
   } else if (slot.settable) {
-    code = graph.SetPose(slot.pose, Eigen::Quaterniond(n[0], n[1], n[2], n[3]), Eigen::Vector3d(n[4], n[5], n[6]));
+    code = time ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time)) : graph.SetPose(slot.pose, q, p);
   } else {
     Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
-    return;
+    return false;
+  }
+  if (code == base::ErrorCode::kStampTooOld || code == base::ErrorCode::kDuplicateStamp) {
+    // The history's rules decide reordered and repeated samples (docs/time.md): not malformed.
+    dropped.fetch_add(1, std::memory_order_relaxed);
+    slot.seq = std::max(slot.seq, seq);
+    return false;
   }
   if (code != base::ErrorCode::kOk) {
     Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)));
-    return;
+    return false;
   }
-  slot.seq = seq;
+  // A stamped sample may be older than one applied before (the history sorts them).
+  slot.seq = std::max(slot.seq, seq);
   ++slot.received;
   slot.stamp_ns = stamp;
   slot.receive_ns = internal::NowNs();
+  if (time) slot.time_ns = std::max(slot.time_ns, *time);
+  return true;
 }
 
-void Mirror::Impl::TakeValues() {
+void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
   static thread_local semgraph_wire_Value buffer[kTakeBatch];
   static thread_local void* ptrs[kTakeBatch];
   static thread_local dds_sample_info_t infos[kTakeBatch];
   for (int i = 0; i < kTakeBatch; ++i) ptrs[i] = &buffer[i];
   for (;;) {
-    const dds_return_t n = dds_take(value_reader.get(), ptrs, infos, kTakeBatch, kTakeBatch);
+    const dds_return_t n = dds_take(reader, ptrs, infos, kTakeBatch, kTakeBatch);
     if (n <= 0) break;
     std::uint64_t applied_now = 0;
     {
@@ -353,35 +424,47 @@ void Mirror::Impl::TakeValues() {
         if (!infos[i].valid_data) continue;
         const semgraph_wire_Value& v = buffer[i];
         const bool pose = v.kind == semgraph_wire_VALUE_POSE;
-        if (v.kind > semgraph_wire_VALUE_TWIST || !Finite(v.numbers, 7) || (pose && !UnitQuaternion(v.numbers))) {
-          Reject("", "value of edge " + std::to_string(v.edge) + " from source " + std::to_string(v.source) +
-                         (v.kind > semgraph_wire_VALUE_TWIST ? ": unknown kind"
-                          : !Finite(v.numbers, 7)            ? ": a number is not finite (invalid_number)"
-                                                             : ": not a unit quaternion (invalid_rotation)"));
+        const char* why = v.kind > semgraph_wire_VALUE_TWIST      ? ": unknown kind"
+                          : !Finite(v.numbers, 7)                 ? ": a number is not finite (invalid_number)"
+                          : pose && !UnitQuaternion(v.numbers)    ? ": not a unit quaternion (invalid_rotation)"
+                          : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
+                                                                  : nullptr;
+        if (why != nullptr) {
+          Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) +
+                         " from source " + std::to_string(v.source) + why);
           continue;
         }
         const ValueKey key{v.source, v.edge, v.kind};
         auto it = slots.find(key);
         if (it == slots.end()) {
-          // Its structure may still be on the way: keep the latest value until it comes.
-          auto p = pending.find(key);
-          if (p == pending.end()) {
-            if (pending.size() >= kMaxPending) {
-              Reject("", "value of unknown edge " + std::to_string(v.edge) + " (too many unknown edges)");
-              continue;
-            }
-            p = pending.emplace(key, Pending{}).first;
+          // Its structure may still be on the way: keep the latest value (every sample, up to
+          // kMaxPendingSamples) until it comes.
+          if (pending.size() + pending_samples.size() >= kMaxPending && !pending.count(key) &&
+              !pending_samples.count(key)) {
+            Reject("", "value of unknown edge " + std::to_string(v.edge) + " (too many unknown edges)");
+            continue;
           }
-          if (v.seq > p->second.seq) {
-            p->second.seq = v.seq;
-            p->second.stamp_ns = v.stamp_ns;
-            std::copy(v.numbers, v.numbers + 7, p->second.n);
+          Pending got;
+          got.seq = v.seq;
+          got.stamp_ns = v.stamp_ns;
+          got.time_ns = v.time_ns;
+          std::copy(v.numbers, v.numbers + 7, got.n);
+          if (samples) {
+            std::vector<Pending>& list = pending_samples[key];
+            if (list.size() < kMaxPendingSamples) list.push_back(got);
+          } else {
+            Pending& p = pending[key];
+            if (v.seq > p.seq) p = got;
           }
           continue;
         }
-        if (v.seq <= it->second.seq) continue;  // a repeat or an older value
-        ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, "value");
-        ++applied_now;
+        // Unstamped values: a repeat or an older value is dropped by its number. Stamped
+        // samples go to the history, whose rules decide.
+        if (!samples && v.seq <= it->second.seq) continue;
+        if (ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, samples ? "sample" : "value",
+                       samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt)) {
+          ++applied_now;
+        }
       }
     }
     if (applied_now > 0) {
@@ -392,6 +475,19 @@ void Mirror::Impl::TakeValues() {
   }
 }
 
+// Adds the edge of a structure row to g (stamped: with its newest sample's stamp).
+static core::BuildResult AddEdge(core::SceneGraph<>& g, const Row& r) {
+  const Eigen::Vector3d a(r.n[0], r.n[1], r.n[2]), b(r.n[3], r.n[4], r.n[5]);
+  const Eigen::Quaterniond q(r.n[0], r.n[1], r.n[2], r.n[3]);
+  const Eigen::Vector3d p(r.n[4], r.n[5], r.n[6]);
+  if (r.kind == semgraph_wire_ELEMENT_TWIST) {
+    const core::TwistSpec spec = core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head);
+    return r.stamped ? g.AddTwist(spec, a, b, core::Stamp::Nanoseconds(r.time_ns)) : g.AddTwist(spec, a, b);
+  }
+  const core::PoseSpec spec = core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body);
+  return r.stamped ? g.AddPose(spec, q, p, core::Stamp::Nanoseconds(r.time_ns)) : g.AddPose(spec, q, p);
+}
+
 // The replica from scratch in a scratch graph, then the live graph brought to it (mirror.h).
 void Mirror::Impl::Reconcile() {
   std::vector<const OwnerRec*> order;
@@ -400,7 +496,28 @@ void Mirror::Impl::Reconcile() {
     return std::tie(a->started_ns, a->owner) < std::tie(b->started_ns, b->owner);
   });
 
-  core::SceneGraph<> scratch;
+  // Time options: the replica takes the first timed owner's while it is still empty (no frame:
+  // nothing can have been compiled on it); an owner whose stamped edges need other options is
+  // reported once per structure revision (its edges are stamped with the replica's options).
+  for (const OwnerRec* o : order) {
+    if (!o->has_time || !o->any_stamped) continue;
+    if (graph.num_frames() == 0 && !SameTime(o->time, graph.time_options())) {
+      auto made = core::SceneGraph<>::Create(o->time);
+      if (made) graph = std::move(*made);
+    }
+    break;
+  }
+  for (const OwnerRec* o : order) {
+    if (!o->has_time || !o->any_stamped || SameTime(o->time, graph.time_options())) continue;
+    auto w = time_warned.find(o->owner);
+    if (w != time_warned.end() && w->second == o->revision) continue;
+    time_warned[o->owner] = o->revision;
+    Emit({"time_options_differ", o->owner, "",
+          "owner '" + o->owner + "' keeps its stamped edges with other time options (window, interpolation, "
+          "duplicate policy, capacity) than this mirror's replica; queries at a time may differ"});
+  }
+  auto scratch_made = core::SceneGraph<>::Create(graph.time_options());
+  core::SceneGraph<> scratch = std::move(*scratch_made);
   std::vector<Applied> desired;
   std::vector<Report> refused;
   std::map<std::pair<bool, std::string>, std::string> edge_owner;
@@ -435,12 +552,7 @@ void Mirror::Impl::Reconcile() {
                        (twist ? "twist" : "pose") + " parent published by '" + prior->second + "'");
             continue;
           }
-          core::BuildResult res =
-              twist ? scratch.AddTwist(core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head),
-                                       Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]))
-                    : scratch.AddPose(core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body),
-                                      Eigen::Quaterniond(r.n[0], r.n[1], r.n[2], r.n[3]),
-                                      Eigen::Vector3d(r.n[4], r.n[5], r.n[6]));
+          core::BuildResult res = AddEdge(scratch, r);
           if (!res) {
             refuse(*o, r, res.error().code, res.error().message);
             continue;
@@ -458,6 +570,7 @@ void Mirror::Impl::Reconcile() {
           std::copy(r.n, r.n + 7, a.n);
           a.edge = r.edge;
           a.seq = r.seq;
+          a.stamped = r.stamped;
           desired.push_back(std::move(a));
         }
       }
@@ -502,12 +615,7 @@ void Mirror::Impl::Reconcile() {
     auto have = applied.find({a.twist, a.head});
     bool added = false;
     if (have == applied.end()) {
-      const core::BuildResult res =
-          a.twist ? graph.AddTwist(core::TwistSpec::Of(a.head, a.head_body).RelativeTo(a.tail).ExpressedIn(a.head),
-                                   Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]))
-                  : graph.AddPose(core::PoseSpec::Of(a.head, a.head_body).RelativeTo(a.tail, a.tail_body),
-                                  Eigen::Quaterniond(r.n[0], r.n[1], r.n[2], r.n[3]),
-                                  Eigen::Vector3d(r.n[4], r.n[5], r.n[6]));
+      const core::BuildResult res = AddEdge(graph, r);
       if (!res) {
         // Only a name clash with a frame the replica kept from an earlier structure can do this.
         refused.push_back({"refused", a.owner, std::string(base::ToString(res.error().code)),
@@ -528,6 +636,7 @@ void Mirror::Impl::Reconcile() {
     const bool known = old != slots.end() && !added;
     if (known) slot = std::move(old->second);
     slot.twist = a.twist;
+    slot.stamped = a.stamped;
     slot.owner = a.owner;
     slot.head = a.head;
     slot.tail = a.tail;
@@ -540,17 +649,24 @@ void Mirror::Impl::Reconcile() {
       slot.settable = static_cast<bool>(h);
       if (h) slot.pose = *h;
     }
+    const std::optional<std::int64_t> time = a.stamped ? std::optional<std::int64_t>(r.time_ns) : std::nullopt;
     if (added) {
       slot.seq = r.seq;
+      if (time) slot.time_ns = *time;
     } else if (!known || r.seq > slot.seq) {
       // A kept edge under a new incarnation, or a newer value announced by the structure.
-      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, "structure value");
+      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, "structure value", time);
       slot.seq = r.seq;
     }
     auto p = pending.find(key);
     if (p != pending.end()) {
       if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
       pending.erase(p);
+    }
+    auto ps = pending_samples.find(key);
+    if (ps != pending_samples.end()) {
+      for (const Pending& e : ps->second) ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
+      pending_samples.erase(ps);
     }
     new_slots.emplace(key, std::move(slot));
   }
@@ -576,6 +692,7 @@ void Mirror::WithGraph(const std::function<void(const core::SceneGraph<>&)>& fn)
 std::uint64_t Mirror::structure_generation() const noexcept { return impl_->generation.load(std::memory_order_acquire); }
 std::uint64_t Mirror::values_applied() const noexcept { return impl_->values.load(std::memory_order_acquire); }
 std::uint64_t Mirror::messages_rejected() const noexcept { return impl_->rejected.load(std::memory_order_acquire); }
+std::uint64_t Mirror::samples_dropped() const noexcept { return impl_->dropped.load(std::memory_order_acquire); }
 
 std::vector<OwnerState> Mirror::Owners() const {
   std::lock_guard<std::mutex> lock(impl_->state_mutex);
@@ -590,7 +707,7 @@ std::vector<EdgeState> Mirror::Edges() const {
   std::lock_guard<std::mutex> lock(impl_->state_mutex);
   std::vector<EdgeState> out;
   for (const auto& [key, s] : impl_->slots) {
-    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns});
+    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns, s.stamped, s.time_ns});
   }
   std::sort(out.begin(), out.end(), [](const EdgeState& a, const EdgeState& b) {
     return std::tie(a.twist, a.head) < std::tie(b.twist, b.head);

@@ -20,7 +20,7 @@ struct Publisher::Impl {
   std::uint64_t write_failures = 0;
   // Per frame (the edge id of the pose or twist edge into it): values published so far.
   std::vector<std::uint64_t> pose_seq, twist_seq;
-  Entity participant, structure_writer, value_writer;
+  Entity participant, structure_writer, value_writer, sample_writer;
 };
 
 std::int64_t NowNs() noexcept { return internal::NowNs(); }
@@ -47,10 +47,14 @@ base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::
   const dds_entity_t p = impl->participant.get();
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
-  if (st < 0 || vt < 0) return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt)};
+  const dds_entity_t at = internal::CreateTopic(p, TopicKind::kSample);
+  if (st < 0 || vt < 0 || at < 0) {
+    return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt < 0 ? vt : at)};
+  }
   impl->structure_writer = Entity(internal::CreateWriter(p, st, TopicKind::kStructure));
   impl->value_writer = Entity(internal::CreateWriter(p, vt, TopicKind::kValue));
-  if (!impl->structure_writer.ok() || !impl->value_writer.ok()) {
+  impl->sample_writer = Entity(internal::CreateWriter(p, at, TopicKind::kSample));
+  if (!impl->structure_writer.ok() || !impl->value_writer.ok() || !impl->sample_writer.ok()) {
     return base::Unexpected{std::string("cannot create the DDS writers")};
   }
   return std::unique_ptr<Publisher>(new Publisher(std::move(impl)));
@@ -72,6 +76,12 @@ void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
   n[6] = 0.0;
 }
 
+// A history's stored sample (x y z w p / v w) in wire order.
+void PutPoseSample(double* n, const double (&h)[7]) {
+  n[0] = h[3]; n[1] = h[0]; n[2] = h[1]; n[3] = h[2];
+  n[4] = h[4]; n[5] = h[5]; n[6] = h[6];
+}
+
 }  // namespace
 
 base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
@@ -86,6 +96,8 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     std::uint64_t seq;
     std::string head, head_body, tail, tail_body;
     double numbers[7] = {0, 0, 0, 0, 0, 0, 0};
+    bool stamped = false;
+    std::int64_t time_ns = 0;
   };
   std::vector<Row> rows;
   rows.reserve(g.num_bodies() + 3 * g.num_frames());
@@ -104,6 +116,10 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     Row r{semgraph_wire_ELEMENT_POSE, i, m.pose_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
           std::string(g.frame_name(t)), std::string(g.body_name(g.body_of(t)))};
     PutPose(r.numbers, g.pose_value(f));
+    if (const core::PoseHistory* h = g.pose_history(f)) {
+      r.stamped = true;
+      r.time_ns = h->newest_stamp();
+    }
     rows.push_back(std::move(r));
   }
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
@@ -114,6 +130,10 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     Row r{semgraph_wire_ELEMENT_TWIST, i, m.twist_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
           std::string(g.body_name(d)), {}};
     PutTwist(r.numbers, V->linear, V->angular);
+    if (const core::TwistHistory* h = g.twist_history(g.topology().twist_edge_of(f))) {
+      r.stamped = true;
+      r.time_ns = h->newest_stamp();
+    }
     rows.push_back(std::move(r));
   }
   std::vector<semgraph_wire_Element> elements(rows.size());
@@ -127,6 +147,8 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     e.tail = rows[k].tail.data();
     e.tail_body = rows[k].tail_body.data();
     for (int j = 0; j < 7; ++j) e.numbers[j] = rows[k].numbers[j];
+    e.stamped = rows[k].stamped;
+    e.time_ns = rows[k].time_ns;
   }
   semgraph_wire_Structure s{};
   s.owner = m.owner.data();
@@ -136,6 +158,11 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   s.elements._length = s.elements._maximum = static_cast<std::uint32_t>(elements.size());
   s.elements._buffer = elements.data();
   s.elements._release = false;
+  const core::TimeOptions& time = g.time_options();
+  s.window_ns = time.window.nanoseconds();
+  s.interpolation = static_cast<std::uint8_t>(time.interpolation);
+  s.duplicate_stamp = static_cast<std::uint8_t>(time.duplicate_stamp);
+  s.sample_capacity = static_cast<std::uint32_t>(time.sample_capacity);
   const dds_return_t rc = dds_write(m.structure_writer.get(), &s);
   if (rc != DDS_RETCODE_OK) return base::Unexpected{internal::DdsError("cannot publish the structure", rc)};
   return base::Ok{};
@@ -172,6 +199,49 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   v.stamp_ns = internal::NowNs();
   PutTwist(v.numbers, v_DHo_H, w_DH_H);
   if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  return code;
+}
+
+base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                   const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T, stamp);
+  if (code != base::ErrorCode::kOk) return code;
+  const std::uint32_t id = edge.child.value();
+  semgraph_wire_Value v{};
+  v.source = m.source;
+  v.edge = id;
+  v.kind = semgraph_wire_VALUE_POSE;
+  v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
+  v.stamp_ns = internal::NowNs();
+  v.time_ns = stamp.nanoseconds();
+  // The sample as stored (the newest value may be another sample's: out-of-order stamps).
+  double h[7];
+  const core::PoseHistory* history = m.graph->pose_history(edge.child);
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
+  PutPoseSample(v.numbers, h);
+  if (dds_write(m.sample_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  return code;
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp);
+  if (code != base::ErrorCode::kOk) return code;
+  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
+  semgraph_wire_Value v{};
+  v.source = m.source;
+  v.edge = id;
+  v.kind = semgraph_wire_VALUE_TWIST;
+  v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
+  v.stamp_ns = internal::NowNs();
+  v.time_ns = stamp.nanoseconds();
+  double h[6];
+  const core::TwistHistory* history = m.graph->twist_history(edge.slot);
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
+  for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
+  if (dds_write(m.sample_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
   return code;
 }
 

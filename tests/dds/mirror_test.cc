@@ -178,5 +178,225 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
   EXPECT_EQ((*pub)->write_failures(), 0u);
 }
 
+// A raw DDS writer on the sample topic (keep-last per edge as the publishers' own).
+struct RawSampleWriter : RawWriter {
+  explicit RawSampleWriter(std::uint32_t domain) : RawWriter(domain, &semgraph_wire_Value_desc, "semgraph_samples") {}
+};
+
+std::vector<double> PoseAt(const core::SceneGraph<>& g, const char* of, const char* wrt, std::int64_t t) {
+  auto X = g.GetPose(core::PoseSpec::Of(of).RelativeTo(wrt), core::At(core::Stamp::Nanoseconds(t)));
+  if (!X) return {};
+  const auto& c = X->value.value;
+  Eigen::Quaterniond q(c.rotation);
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  return {q.w(), q.x(), q.y(), q.z(), c.translation.x(), c.translation.y(), c.translation.z()};
+}
+std::vector<double> TwistAt(const core::SceneGraph<>& g, std::int64_t t) {
+  auto V = g.GetTwist(core::TwistSpec::Of("a").RelativeTo("W").ExpressedIn("w"), core::At(core::Stamp::Nanoseconds(t)));
+  if (!V) return {};
+  return {V->value.linear.x(), V->value.linear.y(), V->value.linear.z(),
+          V->value.angular.x(), V->value.angular.y(), V->value.angular.z()};
+}
+void ExpectAllNear(const std::vector<double>& a, const std::vector<double>& b, double tol, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  ASSERT_FALSE(a.empty()) << what;
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], tol) << what << " [" << i << "]";
+}
+
+// Stamped edges replicate as stamped edges: the structure carries their kind and the graph's
+// time options, the samples go into the mirror's histories (sent out of order: the history
+// sorts them), so answers at a time on the mirror equal the publisher's; a different value at
+// an existing stamp (policy reject) is dropped by the history's rule and changes nothing.
+TEST(MirrorTest, StampedSamplesReplicateHistories) {
+  constexpr std::uint32_t kDomain = 23;
+  auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
+  ASSERT_TRUE(mirror) << mirror.error();
+  core::TimeOptions time;
+  time.window = core::Duration::Seconds(5);
+  time.duplicate_stamp = core::DuplicatePolicy::kReject;
+  time.sample_capacity = 128;
+  auto made = core::SceneGraph<>::Create(time);
+  ASSERT_TRUE(made);
+  core::SceneGraph<>& g = *made;
+  const std::int64_t t0 = 1'000'000'000;
+  const std::int64_t dt = 10'000'000;  // 10 ms
+  auto angle = [](int k) { return 0.01 * k; };
+  auto position = [](int k) { return Eigen::Vector3d(0.02 * k, 1.0, -0.5 * 0.001 * k); };
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(angle(0)), position(0),
+                        core::Stamp::Nanoseconds(t0)));
+  ASSERT_TRUE(g.AddTwist(core::TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"), {0.1, 0, 0}, {0, 0, 0.2},
+                         core::Stamp::Nanoseconds(t0)));
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("c", "C").RelativeTo("w", "W"), Rx(0.1), {0, 0, 2}));
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  auto pose = g.FindPoseEdge("a", "w");
+  auto twist = g.FindTwistEdge("a", "W");
+  ASSERT_TRUE(pose && twist);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  // The replica took the publisher's time options (it was empty).
+  const core::TimeOptions& mt = (*mirror)->graph().time_options();
+  EXPECT_EQ(mt.window, time.window);
+  EXPECT_EQ(mt.duplicate_stamp, time.duplicate_stamp);
+  EXPECT_EQ(mt.sample_capacity, time.sample_capacity);
+
+  // Samples 1..60: the even ones first, then the odd ones (out of order), then sample 30 again.
+  constexpr int kSamples = 60;
+  std::vector<int> order;
+  for (int k = 2; k <= kSamples; k += 2) order.push_back(k);
+  for (int k = 1; k <= kSamples; k += 2) order.push_back(k);
+  order.push_back(30);
+  for (int k : order) {
+    const core::Stamp s = core::Stamp::Nanoseconds(t0 + k * dt);
+    ASSERT_EQ((*pub)->SetPose(*pose, Rz(angle(k)), position(k), s), base::ErrorCode::kOk) << k;
+    ASSERT_EQ((*pub)->SetTwist(*twist, {0.1 + 0.01 * k, 0, 0}, {0, 0, 0.2}, s), base::ErrorCode::kOk) << k;
+  }
+  auto edge_state = [&](bool want_twist) {
+    for (const dds::EdgeState& e : (*mirror)->Edges()) {
+      if (e.head == "a" && e.twist == want_twist) return e;
+    }
+    return dds::EdgeState{};
+  };
+  ASSERT_TRUE((*mirror)->WaitUntil(
+      [&] { return edge_state(false).received >= order.size() && edge_state(true).received >= order.size(); }, 5s))
+      << edge_state(false).received << " " << edge_state(true).received;
+  EXPECT_TRUE(edge_state(false).stamped);
+  EXPECT_EQ(edge_state(false).newest_time_ns, t0 + kSamples * dt);
+  EXPECT_EQ((*pub)->write_failures(), 0u);
+
+  // A hostile sample: another value at an existing stamp (policy reject) is refused by the
+  // history's rule: counted, nothing changes.
+  std::string before;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+  {
+    RawSampleWriter raw(kDomain);
+    semgraph_wire_Value v{};
+    v.source = (*pub)->source();
+    v.edge = g.FindFrame("a").value();
+    v.kind = semgraph_wire_VALUE_POSE;
+    v.seq = 5000;
+    v.time_ns = t0 + 20 * dt;
+    const double n[7] = {1, 0, 0, 0, 9, 9, 9};
+    std::copy(n, n + 7, v.numbers);
+    ASSERT_EQ(dds_write(raw.writer, &v), DDS_RETCODE_OK);
+    ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->samples_dropped() >= 1; }, 5s));
+  }
+  std::string after;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  EXPECT_EQ(before, after);
+  EXPECT_EQ((*mirror)->messages_rejected(), 0u);
+
+  // Answers at given stamps (on samples, between samples, before the first one) equal the
+  // publisher's; on a sample they equal the value set there, composed by hand.
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    for (int k = 0; k <= kSamples; ++k) {
+      for (std::int64_t off : {std::int64_t{0}, dt / 3}) {
+        const std::int64_t t = t0 + k * dt + off;
+        if (k == kSamples && off != 0) continue;
+        ExpectAllNear(PoseAt(m, "a", "w", t), PoseAt(g, "a", "w", t), 1e-12, "pose at " + std::to_string(t));
+        ExpectAllNear(PoseAt(m, "a", "c", t), PoseAt(g, "a", "c", t), 1e-12, "pose a wrt c at " + std::to_string(t));
+        ExpectAllNear(TwistAt(m, t), TwistAt(g, t), 1e-12, "twist at " + std::to_string(t));
+      }
+      const Eigen::Quaterniond q = Rz(angle(k));
+      const Eigen::Vector3d p = position(k);
+      ExpectAllNear(PoseAt(m, "a", "w", t0 + k * dt), {q.w(), q.x(), q.y(), q.z(), p.x(), p.y(), p.z()}, 1e-12,
+                    "hand-made pose at sample " + std::to_string(k));
+    }
+    // Staleness shows in stamps: the newest sample is older than not_before.
+    auto stale = m.GetPose(core::PoseSpec::Of("a").RelativeTo("w"),
+                           core::Latest(core::Stamp::Nanoseconds(t0 + kSamples * dt + 1)));
+    ASSERT_FALSE(stale);
+    EXPECT_EQ(stale.error().code, base::ErrorCode::kStale);
+  });
+}
+
+// Hostile messages for the time fields: a stamped sample for an unstamped edge, a stamp out of
+// range, an unstamped value for a stamped edge, a stamped body, absurd time options. Each is
+// rejected with a log line and changes nothing.
+TEST(MirrorTest, HostileTimeFieldsAreRejected) {
+  constexpr std::uint32_t kDomain = 24;
+  std::mutex log_mutex;
+  std::string logs;
+  dds::MirrorOptions options;
+  options.name = "m";
+  options.domain = kDomain;
+  options.log = [&](const std::string& line) {
+    std::lock_guard<std::mutex> lock(log_mutex);
+    logs += line + "\n";
+  };
+  auto mirror = dds::Mirror::Create(options);
+  ASSERT_TRUE(mirror) << mirror.error();
+  core::SceneGraph<> g;
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(0.1), {1, 0, 0},
+                        core::Stamp::Nanoseconds(100)));
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("u", "U").RelativeTo("w", "W"), Rz(0.2), {0, 1, 0}));
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  std::string before;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+
+  RawSampleWriter samples(kDomain);
+  RawWriter values(kDomain, &semgraph_wire_Value_desc, "semgraph_values");
+  auto value = [&](const char* frame, std::int64_t time_ns, std::uint64_t seq) {
+    semgraph_wire_Value v{};
+    v.source = (*pub)->source();
+    v.edge = g.FindFrame(frame).value();
+    v.kind = semgraph_wire_VALUE_POSE;
+    v.seq = seq;
+    v.time_ns = time_ns;
+    v.numbers[0] = 1;
+    return v;
+  };
+  semgraph_wire_Value v1 = value("u", 200, 10);                  // stamped sample, unstamped edge
+  semgraph_wire_Value v2 = value("a", INT64_MIN, 11);            // stamp out of range
+  semgraph_wire_Value v3 = value("a", 0, 12);                    // unstamped value, stamped edge
+  ASSERT_EQ(dds_write(samples.writer, &v1), DDS_RETCODE_OK);
+  ASSERT_EQ(dds_write(samples.writer, &v2), DDS_RETCODE_OK);
+  ASSERT_EQ(dds_write(values.writer, &v3), DDS_RETCODE_OK);
+
+  RawWriter structures(kDomain, &semgraph_wire_Structure_desc, "semgraph_structure");
+  char owner[] = "evil", head[] = "x", body[] = "X", tail[] = "w", tail_body[] = "W";
+  semgraph_wire_Element body_element{};
+  body_element.kind = semgraph_wire_ELEMENT_BODY;
+  body_element.head = body;
+  body_element.head_body = body;
+  body_element.tail = tail;
+  body_element.tail_body = tail_body;
+  body_element.stamped = true;
+  semgraph_wire_Element pose_element = body_element;
+  pose_element.kind = semgraph_wire_ELEMENT_POSE;
+  pose_element.head = head;
+  pose_element.stamped = true;
+  pose_element.time_ns = 5;
+  pose_element.numbers[0] = 1;
+  std::uint64_t revision = 0;
+  auto structure = [&](semgraph_wire_Element* e, std::uint32_t capacity) {
+    semgraph_wire_Structure s{};
+    s.owner = owner;
+    s.source = 77;
+    s.revision = ++revision;
+    s.elements._length = s.elements._maximum = 1;
+    s.elements._buffer = e;
+    s.window_ns = 1'000'000'000;
+    s.sample_capacity = capacity;
+    ASSERT_EQ(dds_write(structures.writer, &s), DDS_RETCODE_OK);
+    std::this_thread::sleep_for(20ms);  // keep-last 1: let each one arrive
+  };
+  structure(&body_element, 16);
+  structure(&pose_element, 0xFFFFFFFFu);  // would preallocate 4e9 samples per edge
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 5; }, 5s))
+      << (*mirror)->messages_rejected();
+  std::string after;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  EXPECT_EQ(before, after);
+  EXPECT_EQ((*mirror)->Owners().size(), 1u);
+  std::lock_guard<std::mutex> lock(log_mutex);
+  EXPECT_NE(logs.find("sample: a stamped sample for the unstamped edge into 'u'"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("the stamp is out of range (invalid_number)"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("value: an unstamped value for the stamped edge into 'a'"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("element 0 (body 'X'): only edges can be stamped"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("sample capacity 4294967295 is outside [2, 1048576]"), std::string::npos) << logs;
+}
+
 }  // namespace
 }  // namespace semgraph::dds_test

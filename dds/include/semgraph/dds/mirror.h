@@ -16,6 +16,12 @@
 //   - values: the receive thread writes them through handles (SceneGraph::SetPose/SetTwist),
 //     so compiled queries evaluated on other threads stay lock-free (sequence locks). Per edge,
 //     a value numbered at or below the last applied one is dropped (repeats, reorders).
+//   - time: an edge the structure announces stamped is added stamped (with its newest sample),
+//     and its stamped samples go into its history through the stamped setters; the history's
+//     rules (out of order inserts, duplicate policy, window) decide reorders and repeats
+//     (refusals counted in samples_dropped()). The replica takes the time options of the first
+//     timed owner while it is still empty; an owner needing others is reported
+//     `time_options_differ`. A stamped sample for an unstamped edge (or the reverse) is rejected.
 //   - faults: a publisher whose lease ends (killed, cut off) is reported `liveliness_lost`; its
 //     edges and last values stay. Its restarted incarnation (same owner name) replaces its
 //     structure: the replica is reconciled to it (no duplicate, no leftover edge). A
@@ -83,6 +89,8 @@ struct EdgeState {
   std::uint64_t received = 0;      ///< values applied so far
   std::int64_t last_stamp_ns = 0;  ///< publisher's clock of the last value (0: from the structure)
   std::int64_t last_receive_ns = 0;
+  bool stamped = false;            ///< a stamped edge (its values are samples in a history)
+  std::int64_t newest_time_ns = 0; ///< stamped: the newest sample's stamp (the graph's time)
 };
 
 class SEMGRAPH_DDS_EXPORT Mirror {
@@ -103,6 +111,9 @@ class SEMGRAPH_DDS_EXPORT Mirror {
   [[nodiscard]] std::uint64_t structure_generation() const noexcept;
   [[nodiscard]] std::uint64_t values_applied() const noexcept;
   [[nodiscard]] std::uint64_t messages_rejected() const noexcept;
+  /// Stamped samples the replica's histories refused by their rules (stamp_too_old, or
+  /// duplicate_stamp under the reject policy): reordered or repeated samples, not malformed.
+  [[nodiscard]] std::uint64_t samples_dropped() const noexcept;
 
   [[nodiscard]] std::vector<OwnerState> Owners() const;
   [[nodiscard]] std::vector<EdgeState> Edges() const;

@@ -7,7 +7,13 @@
 //     re-sent by PublishStructure() after adds and removals (a removal is an element that is no
 //     longer in the set);
 //   - values: one sample per edge update on the value topic (reliable, transient-local,
-//     keep-last 1 per edge), numbered per edge so that mirrors drop repeats and reorders.
+//     keep-last 1 per edge), numbered per edge so that mirrors drop repeats and reorders;
+//   - stamped samples (the time feature, docs/time.md): a stamped edge (one with a history:
+//     made by a stamped add before PublishStructure) is announced stamped, with the graph's
+//     time options, and each stamped SetPose/SetTwist goes out on the sample topic with its
+//     stamp (the graph's time; the publisher's clock stays in stamp_ns for monitors); mirrors
+//     insert the samples into the replica's histories, whose rules (out of order, duplicate
+//     stamps, window) decide reorders and repeats.
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
@@ -61,6 +67,12 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                         const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                          const Eigen::Vector3d& w_DH_H) noexcept;
+  /// A stamped sample: SceneGraph's stamped SetPose/SetTwist (same codes; the edge must be
+  /// stamped), then the sample as the history stores it is published with its stamp.
+  [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                        const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept;
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept;
 
   [[nodiscard]] const std::string& owner() const noexcept;
   [[nodiscard]] std::uint64_t source() const noexcept;
