@@ -9,6 +9,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <thread>
 #include <tuple>
 #include <unordered_map>
@@ -39,6 +40,47 @@ struct Row {
   std::int64_t time_ns = 0;
 };
 
+// A joint of a structure sample (semgraph_wire_Joint, checked).
+struct JointRow {
+  std::uint32_t id = 0;
+  std::uint64_t seq = 0;
+  core::JointType type = core::JointType::kFixed;
+  std::string name, parent, parent_body, child, child_body, mimic;
+  double origin[7] = {1, 0, 0, 0, 0, 0, 0};
+  double axis[3] = {1, 0, 0};
+  double lower = 0, upper = 0, multiplier = 1, offset = 0;
+  std::uint8_t state = 0;
+  double q = 0, qdot = 0;
+  std::int64_t time_ns = 0;
+  [[nodiscard]] bool stamped() const { return state == semgraph_wire_JOINT_STATE_STAMPED; }
+  // The AddJoint spec (views into this row).
+  [[nodiscard]] core::JointSpec Spec() const {
+    core::JointSpec s;
+    s.name = name;
+    s.type = type;
+    s.parent = parent;
+    s.parent_body = parent_body;
+    s.child = child;
+    s.child_body = child_body;
+    s.q_origin = Eigen::Quaterniond(origin[0], origin[1], origin[2], origin[3]);
+    s.p_origin = Eigen::Vector3d(origin[4], origin[5], origin[6]);
+    s.axis = Eigen::Vector3d(axis[0], axis[1], axis[2]);
+    s.lower = lower;
+    s.upper = upper;
+    s.mimic = mimic;
+    s.multiplier = multiplier;
+    s.offset = offset;
+    return s;
+  }
+  // The same joint (its state aside).
+  [[nodiscard]] bool SameJoint(const JointRow& o) const {
+    return type == o.type && name == o.name && parent == o.parent && parent_body == o.parent_body &&
+           child == o.child && child_body == o.child_body && mimic == o.mimic &&
+           std::equal(origin, origin + 7, o.origin) && std::equal(axis, axis + 3, o.axis) && lower == o.lower &&
+           upper == o.upper && multiplier == o.multiplier && offset == o.offset;
+  }
+};
+
 struct OwnerRec {
   std::string owner;
   std::uint64_t source = 0;
@@ -46,6 +88,7 @@ struct OwnerRec {
   std::uint64_t revision = 0;
   bool alive = false;
   std::vector<Row> rows;
+  std::vector<JointRow> joints;
   bool has_time = false;  // the structure gave time options
   core::TimeOptions time;
   bool any_stamped = false;
@@ -67,6 +110,9 @@ struct ValueKeyHash {
 
 struct Slot {
   bool twist = false;
+  bool joint = false;     // a joint's state (group: the joint alone; empty for fixed and mimic joints)
+  core::JointGroup group;
+  bool unset = false;     // a joint never set (its first stamped state may still be on the way)
   bool stamped = false;   // a stamped edge: values come as stamped samples
   bool settable = false;  // false for a constant (same-body) pose edge: no handle
   core::PoseHandle pose;
@@ -180,6 +226,57 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     }
     out->rows.push_back(std::move(r));
   }
+  if (s.joints._length > kMaxElements) return "more than 1048576 joints";
+  if (s.joints._length > 0 && s.joints._buffer == nullptr) return "joints missing";
+  out->joints.clear();
+  out->joints.reserve(s.joints._length);
+  std::map<std::string, int> joint_names;
+  std::map<std::uint32_t, int> joint_ids;
+  for (std::uint32_t i = 0; i < s.joints._length; ++i) {
+    const semgraph_wire_Joint& w = s.joints._buffer[i];
+    JointRow j;
+    j.id = w.id;
+    j.seq = w.seq;
+    j.name = Str(w.name);
+    j.parent = Str(w.parent);
+    j.parent_body = Str(w.parent_body);
+    j.child = Str(w.child);
+    j.child_body = Str(w.child_body);
+    j.mimic = Str(w.mimic);
+    std::copy(w.origin, w.origin + 7, j.origin);
+    std::copy(w.axis, w.axis + 3, j.axis);
+    j.lower = w.lower;
+    j.upper = w.upper;
+    j.multiplier = w.multiplier;
+    j.offset = w.offset;
+    j.state = w.state;
+    j.q = w.q;
+    j.qdot = w.qdot;
+    j.time_ns = w.time_ns;
+    const std::string at = "joint " + std::to_string(i) + " ('" + j.name + "'): ";
+    if (w.type > semgraph_wire_JOINT_FIXED) return at + "unknown joint type " + std::to_string(w.type);
+    j.type = static_cast<core::JointType>(w.type);
+    if (!GoodName(j.name) || !GoodName(j.parent) || !GoodName(j.parent_body) || !GoodName(j.child) ||
+        !GoodName(j.child_body) || (!j.mimic.empty() && !GoodName(j.mimic))) {
+      return at + "invalid name";
+    }
+    const double numbers[] = {j.lower, j.upper, j.multiplier, j.offset, j.q, j.qdot};
+    if (!Finite(j.origin, 7) || !Finite(j.axis, 3) || !Finite(numbers, 6)) {
+      return at + "a number is not finite (invalid_number)";
+    }
+    if (!UnitQuaternion(j.origin)) return at + "not a unit quaternion (invalid_rotation)";
+    if (w.state > semgraph_wire_JOINT_STATE_STAMPED) return at + "unknown state " + std::to_string(w.state);
+    if (j.stamped() && !GoodStamp(j.time_ns)) return at + "the stamp is out of range (invalid_number)";
+    if (!joint_names.emplace(j.name, 0).second) return at + "a second joint of that name";
+    if (!joint_ids.emplace(j.id, 0).second) return at + "a second joint with the same id";
+    // The joint owns the edges into its child: the owner must not publish them as well.
+    if (!heads.emplace(std::pair{std::uint8_t{semgraph_wire_ELEMENT_POSE}, j.child}, 0).second ||
+        !heads.emplace(std::pair{std::uint8_t{semgraph_wire_ELEMENT_TWIST}, j.child}, 0).second) {
+      return at + "a second edge into the same frame";
+    }
+    out->any_stamped = out->any_stamped || j.stamped();
+    out->joints.push_back(std::move(j));
+  }
   // Time options: sample_capacity 0 = not given.
   if (s.sample_capacity != 0) {
     if (s.window_ns <= 0) return "time options: the window is not positive (invalid_number)";
@@ -216,6 +313,12 @@ struct Mirror::Impl {
   std::map<std::string, OwnerRec> owners;
   std::map<dds_instance_handle_t, std::string> owner_of_instance;
   std::map<std::pair<bool, std::string>, Applied> applied;  // (twist, head) -> edge
+  struct AppliedJoint {
+    std::string owner;
+    std::uint64_t source = 0;
+    JointRow row;
+  };
+  std::map<std::string, AppliedJoint> applied_joints;  // joint name -> joint
   std::unordered_map<ValueKey, Slot, ValueKeyHash> slots;
   std::unordered_map<ValueKey, Pending, ValueKeyHash> pending;
   std::unordered_map<ValueKey, std::vector<Pending>, ValueKeyHash> pending_samples;
@@ -372,16 +475,23 @@ void Mirror::Impl::TakeStructure() {
 bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
                               const std::string& what, std::optional<std::int64_t> time) {
   if (time.has_value() != slot.stamped) {
-    Reject(slot.owner, what + (time ? ": a stamped sample for the unstamped edge into '"
-                                    : ": an unstamped value for the stamped edge into '") +
-                           slot.head + "'");
+    Reject(slot.owner, what + (time ? ": a stamped sample for the unstamped " : ": an unstamped value for the stamped ") +
+                           (slot.joint ? "joint '" : "edge into '") + slot.head + "'");
     return false;
   }
   base::ErrorCode code;
   const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
   const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
   const Eigen::Vector3d p(n[4], n[5], n[6]);
-  if (slot.twist) {
+  if (slot.joint) {
+    if (!slot.settable) {
+      Reject(slot.owner, what + ": a state for the fixed or mimic joint '" + slot.head + "'");
+      return false;
+    }
+    const double q[1] = {n[0]}, qdot[1] = {n[1]};
+    code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time))
+                : graph.SetJointState(slot.group, q, qdot);
+  } else if (slot.twist) {
     code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time))
                 : graph.SetTwist(slot.twist_handle, a, b);
   } else if (slot.settable) {
@@ -424,7 +534,7 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
         if (!infos[i].valid_data) continue;
         const semgraph_wire_Value& v = buffer[i];
         const bool pose = v.kind == semgraph_wire_VALUE_POSE;
-        const char* why = v.kind > semgraph_wire_VALUE_TWIST      ? ": unknown kind"
+        const char* why = v.kind > semgraph_wire_VALUE_JOINT      ? ": unknown kind"
                           : !Finite(v.numbers, 7)                 ? ": a number is not finite (invalid_number)"
                           : pose && !UnitQuaternion(v.numbers)    ? ": not a unit quaternion (invalid_rotation)"
                           : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
@@ -436,10 +546,13 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
         }
         const ValueKey key{v.source, v.edge, v.kind};
         auto it = slots.find(key);
-        if (it == slots.end()) {
+        // A joint never set may become stamped by a structure still on the way: hold its samples.
+        const bool hold = it != slots.end() && samples && it->second.joint && it->second.unset &&
+                          it->second.received == 0;
+        if (it == slots.end() || hold) {
           // Its structure may still be on the way: keep the latest value (every sample, up to
           // kMaxPendingSamples) until it comes.
-          if (pending.size() + pending_samples.size() >= kMaxPending && !pending.count(key) &&
+          if (!hold && pending.size() + pending_samples.size() >= kMaxPending && !pending.count(key) &&
               !pending_samples.count(key)) {
             Reject("", "value of unknown edge " + std::to_string(v.edge) + " (too many unknown edges)");
             continue;
@@ -519,9 +632,15 @@ void Mirror::Impl::Reconcile() {
   auto scratch_made = core::SceneGraph<>::Create(graph.time_options());
   core::SceneGraph<> scratch = std::move(*scratch_made);
   std::vector<Applied> desired;
+  struct DesiredJoint {
+    std::string owner;
+    std::uint64_t source;
+    const JointRow* row;
+  };
+  std::vector<DesiredJoint> desired_joints;
   std::vector<Report> refused;
   std::map<std::pair<bool, std::string>, std::string> edge_owner;
-  auto refuse = [&](const OwnerRec& o, const Row&, base::ErrorCode code, const std::string& text) {
+  auto refuse = [&](const OwnerRec& o, const auto&, base::ErrorCode code, const std::string& text) {
     refused.push_back({"refused", o.owner, std::string(base::ToString(code)),
                        "owner '" + o.owner + "': " + text});
   };
@@ -575,6 +694,28 @@ void Mirror::Impl::Reconcile() {
         }
       }
     }
+    // The owner's joints, in its order (masters before their mimics), after its edges.
+    for (const JointRow& j : o->joints) {
+      const std::string what = "joint " + j.name + " ({" + j.child + "}|" + j.child_body + " wrt {" + j.parent +
+                               "}|" + j.parent_body + ")";
+      auto prior = edge_owner.find({false, j.child});
+      if (prior == edge_owner.end()) prior = edge_owner.find({true, j.child});
+      if (prior != edge_owner.end()) {
+        const base::ErrorCode code = base::ErrorCode::kMultiplePoseParents;
+        refuse(*o, j, code,
+               what + " rejected (" + std::string(base::ToString(code)) + "): {" + j.child +
+                   "} already has a parent published by '" + prior->second + "'");
+        continue;
+      }
+      core::BuildResult res = scratch.AddJoint(j.Spec());
+      if (!res) {
+        refuse(*o, j, res.error().code, res.error().message);
+        continue;
+      }
+      edge_owner[{false, j.child}] = o->owner;
+      edge_owner[{true, j.child}] = o->owner;
+      desired_joints.push_back({o->owner, o->source, &j});
+    }
   }
 
   // Bring the replica to `desired`: removals first (twists, then poses), then the adds in the
@@ -582,6 +723,44 @@ void Mirror::Impl::Reconcile() {
   // adds pass the same checks they passed on the scratch graph.
   std::map<std::pair<bool, std::string>, const Applied*> want;
   for (const Applied& a : desired) want[{a.twist, a.head}] = &a;
+  // Joints first (a joint's removal is the removal of its pose edge): those no longer wanted
+  // or changed, and with a removed master its mimics; mimics before masters.
+  {
+    std::map<std::string, const DesiredJoint*> want_joints;
+    for (const DesiredJoint& d : desired_joints) want_joints[d.row->name] = &d;
+    std::set<std::string> remove;
+    for (const auto& [name, aj] : applied_joints) {
+      auto w = want_joints.find(name);
+      bool keep = w != want_joints.end() && w->second->owner == aj.owner && w->second->row->SameJoint(aj.row);
+      if (keep) {
+        // Stamped and timeless edges do not convert: such a change re-adds the joint.
+        const core::internal::JointRecord* rec = graph.joint_table().Find(name);
+        const bool stamped_now = rec != nullptr && graph.pose_history(rec->child) != nullptr;
+        const bool timeless_now = rec != nullptr && rec->timeless;
+        const JointRow& r = *w->second->row;
+        keep = rec != nullptr && !(r.stamped() && timeless_now) &&
+               !(r.state == semgraph_wire_JOINT_STATE_TIMELESS && stamped_now);
+      }
+      if (!keep) remove.insert(name);
+    }
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const auto& [name, aj] : applied_joints) {
+        if (!aj.row.mimic.empty() && remove.count(aj.row.mimic) && remove.insert(name).second) grew = true;
+      }
+    }
+    for (const bool mimics : {true, false}) {
+      for (auto it = applied_joints.begin(); it != applied_joints.end();) {
+        if (!remove.count(it->first) || it->second.row.mimic.empty() != !mimics) {
+          ++it;
+          continue;
+        }
+        const core::BuildResult res = graph.RemovePose(it->second.row.child, it->second.row.parent);
+        if (!res) Log("cannot remove joint " + it->first + ": " + res.error().message);
+        it = applied_joints.erase(it);
+      }
+    }
+  }
   for (const bool twist : {true, false}) {
     for (auto it = applied.begin(); it != applied.end();) {
       if (it->first.first != twist) {
@@ -670,6 +849,82 @@ void Mirror::Impl::Reconcile() {
     }
     new_slots.emplace(key, std::move(slot));
   }
+  // Joints: all adds, then the states of the new ones (mimics follow their masters).
+  std::vector<std::pair<const JointRow*, bool>> joint_slots;  // row, added
+  for (const DesiredJoint& d : desired_joints) {
+    const JointRow& j = *d.row;
+    auto have = applied_joints.find(j.name);
+    bool added = false;
+    if (have == applied_joints.end()) {
+      const core::BuildResult res = graph.AddJoint(j.Spec());
+      if (!res) {
+        refused.push_back({"refused", d.owner, std::string(base::ToString(res.error().code)),
+                           "owner '" + d.owner + "': " + res.error().message});
+        continue;
+      }
+      have = applied_joints.emplace(j.name, AppliedJoint{d.owner, d.source, j}).first;
+      added = true;
+    } else {
+      have->second.source = d.source;
+      have->second.row = j;
+    }
+    joint_slots.push_back({&j, added});
+  }
+  for (std::size_t i = 0; i < joint_slots.size(); ++i) {
+    const JointRow& j = *joint_slots[i].first;
+    const bool added = joint_slots[i].second;
+    const AppliedJoint& aj = applied_joints.at(j.name);
+    const ValueKey key{aj.source, j.id, semgraph_wire_VALUE_JOINT};
+    Slot slot;
+    auto old = slots.find(key);
+    const bool known = old != slots.end() && !added;
+    if (known) slot = std::move(old->second);
+    slot.joint = true;
+    slot.stamped = j.stamped();
+    slot.owner = aj.owner;
+    slot.head = j.name;
+    slot.tail = j.parent;
+    slot.settable = false;
+    slot.unset = j.state == semgraph_wire_JOINT_STATE_NONE;
+    if (j.type != core::JointType::kFixed && j.mimic.empty()) {
+      const std::string_view names[] = {j.name};
+      auto group = graph.MakeJointGroup(names);
+      if (group) {
+        slot.group = std::move(*group);
+        slot.settable = true;
+      }
+    }
+    const core::internal::JointRecord* rec = graph.joint_table().Find(j.name);
+    const bool replica_stamped = rec != nullptr && graph.pose_history(rec->child) != nullptr;
+    if (slot.settable && j.state != semgraph_wire_JOINT_STATE_NONE &&
+        (added || (j.stamped() && !replica_stamped))) {
+      // The joint's first state decides its kind (timeless or stamped: histories allocated here).
+      const core::JointValue q[] = {{j.name, j.q}}, qdot[] = {{j.name, j.qdot}};
+      const core::BuildResult res = j.stamped() ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
+                                                : graph.SetJoints(q, qdot);
+      if (!res) Log("joint " + j.name + ": its state is refused: " + res.error().message);
+      slot.seq = j.seq;
+      if (j.stamped()) slot.time_ns = j.time_ns;
+    } else if (added) {
+      slot.seq = j.seq;
+    } else if (slot.settable && (!known || j.seq > slot.seq)) {
+      const double n[7] = {j.q, j.qdot, 0, 0, 0, 0, 0};
+      ApplyValue(slot, j.seq, 0, n, "structure value",
+                 j.stamped() ? std::optional<std::int64_t>(j.time_ns) : std::nullopt);
+      slot.seq = j.seq;
+    }
+    auto p = pending.find(key);
+    if (p != pending.end()) {
+      if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
+      pending.erase(p);
+    }
+    auto ps = pending_samples.find(key);
+    if (ps != pending_samples.end()) {
+      for (const Pending& e : ps->second) ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
+      pending_samples.erase(ps);
+    }
+    new_slots.emplace(key, std::move(slot));
+  }
   slots = std::move(new_slots);
 
   // Report each refusal once, in the deterministic order.
@@ -707,10 +962,11 @@ std::vector<EdgeState> Mirror::Edges() const {
   std::lock_guard<std::mutex> lock(impl_->state_mutex);
   std::vector<EdgeState> out;
   for (const auto& [key, s] : impl_->slots) {
-    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns, s.stamped, s.time_ns});
+    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns, s.stamped, s.time_ns,
+                   s.joint});
   }
   std::sort(out.begin(), out.end(), [](const EdgeState& a, const EdgeState& b) {
-    return std::tie(a.twist, a.head) < std::tie(b.twist, b.head);
+    return std::tie(a.joint, a.twist, a.head) < std::tie(b.joint, b.twist, b.head);
   });
   return out;
 }
@@ -742,6 +998,18 @@ bool Mirror::CaughtUp() const {
         continue;
       }
       if (it->second.seq < r.seq) return false;
+    }
+    for (const JointRow& j : o.joints) {
+      auto it = impl_->slots.find({o.source, j.id, semgraph_wire_VALUE_JOINT});
+      if (it == impl_->slots.end()) {
+        const auto& owner = name;
+        if (!std::any_of(impl_->refusals.begin(), impl_->refusals.end(),
+                         [&](const Report& rep) { return rep.owner == owner; })) {
+          return false;
+        }
+        continue;
+      }
+      if (it->second.seq < j.seq) return false;
     }
   }
   return true;

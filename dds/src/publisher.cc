@@ -1,6 +1,8 @@
 // Publisher (publisher.h): the graph's structure as one sample per owner, values per edge.
 #include "semgraph/dds/publisher.h"
 
+#include <map>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -20,6 +22,30 @@ struct Publisher::Impl {
   std::uint64_t write_failures = 0;
   // Per frame (the edge id of the pose or twist edge into it): values published so far.
   std::vector<std::uint64_t> pose_seq, twist_seq;
+  std::vector<std::uint64_t> joint_seq;  // per joint index: states published so far
+
+  // Publishes joint `index`'s state (q, qdot), stamped or not.
+  void PublishJoint(std::uint32_t index, double q, double qdot, std::optional<core::Stamp> stamp) noexcept {
+    semgraph_wire_Value v{};
+    v.source = source;
+    v.edge = index;
+    v.kind = semgraph_wire_VALUE_JOINT;
+    v.seq = index < joint_seq.size() ? ++joint_seq[index] : 0;
+    v.stamp_ns = internal::NowNs();
+    v.numbers[0] = q;
+    v.numbers[1] = qdot;
+    if (stamp) v.time_ns = stamp->nanoseconds();
+    if (dds_write(stamp ? sample_writer.get() : value_writer.get(), &v) != DDS_RETCODE_OK) ++write_failures;
+  }
+  // After a group's state was set: q (and qdot when given) from the input, the other field the
+  // joint's current one (a positions-only call does not change the newest velocity).
+  void PublishGroup(const core::JointGroup& group, std::span<const double> q, const double* qdot,
+                    std::optional<core::Stamp> stamp) noexcept {
+    for (std::size_t i = 0; i < group.size(); ++i) {
+      const core::JointHandle h = group.joints[i];
+      PublishJoint(h.index, q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h), stamp);
+    }
+  }
   Entity participant, structure_writer, value_writer, sample_writer;
 };
 
@@ -89,6 +115,8 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   const core::SceneGraph<>& g = *m.graph;
   m.pose_seq.resize(g.num_frames(), 0);
   m.twist_seq.resize(g.num_frames(), 0);
+  const core::internal::JointTable& joints = g.joint_table();
+  m.joint_seq.resize(joints.joints.size(), 0);
   // Names are copied into strings first: the sample points into them.
   struct Row {
     std::uint8_t kind;
@@ -112,7 +140,7 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
     const core::FrameIndex f(i);
     const core::FrameIndex t = g.pose_parent(f);
-    if (!t.is_valid()) continue;
+    if (!t.is_valid() || joints.OfChild(f) != nullptr) continue;  // a joint's edge goes with the joint
     Row r{semgraph_wire_ELEMENT_POSE, i, m.pose_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
           std::string(g.frame_name(t)), std::string(g.body_name(g.body_of(t)))};
     PutPose(r.numbers, g.pose_value(f));
@@ -125,7 +153,7 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
     const core::FrameIndex f(i);
     const core::BodyIndex d = g.twist_parent(f);
-    if (!d.is_valid()) continue;
+    if (!d.is_valid() || joints.OfChild(f) != nullptr) continue;
     const auto V = g.twist_value(f);
     Row r{semgraph_wire_ELEMENT_TWIST, i, m.twist_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
           std::string(g.body_name(d)), {}};
@@ -150,7 +178,54 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     e.stamped = rows[k].stamped;
     e.time_ns = rows[k].time_ns;
   }
+  // Joints: names copied first (the sample points into them).
+  struct JointRow {
+    std::string name, parent, parent_body, child, child_body, mimic;
+  };
+  std::vector<JointRow> joint_names;
+  std::vector<semgraph_wire_Joint> joint_rows;
+  joint_names.reserve(joints.joints.size());
+  joint_rows.reserve(joints.joints.size());
+  for (std::uint32_t i = 0; i < joints.joints.size(); ++i) {
+    const core::internal::JointRecord& j = joints.joints[i];
+    if (!j.alive) continue;
+    joint_names.push_back({j.name, std::string(g.frame_name(j.parent)), std::string(g.body_name(j.parent_body)),
+                           std::string(g.frame_name(j.child)), std::string(g.body_name(j.child_body)),
+                           j.is_mimic() ? joints.joints[j.master].name : std::string()});
+    const JointRow& names = joint_names.back();
+    semgraph_wire_Joint w{};
+    w.id = i;
+    w.seq = m.joint_seq[i];
+    w.type = static_cast<std::uint8_t>(j.type);
+    w.name = const_cast<char*>(names.name.c_str());
+    w.parent = const_cast<char*>(names.parent.c_str());
+    w.parent_body = const_cast<char*>(names.parent_body.c_str());
+    w.child = const_cast<char*>(names.child.c_str());
+    w.child_body = const_cast<char*>(names.child_body.c_str());
+    w.mimic = const_cast<char*>(names.mimic.c_str());
+    w.origin[0] = j.q_origin.w(); w.origin[1] = j.q_origin.x(); w.origin[2] = j.q_origin.y(); w.origin[3] = j.q_origin.z();
+    for (int k = 0; k < 3; ++k) {
+      w.origin[4 + k] = j.p_origin[k];
+      w.axis[k] = j.axis[k];
+    }
+    w.lower = j.lower;
+    w.upper = j.upper;
+    w.multiplier = j.multiplier;
+    w.offset = j.offset;
+    w.q = j.q;
+    w.qdot = j.qdot;
+    if (const core::PoseHistory* h = g.pose_history(j.child)) {
+      w.state = semgraph_wire_JOINT_STATE_STAMPED;
+      w.time_ns = h->newest_stamp();
+    } else {
+      w.state = j.timeless ? semgraph_wire_JOINT_STATE_TIMELESS : semgraph_wire_JOINT_STATE_NONE;
+    }
+    joint_rows.push_back(w);
+  }
   semgraph_wire_Structure s{};
+  s.joints._length = s.joints._maximum = static_cast<std::uint32_t>(joint_rows.size());
+  s.joints._buffer = joint_rows.data();
+  s.joints._release = false;
   s.owner = m.owner.data();
   s.source = m.source;
   s.started_ns = m.started_ns;
@@ -242,6 +317,99 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
   for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
   if (dds_write(m.sample_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  return code;
+}
+
+namespace {
+
+// The joints a by-name call names, each with the value it was given (the last one, as the
+// graph applies them), in the order of first mention.
+struct Named {
+  std::uint32_t index;
+  std::optional<double> q, qdot;
+};
+std::vector<Named> NamedJoints(const core::SceneGraph<>& g, std::span<const core::JointValue> positions,
+                               std::span<const core::JointValue> velocities) {
+  std::vector<Named> out;
+  std::map<std::uint32_t, std::size_t> at;
+  auto add = [&](const core::JointValue& v, bool velocity) {
+    auto h = g.FindJoint(v.joint);
+    if (!h) return;
+    auto [it, fresh] = at.emplace(h->index, out.size());
+    if (fresh) out.push_back({h->index, std::nullopt, std::nullopt});
+    (velocity ? out[it->second].qdot : out[it->second].q) = v.value;
+  };
+  for (const core::JointValue& v : positions) add(v, false);
+  for (const core::JointValue& v : velocities) add(v, true);
+  return out;
+}
+
+}  // namespace
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities) {
+  Impl& m = *impl_;
+  core::BuildResult res = m.graph->SetJoints(positions, velocities);
+  if (!res) return res;
+  const core::internal::JointTable& t = m.graph->joint_table();
+  for (const Named& n : NamedJoints(*m.graph, positions, velocities)) {
+    const core::internal::JointRecord& j = t.joints[n.index];
+    m.PublishJoint(n.index, n.q.value_or(j.q), n.qdot.value_or(j.qdot), std::nullopt);
+  }
+  return res;
+}
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities, core::Stamp stamp) {
+  Impl& m = *impl_;
+  const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities);
+  const core::internal::JointTable& t = m.graph->joint_table();
+  std::vector<bool> was_stamped;
+  for (const Named& n : named) was_stamped.push_back(m.graph->pose_history(t.joints[n.index].child) != nullptr);
+  core::BuildResult res = m.graph->SetJoints(positions, velocities, stamp);
+  if (!res) return res;
+  bool structure = false;
+  for (std::size_t i = 0; i < named.size(); ++i) {
+    const Named& n = named[i];
+    const core::internal::JointRecord& j = t.joints[n.index];
+    if (!was_stamped[i]) {
+      // Its first stamped state: the joint's edges became stamped, a structure change (the
+      // structure carries this state as the newest sample).
+      if (n.index < m.joint_seq.size()) ++m.joint_seq[n.index];
+      structure = true;
+      continue;
+    }
+    // A field not given keeps the newest sample's value, which the call did not change.
+    m.PublishJoint(n.index, n.q.value_or(j.q), n.qdot.value_or(j.qdot), stamp);
+  }
+  if (structure) {
+    auto published = PublishStructure();
+    if (!published) ++m.write_failures;
+  }
+  return res;
+}
+
+base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group, std::span<const double> q) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointPositions(group, q);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, std::nullopt);
+  return code;
+}
+base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group, std::span<const double> q,
+                                             core::Stamp stamp) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointPositions(group, q, stamp);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, stamp);
+  return code;
+}
+base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                         std::span<const double> qdot) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), std::nullopt);
+  return code;
+}
+base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                         std::span<const double> qdot, core::Stamp stamp) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, stamp);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), stamp);
   return code;
 }
 

@@ -398,5 +398,169 @@ TEST(MirrorTest, HostileTimeFieldsAreRejected) {
   EXPECT_NE(logs.find("sample capacity 4294967295 is outside [2, 1048576]"), std::string::npos) << logs;
 }
 
+// Joints: a publisher's joints (a revolute, a mimic of it, a fixed one) replicate through
+// AddJoint and their states through SetJoints / SetJointState; the mimic follows on the mirror.
+// Hostile joint messages (an unknown joint type, a NaN, a state for a fixed joint, a stamped
+// state for a timeless joint, a joint that takes an edge the owner also publishes) are rejected
+// with a log line and change nothing.
+TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
+  constexpr std::uint32_t kDomain = 25;
+  std::mutex log_mutex;
+  std::string logs;
+  dds::MirrorOptions options;
+  options.name = "m";
+  options.domain = kDomain;
+  options.log = [&](const std::string& line) {
+    std::lock_guard<std::mutex> lock(log_mutex);
+    logs += line + "\n";
+  };
+  auto mirror = dds::Mirror::Create(options);
+  ASSERT_TRUE(mirror) << mirror.error();
+  core::SceneGraph<> g;
+  core::JointSpec j1;
+  j1.name = "j1";
+  j1.type = core::JointType::kRevolute;
+  j1.parent = "w";
+  j1.parent_body = "W";
+  j1.child = "l1";
+  j1.child_body = "L1";
+  j1.p_origin = {0, 0, 1};
+  j1.axis = {0, 0, 2};  // normalized by the graph
+  j1.lower = -2;
+  j1.upper = 2;
+  core::JointSpec j2 = j1;
+  j2.name = "j2";
+  j2.parent = "l1";
+  j2.parent_body = "L1";
+  j2.child = "l2";
+  j2.child_body = "L2";
+  j2.p_origin = {0.5, 0, 0};
+  j2.mimic = "j1";
+  j2.multiplier = 2;
+  j2.offset = 0.25;
+  core::JointSpec fixed = j1;
+  fixed.name = "f";
+  fixed.type = core::JointType::kFixed;
+  fixed.parent = "l2";
+  fixed.parent_body = "L2";
+  fixed.child = "t";
+  fixed.child_body = "T";
+  fixed.q_origin = Rx(0.3);
+  fixed.p_origin = {0.1, 0.2, 0};
+  ASSERT_TRUE(g.AddJoint(j1));
+  ASSERT_TRUE(g.AddJoint(j2));
+  ASSERT_TRUE(g.AddJoint(fixed));
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  const std::string_view names[] = {"j1"};
+  auto group = g.MakeJointGroup(names);
+  ASSERT_TRUE(group);
+  const double q[] = {0.4}, qdot[] = {-0.1};
+  ASSERT_EQ((*pub)->SetJointState(*group, q, qdot), base::ErrorCode::kOk);
+  ASSERT_TRUE((*mirror)->WaitUntil(
+      [&] {
+        bool set = false;
+        (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+          auto h = m.FindJoint("j1");
+          set = h && m.joint_position(*h) == 0.4;
+        });
+        return set && (*mirror)->CaughtUp();
+      },
+      5s));
+  // The mirror's t in w: X_w,l1(q) X_l1,l2(2q + 0.25) X_l2,t, composed by hand.
+  const Eigen::Isometry3d X_wt =
+      Iso(Rz(0.4), {0, 0, 1}) * Iso(Rz(2 * 0.4 + 0.25), {0.5, 0, 0}) * Iso(Rx(0.3), {0.1, 0.2, 0});
+  std::string before;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    EXPECT_EQ(m.num_joints(), 3u);
+    auto X = m.GetPose(core::PoseSpec::Of("t").RelativeTo("w"));
+    ASSERT_TRUE(X);
+    EXPECT_LT((X->ToIsometry().matrix() - X_wt.matrix()).norm(), 1e-12);
+    auto V = m.GetTwist(core::TwistSpec::Of("l1").RelativeTo("W").ExpressedIn("l1"));
+    ASSERT_TRUE(V);
+    EXPECT_NEAR(V->angular.z(), -0.1, 1e-15);
+    before = m.Dump();
+  });
+
+  // Hostile structures of another owner.
+  RawWriter structures(kDomain, &semgraph_wire_Structure_desc, "semgraph_structure");
+  char owner[] = "evil", name[] = "k", parent[] = "w", parent_body[] = "W", child[] = "x", child_body[] = "X",
+       empty[] = "";
+  semgraph_wire_Joint joint{};
+  joint.id = 1;
+  joint.type = semgraph_wire_JOINT_REVOLUTE;
+  joint.name = name;
+  joint.parent = parent;
+  joint.parent_body = parent_body;
+  joint.child = child;
+  joint.child_body = child_body;
+  joint.mimic = empty;
+  joint.origin[0] = 1;
+  joint.axis[0] = 1;
+  joint.upper = 1;
+  semgraph_wire_Element edge{};
+  edge.kind = semgraph_wire_ELEMENT_POSE;
+  edge.head = child;
+  edge.head_body = child_body;
+  edge.tail = parent;
+  edge.tail_body = parent_body;
+  edge.numbers[0] = 1;
+  std::uint64_t revision = 0;
+  auto structure = [&](semgraph_wire_Joint j, bool with_edge) {
+    semgraph_wire_Structure s{};
+    s.owner = owner;
+    s.source = 78;
+    s.revision = ++revision;
+    if (with_edge) {
+      s.elements._length = s.elements._maximum = 1;
+      s.elements._buffer = &edge;
+    }
+    s.joints._length = s.joints._maximum = 1;
+    s.joints._buffer = &j;
+    ASSERT_EQ(dds_write(structures.writer, &s), DDS_RETCODE_OK);
+    std::this_thread::sleep_for(20ms);
+  };
+  semgraph_wire_Joint unknown = joint;
+  unknown.type = 7;
+  structure(unknown, false);
+  semgraph_wire_Joint nan_joint = joint;
+  nan_joint.axis[1] = std::nan("");
+  structure(nan_joint, false);
+  structure(joint, true);  // the joint's pose edge published as an edge too
+  // Hostile joint states for the publisher's joints.
+  RawWriter values(kDomain, &semgraph_wire_Value_desc, "semgraph_values");
+  RawSampleWriter samples(kDomain);
+  auto state = [&](const char* joint_name, double qv, std::uint64_t seq) {
+    semgraph_wire_Value v{};
+    v.source = (*pub)->source();
+    v.edge = g.FindJoint(joint_name)->index;
+    v.kind = semgraph_wire_VALUE_JOINT;
+    v.seq = seq;
+    v.numbers[0] = qv;
+    v.time_ns = 1000;
+    return v;
+  };
+  const semgraph_wire_Value fixed_state = state("f", 0.1, 50);
+  const semgraph_wire_Value stamped_state = state("j1", 0.2, 51);  // j1 is timeless
+  const semgraph_wire_Value nan_state = state("j1", std::nan(""), 52);
+  ASSERT_EQ(dds_write(values.writer, &fixed_state), DDS_RETCODE_OK);
+  ASSERT_EQ(dds_write(samples.writer, &stamped_state), DDS_RETCODE_OK);
+  ASSERT_EQ(dds_write(values.writer, &nan_state), DDS_RETCODE_OK);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 6; }, 5s))
+      << (*mirror)->messages_rejected();
+  std::string after;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  EXPECT_EQ(before, after);
+  EXPECT_EQ((*mirror)->Owners().size(), 1u);
+  std::lock_guard<std::mutex> lock(log_mutex);
+  EXPECT_NE(logs.find("joint 0 ('k'): unknown joint type 7"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("joint 0 ('k'): a number is not finite (invalid_number)"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("joint 0 ('k'): a second edge into the same frame"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("a state for the fixed or mimic joint 'f'"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("a stamped sample for the unstamped joint 'j1'"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("value of edge " + std::to_string(g.FindJoint("j1")->index) + " from source"),
+            std::string::npos) << logs;
+}
+
 }  // namespace
 }  // namespace semgraph::dds_test

@@ -22,6 +22,10 @@
 //     (refusals counted in samples_dropped()). The replica takes the time options of the first
 //     timed owner while it is still empty; an owner needing others is reported
 //     `time_options_differ`. A stamped sample for an unstamped edge (or the reverse) is rejected.
+//   - joints: added through AddJoint (after the owner's edges; a joint whose child already has
+//     a parent from an earlier owner is refused multiple_pose_parents, any other AddJoint error
+//     with its code); their states through SetJoints / SetJointState, stamped or not, so mimics
+//     follow and the joint rules (limits, stamp rules) apply as in the publisher.
 //   - faults: a publisher whose lease ends (killed, cut off) is reported `liveliness_lost`; its
 //     edges and last values stay. Its restarted incarnation (same owner name) replaces its
 //     structure: the replica is reconciled to it (no duplicate, no leftover edge). A
@@ -91,6 +95,7 @@ struct EdgeState {
   std::int64_t last_receive_ns = 0;
   bool stamped = false;            ///< a stamped edge (its values are samples in a history)
   std::int64_t newest_time_ns = 0; ///< stamped: the newest sample's stamp (the graph's time)
+  bool joint = false;              ///< a joint's state: head = the joint's name, tail = its parent frame
 };
 
 class SEMGRAPH_DDS_EXPORT Mirror {

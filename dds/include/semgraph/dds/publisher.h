@@ -13,7 +13,11 @@
 //     time options, and each stamped SetPose/SetTwist goes out on the sample topic with its
 //     stamp (the graph's time; the publisher's clock stays in stamp_ns for monitors); mirrors
 //     insert the samples into the replica's histories, whose rules (out of order, duplicate
-//     stamps, window) decide reorders and repeats.
+//     stamps, window) decide reorders and repeats;
+//   - joints (core/joints.h): each live joint with its AddJoint data (type, parent and child
+//     frames, origin, axis, limits, mimic) and state, in place of its two edges; joint states
+//     set through this Publisher (SetJoints, SetJointPositions, SetJointState, stamped or not)
+//     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors.
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
@@ -28,6 +32,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "semgraph/dds/export.h"
@@ -73,6 +78,20 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                         const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept;
   [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                          const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept;
+
+  /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
+  /// joint given is published with its state (mimics follow on the mirrors). A stamped
+  /// SetJoints that makes a joint stamped (its first stamped state) republishes the structure.
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions, std::span<const core::JointValue> velocities);
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions, std::span<const core::JointValue> velocities,
+                              core::Stamp stamp);
+  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group, std::span<const double> q) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group, std::span<const double> q,
+                                                  core::Stamp stamp) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                              std::span<const double> qdot) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                              std::span<const double> qdot, core::Stamp stamp) noexcept;
 
   [[nodiscard]] const std::string& owner() const noexcept;
   [[nodiscard]] std::uint64_t source() const noexcept;
