@@ -303,7 +303,7 @@ bool SameTime(const core::TimeOptions& a, const core::TimeOptions& b) {
 struct Mirror::Impl {
   MirrorOptions options;
   core::SceneGraph<> graph;
-  Entity participant, structure_reader, value_reader, sample_reader, status_writer, waitset, guard;
+  Entity participant, structure_reader, value_reader, sample_reader, batch_reader, status_writer, waitset, guard;
   std::thread thread;
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> generation{0}, values{0}, rejected{0}, dropped{0};
@@ -358,7 +358,18 @@ struct Mirror::Impl {
 
   void Loop();
   void TakeStructure();
+  // One value as the value/sample topics and batches carry it.
+  struct In {
+    std::uint64_t source;
+    std::uint32_t edge;
+    std::uint8_t kind;
+    std::uint64_t seq;
+    std::int64_t stamp_ns, time_ns;
+    const double* numbers;
+  };
+  bool HandleValue(const In& v, bool samples);
   void TakeValues(dds_entity_t reader, bool samples);
+  void TakeBatches();
   void Reconcile();
   // Applies a value (time: a stamped sample's stamp); true when the graph took it.
   bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what,
@@ -384,14 +395,19 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
   const dds_entity_t tt = internal::CreateTopic(p, TopicKind::kStatus);
   const dds_entity_t at = internal::CreateTopic(p, TopicKind::kSample);
-  if (st < 0 || vt < 0 || tt < 0 || at < 0) return base::Unexpected{std::string("cannot create the DDS topics")};
+  const dds_entity_t bt = internal::CreateTopic(p, TopicKind::kBatch);
+  if (st < 0 || vt < 0 || tt < 0 || at < 0 || bt < 0) {
+    return base::Unexpected{std::string("cannot create the DDS topics")};
+  }
   m.structure_reader = Entity(internal::CreateReader(p, st, TopicKind::kStructure));
   m.value_reader = Entity(internal::CreateReader(p, vt, TopicKind::kValue));
   m.sample_reader = Entity(internal::CreateReader(p, at, TopicKind::kSample));
+  m.batch_reader = Entity(internal::CreateReader(p, bt, TopicKind::kBatch));
   m.status_writer = Entity(internal::CreateWriter(p, tt, TopicKind::kStatus));
   m.waitset = Entity(dds_create_waitset(p));
   m.guard = Entity(dds_create_guardcondition(p));
-  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.sample_reader.ok() || !m.status_writer.ok() ||
+  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.sample_reader.ok() || !m.batch_reader.ok() ||
+      !m.status_writer.ok() ||
       !m.waitset.ok() ||
       !m.guard.ok()) {
     return base::Unexpected{std::string("cannot create the DDS readers and writers")};
@@ -399,8 +415,9 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   const dds_entity_t c1 = dds_create_readcondition(m.structure_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c2 = dds_create_readcondition(m.value_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c3 = dds_create_readcondition(m.sample_reader.get(), DDS_ANY_STATE);
+  const dds_entity_t c4 = dds_create_readcondition(m.batch_reader.get(), DDS_ANY_STATE);
   if (dds_waitset_attach(m.waitset.get(), c1, 1) < 0 || dds_waitset_attach(m.waitset.get(), c2, 2) < 0 ||
-      dds_waitset_attach(m.waitset.get(), c3, 3) < 0 ||
+      dds_waitset_attach(m.waitset.get(), c3, 3) < 0 || dds_waitset_attach(m.waitset.get(), c4, 4) < 0 ||
       dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
     return base::Unexpected{std::string("cannot attach the DDS conditions")};
   }
@@ -415,6 +432,7 @@ void Mirror::Impl::Loop() {
     TakeStructure();
     TakeValues(value_reader.get(), false);
     TakeValues(sample_reader.get(), true);
+    TakeBatches();
   }
 }
 
@@ -519,6 +537,52 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
   return true;
 }
 
+// One value from the value or sample topic, or from a batch; true when applied.
+bool Mirror::Impl::HandleValue(const In& v, bool samples) {
+  const bool pose = v.kind == semgraph_wire_VALUE_POSE;
+  const char* why = v.kind > semgraph_wire_VALUE_JOINT      ? ": unknown kind"
+                    : !Finite(v.numbers, 7)                 ? ": a number is not finite (invalid_number)"
+                    : pose && !UnitQuaternion(v.numbers)    ? ": not a unit quaternion (invalid_rotation)"
+                    : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
+                                                            : nullptr;
+  if (why != nullptr) {
+    Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) + " from source " +
+                   std::to_string(v.source) + why);
+    return false;
+  }
+  const ValueKey key{v.source, v.edge, v.kind};
+  auto it = slots.find(key);
+  // A joint never set may become stamped by a structure still on the way: hold its samples.
+  const bool hold = it != slots.end() && samples && it->second.joint && it->second.unset && it->second.received == 0;
+  if (it == slots.end() || hold) {
+    // Its structure may still be on the way: keep the latest value (every sample, up to
+    // kMaxPendingSamples) until it comes.
+    if (!hold && pending.size() + pending_samples.size() >= kMaxPending && !pending.count(key) &&
+        !pending_samples.count(key)) {
+      Reject("", "value of unknown edge " + std::to_string(v.edge) + " (too many unknown edges)");
+      return false;
+    }
+    Pending got;
+    got.seq = v.seq;
+    got.stamp_ns = v.stamp_ns;
+    got.time_ns = v.time_ns;
+    std::copy(v.numbers, v.numbers + 7, got.n);
+    if (samples) {
+      std::vector<Pending>& list = pending_samples[key];
+      if (list.size() < kMaxPendingSamples) list.push_back(got);
+    } else {
+      Pending& p = pending[key];
+      if (v.seq > p.seq) p = got;
+    }
+    return false;
+  }
+  // Unstamped values: a repeat or an older value is dropped by its number. Stamped samples go
+  // to the history, whose rules decide.
+  if (!samples && v.seq <= it->second.seq) return false;
+  return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, samples ? "sample" : "value",
+                    samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt);
+}
+
 void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
   static thread_local semgraph_wire_Value buffer[kTakeBatch];
   static thread_local void* ptrs[kTakeBatch];
@@ -533,51 +597,8 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
         const semgraph_wire_Value& v = buffer[i];
-        const bool pose = v.kind == semgraph_wire_VALUE_POSE;
-        const char* why = v.kind > semgraph_wire_VALUE_JOINT      ? ": unknown kind"
-                          : !Finite(v.numbers, 7)                 ? ": a number is not finite (invalid_number)"
-                          : pose && !UnitQuaternion(v.numbers)    ? ": not a unit quaternion (invalid_rotation)"
-                          : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
-                                                                  : nullptr;
-        if (why != nullptr) {
-          Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) +
-                         " from source " + std::to_string(v.source) + why);
-          continue;
-        }
-        const ValueKey key{v.source, v.edge, v.kind};
-        auto it = slots.find(key);
-        // A joint never set may become stamped by a structure still on the way: hold its samples.
-        const bool hold = it != slots.end() && samples && it->second.joint && it->second.unset &&
-                          it->second.received == 0;
-        if (it == slots.end() || hold) {
-          // Its structure may still be on the way: keep the latest value (every sample, up to
-          // kMaxPendingSamples) until it comes.
-          if (!hold && pending.size() + pending_samples.size() >= kMaxPending && !pending.count(key) &&
-              !pending_samples.count(key)) {
-            Reject("", "value of unknown edge " + std::to_string(v.edge) + " (too many unknown edges)");
-            continue;
-          }
-          Pending got;
-          got.seq = v.seq;
-          got.stamp_ns = v.stamp_ns;
-          got.time_ns = v.time_ns;
-          std::copy(v.numbers, v.numbers + 7, got.n);
-          if (samples) {
-            std::vector<Pending>& list = pending_samples[key];
-            if (list.size() < kMaxPendingSamples) list.push_back(got);
-          } else {
-            Pending& p = pending[key];
-            if (v.seq > p.seq) p = got;
-          }
-          continue;
-        }
-        // Unstamped values: a repeat or an older value is dropped by its number. Stamped
-        // samples go to the history, whose rules decide.
-        if (!samples && v.seq <= it->second.seq) continue;
-        if (ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, samples ? "sample" : "value",
-                       samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt)) {
-          ++applied_now;
-        }
+        const In in{v.source, v.edge, v.kind, v.seq, v.stamp_ns, v.time_ns, v.numbers};
+        if (HandleValue(in, samples)) ++applied_now;
       }
     }
     if (applied_now > 0) {
@@ -585,6 +606,40 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
       if (options.on_change) options.on_change();
     }
     if (n < kTakeBatch) break;
+  }
+}
+
+void Mirror::Impl::TakeBatches() {
+  for (;;) {
+    void* samples[16] = {nullptr};
+    dds_sample_info_t infos[16];
+    const dds_return_t n = dds_take(batch_reader.get(), samples, infos, 16, 16);
+    if (n <= 0) break;
+    std::uint64_t applied_now = 0;
+    {
+      std::lock_guard<std::mutex> lock(state_mutex);
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto& b = *static_cast<const semgraph_wire_Batch*>(samples[i]);
+        if (b.updates._length > internal::kMaxBatchUpdates || (b.updates._length > 0 && b.updates._buffer == nullptr)) {
+          Reject("", "batch " + std::to_string(b.serial) + " from source " + std::to_string(b.source) + ": " +
+                         std::to_string(b.updates._length) + " updates (at most " +
+                         std::to_string(internal::kMaxBatchUpdates) + ")");
+          continue;
+        }
+        for (std::uint32_t k = 0; k < b.updates._length; ++k) {
+          const semgraph_wire_Update& u = b.updates._buffer[k];
+          const In in{b.source, u.edge, u.kind, u.seq, u.stamp_ns, u.time_ns, u.numbers};
+          if (HandleValue(in, u.stamped)) ++applied_now;
+        }
+      }
+    }
+    dds_return_loan(batch_reader.get(), samples, n);
+    if (applied_now > 0) {
+      values.fetch_add(applied_now, std::memory_order_release);
+      if (options.on_change) options.on_change();
+    }
+    if (n < 16) break;
   }
 }
 

@@ -1,6 +1,7 @@
 // Publisher (publisher.h): the graph's structure as one sample per owner, values per edge.
 #include "semgraph/dds/publisher.h"
 
+#include <atomic>
 #include <map>
 #include <optional>
 #include <random>
@@ -35,7 +36,7 @@ struct Publisher::Impl {
     v.numbers[0] = q;
     v.numbers[1] = qdot;
     if (stamp) v.time_ns = stamp->nanoseconds();
-    if (dds_write(stamp ? sample_writer.get() : value_writer.get(), &v) != DDS_RETCODE_OK) ++write_failures;
+    Send(v, stamp.has_value());
   }
   // After a group's state was set: q (and qdot when given) from the input, the other field the
   // joint's current one (a positions-only call does not change the newest velocity).
@@ -46,13 +47,64 @@ struct Publisher::Impl {
       PublishJoint(h.index, q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h), stamp);
     }
   }
-  Entity participant, structure_writer, value_writer, sample_writer;
+  // Batching (BeginBatch / Flush): the cycle's values, preallocated (kMaxBatchUpdates).
+  bool batching = false;
+  std::vector<semgraph_wire_Update> batch;
+  std::uint64_t batch_serial = 0;
+  // Set by Cyclone's thread when a reader matched the batch writer: the next Flush republishes
+  // the structure (with every edge's latest value) for it, as the batches name only changes.
+  std::atomic<bool> matched{false};
+
+  // Sends one value: into the batch while batching, else on the value or sample topic.
+  void Send(const semgraph_wire_Value& v, bool stamped) noexcept {
+    if (!batching) {
+      if (dds_write(stamped ? sample_writer.get() : value_writer.get(), &v) != DDS_RETCODE_OK) ++write_failures;
+      return;
+    }
+    if (batch.size() == internal::kMaxBatchUpdates) WriteBatch();
+    semgraph_wire_Update u{};
+    u.edge = v.edge;
+    u.kind = v.kind;
+    u.stamped = stamped;
+    u.seq = v.seq;
+    u.stamp_ns = v.stamp_ns;
+    u.time_ns = v.time_ns;
+    std::copy(v.numbers, v.numbers + 7, u.numbers);
+    batch.push_back(u);  // within the reserved capacity: no allocation
+  }
+  void WriteBatch() noexcept {
+    if (batch.empty()) return;
+    semgraph_wire_Batch b{};
+    b.source = source;
+    b.serial = ++batch_serial;
+    b.updates._length = b.updates._maximum = static_cast<std::uint32_t>(batch.size());
+    b.updates._buffer = batch.data();
+    b.updates._release = false;
+    if (dds_write(batch_writer.get(), &b) != DDS_RETCODE_OK) write_failures += batch.size();
+    batch.clear();
+  }
+
+  // Declared last, destroyed first: the writers (and their listener) go before what they use.
+  Entity participant, structure_writer, value_writer, sample_writer, batch_writer;
 };
 
 std::int64_t NowNs() noexcept { return internal::NowNs(); }
 
 Publisher::Publisher(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Publisher::~Publisher() = default;
+Publisher::~Publisher() {
+  if (impl_ && impl_->batching) impl_->WriteBatch();
+}
+
+void Publisher::BeginBatch() noexcept { impl_->batching = true; }
+
+void Publisher::Flush() {
+  Impl& m = *impl_;
+  m.WriteBatch();
+  m.batching = false;
+  if (m.matched.exchange(false, std::memory_order_acq_rel) && m.revision > 0) {
+    if (!PublishStructure()) ++m.write_failures;
+  }
+}
 
 base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::SceneGraph<>& graph,
                                                                           PublisherOptions options) {
@@ -74,13 +126,26 @@ base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
   const dds_entity_t at = internal::CreateTopic(p, TopicKind::kSample);
-  if (st < 0 || vt < 0 || at < 0) {
-    return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt < 0 ? vt : at)};
+  const dds_entity_t bt = internal::CreateTopic(p, TopicKind::kBatch);
+  if (st < 0 || vt < 0 || at < 0 || bt < 0) {
+    return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt < 0 ? vt : at < 0 ? at : bt)};
   }
   impl->structure_writer = Entity(internal::CreateWriter(p, st, TopicKind::kStructure));
   impl->value_writer = Entity(internal::CreateWriter(p, vt, TopicKind::kValue));
   impl->sample_writer = Entity(internal::CreateWriter(p, at, TopicKind::kSample));
-  if (!impl->structure_writer.ok() || !impl->value_writer.ok() || !impl->sample_writer.ok()) {
+  {
+    dds_listener_t* listener = dds_create_listener(impl.get());
+    dds_lset_publication_matched(listener, [](dds_entity_t, const dds_publication_matched_status_t status, void* arg) {
+      if (status.current_count_change > 0) static_cast<Impl*>(arg)->matched.store(true, std::memory_order_release);
+    });
+    dds_qos_t* qos = internal::MakeQos(TopicKind::kBatch);
+    impl->batch_writer = Entity(dds_create_writer(p, bt, qos, listener));
+    dds_delete_qos(qos);
+    dds_delete_listener(listener);
+  }
+  impl->batch.reserve(internal::kMaxBatchUpdates);
+  if (!impl->structure_writer.ok() || !impl->value_writer.ok() || !impl->sample_writer.ok() ||
+      !impl->batch_writer.ok()) {
     return base::Unexpected{std::string("cannot create the DDS writers")};
   }
   return std::unique_ptr<Publisher>(new Publisher(std::move(impl)));
@@ -256,7 +321,7 @@ base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaternio
   v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
   v.stamp_ns = internal::NowNs();
   PutPose(v.numbers, m.graph->pose_value(edge.child));
-  if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  m.Send(v, false);
   return code;
 }
 
@@ -273,7 +338,7 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
   v.stamp_ns = internal::NowNs();
   PutTwist(v.numbers, v_DHo_H, w_DH_H);
-  if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  m.Send(v, false);
   return code;
 }
 
@@ -295,7 +360,7 @@ base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaternio
   const core::PoseHistory* history = m.graph->pose_history(edge.child);
   if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
   PutPoseSample(v.numbers, h);
-  if (dds_write(m.sample_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  m.Send(v, true);
   return code;
 }
 
@@ -316,7 +381,7 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   const core::TwistHistory* history = m.graph->twist_history(edge.slot);
   if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
   for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
-  if (dds_write(m.sample_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  m.Send(v, true);
   return code;
 }
 

@@ -562,5 +562,116 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
             std::string::npos) << logs;
 }
 
+// Batches (Publisher::BeginBatch / Flush): one cycle's values of several edges, an unstamped
+// pose, stamped samples and a joint state, in one DDS write; the mirror applies them in order
+// as single values. A mirror that joins later gets every edge's latest value: the next Flush
+// republishes the structure for it. A batch of too many updates is rejected whole.
+TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
+  constexpr std::uint32_t kDomain = 26;
+  auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
+  ASSERT_TRUE(mirror) << mirror.error();
+  core::SceneGraph<> g;
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(0), {0, 0, 0}));
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("b", "B").RelativeTo("w", "W"), Rz(0), {0, 0, 0},
+                        core::Stamp::Nanoseconds(0)));
+  core::JointSpec j;
+  j.name = "j";
+  j.type = core::JointType::kPrismatic;
+  j.parent = "a";
+  j.parent_body = "A";
+  j.child = "l";
+  j.child_body = "L";
+  j.axis = {0, 1, 0};
+  j.upper = 10;
+  ASSERT_TRUE(g.AddJoint(j));
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  auto a = g.FindPoseEdge("a", "w");
+  auto b = g.FindPoseEdge("b", "w");
+  const std::string_view names[] = {"j"};
+  auto group = g.MakeJointGroup(names);
+  ASSERT_TRUE(a && b && group);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  constexpr int kCycles = 200;
+  for (int k = 1; k <= kCycles; ++k) {
+    (*pub)->BeginBatch();
+    ASSERT_EQ((*pub)->SetPose(*a, Rz(0.01 * k), {0.1 * k, 0, 0}), base::ErrorCode::kOk);
+    ASSERT_EQ((*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, core::Stamp::Nanoseconds(1000 * k)),
+              base::ErrorCode::kOk);
+    const double q[] = {0.01 * k};
+    ASSERT_EQ((*pub)->SetJointPositions(*group, q), base::ErrorCode::kOk);
+    (*pub)->Flush();
+  }
+  // Every edge's last value arrived (a structure republished for this mirror, when it matched
+  // after the first PublishStructure, may have carried some values before their batch did).
+  auto last_seen = [&] {
+    std::uint64_t seen = 0;
+    for (const dds::EdgeState& e : (*mirror)->Edges()) {
+      if (e.seq == static_cast<std::uint64_t>(kCycles)) ++seen;
+    }
+    return seen;
+  };
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return last_seen() == 3; }, 5s)) << last_seen();
+  EXPECT_LE((*mirror)->values_applied(), 3u * kCycles);
+  EXPECT_EQ((*pub)->write_failures(), 0u);
+  auto check = [&](const core::SceneGraph<>& m, const std::string& who) {
+    // l in w: X_wa X_al, a translation of 2 along y (q = 2) after a's last value.
+    auto X = m.GetPose(core::PoseSpec::Of("l").RelativeTo("w"));
+    ASSERT_TRUE(X) << who;
+    const Eigen::Isometry3d X_wl = Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
+    EXPECT_LT((X->ToIsometry().matrix() - X_wl.matrix()).norm(), 1e-12) << who;
+    // The stamped edge's history holds every cycle's sample.
+    for (int k = 1; k <= kCycles; ++k) {
+      auto Y = m.GetPose(core::PoseSpec::Of("b").RelativeTo("w"), core::At(core::Stamp::Nanoseconds(1000 * k)));
+      ASSERT_TRUE(Y) << who << " " << k;
+      EXPECT_LT((Y->value.ToIsometry().matrix() - Iso(Rz(-0.01 * k), {0, 0.1 * k, 0}).matrix()).norm(), 1e-12)
+          << who << " " << k;
+    }
+  };
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { check(m, "mirror"); });
+
+  // A late mirror: it matches, the next Flush republishes the structure with the latest values.
+  auto late = dds::Mirror::Create({"late", kDomain, {}, {}, {}, {}});
+  ASSERT_TRUE(late);
+  ASSERT_TRUE((*late)->WaitUntil([&] { return (*late)->CaughtUp(); }, 5s));
+  const std::uint64_t revision = (*pub)->revision();
+  ASSERT_TRUE((*late)->WaitUntil(
+      [&] {
+        (*pub)->BeginBatch();
+        (*pub)->Flush();  // an empty cycle: only the republish, once the late mirror matched
+        return (*pub)->revision() > revision && (*late)->Owners().size() == 1 &&
+               (*late)->Owners()[0].revision == (*pub)->revision() && (*late)->CaughtUp();
+      },
+      5s));
+  (*late)->WithGraph([&](const core::SceneGraph<>& m) {
+    auto X = m.GetPose(core::PoseSpec::Of("l").RelativeTo("w"));
+    ASSERT_TRUE(X);
+    const Eigen::Isometry3d X_wl = Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
+    EXPECT_LT((X->ToIsometry().matrix() - X_wl.matrix()).norm(), 1e-12);
+  });
+
+  // A hostile batch: more updates than a batch may hold.
+  RawWriter batches(kDomain, &semgraph_wire_Batch_desc, "semgraph_batches");
+  std::vector<semgraph_wire_Update> many(2000);
+  for (semgraph_wire_Update& u : many) {
+    u.edge = g.FindFrame("a").value();
+    u.seq = 100000;
+    u.numbers[0] = 1;
+  }
+  semgraph_wire_Batch big{};
+  big.source = (*pub)->source();
+  big.serial = 1;
+  big.updates._length = big.updates._maximum = static_cast<std::uint32_t>(many.size());
+  big.updates._buffer = many.data();
+  std::string before;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+  const std::uint64_t rejected = (*mirror)->messages_rejected();
+  ASSERT_EQ(dds_write(batches.writer, &big), DDS_RETCODE_OK);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() > rejected; }, 5s));
+  std::string after;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  EXPECT_EQ(before, after);
+}
+
 }  // namespace
 }  // namespace semgraph::dds_test

@@ -25,7 +25,8 @@
 // (pose: X_TH of {tail} -> {head} in [tail]; twist: the screw twist at {head} in [head]).
 // Costs: PublishStructure O(frames + edges) and one DDS sample (allocates); SetPose/SetTwist
 // O(1) for the graph plus one DDS write of a 100-byte sample (the DDS write takes Cyclone's
-// locks and allocates its serialized sample: it is not on the real-time path).
+// locks and allocates its serialized sample: it is not on the real-time path); in a batch
+// (BeginBatch / Flush) a copy into the preallocated batch, and one DDS write per Flush.
 // Thread safety: one thread uses a Publisher and its graph (the graph's own rules apply to
 // readers of compiled queries on other threads).
 #pragma once
@@ -92,6 +93,16 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                               std::span<const double> qdot) noexcept;
   [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
                                               std::span<const double> qdot, core::Stamp stamp) noexcept;
+
+  /// Batching, one DDS write per control cycle: after BeginBatch(), the values set through
+  /// this publisher (poses, twists, joint states, stamped or not) are collected (up to 1024,
+  /// preallocated; a full batch is written at once) and Flush() writes them as one sample on the
+  /// batch topic (reliable, transient-local, keep-last 64 batches per publisher) and ends the
+  /// batch. Mirrors apply a batch's values in order, under the same rules as single values.
+  /// Flush republishes the structure (allocates) when a new mirror matched since the last one,
+  /// so that it gets every edge's latest value, not only those of the batches it receives.
+  void BeginBatch() noexcept;
+  void Flush();
 
   [[nodiscard]] const std::string& owner() const noexcept;
   [[nodiscard]] std::uint64_t source() const noexcept;
