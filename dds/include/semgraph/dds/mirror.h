@@ -26,6 +26,8 @@
 //     a parent from an earlier owner is refused multiple_pose_parents, any other AddJoint error
 //     with its code); their states through SetJoints / SetJointState, stamped or not, so mimics
 //     follow and the joint rules (limits, stamp rules) apply as in the publisher.
+//   - batches (Publisher::BeginBatch / Flush): a batch's values are applied in order under the
+//     same rules as single values, then on_change is called once.
 //   - faults: a publisher whose lease ends (killed, cut off) is reported `liveliness_lost`; its
 //     edges and last values stay. Its restarted incarnation (same owner name) replaces its
 //     structure: the replica is reconciled to it (no duplicate, no leftover edge). A
