@@ -368,6 +368,13 @@ struct Mirror::Impl {
     const double* numbers;
   };
   bool HandleValue(const In& v, bool samples);
+  // on_change, one call at a time (values are taken on Cyclone's and the mirror's threads).
+  std::mutex change_mutex;
+  void Changed() {
+    if (!options.on_change) return;
+    std::lock_guard<std::mutex> lock(change_mutex);
+    options.on_change();
+  }
   void TakeValues(dds_entity_t reader, bool samples);
   void TakeBatches();
   void Reconcile();
@@ -379,6 +386,10 @@ struct Mirror::Impl {
 Mirror::Mirror(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 Mirror::~Mirror() {
+  // No listener runs after this (dds_set_listener waits for the callbacks in progress).
+  for (const Entity* r : {&impl_->value_reader, &impl_->sample_reader, &impl_->batch_reader}) {
+    if (r->ok()) (void)dds_set_listener(r->get(), nullptr);
+  }
   impl_->stop.store(true);
   if (impl_->guard.ok()) dds_set_guardcondition(impl_->guard.get(), true);
   if (impl_->thread.joinable()) impl_->thread.join();
@@ -420,6 +431,27 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
       dds_waitset_attach(m.waitset.get(), c3, 3) < 0 || dds_waitset_attach(m.waitset.get(), c4, 4) < 0 ||
       dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
     return base::Unexpected{std::string("cannot attach the DDS conditions")};
+  }
+  // Values are taken where they arrive: a data-available listener runs on Cyclone's receive
+  // thread (one thread hand-off less than waking the mirror's thread); the mirror's thread
+  // still takes whatever is left (e.g. samples that arrived before the listener was set).
+  {
+    dds_listener_t* listener = dds_create_listener(&m);
+    dds_lset_data_available(listener, [](dds_entity_t reader, void* arg) {
+      Impl& self = *static_cast<Impl*>(arg);
+      if (reader == self.batch_reader.get()) {
+        self.TakeBatches();
+      } else {
+        self.TakeValues(reader, reader == self.sample_reader.get());
+      }
+    });
+    for (const Entity* r : {&m.value_reader, &m.sample_reader, &m.batch_reader}) {
+      if (dds_set_listener(r->get(), listener) < 0) {
+        dds_delete_listener(listener);
+        return base::Unexpected{std::string("cannot set the DDS reader listeners")};
+      }
+    }
+    dds_delete_listener(listener);
   }
   m.thread = std::thread([&m] { m.Loop(); });
   return std::unique_ptr<Mirror>(new Mirror(std::move(impl)));
@@ -486,7 +518,7 @@ void Mirror::Impl::TakeStructure() {
       Reconcile();
     }
     generation.fetch_add(1, std::memory_order_release);
-    if (options.on_change) options.on_change();
+    Changed();
   }
 }
 
@@ -603,7 +635,7 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
     }
     if (applied_now > 0) {
       values.fetch_add(applied_now, std::memory_order_release);
-      if (options.on_change) options.on_change();
+      Changed();
     }
     if (n < kTakeBatch) break;
   }
@@ -637,7 +669,7 @@ void Mirror::Impl::TakeBatches() {
     dds_return_loan(batch_reader.get(), samples, n);
     if (applied_now > 0) {
       values.fetch_add(applied_now, std::memory_order_release);
-      if (options.on_change) options.on_change();
+      Changed();
     }
     if (n < 16) break;
   }

@@ -1,8 +1,10 @@
 // File: semgraph/dds/mirror.h
 //
 // Mirror: a local replica of the scene shared on a DDS domain by any number of publishers
-// (publisher.h; docs/distributed.md). A receive thread takes the structure and value samples
-// and is the only writer of the replica graph:
+// (publisher.h; docs/distributed.md). The mirror's receive thread takes the structure samples;
+// values are taken where they arrive (a data-available listener on Cyclone's receive thread,
+// and the mirror's thread for any left over). Writers of the replica graph run one at a time
+// (one lock), so the graph has one writer at any moment:
 //   - structure: every owner's latest structure is kept; after each change the mirror decides
 //     the replica from scratch, deterministically: owners in the order (start time of their
 //     incarnation, owner name), each owner's elements in the order bodies, frames, poses,
@@ -65,9 +67,10 @@ struct Report {
 struct MirrorOptions {
   std::string name = "mirror";           ///< names the mirror in status reports
   std::uint32_t domain = kDefaultDomain;
-  /// On the receive thread, for every report (refusals in the deterministic order).
+  /// On a receive thread, for every report (refusals in the deterministic order).
   std::function<void(const Report&)> on_report;
-  /// On the receive thread, after each batch of values (or structure change) was applied.
+  /// On a receive thread (the mirror's or Cyclone's), one call at a time, after each batch of
+  /// values (or structure change) was applied.
   std::function<void()> on_change;
   /// Runs each topology change: called with the change, which it must call once (e.g. after
   /// pausing readers). Default: call it directly.
