@@ -7,7 +7,10 @@
 //               records now - p.y (one machine, one clock). p50 / p99 / p99.9.
 //   throughput: 100 edges set as fast as the publisher can; the mirror counts values applied
 //               per second while the reader keeps evaluating.
-//   dds_bench [SAMPLES] [UPDATES]    defaults 20000, 300000; domain 41
+//   reader:     spin (the reader thread spins on the query) or wait (it blocks until the
+//               mirror's on_change wakes it: C++20 atomic wait, a futex).
+//   batch:      1 (one DDS write per update) or N (Publisher::BeginBatch / Flush per N updates).
+//   dds_bench [SAMPLES] [UPDATES] [spin|wait] [BATCH]    defaults 20000, 300000, spin, 1; domain 41
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -35,8 +38,18 @@ constexpr int kEdges = 100;
 
 double Seconds() { return static_cast<double>(dds::NowNs()) * 1e-9; }
 
-int MirrorMain(long samples, long updates) {
-  auto m = dds::Mirror::Create({"bench", kDomain, {}, {}, {}, {}});
+int MirrorMain(long samples, long updates, bool wait) {
+  std::atomic<std::uint64_t> changes{0};
+  dds::MirrorOptions options;
+  options.name = "bench";
+  options.domain = kDomain;
+  if (wait) {
+    options.on_change = [&changes] {
+      changes.fetch_add(1, std::memory_order_release);
+      changes.notify_one();
+    };
+  }
+  auto m = dds::Mirror::Create(options);
   if (!m) return 3;
   dds::Mirror& mirror = **m;
   if (!mirror.WaitUntil([&] { return mirror.CaughtUp(); }, 20s)) return 4;
@@ -50,11 +63,16 @@ int MirrorMain(long samples, long updates) {
   latency_us.reserve(samples);
   std::atomic<bool> stop{false};
   std::atomic<long> evaluations{0}, recorded{0};
-  // Latency: the reader thread spins on the compiled query.
+  // Latency: the reader thread spins on the compiled query, or waits for a change.
   std::thread reader([&] {
     coord::QuaternionBackend::PoseCoords X;
     double seen = 0;
+    std::uint64_t last_change = changes.load(std::memory_order_acquire);
     while (!stop.load(std::memory_order_relaxed)) {
+      if (wait) {
+        changes.wait(last_change, std::memory_order_acquire);
+        last_change = changes.load(std::memory_order_acquire);
+      }
       if (e0->Evaluate(X) != base::ErrorCode::kOk) continue;
       evaluations.fetch_add(1, std::memory_order_relaxed);
       if (X.translation.x() != seen && static_cast<long>(latency_us.size()) < samples) {
@@ -95,6 +113,8 @@ int MirrorMain(long samples, long updates) {
   }
   const std::uint64_t applied = mirror.values_applied() - first;
   stop.store(true);
+  changes.fetch_add(1);
+  changes.notify_one();
   reader.join();
   std::sort(latency_us.begin(), latency_us.end());
   auto pct = [&](double p) {
@@ -108,7 +128,7 @@ int MirrorMain(long samples, long updates) {
   return 0;
 }
 
-int PublisherMain(const char* self, long samples, long updates) {
+int PublisherMain(const char* self, long samples, long updates, const char* reader_mode, long batch) {
   core::SceneGraph<> g;
   std::vector<core::PoseHandle> edges;
   for (int i = 0; i < kEdges; ++i) {
@@ -124,7 +144,7 @@ int PublisherMain(const char* self, long samples, long updates) {
   posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   const std::string s1 = std::to_string(samples), s2 = std::to_string(updates);
   char* argv[] = {const_cast<char*>(self), const_cast<char*>("mirror"), const_cast<char*>(s1.c_str()),
-                  const_cast<char*>(s2.c_str()), nullptr};
+                  const_cast<char*>(s2.c_str()), const_cast<char*>(reader_mode), nullptr};
   pid_t pid = 0;
   if (posix_spawn(&pid, self, &actions, nullptr, argv, environ) != 0) return 3;
   // Wait for READY.
@@ -147,12 +167,15 @@ int PublisherMain(const char* self, long samples, long updates) {
   const double t0 = Seconds();
   for (long k = 1; k <= updates; ++k) {
     const int e = static_cast<int>(k % kEdges);
+    if (batch > 1 && k % batch == 1) (*pub)->BeginBatch();
     (void)(*pub)->SetPose(edges[e], Eigen::Quaterniond::Identity(), {static_cast<double>(k), 0, 0});
+    if (batch > 1 && (k % batch == 0 || k == updates)) (*pub)->Flush();
   }
   (void)(*pub)->SetPose(edges[kEdges - 1], Eigen::Quaterniond::Identity(), {-1.0, 0, 0});
   const double t1 = Seconds();
-  std::printf("publisher sent %ld updates in %.3f s: %.0f updates/s (write failures %llu)\n", updates, t1 - t0,
-              updates / (t1 - t0), static_cast<unsigned long long>((*pub)->write_failures()));
+  std::printf("reader %s, batch %ld: publisher sent %ld updates in %.3f s: %.0f updates/s (write failures %llu)\n",
+              reader_mode, batch, updates, t1 - t0, updates / (t1 - t0),
+              static_cast<unsigned long long>((*pub)->write_failures()));
   int status = 0;
   waitpid(pid, &status, 0);
   std::FILE* f = std::fopen(out_path.c_str(), "r");
@@ -169,7 +192,10 @@ int PublisherMain(const char* self, long samples, long updates) {
 
 int main(int argc, char** argv) {
   if (argc >= 2 && std::string(argv[1]) == "mirror") {
-    return MirrorMain(argc > 2 ? std::atol(argv[2]) : 20000, argc > 3 ? std::atol(argv[3]) : 300000);
+    return MirrorMain(argc > 2 ? std::atol(argv[2]) : 20000, argc > 3 ? std::atol(argv[3]) : 300000,
+                      argc > 4 && std::string(argv[4]) == "wait");
   }
-  return PublisherMain(argv[0], argc > 1 ? std::atol(argv[1]) : 20000, argc > 2 ? std::atol(argv[2]) : 300000);
+  const char* reader_mode = argc > 3 && std::string(argv[3]) == "wait" ? "wait" : "spin";
+  return PublisherMain(argv[0], argc > 1 ? std::atol(argv[1]) : 20000, argc > 2 ? std::atol(argv[2]) : 300000,
+                       reader_mode, argc > 4 ? std::max(1L, std::atol(argv[4])) : 1);
 }

@@ -1,6 +1,9 @@
 // Publisher (publisher.h): the graph's structure as one sample per owner, values per edge.
 #include "semgraph/dds/publisher.h"
 
+#include <atomic>
+#include <map>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -20,13 +23,88 @@ struct Publisher::Impl {
   std::uint64_t write_failures = 0;
   // Per frame (the edge id of the pose or twist edge into it): values published so far.
   std::vector<std::uint64_t> pose_seq, twist_seq;
-  Entity participant, structure_writer, value_writer;
+  std::vector<std::uint64_t> joint_seq;  // per joint index: states published so far
+
+  // Publishes joint `index`'s state (q, qdot), stamped or not.
+  void PublishJoint(std::uint32_t index, double q, double qdot, std::optional<core::Stamp> stamp) noexcept {
+    semgraph_wire_Value v{};
+    v.source = source;
+    v.edge = index;
+    v.kind = semgraph_wire_VALUE_JOINT;
+    v.seq = index < joint_seq.size() ? ++joint_seq[index] : 0;
+    v.stamp_ns = internal::NowNs();
+    v.numbers[0] = q;
+    v.numbers[1] = qdot;
+    if (stamp) v.time_ns = stamp->nanoseconds();
+    Send(v, stamp.has_value());
+  }
+  // After a group's state was set: q (and qdot when given) from the input, the other field the
+  // joint's current one (a positions-only call does not change the newest velocity).
+  void PublishGroup(const core::JointGroup& group, std::span<const double> q, const double* qdot,
+                    std::optional<core::Stamp> stamp) noexcept {
+    for (std::size_t i = 0; i < group.size(); ++i) {
+      const core::JointHandle h = group.joints[i];
+      PublishJoint(h.index, q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h), stamp);
+    }
+  }
+  // Batching (BeginBatch / Flush): the cycle's values, preallocated (kMaxBatchUpdates).
+  bool batching = false;
+  std::vector<semgraph_wire_Update> batch;
+  std::uint64_t batch_serial = 0;
+  // Set by Cyclone's thread when a reader matched the batch writer: the next Flush republishes
+  // the structure (with every edge's latest value) for it, as the batches name only changes.
+  std::atomic<bool> matched{false};
+
+  // Sends one value: into the batch while batching, else on the value or sample topic.
+  void Send(const semgraph_wire_Value& v, bool stamped) noexcept {
+    if (!batching) {
+      if (dds_write(stamped ? sample_writer.get() : value_writer.get(), &v) != DDS_RETCODE_OK) ++write_failures;
+      return;
+    }
+    if (batch.size() == internal::kMaxBatchUpdates) WriteBatch();
+    semgraph_wire_Update u{};
+    u.edge = v.edge;
+    u.kind = v.kind;
+    u.stamped = stamped;
+    u.seq = v.seq;
+    u.stamp_ns = v.stamp_ns;
+    u.time_ns = v.time_ns;
+    std::copy(v.numbers, v.numbers + 7, u.numbers);
+    batch.push_back(u);  // within the reserved capacity: no allocation
+  }
+  void WriteBatch() noexcept {
+    if (batch.empty()) return;
+    semgraph_wire_Batch b{};
+    b.source = source;
+    b.serial = ++batch_serial;
+    b.updates._length = b.updates._maximum = static_cast<std::uint32_t>(batch.size());
+    b.updates._buffer = batch.data();
+    b.updates._release = false;
+    if (dds_write(batch_writer.get(), &b) != DDS_RETCODE_OK) write_failures += batch.size();
+    batch.clear();
+  }
+
+  // Declared last, destroyed first: the writers (and their listener) go before what they use.
+  Entity participant, structure_writer, value_writer, sample_writer, batch_writer;
 };
 
 std::int64_t NowNs() noexcept { return internal::NowNs(); }
 
 Publisher::Publisher(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Publisher::~Publisher() = default;
+Publisher::~Publisher() {
+  if (impl_ && impl_->batching) impl_->WriteBatch();
+}
+
+void Publisher::BeginBatch() noexcept { impl_->batching = true; }
+
+void Publisher::Flush() {
+  Impl& m = *impl_;
+  m.WriteBatch();
+  m.batching = false;
+  if (m.matched.exchange(false, std::memory_order_acq_rel) && m.revision > 0) {
+    if (!PublishStructure()) ++m.write_failures;
+  }
+}
 
 base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::SceneGraph<>& graph,
                                                                           PublisherOptions options) {
@@ -47,10 +125,27 @@ base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::
   const dds_entity_t p = impl->participant.get();
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
-  if (st < 0 || vt < 0) return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt)};
+  const dds_entity_t at = internal::CreateTopic(p, TopicKind::kSample);
+  const dds_entity_t bt = internal::CreateTopic(p, TopicKind::kBatch);
+  if (st < 0 || vt < 0 || at < 0 || bt < 0) {
+    return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt < 0 ? vt : at < 0 ? at : bt)};
+  }
   impl->structure_writer = Entity(internal::CreateWriter(p, st, TopicKind::kStructure));
   impl->value_writer = Entity(internal::CreateWriter(p, vt, TopicKind::kValue));
-  if (!impl->structure_writer.ok() || !impl->value_writer.ok()) {
+  impl->sample_writer = Entity(internal::CreateWriter(p, at, TopicKind::kSample));
+  {
+    dds_listener_t* listener = dds_create_listener(impl.get());
+    dds_lset_publication_matched(listener, [](dds_entity_t, const dds_publication_matched_status_t status, void* arg) {
+      if (status.current_count_change > 0) static_cast<Impl*>(arg)->matched.store(true, std::memory_order_release);
+    });
+    dds_qos_t* qos = internal::MakeQos(TopicKind::kBatch);
+    impl->batch_writer = Entity(dds_create_writer(p, bt, qos, listener));
+    dds_delete_qos(qos);
+    dds_delete_listener(listener);
+  }
+  impl->batch.reserve(internal::kMaxBatchUpdates);
+  if (!impl->structure_writer.ok() || !impl->value_writer.ok() || !impl->sample_writer.ok() ||
+      !impl->batch_writer.ok()) {
     return base::Unexpected{std::string("cannot create the DDS writers")};
   }
   return std::unique_ptr<Publisher>(new Publisher(std::move(impl)));
@@ -72,6 +167,12 @@ void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
   n[6] = 0.0;
 }
 
+// A history's stored sample (x y z w p / v w) in wire order.
+void PutPoseSample(double* n, const double (&h)[7]) {
+  n[0] = h[3]; n[1] = h[0]; n[2] = h[1]; n[3] = h[2];
+  n[4] = h[4]; n[5] = h[5]; n[6] = h[6];
+}
+
 }  // namespace
 
 base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
@@ -79,6 +180,8 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   const core::SceneGraph<>& g = *m.graph;
   m.pose_seq.resize(g.num_frames(), 0);
   m.twist_seq.resize(g.num_frames(), 0);
+  const core::internal::JointTable& joints = g.joint_table();
+  m.joint_seq.resize(joints.joints.size(), 0);
   // Names are copied into strings first: the sample points into them.
   struct Row {
     std::uint8_t kind;
@@ -86,6 +189,8 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     std::uint64_t seq;
     std::string head, head_body, tail, tail_body;
     double numbers[7] = {0, 0, 0, 0, 0, 0, 0};
+    bool stamped = false;
+    std::int64_t time_ns = 0;
   };
   std::vector<Row> rows;
   rows.reserve(g.num_bodies() + 3 * g.num_frames());
@@ -100,20 +205,28 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
     const core::FrameIndex f(i);
     const core::FrameIndex t = g.pose_parent(f);
-    if (!t.is_valid()) continue;
+    if (!t.is_valid() || joints.OfChild(f) != nullptr) continue;  // a joint's edge goes with the joint
     Row r{semgraph_wire_ELEMENT_POSE, i, m.pose_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
           std::string(g.frame_name(t)), std::string(g.body_name(g.body_of(t)))};
     PutPose(r.numbers, g.pose_value(f));
+    if (const core::PoseHistory* h = g.pose_history(f)) {
+      r.stamped = true;
+      r.time_ns = h->newest_stamp();
+    }
     rows.push_back(std::move(r));
   }
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
     const core::FrameIndex f(i);
     const core::BodyIndex d = g.twist_parent(f);
-    if (!d.is_valid()) continue;
+    if (!d.is_valid() || joints.OfChild(f) != nullptr) continue;
     const auto V = g.twist_value(f);
     Row r{semgraph_wire_ELEMENT_TWIST, i, m.twist_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
           std::string(g.body_name(d)), {}};
     PutTwist(r.numbers, V->linear, V->angular);
+    if (const core::TwistHistory* h = g.twist_history(g.topology().twist_edge_of(f))) {
+      r.stamped = true;
+      r.time_ns = h->newest_stamp();
+    }
     rows.push_back(std::move(r));
   }
   std::vector<semgraph_wire_Element> elements(rows.size());
@@ -127,8 +240,57 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     e.tail = rows[k].tail.data();
     e.tail_body = rows[k].tail_body.data();
     for (int j = 0; j < 7; ++j) e.numbers[j] = rows[k].numbers[j];
+    e.stamped = rows[k].stamped;
+    e.time_ns = rows[k].time_ns;
+  }
+  // Joints: names copied first (the sample points into them).
+  struct JointRow {
+    std::string name, parent, parent_body, child, child_body, mimic;
+  };
+  std::vector<JointRow> joint_names;
+  std::vector<semgraph_wire_Joint> joint_rows;
+  joint_names.reserve(joints.joints.size());
+  joint_rows.reserve(joints.joints.size());
+  for (std::uint32_t i = 0; i < joints.joints.size(); ++i) {
+    const core::internal::JointRecord& j = joints.joints[i];
+    if (!j.alive) continue;
+    joint_names.push_back({j.name, std::string(g.frame_name(j.parent)), std::string(g.body_name(j.parent_body)),
+                           std::string(g.frame_name(j.child)), std::string(g.body_name(j.child_body)),
+                           j.is_mimic() ? joints.joints[j.master].name : std::string()});
+    const JointRow& names = joint_names.back();
+    semgraph_wire_Joint w{};
+    w.id = i;
+    w.seq = m.joint_seq[i];
+    w.type = static_cast<std::uint8_t>(j.type);
+    w.name = const_cast<char*>(names.name.c_str());
+    w.parent = const_cast<char*>(names.parent.c_str());
+    w.parent_body = const_cast<char*>(names.parent_body.c_str());
+    w.child = const_cast<char*>(names.child.c_str());
+    w.child_body = const_cast<char*>(names.child_body.c_str());
+    w.mimic = const_cast<char*>(names.mimic.c_str());
+    w.origin[0] = j.q_origin.w(); w.origin[1] = j.q_origin.x(); w.origin[2] = j.q_origin.y(); w.origin[3] = j.q_origin.z();
+    for (int k = 0; k < 3; ++k) {
+      w.origin[4 + k] = j.p_origin[k];
+      w.axis[k] = j.axis[k];
+    }
+    w.lower = j.lower;
+    w.upper = j.upper;
+    w.multiplier = j.multiplier;
+    w.offset = j.offset;
+    w.q = j.q;
+    w.qdot = j.qdot;
+    if (const core::PoseHistory* h = g.pose_history(j.child)) {
+      w.state = semgraph_wire_JOINT_STATE_STAMPED;
+      w.time_ns = h->newest_stamp();
+    } else {
+      w.state = j.timeless ? semgraph_wire_JOINT_STATE_TIMELESS : semgraph_wire_JOINT_STATE_NONE;
+    }
+    joint_rows.push_back(w);
   }
   semgraph_wire_Structure s{};
+  s.joints._length = s.joints._maximum = static_cast<std::uint32_t>(joint_rows.size());
+  s.joints._buffer = joint_rows.data();
+  s.joints._release = false;
   s.owner = m.owner.data();
   s.source = m.source;
   s.started_ns = m.started_ns;
@@ -136,6 +298,11 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   s.elements._length = s.elements._maximum = static_cast<std::uint32_t>(elements.size());
   s.elements._buffer = elements.data();
   s.elements._release = false;
+  const core::TimeOptions& time = g.time_options();
+  s.window_ns = time.window.nanoseconds();
+  s.interpolation = static_cast<std::uint8_t>(time.interpolation);
+  s.duplicate_stamp = static_cast<std::uint8_t>(time.duplicate_stamp);
+  s.sample_capacity = static_cast<std::uint32_t>(time.sample_capacity);
   const dds_return_t rc = dds_write(m.structure_writer.get(), &s);
   if (rc != DDS_RETCODE_OK) return base::Unexpected{internal::DdsError("cannot publish the structure", rc)};
   return base::Ok{};
@@ -154,7 +321,7 @@ base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaternio
   v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
   v.stamp_ns = internal::NowNs();
   PutPose(v.numbers, m.graph->pose_value(edge.child));
-  if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  m.Send(v, false);
   return code;
 }
 
@@ -171,7 +338,143 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
   v.stamp_ns = internal::NowNs();
   PutTwist(v.numbers, v_DHo_H, w_DH_H);
-  if (dds_write(m.value_writer.get(), &v) != DDS_RETCODE_OK) ++m.write_failures;
+  m.Send(v, false);
+  return code;
+}
+
+base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                   const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T, stamp);
+  if (code != base::ErrorCode::kOk) return code;
+  const std::uint32_t id = edge.child.value();
+  semgraph_wire_Value v{};
+  v.source = m.source;
+  v.edge = id;
+  v.kind = semgraph_wire_VALUE_POSE;
+  v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
+  v.stamp_ns = internal::NowNs();
+  v.time_ns = stamp.nanoseconds();
+  // The sample as stored (the newest value may be another sample's: out-of-order stamps).
+  double h[7];
+  const core::PoseHistory* history = m.graph->pose_history(edge.child);
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
+  PutPoseSample(v.numbers, h);
+  m.Send(v, true);
+  return code;
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp);
+  if (code != base::ErrorCode::kOk) return code;
+  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
+  semgraph_wire_Value v{};
+  v.source = m.source;
+  v.edge = id;
+  v.kind = semgraph_wire_VALUE_TWIST;
+  v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
+  v.stamp_ns = internal::NowNs();
+  v.time_ns = stamp.nanoseconds();
+  double h[6];
+  const core::TwistHistory* history = m.graph->twist_history(edge.slot);
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
+  for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
+  m.Send(v, true);
+  return code;
+}
+
+namespace {
+
+// The joints a by-name call names, each with the value it was given (the last one, as the
+// graph applies them), in the order of first mention.
+struct Named {
+  std::uint32_t index;
+  std::optional<double> q, qdot;
+};
+std::vector<Named> NamedJoints(const core::SceneGraph<>& g, std::span<const core::JointValue> positions,
+                               std::span<const core::JointValue> velocities) {
+  std::vector<Named> out;
+  std::map<std::uint32_t, std::size_t> at;
+  auto add = [&](const core::JointValue& v, bool velocity) {
+    auto h = g.FindJoint(v.joint);
+    if (!h) return;
+    auto [it, fresh] = at.emplace(h->index, out.size());
+    if (fresh) out.push_back({h->index, std::nullopt, std::nullopt});
+    (velocity ? out[it->second].qdot : out[it->second].q) = v.value;
+  };
+  for (const core::JointValue& v : positions) add(v, false);
+  for (const core::JointValue& v : velocities) add(v, true);
+  return out;
+}
+
+}  // namespace
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities) {
+  Impl& m = *impl_;
+  core::BuildResult res = m.graph->SetJoints(positions, velocities);
+  if (!res) return res;
+  const core::internal::JointTable& t = m.graph->joint_table();
+  for (const Named& n : NamedJoints(*m.graph, positions, velocities)) {
+    const core::internal::JointRecord& j = t.joints[n.index];
+    m.PublishJoint(n.index, n.q.value_or(j.q), n.qdot.value_or(j.qdot), std::nullopt);
+  }
+  return res;
+}
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities, core::Stamp stamp) {
+  Impl& m = *impl_;
+  const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities);
+  const core::internal::JointTable& t = m.graph->joint_table();
+  std::vector<bool> was_stamped;
+  for (const Named& n : named) was_stamped.push_back(m.graph->pose_history(t.joints[n.index].child) != nullptr);
+  core::BuildResult res = m.graph->SetJoints(positions, velocities, stamp);
+  if (!res) return res;
+  bool structure = false;
+  for (std::size_t i = 0; i < named.size(); ++i) {
+    const Named& n = named[i];
+    const core::internal::JointRecord& j = t.joints[n.index];
+    if (!was_stamped[i]) {
+      // Its first stamped state: the joint's edges became stamped, a structure change (the
+      // structure carries this state as the newest sample).
+      if (n.index < m.joint_seq.size()) ++m.joint_seq[n.index];
+      structure = true;
+      continue;
+    }
+    // A field not given keeps the newest sample's value, which the call did not change.
+    m.PublishJoint(n.index, n.q.value_or(j.q), n.qdot.value_or(j.qdot), stamp);
+  }
+  if (structure) {
+    auto published = PublishStructure();
+    if (!published) ++m.write_failures;
+  }
+  return res;
+}
+
+base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group, std::span<const double> q) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointPositions(group, q);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, std::nullopt);
+  return code;
+}
+base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group, std::span<const double> q,
+                                             core::Stamp stamp) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointPositions(group, q, stamp);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, stamp);
+  return code;
+}
+base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                         std::span<const double> qdot) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), std::nullopt);
+  return code;
+}
+base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                         std::span<const double> qdot, core::Stamp stamp) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, stamp);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), stamp);
   return code;
 }
 

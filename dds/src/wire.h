@@ -14,6 +14,13 @@ namespace semgraph::dds::internal {
 inline constexpr const char* kStructureTopic = "semgraph_structure";
 inline constexpr const char* kValueTopic = "semgraph_values";
 inline constexpr const char* kStatusTopic = "semgraph_status";
+inline constexpr const char* kSampleTopic = "semgraph_samples";
+/// Stamped samples kept per edge by the sample topic's writers (and offered to late joiners).
+inline constexpr int kSampleDepth = 1024;
+inline constexpr const char* kBatchTopic = "semgraph_batches";
+/// Batches kept per publisher by the batch topic's writers, and the updates of one batch.
+inline constexpr int kBatchDepth = 64;
+inline constexpr std::uint32_t kMaxBatchUpdates = 1024;
 
 /// Owns one DDS entity (participant, topic, reader, writer, waitset, condition): deletes it,
 /// and with it its children, on destruction.
@@ -49,19 +56,26 @@ inline std::string DdsError(const char* what, dds_return_t rc) {
   return std::string(what) + ": " + dds_strretcode(rc);
 }
 
-enum class TopicKind { kStructure, kValue, kStatus };
+enum class TopicKind { kStructure, kValue, kStatus, kSample, kBatch };
 
 /// The QoS of each topic, used by its writers and readers alike (docs/distributed.md):
 ///   structure  reliable, transient-local, keep-last 1 per owner (the whole structure)
 ///   values     reliable, transient-local, keep-last 1 per edge (the latest value)
 ///   status     reliable, transient-local, keep-last 64 per mirror
+///   samples    reliable, transient-local, keep-last kSampleDepth per edge (stamped samples:
+///              a history needs every one, not only the latest)
+///   batches    reliable, transient-local, keep-last kBatchDepth per publisher (writer),
+///              keep-all (reader): one control cycle's values in one sample
 /// Liveliness automatic: a publisher is alive while its participant's lease is renewed (the
 /// lease duration is the domain's configuration: Discovery/LeaseDuration).
 inline dds_qos_t* MakeQos(TopicKind kind) {
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, kind == TopicKind::kStatus ? 64 : 1);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, kind == TopicKind::kStatus   ? 64
+                                                  : kind == TopicKind::kSample ? kSampleDepth
+                                                  : kind == TopicKind::kBatch  ? kBatchDepth
+                                                                               : 1);
   dds_qset_destination_order(qos, DDS_DESTINATIONORDER_BY_RECEPTION_TIMESTAMP);
   return qos;
 }
@@ -69,10 +83,13 @@ inline dds_qos_t* MakeQos(TopicKind kind) {
 /// Creates a topic with its QoS; a negative return is DDS's error.
 inline dds_entity_t CreateTopic(dds_entity_t participant, TopicKind kind) {
   const dds_topic_descriptor_t* desc = kind == TopicKind::kStructure ? &semgraph_wire_Structure_desc
-                                       : kind == TopicKind::kValue   ? &semgraph_wire_Value_desc
-                                                                     : &semgraph_wire_Status_desc;
+                                       : kind == TopicKind::kStatus  ? &semgraph_wire_Status_desc
+                                       : kind == TopicKind::kBatch   ? &semgraph_wire_Batch_desc
+                                                                     : &semgraph_wire_Value_desc;
   const char* name = kind == TopicKind::kStructure ? kStructureTopic
                      : kind == TopicKind::kValue   ? kValueTopic
+                     : kind == TopicKind::kSample  ? kSampleTopic
+                     : kind == TopicKind::kBatch   ? kBatchTopic
                                                    : kStatusTopic;
   dds_qos_t* qos = MakeQos(kind);
   const dds_entity_t t = dds_create_topic(participant, desc, name, qos, nullptr);
@@ -92,6 +109,10 @@ inline dds_entity_t CreateReader(dds_entity_t participant, dds_entity_t topic, T
   if (kind == TopicKind::kValue) {
     // A mirror may fall behind under a burst; keep every edge's latest value, never block the
     // publisher for an old one (keep-last 1 per edge already drops superseded values).
+    dds_qset_resource_limits(qos, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  } else if (kind == TopicKind::kSample || kind == TopicKind::kBatch) {
+    // Every stamped sample counts (the history): the reader keeps all until taken.
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
     dds_qset_resource_limits(qos, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   }
   const dds_entity_t r = dds_create_reader(participant, topic, qos, nullptr);

@@ -7,6 +7,11 @@
 //       object (edges c->o and the twist gone) and with a new edge {probe} wrt {tool}.
 //   dds_test_node claim DOMAIN OWNER PARENT         publish {PARENT} wrt {w} and {o}|O wrt {PARENT}
 //       (a conflicting claim when two owners run it with different parents), stay at most 20 s.
+//   dds_test_node joints DOMAIN OWNER                the 10 s joint scene (scenes.h), stamped:
+//       10,000 joint states (1 kHz of scene time) and 300 detections (30 Hz) as fast as the
+//       mirrors take them, then the frame `done`, "P" answers at the compared stamps, "READY".
+//   dds_test_node timed_mirror DOMAIN NAME LIMIT_MS  mirror the joint scene until `done` and caught
+//       up; print refusals ("R"), samples received per joint ("S name n"), the timed answers ("Q").
 //   dds_test_node mirror DOMAIN NAME FRAME OWNERS LIMIT_MS   mirror until frame FRAME exists, OWNERS
 //       owners are known and the replica is caught up; then print refusals ("R owner code")
 //       and answers ("Q ..."), and exit 0; exit 1 when LIMIT_MS passes first.
@@ -67,6 +72,83 @@ int Robot(std::uint32_t domain, const std::string& owner, int steps) {
   std::fputs(answers.c_str(), stdout);
   std::puts("READY");
   StayAlive();
+  return 0;
+}
+
+int Joints(std::uint32_t domain, const std::string& owner) {
+  auto made = core::SceneGraph<>::Create(dds_test::TenSecondTime());
+  if (!made) return 3;
+  core::SceneGraph<>& g = *made;
+  if (!dds_test::BuildJointRobot(g)) return 3;
+  auto pub = dds::Publisher::Create(g, {owner, domain});
+  if (!pub || !(*pub)->PublishStructure()) return 3;
+  const std::string_view names[] = {"j1", "j2", "j3"};
+  auto group = g.MakeJointGroup(names);
+  auto obj = g.FindPoseEdge("o", "c");
+  auto vel = g.FindTwistEdge("o", "C");
+  if (!group || !obj || !vel) return 3;
+  std::this_thread::sleep_for(300ms);  // let the mirrors match
+  int j = 0;
+  for (int k = 1; k <= dds_test::kJointSteps; ++k) {
+    const double q[] = {dds_test::Q1(k), dds_test::Q2(k), dds_test::Q3(k)};
+    const double qdot[] = {dds_test::Q1dot(k), dds_test::Q2dot(k), dds_test::Q3dot(k)};
+    if ((*pub)->SetJointState(*group, q, qdot, core::Stamp::Nanoseconds(dds_test::JointStamp(k))) !=
+        base::ErrorCode::kOk) {
+      return 4;
+    }
+    while (j < dds_test::kDetections && dds_test::DetectionStamp(j + 1) <= dds_test::JointStamp(k)) {
+      ++j;
+      const core::Stamp s = core::Stamp::Nanoseconds(dds_test::DetectionStamp(j));
+      if ((*pub)->SetPose(*obj, dds_test::Rx(dds_test::DetectedRoll(j)), dds_test::DetectedPosition(j), s) !=
+              base::ErrorCode::kOk ||
+          (*pub)->SetTwist(*vel, {0.01 * j, 0, 0}, {0, 0, 0.1}, s) != base::ErrorCode::kOk) {
+        return 4;
+      }
+    }
+    // As fast as the mirrors take them: a short pause every 50 steps keeps each edge's writer
+    // history (1024 samples) ahead of the acknowledgements on a loaded machine.
+    if (k % 50 == 0) std::this_thread::sleep_for(1ms);
+  }
+  if (!g.AddFrame("done", "W") || !(*pub)->PublishStructure()) return 3;
+  std::printf("STEPS %d %d %llu\n", dds_test::kJointSteps, j,
+              static_cast<unsigned long long>((*pub)->write_failures()));
+  std::string answers = dds_test::TimedAnswers(g);
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    if (answers[i] == 'Q' && (i == 0 || answers[i - 1] == '\n')) answers[i] = 'P';
+  }
+  std::fputs(answers.c_str(), stdout);
+  std::puts("READY");
+  StayAlive();
+  return 0;
+}
+
+int TimedMirror(std::uint32_t domain, const std::string& name, int limit_ms) {
+  auto m = dds::Mirror::Create({name, domain, {}, {}, {}, {}});
+  if (!m) return 3;
+  dds::Mirror& mirror = **m;
+  const bool done = mirror.WaitUntil(
+      [&] {
+        bool has = false;
+        mirror.WithGraph([&](const core::SceneGraph<>& g) { has = g.FindFrame("done").is_valid(); });
+        return has && mirror.Owners().size() == 1 && mirror.CaughtUp();
+      },
+      std::chrono::milliseconds(limit_ms));
+  if (!done) {
+    std::puts("TIMEOUT");
+    return 1;
+  }
+  for (const dds::Report& r : mirror.Refusals()) std::printf("R %s %s\n", r.owner.c_str(), r.code.c_str());
+  for (const dds::EdgeState& e : mirror.Edges()) {
+    std::printf("S %s%s %llu\n", e.joint ? "joint_" : e.twist ? "twist_" : "pose_", e.head.c_str(),
+                static_cast<unsigned long long>(e.received));
+  }
+  std::printf("DROPPED %llu REJECTED %llu\n", static_cast<unsigned long long>(mirror.samples_dropped()),
+              static_cast<unsigned long long>(mirror.messages_rejected()));
+  std::string answers;
+  mirror.WithGraph([&](const core::SceneGraph<>& g) { answers = dds_test::TimedAnswers(g); });
+  std::fputs(answers.c_str(), stdout);
+  std::puts("DONE");
+  std::fflush(stdout);
   return 0;
 }
 
@@ -142,6 +224,8 @@ int main(int argc, char** argv) {
   const auto domain = static_cast<std::uint32_t>(std::atoi(argv[2]));
   if (mode == "robot" && argc == 5) return Robot(domain, argv[3], std::atoi(argv[4]));
   if (mode == "robot_v2" && argc == 4) return RobotV2(domain, argv[3]);
+  if (mode == "joints" && argc == 4) return Joints(domain, argv[3]);
+  if (mode == "timed_mirror" && argc == 5) return TimedMirror(domain, argv[3], std::atoi(argv[4]));
   if (mode == "claim" && argc == 5) return Claim(domain, argv[3], argv[4]);
   if (mode == "mirror" && argc == 7) {
     return MirrorMain(domain, argv[3], argv[4], static_cast<std::size_t>(std::atoi(argv[5])), std::atoi(argv[6]));

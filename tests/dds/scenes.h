@@ -4,7 +4,9 @@
 
 #include <Eigen/Geometry>
 #include <cstdio>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "semgraph/core/scene_graph.h"
 
@@ -83,6 +85,139 @@ inline std::string Answers(const core::SceneGraph<>& g) {
     std::snprintf(line, sizeof line, "Q twist_o_C_w error %d\n", static_cast<int>(V.error().code));
   }
   out += line;
+  return out;
+}
+
+// The 10 s scene, owner "arm" (stamped, time compressed): world W, base B; joints j1
+// (revolute about z), j2 (revolute about y), j3 (prismatic along x), a mimic j4 of j2 and a
+// fixed camera joint; joint states at 1 kHz (stamps t0 + k ms, k = 1..10000) and object
+// detections o wrt c at 30 Hz (stamps t0 + j * 33333333 ns, j = 1..300), pose and twist.
+inline constexpr std::int64_t kT0 = 5'000'000'000;
+inline constexpr int kJointSteps = 10000;
+inline constexpr int kDetections = 300;
+inline std::int64_t JointStamp(int k) { return kT0 + std::int64_t{k} * 1'000'000; }
+inline std::int64_t DetectionStamp(int j) { return kT0 + std::int64_t{j} * 33'333'333; }
+inline double JointTime(int k) { return 1e-3 * k; }
+inline double Q1(int k) { return 0.8 * std::sin(1.9 * JointTime(k)); }
+inline double Q2(int k) { return 0.5 * std::cos(1.3 * JointTime(k)) - 0.2; }
+inline double Q3(int k) { return 0.25 + 0.2 * std::sin(0.7 * JointTime(k)); }
+inline double Q1dot(int k) { return 0.8 * 1.9 * std::cos(1.9 * JointTime(k)); }
+inline double Q2dot(int k) { return -0.5 * 1.3 * std::sin(1.3 * JointTime(k)); }
+inline double Q3dot(int k) { return 0.2 * 0.7 * std::cos(0.7 * JointTime(k)); }
+inline Eigen::Vector3d DetectedPosition(int j) { return {1.0 + 0.01 * j, 0.2, 0.3 + 0.1 * std::sin(0.1 * j)}; }
+inline double DetectedRoll(int j) { return 0.02 * j; }
+
+inline core::TimeOptions TenSecondTime() {
+  core::TimeOptions t;
+  t.window = core::Duration::Seconds(11);
+  t.sample_capacity = 16384;  // every sample of 10 s at 1 kHz
+  return t;
+}
+
+inline bool BuildJointRobot(core::SceneGraph<>& g) {
+  bool ok = g.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), kQ_WB, kP_WB).has_value();
+  ok &= g.AddTwist(TwistSpec::Of("b", "B").RelativeTo("W").ExpressedIn("b"), {0, 0, 0}, {0, 0, 0}).has_value();
+  auto joint = [&](const char* name, core::JointType type, const char* parent, const char* parent_body,
+                   const char* child, const char* child_body, Eigen::Vector3d p, Eigen::Vector3d axis, double lower,
+                   double upper, const char* mimic = "", double multiplier = 1, double offset = 0,
+                   Eigen::Quaterniond q = Eigen::Quaterniond::Identity()) {
+    core::JointSpec s;
+    s.name = name;
+    s.type = type;
+    s.parent = parent;
+    s.parent_body = parent_body;
+    s.child = child;
+    s.child_body = child_body;
+    s.q_origin = q;
+    s.p_origin = p;
+    s.axis = axis;
+    s.lower = lower;
+    s.upper = upper;
+    s.mimic = mimic;
+    s.multiplier = multiplier;
+    s.offset = offset;
+    ok &= g.AddJoint(s).has_value();
+  };
+  using core::JointType;
+  joint("j1", JointType::kRevolute, "b", "B", "l1", "L1", {0, 0, 0.5}, Eigen::Vector3d::UnitZ(), -3, 3);
+  joint("j2", JointType::kRevolute, "l1", "L1", "l2", "L2", {0.4, 0, 0}, Eigen::Vector3d::UnitY(), -3, 3);
+  joint("j3", JointType::kPrismatic, "l2", "L2", "l3", "L3", {0.3, 0, 0}, Eigen::Vector3d::UnitX(), 0, 0.5);
+  joint("j4", JointType::kRevolute, "l3", "L3", "finger", "F", {0.05, 0, 0}, Eigen::Vector3d::UnitZ(), -3, 3, "j2",
+        -0.5, 0.1);
+  joint("cam", JointType::kFixed, "b", "B", "c", "C", kP_BC, Eigen::Vector3d::UnitX(), 0, 0, "", 1, 0, kQ_BC);
+  ok &= g.AddPose(PoseSpec::Of("tool", "L3").RelativeTo("l3", "L3"), Eigen::Quaterniond::Identity(), {0.1, 0, 0})
+            .has_value();
+  const core::Stamp t0 = core::Stamp::Nanoseconds(kT0);
+  ok &= g.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Rx(DetectedRoll(0)), DetectedPosition(0), t0)
+            .has_value();
+  ok &= g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("C").ExpressedIn("o"), {0, 0, 0}, {0, 0, 0.1}, t0)
+            .has_value();
+  const core::JointValue q[] = {{"j1", Q1(0)}, {"j2", Q2(0)}, {"j3", Q3(0)}};
+  const core::JointValue qdot[] = {{"j1", Q1dot(0)}, {"j2", Q2dot(0)}, {"j3", Q3dot(0)}};
+  ok &= g.SetJoints(q, qdot, t0).has_value();
+  return ok;
+}
+
+/// X_W,tool and X_W,finger at joint step k, composed by hand.
+inline Eigen::Isometry3d ExpectedJointTool(int k) {
+  return Iso(kQ_WB, kP_WB) * Iso(Rz(Q1(k)), {0, 0, 0.5}) * Iso(Ry(Q2(k)), {0.4, 0, 0}) *
+         Iso(Eigen::Quaterniond::Identity(), {0.3 + Q3(k), 0, 0}) * Iso(Eigen::Quaterniond::Identity(), {0.1, 0, 0});
+}
+inline Eigen::Isometry3d ExpectedFinger(int k) {
+  return Iso(kQ_WB, kP_WB) * Iso(Rz(Q1(k)), {0, 0, 0.5}) * Iso(Ry(Q2(k)), {0.4, 0, 0}) *
+         Iso(Eigen::Quaterniond::Identity(), {0.3 + Q3(k), 0, 0}) * Iso(Rz(-0.5 * Q2(k) + 0.1), {0.05, 0, 0});
+}
+
+/// The stamps the 10 s scene's answers are compared at: on joint samples, between them, and on
+/// detections, across the 10 s.
+inline std::vector<std::int64_t> CompareStamps() {
+  std::vector<std::int64_t> out;
+  for (int i = 0; i <= 40; ++i) {
+    out.push_back(JointStamp(250 * i));  // on a joint sample
+    if (i < 40) out.push_back(JointStamp(250 * i) + 123'457);  // between joint samples
+  }
+  for (int j = 7; j <= kDetections; j += 29) out.push_back(DetectionStamp(j));
+  return out;
+}
+
+/// Answers at each stamp: one line per (query, stamp), 17 significant digits, or the error code.
+inline std::string TimedAnswers(const core::SceneGraph<>& g) {
+  std::string out;
+  char line[512];
+  for (std::int64_t t : CompareStamps()) {
+    const core::At at(core::Stamp::Nanoseconds(t));
+    auto pose = [&](const char* name, PoseSpec spec) {
+      auto X = g.GetPose(spec, at);
+      if (!X) {
+        std::snprintf(line, sizeof line, "Q %s@%lld error %d\n", name, static_cast<long long>(t),
+                      static_cast<int>(X.error().code));
+      } else {
+        const Eigen::Quaterniond q(X->value.value.rotation);
+        const Eigen::Vector3d p = X->value.value.translation;
+        std::snprintf(line, sizeof line, "Q %s@%lld %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", name,
+                      static_cast<long long>(t), q.w(), q.x(), q.y(), q.z(), p.x(), p.y(), p.z());
+      }
+      out += line;
+    };
+    auto twist = [&](const char* name, TwistSpec spec) {
+      auto V = g.GetTwist(spec, at);
+      if (!V) {
+        std::snprintf(line, sizeof line, "Q %s@%lld error %d\n", name, static_cast<long long>(t),
+                      static_cast<int>(V.error().code));
+      } else {
+        std::snprintf(line, sizeof line, "Q %s@%lld %.17g %.17g %.17g %.17g %.17g %.17g\n", name,
+                      static_cast<long long>(t), V->value.linear.x(), V->value.linear.y(), V->value.linear.z(),
+                      V->value.angular.x(), V->value.angular.y(), V->value.angular.z());
+      }
+      out += line;
+    };
+    pose("tool_in_w", PoseSpec::Of("tool").RelativeTo("w"));
+    pose("finger_in_w", PoseSpec::Of("finger").RelativeTo("w"));
+    pose("o_in_w", PoseSpec::Of("o").RelativeTo("w"));
+    pose("o_in_tool_at_w", PoseSpec::Of("o").RelativeTo("tool").ExpressedIn("w"));
+    twist("tool_wrt_W_in_w", TwistSpec::Of("tool").RelativeTo("W").ExpressedIn("w"));
+    twist("o_wrt_W_in_w", TwistSpec::Of("o").RelativeTo("W").ExpressedIn("w"));
+  }
   return out;
 }
 

@@ -217,14 +217,15 @@ int Monitor(const Args& a) {
     const std::int64_t now_ns = dds::NowNs();
     std::printf("%-16s %-6s %-28s %10s %12s %10s\n", "publisher", "kind", "edge", "rate_hz", "delay_us", "age_ms");
     for (const dds::EdgeState& e : (*mirror)->Edges()) {
-      const std::string key = std::string(e.twist ? "T" : "P") + e.head;
+      const char* kind = e.joint ? "joint" : e.twist ? "twist" : "pose";
+      const std::string key = std::string(kind) + ":" + e.head;
       const double rate = (e.received - previous[key]) / dt;
       previous[key] = e.received;
       const std::string edge = e.head + " <- " + e.tail;
       const double delay_us = e.last_stamp_ns > 0 ? (e.last_receive_ns - e.last_stamp_ns) / 1e3 : 0.0;
       const double age_ms = e.last_receive_ns > 0 ? (now_ns - e.last_receive_ns) / 1e6 : -1.0;
-      std::printf("%-16s %-6s %-28s %10.1f %12.1f %10.1f\n", e.owner.c_str(), e.twist ? "twist" : "pose",
-                  edge.c_str(), rate, delay_us, age_ms);
+      std::printf("%-16s %-6s %-28s %10.1f %12.1f %10.1f\n", e.owner.c_str(), kind, edge.c_str(), rate, delay_us,
+                  age_ms);
     }
     for (const dds::OwnerState& o : (*mirror)->Owners()) {
       std::printf("publisher %s: %s, revision %llu, %zu elements\n", o.owner.c_str(), o.alive ? "alive" : "gone",

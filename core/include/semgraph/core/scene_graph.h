@@ -380,6 +380,15 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] BodyIndex twist_parent(FrameIndex f) const noexcept;
   [[nodiscard]] std::optional<coord::Twist> twist_value(FrameIndex f) const noexcept;
   [[nodiscard]] FrameIndex tree_root(FrameIndex f) const noexcept { return topology_.forest().Root(f); }
+  /// The sample history of the pose edge into f / of the twist edge slot (docs/time.md): nullptr
+  /// for a timeless or constant edge (and for no edge). The writer thread may read it with the
+  /// writer-side calls (ValueAt, newest_stamp); other threads with the lock-free ones. O(1).
+  [[nodiscard]] const PoseHistory* pose_history(FrameIndex f) const noexcept {
+    return values_.history.pose_of(f.value());
+  }
+  [[nodiscard]] const TwistHistory* twist_history(TwistEdgeIndex e) const noexcept {
+    return values_.history.twist_of(e.value());
+  }
 
   /// Text for a query error (describe.cc). Pass the spec of the failed query, so that an
   /// argument whose name was never interned (an unknown name) can be named in the text.

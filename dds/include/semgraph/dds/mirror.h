@@ -1,8 +1,10 @@
 // File: semgraph/dds/mirror.h
 //
 // Mirror: a local replica of the scene shared on a DDS domain by any number of publishers
-// (publisher.h; docs/distributed.md). A receive thread takes the structure and value samples
-// and is the only writer of the replica graph:
+// (publisher.h; docs/distributed.md). The mirror's receive thread takes the structure samples;
+// values are taken where they arrive (a data-available listener on Cyclone's receive thread,
+// and the mirror's thread for any left over). Writers of the replica graph run one at a time
+// (one lock), so the graph has one writer at any moment:
 //   - structure: every owner's latest structure is kept; after each change the mirror decides
 //     the replica from scratch, deterministically: owners in the order (start time of their
 //     incarnation, owner name), each owner's elements in the order bodies, frames, poses,
@@ -16,6 +18,18 @@
 //   - values: the receive thread writes them through handles (SceneGraph::SetPose/SetTwist),
 //     so compiled queries evaluated on other threads stay lock-free (sequence locks). Per edge,
 //     a value numbered at or below the last applied one is dropped (repeats, reorders).
+//   - time: an edge the structure announces stamped is added stamped (with its newest sample),
+//     and its stamped samples go into its history through the stamped setters; the history's
+//     rules (out of order inserts, duplicate policy, window) decide reorders and repeats
+//     (refusals counted in samples_dropped()). The replica takes the time options of the first
+//     timed owner while it is still empty; an owner needing others is reported
+//     `time_options_differ`. A stamped sample for an unstamped edge (or the reverse) is rejected.
+//   - joints: added through AddJoint (after the owner's edges; a joint whose child already has
+//     a parent from an earlier owner is refused multiple_pose_parents, any other AddJoint error
+//     with its code); their states through SetJoints / SetJointState, stamped or not, so mimics
+//     follow and the joint rules (limits, stamp rules) apply as in the publisher.
+//   - batches (Publisher::BeginBatch / Flush): a batch's values are applied in order under the
+//     same rules as single values, then on_change is called once.
 //   - faults: a publisher whose lease ends (killed, cut off) is reported `liveliness_lost`; its
 //     edges and last values stay. Its restarted incarnation (same owner name) replaces its
 //     structure: the replica is reconciled to it (no duplicate, no leftover edge). A
@@ -53,9 +67,10 @@ struct Report {
 struct MirrorOptions {
   std::string name = "mirror";           ///< names the mirror in status reports
   std::uint32_t domain = kDefaultDomain;
-  /// On the receive thread, for every report (refusals in the deterministic order).
+  /// On a receive thread, for every report (refusals in the deterministic order).
   std::function<void(const Report&)> on_report;
-  /// On the receive thread, after each batch of values (or structure change) was applied.
+  /// On a receive thread (the mirror's or Cyclone's), one call at a time, after each batch of
+  /// values (or structure change) was applied.
   std::function<void()> on_change;
   /// Runs each topology change: called with the change, which it must call once (e.g. after
   /// pausing readers). Default: call it directly.
@@ -83,6 +98,9 @@ struct EdgeState {
   std::uint64_t received = 0;      ///< values applied so far
   std::int64_t last_stamp_ns = 0;  ///< publisher's clock of the last value (0: from the structure)
   std::int64_t last_receive_ns = 0;
+  bool stamped = false;            ///< a stamped edge (its values are samples in a history)
+  std::int64_t newest_time_ns = 0; ///< stamped: the newest sample's stamp (the graph's time)
+  bool joint = false;              ///< a joint's state: head = the joint's name, tail = its parent frame
 };
 
 class SEMGRAPH_DDS_EXPORT Mirror {
@@ -103,6 +121,9 @@ class SEMGRAPH_DDS_EXPORT Mirror {
   [[nodiscard]] std::uint64_t structure_generation() const noexcept;
   [[nodiscard]] std::uint64_t values_applied() const noexcept;
   [[nodiscard]] std::uint64_t messages_rejected() const noexcept;
+  /// Stamped samples the replica's histories refused by their rules (stamp_too_old, or
+  /// duplicate_stamp under the reject policy): reordered or repeated samples, not malformed.
+  [[nodiscard]] std::uint64_t samples_dropped() const noexcept;
 
   [[nodiscard]] std::vector<OwnerState> Owners() const;
   [[nodiscard]] std::vector<EdgeState> Edges() const;

@@ -7,7 +7,17 @@
 //     re-sent by PublishStructure() after adds and removals (a removal is an element that is no
 //     longer in the set);
 //   - values: one sample per edge update on the value topic (reliable, transient-local,
-//     keep-last 1 per edge), numbered per edge so that mirrors drop repeats and reorders.
+//     keep-last 1 per edge), numbered per edge so that mirrors drop repeats and reorders;
+//   - stamped samples (the time feature, docs/time.md): a stamped edge (one with a history:
+//     made by a stamped add before PublishStructure) is announced stamped, with the graph's
+//     time options, and each stamped SetPose/SetTwist goes out on the sample topic with its
+//     stamp (the graph's time; the publisher's clock stays in stamp_ns for monitors); mirrors
+//     insert the samples into the replica's histories, whose rules (out of order, duplicate
+//     stamps, window) decide reorders and repeats;
+//   - joints (core/joints.h): each live joint with its AddJoint data (type, parent and child
+//     frames, origin, axis, limits, mimic) and state, in place of its two edges; joint states
+//     set through this Publisher (SetJoints, SetJointPositions, SetJointState, stamped or not)
+//     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors.
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
@@ -15,13 +25,15 @@
 // (pose: X_TH of {tail} -> {head} in [tail]; twist: the screw twist at {head} in [head]).
 // Costs: PublishStructure O(frames + edges) and one DDS sample (allocates); SetPose/SetTwist
 // O(1) for the graph plus one DDS write of a 100-byte sample (the DDS write takes Cyclone's
-// locks and allocates its serialized sample: it is not on the real-time path).
+// locks and allocates its serialized sample: it is not on the real-time path); in a batch
+// (BeginBatch / Flush) a copy into the preallocated batch, and one DDS write per Flush.
 // Thread safety: one thread uses a Publisher and its graph (the graph's own rules apply to
 // readers of compiled queries on other threads).
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "semgraph/dds/export.h"
@@ -61,6 +73,36 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                         const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                          const Eigen::Vector3d& w_DH_H) noexcept;
+  /// A stamped sample: SceneGraph's stamped SetPose/SetTwist (same codes; the edge must be
+  /// stamped), then the sample as the history stores it is published with its stamp.
+  [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                        const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept;
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept;
+
+  /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
+  /// joint given is published with its state (mimics follow on the mirrors). A stamped
+  /// SetJoints that makes a joint stamped (its first stamped state) republishes the structure.
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions, std::span<const core::JointValue> velocities);
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions, std::span<const core::JointValue> velocities,
+                              core::Stamp stamp);
+  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group, std::span<const double> q) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group, std::span<const double> q,
+                                                  core::Stamp stamp) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                              std::span<const double> qdot) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                              std::span<const double> qdot, core::Stamp stamp) noexcept;
+
+  /// Batching, one DDS write per control cycle: after BeginBatch(), the values set through
+  /// this publisher (poses, twists, joint states, stamped or not) are collected (up to 1024,
+  /// preallocated; a full batch is written at once) and Flush() writes them as one sample on the
+  /// batch topic (reliable, transient-local, keep-last 64 batches per publisher) and ends the
+  /// batch. Mirrors apply a batch's values in order, under the same rules as single values.
+  /// Flush republishes the structure (allocates) when a new mirror matched since the last one,
+  /// so that it gets every edge's latest value, not only those of the batches it receives.
+  void BeginBatch() noexcept;
+  void Flush();
 
   [[nodiscard]] const std::string& owner() const noexcept;
   [[nodiscard]] std::uint64_t source() const noexcept;
