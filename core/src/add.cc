@@ -7,9 +7,12 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
+#include "name_rollback.h"
 #include "text.h"
 
 namespace semgraph::core {
+
+using internal::NameRollback;
 
 using base::Unexpected;
 using semantics::Field;
@@ -17,21 +20,6 @@ using semantics::FieldName;
 using text::Reject;
 
 namespace {
-
-// Restores the name table on every early return of a build operation (atomicity).
-class NameRollback {
- public:
-  explicit NameRollback(semantics::NameTable& names) : names_(names), size_(names.size()) {}
-  ~NameRollback() {
-    if (armed_) names_.TruncateTo(size_);
-  }
-  void Commit() { armed_ = false; }
-
- private:
-  semantics::NameTable& names_;
-  std::size_t size_;
-  bool armed_ = true;
-};
 
 // A converted rotation is a product of stored ones: normalized as an input would be, so that
 // every stored rotation is one that validation keeps as it is (coord/validate.h).

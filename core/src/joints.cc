@@ -13,9 +13,12 @@
 #include "semgraph/base/demand.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
+#include "name_rollback.h"
 #include "text.h"
 
 namespace semgraph::core {
+
+using internal::NameRollback;
 
 using base::Unexpected;
 using text::Reject;
@@ -122,21 +125,6 @@ std::string Num(double x) {
   std::snprintf(buf, sizeof buf, "%.9g", x);
   return buf;
 }
-
-// Restores the name table on every early return (atomicity), as in add.cc.
-class NameRollback {
- public:
-  explicit NameRollback(semantics::NameTable& names) : names_(names), size_(names.size()) {}
-  ~NameRollback() {
-    if (armed_) names_.TruncateTo(size_);
-  }
-  void Commit() { armed_ = false; }
-
- private:
-  semantics::NameTable& names_;
-  std::size_t size_;
-  bool armed_ = true;
-};
 
 // True when bodies u and v are joined in TG(P1) U TG(P2) (either may be null): a temporary
 // union-find over the edges of both. Build time only.

@@ -267,7 +267,7 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
   // A hostile sample: another value at an existing stamp (policy reject) is refused by the
   // history's rule: counted, nothing changes.
   std::string before;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = Dump(m); });
   {
     RawSampleWriter raw(kDomain);
     semgraph_wire_Value v{};
@@ -282,7 +282,7 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
     ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->samples_dropped() >= 1; }, 5s));
   }
   std::string after;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = Dump(m); });
   EXPECT_EQ(before, after);
   EXPECT_EQ((*mirror)->messages_rejected(), 0u);
 
@@ -334,7 +334,7 @@ TEST(MirrorTest, HostileTimeFieldsAreRejected) {
   ASSERT_TRUE(pub && (*pub)->PublishStructure());
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
   std::string before;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = Dump(m); });
 
   RawSampleWriter samples(kDomain);
   RawWriter values(kDomain, &semgraph_wire_Value_desc, "semgraph_values");
@@ -388,7 +388,7 @@ TEST(MirrorTest, HostileTimeFieldsAreRejected) {
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 5; }, 5s))
       << (*mirror)->messages_rejected();
   std::string after;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = Dump(m); });
   EXPECT_EQ(before, after);
   EXPECT_EQ((*mirror)->Owners().size(), 1u);
   std::lock_guard<std::mutex> lock(log_mutex);
@@ -480,7 +480,7 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
     auto V = m.GetTwist(core::TwistSpec::Of("l1").RelativeTo("W").ExpressedIn("l1"));
     ASSERT_TRUE(V);
     EXPECT_NEAR(V->angular.z(), -0.1, 1e-15);
-    before = m.Dump();
+    before = Dump(m);
   });
 
   // Hostile structures of another owner.
@@ -550,7 +550,7 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 6; }, 5s))
       << (*mirror)->messages_rejected();
   std::string after;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = Dump(m); });
   EXPECT_EQ(before, after);
   EXPECT_EQ((*mirror)->Owners().size(), 1u);
   std::lock_guard<std::mutex> lock(log_mutex);
@@ -665,12 +665,12 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
   big.updates._length = big.updates._maximum = static_cast<std::uint32_t>(many.size());
   big.updates._buffer = many.data();
   std::string before;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = Dump(m); });
   const std::uint64_t rejected = (*mirror)->messages_rejected();
   ASSERT_EQ(dds_write(batches.writer, &big), DDS_RETCODE_OK);
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() > rejected; }, 5s));
   std::string after;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = Dump(m); });
   EXPECT_EQ(before, after);
 }
 
