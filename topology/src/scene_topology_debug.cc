@@ -14,7 +14,7 @@ std::string SceneTopology::CheckInvariants() const {
     return "{" + std::string(frame_name(f)) + "}|" + std::string(body_name(body_of(f)));
   };
   if (!forest_.CheckInvariants()) out << "pose forest invariants broken\n";
-  // Union-find sets = pose trees; records = body multisets and TG of each tree.
+  // Tree keys = pose trees; records = body multisets and TG of each tree.
   for (std::uint32_t i = 0; i < frames_.size(); ++i) {
     const FrameIndex f(i);
     if (forest_.TreeKey(f) != forest_.TreeKey(forest_.Root(f))) {
