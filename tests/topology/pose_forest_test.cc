@@ -531,6 +531,27 @@ TEST(PoseForest, QueriesDoNotAllocate) {
   EXPECT_NE(sink, 0u);
 }
 
+// The same on a tree built children first, whose semantic root is not its rep root (each
+// query is then up to three rep queries, still without allocation).
+TEST(PoseForest, QueriesOffTheRepRootDoNotAllocate) {
+  PoseForest forest = WithNodes(64);
+  for (std::uint32_t v = 63; v > 0; --v) forest.Link(F((v - 1) / 2), F(v));  // heap, bottom up
+  ASSERT_NE(forest.TreeKey(F(0)), F(0));  // really the off-root case
+  std::uint32_t sink = 0;
+  const std::size_t before = AllocationCounter::total();
+  for (std::uint32_t a = 0; a < 64; ++a) {
+    for (std::uint32_t b = 0; b < 64; ++b) {
+      sink += forest.CommonAncestor(F(a), F(b)).value() + forest.Root(F(a)).value() +
+              forest.AncestorAtDepth(F(a), 1).value() + forest.depth(F(b));
+      sink += forest.IsAncestor(F(a), F(b)) + forest.SameTree(F(a), F(b));
+    }
+  }
+  EXPECT_EQ(AllocationCounter::total(), before);
+  EXPECT_EQ(forest.CommonAncestor(F(62), F(61)), F(30));  // siblings under 30 = (61 - 1) / 2
+  EXPECT_EQ(forest.depth(F(63)), 6u);  // 63, 31, 15, 7, 3, 1, 0
+  EXPECT_NE(sink, 0u);
+}
+
 // Eight words: four semantic, four of the representation (rep_root replaces SceneTopology's
 // union-find, which took two).
 TEST(PoseForest, UsesThirtyTwoBytesPerNode) {

@@ -21,8 +21,11 @@
 // the two trees only, re-rooted at its end of the new edge and hung under the other end; the
 // larger keeps its rep root. A node is re-represented only when its tree at least doubles, so
 // at most log2(n) times over any sequence of links: Link is O(log n) amortized, whatever the
-// order of the adds (a new leaf and a new root are both O(1)). Reroot only turns the semantic
-// edges round and moves the semantic root: the representation stays.
+// order of the adds (a new leaf and a new root are both O(1)). With cuts in between (potential
+// sum over nodes of log2(n / size of its tree): a link pays min(a, b) out of it, a cut into
+// parts of a and b nodes puts back at most min(a, b) (log2 n + 1.45), within a log factor of the
+// cut's own O(min(a, b)) at least). Reroot only turns the semantic edges round and moves the
+// semantic root: the representation stays.
 //
 // Rep jump pointers are skew-binary ("Myers", E. W. Myers, "An applicative random-access
 // stack", 1983): jump(R) = R; a rep child v of p gets
@@ -53,7 +56,8 @@
 //
 // Costs (n = size(), amortized over any sequence of mutations):
 //   AddNode                                  O(1) amortized (allocates when the arrays grow)
-//   Link(parent, root)                       O(log n) amortized (re-represents the smaller tree)
+//   Link(parent, root)                       O(log n) amortized over links (re-represents the
+//                                            smaller tree; each Cut adds O(its cost * log n))
 //   Cut(child)                               O(size of the part that does not hold the rep root)
 //   Reroot(v)                                O(depth(v)) (path reversal; no depth recomputed)
 //   parent, is_root, first_child,
