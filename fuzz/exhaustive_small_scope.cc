@@ -140,7 +140,7 @@ class Search {
       const ErrorCode code = Apply(*d, alphabet_[i]);
       // A rejection left the state as it was (Differential checked Dump() and the invariants);
       // its queries were compared when that state was reached.
-      if (code == ErrorCode::kOk && sweeps_enabled_ && swept_.insert(std::hash<std::string>{}(d->graph().Dump())).second) {
+      if (code == ErrorCode::kOk && sweeps_enabled_ && swept_.insert(std::hash<std::string>{}(Dump(d->graph()))).second) {
         d->SweepQueries();
         ++sweeps_;
       }

@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/script_reader.h"
 #include "semgraph/script_runner.h"
 #include "semgraph/base/error_code.h"
@@ -83,7 +84,7 @@ int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
       all_ok = all_ok && outcome.ok;
       if (lines) lines->push_back(std::move(outcome));
     }
-    if (!graph.CheckInvariants().empty()) Fail("CheckInvariants() after the script", text);
+    if (!CheckInvariants(graph).empty()) Fail("CheckInvariants() after the script", text);
   };
   const core::TimeOptions time = script::TimeOptionsOf(script->time);
   if (script->representation == Representation::kHomogeneous) {

@@ -100,7 +100,9 @@ done
 if [ "$is_shared" -eq 1 ]; then
   nm -D -C --defined-only "$libdir/libsemgraph_core.so" "$libdir/libsemgraph_topology.so" >"$tmp/symbols.txt"
   for api in 'semgraph::core::SceneGraph<semgraph::coord::QuaternionBackend>::AddBody' \
-             'semgraph::topology::PoseForest::CommonAncestor'; do
+             'semgraph::topology::PoseForest::CommonAncestor' \
+             'semgraph::core::CheckInvariants<semgraph::coord::QuaternionBackend>' \
+             'semgraph::core::Dump<semgraph::coord::HomogeneousBackend>'; do
     grep -qF "$api" "$tmp/symbols.txt" || fail "the shared libraries do not export $api"
   done
 fi

@@ -337,14 +337,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   topology_.ReserveNodes(new_bodies, new_frames);
   values_.ReserveFrames(values_.X_PF.size() + new_frames);
   topology_.ReserveLinkPose(b, a);
-  std::unique_ptr<PoseHistory> history;
+  PoseHistoryLease history;
   if (stamp && !ends.same_body) history = NewPoseHistory();
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);
   if (!D.is_valid()) D = C_name == D_name ? C : topology_.CreateBody(D_name);
   const FrameIndex head = a.is_valid() ? a : CreateFrame(a_id, C);
   const FrameIndex tail = b.is_valid() ? b : CreateFrame(b_id, D);
-  topology_.LinkPose(tail, head);
+  topology_.LinkPoseReserved(tail, head);  // reserved above
   values_.X_PF[head.value()].Store(X_BA);
   if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp);
   return Ok{};
@@ -457,7 +457,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
   values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
   topology_.ReserveLinkTwist(e);
-  std::unique_ptr<TwistHistory> history;
+  TwistHistoryLease history;
   if (stamp) history = NewTwistHistory();
   rollback.Commit();
   if (!C.is_valid()) C = topology_.CreateBody(C_name);

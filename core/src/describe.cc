@@ -191,15 +191,15 @@ std::string NoTwistPath(const topology::SceneTopology& t, const QueryError& e) {
   text += " in the pose tree of " + text::Frame(t, point);
   const topology::TreeRecord* rec = t.RecordOf(point);
   const auto connected = [&](topology::BodyIndex u, topology::BodyIndex v) {
-    return u == v || (rec != nullptr && rec->twists.Connected(u.value(), v.value()));
+    return u == v || (rec != nullptr && rec->twists.Connected(u, v));
   };
   // A frame of the tree on X's side: one of X's own, or the head of a twist edge that X's
   // twist edges reach.
   const auto side = [&](topology::BodyIndex X) {
     topology::FrameIndex f = t.SomeFrameOfBodyInTree(X, point);
     if (!f.is_valid() && rec != nullptr) {
-      rec->twists.ForEachEdge([&](std::uint32_t edge, std::uint32_t, std::uint32_t) {
-        const topology::FrameIndex h = t.twist_edge(topology::TwistEdgeIndex(edge)).head;
+      rec->twists.ForEachEdge([&](topology::TwistEdgeIndex edge, topology::BodyIndex, topology::BodyIndex) {
+        const topology::FrameIndex h = t.twist_edge(edge).head;
         if (!f.is_valid() && connected(t.body_of(h), X)) f = h;
       });
     }

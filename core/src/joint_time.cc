@@ -17,7 +17,6 @@
 // the angle of X_origin^-1 X about u, modulo a full turn; prismatic: the offset along u).
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 #include "semgraph/core/scene_graph.h"
@@ -84,8 +83,8 @@ void SceneGraph<B>::StoreJointSample(std::uint32_t index, const double* q_given,
   internal::JointRecord& j = joints_.joints[index];
   const double q = q_given ? *q_given : j.q, qdot = qdot_given ? *qdot_given : j.qdot;
   const TwistEdgeIndex edge = topology_.twist_edge_of(j.child);
-  PoseHistory& hp = *values_.history.pose[j.child.value()];
-  TwistHistory& ht = *values_.history.twist[edge.value()];
+  PoseHistory& hp = values_.history.pose.writable(j.child.value());
+  TwistHistory& ht = values_.history.twist.writable(edge.value());
   double pw[7], tw[6];
   bool identical = false;
   if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
@@ -178,43 +177,9 @@ ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities,
                                      Stamp stamp) {
-  // The rules before time, with the messages of the unstamped set (joints.cc).
   const auto what = [] { return std::string("joint state"); };
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
-      if (!std::isfinite(v.value)) {
-        return Reject(ErrorCode::kInvalidNumber, what(),
-                      std::string(list == &positions ? "position" : "velocity") + " of joint " +
-                          std::string(v.joint) + " is not a finite number");
-      }
-    }
-  }
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
-      const internal::JointRecord* j = joints_.Find(v.joint);
-      if (!j) return Reject(ErrorCode::kUnknownJoint, what(), "there is no joint named " + std::string(v.joint));
-      if (!j->movable()) return Reject(ErrorCode::kUnknownJoint, what(), "joint " + j->name + " is fixed: it has no state");
-    }
-  }
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
-      const internal::JointRecord* j = joints_.Find(v.joint);
-      if (j->is_mimic()) {
-        return Reject(ErrorCode::kMimicJoint, what(),
-                      "joint " + j->name + " mimics joint " + joints_.joints[j->master].name + "; set the master instead");
-      }
-    }
-  }
-  for (const JointValue& v : positions) {
-    const internal::JointRecord* j = joints_.Find(v.joint);
-    if (j->limited() && (v.value < j->lower - kLimitSlack || v.value > j->upper + kLimitSlack)) {
-      char buf[96];
-      std::snprintf(buf, sizeof buf, "position %.9g of joint ", v.value);
-      char lim[64];
-      std::snprintf(lim, sizeof lim, " is outside its limits [%.9g, %.9g]", j->lower, j->upper);
-      return Reject(ErrorCode::kJointLimit, what(), buf + j->name + lim);
-    }
-  }
+  // The rules before time, shared with the unstamped set (joints.cc).
+  if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
   // The sample of each joint given: its given fields, the others of its newest sample (its
   // state). A joint named in both maps gives one sample.
   struct Sample {
@@ -270,8 +235,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
     }
   }
   if (worst != ErrorCode::kOk) return Reject(worst, what(), worst_reason);
-  std::vector<std::unique_ptr<PoseHistory>> new_pose;
-  std::vector<std::unique_ptr<TwistHistory>> new_twist;
+  std::vector<PoseHistoryLease> new_pose;
+  std::vector<TwistHistoryLease> new_twist;
   new_pose.reserve(fresh.size());
   new_twist.reserve(fresh.size());
   for (std::size_t i = 0; i < fresh.size(); ++i) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 
 #include "semgraph/base/demand.h"
@@ -139,10 +140,9 @@ class NameRollback {
 
 // True when bodies u and v are joined in TG(P1) U TG(P2) (either may be null): a temporary
 // union-find over the edges of both. Build time only.
-bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistForest* b, std::uint32_t u,
-                      std::uint32_t v) {
-  std::unordered_map<std::uint32_t, std::uint32_t> parent;
-  const auto find = [&](std::uint32_t x) {
+bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistForest* b, BodyIndex u, BodyIndex v) {
+  std::map<BodyIndex, BodyIndex> parent;
+  const auto find = [&](BodyIndex x) {
     auto it = parent.find(x);
     if (it == parent.end()) return x;
     while (it->second != x) {
@@ -151,7 +151,7 @@ bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistFores
     }
     return x;
   };
-  const auto unite = [&](std::uint32_t x, std::uint32_t y) {
+  const auto unite = [&](BodyIndex x, BodyIndex y) {
     parent.try_emplace(x, x);
     parent.try_emplace(y, y);
     x = find(x);
@@ -159,7 +159,7 @@ bool ConnectedInUnion(const topology::TwistForest* a, const topology::TwistFores
     if (x != y) parent[x] = y;
   };
   for (const topology::TwistForest* f : {a, b}) {
-    if (f) f->ForEachEdge([&](std::uint32_t, std::uint32_t tail, std::uint32_t head) { unite(tail, head); });
+    if (f) f->ForEachEdge([&](TwistEdgeIndex, BodyIndex tail, BodyIndex head) { unite(tail, head); });
   }
   return u == v || (parent.count(u) && parent.count(v) && find(u) == find(v));
 }
@@ -304,8 +304,7 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   if (P.is_valid() && C.is_valid()) {
     const topology::TreeRecord* rec_p = p.is_valid() ? t.RecordOf(p) : nullptr;
     const topology::TreeRecord* rec_c = c.is_valid() ? t.RecordOf(c) : nullptr;
-    if (ConnectedInUnion(rec_p ? &rec_p->twists : nullptr, rec_c ? &rec_c->twists : nullptr, P.value(),
-                         C.value())) {
+    if (ConnectedInUnion(rec_p ? &rec_p->twists : nullptr, rec_c ? &rec_c->twists : nullptr, P, C)) {
       return Reject(ErrorCode::kDuplicateTwistPath, what(),
                     "the twist of " + std::string(t.body_name(C)) + " relative to " + std::string(t.body_name(P)) +
                         " already follows from the twist edges of the pose trees it joins");
@@ -341,16 +340,37 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
       break;
     }
   }
-  if (index == joints_.joints.size()) joints_.joints.emplace_back();
-  j.generation = joints_.joints[index].generation;
-  j.parent_body = P;  // fixed below when created
+  j.generation = index < joints_.joints.size() ? joints_.joints[index].generation : 0;
+
+  // Every allocation before the first change (all or nothing under std::bad_alloc; the names
+  // interned above are rolled back by `rollback` until Commit): room for the new nodes, the
+  // pose and the twist link in the merged tree, the twist slot, the joint's slot, its mimic
+  // entry, and the two map entries, whose nodes are made now in local maps and moved into the
+  // tables after the changes (moving a node handle does not allocate; reserve() rules out a
+  // rehash).
+  const std::size_t new_bodies = (P.is_valid() ? 0 : 1) + (C.is_valid() ? 0 : 1);
+  const std::size_t new_frames = (c.is_valid() ? 0 : 1) + (p.is_valid() ? 0 : 1);
+  topology_.ReserveNodes(new_bodies, new_frames);
+  values_.ReserveFrames(values_.X_PF.size() + new_frames);
+  topology_.ReserveLinkJoint(p, c);
+  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
+  if (index == joints_.joints.size()) joints_.joints.reserve(std::max<std::size_t>(8, 2 * joints_.joints.size()));
+  if (master != kNoJoint) joints_.joints[master].mimics.reserve(joints_.joints[master].mimics.size() + 1);
+  joints_.by_name.reserve(joints_.by_name.size() + 1);
+  joints_.joint_of_child.reserve(joints_.joint_of_child.size() + 1);
+  decltype(joints_.by_name) name_node;
+  name_node.emplace(j.name, index);
+  decltype(joints_.joint_of_child) child_node;
+  child_node.emplace(0, index);  // keyed by the child frame once it exists
+
+  // Apply: nothing below allocates.
   rollback.Commit();
+  if (index == joints_.joints.size()) joints_.joints.emplace_back();
   const BodyIndex P_body = P.is_valid() ? P : topology_.CreateBody(P_name);
   const BodyIndex C_body = C.is_valid() ? C : topology_.CreateBody(C_name);
   const FrameIndex head = c.is_valid() ? c : CreateFrame(c_id, C_body);
   const FrameIndex tail = p.is_valid() ? p : CreateFrame(p_id, P_body);
-  topology_.LinkPose(tail, head);
-  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
+  topology_.LinkPoseReserved(tail, head);  // reserved above (ReserveLinkJoint)
   const TwistEdgeIndex edge = topology_.LinkTwist(
       P_body, head,
       semantics::TwistSemantics{semantics::Point(c_id), t.BodySem(C_body), t.BodySem(P_body),
@@ -361,8 +381,10 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   j.parent_body = P_body;
   j.child_body = C_body;
   joints_.joints[index] = std::move(j);
-  joints_.by_name.emplace(joints_.joints[index].name, index);
-  joints_.joint_of_child.emplace(head.value(), index);
+  joints_.by_name.insert(name_node.extract(name_node.begin()));
+  auto child_entry = child_node.extract(child_node.begin());
+  child_entry.key() = head.value();
+  joints_.joint_of_child.insert(std::move(child_entry));
   if (master != kNoJoint) joints_.joints[master].mimics.push_back(index);
   ++joints_.num_alive;
   const internal::JointRecord& rec = joints_.joints[index];
@@ -388,10 +410,13 @@ BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord& joint) {
   internal::JointRecord& j = joints_.joints[index];
   const TwistEdgeIndex edge = t.twist_edge_of(j.child);
   SEMGRAPH_DEMAND(edge.is_valid());
+  // All or nothing under std::bad_alloc: CutPose makes all its allocations before its first
+  // change, and UnlinkTwist's are reserved before it; so cut first, then unlink.
+  topology_.ReserveUnlinkAfterCut();
+  topology_.CutPose(j.child);
   topology_.UnlinkTwist(edge);
   values_.V_DH[edge.value()].BumpEpoch();
   DropTwistHistory(edge);
-  topology_.CutPose(j.child);
   values_.X_PF[j.child.value()].BumpEpoch();
   DropPoseHistory(j.child);
   if (j.is_mimic()) {
@@ -481,7 +506,8 @@ ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const 
 }
 
 template <coord::Backend B>
-BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities) {
+BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> positions,
+                                            std::span<const JointValue> velocities) const {
   const auto what = [] { return std::string("joint state"); };
   // invalid_number -> unknown_joint -> mimic_joint -> joint_limit, over all values given.
   for (const auto* list : {&positions, &velocities}) {
@@ -520,6 +546,13 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
                         ", " + Num(j->upper) + "]");
     }
   }
+  return Ok{};
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities) {
+  const auto what = [] { return std::string("joint state"); };
+  if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
   for (const auto* list : {&positions, &velocities}) {
     for (const JointValue& v : *list) {
       const internal::JointRecord* j = joints_.Find(v.joint);
@@ -620,9 +653,9 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
   std::size_t c_count = 0;
   {
     // Count C's side first: ForEachTwistStep walks C's side, then D's side.
-    std::uint32_t body = plan.twist.body.value();
+    BodyIndex body = plan.twist.body;
     if (plan.twist.tg) {
-      for (; body != plan.twist.ancestor.value(); body = plan.twist.tg->parent(body)) ++c_count;
+      for (; body != plan.twist.ancestor; body = plan.twist.tg->parent(body)) ++c_count;
     }
   }
   std::size_t seen = 0;
@@ -736,6 +769,7 @@ ErrorCode CompiledJacobian<B>::Evaluate(Eigen::Ref<JacobianMatrix> J) const noex
   template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,                   \
                                                   std::span<const double>) noexcept;                            \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>);      \
+  template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>, std::span<const JointValue>) const; \
   template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const;                  \
   template Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(std::span<const std::string_view>) const; \
   template JointGroup SceneGraph<B>::AllJoints() const;                                                         \

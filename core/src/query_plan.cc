@@ -202,19 +202,19 @@ Expected<TwistPlan, QueryError> PlanTwist(const SceneTopology& t, const semantic
                                              t.BodySem(plan.ref_body), t.FrameSem(plan.frame).axes()};
   if (plan.body == plan.ref_body) return plan;  // zero twist
   const topology::TreeRecord* rec = t.RecordOf(plan.point);
-  if (!rec || !rec->twists.Connected(plan.body.value(), plan.ref_body.value())) {
+  if (!rec || !rec->twists.Connected(plan.body, plan.ref_body)) {
     return Unexpected{QError(ErrorCode::kNoTwistPath, Field::kBody, q.body.id(), q.ref_body.id(), q.point.id())};
   }
   // Youngest common ancestor of C and D in the rooted TG, by depth.
   const topology::TwistForest& tg = rec->twists;
-  std::uint32_t c = plan.body.value(), d = plan.ref_body.value();
+  BodyIndex c = plan.body, d = plan.ref_body;
   while (tg.depth(c) > tg.depth(d)) c = tg.parent(c);
   while (tg.depth(d) > tg.depth(c)) d = tg.parent(d);
   while (c != d) {
     c = tg.parent(c);
     d = tg.parent(d);
   }
-  plan.ancestor = BodyIndex(c);
+  plan.ancestor = c;
   plan.tg = &tg;
   return plan;
 }

@@ -1,12 +1,23 @@
-// SceneGraph debug output and checks: Dump (canonical text of names, nodes, edges and values,
-// for tests and fuzzers comparing states), CheckInvariants (the topology's, from scratch, plus
-// the values' bookkeeping) and ApproximateBytesExcludingNames. Not on any production path.
+// SceneGraph debug output and checks (scene_graph_debug.h): Dump (canonical text of names,
+// nodes, edges and values, for tests and fuzzers comparing states), CheckInvariants (the
+// topology's, from scratch, plus the values' bookkeeping); and three inspection members of the
+// graph (twist_parent, twist_value, ApproximateBytesExcludingNames). Not on any production path.
+#include "semgraph/core/scene_graph_debug.h"
+
 #include <sstream>
 
-#include "semgraph/core/scene_graph.h"
 #include "text.h"
 
 namespace semgraph::core {
+
+// The graph's only friend: the private state the debug functions read (the edge values, for
+// their count), and nothing else.
+struct internal::DebugAccess {
+  template <coord::Backend B>
+  static const EdgeValues<B>& values(const SceneGraph<B>& g) noexcept {
+    return g.values_;
+  }
+};
 
 template <coord::Backend B>
 BodyIndex SceneGraph<B>::twist_parent(FrameIndex f) const noexcept {
@@ -23,40 +34,42 @@ std::optional<coord::Twist> SceneGraph<B>::twist_value(FrameIndex f) const noexc
 }
 
 template <coord::Backend B>
-std::string SceneGraph<B>::Dump() const {
-  const topology::SceneTopology& t = topology_;
+std::string Dump(const SceneGraph<B>& g) {
+  const topology::SceneTopology& t = g.topology();
+  const EdgeValues<B>& values = internal::DebugAccess::values(g);
+  const internal::JointTable& joints = g.joint_table();
   const semantics::NameTable& names = t.names();
   std::ostringstream out;
   out.precision(17);
   out << "representation " << B::kName << "\nnames " << names.size() << "\n";
   for (std::size_t i = 0; i < names.size(); ++i) out << "  name " << i << " " << names.name(NameId(i)) << "\n";
   out << "bodies " << t.num_bodies() << "\n";
-  for (std::size_t i = 0; i < t.num_bodies(); ++i) out << "  body " << i << " " << body_name(BodyIndex(i)) << "\n";
+  for (std::size_t i = 0; i < t.num_bodies(); ++i) out << "  body " << i << " " << g.body_name(BodyIndex(i)) << "\n";
   out << "frames " << t.num_frames() << "\n";
   for (std::uint32_t i = 0; i < t.num_frames(); ++i) {
     const FrameIndex f(i);
     out << "  frame " << i << " " << text::Frame(t, f);
     if (t.pose_parent(f).is_valid()) {
-      const auto X = values_.X_PF[i].Load();
+      const auto X = values.X_PF[i].Load();
       const Eigen::Quaterniond q = B::ToQuaternion(B::RotationOf(X));
       const Eigen::Vector3d p = B::TranslationOf(X);
       out << " parent " << t.pose_parent(f).value() << " p " << p.x() << " " << p.y() << " " << p.z() << " q "
           << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
     }
-    if (const std::optional<coord::Twist> tw = twist_value(f)) {
-      out << " twist_parent " << body_name(twist_parent(f)) << " v " << tw->linear.transpose() << " w "
+    if (const std::optional<coord::Twist> tw = g.twist_value(f)) {
+      out << " twist_parent " << g.body_name(g.twist_parent(f)) << " v " << tw->linear.transpose() << " w "
           << tw->angular.transpose();
     }
     out << " tree " << t.forest().Root(f).value() << "\n";
   }
-  out << "joints " << joints_.num_alive << "\n";
-  for (std::uint32_t i = 0; i < joints_.joints.size(); ++i) {
-    const internal::JointRecord& j = joints_.joints[i];
+  out << "joints " << joints.num_alive << "\n";
+  for (std::uint32_t i = 0; i < joints.joints.size(); ++i) {
+    const internal::JointRecord& j = joints.joints[i];
     out << "  joint " << i << " generation " << j.generation;
     if (j.alive) {
       out << " " << j.name << " " << ToString(j.type) << " " << t.frame_name(j.parent) << " -> "
           << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
-      if (j.is_mimic()) out << " mimic " << joints_.joints[j.master].name;
+      if (j.is_mimic()) out << " mimic " << joints.joints[j.master].name;
     }
     out << "\n";
   }
@@ -64,10 +77,12 @@ std::string SceneGraph<B>::Dump() const {
 }
 
 template <coord::Backend B>
-std::string SceneGraph<B>::CheckInvariants() const {
-  std::string out = topology_.CheckInvariants();
-  if (values_.X_PF.size() != topology_.num_frames()) out += "pose value count mismatch\n";
-  if (values_.V_DH.size() < topology_.num_twist_edge_slots()) out += "twist value count mismatch\n";
+std::string CheckInvariants(const SceneGraph<B>& g) {
+  const topology::SceneTopology& t = g.topology();
+  const EdgeValues<B>& values = internal::DebugAccess::values(g);
+  std::string out = t.CheckInvariants();
+  if (values.X_PF.size() != t.num_frames()) out += "pose value count mismatch\n";
+  if (values.V_DH.size() < t.num_twist_edge_slots()) out += "twist value count mismatch\n";
   return out;
 }
 
@@ -79,8 +94,8 @@ std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept {
 #define SEMGRAPH_INSTANTIATE_DEBUG(B)                                                        \
   template BodyIndex SceneGraph<B>::twist_parent(FrameIndex) const noexcept;                 \
   template std::optional<coord::Twist> SceneGraph<B>::twist_value(FrameIndex) const noexcept; \
-  template std::string SceneGraph<B>::Dump() const;                                          \
-  template std::string SceneGraph<B>::CheckInvariants() const;                               \
+  template std::string Dump(const SceneGraph<B>&);                                           \
+  template std::string CheckInvariants(const SceneGraph<B>&);                                \
   template std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept;
 SEMGRAPH_INSTANTIATE_DEBUG(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_DEBUG(coord::HomogeneousBackend)

@@ -102,46 +102,42 @@ std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext& tc
 
 // ---------------------------------------------------------------- histories
 
+// A retired history is reused (no allocation in a loop that removes and re-adds stamped edges);
+// see HistoryTable (edge_history.h) for why readers may still hold a retired one.
 template <coord::Backend B>
-std::unique_ptr<PoseHistory> SceneGraph<B>::NewPoseHistory() {
-  // Room for the head and the tail frame if both are new: installing then cannot fail.
-  if (values_.history.pose.size() < topology_.num_frames() + 2) values_.history.pose.resize(topology_.num_frames() + 2);
-  return std::make_unique<PoseHistory>(values_.history.options.sample_capacity);
+PoseHistoryLease SceneGraph<B>::NewPoseHistory() {
+  return values_.history.pose.New(values_.history.options.sample_capacity);
 }
 
 template <coord::Backend B>
-std::unique_ptr<TwistHistory> SceneGraph<B>::NewTwistHistory() {
-  const std::size_t need = topology_.num_twist_edge_slots() + 1;
-  if (values_.history.twist.size() < need) values_.history.twist.resize(need);
-  return std::make_unique<TwistHistory>(values_.history.options.sample_capacity);
+TwistHistoryLease SceneGraph<B>::NewTwistHistory() {
+  return values_.history.twist.New(values_.history.options.sample_capacity);
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::InstallPoseHistory(FrameIndex head, std::unique_ptr<PoseHistory> h,
-                                       const typename B::PoseCoords& X, Stamp s) {
+void SceneGraph<B>::InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X, Stamp s) {
   double w[7];
   PoseWords<B>(X, w);
-  h->Insert(s.nanoseconds(), w, values_.history.options.window.nanoseconds());
-  values_.history.pose[head.value()] = std::move(h);
+  values_.history.pose.Install(head.value(), std::move(h), s.nanoseconds(), w);
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, std::unique_ptr<TwistHistory> h, const TwistNumbers& V,
-                                        Stamp s) {
+void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s) {
   double w[6];
   internal::WordsFromTwist(V, w);
-  h->Insert(s.nanoseconds(), w, values_.history.options.window.nanoseconds());
-  values_.history.twist[edge.value()] = std::move(h);
+  values_.history.twist.Install(edge.value(), std::move(h), s.nanoseconds(), w);
 }
 
+// The caller bumped the edge's epoch first: a reader that sees the retirement (or a reuse) sees
+// the new epoch too.
 template <coord::Backend B>
 void SceneGraph<B>::DropPoseHistory(FrameIndex head) noexcept {
-  if (head.value() < values_.history.pose.size()) values_.history.pose[head.value()].reset();
+  values_.history.pose.Retire(head.value());
 }
 
 template <coord::Backend B>
 void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex edge) noexcept {
-  if (edge.value() < values_.history.twist.size()) values_.history.twist[edge.value()].reset();
+  values_.history.twist.Retire(edge.value());
 }
 
 // ---------------------------------------------------------------- the stamp rules of an update
@@ -175,7 +171,7 @@ void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoord
     values_.X_PF[head.value()].Store(X);
     return;
   }
-  PoseHistory& h = *values_.history.pose[head.value()];
+  PoseHistory& h = values_.history.pose.writable(head.value());
   const std::int64_t s = stamp->nanoseconds();
   double w[7];
   const bool newest = s > h.newest_stamp();  // in order: no equal stamp to look for
@@ -199,7 +195,7 @@ void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
     values_.V_DH[edge.value()].Store(V);
     return;
   }
-  TwistHistory& h = *values_.history.twist[edge.value()];
+  TwistHistory& h = values_.history.twist.writable(edge.value());
   const std::int64_t s = stamp->nanoseconds();
   double w[6];
   if (s <= h.newest_stamp() && h.ValueAt(s, w) && SameTwist(w, V)) return;
@@ -251,12 +247,12 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
   template Expected<SceneGraph<B>, BuildError> SceneGraph<B>::Create(const TimeOptions&);                     \
   template internal::TimeContext SceneGraph<B>::ConversionContext(std::optional<Stamp>) const noexcept;        \
   template std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext&, Stamp) const;        \
-  template std::unique_ptr<PoseHistory> SceneGraph<B>::NewPoseHistory();                                       \
-  template std::unique_ptr<TwistHistory> SceneGraph<B>::NewTwistHistory();                                     \
-  template void SceneGraph<B>::InstallPoseHistory(FrameIndex, std::unique_ptr<PoseHistory>,                    \
-                                                  const typename B::PoseCoords&, Stamp);                       \
-  template void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex, std::unique_ptr<TwistHistory>,              \
-                                                   const TwistNumbers&, Stamp);                                \
+  template PoseHistoryLease SceneGraph<B>::NewPoseHistory();                                                   \
+  template TwistHistoryLease SceneGraph<B>::NewTwistHistory();                                                 \
+  template void SceneGraph<B>::InstallPoseHistory(FrameIndex, PoseHistoryLease, const typename B::PoseCoords&, \
+                                                  Stamp);                                                      \
+  template void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex, TwistHistoryLease, const TwistNumbers&,     \
+                                                   Stamp);                                                     \
   template void SceneGraph<B>::DropPoseHistory(FrameIndex) noexcept;                                           \
   template void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex) noexcept;                                      \
   template ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex, const typename B::PoseCoords&,                 \

@@ -13,6 +13,7 @@
 #include "common.h"
 #include "timed.h"
 #include "semgraph/coord/validate.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/semantics/describe.h"
 #include "semgraph/semantics/operations.h"
 
@@ -1441,11 +1442,11 @@ RejectedError: invalid_number, no_such_edge, stamp_mismatch, stamp_too_old, dupl
      "A TwistBatch over these TwistHandles, to update them all from one array (TwistBatch.set).");
 
   // ---- inspection
-  graph.def("dump", [](const GraphBox& b) { return b.Visit([](const auto& g) { return g.Dump(); }); },
+  graph.def("dump", [](const GraphBox& b) { return b.Visit([](const auto& g) { return Dump(g); }); },
             "A canonical, complete text dump of the graph (names, topology, values), e.g. to "
             "compare states.");
   graph.def("check_invariants",
-            [](const GraphBox& b) { return b.Visit([](const auto& g) { return g.CheckInvariants(); }); },
+            [](const GraphBox& b) { return b.Visit([](const auto& g) { return CheckInvariants(g); }); },
             "Verifies every invariant of the graph from scratch (slow); '' when all hold.");
   graph.def("dot", [](const GraphBox& b) -> std::string {
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/script/scene_script.h"
 
 int main(int argc, char** argv) {
@@ -22,6 +23,6 @@ int main(int argc, char** argv) {
   }
   for (const auto& op : run.ops) std::printf("%s\n", op.json.c_str());
   // The graph stays loaded: it holds the script's frames and answers queries itself.
-  if (graph.num_frames() == 0 || !graph.CheckInvariants().empty()) return 3;
+  if (graph.num_frames() == 0 || !CheckInvariants(graph).empty()) return 3;
   return run.status;
 }

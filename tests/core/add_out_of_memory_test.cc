@@ -17,7 +17,8 @@
 // Operations: AddBody, AddFrame, AddPose (new leaf, constant leaf, linking two trees or a single
 // frame, a new root, two new frames, a value update, the non-edge form, stamped, repaired by the
 // inverse and by re-rooting, rejections), AddTwist (new edge, new frame and bodies, converted,
-// update, stamped, rejected), RemovePose (splits, leaves, rejected), RemoveTwist.
+// update, stamped, rejected), RemovePose (splits, leaves, rejected), RemoveTwist, AddJoint (new
+// frames, linking two trees, a mimic, rejected) and the removal of a joint (RemovePose of its edge).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,6 +31,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "support/alloc_counter.h"
 
 namespace semgraph::core {
@@ -40,6 +42,23 @@ using Eigen::Vector3d;
 using semgraph::testing::AllocationCounter;
 
 Quaterniond Rotation(double angle) { return Quaterniond(Eigen::AngleAxisd(angle, Vector3d(1, 2, 3).normalized())); }
+
+JointSpec Joint(std::string_view name, JointType type, std::string_view parent, std::string_view parent_body,
+                std::string_view child, std::string_view child_body) {
+  JointSpec j;
+  j.name = name;
+  j.type = type;
+  j.parent = parent;
+  j.parent_body = parent_body;
+  j.child = child;
+  j.child_body = child_body;
+  j.q_origin = Rotation(0.4);
+  j.p_origin = Vector3d(0.1, 0.2, -0.3);
+  j.axis = Vector3d(0, 0, 1);
+  j.lower = -2;
+  j.upper = 2;
+  return j;
+}
 
 // Two pose trees with twist graphs, a single frame, a body without frames, and a removed pose
 // edge and twist edge (so that free records and free twist slots exist):
@@ -85,6 +104,16 @@ void BuildScene(SceneGraph<B>& g, int fill) {
   twist("u", "U", "T", 6);
   ASSERT_TRUE(g.RemoveTwist("u", "T"));
   ASSERT_TRUE(g.RemovePose("u", "r"));
+  // tree 3, two joints: {jw}|JW <-(j1, revolute) {ja}|JA <-(j2, prismatic) {jb}|JB, and j3 =
+  // a mimic of j1 from {jb} to {jc}|JC.
+  ASSERT_TRUE(g.AddJoint(Joint("j1", JointType::kRevolute, "jw", "JW", "ja", "JA")));
+  ASSERT_TRUE(g.AddJoint(Joint("j2", JointType::kPrismatic, "ja", "JA", "jb", "JB")));
+  JointSpec j3 = Joint("j3", JointType::kRevolute, "jb", "JB", "jc", "JC");
+  j3.mimic = "j1";
+  j3.multiplier = -0.5;
+  ASSERT_TRUE(g.AddJoint(j3));
+  const JointValue q[] = {{"j1", 0.3}, {"j2", 0.2}};
+  ASSERT_TRUE(g.SetJoints(q, {}));
 }
 
 // Every pose query between the scene's frames (and the frames operations create) and every
@@ -93,8 +122,10 @@ void BuildScene(SceneGraph<B>& g, int fill) {
 template <class B>
 std::vector<double> Answers(const SceneGraph<B>& g) {
   static const char* const kFrames[] = {"w", "a", "a2", "b", "c", "p", "q", "r", "s", "u",
-                                        "n", "l", "c2", "top", "x", "y", "d"};
-  static const char* const kBodies[] = {"W", "A", "B", "C", "P", "Q", "R", "S", "T", "U", "N", "L", "Top", "X", "Y", "D"};
+                                        "n", "l", "c2", "top", "x", "y", "d",
+                                        "jw", "ja", "jb", "jc", "kp", "kc"};
+  static const char* const kBodies[] = {"W", "A", "B", "C", "P", "Q", "R", "S", "T", "U", "N", "L", "Top", "X", "Y", "D",
+                                        "JW", "JA", "JB", "JC", "KP", "KC"};
   std::vector<double> out;
   out.reserve(8192);
   for (const char* of : kFrames) {
@@ -185,6 +216,28 @@ std::vector<Operation<B>> Operations() {
       {"RemoveTwist inner", [](G& g) { return g.RemoveTwist("b", "A"); }, ErrorCode::kOk},
       {"RemoveTwist last of a tree", [](G& g) { return g.RemoveTwist("r", "Q"); }, ErrorCode::kOk},
       {"RemoveTwist rejected", [](G& g) { return g.RemoveTwist("b", "W"); }, ErrorCode::kNoSuchEdge},
+      {"AddJoint new frames and bodies",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kRevolute, "kp", "KP", "kc", "KC")); }, ErrorCode::kOk},
+      {"AddJoint linking two trees",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kPrismatic, "c", "C", "p", "P")); }, ErrorCode::kOk},
+      {"AddJoint a single frame under a tree",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kContinuous, "jc", "JC", "s", "S")); }, ErrorCode::kOk},
+      {"AddJoint fixed, new child",
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kFixed, "b", "B", "kc", "KC")); }, ErrorCode::kOk},
+      {"AddJoint mimic",
+       [](G& g) {
+         JointSpec k = Joint("k1", JointType::kRevolute, "jc", "JC", "kc", "KC");
+         k.mimic = "j1";
+         return g.AddJoint(k);
+       },
+       ErrorCode::kOk},
+      {"AddJoint rejected (duplicate name)",
+       [](G& g) { return g.AddJoint(Joint("j1", JointType::kRevolute, "kp", "KP", "kc", "KC")); },
+       ErrorCode::kDuplicateJoint},
+      {"RemovePose of a joint (mimic)", [](G& g) { return g.RemovePose("jc", "jb"); }, ErrorCode::kOk},
+      {"RemovePose of a joint (inner)", [](G& g) { return g.RemovePose("jb", "ja"); }, ErrorCode::kOk},
+      {"RemovePose of a mimicked joint, rejected", [](G& g) { return g.RemovePose("ja", "jw"); },
+       ErrorCode::kJointEdge},
   };
 }
 
@@ -216,12 +269,12 @@ TYPED_TEST(AddOutOfMemory, EveryBuildOperationIsAllOrNothingAtEveryAllocation) {
       // The reference: the operation on an untouched scene.
       SceneGraph<B> reference;
       BuildScene(reference, fill);
-      const std::string untouched = reference.Dump();
+      const std::string untouched = Dump(reference);
       const std::vector<double> untouched_answers = Answers(reference);
       ASSERT_EQ(CodeOf(op.run(reference)), op.expected);
-      const std::string after = reference.Dump();
+      const std::string after = Dump(reference);
       const std::vector<double> after_answers = Answers(reference);
-      ASSERT_EQ(reference.CheckInvariants(), "");
+      ASSERT_EQ(CheckInvariants(reference), "");
 
       std::size_t n = 1;
       for (;; ++n) {
@@ -243,22 +296,22 @@ TYPED_TEST(AddOutOfMemory, EveryBuildOperationIsAllOrNothingAtEveryAllocation) {
         if (!failed) {  // the operation made fewer than n allocations
           ASSERT_FALSE(threw);
           EXPECT_EQ(code, op.expected);
-          EXPECT_EQ(g.Dump(), after);
+          EXPECT_EQ(Dump(g), after);
           break;
         }
         // What went wrong, if anything (the first problem only: one line per broken point).
         std::string problem;
         if (!threw) {
           problem = "an allocation failed but the operation returned normally";
-        } else if (g.Dump() != before) {
+        } else if (Dump(g) != before) {
           problem = "Dump changed";
-        } else if (const std::string broken = g.CheckInvariants(); !broken.empty()) {
+        } else if (const std::string broken = CheckInvariants(g); !broken.empty()) {
           problem = "invariants broken: " + broken;
         } else if (Answers(g) != before_answers) {
           problem = "query answers changed";
-        } else if (CodeOf(op.run(g)) != op.expected || g.Dump() != after) {
+        } else if (CodeOf(op.run(g)) != op.expected || Dump(g) != after) {
           problem = "the operation, run again, gives another result";
-        } else if (!g.CheckInvariants().empty() || Answers(g) != after_answers) {
+        } else if (!CheckInvariants(g).empty() || Answers(g) != after_answers) {
           problem = "the operation, run again, breaks the graph";
         }
         if (!problem.empty()) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "support/alloc_counter.h"
 
 namespace semgraph::core {
@@ -196,7 +197,7 @@ TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries)
   stop = true;
   for (std::thread& t : readers) t.join();
   EXPECT_EQ(writer_failures, 0);
-  EXPECT_EQ(graph.CheckInvariants(), "");
+  EXPECT_EQ(CheckInvariants(graph), "");
 
   ReaderCounts all;
   for (const ReaderCounts& c : counts) {

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 
 namespace semgraph::core {
 namespace {
@@ -217,7 +218,7 @@ TEST(DescribeBuildError, DuplicatePosePathNamesBothWaysToTheBody) {
                         Vector3d(0, 0, 1)));
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("t", "T").RelativeTo("l2", "L2"), Quaterniond::Identity(),
                         Vector3d(0, 0, 0.1)));
-  const std::string before = g.Dump();
+  const std::string before = Dump(g);
   const auto r = g.AddPose(PoseSpec::Of("tcp", "T").RelativeTo("l1"), Quaterniond::Identity(),
                            Vector3d(0, 0, 1.2));
   ASSERT_FALSE(r);
@@ -230,7 +231,7 @@ TEST(DescribeBuildError, DuplicatePosePathNamesBothWaysToTheBody) {
             "frames of one body may be joined only through that body's own frames. Give {tcp} its "
             "pose relative "
             "to a frame of T (such as {t}|T) instead, or remove one of the two paths first");
-  EXPECT_EQ(g.Dump(), before);
+  EXPECT_EQ(Dump(g), before);
   // Doing what it says is accepted.
   EXPECT_TRUE(g.AddPose(PoseSpec::Of("tcp", "T").RelativeTo("t"), Quaterniond::Identity(),
                         Vector3d(0, 0, 0.2)));

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "support/alloc_counter.h"
 #include "support/tolerance.h"
 
@@ -75,7 +76,7 @@ Graph Robot(Interpolation mode, DuplicatePolicy duplicates = DuplicatePolicy::kR
 // The graph's text dump plus what its histories hold (Dump() shows the current values only):
 // each joint edge's sample range and values at a few stamps.
 std::string State(const Graph& g) {
-  std::string out = g.Dump();
+  std::string out = Dump(g);
   char buf[160];
   for (const char* frame : {"l1", "l2", "f"}) {
     const char* parent = std::string(frame) == "l2" || std::string(frame) == "f" ? "l1" : "base";

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/core/scene_graph_debug.h"
 
 namespace semgraph::core {
 namespace {
@@ -37,17 +38,17 @@ class HandleTest : public ::testing::Test {
   const Vector3d p_ = Vector3d(7, 8, 9);
   // SetPose with both rotation forms and SetPoseUnchecked; expects `code` from each and an unchanged graph.
   void ExpectPoseRefused(const PoseHandle& h, ErrorCode code) {
-    const std::string before = graph_.Dump();
+    const std::string before = Dump(graph_);
     EXPECT_EQ(graph_.SetPose(h, q_, p_), code);
     EXPECT_EQ(graph_.SetPose(h, q_.toRotationMatrix(), p_), code);
     EXPECT_EQ(graph_.SetPoseUnchecked(h, q_, p_), code);
-    EXPECT_EQ(graph_.Dump(), before);
-    EXPECT_EQ(graph_.CheckInvariants(), "");
+    EXPECT_EQ(Dump(graph_), before);
+    EXPECT_EQ(CheckInvariants(graph_), "");
   }
   void ExpectTwistRefused(const TwistHandle& h) {
-    const std::string before = graph_.Dump();
+    const std::string before = Dump(graph_);
     EXPECT_EQ(graph_.SetTwist(h, p_, p_), ErrorCode::kNoSuchEdge);
-    EXPECT_EQ(graph_.Dump(), before);
+    EXPECT_EQ(Dump(graph_), before);
   }
   FrameIndex frame(const char* name) const { return graph_.FindFrame(name); }
   SceneGraph<B> graph_;
@@ -76,7 +77,7 @@ TYPED_TEST(HandleTest, AGenuineHandleWritesItsEdge) {
 TYPED_TEST(HandleTest, FindingAnEdgeChecksNamesFirst) {
   // Before: FindPoseEdge("", "") said unknown_frame. Order: invalid_name -> unknown_frame ->
   // (unknown_body) -> no_such_edge -> constant_pose_change.
-  const std::string before = this->graph_.Dump();
+  const std::string before = Dump(this->graph_);
   for (auto [of, wrt] : {std::pair{"", ""}, std::pair{"g", ""}, std::pair{"", "e2"}, std::pair{"g\x01", "zz"}}) {
     auto pose = this->graph_.FindPoseEdge(of, wrt);
     ASSERT_FALSE(pose);
@@ -91,7 +92,7 @@ TYPED_TEST(HandleTest, FindingAnEdgeChecksNamesFirst) {
   EXPECT_EQ(this->graph_.FindTwistEdge("g", "ZZ").error().code, ErrorCode::kUnknownBody);
   EXPECT_EQ(this->graph_.FindPoseEdge("g", "b").error().code, ErrorCode::kNoSuchEdge);
   EXPECT_EQ(this->graph_.FindTwistEdge("g", "B").error().code, ErrorCode::kNoSuchEdge);
-  EXPECT_EQ(this->graph_.Dump(), before);
+  EXPECT_EQ(Dump(this->graph_), before);
 }
 
 TYPED_TEST(HandleTest, HandMadeAndDefaultHandlesAreRefused) {
@@ -138,7 +139,7 @@ TYPED_TEST(HandleTest, AnotherGraphsHandleIsRefusedEvenWhenTheGraphsAreAlike) {
   using B = TypeParam;
   SceneGraph<B> other;
   BuildScene(other);
-  ASSERT_EQ(other.Dump(), this->graph_.Dump());  // same names, ids, epochs and values
+  ASSERT_EQ(Dump(other), Dump(this->graph_));  // same names, ids, epochs and values
   auto foreign_pose = other.FindPoseEdge("g", "e2");
   auto foreign_twist = other.FindTwistEdge("g", "E");
   ASSERT_TRUE(foreign_pose && foreign_twist);

@@ -33,6 +33,7 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/base/error_code.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "support/tolerance.h"
 
 namespace semgraph::semantics {
@@ -93,7 +94,7 @@ BuildResult AddScrewTwist(G& graph, std::string_view point, std::string_view bod
 template <class G>
 ::testing::AssertionResult Accepts(const G& graph, const BuildResult& result) {
   if (!result) return ::testing::AssertionFailure() << "rejected: " << result.error().message;
-  if (const std::string broken = graph.CheckInvariants(); !broken.empty()) {
+  if (const std::string broken = CheckInvariants(graph); !broken.empty()) {
     return ::testing::AssertionFailure() << "accepted, but invariants are broken:\n" << broken;
   }
   return ::testing::AssertionSuccess();
@@ -106,7 +107,7 @@ template <class G, class Op>
 ::testing::AssertionResult RejectsAndKeeps(G& graph, ErrorCode code,
                                            std::initializer_list<std::string_view> phrases,
                                            Op&& op) {
-  const std::string before = graph.Dump();
+  const std::string before = Dump(graph);
   const BuildResult result = op();
   if (result) {
     return ::testing::AssertionFailure() << "accepted; expected " << base::ToString(code);
@@ -126,12 +127,12 @@ template <class G, class Op>
       return ::testing::AssertionFailure() << "message lacks \"" << phrase << "\": " << message;
     }
   }
-  if (const std::string after = graph.Dump(); after != before) {
+  if (const std::string after = Dump(graph); after != before) {
     return ::testing::AssertionFailure() << "the rejection changed the graph.\nbefore:\n"
                                          << before << "after:\n"
                                          << after;
   }
-  if (const std::string broken = graph.CheckInvariants(); !broken.empty()) {
+  if (const std::string broken = CheckInvariants(graph); !broken.empty()) {
     return ::testing::AssertionFailure() << "invariants broken after a rejection:\n" << broken;
   }
   return ::testing::AssertionSuccess() << message;
@@ -297,9 +298,9 @@ TYPED_TEST(SceneGraphConstraints, Figure4ConstantPoseOfB1WrtB2IsAcceptedAndCanno
                        "remove the edge first"},
                       [&] { return AddEdge(g, "b1", "B", "b2", "B", 4); }));
   // The same value again is accepted and changes nothing.
-  const std::string before = g.Dump();
+  const std::string before = Dump(g);
   EXPECT_TRUE(Accepts(g, AddEdge(g, "b1", "B", "b2", "B", 3)));
-  EXPECT_EQ(g.Dump(), before);
+  EXPECT_EQ(Dump(g), before);
 }
 
 TYPED_TEST(SceneGraphConstraints, Figure4PoseOfC2WrtFIsRejectedBecauseC2HasAPoseParentD) {
@@ -800,7 +801,7 @@ TYPED_TEST(SceneGraphConstraints,
   }));
   // Within the tolerances (rotation entries within 1e-6, position within 1e-6 |p|): accepted
   // as a no-op that keeps the stored value, to the last bit.
-  const std::string before = g.Dump();
+  const std::string before = Dump(g);
   Eigen::Quaterniond q_near =
       RotationNumber(3) * Eigen::Quaterniond(Eigen::AngleAxisd(2e-7, Eigen::Vector3d::UnitZ()));
   q_near.coeffs() = -q_near.coeffs();
@@ -809,7 +810,7 @@ TYPED_TEST(SceneGraphConstraints,
   EXPECT_TRUE(Accepts(
       g, g.AddPose(PoseSpec::Of("a2", "A").RelativeTo("a", "A"),
                    Eigen::Matrix3d(RotationNumber(3).toRotationMatrix()), PositionNumber(3))));
-  EXPECT_EQ(g.Dump(), before);
+  EXPECT_EQ(Dump(g), before);
   // Removing the edge and adding it again is the way to recalibrate.
   ASSERT_TRUE(Accepts(g, g.RemovePose("a2", "a")));
   ASSERT_TRUE(Accepts(g, AddEdge(g, "a2", "A", "a", "A", 4)));

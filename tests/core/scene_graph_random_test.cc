@@ -41,6 +41,7 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/base/error_code.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "support/rigid_body_scene.h"
 #include "support/tolerance.h"
 #include "support/world_scene.h"
@@ -395,7 +396,7 @@ class Harness {
         } else if (!BodySetsAllow(t, h)) {
           expected = ErrorCode::kDuplicatePosePath;
         }
-        const std::string before = graph_.Dump();
+        const std::string before = Dump(graph_);
         const auto result = graph_.AddPose(
             PoseSpec::Of(Name(h), BodyNameIfNeeded(h)).RelativeTo(Name(t), BodyNameIfNeeded(t)),
             scene_.Rotation(t, h), scene_.Position(h, t, t));
@@ -410,7 +411,7 @@ class Harness {
         } else if (model_.twist_tail(h) >= 0) {
           expected = ErrorCode::kMultipleTwistParents;
         }
-        const std::string before = graph_.Dump();
+        const std::string before = Dump(graph_);
         const int H = scene_.BodyOf(h);
         const auto result =
             graph_.AddTwist(TwistSpec::Of(Name(h), BodyNameIfNeeded(h))
@@ -444,7 +445,7 @@ class Harness {
     ++tally_.illegal_by_code[static_cast<int>(expected)];
     EXPECT_NE(result.error().message.find(names_head), std::string::npos)
         << what << ": " << result.error().message;
-    EXPECT_EQ(graph_.Dump(), before) << what << " changed the graph";
+    EXPECT_EQ(Dump(graph_), before) << what << " changed the graph";
   }
 
   void RemovePoseEdge(int t, int h) {
@@ -467,7 +468,7 @@ class Harness {
 
   void ExpectAccepted(BuildResult result, const std::string& what) {
     ASSERT_TRUE(result) << what << " rejected: " << result.error().message;
-    const std::string broken = graph_.CheckInvariants();
+    const std::string broken = CheckInvariants(graph_);
     EXPECT_TRUE(broken.empty()) << "after " << what << ":\n" << broken;
   }
 

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "scenes.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/dds/mirror.h"
 #include "semgraph/dds/publisher.h"
 #include "semgraph_wire.h"
@@ -58,7 +59,7 @@ TEST(MirrorTest, MalformedMessagesAreRejectedAndChangeNothing) {
   ASSERT_TRUE((*pub)->PublishStructure());
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
   std::string before;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = Dump(m); });
 
   // Structures: NaN, a non-unit quaternion, an invalid name, an unknown kind.
   RawWriter structures(kDomain, &semgraph_wire_Structure_desc, "semgraph_structure");
@@ -109,7 +110,7 @@ TEST(MirrorTest, MalformedMessagesAreRejectedAndChangeNothing) {
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 7; }, 5s))
       << (*mirror)->messages_rejected();
   std::string after;
-  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = m.Dump(); });
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = Dump(m); });
   EXPECT_EQ(before, after);
   EXPECT_EQ((*mirror)->Owners().size(), 1u);  // "evil" was never accepted
   std::lock_guard<std::mutex> lock(log_mutex);

@@ -3,6 +3,7 @@
 // robot in a world with a camera and an object, grasping by removal and re-add, and every
 // rejection (invalid_model with the parser's message, duplicate_joint / _body / _frame in that
 // order) with the graph unchanged.
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/models/urdf.h"
 
 #include <gtest/gtest.h>
@@ -55,7 +56,7 @@ TEST(Urdf, LinksBecomeBodiesWithOneFrameAndJointsJoinTheLinkFrames) {
   // Initial state: 0 clamped into the limits (joint4's range is [-3.0718, -0.0698]).
   EXPECT_EQ(g.joint_position(*g.FindJoint("joint4")), -0.0698);
   EXPECT_EQ(g.joint_position(*g.FindJoint("joint1")), 0.0);
-  EXPECT_EQ(g.CheckInvariants(), "");
+  EXPECT_EQ(CheckInvariants(g), "");
 }
 
 TEST(Urdf, MobileManipulatorPosesByHand) {
@@ -187,17 +188,17 @@ TEST(Urdf, RobotWorldCameraAndObjectWithAGrasp) {
   const Eigen::Vector3d w(0, 0, 0.5);
   EXPECT_LE((V->angular - w).norm(), 1e-12);
   EXPECT_LE((V->linear - w.cross(Position(g, "cup", "world") - Eigen::Vector3d(2, 1, 0.8))).norm(), 1e-12);
-  EXPECT_EQ(g.CheckInvariants(), "");
+  EXPECT_EQ(CheckInvariants(g), "");
 }
 
 void ExpectRejected(Graph& g, ErrorCode code, const std::string& file, std::string_view prefix,
                     const std::string& in_message) {
-  const std::string before = g.Dump();
+  const std::string before = Dump(g);
   auto r = LoadUrdfFile(g, file, prefix);
   ASSERT_FALSE(r) << file;
   EXPECT_EQ(r.error().code, code) << r.error().message;
   EXPECT_NE(r.error().message.find(in_message), std::string::npos) << r.error().message;
-  EXPECT_EQ(g.Dump(), before);
+  EXPECT_EQ(Dump(g), before);
 }
 
 TEST(Urdf, BadModelsAreInvalidModelAndCreateNothing) {
@@ -214,11 +215,11 @@ TEST(Urdf, BadModelsAreInvalidModelAndCreateNothing) {
   // invalid_model comes before the name clashes (planar.urdf's names would not clash anyway).
   ExpectRejected(g, ErrorCode::kInvalidModel, Model("planar.urdf"), "", "planar");
   // A URDF string that urdfdom refuses (two roots).
-  const std::string before = g.Dump();
+  const std::string before = Dump(g);
   auto r = LoadUrdfString(g, "<robot name='r'><link name='p'/><link name='q'/></robot>", "s_");
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kInvalidModel);
-  EXPECT_EQ(g.Dump(), before);
+  EXPECT_EQ(Dump(g), before);
 }
 
 TEST(Urdf, NameClashesInTheSpecOrder) {

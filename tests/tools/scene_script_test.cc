@@ -1,6 +1,7 @@
 // Tests of the public scene-script API (semgraph/script/scene_script.h): RunScene gives the
 // tool's lines and status, LoadScene leaves the scene in the caller's graph, malformed scripts
 // apply nothing. The expected lines are written by hand from docs/scene-script.md.
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/script/scene_script.h"
 
 #include <gtest/gtest.h>
@@ -82,9 +83,9 @@ TEST(LoadScene, LeavesTheSceneInTheCallersGraph) {
   EXPECT_NEAR(R(1, 0), 1.0, 1e-15);
   EXPECT_NEAR(R(0, 0), 0.0, 1e-15);
   // A malformed script leaves the graph as it was.
-  const std::string before = graph.Dump();
+  const std::string before = Dump(graph);
   EXPECT_EQ(LoadScene("ops: [{op: body}]", graph).status, kExitMalformed);
-  EXPECT_EQ(graph.Dump(), before);
+  EXPECT_EQ(Dump(graph), before);
 }
 
 TEST(LoadSceneFile, ReadsFilesAndNamesUnreadableOnes) {

@@ -25,13 +25,20 @@ namespace {
 
 constexpr std::size_t kNoPath = TwistForest::kNoPath;
 
+// Short names for the strong indices the forest takes: body n, edge n.
+constexpr BodyIndex B(std::uint32_t n) { return BodyIndex(n); }
+constexpr TwistEdgeIndex E(std::uint32_t n) { return TwistEdgeIndex(n); }
+PathStep Step(std::uint32_t edge, std::uint32_t from, std::uint32_t to) {
+  return PathStep{E(edge), B(from), B(to)};
+}
+
 // The naive model: a plain edge list; paths by breadth-first search.
 class NaiveForest {
  public:
-  std::map<std::uint32_t, TwistEdgeEnds> edges;
+  std::map<TwistEdgeIndex, TwistEdgeEnds> edges;
 
-  std::set<std::uint32_t> Bodies() const {
-    std::set<std::uint32_t> bodies;
+  std::set<BodyIndex> Bodies() const {
+    std::set<BodyIndex> bodies;
     for (const auto& [edge, ends] : edges) {
       bodies.insert(ends.tail);
       bodies.insert(ends.head);
@@ -40,17 +47,17 @@ class NaiveForest {
   }
 
   // For every body reachable from `from`: the step that reached it (BFS tree rooted at from).
-  std::map<std::uint32_t, PathStep> Reach(std::uint32_t from) const {
-    std::map<std::uint32_t, std::vector<PathStep>> adjacent;
+  std::map<BodyIndex, PathStep> Reach(BodyIndex from) const {
+    std::map<BodyIndex, std::vector<PathStep>> adjacent;
     for (const auto& [edge, ends] : edges) {
       adjacent[ends.tail].push_back(PathStep{edge, ends.tail, ends.head});
       adjacent[ends.head].push_back(PathStep{edge, ends.head, ends.tail});
     }
-    std::map<std::uint32_t, PathStep> reached{{from, PathStep{}}};
-    std::queue<std::uint32_t> frontier;
+    std::map<BodyIndex, PathStep> reached{{from, PathStep{}}};
+    std::queue<BodyIndex> frontier;
     frontier.push(from);
     while (!frontier.empty()) {
-      const std::uint32_t body = frontier.front();
+      const BodyIndex body = frontier.front();
       frontier.pop();
       for (const PathStep& step : adjacent[body]) {
         if (reached.emplace(step.to, step).second) frontier.push(step.to);
@@ -60,11 +67,11 @@ class NaiveForest {
   }
 
   // Writes the path from the BFS root `from` to `to`; false when `to` was not reached.
-  static bool PathTo(const std::map<std::uint32_t, PathStep>& reached, std::uint32_t from,
-                     std::uint32_t to, std::vector<PathStep>* path) {
+  static bool PathTo(const std::map<BodyIndex, PathStep>& reached, BodyIndex from, BodyIndex to,
+                     std::vector<PathStep>* path) {
     path->clear();
     if (!reached.contains(to)) return false;
-    for (std::uint32_t body = to; body != from; body = reached.at(body).from) {
+    for (BodyIndex body = to; body != from; body = reached.at(body).from) {
       path->push_back(reached.at(body));
     }
     std::reverse(path->begin(), path->end());
@@ -74,8 +81,8 @@ class NaiveForest {
 
 // Naive W4: the union of two edge lists is a forest (union-find over all endpoints).
 bool NaiveUnionIsForest(const NaiveForest& a, const NaiveForest& b) {
-  std::map<std::uint32_t, std::uint32_t> up;
-  auto find = [&up](std::uint32_t x) {
+  std::map<BodyIndex, BodyIndex> up;
+  auto find = [&up](BodyIndex x) {
     if (!up.contains(x)) up[x] = x;
     while (up[x] != x) x = up[x];
     return x;
@@ -83,8 +90,8 @@ bool NaiveUnionIsForest(const NaiveForest& a, const NaiveForest& b) {
   for (const NaiveForest* forest : {&a, &b}) {
     for (const auto& [edge, ends] : forest->edges) {
       if (forest == &b && a.edges.contains(edge)) return false;  // shared edge id
-      const std::uint32_t root_tail = find(ends.tail);
-      const std::uint32_t root_head = find(ends.head);
+      const BodyIndex root_tail = find(ends.tail);
+      const BodyIndex root_head = find(ends.head);
       if (root_tail == root_head) return false;
       up[root_tail] = root_head;
     }
@@ -95,7 +102,7 @@ bool NaiveUnionIsForest(const NaiveForest& a, const NaiveForest& b) {
 // Checks everything observable against the model, for bodies 0 .. num_bodies-1.
 void ExpectMatches(const TwistForest& forest, const NaiveForest& model, std::uint32_t num_bodies) {
   ASSERT_TRUE(forest.CheckInvariants());
-  const std::set<std::uint32_t> bodies = model.Bodies();
+  const std::set<BodyIndex> bodies = model.Bodies();
   ASSERT_EQ(forest.num_edges(), model.edges.size());
   ASSERT_EQ(forest.num_bodies(), bodies.size());
   for (const auto& [edge, ends] : model.edges) {
@@ -105,19 +112,21 @@ void ExpectMatches(const TwistForest& forest, const NaiveForest& model, std::uin
   }
   std::vector<PathStep> expected;
   std::vector<PathStep> actual(num_bodies);
-  for (std::uint32_t u = 0; u < num_bodies; ++u) {
-    ASSERT_EQ(forest.Contains(u), bodies.contains(u)) << "body " << u;
+  for (std::uint32_t i = 0; i < num_bodies; ++i) {
+    const BodyIndex u = B(i);
+    ASSERT_EQ(forest.Contains(u), bodies.contains(u)) << "body " << i;
     const auto reached = model.Reach(u);
-    for (std::uint32_t v = 0; v < num_bodies; ++v) {
+    for (std::uint32_t j = 0; j < num_bodies; ++j) {
+      const BodyIndex v = B(j);
       const bool connected = NaiveForest::PathTo(reached, u, v, &expected);
-      ASSERT_EQ(forest.Connected(u, v), connected) << u << " - " << v;
+      ASSERT_EQ(forest.Connected(u, v), connected) << i << " - " << j;
       const std::size_t length = forest.Path(u, v, actual);
       if (!connected) {
         ASSERT_EQ(length, kNoPath);
         ASSERT_EQ(forest.PathLength(u, v), kNoPath);
         continue;
       }
-      ASSERT_EQ(length, expected.size()) << u << " - " << v;
+      ASSERT_EQ(length, expected.size()) << i << " - " << j;
       ASSERT_EQ(forest.PathLength(u, v), expected.size());
       for (std::size_t i = 0; i < length; ++i) ASSERT_EQ(actual[i], expected[i]);
     }
@@ -127,18 +136,18 @@ void ExpectMatches(const TwistForest& forest, const NaiveForest& model, std::uin
 // Links `edge` into both the forest and the model.
 void LinkBoth(TwistForest* forest, NaiveForest* model, std::uint32_t edge, std::uint32_t tail,
               std::uint32_t head) {
-  forest->Link(edge, tail, head);
-  model->edges[edge] = TwistEdgeEnds{tail, head};
+  forest->Link(E(edge), B(tail), B(head));
+  model->edges[E(edge)] = TwistEdgeEnds{B(tail), B(head)};
 }
 
 TEST(TwistForest, EmptyForestConnectsEachBodyOnlyToItself) {
   const TwistForest forest;
-  EXPECT_TRUE(forest.Connected(4, 4));
-  EXPECT_FALSE(forest.Connected(4, 5));
-  EXPECT_EQ(forest.PathLength(4, 4), 0u);
-  EXPECT_EQ(forest.Path(4, 5, {}), kNoPath);
-  EXPECT_EQ(forest.FindRoot(4), 4u);
-  EXPECT_EQ(forest.parent(4), TwistForest::kNone);
+  EXPECT_TRUE(forest.Connected(B(4), B(4)));
+  EXPECT_FALSE(forest.Connected(B(4), B(5)));
+  EXPECT_EQ(forest.PathLength(B(4), B(4)), 0u);
+  EXPECT_EQ(forest.Path(B(4), B(5), {}), kNoPath);
+  EXPECT_EQ(forest.FindRoot(B(4)), B(4));
+  EXPECT_FALSE(forest.parent(B(4)).is_valid());
   EXPECT_TRUE(forest.CheckInvariants());
 }
 
@@ -149,31 +158,31 @@ TEST(TwistForest, EmptyForestConnectsEachBodyOnlyToItself) {
 //   1 -- 2 -- 3 -- 4
 TEST(TwistForest, PathListsStepsFromUToVAcrossEdgeDirections) {
   TwistForest forest;
-  forest.Link(10, 1, 2);
-  forest.Link(11, 3, 2);
-  forest.Link(12, 3, 4);
+  forest.Link(E(10), B(1), B(2));
+  forest.Link(E(11), B(3), B(2));
+  forest.Link(E(12), B(3), B(4));
   ASSERT_TRUE(forest.CheckInvariants());
   std::vector<PathStep> out(3);
-  ASSERT_EQ(forest.Path(1, 4, out), 3u);
-  EXPECT_EQ(out[0], (PathStep{10, 1, 2}));
-  EXPECT_EQ(out[1], (PathStep{11, 2, 3}));
-  EXPECT_EQ(out[2], (PathStep{12, 3, 4}));
-  ASSERT_EQ(forest.Path(4, 1, out), 3u);
-  EXPECT_EQ(out[0], (PathStep{12, 4, 3}));
-  EXPECT_EQ(out[2], (PathStep{10, 2, 1}));
-  EXPECT_EQ(forest.FindEdge(11)->tail, 3u);  // step 2 -> 3 crosses edge 11 against its direction
+  ASSERT_EQ(forest.Path(B(1), B(4), out), 3u);
+  EXPECT_EQ(out[0], Step(10, 1, 2));
+  EXPECT_EQ(out[1], Step(11, 2, 3));
+  EXPECT_EQ(out[2], Step(12, 3, 4));
+  ASSERT_EQ(forest.Path(B(4), B(1), out), 3u);
+  EXPECT_EQ(out[0], Step(12, 4, 3));
+  EXPECT_EQ(out[2], Step(10, 2, 1));
+  EXPECT_EQ(forest.FindEdge(E(11))->tail, B(3));  // step 2 -> 3 crosses edge 11 against its direction
 }
 
 TEST(TwistForest, PathIntoATooShortSpanReportsTooLongAndWritesNothing) {
   TwistForest forest;
-  forest.Link(10, 1, 2);
-  forest.Link(11, 2, 3);
-  std::vector<PathStep> out(3, PathStep{7, 7, 7});
-  EXPECT_EQ(forest.Path(1, 3, std::span(out).first(1)), TwistForest::kPathTooLong);
-  EXPECT_EQ(forest.Path(1, 9, std::span(out).first(1)), kNoPath);
-  for (const PathStep& step : out) EXPECT_EQ(step, (PathStep{7, 7, 7}));
-  EXPECT_EQ(forest.Path(1, 3, std::span(out).first(2)), 2u);
-  EXPECT_EQ(out[2], (PathStep{7, 7, 7}));  // nothing past the path
+  forest.Link(E(10), B(1), B(2));
+  forest.Link(E(11), B(2), B(3));
+  std::vector<PathStep> out(3, Step(7, 7, 7));
+  EXPECT_EQ(forest.Path(B(1), B(3), std::span(out).first(1)), TwistForest::kPathTooLong);
+  EXPECT_EQ(forest.Path(B(1), B(9), std::span(out).first(1)), kNoPath);
+  for (const PathStep& step : out) EXPECT_EQ(step, Step(7, 7, 7));
+  EXPECT_EQ(forest.Path(B(1), B(3), std::span(out).first(2)), 2u);
+  EXPECT_EQ(out[2], Step(7, 7, 7));  // nothing past the path
   EXPECT_NE(TwistForest::kPathTooLong, kNoPath);
 }
 
@@ -185,87 +194,87 @@ TEST(TwistForest, PathIntoATooShortSpanReportsTooLongAndWritesNothing) {
 TEST(TwistForest, LinkRerootsTheSmallerTreeUnderTheLargerOne) {
   for (const bool a_is_tail : {true, false}) {
     TwistForest forest;
-    forest.Link(100, 0, 1);
-    forest.Link(101, 1, 2);
-    forest.Link(102, 2, 3);
-    forest.Link(103, 3, 4);
-    forest.Link(110, 11, 10);
-    const std::uint32_t root_a = forest.FindRoot(0);
-    std::vector<std::uint32_t> parents_a;
-    for (std::uint32_t body = 0; body <= 4; ++body) parents_a.push_back(forest.parent(body));
+    forest.Link(E(100), B(0), B(1));
+    forest.Link(E(101), B(1), B(2));
+    forest.Link(E(102), B(2), B(3));
+    forest.Link(E(103), B(3), B(4));
+    forest.Link(E(110), B(11), B(10));
+    const BodyIndex root_a = forest.FindRoot(B(0));
+    std::vector<BodyIndex> parents_a;
+    for (std::uint32_t body = 0; body <= 4; ++body) parents_a.push_back(forest.parent(B(body)));
 
     if (a_is_tail) {
-      forest.Link(120, 3, 10);
+      forest.Link(E(120), B(3), B(10));
     } else {
-      forest.Link(120, 10, 3);
+      forest.Link(E(120), B(10), B(3));
     }
     ASSERT_TRUE(forest.CheckInvariants());
     for (std::uint32_t body = 0; body <= 4; ++body) {
-      EXPECT_EQ(forest.parent(body), parents_a[body]) << "A was rerooted at " << body;
+      EXPECT_EQ(forest.parent(B(body)), parents_a[body]) << "A was rerooted at " << body;
     }
-    EXPECT_EQ(forest.FindRoot(11), root_a);
-    EXPECT_EQ(forest.parent(10), 3u);
-    EXPECT_EQ(forest.parent_edge(10), 120u);
-    EXPECT_EQ(forest.parent(11), 10u);
-    EXPECT_EQ(forest.depth(10), forest.depth(3) + 1);
-    EXPECT_EQ(forest.depth(11), forest.depth(3) + 2);
+    EXPECT_EQ(forest.FindRoot(B(11)), root_a);
+    EXPECT_EQ(forest.parent(B(10)), B(3));
+    EXPECT_EQ(forest.parent_edge(B(10)), E(120));
+    EXPECT_EQ(forest.parent(B(11)), B(10));
+    EXPECT_EQ(forest.depth(B(10)), forest.depth(B(3)) + 1);
+    EXPECT_EQ(forest.depth(B(11)), forest.depth(B(3)) + 2);
   }
 }
 
 // 1 - 2 - 3 - 4 ; removing 2 - 3 splits it; removing 1 - 2 then leaves 1 and 2 isolated.
 TEST(TwistForest, UnlinkSplitsTheTreeAndDropsBodiesLeftWithoutEdges) {
   TwistForest forest;
-  forest.Link(10, 1, 2);
-  forest.Link(11, 2, 3);
-  forest.Link(12, 3, 4);
-  forest.Unlink(11);
+  forest.Link(E(10), B(1), B(2));
+  forest.Link(E(11), B(2), B(3));
+  forest.Link(E(12), B(3), B(4));
+  forest.Unlink(E(11));
   ASSERT_TRUE(forest.CheckInvariants());
-  EXPECT_FALSE(forest.Connected(1, 4));
-  EXPECT_TRUE(forest.Connected(1, 2));
-  EXPECT_TRUE(forest.Connected(3, 4));
+  EXPECT_FALSE(forest.Connected(B(1), B(4)));
+  EXPECT_TRUE(forest.Connected(B(1), B(2)));
+  EXPECT_TRUE(forest.Connected(B(3), B(4)));
   EXPECT_EQ(forest.num_bodies(), 4u);
-  forest.Unlink(10);
+  forest.Unlink(E(10));
   ASSERT_TRUE(forest.CheckInvariants());
-  EXPECT_FALSE(forest.Contains(1));
-  EXPECT_FALSE(forest.Contains(2));
+  EXPECT_FALSE(forest.Contains(B(1)));
+  EXPECT_FALSE(forest.Contains(B(2)));
   EXPECT_EQ(forest.num_bodies(), 2u);
-  EXPECT_FALSE(forest.ContainsEdge(10));
-  forest.Unlink(12);
+  EXPECT_FALSE(forest.ContainsEdge(E(10)));
+  forest.Unlink(E(12));
   EXPECT_EQ(forest.num_bodies(), 0u);
   EXPECT_TRUE(forest.CheckInvariants());
 }
 
 TEST(TwistForest, LinkOfConnectedBodiesAborts) {
   TwistForest forest;
-  forest.Link(10, 1, 2);
-  forest.Link(11, 2, 3);
-  EXPECT_DEATH(forest.Link(12, 3, 1), "tail_root != head_root");
-  EXPECT_DEATH(forest.Link(12, 1, 1), "tail != head");
-  EXPECT_DEATH(forest.Link(10, 5, 6), "edges_.Contains");
-  EXPECT_DEATH(forest.Unlink(99), "ends != nullptr");
+  forest.Link(E(10), B(1), B(2));
+  forest.Link(E(11), B(2), B(3));
+  EXPECT_DEATH(forest.Link(E(12), B(3), B(1)), "tail_root != head_root");
+  EXPECT_DEATH(forest.Link(E(12), B(1), B(1)), "tail != head");
+  EXPECT_DEATH(forest.Link(E(10), B(5), B(6)), "edges_.Contains");
+  EXPECT_DEATH(forest.Unlink(E(99)), "ends != nullptr");
 }
 
 // This: 1 - 2   3 - 4.   A second 2 - 1 is parallel; 2 - 3 plus 4 - 1 closes a cycle;
 // 2 - 3 alone is fine; an edge id already used is rejected.
 TEST(TwistForest, CanMergeRejectsCyclesParallelEdgesAndSharedIds) {
   TwistForest forest;
-  forest.Link(10, 1, 2);
-  forest.Link(11, 3, 4);
+  forest.Link(E(10), B(1), B(2));
+  forest.Link(E(11), B(3), B(4));
   TwistForest parallel;
-  parallel.Link(20, 2, 1);
+  parallel.Link(E(20), B(2), B(1));
   EXPECT_FALSE(forest.CanMerge(parallel));
   EXPECT_FALSE(parallel.CanMerge(forest));
   TwistForest cycle;
-  cycle.Link(20, 2, 3);
-  cycle.Link(21, 4, 1);
+  cycle.Link(E(20), B(2), B(3));
+  cycle.Link(E(21), B(4), B(1));
   EXPECT_FALSE(forest.CanMerge(cycle));
   EXPECT_FALSE(cycle.CanMerge(forest));
   TwistForest shared_id;
-  shared_id.Link(10, 7, 8);
+  shared_id.Link(E(10), B(7), B(8));
   EXPECT_FALSE(forest.CanMerge(shared_id));
   TwistForest bridge;
-  bridge.Link(20, 2, 3);
-  bridge.Link(21, 4, 5);
+  bridge.Link(E(20), B(2), B(3));
+  bridge.Link(E(21), B(4), B(5));
   EXPECT_TRUE(forest.CanMerge(bridge));
   EXPECT_TRUE(bridge.CanMerge(forest));
   EXPECT_TRUE(forest.CanMerge(TwistForest{}));
@@ -273,24 +282,24 @@ TEST(TwistForest, CanMergeRejectsCyclesParallelEdgesAndSharedIds) {
   forest.Merge(std::move(bridge));
   EXPECT_TRUE(bridge.empty());  // NOLINT(bugprone-use-after-move): documented state
   ASSERT_TRUE(forest.CheckInvariants());
-  EXPECT_EQ(forest.PathLength(1, 5), 4u);
+  EXPECT_EQ(forest.PathLength(B(1), B(5)), 4u);
 }
 
 TEST(TwistForest, QueriesDoNotAllocate) {
   TwistForest forest;
   std::mt19937 rng(7);
   for (std::uint32_t body = 1; body < 200; ++body) {
-    forest.Link(1000 + body, body, static_cast<std::uint32_t>(rng() % body));
+    forest.Link(E(1000 + body), B(body), B(static_cast<std::uint32_t>(rng() % body)));
   }
   std::vector<PathStep> out(200);
   const std::size_t before = AllocationCounter::total();
   std::size_t total = 0;
   for (std::uint32_t u = 0; u < 210; u += 3) {
     for (std::uint32_t v = 0; v < 210; ++v) {
-      total += forest.Connected(u, v) ? 1 : 0;
-      total += forest.PathLength(u, v) != kNoPath ? 1 : 0;
-      total += forest.Path(u, v, out) != kNoPath ? 1 : 0;
-      total += forest.FindRoot(v) + forest.depth(v) + forest.parent(v);
+      total += forest.Connected(B(u), B(v)) ? 1 : 0;
+      total += forest.PathLength(B(u), B(v)) != kNoPath ? 1 : 0;
+      total += forest.Path(B(u), B(v), out) != kNoPath ? 1 : 0;
+      total += forest.FindRoot(B(v)).value() + forest.depth(B(v)) + forest.parent(B(v)).value();
     }
   }
   EXPECT_EQ(AllocationCounter::total(), before);
@@ -316,7 +325,7 @@ TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
       if (roll < 45) {
         const std::uint32_t tail = body();
         const std::uint32_t head = body();
-        if (tail != head && !model.Reach(tail).contains(head)) {
+        if (tail != head && !model.Reach(B(tail)).contains(B(head))) {
           LinkBoth(&forest, &model, fresh_edge(), tail, head);
         }
       } else if (roll < 75) {
@@ -334,11 +343,11 @@ TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
         for (std::uint32_t i = 0; i < count; ++i) {
           const std::uint32_t tail = body();
           const std::uint32_t head = body();
-          if (tail == head || other_model.Reach(tail).contains(head)) continue;
+          if (tail == head || other_model.Reach(B(tail)).contains(B(head))) continue;
           std::uint32_t edge = fresh_edge();
           if (rng() % 20 == 0 && !model.edges.empty() &&
               !other_model.edges.contains(model.edges.begin()->first)) {
-            edge = model.edges.begin()->first;
+            edge = model.edges.begin()->first.value();
           }
           LinkBoth(&other, &other_model, edge, tail, head);
         }
@@ -375,13 +384,13 @@ TEST(TwistForest, StaysCorrectForThousandsOfBodies) {
   std::mt19937 rng(11);
   // A long chain (depth ~kBodies) first: the worst case for the parent walks.
   TwistForest chain;
-  for (std::uint32_t body = 1; body < kBodies; ++body) chain.Link(body, body - 1, body);
+  for (std::uint32_t body = 1; body < kBodies; ++body) chain.Link(E(body), B(body - 1), B(body));
   ASSERT_TRUE(chain.CheckInvariants());
-  EXPECT_EQ(chain.PathLength(0, kBodies - 1), kBodies - 1);
+  EXPECT_EQ(chain.PathLength(B(0), B(kBodies - 1)), kBodies - 1);
   std::vector<PathStep> out(kBodies);
-  ASSERT_EQ(chain.Path(kBodies - 1, 0, out), kBodies - 1);
-  EXPECT_EQ(out.front(), (PathStep{kBodies - 1, kBodies - 1, kBodies - 2}));
-  EXPECT_EQ(out[kBodies - 2], (PathStep{1, 1, 0}));
+  ASSERT_EQ(chain.Path(B(kBodies - 1), B(0), out), kBodies - 1);
+  EXPECT_EQ(out.front(), Step(kBodies - 1, kBodies - 1, kBodies - 2));
+  EXPECT_EQ(out[kBodies - 2], Step(1, 1, 0));
 
   // A random tree linked in random edge order, so trees of all sizes get joined.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> tree_edges;
@@ -405,7 +414,7 @@ TEST(TwistForest, StaysCorrectForThousandsOfBodies) {
   for (int i = 0; i < 500; ++i) {
     const auto tail = static_cast<std::uint32_t>(rng() % kBodies);
     const auto head = static_cast<std::uint32_t>(rng() % kBodies);
-    if (tail != head && !forest.Connected(tail, head)) {
+    if (tail != head && !forest.Connected(B(tail), B(head))) {
       LinkBoth(&forest, &model, ++edge + kBodies, tail, head);
     }
   }
@@ -414,10 +423,10 @@ TEST(TwistForest, StaysCorrectForThousandsOfBodies) {
   std::vector<PathStep> expected;
   for (int i = 0; i < 30; ++i) {
     const auto u = static_cast<std::uint32_t>(rng() % kBodies);
-    const auto reached = model.Reach(u);
+    const auto reached = model.Reach(B(u));
     for (std::uint32_t v = 0; v < kBodies; v += 7) {
-      const bool connected = NaiveForest::PathTo(reached, u, v, &expected);
-      const std::size_t length = forest.Path(u, v, out);
+      const bool connected = NaiveForest::PathTo(reached, B(u), B(v), &expected);
+      const std::size_t length = forest.Path(B(u), B(v), out);
       ASSERT_EQ(length, connected ? expected.size() : kNoPath) << u << " - " << v;
       if (connected) {
         ASSERT_TRUE(std::equal(expected.begin(), expected.end(), out.begin()));

@@ -74,7 +74,7 @@ std::optional<RuleViolation> CheckW1(const SceneTopology& t, const NewTwistEdge&
 std::optional<RuleViolation> CheckW3(const SceneTopology& t, const NewTwistEdge& e) noexcept {
   if (!e.head.is_valid() || !e.tail.is_valid()) return std::nullopt;
   const TreeRecord* rec = t.RecordOf(e.head);
-  if (rec && rec->twists.Connected(e.head_body.value(), e.tail.value())) {
+  if (rec && rec->twists.Connected(e.head_body, e.tail)) {
     return RuleViolation{ErrorCode::kDuplicateTwistPath, {}, {}, {}};
   }
   return std::nullopt;

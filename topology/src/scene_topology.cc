@@ -25,20 +25,27 @@ void SceneTopology::GrowNameMaps() {
 }
 
 void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
-  frames_.reserve(frames);
-  bodies_.reserve(bodies);
-  forest_.Reserve(frames);
+  GrowNodes(bodies > bodies_.size() ? bodies - bodies_.size() : 0, frames > frames_.size() ? frames - frames_.size() : 0);
   names_.Reserve(frames + bodies);
-  frame_of_name_.reserve(frames + bodies);
-  body_of_name_.reserve(frames + bodies);
+  GrowCapacity(frame_of_name_, frames + bodies);
+  GrowCapacity(body_of_name_, frames + bodies);
+  name_map_room_ = std::min(frame_of_name_.capacity(), body_of_name_.capacity());
 }
 
-void SceneTopology::ReserveNodes(std::size_t bodies, std::size_t frames) {
-  GrowCapacity(frame_of_name_, names_.size());
-  GrowCapacity(body_of_name_, names_.size());
-  GrowCapacity(bodies_, bodies_.size() + bodies);
-  GrowCapacity(frames_, frames_.size() + frames);
-  forest_.Reserve(forest_.size() + frames);
+void SceneTopology::GrowNodes(std::size_t bodies, std::size_t frames) {
+  // Each array of a kind to the same target, so that the room is one number per kind. On
+  // std::bad_alloc part way, capacities grew but the rooms stay as they were (still true).
+  const std::size_t frame_target = std::max({frames_.size() + frames, 2 * frames_.size(), std::size_t{8}});
+  const std::size_t body_target = std::max({bodies_.size() + bodies, 2 * bodies_.size(), std::size_t{8}});
+  const std::size_t name_target = std::max(names_.size(), name_map_room_);
+  GrowCapacity(frame_of_name_, name_target);
+  GrowCapacity(body_of_name_, name_target);
+  GrowCapacity(bodies_, body_target);
+  GrowCapacity(frames_, frame_target);
+  forest_.Reserve(frame_target);
+  frame_room_ = frame_target - frames_.size();
+  body_room_ = body_target - bodies_.size();
+  name_map_room_ = std::min(frame_of_name_.capacity(), body_of_name_.capacity());
 }
 
 BodyIndex SceneTopology::CreateBody(NameId name) {
@@ -47,6 +54,7 @@ BodyIndex SceneTopology::CreateBody(NameId name) {
   SEMGRAPH_DEMAND(!BodyOfName(name).is_valid());
   const BodyIndex b(static_cast<std::uint32_t>(bodies_.size()));
   bodies_.push_back(BodyNode{name, kNone});
+  --body_room_;
   body_of_name_[name.value()] = b.value();
   return b;
 }
@@ -58,6 +66,7 @@ FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
   const FrameIndex f = forest_.AddNode();
   SEMGRAPH_DEMAND(f.value() == frames_.size());
   frames_.push_back(FrameNode{name, body, TwistEdgeIndex(), bodies_[body.value()].first_frame});
+  --frame_room_;
   bodies_[body.value()].first_frame = f.value();
   frame_of_name_[name.value()] = f.value();
   return f;
@@ -180,6 +189,10 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
 
 void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
   ReserveLinkPose(tail, head);  // every allocation first: the changes below cannot fail
+  LinkPoseReserved(tail, head);
+}
+
+void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
   const std::uint32_t rep_t = forest_.TreeKey(tail).value();
   const std::uint32_t rep_h = forest_.TreeKey(head).value();
   const std::uint32_t* idx_t = record_of_rep_.Find(rep_t);
@@ -250,8 +263,8 @@ void SceneTopology::CutPose(FrameIndex head) {
   below.body_counts.ForEach([&](std::uint32_t body, std::uint32_t) {
     if (*above.body_counts.Find(body) == 0) above.body_counts.Erase(body);
   });
-  old.twists.ForEachEdge([&](std::uint32_t edge, std::uint32_t from, std::uint32_t to) {
-    (forest_.IsAncestor(head, twist_edges_[edge].head) ? below : above).twists.Link(edge, from, to);
+  old.twists.ForEachEdge([&](TwistEdgeIndex edge, BodyIndex from, BodyIndex to) {
+    (forest_.IsAncestor(head, twist_edges_[edge.value()].head) ? below : above).twists.Link(edge, from, to);
   });
   // Room for the second record (the old one is freed and reused for the first) and for the
   // record_of_rep_ entries (one erased, at most two inserted).
@@ -301,7 +314,7 @@ TwistEdgeIndex SceneTopology::LinkTwist(BodyIndex tail, FrameIndex head,
   te.alive = true;
   te.semantics = s;
   frames_[head.value()].twist_edge = TwistEdgeIndex(index);
-  EnsureRecord(head).twists.Link(index, tail.value(), body_of(head).value());
+  EnsureRecord(head).twists.Link(TwistEdgeIndex(index), tail, body_of(head));
   ++num_twist_edges_;
   return TwistEdgeIndex(index);
 }
@@ -315,7 +328,7 @@ void SceneTopology::UnlinkTwist(TwistEdgeIndex e) {
   // The two lists that may grow, before any change (TwistForest::Unlink never allocates).
   GrowCapacity(free_twist_edges_, free_twist_edges_.size() + 1);
   GrowCapacity(free_records_, free_records_.size() + 1);
-  rec->twists.Unlink(e.value());
+  rec->twists.Unlink(e);
   frames_[h.value()].twist_edge = TwistEdgeIndex();
   te.alive = false;
   free_twist_edges_.push_back(e.value());
@@ -324,6 +337,35 @@ void SceneTopology::UnlinkTwist(TwistEdgeIndex e) {
   if (rec->twists.empty() && !forest_.first_child(h).is_valid() && forest_.is_root(h)) {
     FreeRecord(forest_.TreeKey(h).value());
   }
+}
+
+void SceneTopology::ReserveLinkJoint(FrameIndex tail, FrameIndex head) {
+  ReserveLinkPose(tail, head);
+  if (free_twist_edges_.empty()) GrowCapacity(twist_edges_, twist_edges_.size() + 1);
+  // The twist edge goes into the merged tree's TG. Which storage holds it after LinkPose: the
+  // kept record is the tail side's (its record, or the spare ReserveLinkPose prepared, which has
+  // room for one edge) unless the head's record has more bodies (as ReserveLinkPose decides), and
+  // TwistForest::Merge keeps the storage of the forest with more edges (the kept one on a tie).
+  // That storage needs room for the other side's bodies and edges and one more edge.
+  TreeRecord* rec_t = tail.is_valid() ? MutableRecordOf(tail) : nullptr;
+  TreeRecord* rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
+  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1, b_h = rec_h ? rec_h->body_counts.size() : 1;
+  const std::size_t e_t = rec_t ? rec_t->twists.num_edges() : 0, e_h = rec_h ? rec_h->twists.num_edges() : 0;
+  const bool keep_tail = !rec_h || b_t >= b_h;
+  const bool storage_tail = e_t != e_h ? e_t > e_h : keep_tail;
+  if (storage_tail) {
+    if (rec_t) rec_t->twists.ReserveMore(2 + (rec_h ? rec_h->twists.num_bodies() : 0), 1 + e_h);
+    // else: the spare record (empty TG with room for one edge), and e_h == 0: nothing merges.
+  } else {
+    rec_h->twists.ReserveMore(2 + (rec_t ? rec_t->twists.num_bodies() : 0), 1 + e_t);
+  }
+}
+
+void SceneTopology::ReserveUnlinkAfterCut() {
+  // CutPose may leave up to one more free record than before, UnlinkTwist frees a twist slot
+  // and possibly one more record.
+  GrowCapacity(free_twist_edges_, free_twist_edges_.size() + 1);
+  GrowCapacity(free_records_, free_records_.size() + 3);
 }
 
 std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {

@@ -60,7 +60,7 @@ std::string SceneTopology::CheckInvariants() const {
     if (!te.alive) continue;
     ++live;
     const TreeRecord* rec = RecordOf(te.head);
-    if (!rec || !rec->twists.FindEdge(i)) out << "twist edge " << i << " missing from its tree's TG\n";
+    if (!rec || !rec->twists.FindEdge(TwistEdgeIndex(i))) out << "twist edge " << i << " missing from its tree's TG\n";
     if (te.tail == body_of(te.head)) out << "W2 broken\n";
     if (frames_[te.head.value()].twist_edge != TwistEdgeIndex(i)) out << "W1 bookkeeping broken\n";
   }

@@ -6,45 +6,44 @@ namespace semgraph::topology {
 
 // ---- Accessors --------------------------------------------------------------------------------
 
-std::uint32_t TwistForest::parent(std::uint32_t body) const noexcept {
-  const Node* node = nodes_.Find(body);
-  return node != nullptr ? node->parent : kNone;
+BodyIndex TwistForest::parent(BodyIndex body) const noexcept {
+  const Node* node = FindNode(body);
+  return node != nullptr ? node->parent : BodyIndex();
 }
 
-std::uint32_t TwistForest::parent_edge(std::uint32_t body) const noexcept {
-  const Node* node = nodes_.Find(body);
-  return node != nullptr ? node->parent_edge : kNone;
+TwistEdgeIndex TwistForest::parent_edge(BodyIndex body) const noexcept {
+  const Node* node = FindNode(body);
+  return node != nullptr ? node->parent_edge : TwistEdgeIndex();
 }
 
-std::uint32_t TwistForest::depth(std::uint32_t body) const noexcept {
-  const Node* node = nodes_.Find(body);
+std::uint32_t TwistForest::depth(BodyIndex body) const noexcept {
+  const Node* node = FindNode(body);
   return node != nullptr ? node->depth : 0;
 }
 
-const TwistForest::Node& TwistForest::NodeAt(std::uint32_t body) const noexcept {
-  const Node* node = nodes_.Find(body);
+const TwistForest::Node& TwistForest::NodeAt(BodyIndex body) const noexcept {
+  const Node* node = FindNode(body);
   SEMGRAPH_DEMAND(node != nullptr);  // an internal link points at a missing body
   return *node;
 }
 
-TwistForest::Node& TwistForest::NodeAt(std::uint32_t body) noexcept {
+TwistForest::Node& TwistForest::NodeAt(BodyIndex body) noexcept {
   return const_cast<Node&>(std::as_const(*this).NodeAt(body));
 }
 
 // ---- Queries ----------------------------------------------------------------------------------
 
-std::uint32_t TwistForest::FindRoot(std::uint32_t body) const noexcept {
-  const Node* node = nodes_.Find(body);
+BodyIndex TwistForest::FindRoot(BodyIndex body) const noexcept {
+  const Node* node = FindNode(body);
   if (node == nullptr) return body;
-  while (node->parent != kNone) {
+  while (node->parent.is_valid()) {
     body = node->parent;
     node = &NodeAt(body);
   }
   return body;
 }
 
-bool TwistForest::Meet(std::uint32_t u, std::uint32_t v, std::size_t* up_u,
-                       std::size_t* up_v) const noexcept {
+bool TwistForest::Meet(BodyIndex u, BodyIndex v, std::size_t* up_u, std::size_t* up_v) const noexcept {
   const Node* a = &NodeAt(u);
   const Node* b = &NodeAt(v);
   std::size_t steps_u = 0;
@@ -61,7 +60,7 @@ bool TwistForest::Meet(std::uint32_t u, std::uint32_t v, std::size_t* up_u,
     ++steps_v;
   }
   while (u != v) {
-    if (a->parent == kNone) return false;  // two different roots
+    if (!a->parent.is_valid()) return false;  // two different roots
     u = a->parent;
     a = &NodeAt(u);
     v = b->parent;
@@ -74,22 +73,21 @@ bool TwistForest::Meet(std::uint32_t u, std::uint32_t v, std::size_t* up_u,
   return true;
 }
 
-bool TwistForest::Connected(std::uint32_t u, std::uint32_t v) const noexcept {
+bool TwistForest::Connected(BodyIndex u, BodyIndex v) const noexcept {
   return PathLength(u, v) != kNoPath;
 }
 
-std::size_t TwistForest::PathLength(std::uint32_t u, std::uint32_t v) const noexcept {
+std::size_t TwistForest::PathLength(BodyIndex u, BodyIndex v) const noexcept {
   if (u == v) return 0;
-  if (!nodes_.Contains(u) || !nodes_.Contains(v)) return kNoPath;
+  if (!Contains(u) || !Contains(v)) return kNoPath;
   std::size_t up_u = 0;
   std::size_t up_v = 0;
   return Meet(u, v, &up_u, &up_v) ? up_u + up_v : kNoPath;
 }
 
-std::size_t TwistForest::Path(std::uint32_t u, std::uint32_t v,
-                              std::span<PathStep> out) const noexcept {
+std::size_t TwistForest::Path(BodyIndex u, BodyIndex v, std::span<PathStep> out) const noexcept {
   if (u == v) return 0;
-  if (!nodes_.Contains(u) || !nodes_.Contains(v)) return kNoPath;
+  if (!Contains(u) || !Contains(v)) return kNoPath;
   std::size_t up_u = 0;
   std::size_t up_v = 0;
   if (!Meet(u, v, &up_u, &up_v)) return kNoPath;
@@ -115,48 +113,50 @@ bool TwistForest::CanMerge(const TwistForest& other) const {
   // Add the smaller forest's edges, one at a time, to the larger one. The larger forest's
   // connectivity is read through FindRoot (read-only); the edges added so far are tracked in a
   // union-find over component keys: the larger forest's root of a body, or the body itself
-  // when the larger forest lacks it (a body id is then never also a root id there).
+  // when the larger forest lacks it (that body is then never also a root there). Keyed by the
+  // body index's value, like the forest's own maps.
   const bool this_larger = num_edges() >= other.num_edges();
   const TwistForest& large = this_larger ? *this : other;
   const TwistForest& small = this_larger ? other : *this;
   if (small.empty()) return true;
 
   struct Set {
-    std::uint32_t parent;
+    BodyIndex parent;
     std::uint32_t size;
   };
   FlatMap<Set> sets;
   sets.Reserve(2 * small.num_edges());
+  const auto set_of = [&sets](BodyIndex key) { return sets.Find(key.value()); };
   // Reserved for every key we can insert (two per edge), so pointers into `sets` stay valid.
-  auto find = [&sets](std::uint32_t key) {
-    Set* set = &sets.FindOrInsert(key, Set{key, 1});
+  auto find = [&sets, &set_of](BodyIndex key) {
+    Set* set = &sets.FindOrInsert(key.value(), Set{key, 1});
     // Path halving keeps the trees shallow.
     while (set->parent != key) {
-      Set* up = sets.Find(set->parent);
+      Set* up = set_of(set->parent);
       set->parent = up->parent;
       key = up->parent;
-      set = sets.Find(key);
+      set = set_of(key);
     }
     return key;
   };
 
   bool forest = true;
-  small.ForEachEdge([&](std::uint32_t edge, std::uint32_t tail, std::uint32_t head) {
+  small.ForEachEdge([&](TwistEdgeIndex edge, BodyIndex tail, BodyIndex head) {
     if (!forest) return;
     if (large.ContainsEdge(edge)) {
       forest = false;
       return;
     }
-    const std::uint32_t a = find(large.FindRoot(tail));
-    const std::uint32_t b = find(large.FindRoot(head));
+    const BodyIndex a = find(large.FindRoot(tail));
+    const BodyIndex b = find(large.FindRoot(head));
     if (a == b) {  // tail and head are already joined: a cycle, or a parallel edge
       forest = false;
       return;
     }
     // Union by size: the smaller set hangs under the larger one's representative.
-    const bool a_keeps = sets.Find(a)->size >= sets.Find(b)->size;
-    Set* keep = sets.Find(a_keeps ? a : b);
-    Set* join = sets.Find(a_keeps ? b : a);
+    const bool a_keeps = set_of(a)->size >= set_of(b)->size;
+    Set* keep = set_of(a_keeps ? a : b);
+    Set* join = set_of(a_keeps ? b : a);
     join->parent = a_keeps ? a : b;
     keep->size += join->size;
   });
@@ -165,45 +165,45 @@ bool TwistForest::CanMerge(const TwistForest& other) const {
 
 // ---- Mutations --------------------------------------------------------------------------------
 
-void TwistForest::AttachChild(std::uint32_t parent, std::uint32_t child) noexcept {
+void TwistForest::AttachChild(BodyIndex parent, BodyIndex child) noexcept {
   Node& p = NodeAt(parent);
   Node& c = NodeAt(child);
-  c.prev_sibling = kNone;
+  c.prev_sibling = BodyIndex();
   c.next_sibling = p.first_child;
-  if (p.first_child != kNone) NodeAt(p.first_child).prev_sibling = child;
+  if (p.first_child.is_valid()) NodeAt(p.first_child).prev_sibling = child;
   p.first_child = child;
 }
 
-void TwistForest::DetachChild(std::uint32_t parent, std::uint32_t child) noexcept {
+void TwistForest::DetachChild(BodyIndex parent, BodyIndex child) noexcept {
   Node& c = NodeAt(child);
-  if (c.prev_sibling != kNone) {
+  if (c.prev_sibling.is_valid()) {
     NodeAt(c.prev_sibling).next_sibling = c.next_sibling;
   } else {
     NodeAt(parent).first_child = c.next_sibling;
   }
-  if (c.next_sibling != kNone) NodeAt(c.next_sibling).prev_sibling = c.prev_sibling;
-  c.prev_sibling = kNone;
-  c.next_sibling = kNone;
+  if (c.next_sibling.is_valid()) NodeAt(c.next_sibling).prev_sibling = c.prev_sibling;
+  c.prev_sibling = BodyIndex();
+  c.next_sibling = BodyIndex();
 }
 
-void TwistForest::Reroot(std::uint32_t body) noexcept {
+void TwistForest::Reroot(BodyIndex body) noexcept {
   Node& top = NodeAt(body);
-  if (top.parent == kNone) return;
+  if (!top.parent.is_valid()) return;
   const std::uint32_t tree_size = NodeAt(FindRoot(body)).tree_size;
-  std::uint32_t up = top.parent;
-  std::uint32_t edge = top.parent_edge;
+  BodyIndex up = top.parent;
+  TwistEdgeIndex edge = top.parent_edge;
   DetachChild(up, body);
-  top.parent = kNone;
-  top.parent_edge = kNone;
+  top.parent = BodyIndex();
+  top.parent_edge = TwistEdgeIndex();
   top.tree_size = tree_size;
   // Reverse the path body -> root one edge at a time. Each body is unhooked from its old
   // parent before it is hooked under its old child, so its sibling links are never shared.
-  std::uint32_t below = body;
-  while (up != kNone) {
+  BodyIndex below = body;
+  while (up.is_valid()) {
     Node& node = NodeAt(up);
-    const std::uint32_t next_up = node.parent;
-    const std::uint32_t next_edge = node.parent_edge;
-    if (next_up != kNone) DetachChild(next_up, up);
+    const BodyIndex next_up = node.parent;
+    const TwistEdgeIndex next_edge = node.parent_edge;
+    if (next_up.is_valid()) DetachChild(next_up, up);
     node.parent = below;
     node.parent_edge = edge;
     AttachChild(below, up);
@@ -213,20 +213,20 @@ void TwistForest::Reroot(std::uint32_t body) noexcept {
   }
 }
 
-std::size_t TwistForest::Relevel(std::uint32_t top, std::uint32_t top_depth) noexcept {
+std::size_t TwistForest::Relevel(BodyIndex top, std::uint32_t top_depth) noexcept {
   // Stackless preorder walk over first_child / next_sibling / parent links.
   NodeAt(top).depth = top_depth;
   std::size_t count = 0;
-  std::uint32_t body = top;
+  BodyIndex body = top;
   while (true) {
     ++count;
     const Node& node = NodeAt(body);
-    if (node.first_child != kNone) {
+    if (node.first_child.is_valid()) {
       NodeAt(node.first_child).depth = node.depth + 1;
       body = node.first_child;
       continue;
     }
-    while (body != top && NodeAt(body).next_sibling == kNone) body = NodeAt(body).parent;
+    while (body != top && !NodeAt(body).next_sibling.is_valid()) body = NodeAt(body).parent;
     if (body == top) return count;
     const Node& done = NodeAt(body);
     NodeAt(done.next_sibling).depth = done.depth;
@@ -234,28 +234,28 @@ std::size_t TwistForest::Relevel(std::uint32_t top, std::uint32_t top_depth) noe
   }
 }
 
-void TwistForest::Link(std::uint32_t edge, std::uint32_t tail, std::uint32_t head) {
-  SEMGRAPH_DEMAND(edge != kNone && tail != kNone && head != kNone);
+void TwistForest::Link(TwistEdgeIndex edge, BodyIndex tail, BodyIndex head) {
+  SEMGRAPH_DEMAND(edge.is_valid() && tail.is_valid() && head.is_valid());
   SEMGRAPH_DEMAND(tail != head);
-  SEMGRAPH_DEMAND(!edges_.Contains(edge));
+  SEMGRAPH_DEMAND(!edges_.Contains(edge.value()));
   // An absent body is its own (virtual) root, never equal to a present body's root.
-  const std::uint32_t tail_root = FindRoot(tail);
-  const std::uint32_t head_root = FindRoot(head);
+  const BodyIndex tail_root = FindRoot(tail);
+  const BodyIndex head_root = FindRoot(head);
   SEMGRAPH_DEMAND(tail_root != head_root);
 
   // All insertions first: they may rehash, so no Node reference is held across them. Both
   // maps are grown before either changes, so an allocation failure changes nothing.
   ReserveLink();
-  nodes_.FindOrInsert(tail, Node{});
-  nodes_.FindOrInsert(head, Node{});
-  edges_.Insert(edge, TwistEdgeEnds{tail, head});
+  nodes_.FindOrInsert(tail.value(), Node{});
+  nodes_.FindOrInsert(head.value(), Node{});
+  edges_.Insert(edge.value(), TwistEdgeEnds{tail, head});
 
   // Hang the smaller tree under the other endpoint: only the smaller tree is rerooted and
   // re-levelled (ties hang the tail's tree).
   const bool tail_hangs = NodeAt(tail_root).tree_size <= NodeAt(head_root).tree_size;
-  const std::uint32_t lower = tail_hangs ? tail : head;
-  const std::uint32_t upper = tail_hangs ? head : tail;
-  const std::uint32_t upper_root = tail_hangs ? head_root : tail_root;
+  const BodyIndex lower = tail_hangs ? tail : head;
+  const BodyIndex upper = tail_hangs ? head : tail;
+  const BodyIndex upper_root = tail_hangs ? head_root : tail_root;
   const std::uint32_t moved = NodeAt(tail_hangs ? tail_root : head_root).tree_size;
 
   Reroot(lower);
@@ -267,34 +267,39 @@ void TwistForest::Link(std::uint32_t edge, std::uint32_t tail, std::uint32_t hea
   Relevel(lower, NodeAt(upper).depth + 1);
 }
 
-void TwistForest::Unlink(std::uint32_t edge) {
-  const TwistEdgeEnds* ends = edges_.Find(edge);
+void TwistForest::Unlink(TwistEdgeIndex edge) {
+  const TwistEdgeEnds* ends = edges_.Find(edge.value());
   SEMGRAPH_DEMAND(ends != nullptr);
   // The endpoint whose parent link is this edge is the one below it.
   const bool tail_below = NodeAt(ends->tail).parent_edge == edge;
-  const std::uint32_t below = tail_below ? ends->tail : ends->head;
-  const std::uint32_t above = tail_below ? ends->head : ends->tail;
+  const BodyIndex below = tail_below ? ends->tail : ends->head;
+  const BodyIndex above = tail_below ? ends->head : ends->tail;
   SEMGRAPH_DEMAND(NodeAt(below).parent == above && NodeAt(below).parent_edge == edge);
 
   DetachChild(above, below);
   Node& node = NodeAt(below);
-  node.parent = kNone;
-  node.parent_edge = kNone;
-  const std::uint32_t root = FindRoot(above);
+  node.parent = BodyIndex();
+  node.parent_edge = TwistEdgeIndex();
+  const BodyIndex root = FindRoot(above);
   const auto moved = static_cast<std::uint32_t>(Relevel(below, 0));
   NodeAt(below).tree_size = moved;
   NodeAt(root).tree_size -= moved;
   const bool root_alone = NodeAt(root).tree_size == 1;
 
   // Erasures last: backward shift moves entries, invalidating Node references.
-  edges_.Erase(edge);
-  if (moved == 1) nodes_.Erase(below);
-  if (root_alone) nodes_.Erase(root);
+  edges_.Erase(edge.value());
+  if (moved == 1) nodes_.Erase(below.value());
+  if (root_alone) nodes_.Erase(root.value());
 }
 
 void TwistForest::ReserveLink() {
   nodes_.Reserve(nodes_.size() + 2);
   edges_.Reserve(edges_.size() + 1);
+}
+
+void TwistForest::ReserveMore(std::size_t bodies, std::size_t edges) {
+  nodes_.Reserve(nodes_.size() + bodies);
+  edges_.Reserve(edges_.size() + edges);
 }
 
 void TwistForest::ReserveMerge(TwistForest& other) {
@@ -314,7 +319,7 @@ void TwistForest::Merge(TwistForest&& other) {
   // Link the smaller set of edges into the larger structure; which object ends up owning the
   // storage does not matter, the result is the same forest.
   if (other.num_edges() > num_edges()) std::swap(*this, other);
-  other.ForEachEdge([this](std::uint32_t edge, std::uint32_t tail, std::uint32_t head) {
+  other.ForEachEdge([this](TwistEdgeIndex edge, BodyIndex tail, BodyIndex head) {
     Link(edge, tail, head);
   });
   other.Clear();
@@ -330,14 +335,15 @@ bool TwistForest::CheckInvariants() const {
   std::size_t bodies_in_trees = 0;
   const std::size_t n = nodes_.size();
 
-  nodes_.ForEach([&](std::uint32_t body, const Node& node) {
+  nodes_.ForEach([&](std::uint32_t key, const Node& node) {
     if (!ok) return;
-    expect(body != kNone);
+    const BodyIndex body(key);
+    expect(body.is_valid());
     // Children list: doubly linked, each child points back, bounded length (no cycle).
-    std::uint32_t prev = kNone;
+    BodyIndex prev;
     std::size_t length = 0;
-    for (std::uint32_t c = node.first_child; c != kNone && ok && length <= n;) {
-      const Node* child = nodes_.Find(c);
+    for (BodyIndex c = node.first_child; c.is_valid() && ok && length <= n;) {
+      const Node* child = FindNode(c);
       expect(child != nullptr);
       if (child == nullptr) break;
       expect(child->parent == body && child->prev_sibling == prev);
@@ -348,37 +354,37 @@ bool TwistForest::CheckInvariants() const {
     expect(length <= n);
     listed_children += length;
 
-    if (node.parent == kNone) {
+    if (!node.parent.is_valid()) {
       ++roots;
-      expect(node.parent_edge == kNone && node.depth == 0);
-      expect(node.next_sibling == kNone && node.prev_sibling == kNone);
-      expect(node.first_child != kNone);  // no isolated body
+      expect(!node.parent_edge.is_valid() && node.depth == 0);
+      expect(!node.next_sibling.is_valid() && !node.prev_sibling.is_valid());
+      expect(node.first_child.is_valid());  // no isolated body
       bodies_in_trees += node.tree_size;
       // The recorded size is the size of the tree hanging from this root.
       // Links were not all validated yet (ForEach order), so look up defensively.
       std::size_t count = 0;
-      std::uint32_t b = body;
+      BodyIndex b = body;
       const Node* at = &node;
       while (count <= n) {
         ++count;
-        if (at->first_child != kNone) {
+        if (at->first_child.is_valid()) {
           b = at->first_child;
         } else {
-          while (b != body && at != nullptr && at->next_sibling == kNone) {
+          while (b != body && at != nullptr && !at->next_sibling.is_valid()) {
             b = at->parent;
-            at = nodes_.Find(b);
+            at = FindNode(b);
           }
           if (b == body || at == nullptr) break;
           b = at->next_sibling;
         }
-        at = nodes_.Find(b);
+        at = FindNode(b);
         if (at == nullptr) break;
       }
       expect(at != nullptr && count == node.tree_size);
       return;
     }
-    const Node* up = nodes_.Find(node.parent);
-    const TwistEdgeEnds* ends = edges_.Find(node.parent_edge);
+    const Node* up = FindNode(node.parent);
+    const TwistEdgeEnds* ends = FindEdge(node.parent_edge);
     expect(up != nullptr && ends != nullptr);
     if (!ok) return;
     expect(node.depth == up->depth + 1);
@@ -391,10 +397,11 @@ bool TwistForest::CheckInvariants() const {
   expect(listed_children == n - roots);
   expect(edges_.size() == n - roots);
   expect(bodies_in_trees == n);
-  edges_.ForEach([&](std::uint32_t edge, const TwistEdgeEnds& ends) {
-    const Node* tail = nodes_.Find(ends.tail);
-    const Node* head = nodes_.Find(ends.head);
-    expect(edge != kNone && ends.tail != ends.head && tail != nullptr && head != nullptr);
+  ForEachEdge([&](TwistEdgeIndex edge, BodyIndex tail_body, BodyIndex head_body) {
+    const TwistEdgeEnds ends{tail_body, head_body};
+    const Node* tail = FindNode(ends.tail);
+    const Node* head = FindNode(ends.head);
+    expect(edge.is_valid() && ends.tail != ends.head && tail != nullptr && head != nullptr);
     if (tail == nullptr || head == nullptr) return;
     expect((tail->parent_edge == edge && tail->parent == ends.head) ||
            (head->parent_edge == edge && head->parent == ends.tail));

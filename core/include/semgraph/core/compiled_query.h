@@ -20,9 +20,12 @@
 // snapshot). The writer may also change the topology (add/remove) meanwhile: each edge is read
 // through the address of its value, taken at compile time (values never move: stable_array.h),
 // and its epoch check turns a removal into kQueryInvalidated, so an untimed Evaluate answers for
-// the graph it was compiled on or is invalidated. Not under concurrent topology changes: the
-// timed forms and twists from pose derivatives (they read sample histories and the topology,
-// which a change frees or rewrites; docs/realtime.md).
+// the graph it was compiled on or is invalidated. The timed forms and twists from pose
+// derivatives too: they read sample histories, which a removal retires but never frees
+// (edge_history.h HistoryTable), between two epoch checks of each edge (evaluate.h FlatSource).
+// Not under concurrent topology changes: an At evaluation that extrapolates
+// (max_extrapolation > 0, a time outside an edge's samples), which plans a twist from the
+// topology (docs/realtime.md).
 // Time (docs/time.md): Evaluate(..., policy, report) reads every edge at the policy's time
 // through the same evaluator and reports what it read; also noexcept and allocation-free
 // (extrapolation plans its twist from the graph's topology, which is why a compiled query keeps

@@ -14,8 +14,9 @@
 // insert no sample is older than newest - window. Costs: an in-order insert O(1) (plus the
 // samples the window drops); out of order O(samples after it) (a shift); a lookup O(log size)
 // stamp loads + 2 samples copied; all noexcept, allocation-free, lock-free.
-// Thread safety: one writer (Insert); readers (Find*, Newest*) concurrent with it. Creating and
-// destroying a history needs exclusive access (build phase).
+// Thread safety: one writer (Insert, Restart); readers (Find*, Newest*) concurrent with it.
+// Creating and destroying a history needs exclusive access: a graph allocates them at build
+// time and frees them only when it is destroyed (HistoryTable below reuses retired ones).
 #pragma once
 
 #include <atomic>
@@ -25,6 +26,7 @@
 #include <memory>
 #include <vector>
 
+#include "semgraph/core/stable_array.h"
 #include "semgraph/core/time.h"
 
 namespace semgraph::core {
@@ -168,6 +170,18 @@ class SampleHistory {
     return true;
   }
 
+  /// Drops every sample and holds (stamp, v) alone: one write under the sequence lock, so a
+  /// reader overlapping it retries, and one after it sees only the new sample (a retired
+  /// history reused for another edge: HistoryTable::Install).
+  void Restart(std::int64_t stamp, const double (&v)[N]) noexcept {
+    const std::uint64_t h = seq_.load(std::memory_order_relaxed);
+    seq_.store(h + 1, std::memory_order_relaxed);  // odd; ordered before the release stores below
+    StoreValues(0, 0, stamp, v);
+    head_.store(0, std::memory_order_release);
+    size_.store(1, std::memory_order_release);
+    seq_.store(h + 2, std::memory_order_release);
+  }
+
   /// Inserts (or replaces the value at an equal stamp), then drops the oldest sample when full
   /// and every sample older than newest - window. The caller checked stamp_too_old and the
   /// duplicate policy. A sample older than all while the history is full is dropped at once.
@@ -246,24 +260,120 @@ using PoseHistory = SampleHistory<7>;   ///< quaternion x y z w, then p
 using TwistHistory = SampleHistory<6>;  ///< v, then w, both in [h]
 static_assert(PoseHistory::BytesPerSample() == 64);
 
-/// The histories of a graph's stamped edges: by frame (the pose edge into it) and by twist edge
-/// slot; nullptr for a timeless (or constant) edge. Grown and filled at build time only.
-struct EdgeHistories {
-  TimeOptions options;  ///< the graph's (validated when the graph is made)
-  std::vector<std::unique_ptr<PoseHistory>> pose;
-  std::vector<std::unique_ptr<TwistHistory>> twist;
+/// The histories of one kind of stamped edge (pose edges by head frame, twist edges by slot),
+/// made so that readers may keep evaluating compiled queries while the writer adds and removes
+/// stamped edges (docs/realtime.md, "Topology changes while readers run"):
+///   - the table of history pointers is a StableArray of atomics (one per frame / twist slot,
+///     grown with the edge values, never moved), stored with release, loaded with acquire;
+///   - a history is never freed while the graph lives: removing an edge retires its history
+///     into a free list, and the next new history of the same capacity reuses it (Restart
+///     resets it through its own sequence lock). So a loop that removes and re-adds stamped
+///     edges reaches a steady state without allocation, and memory is bounded: the histories
+///     ever allocated number at most the peak count of edges stamped at once (plus those one
+///     build operation holds before installing them), each sizeof(H) + capacity samples.
+/// The reader's side of the protocol (timed_read.h, evaluate.h FlatSource): a compiled query
+/// checks its edge's epoch, loads the pointer, reads the history under its sequence lock, then
+/// checks the epoch again. The writer removes an edge by bumping its epoch (release), then
+/// retiring the history (pointer store nullptr, release); a reuse rewrites it later, every word
+/// stored with release. A reader that loaded anything the writer stored after the bump (the
+/// nullptr, a word or header of the reset history, the pointer of a new history) synchronizes
+/// with that store, so its second epoch load sees the bump: it reports kQueryInvalidated rather
+/// than numbers of another edge. A reader that saw none of it read the old history, whole (the
+/// sequence lock): an answer of the graph before the change.
+/// Invariants: of(i) is null or a history with >= 1 sample; owned_ holds every history allocated,
+/// free_ those not installed, free_.capacity() >= owned_.size() (so Retire never allocates).
+/// Costs: of() one acquire load after the StableArray index; New O(free histories) and an
+/// allocation only when none fits; Install/Retire O(1), noexcept.
+/// Thread safety: one writer (Grow, Reserve, New, Install, Retire, writable); of() from any
+/// thread, for an index that existed when the reader learned of it.
+template <class H>
+class HistoryTable {
+ public:
+  /// Gives a history back to the free list unless installed (a build operation that fails after
+  /// New changes nothing). Never allocates (free_ has room for every history).
+  struct Return {
+    std::vector<H*>* free = nullptr;
+    void operator()(H* h) const noexcept { free->push_back(h); }
+  };
+  using Lease = std::unique_ptr<H, Return>;
 
-  [[nodiscard]] const PoseHistory* pose_of(std::uint32_t frame) const noexcept {
-    return frame < pose.size() ? pose[frame].get() : nullptr;
+  /// The history of edge i, or nullptr (timeless). Any thread (acquire: the history's first
+  /// sample, written before the pointer was stored, is visible).
+  [[nodiscard]] const H* of(std::size_t i) const noexcept { return table_[i].load(std::memory_order_acquire); }
+  /// The writer's history of edge i (stamped: not null).
+  [[nodiscard]] H& writable(std::size_t i) noexcept { return *table_[i].load(std::memory_order_relaxed); }
+
+  /// Room for n entries (all or nothing); then Grow up to n does not allocate.
+  void Reserve(std::size_t n) { table_.Reserve(n); }
+  /// At least n entries (new ones null).
+  void Grow(std::size_t n) {
+    if (table_.size() < n) table_.Resize(n);
   }
-  [[nodiscard]] const TwistHistory* twist_of(std::uint32_t slot) const noexcept {
-    return slot < twist.size() ? twist[slot].get() : nullptr;
+
+  /// A history of `capacity` samples: a retired one if any fits, else a new one. Allocates only
+  /// then; all or nothing under std::bad_alloc.
+  [[nodiscard]] Lease New(std::size_t capacity) {
+    const std::size_t cap = capacity < 2 ? 2 : capacity;
+    for (std::size_t k = free_.size(); k-- > 0;) {
+      if (free_[k]->capacity() == cap) {
+        H* h = free_[k];
+        free_.erase(free_.begin() + static_cast<std::ptrdiff_t>(k));
+        return Lease(h, Return{&free_});
+      }
+    }
+    owned_.reserve(owned_.size() + 1);
+    free_.reserve(owned_.size() + 1);
+    owned_.push_back(std::make_unique<H>(cap));  // no reallocation: reserved
+    return Lease(owned_.back().get(), Return{&free_});
   }
+  /// Makes `h` edge i's history, holding the one sample (stamp, v) (a reused history loses its
+  /// old samples through its sequence lock), then publishes it (release).
+  void Install(std::size_t i, Lease h, std::int64_t stamp, const double (&v)[H::kValueWords]) noexcept {
+    H* p = h.release();
+    p->Restart(stamp, v);
+    table_[i].store(p, std::memory_order_release);
+  }
+  /// Edge i becomes timeless (its edge was removed: the caller bumped the epoch before); its
+  /// history goes to the free list, untouched until reused (readers may still be reading it).
+  void Retire(std::size_t i) noexcept {
+    if (i >= table_.size()) return;
+    H* p = table_[i].load(std::memory_order_relaxed);
+    if (p == nullptr) return;
+    table_[i].store(nullptr, std::memory_order_release);
+    free_.push_back(p);  // capacity >= owned_.size(): no allocation
+  }
+
+  /// Histories allocated / retired and waiting for reuse.
+  [[nodiscard]] std::size_t allocated() const noexcept { return owned_.size(); }
+  [[nodiscard]] std::size_t retired() const noexcept { return free_.size(); }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    std::size_t bytes = pose.capacity() * sizeof(void*) + twist.capacity() * sizeof(void*);
-    for (const auto& h : pose) if (h) bytes += sizeof(PoseHistory) + h->capacity() * PoseHistory::BytesPerSample();
-    for (const auto& h : twist) if (h) bytes += sizeof(TwistHistory) + h->capacity() * TwistHistory::BytesPerSample();
+    std::size_t bytes = table_.bytes() + owned_.capacity() * sizeof(void*) + free_.capacity() * sizeof(void*);
+    for (const auto& h : owned_) bytes += sizeof(H) + h->capacity() * H::BytesPerSample();
     return bytes;
+  }
+
+ private:
+  StableArray<std::atomic<H*>> table_;
+  std::vector<std::unique_ptr<H>> owned_;
+  std::vector<H*> free_;
+};
+
+using PoseHistoryLease = HistoryTable<PoseHistory>::Lease;
+using TwistHistoryLease = HistoryTable<TwistHistory>::Lease;
+
+/// The histories of a graph's stamped edges: by frame (the pose edge into it) and by twist edge
+/// slot; nullptr for a timeless (or constant) edge. The tables grow with the edge values
+/// (EdgeValues::AddFrame / AddTwistSlot), so every frame and slot a reader knows has an entry.
+struct EdgeHistories {
+  TimeOptions options;  ///< the graph's (validated when the graph is made; fixed after)
+  HistoryTable<PoseHistory> pose;
+  HistoryTable<TwistHistory> twist;
+
+  /// Any thread, for a frame / slot of the graph.
+  [[nodiscard]] const PoseHistory* pose_of(std::uint32_t frame) const noexcept { return pose.of(frame); }
+  [[nodiscard]] const TwistHistory* twist_of(std::uint32_t slot) const noexcept { return twist.of(slot); }
+  [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
+    return pose.ApproximateBytes() + twist.ApproximateBytes();
   }
 };
 

@@ -116,18 +116,27 @@ struct EdgeValues {
   EdgeHistories history;
 
   /// The value of a new frame: the identity (it has no pose parent yet).
+  /// Its history entry too (null: timeless), so that every frame a reader knows has one.
   void AddFrame() {
     X_PF.EmplaceBack(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
+    history.pose.Grow(X_PF.size());
   }
-  /// Makes room for the value of twist edge slot `e`.
+  /// Makes room for the value (and the history entry) of twist edge slot `e`.
   void AddTwistSlot(topology::TwistEdgeIndex e) {
     if (V_DH.size() <= e.value()) V_DH.Resize(e.value() + 1);
+    history.twist.Grow(V_DH.size());
   }
   /// Room for `frames` frame values / `slots` twist slot values in total (blocks of doubling
   /// size), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
   /// call these before their first change (all or nothing under std::bad_alloc).
-  void ReserveFrames(std::size_t frames) { X_PF.Reserve(frames); }
-  void ReserveTwistSlots(std::size_t slots) { V_DH.Reserve(slots); }
+  void ReserveFrames(std::size_t frames) {
+    X_PF.Reserve(frames);
+    history.pose.Reserve(frames);
+  }
+  void ReserveTwistSlots(std::size_t slots) {
+    V_DH.Reserve(slots);
+    history.twist.Reserve(slots);
+  }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
     return X_PF.bytes() + V_DH.bytes() + history.ApproximateBytes();
   }

@@ -204,18 +204,24 @@ class FlatSource {
       return true;
     }
   }
+  // An edge read from its history is bracketed by two epoch checks: the first skips a removed
+  // edge early, the second is what makes reading a retired or reused history safe (HistoryTable,
+  // edge_history.h: the removal bumps the epoch before it retires the history, so a reader
+  // that read anything written after the removal sees the new epoch here).
   bool LoadTwist(const TwistStep<FlatChain>& s, TwistNumbers& V) const noexcept {
     if (s.pose_edge.is_valid()) {
-      if (v_.X_PF[s.pose_edge.value()].epoch() != s.epoch) return false;
+      const PoseValue<B>& value = v_.X_PF[s.pose_edge.value()];
+      if (value.epoch() != s.epoch) return false;
       TimeContext latest;
       latest.histories = &v_.history;
       DerivePoseAt<B>(v_, s.pose_edge.value(), time_ ? *time_ : latest, V);
-      return true;
+      return value.epoch() == s.epoch;
     }
     if (!time_) return v_.V_DH[s.edge.value()].Load(V, s.epoch);
-    if (v_.V_DH[s.edge.value()].epoch() != s.epoch) return false;
+    const TwistValue& value = v_.V_DH[s.edge.value()];
+    if (value.epoch() != s.epoch) return false;
     ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
-    return true;
+    return value.epoch() == s.epoch;
   }
 
  private:
@@ -224,10 +230,10 @@ class FlatSource {
   // arithmetic (with this branch inline, GCC 12 called Eigen's quaternion-vector product out of
   // line: 1.39x the raw chain's instructions at d = 8 instead of 1.15x).
   [[gnu::noinline]] bool EvalChainAt(const EdgeRef* first, const EdgeRef* e, PoseCoords& X_AF) const noexcept {
-    const auto load = [&](const EdgeRef& r, PoseCoords& X) {
+    const auto load = [&](const EdgeRef& r, PoseCoords& X) {  // two epoch checks: see LoadTwist
       if (Value(r).epoch() != r.epoch()) return false;
       ReadPoseAt<B>(v_, r.child, *time_, X);
-      return true;
+      return Value(r).epoch() == r.epoch();
     };
     PoseCoords acc;
     if (!load(*e, acc)) return false;

@@ -135,14 +135,14 @@ void ForEachTwistStep(const topology::SceneTopology& t, const TwistPlan& plan, F
   if (plan.tg == nullptr) return;
   const topology::TwistForest& tg = *plan.tg;
   const auto walk = [&](BodyIndex from, bool negate) {
-    for (std::uint32_t body = from.value(); body != plan.ancestor.value(); body = tg.parent(body)) {
-      const TwistEdgeIndex edge(tg.parent_edge(body));
+    for (BodyIndex body = from; body != plan.ancestor; body = tg.parent(body)) {
+      const TwistEdgeIndex edge = tg.parent_edge(body);
       const FrameIndex h = t.twist_edge(edge).head;
       TwistStep<ForestChain> step;
       step.edge = edge;
       // Stored as TwistCoord(h|H, D, [h]): used as is when walking up from H, else inverted;
       // D's side is subtracted (the inverse twist).
-      step.invert = (t.body_of(h).value() != body) != negate;
+      step.invert = (t.body_of(h) != body) != negate;
       if ((step.move_point = h != plan.point)) step.eh = PlanBasic(t, plan.point, h);
       if ((step.change_frame = h != plan.frame)) step.hr = PlanBasic(t, h, plan.frame);
       f(step);

@@ -13,7 +13,8 @@
 // the one evaluator of the algorithms (evaluate.h), shared by one-shot queries, compiled
 // queries (compiled_query.h) and the edge-form conversion of adds.
 //
-// Invariants (kept by every accepted operation; CheckInvariants() verifies them):
+// Invariants (kept by every accepted operation; CheckInvariants(graph) in scene_graph_debug.h
+// verifies them):
 //  P1 a frame has at most one pose parent; P2 pose edges form a forest; P3 in every pose tree
 //  the frames of one body are connected through same-body edges only; P4 same-body edges are
 //  constant; W1 a frame has at most one twist parent; W2 no twist from a body to itself; W3 per
@@ -64,6 +65,12 @@
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core {
+
+namespace internal {
+// The one door of the debug unit (scene_graph_debug.h: Dump, CheckInvariants) into a graph's
+// private state; defined in scene_graph_debug.cc only, so nothing else can use it.
+struct DebugAccess;
+}  // namespace internal
 
 template <coord::Backend B = coord::QuaternionBackend>
 class SEMGRAPH_CORE_EXPORT SceneGraph {
@@ -382,12 +389,6 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] std::string Describe(const QueryError& e, const PoseSpec& spec) const;
   [[nodiscard]] std::string Describe(const QueryError& e, const TwistSpec& spec) const;
 
-  /// Debug (scene_graph_debug.cc): a canonical, complete text dump of the graph (names, ids,
-  /// topology, values, twist trees), for tests and fuzzers comparing state before and after a
-  /// rejected operation.
-  [[nodiscard]] std::string Dump() const;
-  /// Verifies every invariant from scratch (slow; tests). Empty string when all hold.
-  [[nodiscard]] std::string CheckInvariants() const;
   /// Heap bytes of the graph's structures, excluding the name strings and name index.
   [[nodiscard]] std::size_t ApproximateBytesExcludingNames() const noexcept;
 
@@ -395,6 +396,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] const topology::SceneTopology& topology() const noexcept { return topology_; }
 
  private:
+  friend struct internal::DebugAccess;
+
   template <class R>
   BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position,
                           std::optional<Stamp> stamp = std::nullopt);
@@ -415,10 +418,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Time (time_add.cc): the stamp rules of an update, then the store (value and history).
   internal::TimeContext ConversionContext(std::optional<Stamp> stamp) const noexcept;
   std::string DescribeConversionGap(const internal::TimeContext& tc, Stamp stamp) const;
-  std::unique_ptr<PoseHistory> NewPoseHistory();
-  std::unique_ptr<TwistHistory> NewTwistHistory();
-  void InstallPoseHistory(FrameIndex head, std::unique_ptr<PoseHistory> h, const typename B::PoseCoords& X, Stamp s);
-  void InstallTwistHistory(TwistEdgeIndex edge, std::unique_ptr<TwistHistory> h, const TwistNumbers& V, Stamp s);
+  PoseHistoryLease NewPoseHistory();
+  TwistHistoryLease NewTwistHistory();
+  void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X, Stamp s);
+  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s);
   void DropPoseHistory(FrameIndex head) noexcept;
   void DropTwistHistory(TwistEdgeIndex edge) noexcept;
   ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) const noexcept;
@@ -436,6 +439,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.
   BuildResult RemoveJoint(const internal::JointRecord& joint);
   void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
+  // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or not.
+  BuildResult CheckJointValues(std::span<const JointValue> positions, std::span<const JointValue> velocities) const;
   ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept;
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot, Stamp stamp) noexcept;

@@ -16,6 +16,10 @@
 // the first stale failure, and optionally records each edge read (the diagnostic call).
 // A failure does not stop the evaluation (the numbers are then not used); the caller reports it.
 // Costs: O(log samples) per stamped edge; noexcept, allocation-free, lock-free.
+// Thread safety: a history pointer is loaded once per edge read (acquire) and may be a history
+// the writer retires or reuses meanwhile (edge_history.h HistoryTable): the numbers are then
+// those of another edge, so a caller racing topology changes must check the edge's epoch after
+// the read (FlatSource does); extrapolation reads the topology (not safe against changes).
 #pragma once
 
 #include <algorithm>

@@ -4,7 +4,7 @@
 // std::uint32_t, distinct types, invalid by default; invariants and costs: base/index.h):
 //   FrameIndex      a frame node of the pose forest
 //   BodyIndex       a body node
-//   TwistEdgeIndex  a twist edge slot
+//   TwistEdgeIndex  a twist edge slot (also the edge's key in its tree's TwistForest)
 #pragma once
 
 #include <cstdint>

@@ -132,7 +132,12 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
 
   /// Room for `bodies` new bodies and `frames` new frames, whose names are interned already, so
   /// that the CreateBody / CreateFrame calls that follow do not allocate. Changes nothing else.
-  void ReserveNodes(std::size_t bodies, std::size_t frames);
+  /// O(1) when the room is there already (the common case: a build reserves, then creates):
+  /// the room left is counted, so the check is three comparisons.
+  void ReserveNodes(std::size_t bodies, std::size_t frames) {
+    if (frames <= frame_room_ && bodies <= body_room_ && names_.size() <= name_map_room_) return;
+    GrowNodes(bodies, frames);
+  }
   /// New nodes. The name must be interned and not yet name a node of that kind.
   BodyIndex CreateBody(NameId name);
   FrameIndex CreateFrame(NameId name, BodyIndex body);
@@ -153,6 +158,10 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// Links the pose edge tail -> head (head a root of another tree; P1-P3 and W4 checked by
   /// the caller) and merges the two trees' records.
   void LinkPose(FrameIndex tail, FrameIndex head);
+  /// LinkPose without its reservation, for a caller that called ReserveLinkPose for the same
+  /// two trees (an invalid index there standing for the frame created since) and changed
+  /// neither tree since: a build's add reserves once, before its first change.
+  void LinkPoseReserved(FrameIndex tail, FrameIndex head);
   /// Removes the pose edge into `head`, splitting its tree; both parts get fresh records.
   void CutPose(FrameIndex head);
   /// Makes v the root of its pose tree by reversing the edges on its path to the root (the
@@ -189,6 +198,17 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   TwistEdgeIndex LinkTwist(BodyIndex tail, FrameIndex head, const semantics::TwistSemantics& s);
   /// Removes a live twist edge from its tree's TG; its slot is reused later.
   void UnlinkTwist(TwistEdgeIndex e);
+
+  // A joint is a pose edge and a twist edge made or removed together; these reserve for the
+  // pair, so that a joint's add or removal is all or nothing under std::bad_alloc.
+
+  /// Room for LinkPose(tail, head) followed by LinkTwist(..., head, ...) into the merged tree
+  /// (invalid indices: frames not created yet). Changes capacities only.
+  void ReserveLinkJoint(FrameIndex tail, FrameIndex head);
+  /// Room for CutPose(head) followed by UnlinkTwist of the twist edge into head: CutPose makes
+  /// all its allocations before its first change, so a caller that cuts first and then unlinks
+  /// needs only UnlinkTwist's list growth reserved beforehand. Changes capacities only.
+  void ReserveUnlinkAfterCut();
 
   // ---------------------------------------------------------------- iteration and checks
 
@@ -234,6 +254,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   };
 
   void GrowNameMaps();
+  // ReserveNodes' growth: every node array to at least twice its size (O(1) amortized).
+  void GrowNodes(std::size_t bodies, std::size_t frames);
   TreeRecord* MutableRecordOf(FrameIndex f) noexcept;
   TreeRecord& EnsureRecord(FrameIndex f);
   TreeRecord& NewRecord(std::uint32_t rep, FrameIndex f);
@@ -244,6 +266,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   semantics::NameTable names_;
   std::vector<std::uint32_t> frame_of_name_;  // NameId -> FrameIndex (kNone if not a frame)
   std::vector<std::uint32_t> body_of_name_;   // NameId -> BodyIndex
+  // How many frames / bodies can be created, and up to how many names the name maps hold,
+  // without allocating (the capacities every array of that kind has at least).
+  std::size_t frame_room_ = 0, body_room_ = 0, name_map_room_ = 0;
   std::vector<FrameNode> frames_;
   std::vector<BodyNode> bodies_;
   PoseForest forest_;

@@ -1,22 +1,25 @@
 // File: semgraph/topology/twist_forest.h
 //
-// TwistForest: the body-level twist graph TG(P) of one pose tree P (spec §3). Nodes are bodies,
-// edges are twist edges D -> {h}|H seen undirected (a twist inverts), identified by an edge id
-// the caller chooses. Rule W3 makes TG(P) a forest, so between two bodies there is at most one
-// twist path; this class stores that forest so the path is found by walking parent pointers,
-// and so the two checks that guard it are cheap: Connected (W3, before adding an edge) and
-// CanMerge (W4, before a pose edge joins two pose trees).
+// TwistForest: the body-level twist graph TG(P) of one pose tree P (spec §3). Nodes are bodies
+// (BodyIndex), edges are twist edges D -> {h}|H seen undirected (a twist inverts), identified
+// by a TwistEdgeIndex the caller chooses (the scene topology passes the edge's slot); both are
+// the strong indices of ids.h. Rule W3 makes TG(P) a forest, so between two bodies there is at
+// most one twist path; this class stores that forest so the path is found by walking parent
+// pointers, and so the two checks that guard it are cheap: Connected (W3, before adding an
+// edge) and CanMerge (W4, before a pose edge joins two pose trees).
 //
 // Representation. Each tree of the forest is rooted at an arbitrary body. Per body (a
-// FlatMap<Node> keyed by body id): the parent body, the edge id to it, the depth, the head of
-// an intrusive doubly linked list of children (first_child, and next/prev sibling links in each
-// child), and the number of bodies of its tree (meaningful at roots only). Per edge (a
-// FlatMap<TwistEdgeEnds> keyed by edge id): its tail and head. The undirected adjacency of a
-// body is its parent plus its children, so no per-body container is needed: every record is
-// trivially copyable and the traversals below need no stack.
+// FlatMap<Node> keyed by the body index's value): the parent body, the edge to it, the depth,
+// the head of an intrusive doubly linked list of children (first_child, and next/prev sibling
+// links in each child), and the number of bodies of its tree (meaningful at roots only); an
+// absent link is an invalid index. Per edge (a FlatMap<TwistEdgeEnds> keyed by the edge
+// index's value): its tail and head. The undirected adjacency of a body is its parent plus its
+// children, so no per-body container is needed: every record is trivially copyable (the strong
+// indices are plain 4-byte values) and the traversals below need no stack.
 //
 // Invariants (checked by CheckInvariants):
-//  - ids: body and edge ids are never kNone (0xFFFFFFFF, the strong ids' invalid sentinel).
+//  - ids: every stored body and edge index is valid (the invalid index, 0xFFFFFFFF, is also
+//    FlatMap's free-slot key, so it could not be stored).
 //  - forest: every edge joins a body to its parent; a non-root body has exactly one parent
 //    edge, so num_edges() == num_bodies() - number of trees.
 //  - depth(root) == 0 and depth(b) == depth(parent(b)) + 1 (hence parent pointers are acyclic).
@@ -50,29 +53,28 @@
 
 #include "semgraph/topology/export.h"
 #include "semgraph/topology/flat_map.h"
+#include "semgraph/topology/ids.h"
 
 namespace semgraph::topology {
 
 /// One step of a twist path: cross twist edge `edge` from body `from` to body `to`. The step
 /// follows the edge's direction iff `from` is the edge's tail (see TwistForest::FindEdge).
 struct PathStep {
-  std::uint32_t edge = 0xFFFFFFFFu;
-  std::uint32_t from = 0xFFFFFFFFu;
-  std::uint32_t to = 0xFFFFFFFFu;
+  TwistEdgeIndex edge;
+  BodyIndex from;
+  BodyIndex to;
   friend bool operator==(const PathStep&, const PathStep&) = default;
 };
 
 /// The endpoints of a twist edge D -> {h}|H: tail D (the moving body) and head H.
 struct TwistEdgeEnds {
-  std::uint32_t tail = 0xFFFFFFFFu;
-  std::uint32_t head = 0xFFFFFFFFu;
+  BodyIndex tail;
+  BodyIndex head;
   friend bool operator==(const TwistEdgeEnds&, const TwistEdgeEnds&) = default;
 };
 
 class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
  public:
-  /// No body / no edge; also never a valid id.
-  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
   /// Path / PathLength result: the two bodies are not connected.
   static constexpr std::size_t kNoPath = std::numeric_limits<std::size_t>::max();
   /// Path result: connected, but the path has more steps than the output span holds.
@@ -82,46 +84,48 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
 
   // ---- Accessors: O(1), noexcept, allocation-free. -----------------------------------------
 
-  [[nodiscard]] bool Contains(std::uint32_t body) const noexcept { return nodes_.Contains(body); }
-  [[nodiscard]] bool ContainsEdge(std::uint32_t edge) const noexcept {
-    return edges_.Contains(edge);
+  [[nodiscard]] bool Contains(BodyIndex body) const noexcept {
+    return nodes_.Contains(body.value());
+  }
+  [[nodiscard]] bool ContainsEdge(TwistEdgeIndex edge) const noexcept {
+    return edges_.Contains(edge.value());
   }
   /// The endpoints of `edge`, or nullptr when absent. Invalidated by any mutation.
-  [[nodiscard]] const TwistEdgeEnds* FindEdge(std::uint32_t edge) const noexcept {
-    return edges_.Find(edge);
+  [[nodiscard]] const TwistEdgeEnds* FindEdge(TwistEdgeIndex edge) const noexcept {
+    return edges_.Find(edge.value());
   }
   [[nodiscard]] std::size_t num_bodies() const noexcept { return nodes_.size(); }
   [[nodiscard]] std::size_t num_edges() const noexcept { return edges_.size(); }
   [[nodiscard]] bool empty() const noexcept { return edges_.empty(); }
-  /// Parent of `body` in its rooted tree; kNone for a root or an absent body. Which body is the
-  /// root is an internal choice (Link reroots), exposed for tests and diagnostics.
-  [[nodiscard]] std::uint32_t parent(std::uint32_t body) const noexcept;
-  /// Edge from `body` to its parent; kNone for a root or an absent body.
-  [[nodiscard]] std::uint32_t parent_edge(std::uint32_t body) const noexcept;
+  /// Parent of `body` in its rooted tree; invalid for a root or an absent body. Which body is
+  /// the root is an internal choice (Link reroots), exposed for tests, diagnostics and the
+  /// twist-path planner (query_plan.h).
+  [[nodiscard]] BodyIndex parent(BodyIndex body) const noexcept;
+  /// Edge from `body` to its parent; invalid for a root or an absent body.
+  [[nodiscard]] TwistEdgeIndex parent_edge(BodyIndex body) const noexcept;
   /// Depth of `body` in its rooted tree; 0 for a root or an absent body.
-  [[nodiscard]] std::uint32_t depth(std::uint32_t body) const noexcept;
+  [[nodiscard]] std::uint32_t depth(BodyIndex body) const noexcept;
 
   // ---- Queries: noexcept, allocation-free. --------------------------------------------------
 
   /// Root of the tree holding `body`; `body` itself when absent. O(depth).
-  [[nodiscard]] std::uint32_t FindRoot(std::uint32_t body) const noexcept;
+  [[nodiscard]] BodyIndex FindRoot(BodyIndex body) const noexcept;
 
   /// True iff a twist path joins `u` and `v`. u == v is always connected; an absent body is
   /// connected only to itself. O(depth(u) + depth(v)).
-  [[nodiscard]] bool Connected(std::uint32_t u, std::uint32_t v) const noexcept;
+  [[nodiscard]] bool Connected(BodyIndex u, BodyIndex v) const noexcept;
 
   /// Writes the unique path from `u` to `v` into `out`, in order from u to v, and returns its
   /// number of steps (0 when u == v). Returns kNoPath when not connected and kPathTooLong when
   /// `out` is shorter than the path; in both cases nothing is written. Never writes past the
   /// path length. O(steps + depth).
-  [[nodiscard]] std::size_t Path(std::uint32_t u, std::uint32_t v,
-                                 std::span<PathStep> out) const noexcept;
+  [[nodiscard]] std::size_t Path(BodyIndex u, BodyIndex v, std::span<PathStep> out) const noexcept;
 
   /// Number of steps of the path from `u` to `v`, or kNoPath. O(steps + depth).
-  [[nodiscard]] std::size_t PathLength(std::uint32_t u, std::uint32_t v) const noexcept;
+  [[nodiscard]] std::size_t PathLength(BodyIndex u, BodyIndex v) const noexcept;
 
-  /// True iff the union of this forest and `other` (same body id = same node) is still a
-  /// forest: no cycle, no parallel edges, and no edge id in both. Implements spec W4. Neither
+  /// True iff the union of this forest and `other` (same body index = same node) is still a
+  /// forest: no cycle, no parallel edges, and no edge index in both. Implements spec W4. Neither
   /// forest changes. Allocates a temporary union-find; O(m * (depth + alpha)), m = edges of the
   /// smaller forest.
   [[nodiscard]] bool CanMerge(const TwistForest& other) const;
@@ -133,18 +137,21 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
   /// Room for Merge(other) (in whichever of the two keeps its storage), so that it does not
   /// allocate. Changes neither forest's contents.
   void ReserveMerge(TwistForest& other);
+  /// Room for `bodies` more bodies and `edges` more edges than this forest holds, so that
+  /// Links and Merges adding no more than that into this storage do not allocate.
+  void ReserveMore(std::size_t bodies, std::size_t edges);
 
   /// Adds twist edge `edge` = tail -> head, creating the bodies as needed. Strong guarantee:
   /// when an allocation fails (std::bad_alloc) the forest is unchanged.
-  /// @pre edge, tail, head != kNone; tail != head; `edge` absent; !Connected(tail, head).
+  /// @pre edge, tail, head valid; tail != head; `edge` absent; !Connected(tail, head).
   /// Preconditions are checked (SEMGRAPH_DEMAND aborts) before anything changes.
   /// O(depth + size of the smaller of the two trees), which is the one rerooted.
-  void Link(std::uint32_t edge, std::uint32_t tail, std::uint32_t head);
+  void Link(TwistEdgeIndex edge, BodyIndex tail, BodyIndex head);
 
   /// Removes `edge`; the part that hung below it becomes a tree of its own, and a body left
   /// without edges leaves the forest. @pre ContainsEdge(edge) (checked).
   /// O(depth + size of the part below the edge).
-  void Unlink(std::uint32_t edge);
+  void Unlink(TwistEdgeIndex edge);
 
   /// Moves every edge of `other` into this forest; `other` is left empty. The surviving
   /// storage is that of the larger forest, and the smaller one's edges are linked into it.
@@ -159,11 +166,12 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
     edges_.Clear();
   }
 
-  /// Calls f(edge, tail, head) for every edge, in unspecified order.
+  /// Calls f(TwistEdgeIndex edge, BodyIndex tail, BodyIndex head) for every edge, in
+  /// unspecified order.
   template <class F>
   void ForEachEdge(F f) const {
     edges_.ForEach([&f](std::uint32_t edge, const TwistEdgeEnds& ends) {
-      f(edge, ends.tail, ends.head);
+      f(TwistEdgeIndex(edge), ends.tail, ends.head);
     });
   }
 
@@ -178,32 +186,36 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
   }
 
  private:
+  // Links are invalid when absent (a root's parent, a last child's next_sibling, ...).
   struct Node {
-    std::uint32_t parent = kNone;
-    std::uint32_t parent_edge = kNone;
+    BodyIndex parent;
+    TwistEdgeIndex parent_edge;
     std::uint32_t depth = 0;
-    std::uint32_t first_child = kNone;
-    std::uint32_t next_sibling = kNone;
-    std::uint32_t prev_sibling = kNone;
+    BodyIndex first_child;
+    BodyIndex next_sibling;
+    BodyIndex prev_sibling;
     std::uint32_t tree_size = 1;  // bodies in the tree; meaningful at roots only
   };
 
+  // The record of `body`, or nullptr when absent.
+  [[nodiscard]] const Node* FindNode(BodyIndex body) const noexcept {
+    return nodes_.Find(body.value());
+  }
   // Present-body lookups for internal use (the body is known to be present).
-  [[nodiscard]] const Node& NodeAt(std::uint32_t body) const noexcept;
-  [[nodiscard]] Node& NodeAt(std::uint32_t body) noexcept;
+  [[nodiscard]] const Node& NodeAt(BodyIndex body) const noexcept;
+  [[nodiscard]] Node& NodeAt(BodyIndex body) noexcept;
 
   // Walks u and v up to their lowest common ancestor; on success stores the number of steps
   // from each side. False when they are in different trees. Both must be present.
-  bool Meet(std::uint32_t u, std::uint32_t v, std::size_t* up_u,
-            std::size_t* up_v) const noexcept;
+  bool Meet(BodyIndex u, BodyIndex v, std::size_t* up_u, std::size_t* up_v) const noexcept;
 
-  void AttachChild(std::uint32_t parent, std::uint32_t child) noexcept;
-  void DetachChild(std::uint32_t parent, std::uint32_t child) noexcept;
+  void AttachChild(BodyIndex parent, BodyIndex child) noexcept;
+  void DetachChild(BodyIndex parent, BodyIndex child) noexcept;
   // Makes `body` the root of its tree by reversing the parent links on its path to the root.
   // Depths are left stale (the caller re-levels the whole tree).
-  void Reroot(std::uint32_t body) noexcept;
+  void Reroot(BodyIndex body) noexcept;
   // Sets depth(top) = top_depth and re-levels its subtree; returns the subtree's body count.
-  std::size_t Relevel(std::uint32_t top, std::uint32_t top_depth) noexcept;
+  std::size_t Relevel(BodyIndex top, std::uint32_t top_depth) noexcept;
 
   FlatMap<Node> nodes_;
   FlatMap<TwistEdgeEnds> edges_;

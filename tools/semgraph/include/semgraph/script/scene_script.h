@@ -100,8 +100,8 @@ template <coord::Backend B>
 /// The graph as a scene script (YAML, docs/scene-script.md) that rebuilds it: running the text
 /// on a fresh graph of the same backend (RunScene, LoadScene, `semgraph run`) gives a graph
 /// with the same names, bodies and frames under the same ids, the same pose and twist edges and
-/// the same values bit for bit (Dump() is identical), for every graph built through the
-/// public calls. Save and load: write the text to a file, LoadSceneFile it later.
+/// the same values bit for bit (Dump of scene_graph_debug.h is identical), for every graph built
+/// through the public calls. Save and load: write the text to a file, LoadSceneFile it later.
 /// The script has `body` and `frame` ops, each pose edge once in edge form (position and the
 /// stored rotation: a quaternion [w, x, y, z], or the matrix for the homogeneous backend) and
 /// each twist edge once as its stored screw twist (coord = its head frame), with numbers in 17
