@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
@@ -364,6 +365,155 @@ TEST(PoseForest, MillionDeepChainAnswersWithoutRecursion) {
   EXPECT_FALSE(forest.SameTree(leaf, F(kDepth / 2 - 1)));
 }
 
+// Random Link / Cut / Reroot sequences on few nodes (so trees get big relative to n and every
+// case of the representation occurs: semantic root = rep root or not, either end of a cut edge
+// holding the rep root); invariants after every step and the oracle on every pair.
+TEST(PoseForest, RandomLinksCutsAndRerootsAgreeWithNaiveOnEveryPair) {
+  constexpr std::uint32_t kNodes = 40;
+  constexpr int kOperations = 4000;
+  std::mt19937 rng(20261202);
+  std::uniform_int_distribution<std::uint32_t> node(0, kNodes - 1);
+  PoseForest forest = WithNodes(kNodes);
+  NaiveForest naive{std::vector<std::uint32_t>(kNodes, kNone)};
+  std::size_t links = 0, cuts = 0, reroots = 0, off_rep_root = 0;
+  for (int op = 0; op < kOperations; ++op) {
+    const std::uint32_t a = node(rng);
+    const std::uint32_t b = node(rng);
+    const int kind = std::uniform_int_distribution<int>(0, 9)(rng);
+    if (kind < 5) {  // link the tree of a under b
+      const std::uint32_t root = naive.Root(a);
+      if (naive.Root(b) == root) continue;
+      forest.Link(F(b), F(root));
+      naive.parent[root] = b;
+      ++links;
+    } else if (kind < 8) {
+      if (naive.parent[a] == kNone) continue;
+      forest.Cut(F(a));
+      naive.parent[a] = kNone;
+      ++cuts;
+    } else {  // reroot at a: reverse the naive path a .. root
+      forest.Reroot(F(a));
+      std::uint32_t child = a, parent = naive.parent[a];
+      naive.parent[a] = kNone;
+      while (parent != kNone) {
+        const std::uint32_t next = naive.parent[parent];
+        naive.parent[parent] = child;
+        child = parent;
+        parent = next;
+      }
+      ++reroots;
+    }
+    ASSERT_TRUE(AllPairsAgree(forest, naive)) << "after operation " << op;
+    // Count the states where some tree's semantic root is not its rep root (the slow path).
+    for (std::uint32_t v = 0; v < kNodes; ++v) {
+      if (naive.parent[v] == kNone && forest.TreeKey(F(v)) != F(v)) {
+        ++off_rep_root;
+        break;
+      }
+    }
+  }
+  EXPECT_GT(links, 1000u);
+  EXPECT_GT(cuts, 500u);
+  EXPECT_GT(reroots, 500u);
+  EXPECT_GT(off_rep_root, 1000u);
+}
+
+// One random tree of 300 nodes built in the three orders of its edges the scene graph sees:
+// parents first (every link adds a leaf), children first (every link hangs the tree built so
+// far under a new root) and random (links of subtrees). After each link: invariants and the
+// oracle on every pair; TreeSize against the naive count.
+TEST(PoseForest, EveryBuildOrderAgreesWithNaive) {
+  constexpr std::uint32_t kNodes = 300;
+  std::mt19937 rng(5);
+  std::vector<std::uint32_t> target(kNodes, kNone);
+  for (std::uint32_t i = 1; i < kNodes; ++i) {
+    target[i] = std::uniform_int_distribution<std::uint32_t>(0, i - 1)(rng);
+  }
+  for (int order = 0; order < 3; ++order) {
+    std::vector<std::uint32_t> sequence(kNodes - 1);
+    std::iota(sequence.begin(), sequence.end(), 1u);
+    if (order == 1) std::reverse(sequence.begin(), sequence.end());
+    if (order == 2) std::shuffle(sequence.begin(), sequence.end(), rng);
+    PoseForest forest = WithNodes(kNodes);
+    NaiveForest naive{std::vector<std::uint32_t>(kNodes, kNone)};
+    std::size_t step = 0;
+    for (const std::uint32_t child : sequence) {
+      forest.Link(F(target[child]), F(child));
+      naive.parent[child] = target[child];
+      // Every pair after the first links and every 16th one later (all pairs is O(n^2 log n)).
+      if (step++ % 16 == 0 || step < 20) {
+        ASSERT_TRUE(AllPairsAgree(forest, naive)) << "order " << order << " link " << step;
+      } else {
+        ASSERT_TRUE(forest.CheckInvariants()) << "order " << order << " link " << step;
+      }
+      std::uint32_t same = 0;
+      for (std::uint32_t v = 0; v < kNodes; ++v) same += naive.Root(v) == naive.Root(child);
+      ASSERT_EQ(forest.TreeSize(F(child)), same);
+    }
+    ASSERT_TRUE(AllPairsAgree(forest, naive)) << "order " << order;
+    EXPECT_EQ(forest.Root(F(kNodes - 1)), F(0));
+  }
+}
+
+// The cost of linking, counted rather than timed: building a 10^4-frame chain or random tree
+// in any order re-represents O(n log n) nodes in total. Before small-to-large linking, every
+// link of the leaf-up chain recomputed the whole tree that moved: n^2/2 = 5 * 10^7 here.
+TEST(PoseForest, EveryBuildOrderRerepresentsAtMostNLogNNodes) {
+  constexpr std::uint32_t kNodes = 10'000;
+  const double bound = kNodes * std::log2(double{kNodes});  // ~1.3 * 10^5
+  std::mt19937 rng(17);
+  for (const bool chain : {true, false}) {
+    std::vector<std::uint32_t> target(kNodes, kNone);
+    for (std::uint32_t i = 1; i < kNodes; ++i) {
+      target[i] = chain ? i - 1 : std::uniform_int_distribution<std::uint32_t>(0, i - 1)(rng);
+    }
+    for (int order = 0; order < 3; ++order) {
+      std::vector<std::uint32_t> sequence(kNodes - 1);
+      std::iota(sequence.begin(), sequence.end(), 1u);
+      if (order == 1) std::reverse(sequence.begin(), sequence.end());
+      if (order == 2) std::shuffle(sequence.begin(), sequence.end(), rng);
+      PoseForest forest = WithNodes(kNodes);
+      for (const std::uint32_t child : sequence) forest.Link(F(target[child]), F(child));
+      ASSERT_TRUE(forest.CheckInvariants());
+      EXPECT_LE(static_cast<double>(forest.rerepresented_nodes()), bound)
+          << (chain ? "chain" : "random tree") << " order " << order;
+      // Parents first moves one node per link (a new leaf), and so does children first on the
+      // chain (a new root above the chain).
+      if (order == 0 || (chain && order == 1)) {
+        EXPECT_EQ(forest.rerepresented_nodes(), kNodes - 1u);
+      }
+      const FrameIndex last = F(kNodes - 1);
+      EXPECT_EQ(forest.Root(last), F(0));
+      if (chain) {
+        EXPECT_EQ(forest.depth(last), kNodes - 1);
+        EXPECT_EQ(forest.AncestorAtDepth(last, 1234), F(1234));
+        EXPECT_EQ(forest.CommonAncestor(last, F(4321)), F(4321));
+        EXPECT_TRUE(forest.IsAncestor(F(1), last));
+        EXPECT_FALSE(forest.IsAncestor(last, F(1)));
+      }
+    }
+  }
+}
+
+// Reroot turns the semantic edges round and keeps the representation: nothing re-represented,
+// and the answers follow the new root.
+TEST(PoseForest, RerootReversesThePathOnly) {
+  constexpr std::uint32_t kDepth = 1000;
+  PoseForest forest = WithNodes(kDepth);
+  for (std::uint32_t v = 1; v < kDepth; ++v) forest.Link(F(v - 1), F(v));
+  const std::uint64_t before = forest.rerepresented_nodes();
+  forest.Reroot(F(kDepth - 1));
+  EXPECT_EQ(forest.rerepresented_nodes(), before);
+  ASSERT_TRUE(forest.CheckInvariants());
+  EXPECT_EQ(forest.Root(F(0)), F(kDepth - 1));
+  EXPECT_EQ(forest.depth(F(0)), kDepth - 1);
+  EXPECT_EQ(forest.parent(F(0)), F(1));
+  EXPECT_EQ(forest.AncestorAtDepth(F(0), 10), F(kDepth - 11));
+  EXPECT_EQ(forest.CommonAncestor(F(3), F(700)), F(700));
+  EXPECT_TRUE(forest.IsAncestor(F(700), F(3)));
+  EXPECT_FALSE(forest.IsAncestor(F(3), F(700)));
+}
+
 TEST(PoseForest, QueriesDoNotAllocate) {
   PoseForest forest = WithNodes(64);
   for (std::uint32_t v = 1; v < 64; ++v) forest.Link(F((v - 1) / 2), F(v));  // a heap shape
@@ -381,11 +531,34 @@ TEST(PoseForest, QueriesDoNotAllocate) {
   EXPECT_NE(sink, 0u);
 }
 
-TEST(PoseForest, UsesTwentyFourBytesPerNode) {
+// The same on a tree built children first, whose semantic root is not its rep root (each
+// query is then up to three rep queries, still without allocation).
+TEST(PoseForest, QueriesOffTheRepRootDoNotAllocate) {
+  PoseForest forest = WithNodes(64);
+  for (std::uint32_t v = 63; v > 0; --v) forest.Link(F((v - 1) / 2), F(v));  // heap, bottom up
+  ASSERT_NE(forest.TreeKey(F(0)), F(0));  // really the off-root case
+  std::uint32_t sink = 0;
+  const std::size_t before = AllocationCounter::total();
+  for (std::uint32_t a = 0; a < 64; ++a) {
+    for (std::uint32_t b = 0; b < 64; ++b) {
+      sink += forest.CommonAncestor(F(a), F(b)).value() + forest.Root(F(a)).value() +
+              forest.AncestorAtDepth(F(a), 1).value() + forest.depth(F(b));
+      sink += forest.IsAncestor(F(a), F(b)) + forest.SameTree(F(a), F(b));
+    }
+  }
+  EXPECT_EQ(AllocationCounter::total(), before);
+  EXPECT_EQ(forest.CommonAncestor(F(62), F(61)), F(30));  // siblings under 30 = (61 - 1) / 2
+  EXPECT_EQ(forest.depth(F(63)), 6u);  // 63, 31, 15, 7, 3, 1, 0
+  EXPECT_NE(sink, 0u);
+}
+
+// Eight words: four semantic, four of the representation (rep_root replaces SceneTopology's
+// union-find, which took two).
+TEST(PoseForest, UsesThirtyTwoBytesPerNode) {
   PoseForest forest;
   forest.Reserve(1000);
-  EXPECT_GE(forest.ApproximateBytes(), 24u * 1000);
-  EXPECT_LE(forest.ApproximateBytes(), 24u * 1024);  // reserve() may round up a little
+  EXPECT_GE(forest.ApproximateBytes(), 32u * 1000);
+  EXPECT_LE(forest.ApproximateBytes(), 32u * 1024);  // reserve() may round up a little
 }
 
 TEST(PoseForestDeathTest, LinkThatWouldCloseACycleAborts) {

@@ -11,36 +11,43 @@ namespace semgraph::topology {
 void PoseForest::Reserve(std::size_t n) {
   // Geometric growth, so that reserving one more node at a time stays O(1) amortized.
   const std::size_t capacity =
-      std::min({parent_.capacity(), depth_.capacity(), jump_.capacity(), first_child_.capacity(),
-                next_sibling_.capacity(), prev_sibling_.capacity()});
+      std::min({parent_.capacity(), first_child_.capacity(), next_sibling_.capacity(),
+                prev_sibling_.capacity(), rep_parent_.capacity(), rep_depth_.capacity(),
+                rep_jump_.capacity(), rep_root_.capacity()});
   if (n <= capacity) return;
   n = std::max(n, 2 * capacity);
   // reserve() only changes capacity, so a bad_alloc part way leaves the forest as it was.
   parent_.reserve(n);
-  depth_.reserve(n);
-  jump_.reserve(n);
   first_child_.reserve(n);
   next_sibling_.reserve(n);
   prev_sibling_.reserve(n);
+  rep_parent_.reserve(n);
+  rep_depth_.reserve(n);
+  rep_jump_.reserve(n);
+  rep_root_.reserve(n);
 }
 
 FrameIndex PoseForest::AddNode() {
   const std::size_t n = size();
   // kNone must stay free to mean "no node".
   SEMGRAPH_DEMAND(n < kNone);
-  // Grow all six arrays up front, so that the push_backs below cannot throw and a failed
+  // Grow all arrays up front, so that the push_backs below cannot throw and a failed
   // allocation cannot leave the arrays with different lengths.
   const std::size_t capacity =
-      std::min({parent_.capacity(), depth_.capacity(), jump_.capacity(), first_child_.capacity(),
-                next_sibling_.capacity(), prev_sibling_.capacity()});
+      std::min({parent_.capacity(), first_child_.capacity(), next_sibling_.capacity(),
+                prev_sibling_.capacity(), rep_parent_.capacity(), rep_depth_.capacity(),
+                rep_jump_.capacity(), rep_root_.capacity()});
   if (capacity == n) Reserve(std::max<std::size_t>(8, 2 * n));
   const auto v = static_cast<std::uint32_t>(n);
   parent_.push_back(kNone);
-  depth_.push_back(0);
-  jump_.push_back(v);  // a root jumps to itself
   first_child_.push_back(kNone);
   next_sibling_.push_back(kNone);
   prev_sibling_.push_back(kNone);
+  // A one-node tree: its own rep root, semantic root, of size 1.
+  rep_parent_.push_back(v);
+  rep_depth_.push_back(0);
+  rep_jump_.push_back(1);
+  rep_root_.push_back(v);
   return FrameIndex(v);
 }
 
@@ -64,41 +71,90 @@ std::uint32_t SkewBinaryJumpDepth(std::uint32_t d) noexcept {
 std::uint32_t PoseForest::JumpForChildOf(std::uint32_t p) const noexcept {
   // Skew-binary rule: when the two jumps above p span equal depths, a child of p can skip both
   // (their sum plus one is the next skew-binary term); otherwise it starts a new jump of one.
-  const std::uint32_t j = jump_[p];
-  if (parent_[p] != kNone && depth_[p] - depth_[j] == depth_[j] - depth_[jump_[j]]) {
-    return jump_[j];
+  // A rep root's jump slot holds its tree size, so it is never read as a jump: jump(R) = R
+  // spans depth 0, never equal to the positive span above it.
+  if (rep_depth_[p] == 0) return p;
+  const std::uint32_t j = rep_jump_[p];
+  if (rep_depth_[j] != 0 &&
+      rep_depth_[p] - rep_depth_[j] == rep_depth_[j] - rep_depth_[rep_jump_[j]]) {
+    return rep_jump_[j];
   }
   return p;
 }
 
-void PoseForest::RecomputeSubtree(std::uint32_t top) noexcept {
-  // Preorder visits a parent before its children, so each node reads final parent values.
-  ForEachInSubtree(FrameIndex(top), [this](FrameIndex f) {
-    const std::uint32_t v = f.value();
-    const std::uint32_t p = parent_[v];
-    if (p == kNone) {
-      depth_[v] = 0;
-      jump_[v] = v;
-    } else {
-      depth_[v] = depth_[p] + 1;
-      jump_[v] = JumpForChildOf(p);
+std::uint32_t PoseForest::Represent(std::uint32_t x, std::uint32_t above) noexcept {
+  // Depth-first over the undirected tree, the neighbours of v in the order parent(v), then its
+  // children; the rep parent (just set) is skipped, and serves as the way back, so no stack.
+  const auto next = [this](std::uint32_t v, std::uint32_t u) {  // the neighbour of v after u
+    return u == parent_[v] ? first_child_[v] : next_sibling_[u];
+  };
+  const auto skip = [this, &next](std::uint32_t v, std::uint32_t u) {  // past rep_parent(v)
+    return u != kNone && u == rep_parent_[v] ? next(v, u) : u;
+  };
+  const auto first = [this, &skip](std::uint32_t v) {
+    return skip(v, parent_[v] != kNone ? parent_[v] : first_child_[v]);
+  };
+  std::uint32_t key;
+  if (above == kNone) {
+    key = x;
+    rep_parent_[x] = kNone;  // until the caller fills the tree slots: matches no neighbour
+    rep_depth_[x] = 0;
+    rep_jump_[x] = x;
+  } else {
+    key = rep_root_[above];
+    rep_parent_[x] = above;
+    rep_depth_[x] = rep_depth_[above] + 1;
+    rep_jump_[x] = JumpForChildOf(above);
+  }
+  rep_root_[x] = key;
+  std::uint32_t count = 1;
+  std::uint32_t v = x;
+  std::uint32_t u = first(x);
+  while (true) {
+    if (u != kNone) {  // down to u
+      rep_parent_[u] = v;
+      rep_depth_[u] = rep_depth_[v] + 1;
+      rep_jump_[u] = JumpForChildOf(v);
+      rep_root_[u] = key;
+      ++count;
+      v = u;
+      u = first(v);
+    } else {  // v done: back up to its rep parent, on to v's next sibling there
+      if (v == x) break;
+      const std::uint32_t w = rep_parent_[v];
+      u = skip(w, next(w, v));
+      v = w;
     }
-  });
+  }
+  rerepresented_ += count;
+  return count;
 }
 
 void PoseForest::Link(FrameIndex parent, FrameIndex root) {
   SEMGRAPH_DEMAND(parent.value() < size() && root.value() < size());
   const std::uint32_t p = parent.value();
   const std::uint32_t r = root.value();
-  SEMGRAPH_DEMAND(parent_[r] == kNone);  // P1: root has no pose parent yet
-  SEMGRAPH_DEMAND(Root(parent) != root);  // P2: the edge would close a cycle
+  SEMGRAPH_DEMAND(parent_[r] == kNone);              // P1: root has no pose parent yet
+  SEMGRAPH_DEMAND(rep_root_[p] != rep_root_[r]);     // P2: the edge would close a cycle
+  const std::uint32_t key_p = rep_root_[p], key_r = rep_root_[r];
+  const std::uint32_t size_p = rep_jump_[key_p], size_r = rep_jump_[key_r];
+  const std::uint32_t semantic_root = rep_parent_[key_p];
   parent_[r] = p;
   // Push r at the front of p's child list: O(1), no search.
   prev_sibling_[r] = kNone;
   next_sibling_[r] = first_child_[p];
   if (first_child_[p] != kNone) prev_sibling_[first_child_[p]] = r;
   first_child_[p] = r;
-  RecomputeSubtree(r);
+  // Small to large: the smaller tree is re-rooted at its end of the edge and hung under the
+  // other end; the larger keeps its representation and its key.
+  if (size_r <= size_p) {
+    Represent(r, p);
+    rep_jump_[key_p] = size_p + size_r;
+  } else {
+    Represent(p, r);
+    rep_parent_[key_r] = semantic_root;
+    rep_jump_[key_r] = size_p + size_r;
+  }
 }
 
 void PoseForest::Cut(FrameIndex child) {
@@ -106,6 +162,12 @@ void PoseForest::Cut(FrameIndex child) {
   const std::uint32_t c = child.value();
   const std::uint32_t p = parent_[c];
   SEMGRAPH_DEMAND(p != kNone);
+  const std::uint32_t key = rep_root_[c];
+  const std::uint32_t total = rep_jump_[key];
+  const std::uint32_t semantic_root = rep_parent_[key];
+  // The edge is either c -> p or p -> c in the representation (a rep root's parent slot is
+  // not an edge, hence the depth test).
+  const bool c_below = rep_depth_[c] != 0 && rep_parent_[c] == p;
   // Unlink c from p's doubly linked child list in O(1).
   const std::uint32_t prev = prev_sibling_[c];
   const std::uint32_t next = next_sibling_[c];
@@ -118,7 +180,19 @@ void PoseForest::Cut(FrameIndex child) {
   parent_[c] = kNone;
   prev_sibling_[c] = kNone;
   next_sibling_[c] = kNone;
-  RecomputeSubtree(c);
+  // Re-represent the part that lost its way to the rep root: the rep subtree below the edge.
+  if (c_below) {  // c's subtree: a new tree of its own, rooted at c both ways
+    const std::uint32_t moved = Represent(c, kNone);
+    rep_parent_[c] = c;
+    rep_jump_[c] = moved;
+    rep_jump_[key] = total - moved;
+  } else {  // the part above c (with the old semantic root) moves; c's part keeps the key
+    const std::uint32_t moved = Represent(p, kNone);
+    rep_parent_[p] = semantic_root;
+    rep_jump_[p] = moved;
+    rep_parent_[key] = c;
+    rep_jump_[key] = total - moved;
+  }
 }
 
 void PoseForest::Reroot(FrameIndex v) {
@@ -153,89 +227,149 @@ void PoseForest::Reroot(FrameIndex v) {
     child = parent;
     parent = grandparent;
   }
-  RecomputeSubtree(v.value());
+  // Same undirected tree: the representation stands, only the semantic root moves.
+  rep_parent_[rep_root_[v.value()]] = v.value();
 }
 
-FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noexcept {
-  std::uint32_t v = Checked(f);
-  if (d > depth_[v]) return FrameIndex();
+std::uint32_t PoseForest::RepAncestorAtDepth(std::uint32_t v, std::uint32_t d) const noexcept {
   // Take the jump whenever it does not overshoot depth d, else one parent step. Jump depths
   // are skew-binary, so this takes O(log depth) steps.
-  while (depth_[v] > d) {
-    const std::uint32_t j = jump_[v];
-    v = depth_[j] >= d ? j : parent_[v];
+  while (rep_depth_[v] > d) {
+    const std::uint32_t j = rep_jump_[v];
+    v = rep_depth_[j] >= d ? j : rep_parent_[v];
   }
-  return FrameIndex(v);
+  return v;
 }
 
-FrameIndex PoseForest::Root(FrameIndex f) const noexcept { return AncestorAtDepth(f, 0); }
-
-bool PoseForest::IsAncestor(FrameIndex ancestor, FrameIndex descendant) const noexcept {
-  const std::uint32_t d = depth_[Checked(ancestor)];
-  return d <= depth_[Checked(descendant)] && AncestorAtDepth(descendant, d) == ancestor;
-}
-
-FrameIndex PoseForest::CommonAncestor(FrameIndex a, FrameIndex b) const noexcept {
-  std::uint32_t u = Checked(a);
-  std::uint32_t v = Checked(b);
-  if (depth_[u] < depth_[v]) std::swap(u, v);
-  u = AncestorAtDepth(FrameIndex(u), depth_[v]).value();
+std::uint32_t PoseForest::RepLca(std::uint32_t u, std::uint32_t v) const noexcept {
+  if (rep_depth_[u] < rep_depth_[v]) std::swap(u, v);
+  u = RepAncestorAtDepth(u, rep_depth_[v]);
   // u and v are now at equal depths, and a jump's target depth depends only on the depth, so
   // jump(u) and jump(v) are at equal depths too. Jump both while the targets differ (the common
   // ancestor is strictly above them), else step both to the parent: the same O(log n) search
-  // as AncestorAtDepth, aimed at one below the common ancestor.
+  // as RepAncestorAtDepth, aimed at one below the common ancestor. Both are in one tree, so
+  // they meet at the rep root at the latest (whose slots are never read: depth 0).
   while (u != v) {
-    if (parent_[u] == kNone) return FrameIndex();  // two different roots: different trees
-    if (jump_[u] != jump_[v]) {
-      u = jump_[u];
-      v = jump_[v];
+    if (rep_jump_[u] != rep_jump_[v]) {
+      u = rep_jump_[u];
+      v = rep_jump_[v];
     } else {
-      u = parent_[u];
-      v = parent_[v];
+      u = rep_parent_[u];
+      v = rep_parent_[v];
     }
   }
-  return FrameIndex(u);
+  return u;
 }
 
-bool PoseForest::SameTree(FrameIndex a, FrameIndex b) const noexcept {
-  return Root(a) == Root(b);
+std::uint32_t PoseForest::depth(FrameIndex f) const noexcept {
+  const std::uint32_t v = Checked(f);
+  const std::uint32_t key = rep_root_[v];
+  const std::uint32_t s = rep_parent_[key];
+  if (s == key) return rep_depth_[v];
+  return rep_depth_[v] + rep_depth_[s] - 2 * rep_depth_[RepLca(v, s)];
+}
+
+FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noexcept {
+  const std::uint32_t v = Checked(f);
+  const std::uint32_t key = rep_root_[v];
+  const std::uint32_t s = rep_parent_[key];
+  if (s == key) {
+    return d > rep_depth_[v] ? FrameIndex() : FrameIndex(RepAncestorAtDepth(v, d));
+  }
+  // The semantic path s .. v climbs from s to m = lca_R(s, v), then descends to v.
+  const std::uint32_t m = RepLca(v, s);
+  const std::uint32_t up = rep_depth_[s] - rep_depth_[m];
+  const std::uint32_t down = rep_depth_[v] - rep_depth_[m];
+  if (d > up + down) return FrameIndex();
+  if (d <= up) return FrameIndex(RepAncestorAtDepth(s, rep_depth_[s] - d));
+  return FrameIndex(RepAncestorAtDepth(v, rep_depth_[m] + (d - up)));
+}
+
+bool PoseForest::IsAncestor(FrameIndex ancestor, FrameIndex descendant) const noexcept {
+  const std::uint32_t a = Checked(ancestor);
+  const std::uint32_t d = Checked(descendant);
+  const std::uint32_t key = rep_root_[d];
+  if (rep_root_[a] != key) return false;
+  if (rep_parent_[key] == key) {
+    return rep_depth_[a] <= rep_depth_[d] && RepAncestorAtDepth(d, rep_depth_[a]) == a;
+  }
+  return CommonAncestor(ancestor, descendant) == ancestor;
+}
+
+FrameIndex PoseForest::CommonAncestor(FrameIndex a, FrameIndex b) const noexcept {
+  const std::uint32_t u = Checked(a);
+  const std::uint32_t v = Checked(b);
+  const std::uint32_t key = rep_root_[u];
+  if (rep_root_[v] != key) return FrameIndex();  // different trees
+  const std::uint32_t x = RepLca(u, v);
+  const std::uint32_t s = rep_parent_[key];
+  if (s == key) return FrameIndex(x);
+  // Two of the three rep LCAs coincide; the semantic one is the deepest.
+  const std::uint32_t y = RepLca(u, s);
+  const std::uint32_t z = RepLca(v, s);
+  std::uint32_t best = rep_depth_[x] >= rep_depth_[y] ? x : y;
+  if (rep_depth_[z] > rep_depth_[best]) best = z;
+  return FrameIndex(best);
 }
 
 std::size_t PoseForest::ApproximateBytes() const noexcept {
   return sizeof(std::uint32_t) *
-         (parent_.capacity() + depth_.capacity() + jump_.capacity() + first_child_.capacity() +
-          next_sibling_.capacity() + prev_sibling_.capacity());
+         (parent_.capacity() + first_child_.capacity() + next_sibling_.capacity() +
+          prev_sibling_.capacity() + rep_parent_.capacity() + rep_depth_.capacity() +
+          rep_jump_.capacity() + rep_root_.capacity());
 }
 
 bool PoseForest::CheckInvariants() const {
   const std::size_t n = size();
-  if (depth_.size() != n || jump_.size() != n || first_child_.size() != n ||
-      next_sibling_.size() != n || prev_sibling_.size() != n) {
+  if (first_child_.size() != n || next_sibling_.size() != n || prev_sibling_.size() != n ||
+      rep_parent_.size() != n || rep_depth_.size() != n || rep_jump_.size() != n ||
+      rep_root_.size() != n) {
     return false;
   }
   // Bounds first, so that the checks below may index freely.
   for (std::size_t v = 0; v < n; ++v) {
-    if (jump_[v] >= n || (parent_[v] != kNone && parent_[v] >= n)) return false;
+    if (rep_parent_[v] >= n || rep_root_[v] >= n || (parent_[v] != kNone && parent_[v] >= n)) {
+      return false;
+    }
+    if (rep_depth_[v] != 0 && rep_jump_[v] >= n) return false;
   }
-  std::size_t non_roots = 0;
-  std::size_t listed_children = 0;
+  std::vector<std::uint32_t> count(n, 0);  // nodes per rep root
+  std::size_t semantic_roots = 0, rep_roots = 0, non_roots = 0, listed_children = 0;
   for (std::uint32_t v = 0; v < n; ++v) {
+    const std::uint32_t key = rep_root_[v];
+    // Representation: a rep root is its own key, at depth 0, and nothing else is at depth 0.
+    if (rep_root_[key] != key || rep_depth_[key] != 0 || (rep_depth_[v] == 0) != (key == v)) {
+      return false;
+    }
+    ++count[key];
+    if (key == v) {
+      // Its tree slots: the semantic root is a semantic root of this tree.
+      const std::uint32_t s = rep_parent_[v];
+      if (rep_root_[s] != v || parent_[s] != kNone) return false;
+      ++rep_roots;
+    } else {
+      const std::uint32_t q = rep_parent_[v];
+      // depth = depth(rep parent) + 1 also rules out cycles: depths would have to increase all
+      // the way round one (a wrap-around needs 2^32 nodes, more than an index can name).
+      if (q == v || rep_depth_[v] != rep_depth_[q] + 1 || rep_root_[q] != key) return false;
+      // The parent's jump is checked in its own turn, so by induction every jump follows the
+      // rule and is a rep ancestor; the rule itself is the skew-binary one (the O(log n)
+      // bounds rely on it).
+      if (rep_jump_[v] != JumpForChildOf(q)) return false;
+      if (rep_depth_[rep_jump_[v]] != SkewBinaryJumpDepth(rep_depth_[v])) return false;
+    }
+    // Semantic: the one root of its tree, or an edge {v, parent(v)} that is a rep edge.
     const std::uint32_t p = parent_[v];
     if (p == kNone) {
-      // A root: depth 0, jumps to itself, in no child list.
-      if (depth_[v] != 0 || jump_[v] != v || next_sibling_[v] != kNone ||
-          prev_sibling_[v] != kNone) {
+      if (rep_parent_[key] != v || next_sibling_[v] != kNone || prev_sibling_[v] != kNone) {
         return false;
       }
+      ++semantic_roots;
     } else {
-      // depth = depth(parent) + 1 also rules out cycles: depths would have to increase all
-      // the way round one (a wrap-around needs 2^32 nodes, more than an index can name).
-      if (p == v || depth_[v] != depth_[p] + 1) return false;
-      // The parent's jump is checked in its own turn, so by induction every jump follows the
-      // rule and is an ancestor.
-      if (jump_[v] != JumpForChildOf(p)) return false;
-      // ... and the rule itself is the skew-binary one, which the O(log n) bounds rely on.
-      if (depth_[jump_[v]] != SkewBinaryJumpDepth(depth_[v])) return false;
+      if (p == v || parent_[p] == v) return false;  // a 2-cycle would use one rep edge twice
+      const bool up = rep_depth_[v] != 0 && rep_parent_[v] == p;
+      const bool down = rep_depth_[p] != 0 && rep_parent_[p] == v;
+      if (!up && !down) return false;
       ++non_roots;
     }
     // v's child list: each entry names v as parent, back links match, and no loop (a node in
@@ -248,9 +382,14 @@ bool PoseForest::CheckInvariants() const {
     }
     listed_children += length;
   }
-  // A node is listed only under parent(node), at most once there; equal counts mean every
-  // non-root is listed.
-  return listed_children == non_roots;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (rep_root_[v] == v && rep_jump_[v] != count[v]) return false;  // tree sizes
+  }
+  // Each semantic edge is a rep edge, and no two are the same one (no 2-cycles; the edge of v
+  // is {v, parent(v)}); one semantic root per rep tree makes the counts equal, so the edge sets
+  // are equal. A node is listed only under parent(node), at most once there; equal counts
+  // mean every non-root is listed.
+  return semantic_roots == rep_roots && non_roots == n - rep_roots && listed_children == non_roots;
 }
 
 }  // namespace semgraph::topology

@@ -43,7 +43,6 @@ void SceneTopology::GrowNodes(std::size_t bodies, std::size_t frames) {
   GrowCapacity(bodies_, body_target);
   GrowCapacity(frames_, frame_target);
   forest_.Reserve(frame_target);
-  trees_.Reserve(frame_target);
   frame_room_ = frame_target - frames_.size();
   body_room_ = body_target - bodies_.size();
   name_map_room_ = std::min(frame_of_name_.capacity(), body_of_name_.capacity());
@@ -65,8 +64,7 @@ FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
   GrowNameMaps();
   SEMGRAPH_DEMAND(!FrameOfName(name).is_valid() && body.value() < bodies_.size());
   const FrameIndex f = forest_.AddNode();
-  const std::uint32_t uf = trees_.AddElement();
-  SEMGRAPH_DEMAND(f.value() == frames_.size() && uf == f.value());
+  SEMGRAPH_DEMAND(f.value() == frames_.size());
   frames_.push_back(FrameNode{name, body, TwistEdgeIndex(), bodies_[body.value()].first_frame});
   --frame_room_;
   bodies_[body.value()].first_frame = f.value();
@@ -77,17 +75,17 @@ FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
 // ====================================================================== tree records
 
 const TreeRecord* SceneTopology::RecordOf(FrameIndex f) const noexcept {
-  const std::uint32_t* index = record_of_rep_.Find(trees_.FindConst(f.value()));
+  const std::uint32_t* index = record_of_rep_.Find(forest_.TreeKey(f).value());
   return index ? &records_[*index] : nullptr;
 }
 
 TreeRecord* SceneTopology::MutableRecordOf(FrameIndex f) noexcept {
-  const std::uint32_t* index = record_of_rep_.Find(trees_.Find(f.value()));
+  const std::uint32_t* index = record_of_rep_.Find(forest_.TreeKey(f).value());
   return index ? &records_[*index] : nullptr;
 }
 
 TreeRecord& SceneTopology::EnsureRecord(FrameIndex f) {
-  const std::uint32_t rep = trees_.Find(f.value());
+  const std::uint32_t rep = forest_.TreeKey(f).value();
   if (const std::uint32_t* index = record_of_rep_.Find(rep)) return records_[*index];
   // Only a single-frame tree has no record: its body set is {body(f)}.
   SEMGRAPH_DEMAND(forest_.is_root(f) && !forest_.first_child(f).is_valid());
@@ -160,7 +158,7 @@ BodyIndex SceneTopology::SharedBody(FrameIndex t, FrameIndex h, BodyIndex allowe
 
 FrameIndex SceneTopology::SomeFrameOfBodyInTree(BodyIndex body, FrameIndex tree_member) const noexcept {
   for (std::uint32_t f = bodies_[body.value()].first_frame; f != kNone; f = frames_[f].next_in_body) {
-    if (trees_.SameSet(f, tree_member.value())) return FrameIndex(f);
+    if (forest_.SameTree(FrameIndex(f), tree_member)) return FrameIndex(f);
   }
   return FrameIndex();
 }
@@ -195,8 +193,8 @@ void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
 }
 
 void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
-  const std::uint32_t rep_t = trees_.Find(tail.value());
-  const std::uint32_t rep_h = trees_.Find(head.value());
+  const std::uint32_t rep_t = forest_.TreeKey(tail).value();
+  const std::uint32_t rep_h = forest_.TreeKey(head).value();
   const std::uint32_t* idx_t = record_of_rep_.Find(rep_t);
   const std::uint32_t* idx_h = record_of_rep_.Find(rep_h);
   const bool head_is_single = idx_h == nullptr;
@@ -209,7 +207,7 @@ void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
     // Fast path: the head is a single frame without twists; count its body into tail's tree.
     TreeRecord& rec = records_[index_t];
     rec.body_counts.FindOrInsert(body_of(head).value(), 0) += 1;
-    const std::uint32_t rep = trees_.Union(tail.value(), head.value());
+    const std::uint32_t rep = forest_.TreeKey(tail).value();
     if (rep != rep_t) {
       record_of_rep_.Erase(rep_t);
       record_of_rep_.Insert(rep, index_t);
@@ -228,30 +226,25 @@ void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
   records_[drop].body_counts.Clear();
   records_[drop].twists.Clear();
   free_records_.push_back(drop);
-  const std::uint32_t rep = trees_.Union(tail.value(), head.value());
-  record_of_rep_.Insert(rep, keep);
+  record_of_rep_.Insert(forest_.TreeKey(tail).value(), keep);
 }
 
-void SceneTopology::InstallTree(FrameIndex root, TreeRecord&& record) noexcept {
-  std::size_t frames = 0;
-  forest_.ForEachInSubtree(root, [&](FrameIndex f) {
-    trees_.Union(root.value(), f.value());
-    ++frames;
-  });
-  if (frames == 1 && record.twists.empty()) return;  // a single frame without twists needs no record
+void SceneTopology::InstallTree(FrameIndex member, TreeRecord&& record) noexcept {
+  // a single frame without twists needs no record
+  if (forest_.TreeSize(member) == 1 && record.twists.empty()) return;  // a single frame without twists needs no record
   // A record slot was reserved by CutPose: popping it and inserting into record_of_rep_ do not
   // allocate, and the moves only swap storage.
   const std::uint32_t index = free_records_.back();
   free_records_.pop_back();
   records_[index].body_counts = std::move(record.body_counts);
   records_[index].twists = std::move(record.twists);
-  record_of_rep_.Insert(trees_.Find(root.value()), index);
+  record_of_rep_.Insert(forest_.TreeKey(member).value(), index);
 }
 
 void SceneTopology::CutPose(FrameIndex head) {
   const FrameIndex tail = forest_.parent(head);
   SEMGRAPH_DEMAND(tail.is_valid());
-  const std::uint32_t old_rep = trees_.Find(head.value());
+  const std::uint32_t old_rep = forest_.TreeKey(head).value();
   const std::uint32_t* old_index = record_of_rep_.Find(old_rep);
   SEMGRAPH_DEMAND(old_index != nullptr);  // a tree with an edge has a record
   const TreeRecord& old = records_[*old_index];
@@ -285,11 +278,9 @@ void SceneTopology::CutPose(FrameIndex head) {
     records_.emplace_back();  // within capacity
     free_records_.push_back(static_cast<std::uint32_t>(records_.size() - 1));
   }
-  const FrameIndex old_root = forest_.Root(tail);
-  forest_.ForEachInSubtree(old_root, [&](FrameIndex f) { trees_.Reset(f.value()); });
   forest_.Cut(head);
   --num_pose_edges_;
-  InstallTree(old_root, std::move(above));
+  InstallTree(tail, std::move(above));
   InstallTree(head, std::move(below));
 }
 
@@ -344,7 +335,7 @@ void SceneTopology::UnlinkTwist(TwistEdgeIndex e) {
   --num_twist_edges_;
   // A single-frame tree without twists needs no record.
   if (rec->twists.empty() && !forest_.first_child(h).is_valid() && forest_.is_root(h)) {
-    FreeRecord(trees_.Find(h.value()));
+    FreeRecord(forest_.TreeKey(h).value());
   }
 }
 
@@ -381,7 +372,6 @@ std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {
   std::size_t bytes = sizeof(*this);
   bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);
   bytes += forest_.ApproximateBytes();
-  bytes += trees_.size() * 2 * sizeof(std::uint32_t);
   bytes += record_of_rep_.ApproximateBytes();
   for (const TreeRecord& r : records_) bytes += r.body_counts.ApproximateBytes() + r.twists.ApproximateBytes();
   bytes += twist_edges_.capacity() * sizeof(TwistEdge);

@@ -14,11 +14,11 @@ std::string SceneTopology::CheckInvariants() const {
     return "{" + std::string(frame_name(f)) + "}|" + std::string(body_name(body_of(f)));
   };
   if (!forest_.CheckInvariants()) out << "pose forest invariants broken\n";
-  // Union-find sets = pose trees; records = body multisets and TG of each tree.
+  // Tree keys = pose trees; records = body multisets and TG of each tree.
   for (std::uint32_t i = 0; i < frames_.size(); ++i) {
     const FrameIndex f(i);
-    if (trees_.FindConst(i) != trees_.FindConst(forest_.Root(f).value())) {
-      out << "frame " << text(f) << " is in another set than its root\n";
+    if (forest_.TreeKey(f) != forest_.TreeKey(forest_.Root(f))) {
+      out << "frame " << text(f) << " has another tree key than its root\n";
     }
     if (FrameOfName(frames_[i].name) != f) out << "name map of frame " << text(f) << " broken\n";
   }

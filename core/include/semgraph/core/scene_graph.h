@@ -23,9 +23,11 @@
 // Costs (n = frames, d = depth of the frames involved, |T| = frames of an affected pose tree,
 // b = bodies in a tree's body set, k = twist edges on a path):
 //   AddBody, AddFrame                   O(|name|) amortized
-//   AddPose, new leaf frame             O(log n) (union-find, jump pointer, body-set lookup)
-//   AddPose, linking tree T under t     O(|T|) (depths and jumps of T) + O(min(b1, b2)) (P3 check,
-//                                       body-set merge smaller into larger) + O(twist edges) (W4)
+//   AddPose, new leaf frame             O(1) amortized (jump pointer, body-set lookup)
+//   AddPose, linking tree T under t     O(log n) amortized (the smaller tree's depths and jumps,
+//                                       whatever the order of the adds) + O(min(b1, b2)) (P3
+//                                       check, body-set merge smaller into larger)
+//                                       + O(twist edges) (W4)
 //   AddPose in non-edge form            + the conversion: three basic-pose queries
 //   AddPose, update of an existing edge O(1) after name lookup (no topology change)
 //   AddTwist                            O(depth in TG) + conversion query when [r] != [h]

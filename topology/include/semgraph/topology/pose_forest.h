@@ -3,43 +3,75 @@
 // PoseForest: the topology of the scene graph's pose forest over frames 0 .. n-1. A pose edge
 // tail -> head makes the tail the parent of the head (spec §2: P1, a frame has at most one pose
 // parent; P2, edges never close a cycle). The forest is dynamic: Link joins a tree under a node
-// of another tree, Cut splits a subtree off. Only topology lives here; no names, no values.
+// of another tree, Cut splits a subtree off, Reroot reverses the path to the root. Only topology
+// lives here; no names, no values.
 //
-// Ancestor queries use one skew-binary ("Myers") jump pointer per node (E. W. Myers, "An
-// applicative random-access stack", 1983): jump(root) = root; a new child v of p gets
-//   jump(v) = jump(jump(p))  if p has a parent and depth(p) - depth(j) == depth(j) - depth(jump(j))
-//             with j = jump(p),
+// Two rootings of one tree. What callers see is the *semantic* forest: parent, first_child,
+// next_sibling, depth, Root, ... follow the pose edges. Ancestor queries run on a
+// *representation* of the same undirected tree rooted at an arbitrary node of it, its "rep
+// root" R, with depths and jump pointers relative to R. The two are tied by the classic
+// identity: with semantic root s,
+//   lca_s(a, b) = the deepest (from R) of lca_R(a, b), lca_R(a, s), lca_R(b, s),
+// and semantic depth(v) = rd(v) + rd(s) - 2 rd(lca_R(v, s)) (rd = depth from R). When s == R
+// (every tree built parents first) each query is a single rep query and costs what it did
+// before the split.
+//
+// Why: linking a tree under a node of another must not recompute the depths of the tree that
+// moves (building a chain from the leaf up was quadratic). Link re-represents the *smaller* of
+// the two trees only, re-rooted at its end of the new edge and hung under the other end; the
+// larger keeps its rep root. A node is re-represented only when its tree at least doubles, so
+// at most log2(n) times over any sequence of links: Link is O(log n) amortized, whatever the
+// order of the adds (a new leaf and a new root are both O(1)). With cuts in between (potential
+// sum over nodes of log2(n / size of its tree): a link pays min(a, b) out of it, a cut into
+// parts of a and b nodes puts back at most min(a, b) (log2 n + 1.45), within a log factor of the
+// cut's own O(min(a, b)) at least). Reroot only turns the semantic edges round and moves the
+// semantic root: the representation stays.
+//
+// Rep jump pointers are skew-binary ("Myers", E. W. Myers, "An applicative random-access
+// stack", 1983): jump(R) = R; a rep child v of p gets
+//   jump(v) = jump(jump(p))  if p != R, j = jump(p) != R and rd(p) - rd(j) == rd(j) - rd(jump(j)),
 //   jump(v) = p              otherwise.
-// The jump of a node depends on its depth only, so any ancestor depth is reached in O(log n)
-// jump-or-parent steps. Unlike binary lifting (O(log n) words per node) or DFS intervals (which
-// a Link or Cut renumbers globally), this costs one word per node and a topology change only
-// touches the tree that moves.
+// The jump of a node depends on its rep depth only, so any rep ancestor depth is reached in
+// O(log n) jump-or-parent steps, with one word per node (binary lifting needs O(log n) words;
+// DFS intervals are renumbered globally by every link).
 //
-// Layout: structure of arrays, six std::uint32_t per node (24 bytes): parent, depth, jump,
-// first_child, next_sibling, prev_sibling. Children form a doubly linked sibling list so Cut is
-// O(1) before the subtree's depths are redone, and a subtree can be walked without a stack.
+// Layout: structure of arrays, eight std::uint32_t per node (32 bytes). Semantic: parent,
+// first_child, next_sibling, prev_sibling (children form a doubly linked sibling list, so Cut
+// unlinks in O(1) and a subtree is walked without a stack). Representation: rep_parent,
+// rep_depth, rep_jump, rep_root. A rep root's own rep_parent and rep_jump slots are free (it has
+// no parent and jumps to itself), so they hold its tree's data: rep_parent[R] = the semantic
+// root, rep_jump[R] = the number of nodes. rep_root makes Root, SameTree and TreeKey O(1), which
+// is what lets SceneTopology drop its union-find (8 bytes per frame): the total stays 32.
 //
-// Invariants (checked by CheckInvariants, which tests call after every mutation):
-//  - parent(v) is invalid (v is a root) or another node; depth(root) = 0 and
-//    depth(v) = depth(parent(v)) + 1, hence no cycles.
-//  - v is in the child list of parent(v) exactly once; roots are in no child list.
-//  - jump(root) = root; jump(v) is the ancestor of v given by the rule above, which puts it at
-//    depth d - (smallest term of d's skew-binary decomposition into terms 2^k - 1), d = depth(v).
+// Invariants (checked from scratch by CheckInvariants, which tests call after every mutation):
+//  - semantic: parent(v) is invalid (v is a semantic root) or another node; v is in the child
+//    list of parent(v) exactly once, roots are in no child list; no 2-cycle parent(parent(v)) = v.
+//  - rep: rep_root(v) is a rep root R (rep_root(R) = R, rep_depth(R) = 0, and rep_depth(v) = 0
+//    only for rep roots); for v != R: rep_depth(v) = rep_depth(rep_parent(v)) + 1 (so no rep
+//    cycles), rep_root(v) = rep_root(rep_parent(v)), rep_jump(v) follows the rule above and lands
+//    at rep depth d - (smallest term of d's skew-binary decomposition into terms 2^k - 1).
+//  - same tree: the undirected edges {v, parent(v)} are exactly the edges {v, rep_parent(v)},
+//    one to one (so the semantic parent links form a forest too, oriented towards one node per
+//    tree); rep_parent[R] is the one semantic root of R's tree, rep_jump[R] its node count.
 //
-// Costs (n = size()):
+// Costs (n = size(), amortized over any sequence of mutations):
 //   AddNode                                  O(1) amortized (allocates when the arrays grow)
-//   Link(parent, root)                       O(log n + size of root's tree)
-//   Cut(child)                               O(size of child's subtree)
-//   Reroot(v)                                O(size of v's tree)
-//   parent, depth, is_root, first_child,
-//   next_sibling, size                       O(1)
-//   Root, AncestorAtDepth, IsAncestor,
-//   CommonAncestor, SameTree                 O(log n), noexcept, no allocation
+//   Link(parent, root)                       O(log n) amortized over links (re-represents the
+//                                            smaller tree; each Cut adds O(its cost * log n))
+//   Cut(child)                               O(size of the part that does not hold the rep root)
+//   Reroot(v)                                O(depth(v)) (path reversal; no depth recomputed)
+//   parent, is_root, first_child,
+//   next_sibling, size, Root, SameTree,
+//   TreeKey, TreeSize                        O(1)
+//   depth, AncestorAtDepth, IsAncestor,
+//   CommonAncestor                           O(log n), noexcept, no allocation (one rep query
+//                                            when the tree's semantic root is its rep root,
+//                                            depth then O(1); else up to three)
 //   ForEachInSubtree(root, f)                O(size of root's subtree) calls of f, no allocation
-//   CheckInvariants                          O(n log n), no allocation
+//   CheckInvariants                          O(n), allocates O(n) scratch (tests only)
 //
 // Thread safety: const methods may run concurrently (no mutable state, no locks, no lazy work);
-// AddNode, Reserve, Link and Cut need exclusive access.
+// AddNode, Reserve, Link, Cut and Reroot need exclusive access.
 #pragma once
 
 #include <cassert>
@@ -68,19 +100,19 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   /// @pre size() < FrameIndex::kInvalid (aborts otherwise).
   FrameIndex AddNode();
 
-  /// Makes `root` a child of `parent`, and recomputes the depth and jump pointer of every node of
-  /// root's tree. Cost O(log n) for the precondition check plus O(size of root's tree).
+  /// Makes `root` a child of `parent`. Re-represents the smaller of the two trees (its rep
+  /// depths and jumps, relative to the larger tree's rep root): O(log n) amortized.
   /// @pre both are nodes of this forest, `root` is a root, and `parent` is not in root's tree
   ///      (aborts via SEMGRAPH_DEMAND otherwise; callers reject such edges earlier with a code).
   void Link(FrameIndex parent, FrameIndex root);
 
-  /// Removes the edge parent(child) -> child; child's subtree becomes a tree of its own with
-  /// recomputed depths and jumps. Cost O(size of child's subtree).
+  /// Removes the edge parent(child) -> child; child's subtree becomes a tree of its own. The
+  /// part without the rep root is re-represented: O(size of that part).
   /// @pre `child` is a node of this forest and has a parent (aborts otherwise).
   void Cut(FrameIndex child);
   /// Makes v the root of its tree by reversing the edges on the path from v to the old root
-  /// (the parent of each node on it becomes its child). The tree keeps its nodes; depths and
-  /// jumps are recomputed. O(size of the tree).
+  /// (the parent of each node on it becomes its child). The tree keeps its nodes and its
+  /// representation. O(depth(v)).
   void Reroot(FrameIndex v);
 
   // Cheap accessors. @pre f is a node of this forest (checked by assert in debug builds only).
@@ -89,8 +121,6 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   [[nodiscard]] FrameIndex parent(FrameIndex f) const noexcept {
     return FrameIndex(parent_[Checked(f)]);
   }
-  /// The number of edges between f and its root.
-  [[nodiscard]] std::uint32_t depth(FrameIndex f) const noexcept { return depth_[Checked(f)]; }
   [[nodiscard]] bool is_root(FrameIndex f) const noexcept { return parent_[Checked(f)] == kNone; }
   /// The first child of f, or an invalid index when f is a leaf. Children are in no
   /// particular order (the most recently linked comes first).
@@ -102,11 +132,31 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
     return FrameIndex(next_sibling_[Checked(f)]);
   }
 
+  /// The root of f's tree. O(1).
+  [[nodiscard]] FrameIndex Root(FrameIndex f) const noexcept {
+    return FrameIndex(rep_parent_[rep_root_[Checked(f)]]);
+  }
+  /// True when a and b are in the same tree. O(1).
+  [[nodiscard]] bool SameTree(FrameIndex a, FrameIndex b) const noexcept {
+    return rep_root_[Checked(a)] == rep_root_[Checked(b)];
+  }
+  /// A node of f's tree that names the tree: equal for all its nodes, different between trees.
+  /// A tree keeps its key until a Link or Cut changes it (a Link keeps the larger tree's key,
+  /// a Cut keeps it for one of the two parts); Reroot keeps it. O(1).
+  [[nodiscard]] FrameIndex TreeKey(FrameIndex f) const noexcept {
+    return FrameIndex(rep_root_[Checked(f)]);
+  }
+  /// The number of nodes of f's tree. O(1).
+  [[nodiscard]] std::uint32_t TreeSize(FrameIndex f) const noexcept {
+    return rep_jump_[rep_root_[Checked(f)]];
+  }
+
   // Queries. @pre every argument is a node of this forest (debug assert only). All are
   // O(log n), noexcept, allocation-free and read-only.
 
-  /// The root of f's tree.
-  [[nodiscard]] FrameIndex Root(FrameIndex f) const noexcept;
+  /// The number of edges between f and its root. O(1) when the tree's root is its rep root
+  /// (trees built parents first), else O(log n).
+  [[nodiscard]] std::uint32_t depth(FrameIndex f) const noexcept;
 
   /// The ancestor of f at depth d (f itself when d == depth(f)), or an invalid index when
   /// d > depth(f).
@@ -119,9 +169,6 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   /// The youngest (deepest) common ancestor of a and b, or an invalid index when they are in
   /// different trees. CommonAncestor(a, a) == a.
   [[nodiscard]] FrameIndex CommonAncestor(FrameIndex a, FrameIndex b) const noexcept;
-
-  /// True when a and b are in the same tree (have the same root).
-  [[nodiscard]] bool SameTree(FrameIndex a, FrameIndex b) const noexcept;
 
   /// Calls f(FrameIndex) once for every node of the subtree rooted at `root` (root included),
   /// in preorder: a node is visited before its children. Iterative, constant extra space: it
@@ -145,10 +192,15 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
     }
   }
 
+  /// Statistic: the number of node representations (rep depth and jump) computed by Link and
+  /// Cut since construction. Link keeps it within n log2(n) over any sequence of links of n
+  /// nodes; tests assert that bound, benchmarks may report it.
+  [[nodiscard]] std::uint64_t rerepresented_nodes() const noexcept { return rerepresented_; }
+
   /// Bytes held by the node arrays (their capacity), for memory budgets.
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept;
 
-  /// Full check of every invariant listed at the top of this file, O(n log n). For tests and
+  /// Full check of every invariant listed at the top of this file, O(n). For tests and
   /// fuzzers; no query relies on it being called.
   [[nodiscard]] bool CheckInvariants() const;
 
@@ -159,18 +211,28 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
     assert(f.value() < parent_.size());
     return f.value();
   }
-  // The jump pointer a new child of p gets (the skew-binary rule above).
+  // The rep jump pointer a new rep child of p gets (the skew-binary rule above).
   std::uint32_t JumpForChildOf(std::uint32_t p) const noexcept;
-  // Sets depth and jump of `top` from its parent (or as a root) and of all its descendants,
-  // parents before children.
-  void RecomputeSubtree(std::uint32_t top) noexcept;
+  // Rep queries: the rep ancestor of v at rep depth d <= rep_depth(v), and the rep LCA of two
+  // nodes of one tree.
+  std::uint32_t RepAncestorAtDepth(std::uint32_t v, std::uint32_t d) const noexcept;
+  std::uint32_t RepLca(std::uint32_t u, std::uint32_t v) const noexcept;
+  // Re-represents the component of x (the semantic edges as they are, without the edge to
+  // `above`): rooted at x, x hung under `above` (kNone: x becomes a rep root, whose two tree
+  // slots the caller fills). Parents before children, without a stack. Returns the node count.
+  std::uint32_t Represent(std::uint32_t x, std::uint32_t above) noexcept;
 
+  // Semantic forest.
   std::vector<std::uint32_t> parent_;
-  std::vector<std::uint32_t> depth_;
-  std::vector<std::uint32_t> jump_;
   std::vector<std::uint32_t> first_child_;
   std::vector<std::uint32_t> next_sibling_;
   std::vector<std::uint32_t> prev_sibling_;
+  // Representation. At a rep root R: rep_parent_[R] = semantic root, rep_jump_[R] = tree size.
+  std::vector<std::uint32_t> rep_parent_;
+  std::vector<std::uint32_t> rep_depth_;
+  std::vector<std::uint32_t> rep_jump_;
+  std::vector<std::uint32_t> rep_root_;
+  std::uint64_t rerepresented_ = 0;
 };
 
 }  // namespace semgraph::topology

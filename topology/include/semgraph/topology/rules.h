@@ -20,7 +20,7 @@
 //     W3  duplicate_twist_path   H and D are already joined in the TG of {h}'s tree
 // Self edges (a pose edge from a frame to itself) are caught by name, before the others.
 //
-// Costs: P1, P2, W1, W2 O(alpha(n)); P3 O(min(b1, b2)) body-set lookups; W3 O(depth in TG);
+// Costs: P1, P2, W1, W2 O(1); P3 O(min(b1, b2)) body-set lookups; W3 O(depth in TG);
 // W4 O(twist edges of the smaller TG). All noexcept, allocation-free; none walks a pose tree.
 #pragma once
 

@@ -18,8 +18,8 @@
 // Invariants (CheckInvariants in scene_topology_debug.cc verifies them from scratch):
 //  - every frame belongs to exactly one body; name -> frame and name -> body maps agree with
 //    the nodes; names are unique among frames and among bodies.
-//  - the pose forest is a forest (P1, P2); a union-find set per pose tree (trees_), and a tree
-//    record exactly for every tree with more than one frame or with a twist edge.
+//  - the pose forest is a forest (P1, P2); a tree record exactly for every tree with more than
+//    one frame or with a twist edge, keyed by the tree's PoseForest::TreeKey.
 //  - P3: in every pose tree the frames of one body are connected through same-body edges only
 //    (a record's body count equals 1 + the same-body edges among that body's frames).
 //  - W1: a frame has at most one twist edge into it; W2: no twist edge from a body to itself;
@@ -28,13 +28,14 @@
 //
 // Costs (n = frames, |T| = frames of an affected pose tree, b = bodies in a tree's body set):
 //   CreateBody, CreateFrame            O(1) amortized (grow the node and name arrays)
-//   LinkPose, new leaf frame           O(log n) amortized (union-find, jump pointer, body count)
-//   LinkPose, linking trees            O(|T|) (depths and jumps) + O(min(b1, b2)) (body-set merge)
+//   LinkPose, new leaf frame           O(1) amortized (jump pointer, body count)
+//   LinkPose, linking trees            O(log n) amortized (PoseForest::Link re-represents the
+//                                      smaller tree) + O(min(b1, b2)) (body-set merge)
 //                                      + O(twist edges of the smaller TG)
-//   CutPose                            O(|T|) for the tree being split (rebuilds its sets)
-//   RerootPose                         O(|T|) (depths and jumps of the tree)
+//   CutPose                            O(|T|) for the tree being split (plans both records)
+//   RerootPose                         O(depth of v) (path reversal)
 //   LinkTwist / UnlinkTwist            O(depth in TG) / O(size of the detached part of TG)
-//   SameTree                           O(alpha(n)), noexcept, no allocation
+//   SameTree                           O(1), noexcept, no allocation
 //   RecordOf, TreeHasBody              O(1) expected
 //   SharedBody                         O(min(b1, b2))
 // Thread safety: const methods may run concurrently; mutations need exclusive access.
@@ -47,7 +48,6 @@
 
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/relations.h"
-#include "semgraph/topology/disjoint_sets.h"
 #include "semgraph/topology/export.h"
 #include "semgraph/topology/flat_map.h"
 #include "semgraph/topology/ids.h"
@@ -146,9 +146,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
 
   [[nodiscard]] const PoseForest& forest() const noexcept { return forest_; }
   [[nodiscard]] FrameIndex pose_parent(FrameIndex f) const noexcept { return forest_.parent(f); }
-  /// True when a and b are in one pose tree. O(alpha(n)).
+  /// True when a and b are in one pose tree. O(1).
   [[nodiscard]] bool SameTree(FrameIndex a, FrameIndex b) const noexcept {
-    return trees_.SameSet(a.value(), b.value());
+    return forest_.SameTree(a, b);
   }
 
   /// Room for LinkPose(tail, head), so that it does not allocate; an invalid index stands for
@@ -261,7 +261,7 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   TreeRecord& NewRecord(std::uint32_t rep, FrameIndex f);
   void FreeRecord(std::uint32_t rep);
   void ReserveNewRecord(std::size_t bodies);
-  void InstallTree(FrameIndex root, TreeRecord&& record) noexcept;
+  void InstallTree(FrameIndex member, TreeRecord&& record) noexcept;
 
   semantics::NameTable names_;
   std::vector<std::uint32_t> frame_of_name_;  // NameId -> FrameIndex (kNone if not a frame)
@@ -272,8 +272,7 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   std::vector<FrameNode> frames_;
   std::vector<BodyNode> bodies_;
   PoseForest forest_;
-  DisjointSets trees_;                    // which pose tree a frame is in
-  FlatMap<std::uint32_t> record_of_rep_;  // union-find representative -> records_ index
+  FlatMap<std::uint32_t> record_of_rep_;  // PoseForest::TreeKey -> records_ index
   std::vector<TreeRecord> records_;
   std::vector<std::uint32_t> free_records_;
   std::vector<TwistEdge> twist_edges_;
