@@ -876,6 +876,19 @@ void Mirror::Impl::Reconcile() {
     }
   }
   std::unordered_map<ValueKey, Slot, ValueKeyHash> new_slots;
+  // Values and samples that arrived before the structure named their edge: applied now.
+  const auto apply_pending = [&](const ValueKey& key, Slot& slot) {
+    auto p = pending.find(key);
+    if (p != pending.end()) {
+      if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
+      pending.erase(p);
+    }
+    auto ps = pending_samples.find(key);
+    if (ps != pending_samples.end()) {
+      for (const Pending& e : ps->second) ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
+      pending_samples.erase(ps);
+    }
+  };
   for (const Applied& a : desired) {
     const Row& r = *a.row;
     auto have = applied.find({a.twist, a.head});
@@ -924,16 +937,7 @@ void Mirror::Impl::Reconcile() {
       if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, "structure value", time);
       slot.seq = r.seq;
     }
-    auto p = pending.find(key);
-    if (p != pending.end()) {
-      if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
-      pending.erase(p);
-    }
-    auto ps = pending_samples.find(key);
-    if (ps != pending_samples.end()) {
-      for (const Pending& e : ps->second) ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
-      pending_samples.erase(ps);
-    }
+    apply_pending(key, slot);
     new_slots.emplace(key, std::move(slot));
   }
   // Joints: all adds, then the states of the new ones (mimics follow their masters).
@@ -1000,16 +1004,7 @@ void Mirror::Impl::Reconcile() {
                  j.stamped() ? std::optional<std::int64_t>(j.time_ns) : std::nullopt);
       slot.seq = j.seq;
     }
-    auto p = pending.find(key);
-    if (p != pending.end()) {
-      if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
-      pending.erase(p);
-    }
-    auto ps = pending_samples.find(key);
-    if (ps != pending_samples.end()) {
-      for (const Pending& e : ps->second) ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
-      pending_samples.erase(ps);
-    }
+    apply_pending(key, slot);
     new_slots.emplace(key, std::move(slot));
   }
   slots = std::move(new_slots);
