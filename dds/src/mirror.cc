@@ -131,7 +131,8 @@ std::vector<Report> Mirror::Refusals() const {
 }
 
 bool Mirror::Impl::HasRefusal(const std::string& owner) const {
-  return std::any_of(refusals.begin(), refusals.end(), [&](const Report& rep) { return rep.owner == owner; });
+  return std::any_of(refusals.begin(), refusals.end(),
+                     [&](const Report& rep) { return rep.owner == owner; });
 }
 
 bool Mirror::CaughtUp() const {

@@ -25,16 +25,6 @@
 
 namespace semgraph::dds::internal {
 
-struct Row {
-  std::uint8_t kind = 0;
-  std::uint32_t edge = 0;
-  std::uint64_t seq = 0;
-  std::string head, head_body, tail, tail_body;
-  double n[7] = {0, 0, 0, 0, 0, 0, 0};
-  bool stamped = false;
-  std::int64_t time_ns = 0;
-};
-
 // A joint of a structure sample (semgraph_wire_Joint, checked).
 struct JointRow {
   std::uint32_t id = 0;
@@ -272,7 +262,8 @@ struct Mirror::Impl {
   void AddMissingBodiesAndFrames(const core::SceneGraph<>& scratch);
   Slot TakeSlot(const ValueKey& key, bool added, bool* known);
   void ApplyPending(const ValueKey& key, Slot& slot);
-  void AddEdges(const std::vector<Applied>& desired, std::vector<Report>& refused, Slots& new_slots);
+  void AddEdges(const std::vector<Applied>& desired, std::vector<Report>& refused,
+                Slots& new_slots);
   void AddJoints(const std::vector<DesiredJoint>& desired_joints, std::vector<Report>& refused,
                  Slots& new_slots);
   void MakeJointSlot(const JointRow& j, bool added, Slots& new_slots);

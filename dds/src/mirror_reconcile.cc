@@ -143,15 +143,16 @@ void Mirror::Impl::ReplayEdges(const OwnerRec& o, Replay& replay) {
         if (!res) refuse(res.error().code, res.error().message);
       } else {
         const bool twist = kind == semgraph_wire_ELEMENT_TWIST;
-        const std::string what = std::string(twist ? "twist of {" : "pose of {") + r.head + "}|" + r.head_body +
-                                 " wrt " + (twist ? r.tail : "{" + r.tail + "}|" + r.tail_body);
+        const std::string what = std::string(twist ? "twist of {" : "pose of {") + r.head + "}|" +
+                                 r.head_body + " wrt " +
+                                 (twist ? r.tail : "{" + r.tail + "}|" + r.tail_body);
         auto prior = replay.edge_owner.find({twist, r.head});
         if (prior != replay.edge_owner.end()) {
-          const base::ErrorCode code =
-              twist ? base::ErrorCode::kMultipleTwistParents : base::ErrorCode::kMultiplePoseParents;
+          const base::ErrorCode code = twist ? base::ErrorCode::kMultipleTwistParents
+                                             : base::ErrorCode::kMultiplePoseParents;
           refuse(code, what + " rejected (" + std::string(base::ToString(code)) + "): {" + r.head +
-                           "} already has a " + (twist ? "twist" : "pose") + " parent published by '" +
-                           prior->second + "'");
+                           "} already has a " + (twist ? "twist" : "pose") +
+                           " parent published by '" + prior->second + "'");
           continue;
         }
         core::BuildResult res = AddEdge(scratch, r);
@@ -182,16 +183,16 @@ void Mirror::Impl::ReplayEdges(const OwnerRec& o, Replay& replay) {
 // Replays one owner's joints on the scratch graph (a joint takes both parents of its child).
 void Mirror::Impl::ReplayJoints(const OwnerRec& o, Replay& replay) {
   for (const JointRow& j : o.joints) {
-    const std::string what = "joint " + j.name + " ({" + j.child + "}|" + j.child_body + " wrt {" + j.parent +
-                             "}|" + j.parent_body + ")";
+    const std::string what = "joint " + j.name + " ({" + j.child + "}|" + j.child_body + " wrt {" +
+                             j.parent + "}|" + j.parent_body + ")";
     auto prior = replay.edge_owner.find({false, j.child});
     if (prior == replay.edge_owner.end()) prior = replay.edge_owner.find({true, j.child});
     if (prior != replay.edge_owner.end()) {
       const base::ErrorCode code = base::ErrorCode::kMultiplePoseParents;
-      replay.refused.push_back(Refusal(o.owner, code,
-                                       what + " rejected (" + std::string(base::ToString(code)) + "): {" +
-                                           j.child + "} already has a parent published by '" + prior->second +
-                                           "'"));
+      replay.refused.push_back(
+          Refusal(o.owner, code,
+                  what + " rejected (" + std::string(base::ToString(code)) + "): {" + j.child +
+                      "} already has a parent published by '" + prior->second + "'"));
       continue;
     }
     core::BuildResult res = replay.scratch.AddJoint(j.Spec());
@@ -218,7 +219,8 @@ void Mirror::Impl::RemoveChangedJoints(const std::vector<DesiredJoint>& desired_
   std::set<std::string> remove;
   for (const auto& [name, aj] : applied_joints) {
     auto w = want_joints.find(name);
-    bool keep = w != want_joints.end() && w->second->owner == aj.owner && w->second->row->SameJoint(aj.row);
+    bool keep =
+        w != want_joints.end() && w->second->owner == aj.owner && w->second->row->SameJoint(aj.row);
     if (keep) {
       // Stamped and timeless edges do not convert: such a change re-adds the joint.
       const core::internal::JointRecord* rec = graph.joint_table().Find(name);
@@ -233,7 +235,9 @@ void Mirror::Impl::RemoveChangedJoints(const std::vector<DesiredJoint>& desired_
   for (bool grew = true; grew;) {
     grew = false;
     for (const auto& [name, aj] : applied_joints) {
-      if (!aj.row.mimic.empty() && remove.count(aj.row.mimic) && remove.insert(name).second) grew = true;
+      if (!aj.row.mimic.empty() && remove.count(aj.row.mimic) && remove.insert(name).second) {
+        grew = true;
+      }
     }
   }
   for (const bool mimics : {true, false}) {
@@ -300,19 +304,24 @@ Slot Mirror::Impl::TakeSlot(const ValueKey& key, bool added, bool* known) {
 void Mirror::Impl::ApplyPending(const ValueKey& key, Slot& slot) {
   auto p = pending.find(key);
   if (p != pending.end()) {
-    if (p->second.seq > slot.seq) ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
+    if (p->second.seq > slot.seq) {
+      ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
+    }
     pending.erase(p);
   }
   auto ps = pending_samples.find(key);
   if (ps != pending_samples.end()) {
-    for (const Pending& e : ps->second) ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
+    for (const Pending& e : ps->second) {
+      ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
+    }
     pending_samples.erase(ps);
   }
 }
 
 // Adds the wanted edges the replica lacks (in the deterministic order), and gives every wanted
 // edge its slot: its handle, and the value its structure announced when newer.
-void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Report>& refused, Slots& new_slots) {
+void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Report>& refused,
+                            Slots& new_slots) {
   for (const Applied& a : desired) {
     const Row& r = *a.row;
     auto have = applied.find({a.twist, a.head});
@@ -365,8 +374,8 @@ void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Rep
 
 // Adds the wanted joints the replica lacks, then gives each its slot (mimics follow their
 // masters, so all adds come first).
-void Mirror::Impl::AddJoints(const std::vector<DesiredJoint>& desired_joints, std::vector<Report>& refused,
-                             Slots& new_slots) {
+void Mirror::Impl::AddJoints(const std::vector<DesiredJoint>& desired_joints,
+                             std::vector<Report>& refused, Slots& new_slots) {
   std::vector<std::pair<const JointRow*, bool>> joint_slots;  // row, added
   for (const DesiredJoint& d : desired_joints) {
     const JointRow& j = *d.row;
@@ -416,8 +425,9 @@ void Mirror::Impl::MakeJointSlot(const JointRow& j, bool added, Slots& new_slots
       (added || (j.stamped() && !replica_stamped))) {
     // The joint's first state decides its kind (timeless or stamped: histories allocated here).
     const core::JointValue q[] = {{j.name, j.q}}, qdot[] = {{j.name, j.qdot}};
-    const core::BuildResult res = j.stamped() ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
-                                              : graph.SetJoints(q, qdot);
+    const core::BuildResult res =
+        j.stamped() ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
+                    : graph.SetJoints(q, qdot);
     if (!res) Log("joint " + j.name + ": its state is refused: " + res.error().message);
     slot.seq = j.seq;
     if (j.stamped()) slot.time_ns = j.time_ns;
