@@ -4,7 +4,9 @@
 //   mirror_threads.cc    the receive paths: structures on the mirror's thread, values and
 //                        batches where they arrive (Cyclone's listener or the mirror's thread)
 //   mirror_reconcile.cc  the replay of the owners' structures, and the replica brought to it
-// Every Impl member below `state_mutex` is guarded by it (mirror.h: Thread safety).
+// Invariants (under Impl::state_mutex): `applied` and `applied_joints` are the replica's mirrored
+// edges and joints; `slots` has one slot per mirrored edge or joint, keyed by (source, edge id,
+// value kind); `pending` and `pending_samples` hold values whose structure has not come yet.
 #pragma once
 
 #include <algorithm>
