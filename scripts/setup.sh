@@ -6,7 +6,7 @@
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
 #             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
-#   --clang   clang libclang-rt-14-dev   (clang++ builds, sanitizers and libFuzzer with clang)
+#   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
 #   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
@@ -20,7 +20,7 @@ usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
 packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
 for arg in "$@"; do
   case "$arg" in
-    --clang) packages+=(clang libclang-rt-14-dev) ;;
+    --clang) packages+=(clang libclang-rt-14-dev clang-format) ;;
     --bench) packages+=(libtf2-dev valgrind) ;;
     --dot) packages+=(graphviz) ;;
     --dds) packages+=(cyclonedds-dev cyclonedds-tools) ;;
