@@ -1,8 +1,10 @@
 // File: python/src/graph.h
 //
-// The C++ objects behind the Python classes. Nothing here computes geometry: every number comes
-// from semgraph::core (SceneGraph, CompiledX, SetPose/SetTwist); this layer converts arguments,
-// shares ownership and turns error values into Python exceptions.
+// The C++ objects behind the Python classes, and the functions that register the classes (one
+// binding file per class or family of classes, after Pinocchio's expose-*.cpp). Nothing here
+// computes geometry: every number comes from semgraph::core (SceneGraph, CompiledX,
+// SetPose/SetTwist); this layer converts arguments, shares ownership and turns error values into
+// Python exceptions (common.h).
 //
 // Ownership (why nothing can dangle): a GraphBox is held by std::shared_ptr. The Python
 // SceneGraph, every result (for the names in its repr), compiled query, handle and batch hold
