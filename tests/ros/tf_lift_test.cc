@@ -119,6 +119,18 @@ TEST(TfLift, EveryRefusalOfTheSpecIsAFindingAndChangesNothing) {
   EXPECT_EQ(core::CheckInvariants(graph), "");
 }
 
+TEST(TfLift, TwoPathsBetweenBodiesOfTheMapAreDuplicatePosePath) {
+  // The map puts the unconnected frames arm and tip on one body ARM: base -> arm, then
+  // camera (on base) -> tip is a second path between the bodies.
+  Graph graph;
+  auto lift = Lift(graph, {StaticMode::kSameBody, {{"ARM", {"arm", "tip"}}}});
+  lift.plan().AddStatic("base", "camera");
+  ASSERT_EQ(lift.Apply(Tf("base", "camera", 0), true, "/tf_static", 1), LiftOutcome::kApplied);
+  ASSERT_EQ(lift.Apply(Tf("base", "arm", 5 * kSec), false, "/tf", 2), LiftOutcome::kApplied);
+  EXPECT_EQ(graph.body_name(graph.body_of(graph.FindFrame("arm"))), "ARM");
+  ExpectRefused(lift, graph, Tf("camera", "tip", 6 * kSec), false, ErrorCode::kDuplicatePosePath);
+}
+
 TEST(TfLift, AFrameBothStaticAndDynamicIsRefused) {
   {  // own_body: a timeless edge then a stamped sample of it.
     Graph graph;
