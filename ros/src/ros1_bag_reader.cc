@@ -346,6 +346,9 @@ std::optional<BagError> Ros1BagReader::Open(const std::string& path) {
   if (auto e = file_.ReadAt(0, have, magic, "the magic")) return e;
   const std::string_view got(reinterpret_cast<const char*>(magic), have);
   if (got != ros1::kMagic) {
+    if (!got.empty() && ros1::kMagic.starts_with(got)) {
+      return file_.Error(BagErrorCode::kTruncated, 0, "the file ends inside the magic");
+    }
     const bool other_version = got.starts_with(ros1::kMagicPrefix);
     return file_.Error(other_version ? BagErrorCode::kUnsupported : BagErrorCode::kUnknownFormat,
                        0, other_version ? "a ROS bag of a version other than 2.0"
