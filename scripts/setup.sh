@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages semgraph needs, skipping those already installed.
 #
-#   scripts/setup.sh [--clang] [--bench] [--dot] [--dds]
+#   scripts/setup.sh [--clang] [--bench] [--dot] [--dds] [--ros]
 #
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
@@ -10,12 +10,15 @@
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
 #   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
+#   --ros     libbz2-dev libsqlite3-dev (semgraph::ros: ROS 1 bz2 chunks, rosbag2 sqlite3 bags);
+#             python3-rosbag python3-roslz4 python3-tf2-msgs python3-sensor-msgs
+#             python3-geometry-msgs python3-std-msgs (the ROS 1 bag fixtures of tests/ros)
 #
 # Idempotent: when everything is installed it only says so. Installing needs root; as
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
 
 packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
 for arg in "$@"; do
@@ -24,6 +27,8 @@ for arg in "$@"; do
     --bench) packages+=(libtf2-dev valgrind) ;;
     --dot) packages+=(graphviz) ;;
     --dds) packages+=(cyclonedds-dev cyclonedds-tools) ;;
+    --ros) packages+=(libbz2-dev libsqlite3-dev python3-rosbag python3-roslz4 python3-tf2-msgs
+                      python3-sensor-msgs python3-geometry-msgs python3-std-msgs) ;;
     -h | --help) usage; exit 0 ;;
     *) echo "setup.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
   esac
