@@ -20,6 +20,12 @@ std::string Vec(double x, double y, double z) {
   return buf;
 }
 
+std::string Quat(const Quaternion& q) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g, %.17g)", q.w, q.x, q.y, q.z);
+  return buf;
+}
+
 bool Finite(const Transform& t) {
   const auto& v = t.translation;
   const auto& r = t.rotation;
@@ -74,8 +80,7 @@ LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::str
   const auto& r = t.transform.rotation;
   if (!Finite(t.transform)) {
     return Refuse(ErrorCode::kInvalidNumber,
-                  "translation " + Vec(v.x, v.y, v.z) + " or rotation (w, x, y, z) = (" +
-                      std::to_string(r.w) + ", " + Vec(r.x, r.y, r.z).substr(1) +
+                  "translation " + Vec(v.x, v.y, v.z) + " or rotation (w, x, y, z) = " + Quat(r) +
                       " has a NaN or infinite component",
                   parent, child, origin);
   }
