@@ -149,6 +149,7 @@ class Ros1BagReader final : public BagReader {
   std::vector<ChunkInfo> chunks_;  // by (start time, position)
   std::size_t next_chunk_ = 0;
   std::vector<HeldChunk> held_;
+  HeldChunk spare_;  // a drained chunk's buffers, reused by the next LoadChunk
   std::uint64_t held_bytes_ = 0;
   std::vector<std::uint8_t> header_bytes_, record_bytes_;
   std::optional<BagError> failed_;
@@ -409,10 +410,16 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
                            std::to_string(options_.max_chunk_bytes) + " bytes" +
                            (held_bytes_ > 0 ? " (with the chunks overlapping it in time)" : ""));
   }
-  if (auto e = ReadData(record, record_bytes_, "a chunk")) return e;
-  if (auto e = ros1::DecompressChunk(*compression, record_bytes_, *h.size, out.bytes)) {
-    return file_.Error(e->unsupported ? BagErrorCode::kUnsupported : BagErrorCode::kDecompression,
-                       record.pos, "chunk: " + e->message);
+  if (*compression == ros1::ChunkCompression::kNone && record.data_len == *h.size) {
+    out.bytes.resize(*h.size);  // read in place: no copy
+    if (auto e = file_.ReadAt(record.data_pos, *h.size, out.bytes.data(), "a chunk")) return e;
+  } else {
+    if (auto e = ReadData(record, record_bytes_, "a chunk")) return e;
+    if (auto e = ros1::DecompressChunk(*compression, record_bytes_, *h.size, out.bytes)) {
+      return file_.Error(e->unsupported ? BagErrorCode::kUnsupported
+                                        : BagErrorCode::kDecompression,
+                         record.pos, "chunk: " + e->message);
+    }
   }
   out.pos = info.pos;
   out.messages.clear();
@@ -480,9 +487,11 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
 Expected<bool, BagError> Ros1BagReader::Next(BagRecord& out) {
   if (failed_) return Unexpected{*failed_};
   // Chunks drained by the previous call are released now (its record pointed into them).
+  // Their buffers are kept for the next chunk (no new allocation, no zero-filling).
   for (std::size_t i = held_.size(); i-- > 0;) {
     if (held_[i].head == held_[i].messages.size()) {
       held_bytes_ -= held_[i].bytes.size();
+      spare_ = std::move(held_[i]);
       held_.erase(held_.begin() + static_cast<std::ptrdiff_t>(i));
     }
   }
@@ -516,7 +525,7 @@ Expected<bool, BagError> Ros1BagReader::Next(BagRecord& out) {
       out.data = std::span<const std::uint8_t>(chunk.bytes).subspan(m.data_pos, m.data_len);
       return true;
     }
-    HeldChunk chunk;
+    HeldChunk chunk = std::move(spare_);
     if (auto e = LoadChunk(chunks_[next_chunk_], chunk)) return Fail(std::move(*e));
     ++next_chunk_;
     if (!chunk.messages.empty()) {
