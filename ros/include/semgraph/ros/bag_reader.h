@@ -120,6 +120,9 @@ struct BagError {
 struct BagReaderOptions {
   /// Largest decompressed chunk (or record) accepted: a chunk that declares more is kOverLimit,
   /// so that memory stays bounded and a decompression bomb is refused before inflating it.
+  /// Also bounds a summary section, a schema or channel record, and a run of messages outside
+  /// chunks. An MCAP reader keeps the chunks that overlap in log time open together (one or two
+  /// for a recorder's bag) and refuses more than 4 × max_chunk_bytes of them (kOverLimit).
   std::uint64_t max_chunk_bytes = std::uint64_t{256} << 20;
   /// Check the CRC32s stored in the file (MCAP chunk, data-section and summary CRCs).
   bool verify_crc = true;
