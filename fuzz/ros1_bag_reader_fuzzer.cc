@@ -58,7 +58,8 @@ void Decode(const BagRecord& r) {
       (void)DecodeRos1(r.data, m);
       break;
     }
-    case MessageKind::kOther: break;
+    case MessageKind::kOther:
+      break;
   }
 }
 
@@ -67,7 +68,8 @@ void Decode(const BagRecord& r) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string& path = InputPath();
   const int fd = std::stoi(path.substr(path.rfind('/') + 1));
-  if (ftruncate(fd, 0) != 0 || (size > 0 && pwrite(fd, data, size, 0) != static_cast<ssize_t>(size))) {
+  if (ftruncate(fd, 0) != 0 ||
+      (size > 0 && pwrite(fd, data, size, 0) != static_cast<ssize_t>(size))) {
     Fail("cannot write the memfd");
   }
   BagReaderOptions options;

@@ -24,25 +24,26 @@ Expected<BagReaderPtr, BagError> OpenMcapFolder(const std::string& folder,
 
 }  // namespace
 
-Expected<BagReaderPtr, BagError> OpenBag(const std::string& path,
-                                         const BagReaderOptions& options) {
+Expected<BagReaderPtr, BagError> OpenBag(const std::string& path, const BagReaderOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     auto meta = ReadRosbag2Metadata(path);
     if (!meta) return Unexpected{meta.error()};
     if (meta->storage_identifier == "sqlite3") return OpenRosbag2Sqlite3Bag(path, options);
     if (meta->storage_identifier == "mcap") return OpenMcapFolder(path, *meta, options);
-    return Unexpected{BagError{BagErrorCode::kUnsupported,
-                               (std::filesystem::path(path) / "metadata.yaml").string(), 0,
-                               "storage_identifier '" + meta->storage_identifier +
-                                   "' (known: sqlite3, mcap)"}};
+    return Unexpected{BagError{
+        BagErrorCode::kUnsupported, (std::filesystem::path(path) / "metadata.yaml").string(), 0,
+        "storage_identifier '" + meta->storage_identifier + "' (known: sqlite3, mcap)"}};
   }
   auto format = DetectBagFormat(path);
   if (!format) return Unexpected{format.error()};
   switch (*format) {
-    case BagFormat::kMcap: return OpenMcapBag(path, options);
-    case BagFormat::kRosbag2Sqlite3: return OpenRosbag2Sqlite3Bag(path, options);
-    case BagFormat::kRos1: return OpenRos1Bag(path, options);
+    case BagFormat::kMcap:
+      return OpenMcapBag(path, options);
+    case BagFormat::kRosbag2Sqlite3:
+      return OpenRosbag2Sqlite3Bag(path, options);
+    case BagFormat::kRos1:
+      return OpenRos1Bag(path, options);
   }
   return Unexpected{BagError{BagErrorCode::kUnknownFormat, path, 0, "unknown bag format"}};
 }

@@ -10,8 +10,8 @@ std::optional<FormatError> ForEachField(std::span<const std::uint8_t> bytes, Vis
   std::size_t pos = 0;
   while (pos < bytes.size()) {
     if (bytes.size() - pos < 4) {
-      return FormatError{pos, "header field length cut off (" +
-                                  std::to_string(bytes.size() - pos) + " bytes left)"};
+      return FormatError{pos, "header field length cut off (" + std::to_string(bytes.size() - pos) +
+                                  " bytes left)"};
     }
     const std::uint32_t len = LoadU32(bytes.data() + pos);
     if (len > bytes.size() - pos - 4) {

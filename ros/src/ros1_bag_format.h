@@ -33,18 +33,18 @@ inline constexpr std::uint8_t kOpConnection = 0x07;
 // The fields a reader needs, from one record header. Absent fields stay nullopt / empty.
 struct RecordHeader {
   std::uint8_t op = 0;
-  std::optional<std::uint32_t> conn;        // message data, connection, index data
-  std::optional<std::uint64_t> time_ns;     // message data (`time`)
-  std::optional<std::uint64_t> index_pos;   // bag header
-  std::optional<std::uint32_t> conn_count;  // bag header
-  std::optional<std::uint32_t> chunk_count; // bag header
-  std::optional<std::uint64_t> chunk_pos;   // chunk info
+  std::optional<std::uint32_t> conn;                        // message data, connection, index data
+  std::optional<std::uint64_t> time_ns;                     // message data (`time`)
+  std::optional<std::uint64_t> index_pos;                   // bag header
+  std::optional<std::uint32_t> conn_count;                  // bag header
+  std::optional<std::uint32_t> chunk_count;                 // bag header
+  std::optional<std::uint64_t> chunk_pos;                   // chunk info
   std::optional<std::uint64_t> start_time_ns, end_time_ns;  // chunk info
-  std::optional<std::uint32_t> count;       // chunk info, index data
-  std::optional<std::uint32_t> ver;         // chunk info, index data
-  std::optional<std::uint32_t> size;        // chunk: the uncompressed size
-  std::optional<std::string_view> compression;  // chunk
-  std::optional<std::string_view> topic;        // connection
+  std::optional<std::uint32_t> count;                       // chunk info, index data
+  std::optional<std::uint32_t> ver;                         // chunk info, index data
+  std::optional<std::uint32_t> size;                        // chunk: the uncompressed size
+  std::optional<std::string_view> compression;              // chunk
+  std::optional<std::string_view> topic;                    // connection
 };
 
 // A parse failure: what is wrong, and where (relative to the parsed span).

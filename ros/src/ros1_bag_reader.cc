@@ -146,9 +146,10 @@ class Ros1BagReader final : public BagReader {
   std::vector<BagTopic> topics_;
   std::map<std::pair<std::string, std::string>, std::uint32_t> topic_index_;
   std::unordered_map<std::uint32_t, std::uint32_t> conn_topic_;  // conn id -> topics_ index
-  std::vector<ChunkInfo> chunks_;  // by (start time, position)
+  std::vector<ChunkInfo> chunks_;                                // by (start time, position)
   std::size_t next_chunk_ = 0;
   std::vector<HeldChunk> held_;
+  HeldChunk spare_;  // a drained chunk's buffers, reused by the next LoadChunk
   std::uint64_t held_bytes_ = 0;
   std::vector<std::uint8_t> header_bytes_, record_bytes_;
   std::optional<BagError> failed_;
@@ -166,8 +167,8 @@ std::optional<BagError> Ros1BagReader::ReadTopRecord(std::uint64_t pos, TopRecor
   }
   if (header_len > kMaxRecordHeader) {
     return file_.Error(BagErrorCode::kOverLimit, pos,
-                       "record header length " + std::to_string(header_len) + " over the limit of " +
-                           std::to_string(kMaxRecordHeader) + " bytes");
+                       "record header length " + std::to_string(header_len) +
+                           " over the limit of " + std::to_string(kMaxRecordHeader) + " bytes");
   }
   header_bytes_.resize(header_len);
   if (auto e = file_.ReadAt(pos + 4, header_len, header_bytes_.data(), "a record header")) return e;
@@ -350,9 +351,9 @@ std::optional<BagError> Ros1BagReader::Open(const std::string& path) {
       return file_.Error(BagErrorCode::kTruncated, 0, "the file ends inside the magic");
     }
     const bool other_version = got.starts_with(ros1::kMagicPrefix);
-    return file_.Error(other_version ? BagErrorCode::kUnsupported : BagErrorCode::kUnknownFormat,
-                       0, other_version ? "a ROS bag of a version other than 2.0"
-                                        : "not a ROS 1 bag: no '#ROSBAG V2.0' magic");
+    return file_.Error(other_version ? BagErrorCode::kUnsupported : BagErrorCode::kUnknownFormat, 0,
+                       other_version ? "a ROS bag of a version other than 2.0"
+                                     : "not a ROS 1 bag: no '#ROSBAG V2.0' magic");
   }
   TopRecord bag_header;
   if (auto e = ReadTopRecord(ros1::kMagic.size(), bag_header)) return e;
@@ -363,11 +364,11 @@ std::optional<BagError> Ros1BagReader::Open(const std::string& path) {
                        "chunk_count");
   }
   if (*h.index_pos > file_.size() || (*h.index_pos != 0 && *h.index_pos < bag_header.end())) {
-    return file_.Error(*h.index_pos > file_.size() ? BagErrorCode::kTruncated
-                                                   : BagErrorCode::kMalformed,
-                       bag_header.pos, "index_pos " + std::to_string(*h.index_pos) +
-                                           " outside the file's records (size " +
-                                           std::to_string(file_.size()) + ")");
+    return file_.Error(
+        *h.index_pos > file_.size() ? BagErrorCode::kTruncated : BagErrorCode::kMalformed,
+        bag_header.pos,
+        "index_pos " + std::to_string(*h.index_pos) + " outside the file's records (size " +
+            std::to_string(file_.size()) + ")");
   }
   auto error = *h.index_pos == 0 ? ScanChunks(bag_header.end()) : ReadIndex(*h.index_pos, h);
   if (error) return error;
@@ -401,18 +402,23 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
     return file_.Error(BagErrorCode::kUnsupported, record.pos,
                        "chunk compression '" + std::string(*h.compression) + "'");
   }
-  if (*h.size > options_.max_chunk_bytes || held_bytes_ + *h.size >
-                                                 kOverlapFactor * options_.max_chunk_bytes) {
+  if (*h.size > options_.max_chunk_bytes ||
+      held_bytes_ + *h.size > kOverlapFactor * options_.max_chunk_bytes) {
     return file_.Error(BagErrorCode::kOverLimit, record.pos,
                        "chunk declares " + std::to_string(*h.size) +
                            " uncompressed bytes, over the limit of " +
                            std::to_string(options_.max_chunk_bytes) + " bytes" +
                            (held_bytes_ > 0 ? " (with the chunks overlapping it in time)" : ""));
   }
-  if (auto e = ReadData(record, record_bytes_, "a chunk")) return e;
-  if (auto e = ros1::DecompressChunk(*compression, record_bytes_, *h.size, out.bytes)) {
-    return file_.Error(e->unsupported ? BagErrorCode::kUnsupported : BagErrorCode::kDecompression,
-                       record.pos, "chunk: " + e->message);
+  if (*compression == ros1::ChunkCompression::kNone && record.data_len == *h.size) {
+    out.bytes.resize(*h.size);  // read in place: no copy
+    if (auto e = file_.ReadAt(record.data_pos, *h.size, out.bytes.data(), "a chunk")) return e;
+  } else {
+    if (auto e = ReadData(record, record_bytes_, "a chunk")) return e;
+    if (auto e = ros1::DecompressChunk(*compression, record_bytes_, *h.size, out.bytes)) {
+      return file_.Error(e->unsupported ? BagErrorCode::kUnsupported : BagErrorCode::kDecompression,
+                         record.pos, "chunk: " + e->message);
+    }
   }
   out.pos = info.pos;
   out.messages.clear();
@@ -420,10 +426,11 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
   // In an uncompressed chunk an inner offset is a file offset; otherwise name the chunk.
   const bool plain = *compression == ros1::ChunkCompression::kNone;
   auto error = [&](std::uint64_t inner, const std::string& text) {
-    return file_.Error(BagErrorCode::kMalformed, plain ? record.data_pos + inner : record.pos,
-                       (plain ? std::string("in a chunk: ")
-                              : "at byte " + std::to_string(inner) +
-                                    " of the chunk's decompressed data: ") + text);
+    return file_.Error(
+        BagErrorCode::kMalformed, plain ? record.data_pos + inner : record.pos,
+        (plain ? std::string("in a chunk: ")
+               : "at byte " + std::to_string(inner) + " of the chunk's decompressed data: ") +
+            text);
   };
   const std::span<const std::uint8_t> bytes(out.bytes);
   RecordHeader inner;
@@ -431,8 +438,8 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
     if (bytes.size() - pos < 4) return error(pos, "record header length cut off");
     const std::uint32_t header_len = ros1::LoadU32(&bytes[pos]);
     if (header_len > bytes.size() - pos - 4) {
-      return error(pos, "record header length " + std::to_string(header_len) +
-                            " past the end of the chunk");
+      return error(
+          pos, "record header length " + std::to_string(header_len) + " past the end of the chunk");
     }
     if (auto e = ros1::ParseRecordHeader(bytes.subspan(pos + 4, header_len), inner)) {
       return error(pos + 4 + e->offset, e->message);
@@ -442,8 +449,8 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
     const std::uint32_t data_len = ros1::LoadU32(&bytes[data_len_pos]);
     const std::size_t data_pos = data_len_pos + 4;
     if (data_len > bytes.size() - data_pos) {
-      return error(data_len_pos, "record data length " + std::to_string(data_len) +
-                                     " past the end of the chunk");
+      return error(data_len_pos,
+                   "record data length " + std::to_string(data_len) + " past the end of the chunk");
     }
     if (inner.op == ros1::kOpConnection) {
       if (!inner.conn) return error(pos, "connection record without conn");
@@ -470,19 +477,20 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
     }
     pos = data_pos + data_len;
   }
-  std::stable_sort(out.messages.begin(), out.messages.end(),
-                   [](const PendingMessage& a, const PendingMessage& b) {
-                     return a.time_ns < b.time_ns;
-                   });
+  std::stable_sort(
+      out.messages.begin(), out.messages.end(),
+      [](const PendingMessage& a, const PendingMessage& b) { return a.time_ns < b.time_ns; });
   return std::nullopt;
 }
 
 Expected<bool, BagError> Ros1BagReader::Next(BagRecord& out) {
   if (failed_) return Unexpected{*failed_};
   // Chunks drained by the previous call are released now (its record pointed into them).
+  // Their buffers are kept for the next chunk (no new allocation, no zero-filling).
   for (std::size_t i = held_.size(); i-- > 0;) {
     if (held_[i].head == held_[i].messages.size()) {
       held_bytes_ -= held_[i].bytes.size();
+      spare_ = std::move(held_[i]);
       held_.erase(held_.begin() + static_cast<std::ptrdiff_t>(i));
     }
   }
@@ -516,7 +524,7 @@ Expected<bool, BagError> Ros1BagReader::Next(BagRecord& out) {
       out.data = std::span<const std::uint8_t>(chunk.bytes).subspan(m.data_pos, m.data_len);
       return true;
     }
-    HeldChunk chunk;
+    HeldChunk chunk = std::move(spare_);
     if (auto e = LoadChunk(chunks_[next_chunk_], chunk)) return Fail(std::move(*e));
     ++next_chunk_;
     if (!chunk.messages.empty()) {

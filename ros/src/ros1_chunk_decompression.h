@@ -3,7 +3,8 @@
 // Decompression of a ROS 1 bag chunk's data to exactly its declared size: `none` (a copy), `bz2`
 // (libbz2, one bzip2 stream) and `lz4` (ros_comm's roslz4 writes the standard LZ4 frame format:
 // magic 0x184D2204, the header checksum byte of XXH32 over the descriptor, 4-byte block sizes
-// with the high bit for stored blocks, an end mark and a content checksum; liblz4's LZ4F reads it).
+// with the high bit for stored blocks, an end mark and a content checksum; read by decompress.h's
+// LZ4 frame reader, liblz4's LZ4F, shared with the MCAP reader).
 //
 // Invariants: `out` is resized to `declared_size` before anything is inflated, and the inflater
 // never writes past it, so a decompression bomb costs at most `declared_size` bytes (which the
@@ -31,8 +32,9 @@ struct DecompressionError {
 };
 
 // Inflates `in` into `out` (resized to declared_size). nullopt on success.
-[[nodiscard]] std::optional<DecompressionError> DecompressChunk(
-    ChunkCompression compression, std::span<const std::uint8_t> in, std::uint32_t declared_size,
-    std::vector<std::uint8_t>& out);
+[[nodiscard]] std::optional<DecompressionError> DecompressChunk(ChunkCompression compression,
+                                                                std::span<const std::uint8_t> in,
+                                                                std::uint32_t declared_size,
+                                                                std::vector<std::uint8_t>& out);
 
 }  // namespace semgraph::ros::ros1

@@ -15,7 +15,7 @@ constexpr std::uintmax_t kMaxMetadataBytes = 16u << 20;
 struct Line {
   std::size_t offset = 0;  // of the line in the file
   std::size_t indent = 0;
-  std::string_view text;   // without the indentation and the line end
+  std::string_view text;  // without the indentation and the line end
 };
 
 std::vector<Line> SplitLines(std::string_view file) {
@@ -92,8 +92,8 @@ Expected<Rosbag2Metadata, BagError> ReadRosbag2Metadata(const std::string& folde
   const std::vector<Line> lines = SplitLines(file);
 
   std::size_t i = 0;
-  while (i < lines.size() && !(lines[i].indent == 0 &&
-                               lines[i].text.starts_with("rosbag2_bagfile_information:"))) {
+  while (i < lines.size() &&
+         !(lines[i].indent == 0 && lines[i].text.starts_with("rosbag2_bagfile_information:"))) {
     ++i;
   }
   if (i == lines.size()) {
@@ -124,7 +124,8 @@ Expected<Rosbag2Metadata, BagError> ReadRosbag2Metadata(const std::string& folde
     if (flow.starts_with("[")) {  // flow sequence on one line
       const std::size_t close = flow.find(']');
       if (close == std::string_view::npos) {
-        return fail(BagErrorCode::kMalformed, lines[i].offset, "unclosed '[' in relative_file_paths");
+        return fail(BagErrorCode::kMalformed, lines[i].offset,
+                    "unclosed '[' in relative_file_paths");
       }
       std::string_view items = flow.substr(1, close - 1);
       while (!items.empty()) {

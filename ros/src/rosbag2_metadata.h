@@ -20,10 +20,10 @@
 namespace semgraph::ros {
 
 struct Rosbag2Metadata {
-  std::string storage_identifier;               // "sqlite3", "mcap"
+  std::string storage_identifier;                // "sqlite3", "mcap"
   std::vector<std::string> relative_file_paths;  // as listed, relative to the folder
-  std::string compression_format;               // "" (none), "zstd"
-  std::string compression_mode;                 // "" , "file", "message"
+  std::string compression_format;                // "" (none), "zstd"
+  std::string compression_mode;                  // "" , "file", "message"
 };
 
 // Reads FOLDER/metadata.yaml. Errors (kIo, kMalformed) name that file and the line's byte offset.

@@ -112,9 +112,8 @@ std::optional<BagError> Sqlite3BagReader::CheckColumns(const char* table,
   }
   for (const char* column : need) {
     if (!have.contains(column)) {
-      return Error(BagErrorCode::kMalformed,
-                   std::string("not a rosbag2 database: table '") + table + "' has no column '" +
-                       column + "'");
+      return Error(BagErrorCode::kMalformed, std::string("not a rosbag2 database: table '") +
+                                                 table + "' has no column '" + column + "'");
     }
   }
   return std::nullopt;
@@ -127,10 +126,9 @@ std::optional<BagError> Sqlite3BagReader::ReadTopics() {
   int rc = SQLITE_ROW;
   while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
     const std::int64_t id = sqlite3_column_int64(s, 0);
-    const bool typed = sqlite3_column_type(s, 0) == SQLITE_INTEGER &&
-                       sqlite3_column_type(s, 1) == SQLITE_TEXT &&
-                       sqlite3_column_type(s, 2) == SQLITE_TEXT &&
-                       sqlite3_column_type(s, 3) == SQLITE_TEXT;
+    const bool typed =
+        sqlite3_column_type(s, 0) == SQLITE_INTEGER && sqlite3_column_type(s, 1) == SQLITE_TEXT &&
+        sqlite3_column_type(s, 2) == SQLITE_TEXT && sqlite3_column_type(s, 3) == SQLITE_TEXT;
     if (!typed) {
       return Error(BagErrorCode::kMalformed,
                    "topics row " + std::to_string(id) +
@@ -139,8 +137,7 @@ std::optional<BagError> Sqlite3BagReader::ReadTopics() {
     BagTopic topic;
     topic.name = reinterpret_cast<const char*>(sqlite3_column_text(s, 1));
     topic.type_name = reinterpret_cast<const char*>(sqlite3_column_text(s, 2));
-    topic.encoding =
-        MessageEncodingOf(reinterpret_cast<const char*>(sqlite3_column_text(s, 3)));
+    topic.encoding = MessageEncodingOf(reinterpret_cast<const char*>(sqlite3_column_text(s, 3)));
     topic.kind = MessageKindOf(topic.type_name);
     // Counting would read the whole messages table before the first record: unknown (-1).
     if (!topic_of_id_.emplace(id, static_cast<std::uint32_t>(topics_.size())).second) {
@@ -194,9 +191,9 @@ Expected<bool, BagError> Sqlite3BagReader::Next(BagRecord& out) {
   }
   const auto topic = topic_of_id_.find(sqlite3_column_int64(s, 0));
   if (topic == topic_of_id_.end()) {
-    return fail(Error(BagErrorCode::kMalformed,
-                      row() + ": topic_id " + std::to_string(sqlite3_column_int64(s, 0)) +
-                          ", which the topics table does not list"));
+    return fail(Error(BagErrorCode::kMalformed, row() + ": topic_id " +
+                                                    std::to_string(sqlite3_column_int64(s, 0)) +
+                                                    ", which the topics table does not list"));
   }
   const int type = sqlite3_column_type(s, 2);
   if (type != SQLITE_BLOB && type != SQLITE_NULL) {
@@ -205,9 +202,9 @@ Expected<bool, BagError> Sqlite3BagReader::Next(BagRecord& out) {
   const auto* data = static_cast<const std::uint8_t*>(sqlite3_column_blob(s, 2));
   const auto size = static_cast<std::size_t>(sqlite3_column_bytes(s, 2));
   if (size > options_.max_chunk_bytes) {
-    return fail(Error(BagErrorCode::kOverLimit,
-                      row() + ": data of " + std::to_string(size) + " bytes, over the limit of " +
-                          std::to_string(options_.max_chunk_bytes)));
+    return fail(Error(BagErrorCode::kOverLimit, row() + ": data of " + std::to_string(size) +
+                                                    " bytes, over the limit of " +
+                                                    std::to_string(options_.max_chunk_bytes)));
   }
   const BagTopic& t = topics_[topic->second];
   out.topic = t.name;
@@ -236,12 +233,12 @@ Expected<BagReaderPtr, BagError> OpenRosbag2Sqlite3Bag(const std::string& path,
   if (!meta) return Unexpected{meta.error()};
   const std::string metadata_path = (std::filesystem::path(path) / "metadata.yaml").string();
   if (meta->storage_identifier != "sqlite3") {
-    return Unexpected{BagError{BagErrorCode::kUnsupported, metadata_path, 0,
-                               "storage_identifier '" + meta->storage_identifier +
-                                   "' in a folder opened as sqlite3"}};
+    return Unexpected{BagError{
+        BagErrorCode::kUnsupported, metadata_path, 0,
+        "storage_identifier '" + meta->storage_identifier + "' in a folder opened as sqlite3"}};
   }
-  if (!meta->compression_format.empty() || !(meta->compression_mode.empty() ||
-                                             meta->compression_mode == "none")) {
+  if (!meta->compression_format.empty() ||
+      !(meta->compression_mode.empty() || meta->compression_mode == "none")) {
     return Unexpected{BagError{BagErrorCode::kUnsupported, metadata_path, 0,
                                "rosbag2 compression '" + meta->compression_format + "' (mode '" +
                                    meta->compression_mode +

@@ -45,7 +45,8 @@ inline std::vector<std::uint8_t> ReadFile(const std::string& path) {
 
 inline void WriteFile(const std::string& path, std::span<const std::uint8_t> bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
 }
 
 // A scratch folder for one test, emptied first.
@@ -94,8 +95,7 @@ inline std::vector<double> Doubles(const YAML::Node& v) { return v.as<std::vecto
 
 // Decodes `data` (ROS 1 or CDR, by `ros1`) as the JSON's kind and compares every value exactly
 // (the script writes doubles with Python's round-trip repr).
-inline void ExpectDecodesTo(std::span<const std::uint8_t> data, const YAML::Node& want,
-                            bool ros1) {
+inline void ExpectDecodesTo(std::span<const std::uint8_t> data, const YAML::Node& want, bool ros1) {
   const std::string kind = want["kind"].as<std::string>();
   const YAML::Node& v = want["value"];
   if (kind == "tf") {

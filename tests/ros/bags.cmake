@@ -17,7 +17,8 @@ set(SEMGRAPH_ROS_BAG_FIXTURES ${CMAKE_CURRENT_BINARY_DIR}/bag_fixtures)
 add_test(NAME ros_bag_fixtures
          COMMAND ${SEMGRAPH_DEBIAN_PYTHON3} ${CMAKE_CURRENT_SOURCE_DIR}/fixtures/write_ros1_bags.py
                  ${SEMGRAPH_ROS_BAG_FIXTURES})
-set_tests_properties(ros_bag_fixtures PROPERTIES FIXTURES_SETUP ros_bag_fixtures TIMEOUT 300)
+set_tests_properties(ros_bag_fixtures PROPERTIES FIXTURES_SETUP ros_bag_fixtures TIMEOUT 300
+                     LABELS ros)
 
 include(GoogleTest)
 foreach(name ros1_bag_reader sqlite3_bag_reader)
@@ -30,5 +31,5 @@ foreach(name ros1_bag_reader sqlite3_bag_reader)
       SEMGRAPH_ROS_BAG_FIXTURES="${SEMGRAPH_ROS_BAG_FIXTURES}"
       SEMGRAPH_ROS_TEST_SCRATCH="${CMAKE_CURRENT_BINARY_DIR}/scratch_${name}")
   gtest_discover_tests(${t} TEST_PREFIX "${t}." DISCOVERY_TIMEOUT 60
-                       PROPERTIES TIMEOUT 600 FIXTURES_REQUIRED ros_bag_fixtures)
+                       PROPERTIES TIMEOUT 600 FIXTURES_REQUIRED ros_bag_fixtures LABELS ros)
 endforeach()

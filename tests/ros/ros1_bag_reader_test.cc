@@ -252,12 +252,12 @@ Bytes Build(const HandBag& spec) {
   const std::uint32_t size =
       spec.declared_size.value_or(static_cast<std::uint32_t>(records.size()));
   const Bytes chunk = Record(ChunkHeader(spec.compression, size), chunk_data);
-  const Bytes index_data = Record(
-      Cat({Op(0x04), Field("ver", U32(1)), Field("conn", U32(0)), Field("count", U32(2))}),
-      Cat({Time(10, 5), U32(0), Time(10, 1), U32(0)}));
+  const Bytes index_data =
+      Record(Cat({Op(0x04), Field("ver", U32(1)), Field("conn", U32(0)), Field("count", U32(2))}),
+             Cat({Time(10, 5), U32(0), Time(10, 1), U32(0)}));
   const std::uint64_t index_pos = ChunkPos() + chunk.size() + index_data.size();
-  Bytes bag = Cat({Text("#ROSBAG V2.0\n"), BagHeader(spec.indexed ? index_pos : 0), chunk,
-                   index_data});
+  Bytes bag =
+      Cat({Text("#ROSBAG V2.0\n"), BagHeader(spec.indexed ? index_pos : 0), chunk, index_data});
   if (!spec.indexed) return bag;
   const Bytes chunk_info =
       Record(Cat({Op(0x06), Field("ver", U32(1)), Field("chunk_pos", U64(ChunkPos())),
@@ -293,8 +293,7 @@ TEST(Ros1BagReader, HandBuiltBagsReadInTimeOrderWithEveryCompression) {
   }
 }
 
-void ExpectError(const Bytes& bag, BagErrorCode code, std::uint64_t offset,
-                 std::string_view says) {
+void ExpectError(const Bytes& bag, BagErrorCode code, std::uint64_t offset, std::string_view says) {
   const std::string path = WriteBag("hostile.bag", bag);
   const auto error = ErrorOf(path);
   ASSERT_TRUE(error) << "read without an error";
@@ -316,9 +315,9 @@ TEST(Ros1BagReader, LengthsPastTheEndAreRefused) {
               BagErrorCode::kTruncated, 13, "record header length 2147483647 past the end");
   // A header field length past the end of its header.
   const Bytes field = Cat({U32(500), Text("op="), Bytes{0x03}});
-  ExpectError(Cat({Text("#ROSBAG V2.0\n"), U32(static_cast<std::uint32_t>(field.size())), field,
-                   U32(0)}),
-              BagErrorCode::kMalformed, 17, "header field length 500 past the end");
+  ExpectError(
+      Cat({Text("#ROSBAG V2.0\n"), U32(static_cast<std::uint32_t>(field.size())), field, U32(0)}),
+      BagErrorCode::kMalformed, 17, "header field length 500 past the end");
   // A record data length past the end of the file (the chunk's, in an unindexed bag).
   HandBag spec;
   spec.indexed = false;
@@ -348,12 +347,13 @@ TEST(Ros1BagReader, DecompressionBombsAndSizeMismatchesAreRefused) {
     bomb.declared_size = 4096;
     bomb.chunk_data = Compress(compression, zeros);
     ExpectError(Build(bomb), BagErrorCode::kDecompression, ChunkPos(),
-                "decompresses to more than its declared size of 4096 bytes");
+                "decompresses to more than its declared 4096 bytes");
     HandBag short_data;
     short_data.compression = compression;
     short_data.declared_size = static_cast<std::uint32_t>(ChunkRecords(0).size() + 10);
-    ExpectError(Build(short_data), BagErrorCode::kDecompression, ChunkPos(),
-                "decompresses to " + std::to_string(ChunkRecords(0).size()) + " bytes, not");
+    ExpectError(
+        Build(short_data), BagErrorCode::kDecompression, ChunkPos(),
+        "decompresses to " + std::to_string(ChunkRecords(0).size()) + " bytes, not its declared");
   }
   HandBag none;
   none.declared_size = 7;

@@ -54,12 +54,12 @@ TEST(Sqlite3BagReader, TopicsComeFromTheTopicsTable) {
     EXPECT_EQ(t.message_count, -1);  // not counted up front (that would read the whole table)
     topics[t.name] = t.type_name;
   }
-  EXPECT_EQ(topics, (std::map<std::string, std::string>{
-                        {"/tf", "tf2_msgs/msg/TFMessage"},
-                        {"/tf_static", "tf2_msgs/msg/TFMessage"},
-                        {"/joint_states", "sensor_msgs/msg/JointState"},
-                        {"/robot_description", "std_msgs/msg/String"},
-                        {"/chatter", "std_msgs/msg/String"}}));
+  EXPECT_EQ(topics,
+            (std::map<std::string, std::string>{{"/tf", "tf2_msgs/msg/TFMessage"},
+                                                {"/tf_static", "tf2_msgs/msg/TFMessage"},
+                                                {"/joint_states", "sensor_msgs/msg/JointState"},
+                                                {"/robot_description", "std_msgs/msg/String"},
+                                                {"/chatter", "std_msgs/msg/String"}}));
 }
 
 TEST(Sqlite3BagReader, TestSideCdrBytesEqualSemgraphsEncoder) {
@@ -143,16 +143,16 @@ TEST(Sqlite3BagReader, BadRowsAreRefusedNamingTheRow) {
                                           "INSERT INTO messages VALUES (1, 1, 5, x'00010000');"
                                           "INSERT INTO messages VALUES (2, 9, 6, x'00010000');"),
               BagErrorCode::kMalformed, "messages row id 2: topic_id 9, which the topics table");
-  ExpectError(MakeDb("text_data", kTopics +
-                                      "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id,"
-                                      " timestamp, data);"
-                                      "INSERT INTO messages VALUES (4, 1, 5, 'text');"),
-              BagErrorCode::kMalformed, "messages row id 4: data is not a blob");
-  ExpectError(MakeDb("text_time", kTopics +
-                                      "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id,"
-                                      " timestamp, data);"
-                                      "INSERT INTO messages VALUES (3, 1, 'soon', x'00');"),
-              BagErrorCode::kMalformed, "messages row id 3: topic_id or timestamp not an integer");
+  ExpectError(
+      MakeDb("text_data", kTopics + "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id,"
+                                    " timestamp, data);"
+                                    "INSERT INTO messages VALUES (4, 1, 5, 'text');"),
+      BagErrorCode::kMalformed, "messages row id 4: data is not a blob");
+  ExpectError(
+      MakeDb("text_time", kTopics + "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id,"
+                                    " timestamp, data);"
+                                    "INSERT INTO messages VALUES (3, 1, 'soon', x'00');"),
+      BagErrorCode::kMalformed, "messages row id 3: topic_id or timestamp not an integer");
 }
 
 TEST(Sqlite3BagReader, CorruptOrTruncatedFilesAreErrors) {
@@ -182,12 +182,14 @@ std::string MakeFolder(const std::string& name, const std::string& metadata) {
 }
 
 TEST(Sqlite3BagReader, MetadataFlowSequenceAndQuotesAreRead) {
-  const std::string dir = MakeFolder("flow", "# written by hand\nrosbag2_bagfile_information:\n"
-                                             "  version: 4\n  storage_identifier: 'sqlite3'\n"
-                                             "  relative_file_paths: [\"a.db3\"]\n");
+  const std::string dir = MakeFolder("flow",
+                                     "# written by hand\nrosbag2_bagfile_information:\n"
+                                     "  version: 4\n  storage_identifier: 'sqlite3'\n"
+                                     "  relative_file_paths: [\"a.db3\"]\n");
   auto reader = OpenBag(dir);
   ASSERT_TRUE(reader) << Describe(reader.error());
-  EXPECT_EQ(ReadAll(**reader, nullptr).size(), testing::Expected()["bags"]["ros2.db3"]["messages"].size());
+  EXPECT_EQ(ReadAll(**reader, nullptr).size(),
+            testing::Expected()["bags"]["ros2.db3"]["messages"].size());
 }
 
 TEST(Sqlite3BagReader, BadMetadataIsRefused) {
@@ -200,8 +202,8 @@ TEST(Sqlite3BagReader, BadMetadataIsRefused) {
   const std::string head = "rosbag2_bagfile_information:\n  version: 5\n";
   expect(MakeFolder("no_storage", head + "  relative_file_paths:\n    - a.db3\n"),
          BagErrorCode::kMalformed, "no storage_identifier");
-  expect(MakeFolder("no_files", head + "  storage_identifier: sqlite3\n"),
-         BagErrorCode::kMalformed, "no relative_file_paths");
+  expect(MakeFolder("no_files", head + "  storage_identifier: sqlite3\n"), BagErrorCode::kMalformed,
+         "no relative_file_paths");
   expect(MakeFolder("other", head + "  storage_identifier: rosbag_v2\n  relative_file_paths:\n"
                                     "  - a.db3\n"),
          BagErrorCode::kUnsupported, "storage_identifier 'rosbag_v2'");
