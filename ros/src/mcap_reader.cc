@@ -82,8 +82,8 @@ class McapReader final : public BagReader {
   std::optional<BagError> CheckDataCrc(std::uint64_t data_end, std::uint32_t expected);
   std::optional<BagError> Register(McapOp op, Cursor& c, std::uint64_t at, bool summary);
   std::optional<BagError> LoadBlock(std::size_t order, OpenBlock& out);
-  std::optional<BagError> ParseRecords(std::span<const std::uint8_t> records, std::uint64_t base,
-                                       bool exact_offsets, const Block& block, OpenBlock& out);
+  std::optional<BagError> ParseRecords(std::size_t body, std::uint64_t base, bool exact_offsets,
+                                       const Block& block, OpenBlock& out);
   std::optional<BagError> OpenDueBlocks();
 
   std::string path_;
@@ -505,7 +505,7 @@ std::optional<BagError> McapReader::LoadBlock(std::size_t order, OpenBlock& out)
   if (!file_.Read(block.offset, block.length, raw, io)) return IoError(io);
   if (!block.chunk) {
     out.bytes = std::move(raw);
-    return ParseRecords(out.bytes, block.offset, true, block, out);
+    return ParseRecords(0, block.offset, true, block, out);
   }
   Cursor c(std::span<const std::uint8_t>(raw).subspan(detail::kRecordPrefix),
            block.offset + detail::kRecordPrefix);
@@ -523,31 +523,36 @@ std::optional<BagError> McapReader::LoadBlock(std::size_t order, OpenBlock& out)
     d = detail::DecompressZstd(records, h.uncompressed_size, out.bytes);
   } else if (h.compression == "lz4") {
     d = detail::DecompressLz4Frame(records, h.uncompressed_size, out.bytes);
-  } else {
-    out.bytes.assign(records.begin(), records.end());
+  } else {  // keep the bytes read: the records start after the chunk's header
+    out.bytes = std::move(raw);
   }
+  const std::size_t body =
+      h.compression.empty() ? detail::kRecordPrefix + h.records_offset : std::size_t{0};
   if (!d.ok) {
     return Error(
         BagErrorCode::kDecompression, block.offset,
         "chunk (" + h.compression + ", " + std::to_string(h.records_size) + " bytes) " + d.message);
   }
   if (options_.verify_crc && h.uncompressed_crc != 0) {
-    const std::uint32_t crc = detail::Crc32Update(0, out.bytes);
+    const std::uint32_t crc =
+        detail::Crc32Update(0, std::span<const std::uint8_t>(out.bytes).subspan(body));
     if (crc != h.uncompressed_crc) {
       return Error(BagErrorCode::kCrcMismatch, block.offset,
                    "chunk CRC32 " + std::to_string(crc) + " does not match the stored " +
                        std::to_string(h.uncompressed_crc));
     }
   }
-  return ParseRecords(out.bytes, h.compression.empty() ? records_at : block.offset,
+  return ParseRecords(body, h.compression.empty() ? records_at : block.offset,
                       h.compression.empty(), block, out);
 }
 
-// The records of a block. `exact_offsets`: `base` is the file offset of records[0] (else the
-// bytes are decompressed, and errors name the chunk's offset and the position inside).
-std::optional<BagError> McapReader::ParseRecords(std::span<const std::uint8_t> records,
-                                                 std::uint64_t base, bool exact_offsets,
-                                                 const Block& block, OpenBlock& out) {
+// The records of a block: out.bytes from `body` on. `exact_offsets`: `base` is the file offset
+// of the first record (else the bytes are decompressed, and errors name the chunk's offset and
+// the position inside).
+std::optional<BagError> McapReader::ParseRecords(std::size_t body, std::uint64_t base,
+                                                 bool exact_offsets, const Block& block,
+                                                 OpenBlock& out) {
+  const auto records = std::span<const std::uint8_t>(out.bytes).subspan(body);
   const auto where = [&](std::uint64_t pos, const std::string& what) {
     return exact_offsets ? Error(BagErrorCode::kMalformed, base + pos, what)
                          : Error(BagErrorCode::kMalformed, base,
@@ -578,8 +583,8 @@ std::optional<BagError> McapReader::ParseRecords(std::span<const std::uint8_t> r
       if (h.log_time > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
         return where(at, "message log_time " + std::to_string(h.log_time) + " past 2^63 ns");
       }
-      out.entries.push_back(
-          Entry{h.log_time, static_cast<std::size_t>(r.file_offset()), r.left(), ch->second});
+      out.entries.push_back(Entry{h.log_time, body + static_cast<std::size_t>(r.file_offset()),
+                                  r.left(), ch->second});
     } else if (op == McapOp::kSchema || op == McapOp::kChannel) {
       if (auto e = Register(op, r, exact_offsets ? base + at : base, false)) return e;
       if (r.failed()) return where(r.error_offset(), r.error());
