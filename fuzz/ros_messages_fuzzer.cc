@@ -64,15 +64,33 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::span<const std::uint8_t> in(data + 1, size - 1);
   const bool ros1 = (data[0] / 9) % 2 == 1;
   switch (data[0] % 9) {
-    case 0: Run<r::Time>(in, ros1); break;
-    case 1: Run<r::Header>(in, ros1); break;
-    case 2: Run<r::Vector3>(in, ros1); break;
-    case 3: Run<r::Quaternion>(in, ros1); break;
-    case 4: Run<r::Transform>(in, ros1); break;
-    case 5: Run<r::TransformStamped>(in, ros1); break;
-    case 6: Run<r::TFMessage>(in, ros1); break;
-    case 7: Run<r::JointState>(in, ros1); break;
-    default: Run<r::String>(in, ros1); break;
+    case 0:
+      Run<r::Time>(in, ros1);
+      break;
+    case 1:
+      Run<r::Header>(in, ros1);
+      break;
+    case 2:
+      Run<r::Vector3>(in, ros1);
+      break;
+    case 3:
+      Run<r::Quaternion>(in, ros1);
+      break;
+    case 4:
+      Run<r::Transform>(in, ros1);
+      break;
+    case 5:
+      Run<r::TransformStamped>(in, ros1);
+      break;
+    case 6:
+      Run<r::TFMessage>(in, ros1);
+      break;
+    case 7:
+      Run<r::JointState>(in, ros1);
+      break;
+    default:
+      Run<r::String>(in, ros1);
+      break;
   }
   return 0;
 }

@@ -50,8 +50,7 @@ bool BagFile::Open(const std::string& path, std::string& error) {
   return true;
 }
 
-bool BagFile::ReadInto(std::uint64_t offset, std::size_t n, std::uint8_t* dst,
-                       std::string& error) {
+bool BagFile::ReadInto(std::uint64_t offset, std::size_t n, std::uint8_t* dst, std::string& error) {
   if (offset > size_ || n > size_ - offset) {
     error = "reading " + std::to_string(n) + " bytes at byte " + std::to_string(offset) +
             " passes the end of the file (" + std::to_string(size_) + " bytes)";

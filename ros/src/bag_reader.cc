@@ -34,32 +34,46 @@ MessageEncoding MessageEncodingOf(std::string_view name) noexcept {
 
 std::string_view ToString(BagFormat format) noexcept {
   switch (format) {
-    case BagFormat::kMcap: return "mcap";
-    case BagFormat::kRosbag2Sqlite3: return "rosbag2_sqlite3";
-    case BagFormat::kRos1: return "ros1";
+    case BagFormat::kMcap:
+      return "mcap";
+    case BagFormat::kRosbag2Sqlite3:
+      return "rosbag2_sqlite3";
+    case BagFormat::kRos1:
+      return "ros1";
   }
   return "unknown";
 }
 
 std::string_view ToString(MessageEncoding encoding) noexcept {
   switch (encoding) {
-    case MessageEncoding::kCdr: return "cdr";
-    case MessageEncoding::kRos1: return "ros1";
-    case MessageEncoding::kOther: return "other";
+    case MessageEncoding::kCdr:
+      return "cdr";
+    case MessageEncoding::kRos1:
+      return "ros1";
+    case MessageEncoding::kOther:
+      return "other";
   }
   return "other";
 }
 
 std::string_view ToString(BagErrorCode code) noexcept {
   switch (code) {
-    case BagErrorCode::kIo: return "io";
-    case BagErrorCode::kUnknownFormat: return "unknown_format";
-    case BagErrorCode::kTruncated: return "truncated";
-    case BagErrorCode::kMalformed: return "malformed";
-    case BagErrorCode::kCrcMismatch: return "crc_mismatch";
-    case BagErrorCode::kOverLimit: return "over_limit";
-    case BagErrorCode::kDecompression: return "decompression";
-    case BagErrorCode::kUnsupported: return "unsupported";
+    case BagErrorCode::kIo:
+      return "io";
+    case BagErrorCode::kUnknownFormat:
+      return "unknown_format";
+    case BagErrorCode::kTruncated:
+      return "truncated";
+    case BagErrorCode::kMalformed:
+      return "malformed";
+    case BagErrorCode::kCrcMismatch:
+      return "crc_mismatch";
+    case BagErrorCode::kOverLimit:
+      return "over_limit";
+    case BagErrorCode::kDecompression:
+      return "decompression";
+    case BagErrorCode::kUnsupported:
+      return "unsupported";
   }
   return "unknown";
 }

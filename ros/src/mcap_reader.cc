@@ -82,8 +82,7 @@ class McapReader final : public BagReader {
   std::optional<BagError> CheckDataCrc(std::uint64_t data_end, std::uint32_t expected);
   std::optional<BagError> Register(McapOp op, Cursor& c, std::uint64_t at, bool summary);
   std::optional<BagError> LoadBlock(std::size_t order, OpenBlock& out);
-  std::optional<BagError> ParseRecords(std::span<const std::uint8_t> records,
-                                       std::uint64_t base, bool exact_offsets,
+  std::optional<BagError> ParseRecords(std::size_t body, std::uint64_t base, bool exact_offsets,
                                        const Block& block, OpenBlock& out);
   std::optional<BagError> OpenDueBlocks();
 
@@ -91,13 +90,13 @@ class McapReader final : public BagReader {
   BagReaderOptions options_;
   BagFile file_;
   std::vector<BagTopic> topics_;
-  std::unordered_map<std::uint16_t, std::string> schemas_;           // id -> type name
-  std::unordered_map<std::uint16_t, std::uint32_t> channels_;        // id -> topics_ index
+  std::unordered_map<std::uint16_t, std::string> schemas_;     // id -> type name
+  std::unordered_map<std::uint16_t, std::uint32_t> channels_;  // id -> topics_ index
   std::unordered_map<std::uint16_t, detail::McapChannel> channel_defs_;
   std::vector<detail::McapChunkIndex> chunk_index_;
-  std::vector<Block> blocks_;       // file order
+  std::vector<Block> blocks_;          // file order
   std::vector<std::size_t> by_start_;  // block indices by (start_time, file order)
-  std::size_t next_start_ = 0;      // next entry of by_start_ to open
+  std::size_t next_start_ = 0;         // next entry of by_start_ to open
   std::vector<OpenBlock> open_;
   std::uint64_t open_bytes_ = 0;
   std::uint64_t footer_at_ = 0;
@@ -323,8 +322,8 @@ std::optional<BagError> McapReader::ScanData(std::uint64_t from, std::uint64_t t
       detail::ParseMessageHeader(m, h);
       const std::uint64_t bytes = detail::kRecordPrefix + len;
       if (bytes > options_.max_chunk_bytes) {
-        return Error(BagErrorCode::kOverLimit, pos, "Message record of " + std::to_string(len) +
-                                                        " bytes over the reader's limit");
+        return Error(BagErrorCode::kOverLimit, pos,
+                     "Message record of " + std::to_string(len) + " bytes over the reader's limit");
       }
       if (run && run->length + bytes > options_.max_chunk_bytes) close_run();
       if (!run) run = Block{pos, 0, std::numeric_limits<std::uint64_t>::max(), 0, false};
@@ -335,8 +334,8 @@ std::optional<BagError> McapReader::ScanData(std::uint64_t from, std::uint64_t t
       close_run();
       if (op == McapOp::kSchema || op == McapOp::kChannel) {
         if (len > options_.max_chunk_bytes) {
-          return Error(BagErrorCode::kOverLimit, pos, "record of " + std::to_string(len) +
-                                                          " bytes over the reader's limit");
+          return Error(BagErrorCode::kOverLimit, pos,
+                       "record of " + std::to_string(len) + " bytes over the reader's limit");
         }
         std::vector<std::uint8_t> rec;
         if (!file_.Read(content, len, rec, io)) return IoError(io);
@@ -395,8 +394,8 @@ std::optional<BagError> McapReader::ScanChunk(std::uint64_t at, std::uint64_t le
   }
   if (h.compression.empty() && h.records_size != h.uncompressed_size) {
     return Error(BagErrorCode::kMalformed, at,
-                 "uncompressed chunk of " + std::to_string(h.records_size) +
-                     " bytes declares " + std::to_string(h.uncompressed_size));
+                 "uncompressed chunk of " + std::to_string(h.records_size) + " bytes declares " +
+                     std::to_string(h.uncompressed_size));
   }
   if (h.start_time > h.end_time) {
     return Error(BagErrorCode::kMalformed, at, "chunk message_start_time after its end time");
@@ -420,9 +419,9 @@ std::optional<BagError> McapReader::ScanAttachment(std::uint64_t at, std::uint64
   if (c.failed()) return Error(BagErrorCode::kMalformed, c.error_offset(), c.error());
   const std::uint64_t crc_at = c.pos() + data_size;  // within the content
   if (data_size > length || crc_at > length - 4) {
-    return Error(BagErrorCode::kMalformed, c.file_offset() - 8,
-                 "attachment data length " + std::to_string(data_size) +
-                     " past the end of its record");
+    return Error(
+        BagErrorCode::kMalformed, c.file_offset() - 8,
+        "attachment data length " + std::to_string(data_size) + " past the end of its record");
   }
   if (!file_.Peek(content + crc_at, 4, b, io)) return IoError(io);
   Cursor t(b, content + crc_at);
@@ -430,7 +429,8 @@ std::optional<BagError> McapReader::ScanAttachment(std::uint64_t at, std::uint64
   if (expected == 0) return std::nullopt;
   std::uint32_t crc = 0;
   for (std::uint64_t off = 0; off < crc_at;) {
-    const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(crc_at - off, detail::kPeekMax));
+    const auto n =
+        static_cast<std::size_t>(std::min<std::uint64_t>(crc_at - off, detail::kPeekMax));
     if (!file_.Peek(content + off, n, b, io)) return IoError(io);
     crc = detail::Crc32Update(crc, b);
     off += n;
@@ -449,7 +449,8 @@ std::optional<BagError> McapReader::CheckDataCrc(std::uint64_t data_end, std::ui
   std::span<const std::uint8_t> b;
   std::uint32_t crc = 0;
   for (std::uint64_t off = 0; off < data_end;) {
-    const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(data_end - off, detail::kPeekMax));
+    const auto n =
+        static_cast<std::size_t>(std::min<std::uint64_t>(data_end - off, detail::kPeekMax));
     if (!file_.Peek(off, n, b, io)) return IoError(io);
     crc = detail::Crc32Update(crc, b);
     off += n;
@@ -480,8 +481,8 @@ std::optional<BagError> McapReader::CheckIndex() const {
   for (std::size_t i = 0; i < chunks.size(); ++i) {
     const Block& b = *chunks[i];
     const auto& x = index[i];
-    if (x.chunk_offset != b.offset || x.chunk_length != b.length ||
-        x.start_time != b.start_time || x.end_time != b.end_time) {
+    if (x.chunk_offset != b.offset || x.chunk_length != b.length || x.start_time != b.start_time ||
+        x.end_time != b.end_time) {
       return Error(BagErrorCode::kMalformed, b.offset,
                    "the summary's chunk index disagrees with the chunk at this offset (offset, "
                    "length or time range)");
@@ -504,7 +505,7 @@ std::optional<BagError> McapReader::LoadBlock(std::size_t order, OpenBlock& out)
   if (!file_.Read(block.offset, block.length, raw, io)) return IoError(io);
   if (!block.chunk) {
     out.bytes = std::move(raw);
-    return ParseRecords(out.bytes, block.offset, true, block, out);
+    return ParseRecords(0, block.offset, true, block, out);
   }
   Cursor c(std::span<const std::uint8_t>(raw).subspan(detail::kRecordPrefix),
            block.offset + detail::kRecordPrefix);
@@ -522,31 +523,36 @@ std::optional<BagError> McapReader::LoadBlock(std::size_t order, OpenBlock& out)
     d = detail::DecompressZstd(records, h.uncompressed_size, out.bytes);
   } else if (h.compression == "lz4") {
     d = detail::DecompressLz4Frame(records, h.uncompressed_size, out.bytes);
-  } else {
-    out.bytes.assign(records.begin(), records.end());
+  } else {  // keep the bytes read: the records start after the chunk's header
+    out.bytes = std::move(raw);
   }
+  const std::size_t body =
+      h.compression.empty() ? detail::kRecordPrefix + h.records_offset : std::size_t{0};
   if (!d.ok) {
-    return Error(BagErrorCode::kDecompression, block.offset,
-                 "chunk (" + h.compression + ", " + std::to_string(h.records_size) +
-                     " bytes) " + d.message);
+    return Error(
+        BagErrorCode::kDecompression, block.offset,
+        "chunk (" + h.compression + ", " + std::to_string(h.records_size) + " bytes) " + d.message);
   }
   if (options_.verify_crc && h.uncompressed_crc != 0) {
-    const std::uint32_t crc = detail::Crc32Update(0, out.bytes);
+    const std::uint32_t crc =
+        detail::Crc32Update(0, std::span<const std::uint8_t>(out.bytes).subspan(body));
     if (crc != h.uncompressed_crc) {
       return Error(BagErrorCode::kCrcMismatch, block.offset,
                    "chunk CRC32 " + std::to_string(crc) + " does not match the stored " +
                        std::to_string(h.uncompressed_crc));
     }
   }
-  return ParseRecords(out.bytes, h.compression.empty() ? records_at : block.offset,
+  return ParseRecords(body, h.compression.empty() ? records_at : block.offset,
                       h.compression.empty(), block, out);
 }
 
-// The records of a block. `exact_offsets`: `base` is the file offset of records[0] (else the
-// bytes are decompressed, and errors name the chunk's offset and the position inside).
-std::optional<BagError> McapReader::ParseRecords(std::span<const std::uint8_t> records,
-                                                 std::uint64_t base, bool exact_offsets,
-                                                 const Block& block, OpenBlock& out) {
+// The records of a block: out.bytes from `body` on. `exact_offsets`: `base` is the file offset
+// of the first record (else the bytes are decompressed, and errors name the chunk's offset and
+// the position inside).
+std::optional<BagError> McapReader::ParseRecords(std::size_t body, std::uint64_t base,
+                                                 bool exact_offsets, const Block& block,
+                                                 OpenBlock& out) {
+  const auto records = std::span<const std::uint8_t>(out.bytes).subspan(body);
   const auto where = [&](std::uint64_t pos, const std::string& what) {
     return exact_offsets ? Error(BagErrorCode::kMalformed, base + pos, what)
                          : Error(BagErrorCode::kMalformed, base,
@@ -577,7 +583,7 @@ std::optional<BagError> McapReader::ParseRecords(std::span<const std::uint8_t> r
       if (h.log_time > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
         return where(at, "message log_time " + std::to_string(h.log_time) + " past 2^63 ns");
       }
-      out.entries.push_back(Entry{h.log_time, static_cast<std::size_t>(r.file_offset()),
+      out.entries.push_back(Entry{h.log_time, body + static_cast<std::size_t>(r.file_offset()),
                                   r.left(), ch->second});
     } else if (op == McapOp::kSchema || op == McapOp::kChannel) {
       if (auto e = Register(op, r, exact_offsets ? base + at : base, false)) return e;

@@ -118,8 +118,8 @@ void ParseStatistics(Cursor& c, std::vector<std::pair<std::uint16_t, std::uint64
   }
   (void)c.U64("statistics message_start_time");
   (void)c.U64("statistics message_end_time");
-  const auto map = c.Bytes(c.U32("statistics channel_message_counts"),
-                           "statistics channel_message_counts");
+  const auto map =
+      c.Bytes(c.U32("statistics channel_message_counts"), "statistics channel_message_counts");
   Cursor m(map, c.file_offset() - map.size());
   while (!m.failed() && m.left() > 0) {
     const std::uint16_t id = m.U16("channel_message_counts key");

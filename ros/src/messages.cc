@@ -63,8 +63,8 @@ class Reader {
     U32(n);
     if (failed_) return;
     if (n > left()) {
-      Fail(at, "string length " + std::to_string(n) + " past the end (" +
-                   std::to_string(left()) + " bytes left)");
+      Fail(at, "string length " + std::to_string(n) + " past the end (" + std::to_string(left()) +
+                   " bytes left)");
       return;
     }
     const auto* p = reinterpret_cast<const char*>(bytes_.data() + pos_);
@@ -93,9 +93,8 @@ class Reader {
     U32(n);
     if (failed_) return 0;
     if (n > left() / min_bytes) {
-      Fail(at, "sequence count " + std::to_string(n) + " past the end (" +
-                   std::to_string(left()) + " bytes left, each element takes at least " +
-                   std::to_string(min_bytes) + ")");
+      Fail(at, "sequence count " + std::to_string(n) + " past the end (" + std::to_string(left()) +
+                   " bytes left, each element takes at least " + std::to_string(min_bytes) + ")");
       return 0;
     }
     return n;
@@ -225,8 +224,8 @@ class Writer {
 
   template <class T>
   void Scalar(T v) {
-    if (!ros1()) out_.resize(out_.size() + (sizeof(T) - (out_.size() - origin_) % sizeof(T)) %
-                                               sizeof(T), 0);
+    if (!ros1())
+      out_.resize(out_.size() + (sizeof(T) - (out_.size() - origin_) % sizeof(T)) % sizeof(T), 0);
     std::uint8_t raw[sizeof(T)];
     std::memcpy(raw, &v, sizeof(T));
     if constexpr (std::endian::native == std::endian::big) std::reverse(raw, raw + sizeof(T));
@@ -314,8 +313,8 @@ Expected<Ok, CodecError> Decode(std::span<const std::uint8_t> bytes, M& out, Wir
   // CDR writers may pad a sample to a multiple of 4 bytes (rmw_fastrtps does); nothing more.
   const std::size_t slack = wire == Wire::kCdr ? 3 : 0;
   if (r.left() > slack) {
-    return Unexpected{CodecError{r.pos(), std::to_string(r.left()) +
-                                              " bytes after the end of the message"}};
+    return Unexpected{
+        CodecError{r.pos(), std::to_string(r.left()) + " bytes after the end of the message"}};
   }
   return Ok{};
 }
@@ -347,14 +346,14 @@ Expected<Ok, CodecError> EncodeRos1(const M& msg, std::vector<std::uint8_t>& out
   return Encode(msg, out, Wire::kRos1);
 }
 
-#define SEMGRAPH_ROS_INSTANTIATE(M)                                                          \
-  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> DecodeCdr(                           \
-      std::span<const std::uint8_t>, M&);                                                    \
-  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> DecodeRos1(                          \
-      std::span<const std::uint8_t>, M&);                                                    \
-  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> EncodeCdr(const M&,                  \
-                                                                  std::vector<std::uint8_t>&); \
-  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> EncodeRos1(const M&,                 \
+#define SEMGRAPH_ROS_INSTANTIATE(M)                                                               \
+  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> DecodeCdr(std::span<const std::uint8_t>,  \
+                                                                  M&);                            \
+  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> DecodeRos1(std::span<const std::uint8_t>, \
+                                                                   M&);                           \
+  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> EncodeCdr(const M&,                       \
+                                                                  std::vector<std::uint8_t>&);    \
+  template SEMGRAPH_ROS_EXPORT Expected<Ok, CodecError> EncodeRos1(const M&,                      \
                                                                    std::vector<std::uint8_t>&);
 SEMGRAPH_ROS_INSTANTIATE(Time)
 SEMGRAPH_ROS_INSTANTIATE(Header)

@@ -3,11 +3,10 @@
 #include "semgraph/ros/bag_reader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-
-#include <unistd.h>
 
 namespace semgraph::ros {
 namespace {
@@ -32,7 +31,8 @@ TEST(RosBagReader, RecognisesTheMessageTypesByName) {
 }
 
 TEST(RosBagReader, DescribeNamesFileOffsetAndProblem) {
-  const BagError e{BagErrorCode::kCrcMismatch, "/data/x.mcap", 1234, "chunk CRC32 1 does not match"};
+  const BagError e{BagErrorCode::kCrcMismatch, "/data/x.mcap", 1234,
+                   "chunk CRC32 1 does not match"};
   EXPECT_EQ(Describe(e), "/data/x.mcap: byte 1234: chunk CRC32 1 does not match (crc_mismatch)");
   EXPECT_EQ(ToString(BagErrorCode::kOverLimit), "over_limit");
 }

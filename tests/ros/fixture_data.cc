@@ -1,14 +1,13 @@
 #include "fixture_data.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-
-#include <unistd.h>
 
 namespace semgraph::ros::testing {
 
@@ -32,13 +31,14 @@ std::vector<std::uint8_t> ReadBytes(const std::string& path) {
 
 void WriteBytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
   ASSERT_TRUE(out.good()) << path;
 }
 
 std::string TempPath(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("semgraph_ros_test_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("semgraph_ros_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }
@@ -76,15 +76,25 @@ std::vector<double> Doubles(const YAML::Node& v) {
 }  // namespace
 
 template <>
-Time FromJson<Time>(const YAML::Node& v, bool) { return TimeOf(v); }
+Time FromJson<Time>(const YAML::Node& v, bool) {
+  return TimeOf(v);
+}
 template <>
-Header FromJson<Header>(const YAML::Node& v, bool ros1) { return HeaderOf(v, ros1); }
+Header FromJson<Header>(const YAML::Node& v, bool ros1) {
+  return HeaderOf(v, ros1);
+}
 template <>
-Vector3 FromJson<Vector3>(const YAML::Node& v, bool) { return Vector3Of(v); }
+Vector3 FromJson<Vector3>(const YAML::Node& v, bool) {
+  return Vector3Of(v);
+}
 template <>
-Quaternion FromJson<Quaternion>(const YAML::Node& v, bool) { return QuaternionOf(v); }
+Quaternion FromJson<Quaternion>(const YAML::Node& v, bool) {
+  return QuaternionOf(v);
+}
 template <>
-Transform FromJson<Transform>(const YAML::Node& v, bool) { return TransformOf(v); }
+Transform FromJson<Transform>(const YAML::Node& v, bool) {
+  return TransformOf(v);
+}
 template <>
 TransformStamped FromJson<TransformStamped>(const YAML::Node& v, bool ros1) {
   return TransformStampedOf(v, ros1);
@@ -106,7 +116,9 @@ JointState FromJson<JointState>(const YAML::Node& v, bool ros1) {
   return m;
 }
 template <>
-String FromJson<String>(const YAML::Node& v, bool) { return String{v["data"].as<std::string>()}; }
+String FromJson<String>(const YAML::Node& v, bool) {
+  return String{v["data"].as<std::string>()};
+}
 
 std::uint64_t LoadU64(const std::vector<std::uint8_t>& b, std::size_t at) {
   std::uint64_t v = 0;

@@ -4,7 +4,6 @@
 // wrong magic, lengths past the end, CRC mismatches, a chunk claiming 4 GiB, decompression
 // bombs, strings past the end; each is an error naming the file, the byte offset and the fault.
 #include <gtest/gtest.h>
-
 #include <zlib.h>
 
 #include <algorithm>
@@ -32,9 +31,10 @@ using testing::TempPath;
 using testing::WriteBytes;
 using Bytes = std::vector<std::uint8_t>;
 
-#define SKIP_WITHOUT_FIXTURES()                                                    \
-  if (!HaveFixtures()) GTEST_SKIP() << "no fixtures in " << FixturesDir()         \
-                                    << " (ctest ros.fixtures writes them; needs node)"
+#define SKIP_WITHOUT_FIXTURES()                      \
+  if (!HaveFixtures())                               \
+  GTEST_SKIP() << "no fixtures in " << FixturesDir() \
+               << " (ctest ros.fixtures writes them; needs node)"
 
 std::string Bag(const std::string& name) { return FixturesDir() + "/" + name; }
 
@@ -106,9 +106,18 @@ void ReadWholeBag(const std::string& file) {
   EXPECT_EQ(chatter->kind, MessageKind::kString);  // by type name; the encoding says "json"
 }
 
-TEST(RosMcapReader, ReadsUncompressedChunks) { SKIP_WITHOUT_FIXTURES(); ReadWholeBag("tf_none.mcap"); }
-TEST(RosMcapReader, ReadsZstdChunks) { SKIP_WITHOUT_FIXTURES(); ReadWholeBag("tf_zstd.mcap"); }
-TEST(RosMcapReader, ReadsLz4Chunks) { SKIP_WITHOUT_FIXTURES(); ReadWholeBag("tf_lz4.mcap"); }
+TEST(RosMcapReader, ReadsUncompressedChunks) {
+  SKIP_WITHOUT_FIXTURES();
+  ReadWholeBag("tf_none.mcap");
+}
+TEST(RosMcapReader, ReadsZstdChunks) {
+  SKIP_WITHOUT_FIXTURES();
+  ReadWholeBag("tf_zstd.mcap");
+}
+TEST(RosMcapReader, ReadsLz4Chunks) {
+  SKIP_WITHOUT_FIXTURES();
+  ReadWholeBag("tf_lz4.mcap");
+}
 TEST(RosMcapReader, ReadsMessagesOutsideChunks) {
   SKIP_WITHOUT_FIXTURES();
   ReadWholeBag("tf_unchunked.mcap");
@@ -177,8 +186,8 @@ bool Has(const std::string& message, const std::string& part) {
 TEST(RosMcapHostile, Truncated) {
   SKIP_WITHOUT_FIXTURES();
   const Bytes full = ReadBytes(Bag("tf_zstd.mcap"));
-  for (const std::size_t keep : {std::size_t{0}, std::size_t{5}, std::size_t{40}, full.size() / 2,
-                                 full.size() - 1}) {
+  for (const std::size_t keep :
+       {std::size_t{0}, std::size_t{5}, std::size_t{40}, full.size() / 2, full.size() - 1}) {
     SCOPED_TRACE(keep);
     const Bytes cut(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(keep));
     auto f = ReadPatched("truncated.mcap", cut);
@@ -342,8 +351,8 @@ TEST(RosMcapHostile, SummaryIndexMustMatchTheChunks) {
   // Re-seal the summary CRC (footer), computed from its start through summary_offset_start.
   const std::size_t footer = b.size() - 8 - 29;
   const std::uint64_t summary_start = LoadU64(b, footer + 9);
-  const uLong crc = crc32(0L, b.data() + summary_start,
-                          static_cast<uInt>(footer + 9 + 16 - summary_start));
+  const uLong crc =
+      crc32(0L, b.data() + summary_start, static_cast<uInt>(footer + 9 + 16 - summary_start));
   StoreU32(b, footer + 9 + 16, static_cast<std::uint32_t>(crc));
   auto f = ReadPatched("index.mcap", b);
   ASSERT_TRUE(f.has_value());

@@ -22,9 +22,10 @@ using testing::HaveFixtures;
 using testing::ReadBytes;
 using Bytes = std::vector<std::uint8_t>;
 
-#define SKIP_WITHOUT_FIXTURES()                                                    \
-  if (!HaveFixtures()) GTEST_SKIP() << "no fixtures in " << FixturesDir()         \
-                                    << " (ctest ros.fixtures writes them; needs node)"
+#define SKIP_WITHOUT_FIXTURES()                      \
+  if (!HaveFixtures())                               \
+  GTEST_SKIP() << "no fixtures in " << FixturesDir() \
+               << " (ctest ros.fixtures writes them; needs node)"
 
 // What one test does with one sample, for every message type: checks on (bytes, json value).
 struct SampleChecks {
@@ -138,15 +139,15 @@ TEST(RosMessages, RefusesEveryTruncationOfEverySample) {
 // ---- Hand-computed bytes (no fixtures needed) ----
 
 TEST(RosMessages, BigEndianCdrDecodes) {
-  const Bytes be = {0x00, 0x00, 0x00, 0x00,  // CDR_BE
-                    0xFF, 0xFF, 0xFF, 0xFB,  // sec = -5
+  const Bytes be = {0x00, 0x00, 0x00, 0x00,   // CDR_BE
+                    0xFF, 0xFF, 0xFF, 0xFB,   // sec = -5
                     0x00, 0x00, 0x00, 0x07};  // nanosec = 7
   Time t;
   ASSERT_TRUE(DecodeCdr(std::span<const std::uint8_t>(be), t).has_value());
   EXPECT_EQ(t, (Time{-5, 7}));
-  const Bytes vec = {0, 0, 0, 0, 0x3F, 0xF0, 0, 0, 0, 0, 0, 0,   // 1.0
-                     0xC0, 0, 0, 0, 0, 0, 0, 0,                   // -2.0
-                     0x40, 0x08, 0, 0, 0, 0, 0, 0};               // 3.0
+  const Bytes vec = {0,    0,    0, 0, 0x3F, 0xF0, 0, 0, 0, 0, 0, 0,  // 1.0
+                     0xC0, 0,    0, 0, 0,    0,    0, 0,              // -2.0
+                     0x40, 0x08, 0, 0, 0,    0,    0, 0};             // 3.0
   Vector3 v;
   ASSERT_TRUE(DecodeCdr(std::span<const std::uint8_t>(vec), v).has_value());
   EXPECT_EQ(v, (Vector3{1.0, -2.0, 3.0}));
@@ -164,8 +165,8 @@ TEST(RosMessages, CdrAlignsDoublesFromAfterTheHeader) {
   ASSERT_TRUE(EncodeCdr(t, out).has_value());
   // 8 stamp + 4+2 frame_id (14) + pad 2 (16) + 4+3 child (23) + pad 1 (24) + 56 doubles = 80.
   ASSERT_EQ(out.size(), 4U + 80U);
-  EXPECT_EQ(out[4 + 16], 3);       // child_frame_id length, with its NUL
-  EXPECT_EQ(out[4 + 23], 0);       // padding before the doubles
+  EXPECT_EQ(out[4 + 16], 3);  // child_frame_id length, with its NUL
+  EXPECT_EQ(out[4 + 23], 0);  // padding before the doubles
   double x = 0;
   std::memcpy(&x, out.data() + 4 + 24, 8);
   EXPECT_EQ(x, 1.0);

@@ -15,9 +15,10 @@
 //    wrong. After an error the reader is finished: every later Next() returns the same error.
 //    Callers that must apply nothing of a corrupt file read it to the end first (two passes).
 //  - Formats are chosen by content (DetectBagFormat), never by file name.
-// Costs: Open reads the header and, when the format has one, the summary or index (O(summary)).
-// Next is amortized O(1) per record plus the decompression of one chunk at a time; memory is
-// bounded by the largest chunk (at most BagReaderOptions::max_chunk_bytes) plus the index.
+// Costs: Open reads the header and what the format keeps up front (MCAP: the summary, and one
+// scan of the data section's record headers, plus one CRC pass over the data section when the
+// file stores that CRC). Next is amortized O(1) per record plus the decompression of the
+// chunks; memory is bounded by the chunks open at once (BagReaderOptions) plus the index.
 #pragma once
 
 #include <cstdint>
@@ -44,9 +45,9 @@ enum class BagFormat : std::uint8_t {
 
 /// How a record's bytes are serialized.
 enum class MessageEncoding : std::uint8_t {
-  kCdr,   ///< ROS 2 CDR with its 4-byte encapsulation header (messages.h: DecodeCdr)
-  kRos1,  ///< ROS 1 serialization (messages.h: DecodeRos1)
-  kOther, ///< anything else (e.g. MCAP "json", "protobuf"); such records are yielded, not decoded
+  kCdr,    ///< ROS 2 CDR with its 4-byte encapsulation header (messages.h: DecodeCdr)
+  kRos1,   ///< ROS 1 serialization (messages.h: DecodeRos1)
+  kOther,  ///< anything else (e.g. MCAP "json", "protobuf"); such records are yielded, not decoded
 };
 
 /// The message types semgraph decodes, recognised by type name (spec §3).
@@ -62,8 +63,7 @@ enum class MessageKind : std::uint8_t {
 [[nodiscard]] SEMGRAPH_ROS_EXPORT MessageKind MessageKindOf(std::string_view type_name) noexcept;
 
 /// "cdr" -> kCdr, "ros1" -> kRos1, anything else -> kOther (MCAP's message_encoding names).
-[[nodiscard]] SEMGRAPH_ROS_EXPORT MessageEncoding MessageEncodingOf(
-    std::string_view name) noexcept;
+[[nodiscard]] SEMGRAPH_ROS_EXPORT MessageEncoding MessageEncodingOf(std::string_view name) noexcept;
 
 /// "mcap", "rosbag2_sqlite3", "ros1".
 [[nodiscard]] SEMGRAPH_ROS_EXPORT std::string_view ToString(BagFormat format) noexcept;
@@ -72,12 +72,12 @@ enum class MessageKind : std::uint8_t {
 
 /// One message of a bag. Views valid until the next Next() (see the invariants above).
 struct BagRecord {
-  std::string_view topic;       ///< e.g. "/tf"
-  std::string_view type_name;   ///< as the bag spells it, e.g. "tf2_msgs/msg/TFMessage"
+  std::string_view topic;      ///< e.g. "/tf"
+  std::string_view type_name;  ///< as the bag spells it, e.g. "tf2_msgs/msg/TFMessage"
   MessageEncoding encoding = MessageEncoding::kOther;
   MessageKind kind = MessageKind::kOther;  ///< MessageKindOf(type_name)
-  std::int64_t log_time_ns = 0;  ///< when the recorder received it (not the header stamp)
-  std::span<const std::uint8_t> data;  ///< the serialized message (CDR: with its 4-byte header)
+  std::int64_t log_time_ns = 0;            ///< when the recorder received it (not the header stamp)
+  std::span<const std::uint8_t> data;      ///< the serialized message (CDR: with its 4-byte header)
 };
 
 /// A topic (MCAP channel, sqlite3 topics row, ROS 1 connection) of the bag.
@@ -93,14 +93,14 @@ struct BagTopic {
 
 /// What is wrong with a bag (the message says it precisely).
 enum class BagErrorCode : std::uint8_t {
-  kIo,            ///< cannot open or read the file (errno text in the message)
-  kUnknownFormat, ///< not a bag of any supported format (wrong magic)
-  kTruncated,     ///< the file ends inside a record, a chunk or before its footer/trailer
-  kMalformed,     ///< a length, count, opcode or field that cannot be right
-  kCrcMismatch,   ///< a CRC32 stored in the file does not match the bytes
-  kOverLimit,     ///< a declared size over the reader's limit (BagReaderOptions)
-  kDecompression, ///< a chunk that fails to decompress, or not to its declared size
-  kUnsupported,   ///< a valid file using something not supported (e.g. unknown compression)
+  kIo,             ///< cannot open or read the file (errno text in the message)
+  kUnknownFormat,  ///< not a bag of any supported format (wrong magic)
+  kTruncated,      ///< the file ends inside a record, a chunk or before its footer/trailer
+  kMalformed,      ///< a length, count, opcode or field that cannot be right
+  kCrcMismatch,    ///< a CRC32 stored in the file does not match the bytes
+  kOverLimit,      ///< a declared size over the reader's limit (BagReaderOptions)
+  kDecompression,  ///< a chunk that fails to decompress, or not to its declared size
+  kUnsupported,    ///< a valid file using something not supported (e.g. unknown compression)
 };
 
 /// "io", "unknown_format", "truncated", "malformed", "crc_mismatch", "over_limit",

@@ -100,10 +100,9 @@ struct String {
 /// The types the codecs accept.
 template <class M>
 concept Message = std::is_same_v<M, Time> || std::is_same_v<M, Header> ||
-                  std::is_same_v<M, Vector3> || std::is_same_v<M, Quaternion> ||
-                  std::is_same_v<M, Transform> || std::is_same_v<M, TransformStamped> ||
-                  std::is_same_v<M, TFMessage> || std::is_same_v<M, JointState> ||
-                  std::is_same_v<M, String>;
+    std::is_same_v<M, Vector3> || std::is_same_v<M, Quaternion> || std::is_same_v<M, Transform> ||
+    std::is_same_v<M, TransformStamped> || std::is_same_v<M, TFMessage> ||
+    std::is_same_v<M, JointState> || std::is_same_v<M, String>;
 
 /// Why bytes do not decode to a message, or a message cannot be encoded.
 struct CodecError {
