@@ -184,7 +184,9 @@ struct HandBag {
   std::optional<Bytes> chunk_data;             // the chunk's data (default: compressed records)
   std::uint32_t message_conn = 0;
   bool indexed = true;
-  bool index_connection = true;  // the index section's connection record
+  bool index_connection = true;     // the index section's connection record
+  std::uint32_t info_end_nsec = 5;  // the chunk info's end_time (10 s + this)
+  std::uint32_t info_count = 2;     // the chunk info's message count for connection 0
 };
 
 Bytes ConnectionRecord() {
@@ -261,9 +263,9 @@ Bytes Build(const HandBag& spec) {
   if (!spec.indexed) return bag;
   const Bytes chunk_info =
       Record(Cat({Op(0x06), Field("ver", U32(1)), Field("chunk_pos", U64(ChunkPos())),
-                  Field("start_time", Time(10, 1)), Field("end_time", Time(10, 5)),
+                  Field("start_time", Time(10, 1)), Field("end_time", Time(10, spec.info_end_nsec)),
                   Field("count", U32(1))}),
-             Cat({U32(0), U32(2)}));
+             Cat({U32(0), U32(spec.info_count)}));
   return Cat({bag, spec.index_connection ? ConnectionRecord() : Bytes{}, chunk_info});
 }
 
@@ -388,6 +390,19 @@ TEST(Ros1BagReader, AMessageOnAnUndefinedConnectionIsRefused) {
   EXPECT_NE(error->message.find("connection 0, which no connection record defines"),
             std::string::npos)
       << Describe(*error);
+}
+
+TEST(Ros1BagReader, AChunkThatDisagreesWithItsChunkInfoIsRefused) {
+  // The merge relies on the chunk infos' time ranges: a message outside them is an error.
+  HandBag late;
+  late.info_end_nsec = 4;  // the "hi" message is at 10 s + 5 ns
+  ExpectError(Build(late), BagErrorCode::kMalformed,
+              ChunkDataPos("none") + ConnectionRecord().size(),
+              "message time outside its chunk info's [start_time, end_time]");
+  HandBag count;
+  count.info_count = 3;
+  ExpectError(Build(count), BagErrorCode::kMalformed, ChunkPos(),
+              "the chunk holds 2 messages; its chunk info says 3");
 }
 
 TEST(Ros1BagReader, EveryFlippedByteReadsOrFailsCleanly) {
