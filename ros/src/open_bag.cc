@@ -27,6 +27,10 @@ Expected<BagReaderPtr, BagError> OpenMcapFolder(const std::string& folder,
 Expected<BagReaderPtr, BagError> OpenBag(const std::string& path, const BagReaderOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
+    if (!std::filesystem::exists(std::filesystem::path(path) / "metadata.yaml", ec)) {
+      return Unexpected{BagError{BagErrorCode::kUnknownFormat, path, 0,
+                                 "a folder without metadata.yaml is not a rosbag2 bag"}};
+    }
     auto meta = ReadRosbag2Metadata(path);
     if (!meta) return Unexpected{meta.error()};
     if (meta->storage_identifier == "sqlite3") return OpenRosbag2Sqlite3Bag(path, options);

@@ -66,7 +66,7 @@ struct ConnectionFields {
 [[nodiscard]] std::optional<FormatError> ParseConnectionData(std::span<const std::uint8_t> bytes,
                                                              ConnectionFields& out);
 
-// ROS 1 time (u32 sec, u32 nsec) as nanoseconds.
+// ROS 1 time (u32 sec, u32 nsec) as nanoseconds: at most about 4.3e18, so it fits an int64.
 [[nodiscard]] constexpr std::uint64_t TimeToNs(std::uint32_t sec, std::uint32_t nsec) noexcept {
   return std::uint64_t{sec} * 1'000'000'000u + nsec;
 }

@@ -467,9 +467,6 @@ std::optional<BagError> Ros1BagReader::ParseChunk(const ChunkInfo& info, const T
       if (info.from_index && (*inner.time_ns < info.start_ns || *inner.time_ns > info.end_ns)) {
         return error(pos, "message time outside its chunk info's [start_time, end_time]");
       }
-      if (*inner.time_ns > static_cast<std::uint64_t>(INT64_MAX)) {
-        return error(pos, "message time past the year 2262");
-      }
       out.messages.push_back({*inner.time_ns, static_cast<std::uint32_t>(out.messages.size()),
                               it->second, static_cast<std::uint32_t>(data_pos), data_len});
     } else {

@@ -184,7 +184,10 @@ struct HandBag {
   std::optional<Bytes> chunk_data;             // the chunk's data (default: compressed records)
   std::uint32_t message_conn = 0;
   bool indexed = true;
-  bool index_connection = true;  // the index section's connection record
+  bool index_connection = true;     // the index section's connection record
+  std::uint32_t info_end_nsec = 5;  // the chunk info's end_time (10 s + this)
+  std::uint32_t info_count = 2;     // the chunk info's message count for connection 0
+  std::uint32_t chunks = 1;         // copies of the chunk
 };
 
 Bytes ConnectionRecord() {
@@ -232,9 +235,9 @@ Bytes ChunkRecords(std::uint32_t message_conn) {
   return Cat({ConnectionRecord(), message(5, "hi"), message(1, "yo")});
 }
 
-Bytes BagHeader(std::uint64_t index_pos) {
+Bytes BagHeader(std::uint64_t index_pos, std::uint32_t chunk_count = 1) {
   return Record(Cat({Op(0x03), Field("index_pos", U64(index_pos)), Field("conn_count", U32(1)),
-                     Field("chunk_count", U32(1))}),
+                     Field("chunk_count", U32(chunk_count))}),
                 Bytes(64, ' '));
 }
 Bytes ChunkHeader(const std::string& compression, std::uint32_t size) {
@@ -246,6 +249,7 @@ std::size_t ChunkDataPos(const std::string& compression) {
   return ChunkPos() + 4 + ChunkHeader(compression, 0).size() + 4;
 }
 
+// `spec.chunks` identical chunks (all overlapping in time), each followed by its index data.
 Bytes Build(const HandBag& spec) {
   const Bytes records = ChunkRecords(spec.message_conn);
   const Bytes chunk_data = spec.chunk_data.value_or(Compress(spec.compression, records));
@@ -255,16 +259,20 @@ Bytes Build(const HandBag& spec) {
   const Bytes index_data =
       Record(Cat({Op(0x04), Field("ver", U32(1)), Field("conn", U32(0)), Field("count", U32(2))}),
              Cat({Time(10, 5), U32(0), Time(10, 1), U32(0)}));
-  const std::uint64_t index_pos = ChunkPos() + chunk.size() + index_data.size();
-  Bytes bag =
-      Cat({Text("#ROSBAG V2.0\n"), BagHeader(spec.indexed ? index_pos : 0), chunk, index_data});
+  const std::uint64_t index_pos = ChunkPos() + spec.chunks * (chunk.size() + index_data.size());
+  Bytes bag = Cat({Text("#ROSBAG V2.0\n"), BagHeader(spec.indexed ? index_pos : 0, spec.chunks)});
+  for (std::uint32_t i = 0; i < spec.chunks; ++i) bag = Cat({bag, chunk, index_data});
   if (!spec.indexed) return bag;
-  const Bytes chunk_info =
-      Record(Cat({Op(0x06), Field("ver", U32(1)), Field("chunk_pos", U64(ChunkPos())),
-                  Field("start_time", Time(10, 1)), Field("end_time", Time(10, 5)),
-                  Field("count", U32(1))}),
-             Cat({U32(0), U32(2)}));
-  return Cat({bag, spec.index_connection ? ConnectionRecord() : Bytes{}, chunk_info});
+  if (spec.index_connection) bag = Cat({bag, ConnectionRecord()});
+  for (std::uint32_t i = 0; i < spec.chunks; ++i) {
+    const std::uint64_t chunk_pos = ChunkPos() + i * (chunk.size() + index_data.size());
+    bag = Cat(
+        {bag, Record(Cat({Op(0x06), Field("ver", U32(1)), Field("chunk_pos", U64(chunk_pos)),
+                          Field("start_time", Time(10, 1)),
+                          Field("end_time", Time(10, spec.info_end_nsec)), Field("count", U32(1))}),
+                     Cat({U32(0), U32(spec.info_count)}))});
+  }
+  return bag;
 }
 
 std::string WriteBag(const std::string& name, const Bytes& bytes) {
@@ -388,6 +396,42 @@ TEST(Ros1BagReader, AMessageOnAnUndefinedConnectionIsRefused) {
   EXPECT_NE(error->message.find("connection 0, which no connection record defines"),
             std::string::npos)
       << Describe(*error);
+}
+
+TEST(Ros1BagReader, AChunkThatDisagreesWithItsChunkInfoIsRefused) {
+  // The merge relies on the chunk infos' time ranges: a message outside them is an error.
+  HandBag late;
+  late.info_end_nsec = 4;  // the "hi" message is at 10 s + 5 ns
+  ExpectError(Build(late), BagErrorCode::kMalformed,
+              ChunkDataPos("none") + ConnectionRecord().size(),
+              "message time outside its chunk info's [start_time, end_time]");
+  HandBag count;
+  count.info_count = 3;
+  ExpectError(Build(count), BagErrorCode::kMalformed, ChunkPos(),
+              "the chunk holds 2 messages; its chunk info says 3");
+}
+
+TEST(Ros1BagReader, OverlappingChunksAreMergedWithinTheMemoryBound) {
+  // Five chunks covering the same time range: all are held at once. With a limit of one chunk,
+  // four fit (4 x max_chunk_bytes) and the fifth is refused; with more room the records merge,
+  // equal log times in file (chunk) order.
+  HandBag spec;
+  spec.chunks = 5;
+  const std::string path = WriteBag("overlap.bag", Build(spec));
+  const auto records = ReadBag(path);
+  ASSERT_EQ(records.size(), 10u);
+  for (std::size_t i = 0; i < 10; ++i) {
+    EXPECT_EQ(records[i].log_time_ns, i < 5 ? 10'000'000'001 : 10'000'000'005) << i;
+    EXPECT_EQ(records[i].data, Ros1String(i < 5 ? "yo" : "hi")) << i;
+  }
+  BagReaderOptions tight;
+  tight.max_chunk_bytes = ChunkRecords(0).size();
+  const auto error = ErrorOf(path, tight);
+  ASSERT_TRUE(error);
+  EXPECT_EQ(error->code, BagErrorCode::kOverLimit) << Describe(*error);
+  EXPECT_NE(error->message.find("overlapping it in time"), std::string::npos) << Describe(*error);
+  spec.chunks = 4;
+  EXPECT_EQ(ReadBag(WriteBag("overlap4.bag", Build(spec)), tight).size(), 8u);
 }
 
 TEST(Ros1BagReader, EveryFlippedByteReadsOrFailsCleanly) {

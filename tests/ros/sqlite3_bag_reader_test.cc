@@ -45,6 +45,16 @@ TEST(Sqlite3BagReader, SplitBagFolderMergesItsFilesByTimestamp) {
   ExpectBagMatches(ReadBag(FixturePath("ros2_split")), "ros2_split", MessageEncoding::kCdr);
 }
 
+TEST(Sqlite3BagReader, FoxgloveWrittenCdrSamplesReadAndDecode) {
+  // Rows holding Foxglove's own CDR bytes (@foxglove/rosmsg2-serialization), inserted in reverse
+  // log-time order; written only when the Foxglove fixtures (node) were available.
+  if (!testing::Expected()["bags"]["ros2_foxglove.db3"]) {
+    GTEST_SKIP() << "no Foxglove fixtures (node missing): ros2_foxglove.db3 was not written";
+  }
+  ExpectBagMatches(ReadBag(FixturePath("ros2_foxglove.db3")), "ros2_foxglove.db3",
+                   MessageEncoding::kCdr);
+}
+
 TEST(Sqlite3BagReader, TopicsComeFromTheTopicsTable) {
   auto reader = OpenRosbag2Sqlite3Bag(FixturePath("ros2.db3"));
   ASSERT_TRUE(reader);

@@ -86,8 +86,8 @@ struct BagTopic {
   std::string type_name;
   MessageEncoding encoding = MessageEncoding::kOther;
   MessageKind kind = MessageKind::kOther;
-  /// Messages on the topic when the file says so up front (MCAP statistics, sqlite3 count,
-  /// ROS 1 index); -1 when unknown before reading.
+  /// Messages on the topic when the file says so up front (MCAP statistics, ROS 1 index);
+  /// -1 when unknown before reading (sqlite3: counting would read the whole messages table).
   std::int64_t message_count = -1;
 };
 
