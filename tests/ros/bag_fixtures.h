@@ -49,9 +49,12 @@ inline void WriteFile(const std::string& path, std::span<const std::uint8_t> byt
             static_cast<std::streamsize>(bytes.size()));
 }
 
-// A scratch folder for one test, emptied first.
+// A scratch folder for one test, emptied first. Named after the running test too: ctest runs the
+// tests of one binary in parallel processes, which must not share a folder.
 inline std::string ScratchDir(const std::string& name) {
-  const auto dir = std::filesystem::path(SEMGRAPH_ROS_TEST_SCRATCH) / name;
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const auto dir = std::filesystem::path(SEMGRAPH_ROS_TEST_SCRATCH) /
+                   ((test != nullptr ? std::string(test->name()) + "_" : std::string()) + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();
