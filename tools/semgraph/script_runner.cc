@@ -18,6 +18,9 @@
 #include "semgraph/base/error_code.h"
 #if SEMGRAPH_SCRIPT_HAS_MODELS
 #include "semgraph/models/urdf.h"
+#if SEMGRAPH_SCRIPT_HAS_ROS
+#include "semgraph/bag_op.h"
+#endif
 #endif
 
 namespace semgraph::script {
@@ -662,6 +665,17 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
       return AddJoint(graph, op, index);
     case OpKind::kJoints:
       return SetJoints(graph, op, index);
+    case OpKind::kBag:
+#if SEMGRAPH_SCRIPT_HAS_ROS
+      return ApplyBagOp(graph, op, index, base_dir);
+#else
+      return OpOutcome{false, "invalid_bag",
+                       "{\"op\": " + std::to_string(index) +
+                           ", \"ok\": false, \"error\": \"invalid_bag\", \"message\": " +
+                           JsonString("bag " + op.file +
+                                      " rejected: this tool was built without semgraph::ros") +
+                           "}"};
+#endif
   }
   base::DemandFailed("valid OpKind", __FILE__, __LINE__);
 }
