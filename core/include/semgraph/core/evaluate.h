@@ -292,8 +292,7 @@ bool EvalBasic(const Source& src, const BasicPath<typename Source::Chain>& path,
     return false;
   }
   if (b_identity) {
-    X_BA = a_identity ? B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero())
-                      : X_CA;
+    X_BA = a_identity ? B::Identity() : X_CA;
   } else if (a_identity) {
     X_BA = B::InvertChain(X_CB);
   } else {
@@ -337,6 +336,61 @@ bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s,
     } else {
       R = B::Multiply(B::Multiply(R_RB, R), B::Transpose(R_RB));  // Reexpress, rotation only
     }
+  }
+  return true;
+}
+
+/// Part P of a pose answer, by type: the bare value the evaluator writes (Value), the relation
+/// value a query returns (Result, with Semantics), the plan it is evaluated from (Plan), and a
+/// value to start from (Initial).
+template <coord::Backend B, Part P>
+struct PartTraits;
+template <coord::Backend B>
+struct PartTraits<B, Part::kPose> {
+  using Value = typename B::PoseCoords;
+  using Result = coord::Pose<B>;
+  using Semantics = semantics::PoseSemantics;
+  using Plan = PosePlan;
+  static Value Initial() noexcept { return B::Identity(); }
+};
+template <coord::Backend B>
+struct PartTraits<B, Part::kTranslation> {
+  using Value = Eigen::Vector3d;
+  using Result = coord::Position;
+  using Semantics = semantics::PositionSemantics;
+  using Plan = PositionPlan;
+  static Value Initial() noexcept { return Eigen::Vector3d::Zero(); }
+};
+template <coord::Backend B>
+struct PartTraits<B, Part::kRotation> {
+  using Value = typename B::Rotation;
+  using Result = coord::Orientation<B>;
+  using Semantics = semantics::OrientationSemantics;
+  using Plan = OrientationPlan;
+  static Value Initial() noexcept { return B::RotationOf(B::Identity()); }
+};
+/// The part a plan asks for.
+template <class Plan>
+inline constexpr Part kPartOf = Part::kPose;
+template <>
+inline constexpr Part kPartOf<PositionPlan> = Part::kTranslation;
+template <>
+inline constexpr Part kPartOf<OrientationPlan> = Part::kRotation;
+
+/// Part P of a pose answer into `out` (unchanged when false: a compiled edge changed epoch).
+/// The one evaluation behind every pose, position and orientation query, one-shot or compiled.
+template <coord::Backend B, Part P, class Source>
+bool EvaluatePart(const Source& src, const PoseSteps<typename Source::Chain>& s,
+                  typename PartTraits<B, P>::Value& out) noexcept {
+  typename B::Rotation R;
+  Eigen::Vector3d p;  // written by EvaluatePose before any use (it returns early otherwise)
+  if (!EvaluatePose<B, P>(src, s, R, p)) return false;
+  if constexpr (P == Part::kPose) {
+    out = B::MakePose(R, p);
+  } else if constexpr (P == Part::kTranslation) {
+    out = p;
+  } else {
+    out = R;
   }
   return true;
 }

@@ -419,6 +419,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   template <class Eval>
   std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
                                      Eval&& eval) const noexcept;
+  // run(report, eval): RunTimed at the policy, eval(ForestSource) at its time (pose queries).
+  auto AtPolicy(const TimePolicy& policy) const noexcept;
   std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b, FrameIndex r,
                                            const TimeTravel& travel, typename B::PoseCoords& X,
                                            TimeReport& report) const noexcept;
