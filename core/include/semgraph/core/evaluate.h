@@ -160,8 +160,10 @@ class FlatSource {
 
   // The edges are stored from F upward and composed top-down, acc = acc * X_i, as a
   // hand-written chain would (p += q p_i; q = q q_i for quaternions), so the loop-carried
-  // dependency is one rotation product.
-  bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+  // dependency is one rotation product. Flattened: GCC 12 stops inlining Eigen's products
+  // (here the 3x3 one of HomogeneousBackend::ComposeChain) once the translation unit has grown
+  // (--param inline-unit-growth), and a call per edge costs 1.3x the loop (bench/icount.sh).
+  [[gnu::flatten]] bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
     identity = c.begin == c.end;
     if (identity) return true;
     const EdgeRef* first = edges_ + c.begin;
