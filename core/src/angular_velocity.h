@@ -1,5 +1,6 @@
-// Private to core/src: the angular velocity query as the angular part of a twist query, for the one-shot and the
-// timed GetAngularVelocity (scene_graph.cc, time_query.cc): one spec rewrite, one error mapping.
+// Private to core/src: the angular velocity query as the angular part of a twist query, for the
+// one-shot and the timed GetAngularVelocity (scene_graph.cc, time_query.cc): one spec rewrite, one
+// error mapping.
 #pragma once
 
 #include "semgraph/core/specs.h"
@@ -18,7 +19,8 @@ auto TwistOfAngularVelocity(const TwistSpec& spec, GetTwist&& get_twist) noexcep
   if (s.body.empty()) {
     QueryError e;
     e.code = ErrorCode::kInvalidName;
-    e.field = spec.coordinate_frame.empty() ? semantics::Field::kCoordinateFrame : semantics::Field::kBody;
+    e.field = spec.coordinate_frame.empty() ? semantics::Field::kCoordinateFrame
+                                            : semantics::Field::kBody;
     return Result{base::Unexpected{e}};
   }
   Result twist = get_twist(s);

@@ -163,12 +163,15 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const PoseSteps
   return flat;
 }
 
-// ====================================================================== pose, position, orientation
+// ============================================================ pose, position, orientation
 
 template <coord::Backend B, internal::Part P>
-CompiledPoseQuery<B, P>::CompiledPoseQuery(const topology::SceneTopology& t, const EdgeValues<B>& values,
+CompiledPoseQuery<B, P>::CompiledPoseQuery(const topology::SceneTopology& t,
+                                           const EdgeValues<B>& values,
                                            const typename Traits::Plan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+    : CompiledQuery<B>(t, values),
+      semantics_(plan.semantics),
+      steps_(this->Flatten(t, plan.steps)) {}
 
 template <coord::Backend B, internal::Part P>
 ErrorCode CompiledPoseQuery<B, P>::Evaluate(Value& out) const noexcept {
@@ -178,8 +181,9 @@ ErrorCode CompiledPoseQuery<B, P>::Evaluate(Value& out) const noexcept {
 
 template <coord::Backend B, internal::Part P>
 ErrorCode CompiledPoseQuery<B, P>::Evaluate(Value& out, PoseCache<B>& cache) const noexcept {
-  return internal::EvaluatePart<B, P>(this->source(cache), steps_, out) ? ErrorCode::kOk
-                                                                        : ErrorCode::kQueryInvalidated;
+  return internal::EvaluatePart<B, P>(this->source(cache), steps_, out)
+             ? ErrorCode::kOk
+             : ErrorCode::kQueryInvalidated;
 }
 
 // The policy may evaluate more than once (a retry at the latest common time) and may refuse a
@@ -214,20 +218,24 @@ void CompiledTwist<B>::AddStep(const topology::SceneTopology& t, const EdgeValue
 }
 
 template <coord::Backend B>
-CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan)
+CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                                const TwistPlan& plan)
     : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) { AddStep(t, values, step); });
+  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& s) { AddStep(t, values, s); });
 }
 
 template <coord::Backend B>
-CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan)
+CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                                const PoseTwistPlan& plan)
     : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
-  ForEachPoseDerivativeStep(t, plan, [&](const TwistStep<ForestChain>& step) { AddStep(t, values, step); });
+  ForEachPoseDerivativeStep(t, plan,
+                            [&](const TwistStep<ForestChain>& s) { AddStep(t, values, s); });
 }
 
 template <coord::Backend B>
 template <class Source>
-bool CompiledTwist<B>::Accumulate(const Source& src, Eigen::Vector3d& v, Eigen::Vector3d& w) const noexcept {
+bool CompiledTwist<B>::Accumulate(const Source& src, Eigen::Vector3d& v,
+                                  Eigen::Vector3d& w) const noexcept {
   v.setZero();
   w.setZero();
   for (const auto& step : steps_) {
@@ -237,8 +245,10 @@ bool CompiledTwist<B>::Accumulate(const Source& src, Eigen::Vector3d& v, Eigen::
 }
 
 template <coord::Backend B>
-ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept {
-  return Accumulate(this->source(), v_DCe_R, w_DC_R) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
+ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
+                                     Eigen::Vector3d& w_DC_R) const noexcept {
+  return Accumulate(this->source(), v_DCe_R, w_DC_R) ? ErrorCode::kOk
+                                                     : ErrorCode::kQueryInvalidated;
 }
 
 template <coord::Backend B>

@@ -27,7 +27,8 @@ auto Answer(const internal::ForestSource<B>& src, const Expected<Plan, QueryErro
   using Traits = internal::PartTraits<B, internal::kPartOf<Plan>>;
   if (!plan) return Unexpected{plan.error()};
   if constexpr (internal::kPartOf<Plan> != Part::kTranslation) {
-    if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
+    auto ok = coord::CheckRepresentation<B>(plan->semantics);
+    if (!ok) return Unexpected{QError(ok.error())};
   }
   typename Traits::Result answer{plan->semantics, Traits::Initial()};
   internal::EvaluatePart<B, internal::kPartOf<Plan>>(src, plan->steps, answer.value);
@@ -95,7 +96,8 @@ QueryResult<coord::LinearVelocity> SceneGraph<B>::GetLinearVelocity(const TwistS
 
 template <coord::Backend B>
 QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(const TwistSpec& spec) const noexcept {
-  auto tw = internal::TwistOfAngularVelocity(spec, [this](const TwistSpec& s) { return GetTwist(s); });
+  auto tw = internal::TwistOfAngularVelocity(spec,
+                                             [this](const TwistSpec& s) { return GetTwist(s); });
   if (!tw) return Unexpected{tw.error()};
   return coord::AngularOf(*tw);
 }

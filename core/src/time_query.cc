@@ -139,8 +139,9 @@ std::optional<QueryError> SceneGraph<B>::RunTimed(const TimePolicy& policy, Time
 template <coord::Backend B>
 auto SceneGraph<B>::AtPolicy(const TimePolicy& policy) const noexcept {
   return [this, &policy](TimeReport& report, auto&& eval) {
-    return RunTimed(policy, report, nullptr,
-                    [&](TimeContext& tc) { eval(internal::ForestSource<B>(topology_, values_, &tc)); });
+    return RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
+      eval(internal::ForestSource<B>(topology_, values_, &tc));
+    });
   };
 }
 
@@ -149,19 +150,22 @@ auto SceneGraph<B>::AtPolicy(const TimePolicy& policy) const noexcept {
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
                                                                        const TimePolicy& policy) const noexcept {
-  return TimedAnswer<B>(PlanPose(topology_, spec), internal::PartsOf(policy).valid(), AtPolicy(policy));
+  return TimedAnswer<B>(PlanPose(topology_, spec), internal::PartsOf(policy).valid(),
+                        AtPolicy(policy));
 }
 
 template <coord::Backend B>
 QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
                                                                const TimePolicy& policy) const noexcept {
-  return TimedAnswer<B>(PlanPosition(topology_, spec), internal::PartsOf(policy).valid(), AtPolicy(policy));
+  return TimedAnswer<B>(PlanPosition(topology_, spec), internal::PartsOf(policy).valid(),
+                        AtPolicy(policy));
 }
 
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec, const TimePolicy& policy) const noexcept {
-  return TimedAnswer<B>(PlanOrientation(topology_, spec), internal::PartsOf(policy).valid(), AtPolicy(policy));
+  return TimedAnswer<B>(PlanOrientation(topology_, spec), internal::PartsOf(policy).valid(),
+                        AtPolicy(policy));
 }
 
 // ====================================================================== time travel
@@ -197,7 +201,8 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex
     typename B::PoseCoords X = B::Identity();
     const TimePolicy at = At{t, travel.max_extrapolation, travel.not_before};
     if (auto err = RunTimed(at, rep, nullptr, [&](TimeContext& tc) {
-          internal::EvaluatePart<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), steps, X);
+          const internal::ForestSource<B> src(topology_, values_, &tc);
+          internal::EvaluatePart<B, Part::kPose>(src, steps, X);
         })) {
       return err;
     }
@@ -435,7 +440,8 @@ Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const Pose
   // The edges are listed even when the query fails at its time: what failed is what the user
   // asks about.
   (void)RunTimed(policy, report, &recorder, [&](TimeContext& tc) {
-    internal::EvaluatePart<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, X);
+    const internal::ForestSource<B> src(topology_, values_, &tc);
+    internal::EvaluatePart<B, Part::kPose>(src, plan->steps, X);
   });
   return Summarize<B>(topology_, recorder.reads);
 }

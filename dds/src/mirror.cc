@@ -159,13 +159,13 @@ bool Finite(const double* n, int k) {
   }
   return true;
 }
-bool UnitQuaternion(const double* n) {
-  const double norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2] + n[3] * n[3];
-  return std::abs(std::sqrt(norm2) - 1.0) <= 1e-6;
+bool UnitQuaternion(const double* n) {  // w x y z, with coord's tolerance
+  return coord::ValidateQuaternion(Eigen::Quaterniond(n[0], n[1], n[2], n[3])).has_value();
 }
-// Stamps the graph accepts (core/time.h: |t| <= kMaxStampSeconds).
-constexpr std::int64_t kMaxStampNs = 9'200'000'000'000'000'000;
-bool GoodStamp(std::int64_t t) { return t >= -kMaxStampNs && t <= kMaxStampNs; }
+// Stamps the graph accepts (core/time.h).
+bool GoodStamp(std::int64_t t) {
+  return t >= -core::kMaxStampNanoseconds && t <= core::kMaxStampNanoseconds;
+}
 std::string Str(const char* s) { return s == nullptr ? std::string() : std::string(s); }
 bool GoodName(const std::string& s) { return static_cast<bool>(semantics::ValidateName(s)); }
 
@@ -530,6 +530,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
     return false;
   }
   base::ErrorCode code;
+  core::UpdateError bad;  // the setter's verdict on the numbers: which, and which limit
   const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
   const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
   const Eigen::Vector3d p(n[4], n[5], n[6]);
@@ -539,13 +540,14 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
       return false;
     }
     const double q[1] = {n[0]}, qdot[1] = {n[1]};
-    code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time))
-                : graph.SetJointState(slot.group, q, qdot);
+    code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time), &bad)
+                : graph.SetJointState(slot.group, q, qdot, &bad);
   } else if (slot.twist) {
-    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time))
-                : graph.SetTwist(slot.twist_handle, a, b);
+    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time), &bad)
+                : graph.SetTwist(slot.twist_handle, a, b, &bad);
   } else if (slot.settable) {
-    code = time ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time)) : graph.SetPose(slot.pose, q, p);
+    code = time ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time), &bad)
+                : graph.SetPose(slot.pose, q, p, &bad);
   } else {
     Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
     return false;
@@ -557,7 +559,11 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
     return false;
   }
   if (code != base::ErrorCode::kOk) {
-    Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)));
+    const bool numbers = code == base::ErrorCode::kInvalidNumber ||
+                         code == base::ErrorCode::kInvalidRotation ||
+                         code == base::ErrorCode::kJointLimit;
+    Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
+                           (numbers ? ": " + core::Describe(bad) : std::string()));
     return false;
   }
   // A stamped sample may be older than one applied before (the history sorts them).
@@ -571,10 +577,8 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
 
 // One value from the value or sample topic, or from a batch; true when applied.
 bool Mirror::Impl::HandleValue(const In& v, bool samples) {
-  const bool pose = v.kind == semgraph_wire_VALUE_POSE;
+  // The numbers are checked by the graph's setter when applied (ApplyValue: its UpdateError).
   const char* why = v.kind > semgraph_wire_VALUE_JOINT      ? ": unknown kind"
-                    : !Finite(v.numbers, 7)                 ? ": a number is not finite (invalid_number)"
-                    : pose && !UnitQuaternion(v.numbers)    ? ": not a unit quaternion (invalid_rotation)"
                     : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
                                                             : nullptr;
   if (why != nullptr) {

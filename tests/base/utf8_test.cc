@@ -45,11 +45,11 @@ TEST(Utf8, DecodesKnownSequences) {
   const Case cases[] = {
       {"A"sv, 1, 0x41},
       {"\x7F"sv, 1, 0x7F},
-      {"\xC3\xA9"sv, 2, 0xE9},            // é
-      {"\xD0\x96"sv, 2, 0x416},           // Ж
-      {"\xE2\x82\xAC"sv, 3, 0x20AC},      // €
-      {"\xE4\xBA\x8C"sv, 3, 0x4E8C},      // 二 (Unicode's Table 3-5 example)
-      {"\xEF\xBF\xBF"sv, 3, 0xFFFF},      // a noncharacter: well-formed all the same
+      {"\xC3\xA9"sv, 2, 0xE9},             // é
+      {"\xD0\x96"sv, 2, 0x416},            // Ж
+      {"\xE2\x82\xAC"sv, 3, 0x20AC},       // €
+      {"\xE4\xBA\x8C"sv, 3, 0x4E8C},       // 二 (Unicode's Table 3-5 example)
+      {"\xEF\xBF\xBF"sv, 3, 0xFFFF},       // a noncharacter: well-formed all the same
       {"\xF0\x90\x8C\x82"sv, 4, 0x10302},  // Table 3-5 example
       {"\xF4\x8F\xBF\xBF"sv, 4, 0x10FFFF},
       {"\x00"sv, 1, 0},
@@ -99,7 +99,8 @@ TEST(Utf8, EveryScalarValueRoundTrips) {
     ASSERT_EQ(d.length, s.size()) << cp;
     ASSERT_EQ(d.code_point, cp);
   }
-  for (std::uint32_t cp = 0xD800; cp <= 0xDFFF; ++cp) ASSERT_EQ(Utf8Length(Encode(cp), 0), 0u) << cp;
+  for (std::uint32_t cp = 0xD800; cp <= 0xDFFF; ++cp)
+    ASSERT_EQ(Utf8Length(Encode(cp), 0), 0u) << cp;
 }
 
 // Table 3-7: a 1-byte sequence is 00..7F; a 2-byte one is C2..DF then 80..BF. Every other one-
@@ -110,7 +111,9 @@ TEST(Utf8, EveryOneAndTwoByteInputIsClassifiedAsTable37Says) {
     EXPECT_EQ(Utf8Length(one, 0), b0 < 0x80 ? 1u : 0u) << b0;
     for (int b1 = 0; b1 < 256; ++b1) {
       const std::string two{static_cast<char>(b0), static_cast<char>(b1)};
-      const std::size_t expected = b0 < 0x80 ? 1 : (b0 >= 0xC2 && b0 <= 0xDF && b1 >= 0x80 && b1 <= 0xBF) ? 2 : 0;
+      const std::size_t expected = b0 < 0x80                                                ? 1
+                                   : (b0 >= 0xC2 && b0 <= 0xDF && b1 >= 0x80 && b1 <= 0xBF) ? 2
+                                                                                            : 0;
       ASSERT_EQ(Utf8Length(two, 0), expected) << b0 << " " << b1;
     }
   }

@@ -163,7 +163,8 @@ class FlatSource {
   // dependency is one rotation product. Flattened: GCC 12 stops inlining Eigen's products
   // (here the 3x3 one of HomogeneousBackend::ComposeChain) once the translation unit has grown
   // (--param inline-unit-growth), and a call per edge costs 1.3x the loop (bench/icount.sh).
-  [[gnu::flatten]] bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+  [[gnu::flatten]] bool EvalChain(const FlatChain& c, PoseCoords& X_AF,
+                                  bool& identity) const noexcept {
     identity = c.begin == c.end;
     if (identity) return true;
     const EdgeRef* first = edges_ + c.begin;
