@@ -378,9 +378,10 @@ struct Mirror::Impl {
   void TakeValues(dds_entity_t reader, bool samples);
   void TakeBatches();
   void Reconcile();
-  // Applies a value (time: a stamped sample's stamp); true when the graph took it.
+  // Applies a value (time: a stamped sample's stamp); true when the graph took it. `from` (the
+  // message on the wire) names its edge and source when the setter refuses its numbers.
   bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what,
-                  std::optional<std::int64_t> time = std::nullopt);
+                  std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
 };
 
 Mirror::Mirror(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -523,7 +524,8 @@ void Mirror::Impl::TakeStructure() {
 }
 
 bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                              const std::string& what, std::optional<std::int64_t> time) {
+                              const std::string& what, std::optional<std::int64_t> time,
+                              const In* from) {
   if (time.has_value() != slot.stamped) {
     Reject(slot.owner, what + (time ? ": a stamped sample for the unstamped " : ": an unstamped value for the stamped ") +
                            (slot.joint ? "joint '" : "edge into '") + slot.head + "'");
@@ -563,7 +565,10 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
                          code == base::ErrorCode::kInvalidRotation ||
                          code == base::ErrorCode::kJointLimit;
     Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
-                           (numbers ? ": " + core::Describe(bad) : std::string()));
+                           (numbers ? ": " + core::Describe(bad) : std::string()) +
+                           (from ? " (" + what + " of edge " + std::to_string(from->edge) + " from source " +
+                                       std::to_string(from->source) + ")"
+                                 : std::string()));
     return false;
   }
   // A stamped sample may be older than one applied before (the history sorts them).
@@ -616,7 +621,7 @@ bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // to the history, whose rules decide.
   if (!samples && v.seq <= it->second.seq) return false;
   return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, samples ? "sample" : "value",
-                    samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt);
+                    samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt, &v);
 }
 
 void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
