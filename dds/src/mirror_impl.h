@@ -243,9 +243,10 @@ struct Mirror::Impl {
   void TakeBatches();
   // After a batch of values: the counter, then on_change.
   void CountApplied(std::uint64_t applied_now);
-  // Applies a value (time: a stamped sample's stamp); true when the graph took it.
+  // Applies a value (time: a stamped sample's stamp); true when the graph took it. `from` (the
+  // message on the wire) names its edge and source when the setter refuses its numbers.
   bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what,
-                  std::optional<std::int64_t> time = std::nullopt);
+                  std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
   // True when a refusal of the current structures names `owner`.
   [[nodiscard]] bool HasRefusal(const std::string& owner) const;
 

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "mirror_impl.h"
+#include "semgraph/coord/validate.h"
 
 namespace semgraph::dds::internal {
 
@@ -36,13 +37,13 @@ bool Finite(const double* n, int k) {
   }
   return true;
 }
-bool UnitQuaternion(const double* n) {
-  const double norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2] + n[3] * n[3];
-  return std::abs(std::sqrt(norm2) - 1.0) <= 1e-6;
+bool UnitQuaternion(const double* n) {  // w x y z, with coord's tolerance
+  return coord::ValidateQuaternion(Eigen::Quaterniond(n[0], n[1], n[2], n[3])).has_value();
 }
-// Stamps the graph accepts (core/time.h: |t| <= kMaxStampSeconds).
-constexpr std::int64_t kMaxStampNs = 9'200'000'000'000'000'000;
-bool GoodStamp(std::int64_t t) { return t >= -kMaxStampNs && t <= kMaxStampNs; }
+// Stamps the graph accepts (core/time.h).
+bool GoodStamp(std::int64_t t) {
+  return t >= -core::kMaxStampNanoseconds && t <= core::kMaxStampNanoseconds;
+}
 
 // Checks one structure sample and copies it out; the reason when it is malformed.
 std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {

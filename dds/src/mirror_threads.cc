@@ -11,10 +11,8 @@
 
 namespace semgraph::dds {
 
-using internal::Finite;
 using internal::ParseStructure;
 using internal::GoodStamp;
-using internal::UnitQuaternion;
 
 namespace {
 
@@ -90,13 +88,15 @@ void Mirror::Impl::TakeStructure() {
 }
 
 bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                              const std::string& what, std::optional<std::int64_t> time) {
+                              const std::string& what, std::optional<std::int64_t> time,
+                              const In* from) {
   if (time.has_value() != slot.stamped) {
     Reject(slot.owner, what + (time ? ": a stamped sample for the unstamped " : ": an unstamped value for the stamped ") +
                            (slot.joint ? "joint '" : "edge into '") + slot.head + "'");
     return false;
   }
   base::ErrorCode code;
+  core::UpdateError bad;  // the setter's verdict on the numbers: which, and which limit
   const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
   const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
   const Eigen::Vector3d p(n[4], n[5], n[6]);
@@ -106,13 +106,14 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
       return false;
     }
     const double q[1] = {n[0]}, qdot[1] = {n[1]};
-    code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time))
-                : graph.SetJointState(slot.group, q, qdot);
+    code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time), &bad)
+                : graph.SetJointState(slot.group, q, qdot, &bad);
   } else if (slot.twist) {
-    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time))
-                : graph.SetTwist(slot.twist_handle, a, b);
+    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time), &bad)
+                : graph.SetTwist(slot.twist_handle, a, b, &bad);
   } else if (slot.settable) {
-    code = time ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time)) : graph.SetPose(slot.pose, q, p);
+    code = time ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time), &bad)
+                : graph.SetPose(slot.pose, q, p, &bad);
   } else {
     Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
     return false;
@@ -124,7 +125,14 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
     return false;
   }
   if (code != base::ErrorCode::kOk) {
-    Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)));
+    const bool numbers = code == base::ErrorCode::kInvalidNumber ||
+                         code == base::ErrorCode::kInvalidRotation ||
+                         code == base::ErrorCode::kJointLimit;
+    Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
+                           (numbers ? ": " + core::Describe(bad) : std::string()) +
+                           (from ? " (" + what + " of edge " + std::to_string(from->edge) +
+                                       " from source " + std::to_string(from->source) + ")"
+                                 : std::string()));
     return false;
   }
   // A stamped sample may be older than one applied before (the history sorts them).
@@ -138,10 +146,8 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
 
 // One value from the value or sample topic, or from a batch; true when applied.
 bool Mirror::Impl::HandleValue(const In& v, bool samples) {
-  const bool pose = v.kind == semgraph_wire_VALUE_POSE;
+  // The numbers are checked by the graph's setter when applied (ApplyValue: its UpdateError).
   const char* why = v.kind > semgraph_wire_VALUE_JOINT      ? ": unknown kind"
-                    : !Finite(v.numbers, 7)                 ? ": a number is not finite (invalid_number)"
-                    : pose && !UnitQuaternion(v.numbers)    ? ": not a unit quaternion (invalid_rotation)"
                     : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
                                                             : nullptr;
   if (why != nullptr) {
@@ -179,7 +185,7 @@ bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // to the history, whose rules decide.
   if (!samples && v.seq <= it->second.seq) return false;
   return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, samples ? "sample" : "value",
-                    samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt);
+                    samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt, &v);
 }
 
 void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {

@@ -39,25 +39,23 @@ void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::
   const Eigen::Vector3d p = Vector3Arg(position, "set_pose", "position");
   const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "set_pose");
   const std::optional<core::Stamp> t = OptionalStampArg(stamp, "set_pose", "stamp", false);
-  // Validated here only for a message that says what is wrong; SetPose checks again.
-  auto vp = coord::ValidateVector(p, coord::ValueRole::kPosition);
-  if (!vp) ThrowValue("set_pose", EdgeText(h.wrt, h.of), vp.error(), box.names());
-  if (rot.is_matrix) {
-    auto v = coord::ValidateRotationMatrix(rot.R);
-    if (!v) ThrowValue("set_pose", EdgeText(h.wrt, h.of), v.error(), box.names());
-  } else {
-    auto v = coord::ValidateQuaternion(rot.q);
-    if (!v) ThrowValue("set_pose", EdgeText(h.wrt, h.of), v.error(), box.names());
-  }
+  core::UpdateError why;  // SetPose's own verdict: which number broke which limit
   ErrorCode code;
   {
     std::lock_guard<std::mutex> lock(box.writer);
     code = box.Visit([&](auto& g) {
-      if (t) return rot.is_matrix ? g.SetPose(h.handle, rot.R, p, *t) : g.SetPose(h.handle, rot.q, p, *t);
-      return rot.is_matrix ? g.SetPose(h.handle, rot.R, p) : g.SetPose(h.handle, rot.q, p);
+      if (t) {
+        return rot.is_matrix ? g.SetPose(h.handle, rot.R, p, *t, &why)
+                             : g.SetPose(h.handle, rot.q, p, *t, &why);
+      }
+      return rot.is_matrix ? g.SetPose(h.handle, rot.R, p, &why)
+                           : g.SetPose(h.handle, rot.q, p, &why);
     });
   }
   if (code == ErrorCode::kNoSuchEdge) ThrowRemoved("set_pose", EdgeText(h.wrt, h.of));
+  if (code == ErrorCode::kInvalidNumber || code == ErrorCode::kInvalidRotation) {
+    ThrowValue("set_pose", EdgeText(h.wrt, h.of), why.error(), box.names());
+  }
   if (code != ErrorCode::kOk) {
     ThrowRejected(code, "set_pose " + EdgeText(h.wrt, h.of) + " rejected (" +
                             std::string(ToString(code)) + ")" + StampWhy(code, t));
@@ -72,16 +70,18 @@ void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::
   const Eigen::Vector3d v = Vector3Arg(linear, "set_twist", "linear");
   const Eigen::Vector3d w = Vector3Arg(angular, "set_twist", "angular");
   const std::optional<core::Stamp> t = OptionalStampArg(stamp, "set_twist", "stamp", false);
-  auto vv = coord::ValidateVector(v, coord::ValueRole::kLinearVelocity);
-  if (!vv) ThrowValue("set_twist", TwistEdgeText(h.ref_body, h.point), vv.error(), box.names());
-  auto vw = coord::ValidateVector(w, coord::ValueRole::kAngularVelocity);
-  if (!vw) ThrowValue("set_twist", TwistEdgeText(h.ref_body, h.point), vw.error(), box.names());
+  core::UpdateError why;  // SetTwist's own verdict: which number broke which limit
   ErrorCode code;
   {
     std::lock_guard<std::mutex> lock(box.writer);
-    code = box.Visit([&](auto& g) { return t ? g.SetTwist(h.handle, v, w, *t) : g.SetTwist(h.handle, v, w); });
+    code = box.Visit([&](auto& g) {
+      return t ? g.SetTwist(h.handle, v, w, *t, &why) : g.SetTwist(h.handle, v, w, &why);
+    });
   }
   if (code == ErrorCode::kNoSuchEdge) ThrowRemoved("set_twist", TwistEdgeText(h.ref_body, h.point));
+  if (code == ErrorCode::kInvalidNumber) {
+    ThrowValue("set_twist", TwistEdgeText(h.ref_body, h.point), why.error(), box.names());
+  }
   if (code != ErrorCode::kOk) {
     ThrowRejected(code, "set_twist " + TwistEdgeText(h.ref_body, h.point) + " rejected (" +
                             std::string(ToString(code)) + ")" + StampWhy(code, t));

@@ -172,25 +172,19 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
     const std::span<const double> sq(q ? q_array.data() : nullptr, q ? n : 0);
     const std::span<const double> sv(qdot ? qdot_array.data() : nullptr, qdot ? n : 0);
     ErrorCode code;
+    core::UpdateError why;  // the setter's verdict: which joint, which value, which limit
     if (q && qdot) {
-      code = g.SetJointState(group->group, sq, sv);
+      code = g.SetJointState(group->group, sq, sv, &why);
     } else if (q) {
-      code = g.SetJointPositions(group->group, sq);
+      code = g.SetJointPositions(group->group, sq, &why);
     } else {
-      code = g.SetJointVelocities(group->group, sv);
+      code = g.SetJointVelocities(group->group, sv, &why);
     }
     if (code == ErrorCode::kOk) return;
     if (code == ErrorCode::kInvalidNumber || code == ErrorCode::kJointLimit) {
-      // The same values by name: refused by the same rules (nothing changes), with the core's
-      // message naming the joint and the value.
-      std::vector<core::JointValue> bq, bv;
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::string_view name = g.joint_name(group->group.joints[i]);
-        if (q) bq.push_back({name, sq[i]});
-        if (qdot) bv.push_back({name, sv[i]});
-      }
-      auto r = g.SetJoints(bq, bv);
-      if (!r) ThrowRejected(r.error());
+      ThrowRejected(code, "set_joints() rejected (" + std::string(ToString(code)) + "): joint " +
+                              std::string(g.joint_name(group->group.joints[why.joint])) + ": " +
+                              core::Describe(why));
     }
     ThrowRejected(code, "set_joints() rejected (" + std::string(ToString(code)) + ")" +
                             (code == ErrorCode::kUnknownJoint ? ": a joint of the group was removed since the group "
