@@ -182,6 +182,12 @@ void Broadcaster::Pending(ros::TFMessage& tf, ros::TFMessage& tf_static) const {
 const ros::TFMessage& Broadcaster::last_static() const noexcept { return impl_->last_static; }
 std::uint32_t Broadcaster::domain() const noexcept { return impl_->domain; }
 
+std::uint32_t Broadcaster::subscribers() const noexcept {
+  dds_publication_matched_status_t status{};
+  if (dds_get_publication_matched_status(impl_->tf_writer.get(), &status) != DDS_RETCODE_OK) return 0;
+  return status.current_count;
+}
+
 ros::BodiesMap BodiesOf(const core::SceneGraph<>& graph) {
   ros::BodiesMap map;
   for (std::uint32_t i = 0; i < graph.num_frames(); ++i) {

@@ -68,6 +68,9 @@ class SEMGRAPH_ROS_DDS_EXPORT Broadcaster {
   void Pending(ros::TFMessage& tf, ros::TFMessage& tf_static) const;
   /// The static message last sent (empty before the first).
   [[nodiscard]] const ros::TFMessage& last_static() const noexcept;
+  /// Readers matched on rt/tf now (e.g. to wait for a listener before sending samples: rt/tf
+  /// is volatile, a sample sent before a reader matched never reaches it).
+  [[nodiscard]] std::uint32_t subscribers() const noexcept;
   /// The DDS domain joined.
   [[nodiscard]] std::uint32_t domain() const noexcept;
 
