@@ -270,4 +270,11 @@ bool Listener::WaitUntil(const std::function<bool()>& pred,
 
 std::uint32_t Listener::domain() const noexcept { return impl_->domain; }
 
+std::uint32_t Listener::tf_publishers() const noexcept {
+  dds_subscription_matched_status_t status{};
+  const dds_entity_t reader = impl_->readers[2].get();  // kTopics[2] is rt/tf
+  if (dds_get_subscription_matched_status(reader, &status) != DDS_RETCODE_OK) return 0;
+  return status.current_count;
+}
+
 }  // namespace semgraph::ros_dds

@@ -3,8 +3,9 @@
 //   scene                 the live scene (live_scene.h) into a graph, Broadcaster::Broadcast
 //   steps A B             samples A..B of the scene (AddStep), one Broadcast each, 2 ms apart
 //   wait_subscribers N    until N readers matched the broadcaster's rt/tf
+//   latency_setup         a Broadcaster of a graph of its own (for `latency`)
 //   latency N HZ          N stamped samples world -> base at HZ, each broadcast at once (stamp:
-//                         now), through a Broadcaster of its own graph
+//                         now)
 //   tf P C SEC NSEC X Y Z QX QY QZ QW [P C ...]   one TFMessage on rt/tf, raw
 //   static P C X Y Z QX QY QZ QW   sets the static transform P -> C and writes every static
 //                         transform set so far in one TFMessage on rt/tf_static, raw
@@ -142,6 +143,12 @@ class Node {
       }
       return "no subscribers";
     }
+    if (cmd == "latency_setup") {
+      auto b = Broadcaster::Create(latency_, {domain_, {}});
+      if (!b) return b.error();
+      latency_broadcaster_ = std::move(*b);
+      return {};
+    }
     if (cmd == "latency") return Latency(in);
     if (cmd == "tf") {
       std::vector<TfRow> rows;
@@ -227,11 +234,8 @@ class Node {
     int n = 0;
     double hz = 100;
     in >> n >> hz;
-    auto b = Broadcaster::Create(latency_, {domain_, {}});
-    if (!b) return b.error();
-    for (int i = 0; i < 5000 && (*b)->subscribers() == 0; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    if (!latency_broadcaster_) return "latency_setup first";
+    Broadcaster& b = *latency_broadcaster_;
     using semgraph::core::PoseSpec;
     for (int i = 0; i < n; ++i) {
       const auto at = semgraph::core::Stamp::Nanoseconds(dds_time());
@@ -240,7 +244,7 @@ class Node {
                             Eigen::Vector3d(0.001 * i, 0, 0), at)) {
         return "latency sample";
       }
-      if (auto sent = (*b)->Broadcast(); !sent) return sent.error();
+      if (auto sent = b.Broadcast(); !sent) return sent.error();
       std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long>(1e6 / hz)));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the last ones arrive
@@ -251,7 +255,7 @@ class Node {
   Raw raw_;
   std::map<std::pair<std::string, std::string>, TfRow> statics_;
   SceneGraph<> scene_, latency_;
-  std::unique_ptr<Broadcaster> scene_broadcaster_;
+  std::unique_ptr<Broadcaster> scene_broadcaster_, latency_broadcaster_;
 };
 
 }  // namespace
