@@ -86,8 +86,8 @@ struct RawReader {
 
 TEST(BroadcasterTest, SamplesOnTheWireAreFoxglovesSerializationByteForByte) {
   const std::string dir = SEMGRAPH_ROS_FIXTURES;
-  const Bytes expected_tf = ReadFile(dir + "/cdr/broadcast_tf.bin");
-  const Bytes expected_static = ReadFile(dir + "/cdr/broadcast_tf_static.bin");
+  const Bytes expected_tf = ReadFile(dir + "/ros_dds/broadcast_tf.bin");
+  const Bytes expected_static = ReadFile(dir + "/ros_dds/broadcast_tf_static.bin");
   if (expected_tf.empty() || expected_static.empty()) {
     GTEST_SKIP() << "no Foxglove fixtures in " << dir << " (ctest's ros.fixtures writes them)";
   }
