@@ -174,6 +174,8 @@ base::Expected<BroadcastCounts, std::string> Broadcaster::Broadcast() {
   return counts;
 }
 
+void Broadcaster::Rewind() noexcept { impl_->sent_stamp.clear(); }
+
 void Broadcaster::Pending(ros::TFMessage& tf, ros::TFMessage& tf_static) const {
   impl_->CollectSamples(tf, nullptr);
   impl_->CollectStatic(tf_static, impl_->clock());

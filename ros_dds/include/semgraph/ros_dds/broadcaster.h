@@ -63,6 +63,11 @@ class SEMGRAPH_ROS_DDS_EXPORT Broadcaster {
   /// write or a stamp does not fit ROS 2's Time (int32 seconds); nothing is marked sent then.
   base::Expected<BroadcastCounts, std::string> Broadcast();
 
+  /// Forgets which samples were sent on rt/tf: the next Broadcast() sends every stored sample
+  /// again (rt/tf is volatile: e.g. for a subscriber that matched after they went out; those
+  /// matched before receive identical restatements).
+  void Rewind() noexcept;
+
   /// The messages Broadcast() would send now, without sending or marking anything (tests,
   /// dry runs): the new samples, and the whole static message (stamp: the clock's now).
   void Pending(ros::TFMessage& tf, ros::TFMessage& tf_static) const;
