@@ -12,6 +12,7 @@
 //   joints SEC NSEC NAME POS [NAME POS ...]   one JointState on rt/joint_states, raw
 //   urdf FILE             the file's text as a String on rt/robot_description, raw
 //   burst N SEC           one TFMessage of N transforms world -> f<i> on rt/tf, raw
+//   sleep MS              waits MS milliseconds
 // "Raw" messages are built here from the idlc-generated structs with this file's own QoS (the
 // values of docs/ros.md), not through semgraph::ros_dds: an independent writer of the wire.
 // Usage: ros_dds_test_node DOMAIN
@@ -142,6 +143,12 @@ class Node {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
       }
       return "no subscribers";
+    }
+    if (cmd == "sleep") {
+      int ms = 0;
+      in >> ms;
+      std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+      return {};
     }
     if (cmd == "latency_setup") {
       auto b = Broadcaster::Create(latency_, {domain_, {}});
