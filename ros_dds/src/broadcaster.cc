@@ -186,7 +186,8 @@ std::uint32_t Broadcaster::domain() const noexcept { return impl_->domain; }
 
 std::uint32_t Broadcaster::subscribers() const noexcept {
   dds_publication_matched_status_t status{};
-  if (dds_get_publication_matched_status(impl_->tf_writer.get(), &status) != DDS_RETCODE_OK) return 0;
+  const dds_entity_t writer = impl_->tf_writer.get();
+  if (dds_get_publication_matched_status(writer, &status) != DDS_RETCODE_OK) return 0;
   return status.current_count;
 }
 

@@ -96,7 +96,8 @@ base::Expected<std::unique_ptr<Listener>, std::string> Listener::Create(
   const dds_entity_t p = m.participant.get();
   m.waitset = Entity(dds_create_waitset(p));
   m.guard = Entity(dds_create_guardcondition(p));
-  if (!m.waitset.ok() || !m.guard.ok() || dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
+  if (!m.waitset.ok() || !m.guard.ok() ||
+      dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
     return base::Unexpected{std::string("cannot create the DDS waitset")};
   }
   for (std::size_t i = 0; i < 4; ++i) {

@@ -32,7 +32,9 @@ using ros_dds_test::Child;
 using ros_dds_test::kStep;
 using ros_dds_test::kT0;
 
-Child Node(std::uint32_t domain) { return Child({SEMGRAPH_ROS_DDS_TEST_NODE, std::to_string(domain)}); }
+Child Node(std::uint32_t domain) {
+  return Child({SEMGRAPH_ROS_DDS_TEST_NODE, std::to_string(domain)});
+}
 
 ListenerOptions On(std::uint32_t domain) {
   ListenerOptions o;
@@ -98,8 +100,9 @@ TEST(ListenerTest, BroadcastSceneReadBackAnswersEveryPoseQueryAsTheOriginal) {
     EXPECT_EQ(l->stats().counts.applied, kTransforms);
     EXPECT_TRUE(l->findings().empty());
   }
-  std::vector<core::TimePolicy> policies = {core::Latest(), core::LatestCommon(),
-                                            core::At(core::Stamp::Nanoseconds(kT0 - 1'000'000'000))};
+  std::vector<core::TimePolicy> policies = {
+      core::Latest(), core::LatestCommon(),
+      core::At(core::Stamp::Nanoseconds(kT0 - 1'000'000'000))};
   for (int h = 0; h <= 2 * kSteps + 1; ++h) {
     policies.push_back(core::At(core::Stamp::Nanoseconds(kT0 + h * kStep / 2)));
   }

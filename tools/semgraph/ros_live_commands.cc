@@ -3,10 +3,12 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -24,7 +26,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr std::string_view kRosUsage = R"(Usage: semgraph echo --ros pose OF WRT [--in FRAME] [--rate HZ] [--count N] [OPTIONS]
+constexpr std::string_view kRosUsage = R"(Usage: semgraph echo --ros pose OF WRT [--in FRAME] [--rate HZ] [--count N]
+                            [OPTIONS]
        semgraph check --ros [--window S] [OPTIONS]
        semgraph serve --ros FILE [OPTIONS]
 
@@ -225,9 +228,9 @@ int Check(const Args& a) {
   auto listener = ros_dds::Listener::Create(*graph, options);
   if (!listener) return Usage(listener.error());
   const auto start = Clock::now();
+  auto last = start;  // the last time grown groups were printed again
   while (!TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    static auto last = Clock::now();
     if (Clock::now() - last < std::chrono::seconds(1)) continue;
     last = Clock::now();
     const std::vector<ros::FindingGroup> groups = (*listener)->findings();
@@ -282,7 +285,9 @@ int Serve(const Args& a) {
     const std::uint32_t now = b.subscribers();
     if (now > subscribers) {  // rt/tf is volatile: send the samples again for the newcomer
       b.Rewind();
-      if (auto again = b.Broadcast(); !again) std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());
+      if (auto again = b.Broadcast(); !again) {
+        std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());
+      }
     }
     subscribers = now;
   }
