@@ -81,6 +81,24 @@ void ExpectSameAnswers(const SceneGraph<>& original, const SceneGraph<>& read_ba
   EXPECT_GT(compared, static_cast<int>(frames.size() * frames.size()));
 }
 
+// The stamps of the samples of the pose edge into `frame` (ns after kT0), for failure messages.
+std::string History(const Listener& l, const std::string& frame) {
+  std::string out = frame + " samples at";
+  l.WithGraph([&](const SceneGraph<>& g) {
+    const core::PoseHistory* h = g.pose_history(g.FindFrame(frame));
+    if (h == nullptr) return;
+    core::PoseHistory::Bracket b;
+    for (std::int64_t t = kT0 - 1;;) {
+      h->Find(t + 1, b);
+      if (b.where == core::PoseHistory::Bracket::Where::kAfter) break;
+      const bool first = b.where == core::PoseHistory::Bracket::Where::kBefore || b.exact;
+      t = first ? b.s0 : b.s1;
+      out += " " + std::to_string((t - kT0) / kStep);
+    }
+  });
+  return out;
+}
+
 TEST(ListenerTest, BroadcastSceneReadBackAnswersEveryPoseQueryAsTheOriginal) {
   constexpr std::uint32_t kDomain = 141;
   constexpr int kSteps = 20;
@@ -104,13 +122,37 @@ TEST(ListenerTest, BroadcastSceneReadBackAnswersEveryPoseQueryAsTheOriginal) {
   for (Listener* l : {l1->get(), l2->get()}) {  // the raw writer's and the broadcaster's
     ASSERT_TRUE(Matched(*l, 2));
   }
-  ASSERT_TRUE(node.Command("steps 0 " + std::to_string(kSteps)));
-  constexpr std::uint64_t kTransforms = 4 + 2 * (kSteps + 1);  // 4 static, 2 per sample
+  // Sample 0 first, sent again until both listeners have it: a volatile reader that has just
+  // matched a writer may still miss that writer's first /tf sample (seen under ThreadSanitizer,
+  // about one run in six); a restated sample is an identical one (duplicate policy replace).
+  ASSERT_TRUE(node.Command("steps 0 0"));
+  const auto has = [](const Listener& l, const char* frame, std::int64_t stamp) {
+    bool found = false;
+    l.WithGraph([&](const SceneGraph<>& g) {
+      const core::PoseHistory* h = g.pose_history(g.FindFrame(frame));
+      double v[7];
+      found = h != nullptr && h->ValueAt(stamp, v);
+    });
+    return found;
+  };
+  const auto both = [&](std::int64_t stamp) {
+    for (Listener* l : {l1->get(), l2->get()}) {
+      if (!has(*l, "base", stamp) || !has(*l, "arm", stamp)) return false;
+    }
+    return true;
+  };
+  for (int attempt = 0; attempt < 10 && !(*l1)->WaitUntil([&] { return both(kT0); }, 1s);
+       ++attempt) {
+    ASSERT_TRUE(node.Command("rewind"));
+  }
+  ASSERT_TRUE(both(kT0)) << History(**l1, "base") << "; " << History(**l2, "base");
+  ASSERT_TRUE(node.Command("steps 1 " + std::to_string(kSteps)));
+  const std::int64_t last = kT0 + kSteps * kStep;
+  ASSERT_TRUE((*l1)->WaitUntil([&] { return both(last); }, 20s))
+      << History(**l1, "base") << "; " << History(**l2, "base");
   for (Listener* l : {l1->get(), l2->get()}) {
-    ASSERT_TRUE(l->WaitUntil([&] { return l->stats().counts.transforms == kTransforms; }, 20s))
-        << l->stats().counts.transforms << " transforms in " << l->stats().tf << " /tf and "
-        << l->stats().tf_static << " /tf_static messages";
-    EXPECT_EQ(l->stats().counts.applied, kTransforms);
+    EXPECT_EQ(l->stats().counts.refused, 0u);
+    EXPECT_EQ(l->stats().tf_static, 1u);
     EXPECT_TRUE(l->findings().empty());
   }
   std::vector<core::TimePolicy> policies = {

@@ -1,7 +1,9 @@
 // The other process of the live ROS 2 tests: reads commands from stdin, one a line, and
 // answers "ok N" (the command's number) or "error N message" on stdout.
 //   scene                 the live scene (live_scene.h) into a graph, Broadcaster::Broadcast
-//   steps A B             samples A..B of the scene (AddStep), one Broadcast each, 2 ms apart
+//   steps A B             samples A..B of the scene (AddStep; 0: BuildScene's), one Broadcast
+//                         each, 2 ms apart
+//   rewind                Broadcaster::Rewind, then Broadcast (every stored sample again)
 //   wait_subscribers N    until N readers matched the broadcaster's rt/tf
 //   latency_setup         a Broadcaster of a graph of its own (for `latency`)
 //   latency N HZ          N stamped samples world -> base at HZ, each broadcast at once (stamp:
@@ -125,11 +127,20 @@ class Node {
       int a = 0, b = 0;
       in >> a >> b;
       for (int k = a; k <= b; ++k) {
-        if (!semgraph::ros_dds_test::AddStep(scene_, k)) return "step " + std::to_string(k);
+        // Sample 0 is BuildScene's: step 0 only broadcasts.
+        if (k > 0 && !semgraph::ros_dds_test::AddStep(scene_, k)) {
+          return "step " + std::to_string(k);
+        }
         if (auto sent = scene_broadcaster_->Broadcast(); !sent) return sent.error();
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
       }
       return {};
+    }
+    if (cmd == "rewind") {  // every stored sample of the scene again
+      if (!scene_broadcaster_) return "scene first";
+      scene_broadcaster_->Rewind();
+      auto sent = scene_broadcaster_->Broadcast();
+      return sent ? std::string() : sent.error();
     }
     if (cmd == "wait_subscribers") {
       std::uint32_t n = 0;
