@@ -36,13 +36,16 @@ PY
 # A second parent for frame b.
 "$tool" check --ros --domain 150 --seconds 6 > "$out/check" &
 check_pid=$!
-printf 'wait_subscribers 1\nsleep 500\ntf a b 10 0 0 0 0 0 0 0 1\ntf c b 10 0 0 0 0 0 0 0 1\nsleep 500\n' |
-  "$node" 150 > "$out/node"
+# a -> b three times (a volatile reader that has just matched may miss a writer's first sample;
+# the restatements are identical), then c -> b once.
+printf 'wait_subscribers 1\nsleep 500\n%s%s%stf c b 10 0 0 0 0 0 0 0 1\nsleep 500\n' \
+  'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' 'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' \
+  'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' | "$node" 150 > "$out/node"
 set +e
 wait $check_pid
 code=$?
 set -e
-grep -q '^ok 5$' "$out/node"
+grep -q '^ok 10$' "$out/node"
 test "$code" = 1
 python3 - "$out/check" <<'PY'
 import json, sys
@@ -51,6 +54,8 @@ finding = lines[0]
 assert finding["error"] == "multiple_pose_parents", lines
 assert (finding["topic"], finding["parent"], finding["child"]) == ("/tf", "c", "b"), finding
 assert finding["count"] == 1 and abs(finding["first_stamp"] - 10.0) < 1e-9, finding
-assert lines[-1] == {"summary": True, "messages": 2, "transforms": 2, "findings": 1, "groups": 1}, lines
+summary = lines[-1]
+assert summary["summary"] and summary["findings"] == 1 and summary["groups"] == 1, lines
+assert 2 <= summary["transforms"] == summary["messages"] <= 4, lines
 print("check --ros:", finding["message"])
 PY
