@@ -184,6 +184,13 @@ void Broadcaster::Pending(ros::TFMessage& tf, ros::TFMessage& tf_static) const {
 const ros::TFMessage& Broadcaster::last_static() const noexcept { return impl_->last_static; }
 std::uint32_t Broadcaster::domain() const noexcept { return impl_->domain; }
 
+std::uint32_t Broadcaster::subscribers_matched() const noexcept {
+  dds_publication_matched_status_t status{};
+  const dds_entity_t writer = impl_->tf_writer.get();
+  if (dds_get_publication_matched_status(writer, &status) != DDS_RETCODE_OK) return 0;
+  return status.total_count;
+}
+
 std::uint32_t Broadcaster::subscribers() const noexcept {
   dds_publication_matched_status_t status{};
   const dds_entity_t writer = impl_->tf_writer.get();

@@ -38,7 +38,7 @@ PY
 check_pid=$!
 # a -> b three times (a volatile reader that has just matched may miss a writer's first sample;
 # the restatements are identical), then c -> b once.
-printf 'wait_subscribers 1\nsleep 500\n%s%s%stf c b 10 0 0 0 0 0 0 0 1\nsleep 500\n' \
+printf 'wait_subscribers 1\nsleep 500\n%b%b%btf c b 10 0 0 0 0 0 0 0 1\nsleep 500\n' \
   'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' 'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' \
   'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' | "$node" 150 > "$out/node"
 set +e

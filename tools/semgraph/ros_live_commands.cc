@@ -279,11 +279,16 @@ int Serve(const Args& a) {
               b.domain(), sent->tf_transforms, b.last_static().transforms.size());
   std::fflush(stdout);
   const auto start = Clock::now();
-  std::uint32_t subscribers = b.subscribers();
+  // rt/tf is volatile: the samples go again for each new subscriber, 300 ms after it matched
+  // (a reader that has just matched may still drop a writer's next sample).
+  std::uint32_t subscribers = b.subscribers_matched();
+  std::optional<Clock::time_point> resend;
   while (!TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    const std::uint32_t now = b.subscribers();
-    if (now > subscribers) {  // rt/tf is volatile: send the samples again for the newcomer
+    const std::uint32_t now = b.subscribers_matched();
+    if (now > subscribers) resend = Clock::now() + std::chrono::milliseconds(300);
+    if (resend && Clock::now() >= *resend) {
+      resend.reset();
       b.Rewind();
       if (auto again = b.Broadcast(); !again) {
         std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());

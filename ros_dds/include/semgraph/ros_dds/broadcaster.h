@@ -76,6 +76,8 @@ class SEMGRAPH_ROS_DDS_EXPORT Broadcaster {
   /// Readers matched on rt/tf now (e.g. to wait for a listener before sending samples: rt/tf
   /// is volatile, a sample sent before a reader matched never reaches it).
   [[nodiscard]] std::uint32_t subscribers() const noexcept;
+  /// Readers ever matched on rt/tf (grows by one per new subscriber, even one that left).
+  [[nodiscard]] std::uint32_t subscribers_matched() const noexcept;
   /// The DDS domain joined.
   [[nodiscard]] std::uint32_t domain() const noexcept;
 
