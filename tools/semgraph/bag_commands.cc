@@ -59,46 +59,6 @@ void EndProgress() {
   if (isatty(STDERR_FILENO) != 0) std::fprintf(stderr, "\r%*s\r", 60, "");
 }
 
-/// A bodies map file: YAML {BODY: [frame, ...]}.
-bool ReadBodies(const std::string& file, ros::BodiesMap* out, std::string* error) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    *error = "cannot read the bodies map " + file;
-    return false;
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  auto tree = ParseYaml(text.str());
-  if (!tree) {
-    *error = file + ": " + tree.error().message;
-    return false;
-  }
-  const NodeView root = tree->At(tree->root());
-  if (root.kind != NodeKind::kMap) {
-    *error = file + ": the bodies map must be a map {BODY: [frame, ...]}";
-    return false;
-  }
-  for (std::size_t k = 0; k + 1 < root.children.size(); k += 2) {
-    const NodeView key = tree->At(root.children[k]);
-    const NodeView frames = tree->At(root.children[k + 1]);
-    if (key.kind != NodeKind::kScalar || frames.kind != NodeKind::kSequence) {
-      *error = file + ": line " + std::to_string(key.location.line) +
-               ": each body must map to a list of frame names";
-      return false;
-    }
-    std::vector<std::string>& list = (*out)[std::string(key.text)];
-    for (const NodeId f : frames.children) {
-      const NodeView frame = tree->At(f);
-      if (frame.kind != NodeKind::kScalar) {
-        *error = file + ": line " + std::to_string(frame.location.line) + ": not a frame name";
-        return false;
-      }
-      list.emplace_back(frame.text);
-    }
-  }
-  return true;
-}
-
 struct CheckArgs {
   std::string file, urdf;
   ros::BagLoadOptions options;
@@ -122,7 +82,7 @@ bool ParseCheckArgs(int argc, char** argv, CheckArgs* args, std::string* error) 
       }
       args->options.lift.static_mode = *mode;
     } else if (flag == "--bodies") {
-      if (!ReadBodies(value, &args->options.lift.bodies, error)) return false;
+      if (!ReadBodiesMap(value, &args->options.lift.bodies, error)) return false;
     } else if (flag == "--urdf") {
       args->urdf = value;
     } else if (flag == "--window") {
@@ -250,6 +210,45 @@ int Info(int argc, char** argv) {
 }
 
 }  // namespace
+
+bool ReadBodiesMap(const std::string& file, ros::BodiesMap* out, std::string* error) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    *error = "cannot read the bodies map " + file;
+    return false;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  auto tree = ParseYaml(text.str());
+  if (!tree) {
+    *error = file + ": " + tree.error().message;
+    return false;
+  }
+  const NodeView root = tree->At(tree->root());
+  if (root.kind != NodeKind::kMap) {
+    *error = file + ": the bodies map must be a map {BODY: [frame, ...]}";
+    return false;
+  }
+  for (std::size_t k = 0; k + 1 < root.children.size(); k += 2) {
+    const NodeView key = tree->At(root.children[k]);
+    const NodeView frames = tree->At(root.children[k + 1]);
+    if (key.kind != NodeKind::kScalar || frames.kind != NodeKind::kSequence) {
+      *error = file + ": line " + std::to_string(key.location.line) +
+               ": each body must map to a list of frame names";
+      return false;
+    }
+    std::vector<std::string>& list = (*out)[std::string(key.text)];
+    for (const NodeId f : frames.children) {
+      const NodeView frame = tree->At(f);
+      if (frame.kind != NodeKind::kScalar) {
+        *error = file + ": line " + std::to_string(frame.location.line) + ": not a frame name";
+        return false;
+      }
+      list.emplace_back(frame.text);
+    }
+  }
+  return true;
+}
 
 bool IsBagCommand(int argc, char** argv) {
   return argc >= 2 && std::string_view(argv[1]) == "bag";

@@ -2,7 +2,15 @@
 // the semgraph executable when semgraph::ros is built (SEMGRAPH_WITH_ROS).
 #pragma once
 
+#include <string>
+
+#include "semgraph/ros/body_plan.h"
+
 namespace semgraph::script {
+
+/// Reads a bodies map file, YAML {BODY: [frame, ...]}, into `out` (also used by `check --ros`);
+/// false with `error` naming the file (and line) when it cannot be read or is not such a map.
+[[nodiscard]] bool ReadBodiesMap(const std::string& file, ros::BodiesMap* out, std::string* error);
 
 /// True for `bag ...` command lines.
 [[nodiscard]] bool IsBagCommand(int argc, char** argv);

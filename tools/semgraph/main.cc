@@ -20,6 +20,9 @@
 #if SEMGRAPH_WITH_ROS
 #include "bag_commands.h"  // bag info, bag check
 #endif
+#if SEMGRAPH_WITH_ROS_DDS
+#include "ros_live_commands.h"  // echo --ros, check --ros, serve --ros
+#endif
 
 namespace semgraph::script {
 namespace {
@@ -31,6 +34,7 @@ constexpr std::string_view kUsage = R"(Usage: semgraph run FILE
        semgraph run --help | semgraph dot --help | semgraph export --help
        semgraph serve | echo | monitor | dot --live ... (with DDS; semgraph serve --help)
        semgraph bag info FILE | semgraph bag check FILE ... (ROS bags; semgraph bag --help)
+       semgraph echo --ros | check --ros | serve --ros ... (live ROS 2; semgraph check --ros --help)
 )";
 
 constexpr std::string_view kRun = R"(
@@ -200,6 +204,9 @@ int Main(int argc, char** argv) {
       return Print({"Usage: semgraph export FILE\n", kExport, kFileAndExit, kLimits, kMore});
     }
   }
+#if SEMGRAPH_WITH_ROS_DDS
+  if (IsRosLiveCommand(argc, argv)) return RunRosLiveCommand(argc, argv);
+#endif
 #if SEMGRAPH_WITH_DDS
   if (IsDdsCommand(argc, argv)) return RunDdsCommand(argc, argv);
 #endif

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# semgraph serve --ros + echo --ros + check --ros on loopback (DDS domains 149, 150):
+#  - the pose echo --ros prints for what serve --ros broadcasts equals the answer `semgraph run`
+#    prints for the same query on the same script, within 1e-12;
+#  - check --ros on that clean stream: no finding, exit 0;
+#  - check --ros on a stream with a second parent for a frame (ros_dds_test_node, an
+#    independent raw writer): its finding as a JSON line, the summary, exit 1.
+#   cli_test.sh SEMGRAPH_BINARY TEST_NODE SCRIPT
+set -euo pipefail
+tool="$1"
+node="$2"
+script="$3"
+out="$(mktemp -d)"
+"$tool" serve --ros "$script" --domain 149 --seconds 15 > "$out/serve" &
+serve_pid=$!
+trap 'kill -9 $serve_pid 2>/dev/null || true; rm -rf "$out"' EXIT
+"$tool" echo --ros pose camera arm --domain 149 --rate 10 --seconds 8 > "$out/echo" || true
+"$tool" check --ros --domain 149 --seconds 2 > "$out/clean"
+"$tool" run "$script" > "$out/run" || true
+python3 - "$out/echo" "$out/run" "$out/clean" <<'PY'
+import json, sys
+answers = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+ok = [a for a in answers if a["ok"]]
+assert ok, answers
+run = [json.loads(l) for l in open(sys.argv[2])]
+want = next(r for r in run if r.get("kind") == "query pose")
+got = ok[-1]
+for key in ("position", "quaternion"):
+    for a, b in zip(got[key], want[key]):
+        assert abs(a - b) <= 1e-12, (key, got[key], want[key])
+assert abs(got["stamp"] - 100.5) < 1e-6, got
+clean = [json.loads(l) for l in open(sys.argv[3])]
+assert clean[-1]["summary"] and clean[-1]["findings"] == 0 and clean[-1]["transforms"] >= 4, clean
+print("echo --ros matches run:", got["position"], "; clean check:", clean[-1])
+PY
+# A second parent for frame b.
+"$tool" check --ros --domain 150 --seconds 6 > "$out/check" &
+check_pid=$!
+# a -> b three times (a volatile reader that has just matched may miss a writer's first sample;
+# the restatements are identical), then c -> b once.
+printf 'wait_subscribers 1\nsleep 500\n%b%b%btf c b 10 0 0 0 0 0 0 0 1\nsleep 500\n' \
+  'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' 'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' \
+  'tf a b 10 0 0 0 0 0 0 0 1\nsleep 100\n' | "$node" 150 > "$out/node"
+set +e
+wait $check_pid
+code=$?
+set -e
+grep -q '^ok 10$' "$out/node"
+test "$code" = 1
+python3 - "$out/check" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+finding = lines[0]
+assert finding["error"] == "multiple_pose_parents", lines
+assert (finding["topic"], finding["parent"], finding["child"]) == ("/tf", "c", "b"), finding
+assert finding["count"] == 1 and abs(finding["first_stamp"] - 10.0) < 1e-9, finding
+summary = lines[-1]
+assert summary["summary"] and summary["findings"] == 1 and summary["groups"] == 1, lines
+assert 2 <= summary["transforms"] == summary["messages"] <= 4, lines
+print("check --ros:", finding["message"])
+PY
