@@ -166,6 +166,7 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
     return Expected<Ok, BagError>(Ok{});
   });
   if (!done) return Unexpected(done.error());
+  lift.Flush();  // covered transforms still waiting for a joint state at their stamp
   report.counts = lift.counts();
   report.findings = lift.findings();
   return report;

@@ -2,6 +2,7 @@
 #include "semgraph/ros/tf_lift.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "semgraph/models/urdf.h"
@@ -98,7 +99,12 @@ LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::str
 
   LiftOutcome outcome;
   if (covered_.count(std::make_pair(std::string(parent), std::string(child))) != 0) {
-    outcome = CompareWithModel(parent, child, q_PC, p_PoCo_P, is_static, origin);
+    ++counts_.covered;
+    if (!is_static && (!latest_joint_stamp_ns_ || *latest_joint_stamp_ns_ < origin.stamp_ns)) {
+      outcome = Defer(parent, child, q_PC, p_PoCo_P, origin);
+    } else {
+      outcome = CompareWithModel(parent, child, q_PC, p_PoCo_P, is_static, origin);
+    }
   } else {
     // A static transform that joins bodies puts the child on its parent's body, explicitly: a
     // child already on another body is then frame_body_mismatch, as the spec asks live.
@@ -122,7 +128,6 @@ LiftOutcome TfLift<B>::CompareWithModel(std::string_view parent, std::string_vie
                                         const Eigen::Quaterniond& q_PC,
                                         const Eigen::Vector3d& p_PoCo_P, bool is_static,
                                         const TransformOrigin& origin) {
-  ++counts_.covered;
   const PoseSpec spec = PoseSpec::Of(child).RelativeTo(parent);
   const auto model = is_static ? graph_.GetPose(spec, core::Latest())
                                : graph_.GetPose(spec, core::At(Stamp::Nanoseconds(origin.stamp_ns)));
@@ -184,6 +189,49 @@ void TfLift<B>::Apply(const JointState& state, std::string_view topic, std::int6
       graph_.SetJoints(positions, velocities, Stamp::Nanoseconds(origin.stamp_ns));
   if (!set) return refuse(set.error().code, set.error().message);
   ++counts_.joint_states;
+  if (!latest_joint_stamp_ns_ || *latest_joint_stamp_ns_ < origin.stamp_ns) {
+    latest_joint_stamp_ns_ = origin.stamp_ns;
+  }
+  CompareDeferredUpTo(*latest_joint_stamp_ns_);
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::Defer(std::string_view parent, std::string_view child,
+                             const Eigen::Quaterniond& q_PC, const Eigen::Vector3d& p_PoCo_P,
+                             const TransformOrigin& origin) {
+  if (deferred_.size() == kMaxDeferredCovers) {
+    CompareDeferred(deferred_.front());
+    deferred_.pop_front();
+  }
+  deferred_.push_back({std::string(origin.topic), std::string(parent), std::string(child),
+                       origin.log_time_ns, origin.stamp_ns, q_PC, p_PoCo_P});
+  return LiftOutcome::kDeferred;
+}
+
+template <coord::Backend B>
+void TfLift<B>::CompareDeferred(const DeferredCover& d) {
+  (void)CompareWithModel(d.parent, d.child, d.q_PC, d.p_PoCo_P, false,
+                         TransformOrigin{d.topic, d.log_time_ns, d.stamp_ns});
+}
+
+template <coord::Backend B>
+void TfLift<B>::CompareDeferredUpTo(std::int64_t up_to_ns) {
+  // Stamps mostly grow with arrival; a cover stamped later than one behind it just waits longer.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < deferred_.size(); ++i) {
+    if (deferred_[i].stamp_ns <= up_to_ns) {
+      CompareDeferred(deferred_[i]);
+    } else {
+      if (kept != i) deferred_[kept] = std::move(deferred_[i]);
+      ++kept;
+    }
+  }
+  deferred_.resize(kept);
+}
+
+template <coord::Backend B>
+void TfLift<B>::Flush() {
+  CompareDeferredUpTo(std::numeric_limits<std::int64_t>::max());
 }
 
 template class TfLift<coord::QuaternionBackend>;

@@ -235,6 +235,50 @@ TEST(TfLift, TransformsCoveredByTheModelAreComparedWithItsJoints) {
   EXPECT_EQ(lift.findings().groups().back().code.name(), "invalid_number");
 }
 
+TEST(TfLift, ACoveredTransformBeforeItsJointStateIsComparedWhenTheJointStateArrives) {
+  // As recorded: robot_state_publisher's /tf logged just before the /joint_states message it was
+  // computed from. Compared with the joint state of its stamp, not extrapolated from older ones.
+  Graph graph;
+  auto robot = models::LoadUrdfString(graph, kRobot);
+  ASSERT_TRUE(robot) << robot.error().message;
+  auto lift = Lift(graph);
+  lift.CoverModel(*robot);
+  JointState js;
+  js.name = {"j1", "j2"};
+  js.header.stamp = Time{1, 0};
+  js.position = {0.1, 0.0};
+  lift.Apply(js, "/joint_states", 1);
+  // At 2 s (q1 = 0.3): deferred, then equal to the model once the joint state of 2 s is in.
+  EXPECT_EQ(lift.Apply(Tf("base", "link1", 2 * kSec, {0, 0, 0.5}, AboutZ(0.3)), false, "/tf", 2),
+            LiftOutcome::kDeferred);
+  // At 3 s, 1e-3 rad off the joint state of 3 s: a model_mismatch once that arrives.
+  EXPECT_EQ(lift.Apply(Tf("base", "link1", 3 * kSec, {0, 0, 0.5}, AboutZ(0.5 + 1e-3)), false,
+                       "/tf", 3),
+            LiftOutcome::kDeferred);
+  js.header.stamp = Time{2, 0};
+  js.position = {0.3, 0.0};
+  lift.Apply(js, "/joint_states", 4);
+  EXPECT_TRUE(lift.findings().empty());
+  js.header.stamp = Time{3, 0};
+  js.position = {0.5, 0.0};
+  lift.Apply(js, "/joint_states", 5);
+  ASSERT_EQ(lift.findings().groups().size(), 1u);
+  EXPECT_EQ(lift.findings().groups()[0].code.name(), "model_mismatch");
+  EXPECT_EQ(lift.findings().groups()[0].first_stamp_ns, 3 * kSec);
+  EXPECT_EQ(lift.findings().groups()[0].first_log_time_ns, 3);
+  // At 9 s, no joint state ever: compared at Flush, where the model has no pose at 9 s.
+  EXPECT_EQ(lift.Apply(Tf("base", "link1", 9 * kSec, {0, 0, 0.5}, AboutZ(0.5)), false, "/tf", 6),
+            LiftOutcome::kDeferred);
+  EXPECT_EQ(lift.findings().groups().size(), 1u);
+  lift.Flush();
+  ASSERT_EQ(lift.findings().groups().size(), 2u);
+  EXPECT_EQ(lift.findings().groups()[1].first_stamp_ns, 9 * kSec);
+  EXPECT_EQ(lift.findings().groups()[1].topic, "/tf");
+  EXPECT_EQ(lift.counts().covered, 3u);
+  EXPECT_EQ(lift.counts().mismatched, 2u);
+  EXPECT_EQ(lift.counts().applied, 0u);
+}
+
 TEST(TfLift, JointStatesAreSkippedWithoutJoints) {
   Graph graph;
   auto lift = Lift(graph);
