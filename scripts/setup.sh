@@ -12,13 +12,15 @@
 #   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
 #   --ros     libbz2-dev libsqlite3-dev (semgraph::ros: ROS 1 bz2 chunks, rosbag2 sqlite3 bags);
 #             python3-rosbag python3-roslz4 python3-tf2-msgs python3-sensor-msgs
-#             python3-geometry-msgs python3-std-msgs (the ROS 1 bag fixtures of tests/ros)
+#             python3-geometry-msgs python3-std-msgs (the ROS 1 bag fixtures of tests/ros);
+#             ros-core ros-robot-state-publisher (roscore, rospy, rostopic, rosbag record and
+#             robot_state_publisher: the recorded ROS 1 system of tests/ros/ros1_system)
 #
 # Idempotent: when everything is installed it only says so. Installing needs root; as
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; }
 
 packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
 for arg in "$@"; do
@@ -28,7 +30,8 @@ for arg in "$@"; do
     --dot) packages+=(graphviz) ;;
     --dds) packages+=(cyclonedds-dev cyclonedds-tools) ;;
     --ros) packages+=(libbz2-dev libsqlite3-dev python3-rosbag python3-roslz4 python3-tf2-msgs
-                      python3-sensor-msgs python3-geometry-msgs python3-std-msgs) ;;
+                      python3-sensor-msgs python3-geometry-msgs python3-std-msgs
+                      ros-core ros-robot-state-publisher) ;;
     -h | --help) usage; exit 0 ;;
     *) echo "setup.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
   esac
