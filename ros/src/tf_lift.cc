@@ -40,6 +40,7 @@ bool Finite(const Transform& t) {
 
 template <coord::Backend B>
 void TfLift<B>::CoverModel(const models::Robot& robot) {
+  edges_.clear();  // a covered pair must not be updated by handle
   const std::set<std::string, std::less<>> floating(robot.floating_joints.begin(),
                                                     robot.floating_joints.end());
   for (const std::string& link : robot.links) {
@@ -98,6 +99,20 @@ LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::str
   const Eigen::Vector3d p_PoCo_P(v.x, v.y, v.z);
 
   LiftOutcome outcome;
+  if (!is_static) {
+    // The steady state of a stream: a new sample of a stamped edge this lift added before, by
+    // handle (no name lookups, no body plan). Any refusal takes the full path below, which
+    // names it (the same checks: SetPose's codes are AddPose's for an existing edge).
+    key_.assign(parent).append(1, '\n').append(child);  // '\n' is in no valid frame name
+    const auto cached = edges_.find(key_);
+    if (cached != edges_.end() &&
+        graph_.SetPose(cached->second, q_PC, p_PoCo_P, Stamp::Nanoseconds(origin.stamp_ns)) ==
+            ErrorCode::kOk) {
+      ++counts_.applied;
+      if (normalized) ++counts_.normalized;
+      return LiftOutcome::kApplied;
+    }
+  }
   if (covered_.count(std::make_pair(std::string(parent), std::string(child))) != 0) {
     ++counts_.covered;
     if (!is_static && (!latest_joint_stamp_ns_ || *latest_joint_stamp_ns_ < origin.stamp_ns)) {
@@ -116,6 +131,9 @@ LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::str
         is_static ? graph_.AddPose(spec, q_PC, p_PoCo_P)
                   : graph_.AddPose(spec, q_PC, p_PoCo_P, Stamp::Nanoseconds(origin.stamp_ns));
     if (!added) return Refuse(added.error().code, added.error().message, parent, child, origin);
+    if (!is_static && edges_.size() < kMaxCachedEdges) {
+      if (auto edge = graph_.FindPoseEdge(child, parent)) edges_.emplace(key_, *edge);
+    }
     ++counts_.applied;
     outcome = LiftOutcome::kApplied;
   }

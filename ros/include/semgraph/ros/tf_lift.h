@@ -21,9 +21,10 @@
 //                          many) the velocities; skipped when the graph has no joints
 // A refused transform changes nothing; the other transforms of its message still apply.
 //
-// Costs: one graph add (or one pose query for a covered transform) per transform, plus a hash
-// lookup of its frame names; build time (allocates). Not thread-safe: one lift per graph, used
-// by the graph's one writer.
+// Costs: a /tf transform of an edge the lift added before is one hash lookup of its frame names
+// and one SetPose by handle (no allocation once the names' key buffer has grown); any other
+// transform is one graph add by names (or one pose query for a covered transform); build time.
+// Not thread-safe: one lift per graph, used by the graph's one writer.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +33,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
 
 #include "semgraph/core/scene_graph.h"
@@ -71,6 +73,8 @@ struct LiftCounts {
 inline constexpr double kRosQuaternionTolerance = 0.01;
 /// Over this apart a covered transform is model_mismatch (metres, radians).
 inline constexpr double kModelTolerance = 1e-6;
+/// Stamped edges remembered for the by-handle path (beyond, transforms take the add by names).
+inline constexpr std::size_t kMaxCachedEdges = std::size_t{1} << 16;
 /// Covered transforms waiting for their joint state; beyond this many the oldest is compared at
 /// once (memory stays bounded when no joint state ever comes).
 inline constexpr std::size_t kMaxDeferredCovers = 4096;
@@ -126,6 +130,9 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   LiftCounts counts_;
   std::set<std::pair<std::string, std::string>, std::less<>> covered_;  ///< (parent, child)
   std::deque<DeferredCover> deferred_;  ///< in arrival order
+  /// "parent\nchild" -> the stamped edge {parent} -> {child} this lift added.
+  std::unordered_map<std::string, core::PoseHandle> edges_;
+  std::string key_;  ///< the lookup key's buffer
   std::optional<std::int64_t> latest_joint_stamp_ns_;  ///< of the joint states applied
 };
 
