@@ -279,6 +279,34 @@ TEST(TfLift, ACoveredTransformBeforeItsJointStateIsComparedWhenTheJointStateArri
   EXPECT_EQ(lift.counts().applied, 0u);
 }
 
+TEST(TfLift, LaterSamplesOfAnEdgeGoByHandleAndRefusalsAreStillNamed) {
+  // odom -> base at 100 s, 101 s, 102 s (the last two by handle), read back at each stamp; then
+  // samples the graph refuses on that edge: older than the 10 s window, and a NaN.
+  Graph graph;  // queried at the samples' stamps: exact whatever the interpolation
+  auto lift = Lift(graph);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(lift.Apply(Tf("odom", "base", (100 + k) * kSec, {1.0 * k, 0, 0}, AboutZ(0.1 * k)),
+                         false, "/tf", k),
+              LiftOutcome::kApplied);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const auto X = graph.GetPose(PoseSpec::Of("base").RelativeTo("odom"),
+                                 core::At(core::Stamp::Nanoseconds((100 + k) * kSec)));
+    ASSERT_TRUE(X);
+    EXPECT_NEAR(X->value.ToIsometry().translation().x(), 1.0 * k, 1e-12);
+    EXPECT_NEAR(Eigen::AngleAxisd(X->value.ToIsometry().linear()).angle(), 0.1 * k, 1e-12);
+  }
+  EXPECT_EQ(lift.counts().applied, 3u);
+  ExpectRefused(lift, graph, Tf("odom", "base", 80 * kSec), false, ErrorCode::kStampTooOld);
+  ExpectRefused(lift, graph, Tf("odom", "base", 103 * kSec, {std::nan(""), 0, 0}), false,
+                ErrorCode::kInvalidNumber);
+  // A static transform of the dynamic edge: not by handle; live, base is on a body of its own
+  // already, so the static link to it is refused (spec §4).
+  ExpectRefused(lift, graph, Tf("odom", "base", 0), true, ErrorCode::kFrameBodyMismatch);
+  EXPECT_EQ(lift.counts().applied, 3u);
+  EXPECT_EQ(lift.counts().refused, 3u);
+}
+
 TEST(TfLift, JointStatesAreSkippedWithoutJoints) {
   Graph graph;
   auto lift = Lift(graph);
