@@ -1,6 +1,7 @@
 // semgraph_ros_bag_read: the bag reading benchmark (bench/ros_read.sh runs it).
-//   semgraph_ros_bag_read write FILE MIB [none|zstd]   an MCAP bag of about MIB MiB (bench's
-//                                                      writer: the robot of ros_bench_data.h)
+//   semgraph_ros_bag_read write FILE MIB [none|zstd] [datacrc]   an MCAP bag of about MIB MiB
+//                          (the bench's writer: the robot of ros_bench_data.h; chunk CRCs, and
+//                          the data section's CRC with `datacrc`)
 //   semgraph_ros_bag_read read FILE    OpenBag + Next over every record (no decoding)
 //   semgraph_ros_bag_read scan FILE    ScanBag (reads and decodes every /tf, /tf_static message)
 //   semgraph_ros_bag_read load FILE    LoadBag into a graph (10 s window, linear, 1,024 samples per
@@ -58,12 +59,14 @@ int main(int argc, char** argv) {
     if (argc < 4) return 2;
     const double mib = std::atof(argv[3]);
     const bool zstd = argc > 4 && std::strcmp(argv[4], "zstd") == 0;
-    // One /tf message of 8 transforms is 788 bytes of record (+ chunk overhead): steps for MIB.
-    const auto steps = static_cast<std::int64_t>(mib * 1048576.0 / 788.0);
+    const bool data_crc = argc > 5 && std::strcmp(argv[5], "datacrc") == 0;
+    // One /tf message of 8 transforms is 683 bytes of file, uncompressed: steps for MIB.
+    const auto steps = static_cast<std::int64_t>(mib * 1048576.0 / 683.0);
     const std::uint64_t bytes = semgraph_bench::rosdata::WriteRobotBag(
         file, 8, steps,
         zstd ? semgraph_bench::rosdata::McapWriter::Compression::kZstd
-             : semgraph_bench::rosdata::McapWriter::Compression::kNone);
+             : semgraph_bench::rosdata::McapWriter::Compression::kNone,
+        data_crc);
     std::printf("{\"written\": \"%s\", \"bytes\": %llu, \"messages\": %lld}\n", file.c_str(),
                 static_cast<unsigned long long>(bytes), static_cast<long long>(steps + 1));
     return 0;

@@ -85,8 +85,9 @@ RobotTf MakeRobotTf(int depth, int steps, std::int64_t t0_ns, std::int64_t perio
   return out;
 }
 
-McapWriter::McapWriter(const std::string& path, Compression compression, std::size_t chunk_bytes)
-    : compression_(compression), chunk_bytes_(chunk_bytes) {
+McapWriter::McapWriter(const std::string& path, Compression compression, std::size_t chunk_bytes,
+                       bool data_crc)
+    : compression_(compression), chunk_bytes_(chunk_bytes), data_crc_on_(data_crc) {
   file_ = std::fopen(path.c_str(), "wb");
   if (file_ == nullptr) throw std::runtime_error("cannot write " + path);
   std::vector<std::uint8_t> o(kMagic, kMagic + 8), header;
@@ -194,7 +195,7 @@ std::uint64_t McapWriter::Close() {
   std::vector<std::uint8_t> end;  // DataEnd: the CRC of every byte before it
   end.push_back(0x0F);
   U64(end, 4);
-  U32(end, data_crc_);
+  U32(end, data_crc_on_ ? data_crc_ : 0);
   std::fwrite(end.data(), 1, end.size(), file_);
   offset_ += end.size();
   // Summary: schemas and channels, statistics, chunk indexes.
@@ -234,9 +235,9 @@ std::uint64_t McapWriter::Close() {
 }
 
 std::uint64_t WriteRobotBag(const std::string& path, int depth, std::int64_t steps,
-                            McapWriter::Compression compression) {
+                            McapWriter::Compression compression, bool data_crc) {
   constexpr std::int64_t t0 = kDefaultT0, period = kDefaultPeriod;
-  McapWriter w(path, compression);
+  McapWriter w(path, compression, std::size_t{1} << 20, data_crc);
   const std::uint16_t statics = w.AddChannel("/tf_static", "tf2_msgs/msg/TFMessage");
   const std::uint16_t dynamic = w.AddChannel("/tf", "tf2_msgs/msg/TFMessage");
   std::vector<std::uint8_t> bytes;

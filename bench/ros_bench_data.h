@@ -42,9 +42,11 @@ RobotTf MakeRobotTf(int depth, int steps, std::int64_t t0_ns = kDefaultT0,
 class McapWriter {
  public:
   enum class Compression { kNone, kZstd };
-  /// Opens `path` for writing (truncates). Chunks hold about `chunk_bytes` of records.
+  /// Opens `path` for writing (truncates). Chunks hold about `chunk_bytes` of records. Chunk
+  /// CRCs are always written; the data section's CRC only with `data_crc` (rosbag2 writes it as
+  /// 0: the mcap C++ writer's enableDataCRC is off by default).
   McapWriter(const std::string& path, Compression compression,
-             std::size_t chunk_bytes = std::size_t{1} << 20);
+             std::size_t chunk_bytes = std::size_t{1} << 20, bool data_crc = false);
   ~McapWriter();
   McapWriter(const McapWriter&) = delete;
   McapWriter& operator=(const McapWriter&) = delete;
@@ -62,6 +64,7 @@ class McapWriter {
   std::FILE* file_ = nullptr;
   Compression compression_;
   std::size_t chunk_bytes_;
+  bool data_crc_on_;
   std::uint64_t offset_ = 0;
   std::uint32_t data_crc_ = 0;
   std::vector<std::uint8_t> chunk_;     ///< message records of the open chunk
@@ -78,7 +81,7 @@ class McapWriter {
 /// RobotStep repeats every 1,000 steps, the stamps do not); returns the file size. Streams:
 /// memory does not grow with `steps`.
 std::uint64_t WriteRobotBag(const std::string& path, int depth, std::int64_t steps,
-                            McapWriter::Compression compression);
+                            McapWriter::Compression compression, bool data_crc = false);
 
 /// A /tf or /tf_static message of a bag, decoded.
 struct DecodedTf {
