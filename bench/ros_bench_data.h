@@ -8,9 +8,8 @@
 //  - McapWriter: a minimal MCAP writer (the MCAP specification, https://mcap.dev/spec): header,
 //    schema, channel, chunks of message records (uncompressed or zstd, with CRC32s), data end,
 //    a summary (schemas, channels, statistics, chunk indexes), footer. Bench-only: it writes the
-//    1 GiB bag of the reading benchmark and the bags the other benchmarks load; its files are
-//    read back by semgraph's reader (and by Foxglove's @mcap/core in bench/ros_read.sh when the
-//    fixture packages are installed).
+//    1 GiB bag of the reading benchmark and the bags the other benchmarks load. Its files are
+//    read by Foxglove's @mcap/core with CRC validation (bench/ros_check_mcap.mjs, by hand).
 #pragma once
 
 #include <cstdint>
