@@ -8,11 +8,16 @@
 //   oneshot_at     SceneGraph::GetPose(PoseSpec by names, At{t})   (tf2's lookupTransform use)
 //   compiled_at    CompiledPose::Evaluate(X, At{t}, report)         (compiled once, before)
 //   tf2_at         tf2 BufferCore::lookupTransform("f0", "fD", t)
+// and the ingest of the whole bag (16,002 transforms; D ignored, ITERS times; Ir per transform =
+// Ir / (ITERS x 16,002)), each into a fresh graph or buffer made outside the counted function:
+//   ingest_tflift  TfLift::Apply of every decoded message (the plan fed the static transforms)
+//   ingest_tf2     tf2 setTransform of every transform (prebuilt geometry_msgs messages)
 // Before counting, semgraph's and tf2's answers are checked against each other (1e-9).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -45,7 +50,16 @@ SEMGRAPH_KERNEL int icount_compiled_at(const core::CompiledPose<QuatB>* c, QuatB
   core::TimeReport report;
   return static_cast<int>(c->Evaluate(*X, core::At{core::Stamp::Nanoseconds(kT)}, report));
 }
+SEMGRAPH_KERNEL std::uint64_t icount_ingest_tflift(
+    ros::TfLift<QuatB>* lift, const std::vector<semgraph_bench::rosdata::DecodedTf>* messages) {
+  for (const auto& m : *messages) lift->Apply(m.tf, m.is_static, m.topic, m.log_time_ns);
+  return lift->counts().applied;
+}
 #if defined(SEMGRAPH_HAVE_TF2)
+SEMGRAPH_KERNEL std::size_t icount_ingest_tf2(semgraph_bench::rostf2::Buffer* buffer,
+                                              const semgraph_bench::rostf2::Messages* messages) {
+  return buffer->Ingest(*messages);
+}
 SEMGRAPH_KERNEL int icount_tf2_at(const semgraph_bench::rostf2::Buffer* tf,
                                   const std::string* relative_to, const std::string* of,
                                   semgraph_bench::rostf2::Pose7* out) {
@@ -97,8 +111,32 @@ int main(int argc, char** argv) {
     return 1;
   }
 #endif
+  const auto decoded = semgraph_bench::rosdata::DecodeBagTf(bag);
   std::filesystem::remove(bag);
-  if (kernel == "oneshot_at") {
+  if (kernel == "ingest_tflift") {
+    for (long i = 0; i < iters; ++i) {
+      auto fresh = core::SceneGraph<QuatB>::Create(core::TimeOptions{
+          core::Duration::Seconds(10), core::Interpolation::kLinear,
+          core::DuplicatePolicy::kReplace, 1024});
+      auto plan = ros::BodyPlan::Make({});
+      for (const auto& m : decoded) {
+        if (!m.is_static) continue;
+        for (const auto& t : m.tf.transforms) {
+          plan->AddStatic(ros::LiftFrameName(t.header.frame_id),
+                          ros::LiftFrameName(t.child_frame_id));
+        }
+      }
+      ros::TfLift<QuatB> lift(*fresh, std::move(*plan));
+      if (icount_ingest_tflift(&lift, &decoded) != 16'002) return 1;
+    }
+#if defined(SEMGRAPH_HAVE_TF2)
+  } else if (kernel == "ingest_tf2") {
+    for (long i = 0; i < iters; ++i) {
+      semgraph_bench::rostf2::Buffer fresh;
+      if (icount_ingest_tf2(&fresh, &messages) != 16'002) return 1;
+    }
+#endif
+  } else if (kernel == "oneshot_at") {
     for (long i = 0; i < iters; ++i) icount_oneshot_at(&*graph, &fd, &f0, &X);
   } else if (kernel == "compiled_at") {
     auto c = graph->CompilePose(core::PoseSpec::Of(fd).RelativeTo(f0));

@@ -21,8 +21,9 @@
 //                          many) the velocities; skipped when the graph has no joints
 // A refused transform changes nothing; the other transforms of its message still apply.
 //
-// Costs: a /tf transform of an edge the lift added before is one hash lookup of its frame names
-// and one SetPose by handle (no allocation once the names' key buffer has grown); any other
+// Costs: a /tf transform of an edge the lift added before is one SetPose by handle, found by
+// comparing its names with the edge after the last one used (a publisher's order) or else by
+// one hash lookup (no allocation once the key buffer has grown); any other
 // transform is one graph add by names (or one pose query for a covered transform); build time.
 // Not thread-safe: one lift per graph, used by the graph's one writer.
 #pragma once
@@ -35,6 +36,7 @@
 #include <string_view>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/ros/body_plan.h"
@@ -104,6 +106,9 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   [[nodiscard]] const LiftCounts& counts() const noexcept { return counts_; }
 
  private:
+  /// Apply's full path: every check, the add by names, the findings.
+  [[gnu::noinline]] LiftOutcome ApplyByNames(const TransformStamped& transform, bool is_static,
+                                             std::string_view topic, std::int64_t log_time_ns);
   LiftOutcome Refuse(core::ErrorCode code, std::string message, std::string_view parent,
                      std::string_view child, const TransformOrigin& origin);
   LiftOutcome CompareWithModel(std::string_view parent, std::string_view child,
@@ -130,9 +135,18 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   LiftCounts counts_;
   std::set<std::pair<std::string, std::string>, std::less<>> covered_;  ///< (parent, child)
   std::deque<DeferredCover> deferred_;  ///< in arrival order
-  /// "parent\nchild" -> the stamped edge {parent} -> {child} this lift added.
-  std::unordered_map<std::string, core::PoseHandle> edges_;
-  std::string key_;  ///< the lookup key's buffer
+  /// The stamped edges {parent} -> {child} this lift added, in the order they were added.
+  struct CachedEdge {
+    std::string parent, child;
+    core::PoseHandle edge;
+  };
+  static constexpr std::size_t kNotCached = static_cast<std::size_t>(-1);
+  /// The index in edges_ of (parent, child), or kNotCached.
+  std::size_t FindCachedEdge(std::string_view parent, std::string_view child);
+  std::vector<CachedEdge> edges_;
+  std::unordered_map<std::string, std::size_t> edge_index_;  ///< "parent\nchild" -> index
+  std::size_t next_edge_ = 0;  ///< the entry after the last one used: the likely next
+  std::string key_;            ///< the lookup key's buffer
   std::optional<std::int64_t> latest_joint_stamp_ns_;  ///< of the joint states applied
 };
 
