@@ -50,7 +50,8 @@ int Fail(const std::string& what) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s write FILE MIB [none|zstd] | read FILE | scan FILE | load FILE\n",
+    std::fprintf(stderr,
+                 "usage: %s write FILE MIB [none|zstd] | read FILE | scan FILE | load FILE\n",
                  argv[0]);
     return 2;
   }
@@ -74,9 +75,9 @@ int main(int argc, char** argv) {
   const auto bytes = std::filesystem::file_size(file);
   std::unique_ptr<core::SceneGraph<>> graph;
   if (cmd == "load") {
-    graph = std::make_unique<core::SceneGraph<>>(*core::SceneGraph<>::Create(core::TimeOptions{
-        core::Duration::Seconds(10), core::Interpolation::kLinear, core::DuplicatePolicy::kReplace,
-        1024}));
+    graph = std::make_unique<core::SceneGraph<>>(*core::SceneGraph<>::Create(
+        core::TimeOptions{core::Duration::Seconds(10), core::Interpolation::kLinear,
+                          core::DuplicatePolicy::kReplace, 1024}));
   }
   const long rss_start = RssKib();
   const auto t0 = std::chrono::steady_clock::now();

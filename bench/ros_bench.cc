@@ -30,8 +30,9 @@ using semgraph_bench::rosdata::DecodedTf;
 using Graph = core::SceneGraph<>;
 
 constexpr int kDepth = 8;
-constexpr int kSteps = 2000;                   // 20 s at 100 Hz
-constexpr std::int64_t kQueryOffset = 15'005'500'000;  // t0 + 15.0055 s: between samples, in the last 10 s
+constexpr int kSteps = 2000;  // 20 s at 100 Hz
+constexpr std::int64_t kQueryOffset =
+    15'005'500'000;  // t0 + 15.0055 s: between samples, in the last 10 s
 
 core::TimeOptions TenSeconds() {
   return core::TimeOptions{core::Duration::Seconds(10), core::Interpolation::kLinear,
@@ -40,8 +41,10 @@ core::TimeOptions TenSeconds() {
 
 std::string TempPath(const std::string& name) {
   const char* dir = std::getenv("SEMGRAPH_BENCH_TMP");
-  return (std::filesystem::path(dir != nullptr ? dir : std::filesystem::temp_directory_path().c_str()) /
-          name).string();
+  return (std::filesystem::path(dir != nullptr ? dir
+                                               : std::filesystem::temp_directory_path().c_str()) /
+          name)
+      .string();
 }
 
 struct Data {
@@ -113,7 +116,8 @@ void ros_ingest_tflift(benchmark::State& state) {
     for (const DecodedTf& m : d.messages) {
       if (!m.is_static) continue;
       for (const auto& t : m.tf.transforms) {
-        plan->AddStatic(ros::LiftFrameName(t.header.frame_id), ros::LiftFrameName(t.child_frame_id));
+        plan->AddStatic(ros::LiftFrameName(t.header.frame_id),
+                        ros::LiftFrameName(t.child_frame_id));
       }
     }
     lift = std::make_unique<ros::TfLift<coord::QuaternionBackend>>(*graph, std::move(*plan));

@@ -296,8 +296,11 @@ std::vector<rostf2::Transform> Flatten(const std::vector<DecodedTf>& messages) {
     for (const TransformStamped& t : m.tf.transforms) {
       const auto& q = t.transform.rotation;
       const auto& p = t.transform.translation;
-      out.push_back({t.header.frame_id, t.child_frame_id, semgraph::ros::ToNanoseconds(t.header.stamp),
-                     m.is_static, {q.w, q.x, q.y, q.z, p.x, p.y, p.z}});
+      out.push_back({t.header.frame_id,
+                     t.child_frame_id,
+                     semgraph::ros::ToNanoseconds(t.header.stamp),
+                     m.is_static,
+                     {q.w, q.x, q.y, q.z, p.x, p.y, p.z}});
     }
   }
   return out;

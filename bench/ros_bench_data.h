@@ -28,7 +28,7 @@ struct RobotTf {
 };
 
 inline constexpr std::int64_t kDefaultT0 = 1'700'000'000'000'000'000;  ///< ns (2023-11-14)
-inline constexpr std::int64_t kDefaultPeriod = 10'000'000;               ///< 100 Hz
+inline constexpr std::int64_t kDefaultPeriod = 10'000'000;             ///< 100 Hz
 
 /// The /tf_static message (stamped t0_ns) and the /tf message of step k (stamp t0 + k·period).
 semgraph::ros::TFMessage RobotStatics(int depth, std::int64_t t0_ns = kDefaultT0);

@@ -13,13 +13,13 @@
 //   ingest_tflift  TfLift::Apply of every decoded message (the plan fed the static transforms)
 //   ingest_tf2     tf2 setTransform of every transform (prebuilt geometry_msgs messages)
 // Before counting, semgraph's and tf2's answers are checked against each other (1e-9).
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "ros_bench_data.h"
 #include "semgraph/ros/bag_loader.h"
@@ -30,7 +30,7 @@ using QuatB = coord::QuaternionBackend;
 namespace {
 constexpr std::int64_t kNewest = semgraph_bench::rosdata::kDefaultT0 + 19'990'000'000;
 std::int64_t kT = kNewest - 45'500'000;  // AGE recent (main sets it)
-}
+}  // namespace
 
 #if defined(__clang__)
 #define SEMGRAPH_KERNEL __attribute__((noinline))
@@ -81,14 +81,15 @@ int main(int argc, char** argv) {
   if (argc > 4 && std::string(argv[4]) == "middle") kT = kNewest - 4'984'500'000;
   const char* dir = std::getenv("SEMGRAPH_BENCH_TMP");
   const std::string bag =
-      (std::filesystem::path(dir != nullptr ? dir : std::filesystem::temp_directory_path().c_str()) /
+      (std::filesystem::path(dir != nullptr ? dir
+                                            : std::filesystem::temp_directory_path().c_str()) /
        ("semgraph_ros_icount_" + std::to_string(::getpid()) + ".mcap"))
           .string();
   semgraph_bench::rosdata::WriteRobotBag(bag, 8, 2000,
                                          semgraph_bench::rosdata::McapWriter::Compression::kNone);
-  auto graph = core::SceneGraph<QuatB>::Create(core::TimeOptions{
-      core::Duration::Seconds(10), core::Interpolation::kLinear, core::DuplicatePolicy::kReplace,
-      1024});
+  auto graph = core::SceneGraph<QuatB>::Create(
+      core::TimeOptions{core::Duration::Seconds(10), core::Interpolation::kLinear,
+                        core::DuplicatePolicy::kReplace, 1024});
   auto report = ros::LoadBag(*graph, bag, {});
   if (!report || !report->findings.empty()) {
     std::fprintf(stderr, "the bag did not load cleanly\n");
@@ -115,9 +116,9 @@ int main(int argc, char** argv) {
   std::filesystem::remove(bag);
   if (kernel == "ingest_tflift") {
     for (long i = 0; i < iters; ++i) {
-      auto fresh = core::SceneGraph<QuatB>::Create(core::TimeOptions{
-          core::Duration::Seconds(10), core::Interpolation::kLinear,
-          core::DuplicatePolicy::kReplace, 1024});
+      auto fresh = core::SceneGraph<QuatB>::Create(
+          core::TimeOptions{core::Duration::Seconds(10), core::Interpolation::kLinear,
+                            core::DuplicatePolicy::kReplace, 1024});
       auto plan = ros::BodyPlan::Make({});
       for (const auto& m : decoded) {
         if (!m.is_static) continue;

@@ -252,9 +252,9 @@ TEST(TfLift, ACoveredTransformBeforeItsJointStateIsComparedWhenTheJointStateArri
   EXPECT_EQ(lift.Apply(Tf("base", "link1", 2 * kSec, {0, 0, 0.5}, AboutZ(0.3)), false, "/tf", 2),
             LiftOutcome::kDeferred);
   // At 3 s, 1e-3 rad off the joint state of 3 s: a model_mismatch once that arrives.
-  EXPECT_EQ(lift.Apply(Tf("base", "link1", 3 * kSec, {0, 0, 0.5}, AboutZ(0.5 + 1e-3)), false,
-                       "/tf", 3),
-            LiftOutcome::kDeferred);
+  EXPECT_EQ(
+      lift.Apply(Tf("base", "link1", 3 * kSec, {0, 0, 0.5}, AboutZ(0.5 + 1e-3)), false, "/tf", 3),
+      LiftOutcome::kDeferred);
   js.header.stamp = Time{2, 0};
   js.position = {0.3, 0.0};
   lift.Apply(js, "/joint_states", 4);

@@ -6,6 +6,8 @@
 //    linear-interpolation queries on a graph holding only the bag's tf, within 1e-9, at 1,000
 //    random times and frame pairs.
 // Skips when the recording step was skipped (ROS 1 tools absent) or tf2 is not installed.
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -13,8 +15,6 @@
 #include <set>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "semgraph/models/urdf.h"
 #include "semgraph/ros/bag_loader.h"
@@ -113,8 +113,9 @@ TEST(Ros1System, EveryRecordedTfSampleEqualsSemgraphsForwardKinematics) {
   // robot_state_publisher's (KDL's) to rounding.
   for (const Recorded& t : recorded) {
     const PoseSpec spec = PoseSpec::Of(t.child).RelativeTo(t.parent);
-    const auto X = t.is_static ? graph.GetPose(spec, core::Latest())
-                               : graph.GetPose(spec, core::At(core::Stamp::Nanoseconds(t.stamp_ns)));
+    const auto X = t.is_static
+                       ? graph.GetPose(spec, core::Latest())
+                       : graph.GetPose(spec, core::At(core::Stamp::Nanoseconds(t.stamp_ns)));
     ASSERT_TRUE(X) << graph.Describe(X.error(), spec);
     EXPECT_LT(Distance(X->value.ToIsometry(), t.X_PC), 1e-9)
         << t.parent << " -> " << t.child << " at " << t.stamp_ns;

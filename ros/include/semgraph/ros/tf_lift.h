@@ -122,9 +122,8 @@ class SEMGRAPH_ROS_EXPORT TfLift {
     Eigen::Quaterniond q_PC;
     Eigen::Vector3d p_PoCo_P;
   };
-  LiftOutcome Defer(std::string_view parent, std::string_view child,
-                    const Eigen::Quaterniond& q_PC, const Eigen::Vector3d& p_PoCo_P,
-                    const TransformOrigin& origin);
+  LiftOutcome Defer(std::string_view parent, std::string_view child, const Eigen::Quaterniond& q_PC,
+                    const Eigen::Vector3d& p_PoCo_P, const TransformOrigin& origin);
   void CompareDeferred(const DeferredCover& d);
   /// Compares the deferred covers stamped at or before `up_to_ns` (all of them: INT64_MAX).
   void CompareDeferredUpTo(std::int64_t up_to_ns);
@@ -134,7 +133,7 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   Findings findings_;
   LiftCounts counts_;
   std::set<std::pair<std::string, std::string>, std::less<>> covered_;  ///< (parent, child)
-  std::deque<DeferredCover> deferred_;  ///< in arrival order
+  std::deque<DeferredCover> deferred_;                                  ///< in arrival order
   /// The stamped edges {parent} -> {child} this lift added, in the order they were added.
   struct CachedEdge {
     std::string parent, child;
