@@ -35,11 +35,11 @@ Expected<Ok, BagError> Decode(const BagRecord& r, const std::string& path, M& ou
   const Expected<Ok, CodecError> decoded =
       r.encoding == MessageEncoding::kCdr ? DecodeCdr(r.data, out) : DecodeRos1(r.data, out);
   if (decoded) return Ok{};
-  return Unexpected(BagError{BagErrorCode::kMalformed, path, 0,
+  return Unexpected{BagError{BagErrorCode::kMalformed, path, 0,
                              "the " + std::string(r.type_name) + " message on " +
                                  std::string(r.topic) + " at log time " +
                                  json::Seconds(r.log_time_ns) + " s does not decode: " +
-                                 Describe(decoded.error())});
+                                 Describe(decoded.error())}};
 }
 
 /// Reads every record of a bag, calling `visit(record)` (which may fail) for each.
@@ -47,12 +47,12 @@ template <class Visit>
 Expected<Ok, BagError> ForEachRecord(const std::string& path, const BagLoadOptions& options,
                                      int pass, Visit&& visit) {
   auto reader = OpenBag(path, options.reader);
-  if (!reader) return Unexpected(reader.error());
+  if (!reader) return Unexpected{reader.error()};
   BagRecord record;
   std::uint64_t n = 0;
   while (true) {
     const Expected<bool, BagError> more = (*reader)->Next(record);
-    if (!more) return Unexpected(more.error());
+    if (!more) return Unexpected{more.error()};
     if (!*more) return Ok{};
     if (auto ok = visit(**reader, record); !ok) return ok;
     if (++n % 4096 == 0 && options.progress) options.progress(pass, n, record.log_time_ns);
@@ -130,7 +130,7 @@ Expected<BagScan, BagError> ScanBag(const std::string& path, const BagLoadOption
     if (!Selected(options, r.topic) || !Decodable(r)) return Expected<Ok, BagError>(Ok{});
     return ScanRecord(r, path, scan, seen, tf);
   });
-  if (!done) return Unexpected(done.error());
+  if (!done) return Unexpected{done.error()};
   return scan;
 }
 
@@ -140,7 +140,7 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
                                            const models::Robot* robot) {
   auto plan = BodyPlan::Make(options.lift);
   if (!plan) {
-    return Unexpected(BagError{BagErrorCode::kMalformed, path, 0, plan.error()});
+    return Unexpected{BagError{BagErrorCode::kMalformed, path, 0, plan.error()}};
   }
   for (const StaticEdge& e : scan.statics) plan->AddStatic(e.parent, e.child);
   TfLift<B> lift(graph, std::move(*plan));
@@ -182,7 +182,7 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
     }
     return Expected<Ok, BagError>(Ok{});
   });
-  if (!done) return Unexpected(done.error());
+  if (!done) return Unexpected{done.error()};
   lift.Flush();  // covered transforms still waiting for a joint state at their stamp
   report.counts = lift.counts();
   report.findings = lift.findings();
@@ -194,7 +194,7 @@ Expected<BagLoadReport, BagError> LoadBag(core::SceneGraph<B>& graph, const std:
                                           const BagLoadOptions& options,
                                           const models::Robot* robot) {
   auto scan = ScanBag(path, options);
-  if (!scan) return Unexpected(scan.error());
+  if (!scan) return Unexpected{scan.error()};
   return ApplyBag(graph, path, *scan, options, robot);
 }
 
