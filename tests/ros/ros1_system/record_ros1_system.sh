@@ -19,6 +19,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 rsp=/usr/lib/robot_state_publisher/robot_state_publisher
 py=/usr/bin/python3  # Debian's Python: rospy is packaged for it (not for a pyenv python3)
 
+rm -rf "$out"  # no bag of an earlier run is left for the tests when this one skips or fails
 missing=()
 for tool in roscore rosparam rosbag; do command -v "$tool" >/dev/null || missing+=("$tool"); done
 [ -x "$rsp" ] || missing+=("robot_state_publisher")
@@ -29,7 +30,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   exit 77
 fi
 
-rm -rf "$out" && mkdir -p "$out/home" "$out/log"
+mkdir -p "$out/home" "$out/log"
 export ROS_HOME="$out/home" ROS_LOG_DIR="$out/log" ROS_HOSTNAME=127.0.0.1
 unset ROS_IP ROS_NAMESPACE
 port="$("$py" -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
