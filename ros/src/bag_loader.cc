@@ -2,7 +2,8 @@
 #include "semgraph/ros/bag_loader.h"
 
 #include <algorithm>
-#include <set>
+#include <string_view>
+#include <unordered_set>
 #include <utility>
 
 #include "json_text.h"
@@ -34,11 +35,11 @@ Expected<Ok, BagError> Decode(const BagRecord& r, const std::string& path, M& ou
   const Expected<Ok, CodecError> decoded =
       r.encoding == MessageEncoding::kCdr ? DecodeCdr(r.data, out) : DecodeRos1(r.data, out);
   if (decoded) return Ok{};
-  return Unexpected(BagError{BagErrorCode::kMalformed, path, 0,
+  return Unexpected{BagError{BagErrorCode::kMalformed, path, 0,
                              "the " + std::string(r.type_name) + " message on " +
                                  std::string(r.topic) + " at log time " +
                                  json::Seconds(r.log_time_ns) + " s does not decode: " +
-                                 Describe(decoded.error())});
+                                 Describe(decoded.error())}};
 }
 
 /// Reads every record of a bag, calling `visit(record)` (which may fail) for each.
@@ -46,12 +47,12 @@ template <class Visit>
 Expected<Ok, BagError> ForEachRecord(const std::string& path, const BagLoadOptions& options,
                                      int pass, Visit&& visit) {
   auto reader = OpenBag(path, options.reader);
-  if (!reader) return Unexpected(reader.error());
+  if (!reader) return Unexpected{reader.error()};
   BagRecord record;
   std::uint64_t n = 0;
   while (true) {
     const Expected<bool, BagError> more = (*reader)->Next(record);
-    if (!more) return Unexpected(more.error());
+    if (!more) return Unexpected{more.error()};
     if (!*more) return Ok{};
     if (auto ok = visit(**reader, record); !ok) return ok;
     if (++n % 4096 == 0 && options.progress) options.progress(pass, n, record.log_time_ns);
@@ -67,19 +68,30 @@ void NoteStamp(BagScan& scan, std::int64_t stamp_ns) {
   scan.last_stamp_ns = std::max(scan.last_stamp_ns, stamp_ns);
 }
 
+/// The (parent, child) pairs seen by the scan, keyed "parent\nchild" ('\n' is in no valid
+/// frame name; an invalid one only shares a key with another invalid one, for `bag info`).
+struct SeenPairs {
+  std::unordered_set<std::string> keys;
+  std::string key;  ///< the lookup buffer: no allocation for a pair seen before
+  bool Insert(std::string_view parent, std::string_view child) {
+    key.assign(parent).append(1, '\n').append(child);
+    return !keys.contains(key) && keys.insert(key).second;
+  }
+};
+
 /// Pass 1's work on one decodable record of a selected topic.
 Expected<Ok, BagError> ScanRecord(const BagRecord& r, const std::string& path, BagScan& scan,
-                                  std::set<std::pair<std::string, std::string>>& seen) {
+                                  SeenPairs& seen, TFMessage& tf) {
   if (r.kind == MessageKind::kTfMessage) {
-    TFMessage tf;
     if (auto ok = Decode(r, path, tf); !ok) return ok;
     const bool is_static = r.topic == kStaticTopic;
     for (const TransformStamped& t : tf.transforms) {
-      StaticEdge e{std::string(LiftFrameName(t.header.frame_id)),
-                   std::string(LiftFrameName(t.child_frame_id))};
+      const std::string_view parent = LiftFrameName(t.header.frame_id);
+      const std::string_view child = LiftFrameName(t.child_frame_id);
       if (!is_static) NoteStamp(scan, ToNanoseconds(t.header.stamp));
-      if (seen.emplace(e.parent, e.child).second || is_static) {
-        (is_static ? scan.statics : scan.dynamics).push_back(std::move(e));
+      if (seen.Insert(parent, child) || is_static) {
+        (is_static ? scan.statics : scan.dynamics)
+            .push_back(StaticEdge{std::string(parent), std::string(child)});
       }
     }
   } else if (r.kind == MessageKind::kJointState) {
@@ -100,7 +112,8 @@ std::vector<std::string> DefaultBagTopics() { return {"/tf", "/tf_static", "/joi
 
 Expected<BagScan, BagError> ScanBag(const std::string& path, const BagLoadOptions& options) {
   BagScan scan;
-  std::set<std::pair<std::string, std::string>> seen;
+  SeenPairs seen;
+  TFMessage tf;  // reused: its strings and vectors keep their capacity from message to message
   auto done = ForEachRecord(path, options, 1, [&](const BagReader& reader, const BagRecord& r) {
     if (scan.records++ == 0) scan.first_log_time_ns = r.log_time_ns;
     scan.last_log_time_ns = r.log_time_ns;
@@ -115,9 +128,9 @@ Expected<BagScan, BagError> ScanBag(const std::string& path, const BagLoadOption
     }
     ++it->messages;
     if (!Selected(options, r.topic) || !Decodable(r)) return Expected<Ok, BagError>(Ok{});
-    return ScanRecord(r, path, scan, seen);
+    return ScanRecord(r, path, scan, seen, tf);
   });
-  if (!done) return Unexpected(done.error());
+  if (!done) return Unexpected{done.error()};
   return scan;
 }
 
@@ -127,7 +140,7 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
                                            const models::Robot* robot) {
   auto plan = BodyPlan::Make(options.lift);
   if (!plan) {
-    return Unexpected(BagError{BagErrorCode::kMalformed, path, 0, plan.error()});
+    return Unexpected{BagError{BagErrorCode::kMalformed, path, 0, plan.error()}};
   }
   for (const StaticEdge& e : scan.statics) plan->AddStatic(e.parent, e.child);
   TfLift<B> lift(graph, std::move(*plan));
@@ -143,7 +156,12 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
       report.loaded_robot_description = true;
     }
   }
-  auto done = ForEachRecord(path, options, 2, [&](const BagReader&, const BagRecord& r) {
+  // Pass 2 reads the file pass 1 checked: its CRCs are not computed again (a file changed in
+  // between may then fail half way, as the header says, or apply what decodes).
+  BagLoadOptions unchecked = options;
+  unchecked.reader.verify_crc = false;
+  TFMessage tf;  // reused, as in pass 1
+  auto done = ForEachRecord(path, unchecked, 2, [&](const BagReader&, const BagRecord& r) {
     const bool is_static = r.topic == kStaticTopic;
     if (!Selected(options, r.topic) || !Decodable(r) ||
         (!is_static && !InWindow(options, r.log_time_ns))) {
@@ -155,7 +173,6 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
     if (r.kind == MessageKind::kString) {  // the URDF: loaded before this pass
       return Expected<Ok, BagError>(Ok{});
     } else if (r.kind == MessageKind::kTfMessage) {
-      TFMessage tf;
       if (auto ok = Decode(r, path, tf); !ok) return ok;
       lift.Apply(tf, is_static, r.topic, r.log_time_ns);
     } else {
@@ -165,7 +182,8 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
     }
     return Expected<Ok, BagError>(Ok{});
   });
-  if (!done) return Unexpected(done.error());
+  if (!done) return Unexpected{done.error()};
+  lift.Flush();  // covered transforms still waiting for a joint state at their stamp
   report.counts = lift.counts();
   report.findings = lift.findings();
   return report;
@@ -176,7 +194,7 @@ Expected<BagLoadReport, BagError> LoadBag(core::SceneGraph<B>& graph, const std:
                                           const BagLoadOptions& options,
                                           const models::Robot* robot) {
   auto scan = ScanBag(path, options);
-  if (!scan) return Unexpected(scan.error());
+  if (!scan) return Unexpected{scan.error()};
   return ApplyBag(graph, path, *scan, options, robot);
 }
 

@@ -20,16 +20,16 @@ base::Expected<BodyPlan, std::string> BodyPlan::Make(const LiftOptions& options)
   plan.mode_ = options.static_mode;
   plan.has_map_ = !options.bodies.empty();
   for (const auto& [body, frames] : options.bodies) {
-    if (body.empty()) return base::Unexpected(std::string("bodies map: a body with an empty name"));
+    if (body.empty()) return base::Unexpected{std::string("bodies map: a body with an empty name")};
     for (const std::string& listed : frames) {
       const std::string frame(LiftFrameName(listed));
       if (frame.empty()) {
-        return base::Unexpected("bodies map: body " + body + " lists an empty frame name");
+        return base::Unexpected{"bodies map: body " + body + " lists an empty frame name"};
       }
       const auto [it, inserted] = plan.listed_.emplace(frame, body);
       if (!inserted && it->second != body) {
-        return base::Unexpected("bodies map: frame " + frame + " is listed under bodies " +
-                                it->second + " and " + body);
+        return base::Unexpected{"bodies map: frame " + frame + " is listed under bodies " +
+                                it->second + " and " + body};
       }
     }
   }

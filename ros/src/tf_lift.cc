@@ -2,6 +2,7 @@
 #include "semgraph/ros/tf_lift.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "semgraph/models/urdf.h"
@@ -35,10 +36,22 @@ bool Finite(const Transform& t) {
   return true;
 }
 
+/// a == b; frame names are short: a byte loop beats a call of memcmp.
+bool SameName(const std::string& a, std::string_view b) noexcept {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    if (a[i] != b[i]) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 template <coord::Backend B>
 void TfLift<B>::CoverModel(const models::Robot& robot) {
+  edges_.clear();  // a covered pair must not be updated by handle
+  edge_index_.clear();
+  next_edge_ = 0;
   const std::set<std::string, std::less<>> floating(robot.floating_joints.begin(),
                                                     robot.floating_joints.end());
   for (const std::string& link : robot.links) {
@@ -50,6 +63,19 @@ void TfLift<B>::CoverModel(const models::Robot& robot) {
     if (floating.count(link + " wrt " + parent) != 0) continue;  // an ordinary edge
     covered_.emplace(parent, link);
   }
+}
+
+template <coord::Backend B>
+std::size_t TfLift<B>::FindCachedEdge(std::string_view parent, std::string_view child) {
+  // A publisher sends its transforms in the same order message after message: the entry after
+  // the last one used is nearly always the one (two short compares, no hashing).
+  if (next_edge_ < edges_.size() && SameName(edges_[next_edge_].parent, parent) &&
+      SameName(edges_[next_edge_].child, child)) {
+    return next_edge_;
+  }
+  key_.assign(parent).append(1, '\n').append(child);  // '\n' is in no valid frame name
+  const auto it = edge_index_.find(key_);
+  return it == edge_index_.end() ? kNotCached : it->second;
 }
 
 template <coord::Backend B>
@@ -72,6 +98,38 @@ LiftOutcome TfLift<B>::Refuse(ErrorCode code, std::string message, std::string_v
 template <coord::Backend B>
 LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::string_view topic,
                              std::int64_t log_time_ns) {
+  // The steady state of a stream, kept lean: a new sample of a stamped edge this lift added
+  // before, by handle (no name lookups, no body plan). Anything else, including any refusal,
+  // takes the full path, which names it (the same checks: SetPose's codes are AddPose's for an
+  // existing edge).
+  if (!is_static && !edges_.empty() && Finite(t.transform)) {
+    const auto& r = t.transform.rotation;
+    Eigen::Quaterniond q_PC(r.w, r.x, r.y, r.z);
+    const double norm2 = q_PC.squaredNorm();
+    const std::size_t i =
+        std::abs(norm2 - 1.0) <= kRosQuaternionTolerance
+            ? FindCachedEdge(LiftFrameName(t.header.frame_id), LiftFrameName(t.child_frame_id))
+            : kNotCached;
+    if (i != kNotCached) {
+      const double norm = std::sqrt(norm2);
+      q_PC.coeffs() /= norm;
+      const auto& v = t.transform.translation;
+      if (graph_.SetPose(edges_[i].edge, q_PC, Eigen::Vector3d(v.x, v.y, v.z),
+                         Stamp::Nanoseconds(ToNanoseconds(t.header.stamp))) == ErrorCode::kOk) {
+        next_edge_ = i + 1 == edges_.size() ? 0 : i + 1;
+        ++counts_.transforms;
+        ++counts_.applied;
+        if (std::abs(norm - 1.0) > 1e-6) ++counts_.normalized;
+        return LiftOutcome::kApplied;
+      }
+    }
+  }
+  return ApplyByNames(t, is_static, topic, log_time_ns);
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::ApplyByNames(const TransformStamped& t, bool is_static,
+                                    std::string_view topic, std::int64_t log_time_ns) {
   ++counts_.transforms;
   const std::string_view parent = LiftFrameName(t.header.frame_id);
   const std::string_view child = LiftFrameName(t.child_frame_id);
@@ -92,13 +150,19 @@ LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::str
                       ", more than 0.01 from 1 (tf2's tolerance)",
                   parent, child, origin);
   }
-  const bool normalized = std::abs(std::sqrt(norm2) - 1.0) > 1e-6;
-  q_PC.normalize();
+  const double norm = std::sqrt(norm2);  // > 0.99 here
+  const bool normalized = std::abs(norm - 1.0) > 1e-6;
+  q_PC.coeffs() /= norm;
   const Eigen::Vector3d p_PoCo_P(v.x, v.y, v.z);
 
   LiftOutcome outcome;
   if (covered_.count(std::make_pair(std::string(parent), std::string(child))) != 0) {
-    outcome = CompareWithModel(parent, child, q_PC, p_PoCo_P, is_static, origin);
+    ++counts_.covered;
+    if (!is_static && (!latest_joint_stamp_ns_ || *latest_joint_stamp_ns_ < origin.stamp_ns)) {
+      outcome = Defer(parent, child, q_PC, p_PoCo_P, origin);
+    } else {
+      outcome = CompareWithModel(parent, child, q_PC, p_PoCo_P, is_static, origin);
+    }
   } else {
     // A static transform that joins bodies puts the child on its parent's body, explicitly: a
     // child already on another body is then frame_body_mismatch, as the spec asks live.
@@ -110,6 +174,13 @@ LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::str
         is_static ? graph_.AddPose(spec, q_PC, p_PoCo_P)
                   : graph_.AddPose(spec, q_PC, p_PoCo_P, Stamp::Nanoseconds(origin.stamp_ns));
     if (!added) return Refuse(added.error().code, added.error().message, parent, child, origin);
+    if (!is_static && edges_.size() < kMaxCachedEdges) {
+      if (auto edge = graph_.FindPoseEdge(child, parent)) {
+        key_.assign(parent).append(1, '\n').append(child);
+        edge_index_.emplace(key_, edges_.size());
+        edges_.push_back({std::string(parent), std::string(child), *edge});
+      }
+    }
     ++counts_.applied;
     outcome = LiftOutcome::kApplied;
   }
@@ -122,7 +193,6 @@ LiftOutcome TfLift<B>::CompareWithModel(std::string_view parent, std::string_vie
                                         const Eigen::Quaterniond& q_PC,
                                         const Eigen::Vector3d& p_PoCo_P, bool is_static,
                                         const TransformOrigin& origin) {
-  ++counts_.covered;
   const PoseSpec spec = PoseSpec::Of(child).RelativeTo(parent);
   const auto model = is_static ? graph_.GetPose(spec, core::Latest())
                                : graph_.GetPose(spec, core::At(Stamp::Nanoseconds(origin.stamp_ns)));
@@ -184,6 +254,49 @@ void TfLift<B>::Apply(const JointState& state, std::string_view topic, std::int6
       graph_.SetJoints(positions, velocities, Stamp::Nanoseconds(origin.stamp_ns));
   if (!set) return refuse(set.error().code, set.error().message);
   ++counts_.joint_states;
+  if (!latest_joint_stamp_ns_ || *latest_joint_stamp_ns_ < origin.stamp_ns) {
+    latest_joint_stamp_ns_ = origin.stamp_ns;
+  }
+  CompareDeferredUpTo(*latest_joint_stamp_ns_);
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::Defer(std::string_view parent, std::string_view child,
+                             const Eigen::Quaterniond& q_PC, const Eigen::Vector3d& p_PoCo_P,
+                             const TransformOrigin& origin) {
+  if (deferred_.size() == kMaxDeferredCovers) {
+    CompareDeferred(deferred_.front());
+    deferred_.pop_front();
+  }
+  deferred_.push_back({std::string(origin.topic), std::string(parent), std::string(child),
+                       origin.log_time_ns, origin.stamp_ns, q_PC, p_PoCo_P});
+  return LiftOutcome::kDeferred;
+}
+
+template <coord::Backend B>
+void TfLift<B>::CompareDeferred(const DeferredCover& d) {
+  (void)CompareWithModel(d.parent, d.child, d.q_PC, d.p_PoCo_P, false,
+                         TransformOrigin{d.topic, d.log_time_ns, d.stamp_ns});
+}
+
+template <coord::Backend B>
+void TfLift<B>::CompareDeferredUpTo(std::int64_t up_to_ns) {
+  // Stamps mostly grow with arrival; a cover stamped later than one behind it just waits longer.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < deferred_.size(); ++i) {
+    if (deferred_[i].stamp_ns <= up_to_ns) {
+      CompareDeferred(deferred_[i]);
+    } else {
+      if (kept != i) deferred_[kept] = std::move(deferred_[i]);
+      ++kept;
+    }
+  }
+  deferred_.resize(kept);
+}
+
+template <coord::Backend B>
+void TfLift<B>::Flush() {
+  CompareDeferredUpTo(std::numeric_limits<std::int64_t>::max());
 }
 
 template class TfLift<coord::QuaternionBackend>;

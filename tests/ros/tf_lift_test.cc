@@ -235,6 +235,78 @@ TEST(TfLift, TransformsCoveredByTheModelAreComparedWithItsJoints) {
   EXPECT_EQ(lift.findings().groups().back().code.name(), "invalid_number");
 }
 
+TEST(TfLift, ACoveredTransformBeforeItsJointStateIsComparedWhenTheJointStateArrives) {
+  // As recorded: robot_state_publisher's /tf logged just before the /joint_states message it was
+  // computed from. Compared with the joint state of its stamp, not extrapolated from older ones.
+  Graph graph;
+  auto robot = models::LoadUrdfString(graph, kRobot);
+  ASSERT_TRUE(robot) << robot.error().message;
+  auto lift = Lift(graph);
+  lift.CoverModel(*robot);
+  JointState js;
+  js.name = {"j1", "j2"};
+  js.header.stamp = Time{1, 0};
+  js.position = {0.1, 0.0};
+  lift.Apply(js, "/joint_states", 1);
+  // At 2 s (q1 = 0.3): deferred, then equal to the model once the joint state of 2 s is in.
+  EXPECT_EQ(lift.Apply(Tf("base", "link1", 2 * kSec, {0, 0, 0.5}, AboutZ(0.3)), false, "/tf", 2),
+            LiftOutcome::kDeferred);
+  // At 3 s, 1e-3 rad off the joint state of 3 s: a model_mismatch once that arrives.
+  EXPECT_EQ(
+      lift.Apply(Tf("base", "link1", 3 * kSec, {0, 0, 0.5}, AboutZ(0.5 + 1e-3)), false, "/tf", 3),
+      LiftOutcome::kDeferred);
+  js.header.stamp = Time{2, 0};
+  js.position = {0.3, 0.0};
+  lift.Apply(js, "/joint_states", 4);
+  EXPECT_TRUE(lift.findings().empty());
+  js.header.stamp = Time{3, 0};
+  js.position = {0.5, 0.0};
+  lift.Apply(js, "/joint_states", 5);
+  ASSERT_EQ(lift.findings().groups().size(), 1u);
+  EXPECT_EQ(lift.findings().groups()[0].code.name(), "model_mismatch");
+  EXPECT_EQ(lift.findings().groups()[0].first_stamp_ns, 3 * kSec);
+  EXPECT_EQ(lift.findings().groups()[0].first_log_time_ns, 3);
+  // At 9 s, no joint state ever: compared at Flush, where the model has no pose at 9 s.
+  EXPECT_EQ(lift.Apply(Tf("base", "link1", 9 * kSec, {0, 0, 0.5}, AboutZ(0.5)), false, "/tf", 6),
+            LiftOutcome::kDeferred);
+  EXPECT_EQ(lift.findings().groups().size(), 1u);
+  lift.Flush();
+  ASSERT_EQ(lift.findings().groups().size(), 2u);
+  EXPECT_EQ(lift.findings().groups()[1].first_stamp_ns, 9 * kSec);
+  EXPECT_EQ(lift.findings().groups()[1].topic, "/tf");
+  EXPECT_EQ(lift.counts().covered, 3u);
+  EXPECT_EQ(lift.counts().mismatched, 2u);
+  EXPECT_EQ(lift.counts().applied, 0u);
+}
+
+TEST(TfLift, LaterSamplesOfAnEdgeGoByHandleAndRefusalsAreStillNamed) {
+  // odom -> base at 100 s, 101 s, 102 s (the last two by handle), read back at each stamp; then
+  // samples the graph refuses on that edge: older than the 10 s window, and a NaN.
+  Graph graph;  // queried at the samples' stamps: exact whatever the interpolation
+  auto lift = Lift(graph);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(lift.Apply(Tf("odom", "base", (100 + k) * kSec, {1.0 * k, 0, 0}, AboutZ(0.1 * k)),
+                         false, "/tf", k),
+              LiftOutcome::kApplied);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const auto X = graph.GetPose(PoseSpec::Of("base").RelativeTo("odom"),
+                                 core::At(core::Stamp::Nanoseconds((100 + k) * kSec)));
+    ASSERT_TRUE(X);
+    EXPECT_NEAR(X->value.ToIsometry().translation().x(), 1.0 * k, 1e-12);
+    EXPECT_NEAR(Eigen::AngleAxisd(X->value.ToIsometry().linear()).angle(), 0.1 * k, 1e-12);
+  }
+  EXPECT_EQ(lift.counts().applied, 3u);
+  ExpectRefused(lift, graph, Tf("odom", "base", 80 * kSec), false, ErrorCode::kStampTooOld);
+  ExpectRefused(lift, graph, Tf("odom", "base", 103 * kSec, {std::nan(""), 0, 0}), false,
+                ErrorCode::kInvalidNumber);
+  // A static transform of the dynamic edge: not by handle; live, base is on a body of its own
+  // already, so the static link to it is refused (spec §4).
+  ExpectRefused(lift, graph, Tf("odom", "base", 0), true, ErrorCode::kFrameBodyMismatch);
+  EXPECT_EQ(lift.counts().applied, 3u);
+  EXPECT_EQ(lift.counts().refused, 3u);
+}
+
 TEST(TfLift, JointStatesAreSkippedWithoutJoints) {
   Graph graph;
   auto lift = Lift(graph);

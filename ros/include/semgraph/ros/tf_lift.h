@@ -9,7 +9,11 @@
 //                          plan puts both frames on one body, else a timeless inter-body pose
 //   covered transform      one between the parent and child link frames of a joint of the
 //                          robot model: not added, compared with the model's pose at its stamp;
-//                          over 1e-6 m or 1e-6 rad apart it is the finding model_mismatch
+//                          over 1e-6 m or 1e-6 rad apart it is the finding model_mismatch. A
+//                          dynamic one stamped after the latest joint state waits (kDeferred)
+//                          until a joint state at or after its stamp arrives, or Flush(): in a
+//                          recorded bag robot_state_publisher's /tf often comes before the
+//                          /joint_states message it was computed from (two connections)
 //   rotation               |‖q‖² − 1| ≤ 0.01 accepted and normalized (counted `normalized` when
 //                          ‖q‖ is more than 1e-6 from 1), worse invalid_rotation; NaN/Inf
 //                          invalid_number
@@ -17,17 +21,22 @@
 //                          many) the velocities; skipped when the graph has no joints
 // A refused transform changes nothing; the other transforms of its message still apply.
 //
-// Costs: one graph add (or one pose query for a covered transform) per transform, plus a hash
-// lookup of its frame names; build time (allocates). Not thread-safe: one lift per graph, used
-// by the graph's one writer.
+// Costs: a /tf transform of an edge the lift added before is one SetPose by handle, found by
+// comparing its names with the edge after the last one used (a publisher's order) or else by
+// one hash lookup (no allocation once the key buffer has grown); any other
+// transform is one graph add by names (or one pose query for a covered transform); build time.
+// Not thread-safe: one lift per graph, used by the graph's one writer.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <set>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/ros/body_plan.h"
@@ -47,6 +56,7 @@ enum class LiftOutcome : std::uint8_t {
   kRefused,   ///< the graph refused it: a finding with its code
   kCovered,   ///< covered by the robot model and equal to its pose
   kMismatch,  ///< covered by the robot model and different: a model_mismatch finding
+  kDeferred,  ///< covered, stamped after the latest joint state: compared later (see above)
 };
 
 struct LiftCounts {
@@ -65,6 +75,11 @@ struct LiftCounts {
 inline constexpr double kRosQuaternionTolerance = 0.01;
 /// Over this apart a covered transform is model_mismatch (metres, radians).
 inline constexpr double kModelTolerance = 1e-6;
+/// Stamped edges remembered for the by-handle path (beyond, transforms take the add by names).
+inline constexpr std::size_t kMaxCachedEdges = std::size_t{1} << 16;
+/// Covered transforms waiting for their joint state; beyond this many the oldest is compared at
+/// once (memory stays bounded when no joint state ever comes).
+inline constexpr std::size_t kMaxDeferredCovers = 4096;
 
 template <coord::Backend B>
 class SEMGRAPH_ROS_EXPORT TfLift {
@@ -81,25 +96,57 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   void Apply(const TFMessage& message, bool is_static, std::string_view topic,
              std::int64_t log_time_ns);
   /// A joint state message; refusals are findings with parent = "" and child = the first name.
+  /// Then compares the deferred covered transforms stamped at or before it.
   void Apply(const JointState& state, std::string_view topic, std::int64_t log_time_ns);
+  /// Compares every deferred covered transform now (the end of a bag or of a stream).
+  void Flush();
 
   [[nodiscard]] BodyPlan& plan() noexcept { return plan_; }
   [[nodiscard]] const Findings& findings() const noexcept { return findings_; }
   [[nodiscard]] const LiftCounts& counts() const noexcept { return counts_; }
 
  private:
+  /// Apply's full path: every check, the add by names, the findings.
+  [[gnu::noinline]] LiftOutcome ApplyByNames(const TransformStamped& transform, bool is_static,
+                                             std::string_view topic, std::int64_t log_time_ns);
   LiftOutcome Refuse(core::ErrorCode code, std::string message, std::string_view parent,
                      std::string_view child, const TransformOrigin& origin);
   LiftOutcome CompareWithModel(std::string_view parent, std::string_view child,
                                const Eigen::Quaterniond& q_PC, const Eigen::Vector3d& p_PoCo_P,
                                bool is_static, const TransformOrigin& origin);
   std::string BodyOf(std::string_view frame) const;
+  /// A covered transform waiting for the joint state at its stamp (its strings owned).
+  struct DeferredCover {
+    std::string topic, parent, child;
+    std::int64_t log_time_ns = 0, stamp_ns = 0;
+    Eigen::Quaterniond q_PC;
+    Eigen::Vector3d p_PoCo_P;
+  };
+  LiftOutcome Defer(std::string_view parent, std::string_view child, const Eigen::Quaterniond& q_PC,
+                    const Eigen::Vector3d& p_PoCo_P, const TransformOrigin& origin);
+  void CompareDeferred(const DeferredCover& d);
+  /// Compares the deferred covers stamped at or before `up_to_ns` (all of them: INT64_MAX).
+  void CompareDeferredUpTo(std::int64_t up_to_ns);
 
   core::SceneGraph<B>& graph_;
   BodyPlan plan_;
   Findings findings_;
   LiftCounts counts_;
   std::set<std::pair<std::string, std::string>, std::less<>> covered_;  ///< (parent, child)
+  std::deque<DeferredCover> deferred_;                                  ///< in arrival order
+  /// The stamped edges {parent} -> {child} this lift added, in the order they were added.
+  struct CachedEdge {
+    std::string parent, child;
+    core::PoseHandle edge;
+  };
+  static constexpr std::size_t kNotCached = static_cast<std::size_t>(-1);
+  /// The index in edges_ of (parent, child), or kNotCached.
+  std::size_t FindCachedEdge(std::string_view parent, std::string_view child);
+  std::vector<CachedEdge> edges_;
+  std::unordered_map<std::string, std::size_t> edge_index_;  ///< "parent\nchild" -> index
+  std::size_t next_edge_ = 0;  ///< the entry after the last one used: the likely next
+  std::string key_;            ///< the lookup key's buffer
+  std::optional<std::int64_t> latest_joint_stamp_ns_;  ///< of the joint states applied
 };
 
 extern template class TfLift<coord::QuaternionBackend>;
