@@ -42,10 +42,11 @@ struct AddNames {
   int LookUp(const semantics::NameTable& names, const NamedField (&fields)[N],
              semantics::NameError& error) noexcept {
     // Same view (the builders copy one view into several fields) before same text; the last
-    // byte decides most mismatches of names that share a prefix.
+    // and first bytes decide most mismatches of names that share a prefix or a suffix.
     const auto same_name = [](std::string_view x, std::string_view y) {
       return x.size() == y.size() &&
-             (x.data() == y.data() || (!x.empty() && x.back() == y.back() && x == y));
+             (x.data() == y.data() ||
+              (!x.empty() && x.back() == y.back() && x.front() == y.front() && x == y));
     };
     for (int i = 0; i < static_cast<int>(N); ++i) {
       const NamedField& n = fields[i];
