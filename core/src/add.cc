@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "semgraph/core/scene_graph.h"
-#include "semgraph/semantics/describe.h"
 #include "add_plan.h"
 #include "edge_lookup.h"
 #include "name_rollback.h"
+#include "semgraph/core/scene_graph.h"
+#include "semgraph/semantics/describe.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -41,14 +41,15 @@ typename B::Rotation Renormalized(const typename B::Rotation& M) noexcept {
 }
 
 // The pose add's names by field, in the order of AddPoseImpl's `named`.
-constexpr Field kPoseFields[] = {Field::kPoint,          Field::kOrientation, Field::kBody,
+constexpr Field kPoseFields[] = {Field::kPoint,          Field::kOrientation,    Field::kBody,
                                  Field::kRefPoint,       Field::kRefOrientation, Field::kRefBody,
                                  Field::kCoordinateFrame};
 
-BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p, const internal::AddEnd& end,
-                      const std::string& what, std::string_view frame, std::string_view body) {
+BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, const std::string& what, std::string_view frame,
+                      std::string_view body) {
   return Reject(p == internal::EndProblem::kFrameBodyMismatch ? ErrorCode::kFrameBodyMismatch
-                                                               : ErrorCode::kFrameWithoutBody,
+                                                              : ErrorCode::kFrameWithoutBody,
                 what, text::EndReason(t, p, end, frame, body));
 }
 
@@ -57,8 +58,8 @@ BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p, 
 // pose_not_convertible. Fills the plan's ends and the frames the edge form is converted
 // through: {e, f, r}, each the edge's own frame where the spec names it.
 template <coord::Backend B>
-BuildResult PlanPoseAdd(const topology::SceneTopology& t, const PoseSpec& spec, const NameId (&id)[7],
-                        internal::AddPlan& plan, FrameIndex (&points)[3]) {
+BuildResult PlanPoseAdd(const topology::SceneTopology& t, const PoseSpec& spec,
+                        const NameId (&id)[7], internal::AddPlan& plan, FrameIndex (&points)[3]) {
   const auto what = [&spec] { return text::PoseAdd(spec); };
   const NameId e_id = id[0], a_id = id[1], f_id = id[3], b_id = id[4], r_id = id[6];
   plan.pose_edge = true;
@@ -79,38 +80,42 @@ BuildResult PlanPoseAdd(const topology::SceneTopology& t, const PoseSpec& spec, 
   }
   if (f.is_valid() && f != b && t.body_of(f) != plan.tail.body) {
     return Reject(ErrorCode::kFrameBodyMismatch, what(),
-                  "reference point " + std::string(spec.ref_point) + " is the origin of " + text::Frame(t, f) +
-                      ", not of a frame of body " + std::string(names.name(D_name)));
+                  "reference point " + std::string(spec.ref_point) + " is the origin of " +
+                      text::Frame(t, f) + ", not of a frame of body " +
+                      std::string(names.name(D_name)));
   }
   // 5. self_edge.
   if (a_id == b_id) {
-    return Reject(ErrorCode::kSelfEdge, what(),
-                  "a pose edge from {" + std::string(spec.orientation) + "} to itself is meaningless");
+    return Reject(
+        ErrorCode::kSelfEdge, what(),
+        "a pose edge from {" + std::string(spec.orientation) + "} to itself is meaningless");
   }
   // 6. representation_constraint.
-  const semantics::PoseSemantics given{semantics::Point(e_id), semantics::OrientationFrame(a_id),
-                                       semantics::Body(C_name), semantics::Point(f_id),
-                                       semantics::OrientationFrame(b_id), semantics::Body(D_name),
-                                       semantics::OrientationFrame(r_id)};
+  const semantics::PoseSemantics given{
+      semantics::Point(e_id),           semantics::OrientationFrame(a_id), semantics::Body(C_name),
+      semantics::Point(f_id),           semantics::OrientationFrame(b_id), semantics::Body(D_name),
+      semantics::OrientationFrame(r_id)};
   if (auto ok = coord::CheckRepresentation<B>(given); !ok) {
     return Reject(ErrorCode::kRepresentationConstraint, what(), coord::Describe(ok.error(), names));
   }
   // 7. pose_not_convertible: e, f and [r] must be frames of the edge's trees.
   if (e_id != a_id && !(a.is_valid() && e.is_valid() && t.SameTree(a, e))) {
     return Reject(ErrorCode::kPoseNotConvertible, what(),
-                  "point " + std::string(spec.point) + " must be a frame of " + std::string(names.name(C_name)) +
-                      " in the pose tree of {" + std::string(spec.orientation) + "}");
+                  "point " + std::string(spec.point) + " must be a frame of " +
+                      std::string(names.name(C_name)) + " in the pose tree of {" +
+                      std::string(spec.orientation) + "}");
   }
   if (f_id != b_id && !(b.is_valid() && f.is_valid() && t.SameTree(b, f))) {
     return Reject(ErrorCode::kPoseNotConvertible, what(),
                   "reference point " + std::string(spec.ref_point) + " must be a frame of " +
-                      std::string(names.name(D_name)) + " in the pose tree of {" + std::string(spec.ref_orientation) +
-                      "}");
+                      std::string(names.name(D_name)) + " in the pose tree of {" +
+                      std::string(spec.ref_orientation) + "}");
   }
   if (r_id != b_id && !(b.is_valid() && r.is_valid() && t.SameTree(b, r))) {
     return Reject(ErrorCode::kPoseNotConvertible, what(),
                   "coordinate frame [" + std::string(spec.coordinate_frame) +
-                      "] must be a frame in the pose tree of {" + std::string(spec.ref_orientation) + "}");
+                      "] must be a frame in the pose tree of {" +
+                      std::string(spec.ref_orientation) + "}");
   }
   points[0] = e_id != a_id ? e : a;
   points[1] = f_id != b_id ? f : b;
@@ -220,14 +225,15 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
 
   // 1. invalid_name. Each distinct name is looked up once; an interned name is valid by the
   // table's invariant, so only new names are validated (the edge form repeats names).
-  const internal::NamedField named[] = {{spec.point},          {spec.orientation},     {spec.body, false},
-                                        {spec.ref_point},      {spec.ref_orientation}, {spec.ref_body, false},
-                                        {spec.coordinate_frame}};
+  const internal::NamedField named[] = {
+      {spec.point},           {spec.orientation},     {spec.body, false},     {spec.ref_point},
+      {spec.ref_orientation}, {spec.ref_body, false}, {spec.coordinate_frame}};
   internal::AddNames<7> ids;
   semantics::NameError name_error;
   if (const int bad = ids.LookUp(names, named, name_error); bad >= 0) {
     return Reject(ErrorCode::kInvalidName, what(),
-                  std::string(FieldName(kPoseFields[bad])) + ": " + semantics::Describe(name_error, named[bad].value));
+                  std::string(FieldName(kPoseFields[bad])) + ": " +
+                      semantics::Describe(name_error, named[bad].value));
   }
   // 2-3. invalid_number -> invalid_rotation.
   auto p_ok = coord::ValidateVector(p_position, coord::ValueRole::kPosition);
@@ -271,8 +277,9 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   if (topology::PoseEdgeExists(t, b, a)) {
     if (const internal::JointRecord* j = joints_.OfChild(a)) {
       return Reject(ErrorCode::kJointEdge, what(),
-                    "the pose edge " + text::Frame(t, b) + " -> " + text::Frame(t, a) + " belongs to joint " +
-                        std::string(joints_.name(*j)) + "; set the joint's position instead");
+                    "the pose edge " + text::Frame(t, b) + " -> " + text::Frame(t, a) +
+                        " belongs to joint " + std::string(joints_.name(*j)) +
+                        "; set the joint's position instead");
     }
     if (topology::IsConstantEdge(t, b, a)) {
       const auto stored = values_.X_PF[a.value()].Load();
@@ -331,12 +338,14 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   const auto what = [&spec] { return text::TwistAdd(spec); };  // formatted only on rejection
   const internal::NamedField named[] = {
       {spec.point}, {spec.body, false}, {spec.ref_body}, {spec.coordinate_frame}};
-  constexpr Field kFields[] = {Field::kPoint, Field::kBody, Field::kRefBody, Field::kCoordinateFrame};
+  constexpr Field kFields[] = {Field::kPoint, Field::kBody, Field::kRefBody,
+                               Field::kCoordinateFrame};
   internal::AddNames<4> ids;
   semantics::NameError name_error;
   if (const int bad = ids.LookUp(names, named, name_error); bad >= 0) {
     return Reject(ErrorCode::kInvalidName, what(),
-                  std::string(FieldName(kFields[bad])) + ": " + semantics::Describe(name_error, named[bad].value));
+                  std::string(FieldName(kFields[bad])) + ": " +
+                      semantics::Describe(name_error, named[bad].value));
   }
   auto v_ok = coord::ValidateVector(v_linear, coord::ValueRole::kLinearVelocity);
   if (!v_ok) return Reject(v_ok.error().code, what(), coord::Describe(v_ok.error(), names));
@@ -353,11 +362,13 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     case internal::EndProblem::kFrameBodyMismatch:
       return Reject(ErrorCode::kFrameBodyMismatch, what(),
                     "the point of a twist must be the origin of a frame on the moving body: " +
-                        text::Frame(t, plan.head.frame) + " is not on body " + std::string(spec.body));
+                        text::Frame(t, plan.head.frame) + " is not on body " +
+                        std::string(spec.body));
     case internal::EndProblem::kFrameWithoutBody:
       return Reject(ErrorCode::kFrameWithoutBody, what(),
                     "frame {" + std::string(spec.point) + "} does not exist and no body is given");
-    case internal::EndProblem::kNone: break;
+    case internal::EndProblem::kNone:
+      break;
   }
   plan.tail = internal::AddEnd{NameId(), FrameIndex(), D_id, t.BodyOfName(D_id)};
   const FrameIndex e = plan.head.frame;
@@ -391,7 +402,8 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     if (const internal::JointRecord* j = joints_.OfChild(e)) {  // joint_edge, before W1
       return Reject(ErrorCode::kJointEdge, what(),
                     "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, e) +
-                        " belongs to joint " + std::string(joints_.name(*j)) + "; set the joint's velocity instead");
+                        " belongs to joint " + std::string(joints_.name(*j)) +
+                        "; set the joint's velocity instead");
     }
     const TwistEdgeIndex existing = t.twist_edge_of(e);
     if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
@@ -437,7 +449,8 @@ void SceneGraph<B>::ReserveAdd(const internal::AddPlan& plan) {
 template <coord::Backend B>
 internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
   internal::AddedEdges out{plan.tail.frame, plan.head.frame, plan.tail.body, plan.head.body, {}};
-  if (plan.tail_body_first && !out.tail_body.is_valid()) out.tail_body = topology_.CreateBody(plan.tail.body_name);
+  if (plan.tail_body_first && !out.tail_body.is_valid())
+    out.tail_body = topology_.CreateBody(plan.tail.body_name);
   if (!out.head_body.is_valid()) out.head_body = topology_.CreateBody(plan.head.body_name);
   if (!out.tail_body.is_valid()) {
     out.tail_body = plan.same_body() ? out.head_body : topology_.CreateBody(plan.tail.body_name);
@@ -450,9 +463,10 @@ internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
   if (plan.twist_edge) {
     const topology::SceneTopology& t = topology_;
     const NameId h = plan.head.frame_name;
-    out.twist = topology_.LinkTwist(out.tail_body, out.head,
-                                    semantics::TwistSemantics{semantics::Point(h), t.BodySem(out.head_body),
-                                                              t.BodySem(out.tail_body), semantics::OrientationFrame(h)});
+    out.twist = topology_.LinkTwist(
+        out.tail_body, out.head,
+        semantics::TwistSemantics{semantics::Point(h), t.BodySem(out.head_body),
+                                  t.BodySem(out.tail_body), semantics::OrientationFrame(h)});
     values_.AddTwistSlot(out.twist);
   }
   return out;
@@ -466,8 +480,10 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
     return "removal of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
   };
   const internal::EdgeLookup l = internal::LookUpPoseEdge(topology_, of, relative_to);
-  if (l.code != ErrorCode::kOk) return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
-  if (const internal::JointRecord* j = joints_.OfChild(l.head)) return RemoveJoint(*j);  // joints.cc
+  if (l.code != ErrorCode::kOk)
+    return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
+  if (const internal::JointRecord* j = joints_.OfChild(l.head))
+    return RemoveJoint(*j);  // joints.cc
   RemovePoseEdge(l.head);
   return Ok{};
 }
@@ -477,7 +493,8 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
   const auto shown = [](std::string_view n) { return n.empty() ? std::string("\"\"") : std::string(n); };
   const auto what = [&] { return "removal of the twist of " + shown(of) + " wrt " + shown(relative_to); };
   const internal::EdgeLookup l = internal::LookUpTwistEdge(topology_, of, relative_to);
-  if (l.code != ErrorCode::kOk) return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
+  if (l.code != ErrorCode::kOk)
+    return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
   if (const internal::JointRecord* j = joints_.OfChild(l.head)) {
     return Reject(ErrorCode::kJointEdge, what(),
                   "it is the twist edge of joint " + std::string(joints_.name(*j)) +
@@ -491,8 +508,9 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
 template <coord::Backend B>
 void SceneGraph<B>::RemovePoseEdge(FrameIndex head) {
   topology_.CutPose(head);
-  values_.X_PF[head.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
-  DropPoseHistory(head);                   // removing an edge drops its history
+  values_.X_PF[head.value()]
+      .BumpEpoch();       // compiled queries and handles using this edge become invalid
+  DropPoseHistory(head);  // removing an edge drops its history
 }
 
 template <coord::Backend B>
@@ -502,25 +520,30 @@ void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
   DropTwistHistory(edge);
 }
 
-#define SEMGRAPH_INSTANTIATE_ADD(B)                                                                         \
-  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                           \
-  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                                        \
-  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                            \
-  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);                         \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,                   \
-                                              const Eigen::Vector3d&);                                      \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&, const Eigen::Vector3d&); \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&); \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&, const Eigen::Vector3d&, Stamp); \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&, const Eigen::Vector3d&, Stamp); \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp); \
-  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, \
-                                                   std::optional<Stamp>);                                   \
-  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);                       \
-  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);                     \
-  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                                  \
-  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                             \
-  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                                        \
+#define SEMGRAPH_INSTANTIATE_ADD(B)                                                               \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                 \
+  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                              \
+  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                  \
+  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);               \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
+                                              const Eigen::Vector3d&);                            \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
+                                              const Eigen::Vector3d&);                            \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&);                           \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
+                                              const Eigen::Vector3d&, Stamp);                     \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
+                                              const Eigen::Vector3d&, Stamp);                     \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&, Stamp);                    \
+  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,      \
+                                                   const Eigen::Vector3d&, std::optional<Stamp>); \
+  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);             \
+  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);            \
+  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                        \
+  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                   \
+  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                              \
   template internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan&);
 SEMGRAPH_INSTANTIATE_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ADD(coord::HomogeneousBackend)

@@ -44,9 +44,8 @@ struct AddNames {
     // Same view (the builders copy one view into several fields) before same text; the last
     // and first bytes decide most mismatches of names that share a prefix or a suffix.
     const auto same_name = [](std::string_view x, std::string_view y) {
-      return x.size() == y.size() &&
-             (x.data() == y.data() ||
-              (!x.empty() && x.back() == y.back() && x.front() == y.front() && x == y));
+      return x.size() == y.size() && (x.data() == y.data() || (!x.empty() && x.back() == y.back() &&
+                                                               x.front() == y.front() && x == y));
     };
     for (int i = 0; i < static_cast<int>(N); ++i) {
       const NamedField& n = fields[i];
@@ -92,8 +91,8 @@ struct AddEnd {
 /// Node resolution of {x}|given (given invalid: no body named): an existing frame must be on
 /// the given body and brings its own; a new frame needs a body to be attached to.
 enum class EndProblem : std::uint8_t { kNone, kFrameBodyMismatch, kFrameWithoutBody };
-[[nodiscard]] inline EndProblem ResolveEnd(const topology::SceneTopology& t, NameId frame, NameId given,
-                                           AddEnd& end) noexcept {
+[[nodiscard]] inline EndProblem ResolveEnd(const topology::SceneTopology& t, NameId frame,
+                                           NameId given, AddEnd& end) noexcept {
   end.frame_name = frame;
   end.frame = t.FrameOfName(frame);
   end.body_name = given;
@@ -118,7 +117,9 @@ struct AddPlan {
   bool twist_edge = false;
   bool tail_body_first = false;
 
-  [[nodiscard]] bool same_body() const noexcept { return pose_edge && tail.body_name == head.body_name; }
+  [[nodiscard]] bool same_body() const noexcept {
+    return pose_edge && tail.body_name == head.body_name;
+  }
   [[nodiscard]] std::size_t new_bodies() const noexcept {
     return (head.body.is_valid() ? 0 : 1) + (tail.body.is_valid() || same_body() ? 0 : 1);
   }
@@ -129,7 +130,9 @@ struct AddPlan {
   [[nodiscard]] topology::NewPoseEdge pose_ends() const noexcept {
     return {tail.frame, head.frame, tail.body, head.body, same_body()};
   }
-  [[nodiscard]] topology::NewTwistEdge twist_ends() const noexcept { return {tail.body, head.frame, head.body}; }
+  [[nodiscard]] topology::NewTwistEdge twist_ends() const noexcept {
+    return {tail.body, head.frame, head.body};
+  }
 };
 
 /// The nodes and edges CommitAdd made or used.

@@ -188,8 +188,8 @@ std::string JointRule(const topology::SceneTopology& t, const topology::RuleViol
   }
 }
 
-std::string EndReason(const topology::SceneTopology& t, internal::EndProblem p, const internal::AddEnd& end,
-                      std::string_view frame, std::string_view body) {
+std::string EndReason(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, std::string_view frame, std::string_view body) {
   if (p == internal::EndProblem::kFrameBodyMismatch) {
     return "frame {" + std::string(frame) + "} is attached to body " +
            std::string(t.body_name(t.body_of(end.frame))) + ", not " + std::string(body);
@@ -215,8 +215,9 @@ std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLoo
     std::string s = "there is no pose edge " + Frame(t, l.tail) + " -> " + Frame(t, l.head);
     if (!explain) return s;
     const topology::FrameIndex p = t.pose_parent(l.head);
-    return s + (p.is_valid() ? " (the pose parent of " + Frame(t, l.head) + " is " + Frame(t, p) + ")"
-                             : " (" + Frame(t, l.head) + " has no pose parent)");
+    return s + (p.is_valid()
+                    ? " (the pose parent of " + Frame(t, l.head) + " is " + Frame(t, p) + ")"
+                    : " (" + Frame(t, l.head) + " has no pose parent)");
   }
   std::string s = "there is no twist edge " + std::string(relative_to) + " -> " + Frame(t, l.head);
   if (!explain) return s;

@@ -18,7 +18,7 @@ namespace semgraph::core::internal {
 struct EdgeLookup {
   base::ErrorCode code = base::ErrorCode::kOk;
   bool twist = false;
-  std::string_view bad_name;      ///< invalid_name, unknown_frame, unknown_body: that name
+  std::string_view bad_name;        ///< invalid_name, unknown_frame, unknown_body: that name
   semantics::NameError name_error;  ///< invalid_name
   topology::FrameIndex head, tail;  ///< the frames (twist: head only)
   topology::BodyIndex tail_body;    ///< twist: the reference body
@@ -26,7 +26,8 @@ struct EdgeLookup {
 };
 
 /// The pose edge {relative_to} -> {of}. O(|names|), allocation-free.
-[[nodiscard]] inline EdgeLookup LookUpPoseEdge(const topology::SceneTopology& t, std::string_view of,
+[[nodiscard]] inline EdgeLookup LookUpPoseEdge(const topology::SceneTopology& t,
+                                               std::string_view of,
                                                std::string_view relative_to) noexcept {
   EdgeLookup l;
   for (std::string_view n : {of, relative_to}) {
@@ -49,7 +50,8 @@ struct EdgeLookup {
 }
 
 /// The twist edge relative_to (a body) -> {of}. O(|names|), allocation-free.
-[[nodiscard]] inline EdgeLookup LookUpTwistEdge(const topology::SceneTopology& t, std::string_view of,
+[[nodiscard]] inline EdgeLookup LookUpTwistEdge(const topology::SceneTopology& t,
+                                                std::string_view of,
                                                 std::string_view relative_to) noexcept {
   EdgeLookup l;
   l.twist = true;
@@ -74,7 +76,8 @@ struct EdgeLookup {
     return l;
   }
   l.edge = t.twist_edge_of(l.head);
-  if (!l.edge.is_valid() || t.twist_edge(l.edge).tail != l.tail_body) l.code = base::ErrorCode::kNoSuchEdge;
+  if (!l.edge.is_valid() || t.twist_edge(l.edge).tail != l.tail_body)
+    l.code = base::ErrorCode::kNoSuchEdge;
   return l;
 }
 

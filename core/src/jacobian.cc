@@ -14,7 +14,8 @@ namespace semgraph::core {
 using base::Unexpected;
 
 template <coord::Backend B>
-Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const TwistSpec& spec) const {
+Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(
+    const TwistSpec& spec) const {
   auto twist = PlanTwist(topology_, spec);
   if (!twist) return Unexpected{twist.error()};
   internal::JacobianPlan plan;
@@ -39,7 +40,8 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
   for (const TwistStep<ForestChain>& s : path) {
     const internal::JointRecord* j = joints_.OfChild(topology_.twist_edge(s.edge).head);
     if (!j || !j->movable()) continue;
-    const JointHandle column_joint = j->is_mimic() ? joints_.HandleOf(joints_[j->master]) : joints_.HandleOf(*j);
+    const JointHandle column_joint =
+        j->is_mimic() ? joints_.HandleOf(joints_[j->master]) : joints_.HandleOf(*j);
     const double scale = j->is_mimic() ? j->multiplier : 1.0;
     auto it = std::find(plan.columns.begin(), plan.columns.end(), column_joint);
     if (it == plan.columns.end()) it = plan.columns.insert(plan.columns.end(), column_joint);
@@ -56,8 +58,11 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
   }
   // Chain each step's h -> ancestor composition on the previous one's where it continues it:
   // same ancestor c and reference chain, and the previous h on the way from this h up to c.
-  const auto continues = [&](const BasicPath<ForestChain>& prev, const BasicPath<ForestChain>& next) {
-    if (prev.up_a.to != next.up_a.to || prev.up_b.from != next.up_b.from || prev.up_b.to != next.up_b.to) return false;
+  const auto continues = [&](const BasicPath<ForestChain>& prev,
+                             const BasicPath<ForestChain>& next) {
+    if (prev.up_a.to != next.up_a.to || prev.up_b.from != next.up_b.from ||
+        prev.up_b.to != next.up_b.to)
+      return false;
     for (FrameIndex g = next.up_a.from; g.is_valid(); g = topology_.pose_parent(g)) {
       if (g == prev.up_a.from) return true;
       if (g == next.up_a.to) return false;
@@ -76,7 +81,8 @@ Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const T
     }
     prev = &s;
   }
-  if (plan.change_point && prev && &plan.steps.back() == prev && continues(prev->step.hr, plan.er)) {
+  if (plan.change_point && prev && &plan.steps.back() == prev &&
+      continues(prev->step.hr, plan.er)) {
     plan.e_chained = true;
     plan.e_rest = ForestChain{plan.er.up_a.from, prev->step.hr.up_a.from};
   }
@@ -91,13 +97,14 @@ Expected<Jacobian, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec& spec)
   out.semantics = plan->twist.semantics;
   out.joints = plan->columns;
   out.J.setZero(6, static_cast<Eigen::Index>(plan->columns.size()));
-  internal::EvaluateJacobian<B>(source(), plan->change_point, plan->er, plan->e_chained, plan->e_rest, plan->steps,
-                                out.J);
+  internal::EvaluateJacobian<B>(source(), plan->change_point, plan->er, plan->e_chained,
+                                plan->e_rest, plan->steps, out.J);
   return out;
 }
 
 template <coord::Backend B>
-Expected<CompiledJacobian<B>, QueryError> SceneGraph<B>::CompileJacobian(const TwistSpec& spec) const {
+Expected<CompiledJacobian<B>, QueryError> SceneGraph<B>::CompileJacobian(
+    const TwistSpec& spec) const {
   auto plan = PlanJacobian(spec);
   if (!plan) return Unexpected{plan.error()};
   return CompiledJacobian<B>(topology_, values_, *plan);
@@ -126,15 +133,18 @@ CompiledJacobian<B>::CompiledJacobian(const topology::SceneTopology& t, const Ed
 template <coord::Backend B>
 ErrorCode CompiledJacobian<B>::Evaluate(Eigen::Ref<JacobianMatrix> J) const noexcept {
   SEMGRAPH_DEMAND(static_cast<std::size_t>(J.cols()) == joints_.size());
-  return internal::EvaluateJacobian<B>(this->source(), change_point_, er_, e_chained_, e_rest_, steps_, J)
+  return internal::EvaluateJacobian<B>(this->source(), change_point_, er_, e_chained_, e_rest_,
+                                       steps_, J)
              ? ErrorCode::kOk
              : ErrorCode::kQueryInvalidated;
 }
 
-#define SEMGRAPH_INSTANTIATE_JACOBIAN(B)                                                                      \
-  template Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(const TwistSpec&) const;  \
-  template Expected<Jacobian, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec&) const;                \
-  template Expected<CompiledJacobian<B>, QueryError> SceneGraph<B>::CompileJacobian(const TwistSpec&) const; \
+#define SEMGRAPH_INSTANTIATE_JACOBIAN(B)                                                      \
+  template Expected<internal::JacobianPlan, QueryError> SceneGraph<B>::PlanJacobian(          \
+      const TwistSpec&) const;                                                                \
+  template Expected<Jacobian, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec&) const; \
+  template Expected<CompiledJacobian<B>, QueryError> SceneGraph<B>::CompileJacobian(          \
+      const TwistSpec&) const;                                                                \
   template class CompiledJacobian<B>;
 SEMGRAPH_INSTANTIATE_JACOBIAN(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_JACOBIAN(coord::HomogeneousBackend)

@@ -78,8 +78,8 @@ ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord& j, double
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given, const double* qdot_given,
-                                     std::int64_t s) noexcept {
+void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
+                                     const double* qdot_given, std::int64_t s) noexcept {
   internal::JointRecord& j = joints_[index];
   const double q = q_given ? *q_given : j.q, qdot = qdot_given ? *qdot_given : j.qdot;
   const TwistEdgeIndex edge = topology_.twist_edge_of(j.child);
@@ -259,16 +259,21 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   return Ok{};
 }
 
-#define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                                          \
-  template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, std::int64_t)    \
-      const noexcept;                                                                                               \
-  template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*, std::int64_t) noexcept; \
-  template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*, const double*, Stamp) noexcept; \
-  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>, Stamp) noexcept;  \
-  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, Stamp) noexcept; \
-  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>, std::span<const double>, \
-                                                  Stamp) noexcept;                                                 \
-  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>, Stamp);
+#define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                         \
+  template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, \
+                                                     std::int64_t) const noexcept;                 \
+  template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*,          \
+                                                std::int64_t) noexcept;                            \
+  template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
+                                                    const double*, Stamp) noexcept;                \
+  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>,  \
+                                                      Stamp) noexcept;                             \
+  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
+                                                       Stamp) noexcept;                            \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
+                                                  std::span<const double>, Stamp) noexcept;        \
+  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
+                                                std::span<const JointValue>, Stamp);
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::HomogeneousBackend)
 

@@ -8,11 +8,11 @@
 #include <cmath>
 #include <limits>
 
+#include "add_plan.h"
+#include "name_rollback.h"
 #include "semgraph/base/demand.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
-#include "add_plan.h"
-#include "name_rollback.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -130,7 +130,8 @@ template <class What>
 BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics::NameTable& names,
                             const JointSpec& spec, const What& what, internal::JointRecord& j) {
   auto p_ok = coord::ValidateVector(spec.p_origin, coord::ValueRole::kPosition);
-  if (!p_ok) return Reject(p_ok.error().code, what(), "origin: " + coord::Describe(p_ok.error(), names));
+  if (!p_ok)
+    return Reject(p_ok.error().code, what(), "origin: " + coord::Describe(p_ok.error(), names));
   if (spec.R_origin) {
     auto R_ok = coord::ValidateRotationMatrix(*spec.R_origin);
     if (!R_ok) return Reject(R_ok.error().code, what(), "origin: " + coord::Describe(R_ok.error(), names));
@@ -162,18 +163,22 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
                   "the lower limit " + Num(spec.lower) + " is above the upper limit " + Num(spec.upper));
   }
   if (!spec.mimic.empty()) {
-    if (!j.movable()) return Reject(ErrorCode::kInvalidModel, what(), "a fixed joint cannot mimic another joint");
+    if (!j.movable())
+      return Reject(ErrorCode::kInvalidModel, what(), "a fixed joint cannot mimic another joint");
     const internal::JointRecord* m = joints.Find(spec.mimic);
     if (!m) {
       return Reject(ErrorCode::kInvalidModel, what(),
                     "it mimics joint " + std::string(spec.mimic) + ", which does not exist");
     }
     const std::string m_name(joints.name(*m));
-    if (!m->movable()) return Reject(ErrorCode::kInvalidModel, what(), "it mimics joint " + m_name + ", which is fixed");
+    if (!m->movable())
+      return Reject(ErrorCode::kInvalidModel, what(),
+                    "it mimics joint " + m_name + ", which is fixed");
     if (m->is_mimic()) {
       return Reject(ErrorCode::kInvalidModel, what(),
                     "it mimics joint " + m_name + ", which itself mimics joint " +
-                        std::string(joints.name(joints[m->master])) + " (mimic the master directly)");
+                        std::string(joints.name(joints[m->master])) +
+                        " (mimic the master directly)");
     }
     j.master = joints.IndexOf(*m);
   }
@@ -184,7 +189,9 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
   // A unit axis (to rounding) is kept as given, as rotations are (coord/validate.h), so that
   // adding a joint again with the stored axis stores the same axis (scene export).
   const bool unit_axis = std::abs(axis_norm - 1.0) <= coord::kUnitRounding;
-  j.axis = !j.movable() ? Eigen::Vector3d::UnitX() : unit_axis ? spec.axis : Eigen::Vector3d(spec.axis / axis_norm);
+  j.axis = !j.movable() ? Eigen::Vector3d::UnitX()
+           : unit_axis  ? spec.axis
+                        : Eigen::Vector3d(spec.axis / axis_norm);
   j.lower = spec.lower;
   j.upper = spec.upper;
   j.multiplier = j.is_mimic() ? spec.multiplier : 1.0;
@@ -205,20 +212,26 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   semantics::NameTable& names = topology_.mutable_names();
-  const auto what = [&] { return JointWhat(spec.name) + " (" + std::string(ToString(spec.type)) + ")"; };
+  const auto what = [&] {
+    return JointWhat(spec.name) + " (" + std::string(ToString(spec.type)) + ")";
+  };
   // 1. invalid_name, in field order (the frames' and bodies' names are interned in the order
   // parent, child, parent_body, child_body, as they always were).
   const struct {
     std::string_view value;
     const char* role;
     bool required;
-  } checked[] = {{spec.name, "name", true},          {spec.parent, "parent", true},
-                 {spec.parent_body, "parent_body", false}, {spec.child, "child", true},
-                 {spec.child_body, "child_body", false},   {spec.mimic, "mimic", false}};
+  } checked[] = {{spec.name, "name", true},
+                 {spec.parent, "parent", true},
+                 {spec.parent_body, "parent_body", false},
+                 {spec.child, "child", true},
+                 {spec.child_body, "child_body", false},
+                 {spec.mimic, "mimic", false}};
   for (const auto& n : checked) {
     if (n.value.empty() && !n.required) continue;
     if (auto ok = semantics::ValidateName(n.value); !ok) {
-      return Reject(ErrorCode::kInvalidName, what(), std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
+      return Reject(ErrorCode::kInvalidName, what(),
+                    std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
     }
   }
   const internal::NamedField named[] = {
@@ -237,16 +250,18 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const topology::SceneTopology& t = topology_;
   internal::AddPlan plan;
   plan.pose_edge = plan.twist_edge = plan.tail_body_first = true;
-  const auto reject_end = [&](internal::EndProblem p, const internal::AddEnd& end, std::string_view frame,
-                              std::string_view body) {
+  const auto reject_end = [&](internal::EndProblem p, const internal::AddEnd& end,
+                              std::string_view frame, std::string_view body) {
     return Reject(p == internal::EndProblem::kFrameBodyMismatch ? ErrorCode::kFrameBodyMismatch
-                                                                 : ErrorCode::kFrameWithoutBody,
+                                                                : ErrorCode::kFrameWithoutBody,
                   what(), text::EndReason(t, p, end, frame, body));
   };
-  if (auto p = internal::ResolveEnd(t, c_id, ids.id[3], plan.head); p != internal::EndProblem::kNone) {
+  if (auto p = internal::ResolveEnd(t, c_id, ids.id[3], plan.head);
+      p != internal::EndProblem::kNone) {
     return reject_end(p, plan.head, spec.child, spec.child_body);
   }
-  if (auto p = internal::ResolveEnd(t, p_id, ids.id[2], plan.tail); p != internal::EndProblem::kNone) {
+  if (auto p = internal::ResolveEnd(t, p_id, ids.id[2], plan.tail);
+      p != internal::EndProblem::kNone) {
     return reject_end(p, plan.tail, spec.parent, spec.parent_body);
   }
   const FrameIndex p = plan.tail.frame, c = plan.head.frame;
@@ -256,21 +271,23 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   }
   if (plan.tail.body_name == plan.head.body_name) {
     return Reject(ErrorCode::kTwistSameBody, what(),
-                  "parent and child are both on body " + std::string(names.name(plan.tail.body_name)) +
+                  "parent and child are both on body " +
+                      std::string(names.name(plan.tail.body_name)) +
                       ": a joint moves one body relative to another");
   }
   // 7. joint_edge: the edge is already a joint's.
   if (topology::PoseEdgeExists(t, p, c)) {
     if (const internal::JointRecord* other = joints_.OfChild(c)) {
       return Reject(ErrorCode::kJointEdge, what(),
-                    "the pose edge " + text::Frame(t, p) + " -> " + text::Frame(t, c) + " belongs to joint " +
-                        std::string(joints_.name(*other)));
+                    "the pose edge " + text::Frame(t, p) + " -> " + text::Frame(t, c) +
+                        " belongs to joint " + std::string(joints_.name(*other)));
     }
   }
   // 8. P1 -> P2 -> P3 -> W4 for the pose edge, then W1 -> W3 for the twist edge P -> {c}|C in
   // the merged tree.
   if (auto v = topology::CheckNewJointEdges(t, plan.pose_ends())) {
-    const PoseSpec as_pose = PoseSpec::Of(spec.child, spec.child_body).RelativeTo(spec.parent, spec.parent_body);
+    const PoseSpec as_pose =
+        PoseSpec::Of(spec.child, spec.child_body).RelativeTo(spec.parent, spec.parent_body);
     return Reject(v->code, what(), text::JointRule(t, *v, plan.pose_ends(), as_pose));
   }
 
@@ -308,7 +325,8 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   j.parent_body = made.tail_body;
   j.child_body = made.head_body;
   j.alive = true;
-  if (joints_.of_name.size() < joints_.names.size()) joints_.of_name.resize(joints_.names.size());  // reserved
+  if (joints_.of_name.size() < joints_.names.size())
+    joints_.of_name.resize(joints_.names.size());  // reserved
   joints_.of_name[j.name.value()] = index;
   joints_[index] = std::move(j);
   auto child_entry = child_node.extract(child_node.begin());
@@ -330,9 +348,11 @@ BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord& joint) {
   for (JointIndex m : joint.mimics) {
     if (joints_[m].alive) {
       return Reject(ErrorCode::kJointEdge,
-                    "removal of the pose of " + text::Frame(t, joint.child) + " wrt " + text::Frame(t, joint.parent),
-                    "it is the pose edge of joint " + std::string(joints_.name(joint)) + ", which joint " +
-                        std::string(joints_.name(joints_[m])) + " mimics; remove the mimic joints first");
+                    "removal of the pose of " + text::Frame(t, joint.child) + " wrt " +
+                        text::Frame(t, joint.parent),
+                    "it is the pose edge of joint " + std::string(joints_.name(joint)) +
+                        ", which joint " + std::string(joints_.name(joints_[m])) +
+                        " mimics; remove the mimic joints first");
     }
   }
   const JointIndex index = joints_.IndexOf(joint);
@@ -460,7 +480,8 @@ BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> position
       if (j->is_mimic()) {
         return Reject(ErrorCode::kMimicJoint, what(),
                       "joint " + std::string(joints_.name(*j)) + " mimics joint " +
-                          std::string(joints_.name(joints_[j->master])) + "; set the master instead");
+                          std::string(joints_.name(joints_[j->master])) +
+                          "; set the master instead");
       }
     }
   }
@@ -468,8 +489,8 @@ BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> position
     const internal::JointRecord* j = joints_.Find(v.joint);
     if (j->limited() && (v.value < j->lower - kLimitSlack || v.value > j->upper + kLimitSlack)) {
       return Reject(ErrorCode::kJointLimit, what(),
-                    "position " + Num(v.value) + " of joint " + std::string(joints_.name(*j)) + " is outside its limits [" + Num(j->lower) +
-                        ", " + Num(j->upper) + "]");
+                    "position " + Num(v.value) + " of joint " + std::string(joints_.name(*j)) +
+                        " is outside its limits [" + Num(j->lower) + ", " + Num(j->upper) + "]");
     }
   }
   return Ok{};
@@ -485,7 +506,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
       if (values_.history.pose_of(j->child.value()) != nullptr) {
         return Reject(ErrorCode::kStampMismatch, what(),
                       "joint " + std::string(joints_.name(*j)) + ": " +
-                          DescribeSampleRejection(ErrorCode::kStampMismatch, false, j->child.value(), std::nullopt));
+                          DescribeSampleRejection(ErrorCode::kStampMismatch, false,
+                                                  j->child.value(), std::nullopt));
       }
     }
   }
@@ -518,7 +540,8 @@ Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(std::span<const s
     if (!j) return Unexpected{Reject(ErrorCode::kUnknownJoint, what, "there is no joint named " + std::string(n)).error()};
     if (!j->movable()) {
       return Unexpected{
-          Reject(ErrorCode::kUnknownJoint, what, "joint " + std::string(joints_.name(*j)) + " is fixed: it has no state")
+          Reject(ErrorCode::kUnknownJoint, what,
+                 "joint " + std::string(joints_.name(*j)) + " is fixed: it has no state")
               .error()};
     }
     if (j->is_mimic()) {
@@ -529,8 +552,9 @@ Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(std::span<const s
     }
     const JointHandle h = joints_.HandleOf(*j);
     if (std::find(g.joints.begin(), g.joints.end(), h) != g.joints.end()) {
-      return Unexpected{
-          Reject(ErrorCode::kDuplicateJoint, what, "joint " + std::string(joints_.name(*j)) + " is named twice").error()};
+      return Unexpected{Reject(ErrorCode::kDuplicateJoint, what,
+                               "joint " + std::string(joints_.name(*j)) + " is named twice")
+                            .error()};
     }
     g.joints.push_back(h);
   }
@@ -544,8 +568,9 @@ JointGroup SceneGraph<B>::AllJoints() const {
   for (const internal::JointRecord& j : joints_.joints) {
     if (j.alive && j.movable() && !j.is_mimic()) order.push_back(joints_.IndexOf(j));
   }
-  std::sort(order.begin(), order.end(),
-            [&](JointIndex a, JointIndex b) { return joints_[a].child.value() < joints_[b].child.value(); });
+  std::sort(order.begin(), order.end(), [&](JointIndex a, JointIndex b) {
+    return joints_[a].child.value() < joints_[b].child.value();
+  });
   JointGroup g;
   for (JointIndex i : order) g.joints.push_back(joints_.HandleOf(joints_[i]));
   return g;
@@ -567,22 +592,28 @@ std::string_view SceneGraph<B>::joint_name(JointHandle h) const noexcept {
   return j ? joints_.name(*j) : std::string_view();
 }
 
-#define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                                          \
-  template BuildResult SceneGraph<B>::AddJoint(const JointSpec&);                                               \
-  template BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord&);                                \
-  template void SceneGraph<B>::ApplyJoint(JointIndex, const double*, const double*) noexcept;                  \
-  template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*, const double*) noexcept;         \
-  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>) noexcept;     \
-  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>) noexcept;    \
-  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,                   \
-                                                  std::span<const double>) noexcept;                            \
-  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>);      \
-  template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>, std::span<const JointValue>) const; \
-  template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const;                  \
-  template Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(std::span<const std::string_view>) const; \
-  template JointGroup SceneGraph<B>::AllJoints() const;                                                         \
-  template double SceneGraph<B>::joint_position(JointHandle) const noexcept;                                    \
-  template double SceneGraph<B>::joint_velocity(JointHandle) const noexcept;                                    \
+#define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                         \
+  template BuildResult SceneGraph<B>::AddJoint(const JointSpec&);                              \
+  template BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord&);               \
+  template void SceneGraph<B>::ApplyJoint(JointIndex, const double*, const double*) noexcept;  \
+  template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*,                 \
+                                             const double*) noexcept;                          \
+  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&,                       \
+                                                      std::span<const double>) noexcept;       \
+  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&,                      \
+                                                       std::span<const double>) noexcept;      \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,  \
+                                                  std::span<const double>) noexcept;           \
+  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                   \
+                                                std::span<const JointValue>);                  \
+  template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>,            \
+                                                       std::span<const JointValue>) const;     \
+  template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const; \
+  template Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(                     \
+      std::span<const std::string_view>) const;                                                \
+  template JointGroup SceneGraph<B>::AllJoints() const;                                        \
+  template double SceneGraph<B>::joint_position(JointHandle) const noexcept;                   \
+  template double SceneGraph<B>::joint_velocity(JointHandle) const noexcept;                   \
   template std::string_view SceneGraph<B>::joint_name(JointHandle) const noexcept;
 
 SEMGRAPH_INSTANTIATE_JOINTS(coord::QuaternionBackend)

@@ -3,9 +3,9 @@
 #include <atomic>
 #include <cmath>
 
+#include "edge_lookup.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
-#include "edge_lookup.h"
 #include "text.h"
 
 namespace semgraph::core {

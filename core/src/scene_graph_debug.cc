@@ -67,8 +67,8 @@ std::string Dump(const SceneGraph<B>& g) {
     const internal::JointRecord& j = joints.joints[i];
     out << "  joint " << i << " generation " << j.generation;
     if (j.alive) {
-      out << " " << joints.name(j) << " " << ToString(j.type) << " " << t.frame_name(j.parent) << " -> "
-          << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
+      out << " " << joints.name(j) << " " << ToString(j.type) << " " << t.frame_name(j.parent)
+          << " -> " << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
       if (j.is_mimic()) out << " mimic " << joints.name(joints[j.master]);
     }
     out << "\n";

@@ -2,15 +2,14 @@
 // described (never on a query's or an accepted add's path). Implemented in describe.cc.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
-#include <Eigen/Core>
-
-#include "semgraph/core/specs.h"
 #include "add_plan.h"
 #include "edge_lookup.h"
+#include "semgraph/core/specs.h"
 #include "semgraph/topology/rules.h"
 #include "semgraph/topology/scene_topology.h"
 
@@ -40,8 +39,8 @@ std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViol
 std::string JointRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
                       const topology::NewPoseEdge& ends, const PoseSpec& as_pose);
 /// Why node resolution failed for the end {frame}|body of an add (add_plan.h ResolveEnd).
-std::string EndReason(const topology::SceneTopology& t, internal::EndProblem p, const internal::AddEnd& end,
-                      std::string_view frame, std::string_view body);
+std::string EndReason(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, std::string_view frame, std::string_view body);
 /// Why a lookup of an edge by names failed (edge_lookup.h); `explain` adds, for no_such_edge,
 /// the edge that is there instead (removals).
 std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLookup& l,

@@ -44,7 +44,8 @@ struct Publisher::Impl {
                     std::optional<core::Stamp> stamp) noexcept {
     for (std::size_t i = 0; i < group.size(); ++i) {
       const core::JointHandle h = group.joints[i];
-      PublishJoint(h.index.value(), q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h), stamp);
+      PublishJoint(h.index.value(), q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h),
+                   stamp);
     }
   }
   // Batching (BeginBatch / Flush): the cycle's values, preallocated (kMaxBatchUpdates).
@@ -254,9 +255,11 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   for (std::uint32_t i = 0; i < joints.joints.size(); ++i) {
     const core::internal::JointRecord& j = joints.joints[i];
     if (!j.alive) continue;
-    joint_names.push_back({std::string(joints.name(j)), std::string(g.frame_name(j.parent)), std::string(g.body_name(j.parent_body)),
-                           std::string(g.frame_name(j.child)), std::string(g.body_name(j.child_body)),
-                           j.is_mimic() ? std::string(joints.name(joints[j.master])) : std::string()});
+    joint_names.push_back(
+        {std::string(joints.name(j)), std::string(g.frame_name(j.parent)),
+         std::string(g.body_name(j.parent_body)), std::string(g.frame_name(j.child)),
+         std::string(g.body_name(j.child_body)),
+         j.is_mimic() ? std::string(joints.name(joints[j.master])) : std::string()});
     const JointRow& names = joint_names.back();
     semgraph_wire_Joint w{};
     w.id = i;

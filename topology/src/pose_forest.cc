@@ -51,8 +51,8 @@ std::uint32_t PoseForest::JumpForChildOf(std::uint32_t p) const noexcept {
   // spans depth 0, never equal to the positive span above it.
   if (nodes_[p].rep_depth == 0) return p;
   const std::uint32_t j = nodes_[p].rep_jump;
-  if (nodes_[j].rep_depth != 0 &&
-      nodes_[p].rep_depth - nodes_[j].rep_depth == nodes_[j].rep_depth - nodes_[nodes_[j].rep_jump].rep_depth) {
+  if (nodes_[j].rep_depth != 0 && nodes_[p].rep_depth - nodes_[j].rep_depth ==
+                                      nodes_[j].rep_depth - nodes_[nodes_[j].rep_jump].rep_depth) {
     return nodes_[j].rep_jump;
   }
   return p;
@@ -110,8 +110,8 @@ void PoseForest::Link(FrameIndex parent, FrameIndex root) {
   SEMGRAPH_DEMAND(parent.value() < size() && root.value() < size());
   const std::uint32_t p = parent.value();
   const std::uint32_t r = root.value();
-  SEMGRAPH_DEMAND(nodes_[r].parent == kNone);              // P1: root has no pose parent yet
-  SEMGRAPH_DEMAND(nodes_[p].rep_root != nodes_[r].rep_root);     // P2: the edge would close a cycle
+  SEMGRAPH_DEMAND(nodes_[r].parent == kNone);                 // P1: root has no pose parent yet
+  SEMGRAPH_DEMAND(nodes_[p].rep_root != nodes_[r].rep_root);  // P2: the edge would close a cycle
   const std::uint32_t key_p = nodes_[p].rep_root, key_r = nodes_[r].rep_root;
   const std::uint32_t size_p = nodes_[key_p].rep_jump, size_r = nodes_[key_r].rep_jump;
   const std::uint32_t semantic_root = nodes_[key_p].rep_parent;
@@ -174,7 +174,8 @@ void PoseForest::Cut(FrameIndex child) {
 void PoseForest::Reroot(FrameIndex v) {
   SEMGRAPH_DEMAND(v.value() < size());
   const auto unlink = [this](std::uint32_t c) {  // c out of its parent's child list, O(1)
-    const std::uint32_t p = nodes_[c].parent, prev = nodes_[c].prev_sibling, next = nodes_[c].next_sibling;
+    const std::uint32_t p = nodes_[c].parent, prev = nodes_[c].prev_sibling,
+                        next = nodes_[c].next_sibling;
     if (prev != kNone) {
       nodes_[prev].next_sibling = next;
     } else {
@@ -267,7 +268,8 @@ bool PoseForest::IsAncestor(FrameIndex ancestor, FrameIndex descendant) const no
   const std::uint32_t key = nodes_[d].rep_root;
   if (nodes_[a].rep_root != key) return false;
   if (nodes_[key].rep_parent == key) {
-    return nodes_[a].rep_depth <= nodes_[d].rep_depth && RepAncestorAtDepth(d, nodes_[a].rep_depth) == a;
+    return nodes_[a].rep_depth <= nodes_[d].rep_depth &&
+           RepAncestorAtDepth(d, nodes_[a].rep_depth) == a;
   }
   return CommonAncestor(ancestor, descendant) == ancestor;
 }
@@ -296,7 +298,8 @@ bool PoseForest::CheckInvariants() const {
   const std::size_t n = size();
   // Bounds first, so that the checks below may index freely.
   for (std::size_t v = 0; v < n; ++v) {
-    if (nodes_[v].rep_parent >= n || nodes_[v].rep_root >= n || (nodes_[v].parent != kNone && nodes_[v].parent >= n)) {
+    if (nodes_[v].rep_parent >= n || nodes_[v].rep_root >= n ||
+        (nodes_[v].parent != kNone && nodes_[v].parent >= n)) {
       return false;
     }
     if (nodes_[v].rep_depth != 0 && nodes_[v].rep_jump >= n) return false;
@@ -306,7 +309,8 @@ bool PoseForest::CheckInvariants() const {
   for (std::uint32_t v = 0; v < n; ++v) {
     const std::uint32_t key = nodes_[v].rep_root;
     // Representation: a rep root is its own key, at depth 0, and nothing else is at depth 0.
-    if (nodes_[key].rep_root != key || nodes_[key].rep_depth != 0 || (nodes_[v].rep_depth == 0) != (key == v)) {
+    if (nodes_[key].rep_root != key || nodes_[key].rep_depth != 0 ||
+        (nodes_[v].rep_depth == 0) != (key == v)) {
       return false;
     }
     ++count[key];
@@ -319,17 +323,20 @@ bool PoseForest::CheckInvariants() const {
       const std::uint32_t q = nodes_[v].rep_parent;
       // depth = depth(rep parent) + 1 also rules out cycles: depths would have to increase all
       // the way round one (a wrap-around needs 2^32 nodes, more than an index can name).
-      if (q == v || nodes_[v].rep_depth != nodes_[q].rep_depth + 1 || nodes_[q].rep_root != key) return false;
+      if (q == v || nodes_[v].rep_depth != nodes_[q].rep_depth + 1 || nodes_[q].rep_root != key)
+        return false;
       // The parent's jump is checked in its own turn, so by induction every jump follows the
       // rule and is a rep ancestor; the rule itself is the skew-binary one (the O(log n)
       // bounds rely on it).
       if (nodes_[v].rep_jump != JumpForChildOf(q)) return false;
-      if (nodes_[nodes_[v].rep_jump].rep_depth != SkewBinaryJumpDepth(nodes_[v].rep_depth)) return false;
+      if (nodes_[nodes_[v].rep_jump].rep_depth != SkewBinaryJumpDepth(nodes_[v].rep_depth))
+        return false;
     }
     // Semantic: the one root of its tree, or an edge {v, parent(v)} that is a rep edge.
     const std::uint32_t p = nodes_[v].parent;
     if (p == kNone) {
-      if (nodes_[key].rep_parent != v || nodes_[v].next_sibling != kNone || nodes_[v].prev_sibling != kNone) {
+      if (nodes_[key].rep_parent != v || nodes_[v].next_sibling != kNone ||
+          nodes_[v].prev_sibling != kNone) {
         return false;
       }
       ++semantic_roots;
@@ -345,7 +352,8 @@ bool PoseForest::CheckInvariants() const {
     std::uint32_t prev = kNone;
     std::size_t length = 0;
     for (std::uint32_t c = nodes_[v].first_child; c != kNone; c = nodes_[c].next_sibling) {
-      if (c >= n || nodes_[c].parent != v || nodes_[c].prev_sibling != prev || ++length > n) return false;
+      if (c >= n || nodes_[c].parent != v || nodes_[c].prev_sibling != prev || ++length > n)
+        return false;
       prev = c;
     }
     listed_children += length;

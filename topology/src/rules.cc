@@ -89,7 +89,8 @@ std::optional<RuleViolation> CheckNewTwistEdge(const SceneTopology& t, const New
 
 std::optional<RuleViolation> CheckJointW1(const SceneTopology& t, const NewPoseEdge& e) noexcept {
   if (e.head.is_valid() && t.twist_edge_of(e.head).is_valid()) {
-    return RuleViolation{ErrorCode::kMultipleTwistParents, {}, {}, t.twist_edge(t.twist_edge_of(e.head)).tail};
+    return RuleViolation{
+        ErrorCode::kMultipleTwistParents, {}, {}, t.twist_edge(t.twist_edge_of(e.head)).tail};
   }
   return std::nullopt;
 }
@@ -100,7 +101,8 @@ std::optional<RuleViolation> CheckJointW3(const SceneTopology& t, const NewPoseE
   if (!e.tail_body.is_valid() || !e.head_body.is_valid()) return std::nullopt;  // a new body
   std::unordered_map<std::uint32_t, std::uint32_t> parent;
   const auto find = [&](std::uint32_t x) {
-    for (auto it = parent.find(x); it != parent.end() && it->second != x; it = parent.find(x)) x = it->second;
+    for (auto it = parent.find(x); it != parent.end() && it->second != x; it = parent.find(x))
+      x = it->second;
     return x;
   };
   for (const FrameIndex f : {e.tail, e.head}) {

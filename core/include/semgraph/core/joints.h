@@ -22,14 +22,16 @@
 //    are refused (unknown_joint);
 //  - a mimic's master is a live movable joint that is not a mimic; `mimics` of a master lists
 //    exactly its live mimics; the stored edge values equal X_origin M(q) and the twist of qdot.
-// Costs: lookups by name O(|name|), allocation-free (one hash); by handle O(1). Setting the state of n
-// joints (SceneGraph::SetJointPositions/Velocities/State) is O(n + their mimics), noexcept,
+// Costs: lookups by name O(|name|), allocation-free (one hash); by handle O(1). Setting the state
+// of n joints (SceneGraph::SetJointPositions/Velocities/State) is O(n + their mimics), noexcept,
 // allocation-free and lock-free for readers (each edge value is written through its sequence
 // lock: readers see either the old or the new value of an edge, never a torn one).
 // Thread safety: one writer sets joint states while readers evaluate queries; joint adds and
 // removals need exclusive access (as every topology change).
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -38,12 +40,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
 #include "semgraph/base/index.h"
-#include "semgraph/core/export.h"
 #include "semgraph/core/edge_values.h"
+#include "semgraph/core/export.h"
 #include "semgraph/semantics/names.h"
 #include "semgraph/topology/ids.h"
 
@@ -132,14 +131,18 @@ struct JointRecord {
 /// The joints of one scene graph (see the file comment for the invariants).
 struct JointTable {
   std::vector<JointRecord> joints;
-  semantics::NameTable names;                                        ///< joint names
-  std::vector<JointIndex> of_name;                                   ///< by name id: live joint
+  semantics::NameTable names;                                    ///< joint names
+  std::vector<JointIndex> of_name;                               ///< by name id: live joint
   std::unordered_map<std::uint32_t, JointIndex> joint_of_child;  ///< child frame -> joint
   std::size_t num_alive = 0;
 
-  [[nodiscard]] const JointRecord& operator[](JointIndex j) const noexcept { return joints[j.value()]; }
+  [[nodiscard]] const JointRecord& operator[](JointIndex j) const noexcept {
+    return joints[j.value()];
+  }
   [[nodiscard]] JointRecord& operator[](JointIndex j) noexcept { return joints[j.value()]; }
-  [[nodiscard]] std::string_view name(const JointRecord& j) const noexcept { return names.name(j.name); }
+  [[nodiscard]] std::string_view name(const JointRecord& j) const noexcept {
+    return names.name(j.name);
+  }
   /// The live joint whose child frame is `child` (nullptr if none). O(1) expected.
   [[nodiscard]] const JointRecord* OfChild(topology::FrameIndex child) const noexcept {
     if (joint_of_child.empty()) return nullptr;  // most scenes: no hash on the pose-update path
@@ -148,10 +151,13 @@ struct JointTable {
   }
   /// The live joint named `id` / `name` (nullptr if none). Allocation-free.
   [[nodiscard]] const JointRecord* Find(semantics::NameId id) const noexcept {
-    if (!id.is_valid() || id.value() >= of_name.size() || !of_name[id.value()].is_valid()) return nullptr;
+    if (!id.is_valid() || id.value() >= of_name.size() || !of_name[id.value()].is_valid())
+      return nullptr;
     return &(*this)[of_name[id.value()]];
   }
-  [[nodiscard]] const JointRecord* Find(std::string_view name) const noexcept { return Find(names.Find(name)); }
+  [[nodiscard]] const JointRecord* Find(std::string_view name) const noexcept {
+    return Find(names.Find(name));
+  }
   [[nodiscard]] const JointRecord* Get(JointHandle h) const noexcept {
     if (!h.index.is_valid() || h.index.value() >= joints.size()) return nullptr;
     const JointRecord& j = (*this)[h.index];
@@ -160,7 +166,9 @@ struct JointTable {
   [[nodiscard]] JointIndex IndexOf(const JointRecord& j) const noexcept {
     return JointIndex(static_cast<std::uint32_t>(&j - joints.data()));
   }
-  [[nodiscard]] JointHandle HandleOf(const JointRecord& j) const noexcept { return JointHandle{IndexOf(j), j.generation}; }
+  [[nodiscard]] JointHandle HandleOf(const JointRecord& j) const noexcept {
+    return JointHandle{IndexOf(j), j.generation};
+  }
 };
 
 }  // namespace internal

@@ -465,7 +465,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot, Stamp stamp) noexcept;
   ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot, std::int64_t s) const noexcept;
-  void StoreJointSample(JointIndex index, const double* q, const double* qdot, std::int64_t s) noexcept;
+  void StoreJointSample(JointIndex index, const double* q, const double* qdot,
+                        std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;

@@ -121,7 +121,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   [[nodiscard]] FrameIndex parent(FrameIndex f) const noexcept {
     return FrameIndex(nodes_[Checked(f)].parent);
   }
-  [[nodiscard]] bool is_root(FrameIndex f) const noexcept { return nodes_[Checked(f)].parent == kNone; }
+  [[nodiscard]] bool is_root(FrameIndex f) const noexcept {
+    return nodes_[Checked(f)].parent == kNone;
+  }
   /// The first child of f, or an invalid index when f is a leaf. Children are in no
   /// particular order (the most recently linked comes first).
   [[nodiscard]] FrameIndex first_child(FrameIndex f) const noexcept {
