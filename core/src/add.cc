@@ -45,14 +45,6 @@ constexpr Field kPoseFields[] = {Field::kPoint,          Field::kOrientation,   
                                  Field::kRefPoint,       Field::kRefOrientation, Field::kRefBody,
                                  Field::kCoordinateFrame};
 
-BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
-                      const internal::AddEnd& end, const std::string& what, std::string_view frame,
-                      std::string_view body) {
-  return Reject(p == internal::EndProblem::kFrameBodyMismatch ? ErrorCode::kFrameBodyMismatch
-                                                              : ErrorCode::kFrameWithoutBody,
-                what, text::EndReason(t, p, end, frame, body));
-}
-
 // A pose add after its names are interned (id: AddPoseImpl's fields): node resolution
 // (frame_body_mismatch, frame_without_body) -> self_edge -> representation_constraint ->
 // pose_not_convertible. Fills the plan's ends and the frames the edge form is converted
@@ -64,10 +56,10 @@ BuildResult PlanPoseAdd(const topology::SceneTopology& t, const PoseSpec& spec,
   const NameId e_id = id[0], a_id = id[1], f_id = id[3], b_id = id[4], r_id = id[6];
   plan.pose_edge = true;
   if (auto p = internal::ResolveEnd(t, a_id, id[2], plan.head); p != internal::EndProblem::kNone) {
-    return RejectEnd(t, p, plan.head, what(), spec.orientation, spec.body);
+    return text::RejectEnd(t, p, plan.head, what(), spec.orientation, spec.body);
   }
   if (auto p = internal::ResolveEnd(t, b_id, id[5], plan.tail); p != internal::EndProblem::kNone) {
-    return RejectEnd(t, p, plan.tail, what(), spec.ref_orientation, spec.ref_body);
+    return text::RejectEnd(t, p, plan.tail, what(), spec.ref_orientation, spec.ref_body);
   }
   const FrameIndex a = plan.head.frame, b = plan.tail.frame;
   const NameId C_name = plan.head.body_name, D_name = plan.tail.body_name;

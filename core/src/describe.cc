@@ -188,13 +188,17 @@ std::string JointRule(const topology::SceneTopology& t, const topology::RuleViol
   }
 }
 
-std::string EndReason(const topology::SceneTopology& t, internal::EndProblem p,
-                      const internal::AddEnd& end, std::string_view frame, std::string_view body) {
+BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, const std::string& what, std::string_view frame,
+                      std::string_view body) {
   if (p == internal::EndProblem::kFrameBodyMismatch) {
-    return "frame {" + std::string(frame) + "} is attached to body " +
-           std::string(t.body_name(t.body_of(end.frame))) + ", not " + std::string(body);
+    return Reject(ErrorCode::kFrameBodyMismatch, what,
+                  "frame {" + std::string(frame) + "} is attached to body " +
+                      std::string(t.body_name(t.body_of(end.frame))) + ", not " + std::string(body));
   }
-  return "frame {" + std::string(frame) + "} does not exist and no body is given to attach it to";
+  return Reject(ErrorCode::kFrameWithoutBody, what,
+                "frame {" + std::string(frame) +
+                    "} does not exist and no body is given to attach it to");
 }
 
 std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLookup& l,

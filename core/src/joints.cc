@@ -124,6 +124,29 @@ std::string Num(double x) {
   return buf;
 }
 
+// invalid_name, in the order of the spec's fields.
+template <class What>
+BuildResult CheckJointNames(const JointSpec& spec, const What& what) {
+  const struct {
+    std::string_view value;
+    const char* role;
+    bool required;
+  } checked[] = {{spec.name, "name", true},
+                 {spec.parent, "parent", true},
+                 {spec.parent_body, "parent_body", false},
+                 {spec.child, "child", true},
+                 {spec.child_body, "child_body", false},
+                 {spec.mimic, "mimic", false}};
+  for (const auto& n : checked) {
+    if (n.value.empty() && !n.required) continue;
+    if (auto ok = semantics::ValidateName(n.value); !ok) {
+      return Reject(ErrorCode::kInvalidName, what(),
+                    std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
+    }
+  }
+  return Ok{};
+}
+
 // The joint's record from its spec, checked: invalid_number / invalid_rotation -> invalid_model
 // (axis, limits, mimic) -> duplicate_joint. Its nodes and edges are set when it is applied.
 template <class What>
@@ -215,25 +238,9 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const auto what = [&] {
     return JointWhat(spec.name) + " (" + std::string(ToString(spec.type)) + ")";
   };
-  // 1. invalid_name, in field order (the frames' and bodies' names are interned in the order
-  // parent, child, parent_body, child_body, as they always were).
-  const struct {
-    std::string_view value;
-    const char* role;
-    bool required;
-  } checked[] = {{spec.name, "name", true},
-                 {spec.parent, "parent", true},
-                 {spec.parent_body, "parent_body", false},
-                 {spec.child, "child", true},
-                 {spec.child_body, "child_body", false},
-                 {spec.mimic, "mimic", false}};
-  for (const auto& n : checked) {
-    if (n.value.empty() && !n.required) continue;
-    if (auto ok = semantics::ValidateName(n.value); !ok) {
-      return Reject(ErrorCode::kInvalidName, what(),
-                    std::string(n.role) + ": " + semantics::Describe(ok.error(), n.value));
-    }
-  }
+  // 1. invalid_name, in field order; the frames' and bodies' names are interned below in the
+  // order parent, child, parent_body, child_body, as they always were.
+  if (auto ok = CheckJointNames(spec, what); !ok) return ok;
   const internal::NamedField named[] = {
       {spec.parent}, {spec.child}, {spec.parent_body, false}, {spec.child_body, false}};
   internal::AddNames<4> ids;
@@ -250,19 +257,13 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const topology::SceneTopology& t = topology_;
   internal::AddPlan plan;
   plan.pose_edge = plan.twist_edge = plan.tail_body_first = true;
-  const auto reject_end = [&](internal::EndProblem p, const internal::AddEnd& end,
-                              std::string_view frame, std::string_view body) {
-    return Reject(p == internal::EndProblem::kFrameBodyMismatch ? ErrorCode::kFrameBodyMismatch
-                                                                : ErrorCode::kFrameWithoutBody,
-                  what(), text::EndReason(t, p, end, frame, body));
-  };
   if (auto p = internal::ResolveEnd(t, c_id, ids.id[3], plan.head);
       p != internal::EndProblem::kNone) {
-    return reject_end(p, plan.head, spec.child, spec.child_body);
+    return text::RejectEnd(t, p, plan.head, what(), spec.child, spec.child_body);
   }
   if (auto p = internal::ResolveEnd(t, p_id, ids.id[2], plan.tail);
       p != internal::EndProblem::kNone) {
-    return reject_end(p, plan.tail, spec.parent, spec.parent_body);
+    return text::RejectEnd(t, p, plan.tail, what(), spec.parent, spec.parent_body);
   }
   const FrameIndex p = plan.tail.frame, c = plan.head.frame;
   // 6. self_edge, twist_same_body.

@@ -38,9 +38,11 @@ std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViol
 /// (`as_pose`: the joint as the pose of {c}|C wrt {p}|P, for the pose rules' texts).
 std::string JointRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
                       const topology::NewPoseEdge& ends, const PoseSpec& as_pose);
-/// Why node resolution failed for the end {frame}|body of an add (add_plan.h ResolveEnd).
-std::string EndReason(const topology::SceneTopology& t, internal::EndProblem p,
-                      const internal::AddEnd& end, std::string_view frame, std::string_view body);
+/// The rejection of an add whose end {frame}|body failed node resolution (add_plan.h
+/// ResolveEnd): frame_body_mismatch or frame_without_body.
+BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, const std::string& what, std::string_view frame,
+                      std::string_view body);
 /// Why a lookup of an edge by names failed (edge_lookup.h); `explain` adds, for no_such_edge,
 /// the edge that is there instead (removals).
 std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLookup& l,
