@@ -194,11 +194,12 @@ BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
   if (p == internal::EndProblem::kFrameBodyMismatch) {
     return Reject(ErrorCode::kFrameBodyMismatch, what,
                   "frame {" + std::string(frame) + "} is attached to body " +
-                      std::string(t.body_name(t.body_of(end.frame))) + ", not " + std::string(body));
+                      std::string(t.body_name(t.body_of(end.frame))) + ", not " +
+                      std::string(body));
   }
-  return Reject(ErrorCode::kFrameWithoutBody, what,
-                "frame {" + std::string(frame) +
-                    "} does not exist and no body is given to attach it to");
+  return Reject(
+      ErrorCode::kFrameWithoutBody, what,
+      "frame {" + std::string(frame) + "} does not exist and no body is given to attach it to");
 }
 
 std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLookup& l,

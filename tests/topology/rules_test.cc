@@ -15,9 +15,7 @@ using base::ErrorCode;
 
 class JointRules : public ::testing::Test {
  protected:
-  BodyIndex Body(std::string_view name) {
-    return t_.CreateBody(*t_.mutable_names().Intern(name));
-  }
+  BodyIndex Body(std::string_view name) { return t_.CreateBody(*t_.mutable_names().Intern(name)); }
   FrameIndex Frame(std::string_view name, BodyIndex body) {
     return t_.CreateFrame(*t_.mutable_names().Intern(name), body);
   }
