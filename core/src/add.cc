@@ -1,13 +1,17 @@
 // Adds and removals: validate -> resolve nodes -> edge form (the plan run backwards, evaluate.h
-// ToEdgeForm) -> rules (topology/rules.h, in the order of docs/rules.md) -> apply. Every early
-// return leaves the graph as it was: names interned by the operation are rolled back, and
-// nothing else changes before the last check passed.
+// ToEdgeForm) -> rules (topology/rules.h, in the order of docs/rules.md) -> apply, through the
+// one add pipeline of add_plan.h (joints.cc's AddJoint runs it too). Every early return leaves
+// the graph as it was: names interned by the operation are rolled back, and nothing else
+// changes before the last check passed. Removals: the one edge finder (edge_lookup.h), then
+// the removal by index.
 #include <algorithm>
 #include <cmath>
 
+#include "add_plan.h"
+#include "edge_lookup.h"
+#include "name_rollback.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
-#include "name_rollback.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -34,6 +38,81 @@ typename B::Rotation Renormalized(const typename B::Rotation& M) noexcept {
   } else {
     return M;
   }
+}
+
+// The pose add's names by field, in the order of AddPoseImpl's `named`.
+constexpr Field kPoseFields[] = {Field::kPoint,          Field::kOrientation,    Field::kBody,
+                                 Field::kRefPoint,       Field::kRefOrientation, Field::kRefBody,
+                                 Field::kCoordinateFrame};
+
+// A pose add after its names are interned (id: AddPoseImpl's fields): node resolution
+// (frame_body_mismatch, frame_without_body) -> self_edge -> representation_constraint ->
+// pose_not_convertible. Fills the plan's ends and the frames the edge form is converted
+// through: {e, f, r}, each the edge's own frame where the spec names it.
+template <coord::Backend B>
+BuildResult PlanPoseAdd(const topology::SceneTopology& t, const PoseSpec& spec,
+                        const NameId (&id)[7], internal::AddPlan& plan, FrameIndex (&points)[3]) {
+  const auto what = [&spec] { return text::PoseAdd(spec); };
+  const NameId e_id = id[0], a_id = id[1], f_id = id[3], b_id = id[4], r_id = id[6];
+  plan.pose_edge = true;
+  if (auto p = internal::ResolveEnd(t, a_id, id[2], plan.head); p != internal::EndProblem::kNone) {
+    return text::RejectEnd(t, p, plan.head, what(), spec.orientation, spec.body);
+  }
+  if (auto p = internal::ResolveEnd(t, b_id, id[5], plan.tail); p != internal::EndProblem::kNone) {
+    return text::RejectEnd(t, p, plan.tail, what(), spec.ref_orientation, spec.ref_body);
+  }
+  const FrameIndex a = plan.head.frame, b = plan.tail.frame;
+  const NameId C_name = plan.head.body_name, D_name = plan.tail.body_name;
+  const semantics::NameTable& names = t.names();
+  const FrameIndex e = t.FrameOfName(e_id), f = t.FrameOfName(f_id), r = t.FrameOfName(r_id);
+  if (e.is_valid() && e != a && t.body_of(e) != plan.head.body) {
+    return Reject(ErrorCode::kFrameBodyMismatch, what(),
+                  "point " + std::string(spec.point) + " is the origin of " + text::Frame(t, e) +
+                      ", not of a frame of body " + std::string(names.name(C_name)));
+  }
+  if (f.is_valid() && f != b && t.body_of(f) != plan.tail.body) {
+    return Reject(ErrorCode::kFrameBodyMismatch, what(),
+                  "reference point " + std::string(spec.ref_point) + " is the origin of " +
+                      text::Frame(t, f) + ", not of a frame of body " +
+                      std::string(names.name(D_name)));
+  }
+  // 5. self_edge.
+  if (a_id == b_id) {
+    return Reject(
+        ErrorCode::kSelfEdge, what(),
+        "a pose edge from {" + std::string(spec.orientation) + "} to itself is meaningless");
+  }
+  // 6. representation_constraint.
+  const semantics::PoseSemantics given{
+      semantics::Point(e_id),           semantics::OrientationFrame(a_id), semantics::Body(C_name),
+      semantics::Point(f_id),           semantics::OrientationFrame(b_id), semantics::Body(D_name),
+      semantics::OrientationFrame(r_id)};
+  if (auto ok = coord::CheckRepresentation<B>(given); !ok) {
+    return Reject(ErrorCode::kRepresentationConstraint, what(), coord::Describe(ok.error(), names));
+  }
+  // 7. pose_not_convertible: e, f and [r] must be frames of the edge's trees.
+  if (e_id != a_id && !(a.is_valid() && e.is_valid() && t.SameTree(a, e))) {
+    return Reject(ErrorCode::kPoseNotConvertible, what(),
+                  "point " + std::string(spec.point) + " must be a frame of " +
+                      std::string(names.name(C_name)) + " in the pose tree of {" +
+                      std::string(spec.orientation) + "}");
+  }
+  if (f_id != b_id && !(b.is_valid() && f.is_valid() && t.SameTree(b, f))) {
+    return Reject(ErrorCode::kPoseNotConvertible, what(),
+                  "reference point " + std::string(spec.ref_point) + " must be a frame of " +
+                      std::string(names.name(D_name)) + " in the pose tree of {" +
+                      std::string(spec.ref_orientation) + "}");
+  }
+  if (r_id != b_id && !(b.is_valid() && r.is_valid() && t.SameTree(b, r))) {
+    return Reject(ErrorCode::kPoseNotConvertible, what(),
+                  "coordinate frame [" + std::string(spec.coordinate_frame) +
+                      "] must be a frame in the pose tree of {" +
+                      std::string(spec.ref_orientation) + "}");
+  }
+  points[0] = e_id != a_id ? e : a;
+  points[1] = f_id != b_id ? f : b;
+  points[2] = r_id != b_id ? r : b;
+  return Ok{};
 }
 
 }  // namespace
@@ -138,46 +217,15 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
 
   // 1. invalid_name. Each distinct name is looked up once; an interned name is valid by the
   // table's invariant, so only new names are validated (the edge form repeats names).
-  struct NamedField {
-    std::string_view value;
-    Field field;
-    bool required;
-  };
-  const NamedField named[] = {{spec.point, Field::kPoint, true},
-                              {spec.orientation, Field::kOrientation, true},
-                              {spec.body, Field::kBody, false},
-                              {spec.ref_point, Field::kRefPoint, true},
-                              {spec.ref_orientation, Field::kRefOrientation, true},
-                              {spec.ref_body, Field::kRefBody, false},
-                              {spec.coordinate_frame, Field::kCoordinateFrame, true}};
-  // Same view (the builders copy one view into several fields) before same text; the last byte
-  // decides most mismatches of names that share a prefix.
-  const auto same_name = [](std::string_view x, std::string_view y) {
-    return x.size() == y.size() && (x.data() == y.data() || (!x.empty() && x.back() == y.back() && x == y));
-  };
-  NameId found[7];
-  std::uint32_t hash[7] = {};
-  int first[7];  // the first field with the same name
-  for (int i = 0; i < 7; ++i) {
-    const NamedField& n = named[i];
-    first[i] = i;
-    if (n.value.empty() && !n.required) continue;
-    for (int j = 0; j < i && first[i] == i; ++j) {
-      if (same_name(named[j].value, n.value)) first[i] = j;
-    }
-    if (first[i] < i) {
-      found[i] = found[first[i]];
-      hash[i] = hash[first[i]];
-      continue;
-    }
-    const semantics::NameTable::Lookup lookup = names.FindWithHash(n.value);
-    found[i] = lookup.id;
-    hash[i] = lookup.hash;
-    if (found[i].is_valid()) continue;
-    if (auto ok = semantics::ValidateName(n.value); !ok) {
-      return Reject(ErrorCode::kInvalidName, what(),
-                    std::string(FieldName(n.field)) + ": " + semantics::Describe(ok.error(), n.value));
-    }
+  const internal::NamedField named[] = {
+      {spec.point},           {spec.orientation},     {spec.body, false},     {spec.ref_point},
+      {spec.ref_orientation}, {spec.ref_body, false}, {spec.coordinate_frame}};
+  internal::AddNames<7> ids;
+  semantics::NameError name_error;
+  if (const int bad = ids.LookUp(names, named, name_error); bad >= 0) {
+    return Reject(ErrorCode::kInvalidName, what(),
+                  std::string(FieldName(kPoseFields[bad])) + ": " +
+                      semantics::Describe(name_error, named[bad].value));
   }
   // 2-3. invalid_number -> invalid_rotation.
   auto p_ok = coord::ValidateVector(p_position, coord::ValueRole::kPosition);
@@ -193,83 +241,19 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     M = B::FromMatrix(*R_ok);
   }
 
-  // 4. Node resolution. Names are interned now (rolled back on rejection).
-  for (int i = 0; i < 7; ++i) {
-    if (found[i].is_valid() || named[i].value.empty()) continue;
-    found[i] = first[i] < i ? found[first[i]] : names.InternNew(named[i].value, hash[i]);
-  }
-  const NameId e_id = found[0], a_id = found[1], C_id = found[2];
-  const NameId f_id = found[3], b_id = found[4], D_id = found[5];
-  const NameId r_id = found[6];
+  // 4-7. Node resolution (names are interned now, rolled back on rejection) -> self_edge ->
+  // representation_constraint -> pose_not_convertible.
+  ids.Intern(names, named);
+  internal::AddPlan plan;
+  FrameIndex points[3];  // e, f, r
+  if (auto ok = PlanPoseAdd<B>(topology_, spec, ids.id, plan, points); !ok) return ok;
   const topology::SceneTopology& t = topology_;
-  const FrameIndex a = t.FrameOfName(a_id), b = t.FrameOfName(b_id);
-  BodyIndex C = t.BodyOfName(C_id), D = t.BodyOfName(D_id);
-  NameId C_name = C_id, D_name = D_id;
-  const auto resolve = [&](FrameIndex x, std::string_view frame, std::string_view body_text, BodyIndex& body,
-                           NameId& body_name_id) -> BuildResult {
-    if (x.is_valid()) {
-      if (!body_text.empty() && body != t.body_of(x)) {
-        return Reject(ErrorCode::kFrameBodyMismatch, what(),
-                      "frame {" + std::string(frame) + "} is attached to body " +
-                          std::string(t.body_name(t.body_of(x))) + ", not " + std::string(body_text));
-      }
-      body = t.body_of(x);
-      body_name_id = t.body_name_id(body);
-      return Ok{};
-    }
-    if (body_text.empty()) {
-      return Reject(ErrorCode::kFrameWithoutBody, what(),
-                    "frame {" + std::string(frame) + "} does not exist and no body is given to attach it to");
-    }
-    return Ok{};
-  };
-  if (auto ok = resolve(a, spec.orientation, spec.body, C, C_name); !ok) return ok;
-  if (auto ok = resolve(b, spec.ref_orientation, spec.ref_body, D, D_name); !ok) return ok;
-  const FrameIndex e = t.FrameOfName(e_id), f = t.FrameOfName(f_id), r = t.FrameOfName(r_id);
-  if (e.is_valid() && e != a && t.body_of(e) != C) {
-    return Reject(ErrorCode::kFrameBodyMismatch, what(),
-                  "point " + std::string(spec.point) + " is the origin of " + text::Frame(t, e) +
-                      ", not of a frame of body " + std::string(names.name(C_name)));
-  }
-  if (f.is_valid() && f != b && t.body_of(f) != D) {
-    return Reject(ErrorCode::kFrameBodyMismatch, what(),
-                  "reference point " + std::string(spec.ref_point) + " is the origin of " + text::Frame(t, f) +
-                      ", not of a frame of body " + std::string(names.name(D_name)));
-  }
-  // 5. self_edge.
-  if (a_id == b_id) {
-    return Reject(ErrorCode::kSelfEdge, what(),
-                  "a pose edge from {" + std::string(spec.orientation) + "} to itself is meaningless");
-  }
-  // 6. representation_constraint.
-  const semantics::PoseSemantics given{semantics::Point(e_id), semantics::OrientationFrame(a_id),
-                                       semantics::Body(C_name), semantics::Point(f_id),
-                                       semantics::OrientationFrame(b_id), semantics::Body(D_name),
-                                       semantics::OrientationFrame(r_id)};
-  if (auto ok = coord::CheckRepresentation<B>(given); !ok) {
-    return Reject(ErrorCode::kRepresentationConstraint, what(), coord::Describe(ok.error(), names));
-  }
-  // 7. pose_not_convertible: e, f and [r] must be frames of the edge's trees; then the edge form.
-  if (e_id != a_id && !(a.is_valid() && e.is_valid() && t.SameTree(a, e))) {
-    return Reject(ErrorCode::kPoseNotConvertible, what(),
-                  "point " + std::string(spec.point) + " must be a frame of " + std::string(names.name(C_name)) +
-                      " in the pose tree of {" + std::string(spec.orientation) + "}");
-  }
-  if (f_id != b_id && !(b.is_valid() && f.is_valid() && t.SameTree(b, f))) {
-    return Reject(ErrorCode::kPoseNotConvertible, what(),
-                  "reference point " + std::string(spec.ref_point) + " must be a frame of " +
-                      std::string(names.name(D_name)) + " in the pose tree of {" + std::string(spec.ref_orientation) +
-                      "}");
-  }
-  if (r_id != b_id && !(b.is_valid() && r.is_valid() && t.SameTree(b, r))) {
-    return Reject(ErrorCode::kPoseNotConvertible, what(),
-                  "coordinate frame [" + std::string(spec.coordinate_frame) +
-                      "] must be a frame in the pose tree of {" + std::string(spec.ref_orientation) + "}");
-  }
-  typename B::PoseCoords X_BA = B::MakePose(M, *p_ok);  // edge form: PoseCoord({a}|C, {b}|D, [b])
-  if (e_id != a_id || f_id != b_id || r_id != b_id) {
-    const PoseSteps<ForestChain> steps =
-        PlanChanges(t, e_id != a_id ? e : a, a, f_id != b_id ? f : b, b, r_id != b_id ? r : b);
+  const FrameIndex a = plan.head.frame, b = plan.tail.frame;
+  const FrameIndex e = points[0], f = points[1], r = points[2];
+  // The edge form: PoseCoord({a}|C, {b}|D, [b]).
+  typename B::PoseCoords X_BA = B::MakePose(M, *p_ok);
+  if (ids.id[0] != ids.id[1] || ids.id[3] != ids.id[4] || ids.id[6] != ids.id[4]) {
+    const PoseSteps<ForestChain> steps = PlanChanges(t, e, a, f, b, r);
     // A stamped value is converted with the values at its stamp (docs/time.md).
     internal::TimeContext at_stamp = ConversionContext(stamp);
     X_BA = internal::ToEdgeForm<B>(internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr), steps,
@@ -285,7 +269,8 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
   if (topology::PoseEdgeExists(t, b, a)) {
     if (const internal::JointRecord* j = joints_.OfChild(a)) {
       return Reject(ErrorCode::kJointEdge, what(),
-                    "the pose edge " + text::Frame(t, b) + " -> " + text::Frame(t, a) + " belongs to joint " + j->name +
+                    "the pose edge " + text::Frame(t, b) + " -> " + text::Frame(t, a) +
+                        " belongs to joint " + std::string(joints_.name(*j)) +
                         "; set the joint's position instead");
     }
     if (topology::IsConstantEdge(t, b, a)) {
@@ -312,27 +297,18 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     return Ok{};
   }
   // 9-12. P1 -> P2 -> P3 -> W4.
-  const topology::NewPoseEdge ends{b, a, D, C, C_name == D_name};
-  if (auto v = topology::CheckNewPoseEdge(t, ends)) {
-    return Reject(v->code, what(), text::PoseRule(t, *v, ends, spec));
+  if (auto v = topology::CheckNewPoseEdge(t, plan.pose_ends())) {
+    return Reject(v->code, what(), text::PoseRule(t, *v, plan.pose_ends(), spec));
   }
 
-  // 13. Apply: create nodes, link, store the value. Every allocation first (a std::bad_alloc
-  // there still rolls the names back and changes nothing else; a stamped inter-body edge's
-  // history too), then the changes, none of which allocates.
-  const std::size_t new_bodies = (C.is_valid() ? 0 : 1) + (D.is_valid() || C_name == D_name ? 0 : 1);
-  const std::size_t new_frames = (a.is_valid() ? 0 : 1) + (b.is_valid() ? 0 : 1);
-  topology_.ReserveNodes(new_bodies, new_frames);
-  values_.ReserveFrames(values_.X_PF.size() + new_frames);
-  topology_.ReserveLinkPose(b, a);
+  // 13. Apply: every allocation first (a std::bad_alloc there still rolls the names back and
+  // changes nothing else; a stamped inter-body edge's history too), then the changes, none of
+  // which allocates.
+  ReserveAdd(plan);
   PoseHistoryLease history;
-  if (stamp && !ends.same_body) history = NewPoseHistory();
+  if (stamp && !plan.same_body()) history = NewPoseHistory();
   rollback.Commit();
-  if (!C.is_valid()) C = topology_.CreateBody(C_name);
-  if (!D.is_valid()) D = C_name == D_name ? C : topology_.CreateBody(D_name);
-  const FrameIndex head = a.is_valid() ? a : CreateFrame(a_id, C);
-  const FrameIndex tail = b.is_valid() ? b : CreateFrame(b_id, D);
-  topology_.LinkPoseReserved(tail, head);  // reserved above
+  const FrameIndex head = CommitAdd(plan).head;
   values_.X_PF[head.value()].Store(X_BA);
   if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp);
   return Ok{};
@@ -352,21 +328,16 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::TwistAdd(spec); };  // formatted only on rejection
-  struct NamedField {
-    std::string_view value;
-    Field field;
-    bool required;
-  };
-  const NamedField named[] = {{spec.point, Field::kPoint, true},
-                              {spec.body, Field::kBody, false},
-                              {spec.ref_body, Field::kRefBody, true},
-                              {spec.coordinate_frame, Field::kCoordinateFrame, true}};
-  for (const NamedField& n : named) {
-    if (n.value.empty() && !n.required) continue;
-    if (auto ok = semantics::ValidateName(n.value); !ok) {
-      return Reject(ErrorCode::kInvalidName, what(),
-                    std::string(FieldName(n.field)) + ": " + semantics::Describe(ok.error(), n.value));
-    }
+  const internal::NamedField named[] = {
+      {spec.point}, {spec.body, false}, {spec.ref_body}, {spec.coordinate_frame}};
+  constexpr Field kFields[] = {Field::kPoint, Field::kBody, Field::kRefBody,
+                               Field::kCoordinateFrame};
+  internal::AddNames<4> ids;
+  semantics::NameError name_error;
+  if (const int bad = ids.LookUp(names, named, name_error); bad >= 0) {
+    return Reject(ErrorCode::kInvalidName, what(),
+                  std::string(FieldName(kFields[bad])) + ": " +
+                      semantics::Describe(name_error, named[bad].value));
   }
   auto v_ok = coord::ValidateVector(v_linear, coord::ValueRole::kLinearVelocity);
   if (!v_ok) return Reject(v_ok.error().code, what(), coord::Describe(v_ok.error(), names));
@@ -374,36 +345,34 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   if (!w_ok) return Reject(w_ok.error().code, what(), coord::Describe(w_ok.error(), names));
 
   // Node resolution: the point must be the origin of a frame on the moving body.
-  const NameId e_id = *names.Intern(spec.point);
-  const NameId C_id = spec.body.empty() ? NameId() : *names.Intern(spec.body);
-  const NameId D_id = *names.Intern(spec.ref_body);
-  const NameId r_id = *names.Intern(spec.coordinate_frame);
+  ids.Intern(names, named);
+  const NameId e_id = ids.id[0], D_id = ids.id[2], r_id = ids.id[3];
   const topology::SceneTopology& t = topology_;
-  const FrameIndex e = t.FrameOfName(e_id);
-  BodyIndex C = t.BodyOfName(C_id);
-  NameId C_name = C_id;
-  if (e.is_valid()) {
-    if (C_id.is_valid() && C != t.body_of(e)) {
+  internal::AddPlan plan;
+  plan.twist_edge = true;
+  switch (internal::ResolveEnd(t, e_id, ids.id[1], plan.head)) {
+    case internal::EndProblem::kFrameBodyMismatch:
       return Reject(ErrorCode::kFrameBodyMismatch, what(),
-                    "the point of a twist must be the origin of a frame on the moving body: " + text::Frame(t, e) +
-                        " is not on body " + std::string(spec.body));
-    }
-    C = t.body_of(e);
-    C_name = t.body_name_id(C);
-  } else if (!C_id.is_valid()) {
-    return Reject(ErrorCode::kFrameWithoutBody, what(),
-                  "frame {" + std::string(spec.point) + "} does not exist and no body is given");
+                    "the point of a twist must be the origin of a frame on the moving body: " +
+                        text::Frame(t, plan.head.frame) + " is not on body " +
+                        std::string(spec.body));
+    case internal::EndProblem::kFrameWithoutBody:
+      return Reject(ErrorCode::kFrameWithoutBody, what(),
+                    "frame {" + std::string(spec.point) + "} does not exist and no body is given");
+    case internal::EndProblem::kNone:
+      break;
   }
-  const BodyIndex D = t.BodyOfName(D_id);
+  plan.tail = internal::AddEnd{NameId(), FrameIndex(), D_id, t.BodyOfName(D_id)};
+  const FrameIndex e = plan.head.frame;
   // W2.
-  if (C_name == D_id) {
+  if (plan.head.body_name == D_id) {
     return Reject(ErrorCode::kTwistSameBody, what(),
-                  "a twist of body " + std::string(names.name(C_name)) + " relative to itself");
+                  "a twist of body " + std::string(names.name(D_id)) + " relative to itself");
   }
   // twist_not_convertible: [r] must be in the pose tree of {e}; then the screw twist at {e} in [e].
-  const FrameIndex r = t.FrameOfName(r_id);
-  Eigen::Vector3d v_DEo_E = *v_ok, w_DE_E = *w_ok;
+  TwistNumbers V{*v_ok, *w_ok};  // v_DEo_E, w_DE_E
   if (r_id != e_id) {
+    const FrameIndex r = t.FrameOfName(r_id);
     if (!(e.is_valid() && r.is_valid() && t.SameTree(e, r))) {
       return Reject(ErrorCode::kTwistNotConvertible, what(),
                     "coordinate frame [" + std::string(spec.coordinate_frame) +
@@ -416,20 +385,19 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     if (at_stamp.error() != ErrorCode::kOk) {
       return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
     }
-    const typename B::Rotation R_ER = B::RotationOf(X_ER);
-    v_DEo_E = B::Rotate(R_ER, v_DEo_E);
-    w_DE_E = B::Rotate(R_ER, w_DE_E);
+    V.v_DHo_H = B::Rotate(B::RotationOf(X_ER), V.v_DHo_H);
+    V.w_DH_H = B::Rotate(B::RotationOf(X_ER), V.w_DH_H);
   }
   // W1 -> W3; an existing edge D -> {e} is a value update.
-  const topology::NewTwistEdge ends{D, e, C};
+  const BodyIndex D = plan.tail.body;
   if (e.is_valid() && t.twist_edge_of(e).is_valid() && D.is_valid() && t.twist_edge(t.twist_edge_of(e)).tail == D) {
     if (const internal::JointRecord* j = joints_.OfChild(e)) {  // joint_edge, before W1
       return Reject(ErrorCode::kJointEdge, what(),
-                    "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, e) + " belongs to joint " +
-                        j->name + "; set the joint's velocity instead");
+                    "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, e) +
+                        " belongs to joint " + std::string(joints_.name(*j)) +
+                        "; set the joint's velocity instead");
     }
     const TwistEdgeIndex existing = t.twist_edge_of(e);
-    const TwistNumbers V{v_DEo_E, w_DE_E};
     if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
     }
@@ -437,27 +405,63 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     rollback.Commit();
     return Ok{};
   }
-  if (auto v = topology::CheckNewTwistEdge(t, ends)) return Reject(v->code, what(), text::TwistRule(t, *v, ends));
+  if (auto v = topology::CheckNewTwistEdge(t, plan.twist_ends())) {
+    return Reject(v->code, what(), text::TwistRule(t, *v, plan.twist_ends()));
+  }
 
   // Apply: every allocation first (as in AddPose; a stamped edge's history too), then the
   // changes.
-  topology_.ReserveNodes((C.is_valid() ? 0 : 1) + (D.is_valid() ? 0 : 1), e.is_valid() ? 0 : 1);
-  values_.ReserveFrames(values_.X_PF.size() + (e.is_valid() ? 0 : 1));
-  values_.ReserveTwistSlots(t.num_twist_edge_slots() + 1);
-  topology_.ReserveLinkTwist(e);
+  ReserveAdd(plan);
   TwistHistoryLease history;
   if (stamp) history = NewTwistHistory();
   rollback.Commit();
-  if (!C.is_valid()) C = topology_.CreateBody(C_name);
-  const BodyIndex tail = D.is_valid() ? D : topology_.CreateBody(D_id);
-  const FrameIndex head = e.is_valid() ? e : CreateFrame(e_id, C);
-  const TwistEdgeIndex edge = topology_.LinkTwist(
-      tail, head,
-      semantics::TwistSemantics{semantics::Point(e_id), t.BodySem(C), t.BodySem(tail), semantics::OrientationFrame(e_id)});
-  values_.AddTwistSlot(edge);
-  values_.V_DH[edge.value()].Store(TwistNumbers{v_DEo_E, w_DE_E});
-  if (history) InstallTwistHistory(edge, std::move(history), TwistNumbers{v_DEo_E, w_DE_E}, *stamp);
+  const TwistEdgeIndex edge = CommitAdd(plan).twist;
+  values_.V_DH[edge.value()].Store(V);
+  if (history) InstallTwistHistory(edge, std::move(history), V, *stamp);
   return Ok{};
+}
+
+// ====================================================================== apply
+
+template <coord::Backend B>
+void SceneGraph<B>::ReserveAdd(const internal::AddPlan& plan) {
+  const std::size_t new_frames = plan.new_frames();
+  topology_.ReserveNodes(plan.new_bodies(), new_frames);
+  values_.ReserveFrames(values_.X_PF.size() + new_frames);
+  if (plan.pose_edge && plan.twist_edge) {
+    topology_.ReserveLinkJoint(plan.tail.frame, plan.head.frame);
+  } else if (plan.pose_edge) {
+    topology_.ReserveLinkPose(plan.tail.frame, plan.head.frame);
+  } else {
+    topology_.ReserveLinkTwist(plan.head.frame);
+  }
+  if (plan.twist_edge) values_.ReserveTwistSlots(topology_.num_twist_edge_slots() + 1);
+}
+
+template <coord::Backend B>
+internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
+  internal::AddedEdges out{plan.tail.frame, plan.head.frame, plan.tail.body, plan.head.body, {}};
+  if (plan.tail_body_first && !out.tail_body.is_valid())
+    out.tail_body = topology_.CreateBody(plan.tail.body_name);
+  if (!out.head_body.is_valid()) out.head_body = topology_.CreateBody(plan.head.body_name);
+  if (!out.tail_body.is_valid()) {
+    out.tail_body = plan.same_body() ? out.head_body : topology_.CreateBody(plan.tail.body_name);
+  }
+  if (!out.head.is_valid()) out.head = CreateFrame(plan.head.frame_name, out.head_body);
+  if (plan.pose_edge) {
+    if (!out.tail.is_valid()) out.tail = CreateFrame(plan.tail.frame_name, out.tail_body);
+    topology_.LinkPoseReserved(out.tail, out.head);  // reserved by ReserveAdd
+  }
+  if (plan.twist_edge) {
+    const topology::SceneTopology& t = topology_;
+    const NameId h = plan.head.frame_name;
+    out.twist = topology_.LinkTwist(
+        out.tail_body, out.head,
+        semantics::TwistSemantics{semantics::Point(h), t.BodySem(out.head_body),
+                                  t.BodySem(out.tail_body), semantics::OrientationFrame(h)});
+    values_.AddTwistSlot(out.twist);
+  }
+  return out;
 }
 
 // ====================================================================== removal
@@ -467,28 +471,12 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
   const auto what = [&] {
     return "removal of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
   };
-  for (std::string_view n : {of, relative_to}) {
-    if (auto ok = semantics::ValidateName(n); !ok) {
-      return Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n));
-    }
-  }
-  const topology::SceneTopology& t = topology_;
-  const FrameIndex h = FindFrame(of), tail = FindFrame(relative_to);
-  if (!h.is_valid()) return Reject(ErrorCode::kUnknownFrame, what(), "frame {" + std::string(of) + "} does not exist");
-  if (!tail.is_valid()) {
-    return Reject(ErrorCode::kUnknownFrame, what(), "frame {" + std::string(relative_to) + "} does not exist");
-  }
-  if (!topology::PoseEdgeExists(t, tail, h)) {
-    const FrameIndex p = t.pose_parent(h);
-    return Reject(ErrorCode::kNoSuchEdge, what(),
-                  "there is no pose edge " + text::Frame(t, tail) + " -> " + text::Frame(t, h) +
-                      (p.is_valid() ? " (the pose parent of " + text::Frame(t, h) + " is " + text::Frame(t, p) + ")"
-                                    : " (" + text::Frame(t, h) + " has no pose parent)"));
-  }
-  if (const internal::JointRecord* j = joints_.OfChild(h)) return RemoveJoint(*j);  // joints.cc
-  topology_.CutPose(h);
-  values_.X_PF[h.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
-  DropPoseHistory(h);                   // removing an edge drops its history
+  const internal::EdgeLookup l = internal::LookUpPoseEdge(topology_, of, relative_to);
+  if (l.code != ErrorCode::kOk)
+    return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
+  if (const internal::JointRecord* j = joints_.OfChild(l.head))
+    return RemoveJoint(*j);  // joints.cc
+  RemovePoseEdge(l.head);
   return Ok{};
 }
 
@@ -496,52 +484,59 @@ template <coord::Backend B>
 BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view relative_to) {
   const auto shown = [](std::string_view n) { return n.empty() ? std::string("\"\"") : std::string(n); };
   const auto what = [&] { return "removal of the twist of " + shown(of) + " wrt " + shown(relative_to); };
-  for (std::string_view n : {of, relative_to}) {
-    if (auto ok = semantics::ValidateName(n); !ok) {
-      return Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n));
-    }
-  }
-  const topology::SceneTopology& t = topology_;
-  const FrameIndex h = FindFrame(of);
-  if (!h.is_valid()) return Reject(ErrorCode::kUnknownFrame, what(), "frame {" + std::string(of) + "} does not exist");
-  const BodyIndex D = FindBody(relative_to);
-  if (!D.is_valid()) {
-    return Reject(ErrorCode::kUnknownBody, what(), "body " + std::string(relative_to) + " does not exist");
-  }
-  const TwistEdgeIndex edge = t.twist_edge_of(h);
-  if (!edge.is_valid() || t.twist_edge(edge).tail != D) {
-    return Reject(ErrorCode::kNoSuchEdge, what(),
-                  "there is no twist edge " + std::string(relative_to) + " -> " + text::Frame(t, h) +
-                      (!edge.is_valid() ? " (" + text::Frame(t, h) + " has no twist parent)"
-                                        : " (its twist parent is " + std::string(t.body_name(t.twist_edge(edge).tail)) +
-                                              ")"));
-  }
-  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+  const internal::EdgeLookup l = internal::LookUpTwistEdge(topology_, of, relative_to);
+  if (l.code != ErrorCode::kOk)
+    return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
+  if (const internal::JointRecord* j = joints_.OfChild(l.head)) {
     return Reject(ErrorCode::kJointEdge, what(),
-                  "it is the twist edge of joint " + j->name + "; remove the joint's pose edge to remove the joint");
+                  "it is the twist edge of joint " + std::string(joints_.name(*j)) +
+                      "; remove the joint's pose edge to remove the joint");
   }
-  topology_.UnlinkTwist(edge);
-  values_.V_DH[edge.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
-  DropTwistHistory(edge);
+  RemoveTwistEdge(l.edge);
   return Ok{};
 }
 
-#define SEMGRAPH_INSTANTIATE_ADD(B)                                                                         \
-  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                           \
-  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                                        \
-  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                            \
-  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);                         \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,                   \
-                                              const Eigen::Vector3d&);                                      \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&, const Eigen::Vector3d&); \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&); \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&, const Eigen::Vector3d&, Stamp); \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&, const Eigen::Vector3d&, Stamp); \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp); \
-  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, \
-                                                   std::optional<Stamp>);                                   \
-  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);                       \
-  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);
+// Removal by index: no allocation before the first change (CutPose allocates before its own).
+template <coord::Backend B>
+void SceneGraph<B>::RemovePoseEdge(FrameIndex head) {
+  topology_.CutPose(head);
+  values_.X_PF[head.value()]
+      .BumpEpoch();       // compiled queries and handles using this edge become invalid
+  DropPoseHistory(head);  // removing an edge drops its history
+}
+
+template <coord::Backend B>
+void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
+  topology_.UnlinkTwist(edge);
+  values_.V_DH[edge.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
+  DropTwistHistory(edge);
+}
+
+#define SEMGRAPH_INSTANTIATE_ADD(B)                                                               \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                 \
+  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                              \
+  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                  \
+  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);               \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
+                                              const Eigen::Vector3d&);                            \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
+                                              const Eigen::Vector3d&);                            \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&);                           \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
+                                              const Eigen::Vector3d&, Stamp);                     \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
+                                              const Eigen::Vector3d&, Stamp);                     \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&, Stamp);                    \
+  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,      \
+                                                   const Eigen::Vector3d&, std::optional<Stamp>); \
+  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);             \
+  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);            \
+  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                        \
+  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                   \
+  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                              \
+  template internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan&);
 SEMGRAPH_INSTANTIATE_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ADD(coord::HomogeneousBackend)
 

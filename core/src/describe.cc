@@ -174,6 +174,63 @@ std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViol
   }
 }
 
+std::string JointRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
+                      const topology::NewPoseEdge& ends, const PoseSpec& as_pose) {
+  switch (v.code) {
+    case ErrorCode::kMultipleTwistParents:  // W1
+      return TwistRule(t, v, topology::NewTwistEdge{ends.tail_body, ends.head, ends.head_body});
+    case ErrorCode::kDuplicateTwistPath:  // W3, in the tree the pose edge makes
+      return "the twist of " + std::string(t.body_name(ends.head_body)) + " relative to " +
+             std::string(t.body_name(ends.tail_body)) +
+             " already follows from the twist edges of the pose trees it joins";
+    default:
+      return PoseRule(t, v, ends, as_pose);
+  }
+}
+
+BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, const std::string& what, std::string_view frame,
+                      std::string_view body) {
+  if (p == internal::EndProblem::kFrameBodyMismatch) {
+    return Reject(ErrorCode::kFrameBodyMismatch, what,
+                  "frame {" + std::string(frame) + "} is attached to body " +
+                      std::string(t.body_name(t.body_of(end.frame))) + ", not " +
+                      std::string(body));
+  }
+  return Reject(
+      ErrorCode::kFrameWithoutBody, what,
+      "frame {" + std::string(frame) + "} does not exist and no body is given to attach it to");
+}
+
+std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLookup& l,
+                       std::string_view relative_to, bool explain) {
+  switch (l.code) {
+    case ErrorCode::kInvalidName:
+      return semantics::Describe(l.name_error, l.bad_name);
+    case ErrorCode::kUnknownFrame:
+      return "frame {" + std::string(l.bad_name) + "} does not exist";
+    case ErrorCode::kUnknownBody:
+      return "body " + std::string(l.bad_name) + " does not exist";
+    case ErrorCode::kNoSuchEdge:
+      break;
+    default:
+      return std::string(base::ToString(l.code));
+  }
+  if (!l.twist) {
+    std::string s = "there is no pose edge " + Frame(t, l.tail) + " -> " + Frame(t, l.head);
+    if (!explain) return s;
+    const topology::FrameIndex p = t.pose_parent(l.head);
+    return s + (p.is_valid()
+                    ? " (the pose parent of " + Frame(t, l.head) + " is " + Frame(t, p) + ")"
+                    : " (" + Frame(t, l.head) + " has no pose parent)");
+  }
+  std::string s = "there is no twist edge " + std::string(relative_to) + " -> " + Frame(t, l.head);
+  if (!explain) return s;
+  return s + (!l.edge.is_valid() ? " (" + Frame(t, l.head) + " has no twist parent)"
+                                 : " (its twist parent is " +
+                                       std::string(t.body_name(t.twist_edge(l.edge).tail)) + ")");
+}
+
 }  // namespace text
 
 namespace {

@@ -78,9 +78,9 @@ ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord& j, double
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::StoreJointSample(std::uint32_t index, const double* q_given, const double* qdot_given,
-                                     std::int64_t s) noexcept {
-  internal::JointRecord& j = joints_.joints[index];
+void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
+                                     const double* qdot_given, std::int64_t s) noexcept {
+  internal::JointRecord& j = joints_[index];
   const double q = q_given ? *q_given : j.q, qdot = qdot_given ? *qdot_given : j.qdot;
   const TwistEdgeIndex edge = topology_.twist_edge_of(j.child);
   PoseHistory& hp = values_.history.pose.writable(j.child.value());
@@ -111,8 +111,8 @@ void SceneGraph<B>::StoreJointSample(std::uint32_t index, const double* q_given,
       values_.V_DH[edge.value()].Store(V);
     }
   }
-  for (std::uint32_t m : j.mimics) {
-    const internal::JointRecord& mj = joints_.joints[m];
+  for (JointIndex m : j.mimics) {
+    const internal::JointRecord& mj = joints_[m];
     const double qm = mj.multiplier * q + mj.offset, qdotm = mj.multiplier * qdot;
     StoreJointSample(m, &qm, &qdotm, s);  // a mimic has no mimics: depth 1
   }
@@ -140,8 +140,8 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
     limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
     const double qi = q ? q[i] : j->q, qdoti = qdot ? qdot[i] : j->qdot;
     note(CheckJointSample(*j, qi, qdoti, s));
-    for (std::uint32_t m : j->mimics) {
-      const internal::JointRecord& mj = joints_.joints[m];
+    for (JointIndex m : j->mimics) {
+      const internal::JointRecord& mj = joints_[m];
       note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
     }
   }
@@ -220,14 +220,14 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   // The sample of each joint given: its given fields, the others of its newest sample (its
   // state). A joint named in both maps gives one sample.
   struct Sample {
-    std::uint32_t index;
+    JointIndex index;
     const double* q;
     const double* qdot;
   };
   std::vector<Sample> samples;
   samples.reserve(positions.size() + velocities.size());
   const auto sample_of = [&](const JointValue& v) -> Sample& {
-    const std::uint32_t index = joints_.HandleOf(*joints_.Find(v.joint)).index;
+    const JointIndex index = joints_.HandleOf(*joints_.Find(v.joint)).index;
     for (Sample& x : samples) {
       if (x.index == index) return x;
     }
@@ -238,12 +238,12 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   const std::int64_t s = stamp.nanoseconds();
   // A joint never set yet becomes stamped: its (and its mimics') histories are made first, so a
   // refusal below or running out of memory changes nothing.
-  std::vector<std::uint32_t> fresh;  // joints (and mimics) that get histories
+  std::vector<JointIndex> fresh;  // joints (and mimics) that get histories
   for (const Sample& x : samples) {
-    const internal::JointRecord& j = joints_.joints[x.index];
+    const internal::JointRecord& j = joints_[x.index];
     for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
-      const std::uint32_t idx = k == 0 ? x.index : j.mimics[k - 1];
-      const internal::JointRecord& jk = joints_.joints[idx];
+      const JointIndex idx = k == 0 ? x.index : j.mimics[k - 1];
+      const internal::JointRecord& jk = joints_[idx];
       if (!jk.timeless && values_.history.pose_of(jk.child.value()) == nullptr) fresh.push_back(idx);
     }
   }
@@ -252,17 +252,17 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   ErrorCode worst = ErrorCode::kOk;
   std::string worst_reason;
   for (const Sample& x : samples) {
-    const internal::JointRecord& j = joints_.joints[x.index];
+    const internal::JointRecord& j = joints_[x.index];
     const double q = x.q ? *x.q : j.q, qdot = x.qdot ? *x.qdot : j.qdot;
     for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
-      const std::uint32_t idx = k == 0 ? x.index : j.mimics[k - 1];
+      const JointIndex idx = k == 0 ? x.index : j.mimics[k - 1];
       if (std::find(fresh.begin(), fresh.end(), idx) != fresh.end()) continue;
-      const internal::JointRecord& jk = joints_.joints[idx];
+      const internal::JointRecord& jk = joints_[idx];
       const double qk = k == 0 ? q : jk.multiplier * q + jk.offset, qdotk = k == 0 ? qdot : jk.multiplier * qdot;
       const ErrorCode code = CheckJointSample(jk, qk, qdotk, s);
       if (code == ErrorCode::kOk || (worst != ErrorCode::kOk && code >= worst)) continue;
       worst = code;
-      std::string reason = "joint " + jk.name + ": ";
+      std::string reason = "joint " + std::string(joints_.name(jk)) + ": ";
       if (code == ErrorCode::kStampMismatch && jk.timeless) {
         reason += "it was set without a stamp, so its edges are timeless and take no stamped state";
       } else {
@@ -283,7 +283,7 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   // No failure from here on. A fresh joint's first sample is its current state (the newest
   // "sample" of a joint without one), replaced at once by StoreJointSample at the same stamp.
   for (std::size_t i = 0; i < fresh.size(); ++i) {
-    const internal::JointRecord& j = joints_.joints[fresh[i]];
+    const internal::JointRecord& j = joints_[fresh[i]];
     Eigen::Quaterniond q_PC;
     Eigen::Vector3d p_PC;
     j.PoseAt(j.q, q_PC, p_PC);
@@ -299,7 +299,7 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
 #define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                                          \
   template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, std::int64_t)    \
       const noexcept;                                                                                               \
-  template void SceneGraph<B>::StoreJointSample(std::uint32_t, const double*, const double*, std::int64_t) noexcept; \
+  template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*, std::int64_t) noexcept;    \
   template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
                                                     const double*, Stamp, UpdateError*) noexcept;  \
   template ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode, const JointGroup&, const double*,      \

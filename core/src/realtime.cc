@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "edge_lookup.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
 #include "text.h"
@@ -25,70 +26,46 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
   const auto what = [&] {
     return "handle of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
   };
-  // invalid_name -> unknown_frame -> no_such_edge -> constant_pose_change (as RemovePose).
-  for (std::string_view n : {of, relative_to}) {
-    if (auto ok = semantics::ValidateName(n); !ok) {
-      return Unexpected{Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n)).error()};
-    }
-  }
+  // invalid_name -> unknown_frame -> no_such_edge (the finder RemovePose uses) -> joint_edge ->
+  // constant_pose_change.
   const topology::SceneTopology& t = topology_;
-  const FrameIndex h = FindFrame(of), tail = FindFrame(relative_to);
-  if (!h.is_valid() || !tail.is_valid()) {
-    return Unexpected{Reject(ErrorCode::kUnknownFrame, what(),
-                             "frame {" + std::string(h.is_valid() ? relative_to : of) + "} does not exist")
-                          .error()};
+  const internal::EdgeLookup l = internal::LookUpPoseEdge(t, of, relative_to);
+  if (l.code != ErrorCode::kOk) {
+    return Unexpected{Reject(l.code, what(), text::EdgeReason(t, l, relative_to, false)).error()};
   }
-  if (!topology::PoseEdgeExists(t, tail, h)) {
-    return Unexpected{Reject(ErrorCode::kNoSuchEdge, what(),
-                             "there is no pose edge " + text::Frame(t, tail) + " -> " + text::Frame(t, h))
-                          .error()};
-  }
-  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+  if (const internal::JointRecord* j = joints_.OfChild(l.head)) {
     return Unexpected{Reject(ErrorCode::kJointEdge, what(),
-                             "the edge belongs to joint " + j->name + ": set the joint's position instead")
+                             "the edge belongs to joint " + std::string(joints_.name(*j)) +
+                                 ": set the joint's position instead")
                           .error()};
   }
-  if (topology::IsConstantEdge(t, tail, h)) {
+  if (topology::IsConstantEdge(t, l.tail, l.head)) {
     return Unexpected{Reject(ErrorCode::kConstantPoseChange, what(),
-                             text::Frame(t, h) + " and " + text::Frame(t, tail) +
+                             text::Frame(t, l.head) + " and " + text::Frame(t, l.tail) +
                                  " are fixed to one body: their pose is constant")
                           .error()};
   }
-  return PoseHandle{h, values_.X_PF[h.value()].epoch(), id_.value(), EdgeKind::kPose};
+  return PoseHandle{l.head, values_.X_PF[l.head.value()].epoch(), id_.value(), EdgeKind::kPose};
 }
 
 template <coord::Backend B>
 Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view of,
                                                               std::string_view relative_to) const {
   const auto what = [&] { return "handle of the twist of " + std::string(of) + " wrt " + std::string(relative_to); };
-  // invalid_name -> unknown_frame -> unknown_body -> no_such_edge (as RemoveTwist).
-  for (std::string_view n : {of, relative_to}) {
-    if (auto ok = semantics::ValidateName(n); !ok) {
-      return Unexpected{Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), n)).error()};
-    }
-  }
+  // invalid_name -> unknown_frame -> unknown_body -> no_such_edge (the finder RemoveTwist uses)
+  // -> joint_edge.
   const topology::SceneTopology& t = topology_;
-  const FrameIndex h = FindFrame(of);
-  if (!h.is_valid()) {
-    return Unexpected{Reject(ErrorCode::kUnknownFrame, what(), "frame {" + std::string(of) + "} does not exist").error()};
+  const internal::EdgeLookup l = internal::LookUpTwistEdge(t, of, relative_to);
+  if (l.code != ErrorCode::kOk) {
+    return Unexpected{Reject(l.code, what(), text::EdgeReason(t, l, relative_to, false)).error()};
   }
-  const BodyIndex D = FindBody(relative_to);
-  if (!D.is_valid()) {
-    return Unexpected{
-        Reject(ErrorCode::kUnknownBody, what(), "body " + std::string(relative_to) + " does not exist").error()};
-  }
-  const TwistEdgeIndex edge = t.twist_edge_of(h);
-  if (!edge.is_valid() || t.twist_edge(edge).tail != D) {
-    return Unexpected{Reject(ErrorCode::kNoSuchEdge, what(),
-                             "there is no twist edge " + std::string(relative_to) + " -> " + text::Frame(t, h))
-                          .error()};
-  }
-  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+  if (const internal::JointRecord* j = joints_.OfChild(l.head)) {
     return Unexpected{Reject(ErrorCode::kJointEdge, what(),
-                             "the edge belongs to joint " + j->name + ": set the joint's velocity instead")
+                             "the edge belongs to joint " + std::string(joints_.name(*j)) +
+                                 ": set the joint's velocity instead")
                           .error()};
   }
-  return TwistHandle{edge, values_.V_DH[edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
+  return TwistHandle{l.edge, values_.V_DH[l.edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
 namespace {

@@ -67,9 +67,9 @@ std::string Dump(const SceneGraph<B>& g) {
     const internal::JointRecord& j = joints.joints[i];
     out << "  joint " << i << " generation " << j.generation;
     if (j.alive) {
-      out << " " << j.name << " " << ToString(j.type) << " " << t.frame_name(j.parent) << " -> "
-          << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
-      if (j.is_mimic()) out << " mimic " << joints.joints[j.master].name;
+      out << " " << joints.name(j) << " " << ToString(j.type) << " " << t.frame_name(j.parent)
+          << " -> " << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
+      if (j.is_mimic()) out << " mimic " << joints.name(joints[j.master]);
     }
     out << "\n";
   }

@@ -2,12 +2,13 @@
 // described (never on a query's or an accepted add's path). Implemented in describe.cc.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
-#include <Eigen/Core>
-
+#include "add_plan.h"
+#include "edge_lookup.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/topology/rules.h"
 #include "semgraph/topology/scene_topology.h"
@@ -32,6 +33,20 @@ std::string PoseRule(const topology::SceneTopology& t, const topology::RuleViola
 /// The reason of a broken rule of a new twist edge D -> {e}|C.
 std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
                       const topology::NewTwistEdge& ends);
+
+/// The reason of a broken rule of a joint's new pose edge {p} -> {c} and twist edge P -> {c}|C
+/// (`as_pose`: the joint as the pose of {c}|C wrt {p}|P, for the pose rules' texts).
+std::string JointRule(const topology::SceneTopology& t, const topology::RuleViolation& v,
+                      const topology::NewPoseEdge& ends, const PoseSpec& as_pose);
+/// The rejection of an add whose end {frame}|body failed node resolution (add_plan.h
+/// ResolveEnd): frame_body_mismatch or frame_without_body.
+BuildResult RejectEnd(const topology::SceneTopology& t, internal::EndProblem p,
+                      const internal::AddEnd& end, const std::string& what, std::string_view frame,
+                      std::string_view body);
+/// Why a lookup of an edge by names failed (edge_lookup.h); `explain` adds, for no_such_edge,
+/// the edge that is there instead (removals).
+std::string EdgeReason(const topology::SceneTopology& t, const internal::EdgeLookup& l,
+                       std::string_view relative_to, bool explain);
 
 /// A stamp in seconds with millisecond digits, "12.480 s"; a range "[12.000, 12.480] s".
 std::string StampText(std::int64_t ns);

@@ -51,7 +51,8 @@ struct Publisher::Impl {
                     std::optional<core::Stamp> stamp) noexcept {
     for (std::size_t i = 0; i < group.size(); ++i) {
       const core::JointHandle h = group.joints[i];
-      PublishJoint(h.index, q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h), stamp);
+      PublishJoint(h.index.value(), q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h),
+                   stamp);
     }
   }
   // Batching (BeginBatch / Flush): the cycle's values, preallocated (kMaxBatchUpdates).
@@ -264,9 +265,11 @@ std::vector<semgraph_wire_Joint> WireJoints(const core::SceneGraph<>& g,
   for (std::uint32_t i = 0; i < joints.joints.size(); ++i) {
     const core::internal::JointRecord& j = joints.joints[i];
     if (!j.alive) continue;
-    joint_names.push_back({j.name, std::string(g.frame_name(j.parent)), std::string(g.body_name(j.parent_body)),
-                           std::string(g.frame_name(j.child)), std::string(g.body_name(j.child_body)),
-                           j.is_mimic() ? joints.joints[j.master].name : std::string()});
+    joint_names.push_back(
+        {std::string(joints.name(j)), std::string(g.frame_name(j.parent)),
+         std::string(g.body_name(j.parent_body)), std::string(g.frame_name(j.child)),
+         std::string(g.body_name(j.child_body)),
+         j.is_mimic() ? std::string(joints.name(joints[j.master])) : std::string()});
     const JointNames& names = joint_names.back();
     semgraph_wire_Joint w{};
     w.id = i;
@@ -406,8 +409,8 @@ std::vector<Named> NamedJoints(const core::SceneGraph<>& g, std::span<const core
   auto add = [&](const core::JointValue& v, bool velocity) {
     auto h = g.FindJoint(v.joint);
     if (!h) return;
-    auto [it, fresh] = at.emplace(h->index, out.size());
-    if (fresh) out.push_back({h->index, std::nullopt, std::nullopt});
+    auto [it, fresh] = at.emplace(h->index.value(), out.size());
+    if (fresh) out.push_back({h->index.value(), std::nullopt, std::nullopt});
     (velocity ? out[it->second].qdot : out[it->second].q) = v.value;
   };
   for (const core::JointValue& v : positions) add(v, false);

@@ -534,7 +534,7 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
   auto state = [&](const char* joint_name, double qv, std::uint64_t seq) {
     semgraph_wire_Value v{};
     v.source = (*pub)->source();
-    v.edge = g.FindJoint(joint_name)->index;
+    v.edge = g.FindJoint(joint_name)->index.value();
     v.kind = semgraph_wire_VALUE_JOINT;
     v.seq = seq;
     v.numbers[0] = qv;
@@ -559,7 +559,7 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
   EXPECT_NE(logs.find("joint 0 ('k'): a second edge into the same frame"), std::string::npos) << logs;
   EXPECT_NE(logs.find("a state for the fixed or mimic joint 'f'"), std::string::npos) << logs;
   EXPECT_NE(logs.find("a stamped sample for the unstamped joint 'j1'"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("value of edge " + std::to_string(g.FindJoint("j1")->index) + " from source"),
+  EXPECT_NE(logs.find("value of edge " + std::to_string(g.FindJoint("j1")->index.value()) + " from source"),
             std::string::npos) << logs;
 }
 

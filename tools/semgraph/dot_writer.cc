@@ -53,7 +53,10 @@ std::string WriteDot(const core::SceneGraph<B>& graph) {
   const auto joint_label = [&](core::FrameIndex head) -> std::string {
     const core::internal::JointRecord* j = graph.joint_table().OfChild(head);
     if (!j) return {};
-    return "label=" + DotLabel(std::string(core::ToString(j->type)) + " " + j->name) + ", penwidth=2";
+    return "label=" +
+           DotLabel(std::string(core::ToString(j->type)) + " " +
+                    std::string(graph.joint_table().name(*j))) +
+           ", penwidth=2";
   };
   graph.topology().ForEachPoseEdge([&](core::FrameIndex tail, core::FrameIndex head) {
     const std::string joint = joint_label(head);

@@ -227,16 +227,19 @@ class Writer {
   void Joint(std::uint32_t k) {
     const core::internal::JointTable& table = g_.joint_table();
     const core::internal::JointRecord& j = table.joints[k];
-    out_ += "  - {op: joint, name: " + JsonString(j.name) + ", type: " + std::string(core::ToString(j.type)) +
-            ", parent: " + Quoted(FrameName(j.parent)) + ", parent_body: " + Quoted(BodyName(j.parent_body)) +
-            ", child: " + Quoted(FrameName(j.child)) + ", child_body: " + Quoted(BodyName(j.child_body)) +
+    out_ += "  - {op: joint, name: " + JsonString(table.name(j)) +
+            ", type: " + std::string(core::ToString(j.type)) +
+            ", parent: " + Quoted(FrameName(j.parent)) +
+            ", parent_body: " + Quoted(BodyName(j.parent_body)) +
+            ", child: " + Quoted(FrameName(j.child)) +
+            ", child_body: " + Quoted(BodyName(j.child_body)) +
             ", position: " + Numbers(j.p_origin, 3) + ", rotation: {quaternion: ";
     const double wxyz[4] = {j.q_origin.w(), j.q_origin.x(), j.q_origin.y(), j.q_origin.z()};
     out_ += Numbers(wxyz, 4) + "}";
     if (j.movable()) out_ += ", axis: " + Numbers(j.axis, 3);
     if (j.limited()) out_ += ", lower: " + Number(j.lower) + ", upper: " + Number(j.upper);
     if (j.is_mimic()) {
-      out_ += ", mimic: {joint: " + JsonString(table.joints[j.master].name) +
+      out_ += ", mimic: {joint: " + JsonString(table.name(table[j.master])) +
               ", multiplier: " + Number(j.multiplier) + ", offset: " + Number(j.offset) + "}";
     }
     out_ += "}\n";
@@ -272,8 +275,10 @@ class Writer {
       if (!j.alive) continue;
       if (!joint_done_[k]) Joint(k);
       if (j.movable() && !j.is_mimic()) {
-        positions += (positions.empty() ? "" : ", ") + JsonString(j.name) + ": " + Number(j.q);
-        velocities += (velocities.empty() ? "" : ", ") + JsonString(j.name) + ": " + Number(j.qdot);
+        positions +=
+            (positions.empty() ? "" : ", ") + JsonString(table.name(j)) + ": " + Number(j.q);
+        velocities +=
+            (velocities.empty() ? "" : ", ") + JsonString(table.name(j)) + ": " + Number(j.qdot);
       }
     }
     if (!positions.empty()) {

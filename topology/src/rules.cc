@@ -1,6 +1,8 @@
 // The structural rules, one function each, in the order of rules.h.
 #include "semgraph/topology/rules.h"
 
+#include <unordered_map>
+
 namespace semgraph::topology {
 
 using base::ErrorCode;
@@ -83,6 +85,46 @@ std::optional<RuleViolation> CheckW3(const SceneTopology& t, const NewTwistEdge&
 std::optional<RuleViolation> CheckNewTwistEdge(const SceneTopology& t, const NewTwistEdge& e) noexcept {
   if (auto v = CheckW1(t, e)) return v;
   return CheckW3(t, e);
+}
+
+std::optional<RuleViolation> CheckJointW1(const SceneTopology& t, const NewPoseEdge& e) noexcept {
+  if (e.head.is_valid() && t.twist_edge_of(e.head).is_valid()) {
+    return RuleViolation{
+        ErrorCode::kMultipleTwistParents, {}, {}, t.twist_edge(t.twist_edge_of(e.head)).tail};
+  }
+  return std::nullopt;
+}
+
+// Connectivity in the union of two forests: a temporary union-find over their edges (paths may
+// alternate between the two; W4 passed, so the union is a forest). Build time only.
+std::optional<RuleViolation> CheckJointW3(const SceneTopology& t, const NewPoseEdge& e) {
+  if (!e.tail_body.is_valid() || !e.head_body.is_valid()) return std::nullopt;  // a new body
+  std::unordered_map<std::uint32_t, std::uint32_t> parent;
+  const auto find = [&](std::uint32_t x) {
+    for (auto it = parent.find(x); it != parent.end() && it->second != x; it = parent.find(x))
+      x = it->second;
+    return x;
+  };
+  for (const FrameIndex f : {e.tail, e.head}) {
+    const TreeRecord* rec = f.is_valid() ? t.RecordOf(f) : nullptr;
+    if (!rec) continue;
+    rec->twists.ForEachEdge([&](TwistEdgeIndex, BodyIndex tail, BodyIndex head) {
+      parent.try_emplace(tail.value(), tail.value());
+      parent.try_emplace(head.value(), head.value());
+      const std::uint32_t a = find(tail.value()), b = find(head.value());
+      if (a != b) parent[a] = b;
+    });
+  }
+  if (find(e.tail_body.value()) == find(e.head_body.value())) {
+    return RuleViolation{ErrorCode::kDuplicateTwistPath, {}, {}, {}};
+  }
+  return std::nullopt;
+}
+
+std::optional<RuleViolation> CheckNewJointEdges(const SceneTopology& t, const NewPoseEdge& e) {
+  if (auto v = CheckNewPoseEdge(t, e)) return v;
+  if (auto v = CheckJointW1(t, e)) return v;
+  return CheckJointW3(t, e);
 }
 
 }  // namespace semgraph::topology

@@ -15,18 +15,23 @@
 // Invariants of a JointTable (kept by SceneGraph's joint operations):
 //  - a live joint's pose edge is the pose parent edge of its child frame and its twist edge the
 //    twist edge into the child frame; `joint_of_child` maps exactly the live joints' children;
-//  - names of live joints are unique (`by_name`); a removed joint's slot is dead and its
-//    generation was bumped, so old handles are refused (unknown_joint);
+//  - joint names are interned in the table's own NameTable (`names`; a joint and a frame may
+//    share a name, and the scene's frame and body name ids stay those its node operations
+//    made); `of_name` maps a name id to the live joint of that name, so live names are
+//    unique; a removed joint's slot is dead and its generation was bumped, so old handles
+//    are refused (unknown_joint);
 //  - a mimic's master is a live movable joint that is not a mimic; `mimics` of a master lists
 //    exactly its live mimics; the stored edge values equal X_origin M(q) and the twist of qdot.
-// Costs: lookups by name O(1) expected (build time); by handle O(1). Setting the state of n
-// joints (SceneGraph::SetJointPositions/Velocities/State) is O(n + their mimics), noexcept,
+// Costs: lookups by name O(|name|), allocation-free (one hash); by handle O(1). Setting the state
+// of n joints (SceneGraph::SetJointPositions/Velocities/State) is O(n + their mimics), noexcept,
 // allocation-free and lock-free for readers (each edge value is written through its sequence
 // lock: readers see either the old or the new value of an edge, never a torn one).
 // Thread safety: one writer sets joint states while readers evaluate queries; joint adds and
 // removals need exclusive access (as every topology change).
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -35,11 +40,10 @@
 #include <unordered_map>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
-#include "semgraph/core/export.h"
+#include "semgraph/base/index.h"
 #include "semgraph/core/edge_values.h"
+#include "semgraph/core/export.h"
+#include "semgraph/semantics/names.h"
 #include "semgraph/topology/ids.h"
 
 namespace semgraph::core {
@@ -65,9 +69,13 @@ struct JointSpec {
   double multiplier = 1, offset = 0;  ///< q = multiplier * q_master + offset
 };
 
+/// A joint's slot in its graph's joint table (slots of removed joints are reused).
+struct JointTag {};
+using JointIndex = base::StrongIndex<JointTag>;
+
 /// A resolved joint, for O(1) access on the real-time path.
 struct JointHandle {
-  std::uint32_t index = 0xFFFFFFFFu;
+  JointIndex index;
   std::uint32_t generation = 0;
   friend bool operator==(const JointHandle&, const JointHandle&) = default;
 };
@@ -91,7 +99,7 @@ namespace internal {
 SEMGRAPH_CORE_EXPORT void SinCos(double x, double& s, double& c) noexcept;
 
 struct JointRecord {
-  std::string name;
+  semantics::NameId name;  ///< in JointTable::names
   JointType type = JointType::kFixed;
   bool alive = false;
   std::uint32_t generation = 0;
@@ -101,16 +109,16 @@ struct JointRecord {
   Eigen::Vector3d p_origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
   double lower = 0, upper = 0;
-  std::uint32_t master = 0xFFFFFFFFu;  ///< mimic: the master's index
+  JointIndex master;  ///< mimic: the master (invalid: not a mimic)
   double multiplier = 1, offset = 0;
-  std::vector<std::uint32_t> mimics;   ///< master: its mimics' indices
+  std::vector<JointIndex> mimics;  ///< master: its mimics
   double q = 0, qdot = 0;  ///< the current state (stamped joints: the newest sample's)
   /// Set without a stamp at least once (docs/time.md): its edges are timeless and take no
   /// stamped state (stamp_mismatch). A stamped joint is one whose edges have histories.
   bool timeless = false;
 
   [[nodiscard]] bool movable() const noexcept { return type != JointType::kFixed; }
-  [[nodiscard]] bool is_mimic() const noexcept { return master != 0xFFFFFFFFu; }
+  [[nodiscard]] bool is_mimic() const noexcept { return master.is_valid(); }
   [[nodiscard]] bool limited() const noexcept {
     return type == JointType::kRevolute || type == JointType::kPrismatic;
   }
@@ -123,26 +131,43 @@ struct JointRecord {
 /// The joints of one scene graph (see the file comment for the invariants).
 struct JointTable {
   std::vector<JointRecord> joints;
-  std::unordered_map<std::string, std::uint32_t> by_name;
-  std::unordered_map<std::uint32_t, std::uint32_t> joint_of_child;  ///< child frame -> joint
+  semantics::NameTable names;                                    ///< joint names
+  std::vector<JointIndex> of_name;                               ///< by name id: live joint
+  std::unordered_map<std::uint32_t, JointIndex> joint_of_child;  ///< child frame -> joint
   std::size_t num_alive = 0;
 
+  [[nodiscard]] const JointRecord& operator[](JointIndex j) const noexcept {
+    return joints[j.value()];
+  }
+  [[nodiscard]] JointRecord& operator[](JointIndex j) noexcept { return joints[j.value()]; }
+  [[nodiscard]] std::string_view name(const JointRecord& j) const noexcept {
+    return names.name(j.name);
+  }
   /// The live joint whose child frame is `child` (nullptr if none). O(1) expected.
   [[nodiscard]] const JointRecord* OfChild(topology::FrameIndex child) const noexcept {
+    if (joint_of_child.empty()) return nullptr;  // most scenes: no hash on the pose-update path
     const auto it = joint_of_child.find(child.value());
-    return it == joint_of_child.end() ? nullptr : &joints[it->second];
+    return it == joint_of_child.end() ? nullptr : &(*this)[it->second];
   }
-  [[nodiscard]] const JointRecord* Find(std::string_view name) const {
-    const auto it = by_name.find(std::string(name));
-    return it == by_name.end() ? nullptr : &joints[it->second];
+  /// The live joint named `id` / `name` (nullptr if none). Allocation-free.
+  [[nodiscard]] const JointRecord* Find(semantics::NameId id) const noexcept {
+    if (!id.is_valid() || id.value() >= of_name.size() || !of_name[id.value()].is_valid())
+      return nullptr;
+    return &(*this)[of_name[id.value()]];
+  }
+  [[nodiscard]] const JointRecord* Find(std::string_view name) const noexcept {
+    return Find(names.Find(name));
   }
   [[nodiscard]] const JointRecord* Get(JointHandle h) const noexcept {
-    if (h.index >= joints.size()) return nullptr;
-    const JointRecord& j = joints[h.index];
+    if (!h.index.is_valid() || h.index.value() >= joints.size()) return nullptr;
+    const JointRecord& j = (*this)[h.index];
     return j.alive && j.generation == h.generation ? &j : nullptr;
   }
+  [[nodiscard]] JointIndex IndexOf(const JointRecord& j) const noexcept {
+    return JointIndex(static_cast<std::uint32_t>(&j - joints.data()));
+  }
   [[nodiscard]] JointHandle HandleOf(const JointRecord& j) const noexcept {
-    return JointHandle{static_cast<std::uint32_t>(&j - joints.data()), j.generation};
+    return JointHandle{IndexOf(j), j.generation};
   }
 };
 

@@ -71,6 +71,9 @@ namespace internal {
 // The one door of the debug unit (scene_graph_debug.h: Dump, CheckInvariants) into a graph's
 // private state; defined in scene_graph_debug.cc only, so nothing else can use it.
 struct DebugAccess;
+// The one add pipeline's plan and result (core/src/add_plan.h; private to the .cc files).
+struct AddPlan;
+struct AddedEdges;
 }  // namespace internal
 
 template <coord::Backend B = coord::QuaternionBackend>
@@ -461,14 +464,22 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept;
   std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index, std::optional<Stamp> stamp) const;
   FrameIndex CreateFrame(NameId name, BodyIndex body);
+  // The apply step of every add (add.cc): every allocation, then (after the caller's last
+  // check and its NameRollback::Commit) the nodes and links, allocation-free.
+  void ReserveAdd(const internal::AddPlan& plan);
+  internal::AddedEdges CommitAdd(const internal::AddPlan& plan);
+  // Removal by index, after the edge finder (edge_lookup.h) found the edge.
+  void RemovePoseEdge(FrameIndex head);
+  void RemoveTwistEdge(TwistEdgeIndex edge);
   template <class R>
   ErrorCode SetConvertedPose(const ConvertingPoseHandle<B>& edge, const R& rotation,
                              const Eigen::Vector3d& p, UpdateError* why) noexcept;
   void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
-  // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.
+  // Joints (joints.cc): removal of a joint's pose edge, state application; Jacobians
+  // (jacobian.cc).
   BuildResult RemoveJoint(const internal::JointRecord& joint);
-  void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
+  void ApplyJoint(JointIndex index, const double* q, const double* qdot) noexcept;
   // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or not.
   BuildResult CheckJointValues(std::span<const JointValue> positions, std::span<const JointValue> velocities) const;
   ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot,
@@ -481,7 +492,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
                             Stamp stamp, UpdateError* why) noexcept;
   ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot, std::int64_t s) const noexcept;
-  void StoreJointSample(std::uint32_t index, const double* q, const double* qdot, std::int64_t s) noexcept;
+  void StoreJointSample(JointIndex index, const double* q, const double* qdot,
+                        std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;

@@ -18,10 +18,17 @@
 //     W2  twist_same_body        D == H
 //     W1  multiple_twist_parents {h} already has a twist edge from another body
 //     W3  duplicate_twist_path   H and D are already joined in the TG of {h}'s tree
+//   joint: pose edge {p} -> {c} and twist edge P -> {c}|C, added together
+//     P1 -> P2 -> P3 -> W4 of the pose edge, then for the twist edge
+//     W1  multiple_twist_parents {c} already has a twist edge (a joint's edge is new)
+//     W3  duplicate_twist_path   P and C are already joined in TG(P1) U TG(P2), the twist
+//                                graph of the tree the pose edge makes
 // Self edges (a pose edge from a frame to itself) are caught by name, before the others.
 //
 // Costs: P1, P2, W1, W2 O(1); P3 O(min(b1, b2)) body-set lookups; W3 O(depth in TG);
-// W4 O(twist edges of the smaller TG). All noexcept, allocation-free; none walks a pose tree.
+// W4 O(twist edges of the smaller TG); a joint's W3 O(twist edges of both TGs). All
+// allocation-free and noexcept except W4 and a joint's W3 (a temporary union-find); none
+// walks a pose tree.
 #pragma once
 
 #include <optional>
@@ -84,5 +91,16 @@ struct NewTwistEdge {
 /// W1 -> W3.
 [[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckNewTwistEdge(
     const SceneTopology& t, const NewTwistEdge& e) noexcept;
+
+/// A joint's twist edge tail_body -> {head}|head_body of the pose edge `e`. W1: {head} has a
+/// twist edge (`body`: its tail). W3: the bodies are joined in the union of the TGs of the two
+/// trees the pose edge joins (W2 is decided on names by the caller, as for twists).
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckJointW1(
+    const SceneTopology& t, const NewPoseEdge& e) noexcept;
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckJointW3(
+    const SceneTopology& t, const NewPoseEdge& e);
+/// P1 -> P2 -> P3 -> W4 -> W1 -> W3, for a joint's new pose and twist edges.
+[[nodiscard]] SEMGRAPH_TOPOLOGY_EXPORT std::optional<RuleViolation> CheckNewJointEdges(
+    const SceneTopology& t, const NewPoseEdge& e);
 
 }  // namespace semgraph::topology
