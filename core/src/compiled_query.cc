@@ -261,7 +261,7 @@ ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, const T
 
 template <coord::Backend B>
 CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), from_poses_(true) {
   ForEachPoseDerivativeStep(t, plan, [&](const TwistStep<ForestChain>& step) {
     TwistStep<typename CompiledQuery<B>::Chain> flat;
     flat.pose_edge = step.pose_edge;
@@ -277,7 +277,8 @@ template <coord::Backend B>
 ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
                                      TimeReport& report) const noexcept {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+  const TimePolicy used = from_poses_ ? internal::WithoutExtrapolation(policy) : policy;
+  const ErrorCode code = this->RunTimed(used, report, [&](const internal::FlatSource<B>& src) {
     v.setZero();
     w.setZero();
     for (const auto& step : steps_) {

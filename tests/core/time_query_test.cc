@@ -4,7 +4,7 @@
 //       query uses (also one that only moves the answer to its point or frame) needs samples
 //       at the query time
 //   §4  latest common with a horizon: t* before a used edge's first sample is integrated back
-//       with the measured twist, within the horizon
+//       with the measured twist, within the horizon (LatestCommon{horizon}, new with this rule)
 //
 // Ground truth is analytic:
 //   ScrewMotion  X(s) = (Rz(w s), c - Rz(w s) c + h s z): a one-parameter subgroup (X(0) = I),
@@ -252,6 +252,83 @@ TEST(TimeQueryPosesTest, ACompiledTwistFromPosesIgnoresTheHorizonToo) {
   EXPECT_EQ(c->Evaluate(v, w, At{S(0.3), Duration::Nanoseconds(-1)}, report), ErrorCode::kInvalidNumber);
   EXPECT_EQ(ErrorOf(g.GetTwist(at_o, At{S(0.3), Duration::Nanoseconds(-1)}, TwistSource::kPoses)).code,
             ErrorCode::kInvalidNumber);
+}
+
+// ---------------------------------------------------------------- §4 latest common with a horizon
+
+// W <- {a}|A (Orbit, stamped 0..1 s) and W <- {o}|O (ScrewMotion, stamped 2..3 s, with its
+// measured screw twist at the same stamps): latest common of o wrt a is t* = 1 s, a second
+// before o's first sample.
+Graph LatestCommonGraph(bool with_twist) {
+  Graph g;
+  const ScrewMotion screw;
+  const Orbit orbit;
+  EXPECT_TRUE(g.AddBody("W").has_value());
+  EXPECT_TRUE(g.AddFrame("w", "W").has_value());
+  Sample(0, 1, 0.1, [&](double s) {
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), orbit.q(s), orbit.p(s), S(s)).has_value());
+  });
+  Sample(2, 3, 0.1, [&](double s) {
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), screw.q(s), screw.p(s), S(s)).has_value());
+    if (with_twist) {
+      EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), screw.v(), screw.omega(), S(s))
+                      .has_value());
+    }
+  });
+  return g;
+}
+
+TEST(TimeQueryLatestCommonTest, AnEdgeStartingAfterTStarIsIntegratedBackWithinTheHorizon) {
+  const Graph g = LatestCommonGraph(/*with_twist=*/true);
+  const PoseSpec o_in_a = PoseSpec::Of("o").RelativeTo("a");
+  // X_AO(1) = X_WA(1)^-1 X_WO(1): the screw motion integrated back from its sample at 2 s by
+  // its constant twist is the motion at 1 s exactly.
+  const ScrewMotion screw;
+  const Orbit orbit;
+  const Eigen::Quaterniond q_AO = orbit.q(1).conjugate() * screw.q(1);
+  const Eigen::Vector3d p_AO = orbit.q(1).conjugate() * (screw.p(1) - orbit.p(1));
+  auto X = g.GetPose(o_in_a, LatestCommon{Duration::Milliseconds(1500)});
+  ASSERT_TRUE(X.has_value()) << g.Describe(X.error(), o_in_a);
+  ExpectNear(X->value.value.rotation, q_AO, 1e-12);
+  ExpectNear(X->value.value.translation, p_AO, 1e-12);
+  ASSERT_TRUE(X->time.time.has_value());
+  EXPECT_EQ(*X->time.time, S(1));
+  EXPECT_TRUE(X->time.extrapolated);
+  EXPECT_EQ(*X->time.oldest, S(1));  // a's sample at 1 s
+  EXPECT_EQ(*X->time.newest, S(2));  // o's first sample and the twist read there
+  // The same as At{t*} with that horizon, and through a compiled query.
+  auto Y = g.GetPose(o_in_a, At{S(1), Duration::Milliseconds(1500)});
+  ASSERT_TRUE(Y.has_value());
+  ExpectNear(Y->value.value.translation, X->value.value.translation, 0.0);
+  auto c = g.CompilePose(o_in_a);
+  ASSERT_TRUE(c.has_value());
+  coord::QuaternionBackend::PoseCoords Z;
+  TimeReport report;
+  ASSERT_EQ(c->Evaluate(Z, LatestCommon{Duration::Milliseconds(1500)}, report), ErrorCode::kOk);
+  ExpectNear(Z.translation, p_AO, 1e-12);
+  EXPECT_EQ(*report.time, S(1));
+  EXPECT_TRUE(report.extrapolated);
+  // Near misses: no horizon, or one shorter than the gap (1 s): extrapolation, naming o.
+  for (const LatestCommon policy : {LatestCommon{}, LatestCommon{Duration::Milliseconds(999)}}) {
+    auto e = g.GetPose(o_in_a, policy);
+    ASSERT_FALSE(e.has_value());
+    EXPECT_EQ(g.Describe(e.error(), o_in_a),
+              "query failed (extrapolation): pose of {o}|O wrt {w}|W has samples in [2.000, 3.000] s; asked 1.000 s");
+  }
+  // A negative horizon is invalid_number.
+  EXPECT_EQ(ErrorOf(g.GetPose(o_in_a, LatestCommon{Duration::Nanoseconds(-1)})).code, ErrorCode::kInvalidNumber);
+}
+
+TEST(TimeQueryLatestCommonTest, WithoutATwistPathTheHorizonDoesNotHelp) {
+  const Graph g = LatestCommonGraph(/*with_twist=*/false);
+  EXPECT_EQ(ErrorOf(g.GetPose(PoseSpec::Of("o").RelativeTo("a"), LatestCommon{Duration::Seconds(5)})).code,
+            ErrorCode::kExtrapolation);
+  // Near miss: a query that uses only o has t* = 3 s, inside its samples.
+  const ScrewMotion screw;
+  auto X = g.GetPose(PoseSpec::Of("o").RelativeTo("w"), LatestCommon{Duration::Seconds(5)});
+  ASSERT_TRUE(X.has_value());
+  EXPECT_FALSE(X->time.extrapolated);
+  ExpectNear(X->value.value.translation, screw.p(3), 1e-12);
 }
 
 }  // namespace

@@ -420,7 +420,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
                                      Eval&& eval) const noexcept;
   std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b, FrameIndex r,
-                                           const TimeTravel& travel, typename B::PoseCoords& X,
+                                           FrameIndex x, const TimeTravel& travel, typename B::PoseCoords& X,
                                            TimeReport& report) const noexcept;
   QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
                                               internal::EdgeRecorder* recorder) const noexcept;
