@@ -417,7 +417,8 @@ struct Direct {
     if (!PolicyOf(op, &policy, &travel)) {
       // The names first (a time travel's fixed frame among them), then invalid_number.
       const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
-      const core::TimeTravel travel_probe{core::Stamp{}, core::Stamp{}, op.fixed, core::Duration::Nanoseconds(-1)};
+      const core::TimeTravel travel_probe{core::Stamp{}, core::Stamp{}, op.fixed,
+                                          core::Duration::Nanoseconds(-1)};
       const auto pose_probe = [&](auto&& get) {
         if (op.ref_at) {
           Take(get(travel_probe));

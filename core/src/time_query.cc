@@ -95,7 +95,8 @@ NameId RefFrameOf(const semantics::OrientationSemantics& q) { return q.ref_orien
 // horizon) -> unknown_frame (the query's, then {x}) -> the plan's other errors -> no_pose_path
 // ({x} outside the query's tree), which comes before the caller's representation_constraint.
 template <class Plan>
-std::optional<QueryError> ResolveFixedFrame(const topology::SceneTopology& t, const Expected<Plan, QueryError>& plan,
+std::optional<QueryError> ResolveFixedFrame(const topology::SceneTopology& t,
+                                            const Expected<Plan, QueryError>& plan,
                                             const TimeTravel& travel, FrameIndex& x) noexcept {
   const auto plan_fails_with = [&](ErrorCode code) { return !plan && plan.error().code == code; };
   QueryError fixed;
@@ -218,9 +219,11 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
 //   Y1 = (e,[a]) wrt {x} in [x] at t1;  Y2 = {x} wrt (f,[b]) in [b] at t2;
 //   X in [b] = Y2 * Y1 (one chain composition), then [b] -> [r] with R_RB at t2.
 template <coord::Backend B>
-std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
-                                                        FrameIndex r, FrameIndex x, const TimeTravel& travel,
-                                                        typename B::PoseCoords& X, TimeReport& report) const noexcept {
+std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f,
+                                                        FrameIndex b, FrameIndex r, FrameIndex x,
+                                                        const TimeTravel& travel,
+                                                        typename B::PoseCoords& X,
+                                                        TimeReport& report) const noexcept {
   const auto side = [&](Stamp t, const PoseSteps<ForestChain>& steps, typename B::PoseCoords& Y,
                         TimeReport& rep) -> std::optional<QueryError> {
     typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
@@ -298,7 +301,8 @@ QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& s
   const FrameIndex e = topology_.FrameOfName(q.point.id()), f = topology_.FrameOfName(q.ref_point.id());
   typename B::PoseCoords X;
   TimeReport report;
-  if (auto err = TimeTravelPose(e, e, f, f, topology_.FrameOfName(q.coordinate_frame.id()), x, travel, X, report)) {
+  const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
+  if (auto err = TimeTravelPose(e, e, f, f, r, x, travel, X, report)) {
     return Unexpected{*err};
   }
   return Timed<coord::Position>{coord::Position{q, B::TranslationOf(X)}, report};
@@ -320,7 +324,8 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
   const FrameIndex a = topology_.FrameOfName(q.orientation.id()), b = topology_.FrameOfName(q.ref_orientation.id());
   typename B::PoseCoords X;
   TimeReport report;
-  if (auto err = TimeTravelPose(a, a, b, b, topology_.FrameOfName(q.coordinate_frame.id()), x, travel, X, report)) {
+  const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
+  if (auto err = TimeTravelPose(a, a, b, b, r, x, travel, X, report)) {
     return Unexpected{*err};
   }
   return Timed<Orientation>{Orientation{q, B::RotationOf(X)}, report};
@@ -344,7 +349,8 @@ QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec& spec
   if (source == TwistSource::kPoses) {
     auto plan = PlanPoseTwist(topology_, spec);
     if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
-    if (auto e = RunTimed(internal::WithoutExtrapolation(policy), report, recorder, [&](TimeContext& tc) {
+    const TimePolicy no_horizon = internal::WithoutExtrapolation(policy);  // nothing extrapolated
+    if (auto e = RunTimed(no_horizon, report, recorder, [&](TimeContext& tc) {
           const internal::ForestSource<B> src(topology_, values_, &tc);
           v.setZero();
           w.setZero();
@@ -520,10 +526,9 @@ Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec
 }
 
 #define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                                        \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex, FrameIndex, FrameIndex, FrameIndex,  \
-                                                                   FrameIndex, FrameIndex, const TimeTravel&,      \
-                                                                   typename B::PoseCoords&, TimeReport&)           \
-      const noexcept;                                                                                             \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(                                               \
+      FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, const TimeTravel&,                  \
+      typename B::PoseCoords&, TimeReport&) const noexcept;                                                       \
   template QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec&, const TimePolicy&,       \
                                                                       TwistSource, internal::EdgeRecorder*)       \
       const noexcept;                                                                                             \

@@ -8,7 +8,8 @@
 //
 // Ground truth is analytic:
 //   ScrewMotion  X(s) = (Rz(w s), c - Rz(w s) c + h s z): a one-parameter subgroup (X(0) = I),
-//                so X(s0) Exp((s - s0) xi) = X(s) exactly; its screw twist xi = (c x w z + h z, w z)
+//                so X(s0) Exp((s - s0) xi) = X(s) exactly; its screw twist xi = (c x w z + h z, w
+//                z)
 //   Orbit        X(s) = (Rz(a s) Rx(b s), rho (cos a s, sin a s, 0)); body twist
 //                w = a Rx(b s)^T z + b x, v = R(s)^T dp/ds
 // Read at sample stamps, or integrated exactly, so the expected values hold to rounding.
@@ -27,8 +28,12 @@ using semgraph::testing::ExpectNear;
 using Graph = SceneGraph<coord::QuaternionBackend>;
 
 Stamp S(double seconds) { return *StampFromSeconds(seconds); }
-Eigen::Quaterniond Rz(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())); }
-Eigen::Quaterniond Rx(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX())); }
+Eigen::Quaterniond Rz(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()));
+}
+Eigen::Quaterniond Rx(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()));
+}
 
 struct ScrewMotion {
   Eigen::Vector3d c{0.7, -0.4, 0.2};
@@ -42,10 +47,15 @@ struct ScrewMotion {
 struct Orbit {
   double rho = 1.5, a = 0.8, b = 2.1;
   Eigen::Quaterniond q(double s) const { return Rz(a * s) * Rx(b * s); }
-  Eigen::Vector3d p(double s) const { return rho * Eigen::Vector3d(std::cos(a * s), std::sin(a * s), 0); }
-  Eigen::Vector3d omega(double s) const { return a * (Rx(b * s).conjugate() * Eigen::Vector3d::UnitZ()) + b * Eigen::Vector3d::UnitX(); }
+  Eigen::Vector3d p(double s) const {
+    return rho * Eigen::Vector3d(std::cos(a * s), std::sin(a * s), 0);
+  }
+  Eigen::Vector3d omega(double s) const {
+    return a * (Rx(b * s).conjugate() * Eigen::Vector3d::UnitZ()) + b * Eigen::Vector3d::UnitX();
+  }
   Eigen::Vector3d v(double s) const {
-    return q(s).conjugate() * Eigen::Vector3d(-rho * a * std::sin(a * s), rho * a * std::cos(a * s), 0);
+    return q(s).conjugate() *
+           Eigen::Vector3d(-rho * a * std::sin(a * s), rho * a * std::cos(a * s), 0);
   }
 };
 
@@ -76,9 +86,11 @@ G TravelGraph() {
   EXPECT_TRUE(g.AddFrame("w", "W").has_value());
   EXPECT_TRUE(g.AddFrame("far", "W").has_value());
   Sample(0, 1, 0.1, [&](double s) {
-    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), orbit.q(s), orbit.p(s), S(s)).has_value());
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), orbit.q(s), orbit.p(s), S(s))
+                    .has_value());
   });
-  EXPECT_TRUE(g.AddPose(PoseSpec::Of("g", "G").RelativeTo("w"), Rz(0.5), Eigen::Vector3d(1, 2, 3)).has_value());
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("g", "G").RelativeTo("w"), Rz(0.5), Eigen::Vector3d(1, 2, 3))
+                  .has_value());
   return g;
 }
 
@@ -112,12 +124,16 @@ TEST(TimeQueryTravelTest, TheFixedFrameIsResolvedWithTheQuerysOtherFrames) {
   EXPECT_EQ(ErrorOf(e).code, ErrorCode::kUnknownFrame);
   EXPECT_FALSE(ErrorOf(e).time.fixed_frame);
   // invalid_name of the fixed frame before the query's unknown_frame and before invalid_number.
-  ExpectFixedFrameError(g.GetPose(PoseSpec::Of("nope").RelativeTo("g"), travel("")), ErrorCode::kInvalidName);
-  ExpectFixedFrameError(g.GetPose(good, travel("", Duration::Nanoseconds(-1))), ErrorCode::kInvalidName);
-  EXPECT_EQ(ErrorOf(g.GetPose(PoseSpec::Of("").RelativeTo("g"), travel(""))).code, ErrorCode::kInvalidName);
+  ExpectFixedFrameError(g.GetPose(PoseSpec::Of("nope").RelativeTo("g"), travel("")),
+                        ErrorCode::kInvalidName);
+  ExpectFixedFrameError(g.GetPose(good, travel("", Duration::Nanoseconds(-1))),
+                        ErrorCode::kInvalidName);
+  EXPECT_EQ(ErrorOf(g.GetPose(PoseSpec::Of("").RelativeTo("g"), travel(""))).code,
+            ErrorCode::kInvalidName);
   EXPECT_FALSE(ErrorOf(g.GetPose(PoseSpec::Of("").RelativeTo("g"), travel(""))).time.fixed_frame);
   // invalid_number (a negative horizon) before the fixed frame's unknown_frame.
-  EXPECT_EQ(ErrorOf(g.GetPose(good, travel("nowhere", Duration::Nanoseconds(-1)))).code, ErrorCode::kInvalidNumber);
+  EXPECT_EQ(ErrorOf(g.GetPose(good, travel("nowhere", Duration::Nanoseconds(-1)))).code,
+            ErrorCode::kInvalidNumber);
   // Position and orientation resolve it the same way.
   const PoseSpec p_unknown_body = PoseSpec::Of("a").RelativeTo("g", "Nobody");
   auto P = g.GetPosition(p_unknown_body, travel("nowhere"));
@@ -137,7 +153,8 @@ TEST(TimeQueryTravelTest, AFixedFrameOutsideTheTreeComesBeforeARepresentationCon
   const HGraph g = TravelGraph<HGraph>();
   // A homogeneous transform cannot be expressed in [w] != [g]: representation_constraint.
   const PoseSpec in_w = PoseSpec::Of("a").RelativeTo("g").ExpressedIn("w");
-  EXPECT_EQ(ErrorOf(g.GetPose(in_w, TimeTravel{S(0.3), S(0.6), "w"})).code, ErrorCode::kRepresentationConstraint);
+  EXPECT_EQ(ErrorOf(g.GetPose(in_w, TimeTravel{S(0.3), S(0.6), "w"})).code,
+            ErrorCode::kRepresentationConstraint);
   // no_pose_path (the fixed frame not in the query's tree) comes first.
   auto e = g.GetPose(in_w, TimeTravel{S(0.3), S(0.6), "far"});
   EXPECT_EQ(ErrorOf(e).code, ErrorCode::kNoPosePath);
@@ -154,7 +171,8 @@ TEST(TimeQueryTravelTest, AFixedFrameOutsideTheTreeComesBeforeARepresentationCon
   EXPECT_LE((T.topRightCorner<3, 1>() - p_GA).cwiseAbs().maxCoeff(), 1e-12);
 }
 
-// ---------------------------------------------------------------- §5 source poses, no extrapolation
+// ---------------------------------------------------------------- §5 source poses, no
+// extrapolation
 
 // W <- {a}|A (ScrewMotion, stamped 0..1) <- {o}|O (Orbit, stamped 0..0.5 only), with the
 // measured twist of O wrt A (so a horizon could integrate the edge o <- a past 0.5).
@@ -165,11 +183,14 @@ Graph PosesGraph() {
   EXPECT_TRUE(g.AddBody("W").has_value());
   EXPECT_TRUE(g.AddFrame("w", "W").has_value());
   Sample(0, 1, 0.1, [&](double s) {
-    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), screw.q(s), screw.p(s), S(s)).has_value());
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), screw.q(s), screw.p(s), S(s))
+                    .has_value());
   });
   Sample(0, 0.5, 0.05, [&](double s) {
-    EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("a"), orbit.q(s), orbit.p(s), S(s)).has_value());
-    EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("A").ExpressedIn("o"), orbit.v(s), orbit.omega(s), S(s))
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("a"), orbit.q(s), orbit.p(s), S(s))
+                    .has_value());
+    EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("A").ExpressedIn("o"), orbit.v(s),
+                           orbit.omega(s), S(s))
                     .has_value());
   });
   return g;
@@ -205,7 +226,8 @@ TEST(TimeQueryPosesTest, AnEdgeThatOnlyMovesThePointIsNotExtrapolated) {
   ASSERT_FALSE(e.has_value());
   EXPECT_EQ(ErrorOf(e).code, ErrorCode::kExtrapolation);
   EXPECT_EQ(g.Describe(ErrorOf(e), at_o),
-            "query failed (extrapolation): pose of {o}|O wrt {a}|A has samples in [0.000, 0.500] s; asked 0.700 s");
+            "query failed (extrapolation): pose of {o}|O wrt {a}|A has samples in [0.000, 0.500] "
+            "s; asked 0.700 s");
   // The same through the linear and angular velocity queries.
   EXPECT_EQ(ErrorOf(g.GetLinearVelocity(at_o, At{S(0.7), horizon}, TwistSource::kPoses)).code,
             ErrorCode::kExtrapolation);
@@ -228,12 +250,14 @@ TEST(TimeQueryPosesTest, AnEdgeThatOnlyMovesTheFrameIsNotExtrapolated) {
   // In [a] the body twist (v, w) of the screw; [o] has R_AO = orbit.q(0.4).
   ExpectNear(V->value.angular, Eigen::Vector3d(orbit.q(0.4).conjugate() * screw.omega()), 1e-12);
   ExpectNear(V->value.linear, Eigen::Vector3d(orbit.q(0.4).conjugate() * screw.v()), 1e-12);
-  EXPECT_EQ(ErrorOf(g.GetTwist(in_o, At{S(0.7), horizon}, TwistSource::kPoses)).code, ErrorCode::kExtrapolation);
+  EXPECT_EQ(ErrorOf(g.GetTwist(in_o, At{S(0.7), horizon}, TwistSource::kPoses)).code,
+            ErrorCode::kExtrapolation);
   const TwistSpec w_in_o = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("o");
   EXPECT_EQ(ErrorOf(g.GetAngularVelocity(w_in_o, At{S(0.7), horizon}, TwistSource::kPoses)).code,
             ErrorCode::kExtrapolation);
   // The differentiated edge itself is never extrapolated either.
-  EXPECT_EQ(ErrorOf(g.GetTwist(in_o, At{S(1.2), horizon}, TwistSource::kPoses)).code, ErrorCode::kExtrapolation);
+  EXPECT_EQ(ErrorOf(g.GetTwist(in_o, At{S(1.2), horizon}, TwistSource::kPoses)).code,
+            ErrorCode::kExtrapolation);
 }
 
 TEST(TimeQueryPosesTest, ACompiledTwistFromPosesIgnoresTheHorizonToo) {
@@ -247,11 +271,14 @@ TEST(TimeQueryPosesTest, ACompiledTwistFromPosesIgnoresTheHorizonToo) {
   const auto expected = ExpectedTwistOfAAtO(0.3);
   ExpectNear(v, expected.linear, 1e-12);
   ExpectNear(w, expected.angular, 1e-12);
-  EXPECT_EQ(c->Evaluate(v, w, At{S(0.7), Duration::Milliseconds(500)}, report), ErrorCode::kExtrapolation);
+  EXPECT_EQ(c->Evaluate(v, w, At{S(0.7), Duration::Milliseconds(500)}, report),
+            ErrorCode::kExtrapolation);
   // A negative horizon is still invalid_number (ignored, not unchecked).
-  EXPECT_EQ(c->Evaluate(v, w, At{S(0.3), Duration::Nanoseconds(-1)}, report), ErrorCode::kInvalidNumber);
-  EXPECT_EQ(ErrorOf(g.GetTwist(at_o, At{S(0.3), Duration::Nanoseconds(-1)}, TwistSource::kPoses)).code,
+  EXPECT_EQ(c->Evaluate(v, w, At{S(0.3), Duration::Nanoseconds(-1)}, report),
             ErrorCode::kInvalidNumber);
+  EXPECT_EQ(
+      ErrorOf(g.GetTwist(at_o, At{S(0.3), Duration::Nanoseconds(-1)}, TwistSource::kPoses)).code,
+      ErrorCode::kInvalidNumber);
 }
 
 // ---------------------------------------------------------------- §4 latest common with a horizon
@@ -266,12 +293,15 @@ Graph LatestCommonGraph(bool with_twist) {
   EXPECT_TRUE(g.AddBody("W").has_value());
   EXPECT_TRUE(g.AddFrame("w", "W").has_value());
   Sample(0, 1, 0.1, [&](double s) {
-    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), orbit.q(s), orbit.p(s), S(s)).has_value());
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), orbit.q(s), orbit.p(s), S(s))
+                    .has_value());
   });
   Sample(2, 3, 0.1, [&](double s) {
-    EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), screw.q(s), screw.p(s), S(s)).has_value());
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), screw.q(s), screw.p(s), S(s))
+                    .has_value());
     if (with_twist) {
-      EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), screw.v(), screw.omega(), S(s))
+      EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), screw.v(),
+                             screw.omega(), S(s))
                       .has_value());
     }
   });
@@ -313,16 +343,20 @@ TEST(TimeQueryLatestCommonTest, AnEdgeStartingAfterTStarIsIntegratedBackWithinTh
     auto e = g.GetPose(o_in_a, policy);
     ASSERT_FALSE(e.has_value());
     EXPECT_EQ(g.Describe(e.error(), o_in_a),
-              "query failed (extrapolation): pose of {o}|O wrt {w}|W has samples in [2.000, 3.000] s; asked 1.000 s");
+              "query failed (extrapolation): pose of {o}|O wrt {w}|W has samples in [2.000, 3.000] "
+              "s; asked 1.000 s");
   }
   // A negative horizon is invalid_number.
-  EXPECT_EQ(ErrorOf(g.GetPose(o_in_a, LatestCommon{Duration::Nanoseconds(-1)})).code, ErrorCode::kInvalidNumber);
+  EXPECT_EQ(ErrorOf(g.GetPose(o_in_a, LatestCommon{Duration::Nanoseconds(-1)})).code,
+            ErrorCode::kInvalidNumber);
 }
 
 TEST(TimeQueryLatestCommonTest, WithoutATwistPathTheHorizonDoesNotHelp) {
   const Graph g = LatestCommonGraph(/*with_twist=*/false);
-  EXPECT_EQ(ErrorOf(g.GetPose(PoseSpec::Of("o").RelativeTo("a"), LatestCommon{Duration::Seconds(5)})).code,
-            ErrorCode::kExtrapolation);
+  EXPECT_EQ(
+      ErrorOf(g.GetPose(PoseSpec::Of("o").RelativeTo("a"), LatestCommon{Duration::Seconds(5)}))
+          .code,
+      ErrorCode::kExtrapolation);
   // Near miss: a query that uses only o has t* = 3 s, inside its samples.
   const ScrewMotion screw;
   auto X = g.GetPose(PoseSpec::Of("o").RelativeTo("w"), LatestCommon{Duration::Seconds(5)});

@@ -32,8 +32,8 @@ TEST(Rules, PoseEdgeExistsOnlyInItsDirection) {
   const FrameIndex w = s.Frame("w", "W"), a = s.Frame("a", "A"), b = s.Frame("b", "B");
   s.Pose(w, a);
   EXPECT_TRUE(PoseEdgeExists(s.t, w, a));
-  EXPECT_FALSE(PoseEdgeExists(s.t, a, w));   // reversed
-  EXPECT_FALSE(PoseEdgeExists(s.t, w, b));   // never linked
+  EXPECT_FALSE(PoseEdgeExists(s.t, a, w));             // reversed
+  EXPECT_FALSE(PoseEdgeExists(s.t, w, b));             // never linked
   EXPECT_FALSE(PoseEdgeExists(s.t, FrameIndex(), a));  // a frame not created yet
   EXPECT_FALSE(PoseEdgeExists(s.t, w, FrameIndex()));
 }
@@ -63,7 +63,8 @@ TEST(Rules, P1AFrameHasAtMostOnePoseParent) {
   ExpectViolation(CheckP1(s.t, s.Edge(x, a)), ErrorCode::kMultiplePoseParents, w);
   // Near misses: into the root w; into a frame not created yet.
   EXPECT_FALSE(CheckP1(s.t, s.Edge(x, w)).has_value());
-  EXPECT_FALSE(CheckP1(s.t, NewPoseEdge{x, FrameIndex(), s.t.body_of(x), s.Body("N"), false}).has_value());
+  EXPECT_FALSE(
+      CheckP1(s.t, NewPoseEdge{x, FrameIndex(), s.t.body_of(x), s.Body("N"), false}).has_value());
 }
 
 // ---------------------------------------------------------------- P2 pose_cycle
@@ -81,7 +82,8 @@ TEST(Rules, P2AnEdgeNeverClosesACycle) {
   // Near misses: a tail in another tree; a new tail.
   const FrameIndex c = s.Frame("c", "C");
   EXPECT_FALSE(CheckP2(s.t, s.Edge(c, b)).has_value());
-  EXPECT_FALSE(CheckP2(s.t, NewPoseEdge{FrameIndex(), b, s.Body("N"), s.t.body_of(b), false}).has_value());
+  EXPECT_FALSE(
+      CheckP2(s.t, NewPoseEdge{FrameIndex(), b, s.Body("N"), s.t.body_of(b), false}).has_value());
 }
 
 // ---------------------------------------------------------------- P3 duplicate_pose_path
@@ -122,11 +124,11 @@ TEST(Rules, P3WithAFrameNotCreatedYet) {
   s.Pose(w, a);
   const BodyIndex A = s.Body("A"), W = s.Body("W"), N = s.Body("N");
   // A new tail frame of A into a tree that has A: the new frame's tree is {A}.
-  ExpectViolation(CheckP3(s.t, NewPoseEdge{FrameIndex(), w, A, W, false}), ErrorCode::kDuplicatePosePath,
-                  FrameIndex(), a, A);
+  ExpectViolation(CheckP3(s.t, NewPoseEdge{FrameIndex(), w, A, W, false}),
+                  ErrorCode::kDuplicatePosePath, FrameIndex(), a, A);
   // A new head frame of W under a (tree {W, A}).
-  ExpectViolation(CheckP3(s.t, NewPoseEdge{a, FrameIndex(), A, W, false}), ErrorCode::kDuplicatePosePath, w,
-                  FrameIndex(), W);
+  ExpectViolation(CheckP3(s.t, NewPoseEdge{a, FrameIndex(), A, W, false}),
+                  ErrorCode::kDuplicatePosePath, w, FrameIndex(), W);
   // Near misses: a body not in the tree; a new frame of the tail's own body (a constant edge);
   // a body that does not exist yet.
   EXPECT_FALSE(CheckP3(s.t, NewPoseEdge{a, FrameIndex(), A, N, false}).has_value());
@@ -159,7 +161,8 @@ struct MergeScene {
 TEST(Rules, W4TheMergedTwistGraphMustStayAForest) {
   // Joining the trees would close D - A - E - B - D.
   MergeScene closing(true);
-  ExpectViolation(CheckW4(closing.s.t, closing.s.Edge(closing.a2, closing.b1)), ErrorCode::kTwistMergeConflict);
+  ExpectViolation(CheckW4(closing.s.t, closing.s.Edge(closing.a2, closing.b1)),
+                  ErrorCode::kTwistMergeConflict);
   ExpectViolation(CheckNewPoseEdge(closing.s.t, closing.s.Edge(closing.a1, closing.b1)),
                   ErrorCode::kTwistMergeConflict);
   // Near miss: without E -> {b2} the union D - A - E, D - B is a tree.
@@ -184,7 +187,8 @@ TEST(Rules, W1AFrameHasAtMostOneTwistParent) {
   s.Twist(W, a);
   // X -> {a}: a already has the twist parent W, which the violation names.
   ExpectViolation(CheckW1(s.t, NewTwistEdge{X, a, A}), ErrorCode::kMultipleTwistParents, {}, {}, W);
-  ExpectViolation(CheckW1(s.t, NewTwistEdge{BodyIndex(), a, A}), ErrorCode::kMultipleTwistParents, {}, {}, W);
+  ExpectViolation(CheckW1(s.t, NewTwistEdge{BodyIndex(), a, A}), ErrorCode::kMultipleTwistParents,
+                  {}, {}, W);
   // Near misses: W -> {a} again (a value update); into a frame without a twist edge; a new frame.
   EXPECT_FALSE(CheckW1(s.t, NewTwistEdge{W, a, A}).has_value());
   EXPECT_FALSE(CheckW1(s.t, NewTwistEdge{X, w, W}).has_value());
@@ -194,7 +198,8 @@ TEST(Rules, W1AFrameHasAtMostOneTwistParent) {
 TEST(Rules, W3TwoBodiesHaveAtMostOneTwistPathInATree) {
   SceneBuilder s;
   // One tree: w|W -> a|A, w -> b|B, b -> b2|B; twists D -> {a}, D -> {b}: TG A - D - B.
-  const FrameIndex w = s.Frame("w", "W"), a = s.Frame("a", "A"), b = s.Frame("b", "B"), b2 = s.Frame("b2", "B");
+  const FrameIndex w = s.Frame("w", "W"), a = s.Frame("a", "A"), b = s.Frame("b", "B"),
+                   b2 = s.Frame("b2", "B");
   s.Pose(w, a);
   s.Pose(w, b);
   s.Pose(b, b2);
@@ -252,7 +257,8 @@ TEST(Rules, ATwistEdgeReportsW1BeforeW3) {
   s.Twist(D, b);
   // B -> {a}: a has the twist parent D (W1) and A, B are joined (W3): W1.
   ASSERT_TRUE(CheckW3(s.t, NewTwistEdge{B, a, A}).has_value());
-  ExpectViolation(CheckNewTwistEdge(s.t, NewTwistEdge{B, a, A}), ErrorCode::kMultipleTwistParents, {}, {}, D);
+  ExpectViolation(CheckNewTwistEdge(s.t, NewTwistEdge{B, a, A}), ErrorCode::kMultipleTwistParents,
+                  {}, {}, D);
   // Near miss A -> {w}: w has no twist parent and W is not in the TG. From B into a2|A, a frame
   // of A without a twist parent: W3 alone.
   EXPECT_FALSE(CheckNewTwistEdge(s.t, NewTwistEdge{A, w, s.Body("W")}).has_value());

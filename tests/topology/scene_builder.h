@@ -32,12 +32,14 @@ class SceneBuilder {
   }
   /// The new pose edge tail -> head between existing frames, as the rules see it.
   NewPoseEdge Edge(FrameIndex tail, FrameIndex head) const {
-    return NewPoseEdge{tail, head, t.body_of(tail), t.body_of(head), t.body_of(tail) == t.body_of(head)};
+    return NewPoseEdge{tail, head, t.body_of(tail), t.body_of(head),
+                       t.body_of(tail) == t.body_of(head)};
   }
   /// Links tail -> head after every rule passed.
   void Pose(FrameIndex tail, FrameIndex head) {
     const auto v = CheckNewPoseEdge(t, Edge(tail, head));
-    ASSERT_FALSE(v.has_value()) << "rule " << static_cast<int>(v->code) << " refused a test scene's edge";
+    ASSERT_FALSE(v.has_value()) << "rule " << static_cast<int>(v->code)
+                                << " refused a test scene's edge";
     t.LinkPose(tail, head);
   }
   /// The twist edge D -> {h}|H, semantics TwistCoord(h|H, D, [h]), after W1 and W3 passed.

@@ -35,7 +35,8 @@ std::set<std::pair<std::string, std::uint32_t>> BodiesOfTree(const SceneTopology
 }
 
 // The twist edges of f's TG as (tail body, head body) names.
-std::set<std::pair<std::string, std::string>> TwistGraphOfTree(const SceneTopology& t, FrameIndex f) {
+std::set<std::pair<std::string, std::string>> TwistGraphOfTree(const SceneTopology& t,
+                                                               FrameIndex f) {
   std::set<std::pair<std::string, std::string>> out;
   const TreeRecord* rec = t.RecordOf(f);
   if (rec == nullptr) return out;
@@ -81,7 +82,8 @@ TEST(SceneTopology, LinkPoseMergesTheBodiesOfTwoTrees) {
   const FrameIndex b = s.Frame("b", "B");
   s.Pose(w, a);
   EXPECT_EQ(s.t.num_pose_edges(), 1u);
-  EXPECT_EQ(BodiesOfTree(s.t, w), (std::set<std::pair<std::string, std::uint32_t>>{{"A", 1}, {"W", 1}}));
+  EXPECT_EQ(BodiesOfTree(s.t, w),
+            (std::set<std::pair<std::string, std::uint32_t>>{{"A", 1}, {"W", 1}}));
   s.Pose(a, a2);  // a constant edge: A counts two frames
   s.Pose(b, w);   // a tree linked under a new root
   EXPECT_EQ(s.t.CheckInvariants(), "");
@@ -102,7 +104,8 @@ TEST(SceneTopology, LinkPoseMergesTheBodiesOfTwoTrees) {
   // Every pose edge, by head.
   std::vector<std::pair<FrameIndex, FrameIndex>> edges;
   s.t.ForEachPoseEdge([&](FrameIndex tail, FrameIndex head) { edges.emplace_back(tail, head); });
-  EXPECT_EQ(edges, (std::vector<std::pair<FrameIndex, FrameIndex>>{{b, w}, {w, a}, {a, a2}, {v, w3}}));
+  EXPECT_EQ(edges,
+            (std::vector<std::pair<FrameIndex, FrameIndex>>{{b, w}, {w, a}, {a, a2}, {v, w3}}));
   EXPECT_EQ(s.t.num_pose_edges(), 4u);
 }
 
@@ -129,7 +132,8 @@ TEST(SceneTopology, CutPoseSplitsTheBodiesAndTheTwistGraph) {
   EXPECT_EQ(BodiesOfTree(s.t, w),
             (std::set<std::pair<std::string, std::uint32_t>>{{"A", 1}, {"C", 1}, {"W", 1}}));
   EXPECT_EQ(TwistGraphOfTree(s.t, b), (std::set<std::pair<std::string, std::string>>{{"A", "B"}}));
-  EXPECT_EQ(TwistGraphOfTree(s.t, w), (std::set<std::pair<std::string, std::string>>{{"W", "A"}, {"A", "C"}}));
+  EXPECT_EQ(TwistGraphOfTree(s.t, w),
+            (std::set<std::pair<std::string, std::string>>{{"W", "A"}, {"A", "C"}}));
   EXPECT_FALSE(s.t.TreeHasBody(w, s.Body("B")));
   EXPECT_TRUE(s.t.TreeHasBody(b2, s.Body("B")));
   // Cut a -> c: c alone keeps a record for its twist edge; w -> a has W -> {a} left.
@@ -145,7 +149,8 @@ TEST(SceneTopology, CutPoseSplitsTheBodiesAndTheTwistGraph) {
   EXPECT_EQ(s.t.num_pose_edges(), 1u);
   // Linking back merges the twist graphs again.
   s.Pose(a, c);
-  EXPECT_EQ(TwistGraphOfTree(s.t, c), (std::set<std::pair<std::string, std::string>>{{"W", "A"}, {"A", "C"}}));
+  EXPECT_EQ(TwistGraphOfTree(s.t, c),
+            (std::set<std::pair<std::string, std::string>>{{"W", "A"}, {"A", "C"}}));
   EXPECT_EQ(s.t.CheckInvariants(), "");
 }
 
@@ -217,7 +222,8 @@ TEST(SceneTopology, ReservationsLetLinksRunWithoutGrowing) {
   s.t.ReserveLinkPose(w, a);
   s.t.LinkPoseReserved(w, a);
   EXPECT_TRUE(s.t.SameTree(w, a));
-  EXPECT_EQ(BodiesOfTree(s.t, a), (std::set<std::pair<std::string, std::uint32_t>>{{"A", 1}, {"W", 1}}));
+  EXPECT_EQ(BodiesOfTree(s.t, a),
+            (std::set<std::pair<std::string, std::uint32_t>>{{"A", 1}, {"W", 1}}));
   EXPECT_EQ(s.t.CheckInvariants(), "");
 }
 
@@ -229,10 +235,11 @@ TEST(SceneTopologyDeathTest, MutationsCalledAgainstARuleAbort) {
   s.Pose(w, a);
   const BodyIndex W = s.Body("W"), A = s.Body("A");
   s.Twist(W, a);
-  const semantics::TwistSemantics sem{s.t.FrameSem(a).origin(), s.t.BodySem(A), s.t.BodySem(A), s.t.FrameSem(a).axes()};
+  const semantics::TwistSemantics sem{s.t.FrameSem(a).origin(), s.t.BodySem(A), s.t.BodySem(A),
+                                      s.t.FrameSem(a).axes()};
   EXPECT_DEATH(s.t.LinkTwist(A, a, sem), "internal check failed");  // W2: from its own body
   EXPECT_DEATH(s.t.LinkTwist(s.Body("X"), a, sem), "internal check failed");  // W1: a second parent
-  EXPECT_DEATH(s.t.CutPose(w), "internal check failed");                     // w has no parent
+  EXPECT_DEATH(s.t.CutPose(w), "internal check failed");                      // w has no parent
   EXPECT_DEATH(s.t.CreateFrame(s.t.frame_name_id(w), W), "internal check failed");  // name taken
   EXPECT_DEATH(s.t.CreateBody(s.t.body_name_id(W)), "internal check failed");
   (void)x;

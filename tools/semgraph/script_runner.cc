@@ -503,7 +503,8 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     // The query's order: invalid_name before invalid_number. A negative horizon makes the graph
     // check the names the kind uses (a time travel's fixed frame too) and stop at invalid_number.
     const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
-    const core::TimeTravel travel_probe{core::Stamp{}, core::Stamp{}, op.fixed, core::Duration::Nanoseconds(-1)};
+    const core::TimeTravel travel_probe{core::Stamp{}, core::Stamp{}, op.fixed,
+                                        core::Duration::Nanoseconds(-1)};
     const auto pose_probe = [&](auto&& get) { return op.ref_at ? get(travel_probe) : get(probe); };
     core::QueryError error;
     if (op.query_kind == QueryKind::kPose) {

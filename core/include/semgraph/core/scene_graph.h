@@ -419,8 +419,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   template <class Eval>
   std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
                                      Eval&& eval) const noexcept;
-  std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b, FrameIndex r,
-                                           FrameIndex x, const TimeTravel& travel, typename B::PoseCoords& X,
+  std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
+                                           FrameIndex r, FrameIndex x, const TimeTravel& travel,
+                                           typename B::PoseCoords& X,
                                            TimeReport& report) const noexcept;
   QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
                                               internal::EdgeRecorder* recorder) const noexcept;
