@@ -106,7 +106,7 @@ if [ "$is_shared" -eq 1 ]; then
     grep -qF "$api" "$tmp/symbols.txt" || fail "the shared libraries do not export $api"
   done
 fi
-for doc in README.md rules.md scene-script.md coming-from-tf2.md realtime.md architecture.md; do
+for doc in README.md LICENSE rules.md scene-script.md coming-from-tf2.md realtime.md architecture.md; do
   [ -f "$prefix/share/doc/semgraph/$doc" ] || fail "missing share/doc/semgraph/$doc"
 done
 echo "check_install ($kind): installed files ok (${layers[*]})"

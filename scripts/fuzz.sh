@@ -4,7 +4,8 @@
 # SECONDS, starting from fuzz/corpus/TARGET/. Prints exec/s and the total number of executions.
 # SECONDS = 0 only builds.
 #
-#   TARGET   scene_ops_fuzzer | scene_script_fuzzer | yaml_tree_fuzzer
+#   TARGET   scene_ops_fuzzer | scene_script_fuzzer | yaml_tree_fuzzer | ros_messages_fuzzer |
+#            mcap_reader_fuzzer | ros1_bag_reader_fuzzer
 #   env      JOBS (build parallelism, default 1), FUZZ_FLAGS (extra libFuzzer flags, e.g.
 #            "-jobs=2 -workers=2"), BUILD_DIR (default <repo>/build-libfuzzer)
 #
@@ -16,7 +17,7 @@
 set -euo pipefail
 
 if [[ $# -ne 2 || ! "$2" =~ ^[0-9]+$ ]]; then
-  echo "usage: $0 TARGET SECONDS   (TARGET: scene_ops_fuzzer | scene_script_fuzzer | yaml_tree_fuzzer)" >&2
+  echo "usage: $0 TARGET SECONDS   (TARGET: one of fuzz/*_fuzzer.cc, e.g. scene_ops_fuzzer)" >&2
   exit 2
 fi
 target=$1

@@ -1,29 +1,40 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages semgraph needs, skipping those already installed.
 #
-#   scripts/setup.sh [--clang] [--bench] [--dot] [--dds]
+#   scripts/setup.sh [--clang] [--bench] [--dot] [--dds] [--ros]
 #
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
 #             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
-#   --clang   clang libclang-rt-14-dev   (clang++ builds, sanitizers and libFuzzer with clang)
+#   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
 #   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
+#   --ros     libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev (semgraph::ros: bag chunks, rosbag2
+#             sqlite3) zlib1g-dev (its tests' CRC32); python3-rosbag python3-roslz4
+#             python3-tf2-msgs python3-sensor-msgs python3-geometry-msgs python3-std-msgs (the ROS 1
+#             bag fixtures); nodejs npm only when `node` is not on PATH (the tests' fixtures are
+#             written with Foxglove's npm packages; Debian's npm conflicts with another node)
 #
 # Idempotent: when everything is installed it only says so. Installing needs root; as
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; }
 
 packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
 for arg in "$@"; do
   case "$arg" in
-    --clang) packages+=(clang libclang-rt-14-dev) ;;
+    --clang) packages+=(clang libclang-rt-14-dev clang-format) ;;
     --bench) packages+=(libtf2-dev valgrind) ;;
     --dot) packages+=(graphviz) ;;
     --dds) packages+=(cyclonedds-dev cyclonedds-tools) ;;
+    --ros)
+      packages+=(libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev zlib1g-dev python3-rosbag
+                 python3-roslz4 python3-tf2-msgs python3-sensor-msgs python3-geometry-msgs
+                 python3-std-msgs)
+      if ! command -v node >/dev/null 2>&1; then packages+=(nodejs npm); fi
+      ;;
     -h | --help) usage; exit 0 ;;
     *) echo "setup.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
   esac

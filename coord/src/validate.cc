@@ -211,6 +211,8 @@ const char* RoleName(ValueRole role) noexcept {
     case ValueRole::kHomogeneousMatrix: return "homogeneous matrix";
     case ValueRole::kLinearVelocity: return "linear velocity";
     case ValueRole::kAngularVelocity: return "angular velocity";
+    case ValueRole::kJointPosition: return "joint position";
+    case ValueRole::kJointVelocity: return "joint velocity";
   }
   return "value";
 }

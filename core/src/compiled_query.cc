@@ -73,7 +73,7 @@ PoseCache<B> CompiledQuery<B>::MakeCache() const {
     longest = std::max<std::size_t>(longest, n);
   }
   // Padding leaves (and everything before the first build) are the identity.
-  cache.nodes.assign(nodes, B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
+  cache.nodes.assign(nodes, B::Identity());
   cache.changed.resize(longest);
   return cache;
 }
@@ -163,114 +163,92 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const PoseSteps
   return flat;
 }
 
-template <coord::Backend B>
-CompiledPose<B>::CompiledPose(const topology::SceneTopology& t, const EdgeValues<B>& values, const PosePlan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
+// ============================================================ pose, position, orientation
 
-template <coord::Backend B>
-ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X) const noexcept {
-  typename B::Rotation R;
-  Eigen::Vector3d p;  // written by the evaluator before any use (Evaluate returns early otherwise)
-  if (!internal::EvaluatePose<B, internal::Part::kPose>(this->source(), steps_, R, p)) {
-    return ErrorCode::kQueryInvalidated;
-  }
-  X = B::MakePose(R, p);
-  return ErrorCode::kOk;
+template <coord::Backend B, internal::Part P>
+CompiledPoseQuery<B, P>::CompiledPoseQuery(const topology::SceneTopology& t,
+                                           const EdgeValues<B>& values,
+                                           const typename Traits::Plan& plan)
+    : CompiledQuery<B>(t, values),
+      semantics_(plan.semantics),
+      steps_(this->Flatten(t, plan.steps)) {}
+
+template <coord::Backend B, internal::Part P>
+ErrorCode CompiledPoseQuery<B, P>::Evaluate(Value& out) const noexcept {
+  return internal::EvaluatePart<B, P>(this->source(), steps_, out) ? ErrorCode::kOk
+                                                                   : ErrorCode::kQueryInvalidated;
 }
 
-template <coord::Backend B>
-ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X, const TimePolicy& policy,
-                                    TimeReport& report) const noexcept {
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
-    return internal::EvaluatePose<B, internal::Part::kPose>(src, steps_, R, p);
-  });
-  if (code == ErrorCode::kOk) X = B::MakePose(R, p);
-  return code;
-}
-
-template <coord::Backend B>
-ErrorCode CompiledPose<B>::Evaluate(typename B::PoseCoords& X, PoseCache<B>& cache) const noexcept {
-  typename B::Rotation R;
-  Eigen::Vector3d p;  // written by the evaluator before any use (Evaluate returns early otherwise)
-  if (!internal::EvaluatePose<B, internal::Part::kPose>(this->source(cache), steps_, R, p)) {
-    return ErrorCode::kQueryInvalidated;
-  }
-  X = B::MakePose(R, p);
-  return ErrorCode::kOk;
-}
-
-template <coord::Backend B>
-CompiledPosition<B>::CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values,
-                                      const PositionPlan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
-
-template <coord::Backend B>
-ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R) const noexcept {
-  typename B::Rotation R;  // the rotation half, unused by a position
-  return internal::EvaluatePose<B, internal::Part::kTranslation>(this->source(), steps_, R, p_FE_R)
+template <coord::Backend B, internal::Part P>
+ErrorCode CompiledPoseQuery<B, P>::Evaluate(Value& out, PoseCache<B>& cache) const noexcept {
+  return internal::EvaluatePart<B, P>(this->source(cache), steps_, out)
              ? ErrorCode::kOk
              : ErrorCode::kQueryInvalidated;
 }
 
-template <coord::Backend B>
-ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
-                                        TimeReport& report) const noexcept {
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+// The policy may evaluate more than once (a retry at the latest common time) and may refuse a
+// successful evaluation (kStale, kExtrapolation): the answer is kept aside until the code is kOk.
+template <coord::Backend B, internal::Part P>
+ErrorCode CompiledPoseQuery<B, P>::Evaluate(Value& out, const TimePolicy& policy,
+                                            TimeReport& report) const noexcept {
+  Value answer = Traits::Initial();
   const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
-    return internal::EvaluatePose<B, internal::Part::kTranslation>(src, steps_, R, p);
+    return internal::EvaluatePart<B, P>(src, steps_, answer);
   });
-  if (code == ErrorCode::kOk) p_FE_R = p;
+  if (code == ErrorCode::kOk) out = answer;
   return code;
 }
 
+// ====================================================================== twist
+
+// A step of either twist source: a twist edge's stored twist (TwistPlan) or a pose edge's
+// derivative (PoseTwistPlan), with the epoch of the edge it reads.
 template <coord::Backend B>
-ErrorCode CompiledPosition<B>::Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& cache) const noexcept {
-  typename B::Rotation R;  // the rotation half, unused by a position
-  return internal::EvaluatePose<B, internal::Part::kTranslation>(this->source(cache), steps_, R, p_FE_R)
-             ? ErrorCode::kOk
-             : ErrorCode::kQueryInvalidated;
+void CompiledTwist<B>::AddStep(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                               const TwistStep<ForestChain>& step) {
+  TwistStep<typename CompiledQuery<B>::Chain> flat;
+  flat.edge = step.edge;
+  flat.pose_edge = step.pose_edge;
+  flat.epoch = step.pose_edge.is_valid() ? values.X_PF[step.pose_edge.value()].epoch()
+                                         : values.V_DH[step.edge.value()].epoch();
+  flat.invert = step.invert;
+  if ((flat.move_point = step.move_point)) flat.eh = this->Flatten(t, step.eh);
+  if ((flat.change_frame = step.change_frame)) flat.hr = this->Flatten(t, step.hr);
+  steps_.push_back(flat);
 }
 
 template <coord::Backend B>
-CompiledOrientation<B>::CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
-                                            const OrientationPlan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics), steps_(this->Flatten(t, plan.steps)) {}
-
-template <coord::Backend B>
-ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R) const noexcept {
-  Eigen::Vector3d p;  // the translation half, unused by an orientation
-  return internal::EvaluatePose<B, internal::Part::kRotation>(this->source(), steps_, R_BA_R, p)
-             ? ErrorCode::kOk
-             : ErrorCode::kQueryInvalidated;
+CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                                const TwistPlan& plan)
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
+  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& s) { AddStep(t, values, s); });
 }
 
 template <coord::Backend B>
-ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
-                                           TimeReport& report) const noexcept {
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
-    return internal::EvaluatePose<B, internal::Part::kRotation>(src, steps_, R, p);
-  });
-  if (code == ErrorCode::kOk) R_BA_R = R;
-  return code;
-}
-
-template <coord::Backend B>
-CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan)
+CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                                const PoseTwistPlan& plan)
     : CompiledQuery<B>(t, values), semantics_(plan.semantics), from_poses_(true) {
-  ForEachPoseDerivativeStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-    TwistStep<typename CompiledQuery<B>::Chain> flat;
-    flat.pose_edge = step.pose_edge;
-    flat.epoch = values.X_PF[step.pose_edge.value()].epoch();
-    flat.invert = step.invert;
-    if ((flat.move_point = step.move_point)) flat.eh = this->Flatten(t, step.eh);
-    if ((flat.change_frame = step.change_frame)) flat.hr = this->Flatten(t, step.hr);
-    steps_.push_back(flat);
-  });
+  ForEachPoseDerivativeStep(t, plan,
+                            [&](const TwistStep<ForestChain>& s) { AddStep(t, values, s); });
+}
+
+template <coord::Backend B>
+template <class Source>
+bool CompiledTwist<B>::Accumulate(const Source& src, Eigen::Vector3d& v,
+                                  Eigen::Vector3d& w) const noexcept {
+  v.setZero();
+  w.setZero();
+  for (const auto& step : steps_) {
+    if (!internal::AccumulateTwistStep<B>(src, step, v, w)) return false;
+  }
+  return true;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
+                                     Eigen::Vector3d& w_DC_R) const noexcept {
+  return Accumulate(this->source(), v_DCe_R, w_DC_R) ? ErrorCode::kOk
+                                                     : ErrorCode::kQueryInvalidated;
 }
 
 template <coord::Backend B>
@@ -278,14 +256,8 @@ ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& 
                                      TimeReport& report) const noexcept {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
   const TimePolicy used = from_poses_ ? internal::WithoutExtrapolation(policy) : policy;
-  const ErrorCode code = this->RunTimed(used, report, [&](const internal::FlatSource<B>& src) {
-    v.setZero();
-    w.setZero();
-    for (const auto& step : steps_) {
-      if (!internal::AccumulateTwistStep<B>(src, step, v, w)) return false;
-    }
-    return true;
-  });
+  const ErrorCode code = this->RunTimed(
+      used, report, [&](const internal::FlatSource<B>& src) { return Accumulate(src, v, w); });
   if (code == ErrorCode::kOk) {
     v_DCe_R = v;
     w_DC_R = w;
@@ -293,47 +265,14 @@ ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& 
   return code;
 }
 
-template <coord::Backend B>
-ErrorCode CompiledOrientation<B>::Evaluate(typename B::Rotation& R_BA_R, PoseCache<B>& cache) const noexcept {
-  Eigen::Vector3d p;  // the translation half, unused by an orientation
-  return internal::EvaluatePose<B, internal::Part::kRotation>(this->source(cache), steps_, R_BA_R, p)
-             ? ErrorCode::kOk
-             : ErrorCode::kQueryInvalidated;
-}
-
-template <coord::Backend B>
-CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-    TwistStep<typename CompiledQuery<B>::Chain> flat;
-    flat.edge = step.edge;
-    flat.epoch = values.V_DH[step.edge.value()].epoch();
-    flat.invert = step.invert;
-    if ((flat.move_point = step.move_point)) flat.eh = this->Flatten(t, step.eh);
-    if ((flat.change_frame = step.change_frame)) flat.hr = this->Flatten(t, step.hr);
-    steps_.push_back(flat);
-  });
-}
-
-template <coord::Backend B>
-ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept {
-  v_DCe_R.setZero();
-  w_DC_R.setZero();
-  const internal::FlatSource<B> src = this->source();
-  for (const auto& step : steps_) {
-    if (!internal::AccumulateTwistStep<B>(src, step, v_DCe_R, w_DC_R)) return ErrorCode::kQueryInvalidated;
-  }
-  return ErrorCode::kOk;
-}
-
 template class CompiledQuery<coord::QuaternionBackend>;
 template class CompiledQuery<coord::HomogeneousBackend>;
-template class CompiledPose<coord::QuaternionBackend>;
-template class CompiledPose<coord::HomogeneousBackend>;
-template class CompiledPosition<coord::QuaternionBackend>;
-template class CompiledPosition<coord::HomogeneousBackend>;
-template class CompiledOrientation<coord::QuaternionBackend>;
-template class CompiledOrientation<coord::HomogeneousBackend>;
+template class CompiledPoseQuery<coord::QuaternionBackend, internal::Part::kPose>;
+template class CompiledPoseQuery<coord::HomogeneousBackend, internal::Part::kPose>;
+template class CompiledPoseQuery<coord::QuaternionBackend, internal::Part::kTranslation>;
+template class CompiledPoseQuery<coord::HomogeneousBackend, internal::Part::kTranslation>;
+template class CompiledPoseQuery<coord::QuaternionBackend, internal::Part::kRotation>;
+template class CompiledPoseQuery<coord::HomogeneousBackend, internal::Part::kRotation>;
 template class CompiledTwist<coord::QuaternionBackend>;
 template class CompiledTwist<coord::HomogeneousBackend>;
 

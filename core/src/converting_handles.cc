@@ -131,53 +131,57 @@ Expected<ConvertingPoseHandle<B>, BuildError> SceneGraph<B>::FindPoseEdge(
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>& edge,
                                   const Eigen::Vector3d& v_DHo_R,
-                                  const Eigen::Vector3d& w_DH_R) noexcept {
+                                  const Eigen::Vector3d& w_DH_R, UpdateError* why) noexcept {
+  using internal::Report;
   auto v = coord::ValidateVector(v_DHo_R, coord::ValueRole::kLinearVelocity);
-  if (!v) return v.error().code;
+  if (!v) return Report(why, v.error());
   auto w = coord::ValidateVector(w_DH_R, coord::ValueRole::kAngularVelocity);
-  if (!w) return w.error().code;
+  if (!w) return Report(why, w.error());
   Eigen::Vector3d v_DHo_H = *v, w_DH_H = *w;
-  if (!edge.ToEdgeFrame(v_DHo_H, w_DH_H)) return ErrorCode::kQueryInvalidated;
-  return SetTwist(edge.edge(), v_DHo_H, w_DH_H);
+  if (!edge.ToEdgeFrame(v_DHo_H, w_DH_H)) return Report(why, ErrorCode::kQueryInvalidated);
+  return SetTwist(edge.edge(), v_DHo_H, w_DH_H, why);
 }
 
 template <coord::Backend B>
 template <class R>
 ErrorCode SceneGraph<B>::SetConvertedPose(const ConvertingPoseHandle<B>& edge, const R& rotation,
-                                          const Eigen::Vector3d& p) noexcept {
+                                          const Eigen::Vector3d& p, UpdateError* why) noexcept {
+  using internal::Report;
   auto p_ok = coord::ValidateVector(p, coord::ValueRole::kPosition);
-  if (!p_ok) return p_ok.error().code;
+  if (!p_ok) return Report(why, p_ok.error());
   typename B::Rotation M;
   if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
     auto q_ok = coord::ValidateQuaternion(rotation);
-    if (!q_ok) return q_ok.error().code;
+    if (!q_ok) return Report(why, q_ok.error());
     M = B::FromQuaternion(*q_ok);
   } else {
     auto R_ok = coord::ValidateRotationMatrix(rotation);
-    if (!R_ok) return R_ok.error().code;
+    if (!R_ok) return Report(why, R_ok.error());
     M = B::FromMatrix(*R_ok);
   }
   typename B::PoseCoords X_BA;
-  if (!edge.ToEdgeForm(B::MakePose(M, *p_ok), X_BA)) return ErrorCode::kQueryInvalidated;
+  if (!edge.ToEdgeForm(B::MakePose(M, *p_ok), X_BA)) {
+    return Report(why, ErrorCode::kQueryInvalidated);
+  }
   // Through the plain handle, which checks it and normalizes the product as AddPose does.
   if constexpr (std::is_same_v<typename B::Rotation, Eigen::Quaterniond>) {
-    return SetPose(edge.edge(), B::RotationOf(X_BA), B::TranslationOf(X_BA));
+    return SetPose(edge.edge(), B::RotationOf(X_BA), B::TranslationOf(X_BA), why);
   } else {
     return SetPose(edge.edge(), Eigen::Matrix3d(B::ToMatrix(B::RotationOf(X_BA))),
-                   B::TranslationOf(X_BA));
+                   B::TranslationOf(X_BA), why);
   }
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Quaterniond& q,
-                                 const Eigen::Vector3d& p) noexcept {
-  return SetConvertedPose(edge, q, p);
+                                 const Eigen::Vector3d& p, UpdateError* why) noexcept {
+  return SetConvertedPose(edge, q, p, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Matrix3d& R,
-                                 const Eigen::Vector3d& p) noexcept {
-  return SetConvertedPose(edge, R, p);
+                                 const Eigen::Vector3d& p, UpdateError* why) noexcept {
+  return SetConvertedPose(edge, R, p, why);
 }
 
 #define SEMGRAPH_INSTANTIATE_CONVERTING(B)                                                         \
@@ -185,12 +189,15 @@ ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eige
       std::string_view, std::string_view, std::string_view) const;                                 \
   template Expected<ConvertingPoseHandle<B>, BuildError> SceneGraph<B>::FindPoseEdge(              \
       const PoseSpec&) const;                                                                      \
-  template ErrorCode SceneGraph<B>::SetTwist(                                                      \
-      const ConvertingTwistHandle<B>&, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept;   \
-  template ErrorCode SceneGraph<B>::SetPose(                                                       \
-      const ConvertingPoseHandle<B>&, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept; \
-  template ErrorCode SceneGraph<B>::SetPose(                                                       \
-      const ConvertingPoseHandle<B>&, const Eigen::Matrix3d&, const Eigen::Vector3d&) noexcept;
+  template ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>&,                      \
+                                             const Eigen::Vector3d&, const Eigen::Vector3d&,       \
+                                             UpdateError*) noexcept;                               \
+  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                        \
+                                            const Eigen::Quaterniond&, const Eigen::Vector3d&,     \
+                                            UpdateError*) noexcept;                                \
+  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                        \
+                                            const Eigen::Matrix3d&, const Eigen::Vector3d&,        \
+                                            UpdateError*) noexcept;
 SEMGRAPH_INSTANTIATE_CONVERTING(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_CONVERTING(coord::HomogeneousBackend)
 

@@ -364,6 +364,26 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) c
   return QueryText(topology_, e, &spec);
 }
 
+std::string Describe(const UpdateError& e) {
+  const coord::ValueDetail& v = e.value;
+  const bool position = v.role == coord::ValueRole::kJointPosition;
+  const bool joint = position || v.role == coord::ValueRole::kJointVelocity;
+  if (joint && (e.code == ErrorCode::kInvalidNumber || e.code == ErrorCode::kJointLimit)) {
+    const std::string what = std::string(position ? "position" : "velocity") + " of joint " +
+                             std::to_string(e.joint) + " of the group is " +
+                             coord::FormatNumber(v.magnitude);
+    if (e.code == ErrorCode::kInvalidNumber) return what + " (must be finite)";
+    return what +
+           (v.magnitude > e.limit ? ", above the joint's upper limit "
+                                  : ", below the joint's lower limit ") +
+           coord::FormatNumber(e.limit);
+  }
+  if (e.code == ErrorCode::kInvalidNumber || e.code == ErrorCode::kInvalidRotation) {
+    return coord::Describe(e.error(), semantics::NameTable{});  // a value error names no frame
+  }
+  return std::string(base::ToString(e.code));
+}
+
 #define SEMGRAPH_INSTANTIATE_DESCRIBE(B)                                                      \
   template std::string SceneGraph<B>::Describe(const QueryError&) const;                     \
   template std::string SceneGraph<B>::Describe(const QueryError&, const PoseSpec&) const;    \

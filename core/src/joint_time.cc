@@ -120,7 +120,7 @@ void SceneGraph<B>::StoreJointSample(std::uint32_t index, const double* q_given,
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
-                                         Stamp stamp) noexcept {
+                                         Stamp stamp, UpdateError* why) noexcept {
   // As SetGroup: one pass collects every failure and the first in the rules' order is reported.
   const std::size_t n = group.joints.size();
   const std::int64_t s = stamp.nanoseconds();
@@ -145,33 +145,70 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
       note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
     }
   }
-  if (bad_number) return ErrorCode::kInvalidNumber;
-  if (unknown) return ErrorCode::kUnknownJoint;
-  if (mimic) return ErrorCode::kMimicJoint;
-  if (limit) return ErrorCode::kJointLimit;
-  if (time != ErrorCode::kOk) return time;
+  if (bad_number) return RefuseJoints(ErrorCode::kInvalidNumber, group, q, qdot, why);
+  if (unknown) return RefuseJoints(ErrorCode::kUnknownJoint, group, q, qdot, why);
+  if (mimic) return RefuseJoints(ErrorCode::kMimicJoint, group, q, qdot, why);
+  if (limit) return RefuseJoints(ErrorCode::kJointLimit, group, q, qdot, why);
+  if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, why);
   for (std::size_t i = 0; i < n; ++i) StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);
-  return ErrorCode::kOk;
+  return internal::Report(why, ErrorCode::kOk);
 }
 
+// Only on refusal: a second pass finds the first joint that breaks the rule of `code` (the
+// collecting pass above keeps only flags, so that the accepted case stays one cheap pass).
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q, Stamp stamp) noexcept {
+ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode code, const JointGroup& group, const double* q,
+                                      const double* qdot, UpdateError* why) const noexcept {
+  internal::Report(why, code);
+  if (why == nullptr) return code;
+  if (code != ErrorCode::kInvalidNumber && code != ErrorCode::kJointLimit) return code;
+  for (std::size_t i = 0; i < group.joints.size(); ++i) {
+    why->joint = static_cast<std::uint32_t>(i);
+    why->value.role = coord::ValueRole::kJointPosition;
+    if (code == ErrorCode::kInvalidNumber) {
+      why->value.problem = coord::ValueProblem::kNotFinite;
+      const bool bad_q = q && !std::isfinite(q[i]);
+      if (!bad_q && !(qdot && !std::isfinite(qdot[i]))) continue;
+      if (!bad_q) why->value.role = coord::ValueRole::kJointVelocity;
+      why->value.magnitude = bad_q ? q[i] : qdot[i];
+      return code;
+    }
+    const internal::JointRecord* j = joints_.Get(group.joints[i]);
+    if (!j || !j->limited()) continue;
+    why->value.problem = coord::ValueProblem::kOutsideLimits;
+    why->value.magnitude = q[i];
+    if (q[i] < j->lower - kLimitSlack) {
+      why->limit = j->lower;
+      return code;
+    }
+    if (q[i] > j->upper + kLimitSlack) {
+      why->limit = j->upper;
+      return code;
+    }
+  }
+  return code;
+}
+
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q,
+                                           Stamp stamp, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size());
-  return SetGroupStamped(group, q.data(), nullptr, stamp);
+  return SetGroupStamped(group, q.data(), nullptr, stamp, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
-                                            Stamp stamp) noexcept {
+                                            Stamp stamp, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(qdot.size() == group.size());
-  return SetGroupStamped(group, nullptr, qdot.data(), stamp);
+  return SetGroupStamped(group, nullptr, qdot.data(), stamp, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q, std::span<const double> qdot,
-                                       Stamp stamp) noexcept {
+                                       Stamp stamp, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size());
-  return SetGroupStamped(group, q.data(), qdot.data(), stamp);
+  return SetGroupStamped(group, q.data(), qdot.data(), stamp, why);
 }
 
 template <coord::Backend B>
@@ -263,11 +300,17 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, std::int64_t)    \
       const noexcept;                                                                                               \
   template void SceneGraph<B>::StoreJointSample(std::uint32_t, const double*, const double*, std::int64_t) noexcept; \
-  template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*, const double*, Stamp) noexcept; \
-  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>, Stamp) noexcept;  \
-  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, Stamp) noexcept; \
-  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>, std::span<const double>, \
-                                                  Stamp) noexcept;                                                 \
+  template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
+                                                    const double*, Stamp, UpdateError*) noexcept;  \
+  template ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode, const JointGroup&, const double*,      \
+                                                 const double*, UpdateError*) const noexcept;      \
+  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>,  \
+                                                      Stamp, UpdateError*) noexcept;               \
+  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
+                                                       Stamp, UpdateError*) noexcept;              \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
+                                                  std::span<const double>, Stamp,                 \
+                                                  UpdateError*) noexcept;                          \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>, Stamp);
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::HomogeneousBackend)

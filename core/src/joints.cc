@@ -446,7 +446,8 @@ void SceneGraph<B>::ApplyJoint(std::uint32_t index, const double* q, const doubl
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept {
+ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, const double* qdot,
+                                  UpdateError* why) noexcept {
   // One pass collects every failure; the first in the rules' order is reported, so a rejected
   // set changes nothing (all or nothing) and costs one pass too.
   const std::size_t n = group.joints.size();
@@ -462,35 +463,37 @@ ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, cons
     limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
     stamped |= values_.history.pose_of(j->child.value()) != nullptr;  // its states need a stamp
   }
-  if (bad_number) return ErrorCode::kInvalidNumber;
-  if (unknown) return ErrorCode::kUnknownJoint;
-  if (mimic) return ErrorCode::kMimicJoint;
-  if (limit) return ErrorCode::kJointLimit;
-  if (stamped) return ErrorCode::kStampMismatch;
+  if (bad_number) return RefuseJoints(ErrorCode::kInvalidNumber, group, q, qdot, why);
+  if (unknown) return RefuseJoints(ErrorCode::kUnknownJoint, group, q, qdot, why);
+  if (mimic) return RefuseJoints(ErrorCode::kMimicJoint, group, q, qdot, why);
+  if (limit) return RefuseJoints(ErrorCode::kJointLimit, group, q, qdot, why);
+  if (stamped) return RefuseJoints(ErrorCode::kStampMismatch, group, q, qdot, why);
   for (std::size_t i = 0; i < n; ++i) {
     ApplyJoint(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr);
     MarkTimeless(joints_, group.joints[i].index);
   }
-  return ErrorCode::kOk;
+  return internal::Report(why, ErrorCode::kOk);
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q) noexcept {
+ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q,
+                                           UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size());
-  return SetGroup(group, q.data(), nullptr);
+  return SetGroup(group, q.data(), nullptr, why);
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<const double> qdot) noexcept {
+ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
+                                            UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(qdot.size() == group.size());
-  return SetGroup(group, nullptr, qdot.data());
+  return SetGroup(group, nullptr, qdot.data(), why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q,
-                                       std::span<const double> qdot) noexcept {
+                                       std::span<const double> qdot, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size());
-  return SetGroup(group, q.data(), qdot.data());
+  return SetGroup(group, q.data(), qdot.data(), why);
 }
 
 template <coord::Backend B>
@@ -751,11 +754,14 @@ ErrorCode CompiledJacobian<B>::Evaluate(Eigen::Ref<JacobianMatrix> J) const noex
   template BuildResult SceneGraph<B>::AddJoint(const JointSpec&);                                               \
   template BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord&);                                \
   template void SceneGraph<B>::ApplyJoint(std::uint32_t, const double*, const double*) noexcept;               \
-  template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*, const double*) noexcept;         \
-  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>) noexcept;     \
-  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>) noexcept;    \
-  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,                   \
-                                                  std::span<const double>) noexcept;                            \
+  template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*, const double*,      \
+                                             UpdateError*) noexcept;                               \
+  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>,  \
+                                                      UpdateError*) noexcept;                      \
+  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
+                                                       UpdateError*) noexcept;                     \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
+                                                  std::span<const double>, UpdateError*) noexcept; \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>);      \
   template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>, std::span<const JointValue>) const; \
   template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const;                  \

@@ -126,12 +126,14 @@ inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::
 template <coord::Backend B>
 template <class R>
 ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
-                                     std::optional<Stamp> stamp) noexcept {
-  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
+                                     std::optional<Stamp> stamp, UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckPoseHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
   auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
-  if (!p) return p.error().code;
+  if (!p) return Report(why, p.error());
   auto M = ValidateRotation(rotation);
-  if (!M) return M.error().code;
+  if (!M) return Report(why, M.error());
   typename B::PoseCoords X;
   if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
     X = B::MakePose(B::FromQuaternion(*M), *p);
@@ -139,20 +141,23 @@ ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const E
     X = B::MakePose(B::FromMatrix(*M), *p);
   }
   // The stamp rules (time_add.cc): a timeless edge takes unstamped values only, and back.
-  if (const ErrorCode code = CheckPoseSample(edge.child, X, stamp); code != ErrorCode::kOk) return code;
+  if (const ErrorCode code = CheckPoseSample(edge.child, X, stamp); code != ErrorCode::kOk) {
+    return Report(why, code);
+  }
   StorePoseSample(edge.child, X, stamp);
-  return ErrorCode::kOk;
+  return Report(why, ErrorCode::kOk);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
-                                 const Eigen::Vector3d& p_ToHo_T) noexcept {
-  return SetPoseImpl(edge, q_TH, p_ToHo_T);
+                                 const Eigen::Vector3d& p_ToHo_T, UpdateError* why) noexcept {
+  return SetPoseImpl(edge, q_TH, p_ToHo_T, std::nullopt, why);
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T) noexcept {
-  return SetPoseImpl(edge, R_TH, p_ToHo_T);
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
+                                 const Eigen::Vector3d& p_ToHo_T, UpdateError* why) noexcept {
+  return SetPoseImpl(edge, R_TH, p_ToHo_T, std::nullopt, why);
 }
 
 template <coord::Backend B>
@@ -170,37 +175,41 @@ ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterni
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
-                                  const Eigen::Vector3d& w_DH_H) noexcept {
-  if (const ErrorCode c = CheckTwistHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
-  auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
-  if (!v) return v.error().code;
-  auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
-  if (!w) return w.error().code;
-  return SetTwistSample(edge, TwistNumbers{*v, *w}, std::nullopt);
+                                  const Eigen::Vector3d& w_DH_H, UpdateError* why) noexcept {
+  return SetTwistImpl(edge, v_DHo_H, w_DH_H, std::nullopt, why);
 }
 
 // Stamped updates (docs/time.md): the same validation, then the stamp rules and the sample.
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH, const Eigen::Vector3d& p_ToHo_T,
-                                 Stamp stamp) noexcept {
-  return SetPoseImpl(edge, q_TH, p_ToHo_T, stamp);
+                                 Stamp stamp, UpdateError* why) noexcept {
+  return SetPoseImpl(edge, q_TH, p_ToHo_T, stamp, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T,
-                                 Stamp stamp) noexcept {
-  return SetPoseImpl(edge, R_TH, p_ToHo_T, stamp);
+                                 Stamp stamp, UpdateError* why) noexcept {
+  return SetPoseImpl(edge, R_TH, p_ToHo_T, stamp, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
-                                  Stamp stamp) noexcept {
-  if (const ErrorCode c = CheckTwistHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
+                                  Stamp stamp, UpdateError* why) noexcept {
+  return SetTwistImpl(edge, v_DHo_H, w_DH_H, stamp, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwistImpl(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                      const Eigen::Vector3d& w_DH_H, std::optional<Stamp> stamp,
+                                      UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
   auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
-  if (!v) return v.error().code;
+  if (!v) return Report(why, v.error());
   auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
-  if (!w) return w.error().code;
-  return SetTwistSample(edge, TwistNumbers{*v, *w}, stamp);
+  if (!w) return Report(why, w.error());
+  return Report(why, SetTwistSample(edge, TwistNumbers{*v, *w}, stamp));
 }
 
 template <coord::Backend B>
@@ -213,12 +222,22 @@ ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
 #define SEMGRAPH_INSTANTIATE_REALTIME(B)                                                                    \
   template Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view, std::string_view) const; \
   template Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view, std::string_view) const; \
-  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept; \
-  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&) noexcept;    \
-  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&) noexcept; \
-  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&, Stamp) noexcept; \
-  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&, const Eigen::Vector3d&, Stamp) noexcept; \
-  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
+                                            const Eigen::Vector3d&, UpdateError*) noexcept;        \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&,                    \
+                                            const Eigen::Vector3d&, UpdateError*) noexcept;        \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
+                                             const Eigen::Vector3d&, UpdateError*) noexcept;       \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
+                                            const Eigen::Vector3d&, Stamp, UpdateError*) noexcept; \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&,                    \
+                                            const Eigen::Vector3d&, Stamp, UpdateError*) noexcept; \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
+                                             const Eigen::Vector3d&, Stamp,                       \
+                                             UpdateError*) noexcept;                               \
+  template ErrorCode SceneGraph<B>::SetTwistImpl(TwistHandle, const Eigen::Vector3d&,              \
+                                                 const Eigen::Vector3d&, std::optional<Stamp>,    \
+                                                 UpdateError*) noexcept;                          \
   template ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle, const TwistNumbers&, std::optional<Stamp>) noexcept; \
   template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)

@@ -56,7 +56,7 @@ void SceneGraph<B>::RerootAt(FrameIndex v) {
   for (std::size_t i = 0; i + 1 < path.size(); ++i) X_old.push_back(values_.X_PF[path[i].value()].Load());
   topology_.RerootPose(v);
   for (const FrameIndex x : path) values_.X_PF[x.value()].BumpEpoch();
-  values_.X_PF[v.value()].Store(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
+  values_.X_PF[v.value()].Store(B::Identity());
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
     values_.X_PF[path[i + 1].value()].Store(B::InvertChain(X_old[i]));  // the edge x_i -> x_{i+1}
   }

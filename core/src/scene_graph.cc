@@ -3,11 +3,12 @@
 // real-time updates: realtime.cc; text: describe.cc; Dump and checks: scene_graph_debug.cc.
 #include "semgraph/core/scene_graph.h"
 
+#include "angular_velocity.h"
+
 namespace semgraph::core {
 
 using base::Unexpected;
 using internal::Part;
-using semantics::Field;
 
 namespace {
 QueryError QError(const coord::Error& detail) {
@@ -17,38 +18,21 @@ QueryError QError(const coord::Error& detail) {
   return e;
 }
 
-// Answers a planned query: the backend's check where the query has one, then the evaluator.
-// Each one-shot query is planned exactly once, by names or by ids.
-template <coord::Backend B>
-QueryResult<coord::Pose<B>> Answer(const internal::ForestSource<B>& src,
-                                   const Expected<PosePlan, QueryError>& plan) noexcept {
+// Answers a planned pose, position or orientation query: the backend's check where the query
+// has one (not a position: it has no orientation to represent), then the evaluator. Each
+// one-shot query is planned exactly once, by names or by ids.
+template <coord::Backend B, class Plan>
+auto Answer(const internal::ForestSource<B>& src, const Expected<Plan, QueryError>& plan) noexcept
+    -> QueryResult<typename internal::PartTraits<B, internal::kPartOf<Plan>>::Result> {
+  using Traits = internal::PartTraits<B, internal::kPartOf<Plan>>;
   if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kPose>(src, plan->steps, R, p);
-  return coord::Pose<B>{plan->semantics, B::MakePose(R, p)};
-}
-
-template <coord::Backend B>
-QueryResult<coord::Position> Answer(const internal::ForestSource<B>& src,
-                                    const Expected<PositionPlan, QueryError>& plan) noexcept {
-  if (!plan) return Unexpected{plan.error()};
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p_FoEo_R = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kTranslation>(src, plan->steps, R, p_FoEo_R);
-  return coord::Position{plan->semantics, p_FoEo_R};
-}
-
-template <coord::Backend B>
-QueryResult<coord::Orientation<B>> Answer(const internal::ForestSource<B>& src,
-                                          const Expected<OrientationPlan, QueryError>& plan) noexcept {
-  if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
-  typename B::Rotation R_BA_R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  internal::EvaluatePose<B, Part::kRotation>(src, plan->steps, R_BA_R, p);
-  return coord::Orientation<B>{plan->semantics, R_BA_R};
+  if constexpr (internal::kPartOf<Plan> != Part::kTranslation) {
+    auto ok = coord::CheckRepresentation<B>(plan->semantics);
+    if (!ok) return Unexpected{QError(ok.error())};
+  }
+  typename Traits::Result answer{plan->semantics, Traits::Initial()};
+  internal::EvaluatePart<B, internal::kPartOf<Plan>>(src, plan->steps, answer.value);
+  return answer;
 }
 
 template <coord::Backend B>
@@ -112,21 +96,9 @@ QueryResult<coord::LinearVelocity> SceneGraph<B>::GetLinearVelocity(const TwistS
 
 template <coord::Backend B>
 QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(const TwistSpec& spec) const noexcept {
-  // The angular velocity needs no point: use the coordinate frame's origin.
-  TwistSpec s = spec;
-  s.point = spec.coordinate_frame;
-  if (s.body.empty()) {
-    QueryError e;
-    e.code = ErrorCode::kInvalidName;
-    e.field = spec.coordinate_frame.empty() ? Field::kCoordinateFrame : Field::kBody;
-    return Unexpected{e};
-  }
-  auto tw = GetTwist(s);
-  if (!tw) {
-    QueryError e = tw.error();
-    if (e.field == Field::kPoint) e.field = Field::kCoordinateFrame;  // the point was [r]'s origin
-    return Unexpected{e};
-  }
+  auto tw = internal::TwistOfAngularVelocity(spec,
+                                             [this](const TwistSpec& s) { return GetTwist(s); });
+  if (!tw) return Unexpected{tw.error()};
   return coord::AngularOf(*tw);
 }
 

@@ -6,6 +6,7 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/time_plan.h"
+#include "angular_velocity.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -125,6 +126,33 @@ std::optional<QueryError> ResolveFixedFrame(const topology::SceneTopology& t,
   return std::nullopt;
 }
 
+// GetPose / GetPosition / GetOrientation at a policy, one body for the three parts: the plan's
+// and the policy's errors, the backend's check where the part has one (not a position), then
+// the evaluator under the policy: run(report, eval) calls eval(source) at the policy's time.
+template <coord::Backend B, class Plan, class Run>
+auto TimedAnswer(const Expected<Plan, QueryError>& plan, bool policy_valid, Run&& run) noexcept
+    -> QueryResult<Timed<typename internal::PartTraits<B, internal::kPartOf<Plan>>::Result>> {
+  constexpr Part P = internal::kPartOf<Plan>;
+  using Result = typename internal::PartTraits<B, P>::Result;
+  if (auto e = PlanOrPolicyError(plan, policy_valid)) return Unexpected{*e};
+  if constexpr (P != Part::kTranslation) {
+    if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+      QueryError e;
+      e.code = ok.error().code;
+      e.detail = ok.error();
+      return Unexpected{e};
+    }
+  }
+  Result answer{plan->semantics, internal::PartTraits<B, P>::Initial()};
+  TimeReport report;
+  if (auto e = run(report, [&](const internal::ForestSource<B>& src) {
+        internal::EvaluatePart<B, P>(src, plan->steps, answer.value);
+      })) {
+    return Unexpected{*e};
+  }
+  return Timed<Result>{answer, report};
+}
+
 }  // namespace
 
 // The one driver of every timed one-shot query: eval(TimeContext&) runs the evaluator.
@@ -148,68 +176,36 @@ std::optional<QueryError> SceneGraph<B>::RunTimed(const TimePolicy& policy, Time
   return std::nullopt;
 }
 
+template <coord::Backend B>
+auto SceneGraph<B>::AtPolicy(const TimePolicy& policy) const noexcept {
+  return [this, &policy](TimeReport& report, auto&& eval) {
+    return RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
+      eval(internal::ForestSource<B>(topology_, values_, &tc));
+    });
+  };
+}
+
 // ====================================================================== pose, position, orientation
 
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
                                                                        const TimePolicy& policy) const noexcept {
-  auto plan = PlanPose(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  TimeReport report;
-  if (auto e = RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
-        internal::EvaluatePose<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, R, p);
-      })) {
-    return Unexpected{*e};
-  }
-  return Timed<Pose>{Pose{plan->semantics, B::MakePose(R, p)}, report};
+  return TimedAnswer<B>(PlanPose(topology_, spec), internal::PartsOf(policy).valid(),
+                        AtPolicy(policy));
 }
 
 template <coord::Backend B>
 QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
                                                                const TimePolicy& policy) const noexcept {
-  auto plan = PlanPosition(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  TimeReport report;
-  if (auto e = RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
-        internal::EvaluatePose<B, Part::kTranslation>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps,
-                                                      R, p);
-      })) {
-    return Unexpected{*e};
-  }
-  return Timed<coord::Position>{coord::Position{plan->semantics, p}, report};
+  return TimedAnswer<B>(PlanPosition(topology_, spec), internal::PartsOf(policy).valid(),
+                        AtPolicy(policy));
 }
 
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec, const TimePolicy& policy) const noexcept {
-  auto plan = PlanOrientation(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  TimeReport report;
-  if (auto e = RunTimed(policy, report, nullptr, [&](TimeContext& tc) {
-        internal::EvaluatePose<B, Part::kRotation>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, R,
-                                                   p);
-      })) {
-    return Unexpected{*e};
-  }
-  return Timed<Orientation>{Orientation{plan->semantics, R}, report};
+  return TimedAnswer<B>(PlanOrientation(topology_, spec), internal::PartsOf(policy).valid(),
+                        AtPolicy(policy));
 }
 
 // ====================================================================== time travel
@@ -226,15 +222,15 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex
                                                         TimeReport& report) const noexcept {
   const auto side = [&](Stamp t, const PoseSteps<ForestChain>& steps, typename B::PoseCoords& Y,
                         TimeReport& rep) -> std::optional<QueryError> {
-    typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    typename B::PoseCoords X = B::Identity();
     const TimePolicy at = At{t, travel.max_extrapolation, travel.not_before};
     if (auto err = RunTimed(at, rep, nullptr, [&](TimeContext& tc) {
-          internal::EvaluatePose<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), steps, R, p);
+          const internal::ForestSource<B> src(topology_, values_, &tc);
+          internal::EvaluatePart<B, Part::kPose>(src, steps, X);
         })) {
       return err;
     }
-    Y = B::MakePose(R, p);
+    Y = X;
     return std::nullopt;
   };
   typename B::PoseCoords Y1, Y2;
@@ -390,20 +386,9 @@ template <coord::Backend B>
 QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(const TwistSpec& spec,
                                                                              const TimePolicy& policy,
                                                                              TwistSource source) const noexcept {
-  TwistSpec s = spec;  // the angular velocity needs no point: the coordinate frame's origin
-  s.point = spec.coordinate_frame;
-  if (s.body.empty()) {
-    QueryError e;
-    e.code = ErrorCode::kInvalidName;
-    e.field = spec.coordinate_frame.empty() ? Field::kCoordinateFrame : Field::kBody;
-    return Unexpected{e};
-  }
-  auto tw = GetTwist(s, policy, source);
-  if (!tw) {
-    QueryError e = tw.error();
-    if (e.field == Field::kPoint) e.field = Field::kCoordinateFrame;
-    return Unexpected{e};
-  }
+  auto tw = internal::TwistOfAngularVelocity(
+      spec, [&](const TwistSpec& s) { return GetTwist(s, policy, source); });
+  if (!tw) return Unexpected{tw.error()};
   return Timed<coord::AngularVelocity>{coord::AngularOf(tw->value), tw->time};
 }
 
@@ -480,13 +465,13 @@ Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const Pose
   auto plan = PlanPose(topology_, spec);
   if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
   CollectingRecorder recorder;
-  typename B::Rotation R = B::FromQuaternion(Eigen::Quaterniond::Identity());
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  typename B::PoseCoords X = B::Identity();
   TimeReport report;
   // The edges are listed even when the query fails at its time: what failed is what the user
   // asks about.
   (void)RunTimed(policy, report, &recorder, [&](TimeContext& tc) {
-    internal::EvaluatePose<B, Part::kPose>(internal::ForestSource<B>(topology_, values_, &tc), plan->steps, R, p);
+    const internal::ForestSource<B> src(topology_, values_, &tc);
+    internal::EvaluatePart<B, Part::kPose>(src, plan->steps, X);
   });
   return Summarize<B>(topology_, recorder.reads);
 }

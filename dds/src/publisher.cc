@@ -25,14 +25,21 @@ struct Publisher::Impl {
   std::vector<std::uint64_t> pose_seq, twist_seq;
   std::vector<std::uint64_t> joint_seq;  // per joint index: states published so far
 
-  // Publishes joint `index`'s state (q, qdot), stamped or not.
-  void PublishJoint(std::uint32_t index, double q, double qdot, std::optional<core::Stamp> stamp) noexcept {
+  // The next value of edge or joint `id` (of `kind`): numbered by its counter in `seqs` (0 for
+  // an id the last structure did not count), on the publisher's clock; numbers still to fill.
+  semgraph_wire_Value NewValue(std::uint8_t kind, std::uint32_t id,
+                               std::vector<std::uint64_t>& seqs) noexcept {
     semgraph_wire_Value v{};
     v.source = source;
-    v.edge = index;
-    v.kind = semgraph_wire_VALUE_JOINT;
-    v.seq = index < joint_seq.size() ? ++joint_seq[index] : 0;
+    v.edge = id;
+    v.kind = kind;
+    v.seq = id < seqs.size() ? ++seqs[id] : 0;
     v.stamp_ns = internal::NowNs();
+    return v;
+  }
+  // Publishes joint `index`'s state (q, qdot), stamped or not.
+  void PublishJoint(std::uint32_t index, double q, double qdot, std::optional<core::Stamp> stamp) noexcept {
+    semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);
     v.numbers[0] = q;
     v.numbers[1] = qdot;
     if (stamp) v.time_ns = stamp->nanoseconds();
@@ -173,25 +180,13 @@ void PutPoseSample(double* n, const double (&h)[7]) {
   n[4] = h[4]; n[5] = h[5]; n[6] = h[6];
 }
 
-}  // namespace
-
-base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
-  Impl& m = *impl_;
-  const core::SceneGraph<>& g = *m.graph;
-  m.pose_seq.resize(g.num_frames(), 0);
-  m.twist_seq.resize(g.num_frames(), 0);
+// The structure's elements: bodies, frames, then the pose and twist edges a joint does not own,
+// each with the number of its last value (stamped edges: with their newest sample's stamp).
+std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
+                                       const std::vector<std::uint64_t>& pose_seq,
+                                       const std::vector<std::uint64_t>& twist_seq) {
+  using internal::Row;
   const core::internal::JointTable& joints = g.joint_table();
-  m.joint_seq.resize(joints.joints.size(), 0);
-  // Names are copied into strings first: the sample points into them.
-  struct Row {
-    std::uint8_t kind;
-    std::uint32_t edge;
-    std::uint64_t seq;
-    std::string head, head_body, tail, tail_body;
-    double numbers[7] = {0, 0, 0, 0, 0, 0, 0};
-    bool stamped = false;
-    std::int64_t time_ns = 0;
-  };
   std::vector<Row> rows;
   rows.reserve(g.num_bodies() + 3 * g.num_frames());
   for (std::uint32_t i = 0; i < g.num_bodies(); ++i) {
@@ -206,9 +201,10 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     const core::FrameIndex f(i);
     const core::FrameIndex t = g.pose_parent(f);
     if (!t.is_valid() || joints.OfChild(f) != nullptr) continue;  // a joint's edge goes with the joint
-    Row r{semgraph_wire_ELEMENT_POSE, i, m.pose_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
-          std::string(g.frame_name(t)), std::string(g.body_name(g.body_of(t)))};
-    PutPose(r.numbers, g.pose_value(f));
+    Row r{semgraph_wire_ELEMENT_POSE, i, pose_seq[i], std::string(g.frame_name(f)),
+          std::string(g.body_name(g.body_of(f))), std::string(g.frame_name(t)),
+          std::string(g.body_name(g.body_of(t)))};
+    PutPose(r.n, g.pose_value(f));
     if (const core::PoseHistory* h = g.pose_history(f)) {
       r.stamped = true;
       r.time_ns = h->newest_stamp();
@@ -220,15 +216,20 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     const core::BodyIndex d = g.twist_parent(f);
     if (!d.is_valid() || joints.OfChild(f) != nullptr) continue;
     const auto V = g.twist_value(f);
-    Row r{semgraph_wire_ELEMENT_TWIST, i, m.twist_seq[i], std::string(g.frame_name(f)), std::string(g.body_name(g.body_of(f))),
-          std::string(g.body_name(d)), {}};
-    PutTwist(r.numbers, V->linear, V->angular);
+    Row r{semgraph_wire_ELEMENT_TWIST, i, twist_seq[i], std::string(g.frame_name(f)),
+          std::string(g.body_name(g.body_of(f))), std::string(g.body_name(d)), {}};
+    PutTwist(r.n, V->linear, V->angular);
     if (const core::TwistHistory* h = g.twist_history(g.topology().twist_edge_of(f))) {
       r.stamped = true;
       r.time_ns = h->newest_stamp();
     }
     rows.push_back(std::move(r));
   }
+  return rows;
+}
+
+// The wire elements of `rows` (pointing into their names).
+std::vector<semgraph_wire_Element> WireElements(std::vector<internal::Row>& rows) {
   std::vector<semgraph_wire_Element> elements(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
     semgraph_wire_Element& e = elements[k];
@@ -239,15 +240,24 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     e.head_body = rows[k].head_body.data();
     e.tail = rows[k].tail.data();
     e.tail_body = rows[k].tail_body.data();
-    for (int j = 0; j < 7; ++j) e.numbers[j] = rows[k].numbers[j];
+    for (int j = 0; j < 7; ++j) e.numbers[j] = rows[k].n[j];
     e.stamped = rows[k].stamped;
     e.time_ns = rows[k].time_ns;
   }
-  // Joints: names copied first (the sample points into them).
-  struct JointRow {
-    std::string name, parent, parent_body, child, child_body, mimic;
-  };
-  std::vector<JointRow> joint_names;
+  return elements;
+}
+
+// A joint's names, owned: its wire joint points into them.
+struct JointNames {
+  std::string name, parent, parent_body, child, child_body, mimic;
+};
+
+// The structure's joints (the live ones), each with the number of its last state; joint_names
+// holds the names they point into (reserved first: no reallocation moves a name).
+std::vector<semgraph_wire_Joint> WireJoints(const core::SceneGraph<>& g,
+                                            const std::vector<std::uint64_t>& joint_seq,
+                                            std::vector<JointNames>& joint_names) {
+  const core::internal::JointTable& joints = g.joint_table();
   std::vector<semgraph_wire_Joint> joint_rows;
   joint_names.reserve(joints.joints.size());
   joint_rows.reserve(joints.joints.size());
@@ -257,10 +267,10 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     joint_names.push_back({j.name, std::string(g.frame_name(j.parent)), std::string(g.body_name(j.parent_body)),
                            std::string(g.frame_name(j.child)), std::string(g.body_name(j.child_body)),
                            j.is_mimic() ? joints.joints[j.master].name : std::string()});
-    const JointRow& names = joint_names.back();
+    const JointNames& names = joint_names.back();
     semgraph_wire_Joint w{};
     w.id = i;
-    w.seq = m.joint_seq[i];
+    w.seq = joint_seq[i];
     w.type = static_cast<std::uint8_t>(j.type);
     w.name = const_cast<char*>(names.name.c_str());
     w.parent = const_cast<char*>(names.parent.c_str());
@@ -287,6 +297,22 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
     }
     joint_rows.push_back(w);
   }
+  return joint_rows;
+}
+
+}  // namespace
+
+base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
+  Impl& m = *impl_;
+  const core::SceneGraph<>& g = *m.graph;
+  m.pose_seq.resize(g.num_frames(), 0);
+  m.twist_seq.resize(g.num_frames(), 0);
+  m.joint_seq.resize(g.joint_table().joints.size(), 0);
+  // Names are copied into strings first: the sample points into them.
+  std::vector<internal::Row> rows = ElementRows(g, m.pose_seq, m.twist_seq);
+  std::vector<semgraph_wire_Element> elements = WireElements(rows);
+  std::vector<JointNames> joint_names;
+  std::vector<semgraph_wire_Joint> joint_rows = WireJoints(g, m.joint_seq, joint_names);
   semgraph_wire_Structure s{};
   s.joints._length = s.joints._maximum = static_cast<std::uint32_t>(joint_rows.size());
   s.joints._buffer = joint_rows.data();
@@ -314,12 +340,7 @@ base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaternio
   const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T);
   if (code != base::ErrorCode::kOk) return code;
   const std::uint32_t id = edge.child.value();
-  semgraph_wire_Value v{};
-  v.source = m.source;
-  v.edge = id;
-  v.kind = semgraph_wire_VALUE_POSE;
-  v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
-  v.stamp_ns = internal::NowNs();
+  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_POSE, id, m.pose_seq);
   PutPose(v.numbers, m.graph->pose_value(edge.child));
   m.Send(v, false);
   return code;
@@ -331,12 +352,7 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H);
   if (code != base::ErrorCode::kOk) return code;
   const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
-  semgraph_wire_Value v{};
-  v.source = m.source;
-  v.edge = id;
-  v.kind = semgraph_wire_VALUE_TWIST;
-  v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
-  v.stamp_ns = internal::NowNs();
+  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_TWIST, id, m.twist_seq);
   PutTwist(v.numbers, v_DHo_H, w_DH_H);
   m.Send(v, false);
   return code;
@@ -348,12 +364,7 @@ base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaternio
   const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T, stamp);
   if (code != base::ErrorCode::kOk) return code;
   const std::uint32_t id = edge.child.value();
-  semgraph_wire_Value v{};
-  v.source = m.source;
-  v.edge = id;
-  v.kind = semgraph_wire_VALUE_POSE;
-  v.seq = id < m.pose_seq.size() ? ++m.pose_seq[id] : 0;
-  v.stamp_ns = internal::NowNs();
+  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_POSE, id, m.pose_seq);
   v.time_ns = stamp.nanoseconds();
   // The sample as stored (the newest value may be another sample's: out-of-order stamps).
   double h[7];
@@ -370,12 +381,7 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp);
   if (code != base::ErrorCode::kOk) return code;
   const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
-  semgraph_wire_Value v{};
-  v.source = m.source;
-  v.edge = id;
-  v.kind = semgraph_wire_VALUE_TWIST;
-  v.seq = id < m.twist_seq.size() ? ++m.twist_seq[id] : 0;
-  v.stamp_ns = internal::NowNs();
+  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_TWIST, id, m.twist_seq);
   v.time_ns = stamp.nanoseconds();
   double h[6];
   const core::TwistHistory* history = m.graph->twist_history(edge.slot);

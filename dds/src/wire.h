@@ -22,6 +22,18 @@ inline constexpr const char* kBatchTopic = "semgraph_batches";
 inline constexpr int kBatchDepth = 64;
 inline constexpr std::uint32_t kMaxBatchUpdates = 1024;
 
+/// One structure element (semgraph_wire_Element) with its names owned: what a publisher puts
+/// in a structure sample, and what a mirror keeps of one (checked).
+struct Row {
+  std::uint8_t kind = 0;
+  std::uint32_t edge = 0;
+  std::uint64_t seq = 0;
+  std::string head, head_body, tail, tail_body;
+  double n[7] = {0, 0, 0, 0, 0, 0, 0};
+  bool stamped = false;
+  std::int64_t time_ns = 0;
+};
+
 /// Owns one DDS entity (participant, topic, reader, writer, waitset, condition): deletes it,
 /// and with it its children, on destruction.
 class Entity {

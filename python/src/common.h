@@ -1,8 +1,9 @@
 // File: python/src/common.h
 //
-// Helpers shared by the binding files (graph.cc, timed.cc, kinematics.cc): reading the name
-// keywords into the core's specs, raising the core's errors as Python exceptions with the
-// keyword at fault, and numpy / text output. No geometry here.
+// Helpers shared by the binding files (one per Python class or family, module.cc lists them):
+// raising the core's errors as Python exceptions (defined in common.cc), reading the name
+// keywords into the core's specs, the keyword at fault in a query error, and numpy / text
+// output. No geometry here.
 #pragma once
 
 #include <pybind11/numpy.h>
@@ -23,6 +24,31 @@ namespace semgraph::python {
 
 using core::ErrorCode;
 using semantics::Field;
+
+// ====================================================================== errors (common.cc)
+
+/// Stores the exception classes defined in semgraph/_errors.py (called once, at import).
+void InitErrors(py::module_ errors);
+/// Raises semgraph.RejectedError(code, message[, discrepancy]).
+[[noreturn]] void ThrowRejected(core::ErrorCode code, const std::string& message);
+[[noreturn]] void ThrowRejected(const core::BuildError& error);
+/// Raises semgraph.QueryError(code, message, field, argument).
+[[noreturn]] void ThrowQuery(core::ErrorCode code, const std::string& message, const char* field,
+                             const char* argument);
+
+/// Raises RejectedError "<what> <context> rejected (<code>): <what is wrong with the value>".
+[[noreturn]] void ThrowValue(const char* what, const std::string& context, const coord::Error& e,
+                             const semantics::NameTable& names);
+/// Raises RejectedError no_such_edge: an update through a handle whose edge was removed.
+[[noreturn]] void ThrowRemoved(const char* what, const std::string& context);
+/// The context of an update's error: "of the pose edge {wrt} -> {of}".
+std::string EdgeText(std::string_view wrt, std::string_view of);
+/// "of the twist edge ref_body -> {point}".
+std::string TwistEdgeText(std::string_view ref_body, std::string_view point);
+
+// Whether a handle is the current one of its edge (a removed and re-added edge has a new one).
+inline bool SameHandle(const core::PoseHandle& a, const core::PoseHandle& b) { return a == b; }
+inline bool SameHandle(const core::TwistHandle& a, const core::TwistHandle& b) { return a == b; }
 
 // ====================================================================== helpers
 

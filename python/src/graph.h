@@ -1,8 +1,10 @@
 // File: python/src/graph.h
 //
-// The C++ objects behind the Python classes. Nothing here computes geometry: every number comes
-// from semgraph::core (SceneGraph, CompiledX, SetPose/SetTwist); this layer converts arguments,
-// shares ownership and turns error values into Python exceptions.
+// The C++ objects behind the Python classes, and the functions that register the classes (one
+// binding file per class or family of classes, after Pinocchio's expose-*.cpp). Nothing here
+// computes geometry: every number comes from semgraph::core (SceneGraph, CompiledX,
+// SetPose/SetTwist); this layer converts arguments, shares ownership and turns error values into
+// Python exceptions (common.h).
 //
 // Ownership (why nothing can dangle): a GraphBox is held by std::shared_ptr. The Python
 // SceneGraph, every result (for the names in its repr), compiled query, handle and batch hold
@@ -162,23 +164,34 @@ struct TwistBatchObject {
   std::uint64_t checked_generation = 0;
 };
 
-// ---------------------------------------------------------------- errors
+// ---------------------------------------------------------------- registration
+// One binding file per Python class (or family of classes); module.cc calls them in this order
+// (a class is registered before the methods that return it, so signatures name it).
 
-/// Stores the exception classes defined in semgraph/_errors.py (called once, at import).
-void InitErrors(py::module_ errors);
-/// Raises semgraph.RejectedError(code, message[, discrepancy]).
-[[noreturn]] void ThrowRejected(core::ErrorCode code, const std::string& message);
-[[noreturn]] void ThrowRejected(const core::BuildError& error);
-/// Raises semgraph.QueryError(code, message, field, argument).
-[[noreturn]] void ThrowQuery(core::ErrorCode code, const std::string& message, const char* field,
-                             const char* argument);
-
-/// Registers SceneGraph, the results, compiled queries, handles and batches.
-void BindGraph(py::module_& m);
-/// Registers run_script support (_run_script_text).
+/// Pose, Position, Orientation, Twist, LinearVelocity, AngularVelocity (results.cc).
+void BindResults(py::module_& m);
+/// CompiledPose, CompiledPosition, CompiledOrientation, CompiledTwist (compiled.cc).
+void BindCompiled(py::module_& m);
+/// PoseHandle, TwistHandle (handles.cc).
+void BindHandles(py::module_& m);
+/// PoseBatch, TwistBatch (batches.cc).
+void BindBatches(py::module_& m);
+/// Registers run_script support (_run_script_text, script.cc).
 void BindScript(py::module_& m);
 
 using GraphClass = py::class_<GraphBox, std::shared_ptr<GraphBox>>;
+/// The SceneGraph class: constructor, time options, counts, names (scene_graph.cc).
+GraphClass BindSceneGraph(py::module_& m);
+/// SceneGraph.add_body, add_frame, add_pose, add_twist, remove_pose, remove_twist.
+void BindBuild(GraphClass& graph);
+/// SceneGraph.pose ... angular_velocity and compile_* (queries.cc).
+void BindQueries(GraphClass& graph);
+/// SceneGraph.pose_handle, twist_handle, set_pose, set_twist (handles.cc).
+void BindHandleMethods(GraphClass& graph);
+/// SceneGraph.pose_batch, twist_batch (batches.cc).
+void BindBatchMethods(GraphClass& graph);
+/// SceneGraph.dump, check_invariants, dot, to_script (scene_graph.cc).
+void BindInspection(GraphClass& graph);
 /// Registers TimeReport and EdgeUse, and SceneGraph.explain_pose / explain_twist (timed.cc).
 void BindTime(py::module_& m, GraphClass& graph);
 /// Registers RepairPolicy and RepairReport (repair.cc).

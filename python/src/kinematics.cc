@@ -172,25 +172,19 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
     const std::span<const double> sq(q ? q_array.data() : nullptr, q ? n : 0);
     const std::span<const double> sv(qdot ? qdot_array.data() : nullptr, qdot ? n : 0);
     ErrorCode code;
+    core::UpdateError why;  // the setter's verdict: which joint, which value, which limit
     if (q && qdot) {
-      code = g.SetJointState(group->group, sq, sv);
+      code = g.SetJointState(group->group, sq, sv, &why);
     } else if (q) {
-      code = g.SetJointPositions(group->group, sq);
+      code = g.SetJointPositions(group->group, sq, &why);
     } else {
-      code = g.SetJointVelocities(group->group, sv);
+      code = g.SetJointVelocities(group->group, sv, &why);
     }
     if (code == ErrorCode::kOk) return;
     if (code == ErrorCode::kInvalidNumber || code == ErrorCode::kJointLimit) {
-      // The same values by name: refused by the same rules (nothing changes), with the core's
-      // message naming the joint and the value.
-      std::vector<core::JointValue> bq, bv;
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::string_view name = g.joint_name(group->group.joints[i]);
-        if (q) bq.push_back({name, sq[i]});
-        if (qdot) bv.push_back({name, sv[i]});
-      }
-      auto r = g.SetJoints(bq, bv);
-      if (!r) ThrowRejected(r.error());
+      ThrowRejected(code, "set_joints() rejected (" + std::string(ToString(code)) + "): joint " +
+                              std::string(g.joint_name(group->group.joints[why.joint])) + ": " +
+                              core::Describe(why));
     }
     ThrowRejected(code, "set_joints() rejected (" + std::string(ToString(code)) + ")" +
                             (code == ErrorCode::kUnknownJoint ? ": a joint of the group was removed since the group "
@@ -254,9 +248,7 @@ RobotObject LoadUrdf(GraphBox& box, const std::string& text, const std::string& 
 }
 #endif
 
-}  // namespace
-
-void BindKinematics(py::module_& m, GraphClass& graph) {
+void BindKinematicsClasses(py::module_& m) {
   py::class_<JointGroupObject, std::shared_ptr<JointGroupObject>>(m, "JointGroup",
       R"(The layout of a joint-state vector: these joints in this order (SceneGraph.joint_group, a
 Robot's .group). Pass it as names= to set_joints / joint_positions / joint_velocities to skip
@@ -335,7 +327,9 @@ group            a JointGroup of `joints`, for set_joints(..., names=robot.group
         return "Robot(name='" + r.name + "', prefix='" + r.prefix + "', root='" + r.root +
                "', links=" + std::to_string(r.links.size()) + ", joints=" + NamesText(r.joints) + ")";
       });
+}
 
+void BindJointMethods(GraphClass& graph) {
   graph.def("add_joint",
       [](GraphBox& b, py::handle name, py::handle type, py::handle parent, py::handle child, py::handle parent_body,
          py::handle child_body, py::handle position, py::handle rotation, py::handle quaternion,
@@ -409,7 +403,9 @@ outside [lower, upper]); nothing changes. ValueError: an array of the wrong leng
             py::arg("names") = py::none(), "Joint positions (a float64 array) in the layout of `names` (as set_joints).");
   graph.def("joint_velocities", [](GraphBox& b, py::handle names) { return JointValues(b, names, true, "joint_velocities"); },
             py::arg("names") = py::none(), "Joint velocities (a float64 array) in the layout of `names`.");
+}
 
+void BindJacobianMethods(GraphClass& graph) {
   constexpr const char* kJacobianDoc = R"(
 Names (keyword-only), those of twist():
   point         the point e: the velocity is that of the point of `body` at this frame's origin
@@ -448,7 +444,9 @@ QueryError: the errors of twist() (unknown_frame, no_pose_path, no_twist_path, .
       py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
       py::arg("expressed_in") = py::none(),
       "The query of jacobian(), compiled (a CompiledJacobian); the same QueryErrors.");
+}
 
+void BindUrdfMethods(GraphClass& graph) {
   constexpr const char* kUrdfDoc = R"(
 Links become bodies with one frame each (prefix + link name), joints become joints (prefix +
 joint name; revolute, continuous, prismatic, fixed, mimic), floating joints ordinary edges. The
@@ -478,6 +476,15 @@ created then. Runs without the GIL. Returns a Robot.)";
   graph.def("load_urdf", unavailable, (std::string("Unavailable in this build.\n") + kUrdfDoc).c_str());
   graph.def("load_urdf_string", unavailable, (std::string("Unavailable in this build.\n") + kUrdfDoc).c_str());
 #endif
+}
+
+}  // namespace
+
+void BindKinematics(py::module_& m, GraphClass& graph) {
+  BindKinematicsClasses(m);
+  BindJointMethods(graph);
+  BindJacobianMethods(graph);
+  BindUrdfMethods(graph);
 }
 
 }  // namespace semgraph::python

@@ -1,7 +1,9 @@
 // The extension module semgraph._semgraph; the package semgraph (python/semgraph/__init__.py)
-// re-exports it with the exception classes of semgraph/_errors.py.
+// re-exports it with the exception classes of semgraph/_errors.py. Each class is bound in a file
+// of its own (graph.h lists them); this file calls them in order.
 #include <pybind11/pybind11.h>
 
+#include "common.h"
 #include "graph.h"
 
 #ifndef SEMGRAPH_VERSION
@@ -13,8 +15,23 @@ PYBIND11_MODULE(_semgraph, m) {
   m.doc() = "The C++ kernel of semgraph; import semgraph, not this module.";
   py::module_::import("numpy");  // results are numpy arrays: fail at import, not at first use
   semgraph::python::InitErrors(py::module_::import("semgraph._errors"));
-  semgraph::python::BindGraph(m);
-  semgraph::python::BindScript(m);
+  {
+    using namespace semgraph::python;
+    BindResults(m);
+    BindCompiled(m);
+    BindHandles(m);
+    BindBatches(m);
+    BindRepair(m);
+    GraphClass graph = BindSceneGraph(m);
+    BindBuild(graph);
+    BindQueries(graph);
+    BindHandleMethods(graph);
+    BindBatchMethods(graph);
+    BindInspection(graph);
+    BindTime(m, graph);
+    BindKinematics(m, graph);
+    BindScript(m);
+  }
   m.attr("__version__") = SEMGRAPH_VERSION;
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
   m.attr("_has_tools") = true;  // dot() and run_script() work (the tool's library is linked)

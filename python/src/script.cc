@@ -1,8 +1,10 @@
-// semgraph.run_script support: the scene-script reader and runner of the semgraph tool
-// (tools/semgraph), applied to a fresh GraphBox without the GIL, so the results are the tool's,
-// line for line.
-#include <optional>
+// semgraph.run_script support: BuildScene of the tool's public library (semgraph::script,
+// semgraph/script/scene_script.h) without the GIL, so that the results are the tool's, line for
+// line, and the graph it built becomes the run's SceneGraph.
 #include <string>
+#include <type_traits>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "graph.h"
@@ -10,58 +12,71 @@
 #include <pybind11/stl.h>
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
-#include "semgraph/script_reader.h"
-#include "semgraph/script_runner.h"
+#include "semgraph/script/scene_script.h"
 #endif
 
 namespace semgraph::python {
 
-void BindScript(py::module_& m) {
-  m.def("_run_script_text", [](py::bytes text, const std::string& file_name, const std::string& base_dir) -> py::tuple {
+namespace {
+
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
-    const std::string data = text;
-    std::optional<script::ScriptError> error;
-    std::string formatted;
-    GraphPtr graph;
-    std::vector<std::string> lines;
-    bool all_ok = true;
-    {
-      py::gil_scoped_release release;  // the graph is not shared with Python yet
-      auto script = script::ReadScript(data);
-      if (!script) {
-        error = script.error();
-        formatted = script::FormatScriptError(file_name, *error);
-      } else {
-        // A fresh graph with the script's representation and time options, as the tool makes.
-        const core::TimeOptions time = script::TimeOptionsOf(script->time);
-        if (script->representation == script::Representation::kHomogeneous) {
-          graph = std::make_shared<GraphBox>(true, *core::SceneGraph<coord::HomogeneousBackend>::Create(time));
+// The built graph in a box of its own (the graph is not shared with Python yet, and moving it
+// is allowed: nothing was compiled against it).
+GraphPtr BoxOf(script::AnySceneGraph&& graph) {
+  return std::visit(
+      [](auto&& g) -> GraphPtr {
+        using G = std::decay_t<decltype(g)>;
+        if constexpr (std::is_same_v<G, std::monostate>) {
+          return nullptr;
         } else {
-          graph = std::make_shared<GraphBox>(false, *core::SceneGraph<coord::QuaternionBackend>::Create(time));
+          return std::make_shared<GraphBox>(std::is_same_v<G, HomogeneousGraph>, std::move(g));
         }
-        graph->Visit([&](auto& g) {
-          lines.reserve(script->ops.size());
-          for (std::size_t i = 0; i < script->ops.size(); ++i) {
-            script::OpOutcome outcome = script::ApplyOp(g, script->ops[i], i, base_dir);
-            all_ok = all_ok && outcome.ok;
-            lines.push_back(std::move(outcome.json));
-          }
-        });
-      }
-    }
-    if (error) {
-      return py::make_tuple(false, error->location.line, error->location.column, error->message,
-                            formatted);
-    }
-    return py::make_tuple(true, graph, lines, all_ok);
-#else
-    (void)text;
-    (void)file_name;
-    (void)base_dir;
-    throw std::runtime_error(
-        "run_script(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
+      },
+      std::move(graph));
+}
 #endif
-  }, py::arg("text"), py::arg("file_name"), py::arg("base_dir") = std::string());
+
+// (True, graph, lines, all_ok), or (False, line, column, message, "FILE:LINE:COLUMN: message")
+// for a malformed script; MemoryError when memory runs out.
+py::tuple RunScriptText(py::bytes text, const std::string& file_name, const std::string& base_dir) {
+#ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
+  const std::string data = text;
+  script::RunOptions options;
+  options.display_name = file_name;
+  options.base_dir = base_dir;
+  script::SceneRun run;
+  GraphPtr graph;
+  {
+    py::gil_scoped_release release;
+    script::BuiltScene built = script::BuildScene(data, options);
+    run = std::move(built.run);
+    if (!run.out_of_memory) graph = BoxOf(std::move(built.graph));
+  }
+  if (run.out_of_memory) {  // MemoryError, saying how far the run got
+    PyErr_SetString(PyExc_MemoryError, run.error.c_str());
+    throw py::error_already_set();
+  }
+  if (run.status == script::kExitMalformed) {
+    return py::make_tuple(false, run.error_line, run.error_column, run.error_message, run.error);
+  }
+  std::vector<std::string> lines;
+  lines.reserve(run.ops.size());
+  for (script::OpResult& op : run.ops) lines.push_back(std::move(op.json));
+  return py::make_tuple(true, graph, lines, run.status == script::kExitOk);
+#else
+  (void)text;
+  (void)file_name;
+  (void)base_dir;
+  throw std::runtime_error(
+      "run_script(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
+#endif
+}
+
+}  // namespace
+
+void BindScript(py::module_& m) {
+  m.def("_run_script_text", &RunScriptText, py::arg("text"), py::arg("file_name"),
+        py::arg("base_dir") = std::string());
 }
 
 }  // namespace semgraph::python

@@ -6,41 +6,11 @@
 #include <iterator>
 #include <string>
 
+#include "semgraph/base/utf8.h"
+
 namespace semgraph::semantics {
 
 namespace {
-// Length of the UTF-8 sequence starting at s[i], or 0 if it is not a valid, shortest-form,
-// non-surrogate sequence; its code point in `cp`.
-std::size_t Utf8SequenceLength(std::string_view s, std::size_t i, std::uint32_t& cp) noexcept {
-  const auto b0 = static_cast<unsigned char>(s[i]);
-  std::size_t n;
-  if (b0 < 0x80) {
-    cp = b0;
-    return 1;
-  }
-  if ((b0 & 0xE0) == 0xC0) {
-    n = 2;
-    cp = b0 & 0x1F;
-  } else if ((b0 & 0xF0) == 0xE0) {
-    n = 3;
-    cp = b0 & 0x0F;
-  } else if ((b0 & 0xF8) == 0xF0) {
-    n = 4;
-    cp = b0 & 0x07;
-  } else {
-    return 0;
-  }
-  if (i + n > s.size()) return 0;
-  for (std::size_t k = 1; k < n; ++k) {
-    const auto b = static_cast<unsigned char>(s[i + k]);
-    if ((b & 0xC0) != 0x80) return 0;
-    cp = (cp << 6) | (b & 0x3F);
-  }
-  const std::uint32_t min_cp[] = {0, 0, 0x80, 0x800, 0x10000};
-  if (cp < min_cp[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return 0;
-  return n;
-}
-
 // The printable rule (docs/rules.md §1): which code points a name may not hold, and why.
 enum class Unprintable : std::uint8_t { kNone, kControl, kInvisible, kSeparator, kSpace, kNoncharacter };
 
@@ -99,8 +69,7 @@ Expected<Ok, NameError> ValidateName(std::string_view name) noexcept {
       ++i;
       continue;
     }
-    std::uint32_t cp = 0;
-    const std::size_t n = Utf8SequenceLength(name, i, cp);
+    const auto [n, cp] = base::DecodeUtf8(name, i);
     if (n == 0) return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotUtf8, i}};
     if (Classify(cp) != Unprintable::kNone) {
       return Unexpected{NameError{ErrorCode::kInvalidName, NameProblem::kNotPrintable, i, cp}};

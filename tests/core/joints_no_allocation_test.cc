@@ -81,6 +81,11 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
                      [&] { return g.SetJointPositions(all, q_over); });
   ExpectNoAllocation("SetJointPositions with NaN", ErrorCode::kInvalidNumber,
                      [&] { return g.SetJointPositions(all, q_nan); });
+  UpdateError why;  // the detail of a refusal (update_error.h) allocates nothing either
+  ExpectNoAllocation("SetJointPositions over a limit, with its detail", ErrorCode::kJointLimit,
+                     [&] { return g.SetJointPositions(all, q_over, &why); });
+  ExpectNoAllocation("SetJointPositions with NaN, with its detail", ErrorCode::kInvalidNumber,
+                     [&] { return g.SetJointPositions(all, q_nan, &why); });
   coord::QuaternionBackend::PoseCoords X;
   ExpectNoAllocation("CompiledPose after joint updates", ErrorCode::kOk, [&] {
     if (g.SetJointPositions(all, q) != ErrorCode::kOk) return ErrorCode::kInvalidNumber;

@@ -16,6 +16,7 @@
 //   V_DCe_R  twist of C wrt D at point e in [r]
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <ostream>
@@ -289,6 +290,13 @@ TYPED_TEST(SceneGraphNoAllocation, UpdatesThroughHandlesAndCompiledQueriesDoNotA
   ExpectNoAllocation("SetPose + GetPose", ErrorCode::kOk, [&] {
     const ErrorCode set = g.SetPose(*X_BE, q[3], Eigen::Vector3d(0.3, -0.2, 0.9));
     return set != ErrorCode::kOk ? set : CodeOf(g.GetPose(PoseSpec::Of("o2").RelativeTo("c")));
+  });
+  // A refused update's detail (update_error.h) costs no allocation either.
+  UpdateError why;
+  ExpectNoAllocation("SetPose refused, with its detail", ErrorCode::kInvalidNumber,
+                     [&] { return g.SetPose(*X_BE, q[3], Eigen::Vector3d(0, 2e12, 0), &why); });
+  ExpectNoAllocation("SetTwist refused, with its detail", ErrorCode::kInvalidNumber, [&] {
+    return g.SetTwist(*V_B_E, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, std::nan("")), &why);
   });
   // The unchecked fast path allocates nothing either, and stores exactly what it is given.
   const Eigen::Quaterniond q_unit = q[2].normalized();

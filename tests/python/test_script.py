@@ -66,3 +66,21 @@ ops:
     np.testing.assert_allclose(run.outcomes[1]["position"], [-2.0, 1.0, -3.0], atol=1e-12)
     X = run.graph.pose(of="b", wrt="c")
     np.testing.assert_allclose(X.position, run.outcomes[1]["position"], atol=0, rtol=0)
+
+
+def test_malformed_script_error_gives_line_column_and_message_apart():
+    text = "ops:\n  - {op: body, name: B}\n  - {op: teleport}\n"
+    with pytest.raises(semgraph.ScriptError) as info:
+        semgraph.run_script_text(text, file_name="s.yaml")
+    # The op map of line 3 starts at column 5; its `op` value "teleport" at column 10.
+    assert (info.value.line, info.value.column) == (3, 10)
+    assert info.value.message.startswith('unknown op "teleport"')
+    assert str(info.value) == "s.yaml:3:10: " + info.value.message
+
+
+def test_run_script_text_keeps_the_scripts_time_options():
+    run = semgraph.run_script_text("time: {window: 2.5, interpolation: linear}\nops: []\n")
+    assert run.graph.representation == "quaternion"
+    assert run.graph.time_options["window_ns"] == 2_500_000_000
+    assert run.graph.time_options["interpolation"] == "linear"
+    assert run.ok and run.outcomes == []

@@ -31,6 +31,9 @@ struct RotationMatrixBackend {
   static Rotation Transpose(const Rotation& M) noexcept { return M.transpose(); }
   static Eigen::Vector3d Rotate(const Rotation& M, const Eigen::Vector3d& v) noexcept { return M * v; }
   static PoseCoords MakePose(const Rotation& M, const Eigen::Vector3d& p) noexcept { return {M, p}; }
+  static PoseCoords Identity() noexcept {
+    return {Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()};
+  }
   static Rotation RotationOf(const PoseCoords& X) noexcept { return X.rotation; }
   static Eigen::Vector3d TranslationOf(const PoseCoords& X) noexcept { return X.translation; }
   static PoseCoords ComposeChain(const PoseCoords& X, const PoseCoords& Y) noexcept {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <variant>
 
 namespace semgraph::script {
 namespace {
@@ -53,6 +54,49 @@ TEST(RunScene, MalformedScriptAppliesNothingAndSaysWhere) {
   EXPECT_EQ(run.status, kExitMalformed);
   EXPECT_TRUE(run.ops.empty());
   EXPECT_EQ(run.error.rfind("s.yaml:3:10: unknown op \"teleport\"", 0), 0u) << run.error;
+}
+
+TEST(RunScene, MalformedScriptGivesLineColumnAndMessageApart) {
+  const SceneRun run = RunScene("ops:\n  - {op: body, name: B}\n  - {op: teleport}\n");
+  EXPECT_EQ(run.status, kExitMalformed);
+  EXPECT_EQ(run.error_line, 3);
+  EXPECT_EQ(run.error_column, 10);
+  EXPECT_EQ(run.error_message.rfind("unknown op \"teleport\"", 0), 0u) << run.error_message;
+  EXPECT_EQ(run.error, "<script>:3:10: " + run.error_message);
+  EXPECT_FALSE(run.out_of_memory);
+  // No place at fault: 0, 0.
+  const SceneRun missing = RunSceneFile("/nonexistent/scene.yaml");
+  EXPECT_EQ(missing.error_line, 0);
+  EXPECT_EQ(missing.error_column, 0);
+  EXPECT_FALSE(missing.out_of_memory);
+}
+
+TEST(BuildScene, HandsOverTheGraphOfTheScriptsRepresentationAndTime) {
+  const std::string text = std::string("representation: homogeneous\n") +
+                           "time: {window: 2.5, interpolation: linear}\n" + kScript;
+  BuiltScene built = BuildScene(text);
+  EXPECT_EQ(built.run.status, kExitOpFailed);  // as RunScene: op 1 and op 4 fail
+  ASSERT_EQ(built.run.ops.size(), 5u);
+  EXPECT_EQ(built.run.ops[3].json, RunScene(text).ops[3].json);
+  using G = core::SceneGraph<coord::HomogeneousBackend>;
+  ASSERT_TRUE(std::holds_alternative<G>(built.graph));
+  const G& graph = std::get<G>(built.graph);
+  EXPECT_EQ(graph.time_options().window.nanoseconds(), 2'500'000'000);
+  EXPECT_EQ(graph.time_options().interpolation, core::Interpolation::kLinear);
+  EXPECT_EQ(graph.num_bodies(), 2u);
+  // The pose op's value, by hand: {c} at [1, 0, 0.5] in [b], rotated Rz(90 deg).
+  const auto X = graph.GetPose(core::PoseSpec::Of("c").RelativeTo("b"));
+  ASSERT_TRUE(X.has_value());
+  const auto p = coord::HomogeneousBackend::TranslationOf(X->value);
+  EXPECT_EQ(p.x(), 1.0);
+  EXPECT_EQ(p.z(), 0.5);
+  EXPECT_NEAR(coord::HomogeneousBackend::RotationOf(X->value)(1, 0), 1.0, 1e-15);
+  // The default representation; a malformed script builds no graph.
+  EXPECT_TRUE(std::holds_alternative<core::SceneGraph<coord::QuaternionBackend>>(
+      BuildScene(kScript).graph));
+  const BuiltScene bad = BuildScene("ops: [{op: body}]");
+  EXPECT_EQ(bad.run.status, kExitMalformed);
+  EXPECT_TRUE(std::holds_alternative<std::monostate>(bad.graph));
 }
 
 TEST(RunScene, RendersDotAndStreamsResults) {

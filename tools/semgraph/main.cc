@@ -17,6 +17,9 @@
 #if SEMGRAPH_WITH_DDS
 #include "dds_commands.h"  // serve, echo, monitor, dot --live
 #endif
+#if SEMGRAPH_WITH_ROS
+#include "bag_commands.h"  // bag info, bag check
+#endif
 
 namespace semgraph::script {
 namespace {
@@ -27,6 +30,7 @@ constexpr std::string_view kUsage = R"(Usage: semgraph run FILE
        semgraph --help | --version
        semgraph run --help | semgraph dot --help | semgraph export --help
        semgraph serve | echo | monitor | dot --live ... (with DDS; semgraph serve --help)
+       semgraph bag info FILE | semgraph bag check FILE ... (ROS bags; semgraph bag --help)
 )";
 
 constexpr std::string_view kRun = R"(
@@ -198,6 +202,9 @@ int Main(int argc, char** argv) {
   }
 #if SEMGRAPH_WITH_DDS
   if (IsDdsCommand(argc, argv)) return RunDdsCommand(argc, argv);
+#endif
+#if SEMGRAPH_WITH_ROS
+  if (IsBagCommand(argc, argv)) return RunBagCommand(argc, argv);
 #endif
   if (argc != 3) return Usage("expected a command and a FILE");
   const std::string_view command = argv[1];

@@ -59,11 +59,15 @@ SceneRun ReadThen(std::string_view text, const RunOptions& options, Then&& then)
     if (!script) {
       run.status = kExitMalformed;
       run.error = FormatScriptError(options.display_name, script.error());
+      run.error_line = script.error().location.line;
+      run.error_column = script.error().location.column;
+      run.error_message = script.error().message;
       return run;
     }
     then(*script, &run, &progress);
   } catch (const std::bad_alloc&) {
     run.status = kExitMalformed;
+    run.out_of_memory = true;
     run.error = OutOfMemory(options.display_name, progress);
   }
   return run;
@@ -112,20 +116,29 @@ bool ReadScriptFile(const std::string& path, std::string* text, std::string* err
   return ok;
 }
 
-SceneRun RunScene(std::string_view text, const RunOptions& options) {
-  return ReadThen(text, options, [&](const Script& script, SceneRun* run, Progress* progress) {
-    const auto go = [&](auto graph) {
+BuiltScene BuildScene(std::string_view text, const RunOptions& options) {
+  BuiltScene built;
+  built.run = ReadThen(text, options, [&](const Script& script, SceneRun* run, Progress* progress) {
+    const auto go = [&](auto& graph) {
       Apply(script, graph, options, run, progress);
       if (options.dot) run->dot = WriteDot(graph);
       if (options.scene) run->scene = WriteScene(graph);
     };
     const core::TimeOptions time = TimeOptionsOf(script.time);  // Create cannot refuse them
+    // Made in place, so that the graph the ops went into is the one handed over.
     if (script.representation == Representation::kHomogeneous) {
-      go(*core::SceneGraph<coord::HomogeneousBackend>::Create(time));
+      using G = core::SceneGraph<coord::HomogeneousBackend>;
+      go(built.graph.emplace<G>(std::move(*G::Create(time))));
     } else {
-      go(*core::SceneGraph<coord::QuaternionBackend>::Create(time));
+      using G = core::SceneGraph<coord::QuaternionBackend>;
+      go(built.graph.emplace<G>(std::move(*G::Create(time))));
     }
   });
+  return built;
+}
+
+SceneRun RunScene(std::string_view text, const RunOptions& options) {
+  return BuildScene(text, options).run;
 }
 
 SceneRun RunSceneFile(const std::string& path, RunOptions options) {
@@ -134,7 +147,9 @@ SceneRun RunSceneFile(const std::string& path, RunOptions options) {
   try {
     if (!ReadScriptFile(path, &text, &reason)) return Unreadable(options.display_name, reason);
   } catch (const std::bad_alloc&) {
-    return Unreadable(options.display_name, "out of memory");
+    SceneRun run = Unreadable(options.display_name, "out of memory");
+    run.out_of_memory = true;
+    return run;
   }
   return RunScene(text, options);
 }
@@ -153,7 +168,9 @@ SceneRun LoadSceneFile(const std::string& path, core::SceneGraph<B>& graph, RunO
   try {
     if (!ReadScriptFile(path, &text, &reason)) return Unreadable(options.display_name, reason);
   } catch (const std::bad_alloc&) {
-    return Unreadable(options.display_name, "out of memory");
+    SceneRun run = Unreadable(options.display_name, "out of memory");
+    run.out_of_memory = true;
+    return run;
   }
   return LoadScene(text, graph, options);
 }

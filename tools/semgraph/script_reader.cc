@@ -59,6 +59,11 @@ enum Field : int {
   kRefAt,
   kFixed,
   kSource,
+  kTopics,
+  kStatic,
+  kBodies,
+  kStart,
+  kEnd,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -71,9 +76,10 @@ constexpr std::string_view kFieldNames[kNumFields] = {
     "child",    "parent_body", "child_body", "axis", "lower",
     "upper",    "mimic", "positions",   "velocities", "repair",
     "stamp",    "at",    "max_extrapolation", "not_before", "ref_at",
-    "fixed",    "source"};
+    "fixed",    "source", "topics",    "static",    "bodies",
+    "start",    "end"};
 
-static_assert(kFieldNames[kNumFields - 1] == "source", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "end", "one name per Field, in order");
 static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
 
 constexpr std::uint64_t Bit(Field f) { return std::uint64_t{1} << f; }
@@ -139,6 +145,11 @@ Shape ShapeOf(OpKind op, QueryKind query) {
               {{kName, kNoField}, {kType, kNoField}, {kParent, kNoField}, {kChild, kNoField}}};
     case OpKind::kJoints:
       return {"a 'joints' op", Bit(kOp) | Bit(kPositions) | Bit(kVelocities) | Bit(kStamp), {}};
+    case OpKind::kBag:
+      return {"a 'bag' op",
+              Bit(kOp) | Bit(kFile) | Bit(kTopics) | Bit(kStatic) | Bit(kBodies) | Bit(kStart) |
+                  Bit(kEnd),
+              {{kFile, kNoField}}};
     case OpKind::kQuery:
       break;
   }
@@ -231,6 +242,8 @@ class Interpreter {
   bool ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
   bool ReadJointValues(std::uint32_t node, std::string_view field,
                        std::vector<std::pair<std::string, double>>* out);
+  bool ReadNames(std::uint32_t node, std::string_view field, std::vector<std::string>* out);
+  bool ReadBagFields(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
   bool ReadTimeSettings(std::uint32_t node, TimeSettings* out);
   bool ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
 
@@ -318,7 +331,8 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   }
   if (value[kOp] == kNoNode) return Fail(node, "an op needs an 'op' field");
   const NodeView op_name = At(value[kOp]);
-  static constexpr std::string_view kOps = "body, frame, pose, twist, remove, query, urdf, joint, joints";
+  static constexpr std::string_view kOps =
+      "body, frame, pose, twist, remove, query, urdf, joint, joints, bag";
   if (op_name.kind != NodeKind::kScalar) {
     return Fail(value[kOp],
                 "'op' must be one of " + std::string(kOps) + ", got " + Describe(value[kOp]));
@@ -339,6 +353,8 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     op->kind = OpKind::kJoint;
   } else if (op_name.text == "joints") {
     op->kind = OpKind::kJoints;
+  } else if (op_name.text == "bag") {
+    op->kind = OpKind::kBag;
   } else if (op_name.text == "remove") {
     if (value[kKind] == kNoNode) return Fail(node, "a 'remove' op needs 'kind' (pose or twist)");
     if (kind_is_text && kind_text == "pose") {
@@ -443,6 +459,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     if (value[kPrefix] != kNoNode && !ReadText(value[kPrefix], "prefix", &op->prefix)) return false;
   }
   if (op->kind == OpKind::kJoint && !ReadJointFields(node, value, op)) return false;
+  if (op->kind == OpKind::kBag && !ReadBagFields(value, op)) return false;
   if (op->kind == OpKind::kJoints) {
     if (value[kPositions] == kNoNode && value[kVelocities] == kNoNode) {
       return Fail(node, "a 'joints' op needs 'positions' or 'velocities' (or both)");
@@ -651,6 +668,56 @@ bool Interpreter::ReadJointValues(std::uint32_t node, std::string_view field,
   return true;
 }
 
+bool Interpreter::ReadNames(std::uint32_t node, std::string_view field,
+                            std::vector<std::string>* out) {
+  const NodeView n = At(node);
+  if (n.kind != NodeKind::kSequence) {
+    return Fail(node, "'" + std::string(field) + "' must be a list of names, got " + Describe(node));
+  }
+  out->resize(n.children.size());
+  for (std::size_t i = 0; i < n.children.size(); ++i) {
+    if (!ReadText(n.children[i], field, &(*out)[i])) return false;
+  }
+  return true;
+}
+
+// The `bag` op (docs/ros.md): file, topics, static, bodies {BODY: [frames]}, start, end.
+bool Interpreter::ReadBagFields(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op) {
+  if (!ReadText(value[kFile], "file", &op->file)) return false;
+  if ((op->has_topics = value[kTopics] != kNoNode) &&
+      !ReadNames(value[kTopics], "topics", &op->topics)) {
+    return false;
+  }
+  if (value[kStatic] != kNoNode) {
+    if (!ReadText(value[kStatic], "static", &op->static_mode)) return false;
+    if (op->static_mode != "same_body" && op->static_mode != "own_body") {
+      return Fail(value[kStatic],
+                  "'static' must be same_body or own_body, got " + Describe(value[kStatic]));
+    }
+  }
+  if (value[kBodies] != kNoNode) {
+    if (At(value[kBodies]).kind != NodeKind::kMap) {
+      return Fail(value[kBodies], "'bodies' must be a map of body names to lists of frames, got " +
+                                      Describe(value[kBodies]));
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if (!ReadMap(value[kBodies], "'bodies'", &pairs)) return false;
+    for (const auto& [key, frames] : pairs) {
+      op->bodies.emplace_back(std::string(At(key).text), std::vector<std::string>());
+      if (!ReadNames(frames, "bodies", &op->bodies.back().second)) return false;
+    }
+  }
+  const std::pair<Field, std::optional<double>*> times[] = {{kStart, &op->start},
+                                                             {kEnd, &op->end}};
+  for (const auto& [field, out] : times) {
+    if (value[field] == kNoNode) continue;
+    double t = 0;
+    if (!ReadNumber(value[field], "'" + std::string(kFieldNames[field]) + "'", &t)) return false;
+    *out = t;
+  }
+  return true;
+}
+
 bool Interpreter::ReadText(std::uint32_t node, std::string_view field, std::string* out) {
   // Any scalar is accepted as a name (`1` names a frame "1"); whether the name is valid is the
   // scene graph's call (invalid_name), so that scripts and the C++ API agree.
@@ -788,6 +855,8 @@ std::string_view ToString(OpKind kind) noexcept {
       return "joint";
     case OpKind::kJoints:
       return "joints";
+    case OpKind::kBag:
+      return "bag";
   }
   return "?";
 }

@@ -60,6 +60,7 @@ enum class OpKind : std::uint8_t {
   kUrdf,    // load a robot model (docs/kinematics.md)
   kJoint,   // add one joint
   kJoints,  // set joint states
+  kBag,     // apply a ROS bag's tf and joint states (docs/ros.md)
 };
 
 enum class QueryKind : std::uint8_t {
@@ -137,6 +138,13 @@ struct ScriptOp {
   std::optional<double> ref_at;                    // time travel: with `fixed`, and at = kTime
   std::string fixed;
   bool source_poses = false;                       // velocity kinds: differentiate the poses
+  // kBag (file in `file`): the topics (has_topics: given), `static` mode as written (empty:
+  // same_body), the bodies map in document order, the log-time window in seconds.
+  bool has_topics = false;
+  std::vector<std::string> topics;
+  std::string static_mode;
+  std::vector<std::pair<std::string, std::vector<std::string>>> bodies;
+  std::optional<double> start, end;
 };
 
 /// The document's `time` map: the graph's time options (docs/time.md). Checked here: a window

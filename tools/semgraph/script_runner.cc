@@ -16,45 +16,17 @@
 #include <vector>
 
 #include "semgraph/base/error_code.h"
+#include "semgraph/base/utf8.h"
 #if SEMGRAPH_SCRIPT_HAS_MODELS
 #include "semgraph/models/urdf.h"
+#if SEMGRAPH_SCRIPT_HAS_ROS
+#include "semgraph/bag_op.h"
+#endif
 #endif
 
 namespace semgraph::script {
 
 namespace {
-
-// Length of the valid UTF-8 sequence starting at s[i] (1-4), or 0 if it is not valid (stray
-// continuation byte, truncated, overlong, surrogate, above U+10FFFF).
-std::size_t Utf8SequenceLength(std::string_view s, std::size_t i) {
-  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
-  const unsigned char b0 = byte(i);
-  std::size_t length = 0;
-  std::uint32_t min_code = 0;  // below it the sequence is overlong
-  std::uint32_t code = 0;
-  if (b0 >= 0xC2 && b0 <= 0xDF) {
-    length = 2;
-    min_code = 0x80;
-    code = b0 & 0x1Fu;
-  } else if (b0 >= 0xE0 && b0 <= 0xEF) {
-    length = 3;
-    min_code = 0x800;
-    code = b0 & 0x0Fu;
-  } else if (b0 >= 0xF0 && b0 <= 0xF4) {
-    length = 4;
-    min_code = 0x10000;
-    code = b0 & 0x07u;
-  } else {
-    return 0;
-  }
-  if (i + length > s.size()) return 0;
-  for (std::size_t k = 1; k < length; ++k) {
-    if ((byte(i + k) & 0xC0u) != 0x80u) return 0;
-    code = (code << 6) | (byte(i + k) & 0x3Fu);
-  }
-  if (code < min_code || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
-  return length;
-}
 
 // C1 controls (U+0080..U+009F) and the separators U+2028 / U+2029 are valid UTF-8 but break
 // lines for many readers (U+0085 is "next line"; Python's splitlines splits at all three): JSON
@@ -580,7 +552,7 @@ std::string JsonString(std::string_view text) {
   for (std::size_t i = 0; i < text.size();) {
     const auto c = static_cast<unsigned char>(text[i]);
     if (c >= 0x80) {
-      const std::size_t length = Utf8SequenceLength(text, i);
+      const std::size_t length = base::Utf8Length(text, i);
       if (length == 0) {
         s += "\\ufffd";  // JSON text must be UTF-8; keep the position of the bad byte visible
         ++i;
@@ -665,6 +637,17 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
       return AddJoint(graph, op, index);
     case OpKind::kJoints:
       return SetJoints(graph, op, index);
+    case OpKind::kBag:
+#if SEMGRAPH_SCRIPT_HAS_ROS
+      return ApplyBagOp(graph, op, index, base_dir);
+#else
+      return OpOutcome{false, "invalid_bag",
+                       "{\"op\": " + std::to_string(index) +
+                           ", \"ok\": false, \"error\": \"invalid_bag\", \"message\": " +
+                           JsonString("bag " + op.file +
+                                      " rejected: this tool was built without semgraph::ros") +
+                           "}"};
+#endif
   }
   base::DemandFailed("valid OpKind", __FILE__, __LINE__);
 }

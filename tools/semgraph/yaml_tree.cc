@@ -17,6 +17,8 @@
 #include <streambuf>
 #include <utility>
 
+#include "semgraph/base/utf8.h"
+
 namespace semgraph::script {
 
 using base::Unexpected;
@@ -29,32 +31,6 @@ NodeView YamlTree::At(NodeId id) const noexcept {
 }
 
 namespace {
-
-// Length of the well-formed UTF-8 sequence at s[i] (1-4; shortest form, no surrogate, at most
-// U+10FFFF), or 0.
-std::size_t Utf8Length(std::string_view s, std::size_t i) {
-  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
-  const unsigned char b0 = byte(i);
-  if (b0 < 0x80) return 1;
-  std::size_t length;
-  std::uint32_t code, min_code;
-  if (b0 >= 0xC2 && b0 <= 0xDF) {
-    length = 2, code = b0 & 0x1Fu, min_code = 0x80;
-  } else if (b0 >= 0xE0 && b0 <= 0xEF) {
-    length = 3, code = b0 & 0x0Fu, min_code = 0x800;
-  } else if (b0 >= 0xF0 && b0 <= 0xF4) {
-    length = 4, code = b0 & 0x07u, min_code = 0x10000;
-  } else {
-    return 0;
-  }
-  if (i + length > s.size()) return 0;
-  for (std::size_t k = 1; k < length; ++k) {
-    if ((byte(i + k) & 0xC0u) != 0x80u) return 0;
-    code = (code << 6) | (byte(i + k) & 0x3Fu);
-  }
-  if (code < min_code || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
-  return length;
-}
 
 std::string Hex(unsigned char c) {
   static constexpr char kHex[] = "0123456789ABCDEF";
@@ -83,7 +59,7 @@ base::Expected<base::Ok, YamlError> CheckEncoding(std::string_view text) {
       message += ". Write U+0000 in a name as \\0 inside double quotes";
       return Unexpected{YamlError{{line, column}, std::move(message)}};
     }
-    const std::size_t n = Utf8Length(text, i);
+    const std::size_t n = base::Utf8Length(text, i);
     if (n == 0) {
       return Unexpected{YamlError{
           {line, column}, "byte " + Hex(c) + " is not valid UTF-8; the script must be UTF-8 text "
@@ -105,11 +81,11 @@ base::Expected<base::Ok, YamlError> CheckEncoding(std::string_view text) {
 // two: it becomes the UTF-8 of U+0085 / U+00A0.
 void RepairEscapes(std::string* value) {
   std::size_t i = 0;
-  while (i < value->size() && Utf8Length(*value, i) != 0) i += Utf8Length(*value, i);
+  while (i < value->size() && base::Utf8Length(*value, i) != 0) i += base::Utf8Length(*value, i);
   if (i == value->size()) return;  // the common case: nothing to repair
   std::string repaired = value->substr(0, i);
   while (i < value->size()) {
-    const std::size_t n = Utf8Length(*value, i);
+    const std::size_t n = base::Utf8Length(*value, i);
     if (n == 0) {
       repaired += '\xC2';  // U+0080..U+00BF is C2 followed by the byte itself
       repaired += (*value)[i];

@@ -16,6 +16,7 @@
 //   B::Transpose(M)                inverse operator
 //   B::Rotate(M, v)                M*v
 //   B::MakePose(M, p), B::RotationOf(X), B::TranslationOf(X)
+//   B::Identity()                  the identity pose (identity rotation, zero translation)
 //   B::ComposeChain(X, Y)          pose chain T_Y * T_X: R_Y R_X, R_Y p_X + p_Y (the hot path)
 //   B::InvertChain(X)              T_X^-1: R^T, -R^T p
 // Every function is noexcept and allocation-free.
@@ -53,6 +54,7 @@ concept Backend = requires(const typename B::Rotation& M, const typename B::Pose
   { B::Transpose(M) } noexcept -> std::same_as<typename B::Rotation>;
   { B::Rotate(M, p) } noexcept -> std::same_as<Eigen::Vector3d>;
   { B::MakePose(M, p) } noexcept -> std::same_as<typename B::PoseCoords>;
+  { B::Identity() } noexcept -> std::same_as<typename B::PoseCoords>;
   { B::RotationOf(X) } noexcept -> std::same_as<typename B::Rotation>;
   { B::TranslationOf(X) } noexcept -> std::same_as<Eigen::Vector3d>;
   { B::ComposeChain(X, X) } noexcept -> std::same_as<typename B::PoseCoords>;

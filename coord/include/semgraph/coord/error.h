@@ -44,6 +44,7 @@ enum class ValueProblem : std::uint8_t {
   kNotOrthonormal,      ///< `magnitude` = max |M^T M - I|
   kReflection,          ///< det(M) <= 0
   kNotRigidTransform,   ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
+  kOutsideLimits,       ///< a joint position beyond [lower, upper]; `magnitude` is the value
 };
 
 /// Which input a ValueProblem is about.
@@ -54,6 +55,8 @@ enum class ValueRole : std::uint8_t {
   kHomogeneousMatrix,
   kLinearVelocity,
   kAngularVelocity,
+  kJointPosition,
+  kJointVelocity,
 };
 
 struct ValueDetail {
@@ -62,6 +65,19 @@ struct ValueDetail {
   std::uint8_t component = 0;
   double magnitude = 0.0;
 };
+
+/// The bound a problem is about: kMaxMagnitude (kTooLarge), kRotationTolerance (a quaternion's
+/// norm, a matrix's orthonormality, a 4x4's bottom row); 0 when the rule has no number of its own
+/// (not finite; a reflection: det <= 0; a joint's limits, which are the joint's).
+[[nodiscard]] constexpr double LimitOf(ValueProblem problem) noexcept {
+  switch (problem) {
+    case ValueProblem::kTooLarge: return kMaxMagnitude;
+    case ValueProblem::kQuaternionNorm:
+    case ValueProblem::kNotOrthonormal:
+    case ValueProblem::kNotRigidTransform: return kRotationTolerance;
+    default: return 0.0;
+  }
+}
 
 struct Error {
   ErrorCode code = ErrorCode::kOk;

@@ -39,6 +39,7 @@ struct SEMGRAPH_COORD_EXPORT HomogeneousBackend {
     X.translation() = p;
     return X;
   }
+  static PoseCoords Identity() noexcept { return PoseCoords::Identity(); }
   static Rotation RotationOf(const PoseCoords& X) noexcept { return X.linear(); }
   static Eigen::Vector3d TranslationOf(const PoseCoords& X) noexcept { return X.translation(); }
   /// Y X for rigid transforms: R_Y R_X, R_Y p_X + p_Y, bottom row [0 0 0 1]. Written as the two

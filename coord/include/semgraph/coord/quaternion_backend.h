@@ -49,6 +49,9 @@ struct SEMGRAPH_COORD_EXPORT QuaternionBackend {
   static PoseCoords MakePose(const Rotation& M, const Eigen::Vector3d& p) noexcept {
     return {M, p};
   }
+  static PoseCoords Identity() noexcept {
+    return {Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()};
+  }
   static Rotation RotationOf(const PoseCoords& X) noexcept { return X.rotation; }
   static Eigen::Vector3d TranslationOf(const PoseCoords& X) noexcept { return X.translation; }
   static PoseCoords ComposeChain(const PoseCoords& X, const PoseCoords& Y) noexcept {

@@ -121,10 +121,6 @@ class SEMGRAPH_CORE_EXPORT CompiledQuery {
 };
 
 namespace internal {
-template <coord::Backend B>
-typename B::PoseCoords IdentityPose() noexcept {
-  return B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero());
-}
 /// A compiled query's answer as the one-shot queries give it: the value, or a QueryError with
 /// only the code (kQueryInvalidated: the query says nothing more).
 template <class T>
@@ -136,84 +132,67 @@ QueryResult<T> Answer(ErrorCode code, const T& value) noexcept {
 }
 }  // namespace internal
 
-/// PoseCoord((e,[a])|C, (f,[b])|D, [r]).
-template <coord::Backend B>
-class SEMGRAPH_CORE_EXPORT CompiledPose : public CompiledQuery<B> {
+/// A compiled pose, position or orientation query: part P of PoseCoord((e,[a])|C, (f,[b])|D,
+/// [r]) (internal::PartTraits: the value Evaluate writes, the result type, the plan). One
+/// implementation for the three parts; use them by their names below.
+template <coord::Backend B, internal::Part P>
+class SEMGRAPH_CORE_EXPORT CompiledPoseQuery : public CompiledQuery<B> {
  public:
-  CompiledPose() = default;
-  /// Made by SceneGraph::CompilePose from a checked plan of that graph.
-  CompiledPose(const topology::SceneTopology& t, const EdgeValues<B>& values, const PosePlan& plan);
-  [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
-  /// Writes the pose X (orientation operator and position, in [r]). kOk or kQueryInvalidated.
-  [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X) const noexcept;
-  [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, const TimePolicy& policy,
+  using Traits = internal::PartTraits<B, P>;
+  using Value = typename Traits::Value;    ///< what Evaluate(out) writes
+  using Result = typename Traits::Result;  ///< what Evaluate() returns, with the semantics
+
+  CompiledPoseQuery() = default;
+  /// Made by SceneGraph::Compile* from a checked plan of that graph.
+  CompiledPoseQuery(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                    const typename Traits::Plan& plan);
+  [[nodiscard]] const typename Traits::Semantics& semantics() const noexcept { return semantics_; }
+  /// Writes the answer. kOk or kQueryInvalidated (then `out` is unchanged).
+  [[nodiscard]] ErrorCode Evaluate(Value& out) const noexcept;
+  /// At the policy's time (compiled_query.h, Time); `out` is written on kOk only.
+  [[nodiscard]] ErrorCode Evaluate(Value& out, const TimePolicy& policy,
                                    TimeReport& report) const noexcept;
   /// The same answer through a memo of partial products (PoseCache, from MakeCache() of this
   /// query): far fewer compositions when few edges changed since the last evaluation.
-  [[nodiscard]] ErrorCode Evaluate(typename B::PoseCoords& X, PoseCache<B>& cache) const noexcept;
-  /// The answer in GetPose's result type: the pose with its semantics, or the error
-  /// (kQueryInvalidated). The same numbers as Evaluate(X).
-  [[nodiscard]] QueryResult<coord::Pose<B>> Evaluate() const noexcept {
-    coord::Pose<B> X{semantics_, internal::IdentityPose<B>()};
-    return internal::Answer(Evaluate(X.value), X);
+  [[nodiscard]] ErrorCode Evaluate(Value& out, PoseCache<B>& cache) const noexcept;
+  /// The answer in the one-shot query's result type (GetPose, GetPosition, GetOrientation):
+  /// the value with its semantics, or the error (kQueryInvalidated). The numbers of
+  /// Evaluate(out).
+  [[nodiscard]] QueryResult<Result> Evaluate() const noexcept {
+    Result r{semantics_, Traits::Initial()};
+    return internal::Answer(Evaluate(r.value), r);
   }
-  [[nodiscard]] QueryResult<coord::Pose<B>> Evaluate(PoseCache<B>& cache) const noexcept {
-    coord::Pose<B> X{semantics_, internal::IdentityPose<B>()};
-    return internal::Answer(Evaluate(X.value, cache), X);
+  [[nodiscard]] QueryResult<Result> Evaluate(PoseCache<B>& cache) const noexcept {
+    Result r{semantics_, Traits::Initial()};
+    return internal::Answer(Evaluate(r.value, cache), r);
   }
 
  private:
-  semantics::PoseSemantics semantics_;
+  typename Traits::Semantics semantics_;
   PoseSteps<typename CompiledQuery<B>::Chain> steps_;
 };
 
-/// PositionCoord(e|C, f|D, [r]).
+/// PoseCoord((e,[a])|C, (f,[b])|D, [r]): Evaluate(X) writes the pose X (orientation operator
+/// and position, in [r]).
 template <coord::Backend B>
-class SEMGRAPH_CORE_EXPORT CompiledPosition : public CompiledQuery<B> {
+class CompiledPose : public CompiledPoseQuery<B, internal::Part::kPose> {
  public:
-  CompiledPosition() = default;
-  CompiledPosition(const topology::SceneTopology& t, const EdgeValues<B>& values, const PositionPlan& plan);
-  [[nodiscard]] const semantics::PositionSemantics& semantics() const noexcept { return semantics_; }
-  /// Writes p_FE_R, the position of e wrt f in [r]. kOk or kQueryInvalidated.
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R) const noexcept;
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, const TimePolicy& policy,
-                                   TimeReport& report) const noexcept;
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FE_R, PoseCache<B>& cache) const noexcept;
-  /// In GetPosition's result type (see CompiledPose::Evaluate()).
-  [[nodiscard]] QueryResult<coord::Position> Evaluate() const noexcept {
-    coord::Position p{semantics_, Eigen::Vector3d::Zero()};
-    return internal::Answer(Evaluate(p.value), p);
-  }
-
- private:
-  semantics::PositionSemantics semantics_;
-  PoseSteps<typename CompiledQuery<B>::Chain> steps_;
+  using CompiledPoseQuery<B, internal::Part::kPose>::CompiledPoseQuery;
 };
 
-/// OrientationCoord([a]|C, [b]|D, [r]).
+/// PositionCoord(e|C, f|D, [r]): Evaluate(p_FE_R) writes the position of e wrt f in [r].
 template <coord::Backend B>
-class SEMGRAPH_CORE_EXPORT CompiledOrientation : public CompiledQuery<B> {
+class CompiledPosition : public CompiledPoseQuery<B, internal::Part::kTranslation> {
  public:
-  CompiledOrientation() = default;
-  CompiledOrientation(const topology::SceneTopology& t, const EdgeValues<B>& values,
-                      const OrientationPlan& plan);
-  [[nodiscard]] const semantics::OrientationSemantics& semantics() const noexcept {
-    return semantics_;
-  }
-  /// Writes R_BA_R, the orientation operator of [a] wrt [b] in [r]. kOk or kQueryInvalidated.
-  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R) const noexcept;
-  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, const TimePolicy& policy,
-                                   TimeReport& report) const noexcept;
-  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, PoseCache<B>& cache) const noexcept;
-  /// In GetOrientation's result type (see CompiledPose::Evaluate()).
-  [[nodiscard]] QueryResult<coord::Orientation<B>> Evaluate() const noexcept {
-    coord::Orientation<B> R{semantics_, B::RotationOf(internal::IdentityPose<B>())};
-    return internal::Answer(Evaluate(R.value), R);
-  }
+  using CompiledPoseQuery<B, internal::Part::kTranslation>::CompiledPoseQuery;
+};
 
- private:
-  semantics::OrientationSemantics semantics_;
-  PoseSteps<typename CompiledQuery<B>::Chain> steps_;
+/// OrientationCoord([a]|C, [b]|D, [r]): Evaluate(R_BA_R) writes the orientation operator of [a]
+/// wrt [b] in [r].
+template <coord::Backend B>
+class CompiledOrientation : public CompiledPoseQuery<B, internal::Part::kRotation> {
+ public:
+  using CompiledPoseQuery<B, internal::Part::kRotation>::CompiledPoseQuery;
 };
 
 /// TwistCoord(e|C, D, [r]); linear and angular velocity are its parts.
@@ -230,7 +209,7 @@ class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
                                    TimeReport& report) const noexcept;
-  /// In GetTwist's result type (see CompiledPose::Evaluate()).
+  /// In GetTwist's result type (see CompiledPoseQuery::Evaluate()).
   [[nodiscard]] QueryResult<coord::Twist> Evaluate() const noexcept {
     coord::Twist V{semantics_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
     return internal::Answer(Evaluate(V.linear, V.angular), V);
@@ -238,6 +217,11 @@ class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
  private:
+  void AddStep(const topology::SceneTopology& t, const EdgeValues<B>& values,
+               const TwistStep<ForestChain>& step);
+  template <class Source>
+  bool Accumulate(const Source& src, Eigen::Vector3d& v, Eigen::Vector3d& w) const noexcept;
+
   semantics::TwistSemantics semantics_;
   std::vector<TwistStep<typename CompiledQuery<B>::Chain>> steps_;
   bool from_poses_ = false;  ///< twist source `poses`: never extrapolates (the horizon is ignored)
@@ -245,12 +229,12 @@ class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
 
 extern template class CompiledQuery<coord::QuaternionBackend>;
 extern template class CompiledQuery<coord::HomogeneousBackend>;
-extern template class CompiledPose<coord::QuaternionBackend>;
-extern template class CompiledPose<coord::HomogeneousBackend>;
-extern template class CompiledPosition<coord::QuaternionBackend>;
-extern template class CompiledPosition<coord::HomogeneousBackend>;
-extern template class CompiledOrientation<coord::QuaternionBackend>;
-extern template class CompiledOrientation<coord::HomogeneousBackend>;
+extern template class CompiledPoseQuery<coord::QuaternionBackend, internal::Part::kPose>;
+extern template class CompiledPoseQuery<coord::HomogeneousBackend, internal::Part::kPose>;
+extern template class CompiledPoseQuery<coord::QuaternionBackend, internal::Part::kTranslation>;
+extern template class CompiledPoseQuery<coord::HomogeneousBackend, internal::Part::kTranslation>;
+extern template class CompiledPoseQuery<coord::QuaternionBackend, internal::Part::kRotation>;
+extern template class CompiledPoseQuery<coord::HomogeneousBackend, internal::Part::kRotation>;
 extern template class CompiledTwist<coord::QuaternionBackend>;
 extern template class CompiledTwist<coord::HomogeneousBackend>;
 

@@ -118,7 +118,7 @@ struct EdgeValues {
   /// The value of a new frame: the identity (it has no pose parent yet).
   /// Its history entry too (null: timeless), so that every frame a reader knows has one.
   void AddFrame() {
-    X_PF.EmplaceBack(B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()));
+    X_PF.EmplaceBack(B::Identity());
     history.pose.Grow(X_PF.size());
   }
   /// Makes room for the value (and the history entry) of twist edge slot `e`.

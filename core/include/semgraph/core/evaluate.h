@@ -160,8 +160,11 @@ class FlatSource {
 
   // The edges are stored from F upward and composed top-down, acc = acc * X_i, as a
   // hand-written chain would (p += q p_i; q = q q_i for quaternions), so the loop-carried
-  // dependency is one rotation product.
-  bool EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+  // dependency is one rotation product. Flattened: GCC 12 stops inlining Eigen's products
+  // (here the 3x3 one of HomogeneousBackend::ComposeChain) once the translation unit has grown
+  // (--param inline-unit-growth), and a call per edge costs 1.3x the loop (bench/icount.sh).
+  [[gnu::flatten]] bool EvalChain(const FlatChain& c, PoseCoords& X_AF,
+                                  bool& identity) const noexcept {
     identity = c.begin == c.end;
     if (identity) return true;
     const EdgeRef* first = edges_ + c.begin;
@@ -292,8 +295,7 @@ bool EvalBasic(const Source& src, const BasicPath<typename Source::Chain>& path,
     return false;
   }
   if (b_identity) {
-    X_BA = a_identity ? B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero())
-                      : X_CA;
+    X_BA = a_identity ? B::Identity() : X_CA;
   } else if (a_identity) {
     X_BA = B::InvertChain(X_CB);
   } else {
@@ -337,6 +339,61 @@ bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s,
     } else {
       R = B::Multiply(B::Multiply(R_RB, R), B::Transpose(R_RB));  // Reexpress, rotation only
     }
+  }
+  return true;
+}
+
+/// Part P of a pose answer, by type: the bare value the evaluator writes (Value), the relation
+/// value a query returns (Result, with Semantics), the plan it is evaluated from (Plan), and a
+/// value to start from (Initial).
+template <coord::Backend B, Part P>
+struct PartTraits;
+template <coord::Backend B>
+struct PartTraits<B, Part::kPose> {
+  using Value = typename B::PoseCoords;
+  using Result = coord::Pose<B>;
+  using Semantics = semantics::PoseSemantics;
+  using Plan = PosePlan;
+  static Value Initial() noexcept { return B::Identity(); }
+};
+template <coord::Backend B>
+struct PartTraits<B, Part::kTranslation> {
+  using Value = Eigen::Vector3d;
+  using Result = coord::Position;
+  using Semantics = semantics::PositionSemantics;
+  using Plan = PositionPlan;
+  static Value Initial() noexcept { return Eigen::Vector3d::Zero(); }
+};
+template <coord::Backend B>
+struct PartTraits<B, Part::kRotation> {
+  using Value = typename B::Rotation;
+  using Result = coord::Orientation<B>;
+  using Semantics = semantics::OrientationSemantics;
+  using Plan = OrientationPlan;
+  static Value Initial() noexcept { return B::RotationOf(B::Identity()); }
+};
+/// The part a plan asks for.
+template <class Plan>
+inline constexpr Part kPartOf = Part::kPose;
+template <>
+inline constexpr Part kPartOf<PositionPlan> = Part::kTranslation;
+template <>
+inline constexpr Part kPartOf<OrientationPlan> = Part::kRotation;
+
+/// Part P of a pose answer into `out` (unchanged when false: a compiled edge changed epoch).
+/// The one evaluation behind every pose, position and orientation query, one-shot or compiled.
+template <coord::Backend B, Part P, class Source>
+bool EvaluatePart(const Source& src, const PoseSteps<typename Source::Chain>& s,
+                  typename PartTraits<B, P>::Value& out) noexcept {
+  typename B::Rotation R;
+  Eigen::Vector3d p;  // written by EvaluatePose before any use (it returns early otherwise)
+  if (!EvaluatePose<B, P>(src, s, R, p)) return false;
+  if constexpr (P == Part::kPose) {
+    out = B::MakePose(R, p);
+  } else if constexpr (P == Part::kTranslation) {
+    out = p;
+  } else {
+    out = R;
   }
   return true;
 }

@@ -92,7 +92,7 @@ bool UpA(const Source& src, bool chained, const typename Source::Chain& rest,
   if (chained) {
     if (!identity) X_CA = B::ComposeChain(X, X_CA);
   } else {
-    X_CA = identity ? B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero()) : X;
+    X_CA = identity ? B::Identity() : X;
   }
   return true;
 }
@@ -107,7 +107,7 @@ template <coord::Backend B, class Source, class Steps, class EChain>
 bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<typename Source::Chain>& er,
                       bool e_chained, const EChain& e_rest, const Steps& steps, Eigen::Ref<JacobianMatrix> J) noexcept {
   J.setZero();
-  typename B::PoseCoords X_CA = B::MakePose(B::FromQuaternion(Eigen::Quaterniond::Identity()), Eigen::Vector3d::Zero());
+  typename B::PoseCoords X_CA = B::Identity();
   for (const auto& s : steps) {
     TwistNumbers unused;
     if (!src.LoadTwist(s.step, unused)) return false;  // the joint's twist edge still exists

@@ -62,6 +62,7 @@
 #include "semgraph/core/joints.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/core/time.h"
+#include "semgraph/core/update_error.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core {
@@ -152,11 +153,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// out of order; never allocates. Codes as SetPose, then kStampMismatch (a timeless edge),
   /// kStampTooOld, kDuplicateStamp (policy reject, another value at that stamp).
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH, const Eigen::Vector3d& p_ToHo_T,
-                                  Stamp stamp) noexcept;
+                                  Stamp stamp, UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T,
-                                  Stamp stamp) noexcept;
+                                  Stamp stamp, UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
-                                   Stamp stamp) noexcept;
+                                   Stamp stamp, UpdateError* why = nullptr) noexcept;
 
   /// Queries under a time policy: the same queries with every edge's value as the policy
   /// selects, and what was read (TimeReport). Error order: as the untimed query, invalid_number
@@ -215,13 +216,19 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// the handle is not one of this graph's pose handles: another graph's, default or forged,
   /// naming no frame or a root frame), kConstantPoseChange (a forged handle naming a same-body
   /// edge). On any code but kOk nothing is written.
+  /// Every real-time setter takes an optional last argument `why` (update_error.h): when given,
+  /// it receives the code and, for kInvalidNumber / kInvalidRotation / kJointLimit, which input,
+  /// which number, its value and the limit it broke. No allocation, as the setter itself.
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
-                                  const Eigen::Vector3d& p_ToHo_T) noexcept;
+                                  const Eigen::Vector3d& p_ToHo_T,
+                                  UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
-                                  const Eigen::Vector3d& p_ToHo_T) noexcept;
+                                  const Eigen::Vector3d& p_ToHo_T,
+                                  UpdateError* why = nullptr) noexcept;
   /// SetPose from an Eigen isometry X_TH (linear() = R_TH, translation() = p_ToHo_T).
-  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Isometry3d& X_TH) noexcept {
-    return SetPose(edge, Eigen::Matrix3d(X_TH.linear()), Eigen::Vector3d(X_TH.translation()));
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Isometry3d& X_TH,
+                                  UpdateError* why = nullptr) noexcept {
+    return SetPose(edge, Eigen::Matrix3d(X_TH.linear()), Eigen::Vector3d(X_TH.translation()), why);
   }
   /// SetPose for a caller that guarantees the input: finite numbers, |position| <= 1e12, and a
   /// unit quaternion (|q| within 1e-12 of 1, e.g. one this graph returned or one normalized by
@@ -234,7 +241,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// angular velocity of H relative to D, both in [h]. O(1); codes as SetPose (kNoSuchEdge for
   /// a removed edge, a free slot, or a handle not made by this graph's FindTwistEdge).
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
-                                   const Eigen::Vector3d& w_DH_H) noexcept;
+                                   const Eigen::Vector3d& w_DH_H,
+                                   UpdateError* why = nullptr) noexcept;
 
   /// Values in another form than the edge's, converted on the real-time path through a plan
   /// made here (converting_handles.h, docs/realtime.md). The twist edge {relative_to} (a body)
@@ -253,14 +261,15 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// removed; nothing written), then SetTwist's. O(edges between r and h).
   [[nodiscard]] ErrorCode SetTwist(const ConvertingTwistHandle<B>& edge,
                                    const Eigen::Vector3d& v_DHo_R,
-                                   const Eigen::Vector3d& w_DH_R) noexcept;
+                                   const Eigen::Vector3d& w_DH_R,
+                                   UpdateError* why = nullptr) noexcept;
   /// The pose in the handle's form, converted to the edge form as AddPose converts it, then
   /// written as SetPose(edge.edge()) writes. Codes: kInvalidNumber / kInvalidRotation (the
   /// input), kQueryInvalidated, then SetPose's. O(edges of the conversion).
   [[nodiscard]] ErrorCode SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Quaterniond& q,
-                                  const Eigen::Vector3d& p) noexcept;
+                                  const Eigen::Vector3d& p, UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Matrix3d& R,
-                                  const Eigen::Vector3d& p) noexcept;
+                                  const Eigen::Vector3d& p, UpdateError* why = nullptr) noexcept;
 
   /// Compiled queries: the semantics are checked and the path resolved once (the same errors
   /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
@@ -325,10 +334,15 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// Real-time setters: values in the group's order (size must equal group.size()). All or
   /// nothing: kInvalidNumber -> kUnknownJoint (a joint removed since the group was made) ->
   /// kJointLimit. O(joints + mimics), noexcept, allocation-free.
-  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q) noexcept;
-  [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot) noexcept;
+  /// `why` (as SetPose's) names the first joint in the group's order that breaks the rule of the
+  /// code (why->joint), its number and the limit.
+  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q,
+                                            UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
+                                             UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
-                                        std::span<const double> qdot) noexcept;
+                                        std::span<const double> qdot,
+                                        UpdateError* why = nullptr) noexcept;
   /// Stamped joint states (joint_time.cc; docs/kinematics.md, docs/time.md): a sample of
   /// (q, qdot) at `stamp` for each joint given and its mimics; a field not given keeps its value
   /// of the joint's newest sample. A joint's first state decides what its edges are: set
@@ -340,11 +354,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// given by SetJoints with a stamp, else kStampMismatch; a mimic added since then too): codes
   /// as the unstamped ones, then kStampMismatch -> kStampTooOld -> kDuplicateStamp. All or
   /// nothing; O(joints + mimics) in order; noexcept, allocation-free, lock-free for readers.
-  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q, Stamp stamp) noexcept;
+  [[nodiscard]] ErrorCode SetJointPositions(const JointGroup& group, std::span<const double> q,
+                                            Stamp stamp, UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
-                                             Stamp stamp) noexcept;
+                                             Stamp stamp, UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
-                                        std::span<const double> qdot, Stamp stamp) noexcept;
+                                        std::span<const double> qdot, Stamp stamp,
+                                        UpdateError* why = nullptr) noexcept;
   /// Joint state and names (a stale handle: NaN / empty).
   [[nodiscard]] double joint_position(JointHandle j) const noexcept;
   [[nodiscard]] double joint_velocity(JointHandle j) const noexcept;
@@ -414,11 +430,16 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                            std::optional<Stamp> stamp);
   template <class R>
   ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
-                        std::optional<Stamp> stamp = std::nullopt) noexcept;
+                        std::optional<Stamp> stamp, UpdateError* why) noexcept;
+  ErrorCode SetTwistImpl(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                         const Eigen::Vector3d& w_DH_H, std::optional<Stamp> stamp,
+                         UpdateError* why) noexcept;
   // Time (time_query.cc): every timed one-shot query runs the evaluator through RunTimed.
   template <class Eval>
   std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
                                      Eval&& eval) const noexcept;
+  // run(report, eval): RunTimed at the policy, eval(ForestSource) at its time (pose queries).
+  auto AtPolicy(const TimePolicy& policy) const noexcept;
   std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
                                            FrameIndex r, FrameIndex x, const TimeTravel& travel,
                                            typename B::PoseCoords& X,
@@ -443,7 +464,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   FrameIndex CreateFrame(NameId name, BodyIndex body);
   template <class R>
   ErrorCode SetConvertedPose(const ConvertingPoseHandle<B>& edge, const R& rotation,
-                             const Eigen::Vector3d& p) noexcept;
+                             const Eigen::Vector3d& p, UpdateError* why) noexcept;
   void RerootAt(FrameIndex v);  // repair.cc: reverse the path to the root, values inverted
   internal::ForestSource<B> source() const noexcept { return {topology_, values_}; }
   // Joints (joints.cc): removal of a joint's pose edge, state application, Jacobian columns.
@@ -451,9 +472,15 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   void ApplyJoint(std::uint32_t index, const double* q, const double* qdot) noexcept;
   // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or not.
   BuildResult CheckJointValues(std::span<const JointValue> positions, std::span<const JointValue> velocities) const;
-  ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot) noexcept;
+  ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot,
+                     UpdateError* why) noexcept;
+  // A refused joint set: `code`, with the first joint in the group's order that breaks its rule
+  // (joint_time.cc).
+  ErrorCode RefuseJoints(ErrorCode code, const JointGroup& group, const double* q,
+                         const double* qdot, UpdateError* why) const noexcept;
   // Stamped joint states (joint_time.cc).
-  ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot, Stamp stamp) noexcept;
+  ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
+                            Stamp stamp, UpdateError* why) noexcept;
   ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot, std::int64_t s) const noexcept;
   void StoreJointSample(std::uint32_t index, const double* q, const double* qdot, std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;

@@ -66,6 +66,9 @@ class Stamp {
 
 /// Largest accepted |time| in seconds: 9.2e9 s (9.2e18 ns fits int64 with margin for sums).
 inline constexpr double kMaxStampSeconds = 9.2e9;
+/// The same bound in nanoseconds, for stamps given as integers (the DDS wire).
+inline constexpr std::int64_t kMaxStampNanoseconds = 9'200'000'000'000'000'000;
+static_assert(kMaxStampSeconds * 1e9 == static_cast<double>(kMaxStampNanoseconds));
 
 /// Seconds -> nanoseconds, rounded to nearest (ties away from zero), exactly. nullopt when the
 /// value is not finite or |seconds| > kMaxStampSeconds (the caller reports invalid_number).

@@ -5,6 +5,7 @@
 // whose `json` is exactly the line `semgraph run` prints for it.
 //
 //   RunScene(text)            = `semgraph run`: a fresh graph of the script's representation
+//   BuildScene(text)          the same, handing the final graph over (Python's run_script)
 //   LoadScene(text, graph)    applies the script to a graph of yours (and leaves it there)
 //   RunSceneFile / LoadSceneFile   the same from a file
 //   WriteScene(graph)         the graph as a script that rebuilds it (`semgraph export`)
@@ -18,14 +19,16 @@
 // the failing op may be partly applied.
 //
 // LoadScene ignores the script's `representation` and `time` map (the graph's backend and time
-// options decide); RunScene uses both. Costs: O(script) to read, then one scene-graph call per op. Thread safety: the calls share
-// nothing; a graph passed in must not be used by another thread meanwhile.
+// options decide); RunScene and BuildScene use both. Costs: O(script) to read, then one
+// scene-graph call per op. Thread safety: the calls share nothing; a graph passed in must not be
+// used by another thread meanwhile.
 #pragma once
 
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
@@ -52,6 +55,13 @@ struct OpResult {
 struct SceneRun {
   int status = kExitOk;
   std::string error;            // status kExitMalformed: "FILE:LINE:COLUMN: message"
+  // A malformed script, apart: the 1-based line and column of the node at fault and the message
+  // without its place. 0, 0 and "" when no place in the script is at fault (an unreadable file,
+  // out of memory).
+  int error_line = 0;
+  int error_column = 0;
+  std::string error_message;
+  bool out_of_memory = false;   // status kExitMalformed because memory ran out (see error)
   std::vector<OpResult> ops;    // one per op applied, in order (unless on_op took them)
   std::string dot;              // RunOptions::dot: the final graph in Graphviz DOT
   std::string scene;            // RunOptions::scene: the final graph as a script (WriteScene)
@@ -79,6 +89,23 @@ struct RunOptions {
 /// with "FILE: cannot read: <reason>". display_name defaults to the path (<stdin> for "-").
 [[nodiscard]] SEMGRAPH_SCRIPT_EXPORT SceneRun RunSceneFile(const std::string& path,
                                                            RunOptions options = {});
+
+/// A graph of either backend, as a script's `representation` picks it; empty before one is made.
+using AnySceneGraph = std::variant<std::monostate, core::SceneGraph<coord::QuaternionBackend>,
+                                   core::SceneGraph<coord::HomogeneousBackend>>;
+
+/// RunScene's results and the graph it built.
+struct BuiltScene {
+  SceneRun run;
+  /// The fresh graph (the script's representation and time options) after the ops; empty when
+  /// the script is malformed. Out of memory: the ops before the failing one (the contract above).
+  AnySceneGraph graph;
+};
+
+/// `semgraph run` on a script held in memory, handing the final graph over instead of dropping
+/// it (to query it further). RunScene(text, options) is BuildScene(text, options).run.
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT BuiltScene BuildScene(std::string_view text,
+                                                           const RunOptions& options = {});
 
 /// Applies a script to `graph`. RunOptions::dot and ::scene are ignored (see WriteDot,
 /// WriteScene).

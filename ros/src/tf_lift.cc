@@ -1,0 +1,192 @@
+// tf transforms and joint states into a scene graph (tf_lift.h).
+#include "semgraph/ros/tf_lift.h"
+
+#include <cmath>
+#include <vector>
+
+#include "semgraph/models/urdf.h"
+
+namespace semgraph::ros {
+
+using core::ErrorCode;
+using core::PoseSpec;
+using core::Stamp;
+
+namespace {
+
+std::string Vec(double x, double y, double z) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", x, y, z);
+  return buf;
+}
+
+std::string Quat(const Quaternion& q) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g, %.17g)", q.w, q.x, q.y, q.z);
+  return buf;
+}
+
+bool Finite(const Transform& t) {
+  const auto& v = t.translation;
+  const auto& r = t.rotation;
+  for (const double x : {v.x, v.y, v.z, r.x, r.y, r.z, r.w}) {
+    if (!std::isfinite(x)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+template <coord::Backend B>
+void TfLift<B>::CoverModel(const models::Robot& robot) {
+  const std::set<std::string, std::less<>> floating(robot.floating_joints.begin(),
+                                                    robot.floating_joints.end());
+  for (const std::string& link : robot.links) {
+    const core::FrameIndex c = graph_.FindFrame(link);
+    if (!c.is_valid()) continue;
+    const core::FrameIndex p = graph_.pose_parent(c);
+    if (!p.is_valid()) continue;  // the root link
+    const std::string parent(graph_.frame_name(p));
+    if (floating.count(link + " wrt " + parent) != 0) continue;  // an ordinary edge
+    covered_.emplace(parent, link);
+  }
+}
+
+template <coord::Backend B>
+std::string TfLift<B>::BodyOf(std::string_view frame) const {
+  return plan_.BodyOf(frame, [this](std::string_view f) -> std::optional<std::string> {
+    const core::FrameIndex i = graph_.FindFrame(f);
+    if (!i.is_valid()) return std::nullopt;
+    return std::string(graph_.body_name(graph_.body_of(i)));
+  });
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::Refuse(ErrorCode code, std::string message, std::string_view parent,
+                              std::string_view child, const TransformOrigin& origin) {
+  ++counts_.refused;
+  findings_.Add(FindingCode{code, false}, parent, child, origin, [&] { return std::move(message); });
+  return LiftOutcome::kRefused;
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::Apply(const TransformStamped& t, bool is_static, std::string_view topic,
+                             std::int64_t log_time_ns) {
+  ++counts_.transforms;
+  const std::string_view parent = LiftFrameName(t.header.frame_id);
+  const std::string_view child = LiftFrameName(t.child_frame_id);
+  const TransformOrigin origin{topic, log_time_ns, ToNanoseconds(t.header.stamp)};
+  const auto& v = t.transform.translation;
+  const auto& r = t.transform.rotation;
+  if (!Finite(t.transform)) {
+    return Refuse(ErrorCode::kInvalidNumber,
+                  "translation " + Vec(v.x, v.y, v.z) + " or rotation (w, x, y, z) = " + Quat(r) +
+                      " has a NaN or infinite component",
+                  parent, child, origin);
+  }
+  Eigen::Quaterniond q_PC(r.w, r.x, r.y, r.z);
+  const double norm2 = q_PC.squaredNorm();
+  if (!(std::abs(norm2 - 1.0) <= kRosQuaternionTolerance)) {
+    return Refuse(ErrorCode::kInvalidRotation,
+                  "quaternion with |q|^2 = " + std::to_string(norm2) +
+                      ", more than 0.01 from 1 (tf2's tolerance)",
+                  parent, child, origin);
+  }
+  const bool normalized = std::abs(std::sqrt(norm2) - 1.0) > 1e-6;
+  q_PC.normalize();
+  const Eigen::Vector3d p_PoCo_P(v.x, v.y, v.z);
+
+  LiftOutcome outcome;
+  if (covered_.count(std::make_pair(std::string(parent), std::string(child))) != 0) {
+    outcome = CompareWithModel(parent, child, q_PC, p_PoCo_P, is_static, origin);
+  } else {
+    // A static transform that joins bodies puts the child on its parent's body, explicitly: a
+    // child already on another body is then frame_body_mismatch, as the spec asks live.
+    const std::string parent_body = BodyOf(parent);
+    const std::string child_body =
+        is_static && plan_.JoinsBodies(child) ? parent_body : BodyOf(child);
+    const PoseSpec spec = PoseSpec::Of(child, child_body).RelativeTo(parent, parent_body);
+    const core::BuildResult added =
+        is_static ? graph_.AddPose(spec, q_PC, p_PoCo_P)
+                  : graph_.AddPose(spec, q_PC, p_PoCo_P, Stamp::Nanoseconds(origin.stamp_ns));
+    if (!added) return Refuse(added.error().code, added.error().message, parent, child, origin);
+    ++counts_.applied;
+    outcome = LiftOutcome::kApplied;
+  }
+  if (normalized) ++counts_.normalized;
+  return outcome;
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::CompareWithModel(std::string_view parent, std::string_view child,
+                                        const Eigen::Quaterniond& q_PC,
+                                        const Eigen::Vector3d& p_PoCo_P, bool is_static,
+                                        const TransformOrigin& origin) {
+  ++counts_.covered;
+  const PoseSpec spec = PoseSpec::Of(child).RelativeTo(parent);
+  const auto model = is_static ? graph_.GetPose(spec, core::Latest())
+                               : graph_.GetPose(spec, core::At(Stamp::Nanoseconds(origin.stamp_ns)));
+  const auto mismatch = [&](FindingCode code, std::string message) {
+    ++counts_.mismatched;
+    findings_.Add(code, parent, child, origin, [&] { return std::move(message); });
+    return LiftOutcome::kMismatch;
+  };
+  if (!model) {  // the model has no pose there (e.g. no joint state at that stamp)
+    return mismatch(FindingCode{model.error().code, false},
+                    "covered by the robot model, which has no pose of {" + std::string(child) +
+                        "} wrt {" + std::string(parent) + "} at this stamp: " +
+                        graph_.Describe(model.error(), spec));
+  }
+  const Eigen::Isometry3d X_PC = model->value.ToIsometry();
+  const Eigen::Quaterniond q_model(X_PC.linear());
+  const double angle = q_model.angularDistance(q_PC);
+  const double distance = (X_PC.translation() - p_PoCo_P).norm();
+  if (angle <= kModelTolerance && distance <= kModelTolerance) return LiftOutcome::kCovered;
+  const Eigen::Vector3d& p = X_PC.translation();
+  return mismatch(FindingCode::ModelMismatch(),
+                  "the transform differs from the robot model's pose by " +
+                      std::to_string(distance) + " m and " + std::to_string(angle) +
+                      " rad (model position " + Vec(p.x(), p.y(), p.z()) + ", tf position " +
+                      Vec(p_PoCo_P.x(), p_PoCo_P.y(), p_PoCo_P.z()) + ")");
+}
+
+template <coord::Backend B>
+void TfLift<B>::Apply(const TFMessage& message, bool is_static, std::string_view topic,
+                      std::int64_t log_time_ns) {
+  for (const TransformStamped& t : message.transforms) {
+    (void)Apply(t, is_static, topic, log_time_ns);
+  }
+}
+
+template <coord::Backend B>
+void TfLift<B>::Apply(const JointState& state, std::string_view topic, std::int64_t log_time_ns) {
+  if (graph_.num_joints() == 0) {
+    ++counts_.joint_states_skipped;
+    return;
+  }
+  const TransformOrigin origin{topic, log_time_ns, ToNanoseconds(state.header.stamp)};
+  const auto refuse = [&](ErrorCode code, std::string message) {
+    ++counts_.joint_states_refused;
+    findings_.Add(FindingCode{code, false}, "", "", origin, [&] { return std::move(message); });
+  };
+  const std::size_t n = state.name.size();
+  if (!state.position.empty() && state.position.size() != n) {
+    return refuse(ErrorCode::kInvalidNumber, "joint state with " + std::to_string(n) +
+                                                 " names and " +
+                                                 std::to_string(state.position.size()) + " positions");
+  }
+  std::vector<core::JointValue> positions, velocities;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!state.position.empty()) positions.push_back({state.name[i], state.position[i]});
+    if (state.velocity.size() == n) velocities.push_back({state.name[i], state.velocity[i]});
+  }
+  const core::BuildResult set =
+      graph_.SetJoints(positions, velocities, Stamp::Nanoseconds(origin.stamp_ns));
+  if (!set) return refuse(set.error().code, set.error().message);
+  ++counts_.joint_states;
+}
+
+template class TfLift<coord::QuaternionBackend>;
+template class TfLift<coord::HomogeneousBackend>;
+
+}  // namespace semgraph::ros

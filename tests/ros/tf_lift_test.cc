@@ -1,0 +1,250 @@
+// tf transforms and joint states into a graph (ros/tf_lift.h): values against hand-computed
+// compositions, every finding of the ROS spec's §5 with the graph unchanged, robot models.
+#include "semgraph/ros/tf_lift.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "semgraph/core/scene_graph_debug.h"
+#include "semgraph/models/urdf.h"
+
+namespace semgraph::ros {
+namespace {
+
+using core::ErrorCode;
+using core::PoseSpec;
+using Graph = core::SceneGraph<>;
+
+constexpr std::int64_t kSec = 1'000'000'000;
+
+TransformStamped Tf(std::string parent, std::string child, std::int64_t stamp_ns,
+                    Vector3 p = {}, Quaternion q = {}) {
+  TransformStamped t;
+  t.header.frame_id = std::move(parent);
+  t.header.stamp = Time{stamp_ns / kSec, static_cast<std::uint32_t>(stamp_ns % kSec)};
+  t.child_frame_id = std::move(child);
+  t.transform.translation = p;
+  t.transform.rotation = q;
+  return t;
+}
+
+Quaternion AboutZ(double angle) { return {0, 0, std::sin(angle / 2), std::cos(angle / 2)}; }
+
+TfLift<coord::QuaternionBackend> Lift(Graph& graph, LiftOptions options = {}) {
+  auto plan = BodyPlan::Make(options);
+  return TfLift<coord::QuaternionBackend>(graph, std::move(*plan));
+}
+
+/// Applies `t` and expects a refusal with `code`, the graph unchanged, one finding group.
+void ExpectRefused(TfLift<coord::QuaternionBackend>& lift, Graph& graph, const TransformStamped& t,
+                   bool is_static, ErrorCode code) {
+  const std::string before = core::Dump(graph);
+  const std::size_t groups = lift.findings().groups().size();
+  EXPECT_EQ(lift.Apply(t, is_static, is_static ? "/tf_static" : "/tf", 7), LiftOutcome::kRefused);
+  EXPECT_EQ(core::Dump(graph), before) << "a refused transform changed the graph";
+  ASSERT_EQ(lift.findings().groups().size(), groups + 1);
+  const FindingGroup& g = lift.findings().groups().back();
+  EXPECT_EQ(g.code.name(), base::ToString(code)) << g.message;
+  EXPECT_EQ(g.parent, LiftFrameName(t.header.frame_id));
+  EXPECT_EQ(g.child, LiftFrameName(t.child_frame_id));
+  EXPECT_EQ(g.topic, is_static ? "/tf_static" : "/tf");
+  EXPECT_FALSE(g.message.empty());
+}
+
+// W: odom, B: base (static tree base -> camera), C: camera. odom -> base moves (stamped).
+TEST(TfLift, StaticTreeIsOneBodyAndQueriesComposeTheTransforms) {
+  Graph graph;
+  auto lift = Lift(graph);
+  lift.plan().AddStatic("base", "camera");
+  TFMessage statics;
+  statics.transforms.push_back(Tf("/base", "camera", 0, {0.1, 0, 0.5}, AboutZ(M_PI / 2)));
+  lift.Apply(statics, true, "/tf_static", 1);
+  TFMessage moving;
+  moving.transforms.push_back(Tf("odom", "base", 10 * kSec, {1, 2, 0}, AboutZ(0)));
+  moving.transforms.push_back(Tf("odom", "base", 11 * kSec, {2, 2, 0}, AboutZ(0)));
+  lift.Apply(moving, false, "/tf", 2);
+  EXPECT_EQ(lift.counts().applied, 3u);
+  EXPECT_TRUE(lift.findings().empty());
+  EXPECT_EQ(graph.body_name(graph.body_of(graph.FindFrame("camera"))), "base");
+  EXPECT_EQ(graph.body_name(graph.body_of(graph.FindFrame("odom"))), "odom");
+  // p_WoCo_W at t = 10.5 s (linear interpolation of the base halfway): (1.5, 2, 0) + (0.1, 0, 0.5).
+  const auto X_WC = graph.GetPose(PoseSpec::Of("camera").RelativeTo("odom"),
+                                  core::At(core::Stamp::Nanoseconds(10 * kSec + kSec / 2)));
+  ASSERT_TRUE(X_WC) << graph.Describe(X_WC.error());
+  const Eigen::Isometry3d X = X_WC->value.ToIsometry();
+  EXPECT_NEAR((X.translation() - Eigen::Vector3d(1.6, 2, 0.5)).norm(), 0, 1e-12);
+  // The camera's x axis is the odom y axis (a quarter turn about z).
+  EXPECT_NEAR((X.linear().col(0) - Eigen::Vector3d::UnitY()).norm(), 0, 1e-12);
+}
+
+TEST(TfLift, OwnBodyMakesAStaticTransformATimelessInterBodyPose) {
+  Graph graph;
+  auto lift = Lift(graph, {StaticMode::kOwnBody, {}});
+  EXPECT_EQ(lift.Apply(Tf("base", "laser", 0, {0, 0, 1}), true, "/tf_static", 1),
+            LiftOutcome::kApplied);
+  EXPECT_NE(graph.body_of(graph.FindFrame("laser")), graph.body_of(graph.FindFrame("base")));
+  // Updatable by a later static value (tf2 replaces it too).
+  EXPECT_EQ(lift.Apply(Tf("base", "laser", 0, {0, 0, 2}), true, "/tf_static", 2),
+            LiftOutcome::kApplied);
+  const auto p = graph.GetPosition(PoseSpec::Of("laser").RelativeTo("base"));
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->value.z(), 2.0);
+}
+
+TEST(TfLift, EveryRefusalOfTheSpecIsAFindingAndChangesNothing) {
+  Graph graph;
+  auto lift = Lift(graph);
+  lift.plan().AddStatic("base", "camera");
+  ASSERT_EQ(lift.Apply(Tf("base", "camera", 0, {0, 0, 1}), true, "/tf_static", 1),
+            LiftOutcome::kApplied);
+  ASSERT_EQ(lift.Apply(Tf("odom", "base", 5 * kSec), false, "/tf", 2), LiftOutcome::kApplied);
+  ASSERT_EQ(lift.Apply(Tf("map", "odom", 5 * kSec), false, "/tf", 2), LiftOutcome::kApplied);
+  // tf2 re-parents a frame a second publisher claims: semgraph refuses.
+  ExpectRefused(lift, graph, Tf("world", "base", 6 * kSec), false, ErrorCode::kMultiplePoseParents);
+  ExpectRefused(lift, graph, Tf("base", "map", 6 * kSec), false, ErrorCode::kPoseCycle);
+  ExpectRefused(lift, graph, Tf("base", "camera", 0, {0, 0, 2}), true,
+                ErrorCode::kConstantPoseChange);
+  ExpectRefused(lift, graph, Tf("odom", "odom", 6 * kSec), false, ErrorCode::kSelfEdge);
+  ExpectRefused(lift, graph, Tf("odom", "base", 6 * kSec, {NAN, 0, 0}), false,
+                ErrorCode::kInvalidNumber);
+  ExpectRefused(lift, graph, Tf("odom", "base", 6 * kSec, {}, {0, 0, 0, 1.1}), false,
+                ErrorCode::kInvalidRotation);
+  ExpectRefused(lift, graph, Tf("odom", "", 6 * kSec), false, ErrorCode::kInvalidName);
+  // Older than the window (10 s by default) behind the newest sample.
+  ASSERT_EQ(lift.Apply(Tf("odom", "base", 30 * kSec), false, "/tf", 3), LiftOutcome::kApplied);
+  ExpectRefused(lift, graph, Tf("odom", "base", 1 * kSec), false, ErrorCode::kStampTooOld);
+  EXPECT_EQ(lift.counts().refused, 8u);
+  EXPECT_EQ(lift.counts().transforms, 12u);
+  EXPECT_EQ(core::CheckInvariants(graph), "");
+}
+
+TEST(TfLift, TwoPathsBetweenBodiesOfTheMapAreDuplicatePosePath) {
+  // The map puts the unconnected frames arm and tip on one body ARM: base -> arm, then
+  // camera (on base) -> tip is a second path between the bodies.
+  Graph graph;
+  auto lift = Lift(graph, {StaticMode::kSameBody, {{"ARM", {"arm", "tip"}}}});
+  lift.plan().AddStatic("base", "camera");
+  ASSERT_EQ(lift.Apply(Tf("base", "camera", 0), true, "/tf_static", 1), LiftOutcome::kApplied);
+  ASSERT_EQ(lift.Apply(Tf("base", "arm", 5 * kSec), false, "/tf", 2), LiftOutcome::kApplied);
+  EXPECT_EQ(graph.body_name(graph.body_of(graph.FindFrame("arm"))), "ARM");
+  ExpectRefused(lift, graph, Tf("camera", "tip", 6 * kSec), false, ErrorCode::kDuplicatePosePath);
+}
+
+TEST(TfLift, AFrameBothStaticAndDynamicIsRefused) {
+  {  // own_body: a timeless edge then a stamped sample of it.
+    Graph graph;
+    auto lift = Lift(graph, {StaticMode::kOwnBody, {}});
+    ASSERT_EQ(lift.Apply(Tf("base", "arm", 0), true, "/tf_static", 1), LiftOutcome::kApplied);
+    ExpectRefused(lift, graph, Tf("base", "arm", 3 * kSec, {1, 0, 0}), false,
+                  ErrorCode::kStampMismatch);
+  }
+  {  // same_body: the frames are one body, so a moving value is a constant pose change.
+    Graph graph;
+    auto lift = Lift(graph);
+    lift.plan().AddStatic("base", "arm");
+    ASSERT_EQ(lift.Apply(Tf("base", "arm", 0), true, "/tf_static", 1), LiftOutcome::kApplied);
+    ExpectRefused(lift, graph, Tf("base", "arm", 3 * kSec, {1, 0, 0}), false,
+                  ErrorCode::kConstantPoseChange);
+  }
+}
+
+TEST(TfLift, ALaterStaticLinkToAFrameOnAnotherBodyIsFrameBodyMismatch) {
+  Graph graph;  // live: "camera" first seen moving, on its own body
+  auto lift = Lift(graph);
+  ASSERT_EQ(lift.Apply(Tf("odom", "camera", kSec), false, "/tf", 1), LiftOutcome::kApplied);
+  ASSERT_EQ(lift.Apply(Tf("odom", "base", kSec), false, "/tf", 1), LiftOutcome::kApplied);
+  lift.plan().AddStatic("base", "camera");
+  ExpectRefused(lift, graph, Tf("base", "camera", 0), true, ErrorCode::kFrameBodyMismatch);
+}
+
+TEST(TfLift, NearlyUnitQuaternionsAreNormalizedAndCounted) {
+  Graph graph;
+  auto lift = Lift(graph);
+  // |q|^2 = 1.0081: within tf2's 0.01, normalized (counted).
+  const Quaternion q{0, 0, 0, 1.004};
+  ASSERT_EQ(lift.Apply(Tf("odom", "base", kSec, {}, q), false, "/tf", 1), LiftOutcome::kApplied);
+  ASSERT_EQ(lift.Apply(Tf("odom", "base", 2 * kSec, {}, {0, 0, 0, 1 + 1e-9}), false, "/tf", 1),
+            LiftOutcome::kApplied);
+  EXPECT_EQ(lift.counts().normalized, 1u);
+  const auto X = graph.GetPose(PoseSpec::Of("base").RelativeTo("odom"),
+                               core::At(core::Stamp::Nanoseconds(kSec)));
+  ASSERT_TRUE(X);
+  EXPECT_NEAR((X->value.ToIsometry().linear() - Eigen::Matrix3d::Identity()).norm(), 0, 1e-15);
+}
+
+TEST(TfLift, FindingsAreGroupedByCodeParentAndChild) {
+  Graph graph;
+  auto lift = Lift(graph);
+  ASSERT_EQ(lift.Apply(Tf("odom", "base", kSec), false, "/tf", 1), LiftOutcome::kApplied);
+  for (int i = 0; i < 3; ++i) {
+    (void)lift.Apply(Tf("world", "base", (2 + i) * kSec), false, "/tf", 10 + i);
+  }
+  ASSERT_EQ(lift.findings().groups().size(), 1u);
+  const FindingGroup& g = lift.findings().groups()[0];
+  EXPECT_EQ(g.count, 3u);
+  EXPECT_EQ(g.first_log_time_ns, 10);
+  EXPECT_EQ(g.last_log_time_ns, 12);
+  EXPECT_EQ(g.first_stamp_ns, 2 * kSec);
+  EXPECT_EQ(g.last_stamp_ns, 4 * kSec);
+  EXPECT_EQ(ToJsonLine(g).substr(0, 70),
+            R"({"error": "multiple_pose_parents", "topic": "/tf", "parent": "world", )");
+}
+
+// A two-joint robot: base -(revolute z, 0.5 m up)-> link1 -(prismatic x, 1 m out)-> link2.
+constexpr const char* kRobot = R"(<robot name="r">
+  <link name="base"/><link name="link1"/><link name="link2"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="link1"/>
+    <origin xyz="0 0 0.5"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="prismatic"><parent link="link1"/><child link="link2"/>
+    <origin xyz="1 0 0"/><axis xyz="1 0 0"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint>
+</robot>)";
+
+TEST(TfLift, TransformsCoveredByTheModelAreComparedWithItsJoints) {
+  Graph graph;
+  auto robot = models::LoadUrdfString(graph, kRobot);
+  ASSERT_TRUE(robot) << robot.error().message;
+  auto lift = Lift(graph);
+  lift.CoverModel(*robot);
+  JointState js;
+  js.header.stamp = Time{3, 0};
+  js.name = {"j1", "j2"};
+  js.position = {0.3, 0.2};
+  lift.Apply(js, "/joint_states", 1);
+  ASSERT_EQ(lift.counts().joint_states, 1u);
+  // What robot_state_publisher would send at q = (0.3, 0.2), by hand.
+  EXPECT_EQ(lift.Apply(Tf("base", "link1", 3 * kSec, {0, 0, 0.5}, AboutZ(0.3)), false, "/tf", 2),
+            LiftOutcome::kCovered);
+  EXPECT_EQ(lift.Apply(Tf("link1", "link2", 3 * kSec, {1.2, 0, 0}), false, "/tf", 2),
+            LiftOutcome::kCovered);
+  // 1e-5 m off: model_mismatch; the graph is unchanged.
+  const std::string before = core::Dump(graph);
+  EXPECT_EQ(lift.Apply(Tf("link1", "link2", 3 * kSec, {1.2 + 1e-5, 0, 0}), false, "/tf", 3),
+            LiftOutcome::kMismatch);
+  EXPECT_EQ(core::Dump(graph), before);
+  ASSERT_EQ(lift.findings().groups().size(), 1u);
+  EXPECT_EQ(lift.findings().groups()[0].code.name(), "model_mismatch");
+  EXPECT_EQ(lift.counts().covered, 3u);
+  EXPECT_EQ(lift.counts().mismatched, 1u);
+  // An unknown joint name in a joint state: unknown_joint, nothing set.
+  js.name = {"j1", "nope"};
+  lift.Apply(js, "/joint_states", 4);
+  EXPECT_EQ(lift.findings().groups().back().code.name(), "unknown_joint");
+  js.name = {"j1"};
+  lift.Apply(js, "/joint_states", 5);  // 1 name, 2 positions
+  EXPECT_EQ(lift.findings().groups().back().code.name(), "invalid_number");
+}
+
+TEST(TfLift, JointStatesAreSkippedWithoutJoints) {
+  Graph graph;
+  auto lift = Lift(graph);
+  JointState js;
+  js.name = {"j"};
+  js.position = {1};
+  lift.Apply(js, "/joint_states", 1);
+  EXPECT_EQ(lift.counts().joint_states_skipped, 1u);
+  EXPECT_TRUE(lift.findings().empty());
+}
+
+}  // namespace
+}  // namespace semgraph::ros
