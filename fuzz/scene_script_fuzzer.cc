@@ -398,7 +398,7 @@ struct Direct {
     } else if (op.at) {
       *policy = core::At{core::Stamp::Nanoseconds(at), h, nb};
     } else if (op.latest_common) {
-      *policy = core::LatestCommon{nb};
+      *policy = core::LatestCommon{h, nb};
     } else {
       *policy = core::Latest{nb};
     }
@@ -415,13 +415,23 @@ struct Direct {
     core::TimePolicy policy = core::Latest{};
     std::optional<core::TimeTravel> travel;
     if (!PolicyOf(op, &policy, &travel)) {
+      // The names first (a time travel's fixed frame among them), then invalid_number.
       const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
+      const core::TimeTravel travel_probe{core::Stamp{}, core::Stamp{}, op.fixed,
+                                          core::Duration::Nanoseconds(-1)};
+      const auto pose_probe = [&](auto&& get) {
+        if (op.ref_at) {
+          Take(get(travel_probe));
+        } else {
+          Take(get(probe));
+        }
+      };
       if (op.query == script::QueryKind::kPose) {
-        Take(g.GetPose(ps, probe));
+        pose_probe([&](const auto& p) { return g.GetPose(ps, p); });
       } else if (op.query == script::QueryKind::kPosition) {
-        Take(g.GetPosition(ps, probe));
+        pose_probe([&](const auto& p) { return g.GetPosition(ps, p); });
       } else if (op.query == script::QueryKind::kOrientation) {
-        Take(g.GetOrientation(ps, probe));
+        pose_probe([&](const auto& p) { return g.GetOrientation(ps, p); });
       } else if (op.query == script::QueryKind::kAngularVelocity) {
         Take(g.GetAngularVelocity(ts, probe));
       } else {

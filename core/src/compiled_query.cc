@@ -227,7 +227,7 @@ CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValu
 template <coord::Backend B>
 CompiledTwist<B>::CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
                                 const PoseTwistPlan& plan)
-    : CompiledQuery<B>(t, values), semantics_(plan.semantics) {
+    : CompiledQuery<B>(t, values), semantics_(plan.semantics), from_poses_(true) {
   ForEachPoseDerivativeStep(t, plan,
                             [&](const TwistStep<ForestChain>& s) { AddStep(t, values, s); });
 }
@@ -255,8 +255,9 @@ template <coord::Backend B>
 ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
                                      TimeReport& report) const noexcept {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  const TimePolicy used = from_poses_ ? internal::WithoutExtrapolation(policy) : policy;
   const ErrorCode code = this->RunTimed(
-      policy, report, [&](const internal::FlatSource<B>& src) { return Accumulate(src, v, w); });
+      used, report, [&](const internal::FlatSource<B>& src) { return Accumulate(src, v, w); });
   if (code == ErrorCode::kOk) {
     v_DCe_R = v;
     w_DC_R = w;

@@ -376,7 +376,9 @@ std::string QueryReasonOf(const topology::SceneTopology& t, const QueryError& e,
            (e.time.twist_edge ? std::string(names.name(e.other)) : frame_text(e.other));
   };
   std::string reason;
-  if (e.time.fixed_frame && e.code == ErrorCode::kUnknownFrame) {
+  if (e.time.fixed_frame && e.code == ErrorCode::kInvalidName) {
+    reason = "the name of the time travel's fixed frame is missing or invalid";
+  } else if (e.time.fixed_frame && e.code == ErrorCode::kUnknownFrame) {
     reason = "the fixed frame of the time travel " + (named ? "{" + name + "} " : std::string()) +
              "does not exist";
   } else if (e.time.fixed_frame && e.code == ErrorCode::kNoPosePath) {

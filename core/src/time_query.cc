@@ -86,6 +86,46 @@ std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& pl
   return std::nullopt;
 }
 
+// The frame a time travel's fixed frame must share a tree with: the query's reference frame.
+NameId RefFrameOf(const semantics::PoseSemantics& q) { return q.ref_orientation.id(); }
+NameId RefFrameOf(const semantics::PositionSemantics& q) { return q.ref_point.id(); }
+NameId RefFrameOf(const semantics::OrientationSemantics& q) { return q.ref_orientation.id(); }
+
+// A time travel's fixed frame {x} is resolved with the query's other frames (docs/time.md §4),
+// in the rules' order: invalid_name (the query's names, then {x}) -> invalid_number (the
+// horizon) -> unknown_frame (the query's, then {x}) -> the plan's other errors -> no_pose_path
+// ({x} outside the query's tree), which comes before the caller's representation_constraint.
+template <class Plan>
+std::optional<QueryError> ResolveFixedFrame(const topology::SceneTopology& t,
+                                            const Expected<Plan, QueryError>& plan,
+                                            const TimeTravel& travel, FrameIndex& x) noexcept {
+  const auto plan_fails_with = [&](ErrorCode code) { return !plan && plan.error().code == code; };
+  QueryError fixed;
+  fixed.time.fixed_frame = true;
+  if (plan_fails_with(ErrorCode::kInvalidName)) return plan.error();
+  if (!semantics::ValidateName(travel.fixed_frame)) {
+    fixed.code = ErrorCode::kInvalidName;
+    return fixed;
+  }
+  if (travel.max_extrapolation.nanoseconds() < 0) return InvalidHorizon();
+  if (plan_fails_with(ErrorCode::kUnknownFrame)) return plan.error();
+  x = t.FindFrame(travel.fixed_frame);
+  if (!x.is_valid()) {
+    fixed.code = ErrorCode::kUnknownFrame;
+    fixed.name = t.names().Find(travel.fixed_frame);
+    return fixed;
+  }
+  if (!plan) return plan.error();
+  const FrameIndex b = t.FrameOfName(RefFrameOf(plan->semantics));
+  if (!t.SameTree(x, b)) {
+    fixed.code = ErrorCode::kNoPosePath;
+    fixed.name = t.frame_name_id(x);
+    fixed.other = t.frame_name_id(b);
+    return fixed;
+  }
+  return std::nullopt;
+}
+
 // GetPose / GetPosition / GetOrientation at a policy, one body for the three parts: the plan's
 // and the policy's errors, the backend's check where the part has one (not a position), then
 // the evaluator under the policy: run(report, eval) calls eval(source) at the policy's time.
@@ -170,32 +210,16 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
 
 // ====================================================================== time travel
 
-// X = PoseCoord((e,[a]), (f,[b]), [r]) with the point side at t1 and the reference side at t2:
+// X = PoseCoord((e,[a]), (f,[b]), [r]) with the point side at t1 and the reference side at t2,
+// through {x} (resolved and checked by ResolveFixedFrame):
 //   Y1 = (e,[a]) wrt {x} in [x] at t1;  Y2 = {x} wrt (f,[b]) in [b] at t2;
 //   X in [b] = Y2 * Y1 (one chain composition), then [b] -> [r] with R_RB at t2.
 template <coord::Backend B>
-std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
-                                                        FrameIndex r, const TimeTravel& travel,
-                                                        typename B::PoseCoords& X, TimeReport& report) const noexcept {
-  if (travel.max_extrapolation.nanoseconds() < 0) return InvalidHorizon();
-  QueryError fixed_error;
-  fixed_error.time.fixed_frame = true;
-  if (!semantics::ValidateName(travel.fixed_frame)) {
-    fixed_error.code = ErrorCode::kInvalidName;
-    return fixed_error;
-  }
-  const FrameIndex x = topology_.FindFrame(travel.fixed_frame);
-  if (!x.is_valid()) {
-    fixed_error.code = ErrorCode::kUnknownFrame;
-    fixed_error.name = topology_.names().Find(travel.fixed_frame);
-    return fixed_error;
-  }
-  if (!topology_.SameTree(x, b)) {
-    fixed_error.code = ErrorCode::kNoPosePath;
-    fixed_error.name = topology_.frame_name_id(x);
-    fixed_error.other = topology_.frame_name_id(b);
-    return fixed_error;
-  }
+std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f,
+                                                        FrameIndex b, FrameIndex r, FrameIndex x,
+                                                        const TimeTravel& travel,
+                                                        typename B::PoseCoords& X,
+                                                        TimeReport& report) const noexcept {
   const auto side = [&](Stamp t, const PoseSteps<ForestChain>& steps, typename B::PoseCoords& Y,
                         TimeReport& rep) -> std::optional<QueryError> {
     typename B::PoseCoords X = B::Identity();
@@ -245,7 +269,8 @@ template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
                                                                        const TimeTravel& travel) const noexcept {
   auto plan = PlanPose(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, travel.max_extrapolation.nanoseconds() >= 0)) return Unexpected{*e};
+  FrameIndex x;
+  if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
   if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
     QueryError e;
     e.code = ok.error().code;
@@ -256,7 +281,7 @@ QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const Po
   const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
   Timed<Pose> out{Pose{q, {}}, {}};
   if (auto e = TimeTravelPose(F(q.point.id()), F(q.orientation.id()), F(q.ref_point.id()), F(q.ref_orientation.id()),
-                              F(q.coordinate_frame.id()), travel, out.value.value, out.time)) {
+                              F(q.coordinate_frame.id()), x, travel, out.value.value, out.time)) {
     return Unexpected{*e};
   }
   return out;
@@ -266,12 +291,14 @@ template <coord::Backend B>
 QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
                                                                const TimeTravel& travel) const noexcept {
   auto plan = PlanPosition(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, travel.max_extrapolation.nanoseconds() >= 0)) return Unexpected{*e};
+  FrameIndex x;
+  if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
   const auto& q = plan->semantics;
   const FrameIndex e = topology_.FrameOfName(q.point.id()), f = topology_.FrameOfName(q.ref_point.id());
   typename B::PoseCoords X;
   TimeReport report;
-  if (auto err = TimeTravelPose(e, e, f, f, topology_.FrameOfName(q.coordinate_frame.id()), travel, X, report)) {
+  const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
+  if (auto err = TimeTravelPose(e, e, f, f, r, x, travel, X, report)) {
     return Unexpected{*err};
   }
   return Timed<coord::Position>{coord::Position{q, B::TranslationOf(X)}, report};
@@ -281,7 +308,8 @@ template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec, const TimeTravel& travel) const noexcept {
   auto plan = PlanOrientation(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, travel.max_extrapolation.nanoseconds() >= 0)) return Unexpected{*e};
+  FrameIndex x;
+  if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
   if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
     QueryError e;
     e.code = ok.error().code;
@@ -292,7 +320,8 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
   const FrameIndex a = topology_.FrameOfName(q.orientation.id()), b = topology_.FrameOfName(q.ref_orientation.id());
   typename B::PoseCoords X;
   TimeReport report;
-  if (auto err = TimeTravelPose(a, a, b, b, topology_.FrameOfName(q.coordinate_frame.id()), travel, X, report)) {
+  const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
+  if (auto err = TimeTravelPose(a, a, b, b, r, x, travel, X, report)) {
     return Unexpected{*err};
   }
   return Timed<Orientation>{Orientation{q, B::RotationOf(X)}, report};
@@ -316,7 +345,8 @@ QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec& spec
   if (source == TwistSource::kPoses) {
     auto plan = PlanPoseTwist(topology_, spec);
     if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
-    if (auto e = RunTimed(policy, report, recorder, [&](TimeContext& tc) {
+    const TimePolicy no_horizon = internal::WithoutExtrapolation(policy);  // nothing extrapolated
+    if (auto e = RunTimed(no_horizon, report, recorder, [&](TimeContext& tc) {
           const internal::ForestSource<B> src(topology_, values_, &tc);
           v.setZero();
           w.setZero();
@@ -481,10 +511,9 @@ Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec
 }
 
 #define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                                        \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex, FrameIndex, FrameIndex, FrameIndex,  \
-                                                                   FrameIndex, const TimeTravel&,                  \
-                                                                   typename B::PoseCoords&, TimeReport&)           \
-      const noexcept;                                                                                             \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(                                               \
+      FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, const TimeTravel&,                  \
+      typename B::PoseCoords&, TimeReport&) const noexcept;                                                       \
   template QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec&, const TimePolicy&,       \
                                                                       TwistSource, internal::EdgeRecorder*)       \
       const noexcept;                                                                                             \

@@ -140,8 +140,8 @@ TimeQuery TimeQueryArgs(const char* fn, py::handle at, py::handle max_extrapolat
     }
     if (mode != kAt) throw py::value_error(f + "(): time travel needs at=<time> for the point side");
   }
-  if (!max_extrapolation.is_none() && mode != kAt) {
-    throw py::value_error(f + "(): max_extrapolation= needs at=<time>");
+  if (!max_extrapolation.is_none() && mode != kAt && mode != kLatestCommon) {
+    throw py::value_error(f + "(): max_extrapolation= needs at=<time> or at='latest_common'");
   }
   const core::Duration horizon = max_extrapolation.is_none()
                                      ? core::Duration{}
@@ -156,7 +156,7 @@ TimeQuery TimeQueryArgs(const char* fn, py::handle at, py::handle max_extrapolat
   t.kind = TimeQuery::Kind::kPolicy;
   switch (mode) {
     case kAt: t.policy = core::At{*time, horizon, nb}; break;
-    case kLatestCommon: t.policy = core::LatestCommon{nb}; break;
+    case kLatestCommon: t.policy = core::LatestCommon{horizon, nb}; break;
     default: t.policy = core::Latest{nb}; break;
   }
   return t;

@@ -12,7 +12,7 @@
 //   (none)                         the untimed query (each edge's current value; no report)
 //   at="latest"  | not_before=t    Latest{not_before}
 //   at=t [, max_extrapolation=h]   At{t, h, not_before}
-//   at="latest_common"             LatestCommon{not_before}
+//   at="latest_common" [, max_extrapolation=h]   LatestCommon{h, not_before}
 //   at=t, ref_at=t2, fixed="f"     TimeTravel{t, t2, "f", h, not_before} (pose kinds only)
 // Cost: O(1); no allocation.
 #pragma once

@@ -146,6 +146,25 @@ def test_extrapolation_is_refused_unless_allowed_and_then_integrates_the_twist()
     assert (e.value.code, e.value.argument) == ("invalid_number", "max_extrapolation")
 
 
+def test_latest_common_with_a_horizon_integrates_back_before_the_first_sample():
+    # z (static at (0, 0, 1) in w) has samples at -1 and -0.5 s; b's start at 0: latest common
+    # of b wrt z is t* = -0.5 s, half a second before b's first sample.
+    g = helix_graph()
+    add_samples(g, "z", "Z", [-1.0, -0.5], lambda t: (np.eye(3), np.array([0.0, 0.0, 1.0])))
+    with pytest.raises(semgraph.QueryError) as e:
+        g.pose(of="b", wrt="z", at="latest_common")
+    assert e.value.code == "extrapolation"
+    g.add_twist(point="b", ref_body="W", expressed_in="b", linear=V_WB_b, angular=W_WB_b)
+    # The helix is a constant screw motion: integrated back from 0 s it is X_WB(-0.5) exactly.
+    X = g.pose(of="b", wrt="z", at="latest_common", max_extrapolation=0.6)
+    assert_pose(X, *relative((np.eye(3), np.array([0.0, 0.0, 1.0])), X_WB(-0.5)), tol=1e-11)
+    assert X.time.time == -0.5
+    assert X.time.extrapolated
+    with pytest.raises(semgraph.QueryError) as e:  # the gap (0.5 s) beyond the horizon
+        g.pose(of="b", wrt="z", at="latest_common", max_extrapolation=0.4)
+    assert e.value.code == "extrapolation"
+
+
 def test_latest_latest_common_and_time_travel():
     g = helix_graph()
     add_samples(g, "a", "A", A_STAMPS, X_WA)

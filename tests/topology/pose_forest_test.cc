@@ -561,6 +561,39 @@ TEST(PoseForest, UsesThirtyTwoBytesPerNode) {
   EXPECT_LE(forest.ApproximateBytes(), 32u * 1024);  // reserve() may round up a little
 }
 
+TEST(PoseForest, TreeKeyAndTreeSizeFollowLinksCutsAndReroots) {
+  // 0 -> 1 -> 2 (three nodes) and 3 -> 4 (two): linking the smaller under the larger keeps the
+  // larger tree's key for all five; a reroot keeps it; a cut gives the parts their sizes and
+  // keeps the key for one of them.
+  PoseForest forest = WithNodes(5);
+  forest.Link(F(0), F(1));
+  forest.Link(F(1), F(2));
+  forest.Link(F(3), F(4));
+  const FrameIndex big = forest.TreeKey(F(2));
+  EXPECT_EQ(forest.TreeKey(F(0)), big);
+  EXPECT_NE(forest.TreeKey(F(3)), big);
+  EXPECT_EQ(forest.TreeSize(F(1)), 3u);
+  EXPECT_EQ(forest.TreeSize(F(4)), 2u);
+  forest.Link(F(2), F(3));
+  for (std::uint32_t v = 0; v < 5; ++v) {
+    EXPECT_EQ(forest.TreeKey(F(v)), big) << v;
+    EXPECT_EQ(forest.TreeSize(F(v)), 5u) << v;
+  }
+  forest.Reroot(F(4));
+  EXPECT_EQ(forest.Root(F(0)), F(4));
+  EXPECT_EQ(forest.TreeKey(F(0)), big);
+  ASSERT_TRUE(forest.CheckInvariants());
+  // After the reroot 1 is the parent of 0: cutting 0 leaves {0} and {1, 2, 3, 4}.
+  ASSERT_EQ(forest.parent(F(0)), F(1));
+  forest.Cut(F(0));
+  EXPECT_EQ(forest.TreeSize(F(0)), 1u);
+  EXPECT_EQ(forest.TreeSize(F(3)), 4u);
+  EXPECT_NE(forest.TreeKey(F(0)), forest.TreeKey(F(3)));
+  EXPECT_TRUE(forest.TreeKey(F(0)) == big || forest.TreeKey(F(3)) == big);
+  EXPECT_EQ(forest.Root(F(2)), F(4));
+  ASSERT_TRUE(forest.CheckInvariants());
+}
+
 TEST(PoseForestDeathTest, LinkThatWouldCloseACycleAborts) {
   PoseForest forest = WithNodes(3);
   forest.Link(F(0), F(1));

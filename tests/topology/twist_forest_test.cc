@@ -306,6 +306,75 @@ TEST(TwistForest, QueriesDoNotAllocate) {
   EXPECT_GT(total, 0u);
 }
 
+TEST(TwistForest, ForEachEdgeListsEveryEdgeOnceAndClearEmptiesButKeepsMemory) {
+  TwistForest forest;
+  forest.Link(E(7), B(1), B(2));
+  forest.Link(E(3), B(3), B(2));
+  forest.Link(E(9), B(4), B(5));
+  std::map<TwistEdgeIndex, TwistEdgeEnds> seen;
+  forest.ForEachEdge([&](TwistEdgeIndex e, BodyIndex tail, BodyIndex head) {
+    EXPECT_TRUE(seen.emplace(e, TwistEdgeEnds{tail, head}).second) << "edge listed twice";
+  });
+  const std::map<TwistEdgeIndex, TwistEdgeEnds> expected{
+      {E(7), {B(1), B(2)}}, {E(3), {B(3), B(2)}}, {E(9), {B(4), B(5)}}};
+  EXPECT_EQ(seen, expected);
+  // Unlinked edges are gone from the listing and from FindEdge; their lone bodies too.
+  forest.Unlink(E(9));
+  EXPECT_EQ(forest.FindEdge(E(9)), nullptr);
+  EXPECT_FALSE(forest.Contains(B(4)));
+  std::size_t count = 0;
+  forest.ForEachEdge([&](TwistEdgeIndex, BodyIndex, BodyIndex) { ++count; });
+  EXPECT_EQ(count, 2u);
+  const std::size_t bytes = forest.ApproximateBytes();
+  EXPECT_GT(bytes, sizeof(TwistForest));
+  forest.Clear();
+  EXPECT_TRUE(forest.empty());
+  EXPECT_EQ(forest.num_bodies(), 0u);
+  EXPECT_FALSE(forest.Contains(B(2)));
+  EXPECT_FALSE(forest.Connected(B(1), B(3)));
+  EXPECT_EQ(forest.ApproximateBytes(), bytes);  // the memory is kept
+  EXPECT_TRUE(forest.CheckInvariants());
+  // And the forest works again after the clear.
+  forest.Link(E(7), B(2), B(1));
+  EXPECT_TRUE(forest.Connected(B(1), B(2)));
+  const BodyIndex child = forest.parent(B(1)).is_valid() ? B(1) : B(2);
+  EXPECT_EQ(forest.parent_edge(child), E(7));
+}
+
+TEST(TwistForest, ReservationsMakeTheNextLinksAndMergesAllocationFree) {
+  // ReserveLink: one more Link, into a forest whose maps are full enough to grow otherwise.
+  TwistForest forest;
+  for (std::uint32_t i = 1; i < 64; ++i) forest.Link(E(i), B(i), B(0));
+  for (std::uint32_t i = 64; i < 128; ++i) {
+    forest.ReserveLink();
+    const std::size_t before = AllocationCounter::total();
+    forest.Link(E(i), B(i), B(i - 1));
+    ASSERT_EQ(AllocationCounter::total(), before) << "Link after ReserveLink allocated at " << i;
+  }
+  // ReserveMore(bodies, edges): that many Links.
+  forest.ReserveMore(40, 40);
+  {
+    const std::size_t before = AllocationCounter::total();
+    for (std::uint32_t i = 0; i < 40; ++i) forest.Link(E(1000 + i), B(1000 + i), B(i));
+    EXPECT_EQ(AllocationCounter::total(), before);
+  }
+  // ReserveMerge: a whole merge, whichever side keeps its storage.
+  for (const std::uint32_t other_size : {5u, 300u}) {
+    TwistForest a = forest, b;
+    for (std::uint32_t i = 0; i < other_size; ++i) {
+      b.Link(E(5000 + i), B(5000 + i), B(5000 + i + 1));
+    }
+    ASSERT_TRUE(a.CanMerge(b));
+    a.ReserveMerge(b);
+    const std::size_t before = AllocationCounter::total();
+    a.Merge(std::move(b));
+    EXPECT_EQ(AllocationCounter::total(), before) << other_size;
+    EXPECT_EQ(a.num_edges(), forest.num_edges() + other_size);
+    EXPECT_TRUE(a.CheckInvariants());
+  }
+  EXPECT_TRUE(forest.CheckInvariants());
+}
+
 TEST(TwistForest, MatchesNaiveModelUnderRandomLinkUnlinkAndMerge) {
   constexpr std::uint32_t kBodies = 30;
   for (const std::uint32_t seed : {1u, 2u, 3u}) {

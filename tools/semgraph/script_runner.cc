@@ -409,7 +409,7 @@ bool TimeOf(const ScriptOp& op, QueryTime* out, std::string* reason) {
   } else if (op.at == AtKind::kTime) {
     out->policy = core::At{core::Stamp::Nanoseconds(*at), horizon, not_before};
   } else if (op.at == AtKind::kLatestCommon) {
-    out->policy = core::LatestCommon{not_before};
+    out->policy = core::LatestCommon{horizon, not_before};
   } else {
     out->policy = core::Latest{not_before};
   }
@@ -473,15 +473,18 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
   QueryTime time;
   if (std::string reason; !TimeOf(op, &time, &reason)) {
     // The query's order: invalid_name before invalid_number. A negative horizon makes the graph
-    // check the names the kind uses and stop at invalid_number.
+    // check the names the kind uses (a time travel's fixed frame too) and stop at invalid_number.
     const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
+    const core::TimeTravel travel_probe{core::Stamp{}, core::Stamp{}, op.fixed,
+                                        core::Duration::Nanoseconds(-1)};
+    const auto pose_probe = [&](auto&& get) { return op.ref_at ? get(travel_probe) : get(probe); };
     core::QueryError error;
     if (op.query_kind == QueryKind::kPose) {
-      error = graph.GetPose(pose_spec, probe).error();
+      error = pose_probe([&](const auto& p) { return graph.GetPose(pose_spec, p).error(); });
     } else if (op.query_kind == QueryKind::kPosition) {
-      error = graph.GetPosition(pose_spec, probe).error();
+      error = pose_probe([&](const auto& p) { return graph.GetPosition(pose_spec, p).error(); });
     } else if (op.query_kind == QueryKind::kOrientation) {
-      error = graph.GetOrientation(pose_spec, probe).error();
+      error = pose_probe([&](const auto& p) { return graph.GetOrientation(pose_spec, p).error(); });
     } else if (op.query_kind == QueryKind::kAngularVelocity) {
       error = graph.GetAngularVelocity(twist_spec, probe).error();
     } else {

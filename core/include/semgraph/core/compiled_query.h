@@ -201,7 +201,8 @@ class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
   CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);
-  /// Twist source `poses`: the pose edges' derivatives (time_plan.h).
+  /// Twist source `poses`: the pose edges' derivatives (time_plan.h); an Evaluate with a policy
+  /// ignores its horizon (nothing is extrapolated from poses).
   CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   /// v_DCe_R: velocity of the point of C at e relative to D; w_DC_R: angular velocity; in [r].
@@ -223,6 +224,7 @@ class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
 
   semantics::TwistSemantics semantics_;
   std::vector<TwistStep<typename CompiledQuery<B>::Chain>> steps_;
+  bool from_poses_ = false;  ///< twist source `poses`: never extrapolates (the horizon is ignored)
 };
 
 extern template class CompiledQuery<coord::QuaternionBackend>;

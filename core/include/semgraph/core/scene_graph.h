@@ -443,8 +443,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                      Eval&& eval) const noexcept;
   // run(report, eval): RunTimed at the policy, eval(ForestSource) at its time (pose queries).
   auto AtPolicy(const TimePolicy& policy) const noexcept;
-  std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b, FrameIndex r,
-                                           const TimeTravel& travel, typename B::PoseCoords& X,
+  std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
+                                           FrameIndex r, FrameIndex x, const TimeTravel& travel,
+                                           typename B::PoseCoords& X,
                                            TimeReport& report) const noexcept;
   QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
                                               internal::EdgeRecorder* recorder) const noexcept;

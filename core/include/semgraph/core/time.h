@@ -10,7 +10,8 @@
 //                  duplicate-stamp policy (replace | reject), per-edge sample capacity
 //                  (default kDefaultSampleCapacity = 1024; preallocated when an edge becomes
 //                  stamped, so stamped updates never allocate)
-//   Latest, At, LatestCommon       the policies of one query (TimePolicy = one of them)
+//   Latest, At, LatestCommon       the policies of one query (TimePolicy = one of them); At
+//                  and LatestCommon take a horizon (max_extrapolation)
 //   TimeTravel     point side at one time, reference side at another, through a fixed frame
 //   TwistSource    twists from the twist edges (default) or by differentiating the pose history
 //   TimeReport     the time answered, oldest / newest stamps read, extrapolated or not
@@ -114,10 +115,15 @@ struct At {
   Duration max_extrapolation;  ///< 0: never extrapolate; negative: invalid_number
   std::optional<Stamp> not_before;
 };
-/// At the newest time all used stamped edges have (tf2's Time(0)).
+/// At the newest time all used stamped edges have (tf2's Time(0)), t*; then as At{t*}: an edge
+/// whose samples start after t* is extrapolated (integrated back) up to max_extrapolation.
 struct LatestCommon {
   constexpr explicit LatestCommon(std::optional<Stamp> not_before_ = std::nullopt) noexcept
       : not_before(not_before_) {}
+  constexpr explicit LatestCommon(Duration max_extrapolation_,
+                                  std::optional<Stamp> not_before_ = std::nullopt) noexcept
+      : max_extrapolation(max_extrapolation_), not_before(not_before_) {}
+  Duration max_extrapolation;  ///< 0: never extrapolate; negative: invalid_number
   std::optional<Stamp> not_before;
 };
 using TimePolicy = std::variant<Latest, At, LatestCommon>;
@@ -139,7 +145,8 @@ struct TimeTravel {
 /// Where a twist query's twists come from.
 enum class TwistSource : std::uint8_t {
   kTwists,  ///< the twist edges (the default)
-  kPoses,   ///< the time derivative of the pose history (no twist edge read)
+  kPoses,   ///< the time derivative of the pose history (no twist edge read); never
+            ///< extrapolates: the policy's horizon is ignored
 };
 
 /// What a timed answer reports. Fields that do not apply are empty.

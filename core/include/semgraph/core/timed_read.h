@@ -10,7 +10,8 @@
 //                        edge holds its nearest sample and a pose edge is integrated with its
 //                        screw twist at the nearest sample (ExtrapolationTwist, evaluate.h),
 //                        else an extrapolation failure naming the edge and its range
-//   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t
+//   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t;
+//                        the query's other edges read with no horizon (WithoutExtrapolation)
 // The context collects what the answer reports (oldest / newest stamp read, extrapolated), the
 // minimum newest stamp of the stamped edges read (latest common), the first extrapolation and
 // the first stale failure, and optionally records each edge read (the diagnostic call).
@@ -312,11 +313,21 @@ struct PolicyParts {
     p.not_before = a->not_before;
   } else if (const auto* c = std::get_if<LatestCommon>(&policy)) {
     p.latest_common = true;
+    p.horizon = c->max_extrapolation.nanoseconds();
     p.not_before = c->not_before;
   } else {
     p.not_before = std::get<Latest>(policy).not_before;
   }
   return p;
+}
+
+/// The policy of a twist from poses (TwistSource::kPoses): nothing is extrapolated, so the
+/// horizon is ignored (zero); a negative one is kept, as it is still invalid_number.
+[[nodiscard]] inline TimePolicy WithoutExtrapolation(TimePolicy policy) noexcept {
+  const auto ignore = [](Duration& h) { h = std::min(h, Duration{}); };
+  if (auto* a = std::get_if<At>(&policy)) ignore(a->max_extrapolation);
+  if (auto* c = std::get_if<LatestCommon>(&policy)) ignore(c->max_extrapolation);
+  return policy;
 }
 
 /// Runs `eval(TimeContext&)` (one evaluation of a plan) under the policy: latest common first
