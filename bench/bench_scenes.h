@@ -23,6 +23,8 @@
 // mismatch or on an unexpected error code.
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -35,9 +37,6 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/scene_graph.h"
 
@@ -49,9 +48,9 @@ namespace semgraph_bench {
 
 using semgraph::core::CompiledPose;
 using semgraph::core::CompiledTwist;
+using semgraph::core::ErrorCode;
 using semgraph::core::PoseCache;
 using semgraph::core::PoseHandle;
-using semgraph::core::ErrorCode;
 using semgraph::core::PoseSpec;
 using semgraph::core::SceneGraph;
 using semgraph::core::TwistSpec;
@@ -114,8 +113,8 @@ inline Link RandomLink(std::mt19937_64& rng) {
 
 /// Links 1..64 of every chain (index 0 = link f0 <- f1), plus the extras' poses.
 struct ChainPoses {
-  std::vector<Link> links;  // kMaxDepth
-  Link p0_in_f0, pd_in_fd;  // the extra frames of the "changes" scene
+  std::vector<Link> links;                        // kMaxDepth
+  Link p0_in_f0, pd_in_fd;                        // the extra frames of the "changes" scene
   std::vector<Eigen::Vector3d> twist_v, twist_w;  // per twist edge, in [head]
 };
 
@@ -184,12 +183,13 @@ inline void CheckPose(const char* what, int d, const Eigen::Matrix3d& R, const E
   const double dr = RotationDistance(R, R_ref), dp = (p - p_ref).cwiseAbs().maxCoeff();
   if (!(dr <= kTolerance && dp <= kTolerance)) {
     char buf[256];
-    std::snprintf(buf, sizeof(buf), "%s at d=%d differs from the reference: |dR|=%g |dp|=%g", what, d,
-                  dr, dp);
+    std::snprintf(buf, sizeof(buf), "%s at d=%d differs from the reference: |dR|=%g |dp|=%g", what,
+                  d, dr, dp);
     Fail(buf);
   }
 }
-inline void CheckVector(const char* what, int d, const Eigen::Vector3d& v, const Eigen::Vector3d& ref) {
+inline void CheckVector(const char* what, int d, const Eigen::Vector3d& v,
+                        const Eigen::Vector3d& ref) {
   const double dv = (v - ref).cwiseAbs().maxCoeff();
   if (!(dv <= kTolerance)) {
     char buf[256];
@@ -201,7 +201,9 @@ inline void CheckOk(const semgraph::core::BuildResult& r, const char* what) {
   if (!r) Fail(std::string(what) + ": " + r.error().message);
 }
 
-inline Eigen::Matrix3d ToMatrix(const QuatB::PoseCoords& X) { return X.rotation.toRotationMatrix(); }
+inline Eigen::Matrix3d ToMatrix(const QuatB::PoseCoords& X) {
+  return X.rotation.toRotationMatrix();
+}
 inline Eigen::Matrix3d ToMatrix(const HomB::PoseCoords& X) { return X.linear(); }
 inline Eigen::Vector3d Translation(const QuatB::PoseCoords& X) { return X.translation; }
 inline Eigen::Vector3d Translation(const HomB::PoseCoords& X) { return X.translation(); }
@@ -226,9 +228,10 @@ struct ChainScene {
     mid = frames[static_cast<std::size_t>((d + 1) / 2)];
     for (int i = 1; i <= d; ++i) {
       const Link& l = poses.links[static_cast<std::size_t>(i - 1)];
-      CheckOk(graph.AddPose(PoseSpec::Of(frames[i], bodies[i]).RelativeTo(frames[i - 1], bodies[i - 1]),
-                            l.q, l.p),
-              "chain AddPose");
+      CheckOk(
+          graph.AddPose(PoseSpec::Of(frames[i], bodies[i]).RelativeTo(frames[i - 1], bodies[i - 1]),
+                        l.q, l.p),
+          "chain AddPose");
     }
     if (extras) {
       CheckOk(graph.AddPose(PoseSpec::Of(p0, bodies[0]).RelativeTo(frames[0], bodies[0]),
@@ -239,8 +242,9 @@ struct ChainScene {
               "extra pd");
     }
     for (int i = 0; i < twist_edges; ++i) {
-      CheckOk(graph.AddTwist(TwistSpec::Of(frames[i + 1]).RelativeTo(bodies[i]).ExpressedIn(frames[i + 1]),
-                             poses.twist_v[i], poses.twist_w[i]),
+      CheckOk(graph.AddTwist(
+                  TwistSpec::Of(frames[i + 1]).RelativeTo(bodies[i]).ExpressedIn(frames[i + 1]),
+                  poses.twist_v[i], poses.twist_w[i]),
               "chain AddTwist");
     }
   }
@@ -249,7 +253,11 @@ struct ChainScene {
   PoseSpec F2FSpec() const { return PoseSpec::Of(frames[d]).RelativeTo(frames[0]); }
   /// (pd, [fd])|Ld wrt (p0, [f0])|L0 in [mid].
   PoseSpec ChangesSpec() const {
-    return PoseSpec::Of(frames[d]).RelativeTo(frames[0]).ExpressedIn(mid).AtPoint(pd).RelativeToPoint(p0);
+    return PoseSpec::Of(frames[d])
+        .RelativeTo(frames[0])
+        .ExpressedIn(mid)
+        .AtPoint(pd)
+        .RelativeToPoint(p0);
   }
   /// Twist of Lk wrt L0 at the origin of fk, in [f0] (k = d).
   TwistSpec TwistQuerySpec() const {
@@ -264,7 +272,8 @@ struct ChainScene {
 };
 
 /// Reference pose (R, p) of f_j in f_0 for j = 0..d (top-down composition).
-inline void ReferenceChain(int d, std::vector<Eigen::Matrix3d>& R, std::vector<Eigen::Vector3d>& p) {
+inline void ReferenceChain(int d, std::vector<Eigen::Matrix3d>& R,
+                           std::vector<Eigen::Vector3d>& p) {
   R.assign(1, Eigen::Matrix3d::Identity());
   p.assign(1, Eigen::Vector3d::Zero());
   for (int i = 0; i < d; ++i) {
@@ -292,7 +301,8 @@ void VerifyF2F(const ChainScene<B>& s) {
   CheckPose("compiled_pose_f2f", s.d, ToMatrix(X), Translation(X), R.back(), p.back());
   auto one = s.graph.GetPose(s.F2FSpec());
   if (!one) Fail("GetPose f2f: " + s.graph.Describe(one.error(), s.F2FSpec()));
-  CheckPose("oneshot_by_names", s.d, ToMatrix(one->value), Translation(one->value), R.back(), p.back());
+  CheckPose("oneshot_by_names", s.d, ToMatrix(one->value), Translation(one->value), R.back(),
+            p.back());
 }
 
 /// Verifies the changes query: position of pd wrt p0, orientation of [fd] wrt [f0], in [mid].
@@ -331,7 +341,8 @@ inline void VerifyTwist(const ChainScene<QuatB>& s) {
   }
   auto c = s.graph.CompileTwist(s.TwistQuerySpec());
   if (!c) Fail("CompileTwist: " + s.graph.Describe(c.error(), s.TwistQuerySpec()));
-  if (c->num_twist_edges() != static_cast<std::size_t>(s.d)) Fail("compiled twist: wrong number of edges");
+  if (c->num_twist_edges() != static_cast<std::size_t>(s.d))
+    Fail("compiled twist: wrong number of edges");
   Eigen::Vector3d v, w;
   if (c->Evaluate(v, w) != ErrorCode::kOk) Fail("compiled twist Evaluate");
   CheckVector("compiled_twist v", s.d, v, v_ref);
@@ -346,7 +357,7 @@ inline void VerifyTwist(const ChainScene<QuatB>& s) {
 
 /// The random tree t0..tN: parent[i] uniform in [0, i) for i >= 1; names and poses pregenerated.
 struct RandomTree {
-  std::uint32_t n = 0;  // inserted frames t1..tN
+  std::uint32_t n = 0;                       // inserted frames t1..tN
   std::vector<std::uint32_t> parent, depth;  // index 0 = root
   std::vector<std::string> frames, bodies;   // t0..tN, b0..bN
   std::vector<Link> poses;                   // poses[i] = ti in t(parent[i]); [0] unused
@@ -386,8 +397,9 @@ inline void AddTree(SceneGraph<B>& g, const RandomTree& t) {
   g.Reserve(t.n + 1, t.n + 1);  // the size is known: no reallocation while building
   for (std::uint32_t i = 1; i <= t.n; ++i) {
     const std::uint32_t par = t.parent[i];
-    auto r = g.AddPose(PoseSpec::Of(t.frames[i], t.bodies[i]).RelativeTo(t.frames[par], t.bodies[par]),
-                       t.poses[i].q, t.poses[i].p);
+    auto r =
+        g.AddPose(PoseSpec::Of(t.frames[i], t.bodies[i]).RelativeTo(t.frames[par], t.bodies[par]),
+                  t.poses[i].q, t.poses[i].p);
     if (!r) [[unlikely]]
       Fail("AddTree: " + r.error().message);
   }
@@ -409,18 +421,23 @@ struct RejectScene {
   explicit RejectScene(const RandomTree& random_tree) : tree(&random_tree) {
     AddTree(graph, *tree);
     const RandomTree& t = *tree;
-    y = static_cast<std::uint32_t>(std::max_element(t.depth.begin(), t.depth.end()) - t.depth.begin());
+    y = static_cast<std::uint32_t>(std::max_element(t.depth.begin(), t.depth.end()) -
+                                   t.depth.begin());
     if (t.depth[y] < 3) Fail("random tree too shallow");
     x = t.parent[y];
     std::mt19937_64 rng(kTreeSeed + 1);
     pose = RandomLink(rng);
-    CheckOk(graph.AddPose(PoseSpec::Of(p3c, t.bodies[x]).RelativeTo(p3r, p3b), pose.q, pose.p), "P3 set-up");
+    CheckOk(graph.AddPose(PoseSpec::Of(p3c, t.bodies[x]).RelativeTo(p3r, p3b), pose.q, pose.p),
+            "P3 set-up");
     const Eigen::Vector3d v(0.1, 0.2, 0.3), w(0.3, -0.2, 0.1);
-    CheckOk(graph.AddTwist(TwistSpec::Of(t.frames[x]).RelativeTo(t.bodies[0]).ExpressedIn(t.frames[x]), v, w),
+    CheckOk(graph.AddTwist(
+                TwistSpec::Of(t.frames[x]).RelativeTo(t.bodies[0]).ExpressedIn(t.frames[x]), v, w),
             "W3 set-up 1");
-    CheckOk(graph.AddTwist(TwistSpec::Of(t.frames[y]).RelativeTo(t.bodies[x]).ExpressedIn(t.frames[y]), v, w),
+    CheckOk(graph.AddTwist(
+                TwistSpec::Of(t.frames[y]).RelativeTo(t.bodies[x]).ExpressedIn(t.frames[y]), v, w),
             "W3 set-up 2");
-    CheckOk(graph.AddPose(PoseSpec::Of(w3e, t.bodies[y]).RelativeTo(t.frames[y], t.bodies[y]), pose.q, pose.p),
+    CheckOk(graph.AddPose(PoseSpec::Of(w3e, t.bodies[y]).RelativeTo(t.frames[y], t.bodies[y]),
+                          pose.q, pose.p),
             "W3 set-up 3");
     Expect(RejectP1(), ErrorCode::kMultiplePoseParents, "reject_P1");
     Expect(RejectP3(), ErrorCode::kDuplicatePosePath, "reject_P3");

@@ -15,6 +15,7 @@
 // representations computed by its links: 1 for root-down and leaf-up, <= log2 N in any order).
 // Results: docs/performance.md ("Building a tree in any order").
 #include <benchmark/benchmark.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -26,8 +27,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include <time.h>
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
@@ -45,9 +44,9 @@ struct Edge {
 // The edges of a chain (parent of t_i is t_{i-1}) or of a random tree, each t_i -> its parent,
 // translation (1, i mod 7, 0) so that the sum along a path is an exact integer vector.
 struct Tree {
-  std::vector<Edge> edges;      // edge i - 1 is the edge into t_i
-  std::vector<int> parent;      // parent[i] of t_i; -1 for t_0
-  int deepest = 0;              // a frame of greatest depth
+  std::vector<Edge> edges;  // edge i - 1 is the edge into t_i
+  std::vector<int> parent;  // parent[i] of t_i; -1 for t_0
+  int deepest = 0;          // a frame of greatest depth
 };
 
 const Tree& TreeOf(int n, bool chain) {
@@ -64,8 +63,9 @@ const Tree& TreeOf(int n, bool chain) {
     t->parent[i] = p;
     depth[i] = depth[p] + 1;
     if (depth[i] > depth[t->deepest]) t->deepest = i;
-    t->edges.push_back(Edge{"t" + std::to_string(i), "T" + std::to_string(i), "t" + std::to_string(p),
-                            "T" + std::to_string(p), Eigen::Vector3d(1, i % 7, 0)});
+    t->edges.push_back(Edge{"t" + std::to_string(i), "T" + std::to_string(i),
+                            "t" + std::to_string(p), "T" + std::to_string(p),
+                            Eigen::Vector3d(1, i % 7, 0)});
   }
   cache.emplace_back(std::pair{n, chain}, std::move(t));
   return *cache.back().second;
@@ -88,7 +88,8 @@ void Check(const Graph& g, const Tree& t) {
   for (int f = t.deepest; f != 0; f = t.parent[f]) expected += t.edges[f - 1].p;
   auto X = g.GetPosition(PoseSpec::Of("t" + std::to_string(t.deepest)).RelativeTo("t0"));
   if (!X || X->value != expected) Fail("wrong pose after the build");
-  if (g.num_pose_edges() != t.edges.size() || !CheckInvariants(g).empty()) Fail("wrong graph after the build");
+  if (g.num_pose_edges() != t.edges.size() || !CheckInvariants(g).empty())
+    Fail("wrong graph after the build");
 }
 
 enum class Order { kRootDown, kLeafUp, kRandom };
@@ -112,7 +113,8 @@ void BM_Build(benchmark::State& state, Order order) {
     const double c0 = ThreadCpuSeconds();
     const auto t0 = std::chrono::steady_clock::now();
     for (std::size_t k = 0; k < specs.size(); ++k) {
-      if (!g->AddPose(specs[k], Eigen::Quaterniond::Identity(), t.edges[sequence[k]].p)) Fail("an add was refused");
+      if (!g->AddPose(specs[k], Eigen::Quaterniond::Identity(), t.edges[sequence[k]].p))
+        Fail("an add was refused");
     }
     const auto t1 = std::chrono::steady_clock::now();
     cpu_seconds += ThreadCpuSeconds() - c0;
@@ -129,15 +131,18 @@ void BM_Build(benchmark::State& state, Order order) {
   state.counters["ns_per_add"] = seconds * 1e9 / iters / n;
   state.counters["cpu_ns_per_add"] = cpu_seconds * 1e9 / iters / n;
   state.counters["rerepresented_per_add"] = rerepresented / iters / n;
-  if (rerepresented / iters > n * std::log2(static_cast<double>(n))) Fail("linking re-represented more than N log2 N nodes");
+  if (rerepresented / iters > n * std::log2(static_cast<double>(n)))
+    Fail("linking re-represented more than N log2 N nodes");
 }
 
 void Register() {
-  const std::pair<const char*, Order> orders[] = {
-      {"build_root_down", Order::kRootDown}, {"build_leaf_up", Order::kLeafUp}, {"build_random_order", Order::kRandom}};
+  const std::pair<const char*, Order> orders[] = {{"build_root_down", Order::kRootDown},
+                                                  {"build_leaf_up", Order::kLeafUp},
+                                                  {"build_random_order", Order::kRandom}};
   for (const auto& [name, order] : orders) {
     for (const int n : {10'000, 100'000, 1'000'000}) {
-      benchmark::RegisterBenchmark(name, [order = order](benchmark::State& s) { BM_Build(s, order); })
+      benchmark::RegisterBenchmark(name,
+                                   [order = order](benchmark::State& s) { BM_Build(s, order); })
           ->Arg(n)
           ->Iterations(1)
           ->UseManualTime()

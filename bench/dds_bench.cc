@@ -56,7 +56,9 @@ int MirrorMain(long samples, long updates, bool wait) {
   std::optional<core::CompiledPose<coord::QuaternionBackend>> e0, last;
   mirror.WithGraph([&](const core::SceneGraph<>& g) {
     if (auto c = g.CompilePose(core::PoseSpec::Of("e0").RelativeTo("w"))) e0.emplace(std::move(*c));
-    if (auto c = g.CompilePose(core::PoseSpec::Of("e" + std::to_string(kEdges - 1)).RelativeTo("w"))) last.emplace(std::move(*c));
+    if (auto c =
+            g.CompilePose(core::PoseSpec::Of("e" + std::to_string(kEdges - 1)).RelativeTo("w")))
+      last.emplace(std::move(*c));
   });
   if (!e0 || !last) return 5;
   std::vector<double> latency_us;
@@ -91,7 +93,8 @@ int MirrorMain(long samples, long updates, bool wait) {
   mirror.WaitUntil(
       [&] {
         coord::QuaternionBackend::PoseCoords X;
-        return e0->Evaluate(X) == base::ErrorCode::kOk && X.translation.x() == static_cast<double>(samples);
+        return e0->Evaluate(X) == base::ErrorCode::kOk &&
+               X.translation.x() == static_cast<double>(samples);
       },
       60s);
   const std::uint64_t base_count = mirror.values_applied();
@@ -118,22 +121,34 @@ int MirrorMain(long samples, long updates, bool wait) {
   reader.join();
   std::sort(latency_us.begin(), latency_us.end());
   auto pct = [&](double p) {
-    return latency_us.empty() ? 0.0 : latency_us[std::min(latency_us.size() - 1, static_cast<std::size_t>(p * latency_us.size()))];
+    return latency_us.empty()
+               ? 0.0
+               : latency_us[std::min(latency_us.size() - 1,
+                                     static_cast<std::size_t>(p * latency_us.size()))];
   };
-  std::printf("latency_samples %zu of %ld sent (the reader sees only the newest value)\nlatency_us p50 %.1f p99 %.1f p99.9 %.1f max %.1f\n", latency_us.size(), samples, pct(0.5),
-              pct(0.99), pct(0.999), latency_us.empty() ? 0.0 : latency_us.back());
-  std::printf("throughput applied %llu in %.3f s: %.0f updates/s into the mirror (reader evaluations %ld)\n",
-              static_cast<unsigned long long>(applied), t1 - t0, applied / std::max(1e-9, t1 - t0), evaluations.load());
+  std::printf(
+      "latency_samples %zu of %ld sent (the reader sees only the newest value)\nlatency_us p50 "
+      "%.1f p99 %.1f p99.9 %.1f max %.1f\n",
+      latency_us.size(), samples, pct(0.5), pct(0.99), pct(0.999),
+      latency_us.empty() ? 0.0 : latency_us.back());
+  std::printf(
+      "throughput applied %llu in %.3f s: %.0f updates/s into the mirror (reader evaluations "
+      "%ld)\n",
+      static_cast<unsigned long long>(applied), t1 - t0, applied / std::max(1e-9, t1 - t0),
+      evaluations.load());
   (void)updates;
   return 0;
 }
 
-int PublisherMain(const char* self, long samples, long updates, const char* reader_mode, long batch) {
+int PublisherMain(const char* self, long samples, long updates, const char* reader_mode,
+                  long batch) {
   core::SceneGraph<> g;
   std::vector<core::PoseHandle> edges;
   for (int i = 0; i < kEdges; ++i) {
     const std::string f = "e" + std::to_string(i), b = "E" + std::to_string(i);
-    if (!g.AddPose(core::PoseSpec::Of(f, b).RelativeTo("w", "W"), Eigen::Quaterniond::Identity(), {0, 0, 0})) return 3;
+    if (!g.AddPose(core::PoseSpec::Of(f, b).RelativeTo("w", "W"), Eigen::Quaterniond::Identity(),
+                   {0, 0, 0}))
+      return 3;
   }
   for (int i = 0; i < kEdges; ++i) edges.push_back(*g.FindPoseEdge("e" + std::to_string(i), "w"));
   auto pub = dds::Publisher::Create(g, {"bench", kDomain});
@@ -141,10 +156,12 @@ int PublisherMain(const char* self, long samples, long updates, const char* read
   std::string out_path = "/tmp/semgraph_dds_bench_mirror.txt";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                   0600);
   const std::string s1 = std::to_string(samples), s2 = std::to_string(updates);
-  char* argv[] = {const_cast<char*>(self), const_cast<char*>("mirror"), const_cast<char*>(s1.c_str()),
-                  const_cast<char*>(s2.c_str()), const_cast<char*>(reader_mode), nullptr};
+  char* argv[] = {const_cast<char*>(self),        const_cast<char*>("mirror"),
+                  const_cast<char*>(s1.c_str()),  const_cast<char*>(s2.c_str()),
+                  const_cast<char*>(reader_mode), nullptr};
   pid_t pid = 0;
   if (posix_spawn(&pid, self, &actions, nullptr, argv, environ) != 0) return 3;
   // Wait for READY.
@@ -161,7 +178,8 @@ int PublisherMain(const char* self, long samples, long updates, const char* read
   for (long k = 1; k <= samples; ++k) {
     next += 100us;
     std::this_thread::sleep_until(next);
-    (void)(*pub)->SetPose(edges[0], Eigen::Quaterniond::Identity(), {static_cast<double>(k), Seconds(), 0});
+    (void)(*pub)->SetPose(edges[0], Eigen::Quaterniond::Identity(),
+                          {static_cast<double>(k), Seconds(), 0});
   }
   std::this_thread::sleep_for(200ms);
   const double t0 = Seconds();
@@ -173,9 +191,11 @@ int PublisherMain(const char* self, long samples, long updates, const char* read
   }
   (void)(*pub)->SetPose(edges[kEdges - 1], Eigen::Quaterniond::Identity(), {-1.0, 0, 0});
   const double t1 = Seconds();
-  std::printf("reader %s, batch %ld: publisher sent %ld updates in %.3f s: %.0f updates/s (write failures %llu)\n",
-              reader_mode, batch, updates, t1 - t0, updates / (t1 - t0),
-              static_cast<unsigned long long>((*pub)->write_failures()));
+  std::printf(
+      "reader %s, batch %ld: publisher sent %ld updates in %.3f s: %.0f updates/s (write failures "
+      "%llu)\n",
+      reader_mode, batch, updates, t1 - t0, updates / (t1 - t0),
+      static_cast<unsigned long long>((*pub)->write_failures()));
   int status = 0;
   waitpid(pid, &status, 0);
   std::FILE* f = std::fopen(out_path.c_str(), "r");
@@ -196,6 +216,7 @@ int main(int argc, char** argv) {
                       argc > 4 && std::string(argv[4]) == "wait");
   }
   const char* reader_mode = argc > 3 && std::string(argv[3]) == "wait" ? "wait" : "spin";
-  return PublisherMain(argv[0], argc > 1 ? std::atol(argv[1]) : 20000, argc > 2 ? std::atol(argv[2]) : 300000,
-                       reader_mode, argc > 4 ? std::max(1L, std::atol(argv[4])) : 1);
+  return PublisherMain(argv[0], argc > 1 ? std::atol(argv[1]) : 20000,
+                       argc > 2 ? std::atol(argv[2]) : 300000, reader_mode,
+                       argc > 4 ? std::max(1L, std::atol(argv[4])) : 1);
 }

@@ -26,37 +26,43 @@ inline void Use(const T& v) {
 
 extern "C" {
 
-__attribute__((noinline)) int icount_compiled_pose_f2f(const CompiledPose<QuatB>* q, QuatB::PoseCoords* X) {
+__attribute__((noinline)) int icount_compiled_pose_f2f(const CompiledPose<QuatB>* q,
+                                                       QuatB::PoseCoords* X) {
   return static_cast<int>(q->Evaluate(*X));
 }
 __attribute__((noinline)) int icount_compiled_pose_f2f_homogeneous(const CompiledPose<HomB>* q,
                                                                    HomB::PoseCoords* X) {
   return static_cast<int>(q->Evaluate(*X));
 }
-__attribute__((noinline)) int icount_compiled_pose_changes(const CompiledPose<QuatB>* q, QuatB::PoseCoords* X) {
+__attribute__((noinline)) int icount_compiled_pose_changes(const CompiledPose<QuatB>* q,
+                                                           QuatB::PoseCoords* X) {
   return static_cast<int>(q->Evaluate(*X));
 }
 // The memoized evaluation (PoseCache): Ir inside the evaluation only; the SetPose calls that
 // change edges between evaluations are outside the counted function.
-__attribute__((noinline)) int icount_compiled_pose_cached_one(const CompiledPose<QuatB>* q, PoseCache<QuatB>* c,
-                                                             QuatB::PoseCoords* X) {
+__attribute__((noinline)) int icount_compiled_pose_cached_one(const CompiledPose<QuatB>* q,
+                                                              PoseCache<QuatB>* c,
+                                                              QuatB::PoseCoords* X) {
   return static_cast<int>(q->Evaluate(*X, *c));
 }
-__attribute__((noinline)) int icount_compiled_pose_cached_all(const CompiledPose<QuatB>* q, PoseCache<QuatB>* c,
-                                                             QuatB::PoseCoords* X) {
+__attribute__((noinline)) int icount_compiled_pose_cached_all(const CompiledPose<QuatB>* q,
+                                                              PoseCache<QuatB>* c,
+                                                              QuatB::PoseCoords* X) {
   return static_cast<int>(q->Evaluate(*X, *c));
 }
-__attribute__((noinline)) int icount_compiled_twist(const CompiledTwist<QuatB>* q, Eigen::Vector3d* v,
-                                                    Eigen::Vector3d* w) {
+__attribute__((noinline)) int icount_compiled_twist(const CompiledTwist<QuatB>* q,
+                                                    Eigen::Vector3d* v, Eigen::Vector3d* w) {
   return static_cast<int>(q->Evaluate(*v, *w));
 }
-__attribute__((noinline)) int icount_oneshot_by_names(const SceneGraph<QuatB>* g, const std::string* of,
+__attribute__((noinline)) int icount_oneshot_by_names(const SceneGraph<QuatB>* g,
+                                                      const std::string* of,
                                                       const std::string* wrt) {
   auto r = g->GetPose(PoseSpec::Of(*of).RelativeTo(*wrt));
   Use(r);
   return r ? 0 : 1;
 }
-__attribute__((noinline)) void icount_raw_eigen_quat_chain(const Link* links, int d, QuatPose* out) {
+__attribute__((noinline)) void icount_raw_eigen_quat_chain(const Link* links, int d,
+                                                           QuatPose* out) {
   *out = RawQuatChain(links, d);
 }
 __attribute__((noinline)) void icount_raw_eigen_iso_chain(const Eigen::Isometry3d* T, int d,
@@ -119,7 +125,8 @@ int main(int argc, char** argv) {
   const int d = std::atoi(argv[2]);
   const long iters = std::atol(argv[3]);
   if (d < 1 || iters < 1) return Usage();
-  const bool chain_kernel = kernel.rfind("reject_", 0) != 0 && kernel.find("build_") == std::string::npos;
+  const bool chain_kernel =
+      kernel.rfind("reject_", 0) != 0 && kernel.find("build_") == std::string::npos;
   if (chain_kernel && d > kMaxDepth) return Usage();
 
   if (kernel == "compiled_pose_f2f" || kernel == "oneshot_by_names") {
@@ -132,7 +139,8 @@ int main(int argc, char** argv) {
       Use(X);
     } else {
       const std::string of = s.frames.back(), wrt = s.frames.front();
-      for (long i = 0; i < iters; ++i) Check(icount_oneshot_by_names(&s.graph, &of, &wrt), "oneshot_by_names");
+      for (long i = 0; i < iters; ++i)
+        Check(icount_oneshot_by_names(&s.graph, &of, &wrt), "oneshot_by_names");
     }
   } else if (kernel == "compiled_pose_cached_one" || kernel == "compiled_pose_cached_all") {
     // One edge (cycling along the chain) or every edge changed before each evaluation.
@@ -142,7 +150,8 @@ int main(int argc, char** argv) {
     auto cache = q.MakeCache();
     std::vector<PoseHandle> handles;
     for (int i = 1; i <= d; ++i) {
-      auto h = s.graph.FindPoseEdge(s.frames[static_cast<std::size_t>(i)], s.frames[static_cast<std::size_t>(i - 1)]);
+      auto h = s.graph.FindPoseEdge(s.frames[static_cast<std::size_t>(i)],
+                                    s.frames[static_cast<std::size_t>(i - 1)]);
       if (!h) Fail("FindPoseEdge");
       handles.push_back(*h);
     }
@@ -154,9 +163,12 @@ int main(int argc, char** argv) {
       for (int k = 0; k < (all ? d : 1); ++k) {
         const int e = all ? k : static_cast<int>(i % d);
         const Link& l = links[e];
-        Check(static_cast<int>(s.graph.SetPose(handles[static_cast<std::size_t>(e)], (i & 1) ? l.q : l.q.conjugate(), l.p)), "SetPose");
+        Check(static_cast<int>(s.graph.SetPose(handles[static_cast<std::size_t>(e)],
+                                               (i & 1) ? l.q : l.q.conjugate(), l.p)),
+              "SetPose");
       }
-      Check(all ? icount_compiled_pose_cached_all(&q, &cache, &X) : icount_compiled_pose_cached_one(&q, &cache, &X),
+      Check(all ? icount_compiled_pose_cached_all(&q, &cache, &X)
+                : icount_compiled_pose_cached_one(&q, &cache, &X),
             kernel.c_str());
     }
     Use(X);
@@ -165,14 +177,16 @@ int main(int argc, char** argv) {
     VerifyF2F(s);
     const auto q = s.CompileOrDie(s.F2FSpec());
     HomB::PoseCoords X;
-    for (long i = 0; i < iters; ++i) Check(icount_compiled_pose_f2f_homogeneous(&q, &X), "homogeneous");
+    for (long i = 0; i < iters; ++i)
+      Check(icount_compiled_pose_f2f_homogeneous(&q, &X), "homogeneous");
     Use(X);
   } else if (kernel == "compiled_pose_changes") {
     ChainScene<QuatB> s(d, true, 0);
     VerifyChanges(s);
     const auto q = s.CompileOrDie(s.ChangesSpec());
     QuatB::PoseCoords X;
-    for (long i = 0; i < iters; ++i) Check(icount_compiled_pose_changes(&q, &X), "compiled_pose_changes");
+    for (long i = 0; i < iters; ++i)
+      Check(icount_compiled_pose_changes(&q, &X), "compiled_pose_changes");
     Use(X);
   } else if (kernel == "compiled_twist") {
     ChainScene<QuatB> s(d, false, d);
@@ -211,8 +225,10 @@ int main(int argc, char** argv) {
     const bool dynamic = kernel == "tf2_lookup_dynamic";
     Tf2Chain c(d, dynamic);  // checks against the reference
     for (long i = 0; i < iters; ++i) {
-      if (dynamic) icount_tf2_lookup_dynamic(&c);
-      else icount_tf2_lookup_static(&c);
+      if (dynamic)
+        icount_tf2_lookup_dynamic(&c);
+      else
+        icount_tf2_lookup_static(&c);
     }
   } else if (kernel == "tf2_build_tree_static") {
     const auto msgs = Tf2TreeMessages(TreeOf(static_cast<std::uint32_t>(d)));

@@ -18,14 +18,13 @@
 // kdl_fk; compiled Jacobian >= 3x faster than kdl_jacobian.
 #include <benchmark/benchmark.h>
 
-#include <kdl/chainfksolverpos_recursive.hpp>
-#include <kdl/chainjnttojacsolver.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -129,7 +128,8 @@ Fixture& Get(const std::string& model) {
     if (seg.getJoint().getName() != f->robot.joints[next++]) Die("joint order differs");
   }
   for (int s = 0; s < kStates; ++s) {
-    if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) != base::ErrorCode::kOk) {
+    if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) !=
+        base::ErrorCode::kOk) {
       Die("set");
     }
     (void)f->ee_pose.Evaluate(f->X);
@@ -148,16 +148,24 @@ Fixture& Get(const std::string& model) {
 
 extern "C" {
 __attribute__((noinline)) int icount_sg_update_pose(Fixture* f, int s) {
-  if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) != base::ErrorCode::kOk) return 1;
+  if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) !=
+      base::ErrorCode::kOk)
+    return 1;
   return static_cast<int>(f->ee_pose.Evaluate(f->X));
 }
 __attribute__((noinline)) int icount_sg_update_pose_object(Fixture* f, int s) {
-  if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) != base::ErrorCode::kOk) return 1;
+  if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) !=
+      base::ErrorCode::kOk)
+    return 1;
   return static_cast<int>(f->ee_in_cup.Evaluate(f->X));
 }
-__attribute__((noinline)) int icount_sg_jacobian(Fixture* f, int) { return static_cast<int>(f->jacobian.Evaluate(f->J)); }
+__attribute__((noinline)) int icount_sg_jacobian(Fixture* f, int) {
+  return static_cast<int>(f->jacobian.Evaluate(f->J));
+}
 __attribute__((noinline)) int icount_sg_update_jacobian(Fixture* f, int s) {
-  if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) != base::ErrorCode::kOk) return 1;
+  if (f->graph.SetJointPositions(f->robot.group, f->q[static_cast<std::size_t>(s)]) !=
+      base::ErrorCode::kOk)
+    return 1;
   return static_cast<int>(f->jacobian.Evaluate(f->J));
 }
 __attribute__((noinline)) int icount_kdl_fk(Fixture* f, int s) {
@@ -209,7 +217,8 @@ int main(int argc, char** argv) {
   }
   for (const char* model : {"arm6", "arm7"}) {
     for (const Named& k : kKernels) {
-      benchmark::RegisterBenchmark((std::string(k.name) + "/" + model).c_str(), Run, k.kernel, model);
+      benchmark::RegisterBenchmark((std::string(k.name) + "/" + model).c_str(), Run, k.kernel,
+                                   model);
     }
   }
   benchmark::Initialize(&argc, argv);

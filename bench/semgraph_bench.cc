@@ -330,7 +330,8 @@ void BM_RejectW3(benchmark::State& state) {
 // 1 ms (a 10 kHz / 1 kHz control loop, sleeping in between) instead of at full speed. The chain
 // depth is the benchmark's argument (8 or 64). Also reported: wall and thread CPU time per
 // evaluation (wall_ns_per_eval, cpu_ns_per_eval).
-void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanoseconds writer_period) {
+void LatencyLoop(benchmark::State& state, bool with_writer,
+                 std::chrono::nanoseconds writer_period) {
   const int kDepth = static_cast<int>(state.range(0));
   const std::size_t kEvals = kDepth > 8 ? 300'000 : 1'000'000;
   auto& s = F2FScene<QuatB>(kDepth);
@@ -429,7 +430,8 @@ void LatencyLoop(benchmark::State& state, bool with_writer, std::chrono::nanosec
   stop.store(true);
   if (writer.joinable()) writer.join();
   pthread_setaffinity_np(pthread_self(), sizeof(saved), &saved);
-  if (eval_errors != 0 || write_errors.load() != 0) state.SkipWithError("an Evaluate or SetPose failed");
+  if (eval_errors != 0 || write_errors.load() != 0)
+    state.SkipWithError("an Evaluate or SetPose failed");
 
   static_assert(std::is_same_v<Clock::duration::period, std::nano>);
   std::sort(latency.begin(), latency.end());
@@ -457,7 +459,9 @@ void BM_LatencyUnderWriter10kHz(benchmark::State& state) {
 void BM_LatencyUnderWriter1kHz(benchmark::State& state) {
   LatencyLoop(state, true, std::chrono::microseconds(1000));
 }
-void BM_LatencyNoWriter(benchmark::State& state) { LatencyLoop(state, false, std::chrono::nanoseconds(0)); }
+void BM_LatencyNoWriter(benchmark::State& state) {
+  LatencyLoop(state, false, std::chrono::nanoseconds(0));
+}
 
 // ------------------------------------------------------------------ cold caches
 // A random tree of N = 200,000 frames (graph values and forest ~18 MB, far above L2) and 4,096
@@ -491,7 +495,8 @@ void BM_ColdOneshotRandomPairs(benchmark::State& state) {
   for (auto _ : state) {
     const auto& [a, b] = pairs[i++ & (kColdPairs - 1)];
     auto X = g.GetPose(PoseSpec::Of(t.frames[a]).RelativeTo(t.frames[b]));
-    if (!X) [[unlikely]] Fail("cold one-shot query failed");
+    if (!X) [[unlikely]]
+      Fail("cold one-shot query failed");
     Use(X->value);
   }
 }
@@ -536,16 +541,17 @@ void Sizes(benchmark::internal::Benchmark* b) {
 // repetition is the more stable figure (bench/README.md, noise).
 template <class B>
 B* Stats(B* b) {
-  return b->ComputeStatistics("min", [](const std::vector<double>& v) {
-    return *std::min_element(v.begin(), v.end());
-  });
+  return b->ComputeStatistics(
+      "min", [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
 }
 
 void Register() {
   Stats(benchmark::RegisterBenchmark("compiled_pose_f2f", BM_CompiledPoseF2F))->Apply(Depths);
-  Stats(benchmark::RegisterBenchmark("compiled_pose_f2f_homogeneous", BM_CompiledPoseF2FHomogeneous))
+  Stats(
+      benchmark::RegisterBenchmark("compiled_pose_f2f_homogeneous", BM_CompiledPoseF2FHomogeneous))
       ->Apply(Depths);
-  Stats(benchmark::RegisterBenchmark("compiled_pose_changes", BM_CompiledPoseChanges))->Apply(Depths);
+  Stats(benchmark::RegisterBenchmark("compiled_pose_changes", BM_CompiledPoseChanges))
+      ->Apply(Depths);
   Stats(benchmark::RegisterBenchmark("compiled_twist", BM_CompiledTwist))->Arg(1)->Arg(2)->Arg(4);
   Stats(benchmark::RegisterBenchmark("oneshot_by_names", BM_OneshotByNames))->Apply(Depths);
   Stats(benchmark::RegisterBenchmark("raw_eigen_quat_chain", BM_RawEigenQuatChain))->Apply(Depths);
@@ -575,16 +581,19 @@ void Register() {
   Stats(benchmark::RegisterBenchmark("reject_P1", BM_RejectP1))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_P3", BM_RejectP3))->Apply(Sizes);
   Stats(benchmark::RegisterBenchmark("reject_W3", BM_RejectW3))->Apply(Sizes);
-  Stats(benchmark::RegisterBenchmark("cold_oneshot_random_pairs", BM_ColdOneshotRandomPairs))->Arg(kColdFrames);
+  Stats(benchmark::RegisterBenchmark("cold_oneshot_random_pairs", BM_ColdOneshotRandomPairs))
+      ->Arg(kColdFrames);
 #ifdef SEMGRAPH_HAVE_TF2
-  Stats(benchmark::RegisterBenchmark("cold_tf2_static_random_pairs", BM_ColdTf2StaticRandomPairs))->Arg(kColdFrames);
+  Stats(benchmark::RegisterBenchmark("cold_tf2_static_random_pairs", BM_ColdTf2StaticRandomPairs))
+      ->Arg(kColdFrames);
 #endif
   // Latency at d = 8 and 64: a full-speed writer, a 10 kHz and a 1 kHz writer, and none.
   using Fn = void (*)(benchmark::State&);
-  const std::pair<const char*, Fn> latency[] = {{"latency_under_writer", BM_LatencyUnderWriter},
-                                                {"latency_under_writer_10khz", BM_LatencyUnderWriter10kHz},
-                                                {"latency_under_writer_1khz", BM_LatencyUnderWriter1kHz},
-                                                {"latency_no_writer", BM_LatencyNoWriter}};
+  const std::pair<const char*, Fn> latency[] = {
+      {"latency_under_writer", BM_LatencyUnderWriter},
+      {"latency_under_writer_10khz", BM_LatencyUnderWriter10kHz},
+      {"latency_under_writer_1khz", BM_LatencyUnderWriter1kHz},
+      {"latency_no_writer", BM_LatencyNoWriter}};
   for (const auto& [name, fn] : latency) {
     Stats(benchmark::RegisterBenchmark(name, fn))->Arg(8)->Arg(64)->Iterations(1)->UseManualTime();
   }

@@ -43,7 +43,8 @@ Chain::Chain(const std::vector<Pose7>& links, const std::vector<Pose7>* links_at
       impl_->buffer.setTransform(Message(parent, child, links[i - 1], 0.0), "bench", true);
     } else {
       impl_->buffer.setTransform(Message(parent, child, links[i - 1], 1.0), "bench", false);
-      impl_->buffer.setTransform(Message(parent, child, (*links_at_2s)[i - 1], 2.0), "bench", false);
+      impl_->buffer.setTransform(Message(parent, child, (*links_at_2s)[i - 1], 2.0), "bench",
+                                 false);
     }
   }
 }
@@ -68,7 +69,8 @@ struct TreeMessages::Impl {
   std::vector<geometry_msgs::TransformStamped> messages;
 };
 
-TreeMessages::TreeMessages(const std::vector<std::string>& frames, const std::vector<std::uint32_t>& parent,
+TreeMessages::TreeMessages(const std::vector<std::string>& frames,
+                           const std::vector<std::uint32_t>& parent,
                            const std::vector<Pose7>& poses)
     : impl_(std::make_unique<Impl>()) {
   impl_->messages.reserve(frames.size());
@@ -96,12 +98,14 @@ bool Buffer::InsertAllStatic(const TreeMessages& messages) {
 }
 
 void Buffer::LookupOnce(const std::string& target, const std::string& source) const {
-  const geometry_msgs::TransformStamped out = impl_->buffer.lookupTransform(target, source, ros::Time(0));
+  const geometry_msgs::TransformStamped out =
+      impl_->buffer.lookupTransform(target, source, ros::Time(0));
   benchmark::DoNotOptimize(out);
 }
 
 Pose7 Buffer::Lookup(const std::string& target, const std::string& source) const {
-  const geometry_msgs::TransformStamped out = impl_->buffer.lookupTransform(target, source, ros::Time(0));
+  const geometry_msgs::TransformStamped out =
+      impl_->buffer.lookupTransform(target, source, ros::Time(0));
   const auto& q = out.transform.rotation;
   const auto& p = out.transform.translation;
   return Pose7{q.w, q.x, q.y, q.z, p.x, p.y, p.z};

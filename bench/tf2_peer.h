@@ -21,10 +21,10 @@ struct Pose7 {
   double qw, qx, qy, qz, x, y, z;
 };
 
-/// A tf2::BufferCore (default 10 s cache) holding the chain f0 <- f1 <- ... <- fd, d = links.size().
-/// Static when links_at_2s is null: each link set once with setTransform(msg, "bench", true);
-/// lookups at ros::Time(0). Dynamic otherwise: link i at t = 1 s (links) and t = 2 s
-/// (links_at_2s), is_static = false; lookups at ros::Time(1.5).
+/// A tf2::BufferCore (default 10 s cache) holding the chain f0 <- f1 <- ... <- fd, d =
+/// links.size(). Static when links_at_2s is null: each link set once with setTransform(msg,
+/// "bench", true); lookups at ros::Time(0). Dynamic otherwise: link i at t = 1 s (links) and t = 2
+/// s (links_at_2s), is_static = false; lookups at ros::Time(1.5).
 class Chain {
  public:
   Chain(const std::vector<Pose7>& links, const std::vector<Pose7>* links_at_2s);

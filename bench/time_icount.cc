@@ -29,7 +29,7 @@ using QuatB = semgraph::coord::QuaternionBackend;
 namespace {
 constexpr int kSamples = 100;
 constexpr std::int64_t kStep = 10000000;  // 10 ms
-constexpr std::int64_t kT = 505500000;     // 0.5055 s
+constexpr std::int64_t kT = 505500000;    // 0.5055 s
 
 struct Sample {
   std::int64_t t;
@@ -39,8 +39,8 @@ struct Sample {
 struct Scene {
   int d;
   std::vector<std::vector<Sample>> edges;  // edges[i]: f(i+1) in f(i)
-  SceneGraph<QuatB> linear = *SceneGraph<QuatB>::Create(TimeOptions{Duration::Seconds(10), Interpolation::kLinear,
-                                                                    DuplicatePolicy::kReplace, 1024});
+  SceneGraph<QuatB> linear = *SceneGraph<QuatB>::Create(
+      TimeOptions{Duration::Seconds(10), Interpolation::kLinear, DuplicatePolicy::kReplace, 1024});
   SceneGraph<QuatB> screw = *SceneGraph<QuatB>::Create(TimeOptions{});
 #if defined(SEMGRAPH_HAVE_TF2)
   semgraph_test::tf2time::Buffer tf;
@@ -55,21 +55,24 @@ Scene* MakeScene(int d) {
   s->edges.resize(d);
   for (int i = 0; i < d; ++i) {
     for (int k = 0; k < kSamples; ++k) {
-      s->edges[i].push_back(
-          {k * kStep, Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(), {u(rng), u(rng), u(rng)}});
+      s->edges[i].push_back({k * kStep,
+                             Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(),
+                             {u(rng), u(rng), u(rng)}});
     }
   }
   for (int i = 0; i < d; ++i) {
     const std::string parent = "f" + std::to_string(i), child = "f" + std::to_string(i + 1);
     for (const Sample& x : s->edges[i]) {
       for (SceneGraph<QuatB>* g : {&s->linear, &s->screw}) {
-        if (!g->AddPose(PoseSpec::Of(child, "B" + std::to_string(i + 1)).RelativeTo(parent, "B" + std::to_string(i)),
+        if (!g->AddPose(PoseSpec::Of(child, "B" + std::to_string(i + 1))
+                            .RelativeTo(parent, "B" + std::to_string(i)),
                         x.q, x.p, Stamp::Nanoseconds(x.t))) {
           std::abort();
         }
       }
 #if defined(SEMGRAPH_HAVE_TF2)
-      s->tf.Set(parent, child, {x.q.w(), x.q.x(), x.q.y(), x.q.z(), x.p.x(), x.p.y(), x.p.z()}, x.t + 1000000000, false);
+      s->tf.Set(parent, child, {x.q.w(), x.q.x(), x.q.y(), x.q.z(), x.p.x(), x.p.y(), x.p.z()},
+                x.t + 1000000000, false);
 #endif
     }
   }
@@ -105,7 +108,8 @@ RawPose RawInterpChain(const Scene& s, std::int64_t t) {
 #if defined(__clang__)
 #define SEMGRAPH_KERNEL __attribute__((noinline))
 #else
-#define SEMGRAPH_KERNEL __attribute__((noipa))  // no clone, no dead-call removal: callgrind toggles by name
+#define SEMGRAPH_KERNEL \
+  __attribute__((noipa))  // no clone, no dead-call removal: callgrind toggles by name
 #endif
 
 extern "C" {
@@ -113,13 +117,15 @@ SEMGRAPH_KERNEL int icount_compiled_at(const CompiledPose<QuatB>* c, QuatB::Pose
   TimeReport r;
   return static_cast<int>(c->Evaluate(*X, At{Stamp::Nanoseconds(kT)}, r));
 }
-SEMGRAPH_KERNEL int icount_oneshot_at(const SceneGraph<QuatB>* g, const std::string* of, const std::string* wrt,
-                                                QuatB::PoseCoords* X) {
+SEMGRAPH_KERNEL int icount_oneshot_at(const SceneGraph<QuatB>* g, const std::string* of,
+                                      const std::string* wrt, QuatB::PoseCoords* X) {
   auto r = g->GetPose(PoseSpec::Of(*of).RelativeTo(*wrt), At{Stamp::Nanoseconds(kT)});
   if (r) *X = r->value.value;
   return r ? 0 : 1;
 }
-SEMGRAPH_KERNEL void icount_raw_interp_chain(const Scene* s, RawPose* out) { *out = RawInterpChain(*s, kT); }
+SEMGRAPH_KERNEL void icount_raw_interp_chain(const Scene* s, RawPose* out) {
+  *out = RawInterpChain(*s, kT);
+}
 SEMGRAPH_KERNEL void icount_raw_chain(const RawPose* links, int d, RawPose* out) {
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
@@ -130,17 +136,18 @@ SEMGRAPH_KERNEL void icount_raw_chain(const RawPose* links, int d, RawPose* out)
   *out = {q, p};
 }
 SEMGRAPH_KERNEL int icount_stamped_insert(SceneGraph<QuatB>* g, PoseHandle h, std::int64_t t,
-                                                    const Eigen::Quaterniond* q, const Eigen::Vector3d* p) {
+                                          const Eigen::Quaterniond* q, const Eigen::Vector3d* p) {
   return static_cast<int>(g->SetPose(h, *q, *p, Stamp::Nanoseconds(t)));
 }
 #if defined(SEMGRAPH_HAVE_TF2)
-SEMGRAPH_KERNEL int icount_tf2_at(const semgraph_test::tf2time::Buffer* tf, const std::string* target,
-                                            const std::string* source, semgraph_test::tf2time::Pose7* out) {
+SEMGRAPH_KERNEL int icount_tf2_at(const semgraph_test::tf2time::Buffer* tf,
+                                  const std::string* target, const std::string* source,
+                                  semgraph_test::tf2time::Pose7* out) {
   return tf->Lookup(*target, *source, kT + 1000000000, *out) ? 0 : 1;
 }
 SEMGRAPH_KERNEL int icount_tf2_insert(semgraph_test::tf2time::Buffer* tf, const std::string* parent,
-                                                const std::string* child, std::int64_t t,
-                                                const semgraph_test::tf2time::Pose7* x) {
+                                      const std::string* child, std::int64_t t,
+                                      const semgraph_test::tf2time::Pose7* x) {
   return tf->Set(*parent, *child, *x, t, false) ? 0 : 1;
 }
 #endif
@@ -165,14 +172,16 @@ int main(int argc, char** argv) {
   }
 #if defined(SEMGRAPH_HAVE_TF2)
   semgraph_test::tf2time::Pose7 y;
-  if (!s->tf.Lookup(f0, fd, kT + 1000000000, y) || (Eigen::Vector3d(y.x, y.y, y.z) - raw.p).norm() > 1e-9) {
+  if (!s->tf.Lookup(f0, fd, kT + 1000000000, y) ||
+      (Eigen::Vector3d(y.x, y.y, y.z) - raw.p).norm() > 1e-9) {
     std::fprintf(stderr, "tf2 differs from the raw chain\n");
     return 1;
   }
 #endif
   QuatB::PoseCoords X;
   if (kernel == "compiled_at_linear" || kernel == "compiled_at_screw") {
-    auto c = (kernel == "compiled_at_linear" ? s->linear : s->screw).CompilePose(PoseSpec::Of(fd).RelativeTo(f0));
+    auto c = (kernel == "compiled_at_linear" ? s->linear : s->screw)
+                 .CompilePose(PoseSpec::Of(fd).RelativeTo(f0));
     for (long i = 0; i < iters; ++i) icount_compiled_at(&*c, &X);
   } else if (kernel == "oneshot_at_linear") {
     for (long i = 0; i < iters; ++i) icount_oneshot_at(&s->linear, &fd, &f0, &X);
@@ -188,8 +197,10 @@ int main(int argc, char** argv) {
     const Eigen::Quaterniond q = s->edges[0][3].q;
     const Eigen::Vector3d p = s->edges[0][3].p;
     // The capacity (1024) fills first: the counted inserts each also drop the oldest sample.
-    for (long i = 0; i < 1024; ++i) icount_stamped_insert(&s->linear, *h, kSamples * kStep + i * 1000000, &q, &p);
-    for (long i = 0; i < iters; ++i) icount_stamped_insert(&s->linear, *h, 2000000000 + i * 1000000, &q, &p);
+    for (long i = 0; i < 1024; ++i)
+      icount_stamped_insert(&s->linear, *h, kSamples * kStep + i * 1000000, &q, &p);
+    for (long i = 0; i < iters; ++i)
+      icount_stamped_insert(&s->linear, *h, 2000000000 + i * 1000000, &q, &p);
 #if defined(SEMGRAPH_HAVE_TF2)
   } else if (kernel == "tf2_at") {
     semgraph_test::tf2time::Pose7 out;
@@ -197,8 +208,10 @@ int main(int argc, char** argv) {
   } else if (kernel == "tf2_insert") {
     const semgraph_test::tf2time::Pose7 x{1, 0, 0, 0, 0.1, 0.2, 0.3};
     const std::string parent = "f0", child = "f1";
-    for (long i = 0; i < 1024; ++i) icount_tf2_insert(&s->tf, &parent, &child, 2000000000 + i * 1000000, &x);
-    for (long i = 0; i < iters; ++i) icount_tf2_insert(&s->tf, &parent, &child, 3100000000 + i * 1000000, &x);
+    for (long i = 0; i < 1024; ++i)
+      icount_tf2_insert(&s->tf, &parent, &child, 2000000000 + i * 1000000, &x);
+    for (long i = 0; i < iters; ++i)
+      icount_tf2_insert(&s->tf, &parent, &child, 3100000000 + i * 1000000, &x);
 #endif
   } else {
     std::fprintf(stderr, "unknown kernel %s\n", kernel.c_str());

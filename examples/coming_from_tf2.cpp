@@ -4,19 +4,20 @@
 // the scene's numbers are in coming_from_tf2.h.
 //
 // What it shows, call by call:
-//   setTransform(parent, child)        AddPose(PoseSpec::Of(child, Child).RelativeTo(parent, Parent))
-//   lookupTransform(target, source)    GetPose(PoseSpec::Of(source).RelativeTo(target))
+//   setTransform(parent, child)        AddPose(PoseSpec::Of(child, Child).RelativeTo(parent,
+//   Parent)) lookupTransform(target, source)    GetPose(PoseSpec::Of(source).RelativeTo(target))
 //   canTransform(target, source)       GetPose(...) has a value (or: error no_pose_path)
 //   rotate by hand into a third frame  .ExpressedIn(frame)
 //   difference two lookups (no twist)  AddTwist + GetTwist, with zero twists across fixed mounts
 //   a second parent                    tf2 re-parents; semgraph refuses (multiple_pose_parents)
+#include "coming_from_tf2.h"
+
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
 #include <string>
 
-#include "coming_from_tf2.h"
 #include "semgraph/core/scene_graph.h"
 
 namespace cf = coming_from_tf2;
@@ -38,12 +39,16 @@ cf::Answers AskSemgraph() {
     if (!r) throw std::runtime_error(r.error().message);
   };
   // Every frame lives on a body: tf2's "w -> b" is "frame b of body B relative to frame w of W".
-  add(graph.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), Eig(cf::kX_WB.q), Eig(cf::kX_WB.p)));
-  add(graph.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), Eig(cf::kX_BC.q), Eig(cf::kX_BC.p)));
-  add(graph.AddPose(PoseSpec::Of("k", "K").RelativeTo("t", "T"), Eig(cf::kX_TK.q), Eig(cf::kX_TK.p)));
+  add(graph.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), Eig(cf::kX_WB.q),
+                    Eig(cf::kX_WB.p)));
+  add(graph.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), Eig(cf::kX_BC.q),
+                    Eig(cf::kX_BC.p)));
+  add(graph.AddPose(PoseSpec::Of("k", "K").RelativeTo("t", "T"), Eig(cf::kX_TK.q),
+                    Eig(cf::kX_TK.p)));
   // The object at t1 (no time stamps yet: the graph holds the current value) and its twist,
   // as the camera measures it: the velocity of o relative to C and O's angular velocity, in [c].
-  add(graph.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Eig(cf::kX_CO.q), Eig(cf::kX_CO.p)));
+  add(graph.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Eig(cf::kX_CO.q),
+                    Eig(cf::kX_CO.p)));
   add(graph.AddTwist(TwistSpec::Of("o", "O").RelativeTo("C").ExpressedIn("c"), Eig(cf::kV_CO_C),
                      Eig(cf::kW_CO_C)));
 
@@ -92,7 +97,8 @@ cf::Answers AskSemgraph() {
 // ---- printing and comparing
 int failures = 0;
 
-void Row(const char* what, const double* tf2_value, const double* sg_value, int n, double tolerance) {
+void Row(const char* what, const double* tf2_value, const double* sg_value, int n,
+         double tolerance) {
   double worst = 0.0;
   for (int i = 0; i < n; ++i) worst = std::fmax(worst, std::fabs(tf2_value[i] - sg_value[i]));
   const bool agree = worst <= tolerance;
@@ -116,8 +122,8 @@ void Row(const char* what, cf::Quat x, cf::Quat y) {
 }
 void Row(const char* what, bool x, bool y) {
   failures += x == y ? 0 : 1;
-  std::printf("%-36s tf2 %-5s  semgraph %-5s  %s\n", what, x ? "true" : "false", y ? "true" : "false",
-              x == y ? "agree" : "DISAGREE");
+  std::printf("%-36s tf2 %-5s  semgraph %-5s  %s\n", what, x ? "true" : "false",
+              y ? "true" : "false", x == y ? "agree" : "DISAGREE");
 }
 
 }  // namespace
@@ -139,8 +145,9 @@ int main() {
     // a rotation about a fixed axis): exact up to rounding divided by dt.
     Row("velocity of o wrt W, in [w]", tf2.v_WO_W, sg.v_WO_W, 1e-9);
     Row("angular velocity of O wrt W, in [w]", tf2.w_WO_W, sg.w_WO_W, 1e-9);
-    std::printf("%-36s tf2 %-5s  semgraph %-5s  (different on purpose: P1)\n", "second parent for k accepted",
-                tf2.second_parent_accepted ? "yes" : "no", sg.second_parent_accepted ? "yes" : "no");
+    std::printf("%-36s tf2 %-5s  semgraph %-5s  (different on purpose: P1)\n",
+                "second parent for k accepted", tf2.second_parent_accepted ? "yes" : "no",
+                sg.second_parent_accepted ? "yes" : "no");
     if (!tf2.second_parent_accepted || sg.second_parent_accepted) ++failures;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "coming_from_tf2: %s\n", e.what());

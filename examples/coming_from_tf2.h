@@ -34,16 +34,19 @@ inline Quat AxisAngle(double ax, double ay, double az, double angle) {
 }
 /// Hamilton product a * b (rotate by b, then by a).
 inline Quat Mul(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {
+      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
 // ---- the scene's numbers
 inline constexpr double kPi = 3.14159265358979323846;
-inline const Transform kX_WB{AxisAngle(0, 0, 1, kPi / 2), {2.0, 1.0, 0.0}};       // base, turned 90° about z
-inline const Transform kX_BC{AxisAngle(0, 1, 0, 0.6), {0.3, 0.0, 1.2}};            // camera, pitched down
-inline const Transform kX_CO{Mul(AxisAngle(1, 0, 0, 0.3), AxisAngle(0, 0, 1, 0.5)), {0.2, -0.1, 1.5}};
-inline const Transform kX_TK{AxisAngle(0, 0, 1, 0.2), {0.4, 0.1, 0.8}};            // cup on the table
+inline const Transform kX_WB{AxisAngle(0, 0, 1, kPi / 2),
+                             {2.0, 1.0, 0.0}};  // base, turned 90° about z
+inline const Transform kX_BC{AxisAngle(0, 1, 0, 0.6), {0.3, 0.0, 1.2}};  // camera, pitched down
+inline const Transform kX_CO{Mul(AxisAngle(1, 0, 0, 0.3), AxisAngle(0, 0, 1, 0.5)),
+                             {0.2, -0.1, 1.5}};
+inline const Transform kX_TK{AxisAngle(0, 0, 1, 0.2), {0.4, 0.1, 0.8}};  // cup on the table
 inline constexpr Vec3 kV_CO_C{0.05, 0.02, -0.1};  // velocity of o relative to C, in [c]
 inline constexpr Vec3 kW_CO_C{0.0, 0.1, 0.3};     // angular velocity of O relative to C, in [c]
 inline constexpr double kT1 = 1.0, kDt = 0.1;     // tf2 gets X_CO at t1 and at t1 + dt
@@ -58,13 +61,14 @@ inline Transform XCOLater() {
 
 /// The questions both sides answer (at t1).
 struct Answers {
-  Transform X_BO;      // pose of the object in the base frame: tf2 lookupTransform("b", "o")
-  Transform X_WC;      // pose of the camera in the world (through static transforms only)
-  Vec3 p_BoOo_W;       // position of o relative to b, expressed in the world axes [w]
-  Quat R_BO_W;         // orientation of [o] relative to [b], as an operator written in [w]
-  bool can_w_o;        // canTransform("w", "o")
-  bool can_w_k;        // canTransform("w", "k"): k is in another tree
-  Vec3 v_WO_W, w_WO_W;  // velocity of the point o of O relative to W, and O's angular velocity, in [w]
+  Transform X_BO;  // pose of the object in the base frame: tf2 lookupTransform("b", "o")
+  Transform X_WC;  // pose of the camera in the world (through static transforms only)
+  Vec3 p_BoOo_W;   // position of o relative to b, expressed in the world axes [w]
+  Quat R_BO_W;     // orientation of [o] relative to [b], as an operator written in [w]
+  bool can_w_o;    // canTransform("w", "o")
+  bool can_w_k;    // canTransform("w", "k"): k is in another tree
+  Vec3 v_WO_W,
+      w_WO_W;  // velocity of the point o of O relative to W, and O's angular velocity, in [w]
   bool second_parent_accepted;  // was {k} given a second parent ({c}) without complaint?
 };
 

@@ -78,7 +78,7 @@ Answers AskTf2() {
   const geometry_msgs::TransformStamped X_WO_2 = buffer.lookupTransform("w", "o", t2);
   a.v_WO_W = FromTf2((P(X_WO_2) - P(X_WO_1)) / kDt);
   tf2::Quaternion dq = Q(X_WO_2) * Q(X_WO_1).inverse();  // rotation over dt, in [w]
-  if (dq.w() < 0) dq = dq * -1.0;                         // the short way round
+  if (dq.w() < 0) dq = dq * -1.0;                        // the short way round
   a.w_WO_W = FromTf2(dq.getAxis() * (dq.getAngle() / kDt));
 
   // A second parent for the cup: tf2 takes it (the cup now hangs below the camera).

@@ -7,10 +7,10 @@
 // {o}. X_WB is the pose of B in W.
 #include <algorithm>
 #include <atomic>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <thread>
 #include <vector>
 
@@ -36,22 +36,26 @@ int main(int argc, char** argv) {
 
   // ---- Build phase: allocations and rich errors are fine here.
   sg::SceneGraph<> graph;
-  bool ok = Check(graph.AddPose(sg::PoseSpec::Of("b", "B").RelativeTo("w", "W"), Quaterniond::Identity(),
-                                Vector3d(0, 0, 0.4)));
-  ok &= Check(graph.AddPose(sg::PoseSpec::Of("l1", "L1").RelativeTo("b", "B"), Rz(0.0), Vector3d(0, 0, 0.3)));
-  ok &= Check(graph.AddPose(sg::PoseSpec::Of("l2", "L2").RelativeTo("l1", "L1"), Ry(0.0), Vector3d(0.5, 0, 0)));
-  ok &= Check(graph.AddPose(sg::PoseSpec::Of("t", "L2").RelativeTo("l2", "L2"), Quaterniond::Identity(),
+  bool ok = Check(graph.AddPose(sg::PoseSpec::Of("b", "B").RelativeTo("w", "W"),
+                                Quaterniond::Identity(), Vector3d(0, 0, 0.4)));
+  ok &= Check(graph.AddPose(sg::PoseSpec::Of("l1", "L1").RelativeTo("b", "B"), Rz(0.0),
+                            Vector3d(0, 0, 0.3)));
+  ok &= Check(graph.AddPose(sg::PoseSpec::Of("l2", "L2").RelativeTo("l1", "L1"), Ry(0.0),
+                            Vector3d(0.5, 0, 0)));
+  ok &= Check(graph.AddPose(sg::PoseSpec::Of("t", "L2").RelativeTo("l2", "L2"),
+                            Quaterniond::Identity(),
                             Vector3d(0.4, 0, 0)));  // tool point: constant on L2
-  ok &= Check(graph.AddPose(sg::PoseSpec::Of("o", "O").RelativeTo("w", "W"), Quaterniond::Identity(),
-                            Vector3d(0.8, 0.3, 0.1)));  // object pose from perception
-  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("o", "O").RelativeTo("W").ExpressedIn("o"), Vector3d::Zero(),
-                             Vector3d::Zero()));
-  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("l1", "L1").RelativeTo("B").ExpressedIn("l1"), Vector3d::Zero(),
-                             Vector3d::Zero()));
-  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("l2", "L2").RelativeTo("L1").ExpressedIn("l2"), Vector3d::Zero(),
-                             Vector3d::Zero()));
-  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("b", "B").RelativeTo("W").ExpressedIn("b"), Vector3d::Zero(),
-                             Vector3d::Zero()));
+  ok &=
+      Check(graph.AddPose(sg::PoseSpec::Of("o", "O").RelativeTo("w", "W"), Quaterniond::Identity(),
+                          Vector3d(0.8, 0.3, 0.1)));  // object pose from perception
+  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("o", "O").RelativeTo("W").ExpressedIn("o"),
+                             Vector3d::Zero(), Vector3d::Zero()));
+  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("l1", "L1").RelativeTo("B").ExpressedIn("l1"),
+                             Vector3d::Zero(), Vector3d::Zero()));
+  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("l2", "L2").RelativeTo("L1").ExpressedIn("l2"),
+                             Vector3d::Zero(), Vector3d::Zero()));
+  ok &= Check(graph.AddTwist(sg::TwistSpec::Of("b", "B").RelativeTo("W").ExpressedIn("b"),
+                             Vector3d::Zero(), Vector3d::Zero()));
   if (!ok) return 1;
 
   // Handles for the values the feeder thread updates, and the compiled queries of the loop.
@@ -73,12 +77,14 @@ int main(int argc, char** argv) {
   std::thread feeder([&] {
     const auto start = std::chrono::steady_clock::now();
     while (!stop.load(std::memory_order_relaxed)) {
-      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double t =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double q1 = 0.5 * std::sin(t), q2 = 0.3 * std::cos(2 * t);
       const double dq1 = 0.5 * std::cos(t), dq2 = -0.6 * std::sin(2 * t);
       (void)graph.SetPose(*joint1, Rz(q1), Vector3d(0, 0, 0.3));
       (void)graph.SetPose(*joint2, Ry(q2), Vector3d(0.5, 0, 0));
-      (void)graph.SetTwist(*joint1_rate, Vector3d::Zero(), Vector3d(0, 0, dq1));  // screw twist at l1, in [l1]
+      (void)graph.SetTwist(*joint1_rate, Vector3d::Zero(),
+                           Vector3d(0, 0, dq1));  // screw twist at l1, in [l1]
       (void)graph.SetTwist(*joint2_rate, Vector3d::Zero(), Vector3d(0, dq2, 0));
       std::this_thread::sleep_for(std::chrono::microseconds(500));
     }

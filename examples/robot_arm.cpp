@@ -41,11 +41,13 @@ int main(int argc, char** argv) {
   // The base on the table (fixed: a zero twist), a camera above the table, a cup it sees.
   const auto identity = Eigen::Quaterniond::Identity();
   for (const core::BuildResult& r :
-       {g.AddPose(core::PoseSpec::Of("arm/link0").RelativeTo("table", "Table"), identity, Eigen::Vector3d(0.5, 0, 0)),
+       {g.AddPose(core::PoseSpec::Of("arm/link0").RelativeTo("table", "Table"), identity,
+                  Eigen::Vector3d(0.5, 0, 0)),
         g.AddTwist(core::TwistSpec::Of("arm/link0").RelativeTo("Table").ExpressedIn("arm/link0"),
                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()),
         g.AddPose(core::PoseSpec::Of("camera", "Camera").RelativeTo("table"),
-                  Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX())), Eigen::Vector3d(1.1, 0.1, 1.0)),
+                  Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX())),
+                  Eigen::Vector3d(1.1, 0.1, 1.0)),
         g.AddPose(core::PoseSpec::Of("cup", "Cup").RelativeTo("camera"),
                   Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ())),
                   Eigen::Vector3d(0.05, -0.1, 0.85))}) {
@@ -54,7 +56,8 @@ int main(int argc, char** argv) {
   // The flange relative to the cup, in [cup]; its Jacobian and twist relative to the table, at
   // the flange's origin, in [cup].
   auto tool_in_cup = g.CompilePose(core::PoseSpec::Of("arm/flange").RelativeTo("cup"));
-  const auto tool_twist_spec = core::TwistSpec::Of("arm/flange").RelativeTo("Table").ExpressedIn("cup");
+  const auto tool_twist_spec =
+      core::TwistSpec::Of("arm/flange").RelativeTo("Table").ExpressedIn("cup");
   auto jacobian = g.CompileJacobian(tool_twist_spec);
   auto twist = g.CompileTwist(tool_twist_spec);
   if (!tool_in_cup || !jacobian || !twist) return Fail("a query did not compile");
@@ -75,8 +78,10 @@ int main(int argc, char** argv) {
       q(i) = a * std::sin(f * t) + (i == 3 ? -1.5 : 0.0) + (i == 5 ? 1.5 : 0.0);
       qdot(i) = a * f * std::cos(f * t);
     }
-    if (g.SetJointState(joints, {q.data(), 7}, {qdot.data(), 7}) != base::ErrorCode::kOk) return Fail("joint state");
-    if (tool_in_cup->Evaluate(X_cup_tool) != base::ErrorCode::kOk || jacobian->Evaluate(J) != base::ErrorCode::kOk ||
+    if (g.SetJointState(joints, {q.data(), 7}, {qdot.data(), 7}) != base::ErrorCode::kOk)
+      return Fail("joint state");
+    if (tool_in_cup->Evaluate(X_cup_tool) != base::ErrorCode::kOk ||
+        jacobian->Evaluate(J) != base::ErrorCode::kOk ||
         twist->Evaluate(v, w) != base::ErrorCode::kOk) {
       return Fail("evaluation");
     }

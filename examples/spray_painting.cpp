@@ -36,7 +36,8 @@ std::string Vec(const Vector3d& v) {
 std::string Quat(Quaterniond q) {
   if (q.w() < 0) q.coeffs() = -q.coeffs();
   char buf[112];
-  std::snprintf(buf, sizeof(buf), "[w %7.4f  x %7.4f  y %7.4f  z %7.4f]", q.w(), q.x(), q.y(), q.z());
+  std::snprintf(buf, sizeof(buf), "[w %7.4f  x %7.4f  y %7.4f  z %7.4f]", q.w(), q.x(), q.y(),
+                q.z());
   return buf;
 }
 
@@ -70,8 +71,8 @@ int main() {
                       scene::kV_CO1_c, scene::kW_CO1_c));
   Must(graph.AddTwist(sg::TwistSpec::Of("o2", "O2").RelativeTo("E").ExpressedIn("o2"),
                       Vector3d::Zero(), Vector3d::Zero()));
-  Must(graph.AddTwist(sg::TwistSpec::Of("e", "E").RelativeTo("B").ExpressedIn("e"),
-                      scene::kV_BE_e, scene::kW_BE_e));
+  Must(graph.AddTwist(sg::TwistSpec::Of("e", "E").RelativeTo("B").ExpressedIn("e"), scene::kV_BE_e,
+                      scene::kW_BE_e));
   std::printf("  twists: %zu twist edges, %zu pose edges, %zu frames on %zu bodies\n",
               graph.num_twist_edges(), graph.num_pose_edges(), graph.num_frames(),
               graph.num_bodies());
@@ -80,20 +81,23 @@ int main() {
   std::printf("\n== Listing 2 and more\n");
   {
     const auto X = Need(graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "O2")), graph);
-    std::printf("%s\n  position %s\n  rotation %s\n", semgraph::semantics::Describe(X.semantics, names).c_str(),
+    std::printf("%s\n  position %s\n  rotation %s\n",
+                semgraph::semantics::Describe(X.semantics, names).c_str(),
                 Vec(X.value.translation).c_str(), Quat(X.value.rotation).c_str());
   }
   {
-    const auto V = Need(graph.GetTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2")), graph);
-    std::printf("%s   (the paint point's velocity relative to the gun, in the gun frame)\n  v %s\n  w %s\n",
-                semgraph::semantics::Describe(V.semantics, names).c_str(), Vec(V.linear).c_str(),
-                Vec(V.angular).c_str());
+    const auto V = Need(
+        graph.GetTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2")), graph);
+    std::printf(
+        "%s   (the paint point's velocity relative to the gun, in the gun frame)\n  v %s\n  w %s\n",
+        semgraph::semantics::Describe(V.semantics, names).c_str(), Vec(V.linear).c_str(),
+        Vec(V.angular).c_str());
   }
   {
     const auto X = Need(graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("b", "B")), graph);
     std::printf("%s   (the paint point in the robot base)\n  position %s\n  rotation %s\n",
-                semgraph::semantics::Describe(X.semantics, names).c_str(), Vec(X.value.translation).c_str(),
-                Quat(X.value.rotation).c_str());
+                semgraph::semantics::Describe(X.semantics, names).c_str(),
+                Vec(X.value.translation).c_str(), Quat(X.value.rotation).c_str());
   }
   {
     auto spec = sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "O2").ExpressedIn("c");
@@ -102,24 +106,32 @@ int main() {
                 semgraph::semantics::Describe(p.semantics, names).c_str(), Vec(p.value).c_str());
   }
   {
-    const auto v = Need(graph.GetLinearVelocity(sg::TwistSpec::Of("o2", "O1").RelativeTo("O2").ExpressedIn("b")), graph);
-    std::printf("%s   (the object's point under the gun nozzle, relative to the gun, in [b])\n  v %s\n",
-                semgraph::semantics::Describe(v.semantics, names).c_str(), Vec(v.value).c_str());
+    const auto v = Need(
+        graph.GetLinearVelocity(sg::TwistSpec::Of("o2", "O1").RelativeTo("O2").ExpressedIn("b")),
+        graph);
+    std::printf(
+        "%s   (the object's point under the gun nozzle, relative to the gun, in [b])\n  v %s\n",
+        semgraph::semantics::Describe(v.semantics, names).c_str(), Vec(v.value).c_str());
   }
   {
-    const auto w = Need(graph.GetAngularVelocity(sg::TwistSpec::Of("", "O1").RelativeTo("B").ExpressedIn("b")), graph);
+    const auto w =
+        Need(graph.GetAngularVelocity(sg::TwistSpec::Of("", "O1").RelativeTo("B").ExpressedIn("b")),
+             graph);
     std::printf("%s   (how fast the cylinder turns, seen from the robot base)\n  w %s\n",
                 semgraph::semantics::Describe(w.semantics, names).c_str(), Vec(w.value).c_str());
   }
 
   std::printf("\n== What the graph refuses, and why\n");
   // A second pose parent for the object (Fig. 4, case 2a): rejected, naming the existing edge.
-  auto r1 = graph.AddPose(sg::PoseSpec::Of("o1", "O1").RelativeTo("e", "E"), Quaterniond::Identity(), Vector3d::Zero());
+  auto r1 = graph.AddPose(sg::PoseSpec::Of("o1", "O1").RelativeTo("e", "E"),
+                          Quaterniond::Identity(), Vector3d::Zero());
   std::printf("  %s\n", r1 ? "accepted?!" : r1.error().message.c_str());
   // Changing a constant pose (both frames on O1): rejected, the stored value stays.
-  auto r2 = graph.AddPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o1", "O1"), scene::Rpy(0, 0, 0.5), Vector3d::Zero());
+  auto r2 = graph.AddPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o1", "O1"),
+                          scene::Rpy(0, 0, 0.5), Vector3d::Zero());
   std::printf("  %s\n", r2 ? "accepted?!" : r2.error().message.c_str());
-  auto r3 = graph.AddTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("B").ExpressedIn("f1"), Vector3d::Zero(), Vector3d::Zero());
+  auto r3 = graph.AddTwist(sg::TwistSpec::Of("f1", "O1").RelativeTo("B").ExpressedIn("f1"),
+                           Vector3d::Zero(), Vector3d::Zero());
   std::printf("  %s\n", r3 ? "accepted?!" : r3.error().message.c_str());
   auto q = graph.GetPose(sg::PoseSpec::Of("f1", "O1").RelativeTo("o2", "E"));
   // Describe names the code itself: "query failed (frame_body_mismatch): ...".

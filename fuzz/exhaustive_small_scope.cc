@@ -17,9 +17,9 @@
 //   remove t>h   12  the pose edge t -> h, every ordered pair
 //   untwist D>f  12  the twist edge D -> f, every pair
 // Every add names the bodies of its frames, so a frame that does not exist yet is created by
-// the add and attached to its body (docs/rules.md §1). Each sequence is run from two starting scenes:
-// EMPTY (every node created by the adds) and DECLARED (the three bodies and four frames added
-// first with AddBody/AddFrame, so the adds find unattached existing frames).
+// the add and attached to its body (docs/rules.md §1). Each sequence is run from two starting
+// scenes: EMPTY (every node created by the adds) and DECLARED (the three bodies and four frames
+// added first with AddBody/AddFrame, so the adds find unattached existing frames).
 //
 // Sequences: sum over k <= 4 of 50^k = 6,377,550 per start, 12,755,100 in all. Visited depth
 // first; a rejected op leaves the graph unchanged (checked through Dump()), so the search goes on
@@ -78,30 +78,36 @@ std::vector<Op> Alphabet() {
 }
 
 ErrorCode Apply(Diff& d, const Op& op) {
-  const std::string x = op.kind == Op::kTwist || op.kind == Op::kRemoveTwist ? kBodyNames[op.x] : kFrameNames[op.x];
+  const std::string x =
+      op.kind == Op::kTwist || op.kind == Op::kRemoveTwist ? kBodyNames[op.x] : kFrameNames[op.x];
   const std::string y = kFrameNames[op.y];
   switch (op.kind) {
     case Op::kPose: {
       // V(t, h): a rotation about a pair-dependent axis and a pair-dependent position.
       const double s = 1 + op.x + 4 * op.y + 16 * op.variant;
       RotationInput r;
-      r.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * s, Eigen::Vector3d(1.0, 0.5 * op.x, -0.3 * op.y).normalized()));
-      return d.Pose(y, kFrameBodies[op.y], x, kFrameBodies[op.x], r, Eigen::Vector3d(0.1 * s, -0.05 * s, 0.3));
+      r.q = Eigen::Quaterniond(
+          Eigen::AngleAxisd(0.1 * s, Eigen::Vector3d(1.0, 0.5 * op.x, -0.3 * op.y).normalized()));
+      return d.Pose(y, kFrameBodies[op.y], x, kFrameBodies[op.x], r,
+                    Eigen::Vector3d(0.1 * s, -0.05 * s, 0.3));
     }
     case Op::kTwist: {
       const double s = 1 + op.x + 3 * op.y;
       return d.Twist(y, kFrameBodies[op.y], x, y, Eigen::Vector3d(0.01 * s, 0.2, -0.03 * s),
                      Eigen::Vector3d(-0.02 * s, 0.05, 0.1));
     }
-    case Op::kRemovePose: return d.RemovePose(y, x);
-    case Op::kRemoveTwist: return d.RemoveTwist(y, x);
+    case Op::kRemovePose:
+      return d.RemovePose(y, x);
+    case Op::kRemoveTwist:
+      return d.RemoveTwist(y, x);
   }
   return ErrorCode::kOk;
 }
 
 class Search {
  public:
-  Search(bool declared, std::size_t max_length) : declared_(declared), max_length_(max_length), alphabet_(Alphabet()) {}
+  Search(bool declared, std::size_t max_length)
+      : declared_(declared), max_length_(max_length), alphabet_(Alphabet()) {}
 
   std::size_t Run() {
     std::vector<int> seq;
@@ -122,7 +128,8 @@ class Search {
         if (d->Body(b) != ErrorCode::kOk) d->Fail("declaring body failed");
       }
       for (int f = 0; f < 4; ++f) {
-        if (d->Frame(kFrameNames[f], kFrameBodies[f]) != ErrorCode::kOk) d->Fail("declaring frame failed");
+        if (d->Frame(kFrameNames[f], kFrameBodies[f]) != ErrorCode::kOk)
+          d->Fail("declaring frame failed");
       }
     }
     for (int i : seq) Apply(*d, alphabet_[static_cast<std::size_t>(i)]);
@@ -140,7 +147,8 @@ class Search {
       const ErrorCode code = Apply(*d, alphabet_[i]);
       // A rejection left the state as it was (Differential checked Dump() and the invariants);
       // its queries were compared when that state was reached.
-      if (code == ErrorCode::kOk && sweeps_enabled_ && swept_.insert(std::hash<std::string>{}(Dump(d->graph()))).second) {
+      if (code == ErrorCode::kOk && sweeps_enabled_ &&
+          swept_.insert(std::hash<std::string>{}(Dump(d->graph()))).second) {
         d->SweepQueries();
         ++sweeps_;
       }
@@ -178,13 +186,16 @@ int main(int argc, char** argv) {
   for (const bool declared : {false, true}) {
     semgraph::fuzz::Search search(declared, max_length);
     const std::size_t n = search.Run();
-    std::printf("exhaustive_small_scope: %s start: %zu sequences (length <= %zu) agree "
-                "(%zu accepted ops, %zu full query comparisons)\n",
-                declared ? "declared" : "empty", n, max_length, search.accepted_, search.sweeps_);
+    std::printf(
+        "exhaustive_small_scope: %s start: %zu sequences (length <= %zu) agree "
+        "(%zu accepted ops, %zu full query comparisons)\n",
+        declared ? "declared" : "empty", n, max_length, search.accepted_, search.sweeps_);
     std::fflush(stdout);
     total += n;
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("exhaustive_small_scope: %zu operation sequences checked in %.1f s\n", total, seconds);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("exhaustive_small_scope: %zu operation sequences checked in %.1f s\n", total,
+              seconds);
   return 0;
 }

@@ -25,9 +25,9 @@
 // Re-adding an existing edge uses the stored value with such a modifier.
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's frame or another frame of
-// its tree; their repair; joints; stamped adds and time policies: tests/reference/reference_model.h).
-// Caps: at most kMaxOps ops per backend run.
-// Debugging: SEMGRAPH_FUZZ_TRACE=1 prints every input's op sequence (e.g. with the replay main).
+// its tree; their repair; joints; stamped adds and time policies:
+// tests/reference/reference_model.h). Caps: at most kMaxOps ops per backend run. Debugging:
+// SEMGRAPH_FUZZ_TRACE=1 prints every input's op sequence (e.g. with the replay main).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -53,12 +53,18 @@ const char* const kFrames[] = {"a", "b", "c", "d", "e", "f", "g", "h", "i", "j",
 // Special names: index 0-3 invalid, 4 valid but long, 5 a name used by the other pool.
 std::string SpecialName(std::uint32_t which, bool frame) {
   switch (which % 6) {
-    case 0: return "";
-    case 1: return frame ? "bad\x01name" : "\x7f";
-    case 2: return std::string(300, frame ? 'x' : 'X');
-    case 3: return std::string(256, frame ? 'n' : 'N');
-    case 4: return std::string(255, frame ? 'y' : 'Y');
-    default: return frame ? "A" : "a";
+    case 0:
+      return "";
+    case 1:
+      return frame ? "bad\x01name" : "\x7f";
+    case 2:
+      return std::string(300, frame ? 'x' : 'X');
+    case 3:
+      return std::string(256, frame ? 'n' : 'N');
+    case 4:
+      return std::string(255, frame ? 'y' : 'Y');
+    default:
+      return frame ? "A" : "a";
   }
 }
 
@@ -83,11 +89,12 @@ const std::vector<Eigen::Quaterniond>& Rotations() {
 }
 
 const Eigen::Vector3d kPositions[] = {
-    {0.0, 0.0, 0.0},   {1.0, 0.0, 0.5},     {0.5, 0.2, 1.1},  {-0.3, 2.0, 0.7},
-    {0.02, 0.0, 0.2},  {1.2, 0.4, 0.9},     {1e6, -2e6, 3e5}, {-0.0, 5e-324, -1.0},
+    {0.0, 0.0, 0.0},  {1.0, 0.0, 0.5}, {0.5, 0.2, 1.1},  {-0.3, 2.0, 0.7},
+    {0.02, 0.0, 0.2}, {1.2, 0.4, 0.9}, {1e6, -2e6, 3e5}, {-0.0, 5e-324, -1.0},
 };
 const Eigen::Vector3d kVelocities[] = {
-    {0.0, 0.0, 0.0}, {0.2, 0.1, 0.1}, {0.05, 0.1, 0.2}, {0.04, -0.03, 0.02}, {0.0, 0.15, -0.1}, {3.0, -1.0, 2.0},
+    {0.0, 0.0, 0.0},     {0.2, 0.1, 0.1},   {0.05, 0.1, 0.2},
+    {0.04, -0.03, 0.02}, {0.0, 0.15, -0.1}, {3.0, -1.0, 2.0},
 };
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -106,34 +113,63 @@ RotationInput AsMatrix(const Eigen::Matrix3d& R) {
 }
 
 // A rotation: `base` with one of 16 modifiers (see the file comment).
-RotationInput ModifyRotation(const Eigen::Quaterniond& base, std::uint32_t modifier, std::uint32_t component) {
+RotationInput ModifyRotation(const Eigen::Quaterniond& base, std::uint32_t modifier,
+                             std::uint32_t component) {
   Eigen::Quaterniond q = base;
   Eigen::Matrix3d R = base.toRotationMatrix();
   switch (modifier % 16) {
-    case 4: return AsQuaternion(Eigen::Quaterniond(-q.coeffs()));
-    case 5: return AsQuaternion(Eigen::Quaterniond(q.coeffs() * (1.0 + 4e-7)));
-    case 6: return AsQuaternion(Eigen::Quaterniond(q.coeffs() * (1.0 + 1e-3)));
-    case 7: return AsQuaternion(Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0));
-    case 8: q.coeffs()[component % 4] = kNaN; return AsQuaternion(q);
-    case 9: q.coeffs()[component % 4] = component & 4 ? -kInf : kInf; return AsQuaternion(q);
-    case 10: return AsMatrix(R);
-    case 11: R(component % 3, (component / 3) % 3) += 3e-7; return AsMatrix(R);
-    case 12: return AsMatrix(-R);
-    case 13: R(component % 3, (component / 3) % 3) += 1e-3; return AsMatrix(R);
-    case 14: R(component % 3, (component / 3) % 3) = kNaN; return AsMatrix(R);
-    case 15: return AsQuaternion(q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-9, Eigen::Vector3d::UnitX())));
-    default: return AsQuaternion(q);
+    case 4:
+      return AsQuaternion(Eigen::Quaterniond(-q.coeffs()));
+    case 5:
+      return AsQuaternion(Eigen::Quaterniond(q.coeffs() * (1.0 + 4e-7)));
+    case 6:
+      return AsQuaternion(Eigen::Quaterniond(q.coeffs() * (1.0 + 1e-3)));
+    case 7:
+      return AsQuaternion(Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0));
+    case 8:
+      q.coeffs()[component % 4] = kNaN;
+      return AsQuaternion(q);
+    case 9:
+      q.coeffs()[component % 4] = component & 4 ? -kInf : kInf;
+      return AsQuaternion(q);
+    case 10:
+      return AsMatrix(R);
+    case 11:
+      R(component % 3, (component / 3) % 3) += 3e-7;
+      return AsMatrix(R);
+    case 12:
+      return AsMatrix(-R);
+    case 13:
+      R(component % 3, (component / 3) % 3) += 1e-3;
+      return AsMatrix(R);
+    case 14:
+      R(component % 3, (component / 3) % 3) = kNaN;
+      return AsMatrix(R);
+    case 15:
+      return AsQuaternion(q *
+                          Eigen::Quaterniond(Eigen::AngleAxisd(1e-9, Eigen::Vector3d::UnitX())));
+    default:
+      return AsQuaternion(q);
   }
 }
 
 Eigen::Vector3d ModifyVector(Eigen::Vector3d v, std::uint32_t modifier, std::uint32_t component) {
   switch (modifier % 12) {
-    case 5: return v + Eigen::Vector3d::Constant(1e-9);
-    case 6: return v + Eigen::Vector3d(1e-3, 0.0, 0.0);
-    case 7: v[component % 3] = kNaN; return v;
-    case 8: v[component % 3] = kInf; return v;
-    case 9: v[component % 3] = -kInf; return v;
-    default: return v;
+    case 5:
+      return v + Eigen::Vector3d::Constant(1e-9);
+    case 6:
+      return v + Eigen::Vector3d(1e-3, 0.0, 0.0);
+    case 7:
+      v[component % 3] = kNaN;
+      return v;
+    case 8:
+      v[component % 3] = kInf;
+      return v;
+    case 9:
+      v[component % 3] = -kInf;
+      return v;
+    default:
+      return v;
   }
 }
 
@@ -187,13 +223,15 @@ class Fuzzer {
   // A body argument for `frame`: omitted, the frame's own body (when it exists), or any.
   std::string BodyFor(const std::string& frame) {
     switch (in_.Below(4)) {
-      case 0: return "";
+      case 0:
+        return "";
       case 1: {
         const auto it = d_.model().frames().find(frame);
         if (it != d_.model().frames().end()) return it->second;
         return Body();
       }
-      default: return Body();
+      default:
+        return Body();
     }
   }
 
@@ -219,21 +257,46 @@ class Fuzzer {
 
   void Step() {
     switch (in_.Byte() % 20) {
-      case 0: d_.Body(Body()); break;
+      case 0:
+        d_.Body(Body());
+        break;
       case 1: {
         const std::string name = Frame();
         d_.Frame(name, in_.OneIn(6) ? std::string() : Body());
         break;
       }
-      case 2: case 3: case 4: case 5: AddPose(); break;
-      case 6: ReAddPose(); break;
-      case 7: RemovePose(); break;
-      case 8: case 9: AddTwist(); break;
-      case 10: ReAddTwist(); break;
-      case 11: RemoveTwist(); break;
-      case 13: case 14: Extended(); break;
-      case 18: d_.Keep(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
-      default: d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6)))); break;
+      case 2:
+      case 3:
+      case 4:
+      case 5:
+        AddPose();
+        break;
+      case 6:
+        ReAddPose();
+        break;
+      case 7:
+        RemovePose();
+        break;
+      case 8:
+      case 9:
+        AddTwist();
+        break;
+      case 10:
+        ReAddTwist();
+        break;
+      case 11:
+        RemoveTwist();
+        break;
+      case 13:
+      case 14:
+        Extended();
+        break;
+      case 18:
+        d_.Keep(MakeQuery(static_cast<QueryKind>(in_.Below(6))));
+        break;
+      default:
+        d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6))));
+        break;
     }
   }
 
@@ -255,20 +318,32 @@ class Fuzzer {
     Eigen::Vector3d p = e.X_TH.p;
     RotationInput rotation = AsQuaternion(q);
     switch (in_.Below(8)) {
-      case 1: rotation = AsQuaternion(Eigen::Quaterniond(-q.coeffs())); break;
-      case 2: rotation = AsMatrix(e.X_TH.R); break;
+      case 1:
+        rotation = AsQuaternion(Eigen::Quaterniond(-q.coeffs()));
+        break;
+      case 2:
+        rotation = AsMatrix(e.X_TH.R);
+        break;
       case 3:
         rotation = ModifyRotation(q, 15, 0);
         p += Eigen::Vector3d::Constant(1e-9);
         break;
-      case 4: p += Eigen::Vector3d(0.0, 1e-3, 0.0); break;
-      case 5: rotation = AsQuaternion(q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ()))); break;
-      case 6: rotation = Rotation(), p = Position(); break;
+      case 4:
+        p += Eigen::Vector3d(0.0, 1e-3, 0.0);
+        break;
+      case 5:
+        rotation =
+            AsQuaternion(q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ())));
+        break;
+      case 6:
+        rotation = Rotation(), p = Position();
+        break;
       case 7:  // the reverse edge
         d_.Pose(e.tail, BodyFor(e.tail), e.head, BodyFor(e.head), AsMatrix(e.X_TH.R.transpose()),
                 -(e.X_TH.R.transpose() * e.X_TH.p));
         return;
-      default: break;
+      default:
+        break;
     }
     d_.Pose(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), e.tail,
             in_.Bool() ? std::string() : d_.model().frames().at(e.tail), rotation, p);
@@ -292,9 +367,15 @@ class Fuzzer {
   // The coordinate frame of a twist on `point`: the point's frame, one of its tree, or any.
   std::string TwistCoord(const std::string& point) {
     switch (in_.Below(8)) {
-      case 0: case 1: case 2: case 3: return point;
-      case 7: return Frame();
-      default: return FrameNear(point);
+      case 0:
+      case 1:
+      case 2:
+      case 3:
+        return point;
+      case 7:
+        return Frame();
+      default:
+        return FrameNear(point);
     }
   }
 
@@ -332,16 +413,36 @@ class Fuzzer {
 
   void Extended() {
     switch (in_.Byte() % 12) {
-      case 0: RepairPose(); break;
-      case 1: RepairPoseConflict(); break;
-      case 2: RepairPoseDetermined(); break;
-      case 3: RepairTwist(); break;
-      case 4: AddJoint(); break;
-      case 5: SetJoints(); break;
-      case 6: Group(); break;
-      case 7: d_.AskJacobian(JacobianQuery()); break;
-      case 8: StampedPose(); break;
-      case 9: StampedTwist(); break;
+      case 0:
+        RepairPose();
+        break;
+      case 1:
+        RepairPoseConflict();
+        break;
+      case 2:
+        RepairPoseDetermined();
+        break;
+      case 3:
+        RepairTwist();
+        break;
+      case 4:
+        AddJoint();
+        break;
+      case 5:
+        SetJoints();
+        break;
+      case 6:
+        Group();
+        break;
+      case 7:
+        d_.AskJacobian(JacobianQuery());
+        break;
+      case 8:
+        StampedPose();
+        break;
+      case 9:
+        StampedTwist();
+        break;
       default: {
         const Query q = TimedQuery();  // (reads in this order: a function's arguments have none)
         d_.AskTimed(q, TimePolicy());
@@ -355,9 +456,10 @@ class Fuzzer {
   // Stamps (ns): around 1-3 s, a nanosecond apart, far ahead (beyond the 10 s window of the
   // first ones) and negative.
   std::int64_t StampChoice() {
-    static const std::int64_t kStamps[] = {1000000000, 1500000000, 2000000000, 2500000000, 3000000000,
-                                           1000000001, 1250000000, 12000000000, -1000000000, 0,
-                                           2000000000, 3000000000, 1750000000, 4000000000, 2000000001, 500000000};
+    static const std::int64_t kStamps[] = {1000000000,  1500000000, 2000000000, 2500000000,
+                                           3000000000,  1000000001, 1250000000, 12000000000,
+                                           -1000000000, 0,          2000000000, 3000000000,
+                                           1750000000,  4000000000, 2000000001, 500000000};
     return kStamps[in_.Below(16)];
   }
 
@@ -365,13 +467,21 @@ class Fuzzer {
   // stamp (a duplicate), out of order, beyond the window (12 s), or from the table.
   std::int64_t NextStamp(std::int64_t newest) {
     switch (in_.Below(8)) {
-      case 0: case 1: return newest + 500000000;
-      case 2: return newest + 1;
-      case 3: return newest;
-      case 4: return newest - 250000000;
-      case 5: return newest + 12000000000;
-      case 6: return newest + 300000000;
-      default: return StampChoice();
+      case 0:
+      case 1:
+        return newest + 500000000;
+      case 2:
+        return newest + 1;
+      case 3:
+        return newest;
+      case 4:
+        return newest - 250000000;
+      case 5:
+        return newest + 12000000000;
+      case 6:
+        return newest + 300000000;
+      default:
+        return StampChoice();
     }
   }
 
@@ -380,12 +490,18 @@ class Fuzzer {
     const std::int64_t a = stamps[in_.Below(static_cast<std::uint32_t>(stamps.size()))];
     const std::int64_t b = stamps[in_.Below(static_cast<std::uint32_t>(stamps.size()))];
     switch (in_.Below(6)) {
-      case 0: return a;
-      case 1: return a + (b - a) / 4;
-      case 2: return a + (b - a) / 2;
-      case 3: return stamps.back() + 200000000;
-      case 4: return stamps.front() - 100000000;
-      default: return a + 1;
+      case 0:
+        return a;
+      case 1:
+        return a + (b - a) / 4;
+      case 2:
+        return a + (b - a) / 2;
+      case 3:
+        return stamps.back() + 200000000;
+      case 4:
+        return stamps.front() - 100000000;
+      default:
+        return a + 1;
     }
   }
 
@@ -414,9 +530,11 @@ class Fuzzer {
     Query q;
     q.kind = static_cast<QueryKind>(in_.Below(6));
     q.point = q.orientation = head;
-    q.ref_point = q.ref_orientation = !focus.tail.empty() && in_.Bool() ? focus.tail : FrameNear(head);
+    q.ref_point = q.ref_orientation =
+        !focus.tail.empty() && in_.Bool() ? focus.tail : FrameNear(head);
     q.coord = in_.Bool() ? q.ref_orientation : FrameNear(head);
-    if (q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity || q.kind == QueryKind::kAngularVelocity) {
+    if (q.kind == QueryKind::kTwist || q.kind == QueryKind::kLinearVelocity ||
+        q.kind == QueryKind::kAngularVelocity) {
       q.body = d_.model().frames().at(head);
       q.ref_body = Body();
       for (const reference::TwistEdge& t : d_.model().twists()) {
@@ -430,13 +548,17 @@ class Fuzzer {
   }
 
   reference::TimeQuery TimePolicy() {
-    static const std::int64_t kTimes[] = {1000000000, 1250000000, 1750000000, 2000000000, 3500000000, 12000000000,
-                                          0, 2600000000};
+    static const std::int64_t kTimes[] = {1000000000, 1250000000,  1750000000, 2000000000,
+                                          3500000000, 12000000000, 0,          2600000000};
     static const std::int64_t kHorizons[] = {0, 0, 0, 500000000, 2000000000, -1, 0, 100000000};
     reference::TimeQuery p;
     switch (in_.Below(4)) {
-      case 0: p.kind = reference::TimeQuery::Kind::kLatest; break;
-      case 1: p.kind = reference::TimeQuery::Kind::kLatestCommon; break;
+      case 0:
+        p.kind = reference::TimeQuery::Kind::kLatest;
+        break;
+      case 1:
+        p.kind = reference::TimeQuery::Kind::kLatestCommon;
+        break;
       default: {
         p.kind = reference::TimeQuery::Kind::kAt;
         std::vector<std::vector<std::int64_t>> histories;
@@ -450,7 +572,9 @@ class Fuzzer {
           for (const reference::TwistSample& x : e.samples) histories.back().push_back(x.t);
         }
         if (!histories.empty() && !in_.OneIn(4)) {
-          p.t = TimeNear(histories[focus_stamps_.empty() ? in_.Below(static_cast<std::uint32_t>(histories.size())) : 0]);
+          p.t = TimeNear(histories[focus_stamps_.empty()
+                                       ? in_.Below(static_cast<std::uint32_t>(histories.size()))
+                                       : 0]);
         } else {
           p.t = in_.OneIn(3) ? StampChoice() : kTimes[in_.Below(8)];
         }
@@ -480,21 +604,32 @@ class Fuzzer {
       d_.StampedPose(head, head_body, tail, tail_body, rotation, p, stamp);
       return;
     }
-    const reference::PoseEdge e = !stamped.empty() && !in_.OneIn(4)
-                                      ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
-                                      : poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+    const reference::PoseEdge e =
+        !stamped.empty() && !in_.OneIn(4)
+            ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
+            : poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
     const std::int64_t next = e.stamped ? NextStamp(e.samples.back().t) : stamp;
     RotationInput rotation = AsQuaternion(Eigen::Quaterniond(e.X_TH.R));
     Eigen::Vector3d p = e.X_TH.p;
     switch (in_.Below(6)) {
-      case 0: break;  // the same value (a no-op at an existing stamp)
-      case 1: p += Eigen::Vector3d(0.1, -0.05, 0.02); break;
-      case 2: rotation = AsQuaternion(rotation.q * Rpy(0.05, 0.3, -0.2)); break;
-      case 3: rotation = AsQuaternion(rotation.q * Rpy(0.0, 0.0, 2.0)), p += Eigen::Vector3d(0.0, 0.3, 0.0); break;
-      default: rotation = Rotation(), p = Position(); break;
+      case 0:
+        break;  // the same value (a no-op at an existing stamp)
+      case 1:
+        p += Eigen::Vector3d(0.1, -0.05, 0.02);
+        break;
+      case 2:
+        rotation = AsQuaternion(rotation.q * Rpy(0.05, 0.3, -0.2));
+        break;
+      case 3:
+        rotation = AsQuaternion(rotation.q * Rpy(0.0, 0.0, 2.0)),
+        p += Eigen::Vector3d(0.0, 0.3, 0.0);
+        break;
+      default:
+        rotation = Rotation(), p = Position();
+        break;
     }
-    d_.StampedPose(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), e.tail, std::string(),
-                   rotation, p, next);
+    d_.StampedPose(e.head, in_.Bool() ? std::string() : d_.model().frames().at(e.head), e.tail,
+                   std::string(), rotation, p, next);
   }
 
   void StampedTwist() {
@@ -513,13 +648,15 @@ class Fuzzer {
       d_.StampedTwist(point, body, ref_body, coord, v, Velocity(), stamp);
       return;
     }
-    const reference::TwistEdge t = !stamped.empty() && !in_.OneIn(4)
-                                       ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
-                                       : twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+    const reference::TwistEdge t =
+        !stamped.empty() && !in_.OneIn(4)
+            ? *stamped[in_.Below(static_cast<std::uint32_t>(stamped.size()))]
+            : twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
     const std::string coord = TwistCoord(t.head);
     const Eigen::Vector3d v = Velocity();
     const Eigen::Vector3d w = Velocity();
-    d_.StampedTwist(t.head, std::string(), t.tail_body, coord, v, w, t.stamped ? NextStamp(t.samples.back().t) : stamp);
+    d_.StampedTwist(t.head, std::string(), t.tail_body, coord, v, w,
+                    t.stamped ? NextStamp(t.samples.back().t) : stamp);
   }
 
   // ---------------------------------------------------------------- joints
@@ -532,14 +669,16 @@ class Fuzzer {
   // An existing joint's name (often), else any joint name.
   std::string SomeJoint() {
     const auto& joints = d_.model().joints();
-    if (!joints.empty() && !in_.OneIn(4)) return joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].name;
+    if (!joints.empty() && !in_.OneIn(4))
+      return joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].name;
     return JointName();
   }
 
   void AddJoint() {
-    static const Eigen::Vector3d kAxes[] = {
-        {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.3, -0.2, 0.9}, {0, 0, -2}, {0, 0, 0}, {1e-13, 0, 0}};
-    static const double kLimits[][2] = {{-1, 1}, {-3.2, 3.2}, {0, 0.5}, {0.2, 1.0}, {1, -1}, {-0.5, -0.1}, {0, 0}, {-2, 2}};
+    static const Eigen::Vector3d kAxes[] = {{1, 0, 0},        {0, 1, 0},  {0, 0, 1}, {1, 1, 0},
+                                            {0.3, -0.2, 0.9}, {0, 0, -2}, {0, 0, 0}, {1e-13, 0, 0}};
+    static const double kLimits[][2] = {{-1, 1}, {-3.2, 3.2},  {0, 0.5}, {0.2, 1.0},
+                                        {1, -1}, {-0.5, -0.1}, {0, 0},   {-2, 2}};
     static const double kMultipliers[] = {1, -1, 0.5, 2, kNaN, 1, -0.25, 3};
     static const double kOffsets[] = {0, 0.1, -0.3, 0.25, 0, 0.1, -1.0, kInf};
     reference::JointInput in;
@@ -547,7 +686,9 @@ class Fuzzer {
     in.type = static_cast<reference::JointType>(in_.Below(4));
     // The parent: often an existing joint's child (chains), else any frame.
     const auto& joints = d_.model().joints();
-    in.parent = !joints.empty() && in_.Bool() ? joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].child : Frame();
+    in.parent = !joints.empty() && in_.Bool()
+                    ? joints[in_.Below(static_cast<std::uint32_t>(joints.size()))].child
+                    : Frame();
     in.parent_body = BodyFor(in.parent);
     in.child = in_.OneIn(16) ? in.parent : Frame();
     in.child_body = BodyFor(in.child);
@@ -582,14 +723,22 @@ class Fuzzer {
     const std::uint8_t b = in_.Byte();
     if (!j || b < 128) return kValues[b % 8];
     switch (b % 8) {
-      case 0: return j->lower;
-      case 1: return j->upper;
-      case 2: return j->upper + 5e-10;  // within the slack: accepted as given
-      case 3: return j->upper + 2e-9;   // outside: joint_limit
-      case 4: return j->lower - 2e-9;
-      case 5: return 0.5 * (j->lower + j->upper);
-      case 6: return j->lower + 0.3 * (j->upper - j->lower);
-      default: return 40.0 + j->q;  // a wheel that turned (continuous)
+      case 0:
+        return j->lower;
+      case 1:
+        return j->upper;
+      case 2:
+        return j->upper + 5e-10;  // within the slack: accepted as given
+      case 3:
+        return j->upper + 2e-9;  // outside: joint_limit
+      case 4:
+        return j->lower - 2e-9;
+      case 5:
+        return 0.5 * (j->lower + j->upper);
+      case 6:
+        return j->lower + 0.3 * (j->upper - j->lower);
+      default:
+        return 40.0 + j->q;  // a wheel that turned (continuous)
     }
   }
 
@@ -645,14 +794,30 @@ class Fuzzer {
     const std::uint8_t b = in_.Byte();
     if (b < 160) return p;
     switch (b % 8) {
-      case 0: p.invert = false; break;
-      case 1: p.reroot = false; break;
-      case 2: p.check_consistency = false; break;
-      case 3: p.position_tolerance = p.angle_tolerance = 0.0; break;
-      case 4: p.position_tolerance = p.angle_tolerance = 1e-12; break;
-      case 5: p.position_tolerance = 1e-6, p.angle_tolerance = 2e-4; break;
-      case 6: p.position_tolerance = p.angle_tolerance = 1e-3; break;
-      default: p.position_tolerance = 2e-3, p.angle_tolerance = 1e-9; break;
+      case 0:
+        p.invert = false;
+        break;
+      case 1:
+        p.reroot = false;
+        break;
+      case 2:
+        p.check_consistency = false;
+        break;
+      case 3:
+        p.position_tolerance = p.angle_tolerance = 0.0;
+        break;
+      case 4:
+        p.position_tolerance = p.angle_tolerance = 1e-12;
+        break;
+      case 5:
+        p.position_tolerance = 1e-6, p.angle_tolerance = 2e-4;
+        break;
+      case 6:
+        p.position_tolerance = p.angle_tolerance = 1e-3;
+        break;
+      default:
+        p.position_tolerance = 2e-3, p.angle_tolerance = 1e-9;
+        break;
     }
     return p;
   }
@@ -701,13 +866,26 @@ class Fuzzer {
     Eigen::Quaterniond q(derived.M);
     Eigen::Vector3d p = derived.p;
     switch (in_.Below(8)) {
-      case 1: q = Eigen::Quaterniond(-q.coeffs()); break;
-      case 2: p += Eigen::Vector3d::Constant(1e-10); break;
-      case 3: p += Eigen::Vector3d(0.0, 1e-3, 0.0); break;
-      case 4: q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-10, Eigen::Vector3d::UnitY())); break;
-      case 5: q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ())); break;
-      case 6: q = QuaternionChoice(), p = Position(); break;
-      default: break;
+      case 1:
+        q = Eigen::Quaterniond(-q.coeffs());
+        break;
+      case 2:
+        p += Eigen::Vector3d::Constant(1e-10);
+        break;
+      case 3:
+        p += Eigen::Vector3d(0.0, 1e-3, 0.0);
+        break;
+      case 4:
+        q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-10, Eigen::Vector3d::UnitY()));
+        break;
+      case 5:
+        q = q * Eigen::Quaterniond(Eigen::AngleAxisd(1e-4, Eigen::Vector3d::UnitZ()));
+        break;
+      case 6:
+        q = QuaternionChoice(), p = Position();
+        break;
+      default:
+        break;
     }
     const std::string head_body = BodyFor(head);
     const std::string tail_body = BodyFor(tail);
@@ -722,15 +900,19 @@ class Fuzzer {
     if (!twists.empty()) {
       const reference::TwistEdge& t = twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
       switch (in_.Below(4)) {
-        case 0: point = t.head; break;  // W1 when ref_body is another body
-        case 1: case 2: {  // a frame of t's tree, wrt a body t's edge joins: mostly W3
+        case 0:
+          point = t.head;
+          break;  // W1 when ref_body is another body
+        case 1:
+        case 2: {  // a frame of t's tree, wrt a body t's edge joins: mostly W3
           point = FrameNear(t.head);
           const auto it = d_.model().frames().find(point);
           const std::string& H = d_.model().frames().at(t.head);
           ref_body = it != d_.model().frames().end() && it->second == t.tail_body ? H : t.tail_body;
           break;
         }
-        default: break;
+        default:
+          break;
       }
     }
     const std::string body = BodyFor(point);
@@ -743,11 +925,21 @@ class Fuzzer {
     const Answer derived = d_.model().Ask(query);
     Eigen::Vector3d v = derived.v, w = derived.w;
     switch (derived.code == ErrorCode::kOk ? in_.Below(6) : 5) {
-      case 1: v += Eigen::Vector3d(1e-10, 0.0, 0.0); break;
-      case 2: w += Eigen::Vector3d(0.0, 0.0, 1e-3); break;
-      case 3: v += Eigen::Vector3d(0.0, 2e-3, 0.0); break;
-      case 4: case 5: v = Velocity(), w = Velocity(); break;
-      default: break;
+      case 1:
+        v += Eigen::Vector3d(1e-10, 0.0, 0.0);
+        break;
+      case 2:
+        w += Eigen::Vector3d(0.0, 0.0, 1e-3);
+        break;
+      case 3:
+        v += Eigen::Vector3d(0.0, 2e-3, 0.0);
+        break;
+      case 4:
+      case 5:
+        v = Velocity(), w = Velocity();
+        break;
+      default:
+        break;
     }
     d_.TwistRepair(point, body, ref_body, coord, v, w, Policy());
   }
@@ -810,6 +1002,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   time.reject_duplicates = (data[0] & 4u) != 0;
   if (data[0] & 8u) time.window_ns = 1000000000, time.capacity = 3;  // 1 s, 3 samples: pruning
   semgraph::fuzz::Fuzzer<semgraph::coord::QuaternionBackend>(data + 1, size - 1, time).Run();
-  if (homogeneous) semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1, time).Run();
+  if (homogeneous)
+    semgraph::fuzz::Fuzzer<semgraph::coord::HomogeneousBackend>(data + 1, size - 1, time).Run();
   return 0;
 }

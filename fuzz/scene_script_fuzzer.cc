@@ -36,11 +36,11 @@
 #include <string_view>
 #include <vector>
 
+#include "semgraph/base/error_code.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/script_reader.h"
 #include "semgraph/script_runner.h"
-#include "semgraph/base/error_code.h"
 #include "support/op_reader.h"
 
 namespace semgraph::fuzz {
@@ -52,8 +52,9 @@ using script::Representation;
 constexpr int kExitOk = 0, kExitOpFailed = 1, kExitMalformed = 2;
 
 [[noreturn]] void Fail(const std::string& why, std::string_view script) {
-  std::fprintf(stderr, "\n==== scene_script_fuzzer FAILED ====\n%s\n---- script ----\n%.*s\n==== end ====\n",
-               why.c_str(), static_cast<int>(script.size()), script.data());
+  std::fprintf(
+      stderr, "\n==== scene_script_fuzzer FAILED ====\n%s\n---- script ----\n%.*s\n==== end ====\n",
+      why.c_str(), static_cast<int>(script.size()), script.data());
   std::fflush(stderr);
   std::abort();
 }
@@ -76,7 +77,8 @@ int RunScript(std::string_view text, std::vector<script::OpOutcome>* lines) {
   const auto run = [&](auto graph) {
     for (std::size_t i = 0; i < script->ops.size(); ++i) {
       script::OpOutcome outcome = script::ApplyOp(graph, script->ops[i], i);
-      const std::string head = "{\"op\": " + std::to_string(i) + ", \"ok\": " + (outcome.ok ? "true" : "false");
+      const std::string head =
+          "{\"op\": " + std::to_string(i) + ", \"ok\": " + (outcome.ok ? "true" : "false");
       if (outcome.json.rfind(head, 0) != 0 || outcome.json.back() != '}' ||
           outcome.json.find('\n') != std::string::npos) {
         Fail("op " + std::to_string(i) + " printed a malformed JSON line: " + outcome.json, text);
@@ -214,22 +216,27 @@ class Generator {
         op.kind = GenOp::kFrame;
         op.s[0] = Frame();
         op.s[1] = in_.OneIn(5) ? "" : Body();
-        op.yaml = "{op: frame, name: " + Quote(op.s[0]) + (op.s[1].empty() ? "" : ", body: " + Quote(op.s[1])) + "}";
+        op.yaml = "{op: frame, name: " + Quote(op.s[0]) +
+                  (op.s[1].empty() ? "" : ", body: " + Quote(op.s[1])) + "}";
         break;
-      case 2: case 3: {
+      case 2:
+      case 3: {
         op.kind = GenOp::kPose;
-        op.s[0] = Frame(), op.s[1] = in_.Bool() ? Body() : "", op.s[2] = Frame(), op.s[3] = in_.Bool() ? Body() : "";
+        op.s[0] = Frame(), op.s[1] = in_.Bool() ? Body() : "", op.s[2] = Frame(),
+        op.s[3] = in_.Bool() ? Body() : "";
         op.coord = in_.OneIn(4) ? Frame() : "";
-        op.yaml = "{op: pose, of: " + Quote(op.s[0]) + (op.s[1].empty() ? "" : ", body: " + Quote(op.s[1])) +
-                  ", wrt: " + Quote(op.s[2]) + (op.s[3].empty() ? "" : ", ref_body: " + Quote(op.s[3])) +
+        op.yaml = "{op: pose, of: " + Quote(op.s[0]) +
+                  (op.s[1].empty() ? "" : ", body: " + Quote(op.s[1])) +
+                  ", wrt: " + Quote(op.s[2]) +
+                  (op.s[3].empty() ? "" : ", ref_body: " + Quote(op.s[3])) +
                   (op.coord.empty() ? "" : ", coord: " + Quote(op.coord));
         if (in_.Bool()) op.yaml += ", position: " + Vector(op.pos);
         op.rotation_form = static_cast<int>(in_.Below(4));
         if (op.rotation_form == 1) {
           const double* q = Unit(in_.Below(4));
           for (int i = 0; i < 4; ++i) op.rot[i] = in_.OneIn(16) ? Number() : q[i];
-          op.yaml += ", rotation: {quaternion: [" + Text(op.rot[0]) + ", " + Text(op.rot[1]) + ", " +
-                     Text(op.rot[2]) + ", " + Text(op.rot[3]) + "]}";
+          op.yaml += ", rotation: {quaternion: [" + Text(op.rot[0]) + ", " + Text(op.rot[1]) +
+                     ", " + Text(op.rot[2]) + ", " + Text(op.rot[3]) + "]}";
         } else if (op.rotation_form == 2) {
           op.yaml += ", rotation: {rpy: " + Vector(op.rot) + "}";
         } else if (op.rotation_form == 3) {
@@ -253,7 +260,8 @@ class Generator {
         op.kind = GenOp::kTwist;
         op.s[0] = Frame(), op.s[1] = in_.Bool() ? Body() : "", op.s[2] = Body();
         op.coord = in_.Bool() ? op.s[0] : Frame();
-        op.yaml = "{op: twist, point: " + Quote(op.s[0]) + (op.s[1].empty() ? "" : ", body: " + Quote(op.s[1])) +
+        op.yaml = "{op: twist, point: " + Quote(op.s[0]) +
+                  (op.s[1].empty() ? "" : ", body: " + Quote(op.s[1])) +
                   ", ref_body: " + Quote(op.s[2]) + ", coord: " + Quote(op.coord);
         if (in_.Bool()) op.yaml += ", linear: " + Vector(op.lin);
         if (in_.Bool()) op.yaml += ", angular: " + Vector(op.ang);
@@ -263,25 +271,30 @@ class Generator {
         if (in_.Bool()) {
           op.kind = GenOp::kRemovePose;
           op.s[0] = Frame(), op.s[1] = Frame();
-          op.yaml = "{op: remove, kind: pose, of: " + Quote(op.s[0]) + ", wrt: " + Quote(op.s[1]) + "}";
+          op.yaml =
+              "{op: remove, kind: pose, of: " + Quote(op.s[0]) + ", wrt: " + Quote(op.s[1]) + "}";
         } else {
           op.kind = GenOp::kRemoveTwist;
           op.s[0] = Frame(), op.s[1] = Body();
-          op.yaml = "{op: remove, kind: twist, point: " + Quote(op.s[0]) + ", ref_body: " + Quote(op.s[1]) + "}";
+          op.yaml = "{op: remove, kind: twist, point: " + Quote(op.s[0]) +
+                    ", ref_body: " + Quote(op.s[1]) + "}";
         }
         break;
       default: {
         op.kind = GenOp::kQuery;
         op.query = static_cast<script::QueryKind>(in_.Below(7));
-        const char* kinds[] = {"pose", "position", "orientation", "twist", "linear_velocity", "angular_velocity",
+        const char* kinds[] = {"pose",    "position",        "orientation",
+                               "twist",   "linear_velocity", "angular_velocity",
                                "jacobian"};
         op.yaml = std::string("{op: query, kind: ") + kinds[static_cast<int>(op.query)];
         if (op.query <= script::QueryKind::kOrientation) {
           // of: X, wrt: Y (the shorthand), point/orientation and coord overrides sometimes.
           op.s[0] = Frame(), op.s[1] = Frame();
           op.coord = in_.OneIn(3) ? Frame() : "";
-          if (op.query == script::QueryKind::kPose) op.yaml += ", of: " + Quote(op.s[0]) + ", wrt: " + Quote(op.s[1]);
-          if (op.query == script::QueryKind::kPosition) op.yaml += ", point: " + Quote(op.s[0]) + ", ref_point: " + Quote(op.s[1]);
+          if (op.query == script::QueryKind::kPose)
+            op.yaml += ", of: " + Quote(op.s[0]) + ", wrt: " + Quote(op.s[1]);
+          if (op.query == script::QueryKind::kPosition)
+            op.yaml += ", point: " + Quote(op.s[0]) + ", ref_point: " + Quote(op.s[1]);
           if (op.query == script::QueryKind::kOrientation) {
             op.yaml += ", orientation: " + Quote(op.s[0]) + ", ref_orientation: " + Quote(op.s[1]);
           }
@@ -291,9 +304,11 @@ class Generator {
           if (needs_coord && op.coord.empty()) op.coord = op.s[1];
           if (needs_coord || !op.coord.empty()) op.yaml += ", coord: " + Quote(op.coord);
         } else {
-          op.s[0] = Frame(), op.s[1] = in_.Bool() || op.query == script::QueryKind::kAngularVelocity ? Body() : "",
+          op.s[0] = Frame(),
+          op.s[1] = in_.Bool() || op.query == script::QueryKind::kAngularVelocity ? Body() : "",
           op.s[2] = Body(), op.coord = Frame();
-          if (op.query != script::QueryKind::kAngularVelocity) op.yaml += ", point: " + Quote(op.s[0]);
+          if (op.query != script::QueryKind::kAngularVelocity)
+            op.yaml += ", point: " + Quote(op.s[0]);
           // The angular velocity has no point to take the body from: body is required there.
           if (!op.s[1].empty() || op.query == script::QueryKind::kAngularVelocity) {
             op.yaml += ", body: " + Quote(op.s[1]);
@@ -308,7 +323,8 @@ class Generator {
 
  private:
   static const double* Unit(std::uint32_t i) {
-    static const double q[4][4] = {{1, 0, 0, 0}, {0.5, 0.5, 0.5, 0.5}, {0, 0, 1, 0}, {0.6, 0, 0.8, 0}};
+    static const double q[4][4] = {
+        {1, 0, 0, 0}, {0.5, 0.5, 0.5, 0.5}, {0, 0, 1, 0}, {0.6, 0, 0.8, 0}};
     return q[i % 4];
   }
   OpReader& in_;
@@ -329,12 +345,18 @@ struct Direct {
     code = ok ? base::ErrorCode::kOk : r.error().code;
   }
   void Push(const Eigen::Vector3d& v) { numbers.insert(numbers.end(), {v.x(), v.y(), v.z()}); }
-  void Push(const Eigen::Quaterniond& q) { numbers.insert(numbers.end(), {q.w(), q.x(), q.y(), q.z()}); }
+  void Push(const Eigen::Quaterniond& q) {
+    numbers.insert(numbers.end(), {q.w(), q.x(), q.y(), q.z()});
+  }
 
   Direct(core::SceneGraph<B>& g, const GenOp& op) {
     switch (op.kind) {
-      case GenOp::kBody: Take(g.AddBody(op.s[0])); break;
-      case GenOp::kFrame: Take(g.AddFrame(op.s[0], op.s[1])); break;
+      case GenOp::kBody:
+        Take(g.AddBody(op.s[0]));
+        break;
+      case GenOp::kFrame:
+        Take(g.AddFrame(op.s[0], op.s[1]));
+        break;
       case GenOp::kPose: {
         core::PoseSpec spec = core::PoseSpec::Of(op.s[0], op.s[1]).RelativeTo(op.s[2], op.s[3]);
         if (!op.coord.empty()) spec.coordinate_frame = op.coord;
@@ -343,12 +365,16 @@ struct Direct {
         if (op.stamp && !(st = core::StampFromSeconds(*op.stamp))) {
           // An invalid stamp is invalid_number, after invalid_name: the add's order, which a
           // NaN position reproduces without changing anything.
-          Take(g.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(std::nan(""), 0, 0)));
+          Take(
+              g.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(std::nan(""), 0, 0)));
           break;
         }
-        const auto add = [&](const auto& R) { return st ? g.AddPose(spec, R, p, *st) : g.AddPose(spec, R, p); };
+        const auto add = [&](const auto& R) {
+          return st ? g.AddPose(spec, R, p, *st) : g.AddPose(spec, R, p);
+        };
         if (op.rotation_form == 0) Take(add(Eigen::Quaterniond::Identity()));
-        if (op.rotation_form == 1) Take(add(Eigen::Quaterniond(op.rot[0], op.rot[1], op.rot[2], op.rot[3])));
+        if (op.rotation_form == 1)
+          Take(add(Eigen::Quaterniond(op.rot[0], op.rot[1], op.rot[2], op.rot[3])));
         if (op.rotation_form == 2) {
           const Eigen::Quaterniond q = Eigen::AngleAxisd(op.rot[2], Eigen::Vector3d::UnitZ()) *
                                        Eigen::AngleAxisd(op.rot[1], Eigen::Vector3d::UnitY()) *
@@ -363,24 +389,33 @@ struct Direct {
         break;
       }
       case GenOp::kTwist: {
-        const core::TwistSpec spec = core::TwistSpec::Of(op.s[0], op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
+        const core::TwistSpec spec =
+            core::TwistSpec::Of(op.s[0], op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
         std::optional<core::Stamp> st;
         if (op.stamp && !(st = core::StampFromSeconds(*op.stamp))) {
           Take(g.AddTwist(spec, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero()));
           break;
         }
-        Take(st ? g.AddTwist(spec, V(op.lin), V(op.ang), *st) : g.AddTwist(spec, V(op.lin), V(op.ang)));
+        Take(st ? g.AddTwist(spec, V(op.lin), V(op.ang), *st)
+                : g.AddTwist(spec, V(op.lin), V(op.ang)));
         break;
       }
-      case GenOp::kRemovePose: Take(g.RemovePose(op.s[0], op.s[1])); break;
-      case GenOp::kRemoveTwist: Take(g.RemoveTwist(op.s[0], op.s[1])); break;
-      case GenOp::kQuery: Query(g, op); break;
+      case GenOp::kRemovePose:
+        Take(g.RemovePose(op.s[0], op.s[1]));
+        break;
+      case GenOp::kRemoveTwist:
+        Take(g.RemoveTwist(op.s[0], op.s[1]));
+        break;
+      case GenOp::kQuery:
+        Query(g, op);
+        break;
     }
   }
 
   // The query's policy from its fields; false when a time is invalid (then the error is
   // invalid_number, after invalid_name).
-  static bool PolicyOf(const GenOp& op, core::TimePolicy* policy, std::optional<core::TimeTravel>* travel) {
+  static bool PolicyOf(const GenOp& op, core::TimePolicy* policy,
+                       std::optional<core::TimeTravel>* travel) {
     const auto ns = [](std::optional<double> x, std::int64_t* out) {
       if (!x) return true;
       const auto v = core::NanosecondsFromSeconds(*x);
@@ -394,7 +429,8 @@ struct Direct {
     if (op.not_before) nb = core::Stamp::Nanoseconds(not_before);
     const core::Duration h = core::Duration::Nanoseconds(horizon);
     if (op.ref_at) {
-      travel->emplace(core::Stamp::Nanoseconds(at), core::Stamp::Nanoseconds(ref_at), op.fixed, h, nb);
+      travel->emplace(core::Stamp::Nanoseconds(at), core::Stamp::Nanoseconds(ref_at), op.fixed, h,
+                      nb);
     } else if (op.at) {
       *policy = core::At{core::Stamp::Nanoseconds(at), h, nb};
     } else if (op.latest_common) {
@@ -409,9 +445,11 @@ struct Direct {
     core::PoseSpec ps = core::PoseSpec::Of(op.s[0]).RelativeTo(op.s[1]);
     if (!op.coord.empty()) ps.coordinate_frame = op.coord;
     // (string_view on both sides: a std::string temporary here would leave the spec dangling.)
-    const std::string_view point =
-        op.query == script::QueryKind::kAngularVelocity ? std::string_view() : std::string_view(op.s[0]);
-    const core::TwistSpec ts = core::TwistSpec::Of(point, op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
+    const std::string_view point = op.query == script::QueryKind::kAngularVelocity
+                                       ? std::string_view()
+                                       : std::string_view(op.s[0]);
+    const core::TwistSpec ts =
+        core::TwistSpec::Of(point, op.s[1]).RelativeTo(op.s[2]).ExpressedIn(op.coord);
     core::TimePolicy policy = core::Latest{};
     std::optional<core::TimeTravel> travel;
     if (!PolicyOf(op, &policy, &travel)) {
@@ -439,14 +477,18 @@ struct Direct {
       }
       return;
     }
-    const core::TwistSource source = op.poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
-    const bool timed = op.at || op.latest_common || op.not_before || op.horizon || op.ref_at || op.poses;
+    const core::TwistSource source =
+        op.poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
+    const bool timed =
+        op.at || op.latest_common || op.not_before || op.horizon || op.ref_at || op.poses;
     const auto pose_call = [&](auto&& get) { return travel ? get(*travel) : get(policy); };
     switch (op.query) {
       case script::QueryKind::kPose: {
         const auto r = pose_call([&](const auto& t) { return g.GetPose(ps, t); });
         Take(r);
-        if (ok) Push(B::TranslationOf(r->value.value)), Push(B::ToQuaternion(B::RotationOf(r->value.value))), time = r->time;
+        if (ok)
+          Push(B::TranslationOf(r->value.value)),
+              Push(B::ToQuaternion(B::RotationOf(r->value.value))), time = r->time;
         break;
       }
       case script::QueryKind::kPosition: {
@@ -483,7 +525,8 @@ struct Direct {
         const auto r = g.GetJacobian(ts, policy);
         Take(r);
         for (Eigen::Index row = 0; ok && row < 6; ++row) {
-          for (Eigen::Index c = 0; c < r->value.J.cols(); ++c) numbers.push_back(r->value.J(row, c));
+          for (Eigen::Index c = 0; c < r->value.J.cols(); ++c)
+            numbers.push_back(r->value.J(row, c));
         }
         if (ok) time = r->time;
         break;
@@ -494,13 +537,15 @@ struct Direct {
 
   // A query without time fields: the untimed API must give the same code and numbers as the
   // timed one at the latest samples (the tool calls the timed one).
-  void Untimed(const core::SceneGraph<B>& g, const GenOp& op, const core::PoseSpec& ps, const core::TwistSpec& ts) {
+  void Untimed(const core::SceneGraph<B>& g, const GenOp& op, const core::PoseSpec& ps,
+               const core::TwistSpec& ts) {
     Direct u;
     switch (op.query) {
       case script::QueryKind::kPose: {
         const auto r = g.GetPose(ps);
         u.Take(r);
-        if (u.ok) u.Push(B::TranslationOf(r->value)), u.Push(B::ToQuaternion(B::RotationOf(r->value)));
+        if (u.ok)
+          u.Push(B::TranslationOf(r->value)), u.Push(B::ToQuaternion(B::RotationOf(r->value)));
         break;
       }
       case script::QueryKind::kPosition: {
@@ -533,11 +578,13 @@ struct Direct {
         if (u.ok) u.Push(r->value);
         break;
       }
-      case script::QueryKind::kJacobian: return;
+      case script::QueryKind::kJacobian:
+        return;
     }
     untimed_differs = u.code != code || u.numbers.size() != numbers.size();
     for (std::size_t k = 0; !untimed_differs && k < numbers.size(); ++k) {
-      untimed_differs = std::abs(u.numbers[k] - numbers[k]) > 1e-9 * std::max(1.0, std::abs(numbers[k]));
+      untimed_differs =
+          std::abs(u.numbers[k] - numbers[k]) > 1e-9 * std::max(1.0, std::abs(numbers[k]));
     }
   }
   bool untimed_differs = false;
@@ -589,11 +636,13 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpO
   for (std::size_t i = 0; i < ops.size(); ++i) {
     const Direct<B> d(graph, ops[i]);
     const script::OpOutcome& line = lines[i];
-    const std::string where = "op " + std::to_string(i) + " (" + ops[i].yaml + "): tool printed " + line.json;
+    const std::string where =
+        "op " + std::to_string(i) + " (" + ops[i].yaml + "): tool printed " + line.json;
     if (d.ok != line.ok) {
       // The tool reports a non-finite query result as invalid_number (JSON has no Inf/NaN).
       const bool non_finite = d.ok && JsonErrorCode(line.json) == "invalid_number" &&
-                              std::any_of(d.numbers.begin(), d.numbers.end(), [](double x) { return !std::isfinite(x); });
+                              std::any_of(d.numbers.begin(), d.numbers.end(),
+                                          [](double x) { return !std::isfinite(x); });
       if (!non_finite) Fail(where + ", the API says " + std::string(base::ToString(d.code)), text);
       continue;
     }
@@ -601,10 +650,14 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpO
       Fail(where + ", the API says " + std::string(base::ToString(d.code)), text);
     }
     if (!d.ok) continue;
-    if (d.untimed_differs) Fail(where + ": the untimed API disagrees with the timed one at the latest samples", text);
+    if (d.untimed_differs)
+      Fail(where + ": the untimed API disagrees with the timed one at the latest samples", text);
     if (ops[i].kind == GenOp::kQuery) {  // the time keys: exactly the report's
       const std::pair<const char*, const std::optional<core::Stamp>*> keys[] = {
-          {"time", &d.time.time}, {"ref_time", &d.time.ref_time}, {"oldest", &d.time.oldest}, {"newest", &d.time.newest}};
+          {"time", &d.time.time},
+          {"ref_time", &d.time.ref_time},
+          {"oldest", &d.time.oldest},
+          {"newest", &d.time.newest}};
       for (const auto& [key, stamp] : keys) {
         const std::optional<double> printed = JsonKeyNumber(line.json, key);
         if (printed.has_value() != stamp->has_value() ||
@@ -634,33 +687,39 @@ void CompareWithApi(const std::vector<GenOp>& ops, const std::vector<script::OpO
     }
     for (std::size_t k = 0; k < printed.size(); ++k) {
       const double e = expected[k] == 0.0 ? 0.0 : expected[k];
-      if (printed[k] != e) Fail(where + ": number " + std::to_string(k) + " does not round-trip", text);
+      if (printed[k] != e)
+        Fail(where + ": number " + std::to_string(k) + " does not round-trip", text);
     }
   }
 }
 
 // Malformed variants of a script line (docs/scene-script.md: exit 2).
 const char* const kMalformedOps[] = {
-    "{op: frobnicate, name: a}",                                         // unknown op
-    "{op: body}",                                                        // missing field
-    "{op: body, name: [A]}",                                             // mistyped field
-    "{op: pose, of: a, body: A, wrt: b, ref_body: B, position: [1, 2]}",  // wrong length
+    "{op: frobnicate, name: a}",                                             // unknown op
+    "{op: body}",                                                            // missing field
+    "{op: body, name: [A]}",                                                 // mistyped field
+    "{op: pose, of: a, body: A, wrt: b, ref_body: B, position: [1, 2]}",     // wrong length
     "{op: pose, of: a, body: A, wrt: b, ref_body: B, position: [1, x, 3]}",  // not a number
     "{op: pose, of: a, wrt: b, rotation: {quaternion: [1, 0, 0, 0], rpy: [0, 0, 0]}}",  // two forms
-    "{op: pose, of: a, wrt: b, rotation: {}}",                           // no form
+    "{op: pose, of: a, wrt: b, rotation: {}}",                                          // no form
     "{op: body, name: A, position: [0, 0, 0]}",                          // field of another op
     "{op: remove, of: a, wrt: b}",                                       // remove without kind
     "{op: query, kind: acceleration, point: a, ref_body: B, coord: a}",  // unknown query kind
     "{op: twist, point: a, ref_body: B}",                                // coord missing
-    "{op: pose, of: a, wrt: b, position: [0, 0, 0",                     // broken flow sequence
+    "{op: pose, of: a, wrt: b, position: [0, 0, 0",                      // broken flow sequence
     "[op, body]",                                                        // op not a map
-    "{op: body, name: A, stamp: 1}",                                     // a time field of another op
-    "{op: query, kind: twist, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 0}",  // travel on a twist
-    "{op: query, kind: pose, of: a, wrt: b, source: poses}",             // source on a pose query
-    "{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2}",          // ref_at without fixed
-    "{op: query, kind: pose, of: a, wrt: b, at: latest_common, ref_at: 2, fixed: b}",  // travel needs a time
-    "{op: query, kind: pose, of: a, wrt: b, at: soon}",                  // at not a time
-    "{op: pose, of: a, wrt: b, stamp: 1, repair: true}",                 // repair takes no stamp
+    "{op: body, name: A, stamp: 1}",  // a time field of another op
+    "{op: query, kind: twist, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 0}",  // travel
+                                                                                              // on
+                                                                                              // a
+                                                                                              // twist
+    "{op: query, kind: pose, of: a, wrt: b, source: poses}",     // source on a pose query
+    "{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2}",  // ref_at without fixed
+    "{op: query, kind: pose, of: a, wrt: b, at: latest_common, ref_at: 2, fixed: b}",  // travel
+                                                                                       // needs a
+                                                                                       // time
+    "{op: query, kind: pose, of: a, wrt: b, at: soon}",   // at not a time
+    "{op: pose, of: a, wrt: b, stamp: 1, repair: true}",  // repair takes no stamp
 };
 
 void Structured(OpReader& in) {
@@ -684,14 +743,16 @@ void Structured(OpReader& in) {
     time_map += "}\n";
   }
   const core::TimeOptions time = script::TimeOptionsOf(settings);
-  const std::string header = time_map + (homogeneous ? "representation: homogeneous\nops:\n" : "ops:\n");
+  const std::string header =
+      time_map + (homogeneous ? "representation: homogeneous\nops:\n" : "ops:\n");
   std::string text = header;
   if (ops.empty()) text += "  []\n";
   for (const GenOp& op : ops) text += "  - " + op.yaml + "\n";
 
   std::vector<script::OpOutcome> lines;
   const int status = RunScript(text, &lines);
-  if (status == kExitMalformed) Fail("a well-formed generated script was rejected as malformed", text);
+  if (status == kExitMalformed)
+    Fail("a well-formed generated script was rejected as malformed", text);
   if (lines.size() != ops.size()) Fail("not one output line per op", text);
   if (homogeneous) {
     CompareWithApi<coord::HomogeneousBackend>(ops, lines, text, time);
@@ -703,13 +764,17 @@ void Structured(OpReader& in) {
   const std::size_t at = in.Below(static_cast<std::uint32_t>(ops.size() + 1));
   std::string bad = header;
   for (std::size_t i = 0; i <= ops.size(); ++i) {
-    if (i == at) bad += std::string("  - ") + kMalformedOps[in.Below(std::size(kMalformedOps))] + "\n";
+    if (i == at)
+      bad += std::string("  - ") + kMalformedOps[in.Below(std::size(kMalformedOps))] + "\n";
     if (i < ops.size()) bad += "  - " + ops[i].yaml + "\n";
   }
   const std::uint32_t document = in.Below(8);
-  if (document == 0) bad = "representation: octonion\n" + bad.substr(header.size() - 5);  // unknown representation
-  if (document == 1) bad = "time: {window: 0}\n" + bad.substr(time_map.size());  // a window that is not positive
-  if (RunScript(bad, nullptr) != kExitMalformed) Fail("a malformed script was not rejected with status 2", bad);
+  if (document == 0)
+    bad = "representation: octonion\n" + bad.substr(header.size() - 5);  // unknown representation
+  if (document == 1)
+    bad = "time: {window: 0}\n" + bad.substr(time_map.size());  // a window that is not positive
+  if (RunScript(bad, nullptr) != kExitMalformed)
+    Fail("a malformed script was not rejected with status 2", bad);
 }
 
 }  // namespace

@@ -38,7 +38,8 @@ using script::NodeKind;
 using script::YamlTree;
 
 [[noreturn]] void Fail(const std::string& why, std::string_view text) {
-  std::fprintf(stderr, "\n==== yaml_tree_fuzzer FAILED ====\n%s\n---- text ----\n%.*s\n==== end ====\n",
+  std::fprintf(stderr,
+               "\n==== yaml_tree_fuzzer FAILED ====\n%s\n---- text ----\n%.*s\n==== end ====\n",
                why.c_str(), static_cast<int>(text.size()), text.data());
   std::fflush(stderr);
   std::abort();
@@ -107,7 +108,7 @@ struct Measure {
 Measure MeasureTree(const YamlTree& tree, std::string_view text) {
   const std::size_t n = tree.num_nodes();
   Measure m{std::vector<std::size_t>(n, 0)};
-  std::vector<std::uint8_t> state(n, 0);  // 0 new, 1 on the stack, 2 done
+  std::vector<std::uint8_t> state(n, 0);              // 0 new, 1 on the stack, 2 done
   std::vector<std::pair<NodeId, std::size_t>> stack;  // node, next child to visit
   for (NodeId start = 0; start < n; ++start) {
     if (state[start] != 0) continue;
@@ -152,14 +153,17 @@ void Compare(const YamlTree& tree, NodeId id, const YAML::Node& theirs, std::str
       if (ours.text != Reencoded(theirs.Scalar())) Fail(where + "scalar texts differ", text);
       const std::string& tag = theirs.Tag();
       if ((ours.style == script::ScalarStyle::kPlain) != (tag == "?") ||
-          (ours.style == script::ScalarStyle::kString) != (tag == "!" || tag == "tag:yaml.org,2002:str")) {
+          (ours.style == script::ScalarStyle::kString) !=
+              (tag == "!" || tag == "tag:yaml.org,2002:str")) {
         Fail(where + "the style differs from the tag " + tag, text);
       }
       return;
     }
     case NodeKind::kSequence: {
       if (!theirs.IsSequence() || theirs.size() != ours.children.size()) {
-        Fail(where + "a sequence of " + std::to_string(ours.children.size()) + ", not for YAML::Load", text);
+        Fail(where + "a sequence of " + std::to_string(ours.children.size()) +
+                 ", not for YAML::Load",
+             text);
       }
       for (std::size_t i = 0; i < ours.children.size(); ++i) {
         Compare(tree, ours.children[i], theirs[i], text, budget);
@@ -168,7 +172,9 @@ void Compare(const YamlTree& tree, NodeId id, const YAML::Node& theirs, std::str
     }
     case NodeKind::kMap: {
       if (!theirs.IsMap() || 2 * theirs.size() != ours.children.size()) {
-        Fail(where + "a map of " + std::to_string(ours.children.size() / 2) + " pairs, not for YAML::Load", text);
+        Fail(where + "a map of " + std::to_string(ours.children.size() / 2) +
+                 " pairs, not for YAML::Load",
+             text);
       }
       std::size_t k = 0;
       for (const auto& pair : theirs) {  // yaml-cpp keeps a map's pairs in document order
@@ -214,7 +220,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   for (NodeId i = 0; i < tree->num_nodes(); ++i) {
     const auto v = tree->At(i);
-    if (v.kind == NodeKind::kMap && v.children.size() % 2 != 0) Fail("a map with an odd child count", text);
+    if (v.kind == NodeKind::kMap && v.children.size() % 2 != 0)
+      Fail("a map with an odd child count", text);
     if (v.kind != NodeKind::kScalar && !v.text.empty()) Fail("text on a non-scalar", text);
     if ((v.kind == NodeKind::kScalar || v.kind == NodeKind::kNull) && !v.children.empty()) {
       Fail("children under a scalar", text);
@@ -227,7 +234,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
              std::to_string(m.expanded[tree->root()]),
          text);
   }
-  if (tree->expanded_bytes() > limits.max_expanded_bytes) Fail("expanded size over the limit", text);
+  if (tree->expanded_bytes() > limits.max_expanded_bytes)
+    Fail("expanded size over the limit", text);
   if (tiny || tree->expanded_bytes() > (1u << 16)) return 0;
   YAML::Node theirs;
   try {

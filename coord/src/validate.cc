@@ -40,7 +40,8 @@ Expected<Eigen::Vector3d, Error> ValidateVector(const Eigen::Vector3d& v, ValueR
   Eigen::Vector3d out;
   for (int i = 0; i < 3; ++i) {
     if (std::abs(v[i]) > kMaxMagnitude) {
-      return Unexpected{ValueError(ErrorCode::kInvalidNumber, ValueProblem::kTooLarge, role, i, v[i])};
+      return Unexpected{
+          ValueError(ErrorCode::kInvalidNumber, ValueProblem::kTooLarge, role, i, v[i])};
     }
     out[i] = FlushSubnormal(v[i]);
   }
@@ -100,7 +101,8 @@ Expected<Eigen::Matrix3d, Error> ValidateRotationMatrix(const Eigen::Matrix3d& R
   return out;
 }
 
-Expected<Position, Error> MakePosition(const PositionSemantics& s, const Eigen::Vector3d& p) noexcept {
+Expected<Position, Error> MakePosition(const PositionSemantics& s,
+                                       const Eigen::Vector3d& p) noexcept {
   auto ok = ValidateVector(p, ValueRole::kPosition);
   if (!ok) return Unexpected{ok.error()};
   return Position{s, *ok};
@@ -205,14 +207,22 @@ Expected<Ok, Error> ValidateHomogeneousShape(const Eigen::Matrix4d& T) noexcept 
 namespace {
 const char* RoleName(ValueRole role) noexcept {
   switch (role) {
-    case ValueRole::kPosition: return "position";
-    case ValueRole::kQuaternion: return "quaternion";
-    case ValueRole::kRotationMatrix: return "rotation matrix";
-    case ValueRole::kHomogeneousMatrix: return "homogeneous matrix";
-    case ValueRole::kLinearVelocity: return "linear velocity";
-    case ValueRole::kAngularVelocity: return "angular velocity";
-    case ValueRole::kJointPosition: return "joint position";
-    case ValueRole::kJointVelocity: return "joint velocity";
+    case ValueRole::kPosition:
+      return "position";
+    case ValueRole::kQuaternion:
+      return "quaternion";
+    case ValueRole::kRotationMatrix:
+      return "rotation matrix";
+    case ValueRole::kHomogeneousMatrix:
+      return "homogeneous matrix";
+    case ValueRole::kLinearVelocity:
+      return "linear velocity";
+    case ValueRole::kAngularVelocity:
+      return "angular velocity";
+    case ValueRole::kJointPosition:
+      return "joint position";
+    case ValueRole::kJointVelocity:
+      return "joint velocity";
   }
   return "value";
 }
@@ -238,21 +248,23 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
                           error.mismatch.lhs.field == semantics::Field::kRefPoint;
       return std::string("the ") + (error.representation ? error.representation : "chosen") +
              " representation requires " + semantics::Describe(error.mismatch.lhs, names) +
-             (origin ? " to be the origin of " : " to be ") + semantics::Describe(error.mismatch.rhs, names);
+             (origin ? " to be the origin of " : " to be ") +
+             semantics::Describe(error.mismatch.rhs, names);
     }
     case ErrorCode::kInvalidNumber:
-      return std::string(RoleName(error.value.role)) + " component " + std::to_string(int(error.value.component)) +
-             " is " + magnitude +
+      return std::string(RoleName(error.value.role)) + " component " +
+             std::to_string(int(error.value.component)) + " is " + magnitude +
              (error.value.problem == ValueProblem::kTooLarge
                   ? " (magnitude above " + FormatNumber(kMaxMagnitude) + ")"
                   : std::string(" (must be finite)"));
     case ErrorCode::kInvalidRotation:
       switch (error.value.problem) {
         case ValueProblem::kQuaternionNorm:
-          return "quaternion norm differs from 1 by " + magnitude + " (more than " + tolerance + ")";
-        case ValueProblem::kNotOrthonormal:
-          return "rotation matrix is not orthonormal: max |M^T M - I| = " + magnitude + " (more than " + tolerance +
+          return "quaternion norm differs from 1 by " + magnitude + " (more than " + tolerance +
                  ")";
+        case ValueProblem::kNotOrthonormal:
+          return "rotation matrix is not orthonormal: max |M^T M - I| = " + magnitude +
+                 " (more than " + tolerance + ")";
         case ValueProblem::kReflection:
           return "rotation matrix has determinant " + magnitude + " (a reflection, not a rotation)";
         case ValueProblem::kNotRigidTransform:

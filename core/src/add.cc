@@ -135,12 +135,15 @@ FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddBody(std::string_view name) {
-  const auto what = [&] { return name.empty() ? std::string("body with an empty name") : "body " + std::string(name); };
+  const auto what = [&] {
+    return name.empty() ? std::string("body with an empty name") : "body " + std::string(name);
+  };
   if (auto ok = semantics::ValidateName(name); !ok) {
     return Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), name));
   }
   if (FindBody(name).is_valid()) {
-    return Reject(ErrorCode::kDuplicateBody, what(), "body " + std::string(name) + " already exists");
+    return Reject(ErrorCode::kDuplicateBody, what(),
+                  "body " + std::string(name) + " already exists");
   }
   NameRollback rollback(topology_.mutable_names());
   topology_.CreateBody(*topology_.mutable_names().Intern(name));
@@ -159,10 +162,12 @@ BuildResult SceneGraph<B>::AddFrame(std::string_view name, std::string_view body
                   "a frame must name the body it is attached to");
   }
   if (auto ok = semantics::ValidateName(body); !ok) {
-    return Reject(ErrorCode::kInvalidName, what(), "body: " + semantics::Describe(ok.error(), body));
+    return Reject(ErrorCode::kInvalidName, what(),
+                  "body: " + semantics::Describe(ok.error(), body));
   }
   if (const FrameIndex f = FindFrame(name); f.is_valid()) {
-    return Reject(ErrorCode::kDuplicateFrame, what(), "frame " + text::Frame(topology_, f) + " already exists");
+    return Reject(ErrorCode::kDuplicateFrame, what(),
+                  "frame " + text::Frame(topology_, f) + " already exists");
   }
   const BodyIndex b = FindBody(body);
   if (!b.is_valid()) {
@@ -209,7 +214,8 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
 
 template <coord::Backend B>
 template <class R>
-BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position,
+BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
+                                       const Eigen::Vector3d& p_position,
                                        std::optional<Stamp> stamp) {
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
@@ -256,8 +262,8 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     const PoseSteps<ForestChain> steps = PlanChanges(t, e, a, f, b, r);
     // A stamped value is converted with the values at its stamp (docs/time.md).
     internal::TimeContext at_stamp = ConversionContext(stamp);
-    X_BA = internal::ToEdgeForm<B>(internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr), steps,
-                                   X_BA);
+    X_BA = internal::ToEdgeForm<B>(
+        internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr), steps, X_BA);
     if (at_stamp.error() != ErrorCode::kOk) {
       return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
     }
@@ -275,7 +281,8 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
     }
     if (topology::IsConstantEdge(t, b, a)) {
       const auto stored = values_.X_PF[a.value()].Load();
-      const Eigen::Matrix3d dR = B::ToMatrix(B::RotationOf(stored)) - B::ToMatrix(B::RotationOf(X_BA));
+      const Eigen::Matrix3d dR =
+          B::ToMatrix(B::RotationOf(stored)) - B::ToMatrix(B::RotationOf(X_BA));
       const Eigen::Vector3d p_stored = B::TranslationOf(stored);
       const double dp = (p_stored - B::TranslationOf(X_BA)).norm();
       if (dR.cwiseAbs().maxCoeff() <= 1e-6 && dp <= 1e-6 * std::max(1.0, p_stored.norm())) {
@@ -285,8 +292,8 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation, 
       return Reject(ErrorCode::kConstantPoseChange, what(),
                     text::Frame(t, a) + " and " + text::Frame(t, b) + " are both fixed to body " +
                         std::string(t.body_name(t.body_of(a))) +
-                        ", so their pose is constant; it is already set (position " + text::Vector(p_stored) +
-                        "); remove the edge first to recalibrate");
+                        ", so their pose is constant; it is already set (position " +
+                        text::Vector(p_stored) + "); remove the edge first to recalibrate");
     }
     // A value update: the stamp rules, then the value (and the sample of a stamped edge).
     if (const ErrorCode code = CheckPoseSample(a, X_BA, stamp); code != ErrorCode::kOk) {
@@ -324,7 +331,8 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
-                                        const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp) {
+                                        const Eigen::Vector3d& w_angular,
+                                        std::optional<Stamp> stamp) {
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::TwistAdd(spec); };  // formatted only on rejection
@@ -380,8 +388,9 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     }
     typename B::PoseCoords X_ER;  // [r] wrt [e] in [e], at the stamp of a stamped value
     internal::TimeContext at_stamp = ConversionContext(stamp);
-    internal::EvalBasic<B>(internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr),
-                           PlanBasic(t, r, e), X_ER);
+    internal::EvalBasic<B>(
+        internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr),
+        PlanBasic(t, r, e), X_ER);
     if (at_stamp.error() != ErrorCode::kOk) {
       return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
     }
@@ -390,7 +399,8 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   }
   // W1 -> W3; an existing edge D -> {e} is a value update.
   const BodyIndex D = plan.tail.body;
-  if (e.is_valid() && t.twist_edge_of(e).is_valid() && D.is_valid() && t.twist_edge(t.twist_edge_of(e)).tail == D) {
+  if (e.is_valid() && t.twist_edge_of(e).is_valid() && D.is_valid() &&
+      t.twist_edge(t.twist_edge_of(e)).tail == D) {
     if (const internal::JointRecord* j = joints_.OfChild(e)) {  // joint_edge, before W1
       return Reject(ErrorCode::kJointEdge, what(),
                     "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, e) +
@@ -469,7 +479,8 @@ internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
 template <coord::Backend B>
 BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view relative_to) {
   const auto what = [&] {
-    return "removal of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
+    return "removal of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) +
+           "}";
   };
   const internal::EdgeLookup l = internal::LookUpPoseEdge(topology_, of, relative_to);
   if (l.code != ErrorCode::kOk)
@@ -482,8 +493,12 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view relative_to) {
-  const auto shown = [](std::string_view n) { return n.empty() ? std::string("\"\"") : std::string(n); };
-  const auto what = [&] { return "removal of the twist of " + shown(of) + " wrt " + shown(relative_to); };
+  const auto shown = [](std::string_view n) {
+    return n.empty() ? std::string("\"\"") : std::string(n);
+  };
+  const auto what = [&] {
+    return "removal of the twist of " + shown(of) + " wrt " + shown(relative_to);
+  };
   const internal::EdgeLookup l = internal::LookUpTwistEdge(topology_, of, relative_to);
   if (l.code != ErrorCode::kOk)
     return Reject(l.code, what(), text::EdgeReason(topology_, l, relative_to, true));
@@ -508,7 +523,8 @@ void SceneGraph<B>::RemovePoseEdge(FrameIndex head) {
 template <coord::Backend B>
 void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
   topology_.UnlinkTwist(edge);
-  values_.V_DH[edge.value()].BumpEpoch();  // compiled queries and handles using this edge become invalid
+  values_.V_DH[edge.value()]
+      .BumpEpoch();  // compiled queries and handles using this edge become invalid
   DropTwistHistory(edge);
 }
 

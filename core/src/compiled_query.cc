@@ -28,7 +28,8 @@ bool CompiledQuery<B>::is_valid() const noexcept {
 
 template <coord::Backend B>
 template <class Eval>
-ErrorCode CompiledQuery<B>::RunTimed(const TimePolicy& policy, TimeReport& report, Eval&& eval) const noexcept {
+ErrorCode CompiledQuery<B>::RunTimed(const TimePolicy& policy, TimeReport& report,
+                                     Eval&& eval) const noexcept {
   const internal::PolicyParts parts = internal::PartsOf(policy);
   if (!parts.valid()) return ErrorCode::kInvalidNumber;
   internal::TimeContext base;
@@ -48,7 +49,8 @@ auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const ForestCha
   flat.begin = static_cast<std::uint32_t>(edges_.size());
   for (FrameIndex g = c.from; g != c.to; g = t.pose_parent(g)) {
     const PoseValue<B>& value = values_->X_PF[g.value()];
-    edges_.push_back(internal::EdgeRef{PoseValue<B>::ExpectedHeader(value.epoch()), &value, g.value()});
+    edges_.push_back(
+        internal::EdgeRef{PoseValue<B>::ExpectedHeader(value.epoch()), &value, g.value()});
   }
   flat.end = static_cast<std::uint32_t>(edges_.size());
   if (flat.end != flat.begin) chains_.push_back(flat);
@@ -96,7 +98,8 @@ namespace internal {
 // the one after scans again: a query whose edges all change every time costs about what the
 // uncached query costs, and one whose edges calm down finds its tree again.
 template <coord::Backend B>
-bool CachedSource<B>::EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
+bool CachedSource<B>::EvalChain(const FlatChain& c, PoseCoords& X_AF,
+                                bool& identity) const noexcept {
   constexpr std::uint32_t kSkip = 15;
   identity = c.begin == c.end;
   if (identity) return true;
@@ -118,7 +121,8 @@ bool CachedSource<B>::EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& iden
     const PoseValue<B>& value = *static_cast<const PoseValue<B>*>(refs[j].value);
     if (value.header() == headers[j]) continue;  // unchanged since cached
     const std::uint32_t leaf = n - 1 - j;
-    if (!value.LoadWithHeader(node[leaves + leaf], refs[j].expected_header, headers[j])) return false;
+    if (!value.LoadWithHeader(node[leaves + leaf], refs[j].expected_header, headers[j]))
+      return false;
     changed_leaves[changed++] = leaf;
   }
   const std::uint32_t height = static_cast<std::uint32_t>(std::countr_zero(leaves));
@@ -129,7 +133,8 @@ bool CachedSource<B>::EvalChain(const FlatChain& c, PoseCoords& X_AF, bool& iden
       }
     }
   } else {
-    for (std::uint32_t k = leaves - 1; k >= 1; --k) node[k] = B::ComposeChain(node[2 * k + 1], node[2 * k]);
+    for (std::uint32_t k = leaves - 1; k >= 1; --k)
+      node[k] = B::ComposeChain(node[2 * k + 1], node[2 * k]);
     // Busy: more than half the edges changed per evaluation since the last scan (not counting
     // the first scan, which loads everything).
     if (tree.scanned && 2 * changed > n * (tree.unscanned + 1)) tree.skip = kSkip;
@@ -252,8 +257,8 @@ ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
 }
 
 template <coord::Backend B>
-ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
-                                     TimeReport& report) const noexcept {
+ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R,
+                                     const TimePolicy& policy, TimeReport& report) const noexcept {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
   const TimePolicy used = from_poses_ ? internal::WithoutExtrapolation(policy) : policy;
   const ErrorCode code = this->RunTimed(

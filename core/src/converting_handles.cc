@@ -130,8 +130,8 @@ Expected<ConvertingPoseHandle<B>, BuildError> SceneGraph<B>::FindPoseEdge(
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>& edge,
-                                  const Eigen::Vector3d& v_DHo_R,
-                                  const Eigen::Vector3d& w_DH_R, UpdateError* why) noexcept {
+                                  const Eigen::Vector3d& v_DHo_R, const Eigen::Vector3d& w_DH_R,
+                                  UpdateError* why) noexcept {
   using internal::Report;
   auto v = coord::ValidateVector(v_DHo_R, coord::ValueRole::kLinearVelocity);
   if (!v) return Report(why, v.error());
@@ -184,19 +184,19 @@ ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eige
   return SetConvertedPose(edge, R, p, why);
 }
 
-#define SEMGRAPH_INSTANTIATE_CONVERTING(B)                                                         \
-  template Expected<ConvertingTwistHandle<B>, BuildError> SceneGraph<B>::FindTwistEdge(            \
-      std::string_view, std::string_view, std::string_view) const;                                 \
-  template Expected<ConvertingPoseHandle<B>, BuildError> SceneGraph<B>::FindPoseEdge(              \
-      const PoseSpec&) const;                                                                      \
-  template ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>&,                      \
-                                             const Eigen::Vector3d&, const Eigen::Vector3d&,       \
-                                             UpdateError*) noexcept;                               \
-  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                        \
-                                            const Eigen::Quaterniond&, const Eigen::Vector3d&,     \
-                                            UpdateError*) noexcept;                                \
-  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                        \
-                                            const Eigen::Matrix3d&, const Eigen::Vector3d&,        \
+#define SEMGRAPH_INSTANTIATE_CONVERTING(B)                                                     \
+  template Expected<ConvertingTwistHandle<B>, BuildError> SceneGraph<B>::FindTwistEdge(        \
+      std::string_view, std::string_view, std::string_view) const;                             \
+  template Expected<ConvertingPoseHandle<B>, BuildError> SceneGraph<B>::FindPoseEdge(          \
+      const PoseSpec&) const;                                                                  \
+  template ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>&,                  \
+                                             const Eigen::Vector3d&, const Eigen::Vector3d&,   \
+                                             UpdateError*) noexcept;                           \
+  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                    \
+                                            const Eigen::Quaterniond&, const Eigen::Vector3d&, \
+                                            UpdateError*) noexcept;                            \
+  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                    \
+                                            const Eigen::Matrix3d&, const Eigen::Vector3d&,    \
                                             UpdateError*) noexcept;
 SEMGRAPH_INSTANTIATE_CONVERTING(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_CONVERTING(coord::HomogeneousBackend)

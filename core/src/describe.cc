@@ -1,13 +1,14 @@
 // Every text of the core: rejection messages of adds and removals, and the description of a
 // query error. Formatted off the hot path only; role names come from the one table,
 // semantics::FieldName.
+#include "semgraph/semantics/describe.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <utility>
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
-#include "semgraph/semantics/describe.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -27,7 +28,8 @@ std::string Frame(const topology::SceneTopology& t, topology::FrameIndex f) {
 
 std::string Vector(const Eigen::Vector3d& v) {
   // Round-trip digits (coord::FormatNumber), so the stored value is shown exactly.
-  return "[" + coord::FormatNumber(v.x()) + ", " + coord::FormatNumber(v.y()) + ", " + coord::FormatNumber(v.z()) + "]";
+  return "[" + coord::FormatNumber(v.x()) + ", " + coord::FormatNumber(v.y()) + ", " +
+         coord::FormatNumber(v.z()) + "]";
 }
 
 std::string StampText(std::int64_t ns) {
@@ -44,13 +46,16 @@ std::string StampRange(std::int64_t first_ns, std::int64_t last_ns) {
 }
 
 BuildResult Reject(ErrorCode code, const std::string& what, const std::string& reason) {
-  return base::Unexpected{BuildError{code, what + " rejected (" + std::string(base::ToString(code)) + "): " + reason}};
+  return base::Unexpected{
+      BuildError{code, what + " rejected (" + std::string(base::ToString(code)) + "): " + reason}};
 }
 
 std::string PoseAdd(const PoseSpec& spec) {
-  const auto part = [](std::string_view point, std::string_view orientation, std::string_view body) {
-    std::string s = point == orientation ? "{" + std::string(point) + "}"
-                                         : "(" + std::string(point) + ",[" + std::string(orientation) + "])";
+  const auto part = [](std::string_view point, std::string_view orientation,
+                       std::string_view body) {
+    std::string s = point == orientation
+                        ? "{" + std::string(point) + "}"
+                        : "(" + std::string(point) + ",[" + std::string(orientation) + "])";
     return body.empty() ? s : s + "|" + std::string(body);
   };
   std::string out = "pose of " + part(spec.point, spec.orientation, spec.body) + " wrt " +
@@ -63,8 +68,9 @@ std::string PoseAdd(const PoseSpec& spec) {
 }
 
 std::string TwistAdd(const TwistSpec& spec) {
-  return "twist of " + std::string(spec.point) + (spec.body.empty() ? "" : "|" + std::string(spec.body)) +
-         " wrt " + std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
+  return "twist of " + std::string(spec.point) +
+         (spec.body.empty() ? "" : "|" + std::string(spec.body)) + " wrt " +
+         std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
 }
 
 namespace {
@@ -149,12 +155,14 @@ std::string PoseRule(const topology::SceneTopology& t, const topology::RuleViola
       return Frame(t, ends.head) + " already has a pose parent " + Frame(t, v.frame);
     case ErrorCode::kPoseCycle:  // P2
       return Frame(t, ends.tail) + " is already connected below " + Frame(t, ends.head) +
-             " (through the pose tree rooted at " + Frame(t, v.frame) + "); the edge would close a cycle";
+             " (through the pose tree rooted at " + Frame(t, v.frame) +
+             "); the edge would close a cycle";
     case ErrorCode::kDuplicatePosePath:  // P3
       return DuplicatePosePath(t, v, ends, spec);
     case ErrorCode::kTwistMergeConflict:  // W4
       return "joining the pose trees of " + Frame(t, ends.tail) + " and " + Frame(t, ends.head) +
-             " would give two twist paths between the same bodies (their twist edges would form a cycle)";
+             " would give two twist paths between the same bodies (their twist edges would form a "
+             "cycle)";
     default:
       return std::string(base::ToString(v.code));
   }
@@ -164,11 +172,12 @@ std::string TwistRule(const topology::SceneTopology& t, const topology::RuleViol
                       const topology::NewTwistEdge& ends) {
   switch (v.code) {
     case ErrorCode::kMultipleTwistParents:  // W1
-      return Frame(t, ends.head) + " already has a twist parent: body " + std::string(t.body_name(v.body));
+      return Frame(t, ends.head) + " already has a twist parent: body " +
+             std::string(t.body_name(v.body));
     case ErrorCode::kDuplicateTwistPath:  // W3
       return "the twist of " + std::string(t.body_name(ends.head_body)) + " relative to " +
-             std::string(t.body_name(ends.tail)) + " already follows from the twist edges of the pose tree of " +
-             Frame(t, ends.head);
+             std::string(t.body_name(ends.tail)) +
+             " already follows from the twist edges of the pose tree of " + Frame(t, ends.head);
     default:
       return std::string(base::ToString(v.code));
   }
@@ -255,10 +264,11 @@ std::string NoTwistPath(const topology::SceneTopology& t, const QueryError& e) {
   const auto side = [&](topology::BodyIndex X) {
     topology::FrameIndex f = t.SomeFrameOfBodyInTree(X, point);
     if (!f.is_valid() && rec != nullptr) {
-      rec->twists.ForEachEdge([&](topology::TwistEdgeIndex edge, topology::BodyIndex, topology::BodyIndex) {
-        const topology::FrameIndex h = t.twist_edge(edge).head;
-        if (!f.is_valid() && connected(t.body_of(h), X)) f = h;
-      });
+      rec->twists.ForEachEdge(
+          [&](topology::TwistEdgeIndex edge, topology::BodyIndex, topology::BodyIndex) {
+            const topology::FrameIndex h = t.twist_edge(edge).head;
+            if (!f.is_valid() && connected(t.body_of(h), X)) f = h;
+          });
     }
     return f;
   };
@@ -304,13 +314,14 @@ std::string Reason(const topology::SceneTopology& t, const QueryError& e, const 
         return edge_text() + " has a single sample (at " + text::StampText(e.time.first) +
                "): no derivative; asked " + text::StampText(e.time.asked);
       }
-      return edge_text() + " has samples in " + text::StampRange(e.time.first, e.time.last) + "; asked " +
-             text::StampText(e.time.asked);
+      return edge_text() + " has samples in " + text::StampRange(e.time.first, e.time.last) +
+             "; asked " + text::StampText(e.time.asked);
     case ErrorCode::kStale:
       return edge_text() + " is stale: its newest sample is at " + text::StampText(e.time.last) +
              ", older than not_before " + text::StampText(e.time.asked);
     case ErrorCode::kInvalidNumber:
-      if (e.detail.code == ErrorCode::kOk) return "the extrapolation horizon (max_extrapolation) is negative";
+      if (e.detail.code == ErrorCode::kOk)
+        return "the extrapolation horizon (max_extrapolation) is negative";
       return coord::Describe(e.detail, names);
     case ErrorCode::kInvalidName:
       reason = "the " + role + " name is missing or invalid";
@@ -348,7 +359,8 @@ std::string Reason(const topology::SceneTopology& t, const QueryError& e, const 
       reason = NoTwistPath(t, e);
       break;
     case ErrorCode::kQueryInvalidated:
-      reason = "an edge the compiled query reads was removed after it was compiled; compile it again";
+      reason =
+          "an edge the compiled query reads was removed after it was compiled; compile it again";
       break;
     default:
       reason = coord::Describe(e.detail, names);
@@ -441,9 +453,9 @@ std::string Describe(const UpdateError& e) {
   return std::string(base::ToString(e.code));
 }
 
-#define SEMGRAPH_INSTANTIATE_DESCRIBE(B)                                                      \
-  template std::string SceneGraph<B>::Describe(const QueryError&) const;                     \
-  template std::string SceneGraph<B>::Describe(const QueryError&, const PoseSpec&) const;    \
+#define SEMGRAPH_INSTANTIATE_DESCRIBE(B)                                                  \
+  template std::string SceneGraph<B>::Describe(const QueryError&) const;                  \
+  template std::string SceneGraph<B>::Describe(const QueryError&, const PoseSpec&) const; \
   template std::string SceneGraph<B>::Describe(const QueryError&, const TwistSpec&) const;
 SEMGRAPH_INSTANTIATE_DESCRIBE(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_DESCRIBE(coord::HomogeneousBackend)

@@ -29,14 +29,16 @@ using text::Reject;
 
 namespace {
 
-constexpr double kLimitSlack = 1e-9;     // as the unstamped setters (joints.cc)
+constexpr double kLimitSlack = 1e-9;      // as the unstamped setters (joints.cc)
 constexpr double kSameJointValue = 1e-9;  // kinematics.md: identical samples
 
-bool Near(double a, double b) { return std::abs(a - b) <= kSameJointValue * std::max(1.0, std::abs(b)); }
+bool Near(double a, double b) {
+  return std::abs(a - b) <= kSameJointValue * std::max(1.0, std::abs(b));
+}
 
 // The (q, qdot) a joint's edge samples hold.
-void StoredJointState(const internal::JointRecord& j, const double (&pose)[7], const double (&twist)[6], double& q,
-                      double& qdot) noexcept {
+void StoredJointState(const internal::JointRecord& j, const double (&pose)[7],
+                      const double (&twist)[6], double& q, double& qdot) noexcept {
   const auto X = internal::PoseFromWords(pose);
   const TwistNumbers V = internal::TwistFromWords(twist);
   if (j.type == JointType::kPrismatic) {
@@ -90,7 +92,8 @@ void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
   if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
     double q0 = 0, qdot0 = 0;
     StoredJointState(j, pw, tw, q0, qdot0);
-    identical = (j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0)) && Near(qdot, qdot0);
+    identical =
+        (j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0)) && Near(qdot, qdot0);
   }
   if (!identical) {  // the same sample again is a no-op that keeps the stored one
     Eigen::Quaterniond q_PC;
@@ -119,8 +122,9 @@ void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
-                                         Stamp stamp, UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* q,
+                                         const double* qdot, Stamp stamp,
+                                         UpdateError* why) noexcept {
   // As SetGroup: one pass collects every failure and the first in the rules' order is reported.
   const std::size_t n = group.joints.size();
   const std::int64_t s = stamp.nanoseconds();
@@ -137,7 +141,8 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
       continue;
     }
     mimic |= j->is_mimic();
-    limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
+    limit |=
+        q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
     const double qi = q ? q[i] : j->q, qdoti = qdot ? qdot[i] : j->qdot;
     note(CheckJointSample(*j, qi, qdoti, s));
     for (JointIndex m : j->mimics) {
@@ -150,7 +155,8 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
   if (mimic) return RefuseJoints(ErrorCode::kMimicJoint, group, q, qdot, why);
   if (limit) return RefuseJoints(ErrorCode::kJointLimit, group, q, qdot, why);
   if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, why);
-  for (std::size_t i = 0; i < n; ++i) StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);
+  for (std::size_t i = 0; i < n; ++i)
+    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);
   return internal::Report(why, ErrorCode::kOk);
 }
 
@@ -189,7 +195,6 @@ ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode code, const JointGroup& group, c
   return code;
 }
 
-
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q,
                                            Stamp stamp, UpdateError* why) noexcept {
@@ -205,15 +210,16 @@ ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<c
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q, std::span<const double> qdot,
-                                       Stamp stamp, UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q,
+                                       std::span<const double> qdot, Stamp stamp,
+                                       UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size());
   return SetGroupStamped(group, q.data(), qdot.data(), stamp, why);
 }
 
 template <coord::Backend B>
-BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities,
-                                     Stamp stamp) {
+BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
+                                     std::span<const JointValue> velocities, Stamp stamp) {
   const auto what = [] { return std::string("joint state"); };
   // The rules before time, shared with the unstamped set (joints.cc).
   if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
@@ -244,7 +250,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
     for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
       const JointIndex idx = k == 0 ? x.index : j.mimics[k - 1];
       const internal::JointRecord& jk = joints_[idx];
-      if (!jk.timeless && values_.history.pose_of(jk.child.value()) == nullptr) fresh.push_back(idx);
+      if (!jk.timeless && values_.history.pose_of(jk.child.value()) == nullptr)
+        fresh.push_back(idx);
     }
   }
   // The stamp rules, on the joints that are stamped already (and the timeless ones); the first
@@ -258,7 +265,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
       const JointIndex idx = k == 0 ? x.index : j.mimics[k - 1];
       if (std::find(fresh.begin(), fresh.end(), idx) != fresh.end()) continue;
       const internal::JointRecord& jk = joints_[idx];
-      const double qk = k == 0 ? q : jk.multiplier * q + jk.offset, qdotk = k == 0 ? qdot : jk.multiplier * qdot;
+      const double qk = k == 0 ? q : jk.multiplier * q + jk.offset,
+                   qdotk = k == 0 ? qdot : jk.multiplier * qdot;
       const ErrorCode code = CheckJointSample(jk, qk, qdotk, s);
       if (code == ErrorCode::kOk || (worst != ErrorCode::kOk && code >= worst)) continue;
       worst = code;
@@ -289,17 +297,19 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
     j.PoseAt(j.q, q_PC, p_PC);
     TwistNumbers V;
     j.TwistAt(j.qdot, V.v_DHo_H, V.w_DH_H);
-    InstallPoseHistory(j.child, std::move(new_pose[i]), B::MakePose(B::FromQuaternion(q_PC), p_PC), stamp);
+    InstallPoseHistory(j.child, std::move(new_pose[i]), B::MakePose(B::FromQuaternion(q_PC), p_PC),
+                       stamp);
     InstallTwistHistory(topology_.twist_edge_of(j.child), std::move(new_twist[i]), V, stamp);
   }
   for (const Sample& x : samples) StoreJointSample(x.index, x.q, x.qdot, s);
   return Ok{};
 }
 
-#define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                                          \
-  template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, std::int64_t)    \
-      const noexcept;                                                                                               \
-  template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*, std::int64_t) noexcept;    \
+#define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                         \
+  template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, \
+                                                     std::int64_t) const noexcept;                 \
+  template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*,          \
+                                                std::int64_t) noexcept;                            \
   template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
                                                     const double*, Stamp, UpdateError*) noexcept;  \
   template ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode, const JointGroup&, const double*,      \
@@ -309,9 +319,10 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
   template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
                                                        Stamp, UpdateError*) noexcept;              \
   template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
-                                                  std::span<const double>, Stamp,                 \
+                                                  std::span<const double>, Stamp,                  \
                                                   UpdateError*) noexcept;                          \
-  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>, std::span<const JointValue>, Stamp);
+  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
+                                                std::span<const JointValue>, Stamp);
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::HomogeneousBackend)
 

@@ -24,10 +24,14 @@ using text::Reject;
 
 std::string_view ToString(JointType type) noexcept {
   switch (type) {
-    case JointType::kRevolute: return "revolute";
-    case JointType::kContinuous: return "continuous";
-    case JointType::kPrismatic: return "prismatic";
-    case JointType::kFixed: return "fixed";
+    case JointType::kRevolute:
+      return "revolute";
+    case JointType::kContinuous:
+      return "continuous";
+    case JointType::kPrismatic:
+      return "prismatic";
+    case JointType::kFixed:
+      return "fixed";
   }
   return "unknown";
 }
@@ -45,32 +49,49 @@ void SinCos(double x, double& s, double& c) noexcept {
     return;
   }
   constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kPio2Hi = 1.57079632673412561417e+00;   // the first 33 bits of pi/2
-  constexpr double kPio2Lo = 6.07710050650619224932e-11;   // pi/2 - kPio2Hi
-  constexpr double kRound = 6755399441055744.0;            // 1.5 * 2^52: adds round to nearest
+  constexpr double kPio2Hi = 1.57079632673412561417e+00;  // the first 33 bits of pi/2
+  constexpr double kPio2Lo = 6.07710050650619224932e-11;  // pi/2 - kPio2Hi
+  constexpr double kRound = 6755399441055744.0;           // 1.5 * 2^52: adds round to nearest
   const double k = (x * kTwoOverPi + kRound) - kRound;
   const double r = (x - k * kPio2Hi) - k * kPio2Lo;
   const double z = r * r;
-  const double sr = r + r * z * (-1.66666666666666324348e-01 +
-                                 z * (8.33333333332248946124e-03 +
-                                      z * (-1.98412698298579493134e-04 +
-                                           z * (2.75573137070700676789e-06 +
-                                                z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))));
-  const double cr = 1.0 - 0.5 * z +
-                    z * z * (4.16666666666666019037e-02 +
-                             z * (-1.38888888888741095749e-03 +
-                                  z * (2.48015872894767294178e-05 +
-                                       z * (-2.75573143513906633035e-07 +
-                                            z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
+  const double sr =
+      r + r * z *
+              (-1.66666666666666324348e-01 +
+               z * (8.33333333332248946124e-03 +
+                    z * (-1.98412698298579493134e-04 +
+                         z * (2.75573137070700676789e-06 + z * (-2.50507602534068634195e-08 +
+                                                                z * 1.58969099521155010221e-10)))));
+  const double cr =
+      1.0 - 0.5 * z +
+      z * z *
+          (4.16666666666666019037e-02 +
+           z * (-1.38888888888741095749e-03 +
+                z * (2.48015872894767294178e-05 +
+                     z * (-2.75573143513906633035e-07 +
+                          z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
   switch (static_cast<long long>(k) & 3) {
-    case 0: s = sr; c = cr; return;
-    case 1: s = cr; c = -sr; return;
-    case 2: s = -sr; c = -cr; return;
-    default: s = -cr; c = sr; return;
+    case 0:
+      s = sr;
+      c = cr;
+      return;
+    case 1:
+      s = cr;
+      c = -sr;
+      return;
+    case 2:
+      s = -sr;
+      c = -cr;
+      return;
+    default:
+      s = -cr;
+      c = sr;
+      return;
   }
 }
 
-void JointRecord::PoseAt(double position, Eigen::Quaterniond& q_PC, Eigen::Vector3d& p_PoCo_P) const noexcept {
+void JointRecord::PoseAt(double position, Eigen::Quaterniond& q_PC,
+                         Eigen::Vector3d& p_PoCo_P) const noexcept {
   switch (type) {
     case JointType::kRevolute:
     case JointType::kContinuous: {
@@ -157,33 +178,38 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
     return Reject(p_ok.error().code, what(), "origin: " + coord::Describe(p_ok.error(), names));
   if (spec.R_origin) {
     auto R_ok = coord::ValidateRotationMatrix(*spec.R_origin);
-    if (!R_ok) return Reject(R_ok.error().code, what(), "origin: " + coord::Describe(R_ok.error(), names));
+    if (!R_ok)
+      return Reject(R_ok.error().code, what(), "origin: " + coord::Describe(R_ok.error(), names));
     j.q_origin = Eigen::Quaterniond(*R_ok).normalized();
   } else {
     auto q_ok = coord::ValidateQuaternion(spec.q_origin);
-    if (!q_ok) return Reject(q_ok.error().code, what(), "origin: " + coord::Describe(q_ok.error(), names));
+    if (!q_ok)
+      return Reject(q_ok.error().code, what(), "origin: " + coord::Describe(q_ok.error(), names));
     j.q_origin = *q_ok;
   }
   const struct {
     double value;
     const char* role;
-  } scalars[] = {{spec.axis.x(), "axis"}, {spec.axis.y(), "axis"},      {spec.axis.z(), "axis"},
-                 {spec.lower, "lower"},   {spec.upper, "upper"},        {spec.multiplier, "multiplier"},
+  } scalars[] = {{spec.axis.x(), "axis"}, {spec.axis.y(), "axis"}, {spec.axis.z(), "axis"},
+                 {spec.lower, "lower"},   {spec.upper, "upper"},   {spec.multiplier, "multiplier"},
                  {spec.offset, "offset"}};
   for (const auto& s : scalars) {
     if (!std::isfinite(s.value)) {
-      return Reject(ErrorCode::kInvalidNumber, what(), std::string(s.role) + " is not a finite number");
+      return Reject(ErrorCode::kInvalidNumber, what(),
+                    std::string(s.role) + " is not a finite number");
     }
   }
   // invalid_model: axis, limits, mimic.
   j.type = spec.type;
   const double axis_norm = spec.axis.norm();
   if (j.movable() && axis_norm < 1e-12) {
-    return Reject(ErrorCode::kInvalidModel, what(), "the axis " + text::Vector(spec.axis) + " has no direction");
+    return Reject(ErrorCode::kInvalidModel, what(),
+                  "the axis " + text::Vector(spec.axis) + " has no direction");
   }
   if (j.limited() && !(spec.lower <= spec.upper)) {
-    return Reject(ErrorCode::kInvalidModel, what(),
-                  "the lower limit " + Num(spec.lower) + " is above the upper limit " + Num(spec.upper));
+    return Reject(
+        ErrorCode::kInvalidModel, what(),
+        "the lower limit " + Num(spec.lower) + " is above the upper limit " + Num(spec.upper));
   }
   if (!spec.mimic.empty()) {
     if (!j.movable())
@@ -206,7 +232,8 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
     j.master = joints.IndexOf(*m);
   }
   if (joints.Find(spec.name)) {
-    return Reject(ErrorCode::kDuplicateJoint, what(), "a joint named " + std::string(spec.name) + " already exists");
+    return Reject(ErrorCode::kDuplicateJoint, what(),
+                  "a joint named " + std::string(spec.name) + " already exists");
   }
   j.p_origin = *p_ok;
   // A unit axis (to rounding) is kept as given, as rotations are (coord/validate.h), so that
@@ -268,7 +295,8 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const FrameIndex p = plan.tail.frame, c = plan.head.frame;
   // 6. self_edge, twist_same_body.
   if (p_id == c_id) {
-    return Reject(ErrorCode::kSelfEdge, what(), "a joint from {" + std::string(spec.parent) + "} to itself");
+    return Reject(ErrorCode::kSelfEdge, what(),
+                  "a joint from {" + std::string(spec.parent) + "} to itself");
   }
   if (plan.tail.body_name == plan.head.body_name) {
     return Reject(ErrorCode::kTwistSameBody, what(),
@@ -418,7 +446,8 @@ ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, cons
       continue;
     }
     mimic |= j->is_mimic();
-    limit |= q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
+    limit |=
+        q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
     stamped |= values_.history.pose_of(j->child.value()) != nullptr;  // its states need a stamp
   }
   if (bad_number) return RefuseJoints(ErrorCode::kInvalidNumber, group, q, qdot, why);
@@ -471,7 +500,9 @@ BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> position
   for (const auto* list : {&positions, &velocities}) {
     for (const JointValue& v : *list) {
       const internal::JointRecord* j = joints_.Find(v.joint);
-      if (!j) return Reject(ErrorCode::kUnknownJoint, what(), "there is no joint named " + std::string(v.joint));
+      if (!j)
+        return Reject(ErrorCode::kUnknownJoint, what(),
+                      "there is no joint named " + std::string(v.joint));
       if (!j->movable()) {
         return Reject(ErrorCode::kUnknownJoint, what(),
                       "joint " + std::string(joints_.name(*j)) + " is fixed: it has no state");
@@ -501,7 +532,8 @@ BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> position
 }
 
 template <coord::Backend B>
-BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities) {
+BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
+                                     std::span<const JointValue> velocities) {
   const auto what = [] { return std::string("joint state"); };
   if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
   for (const auto* list : {&positions, &velocities}) {
@@ -515,12 +547,14 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions, std:
       }
     }
   }
-  for (const JointValue& v : positions) ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, &v.value, nullptr);
+  for (const JointValue& v : positions)
+    ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, &v.value, nullptr);
   for (const JointValue& v : velocities) {
     ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, nullptr, &v.value);
   }
   for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) MarkTimeless(joints_, joints_.HandleOf(*joints_.Find(v.joint)).index);
+    for (const JointValue& v : *list)
+      MarkTimeless(joints_, joints_.HandleOf(*joints_.Find(v.joint)).index);
   }
   return Ok{};
 }
@@ -529,19 +563,24 @@ template <coord::Backend B>
 Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view name) const {
   const internal::JointRecord* j = joints_.Find(name);
   if (!j) {
-    return Unexpected{
-        Reject(ErrorCode::kUnknownJoint, JointWhat(name), "there is no joint named " + std::string(name)).error()};
+    return Unexpected{Reject(ErrorCode::kUnknownJoint, JointWhat(name),
+                             "there is no joint named " + std::string(name))
+                          .error()};
   }
   return joints_.HandleOf(*j);
 }
 
 template <coord::Backend B>
-Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(std::span<const std::string_view> names) const {
+Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(
+    std::span<const std::string_view> names) const {
   JointGroup g;
   for (std::string_view n : names) {
     const internal::JointRecord* j = joints_.Find(n);
     const std::string what = "joint group";
-    if (!j) return Unexpected{Reject(ErrorCode::kUnknownJoint, what, "there is no joint named " + std::string(n)).error()};
+    if (!j)
+      return Unexpected{
+          Reject(ErrorCode::kUnknownJoint, what, "there is no joint named " + std::string(n))
+              .error()};
     if (!j->movable()) {
       return Unexpected{
           Reject(ErrorCode::kUnknownJoint, what,
@@ -596,31 +635,28 @@ std::string_view SceneGraph<B>::joint_name(JointHandle h) const noexcept {
   return j ? joints_.name(*j) : std::string_view();
 }
 
-#define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                         \
-  template BuildResult SceneGraph<B>::AddJoint(const JointSpec&);                              \
-  template BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord&);               \
-  template void SceneGraph<B>::ApplyJoint(JointIndex, const double*, const double*) noexcept;  \
-  template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*, const double*,  \
-                                             UpdateError*) noexcept;                           \
-  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&,                       \
-                                                      std::span<const double>,                 \
-                                                      UpdateError*) noexcept;                  \
-  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&,                      \
-                                                       std::span<const double>,                \
-                                                       UpdateError*) noexcept;                 \
-  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,  \
-                                                  std::span<const double>,                     \
-                                                  UpdateError*) noexcept;                      \
-  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                   \
-                                                std::span<const JointValue>);                  \
-  template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>,            \
-                                                       std::span<const JointValue>) const;     \
-  template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const; \
-  template Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(                     \
-      std::span<const std::string_view>) const;                                                \
-  template JointGroup SceneGraph<B>::AllJoints() const;                                        \
-  template double SceneGraph<B>::joint_position(JointHandle) const noexcept;                   \
-  template double SceneGraph<B>::joint_velocity(JointHandle) const noexcept;                   \
+#define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                             \
+  template BuildResult SceneGraph<B>::AddJoint(const JointSpec&);                                  \
+  template BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord&);                   \
+  template void SceneGraph<B>::ApplyJoint(JointIndex, const double*, const double*) noexcept;      \
+  template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*, const double*,      \
+                                             UpdateError*) noexcept;                               \
+  template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>,  \
+                                                      UpdateError*) noexcept;                      \
+  template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
+                                                       UpdateError*) noexcept;                     \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
+                                                  std::span<const double>, UpdateError*) noexcept; \
+  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
+                                                std::span<const JointValue>);                      \
+  template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>,                \
+                                                       std::span<const JointValue>) const;         \
+  template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const;     \
+  template Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(                         \
+      std::span<const std::string_view>) const;                                                    \
+  template JointGroup SceneGraph<B>::AllJoints() const;                                            \
+  template double SceneGraph<B>::joint_position(JointHandle) const noexcept;                       \
+  template double SceneGraph<B>::joint_velocity(JointHandle) const noexcept;                       \
   template std::string_view SceneGraph<B>::joint_name(JointHandle) const noexcept;
 
 SEMGRAPH_INSTANTIATE_JOINTS(coord::QuaternionBackend)

@@ -22,7 +22,7 @@ std::uint32_t GraphId::Next() noexcept {
 
 template <coord::Backend B>
 Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of,
-                                                            std::string_view relative_to) const {
+                                                             std::string_view relative_to) const {
   const auto what = [&] {
     return "handle of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) + "}";
   };
@@ -50,8 +50,10 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
 
 template <coord::Backend B>
 Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view of,
-                                                              std::string_view relative_to) const {
-  const auto what = [&] { return "handle of the twist of " + std::string(of) + " wrt " + std::string(relative_to); };
+                                                               std::string_view relative_to) const {
+  const auto what = [&] {
+    return "handle of the twist of " + std::string(of) + " wrt " + std::string(relative_to);
+  };
   // invalid_name -> unknown_frame -> unknown_body -> no_such_edge (the finder RemoveTwist uses)
   // -> joint_edge.
   const topology::SceneTopology& t = topology_;
@@ -72,38 +74,46 @@ namespace {
 // The handle cannot lie (edge_values.h): this graph's, a pose handle, a frame with a pose
 // parent, the epoch it was made at, and a variable edge. O(1): a few loads.
 template <coord::Backend B>
-ErrorCode CheckPoseHandle(const PoseHandle& edge, std::uint32_t graph, const topology::SceneTopology& t,
-                          const EdgeValues<B>& values) noexcept {
-  if (edge.graph != graph || edge.kind != EdgeKind::kPose || edge.child.value() >= values.X_PF.size() ||
+ErrorCode CheckPoseHandle(const PoseHandle& edge, std::uint32_t graph,
+                          const topology::SceneTopology& t, const EdgeValues<B>& values) noexcept {
+  if (edge.graph != graph || edge.kind != EdgeKind::kPose ||
+      edge.child.value() >= values.X_PF.size() ||
       values.X_PF[edge.child.value()].epoch() != edge.epoch) {
     return ErrorCode::kNoSuchEdge;
   }
   const FrameIndex tail = t.pose_parent(edge.child);
-  if (!tail.is_valid()) return ErrorCode::kNoSuchEdge;                                       // a root: no edge into it
-  if (t.body_of(tail) == t.body_of(edge.child)) return ErrorCode::kConstantPoseChange;  // P4: constant
+  if (!tail.is_valid()) return ErrorCode::kNoSuchEdge;  // a root: no edge into it
+  if (t.body_of(tail) == t.body_of(edge.child))
+    return ErrorCode::kConstantPoseChange;  // P4: constant
   return ErrorCode::kOk;
 }
 
 // The same for a twist handle: this graph's, a twist handle, a live slot, its epoch.
 template <coord::Backend B>
-ErrorCode CheckTwistHandle(const TwistHandle& edge, std::uint32_t graph, const topology::SceneTopology& t,
-                           const EdgeValues<B>& values) noexcept {
-  if (edge.graph != graph || edge.kind != EdgeKind::kTwist || edge.slot.value() >= t.num_twist_edge_slots() ||
-      !t.twist_edge(edge.slot).alive || values.V_DH[edge.slot.value()].epoch() != edge.epoch) {
+ErrorCode CheckTwistHandle(const TwistHandle& edge, std::uint32_t graph,
+                           const topology::SceneTopology& t, const EdgeValues<B>& values) noexcept {
+  if (edge.graph != graph || edge.kind != EdgeKind::kTwist ||
+      edge.slot.value() >= t.num_twist_edge_slots() || !t.twist_edge(edge.slot).alive ||
+      values.V_DH[edge.slot.value()].epoch() != edge.epoch) {
     return ErrorCode::kNoSuchEdge;
   }
   return ErrorCode::kOk;
 }
 
 // The rotation of a real-time pose update, validated (and normalized) without allocating.
-inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept { return coord::ValidateQuaternion(q); }
-inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept { return coord::ValidateRotationMatrix(R); }
+inline auto ValidateRotation(const Eigen::Quaterniond& q) noexcept {
+  return coord::ValidateQuaternion(q);
+}
+inline auto ValidateRotation(const Eigen::Matrix3d& R) noexcept {
+  return coord::ValidateRotationMatrix(R);
+}
 }  // namespace
 
 template <coord::Backend B>
 template <class R>
-ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
-                                     std::optional<Stamp> stamp, UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation,
+                                     const Eigen::Vector3d& p_ToHo_T, std::optional<Stamp> stamp,
+                                     UpdateError* why) noexcept {
   using internal::Report;
   const ErrorCode handle = CheckPoseHandle(edge, id_.value(), topology_, values_);
   if (handle != ErrorCode::kOk) return Report(why, handle);
@@ -140,12 +150,15 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                           const Eigen::Vector3d& p_ToHo_T) noexcept {
-  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_); c != ErrorCode::kOk) return c;
+  if (const ErrorCode c = CheckPoseHandle(edge, id_.value(), topology_, values_);
+      c != ErrorCode::kOk)
+    return c;
 #if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
   SEMGRAPH_DEMAND(coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition).has_value());
   SEMGRAPH_DEMAND(q_TH.coeffs().allFinite() && std::abs(q_TH.squaredNorm() - 1.0) <= 1e-12);
 #endif
-  if (values_.history.pose_of(edge.child.value())) return ErrorCode::kStampMismatch;  // a stamped edge
+  if (values_.history.pose_of(edge.child.value()))
+    return ErrorCode::kStampMismatch;  // a stamped edge
   values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(q_TH), p_ToHo_T));
   return ErrorCode::kOk;
 }
@@ -158,20 +171,23 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
 
 // Stamped updates (docs/time.md): the same validation, then the stamp rules and the sample.
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH, const Eigen::Vector3d& p_ToHo_T,
-                                 Stamp stamp, UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ToHo_T, Stamp stamp,
+                                 UpdateError* why) noexcept {
   return SetPoseImpl(edge, q_TH, p_ToHo_T, stamp, why);
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T,
-                                 Stamp stamp, UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
+                                 const Eigen::Vector3d& p_ToHo_T, Stamp stamp,
+                                 UpdateError* why) noexcept {
   return SetPoseImpl(edge, R_TH, p_ToHo_T, stamp, why);
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
-                                  Stamp stamp, UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                  const Eigen::Vector3d& w_DH_H, Stamp stamp,
+                                  UpdateError* why) noexcept {
   return SetTwistImpl(edge, v_DHo_H, w_DH_H, stamp, why);
 }
 
@@ -190,15 +206,19 @@ ErrorCode SceneGraph<B>::SetTwistImpl(TwistHandle edge, const Eigen::Vector3d& v
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept {
-  if (const ErrorCode code = CheckTwistSample(edge.slot, V, stamp); code != ErrorCode::kOk) return code;
+ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
+                                        std::optional<Stamp> stamp) noexcept {
+  if (const ErrorCode code = CheckTwistSample(edge.slot, V, stamp); code != ErrorCode::kOk)
+    return code;
   StoreTwistSample(edge.slot, V, stamp);
   return ErrorCode::kOk;
 }
 
-#define SEMGRAPH_INSTANTIATE_REALTIME(B)                                                                    \
-  template Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view, std::string_view) const; \
-  template Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view, std::string_view) const; \
+#define SEMGRAPH_INSTANTIATE_REALTIME(B)                                                           \
+  template Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view,          \
+                                                                        std::string_view) const;   \
+  template Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view,        \
+                                                                          std::string_view) const; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
                                             const Eigen::Vector3d&, UpdateError*) noexcept;        \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&,                    \
@@ -209,14 +229,15 @@ ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                                             const Eigen::Vector3d&, Stamp, UpdateError*) noexcept; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&,                    \
                                             const Eigen::Vector3d&, Stamp, UpdateError*) noexcept; \
-  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
-                                             const Eigen::Vector3d&, Stamp,                       \
-                                             UpdateError*) noexcept;                               \
+  template ErrorCode SceneGraph<B>::SetTwist(                                                      \
+      TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp, UpdateError*) noexcept;  \
   template ErrorCode SceneGraph<B>::SetTwistImpl(TwistHandle, const Eigen::Vector3d&,              \
-                                                 const Eigen::Vector3d&, std::optional<Stamp>,    \
-                                                 UpdateError*) noexcept;                          \
-  template ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle, const TwistNumbers&, std::optional<Stamp>) noexcept; \
-  template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&) noexcept;
+                                                 const Eigen::Vector3d&, std::optional<Stamp>,     \
+                                                 UpdateError*) noexcept;                           \
+  template ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle, const TwistNumbers&,               \
+                                                   std::optional<Stamp>) noexcept;                 \
+  template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&,        \
+                                                     const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_REALTIME(coord::HomogeneousBackend)
 

@@ -13,8 +13,6 @@
 // derives no value to compare with; it keeps its error. Contract: scene_graph.h, docs/repair.md.
 #include <cmath>
 #include <cstdio>
-#include <vector>
-
 #include <optional>
 #include <vector>
 
@@ -36,8 +34,9 @@ std::string Number(double x) {
 // The refused relation with the discrepancy appended to its message.
 BuildError WithDiscrepancy(BuildError error, const Discrepancy& d, const char* position_unit,
                            const char* angle_unit, const char* what) {
-  error.message += "; it differs from the " + std::string(what) + " the graph derives by " + Number(d.position) +
-                   " " + position_unit + " and " + Number(d.angle) + " " + angle_unit;
+  error.message += "; it differs from the " + std::string(what) + " the graph derives by " +
+                   Number(d.position) + " " + position_unit + " and " + Number(d.angle) + " " +
+                   angle_unit;
   error.discrepancy = d;
   return error;
 }
@@ -53,7 +52,8 @@ void SceneGraph<B>::RerootAt(FrameIndex v) {
   for (FrameIndex x = v; x.is_valid(); x = topology_.pose_parent(x)) path.push_back(x);
   std::vector<typename B::PoseCoords> X_old;  // X_old[i]: the edge x_{i+1} -> x_i
   X_old.reserve(path.size());
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) X_old.push_back(values_.X_PF[path[i].value()].Load());
+  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+    X_old.push_back(values_.X_PF[path[i].value()].Load());
   topology_.RerootPose(v);
   for (const FrameIndex x : path) values_.X_PF[x.value()].BumpEpoch();
   values_.X_PF[v.value()].Store(B::Identity());
@@ -63,13 +63,15 @@ void SceneGraph<B>::RerootAt(FrameIndex v) {
 }
 
 template <coord::Backend B>
-Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
-                                                         const Eigen::Vector3d& p_position,
-                                                         const RepairPolicy& repair) {
+Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec,
+                                                          const Eigen::Quaterniond& q_rotation,
+                                                          const Eigen::Vector3d& p_position,
+                                                          const RepairPolicy& repair) {
   auto plain = AddPose(spec, q_rotation, p_position);
   if (plain) return RepairReport{};
   BuildError error = std::move(plain).error();
-  if (error.code != ErrorCode::kMultiplePoseParents && error.code != ErrorCode::kPoseCycle) return Unexpected{error};
+  if (error.code != ErrorCode::kMultiplePoseParents && error.code != ErrorCode::kPoseCycle)
+    return Unexpected{error};
   // Both codes come after every argument check and the conversion, so the numbers are valid,
   // [a] exists, and every frame a conversion needs exists in the edge's trees.
   const topology::SceneTopology& t = topology_;
@@ -82,12 +84,14 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
     auto derived = GetPose(spec);
     if (!derived) return Unexpected{error};
     const Eigen::Quaterniond q_derived = B::ToQuaternion(B::RotationOf(derived->value));
-    const Discrepancy d{(B::TranslationOf(derived->value) - p_position).norm(), q_derived.angularDistance(q_BA)};
+    const Discrepancy d{(B::TranslationOf(derived->value) - p_position).norm(),
+                        q_derived.angularDistance(q_BA)};
     if (d.position > repair.position_tolerance || d.angle > repair.angle_tolerance) {
       return Unexpected{WithDiscrepancy(std::move(error), d, "m", "rad", "pose")};
     }
-    return RepairReport{RepairKind::kConsistent,
-                        text::PoseAdd(spec) + " is already determined by the graph, and agrees with it", 0, d};
+    return RepairReport{
+        RepairKind::kConsistent,
+        text::PoseAdd(spec) + " is already determined by the graph, and agrees with it", 0, d};
   }
   if (error.code != ErrorCode::kMultiplePoseParents || !repair.invert) return Unexpected{error};
 
@@ -99,12 +103,14 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
   if (spec.point != spec.orientation || spec.ref_point != spec.ref_orientation ||
       spec.coordinate_frame != spec.ref_orientation) {
     const PoseSteps<ForestChain> steps =
-        PlanChanges(t, named(spec.point, spec.orientation, a), a, named(spec.ref_point, spec.ref_orientation, b), b,
+        PlanChanges(t, named(spec.point, spec.orientation, a), a,
+                    named(spec.ref_point, spec.ref_orientation, b), b,
                     named(spec.coordinate_frame, spec.ref_orientation, b));
     X_BA = internal::ToEdgeForm<B>(source(), steps, X_BA);
   }
   const typename B::PoseCoords X_AB = B::InvertChain(X_BA);
-  const PoseSpec inverse = PoseSpec::Of(spec.ref_orientation, spec.ref_body).RelativeTo(spec.orientation, spec.body);
+  const PoseSpec inverse =
+      PoseSpec::Of(spec.ref_orientation, spec.ref_body).RelativeTo(spec.orientation, spec.body);
   const Eigen::Quaterniond q_AB = B::ToQuaternion(B::RotationOf(X_AB));
   const Eigen::Vector3d p_AB = B::TranslationOf(X_AB);
   // Reports are written before the graph changes: a std::bad_alloc after the change would
@@ -131,8 +137,8 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
   const FrameIndex old_root = t.forest().Root(b);
   const std::size_t reversed = t.forest().depth(b);
   std::string rerooted_text = "re-rooted the pose tree of " + text::Frame(t, b) + " at it (" +
-                              std::to_string(reversed) + " edges reversed), then added the inverse: " +
-                              text::PoseAdd(inverse);
+                              std::to_string(reversed) +
+                              " edges reversed), then added the inverse: " + text::PoseAdd(inverse);
   // For an exact undo: the path b -> root and its edge values, saved before the re-root (an
   // undo by a second re-root would invert every value twice, off by rounding).
   std::vector<FrameIndex> path;
@@ -143,11 +149,12 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
     path.push_back(x);
     X_saved.push_back(values_.X_PF[x.value()].Load());
   }
-  topology_.ReserveLinkPose(a, b);  // the add's link, reserved before anything changes
+  topology_.ReserveLinkPose(a, b);    // the add's link, reserved before anything changes
   const auto undo = [&]() noexcept {  // allocation-free: the forest re-roots in place
     topology_.RerootPose(old_root);
     for (std::size_t i = 0; i < path.size(); ++i) {
-      values_.X_PF[path[i].value()].BumpEpoch();  // handles of the twice-reversed edges stay invalid
+      values_.X_PF[path[i].value()]
+          .BumpEpoch();  // handles of the twice-reversed edges stay invalid
       values_.X_PF[path[i].value()].Store(X_saved[i]);
     }
   };
@@ -167,9 +174,10 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec, 
 }
 
 template <coord::Backend B>
-Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
-                                                          const Eigen::Vector3d& w_angular,
-                                                          const RepairPolicy& repair) {
+Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(const TwistSpec& spec,
+                                                           const Eigen::Vector3d& v_linear,
+                                                           const Eigen::Vector3d& w_angular,
+                                                           const RepairPolicy& repair) {
   auto plain = AddTwist(spec, v_linear, w_angular);
   if (plain) return RepairReport{};
   BuildError error = std::move(plain).error();
@@ -182,8 +190,9 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(const TwistSpec& spec
     if (d.position > repair.position_tolerance || d.angle > repair.angle_tolerance) {
       return Unexpected{WithDiscrepancy(std::move(error), d, "m/s", "rad/s", "twist")};
     }
-    return RepairReport{RepairKind::kConsistent,
-                        text::TwistAdd(spec) + " is already determined by the graph, and agrees with it", 0, d};
+    return RepairReport{
+        RepairKind::kConsistent,
+        text::TwistAdd(spec) + " is already determined by the graph, and agrees with it", 0, d};
   }
   if (error.code != ErrorCode::kMultipleTwistParents || !repair.invert) return Unexpected{error};
   // W1 comes after the conversion: {e} and [r] exist in one tree. The inverse twist of D wrt C
@@ -196,23 +205,25 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(const TwistSpec& spec
     if (!h.is_valid() && t.SameTree(x, e) && !t.twist_edge_of(x).is_valid()) h = x;
   });
   if (!h.is_valid()) return Unexpected{error};
-  auto p_HE_R = GetPosition(PoseSpec::Of(spec.point).RelativeTo(t.frame_name(h)).ExpressedIn(spec.coordinate_frame));
+  auto p_HE_R = GetPosition(
+      PoseSpec::Of(spec.point).RelativeTo(t.frame_name(h)).ExpressedIn(spec.coordinate_frame));
   if (!p_HE_R || !r.is_valid()) return Unexpected{error};
   const Eigen::Vector3d w_CD_R = -w_angular;
   const Eigen::Vector3d v_CDh_R = coord::kernels::ShiftLinear(-v_linear, w_CD_R, p_HE_R->value);
-  const TwistSpec inverse =
-      TwistSpec::Of(t.frame_name(h), t.body_name(D)).RelativeTo(t.body_name(C)).ExpressedIn(spec.coordinate_frame);
+  const TwistSpec inverse = TwistSpec::Of(t.frame_name(h), t.body_name(D))
+                                .RelativeTo(t.body_name(C))
+                                .ExpressedIn(spec.coordinate_frame);
   std::string inverted_text = "added the inverse: " + text::TwistAdd(inverse);  // before the change
   auto inverted = AddTwist(inverse, v_CDh_R, w_CD_R);
   if (!inverted) return Unexpected{error};
   return RepairReport{RepairKind::kInverted, std::move(inverted_text), 0, {}};
 }
 
-#define SEMGRAPH_INSTANTIATE_REPAIR(B)                                                                      \
-  template void SceneGraph<B>::RerootAt(FrameIndex);                                                        \
-  template Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(                                       \
-      const PoseSpec&, const Eigen::Quaterniond&, const Eigen::Vector3d&, const RepairPolicy&);             \
-  template Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(                                      \
+#define SEMGRAPH_INSTANTIATE_REPAIR(B)                                                          \
+  template void SceneGraph<B>::RerootAt(FrameIndex);                                            \
+  template Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(                           \
+      const PoseSpec&, const Eigen::Quaterniond&, const Eigen::Vector3d&, const RepairPolicy&); \
+  template Expected<RepairReport, BuildError> SceneGraph<B>::AddTwist(                          \
       const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, const RepairPolicy&);
 SEMGRAPH_INSTANTIATE_REPAIR(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_REPAIR(coord::HomogeneousBackend)

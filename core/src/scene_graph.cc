@@ -36,7 +36,8 @@ auto Answer(const internal::ForestSource<B>& src, const Expected<Plan, QueryErro
 }
 
 template <coord::Backend B>
-QueryResult<coord::Twist> Answer(const topology::SceneTopology& t, const internal::ForestSource<B>& src,
+QueryResult<coord::Twist> Answer(const topology::SceneTopology& t,
+                                 const internal::ForestSource<B>& src,
                                  const Expected<TwistPlan, QueryError>& plan) noexcept {
   if (!plan) return Unexpected{plan.error()};
   Eigen::Vector3d v_DCe_R = Eigen::Vector3d::Zero(), w_DC_R = Eigen::Vector3d::Zero();
@@ -50,16 +51,19 @@ QueryResult<coord::Twist> Answer(const topology::SceneTopology& t, const interna
 // ====================================================================== one-shot
 
 template <coord::Backend B>
-QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const semantics::PoseSemantics& q) const noexcept {
+QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
+    const semantics::PoseSemantics& q) const noexcept {
   return Answer(source(), PlanPose(topology_, q));
 }
 template <coord::Backend B>
-QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(const PoseSpec& spec) const noexcept {
+QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
+    const PoseSpec& spec) const noexcept {
   return Answer(source(), PlanPose(topology_, spec));
 }
 
 template <coord::Backend B>
-QueryResult<coord::Position> SceneGraph<B>::GetPosition(const semantics::PositionSemantics& q) const noexcept {
+QueryResult<coord::Position> SceneGraph<B>::GetPosition(
+    const semantics::PositionSemantics& q) const noexcept {
   return Answer(source(), PlanPosition(topology_, q));
 }
 template <coord::Backend B>
@@ -79,7 +83,8 @@ QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
 }
 
 template <coord::Backend B>
-QueryResult<coord::Twist> SceneGraph<B>::GetTwist(const semantics::TwistSemantics& q) const noexcept {
+QueryResult<coord::Twist> SceneGraph<B>::GetTwist(
+    const semantics::TwistSemantics& q) const noexcept {
   return Answer(topology_, source(), PlanTwist(topology_, q));
 }
 template <coord::Backend B>
@@ -88,16 +93,18 @@ QueryResult<coord::Twist> SceneGraph<B>::GetTwist(const TwistSpec& spec) const n
 }
 
 template <coord::Backend B>
-QueryResult<coord::LinearVelocity> SceneGraph<B>::GetLinearVelocity(const TwistSpec& spec) const noexcept {
+QueryResult<coord::LinearVelocity> SceneGraph<B>::GetLinearVelocity(
+    const TwistSpec& spec) const noexcept {
   auto tw = GetTwist(spec);
   if (!tw) return Unexpected{tw.error()};
   return coord::LinearOf(*tw);
 }
 
 template <coord::Backend B>
-QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(const TwistSpec& spec) const noexcept {
-  auto tw = internal::TwistOfAngularVelocity(spec,
-                                             [this](const TwistSpec& s) { return GetTwist(s); });
+QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(
+    const TwistSpec& spec) const noexcept {
+  auto tw =
+      internal::TwistOfAngularVelocity(spec, [this](const TwistSpec& s) { return GetTwist(s); });
   if (!tw) return Unexpected{tw.error()};
   return coord::AngularOf(*tw);
 }
@@ -108,22 +115,26 @@ template <coord::Backend B>
 Expected<CompiledPose<B>, QueryError> SceneGraph<B>::CompilePose(const PoseSpec& spec) const {
   auto plan = PlanPose(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
+    return Unexpected{QError(ok.error())};
   return CompiledPose<B>(topology_, values_, *plan);
 }
 
 template <coord::Backend B>
-Expected<CompiledPosition<B>, QueryError> SceneGraph<B>::CompilePosition(const PoseSpec& spec) const {
+Expected<CompiledPosition<B>, QueryError> SceneGraph<B>::CompilePosition(
+    const PoseSpec& spec) const {
   auto plan = PlanPosition(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
   return CompiledPosition<B>(topology_, values_, *plan);
 }
 
 template <coord::Backend B>
-Expected<CompiledOrientation<B>, QueryError> SceneGraph<B>::CompileOrientation(const PoseSpec& spec) const {
+Expected<CompiledOrientation<B>, QueryError> SceneGraph<B>::CompileOrientation(
+    const PoseSpec& spec) const {
   auto plan = PlanOrientation(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) return Unexpected{QError(ok.error())};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
+    return Unexpected{QError(ok.error())};
   return CompiledOrientation<B>(topology_, values_, *plan);
 }
 

@@ -42,9 +42,11 @@ std::string Dump(const SceneGraph<B>& g) {
   std::ostringstream out;
   out.precision(17);
   out << "representation " << B::kName << "\nnames " << names.size() << "\n";
-  for (std::size_t i = 0; i < names.size(); ++i) out << "  name " << i << " " << names.name(NameId(i)) << "\n";
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out << "  name " << i << " " << names.name(NameId(i)) << "\n";
   out << "bodies " << t.num_bodies() << "\n";
-  for (std::size_t i = 0; i < t.num_bodies(); ++i) out << "  body " << i << " " << g.body_name(BodyIndex(i)) << "\n";
+  for (std::size_t i = 0; i < t.num_bodies(); ++i)
+    out << "  body " << i << " " << g.body_name(BodyIndex(i)) << "\n";
   out << "frames " << t.num_frames() << "\n";
   for (std::uint32_t i = 0; i < t.num_frames(); ++i) {
     const FrameIndex f(i);
@@ -53,12 +55,12 @@ std::string Dump(const SceneGraph<B>& g) {
       const auto X = values.X_PF[i].Load();
       const Eigen::Quaterniond q = B::ToQuaternion(B::RotationOf(X));
       const Eigen::Vector3d p = B::TranslationOf(X);
-      out << " parent " << t.pose_parent(f).value() << " p " << p.x() << " " << p.y() << " " << p.z() << " q "
-          << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
+      out << " parent " << t.pose_parent(f).value() << " p " << p.x() << " " << p.y() << " "
+          << p.z() << " q " << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
     }
     if (const std::optional<coord::Twist> tw = g.twist_value(f)) {
-      out << " twist_parent " << g.body_name(g.twist_parent(f)) << " v " << tw->linear.transpose() << " w "
-          << tw->angular.transpose();
+      out << " twist_parent " << g.body_name(g.twist_parent(f)) << " v " << tw->linear.transpose()
+          << " w " << tw->angular.transpose();
     }
     out << " tree " << t.forest().Root(f).value() << "\n";
   }
@@ -88,14 +90,15 @@ std::string CheckInvariants(const SceneGraph<B>& g) {
 
 template <coord::Backend B>
 std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept {
-  return sizeof(*this) - sizeof(topology_) + topology_.ApproximateBytesExcludingNames() + values_.ApproximateBytes();
+  return sizeof(*this) - sizeof(topology_) + topology_.ApproximateBytesExcludingNames() +
+         values_.ApproximateBytes();
 }
 
-#define SEMGRAPH_INSTANTIATE_DEBUG(B)                                                        \
-  template BodyIndex SceneGraph<B>::twist_parent(FrameIndex) const noexcept;                 \
+#define SEMGRAPH_INSTANTIATE_DEBUG(B)                                                         \
+  template BodyIndex SceneGraph<B>::twist_parent(FrameIndex) const noexcept;                  \
   template std::optional<coord::Twist> SceneGraph<B>::twist_value(FrameIndex) const noexcept; \
-  template std::string Dump(const SceneGraph<B>&);                                           \
-  template std::string CheckInvariants(const SceneGraph<B>&);                                \
+  template std::string Dump(const SceneGraph<B>&);                                            \
+  template std::string CheckInvariants(const SceneGraph<B>&);                                 \
   template std::size_t SceneGraph<B>::ApproximateBytesExcludingNames() const noexcept;
 SEMGRAPH_INSTANTIATE_DEBUG(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_DEBUG(coord::HomogeneousBackend)

@@ -19,7 +19,8 @@ std::optional<std::int64_t> NanosecondsFromSeconds(double seconds) noexcept {
   // Exactly: seconds = m * 2^e with an integer mantissa m (53 bits); ns = m * 1e9 * 2^e, rounded
   // to nearest with ties away from zero, in 128-bit integers (1e9 * m < 2^83).
   int e = 0;
-  const double frac = std::frexp(std::abs(seconds), &e);  // |seconds| = frac * 2^e, frac in [0.5, 1)
+  const double frac =
+      std::frexp(std::abs(seconds), &e);  // |seconds| = frac * 2^e, frac in [0.5, 1)
   const auto m = static_cast<Int128>(std::ldexp(frac, 53));  // exact
   e -= 53;
   Int128 ns = m * 1000000000;
@@ -42,8 +43,10 @@ std::string Seconds(std::int64_t ns) { return text::StampText(ns); }
 template <coord::Backend B>
 bool SamePose(const double (&stored)[7], const typename B::PoseCoords& X) {
   const auto S = internal::PoseFromWords(stored);
-  const Eigen::Matrix3d dR = S.q.toRotationMatrix() - B::ToQuaternion(B::RotationOf(X)).toRotationMatrix();
-  return dR.cwiseAbs().maxCoeff() <= 1e-6 && (S.p - B::TranslationOf(X)).norm() <= 1e-6 * std::max(1.0, S.p.norm());
+  const Eigen::Matrix3d dR =
+      S.q.toRotationMatrix() - B::ToQuaternion(B::RotationOf(X)).toRotationMatrix();
+  return dR.cwiseAbs().maxCoeff() <= 1e-6 &&
+         (S.p - B::TranslationOf(X)).norm() <= 1e-6 * std::max(1.0, S.p.norm());
 }
 bool SameTwist(const double (&stored)[6], const TwistNumbers& V) {
   const TwistNumbers S = internal::TwistFromWords(stored);
@@ -59,14 +62,18 @@ void PoseWords(const typename B::PoseCoords& X, double (&w)[7]) {
 template <coord::Backend B>
 Expected<SceneGraph<B>, BuildError> SceneGraph<B>::Create(const TimeOptions& options) {
   if (options.window.nanoseconds() <= 0) {
-    return Unexpected{BuildError{ErrorCode::kInvalidNumber,
-                                 "time options rejected (invalid_number): the history window must be a positive time, "
-                                 "not " + Seconds(options.window.nanoseconds())}};
+    return Unexpected{BuildError{
+        ErrorCode::kInvalidNumber,
+        "time options rejected (invalid_number): the history window must be a positive time, "
+        "not " +
+            Seconds(options.window.nanoseconds())}};
   }
   if (options.sample_capacity < 2 || options.sample_capacity > (1u << 30)) {
-    return Unexpected{BuildError{ErrorCode::kInvalidNumber,
-                                 "time options rejected (invalid_number): the sample capacity per edge must be in "
-                                 "[2, 2^30], not " + std::to_string(options.sample_capacity)}};
+    return Unexpected{BuildError{
+        ErrorCode::kInvalidNumber,
+        "time options rejected (invalid_number): the sample capacity per edge must be in "
+        "[2, 2^30], not " +
+            std::to_string(options.sample_capacity)}};
   }
   SceneGraph g;
   g.values_.history.options = options;
@@ -86,18 +93,22 @@ internal::TimeContext SceneGraph<B>::ConversionContext(std::optional<Stamp> stam
 }
 
 template <coord::Backend B>
-std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext& tc, Stamp stamp) const {
+std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext& tc,
+                                                 Stamp stamp) const {
   const internal::TimeFailure& f = tc.failure();
   std::string edge;
   if (f.twist_edge) {
     const auto& e = topology_.twist_edge(TwistEdgeIndex(f.index));
-    edge = "twist of " + text::Frame(topology_, e.head) + " wrt " + std::string(topology_.body_name(e.tail));
+    edge = "twist of " + text::Frame(topology_, e.head) + " wrt " +
+           std::string(topology_.body_name(e.tail));
   } else {
     const FrameIndex h(f.index);
-    edge = "pose of " + text::Frame(topology_, h) + " wrt " + text::Frame(topology_, topology_.pose_parent(h));
+    edge = "pose of " + text::Frame(topology_, h) + " wrt " +
+           text::Frame(topology_, topology_.pose_parent(h));
   }
-  return "the value is converted with the graph's values at its stamp " + Seconds(stamp.nanoseconds()) + ", but the " +
-         edge + " has samples in " + text::StampRange(f.first, f.last);
+  return "the value is converted with the graph's values at its stamp " +
+         Seconds(stamp.nanoseconds()) + ", but the " + edge + " has samples in " +
+         text::StampRange(f.first, f.last);
 }
 
 // ---------------------------------------------------------------- histories
@@ -115,14 +126,16 @@ TwistHistoryLease SceneGraph<B>::NewTwistHistory() {
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X, Stamp s) {
+void SceneGraph<B>::InstallPoseHistory(FrameIndex head, PoseHistoryLease h,
+                                       const typename B::PoseCoords& X, Stamp s) {
   double w[7];
   PoseWords<B>(X, w);
   values_.history.pose.Install(head.value(), std::move(h), s.nanoseconds(), w);
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s) {
+void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h,
+                                        const TwistNumbers& V, Stamp s) {
   double w[6];
   internal::WordsFromTwist(V, w);
   values_.history.twist.Install(edge.value(), std::move(h), s.nanoseconds(), w);
@@ -144,7 +157,8 @@ void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex edge) noexcept {
 
 namespace {
 template <class History, class Same>
-ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOptions& o, Same&& same) noexcept {
+ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOptions& o,
+                      Same&& same) noexcept {
   if (!stamp) return h ? ErrorCode::kStampMismatch : ErrorCode::kOk;
   if (!h) return ErrorCode::kStampMismatch;
   const std::int64_t s = stamp->nanoseconds();
@@ -162,11 +176,12 @@ template <coord::Backend B>
 ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X,
                                          std::optional<Stamp> stamp) const noexcept {
   return CheckSample(values_.history.pose_of(head.value()), stamp, values_.history.options,
-                     [&](const double (&w)[7]) { return SamePose<B>(w, X); });
+                     [&](const double(&w)[7]) { return SamePose<B>(w, X); });
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) noexcept {
+void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
+                                    std::optional<Stamp> stamp) noexcept {
   if (!stamp) {
     values_.X_PF[head.value()].Store(X);
     return;
@@ -175,22 +190,25 @@ void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoord
   const std::int64_t s = stamp->nanoseconds();
   double w[7];
   const bool newest = s > h.newest_stamp();  // in order: no equal stamp to look for
-  if (!newest && h.ValueAt(s, w) && SamePose<B>(w, X)) return;  // the same value again: kept as stored
+  if (!newest && h.ValueAt(s, w) && SamePose<B>(w, X))
+    return;  // the same value again: kept as stored
   PoseWords<B>(X, w);
   const bool becomes_newest = s >= h.newest_stamp();
   h.Insert(s, w, values_.history.options.window.nanoseconds());
-  if (becomes_newest) values_.X_PF[head.value()].Store(X);  // the untimed readers' value: the newest sample
+  if (becomes_newest)
+    values_.X_PF[head.value()].Store(X);  // the untimed readers' value: the newest sample
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
                                           std::optional<Stamp> stamp) const noexcept {
   return CheckSample(values_.history.twist_of(edge.value()), stamp, values_.history.options,
-                     [&](const double (&w)[6]) { return SameTwist(w, V); });
+                     [&](const double(&w)[6]) { return SameTwist(w, V); });
 }
 
 template <coord::Backend B>
-void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept {
+void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
+                                     std::optional<Stamp> stamp) noexcept {
   if (!stamp) {
     values_.V_DH[edge.value()].Store(V);
     return;
@@ -213,7 +231,8 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
   bool stamped = false;
   if (twist) {
     const auto& e = topology_.twist_edge(TwistEdgeIndex(index));
-    edge = "the twist edge " + std::string(topology_.body_name(e.tail)) + " -> " + text::Frame(topology_, e.head);
+    edge = "the twist edge " + std::string(topology_.body_name(e.tail)) + " -> " +
+           text::Frame(topology_, e.head);
     if (const TwistHistory* h = values_.history.twist_of(index)) {
       stamped = true;
       first = h->oldest_stamp();
@@ -221,7 +240,8 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
     }
   } else {
     const FrameIndex h(index);
-    edge = "the pose edge " + text::Frame(topology_, topology_.pose_parent(h)) + " -> " + text::Frame(topology_, h);
+    edge = "the pose edge " + text::Frame(topology_, topology_.pose_parent(h)) + " -> " +
+           text::Frame(topology_, h);
     if (const PoseHistory* p = values_.history.pose_of(index)) {
       stamped = true;
       first = p->oldest_stamp();
@@ -231,38 +251,45 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
   const std::string range = text::StampRange(first, last);
   switch (code) {
     case ErrorCode::kStampMismatch:
-      return stamped ? edge + " is stamped (samples in " + range + "): its values need a stamp"
-                     : edge + " is timeless (its first value had no stamp): it takes no stamped value";
+      return stamped
+                 ? edge + " is stamped (samples in " + range + "): its values need a stamp"
+                 : edge + " is timeless (its first value had no stamp): it takes no stamped value";
     case ErrorCode::kStampTooOld:
-      return "stamp " + Seconds(stamp->nanoseconds()) + " is older than the newest sample of " + edge + " (" +
-             Seconds(last) + ") minus the window (" + Seconds(values_.history.options.window.nanoseconds()) + ")";
+      return "stamp " + Seconds(stamp->nanoseconds()) + " is older than the newest sample of " +
+             edge + " (" + Seconds(last) + ") minus the window (" +
+             Seconds(values_.history.options.window.nanoseconds()) + ")";
     case ErrorCode::kDuplicateStamp:
       return edge + " already has another value at " + Seconds(stamp->nanoseconds()) +
              " (duplicate stamps are rejected by this graph's policy)";
-    default: return std::string(base::ToString(code));
+    default:
+      return std::string(base::ToString(code));
   }
 }
 
-#define SEMGRAPH_INSTANTIATE_TIME_ADD(B)                                                                       \
-  template Expected<SceneGraph<B>, BuildError> SceneGraph<B>::Create(const TimeOptions&);                     \
-  template internal::TimeContext SceneGraph<B>::ConversionContext(std::optional<Stamp>) const noexcept;        \
-  template std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext&, Stamp) const;        \
-  template PoseHistoryLease SceneGraph<B>::NewPoseHistory();                                                   \
-  template TwistHistoryLease SceneGraph<B>::NewTwistHistory();                                                 \
-  template void SceneGraph<B>::InstallPoseHistory(FrameIndex, PoseHistoryLease, const typename B::PoseCoords&, \
-                                                  Stamp);                                                      \
-  template void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex, TwistHistoryLease, const TwistNumbers&,     \
-                                                   Stamp);                                                     \
-  template void SceneGraph<B>::DropPoseHistory(FrameIndex) noexcept;                                           \
-  template void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex) noexcept;                                      \
-  template ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex, const typename B::PoseCoords&,                 \
-                                                    std::optional<Stamp>) const noexcept;                     \
-  template void SceneGraph<B>::StorePoseSample(FrameIndex, const typename B::PoseCoords&,                      \
-                                               std::optional<Stamp>) noexcept;                                \
-  template ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex, const TwistNumbers&,                      \
-                                                     std::optional<Stamp>) const noexcept;                    \
-  template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&, std::optional<Stamp>) noexcept; \
-  template std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode, bool, std::uint32_t, std::optional<Stamp>) const;
+#define SEMGRAPH_INSTANTIATE_TIME_ADD(B)                                                         \
+  template Expected<SceneGraph<B>, BuildError> SceneGraph<B>::Create(const TimeOptions&);        \
+  template internal::TimeContext SceneGraph<B>::ConversionContext(std::optional<Stamp>)          \
+      const noexcept;                                                                            \
+  template std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext&, Stamp) \
+      const;                                                                                     \
+  template PoseHistoryLease SceneGraph<B>::NewPoseHistory();                                     \
+  template TwistHistoryLease SceneGraph<B>::NewTwistHistory();                                   \
+  template void SceneGraph<B>::InstallPoseHistory(FrameIndex, PoseHistoryLease,                  \
+                                                  const typename B::PoseCoords&, Stamp);         \
+  template void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex, TwistHistoryLease,            \
+                                                   const TwistNumbers&, Stamp);                  \
+  template void SceneGraph<B>::DropPoseHistory(FrameIndex) noexcept;                             \
+  template void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex) noexcept;                        \
+  template ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex, const typename B::PoseCoords&,   \
+                                                    std::optional<Stamp>) const noexcept;        \
+  template void SceneGraph<B>::StorePoseSample(FrameIndex, const typename B::PoseCoords&,        \
+                                               std::optional<Stamp>) noexcept;                   \
+  template ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex, const TwistNumbers&,        \
+                                                     std::optional<Stamp>) const noexcept;       \
+  template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&,             \
+                                                std::optional<Stamp>) noexcept;                  \
+  template std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode, bool, std::uint32_t,    \
+                                                              std::optional<Stamp>) const;
 SEMGRAPH_INSTANTIATE_TIME_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_TIME_ADD(coord::HomogeneousBackend)
 

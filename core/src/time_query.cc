@@ -4,9 +4,9 @@
 // through the fixed frame; the diagnostic call records every edge the evaluation reads.
 #include <algorithm>
 
+#include "angular_velocity.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/time_plan.h"
-#include "angular_velocity.h"
 #include "text.h"
 
 namespace semgraph::core {
@@ -20,7 +20,8 @@ using semantics::Field;
 
 // ====================================================================== plan
 
-Expected<PoseTwistPlan, QueryError> PlanPoseTwist(const topology::SceneTopology& t, const TwistSpec& spec) noexcept {
+Expected<PoseTwistPlan, QueryError> PlanPoseTwist(const topology::SceneTopology& t,
+                                                  const TwistSpec& spec) noexcept {
   auto twist = PlanTwist(t, spec);
   if (!twist && twist.error().code != ErrorCode::kNoTwistPath) return Unexpected{twist.error()};
   PoseTwistPlan plan;
@@ -30,7 +31,8 @@ Expected<PoseTwistPlan, QueryError> PlanPoseTwist(const topology::SceneTopology&
   const BodyIndex D = t.FindBody(spec.ref_body);
   plan.point = e;
   plan.frame = r;
-  plan.semantics = semantics::TwistSemantics{t.FrameSem(e).origin(), t.BodySem(C), t.BodySem(D), t.FrameSem(r).axes()};
+  plan.semantics = semantics::TwistSemantics{t.FrameSem(e).origin(), t.BodySem(C), t.BodySem(D),
+                                             t.FrameSem(r).axes()};
   if (C == D) return plan;  // zero; no edge used
   plan.c = t.SomeFrameOfBodyInTree(C, e);
   plan.d = t.SomeFrameOfBodyInTree(D, e);
@@ -79,7 +81,8 @@ QueryError InvalidHorizon() {
 
 // invalid_name -> invalid_number (the policy) -> the plan's other errors.
 template <class Plan>
-std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& plan, bool policy_valid) {
+std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& plan,
+                                            bool policy_valid) {
   if (!plan && plan.error().code == ErrorCode::kInvalidName) return plan.error();
   if (!policy_valid) return InvalidHorizon();
   if (!plan) return plan.error();
@@ -159,7 +162,8 @@ auto TimedAnswer(const Expected<Plan, QueryError>& plan, bool policy_valid, Run&
 template <coord::Backend B>
 template <class Eval>
 std::optional<QueryError> SceneGraph<B>::RunTimed(const TimePolicy& policy, TimeReport& report,
-                                                  internal::EdgeRecorder* recorder, Eval&& eval) const noexcept {
+                                                  internal::EdgeRecorder* recorder,
+                                                  Eval&& eval) const noexcept {
   TimeContext base;
   base.histories = &values_.history;
   base.topology = &topology_;
@@ -185,18 +189,19 @@ auto SceneGraph<B>::AtPolicy(const TimePolicy& policy) const noexcept {
   };
 }
 
-// ====================================================================== pose, position, orientation
+// ====================================================================== pose, position,
+// orientation
 
 template <coord::Backend B>
-QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
-                                                                       const TimePolicy& policy) const noexcept {
+QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(
+    const PoseSpec& spec, const TimePolicy& policy) const noexcept {
   return TimedAnswer<B>(PlanPose(topology_, spec), internal::PartsOf(policy).valid(),
                         AtPolicy(policy));
 }
 
 template <coord::Backend B>
-QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
-                                                               const TimePolicy& policy) const noexcept {
+QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(
+    const PoseSpec& spec, const TimePolicy& policy) const noexcept {
   return TimedAnswer<B>(PlanPosition(topology_, spec), internal::PartsOf(policy).valid(),
                         AtPolicy(policy));
 }
@@ -243,7 +248,8 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex
     typename B::PoseCoords X_RB;
     const TimePolicy at = At{travel.ref_time, travel.max_extrapolation, travel.not_before};
     if (auto err = RunTimed(at, r3, nullptr, [&](TimeContext& tc) {
-          internal::EvalBasic<B>(internal::ForestSource<B>(topology_, values_, &tc), PlanBasic(topology_, b, r), X_RB);
+          internal::EvalBasic<B>(internal::ForestSource<B>(topology_, values_, &tc),
+                                 PlanBasic(topology_, b, r), X_RB);
         })) {
       return err;
     }
@@ -266,8 +272,8 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex
 }
 
 template <coord::Backend B>
-QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec& spec,
-                                                                       const TimeTravel& travel) const noexcept {
+QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(
+    const PoseSpec& spec, const TimeTravel& travel) const noexcept {
   auto plan = PlanPose(topology_, spec);
   FrameIndex x;
   if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
@@ -280,21 +286,23 @@ QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const Po
   const auto& q = plan->semantics;
   const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
   Timed<Pose> out{Pose{q, {}}, {}};
-  if (auto e = TimeTravelPose(F(q.point.id()), F(q.orientation.id()), F(q.ref_point.id()), F(q.ref_orientation.id()),
-                              F(q.coordinate_frame.id()), x, travel, out.value.value, out.time)) {
+  if (auto e = TimeTravelPose(F(q.point.id()), F(q.orientation.id()), F(q.ref_point.id()),
+                              F(q.ref_orientation.id()), F(q.coordinate_frame.id()), x, travel,
+                              out.value.value, out.time)) {
     return Unexpected{*e};
   }
   return out;
 }
 
 template <coord::Backend B>
-QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec& spec,
-                                                               const TimeTravel& travel) const noexcept {
+QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(
+    const PoseSpec& spec, const TimeTravel& travel) const noexcept {
   auto plan = PlanPosition(topology_, spec);
   FrameIndex x;
   if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
   const auto& q = plan->semantics;
-  const FrameIndex e = topology_.FrameOfName(q.point.id()), f = topology_.FrameOfName(q.ref_point.id());
+  const FrameIndex e = topology_.FrameOfName(q.point.id()),
+                   f = topology_.FrameOfName(q.ref_point.id());
   typename B::PoseCoords X;
   TimeReport report;
   const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
@@ -317,7 +325,8 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
     return Unexpected{e};
   }
   const auto& q = plan->semantics;
-  const FrameIndex a = topology_.FrameOfName(q.orientation.id()), b = topology_.FrameOfName(q.ref_orientation.id());
+  const FrameIndex a = topology_.FrameOfName(q.orientation.id()),
+                   b = topology_.FrameOfName(q.ref_orientation.id());
   typename B::PoseCoords X;
   TimeReport report;
   const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
@@ -330,15 +339,16 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
 // ====================================================================== twists
 
 template <coord::Backend B>
-QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(const TwistSpec& spec, const TimePolicy& policy,
+QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(const TwistSpec& spec,
+                                                         const TimePolicy& policy,
                                                          TwistSource source) const noexcept {
   return TimedTwist(spec, policy, source, nullptr);
 }
 
 template <coord::Backend B>
-QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec& spec, const TimePolicy& policy,
-                                                           TwistSource source,
-                                                           internal::EdgeRecorder* recorder) const noexcept {
+QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(
+    const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
+    internal::EdgeRecorder* recorder) const noexcept {
   const bool valid = internal::PartsOf(policy).valid();
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
   TimeReport report;
@@ -374,18 +384,16 @@ QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec& spec
 }
 
 template <coord::Backend B>
-QueryResult<Timed<coord::LinearVelocity>> SceneGraph<B>::GetLinearVelocity(const TwistSpec& spec,
-                                                                           const TimePolicy& policy,
-                                                                           TwistSource source) const noexcept {
+QueryResult<Timed<coord::LinearVelocity>> SceneGraph<B>::GetLinearVelocity(
+    const TwistSpec& spec, const TimePolicy& policy, TwistSource source) const noexcept {
   auto tw = GetTwist(spec, policy, source);
   if (!tw) return Unexpected{tw.error()};
   return Timed<coord::LinearVelocity>{coord::LinearOf(tw->value), tw->time};
 }
 
 template <coord::Backend B>
-QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(const TwistSpec& spec,
-                                                                             const TimePolicy& policy,
-                                                                             TwistSource source) const noexcept {
+QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(
+    const TwistSpec& spec, const TimePolicy& policy, TwistSource source) const noexcept {
   auto tw = internal::TwistOfAngularVelocity(
       spec, [&](const TwistSpec& s) { return GetTwist(s, policy, source); });
   if (!tw) return Unexpected{tw.error()};
@@ -393,7 +401,8 @@ QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(con
 }
 
 template <coord::Backend B>
-Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec& spec, TwistSource source) const {
+Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec& spec,
+                                                                   TwistSource source) const {
   if (source == TwistSource::kTwists) return CompileTwist(spec);
   auto plan = PlanPoseTwist(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
@@ -418,7 +427,8 @@ class CollectingRecorder final : public internal::EdgeRecorder {
 };
 
 template <coord::Backend B>
-std::vector<EdgeUse> Summarize(const topology::SceneTopology& t, const std::vector<internal::EdgeRead>& reads) {
+std::vector<EdgeUse> Summarize(const topology::SceneTopology& t,
+                               const std::vector<internal::EdgeRead>& reads) {
   std::vector<EdgeUse> out;
   std::vector<std::pair<int, std::uint32_t>> keys;
   for (const internal::EdgeRead& r : reads) {
@@ -460,8 +470,8 @@ std::vector<EdgeUse> Summarize(const topology::SceneTopology& t, const std::vect
 }  // namespace
 
 template <coord::Backend B>
-Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const PoseSpec& spec,
-                                                                     const TimePolicy& policy) const {
+Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(
+    const PoseSpec& spec, const TimePolicy& policy) const {
   auto plan = PlanPose(topology_, spec);
   if (auto e = PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) return Unexpected{*e};
   CollectingRecorder recorder;
@@ -478,11 +488,12 @@ Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const Pose
 
 template <coord::Backend B>
 Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(const TwistSpec& spec,
-                                                                      const TimePolicy& policy,
-                                                                      TwistSource source) const {
+                                                                       const TimePolicy& policy,
+                                                                       TwistSource source) const {
   CollectingRecorder recorder;
   auto tw = TimedTwist(spec, policy, source, &recorder);
-  if (!tw && (tw.error().code != ErrorCode::kExtrapolation && tw.error().code != ErrorCode::kStale)) {
+  if (!tw &&
+      (tw.error().code != ErrorCode::kExtrapolation && tw.error().code != ErrorCode::kStale)) {
     return Unexpected{tw.error()};
   }
   return Summarize<B>(topology_, recorder.reads);
@@ -502,47 +513,47 @@ Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec
   out.value.joints = plan->columns;
   out.value.J.setZero(6, static_cast<Eigen::Index>(plan->columns.size()));
   if (auto e = RunTimed(policy, out.time, nullptr, [&](TimeContext& tc) {
-        internal::EvaluateJacobian<B>(internal::ForestSource<B>(topology_, values_, &tc), plan->change_point, plan->er,
-                                      plan->e_chained, plan->e_rest, plan->steps, out.value.J);
+        internal::EvaluateJacobian<B>(internal::ForestSource<B>(topology_, values_, &tc),
+                                      plan->change_point, plan->er, plan->e_chained, plan->e_rest,
+                                      plan->steps, out.value.J);
       })) {
     return Unexpected{*e};
   }
   return out;
 }
 
-#define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                                        \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(                                               \
-      FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, const TimeTravel&,                  \
-      typename B::PoseCoords&, TimeReport&) const noexcept;                                                       \
-  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec&, const TimePolicy&,       \
-                                                                      TwistSource, internal::EdgeRecorder*)       \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec&, const TimePolicy&)     \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec&, const TimePolicy&)    \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(const PoseSpec&,         \
-                                                                                        const TimePolicy&)       \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const PoseSpec&, const TimeTravel&)     \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(const PoseSpec&, const TimeTravel&)    \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(const PoseSpec&,         \
-                                                                                        const TimeTravel&)       \
-      const noexcept;                                                                                             \
-  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(const TwistSpec&, const TimePolicy&,         \
-                                                                    TwistSource) const noexcept;                  \
-  template QueryResult<Timed<coord::LinearVelocity>> SceneGraph<B>::GetLinearVelocity(                           \
-      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                                          \
-  template QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(                         \
-      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                                          \
-  template Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec&, TwistSource) const; \
-  template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(const PoseSpec&,                \
-                                                                                 const TimePolicy&) const;        \
-  template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(                               \
-      const TwistSpec&, const TimePolicy&, TwistSource) const;                                                   \
-  template Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec&, const TimePolicy&) const;
+#define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                        \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(                               \
+      FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, const TimeTravel&,  \
+      typename B::PoseCoords&, TimeReport&) const noexcept;                                       \
+  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(                            \
+      const TwistSpec&, const TimePolicy&, TwistSource, internal::EdgeRecorder*) const noexcept;  \
+  template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(                        \
+      const PoseSpec&, const TimePolicy&) const noexcept;                                         \
+  template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(                        \
+      const PoseSpec&, const TimePolicy&) const noexcept;                                         \
+  template QueryResult<Timed<SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(          \
+      const PoseSpec&, const TimePolicy&) const noexcept;                                         \
+  template QueryResult<Timed<SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(                        \
+      const PoseSpec&, const TimeTravel&) const noexcept;                                         \
+  template QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(                        \
+      const PoseSpec&, const TimeTravel&) const noexcept;                                         \
+  template QueryResult<Timed<SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(          \
+      const PoseSpec&, const TimeTravel&) const noexcept;                                         \
+  template QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(                              \
+      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                           \
+  template QueryResult<Timed<coord::LinearVelocity>> SceneGraph<B>::GetLinearVelocity(            \
+      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                           \
+  template QueryResult<Timed<coord::AngularVelocity>> SceneGraph<B>::GetAngularVelocity(          \
+      const TwistSpec&, const TimePolicy&, TwistSource) const noexcept;                           \
+  template Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec&,   \
+                                                                              TwistSource) const; \
+  template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainPose(                 \
+      const PoseSpec&, const TimePolicy&) const;                                                  \
+  template Expected<std::vector<EdgeUse>, QueryError> SceneGraph<B>::ExplainTwist(                \
+      const TwistSpec&, const TimePolicy&, TwistSource) const;                                    \
+  template Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(                      \
+      const TwistSpec&, const TimePolicy&) const;
 SEMGRAPH_INSTANTIATE_TIME_QUERY(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_TIME_QUERY(coord::HomogeneousBackend)
 

@@ -29,7 +29,8 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   impl->options = std::move(options);
   Impl& m = *impl;
   m.participant = Entity(dds_create_participant(m.options.domain, nullptr, nullptr));
-  if (!m.participant.ok()) return base::Unexpected{internal::DdsError("cannot join the DDS domain", m.participant.get())};
+  if (!m.participant.ok())
+    return base::Unexpected{internal::DdsError("cannot join the DDS domain", m.participant.get())};
   const dds_entity_t p = m.participant.get();
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
   const dds_entity_t vt = internal::CreateTopic(p, TopicKind::kValue);
@@ -46,18 +47,18 @@ base::Expected<std::unique_ptr<Mirror>, std::string> Mirror::Create(MirrorOption
   m.status_writer = Entity(internal::CreateWriter(p, tt, TopicKind::kStatus));
   m.waitset = Entity(dds_create_waitset(p));
   m.guard = Entity(dds_create_guardcondition(p));
-  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.sample_reader.ok() || !m.batch_reader.ok() ||
-      !m.status_writer.ok() ||
-      !m.waitset.ok() ||
-      !m.guard.ok()) {
+  if (!m.structure_reader.ok() || !m.value_reader.ok() || !m.sample_reader.ok() ||
+      !m.batch_reader.ok() || !m.status_writer.ok() || !m.waitset.ok() || !m.guard.ok()) {
     return base::Unexpected{std::string("cannot create the DDS readers and writers")};
   }
   const dds_entity_t c1 = dds_create_readcondition(m.structure_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c2 = dds_create_readcondition(m.value_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c3 = dds_create_readcondition(m.sample_reader.get(), DDS_ANY_STATE);
   const dds_entity_t c4 = dds_create_readcondition(m.batch_reader.get(), DDS_ANY_STATE);
-  if (dds_waitset_attach(m.waitset.get(), c1, 1) < 0 || dds_waitset_attach(m.waitset.get(), c2, 2) < 0 ||
-      dds_waitset_attach(m.waitset.get(), c3, 3) < 0 || dds_waitset_attach(m.waitset.get(), c4, 4) < 0 ||
+  if (dds_waitset_attach(m.waitset.get(), c1, 1) < 0 ||
+      dds_waitset_attach(m.waitset.get(), c2, 2) < 0 ||
+      dds_waitset_attach(m.waitset.get(), c3, 3) < 0 ||
+      dds_waitset_attach(m.waitset.get(), c4, 4) < 0 ||
       dds_waitset_attach(m.waitset.get(), m.guard.get(), 0) < 0) {
     return base::Unexpected{std::string("cannot attach the DDS conditions")};
   }
@@ -93,10 +94,18 @@ void Mirror::WithGraph(const std::function<void(const core::SceneGraph<>&)>& fn)
   fn(impl_->graph);
 }
 
-std::uint64_t Mirror::structure_generation() const noexcept { return impl_->generation.load(std::memory_order_acquire); }
-std::uint64_t Mirror::values_applied() const noexcept { return impl_->values.load(std::memory_order_acquire); }
-std::uint64_t Mirror::messages_rejected() const noexcept { return impl_->rejected.load(std::memory_order_acquire); }
-std::uint64_t Mirror::samples_dropped() const noexcept { return impl_->dropped.load(std::memory_order_acquire); }
+std::uint64_t Mirror::structure_generation() const noexcept {
+  return impl_->generation.load(std::memory_order_acquire);
+}
+std::uint64_t Mirror::values_applied() const noexcept {
+  return impl_->values.load(std::memory_order_acquire);
+}
+std::uint64_t Mirror::messages_rejected() const noexcept {
+  return impl_->rejected.load(std::memory_order_acquire);
+}
+std::uint64_t Mirror::samples_dropped() const noexcept {
+  return impl_->dropped.load(std::memory_order_acquire);
+}
 
 std::vector<OwnerState> Mirror::Owners() const {
   std::lock_guard<std::mutex> lock(impl_->state_mutex);
@@ -111,8 +120,8 @@ std::vector<EdgeState> Mirror::Edges() const {
   std::lock_guard<std::mutex> lock(impl_->state_mutex);
   std::vector<EdgeState> out;
   for (const auto& [key, s] : impl_->slots) {
-    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns, s.stamped, s.time_ns,
-                   s.joint});
+    out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns,
+                   s.stamped, s.time_ns, s.joint});
   }
   std::sort(out.begin(), out.end(), [](const EdgeState& a, const EdgeState& b) {
     return std::tie(a.joint, a.twist, a.head) < std::tie(b.joint, b.twist, b.head);
@@ -148,7 +157,8 @@ bool Mirror::CaughtUp() const {
   for (const auto& [name, o] : m.owners) {
     for (const Row& r : o.rows) {
       if (r.kind < semgraph_wire_ELEMENT_POSE) continue;
-      const std::uint8_t vkind = r.kind == semgraph_wire_ELEMENT_TWIST ? semgraph_wire_VALUE_TWIST : semgraph_wire_VALUE_POSE;
+      const std::uint8_t vkind = r.kind == semgraph_wire_ELEMENT_TWIST ? semgraph_wire_VALUE_TWIST
+                                                                       : semgraph_wire_VALUE_POSE;
       if (!holds(name, {o.source, r.edge, vkind}, r.seq)) return false;
     }
     for (const JointRow& j : o.joints) {

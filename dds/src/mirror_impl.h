@@ -11,8 +11,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -63,8 +63,8 @@ struct JointRow {
   [[nodiscard]] bool SameJoint(const JointRow& o) const {
     return type == o.type && name == o.name && parent == o.parent && parent_body == o.parent_body &&
            child == o.child && child_body == o.child_body && mimic == o.mimic &&
-           std::equal(origin, origin + 7, o.origin) && std::equal(axis, axis + 3, o.axis) && lower == o.lower &&
-           upper == o.upper && multiplier == o.multiplier && offset == o.offset;
+           std::equal(origin, origin + 7, o.origin) && std::equal(axis, axis + 3, o.axis) &&
+           lower == o.lower && upper == o.upper && multiplier == o.multiplier && offset == o.offset;
   }
 };
 
@@ -97,7 +97,7 @@ struct ValueKeyHash {
 
 struct Slot {
   bool twist = false;
-  bool joint = false;     // a joint's state (group: the joint alone; empty for fixed and mimic joints)
+  bool joint = false;  // a joint's state (group: the joint alone; empty for fixed and mimic joints)
   core::JointGroup group;
   bool unset = false;     // a joint never set (its first stamped state may still be on the way)
   bool stamped = false;   // a stamped edge: values come as stamped samples
@@ -167,7 +167,8 @@ using internal::ValueKeyHash;
 struct Mirror::Impl {
   MirrorOptions options;
   core::SceneGraph<> graph;
-  Entity participant, structure_reader, value_reader, sample_reader, batch_reader, status_writer, waitset, guard;
+  Entity participant, structure_reader, value_reader, sample_reader, batch_reader, status_writer,
+      waitset, guard;
   std::thread thread;
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> generation{0}, values{0}, rejected{0}, dropped{0};
@@ -245,8 +246,9 @@ struct Mirror::Impl {
   void CountApplied(std::uint64_t applied_now);
   // Applies a value (time: a stamped sample's stamp); true when the graph took it. `from` (the
   // message on the wire) names its edge and source when the setter refuses its numbers.
-  bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n, const std::string& what,
-                  std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
+  bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
+                  const std::string& what, std::optional<std::int64_t> time = std::nullopt,
+                  const In* from = nullptr);
   // True when a refusal of the current structures names `owner`.
   [[nodiscard]] bool HasRefusal(const std::string& owner) const;
 

@@ -14,17 +14,22 @@ namespace semgraph::dds::internal {
 namespace {
 
 constexpr std::uint32_t kMaxElements = 1u << 20;  // per structure sample
-constexpr std::uint32_t kMaxSampleCapacity = 1u << 20;  // per stamped edge (a hostile one must not exhaust memory)
+constexpr std::uint32_t kMaxSampleCapacity =
+    1u << 20;  // per stamped edge (a hostile one must not exhaust memory)
 
 std::string Str(const char* s) { return s == nullptr ? std::string() : std::string(s); }
 bool GoodName(const std::string& s) { return static_cast<bool>(semantics::ValidateName(s)); }
 
 const char* KindName(std::uint8_t k) {
   switch (k) {
-    case semgraph_wire_ELEMENT_BODY: return "body";
-    case semgraph_wire_ELEMENT_FRAME: return "frame";
-    case semgraph_wire_ELEMENT_POSE: return "pose";
-    case semgraph_wire_ELEMENT_TWIST: return "twist";
+    case semgraph_wire_ELEMENT_BODY:
+      return "body";
+    case semgraph_wire_ELEMENT_FRAME:
+      return "frame";
+    case semgraph_wire_ELEMENT_POSE:
+      return "pose";
+    case semgraph_wire_ELEMENT_TWIST:
+      return "twist";
   }
   return "?";
 }
@@ -71,18 +76,26 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     std::copy(e.numbers, e.numbers + 7, r.n);
     r.stamped = e.stamped;
     r.time_ns = e.time_ns;
-    const std::string at = "element " + std::to_string(i) + " (" + KindName(e.kind) + " '" + r.head + "'): ";
-    if (e.kind > semgraph_wire_ELEMENT_TWIST) return "element " + std::to_string(i) + ": unknown kind " + std::to_string(e.kind);
+    const std::string at =
+        "element " + std::to_string(i) + " (" + KindName(e.kind) + " '" + r.head + "'): ";
+    if (e.kind > semgraph_wire_ELEMENT_TWIST)
+      return "element " + std::to_string(i) + ": unknown kind " + std::to_string(e.kind);
     if (!GoodName(r.head)) return at + "invalid name";
-    if (e.kind != semgraph_wire_ELEMENT_BODY && !GoodName(r.head_body)) return at + "invalid body name";
+    if (e.kind != semgraph_wire_ELEMENT_BODY && !GoodName(r.head_body))
+      return at + "invalid body name";
     if (e.kind >= semgraph_wire_ELEMENT_POSE) {
       if (!GoodName(r.tail)) return at + "invalid reference name";
-      if (e.kind == semgraph_wire_ELEMENT_POSE && !GoodName(r.tail_body)) return at + "invalid reference body name";
+      if (e.kind == semgraph_wire_ELEMENT_POSE && !GoodName(r.tail_body))
+        return at + "invalid reference body name";
       if (!Finite(r.n, 7)) return at + "a number is not finite (invalid_number)";
-      if (e.kind == semgraph_wire_ELEMENT_POSE && !UnitQuaternion(r.n)) return at + "not a unit quaternion (invalid_rotation)";
-      if (!heads.emplace(std::pair{e.kind, r.head}, 0).second) return at + "a second edge into the same frame";
-      if (!ids.emplace(std::pair{e.kind, e.edge}, 0).second) return at + "a second edge with the same id";
-      if (r.stamped && !GoodStamp(r.time_ns)) return at + "the stamp is out of range (invalid_number)";
+      if (e.kind == semgraph_wire_ELEMENT_POSE && !UnitQuaternion(r.n))
+        return at + "not a unit quaternion (invalid_rotation)";
+      if (!heads.emplace(std::pair{e.kind, r.head}, 0).second)
+        return at + "a second edge into the same frame";
+      if (!ids.emplace(std::pair{e.kind, e.edge}, 0).second)
+        return at + "a second edge with the same id";
+      if (r.stamped && !GoodStamp(r.time_ns))
+        return at + "the stamp is out of range (invalid_number)";
       if (r.stamped && e.kind == semgraph_wire_ELEMENT_POSE && r.head_body == r.tail_body) {
         return at + "a constant (same-body) edge cannot be stamped";
       }
@@ -120,10 +133,11 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     j.qdot = w.qdot;
     j.time_ns = w.time_ns;
     const std::string at = "joint " + std::to_string(i) + " ('" + j.name + "'): ";
-    if (w.type > semgraph_wire_JOINT_FIXED) return at + "unknown joint type " + std::to_string(w.type);
+    if (w.type > semgraph_wire_JOINT_FIXED)
+      return at + "unknown joint type " + std::to_string(w.type);
     j.type = static_cast<core::JointType>(w.type);
-    if (!GoodName(j.name) || !GoodName(j.parent) || !GoodName(j.parent_body) || !GoodName(j.child) ||
-        !GoodName(j.child_body) || (!j.mimic.empty() && !GoodName(j.mimic))) {
+    if (!GoodName(j.name) || !GoodName(j.parent) || !GoodName(j.parent_body) ||
+        !GoodName(j.child) || !GoodName(j.child_body) || (!j.mimic.empty() && !GoodName(j.mimic))) {
       return at + "invalid name";
     }
     const double numbers[] = {j.lower, j.upper, j.multiplier, j.offset, j.q, j.qdot};
@@ -131,8 +145,10 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
       return at + "a number is not finite (invalid_number)";
     }
     if (!UnitQuaternion(j.origin)) return at + "not a unit quaternion (invalid_rotation)";
-    if (w.state > semgraph_wire_JOINT_STATE_STAMPED) return at + "unknown state " + std::to_string(w.state);
-    if (j.stamped() && !GoodStamp(j.time_ns)) return at + "the stamp is out of range (invalid_number)";
+    if (w.state > semgraph_wire_JOINT_STATE_STAMPED)
+      return at + "unknown state " + std::to_string(w.state);
+    if (j.stamped() && !GoodStamp(j.time_ns))
+      return at + "the stamp is out of range (invalid_number)";
     if (!joint_names.emplace(j.name, 0).second) return at + "a second joint of that name";
     if (!joint_ids.emplace(j.id, 0).second) return at + "a second joint with the same id";
     // The joint owns the edges into its child: the owner must not publish them as well.
@@ -147,9 +163,11 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
   if (s.sample_capacity != 0) {
     if (s.window_ns <= 0) return "time options: the window is not positive (invalid_number)";
     if (s.sample_capacity < 2 || s.sample_capacity > kMaxSampleCapacity) {
-      return "time options: sample capacity " + std::to_string(s.sample_capacity) + " is outside [2, 1048576]";
+      return "time options: sample capacity " + std::to_string(s.sample_capacity) +
+             " is outside [2, 1048576]";
     }
-    if (s.interpolation > 1 || s.duplicate_stamp > 1) return "time options: unknown interpolation or duplicate policy";
+    if (s.interpolation > 1 || s.duplicate_stamp > 1)
+      return "time options: unknown interpolation or duplicate policy";
     out->has_time = true;
     out->time.window = core::Duration::Nanoseconds(s.window_ns);
     out->time.interpolation = static_cast<core::Interpolation>(s.interpolation);

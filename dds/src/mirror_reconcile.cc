@@ -19,8 +19,8 @@ namespace semgraph::dds {
 namespace {
 
 bool SameTime(const core::TimeOptions& a, const core::TimeOptions& b) {
-  return a.window == b.window && a.interpolation == b.interpolation && a.duplicate_stamp == b.duplicate_stamp &&
-         a.sample_capacity == b.sample_capacity;
+  return a.window == b.window && a.interpolation == b.interpolation &&
+         a.duplicate_stamp == b.duplicate_stamp && a.sample_capacity == b.sample_capacity;
 }
 
 // Adds the edge of a structure row to g (stamped: with its newest sample's stamp).
@@ -29,11 +29,15 @@ core::BuildResult AddEdge(core::SceneGraph<>& g, const Row& r) {
   const Eigen::Quaterniond q(r.n[0], r.n[1], r.n[2], r.n[3]);
   const Eigen::Vector3d p(r.n[4], r.n[5], r.n[6]);
   if (r.kind == semgraph_wire_ELEMENT_TWIST) {
-    const core::TwistSpec spec = core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head);
-    return r.stamped ? g.AddTwist(spec, a, b, core::Stamp::Nanoseconds(r.time_ns)) : g.AddTwist(spec, a, b);
+    const core::TwistSpec spec =
+        core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head);
+    return r.stamped ? g.AddTwist(spec, a, b, core::Stamp::Nanoseconds(r.time_ns))
+                     : g.AddTwist(spec, a, b);
   }
-  const core::PoseSpec spec = core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body);
-  return r.stamped ? g.AddPose(spec, q, p, core::Stamp::Nanoseconds(r.time_ns)) : g.AddPose(spec, q, p);
+  const core::PoseSpec spec =
+      core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body);
+  return r.stamped ? g.AddPose(spec, q, p, core::Stamp::Nanoseconds(r.time_ns))
+                   : g.AddPose(spec, q, p);
 }
 
 // A refusal of one of `owner`'s relations, as reported (code: the graph's, or the replay's).
@@ -115,8 +119,10 @@ void Mirror::Impl::SettleTimeOptions(const std::vector<const OwnerRec*>& order) 
     if (w != time_warned.end() && w->second == o->revision) continue;
     time_warned[o->owner] = o->revision;
     Emit({"time_options_differ", o->owner, "",
-          "owner '" + o->owner + "' keeps its stamped edges with other time options (window, interpolation, "
-          "duplicate policy, capacity) than this mirror's replica; queries at a time may differ"});
+          "owner '" + o->owner +
+              "' keeps its stamped edges with other time options (window, interpolation, "
+              "duplicate policy, capacity) than this mirror's replica; queries at a time may "
+              "differ"});
   }
 }
 
@@ -358,7 +364,8 @@ void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Rep
       slot.settable = static_cast<bool>(h);
       if (h) slot.pose = *h;
     }
-    const std::optional<std::int64_t> time = a.stamped ? std::optional<std::int64_t>(r.time_ns) : std::nullopt;
+    const std::optional<std::int64_t> time =
+        a.stamped ? std::optional<std::int64_t>(r.time_ns) : std::nullopt;
     if (added) {
       slot.seq = r.seq;
       if (time) slot.time_ns = *time;

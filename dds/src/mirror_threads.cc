@@ -11,14 +11,14 @@
 
 namespace semgraph::dds {
 
-using internal::ParseStructure;
 using internal::GoodStamp;
+using internal::ParseStructure;
 
 namespace {
 
-constexpr std::size_t kMaxPending = 1u << 16;     // values waiting for their structure
+constexpr std::size_t kMaxPending = 1u << 16;  // values waiting for their structure
 constexpr int kTakeBatch = 256;
-constexpr std::size_t kMaxPendingSamples = 1024;        // per edge waiting for its structure
+constexpr std::size_t kMaxPendingSamples = 1024;  // per edge waiting for its structure
 
 }  // namespace
 
@@ -45,7 +45,8 @@ void Mirror::Impl::TakeStructure() {
       const dds_sample_info_t& info = infos[i];
       if (info.valid_data) {
         OwnerRec rec;
-        const std::string why = ParseStructure(*static_cast<const semgraph_wire_Structure*>(samples[i]), &rec);
+        const std::string why =
+            ParseStructure(*static_cast<const semgraph_wire_Structure*>(samples[i]), &rec);
         if (!why.empty()) {
           Reject(rec.owner, "structure from owner '" + rec.owner + "': " + why);
           continue;
@@ -53,7 +54,8 @@ void Mirror::Impl::TakeStructure() {
         rec.alive = true;
         owner_of_instance[info.instance_handle] = rec.owner;
         auto it = owners.find(rec.owner);
-        if (it != owners.end() && it->second.source == rec.source && it->second.revision >= rec.revision) {
+        if (it != owners.end() && it->second.source == rec.source &&
+            it->second.revision >= rec.revision) {
           continue;  // a repeat or an older revision of this incarnation
         }
         const bool was_dead = it != owners.end() && !it->second.alive;
@@ -91,7 +93,9 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
                               const std::string& what, std::optional<std::int64_t> time,
                               const In* from) {
   if (time.has_value() != slot.stamped) {
-    Reject(slot.owner, what + (time ? ": a stamped sample for the unstamped " : ": an unstamped value for the stamped ") +
+    Reject(slot.owner, what +
+                           (time ? ": a stamped sample for the unstamped "
+                                 : ": an unstamped value for the stamped ") +
                            (slot.joint ? "joint '" : "edge into '") + slot.head + "'");
     return false;
   }
@@ -147,18 +151,20 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
 // One value from the value or sample topic, or from a batch; true when applied.
 bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // The numbers are checked by the graph's setter when applied (ApplyValue: its UpdateError).
-  const char* why = v.kind > semgraph_wire_VALUE_JOINT      ? ": unknown kind"
-                    : samples && !GoodStamp(v.time_ns)      ? ": the stamp is out of range (invalid_number)"
-                                                            : nullptr;
+  const char* why = v.kind > semgraph_wire_VALUE_JOINT ? ": unknown kind"
+                    : samples && !GoodStamp(v.time_ns)
+                        ? ": the stamp is out of range (invalid_number)"
+                        : nullptr;
   if (why != nullptr) {
-    Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) + " from source " +
-                   std::to_string(v.source) + why);
+    Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) +
+                   " from source " + std::to_string(v.source) + why);
     return false;
   }
   const ValueKey key{v.source, v.edge, v.kind};
   auto it = slots.find(key);
   // A joint never set may become stamped by a structure still on the way: hold its samples.
-  const bool hold = it != slots.end() && samples && it->second.joint && it->second.unset && it->second.received == 0;
+  const bool hold = it != slots.end() && samples && it->second.joint && it->second.unset &&
+                    it->second.received == 0;
   if (it == slots.end() || hold) {
     // Its structure may still be on the way: keep the latest value (every sample, up to
     // kMaxPendingSamples) until it comes.
@@ -223,10 +229,11 @@ void Mirror::Impl::TakeBatches() {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
         const auto& b = *static_cast<const semgraph_wire_Batch*>(samples[i]);
-        if (b.updates._length > internal::kMaxBatchUpdates || (b.updates._length > 0 && b.updates._buffer == nullptr)) {
-          Reject("", "batch " + std::to_string(b.serial) + " from source " + std::to_string(b.source) + ": " +
-                         std::to_string(b.updates._length) + " updates (at most " +
-                         std::to_string(internal::kMaxBatchUpdates) + ")");
+        if (b.updates._length > internal::kMaxBatchUpdates ||
+            (b.updates._length > 0 && b.updates._buffer == nullptr)) {
+          Reject("", "batch " + std::to_string(b.serial) + " from source " +
+                         std::to_string(b.source) + ": " + std::to_string(b.updates._length) +
+                         " updates (at most " + std::to_string(internal::kMaxBatchUpdates) + ")");
           continue;
         }
         for (std::uint32_t k = 0; k < b.updates._length; ++k) {

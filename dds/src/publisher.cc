@@ -38,7 +38,8 @@ struct Publisher::Impl {
     return v;
   }
   // Publishes joint `index`'s state (q, qdot), stamped or not.
-  void PublishJoint(std::uint32_t index, double q, double qdot, std::optional<core::Stamp> stamp) noexcept {
+  void PublishJoint(std::uint32_t index, double q, double qdot,
+                    std::optional<core::Stamp> stamp) noexcept {
     semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);
     v.numbers[0] = q;
     v.numbers[1] = qdot;
@@ -66,7 +67,8 @@ struct Publisher::Impl {
   // Sends one value: into the batch while batching, else on the value or sample topic.
   void Send(const semgraph_wire_Value& v, bool stamped) noexcept {
     if (!batching) {
-      if (dds_write(stamped ? sample_writer.get() : value_writer.get(), &v) != DDS_RETCODE_OK) ++write_failures;
+      if (dds_write(stamped ? sample_writer.get() : value_writer.get(), &v) != DDS_RETCODE_OK)
+        ++write_failures;
       return;
     }
     if (batch.size() == internal::kMaxBatchUpdates) WriteBatch();
@@ -114,10 +116,11 @@ void Publisher::Flush() {
   }
 }
 
-base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::SceneGraph<>& graph,
-                                                                          PublisherOptions options) {
+base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(
+    core::SceneGraph<>& graph, PublisherOptions options) {
   if (!semantics::ValidateName(options.owner)) {
-    return base::Unexpected{std::string("publisher owner '") + options.owner + "' is not a valid name"};
+    return base::Unexpected{std::string("publisher owner '") + options.owner +
+                            "' is not a valid name"};
   }
   auto impl = std::make_unique<Impl>();
   impl->graph = &graph;
@@ -128,7 +131,8 @@ base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::
   impl->started_ns = internal::NowNs();
   impl->participant = Entity(dds_create_participant(options.domain, nullptr, nullptr));
   if (!impl->participant.ok()) {
-    return base::Unexpected{internal::DdsError("cannot join the DDS domain", impl->participant.get())};
+    return base::Unexpected{
+        internal::DdsError("cannot join the DDS domain", impl->participant.get())};
   }
   const dds_entity_t p = impl->participant.get();
   const dds_entity_t st = internal::CreateTopic(p, TopicKind::kStructure);
@@ -136,16 +140,21 @@ base::Expected<std::unique_ptr<Publisher>, std::string> Publisher::Create(core::
   const dds_entity_t at = internal::CreateTopic(p, TopicKind::kSample);
   const dds_entity_t bt = internal::CreateTopic(p, TopicKind::kBatch);
   if (st < 0 || vt < 0 || at < 0 || bt < 0) {
-    return base::Unexpected{internal::DdsError("cannot create the topics", st < 0 ? st : vt < 0 ? vt : at < 0 ? at : bt)};
+    return base::Unexpected{internal::DdsError("cannot create the topics", st < 0   ? st
+                                                                           : vt < 0 ? vt
+                                                                           : at < 0 ? at
+                                                                                    : bt)};
   }
   impl->structure_writer = Entity(internal::CreateWriter(p, st, TopicKind::kStructure));
   impl->value_writer = Entity(internal::CreateWriter(p, vt, TopicKind::kValue));
   impl->sample_writer = Entity(internal::CreateWriter(p, at, TopicKind::kSample));
   {
     dds_listener_t* listener = dds_create_listener(impl.get());
-    dds_lset_publication_matched(listener, [](dds_entity_t, const dds_publication_matched_status_t status, void* arg) {
-      if (status.current_count_change > 0) static_cast<Impl*>(arg)->matched.store(true, std::memory_order_release);
-    });
+    dds_lset_publication_matched(
+        listener, [](dds_entity_t, const dds_publication_matched_status_t status, void* arg) {
+          if (status.current_count_change > 0)
+            static_cast<Impl*>(arg)->matched.store(true, std::memory_order_release);
+        });
     dds_qos_t* qos = internal::MakeQos(TopicKind::kBatch);
     impl->batch_writer = Entity(dds_create_writer(p, bt, qos, listener));
     dds_delete_qos(qos);
@@ -163,8 +172,13 @@ namespace {
 
 void PutPose(double* n, const coord::QuaternionBackend::PoseCoords& X) {
   const Eigen::Quaterniond& q = X.rotation;
-  n[0] = q.w(); n[1] = q.x(); n[2] = q.y(); n[3] = q.z();
-  n[4] = X.translation.x(); n[5] = X.translation.y(); n[6] = X.translation.z();
+  n[0] = q.w();
+  n[1] = q.x();
+  n[2] = q.y();
+  n[3] = q.z();
+  n[4] = X.translation.x();
+  n[5] = X.translation.y();
+  n[6] = X.translation.z();
 }
 
 void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
@@ -177,8 +191,13 @@ void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
 
 // A history's stored sample (x y z w p / v w) in wire order.
 void PutPoseSample(double* n, const double (&h)[7]) {
-  n[0] = h[3]; n[1] = h[0]; n[2] = h[1]; n[3] = h[2];
-  n[4] = h[4]; n[5] = h[5]; n[6] = h[6];
+  n[0] = h[3];
+  n[1] = h[0];
+  n[2] = h[1];
+  n[3] = h[2];
+  n[4] = h[4];
+  n[5] = h[5];
+  n[6] = h[6];
 }
 
 // The structure's elements: bodies, frames, then the pose and twist edges a joint does not own,
@@ -191,19 +210,35 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
   std::vector<Row> rows;
   rows.reserve(g.num_bodies() + 3 * g.num_frames());
   for (std::uint32_t i = 0; i < g.num_bodies(); ++i) {
-    rows.push_back({semgraph_wire_ELEMENT_BODY, 0, 0, std::string(g.body_name(core::BodyIndex(i))), {}, {}, {}});
+    rows.push_back({semgraph_wire_ELEMENT_BODY,
+                    0,
+                    0,
+                    std::string(g.body_name(core::BodyIndex(i))),
+                    {},
+                    {},
+                    {}});
   }
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
     const core::FrameIndex f(i);
-    rows.push_back({semgraph_wire_ELEMENT_FRAME, 0, 0, std::string(g.frame_name(f)),
-                    std::string(g.body_name(g.body_of(f))), {}, {}});
+    rows.push_back({semgraph_wire_ELEMENT_FRAME,
+                    0,
+                    0,
+                    std::string(g.frame_name(f)),
+                    std::string(g.body_name(g.body_of(f))),
+                    {},
+                    {}});
   }
   for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
     const core::FrameIndex f(i);
     const core::FrameIndex t = g.pose_parent(f);
-    if (!t.is_valid() || joints.OfChild(f) != nullptr) continue;  // a joint's edge goes with the joint
-    Row r{semgraph_wire_ELEMENT_POSE, i, pose_seq[i], std::string(g.frame_name(f)),
-          std::string(g.body_name(g.body_of(f))), std::string(g.frame_name(t)),
+    if (!t.is_valid() || joints.OfChild(f) != nullptr)
+      continue;  // a joint's edge goes with the joint
+    Row r{semgraph_wire_ELEMENT_POSE,
+          i,
+          pose_seq[i],
+          std::string(g.frame_name(f)),
+          std::string(g.body_name(g.body_of(f))),
+          std::string(g.frame_name(t)),
           std::string(g.body_name(g.body_of(t)))};
     PutPose(r.n, g.pose_value(f));
     if (const core::PoseHistory* h = g.pose_history(f)) {
@@ -217,8 +252,13 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
     const core::BodyIndex d = g.twist_parent(f);
     if (!d.is_valid() || joints.OfChild(f) != nullptr) continue;
     const auto V = g.twist_value(f);
-    Row r{semgraph_wire_ELEMENT_TWIST, i, twist_seq[i], std::string(g.frame_name(f)),
-          std::string(g.body_name(g.body_of(f))), std::string(g.body_name(d)), {}};
+    Row r{semgraph_wire_ELEMENT_TWIST,
+          i,
+          twist_seq[i],
+          std::string(g.frame_name(f)),
+          std::string(g.body_name(g.body_of(f))),
+          std::string(g.body_name(d)),
+          {}};
     PutTwist(r.n, V->linear, V->angular);
     if (const core::TwistHistory* h = g.twist_history(g.topology().twist_edge_of(f))) {
       r.stamped = true;
@@ -281,7 +321,10 @@ std::vector<semgraph_wire_Joint> WireJoints(const core::SceneGraph<>& g,
     w.child = const_cast<char*>(names.child.c_str());
     w.child_body = const_cast<char*>(names.child_body.c_str());
     w.mimic = const_cast<char*>(names.mimic.c_str());
-    w.origin[0] = j.q_origin.w(); w.origin[1] = j.q_origin.x(); w.origin[2] = j.q_origin.y(); w.origin[3] = j.q_origin.z();
+    w.origin[0] = j.q_origin.w();
+    w.origin[1] = j.q_origin.x();
+    w.origin[2] = j.q_origin.y();
+    w.origin[3] = j.q_origin.z();
     for (int k = 0; k < 3; ++k) {
       w.origin[4 + k] = j.p_origin[k];
       w.axis[k] = j.axis[k];
@@ -333,7 +376,8 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   s.duplicate_stamp = static_cast<std::uint8_t>(time.duplicate_stamp);
   s.sample_capacity = static_cast<std::uint32_t>(time.sample_capacity);
   const dds_return_t rc = dds_write(m.structure_writer.get(), &s);
-  if (rc != DDS_RETCODE_OK) return base::Unexpected{internal::DdsError("cannot publish the structure", rc)};
+  if (rc != DDS_RETCODE_OK)
+    return base::Unexpected{internal::DdsError("cannot publish the structure", rc)};
   return base::Ok{};
 }
 
@@ -402,7 +446,8 @@ struct Named {
   std::uint32_t index;
   std::optional<double> q, qdot;
 };
-std::vector<Named> NamedJoints(const core::SceneGraph<>& g, std::span<const core::JointValue> positions,
+std::vector<Named> NamedJoints(const core::SceneGraph<>& g,
+                               std::span<const core::JointValue> positions,
                                std::span<const core::JointValue> velocities) {
   std::vector<Named> out;
   std::map<std::uint32_t, std::size_t> at;
@@ -434,12 +479,14 @@ core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positio
 }
 
 core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
-                                       std::span<const core::JointValue> velocities, core::Stamp stamp) {
+                                       std::span<const core::JointValue> velocities,
+                                       core::Stamp stamp) {
   Impl& m = *impl_;
   const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities);
   const core::internal::JointTable& t = m.graph->joint_table();
   std::vector<bool> was_stamped;
-  for (const Named& n : named) was_stamped.push_back(m.graph->pose_history(t.joints[n.index].child) != nullptr);
+  for (const Named& n : named)
+    was_stamped.push_back(m.graph->pose_history(t.joints[n.index].child) != nullptr);
   core::BuildResult res = m.graph->SetJoints(positions, velocities, stamp);
   if (!res) return res;
   bool structure = false;
@@ -463,12 +510,14 @@ core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positio
   return res;
 }
 
-base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group, std::span<const double> q) noexcept {
+base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group,
+                                             std::span<const double> q) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointPositions(group, q);
   if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, std::nullopt);
   return code;
 }
-base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group, std::span<const double> q,
+base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group,
+                                             std::span<const double> q,
                                              core::Stamp stamp) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointPositions(group, q, stamp);
   if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, stamp);

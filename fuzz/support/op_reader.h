@@ -26,7 +26,9 @@ class OpReader {
   [[nodiscard]] std::size_t size() const noexcept { return size_; }
 
   /// The next byte, or `fallback` at the end.
-  std::uint8_t Byte(std::uint8_t fallback = 0) noexcept { return empty() ? fallback : data_[pos_++]; }
+  std::uint8_t Byte(std::uint8_t fallback = 0) noexcept {
+    return empty() ? fallback : data_[pos_++];
+  }
 
   /// An index in [0, n) (n >= 1): one byte modulo n when n <= 256, two bytes otherwise; 0 at
   /// the end. Always consumes its byte(s), even for n == 1, so that an input's decoding does

@@ -6,7 +6,8 @@
 //
 // Checks after every operation (any failure prints the whole op sequence in scene-script
 // notation, then aborts):
-//   - kernel and model accept or reject alike, with the same error code (the order of docs/rules.md §7);
+//   - kernel and model accept or reject alike, with the same error code (the order of docs/rules.md
+//   §7);
 //   - a rejected operation and every query leave the kernel's Dump() byte-identical;
 //   - CheckInvariants(kernel) is empty;
 //   - the kernel's topology and stored values equal the model's (frames and their bodies, pose
@@ -49,19 +50,19 @@
 #include <vector>
 
 #include "reference_model.h"
+#include "semgraph/base/error_code.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
-#include "semgraph/base/error_code.h"
 
 namespace semgraph::fuzz {
 
+using base::ErrorCode;
 using reference::Answer;
 using reference::Query;
 using reference::QueryKind;
 using reference::ReferenceModel;
 using reference::RotationInput;
-using base::ErrorCode;
 
 // ------------------------------------------------------------------ scene-script text
 
@@ -118,12 +119,18 @@ inline std::string Field(const char* key, const std::string& value) {
 
 inline const char* KindName(QueryKind k) {
   switch (k) {
-    case QueryKind::kPose: return "pose";
-    case QueryKind::kPosition: return "position";
-    case QueryKind::kOrientation: return "orientation";
-    case QueryKind::kTwist: return "twist";
-    case QueryKind::kLinearVelocity: return "linear_velocity";
-    case QueryKind::kAngularVelocity: return "angular_velocity";
+    case QueryKind::kPose:
+      return "pose";
+    case QueryKind::kPosition:
+      return "position";
+    case QueryKind::kOrientation:
+      return "orientation";
+    case QueryKind::kTwist:
+      return "twist";
+    case QueryKind::kLinearVelocity:
+      return "linear_velocity";
+    case QueryKind::kAngularVelocity:
+      return "angular_velocity";
   }
   return "?";
 }
@@ -144,8 +151,12 @@ inline std::string QueryText(const Query& q) {
       s += Field("orientation", q.orientation) + Field("body", q.body) +
            Field("ref_orientation", q.ref_orientation) + Field("ref_body", q.ref_body);
       break;
-    case QueryKind::kAngularVelocity: s += Field("body", q.body) + Field("ref_body", q.ref_body); break;
-    default: s += Field("point", q.point) + Field("body", q.body) + Field("ref_body", q.ref_body); break;
+    case QueryKind::kAngularVelocity:
+      s += Field("body", q.body) + Field("ref_body", q.ref_body);
+      break;
+    default:
+      s += Field("point", q.point) + Field("body", q.body) + Field("ref_body", q.ref_body);
+      break;
   }
   return s + Field("coord", q.coord) + "}";
 }
@@ -159,14 +170,17 @@ class Differential {
   static constexpr bool kHomogeneous = std::is_same_v<B, coord::HomogeneousBackend>;
 
   explicit Differential(const reference::TimeOptions& time = reference::TimeOptions{})
-      : model_(kHomogeneous ? reference::Representation::kHomogeneous : reference::Representation::kQuaternion,
+      : model_(kHomogeneous ? reference::Representation::kHomogeneous
+                            : reference::Representation::kQuaternion,
                time),
         time_(time) {
     core::TimeOptions options;
     options.window = core::Duration::Nanoseconds(time.window_ns);
     options.sample_capacity = time.capacity;
-    options.interpolation = time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
-    options.duplicate_stamp = time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+    options.interpolation =
+        time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
+    options.duplicate_stamp =
+        time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
     auto g = Graph::Create(options);
     if (!g) Fail("SceneGraph::Create refused the time options: " + g.error().message);
     graph_ = std::move(*g);
@@ -177,8 +191,8 @@ class Differential {
 
   /// Prints the trace so far (for a harness's own failure), then aborts.
   [[noreturn]] void Fail(const std::string& why) const {
-    std::fprintf(stderr, "\n==== semgraph differential check FAILED (%s backend) ====\n%s\n", B::kName,
-                 why.c_str());
+    std::fprintf(stderr, "\n==== semgraph differential check FAILED (%s backend) ====\n%s\n",
+                 B::kName, why.c_str());
     PrintTrace(stderr);
     std::fflush(stderr);
     std::abort();
@@ -186,14 +200,18 @@ class Differential {
 
   /// The op sequence so far, one line per op in scene-script notation with the kernel's result.
   void PrintTrace(std::FILE* out) const {
-    std::fprintf(out, "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
+    std::fprintf(out,
+                 "---- the op sequence (scene-script notation; '# kernel:' is the result) ----\n");
     std::fprintf(out, "representation: %s\n", B::kName);
-    std::fprintf(out, "# time options: window %lld ns, capacity %zu, %s interpolation, duplicate stamps: %s\nops:\n",
-                 static_cast<long long>(time_.window_ns), time_.capacity, time_.linear ? "linear" : "screw",
-                 time_.reject_duplicates ? "reject" : "replace");
+    std::fprintf(out,
+                 "# time options: window %lld ns, capacity %zu, %s interpolation, duplicate "
+                 "stamps: %s\nops:\n",
+                 static_cast<long long>(time_.window_ns), time_.capacity,
+                 time_.linear ? "linear" : "screw", time_.reject_duplicates ? "reject" : "replace");
     for (const TraceLine& t : trace_) {
-      const std::string line = t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "") +
-                               (t.note.empty() ? "" : " (" + t.note + ")");
+      const std::string line =
+          t.render() + (t.code ? "   # kernel: " + std::string(base::ToString(*t.code)) : "") +
+          (t.note.empty() ? "" : " (" + t.note + ")");
       std::fprintf(out, line[0] == '#' ? "  %s\n" : "  - %s\n", line.c_str());
     }
     std::fprintf(out, "==== end of trace ====\n");
@@ -213,11 +231,12 @@ class Differential {
 
   /// Edge-form pose tail -> head: PoseCoord({head}|head_body, {tail}|tail_body, [tail]).
   ErrorCode Pose(const std::string& head, const std::string& head_body, const std::string& tail,
-            const std::string& tail_body, const RotationInput& rotation, const Eigen::Vector3d& p) {
+                 const std::string& tail_body, const RotationInput& rotation,
+                 const Eigen::Vector3d& p) {
     Begin([=] {
-      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
-             Field("ref_body", tail_body) + ", position: " + YamlVector(p) +
-             ", rotation: " + YamlRotation(rotation) + "}";
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) +
+             ", wrt: " + YamlName(tail) + Field("ref_body", tail_body) +
+             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) + "}";
     });
     core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
     const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p)
@@ -226,11 +245,11 @@ class Differential {
   }
 
   ErrorCode Twist(const std::string& point, const std::string& body, const std::string& ref_body,
-             const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+                  const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
     Begin([=] {
-      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " +
-             YamlName(ref_body) + ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) +
-             ", angular: " + YamlVector(w) + "}";
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) +
+             ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
+             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) + "}";
     });
     core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
     return Finish(graph_.AddTwist(spec, v, w), model_.AddTwist(point, body, ref_body, coord, v, w));
@@ -241,15 +260,18 @@ class Differential {
   /// edges, the same discrepancy (reported on a consistent check and on a refused one), kept
   /// compiled queries that read a reversed edge invalidated. A consistency check whose
   /// discrepancy is within rounding of a tolerance may go either way (no change either way).
-  ErrorCode PoseRepair(const std::string& head, const std::string& head_body, const std::string& tail,
-                       const std::string& tail_body, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+  ErrorCode PoseRepair(const std::string& head, const std::string& head_body,
+                       const std::string& tail, const std::string& tail_body,
+                       const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
                        const reference::RepairPolicy& policy) {
     Begin([=] {
-      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
-             Field("ref_body", tail_body) + ", position: " + YamlVector(p) +
-             ", rotation: " + YamlRotation(RotationOf(q)) + ", repair: true}" + PolicyComment(policy);
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) +
+             ", wrt: " + YamlName(tail) + Field("ref_body", tail_body) +
+             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(RotationOf(q)) +
+             ", repair: true}" + PolicyComment(policy);
     });
-    const reference::RepairOutcome expected = model_.AddPoseRepair(head, head_body, tail, tail_body, q, p, policy);
+    const reference::RepairOutcome expected =
+        model_.AddPoseRepair(head, head_body, tail, tail_body, q, p, policy);
     for (const std::string& key : expected.reversed_keys) Removed(key);  // before CheckKept
     const core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
     return FinishRepair(graph_.AddPose(spec, q, p, KernelPolicy(policy)), expected);
@@ -257,15 +279,18 @@ class Differential {
 
   /// Twist add with repair; the inverse twist's frame is the kernel's choice among the model's
   /// candidates (docs/repair.md does not say which frame of the reference body).
-  ErrorCode TwistRepair(const std::string& point, const std::string& body, const std::string& ref_body,
-                        const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+  ErrorCode TwistRepair(const std::string& point, const std::string& body,
+                        const std::string& ref_body, const std::string& coord,
+                        const Eigen::Vector3d& v, const Eigen::Vector3d& w,
                         const reference::RepairPolicy& policy) {
     Begin([=] {
-      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " +
-             YamlName(ref_body) + ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) +
-             ", angular: " + YamlVector(w) + ", repair: true}" + PolicyComment(policy);
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) +
+             ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
+             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) + ", repair: true}" +
+             PolicyComment(policy);
     });
-    const core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    const core::TwistSpec spec =
+        core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
     auto result = graph_.AddTwist(spec, v, w, KernelPolicy(policy));
     const auto kernel_choice = [&](const std::vector<std::string>& candidates) {
       for (const std::string& h : candidates) {
@@ -274,23 +299,26 @@ class Differential {
       }
       return candidates.front();  // the kernel refused: any candidate gives the same decision
     };
-    return FinishRepair(std::move(result), model_.AddTwistRepair(point, body, ref_body, coord, v, w, policy,
-                                                                 kernel_choice));
+    return FinishRepair(std::move(result), model_.AddTwistRepair(point, body, ref_body, coord, v, w,
+                                                                 policy, kernel_choice));
   }
 
   // ---------------------------------------------------------------- joints
 
   ErrorCode Joint(const reference::JointInput& in) {
     Begin([=] {
-      std::string s = "{op: joint, name: " + YamlName(in.name) + ", type: " + JointTypeName(in.type) +
-                      ", parent: " + YamlName(in.parent) + Field("parent_body", in.parent_body) +
-                      ", child: " + YamlName(in.child) + Field("child_body", in.child_body) +
-                      ", position: " + YamlVector(in.p_origin) + ", rotation: " + YamlRotation(RotationOf(in.q_origin)) +
+      std::string s = "{op: joint, name: " + YamlName(in.name) +
+                      ", type: " + JointTypeName(in.type) + ", parent: " + YamlName(in.parent) +
+                      Field("parent_body", in.parent_body) + ", child: " + YamlName(in.child) +
+                      Field("child_body", in.child_body) +
+                      ", position: " + YamlVector(in.p_origin) +
+                      ", rotation: " + YamlRotation(RotationOf(in.q_origin)) +
                       ", axis: " + YamlVector(in.axis) + ", lower: " + YamlNumber(in.lower) +
                       ", upper: " + YamlNumber(in.upper);
       if (!in.mimic.empty()) {
-        s += ", mimic: {joint: " + YamlName(in.mimic) + ", multiplier: " + YamlNumber(in.multiplier) +
-             ", offset: " + YamlNumber(in.offset) + "}";
+        s += ", mimic: {joint: " + YamlName(in.mimic) +
+             ", multiplier: " + YamlNumber(in.multiplier) + ", offset: " + YamlNumber(in.offset) +
+             "}";
       }
       return s + "}";
     });
@@ -375,7 +403,11 @@ class Differential {
     std::vector<double> q(n), qdot(n);
     for (std::size_t i = 0; i < n; ++i) q[i] = values[2 * i], qdot[i] = values[2 * i + 1];
     Begin([=] {
-      std::string s = std::string("# ") + (which == 0 ? "SetJointPositions" : which == 1 ? "SetJointVelocities" : "SetJointState") + "(group, [";
+      std::string s = std::string("# ") +
+                      (which == 0   ? "SetJointPositions"
+                       : which == 1 ? "SetJointVelocities"
+                                    : "SetJointState") +
+                      "(group, [";
       for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(q[i]);
       s += "], [";
       for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(qdot[i]);
@@ -388,7 +420,8 @@ class Differential {
                            : which == 1 ? graph_.SetJointVelocities(*group_, qdot)
                                         : graph_.SetJointState(*group_, q, qdot);
     core::BuildResult result = base::Ok{};
-    if (code != ErrorCode::kOk) result = base::Unexpected{core::BuildError{code, "(real-time setter: a code only)"}};
+    if (code != ErrorCode::kOk)
+      result = base::Unexpected{core::BuildError{code, "(real-time setter: a code only)"}};
     return Finish(result, expected);
   }
 
@@ -396,8 +429,9 @@ class Differential {
   /// column joints in order, same matrix (one-shot and compiled).
   void AskJacobian(const Query& query) {
     Begin([=] {
-      return "{op: query, kind: jacobian, point: " + YamlName(query.point) + Field("body", query.body) +
-             ", ref_body: " + YamlName(query.ref_body) + ", coord: " + YamlName(query.coord) + "}";
+      return "{op: query, kind: jacobian, point: " + YamlName(query.point) +
+             Field("body", query.body) + ", ref_body: " + YamlName(query.ref_body) +
+             ", coord: " + YamlName(query.coord) + "}";
     });
     const reference::JacobianAnswer expected = model_.Jacobian(query);
     Query twist = query;
@@ -405,22 +439,27 @@ class Differential {
     const core::TwistSpec spec = TwistSpecOf(twist);
     const auto one_shot = graph_.GetJacobian(spec);
     Annotate(one_shot ? ErrorCode::kOk : one_shot.error().code);
-    const auto compare = [&](const char* what, ErrorCode code, const std::vector<core::JointHandle>& joints,
+    const auto compare = [&](const char* what, ErrorCode code,
+                             const std::vector<core::JointHandle>& joints,
                              const core::JacobianMatrix& J) {
       if (code != expected.code) {
-        Fail(std::string(what) + ": kernel says " + std::string(base::ToString(code)) + ", model says " +
-             std::string(base::ToString(expected.code)));
+        Fail(std::string(what) + ": kernel says " + std::string(base::ToString(code)) +
+             ", model says " + std::string(base::ToString(expected.code)));
       }
       if (code != ErrorCode::kOk) return;
       std::string kernel_joints, model_joints;
-      for (const core::JointHandle h : joints) kernel_joints += std::string(graph_.joint_name(h)) + " ";
+      for (const core::JointHandle h : joints)
+        kernel_joints += std::string(graph_.joint_name(h)) + " ";
       for (const std::string& j : expected.joints) model_joints += j + " ";
-      if (kernel_joints != model_joints) Fail(std::string(what) + ": columns [" + kernel_joints + "] vs model [" + model_joints + "]");
+      if (kernel_joints != model_joints)
+        Fail(std::string(what) + ": columns [" + kernel_joints + "] vs model [" + model_joints +
+             "]");
       const double tol = 1e-9 * PositionScale();
       if (J.cols() != expected.J.cols() || (J.cols() > 0 && !Near(J, expected.J, tol))) {
         const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
         std::ostringstream out;
-        out << what << ": values differ\n  kernel " << J.format(fmt) << "\n  model  " << expected.J.format(fmt);
+        out << what << ": values differ\n  kernel " << J.format(fmt) << "\n  model  "
+            << expected.J.format(fmt);
         Fail(out.str());
       }
     };
@@ -442,29 +481,34 @@ class Differential {
   // ---------------------------------------------------------------- time
 
   /// A stamped edge-form pose add (the quaternion or matrix overload, as given).
-  ErrorCode StampedPose(const std::string& head, const std::string& head_body, const std::string& tail,
-                        const std::string& tail_body, const RotationInput& rotation, const Eigen::Vector3d& p,
+  ErrorCode StampedPose(const std::string& head, const std::string& head_body,
+                        const std::string& tail, const std::string& tail_body,
+                        const RotationInput& rotation, const Eigen::Vector3d& p,
                         std::int64_t stamp) {
     Begin([=] {
-      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) + ", wrt: " + YamlName(tail) +
-             Field("ref_body", tail_body) + ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) +
+      return "{op: pose, of: " + YamlName(head) + Field("body", head_body) +
+             ", wrt: " + YamlName(tail) + Field("ref_body", tail_body) +
+             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) +
              ", stamp: " + StampText(stamp) + "}";
     });
     const core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
     const core::Stamp s = core::Stamp::Nanoseconds(stamp);
-    const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p, s) : graph_.AddPose(spec, rotation.q, p, s);
+    const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p, s)
+                                           : graph_.AddPose(spec, rotation.q, p, s);
     return Finish(result, model_.AddPose(head, head_body, tail, tail_body, rotation, p, stamp));
   }
 
-  ErrorCode StampedTwist(const std::string& point, const std::string& body, const std::string& ref_body,
-                         const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                         std::int64_t stamp) {
+  ErrorCode StampedTwist(const std::string& point, const std::string& body,
+                         const std::string& ref_body, const std::string& coord,
+                         const Eigen::Vector3d& v, const Eigen::Vector3d& w, std::int64_t stamp) {
     Begin([=] {
-      return "{op: twist, point: " + YamlName(point) + Field("body", body) + ", ref_body: " + YamlName(ref_body) +
-             ", coord: " + YamlName(coord) + ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) +
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) +
+             ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
+             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) +
              ", stamp: " + StampText(stamp) + "}";
     });
-    const core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    const core::TwistSpec spec =
+        core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
     return Finish(graph_.AddTwist(spec, v, w, core::Stamp::Nanoseconds(stamp)),
                   model_.AddTwist(point, body, ref_body, coord, v, w, stamp));
   }
@@ -497,10 +541,13 @@ class Differential {
   }
 
   ErrorCode RemovePose(const std::string& of, const std::string& wrt) {
-    Begin([=] { return "{op: remove, kind: pose, of: " + YamlName(of) + ", wrt: " + YamlName(wrt) + "}"; });
+    Begin([=] {
+      return "{op: remove, kind: pose, of: " + YamlName(of) + ", wrt: " + YamlName(wrt) + "}";
+    });
     std::string joint_twist;  // the joint's twist edge goes with its pose edge
     for (const reference::Joint& j : model_.joints()) {
-      if (j.child == of && j.parent == wrt) joint_twist = ReferenceModel::TwistKey(j.parent_body, of);
+      if (j.child == of && j.parent == wrt)
+        joint_twist = ReferenceModel::TwistKey(j.parent_body, of);
     }
     const ErrorCode expected = model_.RemovePose(of, wrt);
     if (expected == ErrorCode::kOk) Removed(ReferenceModel::PoseKey(wrt, of));  // before CheckKept
@@ -510,7 +557,8 @@ class Differential {
 
   ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body) {
     Begin([=] {
-      return "{op: remove, kind: twist, point: " + YamlName(point) + ", ref_body: " + YamlName(ref_body) + "}";
+      return "{op: remove, kind: twist, point: " + YamlName(point) +
+             ", ref_body: " + YamlName(ref_body) + "}";
     });
     const ErrorCode expected = model_.RemoveTwist(point, ref_body);
     if (expected == ErrorCode::kOk) Removed(ReferenceModel::TwistKey(ref_body, point));
@@ -624,7 +672,8 @@ class Differential {
   struct Outcome {
     ErrorCode code = ErrorCode::kOk;
     Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero(),
+                    w = Eigen::Vector3d::Zero();
   };
 
   // The trace keeps each op's text unrendered (formatting every number of every op would cost
@@ -675,9 +724,10 @@ class Differential {
     return buf;
   }
   static std::string PolicyText(const reference::TimeQuery& p) {
-    std::string s = p.kind == reference::TimeQuery::Kind::kLatest   ? "latest"
-                    : p.kind == reference::TimeQuery::Kind::kAt     ? "at " + StampText(p.t) + " horizon " + StampText(p.horizon)
-                                                                    : "latest_common";
+    std::string s = p.kind == reference::TimeQuery::Kind::kLatest ? "latest"
+                    : p.kind == reference::TimeQuery::Kind::kAt
+                        ? "at " + StampText(p.t) + " horizon " + StampText(p.horizon)
+                        : "latest_common";
     if (p.not_before) s += ", not_before " + StampText(*p.not_before);
     return s;
   }
@@ -686,13 +736,17 @@ class Differential {
     if (p.not_before) not_before = core::Stamp::Nanoseconds(*p.not_before);
     switch (p.kind) {
       case reference::TimeQuery::Kind::kAt:
-        return core::At(core::Stamp::Nanoseconds(p.t), core::Duration::Nanoseconds(p.horizon), not_before);
-      case reference::TimeQuery::Kind::kLatestCommon: return core::LatestCommon(not_before);
-      default: return core::Latest(not_before);
+        return core::At(core::Stamp::Nanoseconds(p.t), core::Duration::Nanoseconds(p.horizon),
+                        not_before);
+      case reference::TimeQuery::Kind::kLatestCommon:
+        return core::LatestCommon(not_before);
+      default:
+        return core::Latest(not_before);
     }
   }
 
-  Outcome OneShotTimed(const Query& q, const core::TimePolicy& policy, core::TimeReport* report) const {
+  Outcome OneShotTimed(const Query& q, const core::TimePolicy& policy,
+                       core::TimeReport* report) const {
     Outcome o;
     const auto take = [&](const auto& r) {
       if (!r) {
@@ -705,7 +759,8 @@ class Differential {
     switch (q.kind) {
       case QueryKind::kPose: {
         const auto r = graph_.GetPose(PoseSpecOf(q), policy);
-        if (take(r)) o.M = B::ToMatrix(B::RotationOf(r->value.value)), o.p = B::TranslationOf(r->value.value);
+        if (take(r))
+          o.M = B::ToMatrix(B::RotationOf(r->value.value)), o.p = B::TranslationOf(r->value.value);
         break;
       }
       case QueryKind::kPosition: {
@@ -766,8 +821,8 @@ class Differential {
     return o;
   }
 
-  void CompareTimed(const std::string& what, const reference::TimedAnswer& expected, const Outcome& got,
-                    const core::TimeReport& report) {
+  void CompareTimed(const std::string& what, const reference::TimedAnswer& expected,
+                    const Outcome& got, const core::TimeReport& report) {
     if (expected.ambiguous) {  // only the decision
       if (got.code != expected.answer.code) {
         Fail(what + ": kernel says " + std::string(base::ToString(got.code)) + ", model says " +
@@ -780,26 +835,35 @@ class Differential {
     const auto ns = [](const std::optional<core::Stamp>& s) {
       return s ? std::optional<std::int64_t>(s->nanoseconds()) : std::nullopt;
     };
-    const auto text = [](const std::optional<std::int64_t>& s) { return s ? std::to_string(*s) : std::string("none"); };
+    const auto text = [](const std::optional<std::int64_t>& s) {
+      return s ? std::to_string(*s) : std::string("none");
+    };
     if (ns(report.time) != expected.time) {
-      Fail(what + ": time answered: kernel " + text(ns(report.time)) + ", model " + text(expected.time));
+      Fail(what + ": time answered: kernel " + text(ns(report.time)) + ", model " +
+           text(expected.time));
     }
     if (report.extrapolated != expected.extrapolated) {
       Fail(what + ": extrapolated: kernel " + std::to_string(report.extrapolated) + ", model " +
            std::to_string(expected.extrapolated));
     }
-    if (!expected.extrapolated && (ns(report.oldest) != expected.oldest || ns(report.newest) != expected.newest)) {
-      Fail(what + ": stamps read: kernel [" + text(ns(report.oldest)) + ", " + text(ns(report.newest)) + "], model [" +
-           text(expected.oldest) + ", " + text(expected.newest) + "]");
+    if (!expected.extrapolated &&
+        (ns(report.oldest) != expected.oldest || ns(report.newest) != expected.newest)) {
+      Fail(what + ": stamps read: kernel [" + text(ns(report.oldest)) + ", " +
+           text(ns(report.newest)) + "], model [" + text(expected.oldest) + ", " +
+           text(expected.newest) + "]");
     }
   }
 
   static const char* JointTypeName(reference::JointType t) {
     switch (t) {
-      case reference::JointType::kRevolute: return "revolute";
-      case reference::JointType::kContinuous: return "continuous";
-      case reference::JointType::kPrismatic: return "prismatic";
-      case reference::JointType::kFixed: return "fixed";
+      case reference::JointType::kRevolute:
+        return "revolute";
+      case reference::JointType::kContinuous:
+        return "continuous";
+      case reference::JointType::kPrismatic:
+        return "prismatic";
+      case reference::JointType::kFixed:
+        return "fixed";
     }
     return "?";
   }
@@ -819,29 +883,39 @@ class Differential {
   }
   static std::string PolicyComment(const reference::RepairPolicy& p) {
     const reference::RepairPolicy d;
-    if (p.invert == d.invert && p.reroot == d.reroot && p.check_consistency == d.check_consistency &&
+    if (p.invert == d.invert && p.reroot == d.reroot &&
+        p.check_consistency == d.check_consistency &&
         p.position_tolerance == d.position_tolerance && p.angle_tolerance == d.angle_tolerance) {
       return "";
     }
-    return "   # RepairPolicy{invert " + std::to_string(p.invert) + ", reroot " + std::to_string(p.reroot) +
-           ", check_consistency " + std::to_string(p.check_consistency) + ", position_tolerance " +
-           YamlNumber(p.position_tolerance) + ", angle_tolerance " + YamlNumber(p.angle_tolerance) + "}";
+    return "   # RepairPolicy{invert " + std::to_string(p.invert) + ", reroot " +
+           std::to_string(p.reroot) + ", check_consistency " + std::to_string(p.check_consistency) +
+           ", position_tolerance " + YamlNumber(p.position_tolerance) + ", angle_tolerance " +
+           YamlNumber(p.angle_tolerance) + "}";
   }
   static reference::RepairKind KindOf(core::RepairKind k) {
     switch (k) {
-      case core::RepairKind::kNone: return reference::RepairKind::kNone;
-      case core::RepairKind::kInverted: return reference::RepairKind::kInverted;
-      case core::RepairKind::kRerooted: return reference::RepairKind::kRerooted;
-      case core::RepairKind::kConsistent: return reference::RepairKind::kConsistent;
+      case core::RepairKind::kNone:
+        return reference::RepairKind::kNone;
+      case core::RepairKind::kInverted:
+        return reference::RepairKind::kInverted;
+      case core::RepairKind::kRerooted:
+        return reference::RepairKind::kRerooted;
+      case core::RepairKind::kConsistent:
+        return reference::RepairKind::kConsistent;
     }
     return reference::RepairKind::kNone;
   }
   static const char* KindText(reference::RepairKind k) {
     switch (k) {
-      case reference::RepairKind::kNone: return "none";
-      case reference::RepairKind::kInverted: return "inverted";
-      case reference::RepairKind::kRerooted: return "rerooted";
-      case reference::RepairKind::kConsistent: return "consistent";
+      case reference::RepairKind::kNone:
+        return "none";
+      case reference::RepairKind::kInverted:
+        return "inverted";
+      case reference::RepairKind::kRerooted:
+        return "rerooted";
+      case reference::RepairKind::kConsistent:
+        return "consistent";
     }
     return "?";
   }
@@ -851,16 +925,19 @@ class Differential {
                          const reference::RepairOutcome& expected) {
     const ErrorCode code = result ? ErrorCode::kOk : result.error().code;
     // A consistency check at its tolerance's boundary: either decision (neither changes anything).
-    const bool either = expected.borderline &&
-                        (code == ErrorCode::kOk ? result->applied == core::RepairKind::kConsistent
-                                                : expected.applied == reference::RepairKind::kConsistent);
+    const bool either =
+        expected.borderline &&
+        (code == ErrorCode::kOk ? result->applied == core::RepairKind::kConsistent
+                                : expected.applied == reference::RepairKind::kConsistent);
     if (code != expected.code && !either) {
       Annotate(code);
       Fail("repairing add: kernel says " + std::string(base::ToString(code)) + ", model says " +
-           std::string(base::ToString(expected.code)) + " (model repair: " + KindText(expected.applied) + ")" +
+           std::string(base::ToString(expected.code)) +
+           " (model repair: " + KindText(expected.applied) + ")" +
            (result ? std::string() : "\nkernel message: " + result.error().message));
     }
-    if (result && result->applied != core::RepairKind::kNone) trace_.back().note = KindText(KindOf(result->applied));
+    if (result && result->applied != core::RepairKind::kNone)
+      trace_.back().note = KindText(KindOf(result->applied));
     if (!result && result.error().discrepancy) trace_.back().note = "discrepancy";
     const double tol = 1e-9 * PositionScale();
     const double tol_v = 1e-9 * TwistScale();
@@ -870,32 +947,40 @@ class Differential {
     };
     if (result) {
       if (KindOf(result->applied) != expected.applied && !either) {
-        Fail(std::string("repairing add: kernel applied ") + KindText(KindOf(result->applied)) + ", model " +
-             KindText(expected.applied));
+        Fail(std::string("repairing add: kernel applied ") + KindText(KindOf(result->applied)) +
+             ", model " + KindText(expected.applied));
       }
       if (result->reversed_edges != expected.reversed_edges) {
-        Fail("repairing add: kernel reversed " + std::to_string(result->reversed_edges) + " edges, model " +
-             std::to_string(expected.reversed_edges));
+        Fail("repairing add: kernel reversed " + std::to_string(result->reversed_edges) +
+             " edges, model " + std::to_string(expected.reversed_edges));
       }
-      if (result->applied == core::RepairKind::kConsistent && !same_discrepancy(result->discrepancy)) {
+      if (result->applied == core::RepairKind::kConsistent &&
+          !same_discrepancy(result->discrepancy)) {
         Fail("repairing add: the consistent check's discrepancy differs: kernel " +
-             YamlNumber(result->discrepancy.position) + " / " + YamlNumber(result->discrepancy.angle) + ", model " +
-             YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
+             YamlNumber(result->discrepancy.position) + " / " +
+             YamlNumber(result->discrepancy.angle) + ", model " + YamlNumber(expected.position) +
+             " / " + YamlNumber(expected.angle));
       }
-      if (result->applied != core::RepairKind::kNone && result->change.empty()) Fail("a repair without a change text");
+      if (result->applied != core::RepairKind::kNone && result->change.empty())
+        Fail("a repair without a change text");
     } else {
-      const bool refused_check = expected.has_discrepancy && expected.applied != reference::RepairKind::kConsistent;
-      if (result.error().discrepancy.has_value() != (refused_check || (either && expected.has_discrepancy))) {
-        Fail("repairing add refused: discrepancy reported " + std::to_string(result.error().discrepancy.has_value()) +
+      const bool refused_check =
+          expected.has_discrepancy && expected.applied != reference::RepairKind::kConsistent;
+      if (result.error().discrepancy.has_value() !=
+          (refused_check || (either && expected.has_discrepancy))) {
+        Fail("repairing add refused: discrepancy reported " +
+             std::to_string(result.error().discrepancy.has_value()) +
              ", model's consistency check refused it " + std::to_string(refused_check));
       }
       if (result.error().discrepancy && !same_discrepancy(*result.error().discrepancy)) {
         Fail("repairing add refused: the discrepancy differs: kernel " +
-             YamlNumber(result.error().discrepancy->position) + " / " + YamlNumber(result.error().discrepancy->angle) +
-             ", model " + YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
+             YamlNumber(result.error().discrepancy->position) + " / " +
+             YamlNumber(result.error().discrepancy->angle) + ", model " +
+             YamlNumber(expected.position) + " / " + YamlNumber(expected.angle));
       }
     }
-    core::BuildResult plain = result ? core::BuildResult(base::Ok{}) : core::BuildResult(base::Unexpected{result.error()});
+    core::BuildResult plain = result ? core::BuildResult(base::Ok{})
+                                     : core::BuildResult(base::Unexpected{result.error()});
     return Finish(plain, code);
   }
 
@@ -907,9 +992,10 @@ class Differential {
         graph_.num_twist_edges() != model_.twists().size()) {
       Fail("node or edge counts differ: kernel frames/bodies/poses/twists " +
            std::to_string(graph_.num_frames()) + "/" + std::to_string(graph_.num_bodies()) + "/" +
-           std::to_string(graph_.num_pose_edges()) + "/" + std::to_string(graph_.num_twist_edges()) +
-           ", model " + std::to_string(frames.size()) + "/" + std::to_string(model_.bodies().size()) +
-           "/" + std::to_string(model_.poses().size()) + "/" + std::to_string(model_.twists().size()));
+           std::to_string(graph_.num_pose_edges()) + "/" +
+           std::to_string(graph_.num_twist_edges()) + ", model " + std::to_string(frames.size()) +
+           "/" + std::to_string(model_.bodies().size()) + "/" +
+           std::to_string(model_.poses().size()) + "/" + std::to_string(model_.twists().size()));
     }
     for (const auto& [name, body] : frames) {
       const core::FrameIndex f = graph_.FindFrame(name);
@@ -920,9 +1006,11 @@ class Differential {
     const double tol = 1e-9 * PositionScale();
     for (const reference::PoseEdge& e : model_.poses()) {
       const core::FrameIndex h = graph_.FindFrame(e.head);
-      if (graph_.pose_parent(h) != graph_.FindFrame(e.tail)) Fail("pose parent of " + e.head + " differs");
+      if (graph_.pose_parent(h) != graph_.FindFrame(e.tail))
+        Fail("pose parent of " + e.head + " differs");
       const auto X = graph_.pose_value(h);
-      if (!Near(B::ToMatrix(B::RotationOf(X)), e.X_TH.R, 1e-9) || !Near(B::TranslationOf(X), e.X_TH.p, tol)) {
+      if (!Near(B::ToMatrix(B::RotationOf(X)), e.X_TH.R, 1e-9) ||
+          !Near(B::TranslationOf(X), e.X_TH.p, tol)) {
         Fail("stored value of the pose edge " + e.tail + " -> " + e.head + " differs");
       }
     }
@@ -934,9 +1022,10 @@ class Differential {
       const auto h = graph_.FindJoint(j.name);
       if (!h) Fail("joint " + j.name + " is missing in the kernel");
       const double q = graph_.joint_position(*h), qdot = graph_.joint_velocity(*h);
-      if (!(std::abs(q - j.q) <= 1e-12 * (1 + std::abs(j.q))) || !(std::abs(qdot - j.qdot) <= 1e-12 * (1 + std::abs(j.qdot)))) {
-        Fail("state of joint " + j.name + " differs: kernel q " + YamlNumber(q) + " qdot " + YamlNumber(qdot) +
-             ", model q " + YamlNumber(j.q) + " qdot " + YamlNumber(j.qdot));
+      if (!(std::abs(q - j.q) <= 1e-12 * (1 + std::abs(j.q))) ||
+          !(std::abs(qdot - j.qdot) <= 1e-12 * (1 + std::abs(j.qdot)))) {
+        Fail("state of joint " + j.name + " differs: kernel q " + YamlNumber(q) + " qdot " +
+             YamlNumber(qdot) + ", model q " + YamlNumber(j.q) + " qdot " + YamlNumber(j.qdot));
       }
     }
     const double tol_v = 1e-9 * TwistScale();
@@ -963,7 +1052,8 @@ class Differential {
     for (std::size_t i = 0; i < kept_.size(); ++i) {
       Kept& k = kept_[i];
       const Outcome got = Evaluate(k.compiled, k.query.kind);
-      const std::string which = "kept compiled query #" + std::to_string(i) + " " + QueryText(k.query);
+      const std::string which =
+          "kept compiled query #" + std::to_string(i) + " " + QueryText(k.query);
       if (k.invalidated) {
         if (got.code != ErrorCode::kQueryInvalidated) {
           Fail(which + ": an edge it used was removed, but Evaluate() returned " +
@@ -985,8 +1075,10 @@ class Differential {
   // (GetAngularVelocity: invalid_name).
   static bool CompileComparable(const Query& q) {
     switch (q.kind) {
-      case QueryKind::kAngularVelocity: return !q.body.empty();
-      default: return true;
+      case QueryKind::kAngularVelocity:
+        return !q.body.empty();
+      default:
+        return true;
     }
   }
 
@@ -1003,7 +1095,8 @@ class Differential {
   }
   static core::TwistSpec TwistSpecOf(const Query& q) {
     core::TwistSpec s;
-    s.point = q.kind == QueryKind::kAngularVelocity ? std::string_view() : std::string_view(q.point);
+    s.point =
+        q.kind == QueryKind::kAngularVelocity ? std::string_view() : std::string_view(q.point);
     s.body = q.body;
     s.ref_body = q.ref_body;
     s.coordinate_frame = q.coord;
@@ -1164,7 +1257,8 @@ class Differential {
     const Answer expected = model_.Ask(q);
     const Outcome got = OneShot(q);
     if (got.code != expected.code || got.code == ErrorCode::kOk) {
-      trace_.push_back(TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt, {}});
+      trace_.push_back(
+          TraceLine{[=] { return "# final sweep: " + QueryText(q); }, std::nullopt, {}});
       CompareAnswer("final sweep query", expected, got);
       CompareAnswer("final sweep query, compiled", expected, Compiled(q, nullptr));
       trace_.pop_back();
@@ -1180,8 +1274,8 @@ class Differential {
   bool checks_ = true;
   std::deque<Kept> kept_;
   reference::TimeOptions time_;
-  std::optional<core::JointGroup> group_;    // the last group made (SetGroup)
-  std::vector<std::uint64_t> model_group_;   // the model's serials of the same joints
+  std::optional<core::JointGroup> group_;   // the last group made (SetGroup)
+  std::vector<std::uint64_t> model_group_;  // the model's serials of the same joints
 };
 
 }  // namespace semgraph::fuzz

@@ -4,6 +4,10 @@
 // Contract: urdf.h.
 #include "semgraph/models/urdf.h"
 
+#include <console_bridge/console.h>
+#include <urdf_model/model.h>
+#include <urdf_parser/urdf_parser.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -12,10 +16,6 @@
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
-
-#include <console_bridge/console.h>
-#include <urdf_model/model.h>
-#include <urdf_parser/urdf_parser.h>
 
 #include "semgraph/semantics/describe.h"
 #include "semgraph/semantics/names.h"
@@ -47,7 +47,8 @@ class CapturedMessages : public console_bridge::OutputHandler {
 };
 
 BuildError Error(ErrorCode code, const std::string& what, const std::string& reason) {
-  return BuildError{code, what + " rejected (" + std::string(base::ToString(code)) + "): " + reason};
+  return BuildError{code,
+                    what + " rejected (" + std::string(base::ToString(code)) + "): " + reason};
 }
 
 std::string Num(double x) {
@@ -65,19 +66,23 @@ struct PlannedJoint {
 };
 
 template <coord::Backend B>
-base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string& xml, const std::string& what,
-                                      std::string_view prefix_view) {
+base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string& xml,
+                                       const std::string& what, std::string_view prefix_view) {
   const std::string prefix(prefix_view);
   urdf::ModelInterfaceSharedPtr model;
   {
     CapturedMessages messages;
     model = urdf::parseURDF(xml);
     if (!model) {
-      return Unexpected{Error(ErrorCode::kInvalidModel, what,
-                              "urdfdom could not parse it" + (messages.text().empty() ? std::string() : ": " + messages.text()))};
+      return Unexpected{
+          Error(ErrorCode::kInvalidModel, what,
+                "urdfdom could not parse it" +
+                    (messages.text().empty() ? std::string() : ": " + messages.text()))};
     }
   }
-  const auto invalid = [&](const std::string& reason) { return Unexpected{Error(ErrorCode::kInvalidModel, what, reason)}; };
+  const auto invalid = [&](const std::string& reason) {
+    return Unexpected{Error(ErrorCode::kInvalidModel, what, reason)};
+  };
   if (!model->getRoot()) return invalid("the model has no root link");
 
   // Depth-first order from the root (child joints come sorted by name from urdfdom).
@@ -96,11 +101,13 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
       for (auto it = l->child_joints.rbegin(); it != l->child_joints.rend(); ++it) {
         const urdf::Joint* j = it->get();
         const auto child = model->links_.find(j->child_link_name);
-        if (child == model->links_.end()) return invalid("joint " + j->name + " has no child link " + j->child_link_name);
+        if (child == model->links_.end())
+          return invalid("joint " + j->name + " has no child link " + j->child_link_name);
         stack.push_back(child->second.get());
       }
     }
-    if (links.size() != model->links_.size()) return invalid("not every link is reachable from the root link");
+    if (links.size() != model->links_.size())
+      return invalid("not every link is reachable from the root link");
     // Joints in the order their child links were visited.
     for (std::size_t i = 1; i < links.size(); ++i) {
       const urdf::JointSharedPtr& pj = links[i]->parent_joint;
@@ -110,9 +117,11 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
   }
 
   // Names: every prefixed name must be valid.
-  const auto check_name = [&](const std::string& kind, const std::string& n) -> std::optional<BuildError> {
+  const auto check_name = [&](const std::string& kind,
+                              const std::string& n) -> std::optional<BuildError> {
     if (auto ok = semantics::ValidateName(n); !ok) {
-      return Error(ErrorCode::kInvalidModel, what, kind + " name: " + semantics::Describe(ok.error(), n));
+      return Error(ErrorCode::kInvalidModel, what,
+                   kind + " name: " + semantics::Describe(ok.error(), n));
     }
     return std::nullopt;
   };
@@ -134,18 +143,31 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
     p.child = prefix + j->child_link_name;
     const std::string jw = "joint " + j->name + ": ";
     switch (j->type) {
-      case urdf::Joint::REVOLUTE: p.type = core::JointType::kRevolute; break;
-      case urdf::Joint::CONTINUOUS: p.type = core::JointType::kContinuous; break;
-      case urdf::Joint::PRISMATIC: p.type = core::JointType::kPrismatic; break;
-      case urdf::Joint::FIXED: p.type = core::JointType::kFixed; break;
-      case urdf::Joint::FLOATING: p.floating = true; break;
-      case urdf::Joint::PLANAR: return invalid(jw + "planar joints are not supported");
-      default: return invalid(jw + "the joint type is unknown (not supported)");
+      case urdf::Joint::REVOLUTE:
+        p.type = core::JointType::kRevolute;
+        break;
+      case urdf::Joint::CONTINUOUS:
+        p.type = core::JointType::kContinuous;
+        break;
+      case urdf::Joint::PRISMATIC:
+        p.type = core::JointType::kPrismatic;
+        break;
+      case urdf::Joint::FIXED:
+        p.type = core::JointType::kFixed;
+        break;
+      case urdf::Joint::FLOATING:
+        p.floating = true;
+        break;
+      case urdf::Joint::PLANAR:
+        return invalid(jw + "planar joints are not supported");
+      default:
+        return invalid(jw + "the joint type is unknown (not supported)");
     }
     if (!p.floating) {
       if (auto e = check_name("joint", p.name)) return Unexpected{*e};
     }
-    if (j->parent_link_name == j->child_link_name) return invalid(jw + "its parent and child are the same link");
+    if (j->parent_link_name == j->child_link_name)
+      return invalid(jw + "its parent and child are the same link");
     const urdf::Pose& o = j->parent_to_joint_origin_transform;
     const double numbers[] = {o.position.x, o.position.y, o.position.z, o.rotation.x, o.rotation.y,
                               o.rotation.z, o.rotation.w, j->axis.x,    j->axis.y,    j->axis.z};
@@ -153,17 +175,19 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
       if (!std::isfinite(x)) return invalid(jw + "a number of its origin or axis is not finite");
     }
     const bool movable = p.type != core::JointType::kFixed && !p.floating;
-    if (movable && std::sqrt(j->axis.x * j->axis.x + j->axis.y * j->axis.y + j->axis.z * j->axis.z) < 1e-12) {
+    if (movable &&
+        std::sqrt(j->axis.x * j->axis.x + j->axis.y * j->axis.y + j->axis.z * j->axis.z) < 1e-12) {
       return invalid(jw + "its axis has no direction");
     }
     if (p.type == core::JointType::kRevolute || p.type == core::JointType::kPrismatic) {
-      if (!j->limits) return invalid(jw + "a " + std::string(core::ToString(p.type)) + " joint needs <limit>");
+      if (!j->limits)
+        return invalid(jw + "a " + std::string(core::ToString(p.type)) + " joint needs <limit>");
       if (!std::isfinite(j->limits->lower) || !std::isfinite(j->limits->upper)) {
         return invalid(jw + "its limits are not finite");
       }
       if (!(j->limits->lower <= j->limits->upper)) {
-        return invalid(jw + "the lower limit " + Num(j->limits->lower) + " is above the upper limit " +
-                       Num(j->limits->upper));
+        return invalid(jw + "the lower limit " + Num(j->limits->lower) +
+                       " is above the upper limit " + Num(j->limits->upper));
       }
     }
     if (j->mimic) {
@@ -172,12 +196,14 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
       if (!std::isfinite(j->mimic->multiplier) || !std::isfinite(j->mimic->offset)) {
         return invalid(jw + "its mimic multiplier or offset is not finite");
       }
-      if (m == by_name.end()) return invalid(jw + "it mimics joint " + j->mimic->joint_name + ", which does not exist");
+      if (m == by_name.end())
+        return invalid(jw + "it mimics joint " + j->mimic->joint_name + ", which does not exist");
       const urdf::Joint* mj = m->second;
       if (mj->type == urdf::Joint::FIXED || mj->type == urdf::Joint::FLOATING) {
         return invalid(jw + "it mimics joint " + mj->name + ", which is not a movable joint");
       }
-      if (mj->mimic) return invalid(jw + "it mimics joint " + mj->name + ", which itself is a mimic joint");
+      if (mj->mimic)
+        return invalid(jw + "it mimics joint " + mj->name + ", which itself is a mimic joint");
       if (mj == j) return invalid(jw + "it mimics itself");
       p.mimic = prefix + mj->name;
     }
@@ -187,17 +213,20 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
   // Clashes with the graph: duplicate_joint -> duplicate_body -> duplicate_frame.
   for (const PlannedJoint& p : planned) {
     if (!p.floating && g.FindJoint(p.name)) {
-      return Unexpected{Error(ErrorCode::kDuplicateJoint, what, "a joint named " + p.name + " already exists")};
+      return Unexpected{
+          Error(ErrorCode::kDuplicateJoint, what, "a joint named " + p.name + " already exists")};
     }
   }
   for (const std::string& l : robot.links) {
     if (g.FindBody(l).is_valid()) {
-      return Unexpected{Error(ErrorCode::kDuplicateBody, what, "body " + l + " (a link) already exists")};
+      return Unexpected{
+          Error(ErrorCode::kDuplicateBody, what, "body " + l + " (a link) already exists")};
     }
   }
   for (const std::string& l : robot.links) {
     if (g.FindFrame(l).is_valid()) {
-      return Unexpected{Error(ErrorCode::kDuplicateFrame, what, "frame " + l + " (a link frame) already exists")};
+      return Unexpected{
+          Error(ErrorCode::kDuplicateFrame, what, "frame " + l + " (a link frame) already exists")};
     }
   }
 
@@ -214,12 +243,13 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
     for (const PlannedJoint& p : planned) {
       if ((pass == 0) != p.mimic.empty()) continue;
       if (p.floating) {
-        if (auto e = apply(g.AddPose(core::PoseSpec::Of(p.child).RelativeTo(p.parent), Eigen::Quaterniond::Identity(),
-                                     Eigen::Vector3d::Zero()))) {
+        if (auto e = apply(g.AddPose(core::PoseSpec::Of(p.child).RelativeTo(p.parent),
+                                     Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()))) {
           return Unexpected{*e};
         }
-        if (auto e = apply(g.AddTwist(core::TwistSpec::Of(p.child).RelativeTo(p.parent).ExpressedIn(p.child),
-                                      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()))) {
+        if (auto e = apply(
+                g.AddTwist(core::TwistSpec::Of(p.child).RelativeTo(p.parent).ExpressedIn(p.child),
+                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()))) {
           return Unexpected{*e};
         }
         robot.floating_joints.push_back(p.child + " wrt " + p.parent);
@@ -232,10 +262,12 @@ base::Expected<Robot, BuildError> Load(core::SceneGraph<B>& g, const std::string
       s.parent = p.parent;
       s.child = p.child;
       const urdf::Pose& o = j->parent_to_joint_origin_transform;
-      s.q_origin = Eigen::Quaterniond(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z).normalized();
+      s.q_origin =
+          Eigen::Quaterniond(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z).normalized();
       s.p_origin = Eigen::Vector3d(o.position.x, o.position.y, o.position.z);
       s.axis = Eigen::Vector3d(j->axis.x, j->axis.y, j->axis.z);
-      if (j->limits && (p.type == core::JointType::kRevolute || p.type == core::JointType::kPrismatic)) {
+      if (j->limits &&
+          (p.type == core::JointType::kRevolute || p.type == core::JointType::kPrismatic)) {
         s.lower = j->limits->lower;
         s.upper = j->limits->upper;
       }
@@ -272,13 +304,15 @@ base::Expected<Robot, BuildError> LoadUrdfFile(core::SceneGraph<B>& graph, std::
   const std::string what = "robot model " + std::string(file);
   std::string path(file);
   if (path.rfind("package://", 0) == 0) {
-    return Unexpected{Error(ErrorCode::kInvalidModel, what,
-                            "package:// URIs are not resolved (no ROS package paths); give a file path")};
+    return Unexpected{
+        Error(ErrorCode::kInvalidModel, what,
+              "package:// URIs are not resolved (no ROS package paths); give a file path")};
   }
   if (path.rfind("file://", 0) == 0) path = path.substr(7);
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    return Unexpected{Error(ErrorCode::kInvalidModel, what, "cannot read the file: " + std::string(std::strerror(errno)))};
+    return Unexpected{Error(ErrorCode::kInvalidModel, what,
+                            "cannot read the file: " + std::string(std::strerror(errno)))};
   }
   std::ostringstream text;
   text << in.rdbuf();
@@ -292,13 +326,13 @@ base::Expected<Robot, BuildError> LoadUrdfString(core::SceneGraph<B>& graph, std
   return Load(graph, std::string(xml), "robot model", prefix);
 }
 
-template base::Expected<Robot, BuildError> LoadUrdfFile(core::SceneGraph<coord::QuaternionBackend>&, std::string_view,
-                                                        std::string_view);
-template base::Expected<Robot, BuildError> LoadUrdfFile(core::SceneGraph<coord::HomogeneousBackend>&, std::string_view,
-                                                        std::string_view);
-template base::Expected<Robot, BuildError> LoadUrdfString(core::SceneGraph<coord::QuaternionBackend>&,
-                                                          std::string_view, std::string_view);
-template base::Expected<Robot, BuildError> LoadUrdfString(core::SceneGraph<coord::HomogeneousBackend>&,
-                                                          std::string_view, std::string_view);
+template base::Expected<Robot, BuildError> LoadUrdfFile(core::SceneGraph<coord::QuaternionBackend>&,
+                                                        std::string_view, std::string_view);
+template base::Expected<Robot, BuildError> LoadUrdfFile(
+    core::SceneGraph<coord::HomogeneousBackend>&, std::string_view, std::string_view);
+template base::Expected<Robot, BuildError> LoadUrdfString(
+    core::SceneGraph<coord::QuaternionBackend>&, std::string_view, std::string_view);
+template base::Expected<Robot, BuildError> LoadUrdfString(
+    core::SceneGraph<coord::HomogeneousBackend>&, std::string_view, std::string_view);
 
 }  // namespace semgraph::models

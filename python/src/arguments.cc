@@ -70,8 +70,7 @@ std::string_view NameArg(py::handle value, const char* function, const char* arg
   const char* text = PyUnicode_AsUTF8AndSize(value.ptr(), &size);
   if (text == nullptr) {  // lone surrogates cannot be encoded as UTF-8
     PyErr_Clear();
-    throw py::value_error(std::string(function) + "(): " + argument +
-                          " is not encodable as UTF-8");
+    throw py::value_error(std::string(function) + "(): " + argument + " is not encodable as UTF-8");
   }
   return {text, static_cast<std::size_t>(size)};
 }
@@ -102,9 +101,9 @@ void NumbersArg(py::handle value, int rows, int size, double* out, const char* f
   } else if (py::array_t<double, py::array::c_style>::check_(value)) {
     // Fast path: already float64 and contiguous, read in place.
     const auto array = py::reinterpret_borrow<py::array_t<double, py::array::c_style>>(value);
-    const bool shape_ok = rows == 1 ? (array.ndim() == 1 && array.shape(0) == size)
-                                    : (array.ndim() == 2 && array.shape(0) == rows &&
-                                       array.shape(1) == size / rows);
+    const bool shape_ok =
+        rows == 1 ? (array.ndim() == 1 && array.shape(0) == size)
+                  : (array.ndim() == 2 && array.shape(0) == rows && array.shape(1) == size / rows);
     if (shape_ok) {
       const double* data = array.data();
       for (int i = 0; i < size; ++i) out[i] = data[i];
@@ -114,9 +113,9 @@ void NumbersArg(py::handle value, int rows, int size, double* out, const char* f
     ThrowType(function, argument, what, value);
   }
   auto array = FloatArrayArg(value, function, argument);
-  const bool shape_ok = rows == 1 ? (array.ndim() == 1 && array.shape(0) == size)
-                                  : (array.ndim() == 2 && array.shape(0) == rows &&
-                                     array.shape(1) == size / rows);
+  const bool shape_ok =
+      rows == 1 ? (array.ndim() == 1 && array.shape(0) == size)
+                : (array.ndim() == 2 && array.shape(0) == rows && array.shape(1) == size / rows);
   if (!shape_ok) {
     throw py::value_error(std::string(function) + "(): " + argument + " must be " +
                           ShapeWords(rows, size) + ", got shape " + ShapeText(array));
@@ -152,7 +151,8 @@ RotationArg RotationArgs(py::handle rotation, py::handle quaternion, py::handle 
     for (int i = 0; i < n; ++i) names += std::string(i ? ", " : "") + given[i] + "=";
     throw py::type_error(std::string(function) +
                          "(): give at most one of rotation=, quaternion=, rotation_matrix=, "
-                         "rpy=; got " + names);
+                         "rpy=; got " +
+                         names);
   }
   double wxyz[4];
   if (!quaternion.is_none()) {
@@ -179,7 +179,8 @@ RotationArg RotationArgs(py::handle rotation, py::handle quaternion, py::handle 
     } else {
       ThrowType(function, "rotation",
                 "a quaternion (w, x, y, z) or a 3x3 rotation matrix (a list, tuple or numpy "
-                "array)", rotation);
+                "array)",
+                rotation);
     }
     if (matrix) {
       double m[9];

@@ -51,8 +51,10 @@ void SetPoseBatch(PoseBatchObject& batch, py::handle values) {
   const bool rows7 = array.ndim() == 2 && array.shape(1) == 7;
   const bool mats = array.ndim() == 3 && array.shape(1) == 4 && array.shape(2) == 4;
   if (!rows7 && !mats) {
-    throw py::value_error("PoseBatch.set(): values must have shape (N, 7) [x, y, z, qw, qx, qy, "
-                          "qz] or (N, 4, 4), got " + ShapeText(array));
+    throw py::value_error(
+        "PoseBatch.set(): values must have shape (N, 7) [x, y, z, qw, qx, qy, "
+        "qz] or (N, 4, 4), got " +
+        ShapeText(array));
   }
   if (array.shape(0) != n) {
     throw py::value_error("PoseBatch.set(): values has " + std::to_string(array.shape(0)) +
@@ -121,8 +123,8 @@ void SetPoseBatch(PoseBatchObject& batch, py::handle values) {
     });
   }
   if (!failure.failed) return;
-  const std::string context =
-      "row " + std::to_string(failure.row) + " " + EdgeText(batch.wrt[failure.row], batch.of[failure.row]);
+  const std::string context = "row " + std::to_string(failure.row) + " " +
+                              EdgeText(batch.wrt[failure.row], batch.of[failure.row]);
   if (failure.removed) ThrowRemoved("PoseBatch.set", context);
   ThrowValue("PoseBatch.set", context, failure.error, box.names());
 }
@@ -131,8 +133,10 @@ void SetTwistBatch(TwistBatchObject& batch, py::handle values) {
   auto array = FloatArrayArg(values, "TwistBatch.set", "values");
   const auto n = static_cast<py::ssize_t>(batch.handles.size());
   if (array.ndim() != 2 || array.shape(1) != 6) {
-    throw py::value_error("TwistBatch.set(): values must have shape (N, 6) [vx, vy, vz, wx, wy, "
-                          "wz], got " + ShapeText(array));
+    throw py::value_error(
+        "TwistBatch.set(): values must have shape (N, 6) [vx, vy, vz, wx, wy, "
+        "wz], got " +
+        ShapeText(array));
   }
   if (array.shape(0) != n) {
     throw py::value_error("TwistBatch.set(): values has " + std::to_string(array.shape(0)) +
@@ -194,8 +198,8 @@ void SetTwistBatch(TwistBatchObject& batch, py::handle values) {
 template <class T>
 std::vector<std::shared_ptr<T>> HandleList(py::handle handles, const char* fn, const char* type) {
   if (PyUnicode_Check(handles.ptr()) || !PySequence_Check(handles.ptr())) {
-    throw py::type_error(std::string(fn) + "(): handles must be a sequence of " + type +
-                         ", not " + TypeName(handles));
+    throw py::type_error(std::string(fn) + "(): handles must be a sequence of " + type + ", not " +
+                         TypeName(handles));
   }
   std::vector<std::shared_ptr<T>> out;
   const py::sequence seq = py::reinterpret_borrow<py::sequence>(handles);
@@ -213,8 +217,8 @@ std::vector<std::shared_ptr<T>> HandleList(py::handle handles, const char* fn, c
 }  // namespace
 
 void BindBatches(py::module_& m) {
-  py::class_<PoseBatchObject, std::shared_ptr<PoseBatchObject>>(m, "PoseBatch",
-      R"(N pose edges updated together from one array (SceneGraph.pose_batch).)")
+  py::class_<PoseBatchObject, std::shared_ptr<PoseBatchObject>>(
+      m, "PoseBatch", R"(N pose edges updated together from one array (SceneGraph.pose_batch).)")
       .def("set", &SetPoseBatch, py::arg("values"),
            R"(Sets the N edges from `values`: shape (N, 7), rows [x, y, z, qw, qx, qy, qz] (position
 of the head's origin in the tail, then the head's orientation in the tail as a unit quaternion),
@@ -225,8 +229,8 @@ no_such_edge) changes nothing. Runs without the GIL.)")
       .def("__repr__", [](const PoseBatchObject& b) {
         return "PoseBatch(" + std::to_string(b.handles.size()) + " edges)";
       });
-  py::class_<TwistBatchObject, std::shared_ptr<TwistBatchObject>>(m, "TwistBatch",
-      R"(N twist edges updated together from one array (SceneGraph.twist_batch).)")
+  py::class_<TwistBatchObject, std::shared_ptr<TwistBatchObject>>(
+      m, "TwistBatch", R"(N twist edges updated together from one array (SceneGraph.twist_batch).)")
       .def("set", &SetTwistBatch, py::arg("values"),
            R"(Sets the N screw twists from `values` of shape (N, 6), rows [vx, vy, vz, wx, wy, wz]:
 velocity of the head frame's origin and angular velocity of its body relative to the reference
@@ -238,34 +242,42 @@ body, both in [head]. Checked first, atomic, without the GIL, as PoseBatch.set.)
 }
 
 void BindBatchMethods(GraphClass& graph) {
-  graph.def("pose_batch", [](GraphBox& b, py::handle handles) {
-    auto list = HandleList<PoseHandleObject>(handles, "pose_batch", "PoseHandle");
-    auto batch = std::make_shared<PoseBatchObject>();
-    batch->graph = b.shared_from_this();
-    for (const auto& h : list) {
-      if (h->graph.get() != &b) throw py::value_error("pose_batch(): a handle belongs to another SceneGraph");
-      batch->handles.push_back(h->handle);
-      batch->of.push_back(h->of);
-      batch->wrt.push_back(h->wrt);
-    }
-    batch->checked_generation = b.topology_generation - 1;  // checked at the first set()
-    return batch;
-  }, py::arg("handles"),
-     "A PoseBatch over these PoseHandles, to update them all from one array (PoseBatch.set).");
-  graph.def("twist_batch", [](GraphBox& b, py::handle handles) {
-    auto list = HandleList<TwistHandleObject>(handles, "twist_batch", "TwistHandle");
-    auto batch = std::make_shared<TwistBatchObject>();
-    batch->graph = b.shared_from_this();
-    for (const auto& h : list) {
-      if (h->graph.get() != &b) throw py::value_error("twist_batch(): a handle belongs to another SceneGraph");
-      batch->handles.push_back(h->handle);
-      batch->point.push_back(h->point);
-      batch->ref_body.push_back(h->ref_body);
-    }
-    batch->checked_generation = b.topology_generation - 1;
-    return batch;
-  }, py::arg("handles"),
-     "A TwistBatch over these TwistHandles, to update them all from one array (TwistBatch.set).");
+  graph.def(
+      "pose_batch",
+      [](GraphBox& b, py::handle handles) {
+        auto list = HandleList<PoseHandleObject>(handles, "pose_batch", "PoseHandle");
+        auto batch = std::make_shared<PoseBatchObject>();
+        batch->graph = b.shared_from_this();
+        for (const auto& h : list) {
+          if (h->graph.get() != &b)
+            throw py::value_error("pose_batch(): a handle belongs to another SceneGraph");
+          batch->handles.push_back(h->handle);
+          batch->of.push_back(h->of);
+          batch->wrt.push_back(h->wrt);
+        }
+        batch->checked_generation = b.topology_generation - 1;  // checked at the first set()
+        return batch;
+      },
+      py::arg("handles"),
+      "A PoseBatch over these PoseHandles, to update them all from one array (PoseBatch.set).");
+  graph.def(
+      "twist_batch",
+      [](GraphBox& b, py::handle handles) {
+        auto list = HandleList<TwistHandleObject>(handles, "twist_batch", "TwistHandle");
+        auto batch = std::make_shared<TwistBatchObject>();
+        batch->graph = b.shared_from_this();
+        for (const auto& h : list) {
+          if (h->graph.get() != &b)
+            throw py::value_error("twist_batch(): a handle belongs to another SceneGraph");
+          batch->handles.push_back(h->handle);
+          batch->point.push_back(h->point);
+          batch->ref_body.push_back(h->ref_body);
+        }
+        batch->checked_generation = b.topology_generation - 1;
+        return batch;
+      },
+      py::arg("handles"),
+      "A TwistBatch over these TwistHandles, to update them all from one array (TwistBatch.set).");
 }
 
 }  // namespace semgraph::python

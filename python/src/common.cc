@@ -30,7 +30,8 @@ void ThrowRejected(ErrorCode code, const std::string& message) {
 void ThrowRejected(const core::BuildError& error) {
   if (!error.discrepancy) ThrowRejected(error.code, error.message);
   py::object d = py::make_tuple(error.discrepancy->position, error.discrepancy->angle);
-  py::object exc = g_rejected_error(py::str(std::string(ToString(error.code))), py::str(error.message), d);
+  py::object exc =
+      g_rejected_error(py::str(std::string(ToString(error.code))), py::str(error.message), d);
   PyErr_SetObject(g_rejected_error.ptr(), exc.ptr());
   throw py::error_already_set();
 }
@@ -45,7 +46,7 @@ void ThrowQuery(ErrorCode code, const std::string& message, const char* field,
 }
 
 void ThrowValue(const char* what, const std::string& context, const coord::Error& e,
-                             const semantics::NameTable& names) {
+                const semantics::NameTable& names) {
   ThrowRejected(e.code, std::string(what) + " " + context + " rejected (" +
                             std::string(ToString(e.code)) + "): " + coord::Describe(e, names));
 }

@@ -81,13 +81,20 @@ inline void Check(const core::BuildResult& r) {
 
 inline const char* RoleName(Field f) {
   switch (f) {
-    case Field::kPoint: return "point";
-    case Field::kOrientation: return "orientation";
-    case Field::kBody: return "body";
-    case Field::kRefPoint: return "ref_point";
-    case Field::kRefOrientation: return "ref_orientation";
-    case Field::kRefBody: return "ref_body";
-    case Field::kCoordinateFrame: return "coordinate_frame";
+    case Field::kPoint:
+      return "point";
+    case Field::kOrientation:
+      return "orientation";
+    case Field::kBody:
+      return "body";
+    case Field::kRefPoint:
+      return "ref_point";
+    case Field::kRefOrientation:
+      return "ref_orientation";
+    case Field::kRefBody:
+      return "ref_body";
+    case Field::kCoordinateFrame:
+      return "coordinate_frame";
   }
   return "argument";
 }
@@ -115,21 +122,29 @@ struct PoseNames {
   // The keyword that supplied a field.
   [[nodiscard]] const char* Argument(Field f) const {
     switch (f) {
-      case Field::kPoint: return point.empty() ? "of" : "point";
-      case Field::kOrientation: return orientation.empty() ? "of" : "orientation";
-      case Field::kBody: return "body";
-      case Field::kRefPoint: return ref_point.empty() ? "wrt" : "ref_point";
-      case Field::kRefOrientation: return ref_orientation.empty() ? "wrt" : "ref_orientation";
-      case Field::kRefBody: return "ref_body";
-      case Field::kCoordinateFrame: return expressed_in.empty() ? "wrt" : "expressed_in";
+      case Field::kPoint:
+        return point.empty() ? "of" : "point";
+      case Field::kOrientation:
+        return orientation.empty() ? "of" : "orientation";
+      case Field::kBody:
+        return "body";
+      case Field::kRefPoint:
+        return ref_point.empty() ? "wrt" : "ref_point";
+      case Field::kRefOrientation:
+        return ref_orientation.empty() ? "wrt" : "ref_orientation";
+      case Field::kRefBody:
+        return "ref_body";
+      case Field::kCoordinateFrame:
+        return expressed_in.empty() ? "wrt" : "expressed_in";
     }
     return nullptr;
   }
 };
 
 inline PoseNames ReadPoseNames(const char* fn, py::handle of, py::handle body, py::handle wrt,
-                        py::handle ref_body, py::handle point, py::handle orientation,
-                        py::handle ref_point, py::handle ref_orientation, py::handle expressed_in) {
+                               py::handle ref_body, py::handle point, py::handle orientation,
+                               py::handle ref_point, py::handle ref_orientation,
+                               py::handle expressed_in) {
   PoseNames n;
   n.of = NameArg(of, fn, "of");
   n.body = NameArg(body, fn, "body");
@@ -144,7 +159,7 @@ inline PoseNames ReadPoseNames(const char* fn, py::handle of, py::handle body, p
 }
 
 inline core::TwistSpec ReadTwistSpec(const char* fn, py::handle point, py::handle body,
-                              py::handle ref_body, py::handle expressed_in) {
+                                     py::handle ref_body, py::handle expressed_in) {
   return core::TwistSpec::Of(NameArg(point, fn, "point"), NameArg(body, fn, "body"))
       .RelativeTo(NameArg(ref_body, fn, "ref_body"))
       .ExpressedIn(NameArg(expressed_in, fn, "expressed_in"));
@@ -152,11 +167,16 @@ inline core::TwistSpec ReadTwistSpec(const char* fn, py::handle point, py::handl
 
 inline const char* TwistArgument(Field f) {
   switch (f) {
-    case Field::kPoint: return "point";
-    case Field::kBody: return "body";
-    case Field::kRefBody: return "ref_body";
-    case Field::kCoordinateFrame: return "expressed_in";
-    default: return nullptr;
+    case Field::kPoint:
+      return "point";
+    case Field::kBody:
+      return "body";
+    case Field::kRefBody:
+      return "ref_body";
+    case Field::kCoordinateFrame:
+      return "expressed_in";
+    default:
+      return nullptr;
   }
 }
 
@@ -165,7 +185,8 @@ template <class G>
                                  const PoseNames& n) {
   // Time keywords at fault: the fixed frame of a time travel, a negative horizon.
   if (e.time.fixed_frame) ThrowQuery(e.code, g.Describe(e, spec), nullptr, "fixed");
-  if (e.code == ErrorCode::kInvalidNumber) ThrowQuery(e.code, g.Describe(e, spec), nullptr, "max_extrapolation");
+  if (e.code == ErrorCode::kInvalidNumber)
+    ThrowQuery(e.code, g.Describe(e, spec), nullptr, "max_extrapolation");
   const bool field = FieldApplies(e.code);
   ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
              field ? n.Argument(e.field) : nullptr);
@@ -174,7 +195,8 @@ template <class G>
 template <class G>
 [[noreturn]] void ThrowTwistQuery(const G& g, const core::QueryError& e,
                                   const core::TwistSpec& spec) {
-  if (e.code == ErrorCode::kInvalidNumber) ThrowQuery(e.code, g.Describe(e, spec), nullptr, "max_extrapolation");
+  if (e.code == ErrorCode::kInvalidNumber)
+    ThrowQuery(e.code, g.Describe(e, spec), nullptr, "max_extrapolation");
   const bool field = FieldApplies(e.code);
   ThrowQuery(e.code, g.Describe(e, spec), field ? RoleName(e.field) : nullptr,
              field ? TwistArgument(e.field) : nullptr);
@@ -199,7 +221,8 @@ inline py::array_t<double> MatrixArray(const Eigen::Quaterniond& q) {
   return Array(R.data(), {3, 3});
 }
 inline py::array_t<double> HomogeneousArray(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
-  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> T = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>::Identity();
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> T =
+      Eigen::Matrix<double, 4, 4, Eigen::RowMajor>::Identity();
   T.topLeftCorner<3, 3>() = q.toRotationMatrix();
   T.topRightCorner<3, 1>() = p;
   return Array(T.data(), {4, 4});

@@ -33,15 +33,24 @@ void CheckCompiled(ErrorCode code, const std::string& what, const core::TimePoli
   std::string why;
   switch (code) {
     case ErrorCode::kExtrapolation:
-      why = "an edge it reads has no sample around the time asked and may not be extrapolated there";
+      why =
+          "an edge it reads has no sample around the time asked and may not be extrapolated there";
       break;
-    case ErrorCode::kStale: why = "an edge it reads has no sample at or after not_before"; break;
-    case ErrorCode::kInvalidNumber: why = "max_extrapolation is negative"; break;
-    default: why = "the time policy cannot be answered"; break;
+    case ErrorCode::kStale:
+      why = "an edge it reads has no sample at or after not_before";
+      break;
+    case ErrorCode::kInvalidNumber:
+      why = "max_extrapolation is negative";
+      break;
+    default:
+      why = "the time policy cannot be answered";
+      break;
   }
   ThrowQuery(code,
-             "the compiled query " + what + " failed (" + std::string(ToString(code)) + "): " + why +
-                 "; explain_pose / explain_twist with the same names and time keywords lists the edges and "
+             "the compiled query " + what + " failed (" + std::string(ToString(code)) +
+                 "): " + why +
+                 "; explain_pose / explain_twist with the same names and time keywords lists the "
+                 "edges and "
                  "their samples",
              nullptr, nullptr);
 }
@@ -73,7 +82,8 @@ PositionResult Evaluate(const CompiledPositionObject& c, const core::TimePolicy*
       },
       c.query);
 }
-OrientationResult Evaluate(const CompiledOrientationObject& c, const core::TimePolicy* policy = nullptr) {
+OrientationResult Evaluate(const CompiledOrientationObject& c,
+                           const core::TimePolicy* policy = nullptr) {
   return std::visit(
       [&](const auto& q) {
         using B = BackendOfT<decltype(q)>;
@@ -91,9 +101,12 @@ std::string CompiledText(const CompiledTwistObject& c) {
   return std::visit(
       [&](const auto& q) {
         switch (c.kind) {
-          case CompiledKind::kLinear: return SemanticsText(c.graph, c.linear_semantics);
-          case CompiledKind::kAngular: return SemanticsText(c.graph, c.angular_semantics);
-          default: return SemanticsText(c.graph, q.semantics());
+          case CompiledKind::kLinear:
+            return SemanticsText(c.graph, c.linear_semantics);
+          case CompiledKind::kAngular:
+            return SemanticsText(c.graph, c.angular_semantics);
+          default:
+            return SemanticsText(c.graph, q.semantics());
         }
       },
       c.query);
@@ -102,13 +115,16 @@ py::object Evaluate(const CompiledTwistObject& c, const core::TimePolicy* policy
   Eigen::Vector3d v, w;
   core::TimeReport report;
   const ErrorCode code = std::visit(
-      [&](const auto& q) { return policy ? q.Evaluate(v, w, *policy, report) : q.Evaluate(v, w); }, c.query);
+      [&](const auto& q) { return policy ? q.Evaluate(v, w, *policy, report) : q.Evaluate(v, w); },
+      c.query);
   if (code != ErrorCode::kOk) CheckCompiled(code, CompiledText(c), policy);
   std::optional<core::TimeReport> time;
   if (policy) time = report;
   switch (c.kind) {
-    case CompiledKind::kLinear: return py::cast(LinearVelocityResult{c.graph, c.linear_semantics, v, time});
-    case CompiledKind::kAngular: return py::cast(AngularVelocityResult{c.graph, c.angular_semantics, w, time});
+    case CompiledKind::kLinear:
+      return py::cast(LinearVelocityResult{c.graph, c.linear_semantics, v, time});
+    case CompiledKind::kAngular:
+      return py::cast(AngularVelocityResult{c.graph, c.angular_semantics, w, time});
     default:
       return py::cast(TwistResult{
           c.graph, std::visit([](const auto& q) { return q.semantics(); }, c.query), v, w, time});
@@ -117,8 +133,10 @@ py::object Evaluate(const CompiledTwistObject& c, const core::TimePolicy* policy
 
 // evaluate(*, at=, max_extrapolation=, not_before=): the compiled query under that policy.
 template <class C>
-py::object EvaluateAt(const C& c, py::handle at, py::handle max_extrapolation, py::handle not_before) {
-  const TimeQuery t = TimeQueryArgs("evaluate", at, max_extrapolation, not_before, py::none(), py::none(), false);
+py::object EvaluateAt(const C& c, py::handle at, py::handle max_extrapolation,
+                      py::handle not_before) {
+  const TimeQuery t =
+      TimeQueryArgs("evaluate", at, max_extrapolation, not_before, py::none(), py::none(), false);
   auto object = [](auto&& result) -> py::object {
     if constexpr (std::is_same_v<std::decay_t<decltype(result)>, py::object>) {
       return std::move(result);
@@ -143,82 +161,121 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
       // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
       // for parsing the time keywords.
       .def("evaluate", [](const CompiledPoseObject& c) { return Evaluate(c); })
-      .def("evaluate", [](const CompiledPoseObject& c, py::handle at, py::handle max_extrapolation,
-                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
-           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
-           py::arg("not_before") = py::none(),
-           "The pose now (a Pose); with at= / not_before= (as SceneGraph.pose: a time, 'latest', "
-           "'latest_common') under that time policy, with .time. Raises QueryError('query_invalidated') "
-           "after a removal, and extrapolation / stale / invalid_number under a time policy.")
-      .def_property_readonly("is_valid", [](const CompiledPoseObject& c) {
-        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
-      }, "True while every edge the query reads still exists.")
-      .def_property_readonly("num_pose_edges", [](const CompiledPoseObject& c) {
-        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
-      }, "Pose edges read per evaluation.")
+      .def(
+          "evaluate",
+          [](const CompiledPoseObject& c, py::handle at, py::handle max_extrapolation,
+             py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+          py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+          py::arg("not_before") = py::none(),
+          "The pose now (a Pose); with at= / not_before= (as SceneGraph.pose: a time, 'latest', "
+          "'latest_common') under that time policy, with .time. Raises "
+          "QueryError('query_invalidated') "
+          "after a removal, and extrapolation / stale / invalid_number under a time policy.")
+      .def_property_readonly(
+          "is_valid",
+          [](const CompiledPoseObject& c) {
+            return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
+          },
+          "True while every edge the query reads still exists.")
+      .def_property_readonly(
+          "num_pose_edges",
+          [](const CompiledPoseObject& c) {
+            return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
+          },
+          "Pose edges read per evaluation.")
       .def("__repr__", [](const CompiledPoseObject& c) {
-        return "CompiledPose(" + std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) + ")";
+        return "CompiledPose(" +
+               std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); },
+                          c.query) +
+               ")";
       });
   py::class_<CompiledPositionObject, std::shared_ptr<CompiledPositionObject>>(
       m, "CompiledPosition", Doc("A compiled position query.", kCompiledDoc).c_str())
       // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
       // for parsing the time keywords.
       .def("evaluate", [](const CompiledPositionObject& c) { return Evaluate(c); })
-      .def("evaluate", [](const CompiledPositionObject& c, py::handle at, py::handle max_extrapolation,
-                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
-           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
-           py::arg("not_before") = py::none(),
-           "The position now (a Position).")
-      .def_property_readonly("is_valid", [](const CompiledPositionObject& c) {
-        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
-      })
-      .def_property_readonly("num_pose_edges", [](const CompiledPositionObject& c) {
-        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
-      })
+      .def(
+          "evaluate",
+          [](const CompiledPositionObject& c, py::handle at, py::handle max_extrapolation,
+             py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+          py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+          py::arg("not_before") = py::none(), "The position now (a Position).")
+      .def_property_readonly("is_valid",
+                             [](const CompiledPositionObject& c) {
+                               return std::visit([](const auto& q) { return q.is_valid(); },
+                                                 c.query);
+                             })
+      .def_property_readonly("num_pose_edges",
+                             [](const CompiledPositionObject& c) {
+                               return std::visit([](const auto& q) { return q.num_pose_edges(); },
+                                                 c.query);
+                             })
       .def("__repr__", [](const CompiledPositionObject& c) {
-        return "CompiledPosition(" + std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) + ")";
+        return "CompiledPosition(" +
+               std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); },
+                          c.query) +
+               ")";
       });
   py::class_<CompiledOrientationObject, std::shared_ptr<CompiledOrientationObject>>(
       m, "CompiledOrientation", Doc("A compiled orientation query.", kCompiledDoc).c_str())
       // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
       // for parsing the time keywords.
       .def("evaluate", [](const CompiledOrientationObject& c) { return Evaluate(c); })
-      .def("evaluate", [](const CompiledOrientationObject& c, py::handle at, py::handle max_extrapolation,
-                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
-           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
-           py::arg("not_before") = py::none(),
-           "The orientation now (an Orientation).")
-      .def_property_readonly("is_valid", [](const CompiledOrientationObject& c) {
-        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
-      })
-      .def_property_readonly("num_pose_edges", [](const CompiledOrientationObject& c) {
-        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
-      })
+      .def(
+          "evaluate",
+          [](const CompiledOrientationObject& c, py::handle at, py::handle max_extrapolation,
+             py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+          py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+          py::arg("not_before") = py::none(), "The orientation now (an Orientation).")
+      .def_property_readonly("is_valid",
+                             [](const CompiledOrientationObject& c) {
+                               return std::visit([](const auto& q) { return q.is_valid(); },
+                                                 c.query);
+                             })
+      .def_property_readonly("num_pose_edges",
+                             [](const CompiledOrientationObject& c) {
+                               return std::visit([](const auto& q) { return q.num_pose_edges(); },
+                                                 c.query);
+                             })
       .def("__repr__", [](const CompiledOrientationObject& c) {
-        return "CompiledOrientation(" + std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) + ")";
+        return "CompiledOrientation(" +
+               std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); },
+                          c.query) +
+               ")";
       });
   py::class_<CompiledTwistObject, std::shared_ptr<CompiledTwistObject>>(
       m, "CompiledTwist",
       Doc("A compiled twist, linear velocity or angular velocity query (evaluate() returns a "
-          "Twist, LinearVelocity or AngularVelocity, as compiled).", kCompiledDoc).c_str())
+          "Twist, LinearVelocity or AngularVelocity, as compiled).",
+          kCompiledDoc)
+          .c_str())
       // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
       // for parsing the time keywords.
       .def("evaluate", [](const CompiledTwistObject& c) { return Evaluate(c); })
-      .def("evaluate", [](const CompiledTwistObject& c, py::handle at, py::handle max_extrapolation,
-                          py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
-           py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
-           py::arg("not_before") = py::none(),
-           "The twist (or linear / angular velocity) now.")
-      .def_property_readonly("is_valid", [](const CompiledTwistObject& c) {
-        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
-      })
-      .def_property_readonly("num_pose_edges", [](const CompiledTwistObject& c) {
-        return std::visit([](const auto& q) { return q.num_pose_edges(); }, c.query);
-      })
-      .def_property_readonly("num_twist_edges", [](const CompiledTwistObject& c) {
-        return std::visit([](const auto& q) { return q.num_twist_edges(); }, c.query);
-      }, "Twist edges read per evaluation.")
-      .def("__repr__", [](const CompiledTwistObject& c) { return "CompiledTwist(" + CompiledText(c) + ")"; });
+      .def(
+          "evaluate",
+          [](const CompiledTwistObject& c, py::handle at, py::handle max_extrapolation,
+             py::handle not_before) { return EvaluateAt(c, at, max_extrapolation, not_before); },
+          py::kw_only(), py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),
+          py::arg("not_before") = py::none(), "The twist (or linear / angular velocity) now.")
+      .def_property_readonly("is_valid",
+                             [](const CompiledTwistObject& c) {
+                               return std::visit([](const auto& q) { return q.is_valid(); },
+                                                 c.query);
+                             })
+      .def_property_readonly("num_pose_edges",
+                             [](const CompiledTwistObject& c) {
+                               return std::visit([](const auto& q) { return q.num_pose_edges(); },
+                                                 c.query);
+                             })
+      .def_property_readonly(
+          "num_twist_edges",
+          [](const CompiledTwistObject& c) {
+            return std::visit([](const auto& q) { return q.num_twist_edges(); }, c.query);
+          },
+          "Twist edges read per evaluation.")
+      .def("__repr__",
+           [](const CompiledTwistObject& c) { return "CompiledTwist(" + CompiledText(c) + ")"; });
 }
 
 }  // namespace semgraph::python

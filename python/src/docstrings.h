@@ -30,8 +30,6 @@ Rotation, at most one of (identity when none is given):
   rpy              (roll, pitch, yaw) in radians, R = Rz(yaw) Ry(pitch) Rx(roll)
 Numbers: lists, tuples or numpy arrays (converted to float64).)";
 
-inline std::string Doc(const char* head, const char* tail = "") {
-  return std::string(head) + tail;
-}
+inline std::string Doc(const char* head, const char* tail = "") { return std::string(head) + tail; }
 
 }  // namespace semgraph::python

@@ -58,7 +58,7 @@ struct GraphBox : std::enable_shared_from_this<GraphBox> {
   [[nodiscard]] const semantics::NameTable& names() const noexcept;
 
   std::variant<QuaternionGraph, HomogeneousGraph> graph;
-  std::mutex writer;                    // held by every write (see the file comment)
+  std::mutex writer;                      // held by every write (see the file comment)
   std::uint64_t topology_generation = 0;  // bumped by every accepted removal (under writer)
 };
 using GraphPtr = std::shared_ptr<GraphBox>;
@@ -66,8 +66,9 @@ using GraphPtr = std::shared_ptr<GraphBox>;
 // ---------------------------------------------------------------- results
 // Numbers are kept as C++ values and turned into numpy arrays when a property is read, so a
 // query costs one small object. `time` is set when the query was asked under a time policy
-// (what the core's Timed<T> reported), empty otherwise. Quaternions are stored with w >= 0 (when w == 0, the first
-// nonzero component > 0), the rule of the semgraph tool's output, so that q is deterministic.
+// (what the core's Timed<T> reported), empty otherwise. Quaternions are stored with w >= 0 (when w
+// == 0, the first nonzero component > 0), the rule of the semgraph tool's output, so that q is
+// deterministic.
 
 struct PoseResult {
   GraphPtr graph;
@@ -115,7 +116,14 @@ Eigen::Quaterniond CanonicalQuaternion(Eigen::Quaterniond q) noexcept;
 template <template <class> class C>
 using PerBackend = std::variant<C<coord::QuaternionBackend>, C<coord::HomogeneousBackend>>;
 
-enum class CompiledKind : std::uint8_t { kPose, kPosition, kOrientation, kTwist, kLinear, kAngular };
+enum class CompiledKind : std::uint8_t {
+  kPose,
+  kPosition,
+  kOrientation,
+  kTwist,
+  kLinear,
+  kAngular
+};
 
 struct CompiledPoseObject {
   GraphPtr graph;

@@ -10,8 +10,8 @@
 
 #include "common.h"
 #include "docstrings.h"
-#include "timed.h"
 #include "semgraph/coord/validate.h"
+#include "timed.h"
 
 namespace semgraph::python {
 
@@ -22,12 +22,15 @@ std::string StampWhy(ErrorCode code, const std::optional<core::Stamp>& t) {
   const std::string at = t ? " " + std::to_string(t->nanoseconds()) + " ns" : std::string();
   switch (code) {
     case ErrorCode::kStampMismatch:
-      return t ? ": the edge is timeless (its first value had no stamp); remove and re-add it to stamp it"
+      return t ? ": the edge is timeless (its first value had no stamp); remove and re-add it to "
+                 "stamp it"
                : ": the edge is stamped; give stamp=";
-    case ErrorCode::kStampTooOld: return ": the stamp" + at + " is older than the edge's newest sample minus the window";
+    case ErrorCode::kStampTooOld:
+      return ": the stamp" + at + " is older than the edge's newest sample minus the window";
     case ErrorCode::kDuplicateStamp:
       return ": the edge has another value at the stamp" + at + " (duplicate_stamp='reject')";
-    default: return "";
+    default:
+      return "";
   }
 }
 
@@ -91,63 +94,77 @@ void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::
 }  // namespace
 
 void BindHandles(py::module_& m) {
-  py::class_<PoseHandleObject, std::shared_ptr<PoseHandleObject>>(m, "PoseHandle",
+  py::class_<PoseHandleObject, std::shared_ptr<PoseHandleObject>>(
+      m, "PoseHandle",
       R"(A resolved pose edge {wrt} -> {of} (SceneGraph.pose_handle), for O(1) updates with
 SceneGraph.set_pose or a PoseBatch. It keeps its SceneGraph alive.)")
-      .def_property_readonly("of", [](const PoseHandleObject& h) { return h.of; }, "The edge's head frame.")
-      .def_property_readonly("wrt", [](const PoseHandleObject& h) { return h.wrt; }, "The edge's tail frame.")
-      .def_property_readonly("is_valid", [](const PoseHandleObject& h) {
-        return h.graph->Visit([&](const auto& g) {
-          auto current = g.FindPoseEdge(h.of, h.wrt);
-          return current && SameHandle(*current, h.handle);
-        });
-      }, "False once the edge was removed (even if an edge with the same frames was added again).")
+      .def_property_readonly(
+          "of", [](const PoseHandleObject& h) { return h.of; }, "The edge's head frame.")
+      .def_property_readonly(
+          "wrt", [](const PoseHandleObject& h) { return h.wrt; }, "The edge's tail frame.")
+      .def_property_readonly(
+          "is_valid",
+          [](const PoseHandleObject& h) {
+            return h.graph->Visit([&](const auto& g) {
+              auto current = g.FindPoseEdge(h.of, h.wrt);
+              return current && SameHandle(*current, h.handle);
+            });
+          },
+          "False once the edge was removed (even if an edge with the same frames was added again).")
       .def("__repr__", [](const PoseHandleObject& h) {
         return "PoseHandle(of='" + h.of + "', wrt='" + h.wrt + "')";
       });
-  py::class_<TwistHandleObject, std::shared_ptr<TwistHandleObject>>(m, "TwistHandle",
+  py::class_<TwistHandleObject, std::shared_ptr<TwistHandleObject>>(
+      m, "TwistHandle",
       R"(A resolved twist edge ref_body -> {point} (SceneGraph.twist_handle), for O(1) updates
 with SceneGraph.set_twist or a TwistBatch. It keeps its SceneGraph alive.)")
       .def_property_readonly("point", [](const TwistHandleObject& h) { return h.point; })
       .def_property_readonly("ref_body", [](const TwistHandleObject& h) { return h.ref_body; })
-      .def_property_readonly("is_valid", [](const TwistHandleObject& h) {
-        return h.graph->Visit([&](const auto& g) {
-          auto current = g.FindTwistEdge(h.point, h.ref_body);
-          return current && SameHandle(*current, h.handle);
-        });
-      })
+      .def_property_readonly("is_valid",
+                             [](const TwistHandleObject& h) {
+                               return h.graph->Visit([&](const auto& g) {
+                                 auto current = g.FindTwistEdge(h.point, h.ref_body);
+                                 return current && SameHandle(*current, h.handle);
+                               });
+                             })
       .def("__repr__", [](const TwistHandleObject& h) {
         return "TwistHandle(point='" + h.point + "', ref_body='" + h.ref_body + "')";
       });
 }
 
 void BindHandleMethods(GraphClass& graph) {
-  graph.def("pose_handle", [](const GraphBox& b, py::handle of, py::handle wrt) {
-    const std::string_view o = NameArg(of, "pose_handle", "of");
-    const std::string_view w = NameArg(wrt, "pose_handle", "wrt");
-    GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
-    return b.Visit([&](const auto& g) {
-      auto h = g.FindPoseEdge(o, w);
-      if (!h) ThrowRejected(h.error().code, h.error().message);
-      return std::make_shared<PoseHandleObject>(
-          PoseHandleObject{self, *h, std::string(o), std::string(w)});
-    });
-  }, py::kw_only(), py::arg("of"), py::arg("wrt"),
-     "The handle of the existing pose edge {wrt} -> {of} (a PoseHandle). RejectedError: "
-     "unknown_frame, no_such_edge, constant_pose_change (a same-body edge cannot be updated).");
-  graph.def("twist_handle", [](const GraphBox& b, py::handle point, py::handle ref_body) {
-    const std::string_view p = NameArg(point, "twist_handle", "point");
-    const std::string_view r = NameArg(ref_body, "twist_handle", "ref_body");
-    GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
-    return b.Visit([&](const auto& g) {
-      auto h = g.FindTwistEdge(p, r);
-      if (!h) ThrowRejected(h.error().code, h.error().message);
-      return std::make_shared<TwistHandleObject>(
-          TwistHandleObject{self, *h, std::string(p), std::string(r)});
-    });
-  }, py::kw_only(), py::arg("point"), py::arg("ref_body"),
-     "The handle of the existing twist edge ref_body -> {point} (a TwistHandle). RejectedError: "
-     "unknown_frame, unknown_body, no_such_edge.");
+  graph.def(
+      "pose_handle",
+      [](const GraphBox& b, py::handle of, py::handle wrt) {
+        const std::string_view o = NameArg(of, "pose_handle", "of");
+        const std::string_view w = NameArg(wrt, "pose_handle", "wrt");
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto h = g.FindPoseEdge(o, w);
+          if (!h) ThrowRejected(h.error().code, h.error().message);
+          return std::make_shared<PoseHandleObject>(
+              PoseHandleObject{self, *h, std::string(o), std::string(w)});
+        });
+      },
+      py::kw_only(), py::arg("of"), py::arg("wrt"),
+      "The handle of the existing pose edge {wrt} -> {of} (a PoseHandle). RejectedError: "
+      "unknown_frame, no_such_edge, constant_pose_change (a same-body edge cannot be updated).");
+  graph.def(
+      "twist_handle",
+      [](const GraphBox& b, py::handle point, py::handle ref_body) {
+        const std::string_view p = NameArg(point, "twist_handle", "point");
+        const std::string_view r = NameArg(ref_body, "twist_handle", "ref_body");
+        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        return b.Visit([&](const auto& g) {
+          auto h = g.FindTwistEdge(p, r);
+          if (!h) ThrowRejected(h.error().code, h.error().message);
+          return std::make_shared<TwistHandleObject>(
+              TwistHandleObject{self, *h, std::string(p), std::string(r)});
+        });
+      },
+      py::kw_only(), py::arg("point"), py::arg("ref_body"),
+      "The handle of the existing twist edge ref_body -> {point} (a TwistHandle). RejectedError: "
+      "unknown_frame, unknown_body, no_such_edge.");
   graph.def("set_pose", &SetPose, py::arg("handle"), py::kw_only(),
             py::arg("position") = py::none(), py::arg("rotation") = py::none(),
             py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
@@ -158,9 +175,12 @@ stamp: a new sample of a stamped edge (int nanoseconds or float seconds); never 
 RejectedError: invalid_number, invalid_rotation, no_such_edge (removed since the handle was
 made), stamp_mismatch (a stamp for a timeless edge, or none for a stamped one), stamp_too_old,
 duplicate_stamp; the stored value is then unchanged. ValueError: a handle of another SceneGraph.
-)", kRotationDoc).c_str());
+)",
+                kRotationDoc)
+                .c_str());
   graph.def("set_twist", &SetTwist, py::arg("handle"), py::kw_only(),
-            py::arg("linear") = py::none(), py::arg("angular") = py::none(), py::arg("stamp") = py::none(),
+            py::arg("linear") = py::none(), py::arg("angular") = py::none(),
+            py::arg("stamp") = py::none(),
             R"(New screw twist of the edge behind `handle`: velocity of the head frame's origin
 and angular velocity of its body relative to the reference body, both in [head]. O(1).
 stamp: a new sample of a stamped edge (int nanoseconds or float seconds).

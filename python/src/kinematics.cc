@@ -48,7 +48,8 @@ struct RobotObject {
 double FloatArg(py::handle value, double fallback, const char* fn, const char* argument) {
   if (value.is_none()) return fallback;
   if (PyUnicode_Check(value.ptr()) || PyBool_Check(value.ptr()) || !PyNumber_Check(value.ptr())) {
-    throw py::type_error(std::string(fn) + "(): " + argument + " must be a number, not " + TypeName(value));
+    throw py::type_error(std::string(fn) + "(): " + argument + " must be a number, not " +
+                         TypeName(value));
   }
   const double x = PyFloat_AsDouble(value.ptr());
   if (x == -1.0 && PyErr_Occurred()) throw py::error_already_set();
@@ -57,16 +58,18 @@ double FloatArg(py::handle value, double fallback, const char* fn, const char* a
 
 core::JointType JointTypeArg(py::handle value) {
   if (!PyUnicode_Check(value.ptr())) {
-    throw py::type_error("add_joint(): type must be a str ('revolute', 'continuous', 'prismatic' or 'fixed'), not " +
-                         TypeName(value));
+    throw py::type_error(
+        "add_joint(): type must be a str ('revolute', 'continuous', 'prismatic' or 'fixed'), not " +
+        TypeName(value));
   }
   const std::string t = value.cast<std::string>();
   if (t == "revolute") return core::JointType::kRevolute;
   if (t == "continuous") return core::JointType::kContinuous;
   if (t == "prismatic") return core::JointType::kPrismatic;
   if (t == "fixed") return core::JointType::kFixed;
-  throw py::value_error("add_joint(): type must be 'revolute', 'continuous', 'prismatic' or 'fixed', not '" + t +
-                        "'");
+  throw py::value_error(
+      "add_joint(): type must be 'revolute', 'continuous', 'prismatic' or 'fixed', not '" + t +
+      "'");
 }
 
 template <class G>
@@ -98,7 +101,8 @@ std::shared_ptr<JointGroupObject> GroupArg(GraphBox& box, py::handle names, cons
     return out;
   }
   if (PyUnicode_Check(names.ptr()) || !PySequence_Check(names.ptr())) {
-    throw py::type_error(std::string(fn) + "(): names must be a sequence of joint names, a JointGroup or None, not " +
+    throw py::type_error(std::string(fn) +
+                         "(): names must be a sequence of joint names, a JointGroup or None, not " +
                          TypeName(names));
   }
   const py::sequence seq = py::reinterpret_borrow<py::sequence>(names);
@@ -123,8 +127,9 @@ py::array_t<double, py::array::c_style> StateArg(py::handle value, std::size_t n
                                                  const char* argument) {
   auto a = FloatArrayArg(value, fn, argument);
   if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != n) {
-    throw py::value_error(std::string(fn) + "(): " + argument + " must have shape (" + std::to_string(n) +
-                          ",), one value per joint of the group, got " + ShapeText(a));
+    throw py::value_error(std::string(fn) + "(): " + argument + " must have shape (" +
+                          std::to_string(n) + ",), one value per joint of the group, got " +
+                          ShapeText(a));
   }
   return a;
 }
@@ -136,7 +141,8 @@ void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities)
     if (d.is_none()) return;
     for (auto item : py::reinterpret_borrow<py::dict>(d)) {
       keep.push_back(py::reinterpret_borrow<py::object>(item.first));
-      const std::string_view name = NameArg(item.first, "set_joints", (std::string(argument) + " key").c_str());
+      const std::string_view name =
+          NameArg(item.first, "set_joints", (std::string(argument) + " key").c_str());
       const std::string what = std::string(argument) + "['" + std::string(name) + "']";
       out.push_back({name, FloatArg(item.second, 0.0, "set_joints", what.c_str())});
     }
@@ -151,10 +157,12 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
   const bool pd = PyDict_Check(positions.ptr()), vd = PyDict_Check(velocities.ptr());
   if (pd || vd) {
     if ((!pd && !positions.is_none()) || (!vd && !velocities.is_none())) {
-      throw py::type_error("set_joints(): positions and velocities must both be dicts (by joint name) or both "
-                           "arrays (in the order of names)");
+      throw py::type_error(
+          "set_joints(): positions and velocities must both be dicts (by joint name) or both "
+          "arrays (in the order of names)");
     }
-    if (!names.is_none()) throw py::value_error("set_joints(): names= applies to arrays, not to dicts");
+    if (!names.is_none())
+      throw py::value_error("set_joints(): names= applies to arrays, not to dicts");
     SetJointsByName(box, positions, velocities);
     return;
   }
@@ -187,9 +195,10 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
                               core::Describe(why));
     }
     ThrowRejected(code, "set_joints() rejected (" + std::string(ToString(code)) + ")" +
-                            (code == ErrorCode::kUnknownJoint ? ": a joint of the group was removed since the group "
-                                                                "was made; make the group again"
-                                                              : ""));
+                            (code == ErrorCode::kUnknownJoint
+                                 ? ": a joint of the group was removed since the group "
+                                   "was made; make the group again"
+                                 : ""));
   });
 }
 
@@ -199,7 +208,8 @@ py::array_t<double> JointValues(GraphBox& box, py::handle names, bool velocity, 
   double* x = out.mutable_data();
   box.Visit([&](const auto& g) {
     for (std::size_t i = 0; i < group->group.size(); ++i) {
-      x[i] = velocity ? g.joint_velocity(group->group.joints[i]) : g.joint_position(group->group.joints[i]);
+      x[i] = velocity ? g.joint_velocity(group->group.joints[i])
+                      : g.joint_position(group->group.joints[i]);
     }
   });
   return out;
@@ -223,8 +233,10 @@ std::string NamesText(const std::vector<std::string>& names) {
 
 #ifdef SEMGRAPH_PYTHON_WITH_MODELS
 RobotObject MakeRobot(GraphBox& box, const models::Robot& r) {
-  RobotObject out{r.name, r.prefix, r.root, r.links, r.joints, r.mimic_joints, r.fixed_joints, r.floating_joints, {}};
-  out.group = std::make_shared<JointGroupObject>(JointGroupObject{box.shared_from_this(), r.group, r.joints});
+  RobotObject out{r.name,         r.prefix,          r.root, r.links, r.joints, r.mimic_joints,
+                  r.fixed_joints, r.floating_joints, {}};
+  out.group = std::make_shared<JointGroupObject>(
+      JointGroupObject{box.shared_from_this(), r.group, r.joints});
   return out;
 }
 
@@ -235,7 +247,8 @@ RobotObject LoadUrdf(GraphBox& box, const std::string& text, const std::string& 
     py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(box.writer);
     box.Visit([&](auto& g) {
-      auto r = file ? models::LoadUrdfFile(g, text, prefix) : models::LoadUrdfString(g, text, prefix);
+      auto r =
+          file ? models::LoadUrdfFile(g, text, prefix) : models::LoadUrdfString(g, text, prefix);
       if (r) {
         robot = std::move(*r);
       } else {
@@ -249,16 +262,18 @@ RobotObject LoadUrdf(GraphBox& box, const std::string& text, const std::string& 
 #endif
 
 void BindKinematicsClasses(py::module_& m) {
-  py::class_<JointGroupObject, std::shared_ptr<JointGroupObject>>(m, "JointGroup",
+  py::class_<JointGroupObject, std::shared_ptr<JointGroupObject>>(
+      m, "JointGroup",
       R"(The layout of a joint-state vector: these joints in this order (SceneGraph.joint_group, a
 Robot's .group). Pass it as names= to set_joints / joint_positions / joint_velocities to skip
 the name lookups. Only independent movable joints (no fixed, no mimic joints).)")
       .def_readonly("names", &JointGroupObject::names, "The joints' names, in vector order.")
       .def("__len__", [](const JointGroupObject& g) { return g.group.size(); })
-      .def("__repr__", [](const JointGroupObject& g) { return "JointGroup(" + NamesText(g.names) + ")"; });
+      .def("__repr__",
+           [](const JointGroupObject& g) { return "JointGroup(" + NamesText(g.names) + ")"; });
 
   py::class_<JacobianResult>(m, "Jacobian",
-      R"(A semantic Jacobian: Jacobian(e|C, D, [r]), the 6 x n matrix J with
+                             R"(A semantic Jacobian: Jacobian(e|C, D, [r]), the 6 x n matrix J with
 TwistCoord(e|C, D, [r]) = J qdot + (the twists of the non-joint twist edges on the path).
 
 matrix     (6, n): rows v_x v_y v_z (velocity of the point of C at e) then w_x w_y w_z
@@ -271,36 +286,49 @@ semantics  the twist it maps to, in the paper's notation)")
       .def_property_readonly("linear", [](const JacobianResult& r) { return Rows(r.J, 0, 3); })
       .def_property_readonly("angular", [](const JacobianResult& r) { return Rows(r.J, 3, 3); })
       .def_readonly("joints", &JacobianResult::joints)
-      .def_property_readonly("semantics", [](const JacobianResult& r) { return SemanticsText(r.graph, r.semantics); })
+      .def_property_readonly(
+          "semantics", [](const JacobianResult& r) { return SemanticsText(r.graph, r.semantics); })
       .def("__repr__", [](const JacobianResult& r) {
-        return "Jacobian(" + SemanticsText(r.graph, r.semantics) + ", joints=" + NamesText(r.joints) + ", shape=(6, " +
-               std::to_string(r.J.cols()) + "))";
+        return "Jacobian(" + SemanticsText(r.graph, r.semantics) +
+               ", joints=" + NamesText(r.joints) + ", shape=(6, " + std::to_string(r.J.cols()) +
+               "))";
       });
 
-  py::class_<CompiledJacobianObject, std::shared_ptr<CompiledJacobianObject>>(m, "CompiledJacobian",
+  py::class_<CompiledJacobianObject, std::shared_ptr<CompiledJacobianObject>>(
+      m, "CompiledJacobian",
       R"(A compiled Jacobian query (SceneGraph.compile_jacobian): the path and columns resolved once;
 evaluate() reads the current joint states. It keeps its SceneGraph alive; after an edge it
 reads is removed, evaluate() raises QueryError('query_invalidated').)")
-      .def("evaluate", [](const CompiledJacobianObject& c) {
-        return std::visit([&](const auto& q) {
-          core::JacobianMatrix J(6, static_cast<Eigen::Index>(q.num_columns()));
-          J.setZero();
-          if (q.Evaluate(J) != ErrorCode::kOk) {
-            ThrowQuery(ErrorCode::kQueryInvalidated,
-                       "the compiled Jacobian " + SemanticsText(c.graph, q.semantics()) +
-                           " reads a pose or twist edge that was removed after it was compiled; compile it again",
-                       nullptr, nullptr);
-          }
-          return JacobianResult{c.graph, q.semantics(), c.joints, std::move(J)};
-        }, c.query);
-      }, "The Jacobian now (a Jacobian).")
+      .def(
+          "evaluate",
+          [](const CompiledJacobianObject& c) {
+            return std::visit(
+                [&](const auto& q) {
+                  core::JacobianMatrix J(6, static_cast<Eigen::Index>(q.num_columns()));
+                  J.setZero();
+                  if (q.Evaluate(J) != ErrorCode::kOk) {
+                    ThrowQuery(ErrorCode::kQueryInvalidated,
+                               "the compiled Jacobian " + SemanticsText(c.graph, q.semantics()) +
+                                   " reads a pose or twist edge that was removed after it was "
+                                   "compiled; compile it again",
+                               nullptr, nullptr);
+                  }
+                  return JacobianResult{c.graph, q.semantics(), c.joints, std::move(J)};
+                },
+                c.query);
+          },
+          "The Jacobian now (a Jacobian).")
       .def_readonly("joints", &CompiledJacobianObject::joints, "The columns' joints.")
-      .def_property_readonly("is_valid", [](const CompiledJacobianObject& c) {
-        return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
-      }, "True while every edge the query reads still exists.")
+      .def_property_readonly(
+          "is_valid",
+          [](const CompiledJacobianObject& c) {
+            return std::visit([](const auto& q) { return q.is_valid(); }, c.query);
+          },
+          "True while every edge the query reads still exists.")
       .def("__repr__", [](const CompiledJacobianObject& c) {
         return "CompiledJacobian(" +
-               std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); }, c.query) +
+               std::visit([&](const auto& q) { return SemanticsText(c.graph, q.semantics()); },
+                          c.query) +
                ", joints=" + NamesText(c.joints) + ")";
       });
 
@@ -325,16 +353,19 @@ group            a JointGroup of `joints`, for set_joints(..., names=robot.group
       .def_readonly("group", &RobotObject::group)
       .def("__repr__", [](const RobotObject& r) {
         return "Robot(name='" + r.name + "', prefix='" + r.prefix + "', root='" + r.root +
-               "', links=" + std::to_string(r.links.size()) + ", joints=" + NamesText(r.joints) + ")";
+               "', links=" + std::to_string(r.links.size()) + ", joints=" + NamesText(r.joints) +
+               ")";
       });
 }
 
 void BindJointMethods(GraphClass& graph) {
-  graph.def("add_joint",
-      [](GraphBox& b, py::handle name, py::handle type, py::handle parent, py::handle child, py::handle parent_body,
-         py::handle child_body, py::handle position, py::handle rotation, py::handle quaternion,
-         py::handle rotation_matrix, py::handle rpy, py::handle axis, py::handle lower, py::handle upper,
-         py::handle mimic, py::handle multiplier, py::handle offset) {
+  graph.def(
+      "add_joint",
+      [](GraphBox& b, py::handle name, py::handle type, py::handle parent, py::handle child,
+         py::handle parent_body, py::handle child_body, py::handle position, py::handle rotation,
+         py::handle quaternion, py::handle rotation_matrix, py::handle rpy, py::handle axis,
+         py::handle lower, py::handle upper, py::handle mimic, py::handle multiplier,
+         py::handle offset) {
         core::JointSpec spec;
         spec.name = NameArg(name, "add_joint", "name");
         spec.type = JointTypeArg(type);
@@ -343,7 +374,8 @@ void BindJointMethods(GraphClass& graph) {
         spec.child = NameArg(child, "add_joint", "child");
         spec.child_body = NameArg(child_body, "add_joint", "child_body");
         spec.p_origin = Vector3Arg(position, "add_joint", "position");
-        const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "add_joint");
+        const RotationArg rot =
+            RotationArgs(rotation, quaternion, rotation_matrix, rpy, "add_joint");
         if (rot.is_matrix) {
           spec.R_origin = rot.R;
         } else {
@@ -359,11 +391,12 @@ void BindJointMethods(GraphClass& graph) {
         Check(b.Visit([&](auto& g) { return g.AddJoint(spec); }));
       },
       py::arg("name"), py::kw_only(), py::arg("type"), py::arg("parent"), py::arg("child"),
-      py::arg("parent_body") = py::none(), py::arg("child_body") = py::none(), py::arg("position") = py::none(),
-      py::arg("rotation") = py::none(), py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
+      py::arg("parent_body") = py::none(), py::arg("child_body") = py::none(),
+      py::arg("position") = py::none(), py::arg("rotation") = py::none(),
+      py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
       py::arg("rpy") = py::none(), py::arg("axis") = py::none(), py::arg("lower") = py::none(),
-      py::arg("upper") = py::none(), py::arg("mimic") = py::none(), py::arg("multiplier") = py::none(),
-      py::arg("offset") = py::none(),
+      py::arg("upper") = py::none(), py::arg("mimic") = py::none(),
+      py::arg("multiplier") = py::none(), py::arg("offset") = py::none(),
       R"(Adds a joint (docs/kinematics.md): the pose edge {parent} -> {child} with value
 X_origin * M(q) and the twist edge parent_body -> {child} with the twist of qdot, both driven by
 the joint's state only. Missing frames are created with their bodies (parent_body, child_body).
@@ -379,30 +412,45 @@ The state starts at q = 0 clamped into the limits, qdot = 0.
 RejectedError: invalid_name, invalid_number, invalid_rotation, invalid_model (axis, limits,
 mimic), duplicate_joint, frame_body_mismatch, self_edge, twist_same_body, joint_edge,
 multiple_pose_parents, pose_cycle, duplicate_pose_path, multiple_twist_parents, ...)");
-  graph.def_property_readonly("num_joints", [](const GraphBox& b) {
-    return b.Visit([](const auto& g) { return g.num_joints(); });
-  }, "Joints, fixed and mimic joints included.");
-  graph.def_property_readonly("joint_names", [](const GraphBox& b) {
-    return b.Visit([](const auto& g) { return JointNames(g, g.AllJoints().joints); });
-  }, "The independent movable joints (no fixed, no mimic joints), in the order they were added: the "
-     "default layout of set_joints / joint_positions arrays.");
-  graph.def("joint_group", [](GraphBox& b, py::handle names) { return GroupArg(b, names, "joint_group"); },
-            py::arg("names"),
-            "A JointGroup of these joints, in this order. RejectedError: unknown_joint, mimic_joint (a mimic "
-            "follows its master), duplicate_joint.");
-  graph.def("set_joints", &SetJoints, py::arg("positions") = py::none(), py::arg("velocities") = py::none(),
-            py::kw_only(), py::arg("names") = py::none(),
-            R"(Sets joint positions and/or velocities, all or nothing; a joint keeps what it is not given.
+  graph.def_property_readonly(
+      "num_joints",
+      [](const GraphBox& b) { return b.Visit([](const auto& g) { return g.num_joints(); }); },
+      "Joints, fixed and mimic joints included.");
+  graph.def_property_readonly(
+      "joint_names",
+      [](const GraphBox& b) {
+        return b.Visit([](const auto& g) { return JointNames(g, g.AllJoints().joints); });
+      },
+      "The independent movable joints (no fixed, no mimic joints), in the order they were added: "
+      "the "
+      "default layout of set_joints / joint_positions arrays.");
+  graph.def(
+      "joint_group",
+      [](GraphBox& b, py::handle names) { return GroupArg(b, names, "joint_group"); },
+      py::arg("names"),
+      "A JointGroup of these joints, in this order. RejectedError: unknown_joint, mimic_joint (a "
+      "mimic "
+      "follows its master), duplicate_joint.");
+  graph.def(
+      "set_joints", &SetJoints, py::arg("positions") = py::none(),
+      py::arg("velocities") = py::none(), py::kw_only(), py::arg("names") = py::none(),
+      R"(Sets joint positions and/or velocities, all or nothing; a joint keeps what it is not given.
 
 positions, velocities  arrays (lists or numpy, one value per joint of `names`), or dicts
                        {joint name: value} (any joints, by name; names= is then not used)
 names                  the arrays' layout: None (joint_names), a JointGroup, or a list of names
 RejectedError: invalid_number -> unknown_joint -> mimic_joint -> joint_limit (a position
 outside [lower, upper]); nothing changes. ValueError: an array of the wrong length.)");
-  graph.def("joint_positions", [](GraphBox& b, py::handle names) { return JointValues(b, names, false, "joint_positions"); },
-            py::arg("names") = py::none(), "Joint positions (a float64 array) in the layout of `names` (as set_joints).");
-  graph.def("joint_velocities", [](GraphBox& b, py::handle names) { return JointValues(b, names, true, "joint_velocities"); },
-            py::arg("names") = py::none(), "Joint velocities (a float64 array) in the layout of `names`.");
+  graph.def(
+      "joint_positions",
+      [](GraphBox& b, py::handle names) { return JointValues(b, names, false, "joint_positions"); },
+      py::arg("names") = py::none(),
+      "Joint positions (a float64 array) in the layout of `names` (as set_joints).");
+  graph.def(
+      "joint_velocities",
+      [](GraphBox& b, py::handle names) { return JointValues(b, names, true, "joint_velocities"); },
+      py::arg("names") = py::none(),
+      "Joint velocities (a float64 array) in the layout of `names`.");
 }
 
 void BindJacobianMethods(GraphClass& graph) {
@@ -415,8 +463,10 @@ Names (keyword-only), those of twist():
 Conventions: KDL's base Jacobian is point=ee, ref_body=Base, expressed_in=base; Pinocchio's
 LOCAL point=ee, ref_body=World, expressed_in=ee; LOCAL_WORLD_ALIGNED expressed_in=world.
 QueryError: the errors of twist() (unknown_frame, no_pose_path, no_twist_path, ...).)";
-  graph.def("jacobian",
-      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body, py::handle expressed_in) {
+  graph.def(
+      "jacobian",
+      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in) {
         const core::TwistSpec spec = ReadTwistSpec("jacobian", point, body, ref_body, expressed_in);
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
@@ -425,24 +475,30 @@ QueryError: the errors of twist() (unknown_frame, no_pose_path, no_twist_path, .
           return JacobianResult{self, r->semantics, JointNames(g, r->joints), std::move(r->J)};
         });
       },
-      py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("expressed_in") = py::none(),
-      (std::string("The semantic Jacobian of TwistCoord(point|body, ref_body, [expressed_in]) at the current joint "
+      py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),
+      py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none(),
+      (std::string("The semantic Jacobian of TwistCoord(point|body, ref_body, [expressed_in]) at "
+                   "the current joint "
                    "positions (a Jacobian: .matrix 6 x n, .linear, .angular, .joints).\n") +
-       kJacobianDoc).c_str());
-  graph.def("compile_jacobian",
-      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body, py::handle expressed_in) {
-        const core::TwistSpec spec = ReadTwistSpec("compile_jacobian", point, body, ref_body, expressed_in);
+       kJacobianDoc)
+          .c_str());
+  graph.def(
+      "compile_jacobian",
+      [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
+         py::handle expressed_in) {
+        const core::TwistSpec spec =
+            ReadTwistSpec("compile_jacobian", point, body, ref_body, expressed_in);
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
           auto r = g.CompileJacobian(spec);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           std::vector<std::string> names = JointNames(g, r->joints());
-          return std::make_shared<CompiledJacobianObject>(CompiledJacobianObject{self, std::move(*r), std::move(names)});
+          return std::make_shared<CompiledJacobianObject>(
+              CompiledJacobianObject{self, std::move(*r), std::move(names)});
         });
       },
-      py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("expressed_in") = py::none(),
+      py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),
+      py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none(),
       "The query of jacobian(), compiled (a CompiledJacobian); the same QueryErrors.");
 }
 
@@ -455,26 +511,36 @@ invalid_model (unreadable file, urdfdom's refusal quoted, package:// URIs, plana
 numbers, axis, limits or mimic), duplicate_joint, duplicate_body, duplicate_frame; nothing is
 created then. Runs without the GIL. Returns a Robot.)";
 #ifdef SEMGRAPH_PYTHON_WITH_MODELS
-  graph.def("load_urdf",
+  graph.def(
+      "load_urdf",
       [](GraphBox& b, py::handle path, const std::string& prefix) {
         py::object p = py::module_::import("os").attr("fspath")(path);
-        if (!PyUnicode_Check(p.ptr())) throw py::type_error("load_urdf(): path must be a str or os.PathLike of str");
+        if (!PyUnicode_Check(p.ptr()))
+          throw py::type_error("load_urdf(): path must be a str or os.PathLike of str");
         return LoadUrdf(b, p.cast<std::string>(), prefix, true);
       },
       py::arg("path"), py::kw_only(), py::arg("prefix") = "",
-      (std::string("Loads a URDF file (a path, or a file:// URI) into the graph, names prefixed with `prefix`.\n") +
-       kUrdfDoc).c_str());
-  graph.def("load_urdf_string",
-      [](GraphBox& b, const std::string& xml, const std::string& prefix) { return LoadUrdf(b, xml, prefix, false); },
+      (std::string("Loads a URDF file (a path, or a file:// URI) into the graph, names prefixed "
+                   "with `prefix`.\n") +
+       kUrdfDoc)
+          .c_str());
+  graph.def(
+      "load_urdf_string",
+      [](GraphBox& b, const std::string& xml, const std::string& prefix) {
+        return LoadUrdf(b, xml, prefix, false);
+      },
       py::arg("xml"), py::kw_only(), py::arg("prefix") = "",
       (std::string("Loads a URDF document given as text, as load_urdf.\n") + kUrdfDoc).c_str());
 #else
   auto unavailable = [](py::args, py::kwargs) -> py::object {
-    throw std::runtime_error("load_urdf(): semgraph was built without robot models (SEMGRAPH_BUILD_MODELS=OFF or "
-                             "urdfdom missing)");
+    throw std::runtime_error(
+        "load_urdf(): semgraph was built without robot models (SEMGRAPH_BUILD_MODELS=OFF or "
+        "urdfdom missing)");
   };
-  graph.def("load_urdf", unavailable, (std::string("Unavailable in this build.\n") + kUrdfDoc).c_str());
-  graph.def("load_urdf_string", unavailable, (std::string("Unavailable in this build.\n") + kUrdfDoc).c_str());
+  graph.def("load_urdf", unavailable,
+            (std::string("Unavailable in this build.\n") + kUrdfDoc).c_str());
+  graph.def("load_urdf_string", unavailable,
+            (std::string("Unavailable in this build.\n") + kUrdfDoc).c_str());
 #endif
 }
 

@@ -9,29 +9,30 @@
 
 #include "common.h"
 #include "docstrings.h"
-#include "timed.h"
 #include "semgraph/semantics/operations.h"
+#include "timed.h"
 
 namespace semgraph::python {
 
 namespace {
 
 // The keywords of the queries (undefined at the end of the file).
-#define SEMGRAPH_POSE_ARGS                                                                       \
-  py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),                       \
-      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),                             \
-      py::arg("point") = py::none(), py::arg("orientation") = py::none(),                        \
-      py::arg("ref_point") = py::none(), py::arg("ref_orientation") = py::none(),                \
-      py::arg("expressed_in") = py::none()
-#define SEMGRAPH_TWIST_ARGS                                                                      \
-  py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),                    \
-      py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none()
-#define SEMGRAPH_TIME_ARGS                                                                       \
-  py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),                          \
-      py::arg("not_before") = py::none(), py::arg("ref_at") = py::none(), py::arg("fixed") = py::none()
-#define SEMGRAPH_TWIST_TIME_ARGS                                                                 \
-  py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(),                          \
-      py::arg("not_before") = py::none(), py::arg("source") = py::none()
+#define SEMGRAPH_POSE_ARGS                                                                   \
+  py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),                   \
+                 py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),              \
+                 py::arg("point") = py::none(), py::arg("orientation") = py::none(),         \
+                 py::arg("ref_point") = py::none(), py::arg("ref_orientation") = py::none(), \
+                 py::arg("expressed_in") = py::none()
+#define SEMGRAPH_TWIST_ARGS                                                   \
+  py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(), \
+                 py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none()
+#define SEMGRAPH_TIME_ARGS                                               \
+  py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(), \
+  py::arg("not_before") = py::none(), py::arg("ref_at") = py::none(),    \
+  py::arg("fixed") = py::none()
+#define SEMGRAPH_TWIST_TIME_ARGS                                         \
+  py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(), \
+  py::arg("not_before") = py::none(), py::arg("source") = py::none()
 
 // Docstring parts of the queries.
 constexpr const char* kQueryErrors = R"(
@@ -55,12 +56,14 @@ void BindPoseQueries(GraphClass& graph) {
   ref_at, fixed      time travel: the point side at `at`, the reference side at `ref_at`,
                      through the frame `fixed`, assumed fixed between the two)";
   const char* kTimeDoc = time_doc.c_str();
-  graph.def("pose",
+  graph.def(
+      "pose",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation,
          py::handle not_before, py::handle ref_at, py::handle fixed) {
-        const TimeQuery t = TimeQueryArgs("pose", at, max_extrapolation, not_before, ref_at, fixed, true);
+        const TimeQuery t =
+            TimeQueryArgs("pose", at, max_extrapolation, not_before, ref_at, fixed, true);
         const PoseNames n = ReadPoseNames("pose", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
@@ -72,7 +75,8 @@ void BindPoseQueries(GraphClass& graph) {
             if (!r) ThrowPoseQuery(g, r.error(), spec, n);
             return MakePoseResult<B>(self, r->semantics, r->value);
           }
-          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetPose(spec, *t.travel) : g.GetPose(spec, t.policy);
+          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetPose(spec, *t.travel)
+                                                      : g.GetPose(spec, t.policy);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
           PoseResult out = MakePoseResult<B>(self, r->value.semantics, r->value.value);
           out.time = r->time;
@@ -81,13 +85,16 @@ void BindPoseQueries(GraphClass& graph) {
       },
       SEMGRAPH_POSE_ARGS, SEMGRAPH_TIME_ARGS,
       Doc("The pose of `of` relative to `wrt`, expressed in `expressed_in` (a Pose).\n",
-          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str()).c_str());
-  graph.def("position",
+          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str())
+          .c_str());
+  graph.def(
+      "position",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation,
          py::handle not_before, py::handle ref_at, py::handle fixed) {
-        const TimeQuery t = TimeQueryArgs("position", at, max_extrapolation, not_before, ref_at, fixed, true);
+        const TimeQuery t =
+            TimeQueryArgs("position", at, max_extrapolation, not_before, ref_at, fixed, true);
         const PoseNames n = ReadPoseNames("position", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
@@ -98,7 +105,8 @@ void BindPoseQueries(GraphClass& graph) {
             if (!r) ThrowPoseQuery(g, r.error(), spec, n);
             return PositionResult{self, r->semantics, r->value};
           }
-          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetPosition(spec, *t.travel) : g.GetPosition(spec, t.policy);
+          auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetPosition(spec, *t.travel)
+                                                      : g.GetPosition(spec, t.policy);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
           return PositionResult{self, r->value.semantics, r->value.value, r->time};
         });
@@ -106,13 +114,16 @@ void BindPoseQueries(GraphClass& graph) {
       SEMGRAPH_POSE_ARGS, SEMGRAPH_TIME_ARGS,
       Doc("The position of the origin of `of` (or `point`) relative to the origin of `wrt` (or "
           "`ref_point`), in `expressed_in` (a Position). Orientation names are ignored.\n",
-          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str()).c_str());
-  graph.def("orientation",
+          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str())
+          .c_str());
+  graph.def(
+      "orientation",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation,
          py::handle not_before, py::handle ref_at, py::handle fixed) {
-        const TimeQuery t = TimeQueryArgs("orientation", at, max_extrapolation, not_before, ref_at, fixed, true);
+        const TimeQuery t =
+            TimeQueryArgs("orientation", at, max_extrapolation, not_before, ref_at, fixed, true);
         const PoseNames n = ReadPoseNames("orientation", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
@@ -127,7 +138,8 @@ void BindPoseQueries(GraphClass& graph) {
           auto r = t.kind == TimeQuery::Kind::kTravel ? g.GetOrientation(spec, *t.travel)
                                                       : g.GetOrientation(spec, t.policy);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          OrientationResult out = MakeOrientationResult<B>(self, r->value.semantics, r->value.value);
+          OrientationResult out =
+              MakeOrientationResult<B>(self, r->value.semantics, r->value.value);
           out.time = r->time;
           return out;
         });
@@ -135,7 +147,8 @@ void BindPoseQueries(GraphClass& graph) {
       SEMGRAPH_POSE_ARGS, SEMGRAPH_TIME_ARGS,
       Doc("The orientation of [of] (or [orientation]) relative to [wrt] (or [ref_orientation]), "
           "in `expressed_in` (an Orientation). Point names are ignored.\n",
-          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str()).c_str());
+          (std::string(kPoseNamesDoc) + kTimeDoc + kQueryErrors).c_str())
+          .c_str());
 }
 
 void BindTwistQueries(GraphClass& graph) {
@@ -149,12 +162,14 @@ Names (keyword-only):
   body          the moving body C (default: the body of `point`'s frame)
   ref_body      the reference body D
   expressed_in  the coordinate frame [r])";
-  graph.def("twist",
+  graph.def(
+      "twist",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in, py::handle at, py::handle max_extrapolation, py::handle not_before,
-         py::handle source) {
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle not_before, py::handle source) {
         const core::TwistSpec spec = ReadTwistSpec("twist", point, body, ref_body, expressed_in);
-        const TimeQuery t = TimeQueryArgs("twist", at, max_extrapolation, not_before, py::none(), py::none(), false);
+        const TimeQuery t = TimeQueryArgs("twist", at, max_extrapolation, not_before, py::none(),
+                                          py::none(), false);
         const core::TwistSource src = TwistSourceArg(source, "twist");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
@@ -170,15 +185,17 @@ Names (keyword-only):
       },
       SEMGRAPH_TWIST_ARGS, SEMGRAPH_TWIST_TIME_ARGS,
       Doc("The twist of `body` at `point` relative to `ref_body`, in `expressed_in` (a Twist).\n",
-          (std::string(kTwistNamesDoc) + kTwistTimeDoc + kQueryErrors).c_str()).c_str());
-  graph.def("linear_velocity",
+          (std::string(kTwistNamesDoc) + kTwistTimeDoc + kQueryErrors).c_str())
+          .c_str());
+  graph.def(
+      "linear_velocity",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
-         py::handle expressed_in, py::handle at, py::handle max_extrapolation, py::handle not_before,
-         py::handle source) {
+         py::handle expressed_in, py::handle at, py::handle max_extrapolation,
+         py::handle not_before, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("linear_velocity", point, body, ref_body, expressed_in);
-        const TimeQuery t =
-            TimeQueryArgs("linear_velocity", at, max_extrapolation, not_before, py::none(), py::none(), false);
+        const TimeQuery t = TimeQueryArgs("linear_velocity", at, max_extrapolation, not_before,
+                                          py::none(), py::none(), false);
         const core::TwistSource src = TwistSourceArg(source, "linear_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
@@ -195,14 +212,16 @@ Names (keyword-only):
       SEMGRAPH_TWIST_ARGS, SEMGRAPH_TWIST_TIME_ARGS,
       Doc("The velocity of the point of `body` at `point` relative to `ref_body`, in "
           "`expressed_in` (a LinearVelocity).\n",
-          (std::string(kTwistNamesDoc) + kTwistTimeDoc + kQueryErrors).c_str()).c_str());
-  graph.def("angular_velocity",
-      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in, py::handle at,
-         py::handle max_extrapolation, py::handle not_before, py::handle source) {
+          (std::string(kTwistNamesDoc) + kTwistTimeDoc + kQueryErrors).c_str())
+          .c_str());
+  graph.def(
+      "angular_velocity",
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in,
+         py::handle at, py::handle max_extrapolation, py::handle not_before, py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("angular_velocity", py::none(), body, ref_body, expressed_in);
-        const TimeQuery t =
-            TimeQueryArgs("angular_velocity", at, max_extrapolation, not_before, py::none(), py::none(), false);
+        const TimeQuery t = TimeQueryArgs("angular_velocity", at, max_extrapolation, not_before,
+                                          py::none(), py::none(), false);
         const core::TwistSource src = TwistSourceArg(source, "angular_velocity");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
@@ -219,14 +238,17 @@ Names (keyword-only):
       py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
       py::arg("expressed_in") = py::none(), SEMGRAPH_TWIST_TIME_ARGS,
       Doc("The angular velocity of `body` relative to `ref_body`, in `expressed_in` (an "
-          "AngularVelocity). No point is needed.\n", (std::string(kTwistTimeDoc) + kQueryErrors).c_str()).c_str());
+          "AngularVelocity). No point is needed.\n",
+          (std::string(kTwistTimeDoc) + kQueryErrors).c_str())
+          .c_str());
 }
 
 void BindCompilePoseQueries(GraphClass& graph) {
-  graph.def("compile_pose",
+  graph.def(
+      "compile_pose",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in) {
+         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
+         py::handle expressed_in) {
         const PoseNames n = ReadPoseNames("compile_pose", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
@@ -239,10 +261,11 @@ void BindCompilePoseQueries(GraphClass& graph) {
       },
       SEMGRAPH_POSE_ARGS,
       "The pose query of pose(), compiled (a CompiledPose); the same QueryErrors as pose().");
-  graph.def("compile_position",
+  graph.def(
+      "compile_position",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in) {
+         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
+         py::handle expressed_in) {
         const PoseNames n = ReadPoseNames("compile_position", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
@@ -250,15 +273,16 @@ void BindCompilePoseQueries(GraphClass& graph) {
         return b.Visit([&](const auto& g) {
           auto r = g.CompilePosition(spec);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          return std::make_shared<CompiledPositionObject>(CompiledPositionObject{self, std::move(*r)});
+          return std::make_shared<CompiledPositionObject>(
+              CompiledPositionObject{self, std::move(*r)});
         });
       },
-      SEMGRAPH_POSE_ARGS,
-      "The query of position(), compiled (a CompiledPosition).");
-  graph.def("compile_orientation",
+      SEMGRAPH_POSE_ARGS, "The query of position(), compiled (a CompiledPosition).");
+  graph.def(
+      "compile_orientation",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point,
-         py::handle ref_orientation, py::handle expressed_in) {
+         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
+         py::handle expressed_in) {
         const PoseNames n = ReadPoseNames("compile_orientation", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
@@ -270,29 +294,33 @@ void BindCompilePoseQueries(GraphClass& graph) {
               CompiledOrientationObject{self, std::move(*r)});
         });
       },
-      SEMGRAPH_POSE_ARGS,
-      "The query of orientation(), compiled (a CompiledOrientation).");
+      SEMGRAPH_POSE_ARGS, "The query of orientation(), compiled (a CompiledOrientation).");
 }
 
 void BindCompileTwistQueries(GraphClass& graph) {
-  graph.def("compile_twist",
+  graph.def(
+      "compile_twist",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
          py::handle expressed_in, py::handle source) {
-        const core::TwistSpec spec = ReadTwistSpec("compile_twist", point, body, ref_body, expressed_in);
+        const core::TwistSpec spec =
+            ReadTwistSpec("compile_twist", point, body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, "compile_twist");
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
           auto r = g.CompileTwist(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
-          auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
+          auto c = std::make_shared<CompiledTwistObject>(
+              CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kTwist;
           return c;
         });
       },
       SEMGRAPH_TWIST_ARGS, py::arg("source") = py::none(),
-      "The query of twist(), compiled (a CompiledTwist returning Twist). source: 'twists' (default) "
+      "The query of twist(), compiled (a CompiledTwist returning Twist). source: 'twists' "
+      "(default) "
       "or 'poses' (the pose history's time derivative; evaluate under a time policy).");
-  graph.def("compile_linear_velocity",
+  graph.def(
+      "compile_linear_velocity",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
          py::handle expressed_in, py::handle source) {
         const core::TwistSpec spec =
@@ -310,17 +338,21 @@ void BindCompileTwistQueries(GraphClass& graph) {
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           // From poses there is no untimed query to ask: the linear part of the compiled twist.
           if (src == core::TwistSource::kPoses) linear = semantics::LinearOf(r->semantics());
-          auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
+          auto c = std::make_shared<CompiledTwistObject>(
+              CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kLinear;
           c->linear_semantics = linear;
           return c;
         });
       },
       SEMGRAPH_TWIST_ARGS, py::arg("source") = py::none(),
-      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity); source as "
+      "The query of linear_velocity(), compiled (a CompiledTwist returning LinearVelocity); source "
+      "as "
       "compile_twist.");
-  graph.def("compile_angular_velocity",
-      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in, py::handle source) {
+  graph.def(
+      "compile_angular_velocity",
+      [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in,
+         py::handle source) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_angular_velocity", py::none(), body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, "compile_angular_velocity");
@@ -338,7 +370,8 @@ void BindCompileTwistQueries(GraphClass& graph) {
           auto r = g.CompileTwist(at_r, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           if (src == core::TwistSource::kPoses) angular = semantics::AngularOf(r->semantics());
-          auto c = std::make_shared<CompiledTwistObject>(CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
+          auto c = std::make_shared<CompiledTwistObject>(
+              CompiledTwistObject{self, std::move(*r), CompiledKind::kTwist, {}, {}});
           c->kind = CompiledKind::kAngular;
           c->angular_semantics = angular;
           return c;
@@ -346,7 +379,8 @@ void BindCompileTwistQueries(GraphClass& graph) {
       },
       py::kw_only(), py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
       py::arg("expressed_in") = py::none(), py::arg("source") = py::none(),
-      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity); source as "
+      "The query of angular_velocity(), compiled (a CompiledTwist returning AngularVelocity); "
+      "source as "
       "compile_twist.");
 }
 

@@ -15,7 +15,8 @@ std::optional<core::RepairPolicy> RepairArg(py::handle repair, const char* fn) {
     return std::nullopt;
   }
   if (py::isinstance<core::RepairPolicy>(repair)) return repair.cast<core::RepairPolicy>();
-  throw py::type_error(std::string(fn) + "(): repair must be a bool or a RepairPolicy, not " + TypeName(repair));
+  throw py::type_error(std::string(fn) + "(): repair must be a bool or a RepairPolicy, not " +
+                       TypeName(repair));
 }
 
 namespace {
@@ -27,7 +28,9 @@ std::string Number(double x) {
 }  // namespace
 
 void BindRepair(py::module_& m) {
-  py::class_<core::RepairPolicy>(m, "RepairPolicy", R"(How add_pose / add_twist(..., repair=) repairs a rejected relation (docs/repair.md).
+  py::class_<core::RepairPolicy>(
+      m, "RepairPolicy",
+      R"(How add_pose / add_twist(..., repair=) repairs a rejected relation (docs/repair.md).
 
 invert              P1 multiple_pose_parents / W1 multiple_twist_parents: add the inverse
                     relation instead [True]
@@ -40,10 +43,12 @@ angle_tolerance     rad (rad/s for twists) [1e-9]
 Each strategy is tried only for the rule it answers; others keep their error.)")
       .def(py::init([](bool invert, bool reroot, bool check_consistency, double position_tolerance,
                        double angle_tolerance) {
-             return core::RepairPolicy{invert, reroot, check_consistency, position_tolerance, angle_tolerance};
+             return core::RepairPolicy{invert, reroot, check_consistency, position_tolerance,
+                                       angle_tolerance};
            }),
-           py::kw_only(), py::arg("invert") = true, py::arg("reroot") = true, py::arg("check_consistency") = true,
-           py::arg("position_tolerance") = 1e-9, py::arg("angle_tolerance") = 1e-9)
+           py::kw_only(), py::arg("invert") = true, py::arg("reroot") = true,
+           py::arg("check_consistency") = true, py::arg("position_tolerance") = 1e-9,
+           py::arg("angle_tolerance") = 1e-9)
       .def_readwrite("invert", &core::RepairPolicy::invert)
       .def_readwrite("reroot", &core::RepairPolicy::reroot)
       .def_readwrite("check_consistency", &core::RepairPolicy::check_consistency)
@@ -52,10 +57,12 @@ Each strategy is tried only for the rule it answers; others keep their error.)")
       .def("__repr__", [](const core::RepairPolicy& p) {
         auto b = [](bool x) { return x ? std::string("True") : std::string("False"); };
         return "RepairPolicy(invert=" + b(p.invert) + ", reroot=" + b(p.reroot) +
-               ", check_consistency=" + b(p.check_consistency) + ", position_tolerance=" +
-               Number(p.position_tolerance) + ", angle_tolerance=" + Number(p.angle_tolerance) + ")";
+               ", check_consistency=" + b(p.check_consistency) +
+               ", position_tolerance=" + Number(p.position_tolerance) +
+               ", angle_tolerance=" + Number(p.angle_tolerance) + ")";
       });
-  py::class_<core::RepairReport>(m, "RepairReport", R"(What add_pose / add_twist(..., repair=) did (its return value).
+  py::class_<core::RepairReport>(m, "RepairReport",
+                                 R"(What add_pose / add_twist(..., repair=) did (its return value).
 
 applied         'none' (accepted as given), 'inverted' (the inverse relation was added),
                 'rerooted' (a tree was re-rooted, then the inverse added), 'consistent' (already
@@ -64,19 +71,23 @@ change          the relation actually added, or why it was a no-op
 reversed_edges  'rerooted': the number of pose edges reversed (their handles and the compiled
                 queries reading them are invalidated)
 discrepancy     'consistent': (position, angle), the measured difference; None otherwise)")
-      .def_property_readonly("applied", [](const core::RepairReport& r) { return std::string(ToString(r.applied)); })
+      .def_property_readonly(
+          "applied", [](const core::RepairReport& r) { return std::string(ToString(r.applied)); })
       .def_readonly("change", &core::RepairReport::change)
       .def_readonly("reversed_edges", &core::RepairReport::reversed_edges)
-      .def_property_readonly("discrepancy", [](const core::RepairReport& r) -> py::object {
-        if (r.applied != core::RepairKind::kConsistent) return py::none();
-        return py::make_tuple(r.discrepancy.position, r.discrepancy.angle);
-      })
+      .def_property_readonly("discrepancy",
+                             [](const core::RepairReport& r) -> py::object {
+                               if (r.applied != core::RepairKind::kConsistent) return py::none();
+                               return py::make_tuple(r.discrepancy.position, r.discrepancy.angle);
+                             })
       .def("__repr__", [](const core::RepairReport& r) {
         std::string out = "RepairReport(applied='" + std::string(ToString(r.applied)) + "'";
         if (!r.change.empty()) out += ", change='" + r.change + "'";
-        if (r.applied == core::RepairKind::kRerooted) out += ", reversed_edges=" + std::to_string(r.reversed_edges);
+        if (r.applied == core::RepairKind::kRerooted)
+          out += ", reversed_edges=" + std::to_string(r.reversed_edges);
         if (r.applied == core::RepairKind::kConsistent) {
-          out += ", discrepancy=(" + Number(r.discrepancy.position) + ", " + Number(r.discrepancy.angle) + ")";
+          out += ", discrepancy=(" + Number(r.discrepancy.position) + ", " +
+                 Number(r.discrepancy.angle) + ")";
         }
         return out + ")";
       });

@@ -15,9 +15,9 @@
 
 #include "common.h"
 #include "docstrings.h"
-#include "timed.h"
 #include "semgraph/coord/validate.h"
 #include "semgraph/core/scene_graph_debug.h"
+#include "timed.h"
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
 #include "semgraph/script/scene_script.h"
@@ -29,12 +29,12 @@ GraphBox::GraphBox(bool homogeneous)
     : graph(homogeneous ? decltype(graph)(std::in_place_index<1>)
                         : decltype(graph)(std::in_place_index<0>)) {}
 GraphBox::GraphBox(bool, QuaternionGraph&& made) : graph(std::in_place_index<0>, std::move(made)) {}
-GraphBox::GraphBox(bool, HomogeneousGraph&& made) : graph(std::in_place_index<1>, std::move(made)) {}
+GraphBox::GraphBox(bool, HomogeneousGraph&& made)
+    : graph(std::in_place_index<1>, std::move(made)) {}
 
 const char* GraphBox::representation() const noexcept {
-  return Visit([](const auto& g) -> const char* {
-    return std::decay_t<decltype(g)>::Backend::kName;
-  });
+  return Visit(
+      [](const auto& g) -> const char* { return std::decay_t<decltype(g)>::Backend::kName; });
 }
 
 const semantics::NameTable& GraphBox::names() const noexcept {
@@ -44,19 +44,22 @@ const semantics::NameTable& GraphBox::names() const noexcept {
 namespace {
 
 GraphPtr Make(py::handle representation, py::handle window, py::handle interpolation,
-               py::handle duplicate_stamp, py::handle sample_capacity) {
+              py::handle duplicate_stamp, py::handle sample_capacity) {
   const std::string_view r = NameArg(representation, "SceneGraph", "representation");
   if (!(r == "quaternion" || r.empty() || r == "homogeneous")) {
-    throw py::value_error("SceneGraph(): representation must be 'quaternion' or 'homogeneous', not '" +
-                          std::string(r) + "'");
+    throw py::value_error(
+        "SceneGraph(): representation must be 'quaternion' or 'homogeneous', not '" +
+        std::string(r) + "'");
   }
   const bool homogeneous = r == "homogeneous";
-  if (window.is_none() && interpolation.is_none() && duplicate_stamp.is_none() && sample_capacity.is_none()) {
+  if (window.is_none() && interpolation.is_none() && duplicate_stamp.is_none() &&
+      sample_capacity.is_none()) {
     return std::make_shared<GraphBox>(homogeneous);
   }
   core::TimeOptions options;
   if (!window.is_none()) {
-    options.window = core::Duration::Nanoseconds(NanosecondsArg(window, "SceneGraph", "window", false));
+    options.window =
+        core::Duration::Nanoseconds(NanosecondsArg(window, "SceneGraph", "window", false));
   }
   if (!interpolation.is_none()) {
     const std::string_view i = NameArg(interpolation, "SceneGraph", "interpolation");
@@ -65,7 +68,8 @@ GraphPtr Make(py::handle representation, py::handle window, py::handle interpola
     } else if (i == "linear") {
       options.interpolation = core::Interpolation::kLinear;
     } else {
-      throw py::value_error("SceneGraph(): interpolation must be 'screw' or 'linear', not '" + std::string(i) + "'");
+      throw py::value_error("SceneGraph(): interpolation must be 'screw' or 'linear', not '" +
+                            std::string(i) + "'");
     }
   }
   if (!duplicate_stamp.is_none()) {
@@ -75,13 +79,14 @@ GraphPtr Make(py::handle representation, py::handle window, py::handle interpola
     } else if (d == "reject") {
       options.duplicate_stamp = core::DuplicatePolicy::kReject;
     } else {
-      throw py::value_error("SceneGraph(): duplicate_stamp must be 'replace' or 'reject', not '" + std::string(d) +
-                            "'");
+      throw py::value_error("SceneGraph(): duplicate_stamp must be 'replace' or 'reject', not '" +
+                            std::string(d) + "'");
     }
   }
   if (!sample_capacity.is_none()) {
     if (PyBool_Check(sample_capacity.ptr()) || !PyIndex_Check(sample_capacity.ptr())) {
-      throw py::type_error("SceneGraph(): sample_capacity must be an int, not " + TypeName(sample_capacity));
+      throw py::type_error("SceneGraph(): sample_capacity must be an int, not " +
+                           TypeName(sample_capacity));
     }
     const auto n = sample_capacity.cast<long long>();
     // Negative: below the core's minimum of 2, which it refuses with its own message.
@@ -98,12 +103,11 @@ GraphPtr Make(py::handle representation, py::handle window, py::handle interpola
 }
 
 // add_pose(): a timeless, stamped or repaired add (the docstring in BindBuild).
-py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt,
-                   py::handle ref_body, py::handle point, py::handle orientation,
-                   py::handle ref_point, py::handle ref_orientation, py::handle expressed_in,
-                   py::handle position, py::handle rotation, py::handle quaternion,
-                   py::handle rotation_matrix, py::handle rpy, py::handle stamp,
-                   py::handle repair) {
+py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
+                   py::handle point, py::handle orientation, py::handle ref_point,
+                   py::handle ref_orientation, py::handle expressed_in, py::handle position,
+                   py::handle rotation, py::handle quaternion, py::handle rotation_matrix,
+                   py::handle rpy, py::handle stamp, py::handle repair) {
   const PoseNames n = ReadPoseNames("add_pose", of, body, wrt, ref_body, point, orientation,
                                     ref_point, ref_orientation, expressed_in);
   const Eigen::Vector3d p = Vector3Arg(position, "add_pose", "position");
@@ -111,8 +115,9 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt,
   const std::optional<core::Stamp> t = OptionalStampArg(stamp, "add_pose", "stamp", false);
   const std::optional<core::RepairPolicy> policy = RepairArg(repair, "add_pose");
   if (t && policy) {
-    throw py::value_error("add_pose(): stamp= and repair= cannot be combined (repair applies to "
-                          "timeless relations)");
+    throw py::value_error(
+        "add_pose(): stamp= and repair= cannot be combined (repair applies to "
+        "timeless relations)");
   }
   const core::PoseSpec spec = n.Spec();
   std::lock_guard<std::mutex> lock(b.writer);
@@ -147,8 +152,9 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
   const std::optional<core::Stamp> t = OptionalStampArg(stamp, "add_twist", "stamp", false);
   const std::optional<core::RepairPolicy> policy = RepairArg(repair, "add_twist");
   if (t && policy) {
-    throw py::value_error("add_twist(): stamp= and repair= cannot be combined (repair applies "
-                          "to timeless relations)");
+    throw py::value_error(
+        "add_twist(): stamp= and repair= cannot be combined (repair applies "
+        "to timeless relations)");
   }
   std::lock_guard<std::mutex> lock(b.writer);
   if (policy) {
@@ -158,15 +164,16 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
       return py::cast(std::move(*r));
     });
   }
-  Check(b.Visit(
-      [&](auto& g) { return t ? g.AddTwist(spec, v, w, *t) : g.AddTwist(spec, v, w); }));
+  Check(b.Visit([&](auto& g) { return t ? g.AddTwist(spec, v, w, *t) : g.AddTwist(spec, v, w); }));
   return py::none();
 }
 
 }  // namespace
 
 GraphClass BindSceneGraph(py::module_& m) {
-  GraphClass graph(m, "SceneGraph", R"(A constraint-checking scene graph of poses and twists of rigid bodies (De Laet et al.,
+  GraphClass graph(
+      m, "SceneGraph",
+      R"(A constraint-checking scene graph of poses and twists of rigid bodies (De Laet et al.,
 IROS 2013).
 
 Bodies contain frames; pose edges {wrt} -> {of} store the pose of a frame relative to another,
@@ -194,19 +201,23 @@ duplicate_stamp  'replace' [default] or 'reject' (another value at an existing s
                  refused with duplicate_stamp)
 sample_capacity  samples per stamped edge, preallocated when the edge gets its first stamp [1024]
 RejectedError invalid_number: a window that is not positive, a sample_capacity below 2.)");
-  graph.def_property_readonly("time_options", [](const GraphBox& b) {
-    return b.Visit([](const auto& g) {
-      const core::TimeOptions& o = g.time_options();
-      py::dict d;
-      d["window"] = static_cast<double>(o.window.nanoseconds()) / 1e9;
-      d["window_ns"] = o.window.nanoseconds();
-      d["interpolation"] = o.interpolation == core::Interpolation::kScrew ? "screw" : "linear";
-      d["duplicate_stamp"] = o.duplicate_stamp == core::DuplicatePolicy::kReplace ? "replace" : "reject";
-      d["sample_capacity"] = o.sample_capacity;
-      return d;
-    });
-  }, "The graph's time options as a dict: window (s), window_ns, interpolation, duplicate_stamp, "
-     "sample_capacity.");
+  graph.def_property_readonly(
+      "time_options",
+      [](const GraphBox& b) {
+        return b.Visit([](const auto& g) {
+          const core::TimeOptions& o = g.time_options();
+          py::dict d;
+          d["window"] = static_cast<double>(o.window.nanoseconds()) / 1e9;
+          d["window_ns"] = o.window.nanoseconds();
+          d["interpolation"] = o.interpolation == core::Interpolation::kScrew ? "screw" : "linear";
+          d["duplicate_stamp"] =
+              o.duplicate_stamp == core::DuplicatePolicy::kReplace ? "replace" : "reject";
+          d["sample_capacity"] = o.sample_capacity;
+          return d;
+        });
+      },
+      "The graph's time options as a dict: window (s), window_ns, interpolation, duplicate_stamp, "
+      "sample_capacity.");
   graph.def_property_readonly("representation", &GraphBox::representation,
                               "'quaternion' or 'homogeneous'.");
   graph.def_property_readonly("num_frames", [](const GraphBox& b) {
@@ -221,61 +232,79 @@ RejectedError invalid_number: a window that is not positive, a sample_capacity b
   graph.def_property_readonly("num_twist_edges", [](const GraphBox& b) {
     return b.Visit([](const auto& g) { return g.num_twist_edges(); });
   });
-  graph.def_property_readonly("frames", [](const GraphBox& b) {
-    return b.Visit([](const auto& g) {
-      std::vector<std::string> out;
-      for (std::uint32_t i = 0; i < g.num_frames(); ++i) out.emplace_back(g.frame_name(core::FrameIndex(i)));
-      return out;
-    });
-  }, "Frame names, in creation order.");
-  graph.def_property_readonly("bodies", [](const GraphBox& b) {
-    return b.Visit([](const auto& g) {
-      std::vector<std::string> out;
-      for (std::uint32_t i = 0; i < g.num_bodies(); ++i) out.emplace_back(g.body_name(core::BodyIndex(i)));
-      return out;
-    });
-  }, "Body names, in creation order.");
-  graph.def("body_of", [](const GraphBox& b, py::handle frame) -> py::object {
-    const std::string_view name = NameArg(frame, "body_of", "frame");
-    return b.Visit([&](const auto& g) -> py::object {
-      const core::FrameIndex f = g.FindFrame(name);
-      if (!f.is_valid()) return py::none();
-      return py::str(std::string(g.body_name(g.body_of(f))));
-    });
-  }, py::arg("frame"), "The name of the body a frame is fixed to, or None for an unknown frame.");
+  graph.def_property_readonly(
+      "frames",
+      [](const GraphBox& b) {
+        return b.Visit([](const auto& g) {
+          std::vector<std::string> out;
+          for (std::uint32_t i = 0; i < g.num_frames(); ++i)
+            out.emplace_back(g.frame_name(core::FrameIndex(i)));
+          return out;
+        });
+      },
+      "Frame names, in creation order.");
+  graph.def_property_readonly(
+      "bodies",
+      [](const GraphBox& b) {
+        return b.Visit([](const auto& g) {
+          std::vector<std::string> out;
+          for (std::uint32_t i = 0; i < g.num_bodies(); ++i)
+            out.emplace_back(g.body_name(core::BodyIndex(i)));
+          return out;
+        });
+      },
+      "Body names, in creation order.");
+  graph.def(
+      "body_of",
+      [](const GraphBox& b, py::handle frame) -> py::object {
+        const std::string_view name = NameArg(frame, "body_of", "frame");
+        return b.Visit([&](const auto& g) -> py::object {
+          const core::FrameIndex f = g.FindFrame(name);
+          if (!f.is_valid()) return py::none();
+          return py::str(std::string(g.body_name(g.body_of(f))));
+        });
+      },
+      py::arg("frame"), "The name of the body a frame is fixed to, or None for an unknown frame.");
   graph.def("__repr__", [](const GraphBox& b) {
     return b.Visit([&](const auto& g) {
-      return "SceneGraph(representation='" + std::string(b.representation()) + "', frames=" +
-             std::to_string(g.num_frames()) + ", bodies=" + std::to_string(g.num_bodies()) +
-             ", pose_edges=" + std::to_string(g.num_pose_edges()) + ", twist_edges=" +
-             std::to_string(g.num_twist_edges()) + ")";
+      return "SceneGraph(representation='" + std::string(b.representation()) +
+             "', frames=" + std::to_string(g.num_frames()) +
+             ", bodies=" + std::to_string(g.num_bodies()) +
+             ", pose_edges=" + std::to_string(g.num_pose_edges()) +
+             ", twist_edges=" + std::to_string(g.num_twist_edges()) + ")";
     });
   });
   return graph;
 }
 
 void BindBuild(GraphClass& graph) {
-  graph.def("add_body", [](GraphBox& b, py::handle name) {
-    const std::string_view n = NameArg(name, "add_body", "name");
-    std::lock_guard<std::mutex> lock(b.writer);
-    Check(b.Visit([&](auto& g) { return g.AddBody(n); }));
-  }, py::arg("name"), "Adds a body. RejectedError: invalid_name, duplicate_body.");
-  graph.def("add_frame", [](GraphBox& b, py::handle name, py::handle body) {
-    const std::string_view n = NameArg(name, "add_frame", "name");
-    const std::string_view bd = NameArg(body, "add_frame", "body");
-    std::lock_guard<std::mutex> lock(b.writer);
-    Check(b.Visit([&](auto& g) { return g.AddFrame(n, bd); }));
-  }, py::arg("name"), py::arg("body"),
-     "Adds a frame fixed to an existing body. RejectedError: invalid_name, frame_without_body, "
-     "duplicate_frame, unknown_body.");
-  graph.def("add_pose", &AddPose, py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),
-      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("point") = py::none(), py::arg("orientation") = py::none(),
-      py::arg("ref_point") = py::none(), py::arg("ref_orientation") = py::none(),
-      py::arg("expressed_in") = py::none(), py::arg("position") = py::none(),
-      py::arg("rotation") = py::none(), py::arg("quaternion") = py::none(),
-      py::arg("rotation_matrix") = py::none(), py::arg("rpy") = py::none(),
-      py::arg("stamp") = py::none(), py::arg("repair") = py::none(),
+  graph.def(
+      "add_body",
+      [](GraphBox& b, py::handle name) {
+        const std::string_view n = NameArg(name, "add_body", "name");
+        std::lock_guard<std::mutex> lock(b.writer);
+        Check(b.Visit([&](auto& g) { return g.AddBody(n); }));
+      },
+      py::arg("name"), "Adds a body. RejectedError: invalid_name, duplicate_body.");
+  graph.def(
+      "add_frame",
+      [](GraphBox& b, py::handle name, py::handle body) {
+        const std::string_view n = NameArg(name, "add_frame", "name");
+        const std::string_view bd = NameArg(body, "add_frame", "body");
+        std::lock_guard<std::mutex> lock(b.writer);
+        Check(b.Visit([&](auto& g) { return g.AddFrame(n, bd); }));
+      },
+      py::arg("name"), py::arg("body"),
+      "Adds a frame fixed to an existing body. RejectedError: invalid_name, frame_without_body, "
+      "duplicate_frame, unknown_body.");
+  graph.def(
+      "add_pose", &AddPose, py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),
+      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(), py::arg("point") = py::none(),
+      py::arg("orientation") = py::none(), py::arg("ref_point") = py::none(),
+      py::arg("ref_orientation") = py::none(), py::arg("expressed_in") = py::none(),
+      py::arg("position") = py::none(), py::arg("rotation") = py::none(),
+      py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
+      py::arg("rpy") = py::none(), py::arg("stamp") = py::none(), py::arg("repair") = py::none(),
       Doc(R"(Adds the pose of `of` (body `body`) relative to `wrt` (body `ref_body`), stored as the
 edge {wrt} -> {of}, or updates the value of that existing edge. Frames and bodies that do not
 exist yet are created. A pose in a non-edge form (other point, reference point or coordinate
@@ -292,12 +321,15 @@ multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, jo
 with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation (a conversion at a
 stamp the other edges have no values for); with repair a refused consistency check keeps its
 code and has .discrepancy = (position, angle).
-)", (std::string(kPoseNamesDoc) + kRotationDoc).c_str()).c_str());
-  graph.def("add_twist", &AddTwist, py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),
-      py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none(),
-      py::arg("linear") = py::none(), py::arg("angular") = py::none(),
-      py::arg("stamp") = py::none(), py::arg("repair") = py::none(),
-      R"(Adds the twist of body `body` (default: the body of frame `point`) relative to body
+)",
+          (std::string(kPoseNamesDoc) + kRotationDoc).c_str())
+          .c_str());
+  graph.def("add_twist", &AddTwist, py::kw_only(), py::arg("point") = py::none(),
+            py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
+            py::arg("expressed_in") = py::none(), py::arg("linear") = py::none(),
+            py::arg("angular") = py::none(), py::arg("stamp") = py::none(),
+            py::arg("repair") = py::none(),
+            R"(Adds the twist of body `body` (default: the body of frame `point`) relative to body
 `ref_body`, as the twist edge ref_body -> {point}, or updates it.
 linear: velocity of the point of `body` at the origin of `point`; angular: angular velocity;
 both expressed in [expressed_in] (converted to [point] once when different); default zero.
@@ -307,51 +339,66 @@ reference body) or duplicate_twist_path (consistency check); returns a RepairRep
 RejectedError: invalid_name, invalid_number, unknown_frame, unknown_body, frame_body_mismatch,
 twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path,
 joint_edge; with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation.)");
-  graph.def("remove_pose", [](GraphBox& b, py::handle of, py::handle wrt) {
-    const std::string_view o = NameArg(of, "remove_pose", "of");
-    const std::string_view w = NameArg(wrt, "remove_pose", "wrt");
-    std::lock_guard<std::mutex> lock(b.writer);
-    Check(b.Visit([&](auto& g) { return g.RemovePose(o, w); }));
-    ++b.topology_generation;
-  }, py::kw_only(), py::arg("of"), py::arg("wrt"),
-     "Removes the pose edge {wrt} -> {of}. RejectedError: invalid_name, unknown_frame, "
-     "no_such_edge. Compiled queries and handles that read it become invalid.");
-  graph.def("remove_twist", [](GraphBox& b, py::handle point, py::handle ref_body) {
-    const std::string_view p = NameArg(point, "remove_twist", "point");
-    const std::string_view r = NameArg(ref_body, "remove_twist", "ref_body");
-    std::lock_guard<std::mutex> lock(b.writer);
-    Check(b.Visit([&](auto& g) { return g.RemoveTwist(p, r); }));
-    ++b.topology_generation;
-  }, py::kw_only(), py::arg("point"), py::arg("ref_body"),
-     "Removes the twist edge ref_body -> {point}. RejectedError: invalid_name, unknown_frame, "
-     "unknown_body, no_such_edge.");
+  graph.def(
+      "remove_pose",
+      [](GraphBox& b, py::handle of, py::handle wrt) {
+        const std::string_view o = NameArg(of, "remove_pose", "of");
+        const std::string_view w = NameArg(wrt, "remove_pose", "wrt");
+        std::lock_guard<std::mutex> lock(b.writer);
+        Check(b.Visit([&](auto& g) { return g.RemovePose(o, w); }));
+        ++b.topology_generation;
+      },
+      py::kw_only(), py::arg("of"), py::arg("wrt"),
+      "Removes the pose edge {wrt} -> {of}. RejectedError: invalid_name, unknown_frame, "
+      "no_such_edge. Compiled queries and handles that read it become invalid.");
+  graph.def(
+      "remove_twist",
+      [](GraphBox& b, py::handle point, py::handle ref_body) {
+        const std::string_view p = NameArg(point, "remove_twist", "point");
+        const std::string_view r = NameArg(ref_body, "remove_twist", "ref_body");
+        std::lock_guard<std::mutex> lock(b.writer);
+        Check(b.Visit([&](auto& g) { return g.RemoveTwist(p, r); }));
+        ++b.topology_generation;
+      },
+      py::kw_only(), py::arg("point"), py::arg("ref_body"),
+      "Removes the twist edge ref_body -> {point}. RejectedError: invalid_name, unknown_frame, "
+      "unknown_body, no_such_edge.");
 }
 
 void BindInspection(GraphClass& graph) {
-  graph.def("dump", [](const GraphBox& b) { return b.Visit([](const auto& g) { return Dump(g); }); },
-            "A canonical, complete text dump of the graph (names, topology, values), e.g. to "
-            "compare states.");
-  graph.def("check_invariants",
-            [](const GraphBox& b) { return b.Visit([](const auto& g) { return CheckInvariants(g); }); },
-            "Verifies every invariant of the graph from scratch (slow); '' when all hold.");
-  graph.def("dot", [](const GraphBox& b) -> std::string {
+  graph.def(
+      "dump", [](const GraphBox& b) { return b.Visit([](const auto& g) { return Dump(g); }); },
+      "A canonical, complete text dump of the graph (names, topology, values), e.g. to "
+      "compare states.");
+  graph.def(
+      "check_invariants",
+      [](const GraphBox& b) { return b.Visit([](const auto& g) { return CheckInvariants(g); }); },
+      "Verifies every invariant of the graph from scratch (slow); '' when all hold.");
+  graph.def(
+      "dot",
+      [](const GraphBox& b) -> std::string {
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
-    return b.Visit([](const auto& g) { return script::WriteDot(g); });
+        return b.Visit([](const auto& g) { return script::WriteDot(g); });
 #else
-    (void)b;
-    throw std::runtime_error("dot(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
+        (void)b;
+        throw std::runtime_error(
+            "dot(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
 #endif
-  }, R"(The graph as Graphviz DOT in the style of the paper's Fig. 8: a cluster per body holding its
+      },
+      R"(The graph as Graphviz DOT in the style of the paper's Fig. 8: a cluster per body holding its
 frames, pose edges solid (tail -> head), twist edges dashed (reference body -> head frame).)");
-  graph.def("to_script", [](const GraphBox& b) -> std::string {
+  graph.def(
+      "to_script",
+      [](const GraphBox& b) -> std::string {
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
-    return b.Visit([](const auto& g) { return script::WriteScene(g); });
+        return b.Visit([](const auto& g) { return script::WriteScene(g); });
 #else
-    (void)b;
-    throw std::runtime_error(
-        "to_script(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
+        (void)b;
+        throw std::runtime_error(
+            "to_script(): semgraph was built without the tool library (SEMGRAPH_BUILD_TOOLS=OFF)");
 #endif
-  }, R"(The graph as a scene script (YAML, like `semgraph export`) that rebuilds it:
+      },
+      R"(The graph as a scene script (YAML, like `semgraph export`) that rebuilds it:
 run_script_text(g.to_script()).graph has the same names, ids, edges and values (its dump() is
 g.dump()). Save it to a file to load the scene later with run_script.)");
 }

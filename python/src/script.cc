@@ -1,6 +1,8 @@
 // semgraph.run_script support: BuildScene of the tool's public library (semgraph::script,
 // semgraph/script/scene_script.h) without the GIL, so that the results are the tool's, line for
 // line, and the graph it built becomes the run's SceneGraph.
+#include <pybind11/stl.h>
+
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -8,8 +10,6 @@
 #include <vector>
 
 #include "graph.h"
-
-#include <pybind11/stl.h>
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
 #include "semgraph/script/scene_script.h"

@@ -31,13 +31,15 @@ namespace py = pybind11;
 
 /// Nanoseconds of a time argument (the rule above); `query` picks the exception class of an
 /// out-of-range value.
-std::int64_t NanosecondsArg(py::handle value, const char* function, const char* argument, bool query);
-inline core::Stamp StampArg(py::handle value, const char* function, const char* argument, bool query) {
+std::int64_t NanosecondsArg(py::handle value, const char* function, const char* argument,
+                            bool query);
+inline core::Stamp StampArg(py::handle value, const char* function, const char* argument,
+                            bool query) {
   return core::Stamp::Nanoseconds(NanosecondsArg(value, function, argument, query));
 }
 /// None -> nullopt, else StampArg.
-std::optional<core::Stamp> OptionalStampArg(py::handle value, const char* function, const char* argument,
-                                            bool query);
+std::optional<core::Stamp> OptionalStampArg(py::handle value, const char* function,
+                                            const char* argument, bool query);
 
 /// The time policy a query's keywords ask for (see the file comment). `fixed` is a view into
 /// the Python string, valid while the argument lives.
@@ -47,8 +49,9 @@ struct TimeQuery {
   core::TimePolicy policy = core::Latest{};
   std::optional<core::TimeTravel> travel;
 };
-TimeQuery TimeQueryArgs(const char* function, py::handle at, py::handle max_extrapolation, py::handle not_before,
-                        py::handle ref_at, py::handle fixed, bool allow_travel);
+TimeQuery TimeQueryArgs(const char* function, py::handle at, py::handle max_extrapolation,
+                        py::handle not_before, py::handle ref_at, py::handle fixed,
+                        bool allow_travel);
 
 /// source=: None / 'twists' -> kTwists, 'poses' -> kPoses.
 core::TwistSource TwistSourceArg(py::handle value, const char* function);

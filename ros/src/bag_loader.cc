@@ -35,11 +35,10 @@ Expected<Ok, BagError> Decode(const BagRecord& r, const std::string& path, M& ou
   const Expected<Ok, CodecError> decoded =
       r.encoding == MessageEncoding::kCdr ? DecodeCdr(r.data, out) : DecodeRos1(r.data, out);
   if (decoded) return Ok{};
-  return Unexpected{BagError{BagErrorCode::kMalformed, path, 0,
-                             "the " + std::string(r.type_name) + " message on " +
-                                 std::string(r.topic) + " at log time " +
-                                 json::Seconds(r.log_time_ns) + " s does not decode: " +
-                                 Describe(decoded.error())}};
+  return Unexpected{BagError{
+      BagErrorCode::kMalformed, path, 0,
+      "the " + std::string(r.type_name) + " message on " + std::string(r.topic) + " at log time " +
+          json::Seconds(r.log_time_ns) + " s does not decode: " + Describe(decoded.error())}};
 }
 
 /// Reads every record of a bag, calling `visit(record)` (which may fail) for each.
@@ -121,9 +120,8 @@ Expected<BagScan, BagError> ScanBag(const std::string& path, const BagLoadOption
     auto it = std::find_if(scan.topics.begin(), scan.topics.end(),
                            [&](const TopicSummary& s) { return s.topic.name == r.topic; });
     if (it == scan.topics.end()) {
-      scan.topics.push_back({BagTopic{std::string(r.topic), std::string(r.type_name), r.encoding,
-                                      r.kind, -1},
-                             0});
+      scan.topics.push_back(
+          {BagTopic{std::string(r.topic), std::string(r.type_name), r.encoding, r.kind, -1}, 0});
       it = scan.topics.end() - 1;
     }
     ++it->messages;
@@ -198,12 +196,11 @@ Expected<BagLoadReport, BagError> LoadBag(core::SceneGraph<B>& graph, const std:
   return ApplyBag(graph, path, *scan, options, robot);
 }
 
-#define SEMGRAPH_INSTANTIATE_BAG_LOADER(B)                                                  \
-  template Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>&,                 \
-                                                      const std::string&, const BagScan&,   \
-                                                      const BagLoadOptions&,                \
-                                                      const models::Robot*);                \
-  template Expected<BagLoadReport, BagError> LoadBag(core::SceneGraph<B>&, const std::string&, \
+#define SEMGRAPH_INSTANTIATE_BAG_LOADER(B)                                                      \
+  template Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>&, const std::string&, \
+                                                      const BagScan&, const BagLoadOptions&,    \
+                                                      const models::Robot*);                    \
+  template Expected<BagLoadReport, BagError> LoadBag(core::SceneGraph<B>&, const std::string&,  \
                                                      const BagLoadOptions&, const models::Robot*);
 SEMGRAPH_INSTANTIATE_BAG_LOADER(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_BAG_LOADER(coord::HomogeneousBackend)

@@ -91,7 +91,8 @@ template <coord::Backend B>
 LiftOutcome TfLift<B>::Refuse(ErrorCode code, std::string message, std::string_view parent,
                               std::string_view child, const TransformOrigin& origin) {
   ++counts_.refused;
-  findings_.Add(FindingCode{code, false}, parent, child, origin, [&] { return std::move(message); });
+  findings_.Add(FindingCode{code, false}, parent, child, origin,
+                [&] { return std::move(message); });
   return LiftOutcome::kRefused;
 }
 
@@ -194,8 +195,9 @@ LiftOutcome TfLift<B>::CompareWithModel(std::string_view parent, std::string_vie
                                         const Eigen::Vector3d& p_PoCo_P, bool is_static,
                                         const TransformOrigin& origin) {
   const PoseSpec spec = PoseSpec::Of(child).RelativeTo(parent);
-  const auto model = is_static ? graph_.GetPose(spec, core::Latest())
-                               : graph_.GetPose(spec, core::At(Stamp::Nanoseconds(origin.stamp_ns)));
+  const auto model = is_static
+                         ? graph_.GetPose(spec, core::Latest())
+                         : graph_.GetPose(spec, core::At(Stamp::Nanoseconds(origin.stamp_ns)));
   const auto mismatch = [&](FindingCode code, std::string message) {
     ++counts_.mismatched;
     findings_.Add(code, parent, child, origin, [&] { return std::move(message); });
@@ -204,8 +206,8 @@ LiftOutcome TfLift<B>::CompareWithModel(std::string_view parent, std::string_vie
   if (!model) {  // the model has no pose there (e.g. no joint state at that stamp)
     return mismatch(FindingCode{model.error().code, false},
                     "covered by the robot model, which has no pose of {" + std::string(child) +
-                        "} wrt {" + std::string(parent) + "} at this stamp: " +
-                        graph_.Describe(model.error(), spec));
+                        "} wrt {" + std::string(parent) +
+                        "} at this stamp: " + graph_.Describe(model.error(), spec));
   }
   const Eigen::Isometry3d X_PC = model->value.ToIsometry();
   const Eigen::Quaterniond q_model(X_PC.linear());
@@ -241,9 +243,9 @@ void TfLift<B>::Apply(const JointState& state, std::string_view topic, std::int6
   };
   const std::size_t n = state.name.size();
   if (!state.position.empty() && state.position.size() != n) {
-    return refuse(ErrorCode::kInvalidNumber, "joint state with " + std::to_string(n) +
-                                                 " names and " +
-                                                 std::to_string(state.position.size()) + " positions");
+    return refuse(ErrorCode::kInvalidNumber,
+                  "joint state with " + std::to_string(n) + " names and " +
+                      std::to_string(state.position.size()) + " positions");
   }
   std::vector<core::JointValue> positions, velocities;
   for (std::size_t i = 0; i < n; ++i) {

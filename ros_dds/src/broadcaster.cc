@@ -127,8 +127,8 @@ base::Expected<std::unique_ptr<Broadcaster>, std::string> Broadcaster::Create(
   const dds_entity_t tf = internal::CreateTopic(p, RosTopic::kTf);
   const dds_entity_t st = internal::CreateTopic(p, RosTopic::kTfStatic);
   if (tf < 0 || st < 0) {
-    return base::Unexpected{internal::DdsError("cannot create rt/tf and rt/tf_static",
-                                               tf < 0 ? tf : st)};
+    return base::Unexpected{
+        internal::DdsError("cannot create rt/tf and rt/tf_static", tf < 0 ? tf : st)};
   }
   impl->tf_writer = Entity(internal::CreateWriter(p, tf, RosTopic::kTf));
   impl->static_writer = Entity(internal::CreateWriter(p, st, RosTopic::kTfStatic));
@@ -150,8 +150,8 @@ base::Expected<BroadcastCounts, std::string> Broadcaster::Broadcast() {
   m.CollectSamples(m.tf, &newest);
   m.CollectStatic(m.tf_static, 0);
   // Nothing static to say yet: no message (a graph with stamped edges only).
-  const bool static_changed = m.static_sent ? !SameContent(m.tf_static, m.last_static)
-                                            : !m.tf_static.transforms.empty();
+  const bool static_changed =
+      m.static_sent ? !SameContent(m.tf_static, m.last_static) : !m.tf_static.transforms.empty();
   if (static_changed) {
     const ros::Time stamp = internal::TimeFromNanoseconds(m.clock());
     for (ros::TransformStamped& t : m.tf_static.transforms) t.header.stamp = stamp;

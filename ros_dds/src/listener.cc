@@ -72,8 +72,8 @@ Listener::~Listener() {
   if (impl_->thread.joinable()) impl_->thread.join();
 }
 
-base::Expected<std::unique_ptr<Listener>, std::string> Listener::Create(
-    core::SceneGraph<>& graph, ListenerOptions options) {
+base::Expected<std::unique_ptr<Listener>, std::string> Listener::Create(core::SceneGraph<>& graph,
+                                                                        ListenerOptions options) {
   auto domain = internal::ResolveDomain(options.domain ? &*options.domain : nullptr);
   if (!domain) return base::Unexpected{domain.error()};
   auto plan = ros::BodyPlan::Make(options.lift);
@@ -113,9 +113,9 @@ base::Expected<std::unique_ptr<Listener>, std::string> Listener::Create(
     }
     m.readers[i] = Entity(internal::CreateReader(p, t, topic));
     if (!m.readers[i].ok()) {
-      return base::Unexpected{internal::DdsError(
-          ("cannot create the reader of " + std::string(DdsName(topic))).c_str(),
-          m.readers[i].get())};
+      return base::Unexpected{
+          internal::DdsError(("cannot create the reader of " + std::string(DdsName(topic))).c_str(),
+                             m.readers[i].get())};
     }
     const dds_entity_t c = dds_create_readcondition(m.readers[i].get(), DDS_ANY_STATE);
     if (c < 0 || dds_waitset_attach(m.waitset.get(), c, static_cast<dds_attach_t>(i + 1)) < 0) {
@@ -151,8 +151,8 @@ void Listener::Impl::Take(RosTopic topic, dds_entity_t reader) {
         a.topic = topic;
         a.source_timestamp_ns = infos[i].source_timestamp;
         a.applied_ns = dds_time();
-        a.transforms = topic == RosTopic::kTf || topic == RosTopic::kTfStatic
-                           ? tf.transforms.size() : 0;
+        a.transforms =
+            topic == RosTopic::kTf || topic == RosTopic::kTfStatic ? tf.transforms.size() : 0;
         arrivals.push_back(a);
       }
     }
@@ -212,8 +212,7 @@ void Listener::Impl::ApplyDescription(const char* xml) {
   }
   auto model = models::LoadUrdfString(*graph, text);
   if (!model) {
-    log_lines.push_back("the URDF on /robot_description does not load: " +
-                        model.error().message);
+    log_lines.push_back("the URDF on /robot_description does not load: " + model.error().message);
     return;
   }
   robot = std::move(*model);

@@ -10,20 +10,28 @@ namespace semgraph::ros_dds {
 
 std::string_view RosName(RosTopic topic) noexcept {
   switch (topic) {
-    case RosTopic::kTf: return "/tf";
-    case RosTopic::kTfStatic: return "/tf_static";
-    case RosTopic::kJointStates: return "/joint_states";
-    case RosTopic::kRobotDescription: return "/robot_description";
+    case RosTopic::kTf:
+      return "/tf";
+    case RosTopic::kTfStatic:
+      return "/tf_static";
+    case RosTopic::kJointStates:
+      return "/joint_states";
+    case RosTopic::kRobotDescription:
+      return "/robot_description";
   }
   return "";
 }
 
 std::string_view DdsName(RosTopic topic) noexcept {
   switch (topic) {
-    case RosTopic::kTf: return "rt/tf";
-    case RosTopic::kTfStatic: return "rt/tf_static";
-    case RosTopic::kJointStates: return "rt/joint_states";
-    case RosTopic::kRobotDescription: return "rt/robot_description";
+    case RosTopic::kTf:
+      return "rt/tf";
+    case RosTopic::kTfStatic:
+      return "rt/tf_static";
+    case RosTopic::kJointStates:
+      return "rt/joint_states";
+    case RosTopic::kRobotDescription:
+      return "rt/robot_description";
   }
   return "";
 }
@@ -33,9 +41,12 @@ namespace {
 const dds_topic_descriptor_t* Descriptor(RosTopic topic) noexcept {
   switch (topic) {
     case RosTopic::kTf:
-    case RosTopic::kTfStatic: return &tf2_msgs_msg_dds__TFMessage__desc;
-    case RosTopic::kJointStates: return &sensor_msgs_msg_dds__JointState__desc;
-    case RosTopic::kRobotDescription: return &std_msgs_msg_dds__String__desc;
+    case RosTopic::kTfStatic:
+      return &tf2_msgs_msg_dds__TFMessage__desc;
+    case RosTopic::kJointStates:
+      return &sensor_msgs_msg_dds__JointState__desc;
+    case RosTopic::kRobotDescription:
+      return &std_msgs_msg_dds__String__desc;
   }
   return nullptr;
 }
@@ -95,9 +106,8 @@ base::Expected<std::uint32_t, std::string> ResolveDomain(const std::uint32_t* re
 
 dds_entity_t CreateTopic(dds_entity_t participant, RosTopic topic) {
   dds_qos_t* qos = MakeQos(topic, false);
-  const dds_entity_t t =
-      dds_create_topic(participant, Descriptor(topic), std::string(DdsName(topic)).c_str(), qos,
-                       nullptr);
+  const dds_entity_t t = dds_create_topic(participant, Descriptor(topic),
+                                          std::string(DdsName(topic)).c_str(), qos, nullptr);
   dds_delete_qos(qos);
   return t;
 }
@@ -172,8 +182,8 @@ base::Expected<base::Ok, std::string> WireTf::Set(const ros::TFMessage& message)
     const ros::TransformStamped& t = message.transforms[i];
     if (t.header.stamp.sec < std::numeric_limits<std::int32_t>::min() ||
         t.header.stamp.sec > std::numeric_limits<std::int32_t>::max()) {
-      return base::Unexpected{"the stamp of {" + t.child_frame_id + "} wrt {" +
-                              t.header.frame_id + "} (" + std::to_string(t.header.stamp.sec) +
+      return base::Unexpected{"the stamp of {" + t.child_frame_id + "} wrt {" + t.header.frame_id +
+                              "} (" + std::to_string(t.header.stamp.sec) +
                               " s) does not fit ROS 2's int32 seconds"};
     }
     geometry_msgs_msg_dds__TransformStamped_& w = rows_[i];

@@ -7,21 +7,32 @@ namespace semgraph::semantics {
 namespace {
 
 std::string Str(const NameTable& names, NameId id) { return std::string(names.name(id)); }
-std::string Pt(const NameTable& n, Point e, Body C) { return Str(n, e.id()) + "|" + Str(n, C.id()); }
+std::string Pt(const NameTable& n, Point e, Body C) {
+  return Str(n, e.id()) + "|" + Str(n, C.id());
+}
 std::string Of(const NameTable& n, OrientationFrame a) { return "[" + Str(n, a.id()) + "]"; }
-std::string OfB(const NameTable& n, OrientationFrame a, Body C) { return Of(n, a) + "|" + Str(n, C.id()); }
+std::string OfB(const NameTable& n, OrientationFrame a, Body C) {
+  return Of(n, a) + "|" + Str(n, C.id());
+}
 
 }  // namespace
 
 std::string_view FieldName(Field f) noexcept {
   switch (f) {
-    case Field::kPoint: return "point";
-    case Field::kOrientation: return "orientation frame";
-    case Field::kBody: return "body";
-    case Field::kRefPoint: return "reference point";
-    case Field::kRefOrientation: return "reference orientation frame";
-    case Field::kRefBody: return "reference body";
-    case Field::kCoordinateFrame: return "coordinate frame";
+    case Field::kPoint:
+      return "point";
+    case Field::kOrientation:
+      return "orientation frame";
+    case Field::kBody:
+      return "body";
+    case Field::kRefPoint:
+      return "reference point";
+    case Field::kRefOrientation:
+      return "reference orientation frame";
+    case Field::kRefBody:
+      return "reference body";
+    case Field::kCoordinateFrame:
+      return "coordinate frame";
   }
   return "field";
 }
@@ -30,12 +41,18 @@ namespace {
 
 std::string_view RelationName(RelationKind k) noexcept {
   switch (k) {
-    case RelationKind::kPosition: return "position";
-    case RelationKind::kOrientation: return "orientation";
-    case RelationKind::kPose: return "pose";
-    case RelationKind::kLinearVelocity: return "linear velocity";
-    case RelationKind::kAngularVelocity: return "angular velocity";
-    case RelationKind::kTwist: return "twist";
+    case RelationKind::kPosition:
+      return "position";
+    case RelationKind::kOrientation:
+      return "orientation";
+    case RelationKind::kPose:
+      return "pose";
+    case RelationKind::kLinearVelocity:
+      return "linear velocity";
+    case RelationKind::kAngularVelocity:
+      return "angular velocity";
+    case RelationKind::kTwist:
+      return "twist";
   }
   return "relation";
 }
@@ -62,28 +79,48 @@ std::string Describe(const MismatchSide& s, const NameTable& names) {
   if (s.body.is_valid()) value += "|" + Str(names, s.body);
   std::string owner;
   switch (s.operand) {
-    case Operand::kFirst: owner = "the first"; break;
-    case Operand::kSecond: owner = "the second"; break;
-    case Operand::kSubject: owner = "the " + std::string(RelationName(s.relation)); break;
-    case Operand::kArgument: owner = "the argument " + std::string(RelationName(s.relation)); break;
+    case Operand::kFirst:
+      owner = "the first";
+      break;
+    case Operand::kSecond:
+      owner = "the second";
+      break;
+    case Operand::kSubject:
+      owner = "the " + std::string(RelationName(s.relation));
+      break;
+    case Operand::kArgument:
+      owner = "the argument " + std::string(RelationName(s.relation));
+      break;
   }
   return std::string(FieldName(s.field)) + " " + value + " of " + owner;
 }
 
 std::string_view ToString(Operation op) noexcept {
   switch (op) {
-    case Operation::kCompose: return "compose";
-    case Operation::kInverseInNewRef: return "inverse_in_new_ref";
-    case Operation::kChangePoint: return "change_point";
-    case Operation::kChangeRefPoint: return "change_ref_point";
-    case Operation::kChangeOrientationFrame: return "change_orientation_frame";
-    case Operation::kChangeRefOrientationFrame: return "change_ref_orientation_frame";
-    case Operation::kChangeCoordinateFrame: return "change_coordinate_frame";
-    case Operation::kScrewTransform: return "screw_transform";
-    case Operation::kCombine: return "combine";
-    case Operation::kIntegrate: return "integrate";
-    case Operation::kDifferentiate: return "differentiate";
-    case Operation::kInterpolate: return "interpolate";
+    case Operation::kCompose:
+      return "compose";
+    case Operation::kInverseInNewRef:
+      return "inverse_in_new_ref";
+    case Operation::kChangePoint:
+      return "change_point";
+    case Operation::kChangeRefPoint:
+      return "change_ref_point";
+    case Operation::kChangeOrientationFrame:
+      return "change_orientation_frame";
+    case Operation::kChangeRefOrientationFrame:
+      return "change_ref_orientation_frame";
+    case Operation::kChangeCoordinateFrame:
+      return "change_coordinate_frame";
+    case Operation::kScrewTransform:
+      return "screw_transform";
+    case Operation::kCombine:
+      return "combine";
+    case Operation::kIntegrate:
+      return "integrate";
+    case Operation::kDifferentiate:
+      return "differentiate";
+    case Operation::kInterpolate:
+      return "interpolate";
   }
   return "operation";
 }

@@ -12,7 +12,14 @@ namespace semgraph::semantics {
 
 namespace {
 // The printable rule (docs/rules.md §1): which code points a name may not hold, and why.
-enum class Unprintable : std::uint8_t { kNone, kControl, kInvisible, kSeparator, kSpace, kNoncharacter };
+enum class Unprintable : std::uint8_t {
+  kNone,
+  kControl,
+  kInvisible,
+  kSeparator,
+  kSpace,
+  kNoncharacter
+};
 
 struct Range {
   std::uint32_t first, last;
@@ -24,10 +31,11 @@ struct Range {
 // word joiner and invisible operators, byte-order mark, variation selectors, Hangul fillers,
 // tag characters; assigned or reserved), as of Unicode 15. Sorted, disjoint.
 constexpr Range kInvisible[] = {
-    {0x00AD, 0x00AD}, {0x034F, 0x034F}, {0x061C, 0x061C}, {0x115F, 0x1160},   {0x17B4, 0x17B5},
-    {0x180B, 0x180F}, {0x200B, 0x200F}, {0x202A, 0x202E}, {0x2060, 0x206F},   {0x3164, 0x3164},
-    {0xFE00, 0xFE0F}, {0xFEFF, 0xFEFF}, {0xFFA0, 0xFFA0}, {0xFFF0, 0xFFFB},   {0x13430, 0x1343F},
-    {0x1BCA0, 0x1BCA3}, {0x1D173, 0x1D17A}, {0xE0000, 0xE0FFF},
+    {0x00AD, 0x00AD},   {0x034F, 0x034F},   {0x061C, 0x061C},   {0x115F, 0x1160},
+    {0x17B4, 0x17B5},   {0x180B, 0x180F},   {0x200B, 0x200F},   {0x202A, 0x202E},
+    {0x2060, 0x206F},   {0x3164, 0x3164},   {0xFE00, 0xFE0F},   {0xFEFF, 0xFEFF},
+    {0xFFA0, 0xFFA0},   {0xFFF0, 0xFFFB},   {0x13430, 0x1343F}, {0x1BCA0, 0x1BCA3},
+    {0x1D173, 0x1D17A}, {0xE0000, 0xE0FFF},
 };
 // Space separators (Zs) other than U+0020: they print like an ASCII space but are other bytes.
 constexpr Range kSpaces[] = {{0x00A0, 0x00A0}, {0x1680, 0x1680}, {0x2000, 0x200A},
@@ -167,9 +175,11 @@ NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
   // Every allocation first (index, record array, a new arena block), each of which leaves the
   // table unchanged when it fails; then the name goes in without allocating.
   if (2 * (records_.size() + 1) > slots_.size()) Grow();
-  if (records_.size() == records_.capacity()) records_.reserve(std::max<std::size_t>(16, 2 * records_.size()));
+  if (records_.size() == records_.capacity())
+    records_.reserve(std::max<std::size_t>(16, 2 * records_.size()));
   if (block_fill_ + name.size() > kBlockBytes) {
-    if (blocks_.size() == blocks_.capacity()) blocks_.reserve(std::max<std::size_t>(4, 2 * blocks_.size()));
+    if (blocks_.size() == blocks_.capacity())
+      blocks_.reserve(std::max<std::size_t>(4, 2 * blocks_.size()));
     auto block = std::make_unique<char[]>(kBlockBytes);
     blocks_.push_back(std::move(block));  // within capacity: cannot throw
     block_fill_ = 0;

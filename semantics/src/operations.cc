@@ -59,8 +59,8 @@ template <class S>
 Checked<OrientationFrame> CheckCoordinateChange(const S& X, RK kind,
                                                 const OrientationSemantics& O) noexcept {
   if (!(O.orientation == X.coordinate_frame)) {
-    return Fail(Operation::kChangeCoordinateFrame,
-                OrientationSide(kArgument, RK::kOrientation, O), CoordSide(kSubject, kind, X));
+    return Fail(Operation::kChangeCoordinateFrame, OrientationSide(kArgument, RK::kOrientation, O),
+                CoordSide(kSubject, kind, X));
   }
   if (!(O.coordinate_frame == O.orientation) && !(O.coordinate_frame == O.ref_orientation)) {
     return Fail(Operation::kChangeCoordinateFrame, CoordSide(kArgument, RK::kOrientation, O),
@@ -97,10 +97,12 @@ PositionSemantics Inverse(const PositionSemantics& X) noexcept {
 }
 
 namespace {
-Checked<PositionSemantics> ComposePositions(Operation op, Operand x_role, const PositionSemantics& X,
-                                            Operand y_role, const PositionSemantics& Y) noexcept {
+Checked<PositionSemantics> ComposePositions(Operation op, Operand x_role,
+                                            const PositionSemantics& X, Operand y_role,
+                                            const PositionSemantics& Y) noexcept {
   constexpr RK k = RK::kPosition;
-  if (!(X.ref_point == Y.point)) return Fail(op, RefPointSide(x_role, k, X), PointSide(y_role, k, Y));
+  if (!(X.ref_point == Y.point))
+    return Fail(op, RefPointSide(x_role, k, X), PointSide(y_role, k, Y));
   if (!(X.ref_body == Y.body)) return Fail(op, RefBodySide(x_role, k, X), BodySide(y_role, k, Y));
   if (!(X.coordinate_frame == Y.coordinate_frame)) {
     return Fail(op, CoordSide(x_role, k, X), CoordSide(y_role, k, Y));
@@ -113,8 +115,10 @@ template <class S>
 Checked<Ok> CheckChangePoint(const S& X, RK kind, const PositionSemantics& A) noexcept {
   constexpr Operation op = Operation::kChangePoint;
   constexpr RK a = RK::kPosition;
-  if (!(A.ref_point == X.point)) return Fail(op, RefPointSide(kArgument, a, A), PointSide(kSubject, kind, X));
-  if (!(A.ref_body == X.body)) return Fail(op, RefBodySide(kArgument, a, A), BodySide(kSubject, kind, X));
+  if (!(A.ref_point == X.point))
+    return Fail(op, RefPointSide(kArgument, a, A), PointSide(kSubject, kind, X));
+  if (!(A.ref_body == X.body))
+    return Fail(op, RefBodySide(kArgument, a, A), BodySide(kSubject, kind, X));
   if (!(A.body == X.body)) return Fail(op, BodySide(kArgument, a, A), BodySide(kSubject, kind, X));
   if (!(A.coordinate_frame == X.coordinate_frame)) {
     return Fail(op, CoordSide(kArgument, a, A), CoordSide(kSubject, kind, X));
@@ -126,9 +130,12 @@ template <class S>
 Checked<Ok> CheckChangeRefPoint(const S& X, RK kind, const PositionSemantics& A) noexcept {
   constexpr Operation op = Operation::kChangeRefPoint;
   constexpr RK a = RK::kPosition;
-  if (!(A.point == X.ref_point)) return Fail(op, PointSide(kArgument, a, A), RefPointSide(kSubject, kind, X));
-  if (!(A.body == X.ref_body)) return Fail(op, BodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
-  if (!(A.ref_body == X.ref_body)) return Fail(op, RefBodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
+  if (!(A.point == X.ref_point))
+    return Fail(op, PointSide(kArgument, a, A), RefPointSide(kSubject, kind, X));
+  if (!(A.body == X.ref_body))
+    return Fail(op, BodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
+  if (!(A.ref_body == X.ref_body))
+    return Fail(op, RefBodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
   if (!(A.coordinate_frame == X.coordinate_frame)) {
     return Fail(op, CoordSide(kArgument, a, A), CoordSide(kSubject, kind, X));
   }
@@ -136,7 +143,8 @@ Checked<Ok> CheckChangeRefPoint(const S& X, RK kind, const PositionSemantics& A)
 }
 }  // namespace
 
-Checked<PositionSemantics> Compose(const PositionSemantics& X, const PositionSemantics& Y) noexcept {
+Checked<PositionSemantics> Compose(const PositionSemantics& X,
+                                   const PositionSemantics& Y) noexcept {
   return ComposePositions(Operation::kCompose, kFirst, X, kSecond, Y);
 }
 
@@ -187,7 +195,8 @@ Checked<Composition<OrientationSemantics>> ComposeOrientations(
   if (!(X.ref_orientation == Y.orientation)) {
     return Fail(op, RefOrientationSide(x_role, x_kind, X), OrientationSide(y_role, y_kind, Y));
   }
-  if (!(X.ref_body == Y.body)) return Fail(op, RefBodySide(x_role, x_kind, X), BodySide(y_role, y_kind, Y));
+  if (!(X.ref_body == Y.body))
+    return Fail(op, RefBodySide(x_role, x_kind, X), BodySide(y_role, y_kind, Y));
   auto form = CompositionForm(op, x_role, x_kind, X, y_role, y_kind, Y);
   if (!form) return Unexpected{form.error()};
   return Composition<OrientationSemantics>{
@@ -204,13 +213,15 @@ Checked<Composition<OrientationSemantics>> Compose(const OrientationSemantics& X
 namespace {
 // A = [a'] wrt [a] on X's body: the composition Compose(A, X).
 template <class S>
-Checked<Ok> CheckChangeOrientationFrame(const S& X, RK kind, const OrientationSemantics& A) noexcept {
+Checked<Ok> CheckChangeOrientationFrame(const S& X, RK kind,
+                                        const OrientationSemantics& A) noexcept {
   constexpr Operation op = Operation::kChangeOrientationFrame;
   constexpr RK a = RK::kOrientation;
   if (!(A.ref_orientation == X.orientation)) {
     return Fail(op, RefOrientationSide(kArgument, a, A), OrientationSide(kSubject, kind, X));
   }
-  if (!(A.ref_body == X.body)) return Fail(op, RefBodySide(kArgument, a, A), BodySide(kSubject, kind, X));
+  if (!(A.ref_body == X.body))
+    return Fail(op, RefBodySide(kArgument, a, A), BodySide(kSubject, kind, X));
   if (!(A.body == X.body)) return Fail(op, BodySide(kArgument, a, A), BodySide(kSubject, kind, X));
   return Ok{};
 }
@@ -223,7 +234,8 @@ Checked<Ok> CheckChangeRefOrientationFrame(const S& X, RK kind,
   if (!(A.orientation == X.ref_orientation)) {
     return Fail(op, OrientationSide(kArgument, a, A), RefOrientationSide(kSubject, kind, X));
   }
-  if (!(A.body == X.ref_body)) return Fail(op, BodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
+  if (!(A.body == X.ref_body))
+    return Fail(op, BodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
   if (!(A.ref_body == X.ref_body)) {
     return Fail(op, RefBodySide(kArgument, a, A), RefBodySide(kSubject, kind, X));
   }
@@ -242,7 +254,8 @@ Checked<Composition<OrientationSemantics>> ChangeRefOrientationFrame(
     const OrientationSemantics& X, const OrientationSemantics& A) noexcept {
   constexpr RK k = RK::kOrientation;
   if (auto ok = CheckChangeRefOrientationFrame(X, k, A); !ok) return Unexpected{ok.error()};
-  return ComposeOrientations(Operation::kChangeRefOrientationFrame, kSubject, k, X, kArgument, k, A);
+  return ComposeOrientations(Operation::kChangeRefOrientationFrame, kSubject, k, X, kArgument, k,
+                             A);
 }
 
 Checked<OrientationSemantics> ChangeCoordinateFrame(const OrientationSemantics& X,
@@ -257,8 +270,8 @@ Checked<OrientationSemantics> ChangeCoordinateFrame(const OrientationSemantics& 
 // ============================================================== Pose
 
 PoseSemantics Inverse(const PoseSemantics& X) noexcept {
-  return {X.ref_point, X.ref_orientation, X.ref_body, X.point,
-          X.orientation, X.body, X.coordinate_frame};
+  return {X.ref_point, X.ref_orientation, X.ref_body, X.point, X.orientation,
+          X.body,      X.coordinate_frame};
 }
 
 Checked<PoseSemantics> InverseInNewRef(const PoseSemantics& X) noexcept {
@@ -267,22 +280,24 @@ Checked<PoseSemantics> InverseInNewRef(const PoseSemantics& X) noexcept {
     return Fail(Operation::kInverseInNewRef, CoordSide(kSubject, k, X),
                 RefOrientationSide(kSubject, k, X));
   }
-  return PoseSemantics{X.ref_point, X.ref_orientation, X.ref_body, X.point,
-                       X.orientation, X.body, X.orientation};
+  return PoseSemantics{X.ref_point, X.ref_orientation, X.ref_body, X.point, X.orientation,
+                       X.body,      X.orientation};
 }
 
-Checked<Composition<PoseSemantics>> Compose(const PoseSemantics& X, const PoseSemantics& Y) noexcept {
+Checked<Composition<PoseSemantics>> Compose(const PoseSemantics& X,
+                                            const PoseSemantics& Y) noexcept {
   constexpr Operation op = Operation::kCompose;
   constexpr RK k = RK::kPose;
-  if (!(X.ref_point == Y.point)) return Fail(op, RefPointSide(kFirst, k, X), PointSide(kSecond, k, Y));
+  if (!(X.ref_point == Y.point))
+    return Fail(op, RefPointSide(kFirst, k, X), PointSide(kSecond, k, Y));
   if (!(X.ref_orientation == Y.orientation)) {
     return Fail(op, RefOrientationSide(kFirst, k, X), OrientationSide(kSecond, k, Y));
   }
   if (!(X.ref_body == Y.body)) return Fail(op, RefBodySide(kFirst, k, X), BodySide(kSecond, k, Y));
   auto form = CompositionForm(op, kFirst, k, X, kSecond, k, Y);
   if (!form) return Unexpected{form.error()};
-  return Composition<PoseSemantics>{{X.point, X.orientation, X.body, Y.ref_point,
-                                     Y.ref_orientation, Y.ref_body, ComposedFrame(X, Y)},
+  return Composition<PoseSemantics>{{X.point, X.orientation, X.body, Y.ref_point, Y.ref_orientation,
+                                     Y.ref_body, ComposedFrame(X, Y)},
                                     *form};
 }
 
@@ -349,13 +364,14 @@ Checked<PoseSemantics> Combine(const PositionSemantics& P, const OrientationSema
     return Fail(op, BodySide(kFirst, RK::kPosition, P), BodySide(kSecond, RK::kOrientation, O));
   }
   if (!(P.ref_body == O.ref_body)) {
-    return Fail(op, RefBodySide(kFirst, RK::kPosition, P), RefBodySide(kSecond, RK::kOrientation, O));
+    return Fail(op, RefBodySide(kFirst, RK::kPosition, P),
+                RefBodySide(kSecond, RK::kOrientation, O));
   }
   if (!(P.coordinate_frame == O.coordinate_frame)) {
     return Fail(op, CoordSide(kFirst, RK::kPosition, P), CoordSide(kSecond, RK::kOrientation, O));
   }
-  return PoseSemantics{P.point, O.orientation, P.body, P.ref_point,
-                       O.ref_orientation, P.ref_body, P.coordinate_frame};
+  return PoseSemantics{P.point,    O.orientation,     P.body, P.ref_point, O.ref_orientation,
+                       P.ref_body, P.coordinate_frame};
 }
 
 // ============================================================== Velocities
@@ -459,7 +475,8 @@ Checked<TwistSemantics> ScrewTransform(const TwistSemantics& X, const PoseSemant
     return Fail(op, OrientationSide(kArgument, RK::kPose, P), CoordSide(kSubject, RK::kTwist, X));
   }
   if (!(P.coordinate_frame == P.ref_orientation)) {
-    return Fail(op, CoordSide(kArgument, RK::kPose, P), RefOrientationSide(kArgument, RK::kPose, P));
+    return Fail(op, CoordSide(kArgument, RK::kPose, P),
+                RefOrientationSide(kArgument, RK::kPose, P));
   }
   return TwistSemantics{P.ref_point, X.body, X.ref_body, P.ref_orientation};
 }
@@ -476,7 +493,8 @@ Checked<TwistSemantics> Combine(const LinearVelocitySemantics& L,
                                 const AngularVelocitySemantics& W) noexcept {
   constexpr Operation op = Operation::kCombine;
   if (!(L.body == W.body)) {
-    return Fail(op, BodySide(kFirst, RK::kLinearVelocity, L), BodySide(kSecond, RK::kAngularVelocity, W));
+    return Fail(op, BodySide(kFirst, RK::kLinearVelocity, L),
+                BodySide(kSecond, RK::kAngularVelocity, W));
   }
   if (!(L.ref_body == W.ref_body)) {
     return Fail(op, RefBodySide(kFirst, RK::kLinearVelocity, L),

@@ -11,28 +11,36 @@ using RK = RelationKind;
 constexpr Unexpected<Mismatch> Fail(Operation op, MismatchSide lhs, MismatchSide rhs) noexcept {
   return Unexpected{Mismatch{ErrorCode::kSemanticMismatch, op, lhs, rhs, false}};
 }
-constexpr MismatchSide Side(Operand o, RK k, Field f, NameId name, NameId body = NameId()) noexcept {
+constexpr MismatchSide Side(Operand o, RK k, Field f, NameId name,
+                            NameId body = NameId()) noexcept {
   return {o, k, f, name, body};
 }
 
 // The first field where two poses differ, as a mismatch of (first, second).
-std::optional<Mismatch> FirstDifference(Operation op, const PoseSemantics& X, const PoseSemantics& Y) noexcept {
+std::optional<Mismatch> FirstDifference(Operation op, const PoseSemantics& X,
+                                        const PoseSemantics& Y) noexcept {
   const auto pair = [&](Field f, NameId x, NameId xb, NameId y, NameId yb) {
-    return Fail(op, Side(Operand::kFirst, RK::kPose, f, x, xb), Side(Operand::kSecond, RK::kPose, f, y, yb)).error;
+    return Fail(op, Side(Operand::kFirst, RK::kPose, f, x, xb),
+                Side(Operand::kSecond, RK::kPose, f, y, yb))
+        .error;
   };
-  if (!(X.point == Y.point)) return pair(Field::kPoint, X.point.id(), X.body.id(), Y.point.id(), Y.body.id());
+  if (!(X.point == Y.point))
+    return pair(Field::kPoint, X.point.id(), X.body.id(), Y.point.id(), Y.body.id());
   if (!(X.orientation == Y.orientation)) {
-    return pair(Field::kOrientation, X.orientation.id(), X.body.id(), Y.orientation.id(), Y.body.id());
+    return pair(Field::kOrientation, X.orientation.id(), X.body.id(), Y.orientation.id(),
+                Y.body.id());
   }
   if (!(X.body == Y.body)) return pair(Field::kBody, X.body.id(), {}, Y.body.id(), {});
   if (!(X.ref_point == Y.ref_point)) {
-    return pair(Field::kRefPoint, X.ref_point.id(), X.ref_body.id(), Y.ref_point.id(), Y.ref_body.id());
-  }
-  if (!(X.ref_orientation == Y.ref_orientation)) {
-    return pair(Field::kRefOrientation, X.ref_orientation.id(), X.ref_body.id(), Y.ref_orientation.id(),
+    return pair(Field::kRefPoint, X.ref_point.id(), X.ref_body.id(), Y.ref_point.id(),
                 Y.ref_body.id());
   }
-  if (!(X.ref_body == Y.ref_body)) return pair(Field::kRefBody, X.ref_body.id(), {}, Y.ref_body.id(), {});
+  if (!(X.ref_orientation == Y.ref_orientation)) {
+    return pair(Field::kRefOrientation, X.ref_orientation.id(), X.ref_body.id(),
+                Y.ref_orientation.id(), Y.ref_body.id());
+  }
+  if (!(X.ref_body == Y.ref_body))
+    return pair(Field::kRefBody, X.ref_body.id(), {}, Y.ref_body.id(), {});
   if (!(X.coordinate_frame == Y.coordinate_frame)) {
     return pair(Field::kCoordinateFrame, X.coordinate_frame.id(), {}, Y.coordinate_frame.id(), {});
   }
@@ -48,12 +56,14 @@ Checked<PoseSemantics> RequireEdgeForm(Operation op, const PoseSemantics& X) noe
                 Side(s, RK::kPose, Field::kOrientation, X.orientation.id(), X.body.id()));
   }
   if (!IsOriginOf(X.ref_point, X.ref_orientation)) {
-    return Fail(op, Side(s, RK::kPose, Field::kRefPoint, X.ref_point.id(), X.ref_body.id()),
-                Side(s, RK::kPose, Field::kRefOrientation, X.ref_orientation.id(), X.ref_body.id()));
+    return Fail(
+        op, Side(s, RK::kPose, Field::kRefPoint, X.ref_point.id(), X.ref_body.id()),
+        Side(s, RK::kPose, Field::kRefOrientation, X.ref_orientation.id(), X.ref_body.id()));
   }
   if (!(X.coordinate_frame == X.ref_orientation)) {
-    return Fail(op, Side(s, RK::kPose, Field::kCoordinateFrame, X.coordinate_frame.id()),
-                Side(s, RK::kPose, Field::kRefOrientation, X.ref_orientation.id(), X.ref_body.id()));
+    return Fail(
+        op, Side(s, RK::kPose, Field::kCoordinateFrame, X.coordinate_frame.id()),
+        Side(s, RK::kPose, Field::kRefOrientation, X.ref_orientation.id(), X.ref_body.id()));
   }
   return X;
 }
@@ -67,7 +77,8 @@ Checked<PoseSemantics> Integrate(const PoseSemantics& X, const TwistSemantics& x
                 Side(s, RK::kPose, Field::kPoint, X.point.id(), X.body.id()));
   }
   if (!(xi.body == X.body)) {
-    return Fail(op, Side(a, RK::kTwist, Field::kBody, xi.body.id()), Side(s, RK::kPose, Field::kBody, X.body.id()));
+    return Fail(op, Side(a, RK::kTwist, Field::kBody, xi.body.id()),
+                Side(s, RK::kPose, Field::kBody, X.body.id()));
   }
   if (!(xi.ref_body == X.ref_body)) {
     return Fail(op, Side(a, RK::kTwist, Field::kRefBody, xi.ref_body.id()),
@@ -87,7 +98,8 @@ Checked<TwistSemantics> Differentiate(const PoseSemantics& X0, const PoseSemanti
   return EdgeScrewTwist(X0);
 }
 
-Checked<PoseSemantics> Interpolate(const PoseSemantics& X0, const PoseSemantics& X1, bool screw) noexcept {
+Checked<PoseSemantics> Interpolate(const PoseSemantics& X0, const PoseSemantics& X1,
+                                   bool screw) noexcept {
   constexpr Operation op = Operation::kInterpolate;
   if (auto m = FirstDifference(op, X0, X1)) return Unexpected{*m};
   if (screw) return RequireEdgeForm(op, X0);
@@ -97,11 +109,13 @@ Checked<PoseSemantics> Interpolate(const PoseSemantics& X0, const PoseSemantics&
 Checked<TwistSemantics> Interpolate(const TwistSemantics& X0, const TwistSemantics& X1) noexcept {
   constexpr Operation op = Operation::kInterpolate;
   const auto pair = [&](Field f, NameId x, NameId y) {
-    return Fail(op, Side(Operand::kFirst, RK::kTwist, f, x), Side(Operand::kSecond, RK::kTwist, f, y));
+    return Fail(op, Side(Operand::kFirst, RK::kTwist, f, x),
+                Side(Operand::kSecond, RK::kTwist, f, y));
   };
   if (!(X0.point == X1.point)) return pair(Field::kPoint, X0.point.id(), X1.point.id());
   if (!(X0.body == X1.body)) return pair(Field::kBody, X0.body.id(), X1.body.id());
-  if (!(X0.ref_body == X1.ref_body)) return pair(Field::kRefBody, X0.ref_body.id(), X1.ref_body.id());
+  if (!(X0.ref_body == X1.ref_body))
+    return pair(Field::kRefBody, X0.ref_body.id(), X1.ref_body.id());
   if (!(X0.coordinate_frame == X1.coordinate_frame)) {
     return pair(Field::kCoordinateFrame, X0.coordinate_frame.id(), X1.coordinate_frame.id());
   }

@@ -102,14 +102,30 @@ TEST(ErrorCode, NamesAreDistinctLowerSnakeCase) {
 
 TEST(ErrorCode, EveryCodeNamedInTheSpecExists) {
   // The codes of the scene graph's rules (docs/rules.md §1-§4, §8), spelled as there.
-  for (std::string_view name :
-       {"duplicate_body", "duplicate_frame", "unknown_body", "frame_without_body",
-        "frame_body_mismatch", "invalid_name", "multiple_pose_parents", "pose_cycle", "self_edge",
-        "duplicate_pose_path", "constant_pose_change", "pose_not_convertible",
-        "twist_not_convertible", "multiple_twist_parents", "twist_same_body",
-        "duplicate_twist_path", "twist_merge_conflict", "no_such_edge", "invalid_number",
-        "invalid_rotation", "unknown_frame", "no_pose_path", "no_twist_path",
-        "representation_constraint"}) {
+  for (std::string_view name : {"duplicate_body",
+                                "duplicate_frame",
+                                "unknown_body",
+                                "frame_without_body",
+                                "frame_body_mismatch",
+                                "invalid_name",
+                                "multiple_pose_parents",
+                                "pose_cycle",
+                                "self_edge",
+                                "duplicate_pose_path",
+                                "constant_pose_change",
+                                "pose_not_convertible",
+                                "twist_not_convertible",
+                                "multiple_twist_parents",
+                                "twist_same_body",
+                                "duplicate_twist_path",
+                                "twist_merge_conflict",
+                                "no_such_edge",
+                                "invalid_number",
+                                "invalid_rotation",
+                                "unknown_frame",
+                                "no_pose_path",
+                                "no_twist_path",
+                                "representation_constraint"}) {
     EXPECT_TRUE(ErrorCodeFromString(name).has_value()) << name;
   }
 }

@@ -1,10 +1,9 @@
 // Uses the installed semgraph: interns two names and composes two pose semantics (semantics),
 // then builds a small scene graph and queries it (core), checking the numbers against a pose
 // composed by hand. Returns 0 on success.
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Geometry>
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
@@ -45,7 +44,8 @@ int Graph() {
   using semgraph::core::PoseSpec;
   semgraph::core::SceneGraph<> g;
   const Eigen::Quaterniond q_BE(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
-  if (!g.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), q_BE, Eigen::Vector3d(1, 0, 0))) return 1;
+  if (!g.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), q_BE, Eigen::Vector3d(1, 0, 0)))
+    return 1;
   if (!g.AddPose(PoseSpec::Of("t", "T").RelativeTo("e", "E"), Eigen::Quaterniond::Identity(),
                  Eigen::Vector3d(0.5, 0, 0))) {
     return 1;

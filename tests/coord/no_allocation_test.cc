@@ -10,9 +10,9 @@
 // checked afterwards. Make* (validate.h, documented allocation-free) gets the same treatment.
 #define EIGEN_RUNTIME_NO_MALLOC 1  // before any Eigen include
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <atomic>
 #include <cstddef>
 #include <cstdlib>
@@ -55,9 +55,15 @@ std::size_t AlignOf(std::align_val_t al) { return static_cast<std::size_t>(al); 
 
 void* operator new(std::size_t n) { return CountedAllocOrThrow(n, kDefault); }
 void* operator new[](std::size_t n) { return CountedAllocOrThrow(n, kDefault); }
-void* operator new(std::size_t n, std::align_val_t al) { return CountedAllocOrThrow(n, AlignOf(al)); }
-void* operator new[](std::size_t n, std::align_val_t al) { return CountedAllocOrThrow(n, AlignOf(al)); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return CountedAlloc(n, kDefault); }
+void* operator new(std::size_t n, std::align_val_t al) {
+  return CountedAllocOrThrow(n, AlignOf(al));
+}
+void* operator new[](std::size_t n, std::align_val_t al) {
+  return CountedAllocOrThrow(n, AlignOf(al));
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  return CountedAlloc(n, kDefault);
+}
 void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
   return CountedAlloc(n, kDefault);
 }
@@ -85,8 +91,8 @@ void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcep
 namespace semgraph::coord {
 namespace {
 
-using semantics::Body;
 using base::ErrorCode;
+using semantics::Body;
 using semantics::Frame;
 using semantics::NameTable;
 
@@ -203,67 +209,67 @@ template <class B>
 void RunAll(const Operands<B>& o, Outcomes& out) {
   // ---------------------------------------------------------------- Position
   out.AddValue(Inverse(o.p_BA_B));
-  out.Add(Compose(o.p_BA_B, o.p_CB_B));                   // ok
-  out.Add(Compose(o.p_CB_B, o.p_CB_B));                   // semantic
-  out.Add(ChangePoint(o.p_BA_B, o.p_AA2_B));              // ok
-  out.Add(ChangePoint(o.p_BA_B, o.p_CB_B));               // semantic
-  out.Add(ChangeRefPoint(o.p_BA_B, o.p_B2B_B));           // ok
-  out.Add(ChangeRefPoint(o.p_BA_B, o.p_AA2_B));           // semantic
-  out.Add(ChangeCoordinateFrame(o.p_BA_B, o.O_CB_C));     // ok: [b] -> [c]
-  out.Add(ChangeCoordinateFrame(o.p_BA_B, o.O_AA2_A));    // semantic
+  out.Add(Compose(o.p_BA_B, o.p_CB_B));                 // ok
+  out.Add(Compose(o.p_CB_B, o.p_CB_B));                 // semantic
+  out.Add(ChangePoint(o.p_BA_B, o.p_AA2_B));            // ok
+  out.Add(ChangePoint(o.p_BA_B, o.p_CB_B));             // semantic
+  out.Add(ChangeRefPoint(o.p_BA_B, o.p_B2B_B));         // ok
+  out.Add(ChangeRefPoint(o.p_BA_B, o.p_AA2_B));         // semantic
+  out.Add(ChangeCoordinateFrame(o.p_BA_B, o.O_CB_C));   // ok: [b] -> [c]
+  out.Add(ChangeCoordinateFrame(o.p_BA_B, o.O_AA2_A));  // semantic
   // ---------------------------------------------------------------- Orientation
-  out.Add(Inverse(o.O_BA_B));                             // quaternion ok, others representation
-  out.Add(InverseInNewRef(o.O_BA_B));                     // ok
-  out.Add(Compose(o.O_BA_B, o.O_CB_C));                   // ok (chain)
-  out.Add(Compose(o.O_CB_C, o.O_BA_B));                   // semantic
-  out.Add(ChangeOrientationFrame(o.O_BA_B, o.O_AA2_A));   // ok
-  out.Add(ChangeOrientationFrame(o.O_BA_B, o.O_CB_C));    // semantic
+  out.Add(Inverse(o.O_BA_B));                                // quaternion ok, others representation
+  out.Add(InverseInNewRef(o.O_BA_B));                        // ok
+  out.Add(Compose(o.O_BA_B, o.O_CB_C));                      // ok (chain)
+  out.Add(Compose(o.O_CB_C, o.O_BA_B));                      // semantic
+  out.Add(ChangeOrientationFrame(o.O_BA_B, o.O_AA2_A));      // ok
+  out.Add(ChangeOrientationFrame(o.O_BA_B, o.O_CB_C));       // semantic
   out.Add(ChangeRefOrientationFrame(o.O_BA_B, o.O_B2B_B2));  // ok
   out.Add(ChangeRefOrientationFrame(o.O_BA_B, o.O_AA2_A));   // semantic
-  out.Add(ChangeCoordinateFrame(o.O_BA_B, o.O_CB_C));     // quaternion ok, others representation
-  out.Add(ChangeCoordinateFrame(o.O_BA_B, o.O_AA2_A));    // semantic
+  out.Add(ChangeCoordinateFrame(o.O_BA_B, o.O_CB_C));        // quaternion ok, others representation
+  out.Add(ChangeCoordinateFrame(o.O_BA_B, o.O_AA2_A));       // semantic
   if (o.O_BA_C) {
-    out.Add(Compose(*o.O_BA_C, o.O_CB_C));                // ok (same frame [c])
-    out.Add(InverseInNewRef(*o.O_BA_C));                  // semantic
+    out.Add(Compose(*o.O_BA_C, o.O_CB_C));  // ok (same frame [c])
+    out.Add(InverseInNewRef(*o.O_BA_C));    // semantic
   }
   // ---------------------------------------------------------------- Pose
-  out.Add(Inverse(o.X_BA_B));                             // quaternion ok, others representation
-  out.Add(InverseInNewRef(o.X_BA_B));                     // ok
-  out.Add(Compose(o.X_BA_B, o.X_CB_C));                   // ok (chain)
-  out.Add(Compose(o.X_CB_C, o.X_BA_B));                   // semantic
-  out.Add(ChangePoint(o.X_BA_B, o.p_AA2_B));              // homogeneous representation, others ok
-  out.Add(ChangePoint(o.X_BA_B, o.p_CB_B));               // semantic
-  out.Add(ChangeRefPoint(o.X_BA_B, o.p_B2B_B));           // homogeneous representation, others ok
-  out.Add(ChangeRefPoint(o.X_BA_B, o.p_AA2_B));           // semantic
-  out.Add(ChangeOrientationFrame(o.X_BA_B, o.O_AA2_A));   // homogeneous representation, others ok
-  out.Add(ChangeOrientationFrame(o.X_BA_B, o.O_CB_C));    // semantic
+  out.Add(Inverse(o.X_BA_B));                            // quaternion ok, others representation
+  out.Add(InverseInNewRef(o.X_BA_B));                    // ok
+  out.Add(Compose(o.X_BA_B, o.X_CB_C));                  // ok (chain)
+  out.Add(Compose(o.X_CB_C, o.X_BA_B));                  // semantic
+  out.Add(ChangePoint(o.X_BA_B, o.p_AA2_B));             // homogeneous representation, others ok
+  out.Add(ChangePoint(o.X_BA_B, o.p_CB_B));              // semantic
+  out.Add(ChangeRefPoint(o.X_BA_B, o.p_B2B_B));          // homogeneous representation, others ok
+  out.Add(ChangeRefPoint(o.X_BA_B, o.p_AA2_B));          // semantic
+  out.Add(ChangeOrientationFrame(o.X_BA_B, o.O_AA2_A));  // homogeneous representation, others ok
+  out.Add(ChangeOrientationFrame(o.X_BA_B, o.O_CB_C));   // semantic
   out.Add(ChangeRefOrientationFrame(o.X_BA_B, o.O_B2B_B2));  // homogeneous representation
   out.Add(ChangeRefOrientationFrame(o.X_BA_B, o.O_AA2_A));   // semantic
-  out.Add(ChangeCoordinateFrame(o.X_BA_B, o.O_CB_C));     // quaternion ok, others representation
-  out.Add(ChangeCoordinateFrame(o.X_BA_B, o.O_AA2_A));    // semantic
+  out.Add(ChangeCoordinateFrame(o.X_BA_B, o.O_CB_C));        // quaternion ok, others representation
+  out.Add(ChangeCoordinateFrame(o.X_BA_B, o.O_AA2_A));       // semantic
   out.AddValue(PositionOf(o.X_BA_B));
-  out.Add(OrientationOf(o.X_BA_B));                       // ok
-  out.Add(Combine(o.p_BA_B, o.O_BA_B));                   // ok
-  out.Add(Combine(o.p_AA2_B, o.O_BA_B));                  // semantic (ref bodies differ)
+  out.Add(OrientationOf(o.X_BA_B));       // ok
+  out.Add(Combine(o.p_BA_B, o.O_BA_B));   // ok
+  out.Add(Combine(o.p_AA2_B, o.O_BA_B));  // semantic (ref bodies differ)
   if (o.X_BA_C && o.X_CB_B) {
-    out.Add(Compose(o.X_BA_B, *o.X_CB_B));                // ok (same frame [b])
-    out.Add(Compose(*o.X_BA_C, *o.X_CB_B));               // semantic (coordinate forms)
+    out.Add(Compose(o.X_BA_B, *o.X_CB_B));   // ok (same frame [b])
+    out.Add(Compose(*o.X_BA_C, *o.X_CB_B));  // semantic (coordinate forms)
   }
   // ---------------------------------------------------------------- Linear / angular velocity
   out.AddValue(Inverse(o.v_BAa_B));
-  out.Add(Compose(o.v_BAa_B, o.v_CBa_B));               // ok
-  out.Add(Compose(o.v_CBa_B, o.v_BAa_B));               // semantic
+  out.Add(Compose(o.v_BAa_B, o.v_CBa_B));                // ok
+  out.Add(Compose(o.v_CBa_B, o.v_BAa_B));                // semantic
   out.Add(ChangeCoordinateFrame(o.v_BAa_B, o.O_CB_C));   // ok
   out.Add(ChangeCoordinateFrame(o.v_BAa_B, o.O_AA2_A));  // semantic
   out.AddValue(Inverse(o.w_BA_B));
-  out.Add(Compose(o.w_BA_B, o.w_CB_B));                   // ok
-  out.Add(Compose(o.w_CB_B, o.w_BA_B));                   // semantic
-  out.Add(ChangeCoordinateFrame(o.w_BA_B, o.O_CB_C));     // ok
-  out.Add(ChangeCoordinateFrame(o.w_BA_B, o.O_AA2_A));    // semantic
+  out.Add(Compose(o.w_BA_B, o.w_CB_B));                 // ok
+  out.Add(Compose(o.w_CB_B, o.w_BA_B));                 // semantic
+  out.Add(ChangeCoordinateFrame(o.w_BA_B, o.O_CB_C));   // ok
+  out.Add(ChangeCoordinateFrame(o.w_BA_B, o.O_AA2_A));  // semantic
   // ---------------------------------------------------------------- Twist
   out.AddValue(Inverse(o.V_BAa_B));
-  out.Add(Compose(o.V_BAa_B, o.V_CBa_B));               // ok
-  out.Add(Compose(o.V_CBa_B, o.V_BAa_B));               // semantic
+  out.Add(Compose(o.V_BAa_B, o.V_CBa_B));                // ok
+  out.Add(Compose(o.V_CBa_B, o.V_BAa_B));                // semantic
   out.Add(ChangePoint(o.V_BAa_B, o.p_BA_B));             // ok: a -> b
   out.Add(ChangePoint(o.V_BAa_B, o.p_CB_B));             // semantic
   out.Add(ChangeCoordinateFrame(o.V_BAa_B, o.O_CB_C));   // ok
@@ -272,8 +278,8 @@ void RunAll(const Operands<B>& o, Outcomes& out) {
   out.Add(ScrewTransform(o.V_BAa_B, o.X_BA_B));          // semantic
   out.AddValue(LinearOf(o.V_BAa_B));
   out.AddValue(AngularOf(o.V_BAa_B));
-  out.Add(Combine(o.v_BAa_B, o.w_BA_B));                 // ok
-  out.Add(Combine(o.v_BAa_B, o.w_CB_B));                 // semantic
+  out.Add(Combine(o.v_BAa_B, o.w_BA_B));  // ok
+  out.Add(Combine(o.v_BAa_B, o.w_CB_B));  // semantic
   // ---------------------------------------------------------------- kernels
   out.Sum(B::TranslationOf(kernels::ComposeSameFrame<B>(o.X_BA_B.value, o.X_CB_C.value)));
   out.Sum(B::TranslationOf(kernels::InverseSameFrame<B>(o.X_BA_B.value)));

@@ -26,6 +26,8 @@
 //   w_DC_R     AngularVelocity of body C relative to body D, in [r]
 //   V_DCe_R   Twist (v_DCe_R, w_DC_R)
 // A trailing 2 marks the new entity of a change (e2 is the new point e', r2 the new [r]).
+#include "semgraph/coord/operations.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -34,7 +36,6 @@
 #include <string>
 
 #include "semgraph/coord/homogeneous_backend.h"
-#include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/semantics/describe.h"
 #include "support/rotation_matrix_backend.h"
@@ -162,8 +163,9 @@ bool Same(const Orientation<B>& a, const Orientation<B>& b) {
 }
 template <class B>
 bool Same(const Pose<B>& a, const Pose<B>& b) {
-  return a.semantics == b.semantics && Same<B>(Orientation<B>{{}, B::RotationOf(a.value)},
-                                               Orientation<B>{{}, B::RotationOf(b.value)}) &&
+  return a.semantics == b.semantics &&
+         Same<B>(Orientation<B>{{}, B::RotationOf(a.value)},
+                 Orientation<B>{{}, B::RotationOf(b.value)}) &&
          B::TranslationOf(a.value) == B::TranslationOf(b.value);
 }
 
@@ -197,7 +199,8 @@ struct PoseChoice {
 template <class B>
 class Scene {
  public:
-  Scene(int seed, Tally& tally) : w(static_cast<std::uint64_t>(seed), kFrames, kBodies), t_(tally) {}
+  Scene(int seed, Tally& tally)
+      : w(static_cast<std::uint64_t>(seed), kFrames, kBodies), t_(tally) {}
 
   WorldScene w;
   [[nodiscard]] const NameTable& names() const { return w.names(); }
@@ -210,8 +213,8 @@ class Scene {
     return {w.axes(a), w.body_of(a), w.axes(b), w.body_of(b), w.axes(r)};
   }
   PoseSemantics PoseSem(const PoseChoice& x) const {
-    return {w.point(x.e), w.axes(x.a), w.body_of(x.e), w.point(x.f),
-            w.axes(x.b), w.body_of(x.f), w.axes(x.r)};
+    return {w.point(x.e), w.axes(x.a),    w.body_of(x.e), w.point(x.f),
+            w.axes(x.b),  w.body_of(x.f), w.axes(x.r)};
   }
   LinearVelocitySemantics LinSem(int e, int C, int D, int r) const {
     return {w.point(e), w.body(C), w.body(D), w.axes(r)};
@@ -254,8 +257,8 @@ class Scene {
     return made ? *made : AngularVelocity{AngSem(C, D, r), Eigen::Vector3d::Zero()};
   }
   Twist V(int e, int C, int D, int r) {
-    auto made = MakeTwist(TwistSem(e, C, D, r), w.LinearVelocity(e, C, D, r),
-                          w.AngularVelocity(C, D, r));
+    auto made =
+        MakeTwist(TwistSem(e, C, D, r), w.LinearVelocity(e, C, D, r), w.AngularVelocity(C, D, r));
     EXPECT_TRUE(made.has_value());
     return made ? *made : Twist{TwistSem(e, C, D, r), {}, {}};
   }
@@ -264,8 +267,8 @@ class Scene {
   std::optional<Orientation<B>> O(int a, int b, int r) {
     const OrientationSemantics s = OriSem(a, b, r);
     const Eigen::Matrix3d M = w.OrientationOperator(a, b, r);
-    const auto made = w.Coin() ? MakeOrientation<B>(s, M)
-                               : MakeOrientation<B>(s, Eigen::Quaterniond(M));
+    const auto made =
+        w.Coin() ? MakeOrientation<B>(s, M) : MakeOrientation<B>(s, Eigen::Quaterniond(M));
     return Made(made, Admits<B>(s));
   }
   /// Pose from quaternion + vector, matrix + vector or a 4x4 matrix (random), or nullopt after
@@ -275,8 +278,10 @@ class Scene {
     const Eigen::Matrix3d M = w.OrientationOperator(x.a, x.b, x.r);
     const Eigen::Vector3d p = w.Position(x.e, x.f, x.r);
     switch (UniformIndex(w.rng(), 3)) {
-      case 0: return Made(MakePose<B>(s, Eigen::Quaterniond(M), p), Admits<B>(s));
-      case 1: return Made(MakePose<B>(s, M, p), Admits<B>(s));
+      case 0:
+        return Made(MakePose<B>(s, Eigen::Quaterniond(M), p), Admits<B>(s));
+      case 1:
+        return Made(MakePose<B>(s, M, p), Admits<B>(s));
       default: {
         Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
         T.topLeftCorner<3, 3>() = M;
@@ -531,7 +536,8 @@ TYPED_TEST(CoordOperations, OrientationInverse) {
     SEED_TRACE(seed);
     Scene<B> s(seed, t);
     const int a = s.w.RandomFrame(), b = s.w.RandomFrame();
-    const int r = seed % 5 == 0 ? s.w.RandomFrame() : (kPinsCoordinateFrame<B> ? b : s.w.RandomFrame());
+    const int r =
+        seed % 5 == 0 ? s.w.RandomFrame() : (kPinsCoordinateFrame<B> ? b : s.w.RandomFrame());
     const auto O_BA_R = s.O(a, b, r);
     if (!O_BA_R) continue;
     // The generic inverse keeps [r]: a matrix backend can hold it only when [r] = [a] too.
@@ -1286,7 +1292,8 @@ TYPED_TEST(CoordOperations, TwistCombine) {
   ExpectExercised(t, true, false, true);
 }
 
-// ================================================================== cross-checks of the ground truth
+// ================================================================== cross-checks of the ground
+// truth
 
 // The world's relative linear velocity is the time derivative, seen from D, of the position of
 // the C-fixed point at e wrt a D-fixed point: checked by integrating the absolute motion over a

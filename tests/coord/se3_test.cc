@@ -9,14 +9,15 @@
 //   - linear interpolation: p by hand, the rotation by Eigen's own slerp (an independent
 //     implementation), and a rotation about a fixed axis interpolated at a fraction of its angle;
 //   - derivatives: central differences of the interpolated motion.
+#include "semgraph/coord/se3.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/coord/homogeneous_backend.h"
-#include "semgraph/coord/se3.h"
+#include "semgraph/coord/quaternion_backend.h"
 #include "support/tolerance.h"
 
 namespace semgraph::coord {
@@ -25,7 +26,9 @@ namespace {
 using kernels::QuatPose;
 using semgraph::testing::ExpectNear;
 
-Eigen::Quaterniond Rz(double angle) { return Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())); }
+Eigen::Quaterniond Rz(double angle) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));
+}
 
 // The analytic screw motion of the file comment.
 struct ScrewMotion {
@@ -85,7 +88,8 @@ TEST(Se3Test, LogUsesTheShorterRotation) {
   kernels::Log(QuatPose{Eigen::Quaterniond(-q.coeffs()), Eigen::Vector3d::Zero()}, v, w);
   ExpectNear(w, Eigen::Vector3d(2.0, 0, 0), 1e-14);
   // A rotation of 4 rad is a rotation of 2*pi - 4 the other way.
-  kernels::Log(QuatPose{Eigen::Quaterniond(Eigen::AngleAxisd(4.0, Eigen::Vector3d::UnitX())), Eigen::Vector3d::Zero()},
+  kernels::Log(QuatPose{Eigen::Quaterniond(Eigen::AngleAxisd(4.0, Eigen::Vector3d::UnitX())),
+                        Eigen::Vector3d::Zero()},
                v, w);
   ExpectNear(w, Eigen::Vector3d(4.0 - 2 * M_PI, 0, 0), 1e-13);
 }
@@ -120,7 +124,8 @@ TEST(Se3Test, LinearInterpolationIsLerpAndSlerp) {
     EXPECT_NEAR(X.q.norm(), 1.0, 1e-14);
   }
   // About a fixed axis: the angle is interpolated.
-  const QuatPose X = kernels::InterpolateLinear({Rz(0.2), Eigen::Vector3d::Zero()}, {Rz(1.4), Eigen::Vector3d::Zero()}, 0.25);
+  const QuatPose X = kernels::InterpolateLinear({Rz(0.2), Eigen::Vector3d::Zero()},
+                                                {Rz(1.4), Eigen::Vector3d::Zero()}, 0.25);
   ExpectNear(X.q, Rz(0.5), 1e-14);
   // Identical rotations.
   ExpectNear(kernels::Slerp(Rz(0.3), Rz(0.3), 0.6), Rz(0.3), 1e-15);
@@ -128,10 +133,11 @@ TEST(Se3Test, LinearInterpolationIsLerpAndSlerp) {
 
 // The body-fixed twist of the interpolated motion by central differences:
 // X^-1 dX/ds = ([w], v) -> v = R^T dp/ds, w = vee(R^T dR/ds) (quaternion form: 2 (q^-1 qdot).vec).
-void NumericTwist(Interpolation mode, const QuatPose& X0, const QuatPose& X1, double dt, double lambda,
-                  Eigen::Vector3d& v, Eigen::Vector3d& w) {
+void NumericTwist(Interpolation mode, const QuatPose& X0, const QuatPose& X1, double dt,
+                  double lambda, Eigen::Vector3d& v, Eigen::Vector3d& w) {
   const double h = 1e-6;
-  const QuatPose a = kernels::Interpolate(mode, X0, X1, lambda - h), b = kernels::Interpolate(mode, X0, X1, lambda + h);
+  const QuatPose a = kernels::Interpolate(mode, X0, X1, lambda - h),
+                 b = kernels::Interpolate(mode, X0, X1, lambda + h);
   const QuatPose X = kernels::Interpolate(mode, X0, X1, lambda);
   Eigen::Quaterniond qb = b.q;
   if (qb.coeffs().dot(a.q.coeffs()) < 0) qb.coeffs() = -qb.coeffs();
@@ -147,8 +153,10 @@ TEST(Se3Test, SegmentTwistIsTheDerivativeOfTheInterpolatedMotion) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (Interpolation mode : {Interpolation::kScrew, Interpolation::kLinear}) {
     for (int k = 0; k < 50; ++k) {
-      const QuatPose X0{Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(), {u(rng), u(rng), u(rng)}};
-      const QuatPose X1 = kernels::Chain(X0, kernels::Exp({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}));
+      const QuatPose X0{Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(),
+                        {u(rng), u(rng), u(rng)}};
+      const QuatPose X1 =
+          kernels::Chain(X0, kernels::Exp({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}));
       const double dt = 0.2 + 0.5 * (u(rng) + 1.0), lambda = 0.1 + 0.4 * (u(rng) + 1.0);
       Eigen::Vector3d v, w, v_num, w_num;
       kernels::SegmentTwist(mode, X0, X1, dt, lambda, v, w);
@@ -192,7 +200,8 @@ class Se3CheckedTest : public ::testing::Test {
 };
 
 template <class B>
-void CheckedOpsCompute(const semantics::PoseSemantics& edge, const semantics::TwistSemantics& screw) {
+void CheckedOpsCompute(const semantics::PoseSemantics& edge,
+                       const semantics::TwistSemantics& screw) {
   const ScrewMotion m;
   const auto pose = [&](double s) {
     const QuatPose X = m.At(s);
@@ -252,7 +261,8 @@ TEST_F(Se3CheckedTest, IntegrateNeedsTheScrewTwistOfThatVeryEdge) {
 
 TEST_F(Se3CheckedTest, DifferentiateAndInterpolateNeedTwoSamplesOfOneEdge) {
   using B = QuaternionBackend;
-  const auto X0 = Pose<B>{Edge(), B::MakePose(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero())};
+  const auto X0 =
+      Pose<B>{Edge(), B::MakePose(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero())};
   semantics::PoseSemantics other = Edge();
   other.ref_body = Bd("W");
   const auto X1 = Pose<B>{other, X0.value};

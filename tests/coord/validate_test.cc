@@ -4,6 +4,8 @@
 //
 // Component indices (error.value.component): vectors 0..2 (x y z); quaternions 0..3 in the
 // order w x y z; 3x3 and 4x4 matrices row-major (3*row + col, 4*row + col).
+#include "semgraph/coord/validate.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +18,6 @@
 
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/quaternion_backend.h"
-#include "semgraph/coord/validate.h"
 #include "support/rotation_matrix_backend.h"
 #include "support/tolerance.h"
 #include "support/world_scene.h"
@@ -28,8 +29,8 @@ void PrintTo(ErrorCode code, std::ostream* os) { *os << ToString(code); }
 namespace semgraph::coord {
 namespace {
 
-using semantics::Body;
 using base::ErrorCode;
+using semantics::Body;
 using semantics::Frame;
 using semantics::NameTable;
 using semgraph::testing::ExpectNear;
@@ -124,8 +125,8 @@ TEST(Validate, NonFiniteVelocityComponentIsInvalidNumber) {
                           n.table);
       ExpectInvalidNumber(MakeLinearVelocity(n.Lin(), v_bad), ValueRole::kLinearVelocity, i, bad,
                           n.table);
-      ExpectInvalidNumber(MakeAngularVelocity(n.Ang(), w_bad), ValueRole::kAngularVelocity, i,
-                          bad, n.table);
+      ExpectInvalidNumber(MakeAngularVelocity(n.Ang(), w_bad), ValueRole::kAngularVelocity, i, bad,
+                          n.table);
       EXPECT_TRUE(Contains(Describe(MakeTwist(n.Tw(), v_bad, w).error(), n.table),
                            "linear velocity component"));
       EXPECT_TRUE(Contains(Describe(MakeTwist(n.Tw(), v, w_bad).error(), n.table),
@@ -168,7 +169,8 @@ TEST(Validate, MessagesShowTheOffendingNumberWithRoundTripDigits) {
   Names n;
   auto pos = MakePosition(n.Pos(), Eigen::Vector3d(0, 0, 1000000000000.5));
   ASSERT_FALSE(pos);
-  EXPECT_EQ(Describe(pos.error(), n.table), "position component 2 is 1000000000000.5 (magnitude above 1e+12)");
+  EXPECT_EQ(Describe(pos.error(), n.table),
+            "position component 2 is 1000000000000.5 (magnitude above 1e+12)");
   auto tw = MakeTwist(n.Tw(), Eigen::Vector3d(-1.0000000000001e12, 0, 0), Eigen::Vector3d::Zero());
   ASSERT_FALSE(tw);
   EXPECT_EQ(Describe(tw.error(), n.table),
@@ -248,8 +250,9 @@ TEST(Validate, QuaternionNormOffByMoreThanToleranceIsInvalidRotation) {
     EXPECT_TRUE(Contains(text, "1e-06")) << text;  // states the tolerance
     ExpectInvalidRotation(MakeOrientation<QuaternionBackend>(n.EdgeOrientation(), q),
                           ValueProblem::kQuaternionNorm);
-    ExpectInvalidRotation(MakePose<testing::RotationMatrixBackend>(n.Edge(), q, Eigen::Vector3d::Zero()),
-                          ValueProblem::kQuaternionNorm);
+    ExpectInvalidRotation(
+        MakePose<testing::RotationMatrixBackend>(n.Edge(), q, Eigen::Vector3d::Zero()),
+        ValueProblem::kQuaternionNorm);
   }
   ExpectInvalidRotation(ValidateQuaternion(Eigen::Quaterniond(0, 0, 0, 0)),
                         ValueProblem::kQuaternionNorm);
@@ -304,7 +307,10 @@ TEST(Validate, NormalizingIsIdempotent) {
   M(0, 1) += 1e-13;
   EXPECT_NE(*ValidateRotationMatrix(M), M);
   EXPECT_LT((ValidateRotationMatrix(M)->transpose() * *ValidateRotationMatrix(M) -
-             Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-14);
+             Eigen::Matrix3d::Identity())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-14);
 }
 
 // ================================================================== rotation matrices
@@ -463,9 +469,8 @@ TYPED_TEST(ValidateTyped, ValidInputsAreAcceptedInEveryForm) {
     ExpectNear(B::TranslationOf((*X)->value), p, 1e-15);
   }
   // Within tolerance, the stored rotation is normalized whatever the input form.
-  const auto slightly_off = MakeOrientation<B>(n.EdgeOrientation(),
-                                               Eigen::Quaterniond(Eigen::Quaterniond(R).coeffs() *
-                                                                  (1.0 + 5e-7)));
+  const auto slightly_off = MakeOrientation<B>(
+      n.EdgeOrientation(), Eigen::Quaterniond(Eigen::Quaterniond(R).coeffs() * (1.0 + 5e-7)));
   ASSERT_TRUE(slightly_off);
   const Eigen::Matrix3d M = B::ToMatrix(slightly_off->value);
   ExpectNear(M.transpose() * M, Eigen::Matrix3d::Identity(), 1e-12);
@@ -482,9 +487,9 @@ TYPED_TEST(ValidateTyped, InvalidNumberIsReportedBeforeInvalidRotation) {
   ExpectInvalidNumber(MakeOrientation<TypeParam>(n.EdgeOrientation(), q_nan),
                       ValueRole::kQuaternion, 0, kNaN, n.table);
   // A bad-norm quaternion with a non-finite position: the number wins.
-  ExpectInvalidNumber(MakePose<TypeParam>(n.Edge(), Eigen::Quaterniond(2, 0, 0, 0),
-                                          Eigen::Vector3d(0, kInf, 0)),
-                      ValueRole::kPosition, 1, kInf, n.table);
+  ExpectInvalidNumber(
+      MakePose<TypeParam>(n.Edge(), Eigen::Quaterniond(2, 0, 0, 0), Eigen::Vector3d(0, kInf, 0)),
+      ValueRole::kPosition, 1, kInf, n.table);
   // Inf inside a non-orthonormal (and reflected) matrix.
   Eigen::Matrix3d M = -3.0 * Eigen::Matrix3d::Identity();
   M(2, 1) = -kInf;
@@ -510,8 +515,9 @@ TYPED_TEST(ValidateTyped, RepresentationConstraintIsCheckedAfterTheNumbers) {
   // Bad numbers first, whatever the semantics.
   ExpectInvalidNumber(MakePose<B>(off, q, Eigen::Vector3d(kNaN, 0, 0)), ValueRole::kPosition, 0,
                       kNaN, n.table);
-  ExpectInvalidRotation(MakePose<B>(off, Eigen::Quaterniond(q.coeffs() * 1.1), Eigen::Vector3d::Zero()),
-                        ValueProblem::kQuaternionNorm);
+  ExpectInvalidRotation(
+      MakePose<B>(off, Eigen::Quaterniond(q.coeffs() * 1.1), Eigen::Vector3d::Zero()),
+      ValueProblem::kQuaternionNorm);
   ExpectInvalidRotation(MakeOrientation<B>(off_o, Eigen::Matrix3d(-R)), ValueProblem::kReflection);
   // Then the representation.
   const auto pose = MakePose<B>(off, q, Eigen::Vector3d::Zero());
@@ -526,7 +532,8 @@ TYPED_TEST(ValidateTyped, RepresentationConstraintIsCheckedAfterTheNumbers) {
     ASSERT_NE(e.representation, nullptr);
     EXPECT_STREQ(e.representation, B::kName);
     const std::string text = Describe(e, n.table);
-    EXPECT_TRUE(Contains(text, std::string("the ") + B::kName + " representation requires")) << text;
+    EXPECT_TRUE(Contains(text, std::string("the ") + B::kName + " representation requires"))
+        << text;
     EXPECT_TRUE(Contains(text, "coordinate frame [c]")) << text;
     EXPECT_TRUE(Contains(text, "reference orientation frame [b]|B")) << text;
   }
@@ -536,8 +543,8 @@ TEST(Validate, HomogeneousPointConstraintsAreNamedInTheText) {
   Names n;
   const Eigen::Quaterniond q = SomeQuaternion(2);
   // Point b on A is not the origin of [a].
-  const PoseSemantics point_off{n.b.origin(), n.a.axes(), n.A, n.b.origin(), n.b.axes(), n.B,
-                                n.b.axes()};
+  const PoseSemantics point_off{n.b.origin(), n.a.axes(), n.A,       n.b.origin(),
+                                n.b.axes(),   n.B,        n.b.axes()};
   const auto r1 = MakePose<HomogeneousBackend>(point_off, q, Eigen::Vector3d::Zero());
   ASSERT_FALSE(r1);
   EXPECT_EQ(r1.error().code, ErrorCode::kRepresentationConstraint);
@@ -545,8 +552,8 @@ TEST(Validate, HomogeneousPointConstraintsAreNamedInTheText) {
             "the homogeneous representation requires point b|A of the pose to be the origin of "
             "orientation frame [a]|A of the pose");
   // Reference point a on B is not the origin of [b].
-  const PoseSemantics ref_off{n.a.origin(), n.a.axes(), n.A, n.a.origin(), n.b.axes(), n.B,
-                              n.b.axes()};
+  const PoseSemantics ref_off{n.a.origin(), n.a.axes(), n.A,       n.a.origin(),
+                              n.b.axes(),   n.B,        n.b.axes()};
   const auto r2 = MakePose<HomogeneousBackend>(ref_off, q, Eigen::Vector3d::Zero());
   ASSERT_FALSE(r2);
   const std::string text = Describe(r2.error(), n.table);

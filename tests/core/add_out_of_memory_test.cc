@@ -18,7 +18,8 @@
 // frame, a new root, two new frames, a value update, the non-edge form, stamped, repaired by the
 // inverse and by re-rooting, rejections), AddTwist (new edge, new frame and bodies, converted,
 // update, stamped, rejected), RemovePose (splits, leaves, rejected), RemoveTwist, AddJoint (new
-// frames, linking two trees, a mimic, rejected) and the removal of a joint (RemovePose of its edge).
+// frames, linking two trees, a mimic, rejected) and the removal of a joint (RemovePose of its
+// edge).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,10 +42,12 @@ using Eigen::Quaterniond;
 using Eigen::Vector3d;
 using semgraph::testing::AllocationCounter;
 
-Quaterniond Rotation(double angle) { return Quaterniond(Eigen::AngleAxisd(angle, Vector3d(1, 2, 3).normalized())); }
+Quaterniond Rotation(double angle) {
+  return Quaterniond(Eigen::AngleAxisd(angle, Vector3d(1, 2, 3).normalized()));
+}
 
-JointSpec Joint(std::string_view name, JointType type, std::string_view parent, std::string_view parent_body,
-                std::string_view child, std::string_view child_body) {
+JointSpec Joint(std::string_view name, JointType type, std::string_view parent,
+                std::string_view parent_body, std::string_view child, std::string_view child_body) {
   JointSpec j;
   j.name = name;
   j.type = type;
@@ -73,18 +76,20 @@ template <class B>
 void BuildScene(SceneGraph<B>& g, int fill) {
   for (int i = 0; i < fill; ++i) {
     const std::string f = "f" + std::to_string(i), gi = "g" + std::to_string(i);
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of(f, "F" + std::to_string(i)).RelativeTo(gi, "G" + std::to_string(i)),
-                          Quaterniond::Identity(), Vector3d(i, 0, 0)));
-    ASSERT_TRUE(g.AddTwist(TwistSpec::Of(f).RelativeTo("G" + std::to_string(i)).ExpressedIn(f), Vector3d::Zero(),
-                           Vector3d::Zero()));
+    ASSERT_TRUE(
+        g.AddPose(PoseSpec::Of(f, "F" + std::to_string(i)).RelativeTo(gi, "G" + std::to_string(i)),
+                  Quaterniond::Identity(), Vector3d(i, 0, 0)));
+    ASSERT_TRUE(g.AddTwist(TwistSpec::Of(f).RelativeTo("G" + std::to_string(i)).ExpressedIn(f),
+                           Vector3d::Zero(), Vector3d::Zero()));
   }
-  auto pose = [&](const char* of, const char* of_body, const char* wrt, const char* wrt_body, double k) {
+  auto pose = [&](const char* of, const char* of_body, const char* wrt, const char* wrt_body,
+                  double k) {
     ASSERT_TRUE(g.AddPose(PoseSpec::Of(of, of_body).RelativeTo(wrt, wrt_body), Rotation(0.1 * k),
                           Vector3d(0.5 * k, -0.25, 0.125 * k)));
   };
   auto twist = [&](const char* point, const char* body, const char* wrt, double k) {
-    ASSERT_TRUE(g.AddTwist(TwistSpec::Of(point, body).RelativeTo(wrt).ExpressedIn(point), Vector3d(k, 0.5, -k),
-                           Vector3d(0.1, -0.2 * k, 0.3)));
+    ASSERT_TRUE(g.AddTwist(TwistSpec::Of(point, body).RelativeTo(wrt).ExpressedIn(point),
+                           Vector3d(k, 0.5, -k), Vector3d(0.1, -0.2 * k, 0.3)));
   };
   pose("a", "A", "w", "W", 1);
   pose("a2", "A", "a", "A", 2);
@@ -121,11 +126,12 @@ void BuildScene(SceneGraph<B>& g, int fill) {
 // gives bit-identical answers).
 template <class B>
 std::vector<double> Answers(const SceneGraph<B>& g) {
-  static const char* const kFrames[] = {"w", "a", "a2", "b", "c", "p", "q", "r", "s", "u",
-                                        "n", "l", "c2", "top", "x", "y", "d",
-                                        "jw", "ja", "jb", "jc", "kp", "kc"};
-  static const char* const kBodies[] = {"W", "A", "B", "C", "P", "Q", "R", "S", "T", "U", "N", "L", "Top", "X", "Y", "D",
-                                        "JW", "JA", "JB", "JC", "KP", "KC"};
+  static const char* const kFrames[] = {"w", "a",  "a2", "b",  "c",  "p",   "q", "r",
+                                        "s", "u",  "n",  "l",  "c2", "top", "x", "y",
+                                        "d", "jw", "ja", "jb", "jc", "kp",  "kc"};
+  static const char* const kBodies[] = {"W",  "A",  "B",  "C",  "P",   "Q", "R", "S",
+                                        "T",  "U",  "N",  "L",  "Top", "X", "Y", "D",
+                                        "JW", "JA", "JB", "JC", "KP",  "KC"};
   std::vector<double> out;
   out.reserve(8192);
   for (const char* of : kFrames) {
@@ -141,7 +147,8 @@ std::vector<double> Answers(const SceneGraph<B>& g) {
       const auto V = g.GetTwist(TwistSpec::Of(of).RelativeTo(body).ExpressedIn(of));
       out.push_back(static_cast<double>(V ? ErrorCode::kOk : V.error().code));
       if (!V) continue;
-      out.insert(out.end(), {V->linear.x(), V->linear.y(), V->linear.z(), V->angular.x(), V->angular.y(), V->angular.z()});
+      out.insert(out.end(), {V->linear.x(), V->linear.y(), V->linear.z(), V->angular.x(),
+                             V->angular.y(), V->angular.z()});
     }
   }
   return out;
@@ -168,46 +175,75 @@ std::vector<Operation<B>> Operations() {
   return {
       {"AddBody", [](G& g) { return g.AddBody("N"); }, ErrorCode::kOk},
       {"AddFrame", [](G& g) { return g.AddFrame("n", "S"); }, ErrorCode::kOk},
-      {"AddPose leaf, new body", [=](G& g) { return g.AddPose(PoseSpec::Of("l", "L").RelativeTo("c"), q, p); },
+      {"AddPose leaf, new body",
+       [=](G& g) { return g.AddPose(PoseSpec::Of("l", "L").RelativeTo("c"), q, p); },
        ErrorCode::kOk},
-      {"AddPose leaf, constant", [=](G& g) { return g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("c"), q, p); },
+      {"AddPose leaf, constant",
+       [=](G& g) { return g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("c"), q, p); },
        ErrorCode::kOk},
-      {"AddPose link two trees", [=](G& g) { return g.AddPose(PoseSpec::Of("p").RelativeTo("c"), q, p); },
-       ErrorCode::kOk},
-      {"AddPose link a single frame", [=](G& g) { return g.AddPose(PoseSpec::Of("s").RelativeTo("c"), q, p); },
-       ErrorCode::kOk},
+      {"AddPose link two trees",
+       [=](G& g) { return g.AddPose(PoseSpec::Of("p").RelativeTo("c"), q, p); }, ErrorCode::kOk},
+      {"AddPose link a single frame",
+       [=](G& g) { return g.AddPose(PoseSpec::Of("s").RelativeTo("c"), q, p); }, ErrorCode::kOk},
       {"AddPose new root above a tree",
-       [=](G& g) { return g.AddPose(PoseSpec::Of("w").RelativeTo("top", "Top"), q, p); }, ErrorCode::kOk},
-      {"AddPose two new frames", [=](G& g) { return g.AddPose(PoseSpec::Of("x", "X").RelativeTo("y", "Y"), q, p); },
+       [=](G& g) { return g.AddPose(PoseSpec::Of("w").RelativeTo("top", "Top"), q, p); },
        ErrorCode::kOk},
-      {"AddPose update", [=](G& g) { return g.AddPose(PoseSpec::Of("b").RelativeTo("a"), q, p); }, ErrorCode::kOk},
+      {"AddPose two new frames",
+       [=](G& g) { return g.AddPose(PoseSpec::Of("x", "X").RelativeTo("y", "Y"), q, p); },
+       ErrorCode::kOk},
+      {"AddPose update", [=](G& g) { return g.AddPose(PoseSpec::Of("b").RelativeTo("a"), q, p); },
+       ErrorCode::kOk},
       {"AddPose non-edge form (link)",
        [=](G& g) { return g.AddPose(PoseSpec::Of("p").RelativeTo("c").ExpressedIn("b"), q, p); },
        // The homogeneous representation holds poses in edge form only.
-       std::is_same_v<B, coord::HomogeneousBackend> ? ErrorCode::kRepresentationConstraint : ErrorCode::kOk},
+       std::is_same_v<B, coord::HomogeneousBackend> ? ErrorCode::kRepresentationConstraint
+                                                    : ErrorCode::kOk},
       {"AddPose rejected, new names (P1)",
-       [=](G& g) { return g.AddPose(PoseSpec::Of("c").RelativeTo("y", "Y"), q, p); }, ErrorCode::kMultiplePoseParents},
-      {"AddPose rejected (P2)", [=](G& g) { return g.AddPose(PoseSpec::Of("w").RelativeTo("c"), q, p); },
+       [=](G& g) { return g.AddPose(PoseSpec::Of("c").RelativeTo("y", "Y"), q, p); },
+       ErrorCode::kMultiplePoseParents},
+      {"AddPose rejected (P2)",
+       [=](G& g) { return g.AddPose(PoseSpec::Of("w").RelativeTo("c"), q, p); },
        ErrorCode::kPoseCycle},
-      {"AddTwist single frame", [=](G& g) { return g.AddTwist(TwistSpec::Of("s").RelativeTo("W").ExpressedIn("s"), v, w); },
+      {"AddTwist single frame",
+       [=](G& g) { return g.AddTwist(TwistSpec::Of("s").RelativeTo("W").ExpressedIn("s"), v, w); },
        ErrorCode::kOk},
       {"AddTwist new frame and bodies",
-       [=](G& g) { return g.AddTwist(TwistSpec::Of("d", "D").RelativeTo("N").ExpressedIn("d"), v, w); }, ErrorCode::kOk},
-      {"AddTwist converted", [=](G& g) { return g.AddTwist(TwistSpec::Of("p").RelativeTo("T").ExpressedIn("q"), v, w); },
+       [=](G& g) {
+         return g.AddTwist(TwistSpec::Of("d", "D").RelativeTo("N").ExpressedIn("d"), v, w);
+       },
        ErrorCode::kOk},
-      {"AddTwist update", [=](G& g) { return g.AddTwist(TwistSpec::Of("b").RelativeTo("A").ExpressedIn("b"), v, w); },
+      {"AddTwist converted",
+       [=](G& g) { return g.AddTwist(TwistSpec::Of("p").RelativeTo("T").ExpressedIn("q"), v, w); },
        ErrorCode::kOk},
-      {"AddTwist rejected (W3)", [=](G& g) { return g.AddTwist(TwistSpec::Of("a2").RelativeTo("W").ExpressedIn("a2"), v, w); },
+      {"AddTwist update",
+       [=](G& g) { return g.AddTwist(TwistSpec::Of("b").RelativeTo("A").ExpressedIn("b"), v, w); },
+       ErrorCode::kOk},
+      {"AddTwist rejected (W3)",
+       [=](G& g) {
+         return g.AddTwist(TwistSpec::Of("a2").RelativeTo("W").ExpressedIn("a2"), v, w);
+       },
        ErrorCode::kDuplicateTwistPath},
-      {"AddPose stamped", [=](G& g) { return g.AddPose(PoseSpec::Of("l", "L").RelativeTo("c"), q, p, Stamp::Nanoseconds(7)); },
+      {"AddPose stamped",
+       [=](G& g) {
+         return g.AddPose(PoseSpec::Of("l", "L").RelativeTo("c"), q, p, Stamp::Nanoseconds(7));
+       },
        ErrorCode::kOk},
       {"AddTwist stamped",
-       [=](G& g) { return g.AddTwist(TwistSpec::Of("s").RelativeTo("W").ExpressedIn("s"), v, w, Stamp::Nanoseconds(7)); },
+       [=](G& g) {
+         return g.AddTwist(TwistSpec::Of("s").RelativeTo("W").ExpressedIn("s"), v, w,
+                           Stamp::Nanoseconds(7));
+       },
        ErrorCode::kOk},
       {"AddPose repaired by the inverse",
-       [=](G& g) { return Plain(g.AddPose(PoseSpec::Of("a").RelativeTo("s"), q, p, RepairPolicy{})); }, ErrorCode::kOk},
+       [=](G& g) {
+         return Plain(g.AddPose(PoseSpec::Of("a").RelativeTo("s"), q, p, RepairPolicy{}));
+       },
+       ErrorCode::kOk},
       {"AddPose repaired by re-rooting",
-       [=](G& g) { return Plain(g.AddPose(PoseSpec::Of("a").RelativeTo("q"), q, p, RepairPolicy{})); }, ErrorCode::kOk},
+       [=](G& g) {
+         return Plain(g.AddPose(PoseSpec::Of("a").RelativeTo("q"), q, p, RepairPolicy{}));
+       },
+       ErrorCode::kOk},
       {"RemovePose split", [](G& g) { return g.RemovePose("b", "a"); }, ErrorCode::kOk},
       {"RemovePose leaf with a twist", [](G& g) { return g.RemovePose("c", "b"); }, ErrorCode::kOk},
       {"RemovePose constant leaf", [](G& g) { return g.RemovePose("a2", "a"); }, ErrorCode::kOk},
@@ -215,15 +251,20 @@ std::vector<Operation<B>> Operations() {
       {"RemovePose rejected", [](G& g) { return g.RemovePose("a", "b"); }, ErrorCode::kNoSuchEdge},
       {"RemoveTwist inner", [](G& g) { return g.RemoveTwist("b", "A"); }, ErrorCode::kOk},
       {"RemoveTwist last of a tree", [](G& g) { return g.RemoveTwist("r", "Q"); }, ErrorCode::kOk},
-      {"RemoveTwist rejected", [](G& g) { return g.RemoveTwist("b", "W"); }, ErrorCode::kNoSuchEdge},
+      {"RemoveTwist rejected", [](G& g) { return g.RemoveTwist("b", "W"); },
+       ErrorCode::kNoSuchEdge},
       {"AddJoint new frames and bodies",
-       [](G& g) { return g.AddJoint(Joint("k1", JointType::kRevolute, "kp", "KP", "kc", "KC")); }, ErrorCode::kOk},
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kRevolute, "kp", "KP", "kc", "KC")); },
+       ErrorCode::kOk},
       {"AddJoint linking two trees",
-       [](G& g) { return g.AddJoint(Joint("k1", JointType::kPrismatic, "c", "C", "p", "P")); }, ErrorCode::kOk},
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kPrismatic, "c", "C", "p", "P")); },
+       ErrorCode::kOk},
       {"AddJoint a single frame under a tree",
-       [](G& g) { return g.AddJoint(Joint("k1", JointType::kContinuous, "jc", "JC", "s", "S")); }, ErrorCode::kOk},
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kContinuous, "jc", "JC", "s", "S")); },
+       ErrorCode::kOk},
       {"AddJoint fixed, new child",
-       [](G& g) { return g.AddJoint(Joint("k1", JointType::kFixed, "b", "B", "kc", "KC")); }, ErrorCode::kOk},
+       [](G& g) { return g.AddJoint(Joint("k1", JointType::kFixed, "b", "B", "kc", "KC")); },
+       ErrorCode::kOk},
       {"AddJoint mimic",
        [](G& g) {
          JointSpec k = Joint("k1", JointType::kRevolute, "jc", "JC", "kc", "KC");
@@ -234,8 +275,10 @@ std::vector<Operation<B>> Operations() {
       {"AddJoint rejected (duplicate name)",
        [](G& g) { return g.AddJoint(Joint("j1", JointType::kRevolute, "kp", "KP", "kc", "KC")); },
        ErrorCode::kDuplicateJoint},
-      {"RemovePose of a joint (mimic)", [](G& g) { return g.RemovePose("jc", "jb"); }, ErrorCode::kOk},
-      {"RemovePose of a joint (inner)", [](G& g) { return g.RemovePose("jb", "ja"); }, ErrorCode::kOk},
+      {"RemovePose of a joint (mimic)", [](G& g) { return g.RemovePose("jc", "jb"); },
+       ErrorCode::kOk},
+      {"RemovePose of a joint (inner)", [](G& g) { return g.RemovePose("jb", "ja"); },
+       ErrorCode::kOk},
       {"RemovePose of a mimicked joint, rejected", [](G& g) { return g.RemovePose("ja", "jw"); },
        ErrorCode::kJointEdge},
   };
@@ -316,7 +359,8 @@ TYPED_TEST(AddOutOfMemory, EveryBuildOperationIsAllOrNothingAtEveryAllocation) {
         }
         if (!problem.empty()) {
           ++broken_points;
-          ADD_FAILURE() << op.name << ", fill " << fill << ", allocation " << n << " failed: " << problem;
+          ADD_FAILURE() << op.name << ", fill " << fill << ", allocation " << n
+                        << " failed: " << problem;
         }
       }
       ++runs;
@@ -326,9 +370,9 @@ TYPED_TEST(AddOutOfMemory, EveryBuildOperationIsAllOrNothingAtEveryAllocation) {
     points += op_points;
     table << "  " << op.name << ": " << op_points << " (up to " << op_most << " per run)\n";
   }
-  std::cout << B::kName << ": " << operations.size() << " operations x " << kFills << " fill levels = " << runs
-            << " runs; " << points << " allocation points failed one at a time; " << broken_points
-            << " broke the graph\n"
+  std::cout << B::kName << ": " << operations.size() << " operations x " << kFills
+            << " fill levels = " << runs << " runs; " << points
+            << " allocation points failed one at a time; " << broken_points << " broke the graph\n"
             << table.str();
   EXPECT_GT(points, 2 * runs);  // the test reaches allocations at all
 }

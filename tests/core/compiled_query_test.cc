@@ -3,8 +3,6 @@
 //
 // Legend: the paper's spray-painting scene (examples/spray_painting_scene.h): B base {b},
 // E end effector {e}, O2 gun {o2}, O1 cylinder {o1} with paint point {f1}, C camera {c}.
-#include "semgraph/core/scene_graph.h"
-
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -14,6 +12,7 @@
 #include <thread>
 
 #include "../../examples/spray_painting_scene.h"
+#include "semgraph/core/scene_graph.h"
 #include "support/alloc_counter.h"
 
 // Allocations are counted by the suite's one replacement of operator new/delete
@@ -64,8 +63,9 @@ TYPED_TEST(CompiledQueryTest, FrameToFramePosesEqualOneShot) {
       typename B::PoseCoords X;
       ASSERT_EQ(compiled->Evaluate(X), ErrorCode::kOk);
       EXPECT_LT((B::TranslationOf(X) - B::TranslationOf(one_shot->value)).norm(), 1e-12);
-      EXPECT_LT((B::ToMatrix(B::RotationOf(X)) - B::ToMatrix(B::RotationOf(one_shot->value))).norm(),
-                1e-12);
+      EXPECT_LT(
+          (B::ToMatrix(B::RotationOf(X)) - B::ToMatrix(B::RotationOf(one_shot->value))).norm(),
+          1e-12);
       EXPECT_EQ(compiled->semantics(), one_shot->semantics);
     }
   }
@@ -162,7 +162,8 @@ TYPED_TEST(CompiledQueryTest, UpdatesByHandleAreSeenAndConstantEdgesHaveNoHandle
   const Vector3d p_expected = p_BE + q_BE * mount.p_PoFo_P;
   EXPECT_LT((B::TranslationOf(X) - p_expected).norm(), 1e-12);
   EXPECT_EQ(this->graph_.FindPoseEdge("f1", "o1").error().code, ErrorCode::kConstantPoseChange);
-  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond(2, 0, 0, 0), p_BE), ErrorCode::kInvalidRotation);
+  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond(2, 0, 0, 0), p_BE),
+            ErrorCode::kInvalidRotation);
   EXPECT_EQ(this->graph_.SetPose(*handle, q_BE, Vector3d(NAN, 0, 0)), ErrorCode::kInvalidNumber);
   auto twist = this->graph_.FindTwistEdge("e", "B");
   ASSERT_TRUE(twist);
@@ -174,7 +175,8 @@ TYPED_TEST(CompiledQueryTest, RemovalInvalidatesOnlyAffectedQueriesUntilRecompil
   using B = TypeParam;
   auto through_e = this->graph_.CompilePose(PoseSpec::Of("o2").RelativeTo("b"));
   auto camera_side = this->graph_.CompilePose(PoseSpec::Of("f1").RelativeTo("c"));
-  auto twist = this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("C").ExpressedIn("c"));
+  auto twist =
+      this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("C").ExpressedIn("c"));
   auto handle = this->graph_.FindPoseEdge("e", "b");
   ASSERT_TRUE(through_e && camera_side && twist && handle);
   ASSERT_TRUE(this->graph_.RemovePose("e", "b"));
@@ -184,10 +186,11 @@ TYPED_TEST(CompiledQueryTest, RemovalInvalidatesOnlyAffectedQueriesUntilRecompil
   EXPECT_EQ(camera_side->Evaluate(X), ErrorCode::kOk);
   Vector3d v, w;
   EXPECT_EQ(twist->Evaluate(v, w), ErrorCode::kOk);
-  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond::Identity(), Vector3d::Zero()), ErrorCode::kNoSuchEdge);
+  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond::Identity(), Vector3d::Zero()),
+            ErrorCode::kNoSuchEdge);
   // Re-adding the edge does not revive old queries or handles; recompiling does.
-  ASSERT_TRUE(this->graph_.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), Quaterniond::Identity(),
-                                   Vector3d(1, 0, 0)));
+  ASSERT_TRUE(this->graph_.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"),
+                                   Quaterniond::Identity(), Vector3d(1, 0, 0)));
   EXPECT_EQ(through_e->Evaluate(X), ErrorCode::kQueryInvalidated);
   auto again = this->graph_.CompilePose(PoseSpec::Of("o2").RelativeTo("b"));
   ASSERT_TRUE(again);
@@ -199,19 +202,26 @@ TYPED_TEST(CompiledQueryTest, RemovalInvalidatesOnlyAffectedQueriesUntilRecompil
 TYPED_TEST(CompiledQueryTest, RejectedOperationsLeaveCompiledQueriesAndHandlesValid) {
   using B = TypeParam;
   auto pose = this->graph_.CompilePose(PoseSpec::Of("f1").RelativeTo("o2"));
-  auto twist = this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2"));
+  auto twist =
+      this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("o2"));
   auto handle = this->graph_.FindPoseEdge("e", "b");
   ASSERT_TRUE(pose && twist && handle);
   typename B::PoseCoords before, after;
   ASSERT_EQ(pose->Evaluate(before), ErrorCode::kOk);
   // Every kind of rejection: multiple parents, cycle, duplicate path, constant change, twist
   // duplicate path, invalid number, removal of a missing edge.
-  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("o1", "O1").RelativeTo("e", "E"), Quaterniond::Identity(), Vector3d::Zero()));
-  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("b", "B").RelativeTo("f1", "O1"), Quaterniond::Identity(), Vector3d::Zero()));
-  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("c2", "C").RelativeTo("o2", "O2"), Quaterniond::Identity(), Vector3d::Zero()));
-  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("f1", "O1").RelativeTo("o1", "O1"), Quaterniond::Identity(), Vector3d::Zero()));
-  EXPECT_FALSE(this->graph_.AddTwist(TwistSpec::Of("f1", "O1").RelativeTo("B").ExpressedIn("f1"), Vector3d::Zero(), Vector3d::Zero()));
-  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), Quaterniond::Identity(), Vector3d(NAN, 0, 0)));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("o1", "O1").RelativeTo("e", "E"),
+                                    Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("b", "B").RelativeTo("f1", "O1"),
+                                    Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("c2", "C").RelativeTo("o2", "O2"),
+                                    Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("f1", "O1").RelativeTo("o1", "O1"),
+                                    Quaterniond::Identity(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddTwist(TwistSpec::Of("f1", "O1").RelativeTo("B").ExpressedIn("f1"),
+                                     Vector3d::Zero(), Vector3d::Zero()));
+  EXPECT_FALSE(this->graph_.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"),
+                                    Quaterniond::Identity(), Vector3d(NAN, 0, 0)));
   EXPECT_FALSE(this->graph_.RemovePose("b", "e"));
   EXPECT_FALSE(this->graph_.RemoveTwist("f1", "B"));
   EXPECT_TRUE(pose->is_valid());
@@ -219,7 +229,8 @@ TYPED_TEST(CompiledQueryTest, RejectedOperationsLeaveCompiledQueriesAndHandlesVa
   EXPECT_EQ(B::TranslationOf(after), B::TranslationOf(before));
   Vector3d v, w;
   EXPECT_EQ(twist->Evaluate(v, w), ErrorCode::kOk);
-  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond::Identity(), Vector3d::Zero()), ErrorCode::kOk);
+  EXPECT_EQ(this->graph_.SetPose(*handle, Quaterniond::Identity(), Vector3d::Zero()),
+            ErrorCode::kOk);
 }
 
 TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
@@ -229,9 +240,11 @@ TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
   auto pose = this->graph_.CompilePose(PoseSpec::Of("f1").RelativeTo("o2").ExpressedIn(pose_frame));
   auto position = this->graph_.CompilePosition(PoseSpec::Of("f1").RelativeTo("e").ExpressedIn("c"));
   auto orientation = this->graph_.CompileOrientation(PoseSpec::Of("f1").RelativeTo("o2"));
-  auto twist = this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("c"));
+  auto twist =
+      this->graph_.CompileTwist(TwistSpec::Of("f1", "O1").RelativeTo("O2").ExpressedIn("c"));
   // An angular velocity is the angular part of any point's twist: the coordinate frame's origin.
-  auto angular = this->graph_.CompileTwist(TwistSpec::Of("b", "O1").RelativeTo("B").ExpressedIn("b"));
+  auto angular =
+      this->graph_.CompileTwist(TwistSpec::Of("b", "O1").RelativeTo("B").ExpressedIn("b"));
   auto pose_edge = this->graph_.FindPoseEdge("e", "b");
   auto twist_edge = this->graph_.FindTwistEdge("e", "B");
   ASSERT_TRUE(pose && position && orientation && twist && angular && pose_edge && twist_edge);
@@ -241,8 +254,10 @@ TYPED_TEST(CompiledQueryTest, EvaluateAndSetAllocateNothing) {
   const std::size_t before = AllocationCounter::total();
   for (int i = 0; i < 1000; ++i) {
     const double s = 1e-3 * i;
-    ASSERT_EQ(this->graph_.SetPose(*pose_edge, scene::Rpy(s, 0.2, -s), Vector3d(s, 0.1, 0.7)), ErrorCode::kOk);
-    ASSERT_EQ(this->graph_.SetTwist(*twist_edge, Vector3d(s, 0, 0), Vector3d(0, s, 0)), ErrorCode::kOk);
+    ASSERT_EQ(this->graph_.SetPose(*pose_edge, scene::Rpy(s, 0.2, -s), Vector3d(s, 0.1, 0.7)),
+              ErrorCode::kOk);
+    ASSERT_EQ(this->graph_.SetTwist(*twist_edge, Vector3d(s, 0, 0), Vector3d(0, s, 0)),
+              ErrorCode::kOk);
     ASSERT_EQ(pose->Evaluate(X), ErrorCode::kOk);
     ASSERT_EQ(position->Evaluate(p), ErrorCode::kOk);
     ASSERT_EQ(orientation->Evaluate(M), ErrorCode::kOk);
@@ -273,22 +288,27 @@ TYPED_TEST(CompiledQueryTest, CachedEvaluationEqualsUncachedAfterRandomUpdates) 
   SceneGraph<B> g;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
-  const auto random_q = [&] { return Quaterniond(u(rng), u(rng), u(rng), u(rng) + 2).normalized(); };
+  const auto random_q = [&] {
+    return Quaterniond(u(rng), u(rng), u(rng), u(rng) + 2).normalized();
+  };
   const auto random_p = [&] { return Vector3d(u(rng), u(rng), u(rng)); };
   std::vector<PoseHandle> handles;
   for (int i = 1; i <= 40; ++i) {
     const int parent = i <= 30 ? i - 1 : 10 + (i - 31);  // a trunk of 30, and branches off it
     const std::string of = "n" + std::to_string(i), wrt = "n" + std::to_string(parent);
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of(of, "N" + std::to_string(i)).RelativeTo(wrt, "N" + std::to_string(parent)),
-                          random_q(), random_p()));
+    ASSERT_TRUE(g.AddPose(
+        PoseSpec::Of(of, "N" + std::to_string(i)).RelativeTo(wrt, "N" + std::to_string(parent)),
+        random_q(), random_p()));
     auto h = g.FindPoseEdge(of, wrt);
     ASSERT_TRUE(h);
     handles.push_back(*h);
   }
   // A point on the body of [a] and a reference point on the body of [b] (constant mounts).
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("pe", "N29").RelativeTo("n29", "N29"), random_q(), random_p()));
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("pe", "N29").RelativeTo("n29", "N29"), random_q(), random_p()));
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("pf", "N3").RelativeTo("n3", "N3"), random_q(), random_p()));
-  const std::string e = "pe", a = "n29", f = "pf", b = "n3", r = "n38";  // frames on several branches
+  const std::string e = "pe", a = "n29", f = "pf", b = "n3",
+                    r = "n38";  // frames on several branches
   // The homogeneous representation only holds poses of frames in the reference frame.
   constexpr bool kHomogeneous = std::is_same_v<B, coord::HomogeneousBackend>;
   PoseSpec general = PoseSpec::Of(a).RelativeTo(b).ExpressedIn(kHomogeneous ? b : r);
@@ -312,7 +332,8 @@ TYPED_TEST(CompiledQueryTest, CachedEvaluationEqualsUncachedAfterRandomUpdates) 
     typename B::PoseCoords X, X_cached;
     ASSERT_EQ(pose->Evaluate(X), ErrorCode::kOk);
     ASSERT_EQ(pose->Evaluate(X_cached, pose_cache), ErrorCode::kOk);
-    EXPECT_LT((B::TranslationOf(X) - B::TranslationOf(X_cached)).norm(), 1e-12) << "round " << round;
+    EXPECT_LT((B::TranslationOf(X) - B::TranslationOf(X_cached)).norm(), 1e-12)
+        << "round " << round;
     EXPECT_LT((B::ToMatrix(B::RotationOf(X)) - B::ToMatrix(B::RotationOf(X_cached))).norm(), 1e-12);
     Vector3d p, p_cached;
     ASSERT_EQ(position->Evaluate(p), ErrorCode::kOk);
@@ -341,10 +362,10 @@ TYPED_TEST(CompiledQueryTest, CachedEvaluationEqualsUncachedAfterRandomUpdates) 
 TEST(CompiledQueryConcurrency, ReadersNeverSeeTornEdgeValues) {
   using B = coord::QuaternionBackend;
   SceneGraph<B> graph;
-  ASSERT_TRUE(graph.AddPose(PoseSpec::Of("l1", "L1").RelativeTo("base", "Base"), Quaterniond::Identity(),
-                            Vector3d(1, 0, 0)));
-  ASSERT_TRUE(graph.AddPose(PoseSpec::Of("l2", "L2").RelativeTo("l1", "L1"), Quaterniond::Identity(),
-                            Vector3d(1, 0, 0)));
+  ASSERT_TRUE(graph.AddPose(PoseSpec::Of("l1", "L1").RelativeTo("base", "Base"),
+                            Quaterniond::Identity(), Vector3d(1, 0, 0)));
+  ASSERT_TRUE(graph.AddPose(PoseSpec::Of("l2", "L2").RelativeTo("l1", "L1"),
+                            Quaterniond::Identity(), Vector3d(1, 0, 0)));
   auto h1 = graph.FindPoseEdge("l1", "base");
   auto h2 = graph.FindPoseEdge("l2", "l1");
   auto query = graph.CompilePose(PoseSpec::Of("l2").RelativeTo("base"));
@@ -373,7 +394,8 @@ TEST(CompiledQueryConcurrency, ReadersNeverSeeTornEdgeValues) {
     ASSERT_EQ((n & 1) ? query->Evaluate(X, cache) : query->Evaluate(X), ErrorCode::kOk);
     bool match = false;
     for (const B::PoseCoords& A : allowed) {
-      match |= (X.translation - A.translation).norm() < 1e-12 && X.rotation.angularDistance(A.rotation) < 1e-9;
+      match |= (X.translation - A.translation).norm() < 1e-12 &&
+               X.rotation.angularDistance(A.rotation) < 1e-9;
     }
     bad += !match;
   }

@@ -68,7 +68,8 @@ struct Latencies {
   std::vector<std::uint64_t> count = std::vector<std::uint64_t>(kBuckets + 1);
   std::uint64_t n = 0, max_ns = 0;
   void Add(std::chrono::steady_clock::duration d) noexcept {
-    const auto ns = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count());
+    const auto ns =
+        static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count());
     ++count[std::min<std::uint64_t>(ns / 10, kBuckets)];
     ++n;
     max_ns = std::max(max_ns, ns);
@@ -95,8 +96,8 @@ struct ReaderCounts {
   std::size_t wrong = 0;            // an answer other than the compiled graph's pose
   std::size_t bad_code = 0;         // a code other than kOk / kQueryInvalidated
   std::size_t untouched_wrong = 0;  // an untouched query failed or answered wrongly
-  Latencies latency;         // evaluations of the changed query while no change runs
-  Latencies during_change;   // ... that started while the writer was changing the topology
+  Latencies latency;                // evaluations of the changed query while no change runs
+  Latencies during_change;          // ... that started while the writer was changing the topology
 };
 
 template <class B>
@@ -106,7 +107,7 @@ TYPED_TEST_SUITE(ConcurrentTopologyTest, Backends);
 
 TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries) {
   using B = TypeParam;
-  constexpr int kChanges = 100;        // 100 grasps and releases, at 100 Hz: about a second
+  constexpr int kChanges = 100;         // 100 grasps and releases, at 100 Hz: about a second
   constexpr int kFramesPerChange = 40;  // unrelated frames added after each change (4,000 in all)
 
   SceneGraph<B> graph;
@@ -114,7 +115,8 @@ TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries)
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"), q_WA, p_WA));
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("g", "G").RelativeTo("a", "A"), q_AG, p_AG));
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("o", "O").RelativeTo("t", "T"), q_TO, p_TO));
-  ASSERT_TRUE(graph.AddTwist(TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"), v_WAa_a, w_WA_a));
+  ASSERT_TRUE(
+      graph.AddTwist(TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"), v_WAa_a, w_WA_a));
   ASSERT_TRUE(graph.AddTwist(TwistSpec::Of("o", "O").RelativeTo("T").ExpressedIn("o"), v_O, w_O));
 
   // By hand: the object's pose in {w} on the table and in the gripper, and the gripper's.
@@ -159,7 +161,8 @@ TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries)
       const auto G = memoized ? gripper->Evaluate(cache) : gripper->Evaluate();
       c.untouched_wrong += !G || !Near(G->ToIsometry(), X_WG);
       const auto V = arm_twist->Evaluate();
-      c.untouched_wrong += !V || (V->linear - v_WAa_a).norm() > 1e-15 || (V->angular - w_WA_a).norm() > 1e-15;
+      c.untouched_wrong +=
+          !V || (V->linear - v_WAa_a).norm() > 1e-15 || (V->angular - w_WA_a).norm() > 1e-15;
     }
   };
   std::vector<std::thread> readers;
@@ -179,7 +182,8 @@ TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries)
     writer_failures += !(grasp ? graph.AddPose(PoseSpec::Of("o").RelativeTo("g"), q_GO, p_GO)
                                : graph.AddPose(PoseSpec::Of("o").RelativeTo("t"), q_TO, p_TO));
     writer_failures += !graph.RemoveTwist("o", grasp ? "T" : "G");
-    writer_failures += !graph.AddTwist(TwistSpec::Of("o").RelativeTo(grasp ? "G" : "T").ExpressedIn("o"), v_O, w_O);
+    writer_failures += !graph.AddTwist(
+        TwistSpec::Of("o").RelativeTo(grasp ? "G" : "T").ExpressedIn("o"), v_O, w_O);
     longest_change = std::max(longest_change, std::chrono::steady_clock::now() - t0);
     auto q = graph.CompilePose(PoseSpec::Of("o").RelativeTo("w"));
     writer_failures += !q;
@@ -189,7 +193,8 @@ TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries)
       const std::string f = "u" + std::to_string(unrelated), body = "U" + std::to_string(unrelated);
       writer_failures += !graph.AddPose(PoseSpec::Of(f, body).RelativeTo("w"), q_WT, p_WT);
       if (k % 4 == 0) {
-        writer_failures += !graph.AddTwist(TwistSpec::Of(f, body).RelativeTo("W").ExpressedIn(f), v_O, w_O);
+        writer_failures +=
+            !graph.AddTwist(TwistSpec::Of(f, body).RelativeTo("W").ExpressedIn(f), v_O, w_O);
       }
     }
     changing.store(false, std::memory_order_relaxed);
@@ -233,18 +238,27 @@ TYPED_TEST(ConcurrentTopologyTest, GraspLoopWhileReadersEvaluateCompiledQueries)
     EXPECT_EQ(X.error().code, ErrorCode::kQueryInvalidated);
   }
 
-  std::printf("[ grasp loop ] %d changes at 100 Hz, %d unrelated frames added; %zu evaluations of the changed "
-              "query: %zu answered, %zu invalidated, %zu wrong; longest change (remove + add of the pose and "
-              "twist edges) %lld us\n",
-              kChanges, unrelated, all.evaluations, all.answered, all.invalidated, all.wrong,
-              static_cast<long long>(std::chrono::duration_cast<std::chrono::microseconds>(longest_change).count()));
-  for (const auto& [what, L] : {std::pair<const char*, const Latencies*>{"during changes", &all.during_change},
-                                std::pair<const char*, const Latencies*>{"between changes", &all.latency}}) {
-    std::printf("[ grasp loop ] reader latency %s (%llu evaluations, ns, 10 ns buckets): p50 %llu, p99 %llu, "
-                "p99.9 %llu, max %llu\n",
-                what, static_cast<unsigned long long>(L->n), static_cast<unsigned long long>(L->Quantile(0.5)),
-                static_cast<unsigned long long>(L->Quantile(0.99)), static_cast<unsigned long long>(L->Quantile(0.999)),
-                static_cast<unsigned long long>(L->max_ns));
+  std::printf(
+      "[ grasp loop ] %d changes at 100 Hz, %d unrelated frames added; %zu evaluations of the "
+      "changed "
+      "query: %zu answered, %zu invalidated, %zu wrong; longest change (remove + add of the pose "
+      "and "
+      "twist edges) %lld us\n",
+      kChanges, unrelated, all.evaluations, all.answered, all.invalidated, all.wrong,
+      static_cast<long long>(
+          std::chrono::duration_cast<std::chrono::microseconds>(longest_change).count()));
+  for (const auto& [what, L] :
+       {std::pair<const char*, const Latencies*>{"during changes", &all.during_change},
+        std::pair<const char*, const Latencies*>{"between changes", &all.latency}}) {
+    std::printf(
+        "[ grasp loop ] reader latency %s (%llu evaluations, ns, 10 ns buckets): p50 %llu, p99 "
+        "%llu, "
+        "p99.9 %llu, max %llu\n",
+        what, static_cast<unsigned long long>(L->n),
+        static_cast<unsigned long long>(L->Quantile(0.5)),
+        static_cast<unsigned long long>(L->Quantile(0.99)),
+        static_cast<unsigned long long>(L->Quantile(0.999)),
+        static_cast<unsigned long long>(L->max_ns));
   }
 }
 

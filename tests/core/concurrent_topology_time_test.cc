@@ -59,7 +59,9 @@ template <class B>
 Isometry3d ToIso(const typename B::PoseCoords& X) {
   return Make(B::ToQuaternion(B::RotationOf(X)), B::TranslationOf(X));
 }
-bool Near(const Isometry3d& X, const Isometry3d& Y) { return (X.matrix() - Y.matrix()).cwiseAbs().maxCoeff() < 1e-9; }
+bool Near(const Isometry3d& X, const Isometry3d& Y) {
+  return (X.matrix() - Y.matrix()).cwiseAbs().maxCoeff() < 1e-9;
+}
 bool Near(const Vector3d& a, const Vector3d& b) { return (a - b).cwiseAbs().maxCoeff() < 1e-9; }
 
 Stamp Ms(std::int64_t ms) { return Stamp::Nanoseconds(ms * 1000000); }
@@ -80,7 +82,9 @@ const Vector3d p_GO(0.0, 0.0, 0.12), u_GO(-0.02, 0.01, 0.04);  // in [g]
 Vector3d P_WA(std::int64_t s) { return p_WA + Sec(s) * u_WA; }
 // The object's edge in state i: in {t} (0) or {g} (1).
 Quaterniond QObj(int i) { return i == 0 ? q_TO : q_GO; }
-Vector3d PObj(int i, std::int64_t s) { return i == 0 ? p_TO + Sec(s) * u_TO : p_GO + Sec(s) * u_GO; }
+Vector3d PObj(int i, std::int64_t s) {
+  return i == 0 ? p_TO + Sec(s) * u_TO : p_GO + Sec(s) * u_GO;
+}
 // The object's twist edge value in state i (linear in s, so interpolation is exact).
 Vector3d VObj(int i, std::int64_t s) {
   return i == 0 ? Vector3d(0.01, 0.02, 0.03) + Sec(s) * Vector3d(0.1, 0, 0)
@@ -104,9 +108,7 @@ const std::string kClutterBody[kClutter] = {"C0", "C1", "C2", "C3", "C4", "C5", 
 Isometry3d X_WG(std::int64_t s) { return Make(q_WA, P_WA(s)) * Make(q_AG, p_AG); }
 // The velocity of o's origin wrt W in [w] from the pose derivatives (every rotation constant:
 // no angular velocity, so moving the point changes nothing).
-Vector3d V_WO(int i) {
-  return i == 0 ? q_WT * u_TO : u_WA + (q_WA * q_AG) * u_GO;
-}
+Vector3d V_WO(int i) { return i == 0 ? q_WT * u_TO : u_WA + (q_WA * q_AG) * u_GO; }
 
 // A reader's latency histogram (10 ns buckets up to 50 us, then one overflow bucket, and the
 // exact maximum): fixed size, so recording allocates nothing.
@@ -115,7 +117,8 @@ struct Latencies {
   std::vector<std::uint64_t> count = std::vector<std::uint64_t>(kBuckets + 1);
   std::uint64_t n = 0, max_ns = 0;
   void Add(std::chrono::steady_clock::duration d) noexcept {
-    const auto ns = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count());
+    const auto ns =
+        static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count());
     ++count[std::min<std::uint64_t>(ns / 10, kBuckets)];
     ++n;
     max_ns = std::max(max_ns, ns);
@@ -161,7 +164,7 @@ struct ReaderCounts {
 template <class B>
 struct Published {
   std::optional<CompiledPose<B>> pose;
-  std::optional<CompiledTwist<B>> twist;      // from the twist edge: O wrt T / G at {o} in [o]
+  std::optional<CompiledTwist<B>> twist;       // from the twist edge: O wrt T / G at {o} in [o]
   std::optional<CompiledTwist<B>> derivative;  // from the poses: O wrt W at {o} in [w]
   std::optional<CompiledPose<B>> clutter[kClutter];  // Ck wrt {w}
   std::int64_t first = 0;
@@ -190,10 +193,11 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), q_WA, P_WA(0), Ms(0)));
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("g", "G").RelativeTo("a"), q_AG, p_AG));
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("o", "O").RelativeTo("t"), QObj(0), PObj(0, 0), Ms(0)));
-  ASSERT_TRUE(graph.AddTwist(TwistSpec::Of("o").RelativeTo("T").ExpressedIn("o"), VObj(0, 0), WObj(0), Ms(0)));
+  ASSERT_TRUE(graph.AddTwist(TwistSpec::Of("o").RelativeTo("T").ExpressedIn("o"), VObj(0, 0),
+                             WObj(0), Ms(0)));
   for (int k = 0; k < kClutter; ++k) {
-    ASSERT_TRUE(graph.AddPose(PoseSpec::Of(kClutterName[k], kClutterBody[k]).RelativeTo("t"), q_TO, PClutter(k, 0),
-                              Ms(0)));
+    ASSERT_TRUE(graph.AddPose(PoseSpec::Of(kClutterName[k], kClutterBody[k]).RelativeTo("t"), q_TO,
+                              PClutter(k, 0), Ms(0)));
   }
   ASSERT_FALSE(Near(X_WO(0, 5, 5), X_WO(1, 5, 5)));
   ASSERT_FALSE(Near(V_WO(0), V_WO(1)));
@@ -202,8 +206,10 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
   const auto compile = [&](int i, std::int64_t first) {
     Published<B>& p = published[static_cast<std::size_t>(i)];
     auto pose = graph.CompilePose(PoseSpec::Of("o").RelativeTo("w"));
-    auto twist = graph.CompileTwist(TwistSpec::Of("o").RelativeTo(i % 2 == 0 ? "T" : "G").ExpressedIn("o"));
-    auto derivative = graph.CompileTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("w"), TwistSource::kPoses);
+    auto twist =
+        graph.CompileTwist(TwistSpec::Of("o").RelativeTo(i % 2 == 0 ? "T" : "G").ExpressedIn("o"));
+    auto derivative = graph.CompileTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("w"),
+                                         TwistSource::kPoses);
     if (!pose || !twist || !derivative) return false;
     for (int k = 0; k < kClutter; ++k) {
       auto c = graph.CompilePose(PoseSpec::Of(kClutterName[k]).RelativeTo("w"));
@@ -252,7 +258,8 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
         // are invalidated whatever the time).
         const std::int64_t newest = written.load(std::memory_order_acquire);
         const std::int64_t span = std::max<std::int64_t>(newest - q.first, 0);
-        const std::int64_t t = q.first + static_cast<std::int64_t>(next() % static_cast<std::uint64_t>(span + 1));
+        const std::int64_t t =
+            q.first + static_cast<std::int64_t>(next() % static_cast<std::uint64_t>(span + 1));
         PoseCoords X;
         TimeReport r;
         const bool during = changing.load(std::memory_order_relaxed);
@@ -266,7 +273,8 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
         const ErrorCode lat = q.pose->Evaluate(X, Latest{}, r);
         bool right = false;
         if (lat == ErrorCode::kOk && r.oldest && r.newest) {
-          const std::int64_t lo = r.oldest->nanoseconds() / 1000000, hi = r.newest->nanoseconds() / 1000000;
+          const std::int64_t lo = r.oldest->nanoseconds() / 1000000,
+                             hi = r.newest->nanoseconds() / 1000000;
           const Isometry3d Y = ToIso<B>(X);
           right = lo >= q.first && (Near(Y, X_WO(state, lo, hi)) || Near(Y, X_WO(state, hi, lo)));
         }
@@ -277,7 +285,8 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
         const ErrorCode tw = q.twist->Evaluate(v, w, At{Ms(t)}, r);
         outcome(tw, tw == ErrorCode::kOk && Near(v, VObj(state, t)) && Near(w, WObj(state)));
         const ErrorCode tl = q.twist->Evaluate(v, w, Latest{}, r);
-        outcome(tl, tl == ErrorCode::kOk && r.newest && Near(v, VObj(state, r.newest->nanoseconds() / 1000000)) &&
+        outcome(tl, tl == ErrorCode::kOk && r.newest &&
+                        Near(v, VObj(state, r.newest->nanoseconds() / 1000000)) &&
                         Near(w, WObj(state)));
 
         // The pose derivative at t: the segment's velocity. At the state's first stamp the
@@ -324,8 +333,10 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
       std::this_thread::sleep_until(tick);
       ++s;
       writer_failures += graph.SetPose(*arm, q_WA, P_WA(s), Ms(s)) != ErrorCode::kOk;
-      writer_failures += graph.SetPose(*obj, QObj(before), PObj(before, s), Ms(s)) != ErrorCode::kOk;
-      writer_failures += graph.SetTwist(*obj_twist, VObj(before, s), WObj(before), Ms(s)) != ErrorCode::kOk;
+      writer_failures +=
+          graph.SetPose(*obj, QObj(before), PObj(before, s), Ms(s)) != ErrorCode::kOk;
+      writer_failures +=
+          graph.SetTwist(*obj_twist, VObj(before, s), WObj(before), Ms(s)) != ErrorCode::kOk;
       for (int c = 0; c < kClutter; ++c) {
         writer_failures += graph.SetPose(clutter[c], q_TO, PClutter(c, s), Ms(s)) != ErrorCode::kOk;
       }
@@ -339,15 +350,17 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
     const char* from = before == 0 ? "t" : "g";
     const char* to = after == 0 ? "t" : "g";
     writer_failures += !graph.RemovePose("o", from);
-    writer_failures += !graph.AddPose(PoseSpec::Of("o").RelativeTo(to), QObj(after), PObj(after, s), Ms(s));
+    writer_failures +=
+        !graph.AddPose(PoseSpec::Of("o").RelativeTo(to), QObj(after), PObj(after, s), Ms(s));
     writer_failures += !graph.RemoveTwist("o", before == 0 ? "T" : "G");
     writer_failures +=
-        !graph.AddTwist(TwistSpec::Of("o").RelativeTo(after == 0 ? "T" : "G").ExpressedIn("o"), VObj(after, s),
-                        WObj(after), Ms(s));
+        !graph.AddTwist(TwistSpec::Of("o").RelativeTo(after == 0 ? "T" : "G").ExpressedIn("o"),
+                        VObj(after, s), WObj(after), Ms(s));
     writer_failures += graph.SetPose(*arm, q_WA, P_WA(s), Ms(s)) != ErrorCode::kOk;
     for (int c = 0; c < kClutter; ++c) writer_failures += !graph.RemovePose(kClutterName[c], "t");
     for (int c = 0; c < kClutter; ++c) {
-      writer_failures += !graph.AddPose(PoseSpec::Of(kClutterName[c]).RelativeTo("t"), q_TO, PClutter(c, s), Ms(s));
+      writer_failures += !graph.AddPose(PoseSpec::Of(kClutterName[c]).RelativeTo("t"), q_TO,
+                                        PClutter(c, s), Ms(s));
       auto h = graph.FindPoseEdge(kClutterName[c], "t");
       writer_failures += !h;
       if (h) clutter[static_cast<std::size_t>(c)] = *h;
@@ -393,7 +406,8 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
     }
     EXPECT_EQ(codes[0], ErrorCode::kOk);
     EXPECT_EQ(codes[1], ErrorCode::kOk);
-    EXPECT_EQ(codes[2], ErrorCode::kExtrapolation);  // the object's new edge has one sample: no segment
+    EXPECT_EQ(codes[2],
+              ErrorCode::kExtrapolation);  // the object's new edge has one sample: no segment
     EXPECT_EQ(codes[3], ErrorCode::kOk);
     ASSERT_EQ(last.pose->Evaluate(X, At{Ms(s)}, r), ErrorCode::kOk);
     EXPECT_TRUE(Near(ToIso<B>(X), X_WO(kChanges % 2, s, s)));
@@ -407,22 +421,32 @@ TYPED_TEST(ConcurrentTopologyTimeTest, GraspLoopOnStampedEdgesWhileReadersEvalua
     stale_invalidated += p.pose->Evaluate(X, At{Ms(p.first)}, r) == ErrorCode::kQueryInvalidated;
     stale_invalidated += p.twist->Evaluate(v, w, Latest{}, r) == ErrorCode::kQueryInvalidated;
     stale_invalidated += p.derivative->Evaluate(v, w, Latest{}, r) == ErrorCode::kQueryInvalidated;
-    for (const auto& c : p.clutter) stale_invalidated += c->Evaluate(X, Latest{}, r) == ErrorCode::kQueryInvalidated;
+    for (const auto& c : p.clutter)
+      stale_invalidated += c->Evaluate(X, Latest{}, r) == ErrorCode::kQueryInvalidated;
   }
   EXPECT_EQ(stale_invalidated, (3u + kClutter) * kChanges);
   EXPECT_GT(all.invalidated, 0u) << "no reader evaluated a query while its edges changed";
 
-  std::printf("[ timed grasp loop ] %d changes at 100 Hz, %lld samples per stamped edge; %zu evaluations of the "
-              "changed queries: %zu answered, %zu invalidated, %zu wrong; longest change %lld us\n",
-              kChanges, static_cast<long long>(s), all.evaluations, all.answered, all.invalidated, all.wrong,
-              static_cast<long long>(std::chrono::duration_cast<std::chrono::microseconds>(longest_change).count()));
-  for (const auto& [what, L] : {std::pair<const char*, const Latencies*>{"during changes", &all.during_change},
-                                std::pair<const char*, const Latencies*>{"between changes", &all.latency}}) {
-    std::printf("[ timed grasp loop ] reader latency of the object's pose At(t) %s (%llu evaluations, wall ns, "
-                "10 ns buckets): p50 %llu, p99 %llu, p99.9 %llu, max %llu\n",
-                what, static_cast<unsigned long long>(L->n), static_cast<unsigned long long>(L->Quantile(0.5)),
-                static_cast<unsigned long long>(L->Quantile(0.99)), static_cast<unsigned long long>(L->Quantile(0.999)),
-                static_cast<unsigned long long>(L->max_ns));
+  std::printf(
+      "[ timed grasp loop ] %d changes at 100 Hz, %lld samples per stamped edge; %zu evaluations "
+      "of the "
+      "changed queries: %zu answered, %zu invalidated, %zu wrong; longest change %lld us\n",
+      kChanges, static_cast<long long>(s), all.evaluations, all.answered, all.invalidated,
+      all.wrong,
+      static_cast<long long>(
+          std::chrono::duration_cast<std::chrono::microseconds>(longest_change).count()));
+  for (const auto& [what, L] :
+       {std::pair<const char*, const Latencies*>{"during changes", &all.during_change},
+        std::pair<const char*, const Latencies*>{"between changes", &all.latency}}) {
+    std::printf(
+        "[ timed grasp loop ] reader latency of the object's pose At(t) %s (%llu evaluations, wall "
+        "ns, "
+        "10 ns buckets): p50 %llu, p99 %llu, p99.9 %llu, max %llu\n",
+        what, static_cast<unsigned long long>(L->n),
+        static_cast<unsigned long long>(L->Quantile(0.5)),
+        static_cast<unsigned long long>(L->Quantile(0.99)),
+        static_cast<unsigned long long>(L->Quantile(0.999)),
+        static_cast<unsigned long long>(L->max_ns));
   }
 }
 

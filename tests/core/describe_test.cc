@@ -23,17 +23,21 @@ using base::ErrorCode;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 TEST(Describe, ConstantPoseChangeShowsTheStoredPositionExactly) {
   SceneGraph<> g;
   const Vector3d p(0.1, 0.1 + 0.2, 1.0 / 3.0);
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("a2", "A").RelativeTo("a", "A"), Quaterniond::Identity(), p));
-  const auto r = g.AddPose(PoseSpec::Of("a2").RelativeTo("a"), Quaterniond::Identity(), Vector3d(1, 2, 3));
+  const auto r =
+      g.AddPose(PoseSpec::Of("a2").RelativeTo("a"), Quaterniond::Identity(), Vector3d(1, 2, 3));
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kConstantPoseChange);
   // Before: "[0.1, 0.3, 0.333333333]" (9 digits), which is not the stored value.
-  EXPECT_TRUE(Contains(r.error().message, "(position [0.1, 0.30000000000000004, 0.3333333333333333])"))
+  EXPECT_TRUE(
+      Contains(r.error().message, "(position [0.1, 0.30000000000000004, 0.3333333333333333])"))
       << r.error().message;
 }
 
@@ -44,10 +48,10 @@ TEST(Describe, InvalidNumberShowsTheOffendingValueExactly) {
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kInvalidNumber);
   // Before: "position component 0 is 1e+12 (magnitude above 1e+12)".
-  EXPECT_TRUE(Contains(r.error().message, "position component 0 is 1000000000000.5 (magnitude above 1e+12)"))
+  EXPECT_TRUE(Contains(r.error().message,
+                       "position component 0 is 1000000000000.5 (magnitude above 1e+12)"))
       << r.error().message;
 }
-
 
 // {c}|C wrt {b}|B (the camera mount), {o1}|O1 wrt {c}|C (the object seen), and the object's
 // twist relative to the camera. No twist relates C and B yet.

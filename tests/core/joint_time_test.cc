@@ -24,7 +24,9 @@ using semgraph::testing::ExpectNear;
 using Graph = SceneGraph<coord::QuaternionBackend>;
 
 Stamp S(double seconds) { return *StampFromSeconds(seconds); }
-Eigen::Quaterniond Rz(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())); }
+Eigen::Quaterniond Rz(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()));
+}
 
 // base --(j1: revolute about z, origin p = (0, 0, 0.5))--> l1 --(j2: prismatic along x of l2,
 // origin p = (1, 0, 0), R = Rz(pi/2))--> l2; mimic m of j1 (q = 2 q1 + 0.1) to f|F on l1.
@@ -92,8 +94,8 @@ std::string State(const Graph& g) {
       if (auto X = g.GetPose(PoseSpec::Of(frame).RelativeTo(parent), At{S(t)})) {
         const auto& q = X->value.value.rotation;
         const auto& p = X->value.value.translation;
-        std::snprintf(buf, sizeof buf, "%s@%g %.17g %.17g %.17g %.17g %.17g\n", frame, t, q.w(), q.z(), p.x(),
-                      p.y(), p.z());
+        std::snprintf(buf, sizeof buf, "%s@%g %.17g %.17g %.17g %.17g %.17g\n", frame, t, q.w(),
+                      q.z(), p.x(), p.y(), p.z());
         out += buf;
       }
     }
@@ -138,7 +140,8 @@ TEST(JointTimeTest, InterpolatesInJointSpaceInBothModes) {
     ExpectNear(V->value.angular, Eigen::Vector3d(0, 0, 1.0), 1e-12);
     ExpectNear(V->value.linear, Eigen::Vector3d::Zero(), 1e-12);
     // From the poses: (0.6 - 0.2) / 1 s = 0.4 rad/s.
-    auto D = g.GetTwist(TwistSpec::Of("l1").RelativeTo("Base").ExpressedIn("l1"), At{S(1.5)}, TwistSource::kPoses);
+    auto D = g.GetTwist(TwistSpec::Of("l1").RelativeTo("Base").ExpressedIn("l1"), At{S(1.5)},
+                        TwistSource::kPoses);
     ASSERT_TRUE(D.has_value());
     ExpectNear(D->value.angular, Eigen::Vector3d(0, 0, 0.4), 1e-12);
     // The state is the newest sample's; untimed queries read it.
@@ -155,7 +158,8 @@ TEST(JointTimeTest, JacobianAtATime) {
   TwoSamples(g);
   // At 1.5 s (q1 = 0.4, q2 = 0.2), point l2 in [base]: j1 turns about z through (0, 0, 0.5), l2 is
   // at Rz(0.4) (1, 0.2, 0) from it; j2 slides along Rz(0.4) Rz(pi/2) x.
-  const auto J = g.GetJacobian(TwistSpec::Of("l2").RelativeTo("Base").ExpressedIn("base"), At{S(1.5)});
+  const auto J =
+      g.GetJacobian(TwistSpec::Of("l2").RelativeTo("Base").ExpressedIn("base"), At{S(1.5)});
   ASSERT_TRUE(J.has_value());
   ASSERT_EQ(J->value.J.cols(), 2);
   const double c = std::cos(0.4), s = std::sin(0.4);
@@ -170,7 +174,9 @@ TEST(JointTimeTest, JacobianAtATime) {
   EXPECT_EQ(*J->time.time, S(1.5));
   EXPECT_EQ(*J->time.oldest, S(1.0));
   EXPECT_EQ(*J->time.newest, S(2.0));
-  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("l2").RelativeTo("Base").ExpressedIn("base"), At{S(3.0)}).error().code,
+  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("l2").RelativeTo("Base").ExpressedIn("base"), At{S(3.0)})
+                .error()
+                .code,
             ErrorCode::kExtrapolation);
 }
 
@@ -178,7 +184,8 @@ TEST(JointTimeTest, ExtrapolatesWithTheJointVelocity) {
   Graph g = Robot(Interpolation::kScrew);
   TwoSamples(g);
   // 0.1 s past the newest sample: q1 = 0.6 + 1.5 * 0.1 = 0.75.
-  auto X = g.GetOrientation(PoseSpec::Of("l1").RelativeTo("base"), At{S(2.1), Duration::Milliseconds(200)});
+  auto X = g.GetOrientation(PoseSpec::Of("l1").RelativeTo("base"),
+                            At{S(2.1), Duration::Milliseconds(200)});
   ASSERT_TRUE(X.has_value());
   ExpectNear(X->value.value, Rz(0.75), 1e-12);
   EXPECT_TRUE(X->time.extrapolated);
@@ -194,7 +201,8 @@ TEST(JointTimeTest, OutOfOrderSamplesKeepTheNewestAsTheState) {
   EXPECT_DOUBLE_EQ(g.joint_position(*g.FindJoint("j1")), 0.6);
   auto X = g.GetOrientation(PoseSpec::Of("l1").RelativeTo("base"), At{S(1.25)});
   ExpectNear(X->value.value, Rz(0.35), 1e-12);  // between 0.2 (1 s) and 0.5 (1.5 s)
-  auto V = g.GetAngularVelocity(TwistSpec::Of("l1", "L1").RelativeTo("Base").ExpressedIn("l1"), At{S(1.5)});
+  auto V = g.GetAngularVelocity(TwistSpec::Of("l1", "L1").RelativeTo("Base").ExpressedIn("l1"),
+                                At{S(1.5)});
   ExpectNear(V->value.value, Eigen::Vector3d(0, 0, 1.5), 1e-12);
 }
 
@@ -278,7 +286,8 @@ TEST(JointTimeTest, RealTimeStampedUpdatesAllocateNothing) {
     const double t = tick * 1e-3;  // 1 kHz
     const double q[] = {std::sin(t), 0.5 * std::sin(t)}, qdot[] = {std::cos(t), 0.5 * std::cos(t)};
     ++tick;
-    return g.SetJointState(group, q, qdot, Stamp::Nanoseconds(static_cast<std::int64_t>(tick - 1) * 1000000));
+    return g.SetJointState(group, q, qdot,
+                           Stamp::Nanoseconds(static_cast<std::int64_t>(tick - 1) * 1000000));
   };
   ASSERT_EQ(step(), ErrorCode::kOk);
   std::size_t allocations = 0;
@@ -288,10 +297,12 @@ TEST(JointTimeTest, RealTimeStampedUpdatesAllocateNothing) {
       if (step() != ErrorCode::kOk) break;
     }
     const double bad[] = {9.0, 0.0};
-    EXPECT_EQ(g.SetJointPositions(group, bad, Stamp::Nanoseconds(tick * 1000000)), ErrorCode::kJointLimit);
+    EXPECT_EQ(g.SetJointPositions(group, bad, Stamp::Nanoseconds(tick * 1000000)),
+              ErrorCode::kJointLimit);
     coord::QuaternionBackend::PoseCoords X{};
     TimeReport report;
-    EXPECT_EQ(compiled.Evaluate(X, At{Stamp::Nanoseconds((tick - 2) * 1000000 - 500000)}, report), ErrorCode::kOk);
+    EXPECT_EQ(compiled.Evaluate(X, At{Stamp::Nanoseconds((tick - 2) * 1000000 - 500000)}, report),
+              ErrorCode::kOk);
     allocations = counting.count();
   }
   EXPECT_EQ(allocations, 0u);

@@ -75,8 +75,10 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
     q[0] = std::sin(t += 0.01);
     return g.SetJointPositions(all, q);
   });
-  ExpectNoAllocation("SetJointVelocities", ErrorCode::kOk, [&] { return g.SetJointVelocities(all, qdot); });
-  ExpectNoAllocation("SetJointState", ErrorCode::kOk, [&] { return g.SetJointState(all, q, qdot); });
+  ExpectNoAllocation("SetJointVelocities", ErrorCode::kOk,
+                     [&] { return g.SetJointVelocities(all, qdot); });
+  ExpectNoAllocation("SetJointState", ErrorCode::kOk,
+                     [&] { return g.SetJointState(all, q, qdot); });
   ExpectNoAllocation("SetJointPositions over a limit", ErrorCode::kJointLimit,
                      [&] { return g.SetJointPositions(all, q_over); });
   ExpectNoAllocation("SetJointPositions with NaN", ErrorCode::kInvalidNumber,
@@ -94,9 +96,11 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
   Eigen::Vector3d v, w;
   ExpectNoAllocation("CompiledTwist", ErrorCode::kOk, [&] { return twist->Evaluate(v, w); });
   Eigen::Matrix<double, 6, 7> J;  // caller storage, fixed size
-  ExpectNoAllocation("CompiledJacobian (fixed-size storage)", ErrorCode::kOk, [&] { return jacobian->Evaluate(J); });
+  ExpectNoAllocation("CompiledJacobian (fixed-size storage)", ErrorCode::kOk,
+                     [&] { return jacobian->Evaluate(J); });
   JacobianMatrix Jd(6, 7);  // caller storage, allocated once before
-  ExpectNoAllocation("CompiledJacobian (dynamic storage)", ErrorCode::kOk, [&] { return jacobian->Evaluate(Jd); });
+  ExpectNoAllocation("CompiledJacobian (dynamic storage)", ErrorCode::kOk,
+                     [&] { return jacobian->Evaluate(Jd); });
   // J qdot is the twist (no other twist edges on the path).
   Eigen::Matrix<double, 7, 1> qd;
   for (int i = 0; i < 7; ++i) qd(i) = qdot[static_cast<std::size_t>(i)];

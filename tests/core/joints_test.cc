@@ -23,8 +23,8 @@ Eigen::Quaterniond Rpy(double r, double p, double y) {
                             Eigen::AngleAxisd(r, Eigen::Vector3d::UnitX()));
 }
 
-JointSpec Joint(std::string_view name, JointType type, std::string_view parent, std::string_view parent_body,
-                std::string_view child, std::string_view child_body) {
+JointSpec Joint(std::string_view name, JointType type, std::string_view parent,
+                std::string_view parent_body, std::string_view child, std::string_view child_body) {
   JointSpec s;
   s.name = name;
   s.type = type;
@@ -50,7 +50,8 @@ Eigen::Isometry3d PoseOf(const Graph& g, std::string_view of, std::string_view w
 }
 
 void ExpectNear(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double tol = 1e-12) {
-  EXPECT_LE((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), tol) << a.matrix() << "\nvs\n" << b.matrix();
+  EXPECT_LE((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), tol) << a.matrix() << "\nvs\n"
+                                                                  << b.matrix();
 }
 
 // A two-link arm: base B -{j1 revolute about z}-> L1 -{j2 prismatic along x}-> L2.
@@ -71,7 +72,8 @@ class ArmTest : public ::testing::Test {
   }
   Eigen::Isometry3d X1(double q) const {
     Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    X.linear() = (Rpy(0.1, -0.2, 0.3) * Eigen::AngleAxisd(q, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+    X.linear() =
+        (Rpy(0.1, -0.2, 0.3) * Eigen::AngleAxisd(q, Eigen::Vector3d::UnitZ())).toRotationMatrix();
     X.translation() = Eigen::Vector3d(0, 0, 0.4);
     return X;
   }
@@ -298,8 +300,8 @@ TEST_F(ArmTest, AddJointErrorsInTheSpecOrderLeaveTheGraphUnchanged) {
   bad.child_body = "";
   expect(ErrorCode::kPoseCycle, bad);
   // P3: a new tree with a frame of L2 on it, joined to l2's tree.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("y", "L2").RelativeTo("x", "X"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("y", "L2").RelativeTo("x", "X"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
   const std::string before2 = Dump(g);
   bad = s;
   bad.child = "x";
@@ -312,8 +314,8 @@ TEST_F(ArmTest, AddJointErrorsInTheSpecOrderLeaveTheGraphUnchanged) {
 
 TEST_F(ArmTest, TheJointsTwistEdgeIsCheckedAgainstW1AndW3) {
   // W1: the child frame already has a twist parent.
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("W").ExpressedIn("o"), Eigen::Vector3d::Zero(),
-                         Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("W").ExpressedIn("o"),
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
   std::string before = Dump(g);
   JointSpec s = Joint("j3", JointType::kRevolute, "l2", "", "o", "");
   auto r = g.AddJoint(s);
@@ -328,8 +330,8 @@ TEST_F(ArmTest, TheJointsTwistEdgeIsCheckedAgainstW1AndW3) {
   // W3 within the merged TG: U and V already joined.
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("v", "V").RelativeTo("u", "U"), Eigen::Quaterniond::Identity(),
                         Eigen::Vector3d::Zero()));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("v").RelativeTo("U").ExpressedIn("v"), Eigen::Vector3d::Zero(),
-                         Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("v").RelativeTo("U").ExpressedIn("v"),
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
   ASSERT_TRUE(g.AddFrame("w", "U"));
   before = Dump(g);
   JointSpec w3 = Joint("jw", JointType::kRevolute, "w", "", "p", "V2");
@@ -348,16 +350,17 @@ TEST_F(ArmTest, TheJointsTwistEdgeIsCheckedAgainstW1AndW3) {
   // A pure W3 case: body D with a twist edge D ~> {h}|H in H's tree, and a joint from a frame
   // of D... P3 forbids D having frames in both. A joint {d}|D (new tree) -> {h0}|H where TG of
   // h0's tree already joins D and H through a twist edge whose tail D has no frame there.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("h", "H").RelativeTo("h0", "H0"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d::Zero()));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("h").RelativeTo("D").ExpressedIn("h"), Eigen::Vector3d::Zero(),
-                         Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("h", "H").RelativeTo("h0", "H0"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("h").RelativeTo("D").ExpressedIn("h"),
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("h2", "H").RelativeTo("h"), Eigen::Quaterniond::Identity(),
                         Eigen::Vector3d::Zero()));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("h2").RelativeTo("H0").ExpressedIn("h2"), Eigen::Vector3d::Zero(),
-                         Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("h2").RelativeTo("H0").ExpressedIn("h2"),
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
   before = Dump(g);
-  JointSpec w3b = Joint("jh", JointType::kRevolute, "d", "D", "h0", "");  // D - H0: D-H-H0 already joined
+  JointSpec w3b =
+      Joint("jh", JointType::kRevolute, "d", "D", "h0", "");  // D - H0: D-H-H0 already joined
   r = g.AddJoint(w3b);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kDuplicateTwistPath) << r.error().message;
@@ -377,8 +380,8 @@ TEST_F(ArmTest, JointEdgesAreDrivenByTheStateOnly) {
   auto X = g.GetPose(PoseSpec::Of("l1").RelativeTo("b"));
   expect(g.AddPose(PoseSpec::Of("l1").RelativeTo("b"), X->value.rotation, X->value.translation));
   // Another form that converts to the joint's edge.
-  expect(g.AddPose(PoseSpec::Of("l1").RelativeTo("b").ExpressedIn("l1"), Eigen::Quaterniond::Identity(),
-                   Eigen::Vector3d::Zero()));
+  expect(g.AddPose(PoseSpec::Of("l1").RelativeTo("b").ExpressedIn("l1"),
+                   Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
   expect(g.AddTwist(TwistSpec::Of("l1").RelativeTo("B").ExpressedIn("l1"), Eigen::Vector3d::Zero(),
                     Eigen::Vector3d::Zero()));
   expect(g.RemoveTwist("l1", "B"));
@@ -417,7 +420,8 @@ TEST_F(ArmTest, RemovingTheJointsPoseEdgeRemovesTheJoint) {
   EXPECT_EQ(compiled->Evaluate(X), ErrorCode::kQueryInvalidated);
   EXPECT_EQ(CheckInvariants(g), "");
   // Its frames can now be related by ordinary edges, and its name is free again.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("l1").RelativeTo("b"), Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 2, 3)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("l1").RelativeTo("b"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(1, 2, 3)));
   ASSERT_TRUE(g.RemovePose("l1", "b"));
   JointSpec again = Joint("j1", JointType::kContinuous, "b", "", "l1", "");
   ASSERT_TRUE(g.AddJoint(again));
@@ -449,14 +453,17 @@ TEST_F(ArmTest, JacobiansTimesVelocitiesAreTwistsInEveryDirection) {
   m.p_origin = {0.2, 0, 0.1};
   ASSERT_TRUE(g.AddJoint(m));
   // A non-joint twist edge: the world W -> {b}|B (a moving base), and a camera frame on L1.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b").RelativeTo("w", "W"), Rpy(0.2, 0.1, -0.3), Eigen::Vector3d(1, 2, 3)));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("b"), Eigen::Vector3d(0.1, -0.2, 0.3),
-                         Eigen::Vector3d(-0.05, 0.02, 0.04)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("cam", "L1").RelativeTo("l1"), Rpy(1, 0, 0), Eigen::Vector3d(0, 0.3, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b").RelativeTo("w", "W"), Rpy(0.2, 0.1, -0.3),
+                        Eigen::Vector3d(1, 2, 3)));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("b"),
+                         Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(-0.05, 0.02, 0.04)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("cam", "L1").RelativeTo("l1"), Rpy(1, 0, 0),
+                        Eigen::Vector3d(0, 0.3, 0)));
   const JointValue q[] = {{"j1", 0.4}, {"j2", 0.2}};
   const JointValue qdot[] = {{"j1", 0.7}, {"j2", -0.3}};
   ASSERT_TRUE(g.SetJoints(q, qdot));
-  const auto expect = [&](const TwistSpec& spec, std::vector<std::string> columns, bool base_twist) {
+  const auto expect = [&](const TwistSpec& spec, std::vector<std::string> columns,
+                          bool base_twist) {
     auto J = g.GetJacobian(spec);
     auto V = g.GetTwist(spec);
     ASSERT_TRUE(J && V);
@@ -468,7 +475,8 @@ TEST_F(ArmTest, JacobiansTimesVelocitiesAreTwistsInEveryDirection) {
     }
     EXPECT_EQ(names, columns);
     Eigen::Matrix<double, 6, 1> Jq = J->J * qd;
-    if (base_twist) {  // the non-joint edge W -> {b}, as a twist query of B wrt W at the same point/frame
+    if (base_twist) {  // the non-joint edge W -> {b}, as a twist query of B wrt W at the same
+                       // point/frame
       TwistSpec only_base = spec;
       const bool forward = spec.ref_body == "W";
       only_base.body = forward ? "B" : "W";
@@ -504,17 +512,20 @@ TEST_F(ArmTest, JacobiansTimesVelocitiesAreTwistsInEveryDirection) {
             ErrorCode::kUnknownFrame);
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("y", "Y"), Eigen::Quaterniond::Identity(),
                         Eigen::Vector3d::Zero()));
-  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("x").RelativeTo("B").ExpressedIn("x")).error().code, ErrorCode::kNoTwistPath);
+  EXPECT_EQ(g.GetJacobian(TwistSpec::Of("x").RelativeTo("B").ExpressedIn("x")).error().code,
+            ErrorCode::kNoTwistPath);
 }
 
 // Repair (repair.cc) may re-root a pose tree by reversing edges; never through a joint's edge.
 TEST_F(ArmTest, RepairDoesNotRerootThroughAJoint) {
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("l2"), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 1)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("z", "Z").RelativeTo("y", "Y"), Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("l2"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(0, 0, 1)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("z", "Z").RelativeTo("y", "Y"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d::Zero()));
   const std::string before = Dump(g);
   // z has a pose parent; the inverse (x wrt z) too, and re-rooting x's tree would reverse j2, j1.
-  auto r = g.AddPose(PoseSpec::Of("z").RelativeTo("x"), Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero(),
-                     RepairPolicy{});
+  auto r = g.AddPose(PoseSpec::Of("z").RelativeTo("x"), Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d::Zero(), RepairPolicy{});
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kMultiplePoseParents);
   EXPECT_EQ(Dump(g), before);
@@ -560,7 +571,10 @@ TEST(Joints, HomogeneousBackendStoresTheSameValues) {
   auto Xh = h.GetPose(PoseSpec::Of("b").RelativeTo("a"));
   auto Xq = q.GetPose(PoseSpec::Of("b").RelativeTo("a"));
   ASSERT_TRUE(Xh && Xq);
-  EXPECT_LE((Xh->value.matrix() - (Eigen::Translation3d(Xq->value.translation) * Xq->value.rotation).matrix()).cwiseAbs().maxCoeff(),
+  EXPECT_LE((Xh->value.matrix() -
+             (Eigen::Translation3d(Xq->value.translation) * Xq->value.rotation).matrix())
+                .cwiseAbs()
+                .maxCoeff(),
             1e-12);
 }
 

@@ -65,7 +65,8 @@ TEST(Numerics, TenThousandDeepChainStaysWithinTheStatedBound) {
     q_ref.normalize();
   }
   const double eps = std::ldexp(1.0, -52);
-  const double position_bound = 4.0 * kDepth * eps * std::max(1.0, static_cast<double>(p_ref.norm()));
+  const double position_bound =
+      4.0 * kDepth * eps * std::max(1.0, static_cast<double>(p_ref.norm()));
   const double angle_bound = 4.0 * kDepth * eps;
   auto X = graph.GetPose(PoseSpec::Of("f" + std::to_string(kDepth)).RelativeTo("f0"));
   ASSERT_TRUE(X);
@@ -82,7 +83,8 @@ TEST(Numerics, TenThousandDeepChainStaysWithinTheStatedBound) {
   // The reverse query (root in the tip frame) too.
   auto X_n0 = graph.GetPose(PoseSpec::Of("f0").RelativeTo("f" + std::to_string(kDepth)));
   ASSERT_TRUE(X_n0);
-  EXPECT_LT((X_n0->value.translation + (q_expected.conjugate() * p_expected)).norm(), position_bound);
+  EXPECT_LT((X_n0->value.translation + (q_expected.conjugate() * p_expected)).norm(),
+            position_bound);
 }
 
 #ifdef NDEBUG
@@ -120,8 +122,8 @@ TEST(Numerics, RepeatedUpdatesLeaveExactlyTheLastValue) {
   SceneGraph<> graph;
   ASSERT_TRUE(graph.AddPose(PoseSpec::Of("l", "L").RelativeTo("b", "B"), Quaterniond::Identity(),
                             Vector3d::Zero()));
-  ASSERT_TRUE(graph.AddTwist(TwistSpec::Of("l", "L").RelativeTo("B").ExpressedIn("l"), Vector3d::Zero(),
-                             Vector3d::Zero()));
+  ASSERT_TRUE(graph.AddTwist(TwistSpec::Of("l", "L").RelativeTo("B").ExpressedIn("l"),
+                             Vector3d::Zero(), Vector3d::Zero()));
   auto pose = graph.FindPoseEdge("l", "b");
   auto twist = graph.FindTwistEdge("l", "B");
   auto query = graph.CompilePose(PoseSpec::Of("l").RelativeTo("b"));
@@ -154,16 +156,18 @@ TEST(Numerics, LargeRandomTreeBuildsAnswersAndTearsDown) {
   std::vector<int> parent(kFrames + 1, -1);
   for (int i = 1; i <= kFrames; ++i) {
     parent[i] = static_cast<int>(rng() % i);
-    ASSERT_TRUE(graph->AddPose(PoseSpec::Of("t" + std::to_string(i), "T" + std::to_string(i))
-                                   .RelativeTo("t" + std::to_string(parent[i]), "T" + std::to_string(parent[i])),
-                               links[i - 1].q, links[i - 1].p));
+    ASSERT_TRUE(graph->AddPose(
+        PoseSpec::Of("t" + std::to_string(i), "T" + std::to_string(i))
+            .RelativeTo("t" + std::to_string(parent[i]), "T" + std::to_string(parent[i])),
+        links[i - 1].q, links[i - 1].p));
   }
   EXPECT_EQ(graph->num_frames(), static_cast<std::size_t>(kFrames + 1));
   // Spot-check a few leaf-to-root poses against a direct composition along the parents.
   for (int leaf : {kFrames, kFrames / 2, kFrames / 3}) {
     Quaterniond q = Quaterniond::Identity();
     Vector3d p = Vector3d::Zero();
-    for (int f = leaf; f != 0; f = parent[f]) {  // X_0leaf = X_0.. ... X_parent,f, built from the top
+    for (int f = leaf; f != 0;
+         f = parent[f]) {  // X_0leaf = X_0.. ... X_parent,f, built from the top
       const Link& l = links[f - 1];
       p = l.q * p + l.p;
       q = l.q * q;

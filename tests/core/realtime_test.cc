@@ -22,11 +22,16 @@ using Eigen::Vector3d;
 
 template <class B>
 void BuildScene(SceneGraph<B>& g) {
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), Quaterniond::Identity(), Vector3d(1, 0, 0)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e2", "E").RelativeTo("e", "E"), Quaterniond::Identity(), Vector3d(0, 2, 0)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("g", "G").RelativeTo("e2", "E"), Quaterniond::Identity(), Vector3d(0, 0, 3)));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("e", "E").RelativeTo("B").ExpressedIn("e"), Vector3d(1, 0, 0), Vector3d::Zero()));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("g", "G").RelativeTo("E").ExpressedIn("g"), Vector3d(0, 1, 0), Vector3d::Zero()));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e", "E").RelativeTo("b", "B"), Quaterniond::Identity(),
+                        Vector3d(1, 0, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e2", "E").RelativeTo("e", "E"), Quaterniond::Identity(),
+                        Vector3d(0, 2, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("g", "G").RelativeTo("e2", "E"), Quaterniond::Identity(),
+                        Vector3d(0, 0, 3)));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("e", "E").RelativeTo("B").ExpressedIn("e"),
+                         Vector3d(1, 0, 0), Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("g", "G").RelativeTo("E").ExpressedIn("g"),
+                         Vector3d(0, 1, 0), Vector3d::Zero()));
 }
 
 template <class B>
@@ -36,7 +41,8 @@ class HandleTest : public ::testing::Test {
   // A value every refused call tries to write: visibly different from every stored one.
   const Quaterniond q_ = Quaterniond(Eigen::AngleAxisd(0.5, Vector3d::UnitZ()));
   const Vector3d p_ = Vector3d(7, 8, 9);
-  // SetPose with both rotation forms and SetPoseUnchecked; expects `code` from each and an unchanged graph.
+  // SetPose with both rotation forms and SetPoseUnchecked; expects `code` from each and an
+  // unchanged graph.
   void ExpectPoseRefused(const PoseHandle& h, ErrorCode code) {
     const std::string before = Dump(graph_);
     EXPECT_EQ(graph_.SetPose(h, q_, p_), code);
@@ -78,7 +84,8 @@ TYPED_TEST(HandleTest, FindingAnEdgeChecksNamesFirst) {
   // Before: FindPoseEdge("", "") said unknown_frame. Order: invalid_name -> unknown_frame ->
   // (unknown_body) -> no_such_edge -> constant_pose_change.
   const std::string before = Dump(this->graph_);
-  for (auto [of, wrt] : {std::pair{"", ""}, std::pair{"g", ""}, std::pair{"", "e2"}, std::pair{"g\x01", "zz"}}) {
+  for (auto [of, wrt] :
+       {std::pair{"", ""}, std::pair{"g", ""}, std::pair{"", "e2"}, std::pair{"g\x01", "zz"}}) {
     auto pose = this->graph_.FindPoseEdge(of, wrt);
     ASSERT_FALSE(pose);
     EXPECT_EQ(pose.error().code, ErrorCode::kInvalidName) << of << " " << wrt;
@@ -87,7 +94,8 @@ TYPED_TEST(HandleTest, FindingAnEdgeChecksNamesFirst) {
     EXPECT_EQ(twist.error().code, ErrorCode::kInvalidName) << of << " " << wrt;
   }
   const auto empty = this->graph_.FindPoseEdge("", "");
-  EXPECT_NE(empty.error().message.find("invalid_name): name is empty"), std::string::npos) << empty.error().message;
+  EXPECT_NE(empty.error().message.find("invalid_name): name is empty"), std::string::npos)
+      << empty.error().message;
   EXPECT_EQ(this->graph_.FindPoseEdge("zz", "e2").error().code, ErrorCode::kUnknownFrame);
   EXPECT_EQ(this->graph_.FindTwistEdge("g", "ZZ").error().code, ErrorCode::kUnknownBody);
   EXPECT_EQ(this->graph_.FindPoseEdge("g", "b").error().code, ErrorCode::kNoSuchEdge);
@@ -145,7 +153,8 @@ TYPED_TEST(HandleTest, AnotherGraphsHandleIsRefusedEvenWhenTheGraphsAreAlike) {
   ASSERT_TRUE(foreign_pose && foreign_twist);
   this->ExpectPoseRefused(*foreign_pose, ErrorCode::kNoSuchEdge);
   this->ExpectTwistRefused(*foreign_twist);
-  EXPECT_EQ(other.SetPose(*foreign_pose, this->q_, this->p_), ErrorCode::kOk);  // still good at home
+  EXPECT_EQ(other.SetPose(*foreign_pose, this->q_, this->p_),
+            ErrorCode::kOk);  // still good at home
 }
 
 TYPED_TEST(HandleTest, HandlesFollowAMovedGraphAndNotItsEmptiedSource) {
@@ -175,7 +184,8 @@ TYPED_TEST(HandleTest, StaleHandlesAreRefusedAfterRemovalAndReAdd) {
   ASSERT_TRUE(pose && twist);
   ASSERT_TRUE(this->graph_.RemovePose("g", "e2"));
   this->ExpectPoseRefused(*pose, ErrorCode::kNoSuchEdge);  // {g} is a root now
-  ASSERT_TRUE(this->graph_.AddPose(PoseSpec::Of("g").RelativeTo("e"), Quaterniond::Identity(), Vector3d::Zero()));
+  ASSERT_TRUE(this->graph_.AddPose(PoseSpec::Of("g").RelativeTo("e"), Quaterniond::Identity(),
+                                   Vector3d::Zero()));
   this->ExpectPoseRefused(*pose, ErrorCode::kNoSuchEdge);  // another edge into {g}
   ASSERT_TRUE(this->graph_.RemoveTwist("g", "E"));
   this->ExpectTwistRefused(*twist);
@@ -184,8 +194,8 @@ TYPED_TEST(HandleTest, StaleHandlesAreRefusedAfterRemovalAndReAdd) {
   free_slot.epoch += 1;
   this->ExpectTwistRefused(free_slot);
   // The slot reused by a new edge: the old handle still does not apply.
-  ASSERT_TRUE(this->graph_.AddTwist(TwistSpec::Of("g", "G").RelativeTo("B").ExpressedIn("g"), Vector3d::Zero(),
-                                    Vector3d::Zero()));
+  ASSERT_TRUE(this->graph_.AddTwist(TwistSpec::Of("g", "G").RelativeTo("B").ExpressedIn("g"),
+                                    Vector3d::Zero(), Vector3d::Zero()));
   this->ExpectTwistRefused(*twist);
   auto fresh = this->graph_.FindTwistEdge("g", "B");
   ASSERT_TRUE(fresh);
@@ -202,7 +212,8 @@ TYPED_TEST(HandleTest, HandMadeTwistHandlesAreRefused) {
   wrong_kind.kind = EdgeKind::kPose;
   this->ExpectTwistRefused(wrong_kind);
   TwistHandle out_of_range = *genuine;
-  out_of_range.slot = TwistEdgeIndex(static_cast<std::uint32_t>(this->graph_.num_twist_edges() + 5));
+  out_of_range.slot =
+      TwistEdgeIndex(static_cast<std::uint32_t>(this->graph_.num_twist_edges() + 5));
   this->ExpectTwistRefused(out_of_range);
 }
 

@@ -25,7 +25,9 @@ class Repair : public ::testing::Test {};
 using Backends = ::testing::Types<coord::QuaternionBackend, coord::HomogeneousBackend>;
 TYPED_TEST_SUITE(Repair, Backends);
 
-Quaterniond Rot(double angle, const Vector3d& axis) { return Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())); }
+Quaterniond Rot(double angle, const Vector3d& axis) {
+  return Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+}
 
 // X as (q, p): q = R_PC, p = p_PoCo_P.
 struct Pose {
@@ -36,12 +38,14 @@ struct Pose {
 };
 
 template <class G>
-void ExpectPose(const G& g, std::string_view of, std::string_view wrt, const Pose& X, const char* what) {
+void ExpectPose(const G& g, std::string_view of, std::string_view wrt, const Pose& X,
+                const char* what) {
   using B = typename G::Backend;
   auto got = g.GetPose(PoseSpec::Of(of).RelativeTo(wrt));
   ASSERT_TRUE(got) << what << ": " << g.Describe(got.error());
   EXPECT_LT((B::TranslationOf(got->value) - X.p).norm(), 1e-12) << what;
-  EXPECT_LT((B::ToMatrix(B::RotationOf(got->value)) - X.q.toRotationMatrix()).norm(), 1e-12) << what;
+  EXPECT_LT((B::ToMatrix(B::RotationOf(got->value)) - X.q.toRotationMatrix()).norm(), 1e-12)
+      << what;
 }
 
 // Fig. 4:  {d}|D -> {c2}|C   {a}|A -> {c1}|C   {f}|F alone.
@@ -63,10 +67,12 @@ TYPED_TEST(Repair, Figure4PoseOfC2WrtFIsAddedInverted) {
   ASSERT_FALSE(plain);
   EXPECT_EQ(plain.error().code, ErrorCode::kMultiplePoseParents);
   // With repair: the inverse PoseCoord({f}|F, {c2}|C, [c2]) is added instead.
-  auto repaired = g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("f", "F"), X_FC2.q, X_FC2.p, RepairPolicy{});
+  auto repaired =
+      g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("f", "F"), X_FC2.q, X_FC2.p, RepairPolicy{});
   ASSERT_TRUE(repaired) << repaired.error().message;
   EXPECT_EQ(repaired->applied, RepairKind::kInverted);
-  EXPECT_NE(repaired->change.find("pose of {f}|F wrt {c2}|C"), std::string::npos) << repaired->change;
+  EXPECT_NE(repaired->change.find("pose of {f}|F wrt {c2}|C"), std::string::npos)
+      << repaired->change;
   EXPECT_EQ(g.frame_name(g.pose_parent(g.FindFrame("f"))), "c2");
   EXPECT_TRUE(CheckInvariants(g).empty());
   // The information is kept: c2 wrt f is X_FC2, and f wrt d is X_DC2 X_FC2^-1.
@@ -93,7 +99,8 @@ TYPED_TEST(Repair, ReRootsTheInverseHeadsTreeAndInvalidatesExactlyTheReversedEdg
   EXPECT_FALSE(g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("f", "F"), X_FC2.q, X_FC2.p,
                          RepairPolicy{.invert = true, .reroot = false}));
   EXPECT_EQ(Dump(g), before) << "a repair that does not take changes nothing";
-  auto repaired = g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("f", "F"), X_FC2.q, X_FC2.p, RepairPolicy{});
+  auto repaired =
+      g.AddPose(PoseSpec::Of("c2", "C").RelativeTo("f", "F"), X_FC2.q, X_FC2.p, RepairPolicy{});
   ASSERT_TRUE(repaired) << repaired.error().message;
   EXPECT_EQ(repaired->applied, RepairKind::kRerooted);
   EXPECT_EQ(repaired->reversed_edges, 2u);
@@ -131,22 +138,25 @@ TYPED_TEST(Repair, AnAlreadyDeterminedPoseIsAcceptedWhenItAgreesAndRefusedWithTh
   EXPECT_LT(same->discrepancy.position, 1e-12);
   EXPECT_EQ(Dump(g), before);
   // At the boundary: half the tolerance is accepted, twice is refused with the numbers.
-  auto close = g.AddPose(PoseSpec::Of("a").RelativeTo("c"), X_CA.q, X_CA.p + Vector3d(0.5e-6, 0, 0), policy);
+  auto close =
+      g.AddPose(PoseSpec::Of("a").RelativeTo("c"), X_CA.q, X_CA.p + Vector3d(0.5e-6, 0, 0), policy);
   ASSERT_TRUE(close);
   EXPECT_NEAR(close->discrepancy.position, 0.5e-6, 1e-12);
-  auto far = g.AddPose(PoseSpec::Of("a").RelativeTo("c"), X_CA.q * Rot(2e-6, {0, 0, 1}), X_CA.p + Vector3d(0, 3e-3, 0),
-                       policy);
+  auto far = g.AddPose(PoseSpec::Of("a").RelativeTo("c"), X_CA.q * Rot(2e-6, {0, 0, 1}),
+                       X_CA.p + Vector3d(0, 3e-3, 0), policy);
   ASSERT_FALSE(far);
   EXPECT_EQ(far.error().code, ErrorCode::kPoseCycle);
   ASSERT_TRUE(far.error().discrepancy.has_value());
   EXPECT_NEAR(far.error().discrepancy->position, 3e-3, 1e-12);
   EXPECT_NEAR(far.error().discrepancy->angle, 2e-6, 1e-9);
-  EXPECT_NE(far.error().message.find("differs from the pose the graph derives by 0.003 m and 2e-06 rad"),
-            std::string::npos)
+  EXPECT_NE(
+      far.error().message.find("differs from the pose the graph derives by 0.003 m and 2e-06 rad"),
+      std::string::npos)
       << far.error().message;
   EXPECT_EQ(Dump(g), before);
   // P1 within one tree is already determined too: c wrt a (c already has the parent b).
-  auto also = g.AddPose(PoseSpec::Of("c").RelativeTo("a"), (X_AB * X_BC).q, (X_AB * X_BC).p, policy);
+  auto also =
+      g.AddPose(PoseSpec::Of("c").RelativeTo("a"), (X_AB * X_BC).q, (X_AB * X_BC).p, policy);
   ASSERT_TRUE(also) << also.error().message;
   EXPECT_EQ(also->applied, RepairKind::kConsistent);
 }
@@ -155,7 +165,8 @@ TYPED_TEST(Repair, DuplicatePosePathIsNotRepairable) {
   SceneGraph<TypeParam> g;
   Figure4(g, {Rot(0.3, {0, 0, 1}), {1, 0, 0}}, {Rot(-0.2, {1, 0, 0}), {0, 2, 0}});
   const std::string before = Dump(g);
-  auto r = g.AddPose(PoseSpec::Of("a").RelativeTo("d"), Quaterniond::Identity(), Vector3d(1, 1, 1), RepairPolicy{});
+  auto r = g.AddPose(PoseSpec::Of("a").RelativeTo("d"), Quaterniond::Identity(), Vector3d(1, 1, 1),
+                     RepairPolicy{});
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kDuplicatePosePath);
   EXPECT_FALSE(r.error().discrepancy.has_value());
@@ -169,8 +180,10 @@ TYPED_TEST(Repair, Figure6TwistsAreInvertedOrCheckedForConsistency) {
   const Pose X_C1C3{Rot(0.4, {0, 1, 0}), {0.2, 0, 0.1}}, X_C2F{Rot(0.9, {1, 1, 0}), {0, 0.5, 0}};
   const Vector3d v_AC1_C1(0.1, 0.2, 0.3), w_AC_C1(0, 0, 0.5), v_DC2_C2(1, 0, 0), w_DC_C2(0, 0.2, 0);
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("c3", "C").RelativeTo("c1", "C"), X_C1C3.q, X_C1C3.p));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c1", "C").RelativeTo("A").ExpressedIn("c1"), v_AC1_C1, w_AC_C1));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c2", "C").RelativeTo("D").ExpressedIn("c2"), v_DC2_C2, w_DC_C2));
+  ASSERT_TRUE(
+      g.AddTwist(TwistSpec::Of("c1", "C").RelativeTo("A").ExpressedIn("c1"), v_AC1_C1, w_AC_C1));
+  ASSERT_TRUE(
+      g.AddTwist(TwistSpec::Of("c2", "C").RelativeTo("D").ExpressedIn("c2"), v_DC2_C2, w_DC_C2));
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("f", "F").RelativeTo("c2", "C"), X_C2F.q, X_C2F.p));
   // (a) TwistCoord(c2|C, F, [c2]) with C moving relative to F at (v, w) at c2.
   const Vector3d v_FC2_C2(0.3, -0.1, 0.2), w_FC_C2(0.1, 0.1, -0.3);
@@ -193,10 +206,12 @@ TYPED_TEST(Repair, Figure6TwistsAreInvertedOrCheckedForConsistency) {
   EXPECT_LT((stored->linear - R_FC2 * -(v_FC2_C2 + w_FC_C2.cross(X_C2F.p))).norm(), 1e-12);
   // (b) TwistCoord(c3|C, A, [c3]) follows from A ~> {c1} and X_C1C3: consistent, or refused.
   const Eigen::Matrix3d R_C3C1 = X_C1C3.q.conjugate().toRotationMatrix();
-  const Vector3d w_AC_C3 = R_C3C1 * w_AC_C1, v_AC3_C3 = R_C3C1 * (v_AC1_C1 + w_AC_C1.cross(X_C1C3.p));
+  const Vector3d w_AC_C3 = R_C3C1 * w_AC_C1,
+                 v_AC3_C3 = R_C3C1 * (v_AC1_C1 + w_AC_C1.cross(X_C1C3.p));
   const TwistSpec c3_wrt_A = TwistSpec::Of("c3", "C").RelativeTo("A").ExpressedIn("c3");
   const std::string before = Dump(g);
-  auto b = g.AddTwist(c3_wrt_A, v_AC3_C3, w_AC_C3, RepairPolicy{.position_tolerance = 1e-9, .angle_tolerance = 1e-9});
+  auto b = g.AddTwist(c3_wrt_A, v_AC3_C3, w_AC_C3,
+                      RepairPolicy{.position_tolerance = 1e-9, .angle_tolerance = 1e-9});
   ASSERT_TRUE(b) << b.error().message;
   EXPECT_EQ(b->applied, RepairKind::kConsistent);
   auto off = g.AddTwist(c3_wrt_A, v_AC3_C3 + Vector3d(0, 0, 0.01), w_AC_C3, RepairPolicy{});
@@ -224,16 +239,22 @@ TYPED_TEST(Repair, RandomScenesAnswerLikeTheWorldAfterRepairs) {
       const int i = w.RandomFrame(), j = w.RandomFrameOtherThan(i);
       if (op % 4 == 3) {  // a twist of body(i) wrt another body, at f_i in [f_i]
         const int C = w.BodyOf(i), D = w.RandomBodyOtherThan(C);
-        auto r = g.AddTwist(TwistSpec::Of(name(i), body(C)).RelativeTo(body(D)).ExpressedIn(name(i)),
-                            w.LinearVelocity(i, C, D, i), w.AngularVelocity(C, D, i), RepairPolicy{});
-        if (r) ++applied[r->applied];
-        else ++refused;
+        auto r =
+            g.AddTwist(TwistSpec::Of(name(i), body(C)).RelativeTo(body(D)).ExpressedIn(name(i)),
+                       w.LinearVelocity(i, C, D, i), w.AngularVelocity(C, D, i), RepairPolicy{});
+        if (r)
+          ++applied[r->applied];
+        else
+          ++refused;
       } else {
         const Quaterniond q_JI(w.Rotation(j, i));
-        auto r = g.AddPose(PoseSpec::Of(name(i), body(w.BodyOf(i))).RelativeTo(name(j), body(w.BodyOf(j))), q_JI,
-                           w.Position(i, j, j), RepairPolicy{.position_tolerance = 1e-9, .angle_tolerance = 1e-9});
-        if (r) ++applied[r->applied];
-        else ++refused;
+        auto r = g.AddPose(
+            PoseSpec::Of(name(i), body(w.BodyOf(i))).RelativeTo(name(j), body(w.BodyOf(j))), q_JI,
+            w.Position(i, j, j), RepairPolicy{.position_tolerance = 1e-9, .angle_tolerance = 1e-9});
+        if (r)
+          ++applied[r->applied];
+        else
+          ++refused;
       }
       ASSERT_TRUE(CheckInvariants(g).empty()) << CheckInvariants(g);
     }
@@ -264,8 +285,9 @@ TYPED_TEST(Repair, RandomScenesAnswerLikeTheWorldAfterRepairs) {
   EXPECT_GT(applied[RepairKind::kInverted], 0);
   EXPECT_GT(applied[RepairKind::kRerooted], 0);
   EXPECT_GT(applied[RepairKind::kConsistent], 0);
-  std::printf("repairs: none %d, inverted %d, rerooted %d, consistent %d; refused %d\n", applied[RepairKind::kNone],
-              applied[RepairKind::kInverted], applied[RepairKind::kRerooted], applied[RepairKind::kConsistent], refused);
+  std::printf("repairs: none %d, inverted %d, rerooted %d, consistent %d; refused %d\n",
+              applied[RepairKind::kNone], applied[RepairKind::kInverted],
+              applied[RepairKind::kRerooted], applied[RepairKind::kConsistent], refused);
 }
 
 // Re-rooting a 100,000-frame chain at its leaf: O(|T|), every edge reversed with its value.
@@ -279,11 +301,13 @@ TYPED_TEST(Repair, ReRootingThroughAStampedEdgeIsRefusedAndChangesNothing) {
   const auto spec_e = PoseSpec::Of("e", "E").RelativeTo("b", "D");
   ASSERT_TRUE(g.AddPose(spec_e, X_BE1.q, X_BE1.p, Stamp::Nanoseconds(1000000000)));
   ASSERT_TRUE(g.AddPose(spec_e, X_BE2.q, X_BE2.p, Stamp::Nanoseconds(2000000000)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "F").RelativeTo("f", "A"), Rot(0.1, {1, 0, 0}), Vector3d(0, 1, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "F").RelativeTo("f", "A"), Rot(0.1, {1, 0, 0}),
+                        Vector3d(0, 1, 0)));
   const std::string before = Dump(g);
   // c wrt e: c has the parent f (P1); the inverse e wrt c: e has the parent b (P1); re-rooting
   // e's tree would reverse the stamped edge b -> e.
-  auto r = g.AddPose(PoseSpec::Of("c").RelativeTo("e"), Rot(0.3, {0, 1, 0}), Vector3d(0, 0, 1), RepairPolicy{});
+  auto r = g.AddPose(PoseSpec::Of("c").RelativeTo("e"), Rot(0.3, {0, 1, 0}), Vector3d(0, 0, 1),
+                     RepairPolicy{});
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kMultiplePoseParents);
   EXPECT_EQ(Dump(g), before);
@@ -292,14 +316,17 @@ TYPED_TEST(Repair, ReRootingThroughAStampedEdgeIsRefusedAndChangesNothing) {
   auto X = g.GetPose(PoseSpec::Of("e").RelativeTo("b"), At(Stamp::Nanoseconds(1500000000)));
   ASSERT_TRUE(X) << g.Describe(X.error());
   using B = TypeParam;
-  EXPECT_LT((B::ToMatrix(B::RotationOf(X->value.value)) - Rot(0.4, {0, 0, 1}).toRotationMatrix()).norm(), 1e-12);
+  EXPECT_LT(
+      (B::ToMatrix(B::RotationOf(X->value.value)) - Rot(0.4, {0, 0, 1}).toRotationMatrix()).norm(),
+      1e-12);
   // The screw motion's position halfway: X_1 Exp(Log(X_1^-1 X_2) / 2), built by hand: a planar
   // rotation by 0.4 rad about z; X_1^-1 X_2 = (Rz(0.4), Rz(-0.2) (1, 0, 0)); its half screw
   // turns by 0.2 about the same fixed point c of the plane: p(1/2) = c + Rz(0.2) (p_1 - c).
   const Pose rel = X_BE1.inverse() * X_BE2;
   const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
   const Eigen::Matrix2d R04 = Eigen::Rotation2Dd(0.4).toRotationMatrix();
-  const Eigen::Vector2d c = (I2 - R04).inverse() * rel.p.head<2>();  // fixed point of rel in X_1's frame
+  const Eigen::Vector2d c =
+      (I2 - R04).inverse() * rel.p.head<2>();  // fixed point of rel in X_1's frame
   const Eigen::Vector2d half = c + Eigen::Rotation2Dd(0.2).toRotationMatrix() * (-c);
   const Vector3d p_half = X_BE1.q * Vector3d(half.x(), half.y(), 0) + X_BE1.p;
   EXPECT_LT((B::TranslationOf(X->value.value) - p_half).norm(), 1e-12);
@@ -321,7 +348,8 @@ TEST(RepairDeep, ReRootingALongChainReversesEveryEdgeExactly) {
   // {q}|Q below {qq}|QQ. "q wrt x" is refused by P1 (q has the parent qq); its inverse "x wrt q"
   // too (x has the parent leaf); so the chain's tree is re-rooted at x (100,001 edges reversed)
   // and x is added below q.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("q", "Q").RelativeTo("qq", "QQ"), Quaterniond::Identity(), Vector3d(0, 1, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("q", "Q").RelativeTo("qq", "QQ"), Quaterniond::Identity(),
+                        Vector3d(0, 1, 0)));
   const Pose X_XQ{Rot(0.5, {1, 0, 0}), {0, 0, 2}};
   auto r = g.AddPose(PoseSpec::Of("q").RelativeTo("x"), X_XQ.q, X_XQ.p, RepairPolicy{});
   ASSERT_TRUE(r) << r.error().message;

@@ -30,9 +30,10 @@ class ResultTypes : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(g_.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"), q_WA, Vector3d(1, 0, 0)));
-    ASSERT_TRUE(g_.AddPose(PoseSpec::Of("t", "T").RelativeTo("a", "A"), Quaterniond::Identity(), Vector3d(0.5, 0, 0)));
-    ASSERT_TRUE(g_.AddTwist(TwistSpec::Of("t").RelativeTo("A").ExpressedIn("t"), Vector3d(0, 0.2, 0),
-                            Vector3d(0, 0, 1)));
+    ASSERT_TRUE(g_.AddPose(PoseSpec::Of("t", "T").RelativeTo("a", "A"), Quaterniond::Identity(),
+                           Vector3d(0.5, 0, 0)));
+    ASSERT_TRUE(g_.AddTwist(TwistSpec::Of("t").RelativeTo("A").ExpressedIn("t"),
+                            Vector3d(0, 0.2, 0), Vector3d(0, 0, 1)));
   }
   SceneGraph<B> g_;
 };
@@ -68,10 +69,13 @@ TYPED_TEST(ResultTypes, CompiledAndOneShotGiveTheSameTypeAndAnswer) {
 
   const auto orientation = g.CompileOrientation(spec);
   ASSERT_TRUE(orientation);
-  static_assert(std::is_same_v<decltype(g.GetOrientation(spec)), decltype(orientation->Evaluate())>);
+  static_assert(
+      std::is_same_v<decltype(g.GetOrientation(spec)), decltype(orientation->Evaluate())>);
   ASSERT_TRUE(orientation->Evaluate());
   EXPECT_EQ(orientation->Evaluate()->semantics, g.GetOrientation(spec)->semantics);
-  EXPECT_LT((TypeParam::ToMatrix(orientation->Evaluate()->value) - q_WA.toRotationMatrix()).cwiseAbs().maxCoeff(),
+  EXPECT_LT((TypeParam::ToMatrix(orientation->Evaluate()->value) - q_WA.toRotationMatrix())
+                .cwiseAbs()
+                .maxCoeff(),
             1e-15);
 
   // The twist of T wrt A at {t} in [w]: R_WT (v, w) = ((-0.2, 0, 0), (0, 0, 1)).
@@ -95,9 +99,10 @@ TYPED_TEST(ResultTypes, AnInvalidatedCompiledQueryIsAQueryError) {
   const auto r = compiled->Evaluate();
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kQueryInvalidated);
-  EXPECT_EQ(g.Describe(r.error()),
-            "query failed (query_invalidated): an edge the compiled query reads was removed after it was "
-            "compiled; compile it again");
+  EXPECT_EQ(
+      g.Describe(r.error()),
+      "query failed (query_invalidated): an edge the compiled query reads was removed after it was "
+      "compiled; compile it again");
   EXPECT_EQ(twist->Evaluate().error().code, ErrorCode::kQueryInvalidated);
 }
 

@@ -31,8 +31,8 @@
 #include <utility>
 #include <vector>
 
-#include "semgraph/core/scene_graph.h"
 #include "semgraph/base/error_code.h"
+#include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "support/tolerance.h"
 
@@ -147,9 +147,8 @@ template <class G, class Result, class Spec>
     return ::testing::AssertionFailure() << "succeeded; expected " << base::ToString(code);
   const std::string text = graph.Describe(result.error(), spec);
   if (result.error().code != code) {
-    return ::testing::AssertionFailure()
-           << "code " << base::ToString(result.error().code) << ", expected "
-           << base::ToString(code) << ": " << text;
+    return ::testing::AssertionFailure() << "code " << base::ToString(result.error().code)
+                                         << ", expected " << base::ToString(code) << ": " << text;
   }
   for (std::string_view phrase : phrases) {
     if (text.find(phrase) == std::string::npos) {
@@ -321,12 +320,12 @@ TYPED_TEST(SceneGraphConstraints, Figure4PoseOfC2WrtFIsRejectedBecauseC2HasAPose
 TYPED_TEST(SceneGraphConstraints, Figure4PoseOfAWrtDIsRejectedBecauseCWouldBeReachableTwice) {
   auto& g = this->graph_;
   BuildFigure4(g);
-  EXPECT_TRUE(
-      RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
-                      {"pose of {a}|A wrt {d}|D", "body C would be reachable twice",
-                       "from {d}|D: through {d}|D -> {c2}|C", "through the new edge, {d}|D -> {a}|A -> {c1}|C",
-                       "(such as {c2}|C and {c1}|C)"},
-                      [&] { return AddEdge(g, "a", "A", "d", "D", 6); }));
+  EXPECT_TRUE(RejectsAndKeeps(
+      g, ErrorCode::kDuplicatePosePath,
+      {"pose of {a}|A wrt {d}|D", "body C would be reachable twice",
+       "from {d}|D: through {d}|D -> {c2}|C", "through the new edge, {d}|D -> {a}|A -> {c1}|C",
+       "(such as {c2}|C and {c1}|C)"},
+      [&] { return AddEdge(g, "a", "A", "d", "D", 6); }));
 }
 
 // ---------------------------------------------------------------------- Fig. 6
@@ -854,12 +853,12 @@ TYPED_TEST(SceneGraphConstraints, DuplicatePosePathRejectsASecondChainBetweenTwo
   // A second tree that also holds C, {c2}|C -> {x}|X; linking it to the tree of {a} (which
   // holds {c}|C) would reach C twice.
   ASSERT_TRUE(Accepts(g, AddEdge(g, "x", "X", "c2", "C")));
-  EXPECT_TRUE(
-      RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
-                      {"pose of {c2}|C wrt {b}|B", "body C would be reachable twice",
-                       "from {b}|B: through {b}|B -> {c}|C", "through the new edge, {b}|B -> {c2}|C",
-                       "Give {c2} its pose relative to a frame of C (such as {c}|C)"},
-                      [&] { return AddEdge(g, "c2", "C", "b", "B"); }));
+  EXPECT_TRUE(RejectsAndKeeps(
+      g, ErrorCode::kDuplicatePosePath,
+      {"pose of {c2}|C wrt {b}|B", "body C would be reachable twice",
+       "from {b}|B: through {b}|B -> {c}|C", "through the new edge, {b}|B -> {c2}|C",
+       "Give {c2} its pose relative to a frame of C (such as {c}|C)"},
+      [&] { return AddEdge(g, "c2", "C", "b", "B"); }));
   // Linking the other way round is the same second chain.
   EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath, {"body C would be reachable twice"},
                               [&] { return AddEdge(g, "a", "A", "x", "X"); }));
@@ -869,19 +868,19 @@ TYPED_TEST(SceneGraphConstraints, DuplicatePosePathRejectsANewTailFrameOnABodyOf
   auto& g = this->graph_;
   BuildTwoTrees(g);
   // {a} is a root whose tree holds C; a new frame {c9}|C as its parent would reach C twice.
-  EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
-                              {"pose of {a}|A wrt {c9}|C",
-                               "body C would be reachable twice from {c9}|C: at {c9}|C itself",
-                               "through the new edge, {c9}|C -> {a}|A -> {b}|B -> {c}|C",
-                               "Give {c9} its pose relative to a frame of C (such as {c}|C)"},
-                              [&] { return AddEdge(g, "a", "A", "c9", "C"); }));
+  EXPECT_TRUE(RejectsAndKeeps(
+      g, ErrorCode::kDuplicatePosePath,
+      {"pose of {a}|A wrt {c9}|C", "body C would be reachable twice from {c9}|C: at {c9}|C itself",
+       "through the new edge, {c9}|C -> {a}|A -> {b}|B -> {c}|C",
+       "Give {c9} its pose relative to a frame of C (such as {c}|C)"},
+      [&] { return AddEdge(g, "a", "A", "c9", "C"); }));
   // And a new head frame {b9}|B under {c}, whose tree already holds B.
-  EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
-                              {"pose of {b9}|B wrt {c}|C",
-                               "body B would be reachable twice from {b}|B: at {b}|B itself",
-                               "through the new edge, {b}|B -> {c}|C -> {b9}|B",
-                               "Give {b9} its pose relative to a frame of B (such as {b}|B)"},
-                              [&] { return AddEdge(g, "b9", "B", "c", "C"); }));
+  EXPECT_TRUE(RejectsAndKeeps(
+      g, ErrorCode::kDuplicatePosePath,
+      {"pose of {b9}|B wrt {c}|C", "body B would be reachable twice from {b}|B: at {b}|B itself",
+       "through the new edge, {b}|B -> {c}|C -> {b9}|B",
+       "Give {b9} its pose relative to a frame of B (such as {b}|B)"},
+      [&] { return AddEdge(g, "b9", "B", "c", "C"); }));
 }
 
 TYPED_TEST(SceneGraphConstraints, DuplicatePosePathAcceptsListing1ConstantPoseOfF1WrtO1) {
@@ -924,12 +923,12 @@ TYPED_TEST(SceneGraphConstraints,
   // The same-body edge a1 -> a2 is allowed to share A, but C would be reached twice.
   ASSERT_TRUE(Accepts(g, AddEdge(g, "c1", "C", "a1", "A", 1)));
   ASSERT_TRUE(Accepts(g, AddEdge(g, "c2", "C", "a2", "A", 2)));
-  EXPECT_TRUE(
-      RejectsAndKeeps(g, ErrorCode::kDuplicatePosePath,
-                      {"pose of {a2}|A wrt {a1}|A", "body C would be reachable twice",
-                       "from {a1}|A: through {a1}|A -> {c1}|C", "through the new edge, {a1}|A -> {a2}|A -> {c2}|C",
-                       "(such as {c1}|C and {c2}|C)"},
-                      [&] { return AddEdge(g, "a2", "A", "a1", "A", 3); }));
+  EXPECT_TRUE(RejectsAndKeeps(
+      g, ErrorCode::kDuplicatePosePath,
+      {"pose of {a2}|A wrt {a1}|A", "body C would be reachable twice",
+       "from {a1}|A: through {a1}|A -> {c1}|C", "through the new edge, {a1}|A -> {a2}|A -> {c2}|C",
+       "(such as {c1}|C and {c2}|C)"},
+      [&] { return AddEdge(g, "a2", "A", "a1", "A", 3); }));
   // Without the third body it is fine.
   ASSERT_TRUE(Accepts(g, g.RemovePose("c2", "a2")));
   EXPECT_TRUE(Accepts(g, AddEdge(g, "a2", "A", "a1", "A", 3)));
@@ -1347,7 +1346,8 @@ TYPED_TEST(SceneGraphConstraints, RemovingATwistEdgeRemovesItsTwistPathAndAllows
 // ====================================================================== homogeneous backend
 
 // The homogeneous transform imposes point = origin of [a], ref point = origin of [b] and
-// [r] = [b] on poses, and [r] = [b] on orientations (docs/rules.md §11); positions and twists are free.
+// [r] = [b] on poses, and [r] = [b] on orientations (docs/rules.md §11); positions and twists are
+// free.
 //
 // Fixture: BuildTwoTrees plus a second frame of C, {c} -> {c2}|C (constant).
 class SceneGraphHomogeneous : public ::testing::Test {

@@ -25,9 +25,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "semgraph/base/error_code.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/scene_graph.h"
-#include "semgraph/base/error_code.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "support/alloc_counter.h"
 #include "support/rigid_body_scene.h"
@@ -300,12 +300,17 @@ TYPED_TEST(SceneGraphNoAllocation, UpdatesThroughHandlesAndCompiledQueriesDoNotA
   });
   // The unchecked fast path allocates nothing either, and stores exactly what it is given.
   const Eigen::Quaterniond q_unit = q[2].normalized();
-  ExpectNoAllocation("SetPoseUnchecked", ErrorCode::kOk,
-                     [&] { return g.SetPoseUnchecked(*X_BE, q_unit, Eigen::Vector3d(0.5, 0.25, -1)); });
+  ExpectNoAllocation("SetPoseUnchecked", ErrorCode::kOk, [&] {
+    return g.SetPoseUnchecked(*X_BE, q_unit, Eigen::Vector3d(0.5, 0.25, -1));
+  });
   auto X_BE_now = g.GetPose(PoseSpec::Of("e").RelativeTo("b"));
   ASSERT_TRUE(X_BE_now);
-  EXPECT_LT((TypeParam::ToMatrix(TypeParam::RotationOf(X_BE_now->value)) - q_unit.toRotationMatrix()).norm(), 1e-12);
-  EXPECT_LT((TypeParam::TranslationOf(X_BE_now->value) - Eigen::Vector3d(0.5, 0.25, -1)).norm(), 1e-15);
+  EXPECT_LT(
+      (TypeParam::ToMatrix(TypeParam::RotationOf(X_BE_now->value)) - q_unit.toRotationMatrix())
+          .norm(),
+      1e-12);
+  EXPECT_LT((TypeParam::TranslationOf(X_BE_now->value) - Eigen::Vector3d(0.5, 0.25, -1)).norm(),
+            1e-15);
 }
 
 // Reserve(frames, bodies) makes a build of known size reallocate none of the graph's arrays:
@@ -324,8 +329,9 @@ TYPED_TEST(SceneGraphNoAllocation, ReserveAvoidsRegrowingWhileBuilding) {
       CountAllocations counting;
       if (reserve) g.Reserve(kFrames + 1, kFrames + 1);
       for (int i = 1; i <= kFrames; ++i) {
-        auto r = g.AddPose(PoseSpec::Of(frames[i], bodies[i]).RelativeTo(frames[i - 1], bodies[i - 1]),
-                           Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0));
+        auto r =
+            g.AddPose(PoseSpec::Of(frames[i], bodies[i]).RelativeTo(frames[i - 1], bodies[i - 1]),
+                      Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0));
         if (!r) ADD_FAILURE() << r.error().message;
       }
       allocations = counting.count();
@@ -338,7 +344,8 @@ TYPED_TEST(SceneGraphNoAllocation, ReserveAvoidsRegrowingWhileBuilding) {
   // Without Reserve every array doubles about log2(2000) = 11 times; with it, only the name
   // arena's blocks and the tree record's body map (which Reserve does not size) allocate.
   EXPECT_LT(reserved * 2, grown) << "reserved " << reserved << ", grown " << grown;
-  std::printf("allocations building %d frames: %zu grown, %zu after Reserve\n", kFrames, grown, reserved);
+  std::printf("allocations building %d frames: %zu grown, %zu after Reserve\n", kFrames, grown,
+              reserved);
 }
 
 TYPED_TEST(SceneGraphNoAllocation, ValueUpdatesThroughAddPoseAndAddTwistAreMeasured) {

@@ -39,8 +39,8 @@
 #include <utility>
 #include <vector>
 
-#include "semgraph/core/scene_graph.h"
 #include "semgraph/base/error_code.h"
+#include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "support/rigid_body_scene.h"
 #include "support/tolerance.h"

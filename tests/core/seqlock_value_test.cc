@@ -38,8 +38,9 @@ TEST(SeqLockValue, OneCacheLinePerValue) {
 
 TEST(SeqLockValue, RoundTripIsBitExact) {
   Seven in;
-  in.d = {-0.0, std::numeric_limits<double>::denorm_min(), 1.0 / 3.0, -1e300,
-          std::numeric_limits<double>::max(), std::nextafter(1.0, 2.0), 42.0};
+  in.d = {-0.0,   std::numeric_limits<double>::denorm_min(), 1.0 / 3.0,
+          -1e300, std::numeric_limits<double>::max(),        std::nextafter(1.0, 2.0),
+          42.0};
   in.padding = 99.0;  // not part of the 56-byte payload: never copied
   Value v(in);
   Seven out = Filled(7.0);

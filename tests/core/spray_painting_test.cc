@@ -34,8 +34,8 @@ class SprayPainting : public ::testing::Test {
  protected:
   void SetUp() override {
     for (const scene::EdgePose& e : scene::kPoses) {
-      ASSERT_TRUE(graph_.AddPose(PoseSpec::Of(e.of, e.of_body).RelativeTo(e.wrt, e.wrt_body), e.q_PF,
-                                 e.p_PoFo_P));
+      ASSERT_TRUE(graph_.AddPose(PoseSpec::Of(e.of, e.of_body).RelativeTo(e.wrt, e.wrt_body),
+                                 e.q_PF, e.p_PoFo_P));
     }
     ASSERT_TRUE(graph_.AddTwist(TwistSpec::Of("c", "C").RelativeTo("B").ExpressedIn("b"),
                                 Vector3d::Zero(), Vector3d::Zero()));
@@ -86,7 +86,8 @@ class SprayPainting : public ::testing::Test {
     const Vector3d w_W = V_W_[C].w - V_W_[D].w;
     const Vector3d v_W = V_W_[C].VelocityAt(p_We) - V_W_[D].VelocityAt(p_We);
     const Matrix3d R_rW = X_W_[r].R.transpose();
-    EXPECT_LT((v - R_rW * v_W).norm(), 1e-12) << v.transpose() << " vs " << (R_rW * v_W).transpose();
+    EXPECT_LT((v - R_rW * v_W).norm(), 1e-12)
+        << v.transpose() << " vs " << (R_rW * v_W).transpose();
     EXPECT_LT((w - R_rW * w_W).norm(), 1e-12);
   }
 
@@ -128,7 +129,8 @@ TEST_F(SprayPainting, VelocitiesAtCoincidentPointsInEveryFrame) {
       auto V = graph_.GetTwist(TwistSpec::Of(point, "O1").RelativeTo("E").ExpressedIn(frame));
       ASSERT_TRUE(V) << point << " " << frame;
       ExpectTwist(point, "O1", "E", frame, V->linear, V->angular);
-      auto v = graph_.GetLinearVelocity(TwistSpec::Of(point, "C").RelativeTo("O2").ExpressedIn(frame));
+      auto v =
+          graph_.GetLinearVelocity(TwistSpec::Of(point, "C").RelativeTo("O2").ExpressedIn(frame));
       ASSERT_TRUE(v);
       const Vector3d w_expected = X_W_[frame].R.transpose() * (V_W_["C"].w - V_W_["O2"].w);
       ExpectTwist(point, "C", "O2", frame, v->value, w_expected);

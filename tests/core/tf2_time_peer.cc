@@ -8,7 +8,8 @@
 namespace semgraph_test::tf2time {
 namespace {
 ros::Time Time(std::int64_t ns) {
-  return ros::Time(static_cast<std::uint32_t>(ns / 1000000000), static_cast<std::uint32_t>(ns % 1000000000));
+  return ros::Time(static_cast<std::uint32_t>(ns / 1000000000),
+                   static_cast<std::uint32_t>(ns % 1000000000));
 }
 void Fill(const geometry_msgs::TransformStamped& m, Pose7& out) {
   const auto& r = m.transform.rotation;
@@ -24,8 +25,8 @@ struct Buffer::Impl {
 Buffer::Buffer() : impl_(std::make_unique<Impl>()) {}
 Buffer::~Buffer() = default;
 
-bool Buffer::Set(const std::string& parent, const std::string& child, const Pose7& x, std::int64_t t_ns,
-                 bool is_static) {
+bool Buffer::Set(const std::string& parent, const std::string& child, const Pose7& x,
+                 std::int64_t t_ns, bool is_static) {
   geometry_msgs::TransformStamped m;
   m.header.stamp = Time(t_ns);
   m.header.frame_id = parent;
@@ -40,10 +41,11 @@ bool Buffer::Set(const std::string& parent, const std::string& child, const Pose
   return impl_->buffer.setTransform(m, "test", is_static);
 }
 
-bool Buffer::Lookup(const std::string& target, const std::string& source, std::int64_t t_ns, Pose7& out,
-                    std::int64_t* stamp_ns) const {
+bool Buffer::Lookup(const std::string& target, const std::string& source, std::int64_t t_ns,
+                    Pose7& out, std::int64_t* stamp_ns) const {
   try {
-    const auto m = impl_->buffer.lookupTransform(target, source, t_ns == 0 ? ros::Time(0) : Time(t_ns));
+    const auto m =
+        impl_->buffer.lookupTransform(target, source, t_ns == 0 ? ros::Time(0) : Time(t_ns));
     Fill(m, out);
     if (stamp_ns) *stamp_ns = static_cast<std::int64_t>(m.header.stamp.toNSec());
     return true;
@@ -52,8 +54,9 @@ bool Buffer::Lookup(const std::string& target, const std::string& source, std::i
   }
 }
 
-bool Buffer::LookupFixed(const std::string& target, std::int64_t t_target, const std::string& source,
-                         std::int64_t t_source, const std::string& fixed, Pose7& out) const {
+bool Buffer::LookupFixed(const std::string& target, std::int64_t t_target,
+                         const std::string& source, std::int64_t t_source, const std::string& fixed,
+                         Pose7& out) const {
   try {
     Fill(impl_->buffer.lookupTransform(target, Time(t_target), source, Time(t_source), fixed), out);
     return true;

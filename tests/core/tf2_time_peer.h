@@ -23,14 +23,15 @@ class Buffer {
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
   /// setTransform: the pose of `child` in `parent` at t_ns (is_static: a static transform).
-  bool Set(const std::string& parent, const std::string& child, const Pose7& x, std::int64_t t_ns, bool is_static);
+  bool Set(const std::string& parent, const std::string& child, const Pose7& x, std::int64_t t_ns,
+           bool is_static);
   /// lookupTransform(target, source, t): the pose of source in target; t_ns = 0: latest common.
   /// False when tf2 throws. *stamp_ns gets the stamp tf2 reports.
   bool Lookup(const std::string& target, const std::string& source, std::int64_t t_ns, Pose7& out,
               std::int64_t* stamp_ns = nullptr) const;
   /// The fixed-frame variant: source at t_source, target at t_target, through `fixed`.
-  bool LookupFixed(const std::string& target, std::int64_t t_target, const std::string& source, std::int64_t t_source,
-                   const std::string& fixed, Pose7& out) const;
+  bool LookupFixed(const std::string& target, std::int64_t t_target, const std::string& source,
+                   std::int64_t t_source, const std::string& fixed, Pose7& out) const;
 
  private:
   struct Impl;

@@ -29,10 +29,15 @@ Graph MakeGraph() {
   o.interpolation = Interpolation::kLinear;
   o.window = Duration::Seconds(1);
   Graph g = *Graph::Create(o);
-  EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"), Eigen::Quaterniond::Identity(), Line(Ms(0)), Ms(0)).has_value());
-  EXPECT_TRUE(g.AddPose(PoseSpec::Of("b", "A").RelativeTo("a"), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 1)).has_value());
-  EXPECT_TRUE(g.AddTwist(TwistSpec::Of("a").RelativeTo("W").ExpressedIn("a"), Eigen::Vector3d(1, 2, 3),
-                         Eigen::Vector3d::Zero(), Ms(0)).has_value());
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"), Eigen::Quaterniond::Identity(),
+                        Line(Ms(0)), Ms(0))
+                  .has_value());
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("b", "A").RelativeTo("a"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(0, 0, 1))
+                  .has_value());
+  EXPECT_TRUE(g.AddTwist(TwistSpec::Of("a").RelativeTo("W").ExpressedIn("a"),
+                         Eigen::Vector3d(1, 2, 3), Eigen::Vector3d::Zero(), Ms(0))
+                  .has_value());
   return g;
 }
 
@@ -42,22 +47,28 @@ TEST(TimeRealtimeTest, StampedUpdatesAndTimedCompiledQueriesDoNotAllocate) {
   auto twist = g.FindTwistEdge("a", "W");
   auto q = g.CompilePose(PoseSpec::Of("b").RelativeTo("w"));
   auto v = g.CompileTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"));
-  auto vp = g.CompileTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"), TwistSource::kPoses);
+  auto vp =
+      g.CompileTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"), TwistSource::kPoses);
   ASSERT_TRUE(pose && twist && q && v && vp);
   std::size_t allocations = 0;
   int failures = 0;
   {
     CountAllocations counting;
     for (std::int64_t i = 1; i <= 3000; ++i) {  // in order, past the window and the capacity
-      failures += g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(i)), Ms(i)) != ErrorCode::kOk;
-      failures += g.SetTwist(*twist, Eigen::Vector3d(1, 2, 3), Eigen::Vector3d::Zero(), Ms(i)) != ErrorCode::kOk;
+      failures +=
+          g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(i)), Ms(i)) != ErrorCode::kOk;
+      failures += g.SetTwist(*twist, Eigen::Vector3d(1, 2, 3), Eigen::Vector3d::Zero(), Ms(i)) !=
+                  ErrorCode::kOk;
     }
-    failures += g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(2500)) , Ms(2500)) != ErrorCode::kOk;  // replace
-    failures += g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(0)), Ms(0)) != ErrorCode::kStampTooOld;
+    failures += g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(2500)), Ms(2500)) !=
+                ErrorCode::kOk;  // replace
+    failures += g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(0)), Ms(0)) !=
+                ErrorCode::kStampTooOld;
     Graph::Backend::PoseCoords X;
     Eigen::Vector3d lin, ang;
     TimeReport r;
-    const TimePolicy policies[] = {Latest{}, At{Ms(2700)}, At{Ms(3100), Duration::Milliseconds(200)}, LatestCommon{},
+    const TimePolicy policies[] = {Latest{}, At{Ms(2700)},
+                                   At{Ms(3100), Duration::Milliseconds(200)}, LatestCommon{},
                                    Latest{Ms(2999)}};
     for (const TimePolicy& p : policies) {
       failures += q->Evaluate(X, p, r) != ErrorCode::kOk;
@@ -96,11 +107,13 @@ TEST(TimeRealtimeTest, OneWriterAppendsWhileReadersEvaluateAtAnyTime) {
   std::atomic<long> reads{0};
   std::atomic<int> started{0};
   std::thread writer([&] {
-    while (started.load(std::memory_order_acquire) < 2) std::this_thread::yield();  // overlap readers
+    while (started.load(std::memory_order_acquire) < 2)
+      std::this_thread::yield();  // overlap readers
     for (std::int64_t i = 1; i <= kSamples; ++i) {
       // Mostly in order; every 7th sample arrives late (out of order, shifting the history).
       const std::int64_t s = i % 7 == 0 ? i - 3 : i;
-      if (g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(s)), Ms(s)) != ErrorCode::kOk) ++bad;
+      if (g.SetPose(*pose, Eigen::Quaterniond::Identity(), Line(Ms(s)), Ms(s)) != ErrorCode::kOk)
+        ++bad;
       written.store(i, std::memory_order_release);
     }
   });
@@ -117,7 +130,8 @@ TEST(TimeRealtimeTest, OneWriterAppendsWhileReadersEvaluateAtAnyTime) {
         if (!writing && mine++ >= 100) break;
         const std::int64_t newest = written.load(std::memory_order_acquire);
         x = x * 6364136223846793005ull + 1442695040888963407ull;
-        const std::int64_t t = newest - static_cast<std::int64_t>(x >> 40) % 900;  // within the window
+        const std::int64_t t =
+            newest - static_cast<std::int64_t>(x >> 40) % 900;  // within the window
         Graph::Backend::PoseCoords X;
         TimeReport r;
         const ErrorCode code = q->Evaluate(X, At{Ms(t)}, r);

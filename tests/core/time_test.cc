@@ -5,7 +5,8 @@
 // Ground truth is analytic or built independently:
 //   ScrewMotion   a body spinning at rate w about the z axis through the point c of its parent
 //                 while sliding along it at h: X(s) = (Rz(w s), c - Rz(w s) c + h s z), whose
-//                 screw twist (at the body's origin, in its frame) is (c x w z + h z, w z), constant
+//                 screw twist (at the body's origin, in its frame) is (c x w z + h z, w z),
+//                 constant
 //   Orbit         a body on a circle of radius rho about its parent's z axis, spinning about its
 //                 own x axis: X(s) = (Rz(a s) Rx(b s), rho (cos a s, sin a s, 0))
 //   at a sample stamp: the same graph built with those values and no time at all
@@ -26,8 +27,12 @@ using semgraph::testing::ExpectNear;
 using Graph = SceneGraph<coord::QuaternionBackend>;
 
 Stamp S(double seconds) { return *StampFromSeconds(seconds); }
-Eigen::Quaterniond Rz(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())); }
-Eigen::Quaterniond Rx(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX())); }
+Eigen::Quaterniond Rz(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()));
+}
+Eigen::Quaterniond Rx(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()));
+}
 
 struct ScrewMotion {
   Eigen::Vector3d c{0.7, -0.4, 0.2};
@@ -41,7 +46,9 @@ struct ScrewMotion {
 struct Orbit {
   double rho = 1.5, a = 0.8, b = 2.1;
   Eigen::Quaterniond q(double s) const { return Rz(a * s) * Rx(b * s); }
-  Eigen::Vector3d p(double s) const { return rho * Eigen::Vector3d(std::cos(a * s), std::sin(a * s), 0); }
+  Eigen::Vector3d p(double s) const {
+    return rho * Eigen::Vector3d(std::cos(a * s), std::sin(a * s), 0);
+  }
 };
 
 const PoseSpec kOinW = PoseSpec::Of("o").RelativeTo("w");
@@ -57,12 +64,15 @@ Graph ScrewGraph(Interpolation mode, double dt = 0.1, bool with_twist = false) {
   const int n = static_cast<int>(std::lround(1.0 / dt));
   for (int i = 0; i <= n; ++i) {
     const double s = i * dt;
-    EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), m.q(s), m.p(s), S(s)).has_value());
+    EXPECT_TRUE(
+        g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), m.q(s), m.p(s), S(s)).has_value());
   }
   if (with_twist) {
     // The measured twist of O wrt W at o in [o], sampled at the same stamps.
     for (int i = 0; i <= n; ++i) {
-      EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), m.v(), m.omega(), S(i * dt)).has_value());
+      EXPECT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), m.v(), m.omega(),
+                             S(i * dt))
+                      .has_value());
     }
   }
   return g;
@@ -115,7 +125,9 @@ TEST(TimeTest, AnOrbitConvergesInBothModes) {
     ASSERT_TRUE(g.AddBody("W").has_value());
     ASSERT_TRUE(g.AddFrame("w", "W").has_value());
     for (int i = 0; i <= 400; ++i) {
-      ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), o.q(i * 0.0025), o.p(i * 0.0025), S(i * 0.0025)).has_value());
+      ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), o.q(i * 0.0025),
+                            o.p(i * 0.0025), S(i * 0.0025))
+                      .has_value());
     }
     for (double s = 0.01; s < 1.0; s += 0.0917) {
       auto X = g.GetPose(kOinW, At{S(s)});
@@ -133,7 +145,9 @@ TEST(TimeTest, ExtrapolationIntegratesTheMeasuredTwistAndSaysSo) {
   auto refused = g.GetPose(kOinW, At{S(1.2)});
   ASSERT_FALSE(refused.has_value());
   EXPECT_EQ(refused.error().code, ErrorCode::kExtrapolation);
-  EXPECT_EQ(g.Describe(refused.error(), kOinW), "query failed (extrapolation): pose of {o}|O wrt {w}|W has samples in [0.000, 1.000] s; asked 1.200 s");
+  EXPECT_EQ(g.Describe(refused.error(), kOinW),
+            "query failed (extrapolation): pose of {o}|O wrt {w}|W has samples in [0.000, 1.000] "
+            "s; asked 1.200 s");
   // Within the horizon: X(1) Exp(0.2 xi) = the analytic motion at 1.2 (forwards and backwards).
   for (double s : {1.2, 1.5, -0.3}) {
     auto X = g.GetPose(kOinW, At{S(s), Duration::Milliseconds(500)});
@@ -143,20 +157,28 @@ TEST(TimeTest, ExtrapolationIntegratesTheMeasuredTwistAndSaysSo) {
     ExpectNear(X->value.value.translation, m.p(s), 1e-12);
   }
   // Beyond the horizon.
-  EXPECT_EQ(g.GetPose(kOinW, At{S(1.6), Duration::Milliseconds(500)}).error().code, ErrorCode::kExtrapolation);
+  EXPECT_EQ(g.GetPose(kOinW, At{S(1.6), Duration::Milliseconds(500)}).error().code,
+            ErrorCode::kExtrapolation);
   // A twist edge holds its nearest sample within the horizon.
-  auto V = g.GetTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), At{S(1.3), Duration::Milliseconds(500)});
+  auto V = g.GetTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"),
+                      At{S(1.3), Duration::Milliseconds(500)});
   ASSERT_TRUE(V.has_value());
   EXPECT_TRUE(V->time.extrapolated);
   ExpectNear(V->value.linear, m.v(), 1e-15);
   // No twist path: extrapolation is refused even with a horizon.
   const Graph no_twist = ScrewGraph(Interpolation::kScrew);
-  EXPECT_EQ(no_twist.GetPose(kOinW, At{S(1.2), Duration::Seconds(1)}).error().code, ErrorCode::kExtrapolation);
+  EXPECT_EQ(no_twist.GetPose(kOinW, At{S(1.2), Duration::Seconds(1)}).error().code,
+            ErrorCode::kExtrapolation);
   // A negative horizon is invalid_number, after invalid_name.
-  EXPECT_EQ(g.GetPose(kOinW, At{S(0.5), Duration::Nanoseconds(-1)}).error().code, ErrorCode::kInvalidNumber);
-  EXPECT_EQ(g.GetPose(PoseSpec::Of("").RelativeTo("w"), At{S(0.5), Duration::Nanoseconds(-1)}).error().code,
+  EXPECT_EQ(g.GetPose(kOinW, At{S(0.5), Duration::Nanoseconds(-1)}).error().code,
+            ErrorCode::kInvalidNumber);
+  EXPECT_EQ(g.GetPose(PoseSpec::Of("").RelativeTo("w"), At{S(0.5), Duration::Nanoseconds(-1)})
+                .error()
+                .code,
             ErrorCode::kInvalidName);
-  EXPECT_EQ(g.GetPose(PoseSpec::Of("nope").RelativeTo("w"), At{S(0.5), Duration::Nanoseconds(-1)}).error().code,
+  EXPECT_EQ(g.GetPose(PoseSpec::Of("nope").RelativeTo("w"), At{S(0.5), Duration::Nanoseconds(-1)})
+                .error()
+                .code,
             ErrorCode::kInvalidNumber);
 }
 
@@ -179,16 +201,19 @@ TEST(TimeTest, TwistFromPosesEqualsTheAnalyticTwistAndTheTwistEdges) {
         // rotation (slerp about a fixed axis is exact); the rotation rate is exact.
         const double s0 = s == 1.0 ? 0.9 : std::floor(s * 10 + 1e-9) / 10, s1 = s0 + 0.1;
         ExpectNear(from_poses->value.angular, m.omega(), 1e-12);
-        ExpectNear(from_poses->value.linear, Eigen::Vector3d(m.q(s).conjugate() * ((m.p(s1) - m.p(s0)) / 0.1)), 1e-9);
+        ExpectNear(from_poses->value.linear,
+                   Eigen::Vector3d(m.q(s).conjugate() * ((m.p(s1) - m.p(s0)) / 0.1)), 1e-9);
       }
     }
     // Expressed in the world at the world's origin: the analytic spatial twist.
-    auto Vw = g.GetTwist(TwistSpec::Of("w", "O").RelativeTo("W").ExpressedIn("w"), At{S(0.45)}, TwistSource::kPoses);
+    auto Vw = g.GetTwist(TwistSpec::Of("w", "O").RelativeTo("W").ExpressedIn("w"), At{S(0.45)},
+                         TwistSource::kPoses);
     ASSERT_TRUE(Vw.has_value());
     const Eigen::Vector3d w_world = m.q(0.45) * m.omega();
     if (mode == Interpolation::kScrew) {
       // v at w's origin = R v_body + p x w (p of o in w).
-      ExpectNear(Vw->value.linear, Eigen::Vector3d(m.q(0.45) * m.v() + m.p(0.45).cross(w_world)), 1e-12);
+      ExpectNear(Vw->value.linear, Eigen::Vector3d(m.q(0.45) * m.v() + m.p(0.45).cross(w_world)),
+                 1e-12);
     }
     ExpectNear(Vw->value.angular, w_world, 1e-12);
   }
@@ -206,8 +231,10 @@ TEST(TimeTest, TwistFromPosesOfAChainOfTwoMovingBodies) {
   ASSERT_TRUE(g.AddFrame("w", "W").has_value());
   for (int i = 0; i <= 1000; ++i) {
     const double s = i * 0.001;
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), o.q(s), o.p(s), S(s)).has_value());
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "B").RelativeTo("a"), m.q(s), m.p(s), S(s)).has_value());
+    ASSERT_TRUE(
+        g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w"), o.q(s), o.p(s), S(s)).has_value());
+    ASSERT_TRUE(
+        g.AddPose(PoseSpec::Of("b", "B").RelativeTo("a"), m.q(s), m.p(s), S(s)).has_value());
   }
   const auto X_WB = [&](double s, Eigen::Quaterniond& q, Eigen::Vector3d& p) {
     q = o.q(s) * m.q(s);
@@ -222,7 +249,8 @@ TEST(TimeTest, TwistFromPosesOfAChainOfTwoMovingBodies) {
   const Eigen::Vector3d v_truth = (p1 - p0) / (2 * h);  // velocity of b's origin in [w]
   const Eigen::Quaterniond dq(((q1.coeffs() - q0.coeffs()) / (2 * h)).eval());
   const Eigen::Vector3d w_truth = 2.0 * (dq * q.conjugate()).vec();  // spatial angular velocity
-  auto V = g.GetTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"), At{S(s)}, TwistSource::kPoses);
+  auto V = g.GetTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"), At{S(s)},
+                      TwistSource::kPoses);
   ASSERT_TRUE(V.has_value());
   ExpectNear(V->value.linear, v_truth, 1e-5);
   ExpectNear(V->value.angular, w_truth, 1e-5);
@@ -231,8 +259,11 @@ TEST(TimeTest, TwistFromPosesOfAChainOfTwoMovingBodies) {
   ExpectNear(X->value.value.translation, p, 1e-6);
   // A single sample has no derivative.
   Graph one;
-  ASSERT_TRUE(one.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), Rz(0.1), Eigen::Vector3d::Zero(), S(1)).has_value());
-  auto e = one.GetTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"), Latest{}, TwistSource::kPoses);
+  ASSERT_TRUE(one.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), Rz(0.1),
+                          Eigen::Vector3d::Zero(), S(1))
+                  .has_value());
+  auto e = one.GetTwist(TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w"), Latest{},
+                        TwistSource::kPoses);
   ASSERT_FALSE(e.has_value());
   EXPECT_EQ(e.error().code, ErrorCode::kExtrapolation);
   EXPECT_TRUE(e.error().time.single_sample);
@@ -243,7 +274,9 @@ TEST(TimeTest, TwistFromPosesOfAChainOfTwoMovingBodies) {
 TEST(TimeTest, AtASampleStampEveryAnswerEqualsTheTimelessGraph) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto rand_q = [&] { return Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized(); };
+  const auto rand_q = [&] {
+    return Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
+  };
   const auto rand_p = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
   // A tree: frames f1..f7 on bodies B1..B7 (f0 on W), parent of fi = f(i/2); a twist edge per body.
   constexpr int kFrames = 8, kStamps = 5;
@@ -263,9 +296,14 @@ TEST(TimeTest, AtASampleStampEveryAnswerEqualsTheTimelessGraph) {
   for (int k = 0; k < kStamps; ++k) {
     for (int i = 1; i < kFrames; ++i) {
       const std::string n = name(i), b = body(i), pn = name(i / 2), pb = body(i / 2);
-      ASSERT_TRUE(stamped.AddPose(PoseSpec::Of(n, b).RelativeTo(pn, pb), values[i][k].q, values[i][k].p, S(k * 0.1)).has_value());
-      ASSERT_TRUE(stamped.AddTwist(TwistSpec::Of(n, b).RelativeTo(pb).ExpressedIn(n), values[i][k].v, values[i][k].w,
-                                   S(k * 0.1)).has_value());
+      ASSERT_TRUE(stamped
+                      .AddPose(PoseSpec::Of(n, b).RelativeTo(pn, pb), values[i][k].q,
+                               values[i][k].p, S(k * 0.1))
+                      .has_value());
+      ASSERT_TRUE(stamped
+                      .AddTwist(TwistSpec::Of(n, b).RelativeTo(pb).ExpressedIn(n), values[i][k].v,
+                                values[i][k].w, S(k * 0.1))
+                      .has_value());
     }
   }
   for (int k = 0; k < kStamps; ++k) {
@@ -274,12 +312,18 @@ TEST(TimeTest, AtASampleStampEveryAnswerEqualsTheTimelessGraph) {
     ASSERT_TRUE(plain.AddFrame("f0", "W").has_value());
     for (int i = 1; i < kFrames; ++i) {
       const std::string n = name(i), b = body(i), pn = name(i / 2), pb = body(i / 2);
-      ASSERT_TRUE(plain.AddPose(PoseSpec::Of(n, b).RelativeTo(pn, pb), values[i][k].q, values[i][k].p).has_value());
-      ASSERT_TRUE(plain.AddTwist(TwistSpec::Of(n, b).RelativeTo(pb).ExpressedIn(n), values[i][k].v, values[i][k].w).has_value());
+      ASSERT_TRUE(
+          plain.AddPose(PoseSpec::Of(n, b).RelativeTo(pn, pb), values[i][k].q, values[i][k].p)
+              .has_value());
+      ASSERT_TRUE(plain
+                      .AddTwist(TwistSpec::Of(n, b).RelativeTo(pb).ExpressedIn(n), values[i][k].v,
+                                values[i][k].w)
+                      .has_value());
     }
     for (int a = 0; a < kFrames; ++a) {
       for (int b = 0; b < kFrames; ++b) {
-        const std::string na = name(a), nb = name(b), nr = name((a + b + k) % kFrames), rb = body(b);
+        const std::string na = name(a), nb = name(b), nr = name((a + b + k) % kFrames),
+                          rb = body(b);
         PoseSpec ps = PoseSpec::Of(na).RelativeTo(nb).ExpressedIn(nr);
         auto X = stamped.GetPose(ps, At{S(k * 0.1)});
         auto Y = plain.GetPose(ps);
@@ -323,13 +367,20 @@ class TimeErrorsTest : public ::testing::Test {
     g = *Graph::Create(o);
     ASSERT_TRUE(g.AddBody("W").has_value());
     ASSERT_TRUE(g.AddFrame("w", "W").has_value());
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("s", "S").RelativeTo("w"), Rz(0.1), Eigen::Vector3d(1, 0, 0)).has_value());  // timeless
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), Rz(0.2), Eigen::Vector3d(0, 1, 0), S(10)).has_value());
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), Rz(0.3), Eigen::Vector3d(0, 2, 0), S(10.5)).has_value());
-    ASSERT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), Eigen::Vector3d(1, 0, 0),
-                           Eigen::Vector3d(0, 0, 1), S(10)).has_value());
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("s", "S").RelativeTo("w"), Rz(0.1), Eigen::Vector3d(1, 0, 0))
+                    .has_value());  // timeless
+    ASSERT_TRUE(
+        g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), Rz(0.2), Eigen::Vector3d(0, 1, 0), S(10))
+            .has_value());
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), Rz(0.3), Eigen::Vector3d(0, 2, 0),
+                          S(10.5))
+                    .has_value());
+    ASSERT_TRUE(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"),
+                           Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1), S(10))
+                    .has_value());
     ASSERT_TRUE(g.AddFrame("o2", "O").has_value());
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o2").RelativeTo("o"), Rz(0.4), Eigen::Vector3d(0, 0, 1)).has_value());  // constant
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o2").RelativeTo("o"), Rz(0.4), Eigen::Vector3d(0, 0, 1))
+                    .has_value());  // constant
   }
   void ExpectRefused(const BuildResult& r, ErrorCode code, const std::string& before) {
     ASSERT_FALSE(r.has_value());
@@ -348,34 +399,43 @@ TEST_F(TimeErrorsTest, EveryAddErrorLeavesTheGraphUnchanged) {
   auto r = g.AddPose(PoseSpec::Of("s", "S").RelativeTo("w"), q, p, S(10));
   ExpectRefused(r, ErrorCode::kStampMismatch, before);
   EXPECT_NE(r.error().message.find("timeless"), std::string::npos) << r.error().message;
-  ExpectRefused(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), q, p), ErrorCode::kStampMismatch, before);
-  ExpectRefused(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), p, p), ErrorCode::kStampMismatch, before);
+  ExpectRefused(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), q, p), ErrorCode::kStampMismatch,
+                before);
+  ExpectRefused(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), p, p),
+                ErrorCode::kStampMismatch, before);
   // stamp_too_old: older than newest (10.5) - window (1).
   r = g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), q, p, S(9.4));
   ExpectRefused(r, ErrorCode::kStampTooOld, before);
   EXPECT_NE(r.error().message.find("9.400 s"), std::string::npos) << r.error().message;
   // duplicate_stamp (policy reject): another value at 10.
-  ExpectRefused(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), q, p, S(10)), ErrorCode::kDuplicateStamp, before);
+  ExpectRefused(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), q, p, S(10)),
+                ErrorCode::kDuplicateStamp, before);
   ExpectRefused(g.AddTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), p, p, S(10)),
                 ErrorCode::kDuplicateStamp, before);
   // The same value again is a no-op.
-  EXPECT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), Rz(0.2), Eigen::Vector3d(0, 1, 1e-9), S(10)).has_value());
+  EXPECT_TRUE(
+      g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w"), Rz(0.2), Eigen::Vector3d(0, 1, 1e-9), S(10))
+          .has_value());
   EXPECT_EQ(Dump(g), before);
   // Order: the rules of the scene graph first (invalid_number before stamp_mismatch).
-  ExpectRefused(g.AddPose(PoseSpec::Of("s", "S").RelativeTo("w"), q, Eigen::Vector3d(NAN, 0, 0), S(10)),
-                ErrorCode::kInvalidNumber, before);
-  // A conversion at a stamp with no values there: extrapolation (in the place of pose_not_convertible).
+  ExpectRefused(
+      g.AddPose(PoseSpec::Of("s", "S").RelativeTo("w"), q, Eigen::Vector3d(NAN, 0, 0), S(10)),
+      ErrorCode::kInvalidNumber, before);
+  // A conversion at a stamp with no values there: extrapolation (in the place of
+  // pose_not_convertible).
   r = g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w").ExpressedIn("o"), q, p, S(20));
   ExpectRefused(r, ErrorCode::kExtrapolation, before);
   EXPECT_NE(r.error().message.find("[10.000, 10.500] s"), std::string::npos) << r.error().message;
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("y", "Y").RelativeTo("w"), q, p).has_value());
   const std::string with_y = Dump(g);
-  ExpectRefused(g.AddTwist(TwistSpec::Of("y").RelativeTo("W").ExpressedIn("o"), p, p, S(20)), ErrorCode::kExtrapolation,
-                with_y);
+  ExpectRefused(g.AddTwist(TwistSpec::Of("y").RelativeTo("W").ExpressedIn("o"), p, p, S(20)),
+                ErrorCode::kExtrapolation, with_y);
   // A stamped conversion within the samples works (and uses the interpolated value).
-  EXPECT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w").ExpressedIn("o"), q, p, S(10.25)).has_value());
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w").ExpressedIn("o"), q, p, S(10.25))
+                  .has_value());
   // A constant edge with a stamp: validated, ignored.
-  EXPECT_TRUE(g.AddPose(PoseSpec::Of("o2").RelativeTo("o"), Rz(0.4), Eigen::Vector3d(0, 0, 1), S(3)).has_value());
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("o2").RelativeTo("o"), Rz(0.4), Eigen::Vector3d(0, 0, 1), S(3))
+                  .has_value());
 }
 
 TEST_F(TimeErrorsTest, EveryRealTimeErrorLeavesTheGraphUnchanged) {
@@ -402,14 +462,17 @@ TEST_F(TimeErrorsTest, QueryErrorsInOrder) {
   auto e = g.GetTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), Latest{S(10.2)});
   ASSERT_FALSE(e.has_value());
   EXPECT_EQ(e.error().code, ErrorCode::kStale);
-  EXPECT_EQ(g.Describe(e.error()), "query failed (stale): twist of {o}|O wrt W is stale: its newest sample is at 10.000 s, older than not_before 10.200 s");
+  EXPECT_EQ(g.Describe(e.error()),
+            "query failed (stale): twist of {o}|O wrt W is stale: its newest sample is at 10.000 "
+            "s, older than not_before 10.200 s");
   EXPECT_TRUE(g.GetPose(kOinW, Latest{S(10.2)}).has_value());
   // extrapolation before stale.
   e = g.GetTwist(TwistSpec::Of("o").RelativeTo("W").ExpressedIn("o"), At{S(12), {}, S(11)});
   EXPECT_EQ(e.error().code, ErrorCode::kExtrapolation);
   // no_pose_path before extrapolation.
   ASSERT_TRUE(g.AddFrame("z", "W").has_value());
-  EXPECT_EQ(g.GetPose(PoseSpec::Of("o").RelativeTo("z"), At{S(99)}).error().code, ErrorCode::kNoPosePath);
+  EXPECT_EQ(g.GetPose(PoseSpec::Of("o").RelativeTo("z"), At{S(99)}).error().code,
+            ErrorCode::kNoPosePath);
   // Timeless edges have values at every time.
   auto s = g.GetPose(PoseSpec::Of("s").RelativeTo("w"), At{S(-1e9)});
   ASSERT_TRUE(s.has_value());
@@ -419,8 +482,12 @@ TEST_F(TimeErrorsTest, QueryErrorsInOrder) {
 
 TEST_F(TimeErrorsTest, LatestCommonTakesTheOldestNewestStamp) {
   // o has samples up to 10.5; x (made here) up to 10.25: latest common of x wrt o = 10.25.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w"), Rz(0), Eigen::Vector3d(5, 0, 0), S(10)).has_value());
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w"), Rz(0), Eigen::Vector3d(6, 0, 0), S(10.25)).has_value());
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w"), Rz(0), Eigen::Vector3d(5, 0, 0), S(10))
+          .has_value());
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("x", "X").RelativeTo("w"), Rz(0), Eigen::Vector3d(6, 0, 0), S(10.25))
+          .has_value());
   auto X = g.GetPose(PoseSpec::Of("x").RelativeTo("o"), LatestCommon{});
   ASSERT_TRUE(X.has_value());
   EXPECT_EQ(*X->time.time, S(10.25));
@@ -500,7 +567,8 @@ TEST(TimeHistoryTest, OptionsAreValidated) {
 TEST(TimeHistoryTest, StampsFromSecondsRoundExactly) {
   EXPECT_EQ(NanosecondsFromSeconds(1.5), 1500000000);
   EXPECT_EQ(NanosecondsFromSeconds(-2.25), -2250000000);
-  EXPECT_EQ(NanosecondsFromSeconds(12.48), 12480000000);  // 12.48 is 12.4799999999999997...: nearest
+  EXPECT_EQ(NanosecondsFromSeconds(12.48),
+            12480000000);  // 12.48 is 12.4799999999999997...: nearest
   EXPECT_EQ(NanosecondsFromSeconds(0.0009765625), 976563);  // 976562.5 ns exactly: away from zero
   EXPECT_EQ(NanosecondsFromSeconds(-0.0009765625), -976563);
   EXPECT_EQ(NanosecondsFromSeconds(std::ldexp(1.0, -31)), 0);  // 0.4657 ns
@@ -515,12 +583,18 @@ TEST(TimeHistoryTest, StampsFromSecondsRoundExactly) {
   // Huge stamps work end to end (saturating window arithmetic).
   Graph g;
   const Stamp lo = Stamp::Nanoseconds(INT64_MIN + 1), hi = Stamp::Nanoseconds(INT64_MAX);
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w", "W"), Rz(0), Eigen::Vector3d(0, 0, 0), lo).has_value());
-  EXPECT_EQ(g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w", "W"), Rz(0), Eigen::Vector3d(1, 0, 0), hi).has_value(), true);
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w", "W"), Rz(0), Eigen::Vector3d(0, 0, 0), lo)
+          .has_value());
+  EXPECT_EQ(
+      g.AddPose(PoseSpec::Of("o", "O").RelativeTo("w", "W"), Rz(0), Eigen::Vector3d(1, 0, 0), hi)
+          .has_value(),
+      true);
   auto X = g.GetPose(kOinW, At{hi});
   ASSERT_TRUE(X.has_value());
   EXPECT_EQ(X->value.value.translation.x(), 1.0);
-  EXPECT_EQ(g.GetPose(kOinW, At{lo}).error().code, ErrorCode::kExtrapolation);  // dropped by the window
+  EXPECT_EQ(g.GetPose(kOinW, At{lo}).error().code,
+            ErrorCode::kExtrapolation);  // dropped by the window
 }
 
 // ---------------------------------------------------------------- time travel
@@ -536,10 +610,14 @@ TEST(TimeTravelTest, ThePointSideAtOneTimeTheReferenceSideAtAnother) {
   ASSERT_TRUE(g.AddFrame("w", "World").has_value());
   for (int i = 0; i <= 20; ++i) {
     const double s = i * 0.05;
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "Base").RelativeTo("w"), base.q(s), base.p(s), S(s)).has_value());
-    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "Obj").RelativeTo("w"), object.q(s), object.p(s), S(s)).has_value());
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "Base").RelativeTo("w"), base.q(s), base.p(s), S(s))
+                    .has_value());
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("o", "Obj").RelativeTo("w"), object.q(s), object.p(s), S(s))
+                    .has_value());
   }
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("gr", "Base").RelativeTo("b"), Rx(0.3), Eigen::Vector3d(0.1, 0.2, 0.3)).has_value());
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("gr", "Base").RelativeTo("b"), Rx(0.3), Eigen::Vector3d(0.1, 0.2, 0.3))
+          .has_value());
   const double t1 = 0.3, t2 = 0.8;
   auto X = g.GetPose(PoseSpec::Of("o").RelativeTo("gr"), TimeTravel{S(t1), S(t2), "w"});
   ASSERT_TRUE(X.has_value());
@@ -549,9 +627,11 @@ TEST(TimeTravelTest, ThePointSideAtOneTimeTheReferenceSideAtAnother) {
   const Eigen::Quaterniond q_WG = base.q(t2) * Rx(0.3);
   const Eigen::Vector3d p_WG = base.q(t2) * Eigen::Vector3d(0.1, 0.2, 0.3) + base.p(t2);
   ExpectNear(X->value.value.rotation, Eigen::Quaterniond(q_WG.conjugate() * object.q(t1)), 1e-12);
-  ExpectNear(X->value.value.translation, Eigen::Vector3d(q_WG.conjugate() * (object.p(t1) - p_WG)), 1e-12);
+  ExpectNear(X->value.value.translation, Eigen::Vector3d(q_WG.conjugate() * (object.p(t1) - p_WG)),
+             1e-12);
   // Expressed in the world [w] (taken at t2) and as a position.
-  auto P = g.GetPosition(PoseSpec::Of("o").RelativeTo("gr").ExpressedIn("w"), TimeTravel{S(t1), S(t2), "w"});
+  auto P = g.GetPosition(PoseSpec::Of("o").RelativeTo("gr").ExpressedIn("w"),
+                         TimeTravel{S(t1), S(t2), "w"});
   ASSERT_TRUE(P.has_value());
   ExpectNear(P->value.value, Eigen::Vector3d(object.p(t1) - p_WG), 1e-12);
   // Errors: the fixed frame unknown, not in the tree.
@@ -559,10 +639,12 @@ TEST(TimeTravelTest, ThePointSideAtOneTimeTheReferenceSideAtAnother) {
   EXPECT_EQ(e.error().code, ErrorCode::kUnknownFrame);
   EXPECT_TRUE(e.error().time.fixed_frame);
   ASSERT_TRUE(g.AddFrame("far", "World").has_value());
-  EXPECT_EQ(g.GetPose(PoseSpec::Of("o").RelativeTo("gr"), TimeTravel{S(t1), S(t2), "far"}).error().code,
-            ErrorCode::kNoPosePath);
-  EXPECT_EQ(g.GetPose(PoseSpec::Of("o").RelativeTo("gr"), TimeTravel{S(t1), S(3), "w"}).error().code,
-            ErrorCode::kExtrapolation);
+  EXPECT_EQ(
+      g.GetPose(PoseSpec::Of("o").RelativeTo("gr"), TimeTravel{S(t1), S(t2), "far"}).error().code,
+      ErrorCode::kNoPosePath);
+  EXPECT_EQ(
+      g.GetPose(PoseSpec::Of("o").RelativeTo("gr"), TimeTravel{S(t1), S(3), "w"}).error().code,
+      ErrorCode::kExtrapolation);
 }
 
 }  // namespace

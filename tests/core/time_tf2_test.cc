@@ -23,7 +23,8 @@ using semgraph_test::tf2time::Pose7;
 using Graph = SceneGraph<coord::QuaternionBackend>;
 
 struct Scene {
-  Graph g = *Graph::Create(TimeOptions{Duration::Seconds(100), Interpolation::kLinear, DuplicatePolicy::kReplace, 1024});
+  Graph g = *Graph::Create(
+      TimeOptions{Duration::Seconds(100), Interpolation::kLinear, DuplicatePolicy::kReplace, 1024});
   semgraph_test::tf2time::Buffer tf;
   int frames = 0;
 };
@@ -38,11 +39,13 @@ void Build(Scene& s, std::mt19937_64& rng, int n) {
   ASSERT_TRUE(s.g.AddFrame("f0", "B0").has_value());
   for (int i = 1; i < n; ++i) {
     const int parent = static_cast<int>(rng() % static_cast<unsigned>(i));
-    const std::string f = "f" + std::to_string(i), p = "f" + std::to_string(parent), body = "B" + std::to_string(i);
+    const std::string f = "f" + std::to_string(i), p = "f" + std::to_string(parent),
+                      body = "B" + std::to_string(i);
     const bool is_static = i % 4 == 0;
     const int samples = is_static ? 1 : 3 + static_cast<int>(rng() % 6);
     std::vector<std::int64_t> stamps{1000000000};
-    for (int k = 1; k < samples; ++k) stamps.push_back(1000000000 + static_cast<std::int64_t>(rng() % 800000000));
+    for (int k = 1; k < samples; ++k)
+      stamps.push_back(1000000000 + static_cast<std::int64_t>(rng() % 800000000));
     if (samples > 1) stamps.push_back(1800000000 + static_cast<std::int64_t>(rng() % 200000001));
     for (std::int64_t t : stamps) {
       const Eigen::Quaterniond q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
@@ -53,7 +56,8 @@ void Build(Scene& s, std::mt19937_64& rng, int n) {
       } else {
         ASSERT_TRUE(s.g.AddPose(spec, q, x, Stamp::Nanoseconds(t)).has_value());
       }
-      ASSERT_TRUE(s.tf.Set(p, f, Pose7{q.w(), q.x(), q.y(), q.z(), x.x(), x.y(), x.z()}, t, is_static));
+      ASSERT_TRUE(
+          s.tf.Set(p, f, Pose7{q.w(), q.x(), q.y(), q.z(), x.x(), x.y(), x.z()}, t, is_static));
     }
   }
 }
@@ -121,7 +125,8 @@ TEST(TimeTf2Test, TimeTravelEqualsTheFixedFrameLookup) {
       const std::int64_t t2 = 1000000000 + static_cast<std::int64_t>(rng() % 800000001);
       Pose7 Y;
       ASSERT_TRUE(s.tf.LookupFixed(b, t2, a, t1, x, Y));
-      auto X = s.g.GetPose(PoseSpec::Of(a).RelativeTo(b), TimeTravel{Stamp::Nanoseconds(t1), Stamp::Nanoseconds(t2), x});
+      auto X = s.g.GetPose(PoseSpec::Of(a).RelativeTo(b),
+                           TimeTravel{Stamp::Nanoseconds(t1), Stamp::Nanoseconds(t2), x});
       ASSERT_TRUE(X.has_value()) << s.g.Describe(X.error());
       ExpectSame(X->value, Y);
     }

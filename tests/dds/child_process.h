@@ -2,9 +2,9 @@
 // reaped on destruction, so that no test leaves a process behind.
 #pragma once
 
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
-#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 

@@ -12,7 +12,8 @@
 //       mirrors take them, then the frame `done`, "P" answers at the compared stamps, "READY".
 //   dds_test_node timed_mirror DOMAIN NAME LIMIT_MS  mirror the joint scene until `done` and caught
 //       up; print refusals ("R"), samples received per joint ("S name n"), the timed answers ("Q").
-//   dds_test_node mirror DOMAIN NAME FRAME OWNERS LIMIT_MS   mirror until frame FRAME exists, OWNERS
+//   dds_test_node mirror DOMAIN NAME FRAME OWNERS LIMIT_MS   mirror until frame FRAME exists,
+//   OWNERS
 //       owners are known and the replica is caught up; then print refusals ("R owner code")
 //       and answers ("Q ..."), and exit 0; exit 1 when LIMIT_MS passes first.
 #include <chrono>
@@ -59,7 +60,8 @@ int Robot(std::uint32_t domain, const std::string& owner, int steps) {
     (void)(*pub)->SetPose(*j2, dds_test::Ry(dds_test::Theta2(k)), {0.4, 0, 0});
     if (k % 33 == 0) {
       ++j;
-      (void)(*pub)->SetPose(*obj, dds_test::Rx(dds_test::ObjectRoll(j)), dds_test::ObjectPosition(j));
+      (void)(*pub)->SetPose(*obj, dds_test::Rx(dds_test::ObjectRoll(j)),
+                            dds_test::ObjectPosition(j));
       (void)(*pub)->SetTwist(*vel, {0.01 * j, 0, 0}, {0, 0, 0.1});
     }
   }
@@ -96,11 +98,12 @@ int Joints(std::uint32_t domain, const std::string& owner) {
         base::ErrorCode::kOk) {
       return 4;
     }
-    while (j < dds_test::kDetections && dds_test::DetectionStamp(j + 1) <= dds_test::JointStamp(k)) {
+    while (j < dds_test::kDetections &&
+           dds_test::DetectionStamp(j + 1) <= dds_test::JointStamp(k)) {
       ++j;
       const core::Stamp s = core::Stamp::Nanoseconds(dds_test::DetectionStamp(j));
-      if ((*pub)->SetPose(*obj, dds_test::Rx(dds_test::DetectedRoll(j)), dds_test::DetectedPosition(j), s) !=
-              base::ErrorCode::kOk ||
+      if ((*pub)->SetPose(*obj, dds_test::Rx(dds_test::DetectedRoll(j)),
+                          dds_test::DetectedPosition(j), s) != base::ErrorCode::kOk ||
           (*pub)->SetTwist(*vel, {0.01 * j, 0, 0}, {0, 0, 0.1}, s) != base::ErrorCode::kOk) {
         return 4;
       }
@@ -129,7 +132,8 @@ int TimedMirror(std::uint32_t domain, const std::string& name, int limit_ms) {
   const bool done = mirror.WaitUntil(
       [&] {
         bool has = false;
-        mirror.WithGraph([&](const core::SceneGraph<>& g) { has = g.FindFrame("done").is_valid(); });
+        mirror.WithGraph(
+            [&](const core::SceneGraph<>& g) { has = g.FindFrame("done").is_valid(); });
         return has && mirror.Owners().size() == 1 && mirror.CaughtUp();
       },
       std::chrono::milliseconds(limit_ms));
@@ -137,12 +141,17 @@ int TimedMirror(std::uint32_t domain, const std::string& name, int limit_ms) {
     std::puts("TIMEOUT");
     return 1;
   }
-  for (const dds::Report& r : mirror.Refusals()) std::printf("R %s %s\n", r.owner.c_str(), r.code.c_str());
+  for (const dds::Report& r : mirror.Refusals())
+    std::printf("R %s %s\n", r.owner.c_str(), r.code.c_str());
   for (const dds::EdgeState& e : mirror.Edges()) {
-    std::printf("S %s%s %llu\n", e.joint ? "joint_" : e.twist ? "twist_" : "pose_", e.head.c_str(),
-                static_cast<unsigned long long>(e.received));
+    std::printf("S %s%s %llu\n",
+                e.joint   ? "joint_"
+                : e.twist ? "twist_"
+                          : "pose_",
+                e.head.c_str(), static_cast<unsigned long long>(e.received));
   }
-  std::printf("DROPPED %llu REJECTED %llu\n", static_cast<unsigned long long>(mirror.samples_dropped()),
+  std::printf("DROPPED %llu REJECTED %llu\n",
+              static_cast<unsigned long long>(mirror.samples_dropped()),
               static_cast<unsigned long long>(mirror.messages_rejected()));
   std::string answers;
   mirror.WithGraph([&](const core::SceneGraph<>& g) { answers = dds_test::TimedAnswers(g); });
@@ -156,7 +165,9 @@ int RobotV2(std::uint32_t domain, const std::string& owner) {
   core::SceneGraph<> g;
   if (!dds_test::BuildRobot(g)) return 3;
   if (!g.RemoveTwist("o", "C") || !g.RemovePose("o", "c")) return 3;
-  if (!g.AddPose(core::PoseSpec::Of("probe", "P").RelativeTo("tool", "L2"), dds_test::Rz(0.5), {0, 0, 0.05})) return 3;
+  if (!g.AddPose(core::PoseSpec::Of("probe", "P").RelativeTo("tool", "L2"), dds_test::Rz(0.5),
+                 {0, 0, 0.05}))
+    return 3;
   if (!g.AddFrame("restarted", "W")) return 3;
   auto pub = dds::Publisher::Create(g, {owner, domain});
   if (!pub || !(*pub)->PublishStructure()) return 3;
@@ -168,9 +179,12 @@ int RobotV2(std::uint32_t domain, const std::string& owner) {
 int Claim(std::uint32_t domain, const std::string& owner, const std::string& parent) {
   core::SceneGraph<> g;
   const std::string body = parent == "c" ? "C" : "G";
-  const Eigen::Vector3d p_parent = parent == "c" ? Eigen::Vector3d(1, 0, 1) : Eigen::Vector3d(0, 2, 0);
-  if (!g.AddPose(core::PoseSpec::Of(parent, body).RelativeTo("w", "W"), dds_test::Rz(0.25), p_parent) ||
-      !g.AddPose(core::PoseSpec::Of("o", "O").RelativeTo(parent, body), dds_test::Rx(0.5), {0.3, 0, 0}) ||
+  const Eigen::Vector3d p_parent =
+      parent == "c" ? Eigen::Vector3d(1, 0, 1) : Eigen::Vector3d(0, 2, 0);
+  if (!g.AddPose(core::PoseSpec::Of(parent, body).RelativeTo("w", "W"), dds_test::Rz(0.25),
+                 p_parent) ||
+      !g.AddPose(core::PoseSpec::Of("o", "O").RelativeTo(parent, body), dds_test::Rx(0.5),
+                 {0.3, 0, 0}) ||
       !g.AddFrame(owner + "_done", "W")) {
     return 3;
   }
@@ -181,8 +195,8 @@ int Claim(std::uint32_t domain, const std::string& owner, const std::string& par
   return 0;
 }
 
-int MirrorMain(std::uint32_t domain, const std::string& name, const std::string& frame, std::size_t owners,
-               int limit_ms) {
+int MirrorMain(std::uint32_t domain, const std::string& name, const std::string& frame,
+               std::size_t owners, int limit_ms) {
   auto m = dds::Mirror::Create({name, domain, {}, {}, {}, {}});
   if (!m) {
     std::fprintf(stderr, "%s\n", m.error().c_str());
@@ -207,7 +221,8 @@ int MirrorMain(std::uint32_t domain, const std::string& name, const std::string&
     std::puts("TIMEOUT");
     return 1;
   }
-  for (const dds::Report& r : mirror.Refusals()) std::printf("R %s %s\n", r.owner.c_str(), r.code.c_str());
+  for (const dds::Report& r : mirror.Refusals())
+    std::printf("R %s %s\n", r.owner.c_str(), r.code.c_str());
   std::string answers;
   mirror.WithGraph([&](const core::SceneGraph<>& g) { answers = dds_test::Answers(g); });
   std::fputs(answers.c_str(), stdout);
@@ -228,7 +243,8 @@ int main(int argc, char** argv) {
   if (mode == "timed_mirror" && argc == 5) return TimedMirror(domain, argv[3], std::atoi(argv[4]));
   if (mode == "claim" && argc == 5) return Claim(domain, argv[3], argv[4]);
   if (mode == "mirror" && argc == 7) {
-    return MirrorMain(domain, argv[3], argv[4], static_cast<std::size_t>(std::atoi(argv[5])), std::atoi(argv[6]));
+    return MirrorMain(domain, argv[3], argv[4], static_cast<std::size_t>(std::atoi(argv[5])),
+                      std::atoi(argv[6]));
   }
   return 2;
 }

@@ -29,15 +29,18 @@ std::map<std::string, std::vector<double>> Parse(const std::vector<std::string>&
   return out;
 }
 
-void ExpectNear(const std::vector<double>& a, const std::vector<double>& b, const std::string& what) {
+void ExpectNear(const std::vector<double>& a, const std::vector<double>& b,
+                const std::string& what) {
   ASSERT_EQ(a.size(), b.size()) << what;
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-12) << what << " [" << i << "]";
+  for (std::size_t i = 0; i < a.size(); ++i)
+    EXPECT_NEAR(a[i], b[i], 1e-12) << what << " [" << i << "]";
 }
 
 std::vector<double> PoseNumbers(const Eigen::Isometry3d& X) {
   Eigen::Quaterniond q(X.linear());
   if (q.w() < 0) q.coeffs() = -q.coeffs();
-  return {q.w(), q.x(), q.y(), q.z(), X.translation().x(), X.translation().y(), X.translation().z()};
+  return {
+      q.w(), q.x(), q.y(), q.z(), X.translation().x(), X.translation().y(), X.translation().z()};
 }
 std::vector<double> Canonical(std::vector<double> v) {  // q and -q are one rotation
   if (v.size() == 7 && v[0] < 0) {
@@ -62,7 +65,8 @@ TEST(DistributedTest, TwoMirrorProcessesAnswerAsThePublisher) {
   ASSERT_EQ(std::sscanf(steps[0].c_str(), "%d %d", &k, &j), 2);
   EXPECT_EQ(k, kSteps);
   // The publisher against the hand-made products.
-  ExpectNear(Canonical(p.at("tool_in_w")), PoseNumbers(ExpectedToolInWorld(k)), "publisher tool_in_w");
+  ExpectNear(Canonical(p.at("tool_in_w")), PoseNumbers(ExpectedToolInWorld(k)),
+             "publisher tool_in_w");
   ExpectNear(Canonical(p.at("o_in_w")), PoseNumbers(ExpectedObjectInWorld(j)), "publisher o_in_w");
   ASSERT_EQ(p.at("twist_o_C_w").size(), 7u);
   for (Child* m : {&m1, &m2}) {
@@ -83,7 +87,8 @@ TEST(DistributedTest, ConflictingRelationRefusedAlikeOnBothMirrors) {
   ASSERT_EQ(m1.Wait(10s), 0) << m1.Output();
   ASSERT_EQ(m2.Wait(10s), 0) << m2.Output();
   for (Child* m : {&m1, &m2}) {
-    EXPECT_EQ(LinesWith(m->Output(), "R"), std::vector<std::string>{"gripper multiple_pose_parents"})
+    EXPECT_EQ(LinesWith(m->Output(), "R"),
+              std::vector<std::string>{"gripper multiple_pose_parents"})
         << m->Output();
     const auto q = Parse(LinesWith(m->Output(), "Q"));
     // o stays where perception put it: X_wc X_co.
@@ -131,7 +136,8 @@ TEST(DistributedTest, KilledPublisherKeepsValuesAndRestartReconciles) {
   EXPECT_FALSE(mirror.Owners()[0].alive);
 
   Child again({kNode, "robot_v2", "13", "arm"});
-  ASSERT_TRUE(mirror.WaitUntil([&] { return has("restarted") && mirror.CaughtUp(); }, 5s)) << again.Output();
+  ASSERT_TRUE(mirror.WaitUntil([&] { return has("restarted") && mirror.CaughtUp(); }, 5s))
+      << again.Output();
   EXPECT_TRUE(HasReport(mirror, "alive", "arm"));
   mirror.WithGraph([&](const core::SceneGraph<>& g) {
     // No leftover: the object's pose and twist are gone; the new edge is there; nothing twice.
@@ -195,8 +201,10 @@ TEST(DistributedTest, TenSecondJointSceneMirrorsAnswerAsThePublisherAtStamps) {
   // The publisher against products made by hand, on joint samples and detections.
   for (int i = 0; i <= 40; ++i) {
     const std::string at = "@" + std::to_string(JointStamp(250 * i));
-    ExpectNear(Canonical(p.at("tool_in_w" + at)), PoseNumbers(ExpectedJointTool(250 * i)), "publisher tool" + at);
-    ExpectNear(Canonical(p.at("finger_in_w" + at)), PoseNumbers(ExpectedFinger(250 * i)), "publisher finger" + at);
+    ExpectNear(Canonical(p.at("tool_in_w" + at)), PoseNumbers(ExpectedJointTool(250 * i)),
+               "publisher tool" + at);
+    ExpectNear(Canonical(p.at("finger_in_w" + at)), PoseNumbers(ExpectedFinger(250 * i)),
+               "publisher finger" + at);
   }
   for (int d = 7; d <= kDetections; d += 29) {
     const std::string at = "@" + std::to_string(DetectionStamp(d));

@@ -1,9 +1,10 @@
 // In-process tests of the mirror (semgraph/dds/mirror.h): hostile messages change nothing and
 // are logged; a reader thread evaluates compiled queries while values stream in (run under
 // ThreadSanitizer in CI). Own DDS domain per test; loopback config from CYCLONEDDS_URI.
-#include <gtest/gtest.h>
+#include "semgraph/dds/mirror.h"
 
 #include <dds/dds.h>
+#include <gtest/gtest.h>
 
 #include <atomic>
 #include <cmath>
@@ -12,7 +13,6 @@
 
 #include "scenes.h"
 #include "semgraph/core/scene_graph_debug.h"
-#include "semgraph/dds/mirror.h"
 #include "semgraph/dds/publisher.h"
 #include "semgraph_wire.h"
 
@@ -116,7 +116,9 @@ TEST(MirrorTest, MalformedMessagesAreRejectedAndChangeNothing) {
   std::lock_guard<std::mutex> lock(log_mutex);
   std::string all;
   for (const std::string& l : logs) all += l + "\n";
-  EXPECT_NE(all.find("structure from owner 'evil': element 0 (pose 'x'): a number is not finite"), std::string::npos) << all;
+  EXPECT_NE(all.find("structure from owner 'evil': element 0 (pose 'x'): a number is not finite"),
+            std::string::npos)
+      << all;
   EXPECT_NE(all.find("not a unit quaternion (invalid_rotation)"), std::string::npos) << all;
   EXPECT_NE(all.find("element 0 (pose ''): invalid name"), std::string::npos) << all;
   EXPECT_NE(all.find("unknown kind 9"), std::string::npos) << all;
@@ -131,8 +133,10 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
   auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
   ASSERT_TRUE(mirror) << mirror.error();
   core::SceneGraph<> g;
-  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("m", "M").RelativeTo("w", "W"), Eigen::Quaterniond::Identity(), {0, 0, 1}));
-  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("m", "M"), Eigen::Quaterniond::Identity(), {0, 0, 0}));
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("m", "M").RelativeTo("w", "W"),
+                        Eigen::Quaterniond::Identity(), {0, 0, 1}));
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("m", "M"),
+                        Eigen::Quaterniond::Identity(), {0, 0, 0}));
   auto pub = dds::Publisher::Create(g, {"arm", kDomain});
   ASSERT_TRUE(pub && (*pub)->PublishStructure());
   auto edge = g.FindPoseEdge("a", "m");
@@ -154,7 +158,8 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
         continue;
       }
       const double angle = 2.0 * std::atan2(X.rotation.z(), X.rotation.w());
-      if (std::abs(angle - X.translation.x() / 2.0) > 1e-9 || std::abs(X.translation.z() - 1.0) > 1e-12) {
+      if (std::abs(angle - X.translation.x() / 2.0) > 1e-9 ||
+          std::abs(X.translation.z() - 1.0) > 1e-12) {
         inconsistent.fetch_add(1);
       }
       evaluations.fetch_add(1);
@@ -168,7 +173,8 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
   const bool seen = (*mirror)->WaitUntil(
       [&] {
         coord::QuaternionBackend::PoseCoords X;
-        return query->Evaluate(X) == base::ErrorCode::kOk && std::abs(X.translation.x() - 2e-4 * kUpdates) < 1e-12;
+        return query->Evaluate(X) == base::ErrorCode::kOk &&
+               std::abs(X.translation.x() - 2e-4 * kUpdates) < 1e-12;
       },
       5s);
   stop.store(true);
@@ -181,10 +187,12 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
 
 // A raw DDS writer on the sample topic (keep-last per edge as the publishers' own).
 struct RawSampleWriter : RawWriter {
-  explicit RawSampleWriter(std::uint32_t domain) : RawWriter(domain, &semgraph_wire_Value_desc, "semgraph_samples") {}
+  explicit RawSampleWriter(std::uint32_t domain)
+      : RawWriter(domain, &semgraph_wire_Value_desc, "semgraph_samples") {}
 };
 
-std::vector<double> PoseAt(const core::SceneGraph<>& g, const char* of, const char* wrt, std::int64_t t) {
+std::vector<double> PoseAt(const core::SceneGraph<>& g, const char* of, const char* wrt,
+                           std::int64_t t) {
   auto X = g.GetPose(core::PoseSpec::Of(of).RelativeTo(wrt), core::At(core::Stamp::Nanoseconds(t)));
   if (!X) return {};
   const auto& c = X->value.value;
@@ -193,15 +201,18 @@ std::vector<double> PoseAt(const core::SceneGraph<>& g, const char* of, const ch
   return {q.w(), q.x(), q.y(), q.z(), c.translation.x(), c.translation.y(), c.translation.z()};
 }
 std::vector<double> TwistAt(const core::SceneGraph<>& g, std::int64_t t) {
-  auto V = g.GetTwist(core::TwistSpec::Of("a").RelativeTo("W").ExpressedIn("w"), core::At(core::Stamp::Nanoseconds(t)));
+  auto V = g.GetTwist(core::TwistSpec::Of("a").RelativeTo("W").ExpressedIn("w"),
+                      core::At(core::Stamp::Nanoseconds(t)));
   if (!V) return {};
-  return {V->value.linear.x(), V->value.linear.y(), V->value.linear.z(),
+  return {V->value.linear.x(),  V->value.linear.y(),  V->value.linear.z(),
           V->value.angular.x(), V->value.angular.y(), V->value.angular.z()};
 }
-void ExpectAllNear(const std::vector<double>& a, const std::vector<double>& b, double tol, const std::string& what) {
+void ExpectAllNear(const std::vector<double>& a, const std::vector<double>& b, double tol,
+                   const std::string& what) {
   ASSERT_EQ(a.size(), b.size()) << what;
   ASSERT_FALSE(a.empty()) << what;
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], tol) << what << " [" << i << "]";
+  for (std::size_t i = 0; i < a.size(); ++i)
+    EXPECT_NEAR(a[i], b[i], tol) << what << " [" << i << "]";
 }
 
 // Stamped edges replicate as stamped edges: the structure carries their kind and the graph's
@@ -223,10 +234,10 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
   const std::int64_t dt = 10'000'000;  // 10 ms
   auto angle = [](int k) { return 0.01 * k; };
   auto position = [](int k) { return Eigen::Vector3d(0.02 * k, 1.0, -0.5 * 0.001 * k); };
-  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(angle(0)), position(0),
-                        core::Stamp::Nanoseconds(t0)));
-  ASSERT_TRUE(g.AddTwist(core::TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"), {0.1, 0, 0}, {0, 0, 0.2},
-                         core::Stamp::Nanoseconds(t0)));
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(angle(0)),
+                        position(0), core::Stamp::Nanoseconds(t0)));
+  ASSERT_TRUE(g.AddTwist(core::TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"),
+                         {0.1, 0, 0}, {0, 0, 0.2}, core::Stamp::Nanoseconds(t0)));
   ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("c", "C").RelativeTo("w", "W"), Rx(0.1), {0, 0, 2}));
   auto pub = dds::Publisher::Create(g, {"arm", kDomain});
   ASSERT_TRUE(pub && (*pub)->PublishStructure());
@@ -249,7 +260,9 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
   for (int k : order) {
     const core::Stamp s = core::Stamp::Nanoseconds(t0 + k * dt);
     ASSERT_EQ((*pub)->SetPose(*pose, Rz(angle(k)), position(k), s), base::ErrorCode::kOk) << k;
-    ASSERT_EQ((*pub)->SetTwist(*twist, {0.1 + 0.01 * k, 0, 0}, {0, 0, 0.2}, s), base::ErrorCode::kOk) << k;
+    ASSERT_EQ((*pub)->SetTwist(*twist, {0.1 + 0.01 * k, 0, 0}, {0, 0, 0.2}, s),
+              base::ErrorCode::kOk)
+        << k;
   }
   auto edge_state = [&](bool want_twist) {
     for (const dds::EdgeState& e : (*mirror)->Edges()) {
@@ -258,7 +271,11 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
     return dds::EdgeState{};
   };
   ASSERT_TRUE((*mirror)->WaitUntil(
-      [&] { return edge_state(false).received >= order.size() && edge_state(true).received >= order.size(); }, 5s))
+      [&] {
+        return edge_state(false).received >= order.size() &&
+               edge_state(true).received >= order.size();
+      },
+      5s))
       << edge_state(false).received << " " << edge_state(true).received;
   EXPECT_TRUE(edge_state(false).stamped);
   EXPECT_EQ(edge_state(false).newest_time_ns, t0 + kSamples * dt);
@@ -293,13 +310,16 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
       for (std::int64_t off : {std::int64_t{0}, dt / 3}) {
         const std::int64_t t = t0 + k * dt + off;
         if (k == kSamples && off != 0) continue;
-        ExpectAllNear(PoseAt(m, "a", "w", t), PoseAt(g, "a", "w", t), 1e-12, "pose at " + std::to_string(t));
-        ExpectAllNear(PoseAt(m, "a", "c", t), PoseAt(g, "a", "c", t), 1e-12, "pose a wrt c at " + std::to_string(t));
+        ExpectAllNear(PoseAt(m, "a", "w", t), PoseAt(g, "a", "w", t), 1e-12,
+                      "pose at " + std::to_string(t));
+        ExpectAllNear(PoseAt(m, "a", "c", t), PoseAt(g, "a", "c", t), 1e-12,
+                      "pose a wrt c at " + std::to_string(t));
         ExpectAllNear(TwistAt(m, t), TwistAt(g, t), 1e-12, "twist at " + std::to_string(t));
       }
       const Eigen::Quaterniond q = Rz(angle(k));
       const Eigen::Vector3d p = position(k);
-      ExpectAllNear(PoseAt(m, "a", "w", t0 + k * dt), {q.w(), q.x(), q.y(), q.z(), p.x(), p.y(), p.z()}, 1e-12,
+      ExpectAllNear(PoseAt(m, "a", "w", t0 + k * dt),
+                    {q.w(), q.x(), q.y(), q.z(), p.x(), p.y(), p.z()}, 1e-12,
                     "hand-made pose at sample " + std::to_string(k));
     }
     // Staleness shows in stamps: the newest sample is older than not_before.
@@ -348,9 +368,9 @@ TEST(MirrorTest, HostileTimeFieldsAreRejected) {
     v.numbers[0] = 1;
     return v;
   };
-  semgraph_wire_Value v1 = value("u", 200, 10);                  // stamped sample, unstamped edge
-  semgraph_wire_Value v2 = value("a", INT64_MIN, 11);            // stamp out of range
-  semgraph_wire_Value v3 = value("a", 0, 12);                    // unstamped value, stamped edge
+  semgraph_wire_Value v1 = value("u", 200, 10);        // stamped sample, unstamped edge
+  semgraph_wire_Value v2 = value("a", INT64_MIN, 11);  // stamp out of range
+  semgraph_wire_Value v3 = value("a", 0, 12);          // unstamped value, stamped edge
   ASSERT_EQ(dds_write(samples.writer, &v1), DDS_RETCODE_OK);
   ASSERT_EQ(dds_write(samples.writer, &v2), DDS_RETCODE_OK);
   ASSERT_EQ(dds_write(values.writer, &v3), DDS_RETCODE_OK);
@@ -392,11 +412,16 @@ TEST(MirrorTest, HostileTimeFieldsAreRejected) {
   EXPECT_EQ(before, after);
   EXPECT_EQ((*mirror)->Owners().size(), 1u);
   std::lock_guard<std::mutex> lock(log_mutex);
-  EXPECT_NE(logs.find("sample: a stamped sample for the unstamped edge into 'u'"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("sample: a stamped sample for the unstamped edge into 'u'"),
+            std::string::npos)
+      << logs;
   EXPECT_NE(logs.find("the stamp is out of range (invalid_number)"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("value: an unstamped value for the stamped edge into 'a'"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("element 0 (body 'X'): only edges can be stamped"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("sample capacity 4294967295 is outside [2, 1048576]"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("value: an unstamped value for the stamped edge into 'a'"), std::string::npos)
+      << logs;
+  EXPECT_NE(logs.find("element 0 (body 'X'): only edges can be stamped"), std::string::npos)
+      << logs;
+  EXPECT_NE(logs.find("sample capacity 4294967295 is outside [2, 1048576]"), std::string::npos)
+      << logs;
 }
 
 // Joints: a publisher's joints (a revolute, a mimic of it, a fixed one) replicate through
@@ -485,8 +510,8 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
 
   // Hostile structures of another owner.
   RawWriter structures(kDomain, &semgraph_wire_Structure_desc, "semgraph_structure");
-  char owner[] = "evil", name[] = "k", parent[] = "w", parent_body[] = "W", child[] = "x", child_body[] = "X",
-       empty[] = "";
+  char owner[] = "evil", name[] = "k", parent[] = "w", parent_body[] = "W", child[] = "x",
+       child_body[] = "X", empty[] = "";
   semgraph_wire_Joint joint{};
   joint.id = 1;
   joint.type = semgraph_wire_JOINT_REVOLUTE;
@@ -555,12 +580,16 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
   EXPECT_EQ((*mirror)->Owners().size(), 1u);
   std::lock_guard<std::mutex> lock(log_mutex);
   EXPECT_NE(logs.find("joint 0 ('k'): unknown joint type 7"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("joint 0 ('k'): a number is not finite (invalid_number)"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("joint 0 ('k'): a second edge into the same frame"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("joint 0 ('k'): a number is not finite (invalid_number)"), std::string::npos)
+      << logs;
+  EXPECT_NE(logs.find("joint 0 ('k'): a second edge into the same frame"), std::string::npos)
+      << logs;
   EXPECT_NE(logs.find("a state for the fixed or mimic joint 'f'"), std::string::npos) << logs;
   EXPECT_NE(logs.find("a stamped sample for the unstamped joint 'j1'"), std::string::npos) << logs;
-  EXPECT_NE(logs.find("value of edge " + std::to_string(g.FindJoint("j1")->index.value()) + " from source"),
-            std::string::npos) << logs;
+  EXPECT_NE(logs.find("value of edge " + std::to_string(g.FindJoint("j1")->index.value()) +
+                      " from source"),
+            std::string::npos)
+      << logs;
 }
 
 // Batches (Publisher::BeginBatch / Flush): one cycle's values of several edges, an unstamped
@@ -597,8 +626,9 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
   for (int k = 1; k <= kCycles; ++k) {
     (*pub)->BeginBatch();
     ASSERT_EQ((*pub)->SetPose(*a, Rz(0.01 * k), {0.1 * k, 0, 0}), base::ErrorCode::kOk);
-    ASSERT_EQ((*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, core::Stamp::Nanoseconds(1000 * k)),
-              base::ErrorCode::kOk);
+    ASSERT_EQ(
+        (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, core::Stamp::Nanoseconds(1000 * k)),
+        base::ErrorCode::kOk);
     const double q[] = {0.01 * k};
     ASSERT_EQ((*pub)->SetJointPositions(*group, q), base::ErrorCode::kOk);
     (*pub)->Flush();
@@ -619,13 +649,17 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
     // l in w: X_wa X_al, a translation of 2 along y (q = 2) after a's last value.
     auto X = m.GetPose(core::PoseSpec::Of("l").RelativeTo("w"));
     ASSERT_TRUE(X) << who;
-    const Eigen::Isometry3d X_wl = Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
+    const Eigen::Isometry3d X_wl =
+        Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
     EXPECT_LT((X->ToIsometry().matrix() - X_wl.matrix()).norm(), 1e-12) << who;
     // The stamped edge's history holds every cycle's sample.
     for (int k = 1; k <= kCycles; ++k) {
-      auto Y = m.GetPose(core::PoseSpec::Of("b").RelativeTo("w"), core::At(core::Stamp::Nanoseconds(1000 * k)));
+      auto Y = m.GetPose(core::PoseSpec::Of("b").RelativeTo("w"),
+                         core::At(core::Stamp::Nanoseconds(1000 * k)));
       ASSERT_TRUE(Y) << who << " " << k;
-      EXPECT_LT((Y->value.ToIsometry().matrix() - Iso(Rz(-0.01 * k), {0, 0.1 * k, 0}).matrix()).norm(), 1e-12)
+      EXPECT_LT(
+          (Y->value.ToIsometry().matrix() - Iso(Rz(-0.01 * k), {0, 0.1 * k, 0}).matrix()).norm(),
+          1e-12)
           << who << " " << k;
     }
   };
@@ -647,7 +681,8 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
   (*late)->WithGraph([&](const core::SceneGraph<>& m) {
     auto X = m.GetPose(core::PoseSpec::Of("l").RelativeTo("w"));
     ASSERT_TRUE(X);
-    const Eigen::Isometry3d X_wl = Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
+    const Eigen::Isometry3d X_wl =
+        Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
     EXPECT_LT((X->ToIsometry().matrix() - X_wl.matrix()).norm(), 1e-12);
   });
 

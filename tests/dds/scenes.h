@@ -3,8 +3,8 @@
 #pragma once
 
 #include <Eigen/Geometry>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -23,7 +23,8 @@ inline Eigen::Vector3d ObjectPosition(int j) { return {1.0 + 0.01 * j, 0.2, 0.3}
 inline double ObjectRoll(int j) { return 0.02 * j; }
 inline const Eigen::Quaterniond kQ_WB{Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())};
 inline const Eigen::Vector3d kP_WB{0.5, -0.2, 0.0};
-inline const Eigen::Quaterniond kQ_BC{Eigen::AngleAxisd(-0.4, Eigen::Vector3d(1, 1, 0).normalized())};
+inline const Eigen::Quaterniond kQ_BC{
+    Eigen::AngleAxisd(-0.4, Eigen::Vector3d(1, 1, 0).normalized())};
 inline const Eigen::Vector3d kP_BC{0.1, 0.0, 1.2};
 
 inline Eigen::Isometry3d Iso(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
@@ -32,9 +33,15 @@ inline Eigen::Isometry3d Iso(const Eigen::Quaterniond& q, const Eigen::Vector3d&
   X.translation() = p;
   return X;
 }
-inline Eigen::Quaterniond Rz(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())); }
-inline Eigen::Quaterniond Ry(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY())); }
-inline Eigen::Quaterniond Rx(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX())); }
+inline Eigen::Quaterniond Rz(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()));
+}
+inline Eigen::Quaterniond Ry(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()));
+}
+inline Eigen::Quaterniond Rx(double a) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()));
+}
 
 /// X_W,tool after joint step k, composed by hand.
 inline Eigen::Isometry3d ExpectedToolInWorld(int k) {
@@ -49,12 +56,19 @@ inline Eigen::Isometry3d ExpectedObjectInWorld(int j) {
 inline bool BuildRobot(core::SceneGraph<>& g) {
   bool ok = true;
   ok &= g.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), kQ_WB, kP_WB).has_value();
-  ok &= g.AddPose(PoseSpec::Of("l1", "L1").RelativeTo("b", "B"), Rz(Theta1(0)), {0, 0, 0.5}).has_value();
-  ok &= g.AddPose(PoseSpec::Of("l2", "L2").RelativeTo("l1", "L1"), Ry(Theta2(0)), {0.4, 0, 0}).has_value();
-  ok &= g.AddPose(PoseSpec::Of("tool", "L2").RelativeTo("l2", "L2"), Eigen::Quaterniond::Identity(), {0.1, 0, 0}).has_value();
+  ok &= g.AddPose(PoseSpec::Of("l1", "L1").RelativeTo("b", "B"), Rz(Theta1(0)), {0, 0, 0.5})
+            .has_value();
+  ok &= g.AddPose(PoseSpec::Of("l2", "L2").RelativeTo("l1", "L1"), Ry(Theta2(0)), {0.4, 0, 0})
+            .has_value();
+  ok &= g.AddPose(PoseSpec::Of("tool", "L2").RelativeTo("l2", "L2"), Eigen::Quaterniond::Identity(),
+                  {0.1, 0, 0})
+            .has_value();
   ok &= g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), kQ_BC, kP_BC).has_value();
-  ok &= g.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Rx(ObjectRoll(0)), ObjectPosition(0)).has_value();
-  ok &= g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("C").ExpressedIn("o"), {0.01, 0, 0}, {0, 0, 0.1}).has_value();
+  ok &= g.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Rx(ObjectRoll(0)), ObjectPosition(0))
+            .has_value();
+  ok &= g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("C").ExpressedIn("o"), {0.01, 0, 0},
+                   {0, 0, 0.1})
+            .has_value();
   return ok;
 }
 
@@ -69,8 +83,8 @@ inline std::string Answers(const core::SceneGraph<>& g) {
     } else {
       const Eigen::Quaterniond q(X->value.rotation);
       const Eigen::Vector3d p = X->value.translation;
-      std::snprintf(line, sizeof line, "Q %s %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", name, q.w(), q.x(), q.y(),
-                    q.z(), p.x(), p.y(), p.z());
+      std::snprintf(line, sizeof line, "Q %s %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", name,
+                    q.w(), q.x(), q.y(), q.z(), p.x(), p.y(), p.z());
     }
     out += line;
   };
@@ -79,8 +93,9 @@ inline std::string Answers(const core::SceneGraph<>& g) {
   pose("o_in_tool_at_w", PoseSpec::Of("o").RelativeTo("tool").ExpressedIn("w"));
   auto V = g.GetTwist(TwistSpec::Of("o").RelativeTo("C").ExpressedIn("w"));
   if (V) {
-    std::snprintf(line, sizeof line, "Q twist_o_C_w %.17g %.17g %.17g %.17g %.17g %.17g 0\n", V->linear.x(),
-                  V->linear.y(), V->linear.z(), V->angular.x(), V->angular.y(), V->angular.z());
+    std::snprintf(line, sizeof line, "Q twist_o_C_w %.17g %.17g %.17g %.17g %.17g %.17g 0\n",
+                  V->linear.x(), V->linear.y(), V->linear.z(), V->angular.x(), V->angular.y(),
+                  V->angular.z());
   } else {
     std::snprintf(line, sizeof line, "Q twist_o_C_w error %d\n", static_cast<int>(V.error().code));
   }
@@ -104,7 +119,9 @@ inline double Q3(int k) { return 0.25 + 0.2 * std::sin(0.7 * JointTime(k)); }
 inline double Q1dot(int k) { return 0.8 * 1.9 * std::cos(1.9 * JointTime(k)); }
 inline double Q2dot(int k) { return -0.5 * 1.3 * std::sin(1.3 * JointTime(k)); }
 inline double Q3dot(int k) { return 0.2 * 0.7 * std::cos(0.7 * JointTime(k)); }
-inline Eigen::Vector3d DetectedPosition(int j) { return {1.0 + 0.01 * j, 0.2, 0.3 + 0.1 * std::sin(0.1 * j)}; }
+inline Eigen::Vector3d DetectedPosition(int j) {
+  return {1.0 + 0.01 * j, 0.2, 0.3 + 0.1 * std::sin(0.1 * j)};
+}
 inline double DetectedRoll(int j) { return 0.02 * j; }
 
 inline core::TimeOptions TenSecondTime() {
@@ -116,10 +133,12 @@ inline core::TimeOptions TenSecondTime() {
 
 inline bool BuildJointRobot(core::SceneGraph<>& g) {
   bool ok = g.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), kQ_WB, kP_WB).has_value();
-  ok &= g.AddTwist(TwistSpec::Of("b", "B").RelativeTo("W").ExpressedIn("b"), {0, 0, 0}, {0, 0, 0}).has_value();
-  auto joint = [&](const char* name, core::JointType type, const char* parent, const char* parent_body,
-                   const char* child, const char* child_body, Eigen::Vector3d p, Eigen::Vector3d axis, double lower,
-                   double upper, const char* mimic = "", double multiplier = 1, double offset = 0,
+  ok &= g.AddTwist(TwistSpec::Of("b", "B").RelativeTo("W").ExpressedIn("b"), {0, 0, 0}, {0, 0, 0})
+            .has_value();
+  auto joint = [&](const char* name, core::JointType type, const char* parent,
+                   const char* parent_body, const char* child, const char* child_body,
+                   Eigen::Vector3d p, Eigen::Vector3d axis, double lower, double upper,
+                   const char* mimic = "", double multiplier = 1, double offset = 0,
                    Eigen::Quaterniond q = Eigen::Quaterniond::Identity()) {
     core::JointSpec s;
     s.name = name;
@@ -139,18 +158,25 @@ inline bool BuildJointRobot(core::SceneGraph<>& g) {
     ok &= g.AddJoint(s).has_value();
   };
   using core::JointType;
-  joint("j1", JointType::kRevolute, "b", "B", "l1", "L1", {0, 0, 0.5}, Eigen::Vector3d::UnitZ(), -3, 3);
-  joint("j2", JointType::kRevolute, "l1", "L1", "l2", "L2", {0.4, 0, 0}, Eigen::Vector3d::UnitY(), -3, 3);
-  joint("j3", JointType::kPrismatic, "l2", "L2", "l3", "L3", {0.3, 0, 0}, Eigen::Vector3d::UnitX(), 0, 0.5);
-  joint("j4", JointType::kRevolute, "l3", "L3", "finger", "F", {0.05, 0, 0}, Eigen::Vector3d::UnitZ(), -3, 3, "j2",
-        -0.5, 0.1);
-  joint("cam", JointType::kFixed, "b", "B", "c", "C", kP_BC, Eigen::Vector3d::UnitX(), 0, 0, "", 1, 0, kQ_BC);
-  ok &= g.AddPose(PoseSpec::Of("tool", "L3").RelativeTo("l3", "L3"), Eigen::Quaterniond::Identity(), {0.1, 0, 0})
+  joint("j1", JointType::kRevolute, "b", "B", "l1", "L1", {0, 0, 0.5}, Eigen::Vector3d::UnitZ(), -3,
+        3);
+  joint("j2", JointType::kRevolute, "l1", "L1", "l2", "L2", {0.4, 0, 0}, Eigen::Vector3d::UnitY(),
+        -3, 3);
+  joint("j3", JointType::kPrismatic, "l2", "L2", "l3", "L3", {0.3, 0, 0}, Eigen::Vector3d::UnitX(),
+        0, 0.5);
+  joint("j4", JointType::kRevolute, "l3", "L3", "finger", "F", {0.05, 0, 0},
+        Eigen::Vector3d::UnitZ(), -3, 3, "j2", -0.5, 0.1);
+  joint("cam", JointType::kFixed, "b", "B", "c", "C", kP_BC, Eigen::Vector3d::UnitX(), 0, 0, "", 1,
+        0, kQ_BC);
+  ok &= g.AddPose(PoseSpec::Of("tool", "L3").RelativeTo("l3", "L3"), Eigen::Quaterniond::Identity(),
+                  {0.1, 0, 0})
             .has_value();
   const core::Stamp t0 = core::Stamp::Nanoseconds(kT0);
-  ok &= g.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Rx(DetectedRoll(0)), DetectedPosition(0), t0)
+  ok &= g.AddPose(PoseSpec::Of("o", "O").RelativeTo("c", "C"), Rx(DetectedRoll(0)),
+                  DetectedPosition(0), t0)
             .has_value();
-  ok &= g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("C").ExpressedIn("o"), {0, 0, 0}, {0, 0, 0.1}, t0)
+  ok &= g.AddTwist(TwistSpec::Of("o", "O").RelativeTo("C").ExpressedIn("o"), {0, 0, 0}, {0, 0, 0.1},
+                   t0)
             .has_value();
   const core::JointValue q[] = {{"j1", Q1(0)}, {"j2", Q2(0)}, {"j3", Q3(0)}};
   const core::JointValue qdot[] = {{"j1", Q1dot(0)}, {"j2", Q2dot(0)}, {"j3", Q3dot(0)}};
@@ -161,11 +187,13 @@ inline bool BuildJointRobot(core::SceneGraph<>& g) {
 /// X_W,tool and X_W,finger at joint step k, composed by hand.
 inline Eigen::Isometry3d ExpectedJointTool(int k) {
   return Iso(kQ_WB, kP_WB) * Iso(Rz(Q1(k)), {0, 0, 0.5}) * Iso(Ry(Q2(k)), {0.4, 0, 0}) *
-         Iso(Eigen::Quaterniond::Identity(), {0.3 + Q3(k), 0, 0}) * Iso(Eigen::Quaterniond::Identity(), {0.1, 0, 0});
+         Iso(Eigen::Quaterniond::Identity(), {0.3 + Q3(k), 0, 0}) *
+         Iso(Eigen::Quaterniond::Identity(), {0.1, 0, 0});
 }
 inline Eigen::Isometry3d ExpectedFinger(int k) {
   return Iso(kQ_WB, kP_WB) * Iso(Rz(Q1(k)), {0, 0, 0.5}) * Iso(Ry(Q2(k)), {0.4, 0, 0}) *
-         Iso(Eigen::Quaterniond::Identity(), {0.3 + Q3(k), 0, 0}) * Iso(Rz(-0.5 * Q2(k) + 0.1), {0.05, 0, 0});
+         Iso(Eigen::Quaterniond::Identity(), {0.3 + Q3(k), 0, 0}) *
+         Iso(Rz(-0.5 * Q2(k) + 0.1), {0.05, 0, 0});
 }
 
 /// The stamps the 10 s scene's answers are compared at: on joint samples, between them, and on
@@ -173,7 +201,7 @@ inline Eigen::Isometry3d ExpectedFinger(int k) {
 inline std::vector<std::int64_t> CompareStamps() {
   std::vector<std::int64_t> out;
   for (int i = 0; i <= 40; ++i) {
-    out.push_back(JointStamp(250 * i));  // on a joint sample
+    out.push_back(JointStamp(250 * i));                        // on a joint sample
     if (i < 40) out.push_back(JointStamp(250 * i) + 123'457);  // between joint samples
   }
   for (int j = 7; j <= kDetections; j += 29) out.push_back(DetectionStamp(j));
@@ -194,8 +222,9 @@ inline std::string TimedAnswers(const core::SceneGraph<>& g) {
       } else {
         const Eigen::Quaterniond q(X->value.value.rotation);
         const Eigen::Vector3d p = X->value.value.translation;
-        std::snprintf(line, sizeof line, "Q %s@%lld %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", name,
-                      static_cast<long long>(t), q.w(), q.x(), q.y(), q.z(), p.x(), p.y(), p.z());
+        std::snprintf(line, sizeof line, "Q %s@%lld %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                      name, static_cast<long long>(t), q.w(), q.x(), q.y(), q.z(), p.x(), p.y(),
+                      p.z());
       }
       out += line;
     };
@@ -206,8 +235,9 @@ inline std::string TimedAnswers(const core::SceneGraph<>& g) {
                       static_cast<int>(V.error().code));
       } else {
         std::snprintf(line, sizeof line, "Q %s@%lld %.17g %.17g %.17g %.17g %.17g %.17g\n", name,
-                      static_cast<long long>(t), V->value.linear.x(), V->value.linear.y(), V->value.linear.z(),
-                      V->value.angular.x(), V->value.angular.y(), V->value.angular.z());
+                      static_cast<long long>(t), V->value.linear.x(), V->value.linear.y(),
+                      V->value.linear.z(), V->value.angular.x(), V->value.angular.y(),
+                      V->value.angular.z());
       }
       out += line;
     };

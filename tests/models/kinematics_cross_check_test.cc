@@ -11,11 +11,10 @@
 //     q(t) = q + t qdot, to O(h^2) (the error ratio for h and h/2 is about 4).
 #include <gtest/gtest.h>
 
-#include <kdl/chainjnttojacsolver.hpp>
-#include <kdl/treefksolverpos_recursive.hpp>
-
 #include <cmath>
 #include <fstream>
+#include <kdl/chainjnttojacsolver.hpp>
+#include <kdl/treefksolverpos_recursive.hpp>
 #include <map>
 #include <random>
 #include <sstream>
@@ -149,7 +148,8 @@ TEST_P(CrossCheck, PosesAndJacobiansOfEveryLinkEqualKdls) {
       ASSERT_TRUE(X);
       const Eigen::Matrix3d R = X->value.rotation.toRotationMatrix();
       ASSERT_LE((R - ToEigen(F.M)).cwiseAbs().maxCoeff(), kTol) << link << " state " << s;
-      ASSERT_LE((X->value.translation - ToEigen(F.p)).cwiseAbs().maxCoeff(), kTol) << link << " state " << s;
+      ASSERT_LE((X->value.translation - ToEigen(F.p)).cwiseAbs().maxCoeff(), kTol)
+          << link << " state " << s;
       ++n.poses;
       if (link == root) continue;
       // Jacobian at the link origin in [root].
@@ -162,7 +162,9 @@ TEST_P(CrossCheck, PosesAndJacobiansOfEveryLinkEqualKdls) {
         ASSERT_EQ(chain.getNrOfJoints(), 0u) << link;
         continue;
       }
-      ASSERT_LE((J->J - J_kdl).cwiseAbs().maxCoeff(), kTol) << link << " state " << s << "\n" << J->J << "\n" << J_kdl;
+      ASSERT_LE((J->J - J_kdl).cwiseAbs().maxCoeff(), kTol) << link << " state " << s << "\n"
+                                                            << J->J << "\n"
+                                                            << J_kdl;
       core::JacobianMatrix Jc(6, static_cast<Eigen::Index>(compiled[li].num_columns()));
       ASSERT_EQ(compiled[li].Evaluate(Jc), ErrorCode::kOk);
       ASSERT_EQ(compiled[li].joints(), J->joints);
@@ -189,7 +191,8 @@ TEST_P(CrossCheck, PosesAndJacobiansOfEveryLinkEqualKdls) {
       auto V = g_.GetTwist(TwistSpec::Of(link).RelativeTo(root).ExpressedIn(root));
       ASSERT_TRUE(V);
       Eigen::VectorXd qdot_cols(J->joints.size());
-      for (std::size_t c = 0; c < J->joints.size(); ++c) qdot_cols(c) = g_.joint_velocity(J->joints[c]);
+      for (std::size_t c = 0; c < J->joints.size(); ++c)
+        qdot_cols(c) = g_.joint_velocity(J->joints[c]);
       const Eigen::Matrix<double, 6, 1> Jq = J->J * qdot_cols;
       ASSERT_LE((Jq.head<3>() - V->linear).cwiseAbs().maxCoeff(), kTol) << link;
       ASSERT_LE((Jq.tail<3>() - V->angular).cwiseAbs().maxCoeff(), kTol) << link;
@@ -198,14 +201,16 @@ TEST_P(CrossCheck, PosesAndJacobiansOfEveryLinkEqualKdls) {
   }
   RecordProperty("poses", n.poses);
   RecordProperty("jacobians", n.jacobians);
-  std::printf("[ cross-check ] %s: %d states, %d link poses, %d Jacobians, %d twists vs KDL within %g\n",
-              GetParam(), kStates, n.poses, n.jacobians, n.twists, kTol);
+  std::printf(
+      "[ cross-check ] %s: %d states, %d link poses, %d Jacobians, %d twists vs KDL within %g\n",
+      GetParam(), kStates, n.poses, n.jacobians, n.twists, kTol);
 }
 
 // The finite-difference velocity of link's origin and its angular velocity, central, step h,
 // under q(t) = q + t qdot.
-void FiniteDifference(Graph& g, const Robot& robot, const std::vector<double>& q, const std::vector<double>& qdot,
-                      const std::string& link, double h, Eigen::Vector3d& v, Eigen::Vector3d& w) {
+void FiniteDifference(Graph& g, const Robot& robot, const std::vector<double>& q,
+                      const std::vector<double>& qdot, const std::string& link, double h,
+                      Eigen::Vector3d& v, Eigen::Vector3d& w) {
   std::vector<double> qa(q.size()), qb(q.size());
   for (std::size_t i = 0; i < q.size(); ++i) {
     qa[i] = q[i] + h * qdot[i];
@@ -266,7 +271,8 @@ TEST_P(CrossCheck, TwistQueryIsTheDerivativeOfThePoseQuery) {
     }
   }
   EXPECT_GT(checked, 20);
-  std::printf("[ finite-diff ] %s: %d error ratios, worst |ratio - 4| = %.3f\n", GetParam(), checked, worst_ratio_dev);
+  std::printf("[ finite-diff ] %s: %d error ratios, worst |ratio - 4| = %.3f\n", GetParam(),
+              checked, worst_ratio_dev);
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, CrossCheck,

@@ -3,7 +3,6 @@
 // robot in a world with a camera and an object, grasping by removal and re-add, and every
 // rejection (invalid_model with the parser's message, duplicate_joint / _body / _frame in that
 // order) with the graph unchanged.
-#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/models/urdf.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include "semgraph/core/scene_graph_debug.h"
 
 namespace semgraph::models {
 namespace {
@@ -24,7 +25,8 @@ using Graph = core::SceneGraph<>;
 
 // The robot models ship in models/urdf; the broken ones are test data.
 std::string Model(const std::string& file) {
-  const bool robot = file == "arm6.urdf" || file == "arm7.urdf" || file == "mobile_manipulator.urdf";
+  const bool robot =
+      file == "arm6.urdf" || file == "arm7.urdf" || file == "mobile_manipulator.urdf";
   return std::string(robot ? SEMGRAPH_ROBOT_MODELS : SEMGRAPH_TEST_MODELS) + "/" + file;
 }
 
@@ -45,7 +47,8 @@ TEST(Urdf, LinksBecomeBodiesWithOneFrameAndJointsJoinTheLinkFrames) {
   EXPECT_EQ(g.num_pose_edges(), 8u);
   EXPECT_EQ(g.num_twist_edges(), 8u);
   EXPECT_EQ(g.num_joints(), 8u);
-  const std::vector<std::string> joints = {"joint1", "joint2", "joint3", "joint4", "joint5", "joint6", "joint7"};
+  const std::vector<std::string> joints = {"joint1", "joint2", "joint3", "joint4",
+                                           "joint5", "joint6", "joint7"};
   EXPECT_EQ(robot->joints, joints);
   EXPECT_EQ(robot->fixed_joints, std::vector<std::string>{"flange_joint"});
   EXPECT_EQ(robot->group.size(), 7u);
@@ -65,8 +68,8 @@ TEST(Urdf, MobileManipulatorPosesByHand) {
   ASSERT_TRUE(robot) << robot.error().message;
   EXPECT_EQ(robot->root, "base_footprint");
   // Independent movable joints, depth-first, siblings by name; the mimic apart.
-  const std::vector<std::string> joints = {"left_wheel_joint", "lift_joint",        "arm_joint1",
-                                           "arm_joint2",       "arm_joint3",        "arm_joint4",
+  const std::vector<std::string> joints = {"left_wheel_joint",  "lift_joint",       "arm_joint1",
+                                           "arm_joint2",        "arm_joint3",       "arm_joint4",
                                            "left_finger_joint", "right_wheel_joint"};
   EXPECT_EQ(robot->joints, joints);
   EXPECT_EQ(robot->mimic_joints, std::vector<std::string>{"right_finger_joint"});
@@ -74,20 +77,24 @@ TEST(Urdf, MobileManipulatorPosesByHand) {
   // q = 0: x offsets 0.05 + 0.1 + 0.35 + 0.3 + 0.08 + 0.12 = 1.0; z 0.1 + 0.3 + 0.05 + 0.1.
   EXPECT_LE((Position(g, "tcp", "base_footprint") - Eigen::Vector3d(1.0, 0, 0.55)).norm(), 1e-12);
   // Lift up 0.2 m, shoulder pitched +90 degrees about y: the 0.85 m beyond it points down (-z).
-  const JointValue q[] = {{"lift_joint", 0.2}, {"arm_joint2", M_PI / 2}, {"left_finger_joint", 0.03}};
+  const JointValue q[] = {
+      {"lift_joint", 0.2}, {"arm_joint2", M_PI / 2}, {"left_finger_joint", 0.03}};
   ASSERT_TRUE(g.SetJoints(q, {}));
   EXPECT_LE((Position(g, "tcp", "base_footprint") - Eigen::Vector3d(0.15, 0, -0.1)).norm(), 1e-12);
   // The right finger mimics the left one with multiplier -1: the fingers open symmetrically.
   EXPECT_EQ(g.joint_position(*g.FindJoint("right_finger_joint")), -0.03);
-  EXPECT_LE((Position(g, "left_finger", "gripper_base") - Eigen::Vector3d(0.05, 0.04, 0)).norm(), 1e-15);
-  EXPECT_LE((Position(g, "right_finger", "gripper_base") - Eigen::Vector3d(0.05, -0.04, 0)).norm(), 1e-15);
+  EXPECT_LE((Position(g, "left_finger", "gripper_base") - Eigen::Vector3d(0.05, 0.04, 0)).norm(),
+            1e-15);
+  EXPECT_LE((Position(g, "right_finger", "gripper_base") - Eigen::Vector3d(0.05, -0.04, 0)).norm(),
+            1e-15);
   const JointValue mimic[] = {{"right_finger_joint", 0.0}};
   EXPECT_EQ(g.SetJoints(mimic, {}).error().code, ErrorCode::kMimicJoint);
   // A wheel turns about its own z (the URDF axis, in the child frame).
   const JointValue wheel[] = {{"left_wheel_joint", 10.0}};
   const JointValue spin[] = {{"left_wheel_joint", 2.0}};
   ASSERT_TRUE(g.SetJoints(wheel, spin));
-  auto w = g.GetAngularVelocity(TwistSpec::Of("left_wheel", "left_wheel").RelativeTo("base_link").ExpressedIn("base_link"));
+  auto w = g.GetAngularVelocity(
+      TwistSpec::Of("left_wheel", "left_wheel").RelativeTo("base_link").ExpressedIn("base_link"));
   ASSERT_TRUE(w);
   // The wheel's z is the base's +y (rpy -pi/2 about x): z_wheel = R_x(-pi/2) z = (0, 1, 0)
   // (to the 12 digits of the file's pi/2).
@@ -101,8 +108,8 @@ TEST(Urdf, FloatingJointsAreOrdinaryEdges) {
   EXPECT_EQ(robot->floating_joints, std::vector<std::string>{"drone wrt world_anchor"});
   EXPECT_EQ(g.num_joints(), 1u);
   EXPECT_EQ(g.FindJoint("drone_free").error().code, ErrorCode::kUnknownJoint);
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("drone").RelativeTo("world_anchor"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d(1, 2, 3)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("drone").RelativeTo("world_anchor"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 2, 3)));
   ASSERT_TRUE(g.AddTwist(TwistSpec::Of("drone").RelativeTo("world_anchor").ExpressedIn("drone"),
                          Eigen::Vector3d(0.5, 0, 0), Eigen::Vector3d::Zero()));
   EXPECT_LE((Position(g, "gimbal", "world_anchor") - Eigen::Vector3d(1.1, 2, 2.95)).norm(), 1e-15);
@@ -119,10 +126,10 @@ TEST(Urdf, TwoPrefixedRobotsOfOneModelLoadSideBySide) {
   EXPECT_EQ(right->joints.front(), "right/shoulder_pan_joint");
   EXPECT_EQ(g.num_joints(), 14u);
   // Both on one table: two ordinary poses, then queries across the robots.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("left/base_link").RelativeTo("table", "Table"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d(0, 0.5, 0)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("right/base_link").RelativeTo("table"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d(0, -0.5, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("left/base_link").RelativeTo("table", "Table"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0.5, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("right/base_link").RelativeTo("table"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, -0.5, 0)));
   const double q[] = {0.3, -1.0, 1.2, 0.4, 0.5, -0.6};
   ASSERT_EQ(g.SetJointPositions(left->group, q), ErrorCode::kOk);
   // Only the left robot moved: the right tool is where the right robot's zero pose puts it.
@@ -142,12 +149,13 @@ TEST(Urdf, RobotWorldCameraAndObjectWithAGrasp) {
   auto robot = LoadUrdfFile(g, Model("arm7.urdf"));
   ASSERT_TRUE(robot);
   // The base in the world, a camera on the base, an object seen by the camera.
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("link0").RelativeTo("world", "World"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d(2, 1, 0.8)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("link0").RelativeTo("world", "World"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d(2, 1, 0.8)));
   const Eigen::Quaterniond q_cam(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("camera", "Camera").RelativeTo("link0"), q_cam, Eigen::Vector3d(0.5, 0, 1.2)));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("cup", "Cup").RelativeTo("camera"), Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d(0.1, 0.0, 0.9)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("camera", "Camera").RelativeTo("link0"), q_cam,
+                        Eigen::Vector3d(0.5, 0, 1.2)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("cup", "Cup").RelativeTo("camera"),
+                        Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.1, 0.0, 0.9)));
   // The cup in the base: camera at z 1.2 looking down (x flipped), 0.9 m in front: z 0.3.
   EXPECT_LE((Position(g, "cup", "link0") - Eigen::Vector3d(0.6, 0, 0.3)).norm(), 1e-12);
   EXPECT_LE((Position(g, "cup", "world") - Eigen::Vector3d(2.6, 1, 1.1)).norm(), 1e-12);
@@ -159,7 +167,8 @@ TEST(Urdf, RobotWorldCameraAndObjectWithAGrasp) {
   auto flange_in_cup = g.GetPose(PoseSpec::Of("flange").RelativeTo("cup"));
   ASSERT_TRUE(flange_in_base && cup_in_base && flange_in_cup);
   const Eigen::Vector3d expected =
-      cup_in_base->value.rotation.inverse() * (flange_in_base->value.translation - cup_in_base->value.translation);
+      cup_in_base->value.rotation.inverse() *
+      (flange_in_base->value.translation - cup_in_base->value.translation);
   EXPECT_LE((flange_in_cup->value.translation - expected).norm(), 1e-12);
   // Grasp: remove the cup's pose wrt the camera, add it wrt the flange where it is now.
   const Eigen::Vector3d cup_world = Position(g, "cup", "world");
@@ -169,10 +178,10 @@ TEST(Urdf, RobotWorldCameraAndObjectWithAGrasp) {
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("cup").RelativeTo("flange"), cup_in_flange->value.rotation,
                         cup_in_flange->value.translation));
   // Held: the cup does not move relative to the flange; the base does not move in the world.
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("cup").RelativeTo("flange").ExpressedIn("cup"), Eigen::Vector3d::Zero(),
-                         Eigen::Vector3d::Zero()));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("link0").RelativeTo("World").ExpressedIn("link0"), Eigen::Vector3d::Zero(),
-                         Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("cup").RelativeTo("flange").ExpressedIn("cup"),
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("link0").RelativeTo("World").ExpressedIn("link0"),
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()));
   EXPECT_LE((Position(g, "cup", "world") - cup_world).norm(), 1e-12);
   // Now the cup moves with the arm.
   const double q2[] = {0.6, 0.4, -0.2, -1.8, 0.3, 2.0, 0.5};
@@ -187,7 +196,8 @@ TEST(Urdf, RobotWorldCameraAndObjectWithAGrasp) {
   ASSERT_TRUE(V);
   const Eigen::Vector3d w(0, 0, 0.5);
   EXPECT_LE((V->angular - w).norm(), 1e-12);
-  EXPECT_LE((V->linear - w.cross(Position(g, "cup", "world") - Eigen::Vector3d(2, 1, 0.8))).norm(), 1e-12);
+  EXPECT_LE((V->linear - w.cross(Position(g, "cup", "world") - Eigen::Vector3d(2, 1, 0.8))).norm(),
+            1e-12);
   EXPECT_EQ(CheckInvariants(g), "");
 }
 
@@ -204,12 +214,18 @@ void ExpectRejected(Graph& g, ErrorCode code, const std::string& file, std::stri
 TEST(Urdf, BadModelsAreInvalidModelAndCreateNothing) {
   Graph g;
   ASSERT_TRUE(LoadUrdfFile(g, Model("arm6.urdf")));
-  ExpectRejected(g, ErrorCode::kInvalidModel, Model("malformed.urdf"), "x_", "urdfdom could not parse it: ");
-  ExpectRejected(g, ErrorCode::kInvalidModel, Model("planar.urdf"), "x_", "planar joints are not supported");
-  ExpectRejected(g, ErrorCode::kInvalidModel, Model("zero_axis.urdf"), "x_", "axis has no direction");
-  ExpectRejected(g, ErrorCode::kInvalidModel, Model("bad_limits.urdf"), "x_", "above the upper limit");
-  ExpectRejected(g, ErrorCode::kInvalidModel, Model("bad_mimic.urdf"), "x_", "mimics joint missing");
-  ExpectRejected(g, ErrorCode::kInvalidModel, Model("no_such_file.urdf"), "x_", "cannot read the file");
+  ExpectRejected(g, ErrorCode::kInvalidModel, Model("malformed.urdf"), "x_",
+                 "urdfdom could not parse it: ");
+  ExpectRejected(g, ErrorCode::kInvalidModel, Model("planar.urdf"), "x_",
+                 "planar joints are not supported");
+  ExpectRejected(g, ErrorCode::kInvalidModel, Model("zero_axis.urdf"), "x_",
+                 "axis has no direction");
+  ExpectRejected(g, ErrorCode::kInvalidModel, Model("bad_limits.urdf"), "x_",
+                 "above the upper limit");
+  ExpectRejected(g, ErrorCode::kInvalidModel, Model("bad_mimic.urdf"), "x_",
+                 "mimics joint missing");
+  ExpectRejected(g, ErrorCode::kInvalidModel, Model("no_such_file.urdf"), "x_",
+                 "cannot read the file");
   ExpectRejected(g, ErrorCode::kInvalidModel, "package://arm/urdf/arm6.urdf", "x_", "package://");
   ExpectRejected(g, ErrorCode::kInvalidModel, Model("arm7.urdf"), "bad\nprefix/", "link name");
   // invalid_model comes before the name clashes (planar.urdf's names would not clash anyway).
@@ -232,7 +248,7 @@ TEST(Urdf, NameClashesInTheSpecOrder) {
   ExpectRejected(g, ErrorCode::kDuplicateBody, Model("arm7.urdf"), "", "body link3");
   // A frame only: duplicate_frame.
   Graph h;
-  ASSERT_TRUE(h.AddFrame("link5", "") .has_value() == false);
+  ASSERT_TRUE(h.AddFrame("link5", "").has_value() == false);
   ASSERT_TRUE(h.AddBody("Elsewhere"));
   ASSERT_TRUE(h.AddFrame("link5", "Elsewhere"));
   ExpectRejected(h, ErrorCode::kDuplicateFrame, Model("arm7.urdf"), "", "frame link5");

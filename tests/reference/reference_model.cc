@@ -15,7 +15,9 @@ constexpr double kRotationTolerance = 1e-6;  // docs/rules.md §5: |‖q‖ − 
 constexpr double kConstantTolerance = 1e-6;  // docs/rules.md §2 P4
 constexpr double kPi = 3.14159265358979323846;
 
-bool Finite(const Eigen::Vector3d& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+bool Finite(const Eigen::Vector3d& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
 
 // Union-find over strings, the naive way.
 struct Partition {
@@ -53,7 +55,8 @@ ErrorCode ValidateRotation(const RotationInput& in, Eigen::Matrix3d* R) {
     if (!std::isfinite(in.R(i / 3, i % 3))) return ErrorCode::kInvalidNumber;
   }
   const double off = (in.R.transpose() * in.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (!(off <= kRotationTolerance) || !(in.R.determinant() > 0.0)) return ErrorCode::kInvalidRotation;
+  if (!(off <= kRotationTolerance) || !(in.R.determinant() > 0.0))
+    return ErrorCode::kInvalidRotation;
   Eigen::Matrix3d X = in.R;  // nearest rotation: Newton iteration of the polar decomposition
   for (int i = 0; i < 20; ++i) X = 0.5 * (X + X.inverse().transpose());
   *R = X;
@@ -79,13 +82,14 @@ bool SamePose(const Transform& a, const Transform& b) {  // P4's tolerance
          (a.p - b.p).norm() <= kConstantTolerance * std::max(1.0, a.p.norm());
 }
 bool SameTwist(const TwistSample& a, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
-  return (a.v - v).norm() <= 1e-6 * std::max(1.0, a.v.norm()) && (a.w - w).norm() <= 1e-6 * std::max(1.0, a.w.norm());
+  return (a.v - v).norm() <= 1e-6 * std::max(1.0, a.v.norm()) &&
+         (a.w - w).norm() <= 1e-6 * std::max(1.0, a.w.norm());
 }
 
 // The stamp rules of an update (time.md §1-2): stamp_mismatch -> stamp_too_old -> duplicate_stamp.
 template <class Sample, class Same>
-ErrorCode CheckStamp(bool stamped, const std::vector<Sample>& samples, std::optional<std::int64_t> stamp,
-                     const TimeOptions& o, Same&& same) {
+ErrorCode CheckStamp(bool stamped, const std::vector<Sample>& samples,
+                     std::optional<std::int64_t> stamp, const TimeOptions& o, Same&& same) {
   if (!stamp) return stamped ? ErrorCode::kStampMismatch : ErrorCode::kOk;
   if (!stamped) return ErrorCode::kStampMismatch;
   if (*stamp < SubSat(samples.back().t, o.window_ns)) return ErrorCode::kStampTooOld;
@@ -98,8 +102,10 @@ ErrorCode CheckStamp(bool stamped, const std::vector<Sample>& samples, std::opti
 // Inserts (an equal stamp: replaced unless the same value), drops the oldest over capacity and
 // every sample older than newest - window.
 template <class Sample, class Same>
-void InsertSample(std::vector<Sample>& samples, const Sample& x, const TimeOptions& o, Same&& same) {
-  auto it = std::find_if(samples.begin(), samples.end(), [&](const Sample& y) { return y.t >= x.t; });
+void InsertSample(std::vector<Sample>& samples, const Sample& x, const TimeOptions& o,
+                  Same&& same) {
+  auto it =
+      std::find_if(samples.begin(), samples.end(), [&](const Sample& y) { return y.t >= x.t; });
   if (it != samples.end() && it->t == x.t) {
     if (!same(*it)) *it = x;
   } else {
@@ -127,8 +133,10 @@ Eigen::Matrix3d Hat(const Eigen::Vector3d& w) {
 Eigen::Matrix3d RotExp(const Eigen::Vector3d& w) {
   const double th = w.norm();
   const Eigen::Matrix3d W = Hat(w);
-  if (th < 1e-4) return Eigen::Matrix3d::Identity() + (1.0 - th * th / 6.0) * W + (0.5 - th * th / 24.0) * W * W;
-  return Eigen::Matrix3d::Identity() + std::sin(th) / th * W + (1.0 - std::cos(th)) / (th * th) * W * W;
+  if (th < 1e-4)
+    return Eigen::Matrix3d::Identity() + (1.0 - th * th / 6.0) * W + (0.5 - th * th / 24.0) * W * W;
+  return Eigen::Matrix3d::Identity() + std::sin(th) / th * W +
+         (1.0 - std::cos(th)) / (th * th) * W * W;
 }
 
 // The rotation vector of R (angle in [0, pi]); *near_pi when the angle is within 1e-6 of pi,
@@ -154,9 +162,11 @@ Transform SE3Exp(const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
   const Eigen::Matrix3d W = Hat(w);
   Eigen::Matrix3d V;
   if (th < 1e-4) {
-    V = Eigen::Matrix3d::Identity() + (0.5 - th * th / 24.0) * W + (1.0 / 6.0 - th * th / 120.0) * W * W;
+    V = Eigen::Matrix3d::Identity() + (0.5 - th * th / 24.0) * W +
+        (1.0 / 6.0 - th * th / 120.0) * W * W;
   } else {
-    V = Eigen::Matrix3d::Identity() + (1.0 - std::cos(th)) / (th * th) * W + (th - std::sin(th)) / (th * th * th) * W * W;
+    V = Eigen::Matrix3d::Identity() + (1.0 - std::cos(th)) / (th * th) * W +
+        (th - std::sin(th)) / (th * th * th) * W * W;
   }
   return Transform{RotExp(w), V * v};
 }
@@ -176,7 +186,9 @@ void SE3Log(const Transform& X, Eigen::Vector3d* v, Eigen::Vector3d* w, bool* ne
 }
 
 // Whether x is within `margin` of the tolerance: the check may go either way by rounding.
-bool NearTolerance(double x, double tolerance, double margin) { return std::abs(x - tolerance) <= margin; }
+bool NearTolerance(double x, double tolerance, double margin) {
+  return std::abs(x - tolerance) <= margin;
+}
 
 }  // namespace
 
@@ -222,7 +234,8 @@ ReferenceModel::Rule ReferenceModel::Violation(const State& s) {
     if (s.frames.at(e.tail) == s.frames.at(e.head)) same_body.Join(e.tail, e.head);
   }
   std::map<std::pair<std::string, std::string>, std::set<std::string>> pieces;  // (tree, body)
-  for (const auto& [frame, body] : s.frames) pieces[{tree.at(frame), body}].insert(same_body.Find(frame));
+  for (const auto& [frame, body] : s.frames)
+    pieces[{tree.at(frame), body}].insert(same_body.Find(frame));
   for (const auto& [key, set] : pieces) {
     if (set.size() > 1) return Rule::kP3;
   }
@@ -260,7 +273,8 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
                                   std::optional<std::int64_t> stamp) {
   // invalid_name (bodies are optional).
   if (!ValidName(head) || !ValidName(tail)) return ErrorCode::kInvalidName;
-  if ((!head_body.empty() && !ValidName(head_body)) || (!tail_body.empty() && !ValidName(tail_body))) {
+  if ((!head_body.empty() && !ValidName(head_body)) ||
+      (!tail_body.empty() && !ValidName(tail_body))) {
     return ErrorCode::kInvalidName;
   }
   // invalid_number (anywhere) -> invalid_rotation.
@@ -278,9 +292,10 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
   // spec does not order frame_body_mismatch and frame_without_body of DIFFERENT frames; see
   // the header.)
   const bool head_exists = s_.frames.count(head) > 0, tail_exists = s_.frames.count(tail) > 0;
-  for (const auto& [frame, body, exists] : {std::tuple{head, head_body, head_exists},
-                                           std::tuple{tail, tail_body, tail_exists}}) {
-    if (exists && !body.empty() && s_.frames.at(frame) != body) return ErrorCode::kFrameBodyMismatch;
+  for (const auto& [frame, body, exists] :
+       {std::tuple{head, head_body, head_exists}, std::tuple{tail, tail_body, tail_exists}}) {
+    if (exists && !body.empty() && s_.frames.at(frame) != body)
+      return ErrorCode::kFrameBodyMismatch;
     if (!exists && body.empty()) return ErrorCode::kFrameWithoutBody;
   }
   if (head == tail) return ErrorCode::kSelfEdge;
@@ -290,12 +305,16 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     if (JointOfChild(s_, head)) return ErrorCode::kJointEdge;  // driven by its joint's state only
     if (s_.frames.at(head) == s_.frames.at(tail)) {
       const bool same_R = (e.X_TH.R - R).cwiseAbs().maxCoeff() <= kConstantTolerance;
-      const bool same_p = (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
-      return same_R && same_p ? ErrorCode::kOk : ErrorCode::kConstantPoseChange;  // (a stamp is ignored)
+      const bool same_p =
+          (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
+      return same_R && same_p ? ErrorCode::kOk
+                              : ErrorCode::kConstantPoseChange;  // (a stamp is ignored)
     }
     const Transform X{R, p};
     const auto same = [&](const PoseSample& x) { return SamePose(x.X, X); };
-    if (const ErrorCode c = CheckStamp(e.stamped, e.samples, stamp, time_, same); c != ErrorCode::kOk) return c;
+    if (const ErrorCode c = CheckStamp(e.stamped, e.samples, stamp, time_, same);
+        c != ErrorCode::kOk)
+      return c;
     if (!stamp) {
       e.X_TH = X;
       return ErrorCode::kOk;
@@ -320,11 +339,16 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     next.poses.back().samples.push_back(PoseSample{*stamp, Transform{R, p}});
   }
   switch (Violation(next)) {
-    case Rule::kP1: return ErrorCode::kMultiplePoseParents;
-    case Rule::kP2: return ErrorCode::kPoseCycle;
-    case Rule::kP3: return ErrorCode::kDuplicatePosePath;
-    case Rule::kW3: return ErrorCode::kTwistMergeConflict;
-    case Rule::kNone: break;
+    case Rule::kP1:
+      return ErrorCode::kMultiplePoseParents;
+    case Rule::kP2:
+      return ErrorCode::kPoseCycle;
+    case Rule::kP3:
+      return ErrorCode::kDuplicatePosePath;
+    case Rule::kW3:
+      return ErrorCode::kTwistMergeConflict;
+    case Rule::kNone:
+      break;
   }
   s_ = std::move(next);
   return ErrorCode::kOk;
@@ -387,7 +411,8 @@ RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::
   Eigen::Matrix3d R;
   ValidateRotation(rotation, &R);
   const std::map<std::string, std::string> tree = Trees(s_);
-  const bool determined = s_.frames.count(head) && s_.frames.count(tail) && tree.at(head) == tree.at(tail);
+  const bool determined =
+      s_.frames.count(head) && s_.frames.count(tail) && tree.at(head) == tree.at(tail);
   if (determined) {
     if (!policy.check_consistency) return out;
     Transform X_TH;
@@ -421,7 +446,8 @@ RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::
   // A joint's pose edge has a direction (parent -> child), a stamped edge's history belongs to
   // it: a path through either is not reversed (docs/repair.md).
   for (std::string x = tail;;) {
-    const auto e = std::find_if(s_.poses.begin(), s_.poses.end(), [&](const PoseEdge& pe) { return pe.head == x; });
+    const auto e = std::find_if(s_.poses.begin(), s_.poses.end(),
+                                [&](const PoseEdge& pe) { return pe.head == x; });
     if (e == s_.poses.end()) break;
     if (JointOfChild(s_, x) || e->stamped) return out;  // nor one with a stamped edge
     x = e->tail;
@@ -440,11 +466,11 @@ RepairOutcome ReferenceModel::AddPoseRepair(const std::string& head, const std::
   return out;
 }
 
-RepairOutcome ReferenceModel::AddTwistRepair(const std::string& point, const std::string& body,
-                                             const std::string& ref_body, const std::string& coord,
-                                             const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                                             const RepairPolicy& policy,
-                                             const std::function<std::string(const std::vector<std::string>&)>& choose) {
+RepairOutcome ReferenceModel::AddTwistRepair(
+    const std::string& point, const std::string& body, const std::string& ref_body,
+    const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+    const RepairPolicy& policy,
+    const std::function<std::string(const std::vector<std::string>&)>& choose) {
   RepairOutcome out;
   out.code = AddTwist(point, body, ref_body, coord, v, w);
   if (out.code == ErrorCode::kDuplicateTwistPath) {
@@ -547,7 +573,8 @@ void ReferenceModel::Drive(State& s, const std::string& name) {
 }
 
 ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
-  for (const std::string* n : {&in.name, &in.parent, &in.parent_body, &in.child, &in.child_body, &in.mimic}) {
+  for (const std::string* n :
+       {&in.name, &in.parent, &in.parent_body, &in.child, &in.child_body, &in.mimic}) {
     const bool optional = n == &in.parent_body || n == &in.child_body || n == &in.mimic;
     if (!(optional && n->empty()) && !ValidName(*n)) return ErrorCode::kInvalidName;
   }
@@ -556,7 +583,8 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   rotation.q = in.q_origin;
   Eigen::Matrix3d R;
   if (const ErrorCode c = ValidateRotation(rotation, &R); c != ErrorCode::kOk) return c;
-  for (double x : {in.axis.x(), in.axis.y(), in.axis.z(), in.lower, in.upper, in.multiplier, in.offset}) {
+  for (double x :
+       {in.axis.x(), in.axis.y(), in.axis.z(), in.lower, in.upper, in.multiplier, in.offset}) {
     if (!std::isfinite(x)) return ErrorCode::kInvalidNumber;
   }
   Joint j;
@@ -575,10 +603,12 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   for (const Joint& other : s_.joints) {
     if (other.name == in.name) return ErrorCode::kDuplicateJoint;
   }
-  const bool child_exists = s_.frames.count(in.child) > 0, parent_exists = s_.frames.count(in.parent) > 0;
+  const bool child_exists = s_.frames.count(in.child) > 0,
+             parent_exists = s_.frames.count(in.parent) > 0;
   for (const auto& [frame, body, exists] : {std::tuple{in.child, in.child_body, child_exists},
-                                           std::tuple{in.parent, in.parent_body, parent_exists}}) {
-    if (exists && !body.empty() && s_.frames.at(frame) != body) return ErrorCode::kFrameBodyMismatch;
+                                            std::tuple{in.parent, in.parent_body, parent_exists}}) {
+    if (exists && !body.empty() && s_.frames.at(frame) != body)
+      return ErrorCode::kFrameBodyMismatch;
     if (!exists && body.empty()) return ErrorCode::kFrameWithoutBody;
   }
   if (in.parent == in.child) return ErrorCode::kSelfEdge;
@@ -586,7 +616,8 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   const std::string C = child_exists ? s_.frames.at(in.child) : in.child_body;
   if (P == C) return ErrorCode::kTwistSameBody;
   for (const PoseEdge& e : s_.poses) {
-    if (e.tail == in.parent && e.head == in.child && JointOfChild(s_, in.child)) return ErrorCode::kJointEdge;
+    if (e.tail == in.parent && e.head == in.child && JointOfChild(s_, in.child))
+      return ErrorCode::kJointEdge;
   }
   j.parent = in.parent;
   j.child = in.child;
@@ -611,16 +642,22 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   next.frames[in.parent] = P;
   next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}, false, {}});
   switch (Violation(next)) {
-    case Rule::kP1: return ErrorCode::kMultiplePoseParents;
-    case Rule::kP2: return ErrorCode::kPoseCycle;
-    case Rule::kP3: return ErrorCode::kDuplicatePosePath;
-    case Rule::kW3: return ErrorCode::kTwistMergeConflict;
-    case Rule::kNone: break;
+    case Rule::kP1:
+      return ErrorCode::kMultiplePoseParents;
+    case Rule::kP2:
+      return ErrorCode::kPoseCycle;
+    case Rule::kP3:
+      return ErrorCode::kDuplicatePosePath;
+    case Rule::kW3:
+      return ErrorCode::kTwistMergeConflict;
+    case Rule::kNone:
+      break;
   }
   for (const TwistEdge& t : next.twists) {
     if (t.head == in.child) return ErrorCode::kMultipleTwistParents;
   }
-  next.twists.push_back(TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}});
+  next.twists.push_back(
+      TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   j.serial = next_serial_++;
   next.joints.push_back(j);
@@ -654,14 +691,16 @@ ErrorCode ReferenceModel::SetJoints(const std::vector<std::pair<std::string, dou
   }
   for (const auto& [name, value] : positions) {
     const Joint* j = find(name);
-    if (j->limited() && (value < j->lower - 1e-9 || value > j->upper + 1e-9)) return ErrorCode::kJointLimit;
+    if (j->limited() && (value < j->lower - 1e-9 || value > j->upper + 1e-9))
+      return ErrorCode::kJointLimit;
   }
   for (const auto& [name, value] : positions) find(name)->q = value, Drive(s_, name);
   for (const auto& [name, value] : velocities) find(name)->qdot = value, Drive(s_, name);
   return ErrorCode::kOk;
 }
 
-ErrorCode ReferenceModel::MakeGroup(const std::vector<std::string>& names, std::vector<std::uint64_t>* serials) const {
+ErrorCode ReferenceModel::MakeGroup(const std::vector<std::string>& names,
+                                    std::vector<std::uint64_t>* serials) const {
   serials->clear();
   for (const std::string& name : names) {
     const Joint* j = nullptr;
@@ -670,13 +709,15 @@ ErrorCode ReferenceModel::MakeGroup(const std::vector<std::string>& names, std::
     }
     if (!j || !j->movable()) return ErrorCode::kUnknownJoint;
     if (!j->master.empty()) return ErrorCode::kMimicJoint;
-    if (std::find(serials->begin(), serials->end(), j->serial) != serials->end()) return ErrorCode::kDuplicateJoint;
+    if (std::find(serials->begin(), serials->end(), j->serial) != serials->end())
+      return ErrorCode::kDuplicateJoint;
     serials->push_back(j->serial);
   }
   return ErrorCode::kOk;
 }
 
-ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot) {
+ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, const double* q,
+                                   const double* qdot) {
   std::vector<Joint*> joints;
   bool bad_number = false;
   for (std::size_t i = 0; i < group.size(); ++i) {
@@ -692,7 +733,8 @@ ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, cons
     if (!j) return ErrorCode::kUnknownJoint;
   }
   for (std::size_t i = 0; i < group.size(); ++i) {
-    if (q && joints[i]->limited() && !(q[i] >= joints[i]->lower - 1e-9 && q[i] <= joints[i]->upper + 1e-9)) {
+    if (q && joints[i]->limited() &&
+        !(q[i] >= joints[i]->lower - 1e-9 && q[i] <= joints[i]->upper + 1e-9)) {
       return ErrorCode::kJointLimit;
     }
   }
@@ -733,13 +775,16 @@ JacobianAnswer ReferenceModel::Jacobian(const Query& query) const {
     Transform X_RH;
     Find(t.head, q.coord, &X_RH);
     Eigen::Vector3d v_h = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-    if (j->type == JointType::kPrismatic) v_h = X_RH.R * j->u;
-    else w = X_RH.R * j->u;
+    if (j->type == JointType::kPrismatic)
+      v_h = X_RH.R * j->u;
+    else
+      w = X_RH.R * j->u;
     columns[c].head<3>() += factor * sign * (v_h + w.cross(X_RE.p - X_RH.p));
     columns[c].tail<3>() += factor * sign * w;
   }
   out.J.resize(6, static_cast<Eigen::Index>(columns.size()));
-  for (std::size_t c = 0; c < columns.size(); ++c) out.J.col(static_cast<Eigen::Index>(c)) = columns[c];
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    out.J.col(static_cast<Eigen::Index>(c)) = columns[c];
   return out;
 }
 
@@ -749,11 +794,13 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
                                    const std::string& ref_body, const std::string& coord,
                                    const Eigen::Vector3d& v, const Eigen::Vector3d& w,
                                    std::optional<std::int64_t> stamp) {
-  if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord)) return ErrorCode::kInvalidName;
+  if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord))
+    return ErrorCode::kInvalidName;
   if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
   if (!Finite(v) || !Finite(w)) return ErrorCode::kInvalidNumber;
   const bool point_exists = s_.frames.count(point) > 0;
-  if (point_exists && !body.empty() && s_.frames.at(point) != body) return ErrorCode::kFrameBodyMismatch;
+  if (point_exists && !body.empty() && s_.frames.at(point) != body)
+    return ErrorCode::kFrameBodyMismatch;
   if (!point_exists && body.empty()) return ErrorCode::kFrameWithoutBody;
   const std::string C = point_exists ? s_.frames.at(point) : body;
   if (C == ref_body) return ErrorCode::kTwistSameBody;
@@ -784,7 +831,9 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     if (t.tail_body != ref_body) return ErrorCode::kMultipleTwistParents;
     if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
     const auto same = [&](const TwistSample& x) { return SameTwist(x, v_e, w_e); };
-    if (const ErrorCode c = CheckStamp(t.stamped, t.samples, stamp, time_, same); c != ErrorCode::kOk) return c;
+    if (const ErrorCode c = CheckStamp(t.stamped, t.samples, stamp, time_, same);
+        c != ErrorCode::kOk)
+      return c;
     if (!stamp) {
       t.v = v_e;
       t.w = w_e;
@@ -918,7 +967,8 @@ Answer ReferenceModel::Ask(const Query& q) const {
   }
   const std::string own = q.kind == QueryKind::kOrientation || q.kind == QueryKind::kPose ? o : e;
   const std::string C = q.body.empty() ? s_.frames.at(own) : q.body;
-  const std::string D = q.ref_body.empty() ? s_.frames.at(q.kind == QueryKind::kPosition ? f : b) : q.ref_body;
+  const std::string D =
+      q.ref_body.empty() ? s_.frames.at(q.kind == QueryKind::kPosition ? f : b) : q.ref_body;
   if (!s_.bodies.count(C) || !s_.bodies.count(D)) return fail(ErrorCode::kUnknownBody);
   // frame_body_mismatch (pose kinds: every point / orientation frame is on its named body).
   if (!twist_kind) {
@@ -940,7 +990,8 @@ Answer ReferenceModel::Ask(const Query& q) const {
     if (q.kind == QueryKind::kPose && (e != o || f != b || r != b)) {
       return fail(ErrorCode::kRepresentationConstraint);
     }
-    if (q.kind == QueryKind::kOrientation && r != b) return fail(ErrorCode::kRepresentationConstraint);
+    if (q.kind == QueryKind::kOrientation && r != b)
+      return fail(ErrorCode::kRepresentationConstraint);
   }
   // Values, from the poses of the frames in [r] (X_RN: pose of n wrt r, in [r]).
   const auto X_R = [&](const std::string& n) {
@@ -949,7 +1000,8 @@ Answer ReferenceModel::Ask(const Query& q) const {
     return X;
   };
   if (!twist_kind) {
-    // Orientation operator of [o] wrt [b] in [r]: R_rb R_bo R_br = R_rb (R_br R_ro) R_br = R_ro R_br.
+    // Orientation operator of [o] wrt [b] in [r]: R_rb R_bo R_br = R_rb (R_br R_ro) R_br = R_ro
+    // R_br.
     if (!o.empty()) a.M = X_R(o).R * X_R(b).R.transpose();
     if (!e.empty()) a.p = X_R(e).p - X_R(f).p;
     return a;
@@ -973,7 +1025,8 @@ Answer ReferenceModel::Ask(const Query& q) const {
 
 // ============================================================ time (docs/time.md)
 
-bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon, const std::set<std::string>& used, State* at,
+bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon,
+                              const std::set<std::string>& used, State* at,
                               TimedAnswer* report) const {
   const auto read = [&](std::int64_t s) {
     report->oldest = report->oldest ? std::min(*report->oldest, s) : s;
@@ -1007,7 +1060,8 @@ bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon, const std::s
       continue;
     }
     const PoseSample& k = t < S.front().t ? S.front() : S.back();
-    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <= static_cast<double>(horizon))) {
+    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <=
+                             static_cast<double>(horizon))) {
       return false;
     }
     // Integrated with the edge's screw twist TwistCoord(h|H, T, [h]) at s_k from the twist edges.
@@ -1047,7 +1101,8 @@ bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon, const std::s
       continue;
     }
     const TwistSample& k = t < S.front().t ? S.front() : S.back();
-    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <= static_cast<double>(horizon))) {
+    if (!(horizon > 0 && std::abs(static_cast<double>(t) - static_cast<double>(k.t)) <=
+                             static_cast<double>(horizon))) {
       return false;
     }
     e.v = k.v, e.w = k.w;  // held
@@ -1078,7 +1133,8 @@ TimedAnswer ReferenceModel::AskAt(const Query& q, const TimeQuery& policy) const
     if (e.stamped && used.count(PoseKey(e.tail, e.head))) newest.push_back(e.samples.back().t);
   }
   for (const TwistEdge& e : s_.twists) {
-    if (e.stamped && used.count(TwistKey(e.tail_body, e.head))) newest.push_back(e.samples.back().t);
+    if (e.stamped && used.count(TwistKey(e.tail_body, e.head)))
+      newest.push_back(e.samples.back().t);
   }
   std::optional<std::int64_t> t;
   if (policy.kind == TimeQuery::Kind::kAt) t = policy.t;
@@ -1087,7 +1143,8 @@ TimedAnswer ReferenceModel::AskAt(const Query& q, const TimeQuery& policy) const
   }
   ReferenceModel at = *this;
   if (t) {
-    if (!ValuesAt(*t, policy.kind == TimeQuery::Kind::kAt ? policy.horizon : 0, used, &at.s_, &out)) {
+    if (!ValuesAt(*t, policy.kind == TimeQuery::Kind::kAt ? policy.horizon : 0, used, &at.s_,
+                  &out)) {
       out.answer = Answer{};
       out.answer.code = ErrorCode::kExtrapolation;
       return out;
@@ -1119,8 +1176,12 @@ std::set<std::string> ReferenceModel::UsedEdges(const Query& q) const {
     case QueryKind::kPose:
       terminals = {q.point, q.orientation, q.ref_point, q.ref_orientation, q.coord};
       break;
-    case QueryKind::kPosition: terminals = {q.point, q.ref_point, q.coord}; break;
-    case QueryKind::kOrientation: terminals = {q.orientation, q.ref_orientation, q.coord}; break;
+    case QueryKind::kPosition:
+      terminals = {q.point, q.ref_point, q.coord};
+      break;
+    case QueryKind::kOrientation:
+      terminals = {q.orientation, q.ref_orientation, q.coord};
+      break;
     default: {
       const std::string e = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
       terminals = {e, q.coord};

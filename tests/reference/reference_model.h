@@ -19,9 +19,9 @@
 //
 // How an add works (docs/rules.md §6: "every build operation either succeeds completely or
 // leaves the graph exactly as it was"): the argument checks run in the order of docs/rules.md §7;
-// then the operation is applied to a COPY of the state, and Violation() recomputes P1, P2, P3, W3 on the copy from scratch; the
-// first violated rule in the §4 order is the error, and the copy is dropped. Otherwise the copy
-// becomes the state.
+// then the operation is applied to a COPY of the state, and Violation() recomputes P1, P2, P3, W3
+// on the copy from scratch; the first violated rule in the §4 order is the error, and the copy is
+// dropped. Otherwise the copy becomes the state.
 //   P1 multiple_pose_parents  a frame is the head of at most one pose edge
 //   P2 pose_cycle             the undirected pose graph is a forest (self_edge checked earlier)
 //   P3 duplicate_pose_path    in every pose tree, the frames of one body are connected through
@@ -73,6 +73,8 @@
 // R <- (R + R^-T)/2, independent of the library's SVD). Values are stored as 3x3 matrices.
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -80,9 +82,6 @@
 #include <set>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "semgraph/base/error_code.h"
 
@@ -219,9 +218,10 @@ struct RepairOutcome {
   ErrorCode code = ErrorCode::kOk;         // kOk: accepted (as given or repaired)
   RepairKind applied = RepairKind::kNone;  // with code kOk
   std::size_t reversed_edges = 0;          // kRerooted
-  std::vector<std::string> reversed_keys;  // kRerooted: PoseKey of each reversed edge, old direction
-  bool has_discrepancy = false;            // a consistency check ran (kConsistent, or refused)
-  double position = 0, angle = 0;          // its discrepancy
+  std::vector<std::string>
+      reversed_keys;               // kRerooted: PoseKey of each reversed edge, old direction
+  bool has_discrepancy = false;    // a consistency check ran (kConsistent, or refused)
+  double position = 0, angle = 0;  // its discrepancy
   /// The discrepancy is within a rounding error of a tolerance: the check may go either way
   /// (both outcomes leave the graph unchanged).
   bool borderline = false;
@@ -287,13 +287,15 @@ class ReferenceModel {
   ///        twist parent. WHICH such frame is not specified (docs/repair.md says "a frame"):
   ///        `choose` picks one of the candidates (the differential passes the kernel's choice).
   ///   Anything else, or a strategy switched off, or a repair add refused: the plain error.
-  RepairOutcome AddPoseRepair(const std::string& head, const std::string& head_body, const std::string& tail,
-                              const std::string& tail_body, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+  RepairOutcome AddPoseRepair(const std::string& head, const std::string& head_body,
+                              const std::string& tail, const std::string& tail_body,
+                              const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
                               const RepairPolicy& policy);
-  RepairOutcome AddTwistRepair(const std::string& point, const std::string& body, const std::string& ref_body,
-                               const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                               const RepairPolicy& policy,
-                               const std::function<std::string(const std::vector<std::string>&)>& choose);
+  RepairOutcome AddTwistRepair(
+      const std::string& point, const std::string& body, const std::string& ref_body,
+      const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+      const RepairPolicy& policy,
+      const std::function<std::string(const std::vector<std::string>&)>& choose);
   ErrorCode RemovePose(const std::string& of, const std::string& wrt);
 
   /// Joints. AddJoint: invalid_name (name, parent, parent body, child, child body, mimic) ->
@@ -312,7 +314,8 @@ class ReferenceModel {
                       const std::vector<std::pair<std::string, double>>& velocities);
   /// A joint-state vector layout: each name's serial. unknown_joint -> mimic_joint ->
   /// duplicate_joint, per name in order.
-  ErrorCode MakeGroup(const std::vector<std::string>& names, std::vector<std::uint64_t>* serials) const;
+  ErrorCode MakeGroup(const std::vector<std::string>& names,
+                      std::vector<std::uint64_t>* serials) const;
   /// Sets a group (q and/or qdot may be null): invalid_number -> unknown_joint (a joint removed
   /// since the group was made) -> joint_limit.
   ErrorCode SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot);

@@ -4,14 +4,13 @@
 // single edges exactly and chains against Eigen's composition of the written values.
 #include "semgraph/ros/bag_loader.h"
 
+#include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
-
-#include <gtest/gtest.h>
 
 #include "semgraph/core/scene_graph_debug.h"
 
@@ -190,7 +189,8 @@ TEST(LoadBag, ACorruptBagIsAnErrorNamingTheFileAndChangesNothing) {
     std::ifstream in(bag.path, std::ios::binary);
     std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     // Cut at 90 %: the scan fails before the first transform is applied.
-    const std::string cut = ::testing::TempDir() + "/cut_" + std::filesystem::path(bag.path).filename().string();
+    const std::string cut =
+        ::testing::TempDir() + "/cut_" + std::filesystem::path(bag.path).filename().string();
     std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() * 9 / 10);
     Graph graph = LinearGraph();
     ASSERT_TRUE(graph.AddPose(PoseSpec::Of("x", "X").RelativeTo("odom", "odom"),

@@ -2,9 +2,9 @@
 // compositions, every finding of the ROS spec's §5 with the graph unchanged, robot models.
 #include "semgraph/ros/tf_lift.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/models/urdf.h"
@@ -18,8 +18,8 @@ using Graph = core::SceneGraph<>;
 
 constexpr std::int64_t kSec = 1'000'000'000;
 
-TransformStamped Tf(std::string parent, std::string child, std::int64_t stamp_ns,
-                    Vector3 p = {}, Quaternion q = {}) {
+TransformStamped Tf(std::string parent, std::string child, std::int64_t stamp_ns, Vector3 p = {},
+                    Quaternion q = {}) {
   TransformStamped t;
   t.header.frame_id = std::move(parent);
   t.header.stamp = Time{stamp_ns / kSec, static_cast<std::uint32_t>(stamp_ns % kSec)};

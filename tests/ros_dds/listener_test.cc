@@ -10,20 +10,19 @@
 
 #include <algorithm>
 #include <atomic>
-#include <optional>
-#include <thread>
 #include <cmath>
-#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "live_scene.h"
-#include "semgraph/ros_dds/broadcaster.h"
 #include "ros_child.h"
+#include "semgraph/ros_dds/broadcaster.h"
 
 namespace semgraph::ros_dds {
 namespace {
@@ -229,10 +228,12 @@ TEST(ListenerTest, BurstOfOneThousandTransformsInOneMessage) {
   ASSERT_TRUE(l.WaitUntil([&] { return l.stats().counts.transforms == kN; }, 20s));
   EXPECT_EQ(l.stats().counts.applied, static_cast<std::uint64_t>(kN));
   EXPECT_EQ(l.stats().tf, 1u);
-  ASSERT_TRUE(l.WaitUntil([&] {  // on_arrival runs after the graph has the message
-    std::lock_guard<std::mutex> lock(mutex);
-    return !arrivals.empty();
-  }, 5s));
+  ASSERT_TRUE(l.WaitUntil(
+      [&] {  // on_arrival runs after the graph has the message
+        std::lock_guard<std::mutex> lock(mutex);
+        return !arrivals.empty();
+      },
+      5s));
   {
     std::lock_guard<std::mutex> lock(mutex);
     ASSERT_EQ(arrivals.size(), 1u);
@@ -290,8 +291,8 @@ TEST(ListenerTest, CompiledQueriesRunWhileTheListenerAddsFrames) {
   });
   ASSERT_TRUE(node.Command("burst 1000 1733300001"));
   for (int i = 1; i <= 20; ++i) {
-    ASSERT_TRUE(node.Command("tf world base 1733300000 " + std::to_string(i * 1000) +
-                             " 1 2 " + std::to_string(3 + i) + " 0 0 0 1"));
+    ASSERT_TRUE(node.Command("tf world base 1733300000 " + std::to_string(i * 1000) + " 1 2 " +
+                             std::to_string(3 + i) + " 0 0 0 1"));
   }
   const bool all = l.WaitUntil([&] { return l.stats().counts.applied == 1021; }, 20s);
   stop.store(true);
@@ -359,8 +360,7 @@ class FindingsTest : public ::testing::Test {
     options.lift.bodies = {{"K7", {"k7a", "k7b"}}};
     options.on_finding = [this](const ros::FindingGroup& g, bool first) {
       std::lock_guard<std::mutex> lock(seen_.mutex);
-      seen_.events.emplace_back(std::string(g.code.name()) + " " + g.parent + " " + g.child,
-                                first);
+      seen_.events.emplace_back(std::string(g.code.name()) + " " + g.parent + " " + g.child, first);
     };
     auto l = Listener::Create(same_body_graph_, options);
     ASSERT_TRUE(l) << l.error();
@@ -519,8 +519,10 @@ TEST(ListenerTest, LatencyFromTheBroadcastersWriteToTheListenersGraph) {
   std::sort(latencies.begin(), latencies.end());
   const double median_us = latencies[kN / 2] / 1e3;
   const double p99_us = latencies[kN * 99 / 100] / 1e3;
-  std::printf("write -> graph latency over %d samples at 200 Hz: median %.1f us, p99 %.1f us, "
-              "max %.1f us\n", kN, median_us, p99_us, latencies.back() / 1e3);
+  std::printf(
+      "write -> graph latency over %d samples at 200 Hz: median %.1f us, p99 %.1f us, "
+      "max %.1f us\n",
+      kN, median_us, p99_us, latencies.back() / 1e3);
   RecordProperty("median_us", std::to_string(median_us));
   RecordProperty("p99_us", std::to_string(p99_us));
   EXPECT_GE(latencies.front(), 0);

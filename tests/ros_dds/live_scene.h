@@ -19,11 +19,11 @@
 namespace semgraph::ros_dds_test {
 
 inline constexpr std::int64_t kT0 = 1'733'300'000'000'000'000;  // ns
-inline constexpr std::int64_t kStep = 50'000'000;                 // 50 ms between samples
+inline constexpr std::int64_t kStep = 50'000'000;               // 50 ms between samples
 
 inline const std::vector<std::string>& SceneFrames() {
-  static const std::vector<std::string> frames = {"world", "table", "table_top", "base",
-                                                  "camera", "arm", "tool"};
+  static const std::vector<std::string> frames = {"world",  "table", "table_top", "base",
+                                                  "camera", "arm",   "tool"};
   return frames;
 }
 
@@ -37,19 +37,24 @@ inline bool BuildScene(core::SceneGraph<>& g) {
   bool ok = true;
   for (const char* b : {"world", "table", "base", "arm"}) ok &= g.AddBody(b).has_value();
   ok &= g.AddPose(PoseSpec::Of("table", "table").RelativeTo("world", "world"),
-                  AxisAngle(0.3, 0, 0, 1), Eigen::Vector3d(2.0, -1.0, 0.0)).has_value();
+                  AxisAngle(0.3, 0, 0, 1), Eigen::Vector3d(2.0, -1.0, 0.0))
+            .has_value();
   ok &= g.AddPose(PoseSpec::Of("table_top", "table").RelativeTo("table", "table"),
-                  AxisAngle(0.0, 0, 0, 1), Eigen::Vector3d(0.0, 0.0, 0.75)).has_value();
-  ok &= g.AddPose(PoseSpec::Of("base", "base").RelativeTo("world", "world"),
-                  AxisAngle(0.1, 0, 0, 1), Eigen::Vector3d(0.5, 0.25, 0.0),
-                  core::Stamp::Nanoseconds(kT0)).has_value();
+                  AxisAngle(0.0, 0, 0, 1), Eigen::Vector3d(0.0, 0.0, 0.75))
+            .has_value();
+  ok &=
+      g.AddPose(PoseSpec::Of("base", "base").RelativeTo("world", "world"), AxisAngle(0.1, 0, 0, 1),
+                Eigen::Vector3d(0.5, 0.25, 0.0), core::Stamp::Nanoseconds(kT0))
+          .has_value();
   ok &= g.AddPose(PoseSpec::Of("camera", "base").RelativeTo("base", "base"),
-                  AxisAngle(-1.2, 1, 2, 3), Eigen::Vector3d(0.1, 0.0, 0.4)).has_value();
-  ok &= g.AddPose(PoseSpec::Of("arm", "arm").RelativeTo("base", "base"),
-                  AxisAngle(0.2, 0, 1, 0), Eigen::Vector3d(0.0, 0.0, 0.3),
-                  core::Stamp::Nanoseconds(kT0)).has_value();
-  ok &= g.AddPose(PoseSpec::Of("tool", "arm").RelativeTo("arm", "arm"),
-                  AxisAngle(0.7, 1, 0, 0), Eigen::Vector3d(0.0, 0.0, 0.2)).has_value();
+                  AxisAngle(-1.2, 1, 2, 3), Eigen::Vector3d(0.1, 0.0, 0.4))
+            .has_value();
+  ok &= g.AddPose(PoseSpec::Of("arm", "arm").RelativeTo("base", "base"), AxisAngle(0.2, 0, 1, 0),
+                  Eigen::Vector3d(0.0, 0.0, 0.3), core::Stamp::Nanoseconds(kT0))
+            .has_value();
+  ok &= g.AddPose(PoseSpec::Of("tool", "arm").RelativeTo("arm", "arm"), AxisAngle(0.7, 1, 0, 0),
+                  Eigen::Vector3d(0.0, 0.0, 0.2))
+            .has_value();
   return ok;
 }
 
@@ -59,9 +64,11 @@ inline bool AddStep(core::SceneGraph<>& g, int k) {
   const core::Stamp at = core::Stamp::Nanoseconds(kT0 + k * kStep);
   const double s = 0.05 * k;
   bool ok = g.AddPose(PoseSpec::Of("base").RelativeTo("world"), AxisAngle(0.1 + s, 0, 0, 1),
-                      Eigen::Vector3d(0.5 + s, 0.25 - 0.5 * s, 0.0), at).has_value();
+                      Eigen::Vector3d(0.5 + s, 0.25 - 0.5 * s, 0.0), at)
+                .has_value();
   ok &= g.AddPose(PoseSpec::Of("arm").RelativeTo("base"), AxisAngle(0.2 + 2 * s, 0, 1, 0.2),
-                  Eigen::Vector3d(0.0, std::sin(s), 0.3), at).has_value();
+                  Eigen::Vector3d(0.0, std::sin(s), 0.3), at)
+            .has_value();
   return ok;
 }
 

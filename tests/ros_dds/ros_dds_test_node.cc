@@ -108,12 +108,12 @@ class Node {
   explicit Node(std::uint32_t domain) : domain_(domain) {
     raw_.participant = dds_create_participant(domain, nullptr, nullptr);
     raw_.tf = Writer(raw_.participant, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf", false, 100);
-    raw_.tf_static = Writer(raw_.participant, &tf2_msgs_msg_dds__TFMessage__desc,
-                            "rt/tf_static", true, 1);
+    raw_.tf_static =
+        Writer(raw_.participant, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", true, 1);
     raw_.joints = Writer(raw_.participant, &sensor_msgs_msg_dds__JointState__desc,
                          "rt/joint_states", false, 10);
-    raw_.description = Writer(raw_.participant, &std_msgs_msg_dds__String__desc,
-                              "rt/robot_description", true, 1);
+    raw_.description =
+        Writer(raw_.participant, &std_msgs_msg_dds__String__desc, "rt/robot_description", true, 1);
   }
   ~Node() { dds_delete(raw_.participant); }
 

@@ -262,12 +262,11 @@ TEST_F(DescribeMismatch, CombineNamesFirstAndSecond) {
 }
 
 TEST_F(DescribeMismatch, WritesAHandMadeMismatch) {
-  const Mismatch m{ErrorCode::kSemanticMismatch, Operation::kChangeRefPoint,
-                   MismatchSide{Operand::kArgument, RelationKind::kPosition, Field::kRefPoint,
-                                g.id(), E.id()},
-                   MismatchSide{Operand::kSubject, RelationKind::kTwist, Field::kRefBody, D.id(),
-                                NameId()},
-                   false};
+  const Mismatch m{
+      ErrorCode::kSemanticMismatch, Operation::kChangeRefPoint,
+      MismatchSide{Operand::kArgument, RelationKind::kPosition, Field::kRefPoint, g.id(), E.id()},
+      MismatchSide{Operand::kSubject, RelationKind::kTwist, Field::kRefBody, D.id(), NameId()},
+      false};
   EXPECT_EQ(Describe(m, names_),
             "change_ref_point: reference point g|E of the argument position does not match "
             "reference body D of the twist");

@@ -298,17 +298,17 @@ TEST(NameRule, ReportsTheFirstBadByte) {
 // ---------------------------------------------------------------- UTF-8
 
 TEST(NameRule, AcceptsValidUtf8OfEveryLength) {
-  ExpectAccepted("caf\xC3\xA9");                 // U+00E9, 2 bytes
-  ExpectAccepted("\xC2\xA1");                    // U+00A1, first printable after C1 and U+00A0
-  ExpectAccepted("\xDF\xBF");                    // U+07FF, largest 2-byte
-  ExpectAccepted("\xE0\xA0\x80");                // U+0800, smallest 3-byte
-  ExpectAccepted("\xE4\xB8\xAD\xE6\x96\x87");    // U+4E2D U+6587
-  ExpectAccepted("\xED\x9F\xBF");                // U+D7FF, just below the surrogates
-  ExpectAccepted("\xEE\x80\x80");                // U+E000, just above the surrogates
-  ExpectAccepted("\xEF\xBF\xBD");                // U+FFFD
-  ExpectAccepted("\xF0\x90\x80\x80");            // U+10000, smallest 4-byte
-  ExpectAccepted("robot_\xF0\x9F\xA4\x96");      // U+1F916
-  ExpectAccepted("\xF4\x8F\xBF\xBD");            // U+10FFFD, largest printable code point
+  ExpectAccepted("caf\xC3\xA9");                   // U+00E9, 2 bytes
+  ExpectAccepted("\xC2\xA1");                      // U+00A1, first printable after C1 and U+00A0
+  ExpectAccepted("\xDF\xBF");                      // U+07FF, largest 2-byte
+  ExpectAccepted("\xE0\xA0\x80");                  // U+0800, smallest 3-byte
+  ExpectAccepted("\xE4\xB8\xAD\xE6\x96\x87");      // U+4E2D U+6587
+  ExpectAccepted("\xED\x9F\xBF");                  // U+D7FF, just below the surrogates
+  ExpectAccepted("\xEE\x80\x80");                  // U+E000, just above the surrogates
+  ExpectAccepted("\xEF\xBF\xBD");                  // U+FFFD
+  ExpectAccepted("\xF0\x90\x80\x80");              // U+10000, smallest 4-byte
+  ExpectAccepted("robot_\xF0\x9F\xA4\x96");        // U+1F916
+  ExpectAccepted("\xF4\x8F\xBF\xBD");              // U+10FFFD, largest printable code point
   ExpectAccepted("\xCE\xB1|\xCE\xB2 [\xCE\xB3]");  // Greek letters mixed with ASCII
 }
 
@@ -324,8 +324,14 @@ TEST(NameRule, RejectsATruncatedSequence) {
 }
 
 TEST(NameRule, RejectsASequenceInterruptedByAsciiOrANewLeadByte) {
-  ExpectRejected("\xC3" "a", NameProblem::kNotUtf8, 0);
-  ExpectRejected("\xE4\xB8" "a", NameProblem::kNotUtf8, 0);
+  ExpectRejected(
+      "\xC3"
+      "a",
+      NameProblem::kNotUtf8, 0);
+  ExpectRejected(
+      "\xE4\xB8"
+      "a",
+      NameProblem::kNotUtf8, 0);
   ExpectRejected("\xE4\xC3\xA9", NameProblem::kNotUtf8, 0);
 }
 
@@ -351,9 +357,9 @@ TEST(NameRule, RejectsOverlongEncodings) {
 }
 
 TEST(NameRule, RejectsSurrogates) {
-  ExpectRejected("\xED\xA0\x80", NameProblem::kNotUtf8, 0);  // U+D800
+  ExpectRejected("\xED\xA0\x80", NameProblem::kNotUtf8, 0);   // U+D800
   ExpectRejected("a\xED\xB2\x80", NameProblem::kNotUtf8, 1);  // U+DC80
-  ExpectRejected("\xED\xBF\xBF", NameProblem::kNotUtf8, 0);  // U+DFFF
+  ExpectRejected("\xED\xBF\xBF", NameProblem::kNotUtf8, 0);   // U+DFFF
   // A CESU-8 style surrogate pair (U+1F916) is not UTF-8 either.
   ExpectRejected("\xED\xA0\xBE\xED\xB4\x96", NameProblem::kNotUtf8, 0);
 }
@@ -417,12 +423,12 @@ void ExpectRangeNotPrintable(char32_t first, char32_t last) {
 // Before: U+200B, U+FEFF, U+2028, U+FFFE and U+00A0 were accepted, so "x" and U+200B "x" were
 // two bodies that print alike.
 TEST(NameRule, RefusesInvisibleAndFormattingCharacters) {
-  ExpectNotPrintable(0x00AD);               // soft hyphen
-  ExpectRangeNotPrintable(0x200B, 0x200F);  // zero width space, (non-)joiner, LRM, RLM
-  ExpectRangeNotPrintable(0x202A, 0x202E);  // bidi embeddings and overrides
-  ExpectRangeNotPrintable(0x2060, 0x2064);  // word joiner, invisible operators
-  ExpectRangeNotPrintable(0x2066, 0x2069);  // bidi isolates
-  ExpectNotPrintable(0xFEFF);               // byte-order mark / zero width no-break space
+  ExpectNotPrintable(0x00AD);                 // soft hyphen
+  ExpectRangeNotPrintable(0x200B, 0x200F);    // zero width space, (non-)joiner, LRM, RLM
+  ExpectRangeNotPrintable(0x202A, 0x202E);    // bidi embeddings and overrides
+  ExpectRangeNotPrintable(0x2060, 0x2064);    // word joiner, invisible operators
+  ExpectRangeNotPrintable(0x2066, 0x2069);    // bidi isolates
+  ExpectNotPrintable(0xFEFF);                 // byte-order mark / zero width no-break space
   ExpectRangeNotPrintable(0xE0000, 0xE007F);  // tag characters (and the reserved E0000)
   // The rest of Unicode's format characters and default-ignorable code points.
   ExpectNotPrintable(0x034F);               // combining grapheme joiner
@@ -430,12 +436,12 @@ TEST(NameRule, RefusesInvisibleAndFormattingCharacters) {
   ExpectRangeNotPrintable(0x115F, 0x1160);  // Hangul fillers
   ExpectNotPrintable(0x3164);
   ExpectNotPrintable(0xFFA0);
-  ExpectRangeNotPrintable(0x180B, 0x180F);  // Mongolian variation selectors, vowel separator
-  ExpectRangeNotPrintable(0xFE00, 0xFE0F);  // variation selectors
-  ExpectRangeNotPrintable(0xFFF9, 0xFFFB);  // interlinear annotation
+  ExpectRangeNotPrintable(0x180B, 0x180F);    // Mongolian variation selectors, vowel separator
+  ExpectRangeNotPrintable(0xFE00, 0xFE0F);    // variation selectors
+  ExpectRangeNotPrintable(0xFFF9, 0xFFFB);    // interlinear annotation
   ExpectRangeNotPrintable(0x13430, 0x1343F);  // Egyptian hieroglyph format controls
   ExpectRangeNotPrintable(0x1D173, 0x1D17A);  // musical symbol format controls
-  ExpectNotPrintable(0xE0100);              // variation selector 17
+  ExpectNotPrintable(0xE0100);                // variation selector 17
   ExpectNotPrintable(0xE0FFF);
 }
 
@@ -455,22 +461,24 @@ TEST(NameRule, RefusesNoncharactersInEveryPlane) {
 
 TEST(NameRule, RefusesEverySpaceButTheAsciiOne) {
   ExpectAccepted("a b");
-  ExpectNotPrintable(0x00A0);  // no-break space
-  ExpectNotPrintable(0x1680);  // ogham space mark
+  ExpectNotPrintable(0x00A0);               // no-break space
+  ExpectNotPrintable(0x1680);               // ogham space mark
   ExpectRangeNotPrintable(0x2000, 0x200A);  // en quad .. hair space
-  ExpectNotPrintable(0x202F);  // narrow no-break space
-  ExpectNotPrintable(0x205F);  // medium mathematical space
-  ExpectNotPrintable(0x3000);  // ideographic space
+  ExpectNotPrintable(0x202F);               // narrow no-break space
+  ExpectNotPrintable(0x205F);               // medium mathematical space
+  ExpectNotPrintable(0x3000);               // ideographic space
 }
 
 TEST(NameRule, AcceptsVisibleNeighboursOfTheRefusedCharacters) {
-  for (char32_t cp : {0x00A1, 0x00AC, 0x00AE, 0x034E, 0x0350, 0x0600, 0x06DD, 0x070F, 0x08E2, 0x110BD,
-                      0x1680 - 1, 0x1681, 0x1FFF, 0x2010, 0x2027, 0x2025, 0x2030, 0x205E, 0x2070, 0x3001,
-                      0x3163, 0x3165, 0xFDCF, 0xFDF0, 0xFDFD, 0xFE10, 0xFEFE, 0xFF01, 0xFFFC, 0xFFFD, 0x1342F,
-                      0x13440, 0x1F600, 0xDFFFD, 0xE1000, 0xF0000, 0x10FFFD}) {
+  for (char32_t cp :
+       {0x00A1,     0x00AC,  0x00AE,  0x034E,  0x0350,  0x0600,  0x06DD,  0x070F, 0x08E2, 0x110BD,
+        0x1680 - 1, 0x1681,  0x1FFF,  0x2010,  0x2027,  0x2025,  0x2030,  0x205E, 0x2070, 0x3001,
+        0x3163,     0x3165,  0xFDCF,  0xFDF0,  0xFDFD,  0xFE10,  0xFEFE,  0xFF01, 0xFFFC, 0xFFFD,
+        0x1342F,    0x13440, 0x1F600, 0xDFFFD, 0xE1000, 0xF0000, 0x10FFFD}) {
     ExpectPrintable(cp);
   }
-  ExpectAccepted("\xE4\xB8\xAD\xE6\x96\x87 caf\xC3\xA9 \xCE\xB1\xCE\xB2");  // letters of every script
+  ExpectAccepted(
+      "\xE4\xB8\xAD\xE6\x96\x87 caf\xC3\xA9 \xCE\xB1\xCE\xB2");  // letters of every script
 }
 
 TEST(NameRule, EveryCodePointIsClassifiedOnce) {
@@ -481,13 +489,16 @@ TEST(NameRule, EveryCodePointIsClassifiedOnce) {
     if (cp >= 0xD800 && cp <= 0xDFFF) continue;  // surrogates are not UTF-8
     const auto r = ValidateName(Utf8(cp));
     if (!r) {
-      ASSERT_EQ(r.error().problem, NameProblem::kNotPrintable) << std::hex << static_cast<unsigned>(cp);
+      ASSERT_EQ(r.error().problem, NameProblem::kNotPrintable)
+          << std::hex << static_cast<unsigned>(cp);
       ++refused;
     }
   }
   // controls 65 (0x00-0x1F, 0x7F-0x9F) + separators 2 + noncharacters 32 + 34 + spaces 16 +
   // invisible: 1 + 1 + 1 + 2 + 2 + 5 + 5 + 5 + 16 + 1 + 16 + 1 + 1 + 12 + 16 + 4 + 8 + 4096.
-  EXPECT_EQ(refused, 65u + 2u + 66u + 16u + (1 + 1 + 1 + 2 + 2 + 5 + 5 + 5 + 16 + 1 + 16 + 1 + 1 + 12 + 16 + 4 + 8 + 4096));
+  EXPECT_EQ(refused,
+            65u + 2u + 66u + 16u +
+                (1 + 1 + 1 + 2 + 2 + 5 + 5 + 5 + 16 + 1 + 16 + 1 + 1 + 12 + 16 + 4 + 8 + 4096));
 }
 
 // ---------------------------------------------------------------- Messages
@@ -507,7 +518,11 @@ TEST(NameRule, DescribesEachProblem) {
             "byte 0 of the name is U+200B, an invisible or formatting character");
   EXPECT_EQ(Describe(ValidateName("a\xE2\x80\xA8").error(), "a\xE2\x80\xA8"),
             "byte 1 of the name is U+2028, a line or paragraph separator");
-  EXPECT_EQ(Describe(ValidateName("a\xC2\xA0" "b").error(), "a\xC2\xA0" "b"),
+  EXPECT_EQ(Describe(ValidateName("a\xC2\xA0"
+                                  "b")
+                         .error(),
+                     "a\xC2\xA0"
+                     "b"),
             "byte 1 of the name is U+00A0, a space other than U+0020");
   EXPECT_EQ(Describe(ValidateName("\xF4\x8F\xBF\xBF").error(), "\xF4\x8F\xBF\xBF"),
             "byte 0 of the name is U+10FFFF, a noncharacter");

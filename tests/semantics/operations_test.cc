@@ -122,9 +122,8 @@ class Semantics : public ::testing::Test {
       return ::testing::AssertionFailure() << "refused: " << Describe(result.error(), names_);
     }
     if (result->form != form) {
-      return ::testing::AssertionFailure()
-             << "form " << static_cast<int>(result->form) << ", expected "
-             << static_cast<int>(form);
+      return ::testing::AssertionFailure() << "form " << static_cast<int>(result->form)
+                                           << ", expected " << static_cast<int>(form);
     }
     return Is(result->result, expected);
   }
@@ -192,16 +191,18 @@ class RelationForms : public Semantics {};
 
 TEST_F(PositionInverse, SwapsPointAndReferenceKeepingTheCoordinateFrame) {
   const PositionSemantics p_DC{e, C, f, D, r};
-  EXPECT_TRUE(Is(Inverse(p_DC), PositionSemantics{
-                                    .point = f, .body = D, .ref_point = e, .ref_body = C,
-                                    .coordinate_frame = r}));
+  EXPECT_TRUE(Is(Inverse(p_DC),
+                 PositionSemantics{
+                     .point = f, .body = D, .ref_point = e, .ref_body = C, .coordinate_frame = r}));
 }
 
 TEST_F(PositionCompose, ChainsFirstRelativeToSecondInNaturalOrder) {
   const PositionSemantics p_DC{e, C, f, D, r};
   const PositionSemantics p_ED{f, D, g, E, r};
-  EXPECT_TRUE(Gives(Compose(p_DC, p_ED), PositionSemantics{.point = e, .body = C, .ref_point = g,
-                                                           .ref_body = E, .coordinate_frame = r}));
+  EXPECT_TRUE(
+      Gives(Compose(p_DC, p_ED),
+            PositionSemantics{
+                .point = e, .body = C, .ref_point = g, .ref_body = E, .coordinate_frame = r}));
 }
 
 TEST_F(PositionCompose, RefusesMatrixOrder) {
@@ -274,9 +275,10 @@ TEST_F(PositionCompose, ChecksRefPointBeforeCoordinateFrame) {
 TEST_F(PositionChangePoint, ReplacesThePointWithTheArgumentsPoint) {
   const PositionSemantics p_DC{e, C, f, D, r};
   const PositionSemantics p_ee2{e2, C, e, C, r};  // new point e2 wrt old point e, both on C
-  EXPECT_TRUE(Gives(ChangePoint(p_DC, p_ee2),
-                    PositionSemantics{.point = e2, .body = C, .ref_point = f, .ref_body = D,
-                                      .coordinate_frame = r}));
+  EXPECT_TRUE(
+      Gives(ChangePoint(p_DC, p_ee2),
+            PositionSemantics{
+                .point = e2, .body = C, .ref_point = f, .ref_body = D, .coordinate_frame = r}));
 }
 
 TEST_F(PositionChangePoint, RefusesAnArgumentNotRelativeToTheOldPoint) {
@@ -340,9 +342,10 @@ TEST_F(PositionChangePoint, ChecksBodyBeforeCoordinateFrame) {
 TEST_F(PositionChangeRefPoint, ReplacesTheRefPointWithTheArgumentsRefPoint) {
   const PositionSemantics p_DC{e, C, f, D, r};
   const PositionSemantics p_f2f{f, D, f2, D, r};  // old ref f wrt new ref f2, both on D
-  EXPECT_TRUE(Gives(ChangeRefPoint(p_DC, p_f2f),
-                    PositionSemantics{.point = e, .body = C, .ref_point = f2, .ref_body = D,
-                                      .coordinate_frame = r}));
+  EXPECT_TRUE(
+      Gives(ChangeRefPoint(p_DC, p_f2f),
+            PositionSemantics{
+                .point = e, .body = C, .ref_point = f2, .ref_body = D, .coordinate_frame = r}));
 }
 
 TEST_F(PositionChangeRefPoint, RefusesAnArgumentNotOfTheOldRefPoint) {
@@ -405,16 +408,20 @@ TEST_F(PositionChangeRefPoint, ChecksRefBodyBeforeCoordinateFrame) {
 
 TEST_F(OrientationInverse, SwapsFramesAndBodiesKeepingTheCoordinateFrame) {
   const OrientationSemantics R_DC_r{a, C, b, D, r};
-  EXPECT_TRUE(Is(Inverse(R_DC_r),
-                 OrientationSemantics{.orientation = b, .body = D, .ref_orientation = a,
-                                      .ref_body = C, .coordinate_frame = r}));
+  EXPECT_TRUE(Is(Inverse(R_DC_r), OrientationSemantics{.orientation = b,
+                                                       .body = D,
+                                                       .ref_orientation = a,
+                                                       .ref_body = C,
+                                                       .coordinate_frame = r}));
 }
 
 TEST_F(OrientationInverseInNewRef, ExpressesTheInverseInTheNewReferenceFrame) {
   const OrientationSemantics R_DC_b{a, C, b, D, b};
-  EXPECT_TRUE(Gives(InverseInNewRef(R_DC_b),
-                    OrientationSemantics{.orientation = b, .body = D, .ref_orientation = a,
-                                         .ref_body = C, .coordinate_frame = a}));
+  EXPECT_TRUE(Gives(InverseInNewRef(R_DC_b), OrientationSemantics{.orientation = b,
+                                                                  .body = D,
+                                                                  .ref_orientation = a,
+                                                                  .ref_body = C,
+                                                                  .coordinate_frame = a}));
 }
 
 TEST_F(OrientationInverseInNewRef, RefusesAnOrientationNotExpressedInItsReferenceFrame) {
@@ -438,19 +445,21 @@ TEST_F(OrientationInverseInNewRef, RefusesAnOrientationExpressedInItsOwnFrame) {
 TEST_F(OrientationCompose, UsesTheChainFormWhenEachIsInItsReferenceFrame) {
   const OrientationSemantics R_DC_b{a, C, b, D, b};  // R[b<-a]
   const OrientationSemantics R_ED_c{b, D, c, E, c};  // R[c<-b]
-  EXPECT_TRUE(Gives(Compose(R_DC_b, R_ED_c),
-                    OrientationSemantics{.orientation = a, .body = C, .ref_orientation = c,
-                                         .ref_body = E, .coordinate_frame = c},
-                    kChain));
+  EXPECT_TRUE(Gives(
+      Compose(R_DC_b, R_ED_c),
+      OrientationSemantics{
+          .orientation = a, .body = C, .ref_orientation = c, .ref_body = E, .coordinate_frame = c},
+      kChain));
 }
 
 TEST_F(OrientationCompose, UsesTheSameFrameFormWhenBothShareACoordinateFrame) {
   const OrientationSemantics R_DC_r{a, C, b, D, r};
   const OrientationSemantics R_ED_r{b, D, c, E, r};
-  EXPECT_TRUE(Gives(Compose(R_DC_r, R_ED_r),
-                    OrientationSemantics{.orientation = a, .body = C, .ref_orientation = c,
-                                         .ref_body = E, .coordinate_frame = r},
-                    kSameFrame));
+  EXPECT_TRUE(Gives(
+      Compose(R_DC_r, R_ED_r),
+      OrientationSemantics{
+          .orientation = a, .body = C, .ref_orientation = c, .ref_body = E, .coordinate_frame = r},
+      kSameFrame));
 }
 
 TEST_F(OrientationCompose, UsesTheSameFrameFormWhenOnlyTheFirstIsInItsReferenceFrame) {
@@ -541,19 +550,21 @@ TEST_F(OrientationCompose, ChecksRefOrientationBeforeCoordinateForm) {
 TEST_F(OrientationChangeOrientationFrame, UsesTheChainForm) {
   const OrientationSemantics R_DC_b{a, C, b, D, b};    // R[b<-a]
   const OrientationSemantics R_aa2_a{a2, C, a, C, a};  // R[a<-a2]
-  EXPECT_TRUE(Gives(ChangeOrientationFrame(R_DC_b, R_aa2_a),
-                    OrientationSemantics{.orientation = a2, .body = C, .ref_orientation = b,
-                                         .ref_body = D, .coordinate_frame = b},
-                    kChain));
+  EXPECT_TRUE(Gives(
+      ChangeOrientationFrame(R_DC_b, R_aa2_a),
+      OrientationSemantics{
+          .orientation = a2, .body = C, .ref_orientation = b, .ref_body = D, .coordinate_frame = b},
+      kChain));
 }
 
 TEST_F(OrientationChangeOrientationFrame, UsesTheSameFrameForm) {
   const OrientationSemantics R_DC_r{a, C, b, D, r};
   const OrientationSemantics R_aa2_r{a2, C, a, C, r};
-  EXPECT_TRUE(Gives(ChangeOrientationFrame(R_DC_r, R_aa2_r),
-                    OrientationSemantics{.orientation = a2, .body = C, .ref_orientation = b,
-                                         .ref_body = D, .coordinate_frame = r},
-                    kSameFrame));
+  EXPECT_TRUE(Gives(
+      ChangeOrientationFrame(R_DC_r, R_aa2_r),
+      OrientationSemantics{
+          .orientation = a2, .body = C, .ref_orientation = b, .ref_body = D, .coordinate_frame = r},
+      kSameFrame));
 }
 
 TEST_F(OrientationChangeOrientationFrame, RefusesAnArgumentNotRelativeToTheOldFrame) {
@@ -616,21 +627,25 @@ TEST_F(OrientationChangeOrientationFrame, ChecksBodyBeforeCoordinateForm) {
 // --------------------------------------------------- Orientation ChangeRefOrientationFrame
 
 TEST_F(OrientationChangeRefOrientationFrame, UsesTheChainFormAndMovesTheCoordinateFrame) {
-  const OrientationSemantics R_DC_b{a, C, b, D, b};     // R[b<-a]
+  const OrientationSemantics R_DC_b{a, C, b, D, b};      // R[b<-a]
   const OrientationSemantics R_b2b_b2{b, D, b2, D, b2};  // R[b2<-b]
   EXPECT_TRUE(Gives(ChangeRefOrientationFrame(R_DC_b, R_b2b_b2),
-                    OrientationSemantics{.orientation = a, .body = C, .ref_orientation = b2,
-                                         .ref_body = D, .coordinate_frame = b2},
+                    OrientationSemantics{.orientation = a,
+                                         .body = C,
+                                         .ref_orientation = b2,
+                                         .ref_body = D,
+                                         .coordinate_frame = b2},
                     kChain));
 }
 
 TEST_F(OrientationChangeRefOrientationFrame, UsesTheSameFrameForm) {
   const OrientationSemantics R_DC_r{a, C, b, D, r};
   const OrientationSemantics R_b2b_r{b, D, b2, D, r};
-  EXPECT_TRUE(Gives(ChangeRefOrientationFrame(R_DC_r, R_b2b_r),
-                    OrientationSemantics{.orientation = a, .body = C, .ref_orientation = b2,
-                                         .ref_body = D, .coordinate_frame = r},
-                    kSameFrame));
+  EXPECT_TRUE(Gives(
+      ChangeRefOrientationFrame(R_DC_r, R_b2b_r),
+      OrientationSemantics{
+          .orientation = a, .body = C, .ref_orientation = b2, .ref_body = D, .coordinate_frame = r},
+      kSameFrame));
 }
 
 TEST_F(OrientationChangeRefOrientationFrame, RefusesAnArgumentNotOfTheOldRefFrame) {
@@ -646,18 +661,16 @@ TEST_F(OrientationChangeRefOrientationFrame, RefusesAnArgumentWhoseBodyIsNotTheR
   const OrientationSemantics R_DC_b{a, C, b, D, b};
   const OrientationSemantics R_b2b{b, F, b2, D, b2};
   EXPECT_TRUE(Refused(ChangeRefOrientationFrame(R_DC_b, R_b2b),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kBody, F),
+                      Operation::kChangeRefOrientationFrame, Side(kArgument, kOri, Field::kBody, F),
                       Side(kSubject, kOri, Field::kRefBody, D)));
 }
 
 TEST_F(OrientationChangeRefOrientationFrame, RefusesAnArgumentWhoseRefBodyIsNotTheRefBody) {
   const OrientationSemantics R_DC_b{a, C, b, D, b};
   const OrientationSemantics R_b2b{b, D, b2, F, b2};
-  EXPECT_TRUE(Refused(ChangeRefOrientationFrame(R_DC_b, R_b2b),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kRefBody, F),
-                      Side(kSubject, kOri, Field::kRefBody, D)));
+  EXPECT_TRUE(
+      Refused(ChangeRefOrientationFrame(R_DC_b, R_b2b), Operation::kChangeRefOrientationFrame,
+              Side(kArgument, kOri, Field::kRefBody, F), Side(kSubject, kOri, Field::kRefBody, D)));
 }
 
 TEST_F(OrientationChangeRefOrientationFrame, RefusesOperandsInNeitherCoordinateForm) {
@@ -683,34 +696,40 @@ TEST_F(OrientationChangeRefOrientationFrame, ChecksBodyBeforeRefBody) {
   const OrientationSemantics R_DC_b{a, C, b, D, b};
   const OrientationSemantics R_b2b{b, F, b2, E, b2};
   EXPECT_TRUE(Refused(ChangeRefOrientationFrame(R_DC_b, R_b2b),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kBody, F),
+                      Operation::kChangeRefOrientationFrame, Side(kArgument, kOri, Field::kBody, F),
                       Side(kSubject, kOri, Field::kRefBody, D)));
 }
 
 TEST_F(OrientationChangeRefOrientationFrame, ChecksRefBodyBeforeCoordinateForm) {
   const OrientationSemantics R_DC_b{a, C, b, D, b};
   const OrientationSemantics R_b2b_s{b, D, b2, F, s};
-  EXPECT_TRUE(Refused(ChangeRefOrientationFrame(R_DC_b, R_b2b_s),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kRefBody, F),
-                      Side(kSubject, kOri, Field::kRefBody, D)));
+  EXPECT_TRUE(
+      Refused(ChangeRefOrientationFrame(R_DC_b, R_b2b_s), Operation::kChangeRefOrientationFrame,
+              Side(kArgument, kOri, Field::kRefBody, F), Side(kSubject, kOri, Field::kRefBody, D)));
 }
 
 // ================================================================ Pose
 
 TEST_F(PoseInverse, SwapsBothSidesKeepingTheCoordinateFrame) {
   const PoseSemantics X_DC_r{e, a, C, f, b, D, r};
-  EXPECT_TRUE(Is(Inverse(X_DC_r),
-                 PoseSemantics{.point = f, .orientation = b, .body = D, .ref_point = e,
-                               .ref_orientation = a, .ref_body = C, .coordinate_frame = r}));
+  EXPECT_TRUE(Is(Inverse(X_DC_r), PoseSemantics{.point = f,
+                                                .orientation = b,
+                                                .body = D,
+                                                .ref_point = e,
+                                                .ref_orientation = a,
+                                                .ref_body = C,
+                                                .coordinate_frame = r}));
 }
 
 TEST_F(PoseInverseInNewRef, ExpressesTheInverseInTheNewReferenceFrame) {
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
-  EXPECT_TRUE(Gives(InverseInNewRef(X_DC_b),
-                    PoseSemantics{.point = f, .orientation = b, .body = D, .ref_point = e,
-                                  .ref_orientation = a, .ref_body = C, .coordinate_frame = a}));
+  EXPECT_TRUE(Gives(InverseInNewRef(X_DC_b), PoseSemantics{.point = f,
+                                                           .orientation = b,
+                                                           .body = D,
+                                                           .ref_point = e,
+                                                           .ref_orientation = a,
+                                                           .ref_body = C,
+                                                           .coordinate_frame = a}));
 }
 
 TEST_F(PoseInverseInNewRef, InvertsAnEdgeIntoAnEdge) {
@@ -732,8 +751,13 @@ TEST_F(PoseCompose, UsesTheChainFormWhenEachIsInItsReferenceFrame) {
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const PoseSemantics X_ED_c{f, b, D, g, c, E, c};
   EXPECT_TRUE(Gives(Compose(X_DC_b, X_ED_c),
-                    PoseSemantics{.point = e, .orientation = a, .body = C, .ref_point = g,
-                                  .ref_orientation = c, .ref_body = E, .coordinate_frame = c},
+                    PoseSemantics{.point = e,
+                                  .orientation = a,
+                                  .body = C,
+                                  .ref_point = g,
+                                  .ref_orientation = c,
+                                  .ref_body = E,
+                                  .coordinate_frame = c},
                     kChain));
 }
 
@@ -741,8 +765,13 @@ TEST_F(PoseCompose, UsesTheSameFrameFormWhenBothShareACoordinateFrame) {
   const PoseSemantics X_DC_r{e, a, C, f, b, D, r};
   const PoseSemantics X_ED_r{f, b, D, g, c, E, r};
   EXPECT_TRUE(Gives(Compose(X_DC_r, X_ED_r),
-                    PoseSemantics{.point = e, .orientation = a, .body = C, .ref_point = g,
-                                  .ref_orientation = c, .ref_body = E, .coordinate_frame = r},
+                    PoseSemantics{.point = e,
+                                  .orientation = a,
+                                  .body = C,
+                                  .ref_point = g,
+                                  .ref_orientation = c,
+                                  .ref_body = E,
+                                  .coordinate_frame = r},
                     kSameFrame));
 }
 
@@ -756,8 +785,8 @@ TEST_F(PoseCompose, ComposesEdgesInNaturalOrder) {
   // X_EC = Compose(X_DC, X_ED); in matrix notation X_EC = X_ED * X_DC.
   const PoseSemantics X_DC = PoseSemantics::OfFrame(FrameOf(a), C, FrameOf(b), D, b);
   const PoseSemantics X_ED = PoseSemantics::OfFrame(FrameOf(b), D, FrameOf(c), E, c);
-  EXPECT_TRUE(Gives(Compose(X_DC, X_ED), PoseSemantics::OfFrame(FrameOf(a), C, FrameOf(c), E, c),
-                    kChain));
+  EXPECT_TRUE(
+      Gives(Compose(X_DC, X_ED), PoseSemantics::OfFrame(FrameOf(a), C, FrameOf(c), E, c), kChain));
 }
 
 TEST_F(PoseCompose, RefusesMatrixOrder) {
@@ -838,9 +867,13 @@ TEST_F(PoseCompose, ReportsTheRefPointWhenEverythingFails) {
 TEST_F(PoseChangePoint, ReplacesThePointAndKeepsTheOrientation) {
   const PoseSemantics X_DC{e, a, C, f, b, D, r};
   const PositionSemantics p_ee2{e2, C, e, C, r};
-  EXPECT_TRUE(Gives(ChangePoint(X_DC, p_ee2),
-                    PoseSemantics{.point = e2, .orientation = a, .body = C, .ref_point = f,
-                                  .ref_orientation = b, .ref_body = D, .coordinate_frame = r}));
+  EXPECT_TRUE(Gives(ChangePoint(X_DC, p_ee2), PoseSemantics{.point = e2,
+                                                            .orientation = a,
+                                                            .body = C,
+                                                            .ref_point = f,
+                                                            .ref_orientation = b,
+                                                            .ref_body = D,
+                                                            .coordinate_frame = r}));
 }
 
 TEST_F(PoseChangePoint, RefusesAnArgumentNotRelativeToTheOldPoint) {
@@ -904,9 +937,13 @@ TEST_F(PoseChangePoint, ChecksBodyBeforeCoordinateFrame) {
 TEST_F(PoseChangeRefPoint, ReplacesTheRefPointAndKeepsTheOrientation) {
   const PoseSemantics X_DC{e, a, C, f, b, D, r};
   const PositionSemantics p_f2f{f, D, f2, D, r};
-  EXPECT_TRUE(Gives(ChangeRefPoint(X_DC, p_f2f),
-                    PoseSemantics{.point = e, .orientation = a, .body = C, .ref_point = f2,
-                                  .ref_orientation = b, .ref_body = D, .coordinate_frame = r}));
+  EXPECT_TRUE(Gives(ChangeRefPoint(X_DC, p_f2f), PoseSemantics{.point = e,
+                                                               .orientation = a,
+                                                               .body = C,
+                                                               .ref_point = f2,
+                                                               .ref_orientation = b,
+                                                               .ref_body = D,
+                                                               .coordinate_frame = r}));
 }
 
 TEST_F(PoseChangeRefPoint, RefusesAnArgumentNotOfTheOldRefPoint) {
@@ -971,8 +1008,13 @@ TEST_F(PoseChangeOrientationFrame, UsesTheChainFormAndKeepsThePosition) {
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const OrientationSemantics R_aa2_a{a2, C, a, C, a};
   EXPECT_TRUE(Gives(ChangeOrientationFrame(X_DC_b, R_aa2_a),
-                    PoseSemantics{.point = e, .orientation = a2, .body = C, .ref_point = f,
-                                  .ref_orientation = b, .ref_body = D, .coordinate_frame = b},
+                    PoseSemantics{.point = e,
+                                  .orientation = a2,
+                                  .body = C,
+                                  .ref_point = f,
+                                  .ref_orientation = b,
+                                  .ref_body = D,
+                                  .coordinate_frame = b},
                     kChain));
 }
 
@@ -980,8 +1022,13 @@ TEST_F(PoseChangeOrientationFrame, UsesTheSameFrameForm) {
   const PoseSemantics X_DC_r{e, a, C, f, b, D, r};
   const OrientationSemantics R_aa2_r{a2, C, a, C, r};
   EXPECT_TRUE(Gives(ChangeOrientationFrame(X_DC_r, R_aa2_r),
-                    PoseSemantics{.point = e, .orientation = a2, .body = C, .ref_point = f,
-                                  .ref_orientation = b, .ref_body = D, .coordinate_frame = r},
+                    PoseSemantics{.point = e,
+                                  .orientation = a2,
+                                  .body = C,
+                                  .ref_point = f,
+                                  .ref_orientation = b,
+                                  .ref_body = D,
+                                  .coordinate_frame = r},
                     kSameFrame));
 }
 
@@ -1048,8 +1095,13 @@ TEST_F(PoseChangeRefOrientationFrame, UsesTheChainFormAndReexpressesInTheNewRefF
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const OrientationSemantics R_b2b_b2{b, D, b2, D, b2};
   EXPECT_TRUE(Gives(ChangeRefOrientationFrame(X_DC_b, R_b2b_b2),
-                    PoseSemantics{.point = e, .orientation = a, .body = C, .ref_point = f,
-                                  .ref_orientation = b2, .ref_body = D, .coordinate_frame = b2},
+                    PoseSemantics{.point = e,
+                                  .orientation = a,
+                                  .body = C,
+                                  .ref_point = f,
+                                  .ref_orientation = b2,
+                                  .ref_body = D,
+                                  .coordinate_frame = b2},
                     kChain));
 }
 
@@ -1057,8 +1109,13 @@ TEST_F(PoseChangeRefOrientationFrame, UsesTheSameFrameFormAndKeepsTheCoordinateF
   const PoseSemantics X_DC_r{e, a, C, f, b, D, r};
   const OrientationSemantics R_b2b_r{b, D, b2, D, r};
   EXPECT_TRUE(Gives(ChangeRefOrientationFrame(X_DC_r, R_b2b_r),
-                    PoseSemantics{.point = e, .orientation = a, .body = C, .ref_point = f,
-                                  .ref_orientation = b2, .ref_body = D, .coordinate_frame = r},
+                    PoseSemantics{.point = e,
+                                  .orientation = a,
+                                  .body = C,
+                                  .ref_point = f,
+                                  .ref_orientation = b2,
+                                  .ref_body = D,
+                                  .coordinate_frame = r},
                     kSameFrame));
 }
 
@@ -1075,18 +1132,16 @@ TEST_F(PoseChangeRefOrientationFrame, RefusesAnArgumentWhoseBodyIsNotTheRefBody)
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const OrientationSemantics R_b2b{b, F, b2, D, b2};
   EXPECT_TRUE(Refused(ChangeRefOrientationFrame(X_DC_b, R_b2b),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kBody, F),
+                      Operation::kChangeRefOrientationFrame, Side(kArgument, kOri, Field::kBody, F),
                       Side(kSubject, kPose, Field::kRefBody, D)));
 }
 
 TEST_F(PoseChangeRefOrientationFrame, RefusesAnArgumentWhoseRefBodyIsNotTheRefBody) {
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const OrientationSemantics R_b2b{b, D, b2, F, b2};
-  EXPECT_TRUE(Refused(ChangeRefOrientationFrame(X_DC_b, R_b2b),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kRefBody, F),
-                      Side(kSubject, kPose, Field::kRefBody, D)));
+  EXPECT_TRUE(Refused(
+      ChangeRefOrientationFrame(X_DC_b, R_b2b), Operation::kChangeRefOrientationFrame,
+      Side(kArgument, kOri, Field::kRefBody, F), Side(kSubject, kPose, Field::kRefBody, D)));
 }
 
 TEST_F(PoseChangeRefOrientationFrame, RefusesOperandsInNeitherCoordinateForm) {
@@ -1112,41 +1167,46 @@ TEST_F(PoseChangeRefOrientationFrame, ChecksBodyBeforeRefBody) {
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const OrientationSemantics R_b2b{b, F, b2, E, b2};
   EXPECT_TRUE(Refused(ChangeRefOrientationFrame(X_DC_b, R_b2b),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kBody, F),
+                      Operation::kChangeRefOrientationFrame, Side(kArgument, kOri, Field::kBody, F),
                       Side(kSubject, kPose, Field::kRefBody, D)));
 }
 
 TEST_F(PoseChangeRefOrientationFrame, ChecksRefBodyBeforeCoordinateForm) {
   const PoseSemantics X_DC_b{e, a, C, f, b, D, b};
   const OrientationSemantics R_b2b_s{b, D, b2, F, s};
-  EXPECT_TRUE(Refused(ChangeRefOrientationFrame(X_DC_b, R_b2b_s),
-                      Operation::kChangeRefOrientationFrame,
-                      Side(kArgument, kOri, Field::kRefBody, F),
-                      Side(kSubject, kPose, Field::kRefBody, D)));
+  EXPECT_TRUE(Refused(
+      ChangeRefOrientationFrame(X_DC_b, R_b2b_s), Operation::kChangeRefOrientationFrame,
+      Side(kArgument, kOri, Field::kRefBody, F), Side(kSubject, kPose, Field::kRefBody, D)));
 }
 
 // ---------------------------------------------------------------- Pose parts and Combine
 
 TEST_F(PoseParts, PositionOfKeepsPointsBodiesAndCoordinateFrame) {
   const PoseSemantics X_DC{e, a, C, f, b, D, r};
-  EXPECT_TRUE(Is(PositionOf(X_DC), PositionSemantics{.point = e, .body = C, .ref_point = f,
-                                                     .ref_body = D, .coordinate_frame = r}));
+  EXPECT_TRUE(Is(PositionOf(X_DC),
+                 PositionSemantics{
+                     .point = e, .body = C, .ref_point = f, .ref_body = D, .coordinate_frame = r}));
 }
 
 TEST_F(PoseParts, OrientationOfKeepsFramesBodiesAndCoordinateFrame) {
   const PoseSemantics X_DC{e, a, C, f, b, D, r};
-  EXPECT_TRUE(Is(OrientationOf(X_DC),
-                 OrientationSemantics{.orientation = a, .body = C, .ref_orientation = b,
-                                      .ref_body = D, .coordinate_frame = r}));
+  EXPECT_TRUE(Is(OrientationOf(X_DC), OrientationSemantics{.orientation = a,
+                                                           .body = C,
+                                                           .ref_orientation = b,
+                                                           .ref_body = D,
+                                                           .coordinate_frame = r}));
 }
 
 TEST_F(PoseCombine, JoinsAPositionAndAnOrientation) {
   const PositionSemantics p_DC{e, C, f, D, r};
   const OrientationSemantics R_DC{a, C, b, D, r};
-  EXPECT_TRUE(Gives(Combine(p_DC, R_DC),
-                    PoseSemantics{.point = e, .orientation = a, .body = C, .ref_point = f,
-                                  .ref_orientation = b, .ref_body = D, .coordinate_frame = r}));
+  EXPECT_TRUE(Gives(Combine(p_DC, R_DC), PoseSemantics{.point = e,
+                                                       .orientation = a,
+                                                       .body = C,
+                                                       .ref_point = f,
+                                                       .ref_orientation = b,
+                                                       .ref_body = D,
+                                                       .coordinate_frame = r}));
 }
 
 TEST_F(PoseCombine, UndoesTakingTheParts) {
@@ -1196,16 +1256,16 @@ TEST_F(PoseCombine, ChecksRefBodyBeforeCoordinateFrame) {
 
 TEST_F(LinearVelocityInverse, KeepsThePointAndSwapsTheBodies) {
   const LinearVelocitySemantics v_DCe{e, C, D, r};
-  EXPECT_TRUE(Is(Inverse(v_DCe), LinearVelocitySemantics{.point = e, .body = D, .ref_body = C,
-                                                         .coordinate_frame = r}));
+  EXPECT_TRUE(Is(Inverse(v_DCe), LinearVelocitySemantics{
+                                     .point = e, .body = D, .ref_body = C, .coordinate_frame = r}));
 }
 
 TEST_F(LinearVelocityCompose, ChainsBodiesAtOnePoint) {
   const LinearVelocitySemantics v_DCe{e, C, D, r};
   const LinearVelocitySemantics v_EDe{e, D, E, r};  // e|D: the point of D at e
-  EXPECT_TRUE(Gives(Compose(v_DCe, v_EDe), LinearVelocitySemantics{.point = e, .body = C,
-                                                                   .ref_body = E,
-                                                                   .coordinate_frame = r}));
+  EXPECT_TRUE(
+      Gives(Compose(v_DCe, v_EDe),
+            LinearVelocitySemantics{.point = e, .body = C, .ref_body = E, .coordinate_frame = r}));
 }
 
 TEST_F(LinearVelocityCompose, RefusesDifferentPoints) {
@@ -1252,8 +1312,8 @@ TEST_F(LinearVelocityCompose, ChecksRefBodyBeforeCoordinateFrame) {
 
 TEST_F(AngularVelocityInverse, SwapsTheBodies) {
   const AngularVelocitySemantics w_DC{C, D, r};
-  EXPECT_TRUE(Is(Inverse(w_DC),
-                 AngularVelocitySemantics{.body = D, .ref_body = C, .coordinate_frame = r}));
+  EXPECT_TRUE(
+      Is(Inverse(w_DC), AngularVelocitySemantics{.body = D, .ref_body = C, .coordinate_frame = r}));
 }
 
 TEST_F(AngularVelocityCompose, ChainsBodies) {
@@ -1347,9 +1407,8 @@ TEST_F(TwistCompose, ChecksRefBodyBeforeCoordinateFrame) {
 TEST_F(TwistChangePoint, MovesTheReferencePointToTheArgumentsRefPoint) {
   const TwistSemantics V_DCe{e, C, D, r};
   const PositionSemantics p_e2e{e, C, e2, C, r};  // old point e wrt new point e2
-  EXPECT_TRUE(Gives(ChangePoint(V_DCe, p_e2e), TwistSemantics{.point = e2, .body = C,
-                                                              .ref_body = D,
-                                                              .coordinate_frame = r}));
+  EXPECT_TRUE(Gives(ChangePoint(V_DCe, p_e2e),
+                    TwistSemantics{.point = e2, .body = C, .ref_body = D, .coordinate_frame = r}));
 }
 
 TEST_F(TwistChangePoint, DoesNotCheckTheBodiesOfThePosition) {
@@ -1357,8 +1416,8 @@ TEST_F(TwistChangePoint, DoesNotCheckTheBodiesOfThePosition) {
   // to; the result's point g is read as the point of C coinciding with g.
   const TwistSemantics V_DCe{e, C, D, r};
   const PositionSemantics p_ge{e, E, g, F, r};
-  EXPECT_TRUE(Gives(ChangePoint(V_DCe, p_ge), TwistSemantics{.point = g, .body = C, .ref_body = D,
-                                                             .coordinate_frame = r}));
+  EXPECT_TRUE(Gives(ChangePoint(V_DCe, p_ge),
+                    TwistSemantics{.point = g, .body = C, .ref_body = D, .coordinate_frame = r}));
 }
 
 TEST_F(TwistChangePoint, RefusesAnArgumentNotOfTheOldPoint) {
@@ -1393,9 +1452,10 @@ TEST_F(TwistScrewTransform, MovesAScrewTwistAlongAnEdge) {
   // {b}|C, [b]) gives TwistCoord(b|C, D, [b]).
   const TwistSemantics V_DCa_a{FrameOf(a).origin(), C, D, a};
   const PoseSemantics X_ba = PoseSemantics::OfFrame(FrameOf(a), C, FrameOf(b), C, b);
-  EXPECT_TRUE(Gives(ScrewTransform(V_DCa_a, X_ba),
-                    TwistSemantics{.point = FrameOf(b).origin(), .body = C, .ref_body = D,
-                                   .coordinate_frame = b}));
+  EXPECT_TRUE(
+      Gives(ScrewTransform(V_DCa_a, X_ba),
+            TwistSemantics{
+                .point = FrameOf(b).origin(), .body = C, .ref_body = D, .coordinate_frame = b}));
 }
 
 TEST_F(TwistScrewTransform, AcceptsAnyPoseExpressedInItsReferenceFrame) {
@@ -1456,8 +1516,9 @@ TEST_F(TwistScrewTransform, ChecksOrientationBeforeThePosesCoordinateFrame) {
 
 TEST_F(TwistParts, LinearOfKeepsPointBodiesAndCoordinateFrame) {
   const TwistSemantics V_DCe{e, C, D, r};
-  EXPECT_TRUE(Is(LinearOf(V_DCe), LinearVelocitySemantics{.point = e, .body = C, .ref_body = D,
-                                                          .coordinate_frame = r}));
+  EXPECT_TRUE(
+      Is(LinearOf(V_DCe),
+         LinearVelocitySemantics{.point = e, .body = C, .ref_body = D, .coordinate_frame = r}));
 }
 
 TEST_F(TwistParts, AngularOfKeepsBodiesAndCoordinateFrame) {
@@ -1525,18 +1586,24 @@ class EveryRelation : public Semantics {};
 struct RelationName {
   template <class S>
   static std::string GetName(int) {
-    if constexpr (std::is_same_v<S, PositionSemantics>) return "Position";
-    else if constexpr (std::is_same_v<S, OrientationSemantics>) return "Orientation";
-    else if constexpr (std::is_same_v<S, PoseSemantics>) return "Pose";
-    else if constexpr (std::is_same_v<S, LinearVelocitySemantics>) return "LinearVelocity";
-    else if constexpr (std::is_same_v<S, AngularVelocitySemantics>) return "AngularVelocity";
-    else return "Twist";
+    if constexpr (std::is_same_v<S, PositionSemantics>)
+      return "Position";
+    else if constexpr (std::is_same_v<S, OrientationSemantics>)
+      return "Orientation";
+    else if constexpr (std::is_same_v<S, PoseSemantics>)
+      return "Pose";
+    else if constexpr (std::is_same_v<S, LinearVelocitySemantics>)
+      return "LinearVelocity";
+    else if constexpr (std::is_same_v<S, AngularVelocitySemantics>)
+      return "AngularVelocity";
+    else
+      return "Twist";
   }
 };
 
-using AllRelations = ::testing::Types<PositionSemantics, OrientationSemantics, PoseSemantics,
-                                      LinearVelocitySemantics, AngularVelocitySemantics,
-                                      TwistSemantics>;
+using AllRelations =
+    ::testing::Types<PositionSemantics, OrientationSemantics, PoseSemantics,
+                     LinearVelocitySemantics, AngularVelocitySemantics, TwistSemantics>;
 TYPED_TEST_SUITE(EveryRelation, AllRelations, RelationName);
 
 TYPED_TEST(EveryRelation, InverseIsAnInvolution) {
@@ -1548,23 +1615,23 @@ TYPED_TEST(EveryRelation, InverseIsAnInvolution) {
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameAcceptsAnArgumentExpressedInTheOldFrame) {
   const TypeParam X_r = this->template Sample<TypeParam>(this->r);
   const OrientationSemantics R_sr_r{this->r, this->D, this->s, this->E, this->r};
-  EXPECT_TRUE(this->Gives(ChangeCoordinateFrame(X_r, R_sr_r),
-                          this->template Sample<TypeParam>(this->s)));
+  EXPECT_TRUE(
+      this->Gives(ChangeCoordinateFrame(X_r, R_sr_r), this->template Sample<TypeParam>(this->s)));
 }
 
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameAcceptsAnArgumentExpressedInTheNewFrame) {
   const TypeParam X_r = this->template Sample<TypeParam>(this->r);
   const OrientationSemantics R_sr_s{this->r, this->D, this->s, this->E, this->s};
-  EXPECT_TRUE(this->Gives(ChangeCoordinateFrame(X_r, R_sr_s),
-                          this->template Sample<TypeParam>(this->s)));
+  EXPECT_TRUE(
+      this->Gives(ChangeCoordinateFrame(X_r, R_sr_s), this->template Sample<TypeParam>(this->s)));
 }
 
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameDoesNotCheckTheArgumentBodies) {
   // D4: a coordinate frame carries no body.
   const TypeParam X_r = this->template Sample<TypeParam>(this->r);
   const OrientationSemantics R_sr_s{this->r, this->F, this->s, this->F, this->s};
-  EXPECT_TRUE(this->Gives(ChangeCoordinateFrame(X_r, R_sr_s),
-                          this->template Sample<TypeParam>(this->s)));
+  EXPECT_TRUE(
+      this->Gives(ChangeCoordinateFrame(X_r, R_sr_s), this->template Sample<TypeParam>(this->s)));
 }
 
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameAcceptsTheIdentity) {
@@ -1576,10 +1643,10 @@ TYPED_TEST(EveryRelation, ChangeCoordinateFrameAcceptsTheIdentity) {
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameRefusesAnArgumentNotOfTheOldFrame) {
   const TypeParam X_r = this->template Sample<TypeParam>(this->r);
   const OrientationSemantics R_sx_s{this->ox, this->D, this->s, this->E, this->s};
-  EXPECT_TRUE(this->Refused(
-      ChangeCoordinateFrame(X_r, R_sx_s), Operation::kChangeCoordinateFrame,
-      this->Side(kArgument, kOri, Field::kOrientation, this->ox, this->D),
-      this->Side(kSubject, kKindOf<TypeParam>, Field::kCoordinateFrame, this->r)));
+  EXPECT_TRUE(
+      this->Refused(ChangeCoordinateFrame(X_r, R_sx_s), Operation::kChangeCoordinateFrame,
+                    this->Side(kArgument, kOri, Field::kOrientation, this->ox, this->D),
+                    this->Side(kSubject, kKindOf<TypeParam>, Field::kCoordinateFrame, this->r)));
 }
 
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameRefusesAnArgumentExpressedInAThirdFrame) {
@@ -1593,29 +1660,33 @@ TYPED_TEST(EveryRelation, ChangeCoordinateFrameRefusesAnArgumentExpressedInAThir
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameChecksTheOrientationBeforeTheArgumentFrame) {
   const TypeParam X_r = this->template Sample<TypeParam>(this->r);
   const OrientationSemantics R_sx_c{this->ox, this->D, this->s, this->E, this->c};
-  EXPECT_TRUE(this->Refused(
-      ChangeCoordinateFrame(X_r, R_sx_c), Operation::kChangeCoordinateFrame,
-      this->Side(kArgument, kOri, Field::kOrientation, this->ox, this->D),
-      this->Side(kSubject, kKindOf<TypeParam>, Field::kCoordinateFrame, this->r)));
+  EXPECT_TRUE(
+      this->Refused(ChangeCoordinateFrame(X_r, R_sx_c), Operation::kChangeCoordinateFrame,
+                    this->Side(kArgument, kOri, Field::kOrientation, this->ox, this->D),
+                    this->Side(kSubject, kKindOf<TypeParam>, Field::kCoordinateFrame, this->r)));
 }
 
 TYPED_TEST(EveryRelation, ChangeCoordinateFrameRefusesTheArgumentTheWrongWayRound) {
   // [s] wrt [r] given where [r] wrt [s] is needed: its orientation is not the old frame.
   const TypeParam X_r = this->template Sample<TypeParam>(this->r);
   const OrientationSemantics R_rs_r{this->s, this->D, this->r, this->E, this->r};
-  EXPECT_TRUE(this->Refused(
-      ChangeCoordinateFrame(X_r, R_rs_r), Operation::kChangeCoordinateFrame,
-      this->Side(kArgument, kOri, Field::kOrientation, this->s, this->D),
-      this->Side(kSubject, kKindOf<TypeParam>, Field::kCoordinateFrame, this->r)));
+  EXPECT_TRUE(
+      this->Refused(ChangeCoordinateFrame(X_r, R_rs_r), Operation::kChangeCoordinateFrame,
+                    this->Side(kArgument, kOri, Field::kOrientation, this->s, this->D),
+                    this->Side(kSubject, kKindOf<TypeParam>, Field::kCoordinateFrame, this->r)));
 }
 
 // ================================================================ Forms and values
 
 TEST_F(RelationForms, OfFrameUsesTheFrameNameForPointAndOrientation) {
   const PoseSemantics X_ba = PoseSemantics::OfFrame(FrameOf(a), C, FrameOf(b), D, r);
-  EXPECT_TRUE(Is(X_ba, PoseSemantics{.point = Point(a.id()), .orientation = a, .body = C,
-                                     .ref_point = Point(b.id()), .ref_orientation = b,
-                                     .ref_body = D, .coordinate_frame = r}));
+  EXPECT_TRUE(Is(X_ba, PoseSemantics{.point = Point(a.id()),
+                                     .orientation = a,
+                                     .body = C,
+                                     .ref_point = Point(b.id()),
+                                     .ref_orientation = b,
+                                     .ref_body = D,
+                                     .coordinate_frame = r}));
   EXPECT_TRUE(X_ba.is_frame_form());
   EXPECT_FALSE(X_ba.is_edge_form());
 }

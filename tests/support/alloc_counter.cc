@@ -62,7 +62,9 @@ void AllocationCounter::Arm() noexcept {
   g_armed.store(true, std::memory_order_seq_cst);
 }
 
-void AllocationCounter::FailAt(std::size_t n) noexcept { g_fail_at.store(n, std::memory_order_seq_cst); }
+void AllocationCounter::FailAt(std::size_t n) noexcept {
+  g_fail_at.store(n, std::memory_order_seq_cst);
+}
 
 bool AllocationCounter::failed() noexcept { return g_failed.load(std::memory_order_relaxed); }
 

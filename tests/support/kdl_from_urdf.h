@@ -7,21 +7,22 @@
 // (KdlPositions does: q = multiplier q_master + offset). Test and benchmark helper only.
 #pragma once
 
-#include <map>
-#include <stdexcept>
-#include <string>
+#include <urdf_model/model.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <kdl/frames.hpp>
 #include <kdl/jntarray.hpp>
 #include <kdl/tree.hpp>
-#include <urdf_model/model.h>
-#include <urdf_parser/urdf_parser.h>
+#include <map>
+#include <stdexcept>
+#include <string>
 
 namespace semgraph::testing {
 
 inline KDL::Frame ToKdl(const urdf::Pose& p) {
-  return KDL::Frame(KDL::Rotation::Quaternion(p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w),
-                    KDL::Vector(p.position.x, p.position.y, p.position.z));
+  return KDL::Frame(
+      KDL::Rotation::Quaternion(p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w),
+      KDL::Vector(p.position.x, p.position.y, p.position.z));
 }
 
 inline KDL::Joint ToKdl(const urdf::Joint& j) {
@@ -30,9 +31,11 @@ inline KDL::Joint ToKdl(const urdf::Joint& j) {
   switch (j.type) {
     case urdf::Joint::REVOLUTE:
     case urdf::Joint::CONTINUOUS:
-      return KDL::Joint(j.name, F_parent_jnt.p, F_parent_jnt.M * (axis / axis.Norm()), KDL::Joint::RotAxis);
+      return KDL::Joint(j.name, F_parent_jnt.p, F_parent_jnt.M * (axis / axis.Norm()),
+                        KDL::Joint::RotAxis);
     case urdf::Joint::PRISMATIC:
-      return KDL::Joint(j.name, F_parent_jnt.p, F_parent_jnt.M * (axis / axis.Norm()), KDL::Joint::TransAxis);
+      return KDL::Joint(j.name, F_parent_jnt.p, F_parent_jnt.M * (axis / axis.Norm()),
+                        KDL::Joint::TransAxis);
     default:
       return KDL::Joint(j.name, KDL::Joint::None);
   }
@@ -42,7 +45,8 @@ inline void AddChildren(const urdf::Link& link, KDL::Tree& tree) {
   for (const urdf::LinkSharedPtr& child : link.child_links) {
     const urdf::Joint& j = *child->parent_joint;
     const KDL::Segment segment(child->name, ToKdl(j), ToKdl(j.parent_to_joint_origin_transform));
-    if (!tree.addSegment(segment, link.name)) throw std::runtime_error("KDL refused segment " + child->name);
+    if (!tree.addSegment(segment, link.name))
+      throw std::runtime_error("KDL refused segment " + child->name);
     AddChildren(*child, tree);
   }
 }
@@ -65,7 +69,8 @@ inline KDL::JntArray KdlPositions(const urdf::ModelInterface& model, const KDL::
     const urdf::JointConstSharedPtr j = model.getJoint(joint.getName());
     double value;
     if (j->mimic) {
-      value = j->mimic->multiplier * q.at(j->mimic->joint_name) + (velocities ? 0.0 : j->mimic->offset);
+      value =
+          j->mimic->multiplier * q.at(j->mimic->joint_name) + (velocities ? 0.0 : j->mimic->offset);
     } else {
       value = q.at(j->name);
     }

@@ -22,15 +22,21 @@ struct RotationMatrixBackend {
   };
 
   static Rotation FromMatrix(const Eigen::Matrix3d& R) noexcept { return R; }
-  static Rotation FromQuaternion(const Eigen::Quaterniond& q) noexcept { return q.toRotationMatrix(); }
+  static Rotation FromQuaternion(const Eigen::Quaterniond& q) noexcept {
+    return q.toRotationMatrix();
+  }
   static Eigen::Matrix3d ToMatrix(const Rotation& M) noexcept { return M; }
   static Eigen::Quaterniond ToQuaternion(const Rotation& M) noexcept {
     return Eigen::Quaterniond(M).normalized();
   }
   static Rotation Multiply(const Rotation& A, const Rotation& B) noexcept { return A * B; }
   static Rotation Transpose(const Rotation& M) noexcept { return M.transpose(); }
-  static Eigen::Vector3d Rotate(const Rotation& M, const Eigen::Vector3d& v) noexcept { return M * v; }
-  static PoseCoords MakePose(const Rotation& M, const Eigen::Vector3d& p) noexcept { return {M, p}; }
+  static Eigen::Vector3d Rotate(const Rotation& M, const Eigen::Vector3d& v) noexcept {
+    return M * v;
+  }
+  static PoseCoords MakePose(const Rotation& M, const Eigen::Vector3d& p) noexcept {
+    return {M, p};
+  }
   static PoseCoords Identity() noexcept {
     return {Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()};
   }

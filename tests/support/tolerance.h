@@ -6,7 +6,8 @@
 //   ExpectNear(a, b, tol)       max_i |a_i - b_i| <= tol
 //   ExpectNear(q1, q2, tol)     quaternions: q and -q are the same rotation, so
 //                               min(max|q1 - q2|, max|q1 + q2|) <= tol (over w x y z)
-//   Near(...)                   the same, as a ::testing::AssertionResult for EXPECT_TRUE/ASSERT_TRUE
+//   Near(...)                   the same, as a ::testing::AssertionResult for
+//   EXPECT_TRUE/ASSERT_TRUE
 //
 // The epsilon is absolute: every quantity in the test scenes is O(1..10) (unit rotations,
 // translations in [-2,2]^3, velocities in [-1,1]^3 per body), so double rounding through a
@@ -19,12 +20,11 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <sstream>
 #include <string>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 namespace semgraph::testing {
 
@@ -57,8 +57,8 @@ template <class DA, class DB>
   const double diff = (a.template cast<double>() - b.template cast<double>()).cwiseAbs().maxCoeff();
   if (diff <= tol) return ::testing::AssertionSuccess();  // NaN fails
   return ::testing::AssertionFailure()
-         << "max |a - b| = " << diff << " exceeds epsilon " << tol << "\n  a = "
-         << internal::Format(a) << "\n  b = " << internal::Format(b);
+         << "max |a - b| = " << diff << " exceeds epsilon " << tol
+         << "\n  a = " << internal::Format(a) << "\n  b = " << internal::Format(b);
 }
 
 inline ::testing::AssertionResult Near(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b,
@@ -75,16 +75,16 @@ inline ::testing::AssertionResult Near(const Eigen::Quaterniond& a, const Eigen:
 
 template <class DA, class DB>
 void ExpectNear(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b,
-                double tol = kTolerance,
-                const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
+                double tol = kTolerance, const char* file = __builtin_FILE(),
+                int line = __builtin_LINE()) {
   if (auto r = Near(a, b, tol); !r) {
     ADD_FAILURE_AT(file, line) << r.message();
   }
 }
 
 inline void ExpectNear(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b,
-                       double tol = kTolerance,
-                       const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
+                       double tol = kTolerance, const char* file = __builtin_FILE(),
+                       int line = __builtin_LINE()) {
   if (auto r = Near(a, b, tol); !r) {
     ADD_FAILURE_AT(file, line) << r.message();
   }

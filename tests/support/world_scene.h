@@ -33,14 +33,13 @@
 // every query is O(1) and allocation-free.
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/primitives.h"

@@ -1,7 +1,6 @@
 // Tests of the public scene-script API (semgraph/script/scene_script.h): RunScene gives the
 // tool's lines and status, LoadScene leaves the scene in the caller's graph, malformed scripts
 // apply nothing. The expected lines are written by hand from docs/scene-script.md.
-#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/script/scene_script.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +9,8 @@
 #include <fstream>
 #include <string>
 #include <variant>
+
+#include "semgraph/core/scene_graph_debug.h"
 
 namespace semgraph::script {
 namespace {
@@ -35,7 +36,8 @@ TEST(RunScene, GivesTheToolsLinesAndStatus) {
   EXPECT_EQ(run.ops[1].index, 1u);
   EXPECT_FALSE(run.ops[1].ok);
   EXPECT_EQ(run.ops[1].error, "duplicate_body");
-  EXPECT_EQ(run.ops[1].json.rfind("{\"op\": 1, \"ok\": false, \"error\": \"duplicate_body\"", 0), 0u)
+  EXPECT_EQ(run.ops[1].json.rfind("{\"op\": 1, \"ok\": false, \"error\": \"duplicate_body\"", 0),
+            0u)
       << run.ops[1].json;
   // {c} is at [1, 0, 0.5] in [b]; the rotation does not move its origin.
   EXPECT_EQ(run.ops[3].json,

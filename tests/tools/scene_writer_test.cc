@@ -90,9 +90,10 @@ TEST(WriteScene, WritesNodesEdgesAndValuesInTheScriptFormat) {
   ASSERT_TRUE(g.AddFrame("b", "B"));
   // The pose creates {c} and its body C: written as that pose, with its stored value.
   const Eigen::Quaterniond q_BC(0.5, 0.5, -0.5, 0.5);
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), q_BC, Eigen::Vector3d(1, -0.25, 0.1)));
-  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c", "C").RelativeTo("B").ExpressedIn("c"), Eigen::Vector3d(0, 0, -0.5),
-                         Eigen::Vector3d(1e-3, 0, 0)));
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), q_BC, Eigen::Vector3d(1, -0.25, 0.1)));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c", "C").RelativeTo("B").ExpressedIn("c"),
+                         Eigen::Vector3d(0, 0, -0.5), Eigen::Vector3d(1e-3, 0, 0)));
   const std::vector<std::string> lines = Lines(ExpectRoundTrip(g));
   ASSERT_EQ(lines.size(), 8u) << ::testing::PrintToString(lines);
   EXPECT_EQ(lines[0].rfind("# A scene written by semgraph", 0), 0u);
@@ -101,11 +102,13 @@ TEST(WriteScene, WritesNodesEdgesAndValuesInTheScriptFormat) {
   EXPECT_EQ(lines[3], "ops:");
   EXPECT_EQ(lines[4], "  - {op: body, name: \"B\"}");
   EXPECT_EQ(lines[5], "  - {op: frame, name: \"b\", body: \"B\"}");
-  EXPECT_EQ(lines[6],
-            "  - {op: pose, of: \"c\", body: \"C\", wrt: \"b\", ref_body: \"B\", position: [1, -0.25, "
-            "0.10000000000000001], rotation: {quaternion: [0.5, 0.5, -0.5, 0.5]}}");
+  EXPECT_EQ(
+      lines[6],
+      "  - {op: pose, of: \"c\", body: \"C\", wrt: \"b\", ref_body: \"B\", position: [1, -0.25, "
+      "0.10000000000000001], rotation: {quaternion: [0.5, 0.5, -0.5, 0.5]}}");
   EXPECT_EQ(lines[7],
-            "  - {op: twist, point: \"c\", body: \"C\", ref_body: \"B\", coord: \"c\", linear: [0, 0, -0.5], "
+            "  - {op: twist, point: \"c\", body: \"C\", ref_body: \"B\", coord: \"c\", linear: [0, "
+            "0, -0.5], "
             "angular: [0.001, 0, 0]}");
 }
 
@@ -113,13 +116,15 @@ TEST(WriteScene, HomogeneousGraphsWriteTheStoredMatrix) {
   core::SceneGraph<coord::HomogeneousBackend> g;
   Eigen::Matrix3d R_BC;
   R_BC << 0, -1, 0, 1, 0, 0, 0, 0, 1;  // a quarter turn about z
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), R_BC, Eigen::Vector3d(0, 0, 2)));
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), R_BC, Eigen::Vector3d(0, 0, 2)));
   const std::vector<std::string> lines = Lines(ExpectRoundTrip(g));
   ASSERT_EQ(lines.size(), 5u);
   EXPECT_EQ(lines[2], "representation: homogeneous");
-  EXPECT_EQ(lines[4],
-            "  - {op: pose, of: \"c\", body: \"C\", wrt: \"b\", ref_body: \"B\", position: [0, 0, 2], "
-            "rotation: {matrix: [[0, -1, 0], [1, 0, 0], [0, 0, 1]]}}");
+  EXPECT_EQ(
+      lines[4],
+      "  - {op: pose, of: \"c\", body: \"C\", wrt: \"b\", ref_body: \"B\", position: [0, 0, 2], "
+      "rotation: {matrix: [[0, -1, 0], [1, 0, 0], [0, 0, 1]]}}");
 }
 
 TEST(WriteScene, EmptyGraphAndBodiesOnly) {
@@ -139,17 +144,32 @@ TEST(WriteScene, OrderOfNamesNeedsAnEdgeThatIsRemovedAgain) {
                         Eigen::Vector3d(1, 2, 3)));
   ASSERT_TRUE(g.RemovePose("x", "y"));
   const std::string text = ExpectRoundTrip(g);
-  EXPECT_NE(text.find("{op: remove, kind: twist, point: \"x\", ref_body: \"A\"}"), std::string::npos) << text;
-  EXPECT_NE(text.find("{op: remove, kind: pose, of: \"y\", wrt: \"x\"}"), std::string::npos) << text;
+  EXPECT_NE(text.find("{op: remove, kind: twist, point: \"x\", ref_body: \"A\"}"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("{op: remove, kind: pose, of: \"y\", wrt: \"x\"}"), std::string::npos)
+      << text;
   EXPECT_EQ(text.find("{op: frame"), std::string::npos) << text;
 }
 
 // A frame and a body may share a name, and names may be anything printable.
 TEST(WriteScene, NamesThatNeedQuoting) {
   core::SceneGraph<> g;
-  const std::vector<std::string> names = {"a \"quoted\" name", "back\\slash", "#hash: colon", "- dash",
-                                          "null", "1", "true", " spaced ", "\xc3\xa9t\xc3\xa9", "[x]", "{y}", "&z",
-                                          "*w", "!v", "u'v"};
+  const std::vector<std::string> names = {"a \"quoted\" name",
+                                          "back\\slash",
+                                          "#hash: colon",
+                                          "- dash",
+                                          "null",
+                                          "1",
+                                          "true",
+                                          " spaced ",
+                                          "\xc3\xa9t\xc3\xa9",
+                                          "[x]",
+                                          "{y}",
+                                          "&z",
+                                          "*w",
+                                          "!v",
+                                          "u'v"};
   for (std::size_t i = 0; i + 1 < names.size(); ++i) {
     ASSERT_TRUE(g.AddPose(PoseSpec::Of(names[i + 1], names[i + 1]).RelativeTo(names[i], names[i]),
                           Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 0, 0)))
@@ -192,8 +212,8 @@ TEST(WriteScene, RoundTripsEveryScriptOfTheRepository) {
 // other coordinate frames), value updates and removals. Rejected ops change nothing.
 template <coord::Backend B>
 void BuildRandomScene(core::SceneGraph<B>& g, std::mt19937_64& rng, int num_ops) {
-  static const std::vector<std::string> frames = {"f0", "f1", "f2", "f3", "f4", "f5", "f6", "f7",
-                                                  "f8", "B1", "a b", "q\"t", "\xc3\xa9"};
+  static const std::vector<std::string> frames = {"f0", "f1", "f2", "f3",  "f4",   "f5",      "f6",
+                                                  "f7", "f8", "B1", "a b", "q\"t", "\xc3\xa9"};
   static const std::vector<std::string> bodies = {"B0", "B1", "B2", "B3", "B4", "f8", "C d"};
   const auto pick = [&](const std::vector<std::string>& v) -> const std::string& {
     return v[std::uniform_int_distribution<std::size_t>(0, v.size() - 1)(rng)];
@@ -209,7 +229,8 @@ void BuildRandomScene(core::SceneGraph<B>& g, std::mt19937_64& rng, int num_ops)
   };
   const auto existing_frame = [&]() -> std::string {
     if (g.num_frames() == 0) return pick(frames);
-    const std::uint32_t i = std::uniform_int_distribution<std::uint32_t>(0, g.num_frames() - 1)(rng);
+    const std::uint32_t i =
+        std::uniform_int_distribution<std::uint32_t>(0, g.num_frames() - 1)(rng);
     return std::string(g.frame_name(core::FrameIndex(i)));
   };
   for (int k = 0; k < num_ops; ++k) {
@@ -220,7 +241,8 @@ void BuildRandomScene(core::SceneGraph<B>& g, std::mt19937_64& rng, int num_ops)
     } else if (u < 0.14) {
       (void)g.AddFrame(pick(frames), pick(bodies));
     } else if (u < 0.47) {  // an edge-form pose, naming bodies so that new frames can be made
-      const PoseSpec spec = PoseSpec::Of(pick(frames), pick(bodies)).RelativeTo(pick(frames), pick(bodies));
+      const PoseSpec spec =
+          PoseSpec::Of(pick(frames), pick(bodies)).RelativeTo(pick(frames), pick(bodies));
       if (unit(rng) < 0.2) {
         (void)g.AddPose(spec, quat().toRotationMatrix(), vec());
       } else {
@@ -268,10 +290,12 @@ void BuildRandomScene(core::SceneGraph<B>& g, std::mt19937_64& rng, int num_ops)
     } else if (u < 0.66) {  // an update of an existing edge
       const std::string of = existing_frame();
       const core::FrameIndex p = g.pose_parent(g.FindFrame(of));
-      if (p.is_valid()) (void)g.AddPose(PoseSpec::Of(of).RelativeTo(g.frame_name(p)), quat(), vec());
+      if (p.is_valid())
+        (void)g.AddPose(PoseSpec::Of(of).RelativeTo(g.frame_name(p)), quat(), vec());
     } else if (u < 0.82) {
       TwistSpec spec = TwistSpec::Of(pick(frames), pick(bodies)).RelativeTo(pick(bodies));
-      const std::string coord = unit(rng) < 0.5 ? std::string(spec.point) : existing_frame();  // the spec views it
+      const std::string coord =
+          unit(rng) < 0.5 ? std::string(spec.point) : existing_frame();  // the spec views it
       spec.ExpressedIn(coord);
       (void)g.AddTwist(spec, vec(), vec());
     } else if (u < 0.92) {
@@ -305,7 +329,8 @@ TYPED_TEST(WriteSceneRandom, RebuildsTheSameGraph) {
     pose_edges += g.num_pose_edges();
     twist_edges += g.num_twist_edges();
     joints += g.num_joints();
-    for (std::size_t at = text.find("op: remove"); at != std::string::npos; at = text.find("op: remove", at + 1)) {
+    for (std::size_t at = text.find("op: remove"); at != std::string::npos;
+         at = text.find("op: remove", at + 1)) {
       ++removals;
     }
   }

@@ -163,7 +163,8 @@ TEST(ReadScriptTime, ReadsTheDocumentsTimeOptions) {
   EXPECT_EQ(d.time.window_ns, 10'000'000'000);
   EXPECT_FALSE(d.time.linear);
   EXPECT_FALSE(d.time.reject_duplicates);
-  const Script s = ReadOk("time: {window: 2.5, interpolation: linear, duplicate_stamp: reject}\nops: []\n");
+  const Script s =
+      ReadOk("time: {window: 2.5, interpolation: linear, duplicate_stamp: reject}\nops: []\n");
   EXPECT_TRUE(s.time.given);
   EXPECT_EQ(s.time.window_ns, 2'500'000'000);
   EXPECT_TRUE(s.time.linear);
@@ -182,11 +183,13 @@ TEST(ReadScriptTime, RefusesBadTimeOptionsWhereTheyAre) {
   } cases[] = {
       {"time: {window: 0}\nops: []\n", 1, 16, "'window' must be a finite positive time"},
       {"time: {window: -1}\nops: []\n", 1, 16, "'window' must be a finite positive time"},
-      {"time: {window: 1e-10}\nops: []\n", 1, 16, "'window' must be a finite positive time"},  // 0 ns
+      {"time: {window: 1e-10}\nops: []\n", 1, 16,
+       "'window' must be a finite positive time"},  // 0 ns
       {"time: {window: .inf}\nops: []\n", 1, 16, "'window' must be a finite positive time"},
       {"time: {window: soon}\nops: []\n", 1, 16, "'window' must be a number"},
       {"time: {interpolation: cubic}\nops: []\n", 1, 23, "'interpolation' must be screw or linear"},
-      {"time: {duplicate_stamp: keep}\nops: []\n", 1, 25, "'duplicate_stamp' must be replace or reject"},
+      {"time: {duplicate_stamp: keep}\nops: []\n", 1, 25,
+       "'duplicate_stamp' must be replace or reject"},
       {"time: {horizon: 1}\nops: []\n", 1, 8, "unknown field \"horizon\" in 'time'"},
       {"time: 10\nops: []\n", 1, 7, "'time' must be a map"},
   };
@@ -205,13 +208,15 @@ TEST(ReadScriptTime, ReadsStampsAndQueryTimes) {
       "  - {op: twist, point: o, ref_body: W, coord: o, stamp: -2}\n"
       "  - {op: joints, positions: {j: 1}, stamp: 3e-3}\n"
       "  - {op: query, kind: pose, of: o, wrt: w}\n"
-      "  - {op: query, kind: pose, of: o, wrt: w, at: 1.25, max_extrapolation: 0.1, not_before: 1}\n"
+      "  - {op: query, kind: pose, of: o, wrt: w, at: 1.25, max_extrapolation: 0.1, not_before: "
+      "1}\n"
       "  - {op: query, kind: position, of: o, wrt: w, at: latest_common}\n"
       "  - {op: query, kind: orientation, of: o, wrt: w, at: 2, ref_at: 3, fixed: w}\n"
       "  - {op: query, kind: twist, point: o, ref_body: W, coord: o, source: poses, at: .nan}\n"
       "  - {op: query, kind: linear_velocity, point: o, ref_body: W, coord: o, source: twists}\n"
       "  - {op: query, kind: angular_velocity, body: O, ref_body: W, coord: o, not_before: 4}\n"
-      "  - {op: query, kind: jacobian, point: o, ref_body: W, coord: o, at: latest_common, max_extrapolation: 0}\n");
+      "  - {op: query, kind: jacobian, point: o, ref_body: W, coord: o, at: latest_common, "
+      "max_extrapolation: 0}\n");
   ASSERT_EQ(s.ops.size(), 11u);
   EXPECT_EQ(s.ops[10].at, AtKind::kLatestCommon);
   EXPECT_EQ(s.ops[10].max_extrapolation, 0.0);
@@ -244,37 +249,50 @@ TEST(ReadScriptTime, RefusesMisplacedAndMistypedTimeFieldsWhereTheyAre) {
       {"{op: frame, name: f, body: B, at: 1}", 35, "field \"at\" is not part of a 'frame' op"},
       {"{op: remove, kind: pose, of: a, wrt: b, stamp: 1}", 45, "is not part of a 'remove' op"},
       {"{op: pose, of: a, wrt: b, at: 1}", 31, "field \"at\" is not part of a 'pose' op"},
-      {"{op: twist, point: a, ref_body: B, coord: a, source: poses}", 50, "not part of a 'twist' op"},
+      {"{op: twist, point: a, ref_body: B, coord: a, source: poses}", 50,
+       "not part of a 'twist' op"},
       {"{op: query, kind: twist, point: a, ref_body: B, coord: a, ref_at: 1, fixed: w}", 63,
        "field \"ref_at\" is not part of a 'twist' query"},
       {"{op: query, kind: angular_velocity, body: A, ref_body: B, coord: a, fixed: w}", 73,
        "field \"fixed\" is not part of an 'angular_velocity' query"},
-      {"{op: query, kind: pose, of: a, wrt: b, source: poses}", 44, "field \"source\" is not part of a 'pose' query"},
-      {"{op: query, kind: position, of: a, wrt: b, stamp: 1}", 48, "field \"stamp\" is not part of a 'position' query"},
+      {"{op: query, kind: pose, of: a, wrt: b, source: poses}", 44,
+       "field \"source\" is not part of a 'pose' query"},
+      {"{op: query, kind: position, of: a, wrt: b, stamp: 1}", 48,
+       "field \"stamp\" is not part of a 'position' query"},
       {"{op: query, kind: jacobian, point: a, ref_body: B, coord: a, at: 1, source: poses}", 73,
        "field \"source\" is not part of a 'jacobian' query"},
-      {"{op: query, kind: jacobian, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 1}", 66,
-       "field \"ref_at\" is not part of a 'jacobian' query"},
-      {"{op: joint, name: j, type: fixed, parent: a, child: b, stamp: 1}", 60, "not part of a 'joint' op"},
+      {"{op: query, kind: jacobian, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 1}",
+       66, "field \"ref_at\" is not part of a 'jacobian' query"},
+      {"{op: joint, name: j, type: fixed, parent: a, child: b, stamp: 1}", 60,
+       "not part of a 'joint' op"},
       {"{op: urdf, file: r.urdf, stamp: 1}", 30, "not part of an 'urdf' op"},
       // Mistyped values.
       {"{op: pose, of: a, wrt: b, stamp: now}", 38, "'stamp' (seconds) must be a number"},
       {"{op: pose, of: a, wrt: b, stamp: [1]}", 38, "'stamp' (seconds) must be a number"},
-      {"{op: query, kind: pose, of: a, wrt: b, at: soon}", 48, "'at' must be a time in seconds or latest_common"},
-      {"{op: query, kind: pose, of: a, wrt: b, at: \"1\"}", 48, "'at' must be a time in seconds or latest_common"},
-      {"{op: query, kind: pose, of: a, wrt: b, max_extrapolation: a}", 63, "'max_extrapolation' (seconds) must be"},
-      {"{op: query, kind: pose, of: a, wrt: b, not_before: latest_common}", 56, "'not_before' (seconds) must be"},
+      {"{op: query, kind: pose, of: a, wrt: b, at: soon}", 48,
+       "'at' must be a time in seconds or latest_common"},
+      {"{op: query, kind: pose, of: a, wrt: b, at: \"1\"}", 48,
+       "'at' must be a time in seconds or latest_common"},
+      {"{op: query, kind: pose, of: a, wrt: b, max_extrapolation: a}", 63,
+       "'max_extrapolation' (seconds) must be"},
+      {"{op: query, kind: pose, of: a, wrt: b, not_before: latest_common}", 56,
+       "'not_before' (seconds) must be"},
       {"{op: query, kind: twist, point: a, ref_body: B, coord: a, source: edges}", 71,
        "'source' must be twists or poses"},
       // Time travel: both fields or neither, and `at` a number.
-      {"{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2}", 59, "time travel needs both 'ref_at'"},
-      {"{op: query, kind: pose, of: a, wrt: b, at: 1, fixed: w}", 58, "time travel needs both 'ref_at'"},
-      {"{op: query, kind: pose, of: a, wrt: b, ref_at: 2, fixed: w}", 5, "needs 'at' as a time in seconds"},
+      {"{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2}", 59,
+       "time travel needs both 'ref_at'"},
+      {"{op: query, kind: pose, of: a, wrt: b, at: 1, fixed: w}", 58,
+       "time travel needs both 'ref_at'"},
+      {"{op: query, kind: pose, of: a, wrt: b, ref_at: 2, fixed: w}", 5,
+       "needs 'at' as a time in seconds"},
       {"{op: query, kind: pose, of: a, wrt: b, at: latest_common, ref_at: 2, fixed: w}", 48,
        "needs 'at' as a time in seconds"},
-      {"{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2, fixed: [w]}", 69, "'fixed' must be a name"},
+      {"{op: query, kind: pose, of: a, wrt: b, at: 1, ref_at: 2, fixed: [w]}", 69,
+       "'fixed' must be a name"},
       // repair takes no stamp.
-      {"{op: pose, of: a, wrt: b, stamp: 1, repair: true}", 49, "'repair' does not take a stamped value"},
+      {"{op: pose, of: a, wrt: b, stamp: 1, repair: true}", 49,
+       "'repair' does not take a stamped value"},
   };
   for (const Case& c : cases) {
     const std::string text = std::string("ops:\n  - ") + c.op + "\n";

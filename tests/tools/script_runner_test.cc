@@ -33,7 +33,9 @@ TEST(JsonString, PassesValidUtf8AndReplacesInvalidBytes) {
 
 TEST(JsonString, EscapesC1ControlsAndUnicodeLineSeparators) {
   // U+0085 (next line), U+2028, U+2029 end lines for some readers; C1 controls are controls.
-  EXPECT_EQ(JsonString("a\xC2\x85" "b"), "\"a\\u0085b\"");
+  EXPECT_EQ(JsonString("a\xC2\x85"
+                       "b"),
+            "\"a\\u0085b\"");
   EXPECT_EQ(JsonString("\xC2\x80\xC2\x9F"), "\"\\u0080\\u009f\"");
   EXPECT_EQ(JsonString("\xE2\x80\xA8\xE2\x80\xA9"), "\"\\u2028\\u2029\"");
   // Their neighbours stay as they are: U+00A0, U+2027, U+202A.
@@ -92,7 +94,8 @@ TEST(ApplyOp, RendersEachOutcomeAsOneJsonLine) {
   remove.location = {13, 5};
   const OpOutcome no_edge = ApplyOp(graph, remove, 4);
   EXPECT_EQ(no_edge.error, "no_such_edge");
-  EXPECT_TRUE(no_edge.json.ends_with("\", \"kind\": \"remove twist\", \"line\": 13}")) << no_edge.json;
+  EXPECT_TRUE(no_edge.json.ends_with("\", \"kind\": \"remove twist\", \"line\": 13}"))
+      << no_edge.json;
 }
 
 // Time keys: those that apply, after the value keys and before kind/line; seconds as the nearest
@@ -113,20 +116,30 @@ TEST(ApplyOp, RendersTheTimeKeysThatApply) {
       "  - {op: pose, of: o, wrt: w, position: [2, 0, 0], stamp: 9.3e9}\n");
   ASSERT_TRUE(script.has_value()) << script.error().message;
   std::vector<std::string> out;
-  for (std::size_t i = 0; i < script->ops.size(); ++i) out.push_back(ApplyOp(graph, script->ops[i], i).json);
+  for (std::size_t i = 0; i < script->ops.size(); ++i)
+    out.push_back(ApplyOp(graph, script->ops[i], i).json);
   EXPECT_EQ(out[2],
-            "{\"op\": 2, \"ok\": true, \"position\": [0.5,0,0], \"time\": 0.20000000000000001, \"oldest\": "
-            "0.10000000000000001, \"newest\": 0.29999999999999999, \"kind\": \"query position\", \"line\": 4}");
+            "{\"op\": 2, \"ok\": true, \"position\": [0.5,0,0], \"time\": 0.20000000000000001, "
+            "\"oldest\": "
+            "0.10000000000000001, \"newest\": 0.29999999999999999, \"kind\": \"query position\", "
+            "\"line\": 4}");
   EXPECT_EQ(out[3],
-            "{\"op\": 3, \"ok\": true, \"position\": [1,0,0], \"oldest\": 0.29999999999999999, \"newest\": "
+            "{\"op\": 3, \"ok\": true, \"position\": [1,0,0], \"oldest\": 0.29999999999999999, "
+            "\"newest\": "
             "0.29999999999999999, \"kind\": \"query position\", \"line\": 5}");
   // No stamped edge used: latest common reports no time; `at` reports the time asked.
-  EXPECT_EQ(out[4], "{\"op\": 4, \"ok\": true, \"position\": [0,0,0], \"kind\": \"query position\", \"line\": 6}");
-  EXPECT_EQ(out[5], "{\"op\": 5, \"ok\": true, \"position\": [0,0,0], \"time\": 5, \"kind\": \"query position\", "
-                    "\"line\": 7}");
+  EXPECT_EQ(out[4],
+            "{\"op\": 4, \"ok\": true, \"position\": [0,0,0], \"kind\": \"query position\", "
+            "\"line\": 6}");
+  EXPECT_EQ(
+      out[5],
+      "{\"op\": 5, \"ok\": true, \"position\": [0,0,0], \"time\": 5, \"kind\": \"query position\", "
+      "\"line\": 7}");
   EXPECT_EQ(out[6],
-            "{\"op\": 6, \"ok\": true, \"position\": [0.5,0,0], \"time\": 0.20000000000000001, \"ref_time\": "
-            "0.29999999999999999, \"oldest\": 0.10000000000000001, \"newest\": 0.29999999999999999, \"kind\": "
+            "{\"op\": 6, \"ok\": true, \"position\": [0.5,0,0], \"time\": 0.20000000000000001, "
+            "\"ref_time\": "
+            "0.29999999999999999, \"oldest\": 0.10000000000000001, \"newest\": "
+            "0.29999999999999999, \"kind\": "
             "\"query position\", \"line\": 8}");
   EXPECT_NE(out[7].find("\"error\": \"invalid_number\""), std::string::npos) << out[7];
   EXPECT_NE(out[7].find("'stamp' 9300000000 s is not a finite time"), std::string::npos) << out[7];
@@ -161,11 +174,13 @@ TEST(WriteDot, LabelsJointEdgesWithTypeAndName) {
   j.lower = -1;
   j.upper = 1;
   ASSERT_TRUE(graph.AddJoint(j));
-  ASSERT_TRUE(graph.AddPose(core::PoseSpec::Of("cam", "Cam").RelativeTo("fore"), Eigen::Quaterniond::Identity(),
-                            Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(graph.AddPose(core::PoseSpec::Of("cam", "Cam").RelativeTo("fore"),
+                            Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
   const std::string dot = WriteDot(graph);
   // {upper} is frame 1, {fore} frame 0; body Upper is body 0.
-  EXPECT_NE(dot.find("  frame_1 -> frame_0 [label=\"revolute elbow\", penwidth=2];\n"), std::string::npos) << dot;
+  EXPECT_NE(dot.find("  frame_1 -> frame_0 [label=\"revolute elbow\", penwidth=2];\n"),
+            std::string::npos)
+      << dot;
   EXPECT_NE(dot.find("  body_0 -> frame_0 [style=dashed, label=\"revolute elbow\", penwidth=2];\n"),
             std::string::npos)
       << dot;

@@ -58,8 +58,8 @@ TEST(ParseYaml, EmptyDocumentHasNoRoot) {
 }
 
 TEST(ParseYaml, EveryEscapeGivesUtf8) {
-  const YamlTree t = ParseOk(
-      R"(["\N", "\_", "\L", "\P", "\u00A0", "\x85", "\U0001F600", "\0", "\e", "a\_b\Nc"])");
+  const YamlTree t =
+      ParseOk(R"(["\N", "\_", "\L", "\P", "\u00A0", "\x85", "\U0001F600", "\0", "\e", "a\_b\Nc"])");
   const NodeView list = t.At(t.root());
   ASSERT_EQ(list.children.size(), 10u);
   const std::string expected[] = {"\xC2\x85",          // U+0085 next line
@@ -71,7 +71,9 @@ TEST(ParseYaml, EveryEscapeGivesUtf8) {
                                   "\xF0\x9F\x98\x80",  // U+1F600
                                   std::string(1, '\0'),
                                   "\x1B",
-                                  "a\xC2\xA0" "b\xC2\x85" "c"};
+                                  "a\xC2\xA0"
+                                  "b\xC2\x85"
+                                  "c"};
   for (std::size_t i = 0; i < 10; ++i) {
     EXPECT_EQ(t.At(list.children[i]).text, expected[i]) << "item " << i;
   }
@@ -81,7 +83,8 @@ TEST(ParseYaml, RefusesSurrogatesAndCodesAboveTheLast) {
   const YamlError surrogate = ParseBad("a: \"\\uD800\"\n");
   EXPECT_TRUE(Contains(surrogate.message, "U+D800, a UTF-16 surrogate")) << surrogate.message;
   EXPECT_EQ(surrogate.location.line, 1);
-  EXPECT_TRUE(Contains(ParseBad("a: \"\\U00110000\"").message, "U+110000, which is above U+10FFFF"));
+  EXPECT_TRUE(
+      Contains(ParseBad("a: \"\\U00110000\"").message, "U+110000, which is above U+10FFFF"));
 }
 
 TEST(ParseYaml, RefusesTextThatIsNotUtf8) {
@@ -100,10 +103,18 @@ TEST(ParseYaml, RefusesTextThatIsNotUtf8) {
   const YamlError leading = ParseBad(std::string("\0a\0:\0 \0b", 9));
   EXPECT_EQ(leading.location.column, 1);
   EXPECT_TRUE(Contains(leading.message, "mark of UTF-16 or UTF-32 text")) << leading.message;
-  EXPECT_TRUE(Contains(ParseBad(std::string("\xFF\xFE" "a\0", 4)).message, "UTF-16 byte-order mark"));
+  EXPECT_TRUE(Contains(ParseBad(std::string("\xFF\xFE"
+                                            "a\0",
+                                            4))
+                           .message,
+                       "UTF-16 byte-order mark"));
   EXPECT_TRUE(Contains(ParseBad(std::string("\xFF\xFE\0\0", 4)).message, "UTF-32 byte-order mark"));
   // A UTF-8 byte-order mark is UTF-8.
-  EXPECT_EQ(ParseOk("\xEF\xBB\xBF" "a: b").At(0).kind, NodeKind::kMap);
+  EXPECT_EQ(ParseOk("\xEF\xBB\xBF"
+                    "a: b")
+                .At(0)
+                .kind,
+            NodeKind::kMap);
 }
 
 TEST(ParseYaml, SharesAliasesAndCountsThemExpanded) {
@@ -170,7 +181,8 @@ TEST(ParseCoreNumber, AcceptsTheCoreSchemaFloatsOnly) {
 
 TEST(QuoteForMessage, CutsLongTextsAndGivesTheirLength) {
   EXPECT_EQ(QuoteForMessage("a\"b\\c\n"), "\"a\\\"b\\\\c\\x0a\"");
-  EXPECT_EQ(QuoteForMessage(std::string(41, 'x')), "\"" + std::string(40, 'x') + "...\" (41 bytes)");
+  EXPECT_EQ(QuoteForMessage(std::string(41, 'x')),
+            "\"" + std::string(40, 'x') + "...\" (41 bytes)");
   // The cut falls before a character that would be split: 39 x + "é" (2 bytes) + y = 42 bytes.
   EXPECT_EQ(QuoteForMessage(std::string(39, 'x') + "\xC3\xA9" + "y"),
             "\"" + std::string(39, 'x') + "...\" (42 bytes)");

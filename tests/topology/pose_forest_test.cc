@@ -548,7 +548,7 @@ TEST(PoseForest, QueriesOffTheRepRootDoNotAllocate) {
   }
   EXPECT_EQ(AllocationCounter::total(), before);
   EXPECT_EQ(forest.CommonAncestor(F(62), F(61)), F(30));  // siblings under 30 = (61 - 1) / 2
-  EXPECT_EQ(forest.depth(F(63)), 6u);  // 63, 31, 15, 7, 3, 1, 0
+  EXPECT_EQ(forest.depth(F(63)), 6u);                     // 63, 31, 15, 7, 3, 1, 0
   EXPECT_NE(sink, 0u);
 }
 

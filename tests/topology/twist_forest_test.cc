@@ -170,7 +170,8 @@ TEST(TwistForest, PathListsStepsFromUToVAcrossEdgeDirections) {
   ASSERT_EQ(forest.Path(B(4), B(1), out), 3u);
   EXPECT_EQ(out[0], Step(12, 4, 3));
   EXPECT_EQ(out[2], Step(10, 2, 1));
-  EXPECT_EQ(forest.FindEdge(E(11))->tail, B(3));  // step 2 -> 3 crosses edge 11 against its direction
+  EXPECT_EQ(forest.FindEdge(E(11))->tail,
+            B(3));  // step 2 -> 3 crosses edge 11 against its direction
 }
 
 TEST(TwistForest, PathIntoATooShortSpanReportsTooLongAndWritesNothing) {

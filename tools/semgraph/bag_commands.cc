@@ -144,14 +144,14 @@ int Check(int argc, char** argv) {
       "\"groups\": %zu}\n",
       static_cast<unsigned long long>(report->messages),
       static_cast<unsigned long long>(report->counts.transforms),
-      static_cast<unsigned long long>(report->findings.total()),
-      report->findings.groups().size());
+      static_cast<unsigned long long>(report->findings.total()), report->findings.groups().size());
   return report->findings.empty() ? 0 : 1;
 }
 
 /// Prints the frame tree: each root, then its children indented, with the lifted body.
 void PrintTree(const ros::BagScan& scan, const ros::BodyPlan& plan) {
-  std::map<std::string, std::vector<std::pair<std::string, bool>>> children;  // parent -> (child, static)
+  std::map<std::string, std::vector<std::pair<std::string, bool>>>
+      children;  // parent -> (child, static)
   std::map<std::string, bool> has_parent;
   for (const auto& [edges, is_static] : {std::pair{&scan.statics, true}, {&scan.dynamics, false}}) {
     for (const ros::StaticEdge& e : *edges) {
@@ -162,14 +162,14 @@ void PrintTree(const ros::BagScan& scan, const ros::BodyPlan& plan) {
     }
   }
   const ros::BodyPlan::ExistingBody none;
-  std::function<void(const std::string&, int, bool, int)> print = [&](const std::string& f,
-                                                                       int depth, bool is_static,
-                                                                       int guard) {
-    std::printf("  %*s%s%s  [body %s]\n", depth * 2, "", depth == 0 ? "" : (is_static ? "= " : "~ "),
-                f.c_str(), plan.BodyOf(f, none).c_str());
-    if (guard > 1000) return;
-    for (const auto& [c, s] : children[f]) print(c, depth + 1, s, guard + 1);
-  };
+  std::function<void(const std::string&, int, bool, int)> print =
+      [&](const std::string& f, int depth, bool is_static, int guard) {
+        std::printf("  %*s%s%s  [body %s]\n", depth * 2, "",
+                    depth == 0 ? "" : (is_static ? "= " : "~ "), f.c_str(),
+                    plan.BodyOf(f, none).c_str());
+        if (guard > 1000) return;
+        for (const auto& [c, s] : children[f]) print(c, depth + 1, s, guard + 1);
+      };
   std::printf("frames (= static, ~ dynamic):\n");
   for (const auto& [f, parent] : has_parent) {
     if (!parent) print(f, 0, false, 0);
@@ -250,13 +250,11 @@ bool ReadBodiesMap(const std::string& file, ros::BodiesMap* out, std::string* er
   return true;
 }
 
-bool IsBagCommand(int argc, char** argv) {
-  return argc >= 2 && std::string_view(argv[1]) == "bag";
-}
+bool IsBagCommand(int argc, char** argv) { return argc >= 2 && std::string_view(argv[1]) == "bag"; }
 
 int RunBagCommand(int argc, char** argv) {
-  if (argc == 2 || (argc == 3 && (std::string_view(argv[2]) == "--help" ||
-                                  std::string_view(argv[2]) == "-h"))) {
+  if (argc == 2 ||
+      (argc == 3 && (std::string_view(argv[2]) == "--help" || std::string_view(argv[2]) == "-h"))) {
     std::fputs(kBagUsage.data(), argc == 2 ? stderr : stdout);
     return argc == 2 ? 2 : 0;
   }

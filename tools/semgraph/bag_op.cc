@@ -62,17 +62,18 @@ OpOutcome ApplyBagOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t
   }
   const ros::LiftCounts& c = report->counts;
   const bool any = report->messages > 0;
-  const std::string counts =
-      ", \"messages\": " + std::to_string(report->messages) +
-      ", \"skipped\": " + std::to_string(report->skipped) +
-      ", \"transforms\": " + std::to_string(c.transforms) +
-      ", \"applied\": " + std::to_string(c.applied) + ", \"refused\": " + std::to_string(c.refused) +
-      ", \"covered\": " + std::to_string(c.covered) +
-      ", \"normalized\": " + std::to_string(c.normalized) +
-      ", \"start\": " + (any ? Seconds(report->first_log_time_ns) : "null") +
-      ", \"end\": " + (any ? Seconds(report->last_log_time_ns) : "null");
+  const std::string counts = ", \"messages\": " + std::to_string(report->messages) +
+                             ", \"skipped\": " + std::to_string(report->skipped) +
+                             ", \"transforms\": " + std::to_string(c.transforms) +
+                             ", \"applied\": " + std::to_string(c.applied) +
+                             ", \"refused\": " + std::to_string(c.refused) +
+                             ", \"covered\": " + std::to_string(c.covered) +
+                             ", \"normalized\": " + std::to_string(c.normalized) +
+                             ", \"start\": " + (any ? Seconds(report->first_log_time_ns) : "null") +
+                             ", \"end\": " + (any ? Seconds(report->last_log_time_ns) : "null");
   if (report->findings.empty()) {
-    return OpOutcome{true, "", "{\"op\": " + std::to_string(index) + ", \"ok\": true" + counts + "}"};
+    return OpOutcome{true, "",
+                     "{\"op\": " + std::to_string(index) + ", \"ok\": true" + counts + "}"};
   }
   const ros::FindingGroup& first = report->findings.groups().front();
   return Failed(index, first.code.name(), first.message, counts);

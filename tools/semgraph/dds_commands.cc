@@ -68,7 +68,8 @@ Args Parse(int argc, char** argv) {
       return argv[++i];
     };
     if (s == "--domain") {
-      if (const char* v = value()) a.domain = static_cast<std::uint32_t>(std::strtoul(v, nullptr, 10));
+      if (const char* v = value())
+        a.domain = static_cast<std::uint32_t>(std::strtoul(v, nullptr, 10));
     } else if (s == "--seconds") {
       if (const char* v = value()) a.seconds = std::strtod(v, nullptr);
     } else if (s == "--count") {
@@ -87,7 +88,8 @@ Args Parse(int argc, char** argv) {
 }
 
 int Usage(const std::string& problem) {
-  std::fprintf(stderr, "semgraph: %s\n%.*s", problem.c_str(), static_cast<int>(kDdsUsage.size()), kDdsUsage.data());
+  std::fprintf(stderr, "semgraph: %s\n%.*s", problem.c_str(), static_cast<int>(kDdsUsage.size()),
+               kDdsUsage.data());
   return kExitMalformed;
 }
 
@@ -126,8 +128,8 @@ int Serve(const Args& a) {
     std::fprintf(stderr, "semgraph: %s\n", ok.error().c_str());
     return kExitMalformed;
   }
-  std::printf("{\"serving\": %s, \"pose_edges\": %zu, \"twist_edges\": %zu}\n", JsonString(owner).c_str(),
-              graph.num_pose_edges(), graph.num_twist_edges());
+  std::printf("{\"serving\": %s, \"pose_edges\": %zu, \"twist_edges\": %zu}\n",
+              JsonString(owner).c_str(), graph.num_pose_edges(), graph.num_twist_edges());
   std::fflush(stdout);
   const auto start = Clock::now();
   while (!TimeUp(start, a.seconds)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -177,18 +179,21 @@ int Echo(const Args& a) {
         Eigen::Quaterniond q = X->value.rotation;
         if (q.w() < 0) q.coeffs() = -q.coeffs();
         line = "{\"ok\": true, \"position\": " + Vec(X->value.translation) + ", \"quaternion\": [" +
-               JsonNumber(q.w()) + ", " + JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " + JsonNumber(q.z()) + "]}";
+               JsonNumber(q.w()) + ", " + JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " +
+               JsonNumber(q.z()) + "]}";
       } else {
         const core::TwistSpec spec = core::TwistSpec::Of(p[1]).RelativeTo(p[2]).ExpressedIn(p[3]);
         auto V = g.GetTwist(spec);
         if (!V) {
-          if (V.error().code != base::ErrorCode::kUnknownFrame && V.error().code != base::ErrorCode::kUnknownBody) {
+          if (V.error().code != base::ErrorCode::kUnknownFrame &&
+              V.error().code != base::ErrorCode::kUnknownBody) {
             line = "{\"ok\": false, \"error\": " + JsonString(base::ToString(V.error().code)) +
                    ", \"message\": " + JsonString(g.Describe(V.error(), spec)) + "}";
           }
           return;
         }
-        line = "{\"ok\": true, \"linear\": " + Vec(V->linear) + ", \"angular\": " + Vec(V->angular) + "}";
+        line = "{\"ok\": true, \"linear\": " + Vec(V->linear) +
+               ", \"angular\": " + Vec(V->angular) + "}";
       }
     });
     if (line.empty() || line == last) continue;
@@ -215,23 +220,27 @@ int Monitor(const Args& a) {
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
     const std::int64_t now_ns = dds::NowNs();
-    std::printf("%-16s %-6s %-28s %10s %12s %10s\n", "publisher", "kind", "edge", "rate_hz", "delay_us", "age_ms");
+    std::printf("%-16s %-6s %-28s %10s %12s %10s\n", "publisher", "kind", "edge", "rate_hz",
+                "delay_us", "age_ms");
     for (const dds::EdgeState& e : (*mirror)->Edges()) {
       const char* kind = e.joint ? "joint" : e.twist ? "twist" : "pose";
       const std::string key = std::string(kind) + ":" + e.head;
       const double rate = (e.received - previous[key]) / dt;
       previous[key] = e.received;
       const std::string edge = e.head + " <- " + e.tail;
-      const double delay_us = e.last_stamp_ns > 0 ? (e.last_receive_ns - e.last_stamp_ns) / 1e3 : 0.0;
+      const double delay_us =
+          e.last_stamp_ns > 0 ? (e.last_receive_ns - e.last_stamp_ns) / 1e3 : 0.0;
       const double age_ms = e.last_receive_ns > 0 ? (now_ns - e.last_receive_ns) / 1e6 : -1.0;
-      std::printf("%-16s %-6s %-28s %10.1f %12.1f %10.1f\n", e.owner.c_str(), kind, edge.c_str(), rate, delay_us,
-                  age_ms);
+      std::printf("%-16s %-6s %-28s %10.1f %12.1f %10.1f\n", e.owner.c_str(), kind, edge.c_str(),
+                  rate, delay_us, age_ms);
     }
     for (const dds::OwnerState& o : (*mirror)->Owners()) {
-      std::printf("publisher %s: %s, revision %llu, %zu elements\n", o.owner.c_str(), o.alive ? "alive" : "gone",
-                  static_cast<unsigned long long>(o.revision), o.elements);
+      std::printf("publisher %s: %s, revision %llu, %zu elements\n", o.owner.c_str(),
+                  o.alive ? "alive" : "gone", static_cast<unsigned long long>(o.revision),
+                  o.elements);
     }
-    for (const dds::Report& r : (*mirror)->Refusals()) std::printf("refused (%s): %s\n", r.code.c_str(), r.message.c_str());
+    for (const dds::Report& r : (*mirror)->Refusals())
+      std::printf("refused (%s): %s\n", r.code.c_str(), r.message.c_str());
     std::printf("\n");
     std::fflush(stdout);
   }
@@ -245,13 +254,14 @@ int DotLive(const Args& a) {
     return kExitMalformed;
   }
   const double seconds = a.seconds >= 0 ? a.seconds : 10.0;
-  const bool caught_up = (*mirror)->WaitUntil(
-      [&] { return g_stop.load() || (*mirror)->CaughtUp(); },
-      std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
+  const bool caught_up =
+      (*mirror)->WaitUntil([&] { return g_stop.load() || (*mirror)->CaughtUp(); },
+                           std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
   std::string dot;
   (*mirror)->WithGraph([&](const core::SceneGraph<>& g) { dot = WriteDot(g); });
   std::fwrite(dot.data(), 1, dot.size(), stdout);
-  if (!caught_up) std::fprintf(stderr, "semgraph: no complete scene on the domain within %g s\n", seconds);
+  if (!caught_up)
+    std::fprintf(stderr, "semgraph: no complete scene on the domain within %g s\n", seconds);
   return caught_up ? kExitOk : kExitOpFailed;
 }
 

@@ -60,12 +60,13 @@ std::string WriteDot(const core::SceneGraph<B>& graph) {
   };
   graph.topology().ForEachPoseEdge([&](core::FrameIndex tail, core::FrameIndex head) {
     const std::string joint = joint_label(head);
-    dot += "  " + FrameId(tail) + " -> " + FrameId(head) + (joint.empty() ? "" : " [" + joint + "]") + ";\n";
+    dot += "  " + FrameId(tail) + " -> " + FrameId(head) +
+           (joint.empty() ? "" : " [" + joint + "]") + ";\n";
   });
   graph.topology().ForEachTwistEdge([&](core::BodyIndex tail, core::FrameIndex head) {
     const std::string joint = joint_label(head);
-    dot += "  " + BodyId(tail) + " -> " + FrameId(head) + " [style=dashed" + (joint.empty() ? "" : ", " + joint) +
-           "];\n";
+    dot += "  " + BodyId(tail) + " -> " + FrameId(head) + " [style=dashed" +
+           (joint.empty() ? "" : ", " + joint) + "];\n";
   });
   dot += "}\n";
   return dot;

@@ -26,7 +26,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr std::string_view kRosUsage = R"(Usage: semgraph echo --ros pose OF WRT [--in FRAME] [--rate HZ] [--count N]
+constexpr std::string_view kRosUsage =
+    R"(Usage: semgraph echo --ros pose OF WRT [--in FRAME] [--rate HZ] [--count N]
                             [OPTIONS]
        semgraph check --ros [--window S] [OPTIONS]
        semgraph serve --ros FILE [OPTIONS]
@@ -172,9 +173,10 @@ std::string EchoLine(const core::SceneGraph<>& g, const core::PoseSpec& spec) {
   if (q.w() < 0) q.coeffs() = -q.coeffs();
   std::string stamp = "null";
   if (X->time.time) stamp = JsonNumber(X->time.time->seconds());
-  return "{\"ok\": true, \"stamp\": " + stamp + ", \"position\": " +
-         Vec(X->value.value.translation) + ", \"quaternion\": [" + JsonNumber(q.w()) + ", " +
-         JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " + JsonNumber(q.z()) + "]}";
+  return "{\"ok\": true, \"stamp\": " + stamp +
+         ", \"position\": " + Vec(X->value.value.translation) + ", \"quaternion\": [" +
+         JsonNumber(q.w()) + ", " + JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " +
+         JsonNumber(q.z()) + "]}";
 }
 
 int Echo(const Args& a) {
@@ -245,12 +247,13 @@ int Check(const Args& a) {
   const std::vector<ros::FindingGroup> groups = (*listener)->findings();
   std::uint64_t total = 0;
   for (const ros::FindingGroup& g : groups) total += g.count;
-  std::printf("{\"summary\": true, \"messages\": %llu, \"transforms\": %llu, \"findings\": %llu, "
-              "\"groups\": %zu}\n",
-              static_cast<unsigned long long>(stats.tf + stats.tf_static + stats.joint_states +
-                                              stats.robot_descriptions),
-              static_cast<unsigned long long>(stats.counts.transforms),
-              static_cast<unsigned long long>(total), groups.size());
+  std::printf(
+      "{\"summary\": true, \"messages\": %llu, \"transforms\": %llu, \"findings\": %llu, "
+      "\"groups\": %zu}\n",
+      static_cast<unsigned long long>(stats.tf + stats.tf_static + stats.joint_states +
+                                      stats.robot_descriptions),
+      static_cast<unsigned long long>(stats.counts.transforms),
+      static_cast<unsigned long long>(total), groups.size());
   return groups.empty() ? kExitOk : kExitOpFailed;
 }
 

@@ -38,8 +38,12 @@ void Apply(const Script& script, core::SceneGraph<B>& graph, const RunOptions& o
     progress->line = script.ops[i].location.line;
     OpOutcome outcome = ApplyOp(graph, script.ops[i], i, options.base_dir);
     all_ok = all_ok && outcome.ok;
-    OpResult result{i, outcome.ok, std::move(outcome.error), std::move(outcome.json),
-                    OpLabel(script.ops[i]), script.ops[i].location.line};
+    OpResult result{i,
+                    outcome.ok,
+                    std::move(outcome.error),
+                    std::move(outcome.json),
+                    OpLabel(script.ops[i]),
+                    script.ops[i].location.line};
     if (options.on_op) {
       if (!options.on_op(result)) break;
     } else {
@@ -86,7 +90,8 @@ void DefaultName(const std::string& path, RunOptions* options) {
   }
   if (options->base_dir.empty() && path != "-") {  // the script's folder
     const std::size_t slash = path.rfind('/');
-    options->base_dir = slash == std::string::npos ? std::string() : path.substr(0, slash == 0 ? 1 : slash);
+    options->base_dir =
+        slash == std::string::npos ? std::string() : path.substr(0, slash == 0 ? 1 : slash);
   }
 }
 

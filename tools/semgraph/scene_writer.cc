@@ -141,9 +141,10 @@ class Writer {
 
   // A joint op interns [p, c, P, C], creates the bodies P, C, then the frames c, p (AddJoint).
   Effects JointEffects(const core::internal::JointRecord& j) const {
-    return {{FrameName(j.parent), FrameName(j.child), BodyName(j.parent_body), BodyName(j.child_body)},
-            {j.parent_body, j.child_body},
-            {j.child, j.parent}};
+    return {
+        {FrameName(j.parent), FrameName(j.child), BodyName(j.parent_body), BodyName(j.child_body)},
+        {j.parent_body, j.child_body},
+        {j.child, j.parent}};
   }
 
   // Applies `e` to `c` if every name, body and frame it would make new is the next one (and
@@ -282,7 +283,8 @@ class Writer {
       }
     }
     if (!positions.empty()) {
-      out_ += "  - {op: joints, positions: {" + positions + "}, velocities: {" + velocities + "}}\n";
+      out_ +=
+          "  - {op: joints, positions: {" + positions + "}, velocities: {" + velocities + "}}\n";
     }
   }
 
@@ -327,8 +329,8 @@ class Writer {
       return true;
     }
     // The graph's own edges at the next frame.
-    if (const FrameIndex p = g_.pose_parent(nf); p.is_valid() && !joint_child_[nf.value()] &&
-                                                   Fits(PoseEffects(nf, p), c)) {
+    if (const FrameIndex p = g_.pose_parent(nf);
+        p.is_valid() && !joint_child_[nf.value()] && Fits(PoseEffects(nf, p), c)) {
       Pose(nf, p);
       return true;
     }
@@ -338,8 +340,8 @@ class Writer {
         return true;
       }
     }
-    if (const BodyIndex D = g_.twist_parent(nf); D.is_valid() && !joint_child_[nf.value()] &&
-                                                  Fits(TwistEffects(nf, D), c)) {
+    if (const BodyIndex D = g_.twist_parent(nf);
+        D.is_valid() && !joint_child_[nf.value()] && Fits(TwistEffects(nf, D), c)) {
       Twist(nf, D);
       return true;
     }
@@ -397,11 +399,13 @@ class Writer {
     if (c.frame + 1 < num_frames) {
       const FrameIndex next(c.frame + 1);
       const BodyIndex P = g_.body_of(next), C = g_.body_of(nf);
-      const Effects e{{FrameName(next), FrameName(nf), BodyName(P), BodyName(C)}, {P, C}, {nf, next}};
+      const Effects e{
+          {FrameName(next), FrameName(nf), BodyName(P), BodyName(C)}, {P, C}, {nf, next}};
       if (P != C && FrameName(next) != FrameName(nf) && Fits(e, c)) {
         std::string name = "semgraph export joint";
         while (g_.joint_table().Find(name) != nullptr) name += "'";
-        out_ += "  - {op: joint, name: " + JsonString(name) + ", type: fixed, parent: " + Quoted(FrameName(next)) +
+        out_ += "  - {op: joint, name: " + JsonString(name) +
+                ", type: fixed, parent: " + Quoted(FrameName(next)) +
                 ", parent_body: " + Quoted(BodyName(P)) + ", child: " + Quoted(FrameName(nf)) +
                 ", child_body: " + Quoted(BodyName(C)) + "}\n";
         RemovePose(nf, next);
@@ -427,11 +431,11 @@ class Writer {
 
   const core::SceneGraph<B>& g_;
   const topology::SceneTopology& t_;
-  std::vector<bool> pose_done_, twist_done_;  // by head frame: the edge is written
-  std::vector<bool> joint_child_;             // by frame: the head of a joint's edges
+  std::vector<bool> pose_done_, twist_done_;           // by head frame: the edge is written
+  std::vector<bool> joint_child_;                      // by frame: the head of a joint's edges
   std::vector<std::vector<std::uint32_t>> joints_at_;  // by frame: live joints with it as an end
-  std::vector<bool> joint_done_;              // by joint index: written
-  std::uint32_t live_slots_ = 0;              // joints written so far (SlotGeneration)
+  std::vector<bool> joint_done_;                       // by joint index: written
+  std::uint32_t live_slots_ = 0;                       // joints written so far (SlotGeneration)
   std::vector<std::uint32_t> replay_generation_;
   std::vector<std::vector<FrameIndex>> children_;
   std::string out_;

@@ -6,12 +6,12 @@
 // document contains.
 #include "semgraph/script_reader.h"
 
-#include "semgraph/core/time.h"
-
 #include <algorithm>
 #include <set>
 #include <span>
 #include <utility>
+
+#include "semgraph/core/time.h"
 
 namespace semgraph::script {
 
@@ -68,16 +68,48 @@ enum Field : int {
 };
 constexpr Field kNoField = kNumFields;
 
-constexpr std::string_view kFieldNames[kNumFields] = {
-    "op",       "kind",  "name",        "body",      "of",
-    "wrt",      "point", "orientation", "ref_point", "ref_orientation",
-    "ref_body", "coord", "position",    "rotation",  "linear",
-    "angular",  "file",  "prefix",      "type",      "parent",
-    "child",    "parent_body", "child_body", "axis", "lower",
-    "upper",    "mimic", "positions",   "velocities", "repair",
-    "stamp",    "at",    "max_extrapolation", "not_before", "ref_at",
-    "fixed",    "source", "topics",    "static",    "bodies",
-    "start",    "end"};
+constexpr std::string_view kFieldNames[kNumFields] = {"op",
+                                                      "kind",
+                                                      "name",
+                                                      "body",
+                                                      "of",
+                                                      "wrt",
+                                                      "point",
+                                                      "orientation",
+                                                      "ref_point",
+                                                      "ref_orientation",
+                                                      "ref_body",
+                                                      "coord",
+                                                      "position",
+                                                      "rotation",
+                                                      "linear",
+                                                      "angular",
+                                                      "file",
+                                                      "prefix",
+                                                      "type",
+                                                      "parent",
+                                                      "child",
+                                                      "parent_body",
+                                                      "child_body",
+                                                      "axis",
+                                                      "lower",
+                                                      "upper",
+                                                      "mimic",
+                                                      "positions",
+                                                      "velocities",
+                                                      "repair",
+                                                      "stamp",
+                                                      "at",
+                                                      "max_extrapolation",
+                                                      "not_before",
+                                                      "ref_at",
+                                                      "fixed",
+                                                      "source",
+                                                      "topics",
+                                                      "static",
+                                                      "bodies",
+                                                      "start",
+                                                      "end"};
 
 static_assert(kFieldNames[kNumFields - 1] == "end", "one name per Field, in order");
 static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
@@ -122,10 +154,12 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       // `body` is optional: a frame without it is the op error frame_without_body (spec).
       return {"a 'frame' op", Bit(kOp) | Bit(kName) | Bit(kBody), {{kName, kNoField}}};
     case OpKind::kPose:
-      return {"a 'pose' op", Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair) | Bit(kStamp),
+      return {"a 'pose' op",
+              Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair) | Bit(kStamp),
               pose_required};
     case OpKind::kTwist:
-      return {"a 'twist' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair) | Bit(kStamp),
+      return {"a 'twist' op",
+              Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair) | Bit(kStamp),
               twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
@@ -239,13 +273,15 @@ class Interpreter {
   bool ReadNumber(std::uint32_t node, std::string_view what, double* out);
   bool ReadVector3(std::uint32_t node, std::string_view field, std::array<double, 3>* out);
   bool ReadRotation(std::uint32_t node, RotationValue* out);
-  bool ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
+  bool ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
+                       ScriptOp* op);
   bool ReadJointValues(std::uint32_t node, std::string_view field,
                        std::vector<std::pair<std::string, double>>* out);
   bool ReadNames(std::uint32_t node, std::string_view field, std::vector<std::string>* out);
   bool ReadBagFields(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
   bool ReadTimeSettings(std::uint32_t node, TimeSettings* out);
-  bool ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
+  bool ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
+                  ScriptOp* op);
 
   const YamlTree& tree_;
   ScriptError error_;
@@ -273,8 +309,9 @@ bool Interpreter::ReadMap(std::uint32_t map, std::string_view what,
 bool Interpreter::ReadDocument(Script* script) {
   const NodeId root = tree_.root();
   if (At(root).kind != NodeKind::kMap) {
-    return Fail(root, "a script is a map with 'ops' (and optionally 'representation' and 'time'), got " +
-                          Describe(root));
+    return Fail(root,
+                "a script is a map with 'ops' (and optionally 'representation' and 'time'), got " +
+                    Describe(root));
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   if (!ReadMap(root, "the script", &pairs)) return false;
@@ -482,18 +519,21 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     } else if (plain && (n.text == "false" || n.text == "False" || n.text == "FALSE")) {
       op->repair = false;
     } else {
-      return Fail(value[kRepair], "'repair' must be true or false, got " + Describe(value[kRepair]));
+      return Fail(value[kRepair],
+                  "'repair' must be true or false, got " + Describe(value[kRepair]));
     }
   }
   return true;
 }
 
-bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
+bool Interpreter::ReadJointFields(std::uint32_t node,
+                                  const std::array<std::uint32_t, kNumFields>& value,
                                   ScriptOp* op) {
-  static constexpr std::pair<std::string_view, JointKind> kTypes[] = {{"revolute", JointKind::kRevolute},
-                                                                      {"continuous", JointKind::kContinuous},
-                                                                      {"prismatic", JointKind::kPrismatic},
-                                                                      {"fixed", JointKind::kFixed}};
+  static constexpr std::pair<std::string_view, JointKind> kTypes[] = {
+      {"revolute", JointKind::kRevolute},
+      {"continuous", JointKind::kContinuous},
+      {"prismatic", JointKind::kPrismatic},
+      {"fixed", JointKind::kFixed}};
   const NodeView type = At(value[kType]);
   bool found = false;
   for (const auto& [text, kind] : kTypes) {
@@ -503,8 +543,10 @@ bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint
     }
   }
   if (!found) {
-    return Fail(value[kType], "the 'type' of a joint must be one of revolute, continuous, prismatic, fixed, got " +
-                                  Describe(value[kType]));
+    return Fail(
+        value[kType],
+        "the 'type' of a joint must be one of revolute, continuous, prismatic, fixed, got " +
+            Describe(value[kType]));
   }
   const std::pair<Field, std::string*> names[] = {{kParent, &op->names.ref_orientation},
                                                   {kParentBody, &op->names.ref_body},
@@ -514,11 +556,13 @@ bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint
     if (value[field] != kNoNode && !ReadText(value[field], kFieldNames[field], out)) return false;
   }
   if (value[kAxis] != kNoNode && !ReadVector3(value[kAxis], "axis", &op->axis)) return false;
-  const bool limited = op->joint_type == JointKind::kRevolute || op->joint_type == JointKind::kPrismatic;
+  const bool limited =
+      op->joint_type == JointKind::kRevolute || op->joint_type == JointKind::kPrismatic;
   for (const auto& [field, out] : {std::pair{kLower, &op->lower}, std::pair{kUpper, &op->upper}}) {
     if (value[field] == kNoNode) {
       if (limited) {
-        return Fail(node, "a '" + std::string(type.text) + "' joint needs '" + std::string(kFieldNames[field]) + "'");
+        return Fail(node, "a '" + std::string(type.text) + "' joint needs '" +
+                              std::string(kFieldNames[field]) + "'");
       }
       continue;
     }
@@ -542,7 +586,8 @@ bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint
       } else if (k == "offset") {
         if (!ReadNumber(v, "'offset'", &op->mimic_offset)) return false;
       } else {
-        return Fail(key, "unknown field " + Quoted(k) + " in 'mimic' (its fields: joint, multiplier, offset)");
+        return Fail(key, "unknown field " + Quoted(k) +
+                             " in 'mimic' (its fields: joint, multiplier, offset)");
       }
     }
     if (!has_joint) return Fail(m, "'mimic' needs 'joint'");
@@ -554,7 +599,8 @@ bool Interpreter::ReadJointFields(std::uint32_t node, const std::array<std::uint
 bool Interpreter::ReadTimeSettings(std::uint32_t node, TimeSettings* out) {
   static constexpr std::string_view kKeys = "window, interpolation, duplicate_stamp";
   if (At(node).kind != NodeKind::kMap) {
-    return Fail(node, "'time' must be a map with any of " + std::string(kKeys) + ", got " + Describe(node));
+    return Fail(
+        node, "'time' must be a map with any of " + std::string(kKeys) + ", got " + Describe(node));
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   if (!ReadMap(node, "'time'", &pairs)) return false;
@@ -570,8 +616,10 @@ bool Interpreter::ReadTimeSettings(std::uint32_t node, TimeSettings* out) {
       if (!ReadNumber(v, "'window'", &seconds)) return false;
       const auto ns = core::NanosecondsFromSeconds(seconds);
       if (!ns || *ns <= 0) {
-        return Fail(v, "'window' must be a finite positive time in seconds (at least 1 ns, at most 9.2e9 s), got " +
-                           Describe(v));
+        return Fail(v,
+                    "'window' must be a finite positive time in seconds (at least 1 ns, at most "
+                    "9.2e9 s), got " +
+                        Describe(v));
       }
       out->window_ns = *ns;
     } else if (k == "interpolation") {
@@ -591,7 +639,8 @@ bool Interpreter::ReadTimeSettings(std::uint32_t node, TimeSettings* out) {
         return Fail(v, "'duplicate_stamp' must be replace or reject, got " + Describe(v));
       }
     } else {
-      return Fail(key, "unknown field " + Quoted(k) + " in 'time' (its fields: " + std::string(kKeys) + ")");
+      return Fail(key, "unknown field " + Quoted(k) +
+                           " in 'time' (its fields: " + std::string(kKeys) + ")");
     }
   }
   return true;
@@ -600,14 +649,16 @@ bool Interpreter::ReadTimeSettings(std::uint32_t node, TimeSettings* out) {
 bool Interpreter::ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
                              ScriptOp* op) {
   // The shape admitted each field only on the ops that take it; here their values.
-  const std::pair<Field, std::optional<double>*> numbers[] = {{kStamp, &op->stamp},
-                                                               {kMaxExtrapolation, &op->max_extrapolation},
-                                                               {kNotBefore, &op->not_before},
-                                                               {kRefAt, &op->ref_at}};
+  const std::pair<Field, std::optional<double>*> numbers[] = {
+      {kStamp, &op->stamp},
+      {kMaxExtrapolation, &op->max_extrapolation},
+      {kNotBefore, &op->not_before},
+      {kRefAt, &op->ref_at}};
   for (const auto& [field, out] : numbers) {
     if (value[field] == kNoNode) continue;
     double seconds = 0;
-    if (!ReadNumber(value[field], "'" + std::string(kFieldNames[field]) + "' (seconds)", &seconds)) return false;
+    if (!ReadNumber(value[field], "'" + std::string(kFieldNames[field]) + "' (seconds)", &seconds))
+      return false;
     *out = seconds;
   }
   if (value[kAt] != kNoNode) {
@@ -615,23 +666,28 @@ bool Interpreter::ReadOpTime(std::uint32_t node, const std::array<std::uint32_t,
     if (n.kind == NodeKind::kScalar && n.text == "latest_common") {
       op->at = AtKind::kLatestCommon;
     } else {
-      const bool may_be_number = n.style == ScalarStyle::kPlain || n.style == ScalarStyle::kNumberTag;
-      if (n.kind != NodeKind::kScalar || !may_be_number || !ParseCoreNumber(n.text, &op->at_seconds)) {
-        return Fail(value[kAt], "'at' must be a time in seconds or latest_common, got " + Describe(value[kAt]));
+      const bool may_be_number =
+          n.style == ScalarStyle::kPlain || n.style == ScalarStyle::kNumberTag;
+      if (n.kind != NodeKind::kScalar || !may_be_number ||
+          !ParseCoreNumber(n.text, &op->at_seconds)) {
+        return Fail(value[kAt],
+                    "'at' must be a time in seconds or latest_common, got " + Describe(value[kAt]));
       }
       op->at = AtKind::kTime;
     }
   }
   if ((value[kRefAt] == kNoNode) != (value[kFixed] == kNoNode)) {
-    return Fail(value[kRefAt] != kNoNode ? value[kRefAt] : value[kFixed],
-                "time travel needs both 'ref_at' (the reference side's time) and 'fixed' (the frame fixed "
-                "between the two times)");
+    return Fail(
+        value[kRefAt] != kNoNode ? value[kRefAt] : value[kFixed],
+        "time travel needs both 'ref_at' (the reference side's time) and 'fixed' (the frame fixed "
+        "between the two times)");
   }
   if (value[kFixed] != kNoNode) {
     if (!ReadText(value[kFixed], "fixed", &op->fixed)) return false;
     if (op->at != AtKind::kTime) {
       return Fail(value[kAt] != kNoNode ? value[kAt] : node,
-                  "time travel ('ref_at', 'fixed') needs 'at' as a time in seconds (the point side's time)");
+                  "time travel ('ref_at', 'fixed') needs 'at' as a time in seconds (the point "
+                  "side's time)");
     }
   }
   if (value[kSource] != kNoNode) {
@@ -641,11 +697,13 @@ bool Interpreter::ReadOpTime(std::uint32_t node, const std::array<std::uint32_t,
     } else if (n.kind == NodeKind::kScalar && n.text == "poses") {
       op->source_poses = true;
     } else {
-      return Fail(value[kSource], "'source' must be twists or poses, got " + Describe(value[kSource]));
+      return Fail(value[kSource],
+                  "'source' must be twists or poses, got " + Describe(value[kSource]));
     }
   }
   if (value[kStamp] != kNoNode && value[kRepair] != kNoNode) {
-    return Fail(value[kRepair], "'repair' does not take a stamped value: give either 'repair' or 'stamp'");
+    return Fail(value[kRepair],
+                "'repair' does not take a stamped value: give either 'repair' or 'stamp'");
   }
   return true;
 }
@@ -653,14 +711,17 @@ bool Interpreter::ReadOpTime(std::uint32_t node, const std::array<std::uint32_t,
 bool Interpreter::ReadJointValues(std::uint32_t node, std::string_view field,
                                   std::vector<std::pair<std::string, double>>* out) {
   if (At(node).kind != NodeKind::kMap) {
-    return Fail(node, "'" + std::string(field) + "' must be a map of joint names to numbers, got " + Describe(node));
+    return Fail(node, "'" + std::string(field) + "' must be a map of joint names to numbers, got " +
+                          Describe(node));
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   if (!ReadMap(node, "'" + std::string(field) + "'", &pairs)) return false;
   out->reserve(pairs.size());
   for (const auto& [key, v] : pairs) {
     double x = 0;
-    if (!ReadNumber(v, "the value of joint " + Quoted(At(key).text) + " in '" + std::string(field) + "'", &x)) {
+    if (!ReadNumber(
+            v, "the value of joint " + Quoted(At(key).text) + " in '" + std::string(field) + "'",
+            &x)) {
       return false;
     }
     out->emplace_back(std::string(At(key).text), x);
@@ -672,7 +733,8 @@ bool Interpreter::ReadNames(std::uint32_t node, std::string_view field,
                             std::vector<std::string>* out) {
   const NodeView n = At(node);
   if (n.kind != NodeKind::kSequence) {
-    return Fail(node, "'" + std::string(field) + "' must be a list of names, got " + Describe(node));
+    return Fail(node,
+                "'" + std::string(field) + "' must be a list of names, got " + Describe(node));
   }
   out->resize(n.children.size());
   for (std::size_t i = 0; i < n.children.size(); ++i) {
@@ -707,8 +769,7 @@ bool Interpreter::ReadBagFields(const std::array<std::uint32_t, kNumFields>& val
       if (!ReadNames(frames, "bodies", &op->bodies.back().second)) return false;
     }
   }
-  const std::pair<Field, std::optional<double>*> times[] = {{kStart, &op->start},
-                                                             {kEnd, &op->end}};
+  const std::pair<Field, std::optional<double>*> times[] = {{kStart, &op->start}, {kEnd, &op->end}};
   for (const auto& [field, out] : times) {
     if (value[field] == kNoNode) continue;
     double t = 0;

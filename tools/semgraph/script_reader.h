@@ -128,16 +128,16 @@ struct ScriptOp {
   // kJoints: the maps as written, in document order.
   bool has_positions = false, has_velocities = false;
   std::vector<std::pair<std::string, double>> positions, velocities;
-  bool repair = false;               // kPose, kTwist: repair a rejected relation (docs/repair.md)
+  bool repair = false;  // kPose, kTwist: repair a rejected relation (docs/repair.md)
   // Time (docs/scene-script.md, "Time"), in seconds as written: the runner converts them to
   // nanoseconds (a non-finite or out-of-range time is then the op error invalid_number).
-  std::optional<double> stamp;                     // kPose, kTwist, kJoints
-  AtKind at = AtKind::kLatest;                     // queries: the time policy
-  double at_seconds = 0;                           // AtKind::kTime
+  std::optional<double> stamp;  // kPose, kTwist, kJoints
+  AtKind at = AtKind::kLatest;  // queries: the time policy
+  double at_seconds = 0;        // AtKind::kTime
   std::optional<double> max_extrapolation, not_before;
-  std::optional<double> ref_at;                    // time travel: with `fixed`, and at = kTime
+  std::optional<double> ref_at;  // time travel: with `fixed`, and at = kTime
   std::string fixed;
-  bool source_poses = false;                       // velocity kinds: differentiate the poses
+  bool source_poses = false;  // velocity kinds: differentiate the poses
   // kBag (file in `file`): the topics (has_topics: given), `static` mode as written (empty:
   // same_body), the bodies map in document order, the log-time window in seconds.
   bool has_topics = false;

@@ -5,9 +5,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <optional>
@@ -55,12 +55,13 @@ OpOutcome Success(std::size_t index, std::initializer_list<ResultField> fields =
     for (const double v : f.values) {
       if (!std::isfinite(v)) {
         // Defensive: JSON has no Inf/NaN, and the graph's input bounds should prevent this.
-        return OpOutcome{false, "invalid_number", "{\"op\": " + std::to_string(index) +
-                                    ", \"ok\": false, \"error\": \"invalid_number\", "
-                                    "\"message\": " +
-                                    JsonString("the " + std::string(f.key) +
-                                               " of the result is not finite (overflow)") +
-                                    "}"};
+        return OpOutcome{false, "invalid_number",
+                         "{\"op\": " + std::to_string(index) +
+                             ", \"ok\": false, \"error\": \"invalid_number\", "
+                             "\"message\": " +
+                             JsonString("the " + std::string(f.key) +
+                                        " of the result is not finite (overflow)") +
+                             "}"};
       }
     }
   }
@@ -106,8 +107,8 @@ std::string CapNames(std::string message, const ScriptOp& op) {
 OpOutcome Failure(const ScriptOp& op, std::size_t index, base::ErrorCode code,
                   std::string_view message) {
   return OpOutcome{false, std::string(base::ToString(code)),
-                   "{\"op\": " + std::to_string(index) + ", \"ok\": false, \"error\": " +
-                       JsonString(base::ToString(code)) +
+                   "{\"op\": " + std::to_string(index) +
+                       ", \"ok\": false, \"error\": " + JsonString(base::ToString(code)) +
                        ", \"message\": " + JsonString(CapNames(std::string(message), op)) + "}"};
 }
 
@@ -164,9 +165,9 @@ OpOutcome FromRepair(const ScriptOp& op, std::size_t index,
     if (const auto& d = result.error().discrepancy) {
       out.json.pop_back();  // '}'
       const bool twist = op.kind == OpKind::kTwist;
-      out.json += std::string(", \"discrepancy\": {\"") + (twist ? "linear" : "position") + "\": " +
-                  JsonNumber(d->position) + ", \"" + (twist ? "angular" : "angle") + "\": " +
-                  JsonNumber(d->angle) + "}}";
+      out.json += std::string(", \"discrepancy\": {\"") + (twist ? "linear" : "position") +
+                  "\": " + JsonNumber(d->position) + ", \"" + (twist ? "angular" : "angle") +
+                  "\": " + JsonNumber(d->angle) + "}}";
     }
     return out;
   }
@@ -219,9 +220,11 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
   if (std::string reason; !StampOf(op, &stamp, &reason)) {
     // The add's own order: invalid_name comes before invalid_number. A position of NaN makes
     // the graph check the names and stop at invalid_number, changing nothing.
-    const auto probe = graph.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(kNaN, 0, 0));
+    const auto probe =
+        graph.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(kNaN, 0, 0));
     if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
-    return Failure(op, index, base::ErrorCode::kInvalidNumber, WithReason(probe.error().message, reason));
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   WithReason(probe.error().message, reason));
   }
   const auto add = [&](const auto& rotation) {
     return stamp ? graph.AddPose(spec, rotation, p, *stamp) : graph.AddPose(spec, rotation, p);
@@ -233,7 +236,8 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
     if (r.form == RotationForm::kQuaternion) {
       q = Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3]);
     } else if (r.form == RotationForm::kRpy) {
-      q = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(r.rpy[1], Eigen::Vector3d::UnitY()) *
+      q = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(r.rpy[1], Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(r.rpy[0], Eigen::Vector3d::UnitX());
     } else if (r.form == RotationForm::kMatrix) {
       Eigen::Matrix3d R;
@@ -252,7 +256,8 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
     case RotationForm::kQuaternion:
       // Passed as written: normalizing here would hide invalid_rotation.
       return FromBuild(op, index,
-                       add(Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3])));
+                       add(Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2],
+                                              r.quaternion[3])));
     case RotationForm::kRpy: {
       // R = Rz(yaw) Ry(pitch) Rx(roll); a non-finite angle gives a non-finite quaternion, which
       // the graph reports as invalid_number.
@@ -274,10 +279,14 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
 
 core::JointType JointTypeOf(JointKind k) {
   switch (k) {
-    case JointKind::kRevolute: return core::JointType::kRevolute;
-    case JointKind::kContinuous: return core::JointType::kContinuous;
-    case JointKind::kPrismatic: return core::JointType::kPrismatic;
-    case JointKind::kFixed: return core::JointType::kFixed;
+    case JointKind::kRevolute:
+      return core::JointType::kRevolute;
+    case JointKind::kContinuous:
+      return core::JointType::kContinuous;
+    case JointKind::kPrismatic:
+      return core::JointType::kPrismatic;
+    case JointKind::kFixed:
+      return core::JointType::kFixed;
   }
   return core::JointType::kFixed;
 }
@@ -295,9 +304,11 @@ OpOutcome AddJoint(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
   s.p_origin = ToVector(op.position);
   const RotationValue& r = op.rotation;
   switch (r.form) {
-    case RotationForm::kIdentity: break;
+    case RotationForm::kIdentity:
+      break;
     case RotationForm::kQuaternion:
-      s.q_origin = Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3]);
+      s.q_origin =
+          Eigen::Quaterniond(r.quaternion[0], r.quaternion[1], r.quaternion[2], r.quaternion[3]);
       break;
     case RotationForm::kRpy:
       s.q_origin = Eigen::AngleAxisd(r.rpy[2], Eigen::Vector3d::UnitZ()) *
@@ -328,15 +339,21 @@ template <coord::Backend B>
 OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const core::TwistSpec spec = TwistSpecOf(op.names);
   if (op.repair) {
-    return FromRepair(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), core::RepairPolicy{}));
+    return FromRepair(
+        op, index,
+        graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), core::RepairPolicy{}));
   }
   std::optional<core::Stamp> stamp;
   if (std::string reason; !StampOf(op, &stamp, &reason)) {
-    const auto probe = graph.AddTwist(spec, Eigen::Vector3d(kNaN, 0, 0), Eigen::Vector3d::Zero());  // as AddPose
+    const auto probe =
+        graph.AddTwist(spec, Eigen::Vector3d(kNaN, 0, 0), Eigen::Vector3d::Zero());  // as AddPose
     if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
-    return Failure(op, index, base::ErrorCode::kInvalidNumber, WithReason(probe.error().message, reason));
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   WithReason(probe.error().message, reason));
   }
-  if (stamp) return FromBuild(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), *stamp));
+  if (stamp)
+    return FromBuild(op, index,
+                     graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), *stamp));
   return FromBuild(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular)));
 }
 
@@ -346,18 +363,22 @@ OpOutcome SetJoints(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t 
   for (const auto& [name, value] : op.positions) q.push_back({name, value});
   for (const auto& [name, value] : op.velocities) qdot.push_back({name, value});
   std::optional<core::Stamp> stamp;
-  if (std::string reason; !StampOf(op, &stamp, &reason)) {  // invalid_number comes first for joint states
-    return Failure(op, index, base::ErrorCode::kInvalidNumber, "joint state rejected (invalid_number): " + reason);
+  if (std::string reason;
+      !StampOf(op, &stamp, &reason)) {  // invalid_number comes first for joint states
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   "joint state rejected (invalid_number): " + reason);
   }
   return FromBuild(op, index, stamp ? graph.SetJoints(q, qdot, *stamp) : graph.SetJoints(q, qdot));
 }
 
 template <coord::Backend B>
-OpOutcome LoadUrdf(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index, std::string_view base_dir) {
+OpOutcome LoadUrdf(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+                   std::string_view base_dir) {
 #if SEMGRAPH_SCRIPT_HAS_MODELS
   std::string path = op.file;
   const bool uri = path.rfind("file://", 0) == 0 || path.rfind("package://", 0) == 0;
-  if (!uri && !path.empty() && path.front() != '/' && !base_dir.empty()) path = std::string(base_dir) + "/" + path;
+  if (!uri && !path.empty() && path.front() != '/' && !base_dir.empty())
+    path = std::string(base_dir) + "/" + path;
   auto robot = models::LoadUrdfFile(graph, path, op.prefix);
   if (!robot) {
     // Name the file as the script wrote it, not as resolved against the script's folder.
@@ -372,7 +393,8 @@ OpOutcome LoadUrdf(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
   (void)graph;
   (void)base_dir;
   return Failure(op, index, base::ErrorCode::kInvalidModel,
-                 "robot model " + op.file + " rejected (invalid_model): this tool was built without semgraph::models");
+                 "robot model " + op.file +
+                     " rejected (invalid_model): this tool was built without semgraph::models");
 #endif
 }
 
@@ -404,8 +426,8 @@ bool TimeOf(const ScriptOp& op, QueryTime* out, std::string* reason) {
   if (not_before_ns) not_before = core::Stamp::Nanoseconds(*not_before_ns);
   const core::Duration horizon = core::Duration::Nanoseconds(horizon_ns.value_or(0));
   if (ref_at) {
-    out->travel.emplace(core::Stamp::Nanoseconds(*at), core::Stamp::Nanoseconds(*ref_at), op.fixed, horizon,
-                        not_before);
+    out->travel.emplace(core::Stamp::Nanoseconds(*at), core::Stamp::Nanoseconds(*ref_at), op.fixed,
+                        horizon, not_before);
   } else if (op.at == AtKind::kTime) {
     out->policy = core::At{core::Stamp::Nanoseconds(*at), horizon, not_before};
   } else if (op.at == AtKind::kLatestCommon) {
@@ -440,7 +462,8 @@ OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::si
   const auto timed = graph.GetJacobian(spec, policy);
   if (!timed) return Failure(op, index, timed.error().code, graph.Describe(timed.error(), spec));
   const core::Jacobian* J = &timed->value;
-  if (!J->J.allFinite()) return Failure(op, index, base::ErrorCode::kInvalidNumber, "the Jacobian is not finite");
+  if (!J->J.allFinite())
+    return Failure(op, index, base::ErrorCode::kInvalidNumber, "the Jacobian is not finite");
   std::string json = "{\"op\": " + std::to_string(index) + ", \"ok\": true, \"joints\": [";
   for (std::size_t c = 0; c < J->joints.size(); ++c) {
     if (c > 0) json += ", ";
@@ -466,7 +489,8 @@ OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::si
 template <coord::Backend B>
 OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
-  const bool pose_kind = op.query_kind == QueryKind::kPose || op.query_kind == QueryKind::kPosition ||
+  const bool pose_kind = op.query_kind == QueryKind::kPose ||
+                         op.query_kind == QueryKind::kPosition ||
                          op.query_kind == QueryKind::kOrientation;
   const core::PoseSpec pose_spec = PoseSpecOf(n);
   const core::TwistSpec twist_spec = TwistSpecOf(n);
@@ -491,13 +515,16 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
       error = graph.GetTwist(twist_spec, probe).error();
     }
     if (error.code != base::ErrorCode::kInvalidNumber) {
-      return Failure(op, index, error.code,
-                     pose_kind ? graph.Describe(error, pose_spec) : graph.Describe(error, twist_spec));
+      return Failure(
+          op, index, error.code,
+          pose_kind ? graph.Describe(error, pose_spec) : graph.Describe(error, twist_spec));
     }
-    return Failure(op, index, base::ErrorCode::kInvalidNumber, "query failed (invalid_number): " + reason);
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   "query failed (invalid_number): " + reason);
   }
   if (op.query_kind == QueryKind::kJacobian) return Jacobian(graph, op, index, time.policy);
-  const core::TwistSource source = op.source_poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
+  const core::TwistSource source =
+      op.source_poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
   // One call per kind, with the policy or the time travel.
   const auto pose_query = [&](auto&& get) {
     return time.travel ? get(*time.travel) : get(time.policy);
@@ -506,9 +533,10 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     case QueryKind::kPose: {
       const auto X = pose_query([&](const auto& t) { return graph.GetPose(pose_spec, t); });
       if (!X) return Failure(op, index, X.error().code, graph.Describe(X.error(), pose_spec));
-      return WithTime(Success(index, {{"position", Values(B::TranslationOf(X->value.value))},
-                                      {"quaternion", Values(B::ToQuaternion(B::RotationOf(X->value.value)))}}),
-                      X->time);
+      return WithTime(
+          Success(index, {{"position", Values(B::TranslationOf(X->value.value))},
+                          {"quaternion", Values(B::ToQuaternion(B::RotationOf(X->value.value)))}}),
+          X->time);
     }
     case QueryKind::kPosition: {
       const auto p = pose_query([&](const auto& t) { return graph.GetPosition(pose_spec, t); });
@@ -518,12 +546,14 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     case QueryKind::kOrientation: {
       const auto R = pose_query([&](const auto& t) { return graph.GetOrientation(pose_spec, t); });
       if (!R) return Failure(op, index, R.error().code, graph.Describe(R.error(), pose_spec));
-      return WithTime(Success(index, {{"quaternion", Values(B::ToQuaternion(R->value.value))}}), R->time);
+      return WithTime(Success(index, {{"quaternion", Values(B::ToQuaternion(R->value.value))}}),
+                      R->time);
     }
     case QueryKind::kTwist: {
       const auto V = graph.GetTwist(twist_spec, time.policy, source);
       if (!V) return Failure(op, index, V.error().code, graph.Describe(V.error(), twist_spec));
-      return WithTime(Success(index, {{"linear", Values(V->value.linear)}, {"angular", Values(V->value.angular)}}),
+      return WithTime(Success(index, {{"linear", Values(V->value.linear)},
+                                      {"angular", Values(V->value.angular)}}),
                       V->time);
     }
     case QueryKind::kLinearVelocity: {
@@ -658,7 +688,8 @@ core::TimeOptions TimeOptionsOf(const TimeSettings& time) {
   core::TimeOptions options;
   options.window = core::Duration::Nanoseconds(time.window_ns);
   options.interpolation = time.linear ? core::Interpolation::kLinear : core::Interpolation::kScrew;
-  options.duplicate_stamp = time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
+  options.duplicate_stamp =
+      time.reject_duplicates ? core::DuplicatePolicy::kReject : core::DuplicatePolicy::kReplace;
   return options;
 }
 
@@ -676,7 +707,8 @@ std::string OpLabel(const ScriptOp& op) {
 }
 
 template <coord::Backend B>
-OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index, std::string_view base_dir) {
+OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
+                  std::string_view base_dir) {
   OpOutcome outcome = ApplyOpUnlabelled(graph, op, index, base_dir);
   // The op's kind and script line close the object, after the keys of the original format.
   outcome.json.pop_back();  // '}'
@@ -686,8 +718,10 @@ OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
 }
 
 template OpOutcome ApplyOp<coord::QuaternionBackend>(core::SceneGraph<coord::QuaternionBackend>&,
-                                                     const ScriptOp&, std::size_t, std::string_view);
+                                                     const ScriptOp&, std::size_t,
+                                                     std::string_view);
 template OpOutcome ApplyOp<coord::HomogeneousBackend>(core::SceneGraph<coord::HomogeneousBackend>&,
-                                                      const ScriptOp&, std::size_t, std::string_view);
+                                                      const ScriptOp&, std::size_t,
+                                                      std::string_view);
 
 }  // namespace semgraph::script

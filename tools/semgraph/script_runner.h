@@ -47,8 +47,9 @@ struct OpOutcome {
 /// std::bad_alloc); a rejection leaves `graph` unchanged (the scene graph's atomicity).
 /// `base_dir` resolves a relative `urdf` file (the script's folder; empty: the working folder).
 template <coord::Backend B>
-[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT OpOutcome ApplyOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index,
-                                std::string_view base_dir = {});
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT OpOutcome ApplyOp(core::SceneGraph<B>& graph,
+                                                       const ScriptOp& op, std::size_t index,
+                                                       std::string_view base_dir = {});
 
 /// The graph options a script's `time` map asks for (the reader checked the window, so
 /// SceneGraph<B>::Create accepts them). One conversion for the tool, RunScene and Python.

@@ -40,15 +40,19 @@ std::string Hex(unsigned char c) {
 // The text must be UTF-8 before yaml-cpp sees it: yaml-cpp picks UTF-16 or UTF-32 from a
 // byte-order mark or from NUL bytes among the first four, and copies invalid bytes into scalars.
 base::Expected<base::Ok, YamlError> CheckEncoding(std::string_view text) {
-  const auto starts = [&](std::string_view prefix) { return text.substr(0, prefix.size()) == prefix; };
+  const auto starts = [&](std::string_view prefix) {
+    return text.substr(0, prefix.size()) == prefix;
+  };
   using namespace std::string_view_literals;
   if (starts("\x00\x00\xFE\xFF"sv) || starts("\xFF\xFE\x00\x00"sv)) {
-    return Unexpected{YamlError{{1, 1}, "the text starts with a UTF-32 byte-order mark; the "
-                                        "script must be UTF-8 (convert it, e.g. with iconv)"}};
+    return Unexpected{YamlError{{1, 1},
+                                "the text starts with a UTF-32 byte-order mark; the "
+                                "script must be UTF-8 (convert it, e.g. with iconv)"}};
   }
   if (starts("\xFE\xFF"sv) || starts("\xFF\xFE"sv)) {
-    return Unexpected{YamlError{{1, 1}, "the text starts with a UTF-16 byte-order mark; the "
-                                        "script must be UTF-8 (convert it, e.g. with iconv)"}};
+    return Unexpected{YamlError{{1, 1},
+                                "the text starts with a UTF-16 byte-order mark; the "
+                                "script must be UTF-8 (convert it, e.g. with iconv)"}};
   }
   int line = 1, column = 1;
   for (std::size_t i = 0; i < text.size();) {
@@ -61,9 +65,10 @@ base::Expected<base::Ok, YamlError> CheckEncoding(std::string_view text) {
     }
     const std::size_t n = base::Utf8Length(text, i);
     if (n == 0) {
-      return Unexpected{YamlError{
-          {line, column}, "byte " + Hex(c) + " is not valid UTF-8; the script must be UTF-8 text "
-                                             "(a Latin-1 or UTF-16 file must be converted)"}};
+      return Unexpected{YamlError{{line, column},
+                                  "byte " + Hex(c) +
+                                      " is not valid UTF-8; the script must be UTF-8 text "
+                                      "(a Latin-1 or UTF-16 file must be converted)"}};
     }
     if (c == '\n') {
       ++line, column = 1;
@@ -145,8 +150,9 @@ class TreeBuilder final : public YAML::EventHandler {
     if (anchor >= anchors_.size() || anchors_[anchor].node == kNoNode) Stop(mark, "unknown alias");
     const Anchor& target = anchors_[anchor];
     if (target.open) {
-      Stop(mark, "this alias refers to a collection that contains it (a recursive structure); "
-                 "aliases must refer to a complete node");
+      Stop(mark,
+           "this alias refers to a collection that contains it (a recursive structure); "
+           "aliases must refer to a complete node");
     }
     Expand(mark, target.expanded_bytes);
     Attach(target.node);  // shared, not copied: one index however large its target
@@ -291,8 +297,7 @@ class TreeBuilder final : public YAML::EventHandler {
   int documents_ = 0;
 };
 
-base::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
-                                                   const YamlLimits& limits) {
+base::Expected<YamlTree, YamlError> ParseYaml(std::string_view text, const YamlLimits& limits) {
   if (text.size() > limits.max_bytes) {
     return Unexpected{YamlError{
         {1, 1}, "the text is larger than " + std::to_string(limits.max_bytes >> 20) + " MiB"}};
@@ -314,7 +319,8 @@ base::Expected<YamlTree, YamlError> ParseYaml(std::string_view text,
     // yaml-cpp says "invalid unicode: 55296" for \uD800; say which rule it breaks.
     static constexpr std::string_view kInvalidUnicode = "invalid unicode: ";
     if (message.rfind(kInvalidUnicode, 0) == 0) {
-      const unsigned long code = std::strtoul(message.c_str() + kInvalidUnicode.size(), nullptr, 10);
+      const unsigned long code =
+          std::strtoul(message.c_str() + kInvalidUnicode.size(), nullptr, 10);
       char hex[16];
       std::snprintf(hex, sizeof(hex), "U+%04lX", code);
       message = std::string("the escape names ") + hex +

@@ -36,14 +36,17 @@ std::optional<RuleViolation> CheckP3(const SceneTopology& t, const NewPoseEdge& 
   if (e.head.is_valid() && e.tail.is_valid()) {
     shared = t.SharedBody(e.tail, e.head, e.same_body ? e.tail_body : BodyIndex());
   } else if (e.head.is_valid()) {  // tail new: its tree is {tail_body}
-    if (!e.same_body && e.tail_body.is_valid() && t.TreeHasBody(e.head, e.tail_body)) shared = e.tail_body;
+    if (!e.same_body && e.tail_body.is_valid() && t.TreeHasBody(e.head, e.tail_body))
+      shared = e.tail_body;
   } else if (e.tail.is_valid()) {  // head new: its tree is {head_body}
-    if (!e.same_body && e.head_body.is_valid() && t.TreeHasBody(e.tail, e.head_body)) shared = e.head_body;
+    if (!e.same_body && e.head_body.is_valid() && t.TreeHasBody(e.tail, e.head_body))
+      shared = e.head_body;
   }
   if (!shared.is_valid()) return std::nullopt;
   return RuleViolation{ErrorCode::kDuplicatePosePath,
                        e.tail.is_valid() ? t.SomeFrameOfBodyInTree(shared, e.tail) : FrameIndex(),
-                       e.head.is_valid() ? t.SomeFrameOfBodyInTree(shared, e.head) : FrameIndex(), shared};
+                       e.head.is_valid() ? t.SomeFrameOfBodyInTree(shared, e.head) : FrameIndex(),
+                       shared};
 }
 
 std::optional<RuleViolation> CheckW4(const SceneTopology& t, const NewPoseEdge& e) {
@@ -82,7 +85,8 @@ std::optional<RuleViolation> CheckW3(const SceneTopology& t, const NewTwistEdge&
   return std::nullopt;
 }
 
-std::optional<RuleViolation> CheckNewTwistEdge(const SceneTopology& t, const NewTwistEdge& e) noexcept {
+std::optional<RuleViolation> CheckNewTwistEdge(const SceneTopology& t,
+                                               const NewTwistEdge& e) noexcept {
   if (auto v = CheckW1(t, e)) return v;
   return CheckW3(t, e);
 }

@@ -25,7 +25,8 @@ void SceneTopology::GrowNameMaps() {
 }
 
 void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
-  GrowNodes(bodies > bodies_.size() ? bodies - bodies_.size() : 0, frames > frames_.size() ? frames - frames_.size() : 0);
+  GrowNodes(bodies > bodies_.size() ? bodies - bodies_.size() : 0,
+            frames > frames_.size() ? frames - frames_.size() : 0);
   names_.Reserve(frames + bodies);
   GrowCapacity(frame_of_name_, frames + bodies);
   GrowCapacity(body_of_name_, frames + bodies);
@@ -35,8 +36,10 @@ void SceneTopology::Reserve(std::size_t frames, std::size_t bodies) {
 void SceneTopology::GrowNodes(std::size_t bodies, std::size_t frames) {
   // Each array of a kind to the same target, so that the room is one number per kind. On
   // std::bad_alloc part way, capacities grew but the rooms stay as they were (still true).
-  const std::size_t frame_target = std::max({frames_.size() + frames, 2 * frames_.size(), std::size_t{8}});
-  const std::size_t body_target = std::max({bodies_.size() + bodies, 2 * bodies_.size(), std::size_t{8}});
+  const std::size_t frame_target =
+      std::max({frames_.size() + frames, 2 * frames_.size(), std::size_t{8}});
+  const std::size_t body_target =
+      std::max({bodies_.size() + bodies, 2 * bodies_.size(), std::size_t{8}});
   const std::size_t name_target = std::max(names_.size(), name_map_room_);
   GrowCapacity(frame_of_name_, name_target);
   GrowCapacity(body_of_name_, name_target);
@@ -108,7 +111,8 @@ void SceneTopology::ReserveNewRecord(std::size_t bodies) {
 }
 
 TreeRecord& SceneTopology::NewRecord(std::uint32_t rep, FrameIndex f) {
-  ReserveNewRecord(1);  // no-op when the caller reserved (every mutation below is then allocation-free)
+  ReserveNewRecord(
+      1);  // no-op when the caller reserved (every mutation below is then allocation-free)
   const std::uint32_t index = free_records_.back();
   free_records_.pop_back();
   records_[index].body_counts.Clear();
@@ -156,8 +160,10 @@ BodyIndex SceneTopology::SharedBody(FrameIndex t, FrameIndex h, BodyIndex allowe
   return found;
 }
 
-FrameIndex SceneTopology::SomeFrameOfBodyInTree(BodyIndex body, FrameIndex tree_member) const noexcept {
-  for (std::uint32_t f = bodies_[body.value()].first_frame; f != kNone; f = frames_[f].next_in_body) {
+FrameIndex SceneTopology::SomeFrameOfBodyInTree(BodyIndex body,
+                                                FrameIndex tree_member) const noexcept {
+  for (std::uint32_t f = bodies_[body.value()].first_frame; f != kNone;
+       f = frames_[f].next_in_body) {
     if (forest_.SameTree(FrameIndex(f), tree_member)) return FrameIndex(f);
   }
   return FrameIndex();
@@ -169,7 +175,8 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
   // A frame about to be created (invalid index) is a single-frame tree without a record.
   TreeRecord* rec_t = tail.is_valid() ? MutableRecordOf(tail) : nullptr;
   TreeRecord* rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
-  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1, b_h = rec_h ? rec_h->body_counts.size() : 1;
+  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1,
+                    b_h = rec_h ? rec_h->body_counts.size() : 1;
   // The tail's tree gets a record first when it has none. Without a head record (a single
   // frame) the tail's record receives one body; otherwise the record LinkPose keeps (the larger
   // body set, the tail's on a tie) receives the other's bodies and twist edges. Only the kept
@@ -181,7 +188,8 @@ void SceneTopology::ReserveLinkPose(FrameIndex tail, FrameIndex head) {
     if (!keep_tail) rec_h->body_counts.Reserve(kept_bodies);
     GrowCapacity(free_records_, free_records_.size() + 1);  // the dropped record
     // A new record's TG is empty, and merging with an empty TG allocates nothing.
-    if (rec_t) (keep_tail ? rec_t : rec_h)->twists.ReserveMerge((keep_tail ? rec_h : rec_t)->twists);
+    if (rec_t)
+      (keep_tail ? rec_t : rec_h)->twists.ReserveMerge((keep_tail ? rec_h : rec_t)->twists);
   }
   // Last: a new record may grow records_, which would leave rec_t / rec_h dangling.
   if (!rec_t) ReserveNewRecord(keep_tail ? kept_bodies : 1);
@@ -231,7 +239,8 @@ void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
 
 void SceneTopology::InstallTree(FrameIndex member, TreeRecord&& record) noexcept {
   // a single frame without twists needs no record
-  if (forest_.TreeSize(member) == 1 && record.twists.empty()) return;  // a single frame without twists needs no record
+  if (forest_.TreeSize(member) == 1 && record.twists.empty())
+    return;  // a single frame without twists needs no record
   // A record slot was reserved by CutPose: popping it and inserting into record_of_rep_ do not
   // allocate, and the moves only swap storage.
   const std::uint32_t index = free_records_.back();
@@ -254,7 +263,8 @@ void SceneTopology::CutPose(FrameIndex head) {
   // part's twist edges (those whose head frame is in head's subtree go below). O(|subtree| +
   // bodies + twist edges (log n)).
   TreeRecord below, above;
-  forest_.ForEachInSubtree(head, [&](FrameIndex f) { below.body_counts.FindOrInsert(body_of(f).value(), 0) += 1; });
+  forest_.ForEachInSubtree(
+      head, [&](FrameIndex f) { below.body_counts.FindOrInsert(body_of(f).value(), 0) += 1; });
   above.body_counts = old.body_counts;
   below.body_counts.ForEach([&](std::uint32_t body, std::uint32_t count) {
     std::uint32_t& rest = *above.body_counts.Find(body);
@@ -264,7 +274,8 @@ void SceneTopology::CutPose(FrameIndex head) {
     if (*above.body_counts.Find(body) == 0) above.body_counts.Erase(body);
   });
   old.twists.ForEachEdge([&](TwistEdgeIndex edge, BodyIndex from, BodyIndex to) {
-    (forest_.IsAncestor(head, twist_edges_[edge.value()].head) ? below : above).twists.Link(edge, from, to);
+    (forest_.IsAncestor(head, twist_edges_[edge.value()].head) ? below : above)
+        .twists.Link(edge, from, to);
   });
   // Room for the second record (the old one is freed and reused for the first) and for the
   // record_of_rep_ entries (one erased, at most two inserted).
@@ -349,8 +360,10 @@ void SceneTopology::ReserveLinkJoint(FrameIndex tail, FrameIndex head) {
   // That storage needs room for the other side's bodies and edges and one more edge.
   TreeRecord* rec_t = tail.is_valid() ? MutableRecordOf(tail) : nullptr;
   TreeRecord* rec_h = head.is_valid() ? MutableRecordOf(head) : nullptr;
-  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1, b_h = rec_h ? rec_h->body_counts.size() : 1;
-  const std::size_t e_t = rec_t ? rec_t->twists.num_edges() : 0, e_h = rec_h ? rec_h->twists.num_edges() : 0;
+  const std::size_t b_t = rec_t ? rec_t->body_counts.size() : 1,
+                    b_h = rec_h ? rec_h->body_counts.size() : 1;
+  const std::size_t e_t = rec_t ? rec_t->twists.num_edges() : 0,
+                    e_h = rec_h ? rec_h->twists.num_edges() : 0;
   const bool keep_tail = !rec_h || b_t >= b_h;
   const bool storage_tail = e_t != e_h ? e_t > e_h : keep_tail;
   if (storage_tail) {
@@ -373,7 +386,8 @@ std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {
   bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);
   bytes += forest_.ApproximateBytes();
   bytes += record_of_rep_.ApproximateBytes();
-  for (const TreeRecord& r : records_) bytes += r.body_counts.ApproximateBytes() + r.twists.ApproximateBytes();
+  for (const TreeRecord& r : records_)
+    bytes += r.body_counts.ApproximateBytes() + r.twists.ApproximateBytes();
   bytes += twist_edges_.capacity() * sizeof(TwistEdge);
   bytes += (frame_of_name_.capacity() + body_of_name_.capacity()) * sizeof(std::uint32_t);
   return bytes;

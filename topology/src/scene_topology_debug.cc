@@ -33,7 +33,8 @@ std::string SceneTopology::CheckInvariants() const {
       ++size;
       counts.FindOrInsert(body_of(f).value(), 0) += 1;
       const FrameIndex p = forest_.parent(f);
-      if (p.is_valid() && body_of(p) == body_of(f)) same_edges.FindOrInsert(body_of(f).value(), 0) += 1;
+      if (p.is_valid() && body_of(p) == body_of(f))
+        same_edges.FindOrInsert(body_of(f).value(), 0) += 1;
     });
     counts.ForEach([&](std::uint32_t body, std::uint32_t c) {
       const std::uint32_t* s = same_edges.Find(body);
@@ -44,7 +45,8 @@ std::string SceneTopology::CheckInvariants() const {
     });
     const TreeRecord* rec = RecordOf(root);
     if (rec) {
-      if (rec->body_counts.size() != counts.size()) out << "body set size mismatch at " << text(root) << "\n";
+      if (rec->body_counts.size() != counts.size())
+        out << "body set size mismatch at " << text(root) << "\n";
       counts.ForEach([&](std::uint32_t body, std::uint32_t c) {
         const std::uint32_t* stored = rec->body_counts.Find(body);
         if (!stored || *stored != c) out << "body count mismatch at " << text(root) << "\n";
@@ -60,7 +62,8 @@ std::string SceneTopology::CheckInvariants() const {
     if (!te.alive) continue;
     ++live;
     const TreeRecord* rec = RecordOf(te.head);
-    if (!rec || !rec->twists.FindEdge(TwistEdgeIndex(i))) out << "twist edge " << i << " missing from its tree's TG\n";
+    if (!rec || !rec->twists.FindEdge(TwistEdgeIndex(i)))
+      out << "twist edge " << i << " missing from its tree's TG\n";
     if (te.tail == body_of(te.head)) out << "W2 broken\n";
     if (frames_[te.head.value()].twist_edge != TwistEdgeIndex(i)) out << "W1 bookkeeping broken\n";
   }

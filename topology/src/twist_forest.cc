@@ -43,7 +43,8 @@ BodyIndex TwistForest::FindRoot(BodyIndex body) const noexcept {
   return body;
 }
 
-bool TwistForest::Meet(BodyIndex u, BodyIndex v, std::size_t* up_u, std::size_t* up_v) const noexcept {
+bool TwistForest::Meet(BodyIndex u, BodyIndex v, std::size_t* up_u,
+                       std::size_t* up_v) const noexcept {
   const Node* a = &NodeAt(u);
   const Node* b = &NodeAt(v);
   std::size_t steps_u = 0;
@@ -319,9 +320,8 @@ void TwistForest::Merge(TwistForest&& other) {
   // Link the smaller set of edges into the larger structure; which object ends up owning the
   // storage does not matter, the result is the same forest.
   if (other.num_edges() > num_edges()) std::swap(*this, other);
-  other.ForEachEdge([this](TwistEdgeIndex edge, BodyIndex tail, BodyIndex head) {
-    Link(edge, tail, head);
-  });
+  other.ForEachEdge(
+      [this](TwistEdgeIndex edge, BodyIndex tail, BodyIndex head) { Link(edge, tail, head); });
   other.Clear();
 }
 

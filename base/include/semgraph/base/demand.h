@@ -17,8 +17,8 @@ namespace semgraph::base {
 
 }  // namespace semgraph::base
 
-#define SEMGRAPH_DEMAND(condition)                                        \
-  do {                                                                    \
-    if (!(condition)) [[unlikely]]                                        \
-      ::semgraph::base::DemandFailed(#condition, __FILE__, __LINE__);     \
+#define SEMGRAPH_DEMAND(condition)                                    \
+  do {                                                                \
+    if (!(condition)) [[unlikely]]                                    \
+      ::semgraph::base::DemandFailed(#condition, __FILE__, __LINE__); \
   } while (false)

@@ -48,14 +48,18 @@ class [[nodiscard]] Expected {
   }
 
   Expected(const Expected& other) : ok_(other.ok_) {
-    if (ok_) ::new (&storage_.value) T(other.storage_.value);
-    else ::new (&storage_.error) E(other.storage_.error);
+    if (ok_)
+      ::new (&storage_.value) T(other.storage_.value);
+    else
+      ::new (&storage_.error) E(other.storage_.error);
   }
-  Expected(Expected&& other) noexcept(std::is_nothrow_move_constructible_v<T> &&
-                                      std::is_nothrow_move_constructible_v<E>)
+  Expected(Expected&& other) noexcept(
+      std::is_nothrow_move_constructible_v<T>&& std::is_nothrow_move_constructible_v<E>)
       : ok_(other.ok_) {
-    if (ok_) ::new (&storage_.value) T(std::move(other.storage_.value));
-    else ::new (&storage_.error) E(std::move(other.storage_.error));
+    if (ok_)
+      ::new (&storage_.value) T(std::move(other.storage_.value));
+    else
+      ::new (&storage_.error) E(std::move(other.storage_.error));
   }
   Expected& operator=(const Expected& other) {
     if (this != &other) {
@@ -108,8 +112,10 @@ class [[nodiscard]] Expected {
 
  private:
   void Destroy() noexcept {
-    if (ok_) storage_.value.~T();
-    else storage_.error.~E();
+    if (ok_)
+      storage_.value.~T();
+    else
+      storage_.error.~E();
   }
   union Storage {
     Storage() noexcept {}

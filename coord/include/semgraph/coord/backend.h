@@ -22,11 +22,10 @@
 // Every function is noexcept and allocation-free.
 #pragma once
 
-#include <concepts>
-#include <string_view>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <concepts>
+#include <string_view>
 
 namespace semgraph::coord {
 
@@ -46,19 +45,32 @@ concept Backend = requires(const typename B::Rotation& M, const typename B::Pose
                            const Eigen::Vector3d& p) {
   { B::kName } -> std::convertible_to<const char*>;
   { B::kConstraints } -> std::convertible_to<Constraints>;
-  { B::FromMatrix(R) } noexcept -> std::same_as<typename B::Rotation>;
-  { B::FromQuaternion(q) } noexcept -> std::same_as<typename B::Rotation>;
-  { B::ToMatrix(M) } noexcept -> std::same_as<Eigen::Matrix3d>;
-  { B::ToQuaternion(M) } noexcept -> std::same_as<Eigen::Quaterniond>;
-  { B::Multiply(M, M) } noexcept -> std::same_as<typename B::Rotation>;
-  { B::Transpose(M) } noexcept -> std::same_as<typename B::Rotation>;
-  { B::Rotate(M, p) } noexcept -> std::same_as<Eigen::Vector3d>;
-  { B::MakePose(M, p) } noexcept -> std::same_as<typename B::PoseCoords>;
-  { B::Identity() } noexcept -> std::same_as<typename B::PoseCoords>;
-  { B::RotationOf(X) } noexcept -> std::same_as<typename B::Rotation>;
-  { B::TranslationOf(X) } noexcept -> std::same_as<Eigen::Vector3d>;
-  { B::ComposeChain(X, X) } noexcept -> std::same_as<typename B::PoseCoords>;
-  { B::InvertChain(X) } noexcept -> std::same_as<typename B::PoseCoords>;
+  { B::FromMatrix(R) }
+  noexcept->std::same_as<typename B::Rotation>;
+  { B::FromQuaternion(q) }
+  noexcept->std::same_as<typename B::Rotation>;
+  { B::ToMatrix(M) }
+  noexcept->std::same_as<Eigen::Matrix3d>;
+  { B::ToQuaternion(M) }
+  noexcept->std::same_as<Eigen::Quaterniond>;
+  { B::Multiply(M, M) }
+  noexcept->std::same_as<typename B::Rotation>;
+  { B::Transpose(M) }
+  noexcept->std::same_as<typename B::Rotation>;
+  { B::Rotate(M, p) }
+  noexcept->std::same_as<Eigen::Vector3d>;
+  { B::MakePose(M, p) }
+  noexcept->std::same_as<typename B::PoseCoords>;
+  { B::Identity() }
+  noexcept->std::same_as<typename B::PoseCoords>;
+  { B::RotationOf(X) }
+  noexcept->std::same_as<typename B::Rotation>;
+  { B::TranslationOf(X) }
+  noexcept->std::same_as<Eigen::Vector3d>;
+  { B::ComposeChain(X, X) }
+  noexcept->std::same_as<typename B::PoseCoords>;
+  { B::InvertChain(X) }
+  noexcept->std::same_as<typename B::PoseCoords>;
 };
 
 }  // namespace semgraph::coord

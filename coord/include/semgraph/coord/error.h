@@ -38,13 +38,13 @@ inline constexpr double kMaxMagnitude = 1e12;
 /// What is wrong with an input number.
 enum class ValueProblem : std::uint8_t {
   kNone,
-  kNotFinite,           ///< NaN or +-Inf; `component` is its index within `what`
-  kTooLarge,            ///< |x| > kMaxMagnitude; `magnitude` is the value
-  kQuaternionNorm,      ///< `magnitude` = | |q| - 1 |
-  kNotOrthonormal,      ///< `magnitude` = max |M^T M - I|
-  kReflection,          ///< det(M) <= 0
-  kNotRigidTransform,   ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
-  kOutsideLimits,       ///< a joint position beyond [lower, upper]; `magnitude` is the value
+  kNotFinite,          ///< NaN or +-Inf; `component` is its index within `what`
+  kTooLarge,           ///< |x| > kMaxMagnitude; `magnitude` is the value
+  kQuaternionNorm,     ///< `magnitude` = | |q| - 1 |
+  kNotOrthonormal,     ///< `magnitude` = max |M^T M - I|
+  kReflection,         ///< det(M) <= 0
+  kNotRigidTransform,  ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
+  kOutsideLimits,      ///< a joint position beyond [lower, upper]; `magnitude` is the value
 };
 
 /// Which input a ValueProblem is about.
@@ -71,17 +71,20 @@ struct ValueDetail {
 /// (not finite; a reflection: det <= 0; a joint's limits, which are the joint's).
 [[nodiscard]] constexpr double LimitOf(ValueProblem problem) noexcept {
   switch (problem) {
-    case ValueProblem::kTooLarge: return kMaxMagnitude;
+    case ValueProblem::kTooLarge:
+      return kMaxMagnitude;
     case ValueProblem::kQuaternionNorm:
     case ValueProblem::kNotOrthonormal:
-    case ValueProblem::kNotRigidTransform: return kRotationTolerance;
-    default: return 0.0;
+    case ValueProblem::kNotRigidTransform:
+      return kRotationTolerance;
+    default:
+      return 0.0;
   }
 }
 
 struct Error {
   ErrorCode code = ErrorCode::kOk;
-  semantics::Mismatch mismatch;  ///< kSemanticMismatch, kRepresentationConstraint
+  semantics::Mismatch mismatch;          ///< kSemanticMismatch, kRepresentationConstraint
   const char* representation = nullptr;  ///< backend name for kRepresentationConstraint
   ValueDetail value;                     ///< kInvalidNumber, kInvalidRotation
 };

@@ -45,7 +45,8 @@ struct SEMGRAPH_COORD_EXPORT HomogeneousBackend {
   /// Y X for rigid transforms: R_Y R_X, R_Y p_X + p_Y, bottom row [0 0 0 1]. Written as the two
   /// products and always inlined, for the reason given at QuaternionBackend::Rotate: GCC 12 in
   /// a large translation unit calls Eigen's general transform product out of line.
-  [[gnu::always_inline]] static PoseCoords ComposeChain(const PoseCoords& X, const PoseCoords& Y) noexcept {
+  [[gnu::always_inline]] static PoseCoords ComposeChain(const PoseCoords& X,
+                                                        const PoseCoords& Y) noexcept {
     PoseCoords Z;
     Z.linear().noalias() = Y.linear() * X.linear();
     Z.translation().noalias() = Y.linear() * X.translation();
@@ -53,9 +54,7 @@ struct SEMGRAPH_COORD_EXPORT HomogeneousBackend {
     Z.makeAffine();
     return Z;
   }
-  static PoseCoords InvertChain(const PoseCoords& X) noexcept {
-    return X.inverse(Eigen::Isometry);
-  }
+  static PoseCoords InvertChain(const PoseCoords& X) noexcept { return X.inverse(Eigen::Isometry); }
 };
 
 static_assert(Backend<HomogeneousBackend>);

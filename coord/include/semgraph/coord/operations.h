@@ -81,7 +81,8 @@ inline Eigen::Vector3d ShiftLinear(const Eigen::Vector3d& v, const Eigen::Vector
 }
 
 /// A = p(f wrt f'): p' = p + p_A.
-[[nodiscard]] inline Result<Position> ChangeRefPoint(const Position& X, const Position& A) noexcept {
+[[nodiscard]] inline Result<Position> ChangeRefPoint(const Position& X,
+                                                     const Position& A) noexcept {
   auto s = semantics::ChangeRefPoint(X.semantics, A.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
   return Position{*s, X.value + A.value};
@@ -117,7 +118,8 @@ template <Backend B>
 
 namespace internal {
 template <Backend B>
-typename B::Rotation ComposeRotations(semantics::CoordinateForm form, const typename B::Rotation& M_X,
+typename B::Rotation ComposeRotations(semantics::CoordinateForm form,
+                                      const typename B::Rotation& M_X,
                                       const typename B::Rotation& M_Y) noexcept {
   return form == semantics::CoordinateForm::kChain ? B::Multiply(M_Y, M_X) : B::Multiply(M_X, M_Y);
 }
@@ -219,9 +221,9 @@ template <Backend B>
   auto s = semantics::ChangeOrientationFrame(X.semantics, A.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
   if (auto ok = CheckRepresentation<B>(s->result); !ok) return Unexpected{ok.error()};
-  return Pose<B>{s->result,
-                 B::MakePose(internal::ComposeRotations<B>(s->form, A.value, B::RotationOf(X.value)),
-                             B::TranslationOf(X.value))};
+  return Pose<B>{s->result, B::MakePose(internal::ComposeRotations<B>(s->form, A.value,
+                                                                      B::RotationOf(X.value)),
+                                        B::TranslationOf(X.value))};
 }
 
 /// A = [b] wrt [b']: chain R' = R_A R_X and p' = R_A p (now in [b']); same frame M' = M_X M_A.
@@ -326,7 +328,8 @@ template <Backend B>
 }
 
 template <Backend B>
-[[nodiscard]] Result<Twist> ChangeCoordinateFrame(const Twist& X, const Orientation<B>& O) noexcept {
+[[nodiscard]] Result<Twist> ChangeCoordinateFrame(const Twist& X,
+                                                  const Orientation<B>& O) noexcept {
   auto s = semantics::ChangeCoordinateFrame(X.semantics, O.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
   return Twist{*s, B::Rotate(O.value, X.linear), B::Rotate(O.value, X.angular)};
@@ -349,7 +352,8 @@ template <Backend B>
 [[nodiscard]] inline AngularVelocity AngularOf(const Twist& X) noexcept {
   return {semantics::AngularOf(X.semantics), X.angular};
 }
-[[nodiscard]] inline Result<Twist> Combine(const LinearVelocity& L, const AngularVelocity& W) noexcept {
+[[nodiscard]] inline Result<Twist> Combine(const LinearVelocity& L,
+                                           const AngularVelocity& W) noexcept {
   auto s = semantics::Combine(L.semantics, W.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
   return Twist{*s, L.value, W.value};

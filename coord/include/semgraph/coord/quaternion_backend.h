@@ -24,7 +24,8 @@ struct SEMGRAPH_COORD_EXPORT QuaternionBackend {
     Eigen::Vector3d translation;
   };
   /// Bytes of PoseCoords that hold data (the rest is alignment padding): stores copy only these.
-  static constexpr std::size_t kPosePayloadBytes = sizeof(Eigen::Quaterniond) + sizeof(Eigen::Vector3d);
+  static constexpr std::size_t kPosePayloadBytes =
+      sizeof(Eigen::Quaterniond) + sizeof(Eigen::Vector3d);
 
   static Rotation FromMatrix(const Eigen::Matrix3d& R) noexcept { return Rotation(R).normalized(); }
   static Rotation FromQuaternion(const Eigen::Quaterniond& q) noexcept { return q; }
@@ -37,7 +38,8 @@ struct SEMGRAPH_COORD_EXPORT QuaternionBackend {
   /// GCC 12 stops inlining Eigen's `q * v` (--param inline-unit-growth), and the compiled-query
   /// loop then spills each edge to the stack around a call (1.38x the raw chain's instructions
   /// instead of 1.15x; bench/icount.sh). Every rotation of a vector by a quaternion goes here.
-  [[gnu::always_inline]] static Eigen::Vector3d Rotate(const Rotation& q, const Eigen::Vector3d& v) noexcept {
+  [[gnu::always_inline]] static Eigen::Vector3d Rotate(const Rotation& q,
+                                                       const Eigen::Vector3d& v) noexcept {
     const double x = q.x(), y = q.y(), z = q.z(), w = q.w();
     double tx = y * v.z() - z * v.y(), ty = z * v.x() - x * v.z(), tz = x * v.y() - y * v.x();
     tx += tx;

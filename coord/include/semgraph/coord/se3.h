@@ -142,13 +142,15 @@ inline QuatPose InterpolateLinear(const QuatPose& X0, const QuatPose& X1, double
   return {Slerp(X0.q, X1.q, lambda), X0.p + lambda * (X1.p - X0.p)};
 }
 
-inline QuatPose Interpolate(Interpolation mode, const QuatPose& X0, const QuatPose& X1, double lambda) noexcept {
-  return mode == Interpolation::kScrew ? InterpolateScrew(X0, X1, lambda) : InterpolateLinear(X0, X1, lambda);
+inline QuatPose Interpolate(Interpolation mode, const QuatPose& X0, const QuatPose& X1,
+                            double lambda) noexcept {
+  return mode == Interpolation::kScrew ? InterpolateScrew(X0, X1, lambda)
+                                       : InterpolateLinear(X0, X1, lambda);
 }
 
 /// The edge's screw twist at lambda of the segment X0 -> X1 of duration dt (> 0), per mode.
-inline void SegmentTwist(Interpolation mode, const QuatPose& X0, const QuatPose& X1, double dt, double lambda,
-                         Eigen::Vector3d& v, Eigen::Vector3d& w) noexcept {
+inline void SegmentTwist(Interpolation mode, const QuatPose& X0, const QuatPose& X1, double dt,
+                         double lambda, Eigen::Vector3d& v, Eigen::Vector3d& w) noexcept {
   if (mode == Interpolation::kScrew) {
     Log(Between(X0, X1), v, w);
     v /= dt;
@@ -180,14 +182,15 @@ template <Backend B>
 [[nodiscard]] Result<Pose<B>> Integrate(const Pose<B>& X, const Twist& xi, double dt) noexcept {
   auto s = semantics::Integrate(X.semantics, xi.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
-  return Pose<B>{*s, internal::FromQuatPose<B>(
-                         kernels::Integrate(internal::ToQuatPose<B>(X.value), xi.linear, xi.angular, dt))};
+  return Pose<B>{*s, internal::FromQuatPose<B>(kernels::Integrate(internal::ToQuatPose<B>(X.value),
+                                                                  xi.linear, xi.angular, dt))};
 }
 
 /// Log(X0^-1 X1) / dt: the constant screw twist taking sample X0 to X1 of the same edge in dt
 /// (> 0; a non-positive or non-finite dt is invalid_number).
 template <Backend B>
-[[nodiscard]] Result<Twist> Differentiate(const Pose<B>& X0, const Pose<B>& X1, double dt) noexcept {
+[[nodiscard]] Result<Twist> Differentiate(const Pose<B>& X0, const Pose<B>& X1,
+                                          double dt) noexcept {
   auto s = semantics::Differentiate(X0.semantics, X1.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
   if (!(dt > 0.0) || !std::isfinite(dt)) {
@@ -197,8 +200,8 @@ template <Backend B>
     return Unexpected{e};
   }
   Twist xi{*s, {}, {}};
-  kernels::SegmentTwist(Interpolation::kScrew, internal::ToQuatPose<B>(X0.value), internal::ToQuatPose<B>(X1.value),
-                        dt, 0.0, xi.linear, xi.angular);
+  kernels::SegmentTwist(Interpolation::kScrew, internal::ToQuatPose<B>(X0.value),
+                        internal::ToQuatPose<B>(X1.value), dt, 0.0, xi.linear, xi.angular);
   return xi;
 }
 
@@ -208,15 +211,18 @@ template <Backend B>
                                           Interpolation mode) noexcept {
   auto s = semantics::Interpolate(X0.semantics, X1.semantics, mode == Interpolation::kScrew);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
-  return Pose<B>{*s, internal::FromQuatPose<B>(kernels::Interpolate(mode, internal::ToQuatPose<B>(X0.value),
-                                                                    internal::ToQuatPose<B>(X1.value), lambda))};
+  return Pose<B>{
+      *s, internal::FromQuatPose<B>(kernels::Interpolate(
+              mode, internal::ToQuatPose<B>(X0.value), internal::ToQuatPose<B>(X1.value), lambda))};
 }
 
 /// Twists of one edge interpolated componentwise.
-[[nodiscard]] inline Result<Twist> Interpolate(const Twist& X0, const Twist& X1, double lambda) noexcept {
+[[nodiscard]] inline Result<Twist> Interpolate(const Twist& X0, const Twist& X1,
+                                               double lambda) noexcept {
   auto s = semantics::Interpolate(X0.semantics, X1.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
-  return Twist{*s, X0.linear + lambda * (X1.linear - X0.linear), X0.angular + lambda * (X1.angular - X0.angular)};
+  return Twist{*s, X0.linear + lambda * (X1.linear - X0.linear),
+               X0.angular + lambda * (X1.angular - X0.angular)};
 }
 
 }  // namespace semgraph::coord

@@ -31,7 +31,7 @@ using base::Unexpected;
 /// within about 25 ulp of orthonormal: measured on 10^7 quaternions and 10^6 matrices), so
 /// normalizing is idempotent, and the stored values stay as close to unit as normalizing
 /// every time would keep them.
-inline constexpr double kUnitRounding = 4 * 2.220446049250313e-16;          // 4 ulp of 1
+inline constexpr double kUnitRounding = 4 * 2.220446049250313e-16;           // 4 ulp of 1
 inline constexpr double kOrthonormalRounding = 128 * 2.220446049250313e-16;  // 128 ulp of 1
 
 [[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Eigen::Vector3d, Error> ValidateVector(
@@ -59,8 +59,7 @@ template <Backend B>
 [[nodiscard]] Expected<Orientation<B>, Error> MakeOrientation(const OrientationSemantics& s,
                                                               const Eigen::Matrix3d& R) noexcept;
 template <Backend B>
-[[nodiscard]] Expected<Pose<B>, Error> MakePose(const PoseSemantics& s,
-                                                const Eigen::Quaterniond& q,
+[[nodiscard]] Expected<Pose<B>, Error> MakePose(const PoseSemantics& s, const Eigen::Quaterniond& q,
                                                 const Eigen::Vector3d& p) noexcept;
 template <Backend B>
 [[nodiscard]] Expected<Pose<B>, Error> MakePose(const PoseSemantics& s, const Eigen::Matrix3d& R,
@@ -145,7 +144,8 @@ SEMGRAPH_COORD_EXPORT Expected<Ok, Error> ValidateHomogeneousShape(
 }  // namespace internal
 
 template <Backend B>
-Expected<Pose<B>, Error> Pose<B>::FromIsometry(const PoseSemantics& s, const Eigen::Isometry3d& X) noexcept {
+Expected<Pose<B>, Error> Pose<B>::FromIsometry(const PoseSemantics& s,
+                                               const Eigen::Isometry3d& X) noexcept {
   return MakePose<B>(s, Eigen::Matrix3d(X.linear()), Eigen::Vector3d(X.translation()));
 }
 

@@ -63,8 +63,8 @@ struct Pose {
   /// A checked pose from an isometry, as MakePose(s, X.linear(), X.translation()) (validate.h):
   /// invalid_number -> invalid_rotation -> representation_constraint. O(1) (one 3x3 SVD when
   /// the rotation is not orthonormal to rounding).
-  [[nodiscard]] static base::Expected<Pose, Error> FromIsometry(const PoseSemantics& s,
-                                                               const Eigen::Isometry3d& X) noexcept;
+  [[nodiscard]] static base::Expected<Pose, Error> FromIsometry(
+      const PoseSemantics& s, const Eigen::Isometry3d& X) noexcept;
 };
 
 struct LinearVelocity {

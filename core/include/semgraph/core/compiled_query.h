@@ -70,12 +70,12 @@ struct PoseCache {
     bool built = false;             // internal nodes are the products of their children
     bool scanned = false;           // every leaf has been loaded once
   };
-  std::uint64_t query_id = 0;                  // the compiled query (and its copies) it serves
-  std::vector<Tree> trees;                     // one per chain
-  std::vector<std::uint32_t> tree_of_begin;    // by edge index: the tree of the chain starting there
-  std::vector<std::uint64_t> headers;          // by edge index: header of the cached leaf value
-  std::vector<typename B::PoseCoords> nodes;   // every tree's nodes
-  std::vector<std::uint32_t> changed;          // scratch: changed leaves of one chain
+  std::uint64_t query_id = 0;                 // the compiled query (and its copies) it serves
+  std::vector<Tree> trees;                    // one per chain
+  std::vector<std::uint32_t> tree_of_begin;   // by edge index: the tree of the chain starting there
+  std::vector<std::uint64_t> headers;         // by edge index: header of the cached leaf value
+  std::vector<typename B::PoseCoords> nodes;  // every tree's nodes
+  std::vector<std::uint32_t> changed;         // scratch: changed leaves of one chain
   [[nodiscard]] std::size_t bytes() const noexcept {
     return trees.capacity() * sizeof(Tree) + tree_of_begin.capacity() * 4 + headers.capacity() * 8 +
            nodes.capacity() * sizeof(typename B::PoseCoords) + changed.capacity() * 4;
@@ -104,7 +104,9 @@ class SEMGRAPH_CORE_EXPORT CompiledQuery {
   Chain Flatten(const topology::SceneTopology& t, const ForestChain& c);
   BasicPath<Chain> Flatten(const topology::SceneTopology& t, const BasicPath<ForestChain>& path);
   PoseSteps<Chain> Flatten(const topology::SceneTopology& t, const PoseSteps<ForestChain>& s);
-  [[nodiscard]] internal::FlatSource<B> source() const noexcept { return {*values_, edges_.data()}; }
+  [[nodiscard]] internal::FlatSource<B> source() const noexcept {
+    return {*values_, edges_.data()};
+  }
   [[nodiscard]] internal::FlatSource<B> source(internal::TimeContext& tc) const noexcept {
     return {*values_, edges_.data(), &tc};
   }
@@ -200,15 +202,18 @@ template <coord::Backend B>
 class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
  public:
   CompiledTwist() = default;
-  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const TwistPlan& plan);
+  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                const TwistPlan& plan);
   /// Twist source `poses`: the pose edges' derivatives (time_plan.h); an Evaluate with a policy
   /// ignores its horizon (nothing is extrapolated from poses).
-  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values, const PoseTwistPlan& plan);
+  CompiledTwist(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   /// v_DCe_R: velocity of the point of C at e relative to D; w_DC_R: angular velocity; in [r].
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R) const noexcept;
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, const TimePolicy& policy,
-                                   TimeReport& report) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R,
+                                   Eigen::Vector3d& w_DC_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R,
+                                   const TimePolicy& policy, TimeReport& report) const noexcept;
   /// In GetTwist's result type (see CompiledPoseQuery::Evaluate()).
   [[nodiscard]] QueryResult<coord::Twist> Evaluate() const noexcept {
     coord::Twist V{semantics_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};

@@ -57,7 +57,8 @@ class SampleHistory {
   /// the history holds one sample at t), or t before the first / after the last sample.
   struct Bracket {
     enum class Where : std::uint8_t { kInside, kBefore, kAfter } where = Where::kInside;
-    std::int64_t s0 = 0, s1 = 0;  ///< kInside: the bracket; kBefore/kAfter: the nearest sample (s0 = s1)
+    std::int64_t s0 = 0,
+                 s1 = 0;  ///< kInside: the bracket; kBefore/kAfter: the nearest sample (s0 = s1)
     std::int64_t first = 0, last = 0;  ///< the whole range
     double v0[N] = {}, v1[N] = {};
     bool exact = false;  ///< t equals s0 (only v0 is meaningful)
@@ -68,7 +69,8 @@ class SampleHistory {
     for (;;) {
       const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
       if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      const std::uint32_t n = size_.load(std::memory_order_acquire),
+                          head = head_.load(std::memory_order_acquire);
       if (n == 0 || n > capacity_) continue;  // never for a history in use (it has a sample)
       out.first = Stamp(head, 0);
       out.last = Stamp(head, n - 1);
@@ -87,7 +89,10 @@ class SampleHistory {
         std::uint32_t lo = 1, hi = n - 1;
         while (lo < hi) {
           const std::uint32_t mid = lo + (hi - lo) / 2;
-          if (Stamp(head, mid) > t) hi = mid; else lo = mid + 1;
+          if (Stamp(head, mid) > t)
+            hi = mid;
+          else
+            lo = mid + 1;
         }
         out.where = Bracket::Where::kInside;
         out.s0 = Stamp(head, lo - 1);
@@ -107,7 +112,8 @@ class SampleHistory {
     for (;;) {
       const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
       if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      const std::uint32_t n = size_.load(std::memory_order_acquire),
+                          head = head_.load(std::memory_order_acquire);
       if (n == 0 || n > capacity_) continue;
       out.first = Stamp(head, 0);
       out.last = Stamp(head, n - 1);
@@ -116,7 +122,10 @@ class SampleHistory {
         std::uint32_t lo = 1, hi = n - 1;  // first index with stamp > t, or n - 1 at the newest
         while (lo < hi) {
           const std::uint32_t mid = lo + (hi - lo) / 2;
-          if (Stamp(head, mid) > t) hi = mid; else lo = mid + 1;
+          if (Stamp(head, mid) > t)
+            hi = mid;
+          else
+            lo = mid + 1;
         }
         out.where = Bracket::Where::kInside;
         out.s0 = Stamp(head, lo - 1);
@@ -136,7 +145,8 @@ class SampleHistory {
     for (;;) {
       const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
       if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      const std::uint32_t n = size_.load(std::memory_order_acquire),
+                          head = head_.load(std::memory_order_acquire);
       if (n == 0 || n > capacity_) continue;
       stamp = Stamp(head, n - 1);
       first = Stamp(head, 0);
@@ -149,7 +159,8 @@ class SampleHistory {
     for (;;) {
       const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
       if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire), head = head_.load(std::memory_order_acquire);
+      const std::uint32_t n = size_.load(std::memory_order_acquire),
+                          head = head_.load(std::memory_order_acquire);
       if (n == 0 || n > capacity_) continue;
       const std::int64_t s = Stamp(head, n - 1);
       if (seq_.load(std::memory_order_relaxed) == h1) return s;
@@ -159,7 +170,9 @@ class SampleHistory {
   // ---------------------------------------------------------------- the writer's side
   // The writer reads without the lock (it is the only one changing the history).
 
-  [[nodiscard]] std::uint32_t size() const noexcept { return size_.load(std::memory_order_relaxed); }
+  [[nodiscard]] std::uint32_t size() const noexcept {
+    return size_.load(std::memory_order_relaxed);
+  }
   [[nodiscard]] std::int64_t newest_stamp() const noexcept { return Stamp(head(), size() - 1); }
   [[nodiscard]] std::int64_t oldest_stamp() const noexcept { return Stamp(head(), 0); }
   /// The value stored at exactly `stamp`, if any.
@@ -226,12 +239,15 @@ class SampleHistory {
   }
   void LoadValues(std::uint32_t head, std::uint32_t i, double (&v)[N]) const noexcept {
     const std::size_t s = Slot(head, i);
-    for (std::size_t k = 0; k < N; ++k) v[k] = std::bit_cast<double>(words_[s + 1 + k].load(std::memory_order_acquire));
+    for (std::size_t k = 0; k < N; ++k)
+      v[k] = std::bit_cast<double>(words_[s + 1 + k].load(std::memory_order_acquire));
   }
-  void StoreValues(std::uint32_t head, std::uint32_t i, std::int64_t stamp, const double (&v)[N]) noexcept {
+  void StoreValues(std::uint32_t head, std::uint32_t i, std::int64_t stamp,
+                   const double (&v)[N]) noexcept {
     const std::size_t s = Slot(head, i);
     words_[s].store(static_cast<std::uint64_t>(stamp), std::memory_order_release);
-    for (std::size_t k = 0; k < N; ++k) words_[s + 1 + k].store(std::bit_cast<std::uint64_t>(v[k]), std::memory_order_release);
+    for (std::size_t k = 0; k < N; ++k)
+      words_[s + 1 + k].store(std::bit_cast<std::uint64_t>(v[k]), std::memory_order_release);
   }
   void CopySample(std::uint32_t head, std::uint32_t from, std::uint32_t to) noexcept {
     const std::size_t a = Slot(head, from), b = Slot(head, to);
@@ -245,7 +261,10 @@ class SampleHistory {
     const std::uint32_t h = head();
     while (lo < hi) {
       const std::uint32_t mid = lo + (hi - lo) / 2;
-      if (Stamp(h, mid) < stamp) lo = mid + 1; else hi = mid;
+      if (Stamp(h, mid) < stamp)
+        lo = mid + 1;
+      else
+        hi = mid;
     }
     return lo;
   }
@@ -299,9 +318,13 @@ class HistoryTable {
 
   /// The history of edge i, or nullptr (timeless). Any thread (acquire: the history's first
   /// sample, written before the pointer was stored, is visible).
-  [[nodiscard]] const H* of(std::size_t i) const noexcept { return table_[i].load(std::memory_order_acquire); }
+  [[nodiscard]] const H* of(std::size_t i) const noexcept {
+    return table_[i].load(std::memory_order_acquire);
+  }
   /// The writer's history of edge i (stamped: not null).
-  [[nodiscard]] H& writable(std::size_t i) noexcept { return *table_[i].load(std::memory_order_relaxed); }
+  [[nodiscard]] H& writable(std::size_t i) noexcept {
+    return *table_[i].load(std::memory_order_relaxed);
+  }
 
   /// Room for n entries (all or nothing); then Grow up to n does not allocate.
   void Reserve(std::size_t n) { table_.Reserve(n); }
@@ -328,7 +351,8 @@ class HistoryTable {
   }
   /// Makes `h` edge i's history, holding the one sample (stamp, v) (a reused history loses its
   /// old samples through its sequence lock), then publishes it (release).
-  void Install(std::size_t i, Lease h, std::int64_t stamp, const double (&v)[H::kValueWords]) noexcept {
+  void Install(std::size_t i, Lease h, std::int64_t stamp,
+               const double (&v)[H::kValueWords]) noexcept {
     H* p = h.release();
     p->Restart(stamp, v);
     table_[i].store(p, std::memory_order_release);
@@ -347,7 +371,8 @@ class HistoryTable {
   [[nodiscard]] std::size_t allocated() const noexcept { return owned_.size(); }
   [[nodiscard]] std::size_t retired() const noexcept { return free_.size(); }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    std::size_t bytes = table_.bytes() + owned_.capacity() * sizeof(void*) + free_.capacity() * sizeof(void*);
+    std::size_t bytes =
+        table_.bytes() + owned_.capacity() * sizeof(void*) + free_.capacity() * sizeof(void*);
     for (const auto& h : owned_) bytes += sizeof(H) + h->capacity() * H::BytesPerSample();
     return bytes;
   }
@@ -370,8 +395,12 @@ struct EdgeHistories {
   HistoryTable<TwistHistory> twist;
 
   /// Any thread, for a frame / slot of the graph.
-  [[nodiscard]] const PoseHistory* pose_of(std::uint32_t frame) const noexcept { return pose.of(frame); }
-  [[nodiscard]] const TwistHistory* twist_of(std::uint32_t slot) const noexcept { return twist.of(slot); }
+  [[nodiscard]] const PoseHistory* pose_of(std::uint32_t frame) const noexcept {
+    return pose.of(frame);
+  }
+  [[nodiscard]] const TwistHistory* twist_of(std::uint32_t slot) const noexcept {
+    return twist.of(slot);
+  }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
     return pose.ApproximateBytes() + twist.ApproximateBytes();
   }

@@ -46,7 +46,8 @@ class ForestSource {
   using Chain = ForestChain;
   using PoseCoords = typename B::PoseCoords;
 
-  ForestSource(const topology::SceneTopology& t, const EdgeValues<B>& v, TimeContext* time = nullptr) noexcept
+  ForestSource(const topology::SceneTopology& t, const EdgeValues<B>& v,
+               TimeContext* time = nullptr) noexcept
       : t_(t), v_(v), time_(time) {}
 
   /// X_AF, A = c.to above F = c.from; identity when F == A. Composed bottom-up (each parent's
@@ -105,9 +106,9 @@ class ForestSource {
 #if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
   coord::Pose<B> EdgePose(FrameIndex child) const noexcept {
     const FrameIndex parent = t_.pose_parent(child);
-    return coord::Pose<B>{semantics::PoseSemantics::OfFrame(t_.FrameSem(child), t_.BodyOfSem(child),
-                                                            t_.FrameSem(parent), t_.BodyOfSem(parent),
-                                                            t_.FrameSem(parent).axes()),
+    return coord::Pose<B>{semantics::PoseSemantics::OfFrame(
+                              t_.FrameSem(child), t_.BodyOfSem(child), t_.FrameSem(parent),
+                              t_.BodyOfSem(parent), t_.FrameSem(parent).axes()),
                           v_.X_PF[child.value()].Load()};
   }
   // The chain again through the checked coord::Compose: the same semantics as the shortcut,
@@ -125,7 +126,8 @@ class ForestSource {
                                                       t_.FrameSem(c.to).axes()));
     if (time_) return;  // the replay composes the current values; a timed read uses others
     const double scale = 1.0 + B::TranslationOf(X_AF).norm();
-    SEMGRAPH_DEMAND((B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <= 1e-9 * scale);
+    SEMGRAPH_DEMAND((B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <=
+                    1e-9 * scale);
   }
 #endif
   const topology::SceneTopology& t_;
@@ -141,7 +143,9 @@ struct EdgeRef {
   std::uint64_t expected_header;
   const void* value;
   std::uint32_t child;
-  [[nodiscard]] std::uint32_t epoch() const noexcept { return static_cast<std::uint32_t>(expected_header >> 32); }
+  [[nodiscard]] std::uint32_t epoch() const noexcept {
+    return static_cast<std::uint32_t>(expected_header >> 32);
+  }
 };
 /// X_AF of a compiled query: edges [begin, end) of its list, from F upward.
 struct FlatChain {
@@ -232,7 +236,8 @@ class FlatSource {
   // that the untimed loop above stays small enough for the compiler to keep inlining its
   // arithmetic (with this branch inline, GCC 12 called Eigen's quaternion-vector product out of
   // line: 1.39x the raw chain's instructions at d = 8 instead of 1.15x).
-  [[gnu::noinline]] bool EvalChainAt(const EdgeRef* first, const EdgeRef* e, PoseCoords& X_AF) const noexcept {
+  [[gnu::noinline]] bool EvalChainAt(const EdgeRef* first, const EdgeRef* e,
+                                     PoseCoords& X_AF) const noexcept {
     const auto load = [&](const EdgeRef& r, PoseCoords& X) {  // two epoch checks: see LoadTwist
       if (Value(r).epoch() != r.epoch()) return false;
       ReadPoseAt<B>(v_, r.child, *time_, X);
@@ -249,7 +254,9 @@ class FlatSource {
     X_AF = acc;
     return true;
   }
-  static const PoseValue<B>& Value(const EdgeRef& r) noexcept { return *static_cast<const PoseValue<B>*>(r.value); }
+  static const PoseValue<B>& Value(const EdgeRef& r) noexcept {
+    return *static_cast<const PoseValue<B>*>(r.value);
+  }
   const EdgeValues<B>& v_;
   const EdgeRef* edges_;
   TimeContext* time_;
@@ -308,8 +315,8 @@ bool EvalBasic(const Source& src, const BasicPath<typename Source::Chain>& path,
 /// Writes R (orientation operator in [r]) unless P == kTranslation, p (position in [r]) unless
 /// P == kRotation. False when a compiled edge changed epoch.
 template <coord::Backend B, Part P, class Source>
-bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s, typename B::Rotation& R,
-                  Eigen::Vector3d& p) noexcept {
+bool EvaluatePose(const Source& src, const PoseSteps<typename Source::Chain>& s,
+                  typename B::Rotation& R, Eigen::Vector3d& p) noexcept {
   typename B::PoseCoords X_BA;
   if (!EvalBasic<B>(src, s.ab, X_BA)) return false;
   R = B::RotationOf(X_BA);
@@ -441,8 +448,8 @@ typename B::PoseCoords ToEdgeForm(const ForestSource<B>& src, const PoseSteps<Fo
 /// moved to point e and re-expressed in [r], added to (v, w). False when a compiled edge
 /// changed epoch.
 template <coord::Backend B, class Source>
-bool AccumulateTwistStep(const Source& src, const TwistStep<typename Source::Chain>& s, Eigen::Vector3d& v,
-                         Eigen::Vector3d& w) noexcept {
+bool AccumulateTwistStep(const Source& src, const TwistStep<typename Source::Chain>& s,
+                         Eigen::Vector3d& v, Eigen::Vector3d& w) noexcept {
   TwistNumbers V;  // TwistCoord(h|H, D, [h])
   if (!src.LoadTwist(s, V)) return false;
   Eigen::Vector3d v_i = s.invert ? Eigen::Vector3d(-V.v_DHo_H) : V.v_DHo_H;
@@ -470,14 +477,16 @@ bool AccumulateTwistStep(const Source& src, const TwistStep<typename Source::Cha
 /// not "used" (no not_before, no latest common, not recorded). False: no twist path, or a twist
 /// edge on it has no data at s.
 template <coord::Backend B>
-bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s, TimeContext& parent,
-                        Eigen::Vector3d& v_out, Eigen::Vector3d& w_out) noexcept {
+bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s,
+                        TimeContext& parent, Eigen::Vector3d& v_out,
+                        Eigen::Vector3d& w_out) noexcept {
   if (parent.topology == nullptr) return false;
   const topology::SceneTopology& t = *parent.topology;
   const FrameIndex h(frame);
   const FrameIndex tail = t.pose_parent(h);
   if (!tail.is_valid()) return false;
-  const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail), t.FrameSem(h).axes()};
+  const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail),
+                                    t.FrameSem(h).axes()};
   auto plan = PlanTwist(t, q);
   if (!plan) return false;
   TimeContext nested;

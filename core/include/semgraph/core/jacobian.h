@@ -14,20 +14,20 @@
 // column instead of the twist step's two.
 //
 // Costs: planning as a twist query plus O(k) for the column assignment (k twist edges on the
-// path); evaluation O(sum over the joint steps of the chain h -> r) + one chain e -> r. CompiledJacobian::Evaluate is noexcept, allocation-free, lock-free (it reads
-// the edge values through their sequence locks, and fails with kQueryInvalidated when an edge
-// it reads, or a joint's twist edge, was removed). GetJacobian (one-shot) allocates its result.
-// Thread safety: as compiled queries (compiled_query.h).
+// path); evaluation O(sum over the joint steps of the chain h -> r) + one chain e -> r.
+// CompiledJacobian::Evaluate is noexcept, allocation-free, lock-free (it reads the edge values
+// through their sequence locks, and fails with kQueryInvalidated when an edge it reads, or a
+// joint's twist edge, was removed). GetJacobian (one-shot) allocates its result. Thread safety: as
+// compiled queries (compiled_query.h).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "semgraph/core/export.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/evaluate.h"
+#include "semgraph/core/export.h"
 #include "semgraph/core/joints.h"
 #include "semgraph/core/query_plan.h"
 
@@ -104,8 +104,10 @@ bool UpA(const Source& src, bool chained, const typename Source::Chain& rest,
 /// is composed by the chain source (the one composition loop); a step whose chain continues the
 /// previous step's composes only its own edges, so a serial chain costs O(n) compositions.
 template <coord::Backend B, class Source, class Steps, class EChain>
-bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<typename Source::Chain>& er,
-                      bool e_chained, const EChain& e_rest, const Steps& steps, Eigen::Ref<JacobianMatrix> J) noexcept {
+bool EvaluateJacobian(const Source& src, bool change_point,
+                      const BasicPath<typename Source::Chain>& er, bool e_chained,
+                      const EChain& e_rest, const Steps& steps,
+                      Eigen::Ref<JacobianMatrix> J) noexcept {
   J.setZero();
   typename B::PoseCoords X_CA = B::Identity();
   for (const auto& s : steps) {
@@ -115,7 +117,8 @@ bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<type
     Eigen::Vector3d w = s.step.invert ? Eigen::Vector3d(-s.unit.w_DH_H) : s.unit.w_DH_H;
     if (s.step.change_frame) {
       typename B::PoseCoords X_RH;
-      if (!UpA<B>(src, s.chained, s.rest, s.step.hr.up_a, X_CA) || !FinishBasic<B>(src, s.step.hr, X_CA, X_RH)) {
+      if (!UpA<B>(src, s.chained, s.rest, s.step.hr.up_a, X_CA) ||
+          !FinishBasic<B>(src, s.step.hr, X_CA, X_RH)) {
         return false;
       }
       const typename B::Rotation R_RH = B::RotationOf(X_RH);
@@ -128,11 +131,13 @@ bool EvaluateJacobian(const Source& src, bool change_point, const BasicPath<type
   }
   if (change_point) {  // all columns from r's origin to e: v += (-p_RE) x w
     typename B::PoseCoords X_RE;
-    if (!UpA<B>(src, e_chained, e_rest, er.up_a, X_CA) || !FinishBasic<B>(src, er, X_CA, X_RE)) return false;
+    if (!UpA<B>(src, e_chained, e_rest, er.up_a, X_CA) || !FinishBasic<B>(src, er, X_CA, X_RE))
+      return false;
     const Eigen::Vector3d p_ER = -B::TranslationOf(X_RE);
     for (Eigen::Index c = 0; c < J.cols(); ++c) {
       const Eigen::Vector3d w = J.col(c).template tail<3>();
-      J.col(c).template head<3>() = coord::kernels::ShiftLinear(J.col(c).template head<3>(), w, p_ER);
+      J.col(c).template head<3>() =
+          coord::kernels::ShiftLinear(J.col(c).template head<3>(), w, p_ER);
     }
   }
   return true;

@@ -58,15 +58,15 @@ enum class JointType : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed
 struct JointSpec {
   std::string_view name;
   JointType type = JointType::kFixed;
-  std::string_view parent, parent_body;  ///< {p}|P
-  std::string_view child, child_body;    ///< {c}|C
+  std::string_view parent, parent_body;                          ///< {p}|P
+  std::string_view child, child_body;                            ///< {c}|C
   Eigen::Quaterniond q_origin = Eigen::Quaterniond::Identity();  ///< R_PC at q = 0
   Eigen::Vector3d p_origin = Eigen::Vector3d::Zero();            ///< p_PoCo_P at q = 0
   std::optional<Eigen::Matrix3d> R_origin;  ///< when set, R_PC at q = 0 as a matrix (not q_origin)
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();               ///< u in [c]; normalized
-  double lower = 0, upper = 0;       ///< position limits (revolute, prismatic)
-  std::string_view mimic;            ///< master joint's name; empty: not a mimic
-  double multiplier = 1, offset = 0;  ///< q = multiplier * q_master + offset
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  ///< u in [c]; normalized
+  double lower = 0, upper = 0;                      ///< position limits (revolute, prismatic)
+  std::string_view mimic;                           ///< master joint's name; empty: not a mimic
+  double multiplier = 1, offset = 0;                ///< q = multiplier * q_master + offset
 };
 
 /// A joint's slot in its graph's joint table (slots of removed joints are reused).
@@ -112,7 +112,7 @@ struct JointRecord {
   JointIndex master;  ///< mimic: the master (invalid: not a mimic)
   double multiplier = 1, offset = 0;
   std::vector<JointIndex> mimics;  ///< master: its mimics
-  double q = 0, qdot = 0;  ///< the current state (stamped joints: the newest sample's)
+  double q = 0, qdot = 0;          ///< the current state (stamped joints: the newest sample's)
   /// Set without a stamp at least once (docs/time.md): its edges are timeless and take no
   /// stamped state (stamp_mismatch). A stamped joint is one whose edges have histories.
   bool timeless = false;

@@ -85,13 +85,14 @@ struct PositionPlan {
   PoseSteps<ForestChain> steps;            ///< of {e} wrt {f} in [r]; translation only
 };
 struct OrientationPlan {
-  semantics::OrientationSemantics semantics;  ///< @retval R_BA_R: OrientationCoord([a]|C, [b]|D, [r])
-  PoseSteps<ForestChain> steps;               ///< of {a} wrt {b} in [r]; rotation only
+  semantics::OrientationSemantics
+      semantics;                 ///< @retval R_BA_R: OrientationCoord([a]|C, [b]|D, [r])
+  PoseSteps<ForestChain> steps;  ///< of {a} wrt {b} in [r]; rotation only
 };
 struct TwistPlan {
-  semantics::TwistSemantics semantics;  ///< @retval V_DC_R at e: TwistCoord(e|C, D, [r])
-  FrameIndex point, frame;              ///< e and [r]
-  BodyIndex body, ref_body, ancestor;   ///< C, D and their youngest common ancestor in TG
+  semantics::TwistSemantics semantics;        ///< @retval V_DC_R at e: TwistCoord(e|C, D, [r])
+  FrameIndex point, frame;                    ///< e and [r]
+  BodyIndex body, ref_body, ancestor;         ///< C, D and their youngest common ancestor in TG
   const topology::TwistForest* tg = nullptr;  ///< TG of e's tree; nullptr when C == D
 };
 

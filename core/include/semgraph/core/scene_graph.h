@@ -130,10 +130,14 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// duplicate_twist_path) -> accepted as a no-op when it equals the derived value within the
   /// policy's tolerances, else refused with the discrepancy. Without a repair the result and
   /// the graph are exactly those of the plain add.
-  Expected<RepairReport, BuildError> AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
-                                             const Eigen::Vector3d& p_position, const RepairPolicy& repair);
-  Expected<RepairReport, BuildError> AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
-                                              const Eigen::Vector3d& w_angular, const RepairPolicy& repair);
+  Expected<RepairReport, BuildError> AddPose(const PoseSpec& spec,
+                                             const Eigen::Quaterniond& q_rotation,
+                                             const Eigen::Vector3d& p_position,
+                                             const RepairPolicy& repair);
+  Expected<RepairReport, BuildError> AddTwist(const TwistSpec& spec,
+                                              const Eigen::Vector3d& v_linear,
+                                              const Eigen::Vector3d& w_angular,
+                                              const RepairPolicy& repair);
   /// Removes the pose edge {relative_to} -> {of}. invalid_name -> unknown_frame -> no_such_edge.
   BuildResult RemovePose(std::string_view of, std::string_view relative_to);
   /// Removes the twist edge {relative_to} -> {of} (a body to a frame). invalid_name ->
@@ -146,53 +150,65 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // then stamp_mismatch -> stamp_too_old -> duplicate_stamp; a value in another form is
   // converted with the graph's values at the stamp (extrapolation when there are none). A
   // same-body (constant) edge is timeless: the stamp then only serves the conversion.
-  BuildResult AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation, const Eigen::Vector3d& p_position,
-                      Stamp stamp);
-  BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation, const Eigen::Vector3d& p_position,
-                      Stamp stamp);
-  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear, const Eigen::Vector3d& w_angular,
-                       Stamp stamp);
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                      const Eigen::Vector3d& p_position, Stamp stamp);
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
+                      const Eigen::Vector3d& p_position, Stamp stamp);
+  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                       const Eigen::Vector3d& w_angular, Stamp stamp);
   /// A stamped sample of a stamped edge by handle: O(1) amortized in order, O(later samples)
   /// out of order; never allocates. Codes as SetPose, then kStampMismatch (a timeless edge),
   /// kStampTooOld, kDuplicateStamp (policy reject, another value at that stamp).
-  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH, const Eigen::Vector3d& p_ToHo_T,
-                                  Stamp stamp, UpdateError* why = nullptr) noexcept;
-  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH, const Eigen::Vector3d& p_ToHo_T,
-                                  Stamp stamp, UpdateError* why = nullptr) noexcept;
-  [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H, const Eigen::Vector3d& w_DH_H,
-                                   Stamp stamp, UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                  const Eigen::Vector3d& p_ToHo_T, Stamp stamp,
+                                  UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Matrix3d& R_TH,
+                                  const Eigen::Vector3d& p_ToHo_T, Stamp stamp,
+                                  UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                   const Eigen::Vector3d& w_DH_H, Stamp stamp,
+                                   UpdateError* why = nullptr) noexcept;
 
   /// Queries under a time policy: the same queries with every edge's value as the policy
   /// selects, and what was read (TimeReport). Error order: as the untimed query, invalid_number
   /// (a negative horizon) after invalid_name, then ... -> extrapolation -> stale.
-  [[nodiscard]] QueryResult<Timed<Pose>> GetPose(const PoseSpec& spec, const TimePolicy& policy) const noexcept;
-  [[nodiscard]] QueryResult<Timed<coord::Position>> GetPosition(const PoseSpec& spec,
-                                                                const TimePolicy& policy) const noexcept;
-  [[nodiscard]] QueryResult<Timed<Orientation>> GetOrientation(const PoseSpec& spec,
-                                                               const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<Pose>> GetPose(const PoseSpec& spec,
+                                                 const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::Position>> GetPosition(
+      const PoseSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<Orientation>> GetOrientation(
+      const PoseSpec& spec, const TimePolicy& policy) const noexcept;
   /// Time travel: the point side at travel.time, the reference side at travel.ref_time, through
   /// travel.fixed_frame (unknown_frame, or no_pose_path when not in the query's pose tree).
-  [[nodiscard]] QueryResult<Timed<Pose>> GetPose(const PoseSpec& spec, const TimeTravel& travel) const noexcept;
-  [[nodiscard]] QueryResult<Timed<coord::Position>> GetPosition(const PoseSpec& spec,
-                                                                const TimeTravel& travel) const noexcept;
-  [[nodiscard]] QueryResult<Timed<Orientation>> GetOrientation(const PoseSpec& spec,
-                                                               const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<Pose>> GetPose(const PoseSpec& spec,
+                                                 const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::Position>> GetPosition(
+      const PoseSpec& spec, const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<Orientation>> GetOrientation(
+      const PoseSpec& spec, const TimeTravel& travel) const noexcept;
   /// Twists from the twist edges (default) or differentiated from the pose history.
-  [[nodiscard]] QueryResult<Timed<coord::Twist>> GetTwist(const TwistSpec& spec, const TimePolicy& policy,
-                                                          TwistSource source = TwistSource::kTwists) const noexcept;
+  [[nodiscard]] QueryResult<Timed<coord::Twist>> GetTwist(
+      const TwistSpec& spec, const TimePolicy& policy,
+      TwistSource source = TwistSource::kTwists) const noexcept;
   [[nodiscard]] QueryResult<Timed<coord::LinearVelocity>> GetLinearVelocity(
-      const TwistSpec& spec, const TimePolicy& policy, TwistSource source = TwistSource::kTwists) const noexcept;
+      const TwistSpec& spec, const TimePolicy& policy,
+      TwistSource source = TwistSource::kTwists) const noexcept;
   [[nodiscard]] QueryResult<Timed<coord::AngularVelocity>> GetAngularVelocity(
-      const TwistSpec& spec, const TimePolicy& policy, TwistSource source = TwistSource::kTwists) const noexcept;
+      const TwistSpec& spec, const TimePolicy& policy,
+      TwistSource source = TwistSource::kTwists) const noexcept;
   /// Diagnostics (allocates): every edge the query uses, with its samples and the ones read.
-  [[nodiscard]] Expected<std::vector<EdgeUse>, QueryError> ExplainPose(const PoseSpec& spec,
-                                                                      const TimePolicy& policy) const;
+  [[nodiscard]] Expected<std::vector<EdgeUse>, QueryError> ExplainPose(
+      const PoseSpec& spec, const TimePolicy& policy) const;
   [[nodiscard]] Expected<std::vector<EdgeUse>, QueryError> ExplainTwist(
-      const TwistSpec& spec, const TimePolicy& policy, TwistSource source = TwistSource::kTwists) const;
+      const TwistSpec& spec, const TimePolicy& policy,
+      TwistSource source = TwistSource::kTwists) const;
   /// A compiled twist whose twists come from `source` (CompileTwist(spec) = kTwists).
-  [[nodiscard]] Expected<CompiledTwist<B>, QueryError> CompileTwist(const TwistSpec& spec, TwistSource source) const;
+  [[nodiscard]] Expected<CompiledTwist<B>, QueryError> CompileTwist(const TwistSpec& spec,
+                                                                    TwistSource source) const;
   /// Heap bytes of one stored pose sample (a stamped edge preallocates sample_capacity of them).
-  [[nodiscard]] static constexpr std::size_t BytesPerPoseSample() noexcept { return PoseHistory::BytesPerSample(); }
+  [[nodiscard]] static constexpr std::size_t BytesPerPoseSample() noexcept {
+    return PoseHistory::BytesPerSample();
+  }
 
   // ---------------------------------------------------------------- real-time path
   // See docs/realtime.md. Handles and compiled queries are made at build time (they allocate
@@ -208,11 +224,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// no_such_edge, or constant_pose_change for a same-body (constant) edge, which cannot be
   /// updated.
   [[nodiscard]] Expected<PoseHandle, BuildError> FindPoseEdge(std::string_view of,
-                                                             std::string_view relative_to) const;
+                                                              std::string_view relative_to) const;
   /// Handle of the existing twist edge {relative_to} (a body) -> {of}: invalid_name,
   /// unknown_frame, unknown_body, no_such_edge.
   [[nodiscard]] Expected<TwistHandle, BuildError> FindTwistEdge(std::string_view of,
-                                                               std::string_view relative_to) const;
+                                                                std::string_view relative_to) const;
   /// New value X_TH of the edge (rotation of the head in the tail, position of the head's origin
   /// in the tail, both in [tail]). O(1). Codes: kOk, kInvalidNumber, kInvalidRotation
   /// (normalized within 1e-6), kNoSuchEdge (the edge was removed since the handle was made, or
@@ -263,8 +279,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// writes. Codes: kInvalidNumber (the input), kQueryInvalidated (an edge of the conversion was
   /// removed; nothing written), then SetTwist's. O(edges between r and h).
   [[nodiscard]] ErrorCode SetTwist(const ConvertingTwistHandle<B>& edge,
-                                   const Eigen::Vector3d& v_DHo_R,
-                                   const Eigen::Vector3d& w_DH_R,
+                                   const Eigen::Vector3d& v_DHo_R, const Eigen::Vector3d& w_DH_R,
                                    UpdateError* why = nullptr) noexcept;
   /// The pose in the handle's form, converted to the edge form as AddPose converts it, then
   /// written as SetPose(edge.edge()) writes. Codes: kInvalidNumber / kInvalidRotation (the
@@ -278,7 +293,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
   /// compiled query refers to this graph, which must outlive it and must not move.
   [[nodiscard]] Expected<CompiledPose<B>, QueryError> CompilePose(const PoseSpec& spec) const;
-  [[nodiscard]] Expected<CompiledPosition<B>, QueryError> CompilePosition(const PoseSpec& spec) const;
+  [[nodiscard]] Expected<CompiledPosition<B>, QueryError> CompilePosition(
+      const PoseSpec& spec) const;
   [[nodiscard]] Expected<CompiledOrientation<B>, QueryError> CompileOrientation(
       const PoseSpec& spec) const;
   /// Twist, linear velocity and angular velocity (use the parts of the result).
@@ -313,7 +329,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
       const semantics::PositionSemantics& q) const noexcept;
   [[nodiscard]] QueryResult<Orientation> GetOrientation(
       const semantics::OrientationSemantics& q) const noexcept;
-  [[nodiscard]] QueryResult<coord::Twist> GetTwist(const semantics::TwistSemantics& q) const noexcept;
+  [[nodiscard]] QueryResult<coord::Twist> GetTwist(
+      const semantics::TwistSemantics& q) const noexcept;
 
   // ---------------------------------------------------------------- joints (joints.cc)
   // A joint owns a pose edge and a twist edge whose values follow its state (joints.h,
@@ -328,12 +345,14 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] Expected<JointHandle, BuildError> FindJoint(std::string_view name) const;
   /// The layout of a joint-state vector: these joints in this order. unknown_joint (no such
   /// movable joint), mimic_joint (a mimic: it follows its master), duplicate_joint (named twice).
-  [[nodiscard]] Expected<JointGroup, BuildError> MakeJointGroup(std::span<const std::string_view> names) const;
+  [[nodiscard]] Expected<JointGroup, BuildError> MakeJointGroup(
+      std::span<const std::string_view> names) const;
   /// Every independent movable joint (no fixed, no mimic joints), in the order they were added.
   [[nodiscard]] JointGroup AllJoints() const;
   /// Sets positions and velocities by name, all or nothing: invalid_number -> unknown_joint ->
   /// mimic_joint -> joint_limit. A joint keeps the fields it is not given. Build time (messages).
-  BuildResult SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities);
+  BuildResult SetJoints(std::span<const JointValue> positions,
+                        std::span<const JointValue> velocities);
   /// Real-time setters: values in the group's order (size must equal group.size()). All or
   /// nothing: kInvalidNumber -> kUnknownJoint (a joint removed since the group was made) ->
   /// kJointLimit. O(joints + mimics), noexcept, allocation-free.
@@ -352,7 +371,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// without a stamp they are timeless, with one they keep histories (allocated by this call on
   /// a joint's first stamped state). invalid_number -> unknown_joint -> mimic_joint ->
   /// joint_limit -> stamp_mismatch -> stamp_too_old -> duplicate_stamp; all or nothing.
-  BuildResult SetJoints(std::span<const JointValue> positions, std::span<const JointValue> velocities, Stamp stamp);
+  BuildResult SetJoints(std::span<const JointValue> positions,
+                        std::span<const JointValue> velocities, Stamp stamp);
   /// Real-time stamped setters, for joints that are stamped already (their first stamped state
   /// given by SetJoints with a stamp, else kStampMismatch; a mimic added since then too): codes
   /// as the unstamped ones, then kStampMismatch -> kStampTooOld -> kDuplicateStamp. All or
@@ -377,8 +397,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] Expected<Jacobian, QueryError> GetJacobian(const TwistSpec& spec) const;
   /// The same under a time policy (docs/time.md): the poses, and the joints' twist edges, at the
   /// policy's time; the errors of a timed twist query. Allocates the result.
-  [[nodiscard]] Expected<Timed<Jacobian>, QueryError> GetJacobian(const TwistSpec& spec, const TimePolicy& policy) const;
-  [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(const TwistSpec& spec) const;
+  [[nodiscard]] Expected<Timed<Jacobian>, QueryError> GetJacobian(const TwistSpec& spec,
+                                                                  const TimePolicy& policy) const;
+  [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(
+      const TwistSpec& spec) const;
 
   // ---------------------------------------------------------------- inspection
 
@@ -387,20 +409,32 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] std::size_t num_bodies() const noexcept { return topology_.num_bodies(); }
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return topology_.num_pose_edges(); }
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return topology_.num_twist_edges(); }
-  [[nodiscard]] FrameIndex FindFrame(std::string_view name) const noexcept { return topology_.FindFrame(name); }
-  [[nodiscard]] BodyIndex FindBody(std::string_view name) const noexcept { return topology_.FindBody(name); }
-  [[nodiscard]] std::string_view frame_name(FrameIndex f) const noexcept { return topology_.frame_name(f); }
-  [[nodiscard]] std::string_view body_name(BodyIndex b) const noexcept { return topology_.body_name(b); }
+  [[nodiscard]] FrameIndex FindFrame(std::string_view name) const noexcept {
+    return topology_.FindFrame(name);
+  }
+  [[nodiscard]] BodyIndex FindBody(std::string_view name) const noexcept {
+    return topology_.FindBody(name);
+  }
+  [[nodiscard]] std::string_view frame_name(FrameIndex f) const noexcept {
+    return topology_.frame_name(f);
+  }
+  [[nodiscard]] std::string_view body_name(BodyIndex b) const noexcept {
+    return topology_.body_name(b);
+  }
   [[nodiscard]] BodyIndex body_of(FrameIndex f) const noexcept { return topology_.body_of(f); }
   /// Pose parent P of f (invalid for a root) and the stored edge value X_PF in [P].
-  [[nodiscard]] FrameIndex pose_parent(FrameIndex f) const noexcept { return topology_.pose_parent(f); }
+  [[nodiscard]] FrameIndex pose_parent(FrameIndex f) const noexcept {
+    return topology_.pose_parent(f);
+  }
   [[nodiscard]] typename B::PoseCoords pose_value(FrameIndex f) const noexcept {
     return values_.X_PF[f.value()].Load();
   }
   /// Twist parent body of f (invalid if none) and the stored screw twist (v, w) at f in [f].
   [[nodiscard]] BodyIndex twist_parent(FrameIndex f) const noexcept;
   [[nodiscard]] std::optional<coord::Twist> twist_value(FrameIndex f) const noexcept;
-  [[nodiscard]] FrameIndex tree_root(FrameIndex f) const noexcept { return topology_.forest().Root(f); }
+  [[nodiscard]] FrameIndex tree_root(FrameIndex f) const noexcept {
+    return topology_.forest().Root(f);
+  }
   /// The sample history of the pose edge into f / of the twist edge slot (docs/time.md): nullptr
   /// for a timeless or constant edge (and for no edge). The writer thread may read it with the
   /// writer-side calls (ValueAt, newest_stamp); other threads with the lock-free ones. O(1).
@@ -427,10 +461,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   friend struct internal::DebugAccess;
 
   template <class R>
-  BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation, const Eigen::Vector3d& p_position,
+  BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation,
+                          const Eigen::Vector3d& p_position,
                           std::optional<Stamp> stamp = std::nullopt);
-  BuildResult AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear, const Eigen::Vector3d& w_angular,
-                           std::optional<Stamp> stamp);
+  BuildResult AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                           const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp);
   template <class R>
   ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
                         std::optional<Stamp> stamp, UpdateError* why) noexcept;
@@ -439,31 +474,40 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                          UpdateError* why) noexcept;
   // Time (time_query.cc): every timed one-shot query runs the evaluator through RunTimed.
   template <class Eval>
-  std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report, internal::EdgeRecorder* recorder,
-                                     Eval&& eval) const noexcept;
+  std::optional<QueryError> RunTimed(const TimePolicy& policy, TimeReport& report,
+                                     internal::EdgeRecorder* recorder, Eval&& eval) const noexcept;
   // run(report, eval): RunTimed at the policy, eval(ForestSource) at its time (pose queries).
   auto AtPolicy(const TimePolicy& policy) const noexcept;
   std::optional<QueryError> TimeTravelPose(FrameIndex e, FrameIndex a, FrameIndex f, FrameIndex b,
                                            FrameIndex r, FrameIndex x, const TimeTravel& travel,
                                            typename B::PoseCoords& X,
                                            TimeReport& report) const noexcept;
-  QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
+  QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy,
+                                              TwistSource source,
                                               internal::EdgeRecorder* recorder) const noexcept;
   // Time (time_add.cc): the stamp rules of an update, then the store (value and history).
   internal::TimeContext ConversionContext(std::optional<Stamp> stamp) const noexcept;
   std::string DescribeConversionGap(const internal::TimeContext& tc, Stamp stamp) const;
   PoseHistoryLease NewPoseHistory();
   TwistHistoryLease NewTwistHistory();
-  void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X, Stamp s);
-  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s);
+  void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X,
+                          Stamp s);
+  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V,
+                           Stamp s);
   void DropPoseHistory(FrameIndex head) noexcept;
   void DropTwistHistory(TwistEdgeIndex edge) noexcept;
-  ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) const noexcept;
-  void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp) noexcept;
-  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp) const noexcept;
-  void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept;
-  ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V, std::optional<Stamp> stamp) noexcept;
-  std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index, std::optional<Stamp> stamp) const;
+  ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X,
+                            std::optional<Stamp> stamp) const noexcept;
+  void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
+                       std::optional<Stamp> stamp) noexcept;
+  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
+                             std::optional<Stamp> stamp) const noexcept;
+  void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
+                        std::optional<Stamp> stamp) noexcept;
+  ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V,
+                           std::optional<Stamp> stamp) noexcept;
+  std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index,
+                                      std::optional<Stamp> stamp) const;
   FrameIndex CreateFrame(NameId name, BodyIndex body);
   // The apply step of every add (add.cc): every allocation, then (after the caller's last
   // check and its NameRollback::Commit) the nodes and links, allocation-free.
@@ -481,8 +525,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // (jacobian.cc).
   BuildResult RemoveJoint(const internal::JointRecord& joint);
   void ApplyJoint(JointIndex index, const double* q, const double* qdot) noexcept;
-  // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or not.
-  BuildResult CheckJointValues(std::span<const JointValue> positions, std::span<const JointValue> velocities) const;
+  // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or
+  // not.
+  BuildResult CheckJointValues(std::span<const JointValue> positions,
+                               std::span<const JointValue> velocities) const;
   ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot,
                      UpdateError* why) noexcept;
   // A refused joint set: `code`, with the first joint in the group's order that breaks its rule
@@ -492,7 +538,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
                             Stamp stamp, UpdateError* why) noexcept;
-  ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot, std::int64_t s) const noexcept;
+  ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot,
+                             std::int64_t s) const noexcept;
   void StoreJointSample(JointIndex index, const double* q, const double* qdot,
                         std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;

@@ -44,7 +44,8 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   explicit SeqLockValue(const T& value) noexcept { Store(value); }
   // Exclusive access only (vector growth during the build phase).
   SeqLockValue(const SeqLockValue& other) noexcept {
-    header_.store(other.header_.load(std::memory_order_relaxed) & ~kSeqMask, std::memory_order_relaxed);
+    header_.store(other.header_.load(std::memory_order_relaxed) & ~kSeqMask,
+                  std::memory_order_relaxed);
     for (std::size_t i = 0; i < kWords; ++i) {
       words_[i].store(other.words_[i].load(std::memory_order_relaxed), std::memory_order_relaxed);
     }
@@ -104,11 +105,14 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
 
   /// The current header (epoch << 32 | sequence): a reader that cached a value together with the
   /// header it was read under knows the value is unchanged while the header is. Acquire load.
-  [[nodiscard]] std::uint64_t header() const noexcept { return header_.load(std::memory_order_acquire); }
+  [[nodiscard]] std::uint64_t header() const noexcept {
+    return header_.load(std::memory_order_acquire);
+  }
 
   /// A consistent value and the header it was read under, if the epoch is still the one of
   /// `expected_header`; false otherwise.
-  [[nodiscard]] bool LoadWithHeader(T& out, std::uint64_t expected_header, std::uint64_t& header) const noexcept {
+  [[nodiscard]] bool LoadWithHeader(T& out, std::uint64_t expected_header,
+                                    std::uint64_t& header) const noexcept {
     Word words[kWords];
     for (;;) {
       const std::uint64_t h1 = header_.load(std::memory_order_acquire);

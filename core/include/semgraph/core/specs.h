@@ -58,10 +58,14 @@ enum class RepairKind : std::uint8_t { kNone, kInverted, kRerooted, kConsistent 
 /// "none", "inverted", "rerooted", "consistent".
 [[nodiscard]] constexpr std::string_view ToString(RepairKind k) noexcept {
   switch (k) {
-    case RepairKind::kNone: return "none";
-    case RepairKind::kInverted: return "inverted";
-    case RepairKind::kRerooted: return "rerooted";
-    case RepairKind::kConsistent: return "consistent";
+    case RepairKind::kNone:
+      return "none";
+    case RepairKind::kInverted:
+      return "inverted";
+    case RepairKind::kRerooted:
+      return "rerooted";
+    case RepairKind::kConsistent:
+      return "consistent";
   }
   return "none";
 }
@@ -140,13 +144,20 @@ struct PoseSpec {
   /// The name this spec gives to a role.
   [[nodiscard]] std::string_view field(semantics::Field f) const noexcept {
     switch (f) {
-      case semantics::Field::kPoint: return point;
-      case semantics::Field::kOrientation: return orientation;
-      case semantics::Field::kBody: return body;
-      case semantics::Field::kRefPoint: return ref_point;
-      case semantics::Field::kRefOrientation: return ref_orientation;
-      case semantics::Field::kRefBody: return ref_body;
-      case semantics::Field::kCoordinateFrame: return coordinate_frame;
+      case semantics::Field::kPoint:
+        return point;
+      case semantics::Field::kOrientation:
+        return orientation;
+      case semantics::Field::kBody:
+        return body;
+      case semantics::Field::kRefPoint:
+        return ref_point;
+      case semantics::Field::kRefOrientation:
+        return ref_orientation;
+      case semantics::Field::kRefBody:
+        return ref_body;
+      case semantics::Field::kCoordinateFrame:
+        return coordinate_frame;
     }
     return {};
   }

@@ -55,21 +55,25 @@ class StableArray {
   StableArray& operator=(const StableArray&) = delete;
   ~StableArray() {
     for (std::size_t i = 0; i < size_; ++i) (*this)[i].~T();
-    for (std::size_t k = 0; k < blocks_; ++k) ::operator delete(block_[k], std::align_val_t{alignof(T)});
+    for (std::size_t k = 0; k < blocks_; ++k)
+      ::operator delete (block_[k], std::align_val_t{alignof(T)});
   }
 
   [[nodiscard]] std::size_t size() const noexcept { return size_; }
   [[nodiscard]] std::size_t capacity() const noexcept { return Start(blocks_); }
 
   [[nodiscard]] T& operator[](std::size_t i) noexcept { return At(i); }
-  [[nodiscard]] const T& operator[](std::size_t i) const noexcept { return const_cast<StableArray*>(this)->At(i); }
+  [[nodiscard]] const T& operator[](std::size_t i) const noexcept {
+    return const_cast<StableArray*>(this)->At(i);
+  }
 
   /// Allocates blocks until capacity() >= n (all or nothing: on std::bad_alloc the blocks
   /// allocated so far stay, unused, and nothing else changed).
   void Reserve(std::size_t n) {
     while (capacity() < n) {
       SEMGRAPH_DEMAND(blocks_ < kMaxBlocks);
-      block_[blocks_] = static_cast<T*>(::operator new(BlockSize(blocks_) * sizeof(T), std::align_val_t{alignof(T)}));
+      block_[blocks_] = static_cast<T*>(
+          ::operator new (BlockSize(blocks_) * sizeof(T), std::align_val_t{alignof(T)}));
       ++blocks_;
     }
   }
@@ -94,7 +98,9 @@ class StableArray {
 
  private:
   static constexpr std::size_t BlockSize(std::size_t k) noexcept { return kFirst << k; }
-  static constexpr std::size_t Start(std::size_t k) noexcept { return kFirst * ((std::size_t{1} << k) - 1); }
+  static constexpr std::size_t Start(std::size_t k) noexcept {
+    return kFirst * ((std::size_t{1} << k) - 1);
+  }
   T& At(std::size_t i) noexcept {
     const std::size_t j = i + kFirst;  // block k holds j in [kFirst << k, kFirst << (k + 1))
     const std::size_t k = static_cast<std::size_t>(std::bit_width(j)) - 1 - kFirstLog2;

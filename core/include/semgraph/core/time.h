@@ -37,11 +37,19 @@ namespace semgraph::core {
 class Duration {
  public:
   constexpr Duration() noexcept = default;
-  [[nodiscard]] static constexpr Duration Nanoseconds(std::int64_t ns) noexcept { return Duration(ns); }
-  [[nodiscard]] static constexpr Duration Milliseconds(std::int64_t ms) noexcept { return Duration(ms * 1000000); }
-  [[nodiscard]] static constexpr Duration Seconds(std::int64_t s) noexcept { return Duration(s * 1000000000); }
+  [[nodiscard]] static constexpr Duration Nanoseconds(std::int64_t ns) noexcept {
+    return Duration(ns);
+  }
+  [[nodiscard]] static constexpr Duration Milliseconds(std::int64_t ms) noexcept {
+    return Duration(ms * 1000000);
+  }
+  [[nodiscard]] static constexpr Duration Seconds(std::int64_t s) noexcept {
+    return Duration(s * 1000000000);
+  }
   [[nodiscard]] constexpr std::int64_t nanoseconds() const noexcept { return ns_; }
-  [[nodiscard]] constexpr double seconds() const noexcept { return static_cast<double>(ns_) * 1e-9; }
+  [[nodiscard]] constexpr double seconds() const noexcept {
+    return static_cast<double>(ns_) * 1e-9;
+  }
   friend constexpr auto operator<=>(Duration, Duration) noexcept = default;
 
  private:
@@ -56,7 +64,9 @@ class Stamp {
   [[nodiscard]] static constexpr Stamp Nanoseconds(std::int64_t ns) noexcept { return Stamp(ns); }
   [[nodiscard]] constexpr std::int64_t nanoseconds() const noexcept { return ns_; }
   /// Seconds as a double (for printing: the nearest double).
-  [[nodiscard]] constexpr double seconds() const noexcept { return static_cast<double>(ns_) * 1e-9; }
+  [[nodiscard]] constexpr double seconds() const noexcept {
+    return static_cast<double>(ns_) * 1e-9;
+  }
   friend constexpr auto operator<=>(Stamp, Stamp) noexcept = default;
 
  private:
@@ -103,7 +113,8 @@ struct TimeOptions {
 
 /// Each stamped edge's newest sample (the default).
 struct Latest {
-  constexpr explicit Latest(std::optional<Stamp> not_before_ = std::nullopt) noexcept : not_before(not_before_) {}
+  constexpr explicit Latest(std::optional<Stamp> not_before_ = std::nullopt) noexcept
+      : not_before(not_before_) {}
   std::optional<Stamp> not_before;  ///< a used edge whose newest sample is older: stale
 };
 /// Every edge at `time`; outside an edge's samples, extrapolate up to max_extrapolation.
@@ -131,9 +142,13 @@ using TimePolicy = std::variant<Latest, At, LatestCommon>;
 /// Pose, position, orientation: the point side at `time`, the reference side at `ref_time`,
 /// through `fixed_frame`, assumed fixed between the two ([r] taken at ref_time).
 struct TimeTravel {
-  constexpr TimeTravel(Stamp time_, Stamp ref_time_, std::string_view fixed_frame_, Duration max_extrapolation_ = {},
+  constexpr TimeTravel(Stamp time_, Stamp ref_time_, std::string_view fixed_frame_,
+                       Duration max_extrapolation_ = {},
                        std::optional<Stamp> not_before_ = std::nullopt) noexcept
-      : time(time_), ref_time(ref_time_), fixed_frame(fixed_frame_), max_extrapolation(max_extrapolation_),
+      : time(time_),
+        ref_time(ref_time_),
+        fixed_frame(fixed_frame_),
+        max_extrapolation(max_extrapolation_),
         not_before(not_before_) {}
   Stamp time;
   Stamp ref_time;
@@ -168,10 +183,10 @@ struct Timed {
 struct EdgeUse {
   enum class Kind : std::uint8_t { kPose, kTwist, kPoseDerivative };
   Kind kind = Kind::kPose;
-  std::string_view of;           ///< the edge's head frame
-  std::string_view relative_to;  ///< the tail frame (pose) or tail body (twist)
-  bool stamped = false;          ///< false: timeless or constant
-  std::optional<Stamp> first, last;      ///< the edge's whole sample range
+  std::string_view of;                      ///< the edge's head frame
+  std::string_view relative_to;             ///< the tail frame (pose) or tail body (twist)
+  bool stamped = false;                     ///< false: timeless or constant
+  std::optional<Stamp> first, last;         ///< the edge's whole sample range
   std::optional<Stamp> read_from, read_to;  ///< the samples read (one stamp, or the bracket)
   bool extrapolated = false;
 };

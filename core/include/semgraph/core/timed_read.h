@@ -38,10 +38,10 @@ namespace semgraph::core::internal {
 /// Which edge failed and why (turned into a QueryError by the caller, who has the names).
 struct TimeFailure {
   base::ErrorCode code = base::ErrorCode::kOk;
-  bool twist_edge = false;    ///< index is a twist edge slot (else a frame: the pose edge into it)
+  bool twist_edge = false;  ///< index is a twist edge slot (else a frame: the pose edge into it)
   std::uint32_t index = 0;
   std::int64_t first = 0, last = 0, asked = 0;  ///< the edge's samples and the time asked
-  bool single_sample = false;  ///< a derivative of an edge with one sample
+  bool single_sample = false;                   ///< a derivative of an edge with one sample
 };
 
 /// One edge read, for the diagnostic call (SceneGraph::ExplainPose / ExplainTwist).
@@ -61,10 +61,10 @@ class EdgeRecorder {
 
 struct TimeContext {
   // The policy.
-  bool at = false;             ///< false: each edge's newest sample
-  std::int64_t t = 0;          ///< at: the time
-  std::int64_t horizon = 0;    ///< at: extrapolation allowed up to this many ns
-  bool nested = false;         ///< the twist read to extrapolate an edge: no further extrapolation
+  bool at = false;           ///< false: each edge's newest sample
+  std::int64_t t = 0;        ///< at: the time
+  std::int64_t horizon = 0;  ///< at: extrapolation allowed up to this many ns
+  bool nested = false;       ///< the twist read to extrapolate an edge: no further extrapolation
   bool has_not_before = false;
   std::int64_t not_before = 0;
   const EdgeHistories* histories = nullptr;
@@ -89,12 +89,15 @@ struct TimeContext {
     any_stamped = true;
     min_newest = std::min(min_newest, last);
     if (has_not_before && last < not_before && stale.code == base::ErrorCode::kOk) {
-      stale = TimeFailure{base::ErrorCode::kStale, twist_edge, index, first, last, not_before, false};
+      stale =
+          TimeFailure{base::ErrorCode::kStale, twist_edge, index, first, last, not_before, false};
     }
   }
-  void Fail(bool twist_edge, std::uint32_t index, std::int64_t first, std::int64_t last, bool single = false) noexcept {
+  void Fail(bool twist_edge, std::uint32_t index, std::int64_t first, std::int64_t last,
+            bool single = false) noexcept {
     if (extrapolation.code == base::ErrorCode::kOk) {
-      extrapolation = TimeFailure{base::ErrorCode::kExtrapolation, twist_edge, index, first, last, t, single};
+      extrapolation =
+          TimeFailure{base::ErrorCode::kExtrapolation, twist_edge, index, first, last, t, single};
     }
   }
   [[nodiscard]] base::ErrorCode error() const noexcept {
@@ -119,9 +122,15 @@ struct TimeContext {
 inline coord::kernels::QuatPose PoseFromWords(const double (&w)[7]) noexcept {
   return {Eigen::Quaterniond(w[3], w[0], w[1], w[2]), Eigen::Vector3d(w[4], w[5], w[6])};
 }
-inline void WordsFromPose(const Eigen::Quaterniond& q, const Eigen::Vector3d& p, double (&w)[7]) noexcept {
-  w[0] = q.x(); w[1] = q.y(); w[2] = q.z(); w[3] = q.w();
-  w[4] = p.x(); w[5] = p.y(); w[6] = p.z();
+inline void WordsFromPose(const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                          double (&w)[7]) noexcept {
+  w[0] = q.x();
+  w[1] = q.y();
+  w[2] = q.z();
+  w[3] = q.w();
+  w[4] = p.x();
+  w[5] = p.y();
+  w[6] = p.z();
 }
 inline TwistNumbers TwistFromWords(const double (&w)[6]) noexcept {
   return {Eigen::Vector3d(w[0], w[1], w[2]), Eigen::Vector3d(w[3], w[4], w[5])};
@@ -137,12 +146,14 @@ inline void WordsFromTwist(const TwistNumbers& V, double (&w)[6]) noexcept {
 /// extrapolation); false when there is no twist path or no twist data at s. Defined in
 /// evaluate.h (it runs the evaluator).
 template <coord::Backend B>
-bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s, TimeContext& parent,
-                        Eigen::Vector3d& v_out, Eigen::Vector3d& w_out) noexcept;
+bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s,
+                        TimeContext& parent, Eigen::Vector3d& v_out,
+                        Eigen::Vector3d& w_out) noexcept;
 
 /// The value of the pose edge into `frame` under the context's policy.
 template <coord::Backend B>
-void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, typename B::PoseCoords& X) noexcept {
+void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
+                typename B::PoseCoords& X) noexcept {
   using coord::kernels::QuatPose;
   const PoseHistory* h = v.history.pose_of(frame);
   EdgeRead rec;
@@ -162,7 +173,10 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, ty
     out = PoseFromWords(w0);
     tc.Read(s);
     if (!tc.nested) tc.Used(false, frame, first, s);
-    rec.first = first; rec.last = s; rec.read_from = rec.read_to = s; rec.has_read = true;
+    rec.first = first;
+    rec.last = s;
+    rec.read_from = rec.read_to = s;
+    rec.has_read = true;
   } else {
     PoseHistory::Bracket b;
     h->Find(tc.t, b);
@@ -178,18 +192,20 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, ty
         tc.Read(b.s0);
         rec.read_to = b.s0;
       } else {
-        out = coord::kernels::Interpolate(v.history.options.interpolation, PoseFromWords(b.v0), PoseFromWords(b.v1),
-                                          Fraction(b.s0, tc.t, b.s1));
+        out = coord::kernels::Interpolate(v.history.options.interpolation, PoseFromWords(b.v0),
+                                          PoseFromWords(b.v1), Fraction(b.s0, tc.t, b.s1));
         tc.Read(b.s0);
         tc.Read(b.s1);
         rec.read_to = b.s1;
       }
     } else {
       out = PoseFromWords(b.v0);  // the nearest sample
-      const std::int64_t gap = b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
+      const std::int64_t gap =
+          b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
       Eigen::Vector3d vv, ww;
       if (!tc.nested && gap <= tc.horizon && ExtrapolationTwist<B>(v, frame, b.s0, tc, vv, ww)) {
-        const double dt = b.where == Where::kBefore ? -SecondsBetween(tc.t, b.s0) : SecondsBetween(b.s0, tc.t);
+        const double dt =
+            b.where == Where::kBefore ? -SecondsBetween(tc.t, b.s0) : SecondsBetween(b.s0, tc.t);
         out = coord::kernels::Integrate(out, vv, ww, dt);
         tc.Read(b.s0);
         tc.extrapolated = true;
@@ -207,7 +223,8 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, ty
 
 /// The value of twist edge `slot` under the context's policy.
 template <coord::Backend B>
-void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, TwistNumbers& V) noexcept {
+void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc,
+                 TwistNumbers& V) noexcept {
   const TwistHistory* h = v.history.twist_of(slot);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kTwist;
@@ -225,7 +242,10 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
     V = TwistFromWords(w);
     tc.Read(s);
     if (!tc.nested) tc.Used(true, slot, first, s);
-    rec.first = first; rec.last = s; rec.read_from = rec.read_to = s; rec.has_read = true;
+    rec.first = first;
+    rec.last = s;
+    rec.read_from = rec.read_to = s;
+    rec.has_read = true;
   } else {
     TwistHistory::Bracket b;
     h->Find(tc.t, b);
@@ -248,7 +268,8 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
         rec.read_to = b.s1;
       }
     } else {
-      const std::int64_t gap = b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
+      const std::int64_t gap =
+          b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
       if (!tc.nested && gap <= tc.horizon) {  // hold the nearest sample
         tc.Read(b.s0);
         tc.extrapolated = true;
@@ -266,7 +287,8 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
 /// the policy's time (latest: the newest sample, the segment before it); zero for a timeless
 /// edge. Never extrapolates.
 template <coord::Backend B>
-void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, TwistNumbers& V) noexcept {
+void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
+                  TwistNumbers& V) noexcept {
   const PoseHistory* h = v.history.pose_of(frame);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kPoseDerivative;
@@ -286,8 +308,9 @@ void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, 
   if (!ok) {
     tc.Fail(false, frame, b.first, b.last, b.first == b.last);
   } else {
-    coord::kernels::SegmentTwist(v.history.options.interpolation, PoseFromWords(b.v0), PoseFromWords(b.v1),
-                                 SecondsBetween(b.s0, b.s1), Fraction(b.s0, t, b.s1), V.v_DHo_H, V.w_DH_H);
+    coord::kernels::SegmentTwist(v.history.options.interpolation, PoseFromWords(b.v0),
+                                 PoseFromWords(b.v1), SecondsBetween(b.s0, b.s1),
+                                 Fraction(b.s0, t, b.s1), V.v_DHo_H, V.w_DH_H);
     tc.Read(b.s0);
     tc.Read(b.s1);
     rec.has_read = true;
@@ -336,8 +359,8 @@ struct PolicyParts {
 /// edge), or what eval returned (a compiled query's kQueryInvalidated). `base` carries the
 /// histories, topology and recorder.
 template <class Eval>
-base::ErrorCode RunPolicy(const PolicyParts& p, const TimeContext& base, Eval&& eval, TimeReport& report,
-                          TimeFailure* failure = nullptr) noexcept {
+base::ErrorCode RunPolicy(const PolicyParts& p, const TimeContext& base, Eval&& eval,
+                          TimeReport& report, TimeFailure* failure = nullptr) noexcept {
   report = TimeReport{};
   TimeContext tc = base;
   tc.at = p.at;

@@ -50,8 +50,8 @@
 #include <string>
 #include <vector>
 
-#include "semgraph/dds/export.h"
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/dds/export.h"
 #include "semgraph/dds/publisher.h"
 
 namespace semgraph::dds {
@@ -65,7 +65,7 @@ struct Report {
 };
 
 struct MirrorOptions {
-  std::string name = "mirror";           ///< names the mirror in status reports
+  std::string name = "mirror";  ///< names the mirror in status reports
   std::uint32_t domain = kDefaultDomain;
   /// On a receive thread, for every report (refusals in the deterministic order).
   std::function<void(const Report&)> on_report;
@@ -98,9 +98,9 @@ struct EdgeState {
   std::uint64_t received = 0;      ///< values applied so far
   std::int64_t last_stamp_ns = 0;  ///< publisher's clock of the last value (0: from the structure)
   std::int64_t last_receive_ns = 0;
-  bool stamped = false;            ///< a stamped edge (its values are samples in a history)
-  std::int64_t newest_time_ns = 0; ///< stamped: the newest sample's stamp (the graph's time)
-  bool joint = false;              ///< a joint's state: head = the joint's name, tail = its parent frame
+  bool stamped = false;             ///< a stamped edge (its values are samples in a history)
+  std::int64_t newest_time_ns = 0;  ///< stamped: the newest sample's stamp (the graph's time)
+  bool joint = false;  ///< a joint's state: head = the joint's name, tail = its parent frame
 };
 
 class SEMGRAPH_DDS_EXPORT Mirror {

@@ -36,8 +36,8 @@
 #include <span>
 #include <string>
 
-#include "semgraph/dds/export.h"
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/dds/export.h"
 
 namespace semgraph::dds {
 
@@ -48,7 +48,7 @@ inline constexpr std::uint32_t kDefaultDomain = 0xFFFFFFFFu;
 [[nodiscard]] SEMGRAPH_DDS_EXPORT std::int64_t NowNs() noexcept;
 
 struct PublisherOptions {
-  std::string owner;                     ///< a valid name, unique among publishers of a domain
+  std::string owner;  ///< a valid name, unique among publishers of a domain
   std::uint32_t domain = kDefaultDomain;
 };
 
@@ -76,23 +76,30 @@ class SEMGRAPH_DDS_EXPORT Publisher {
   /// A stamped sample: SceneGraph's stamped SetPose/SetTwist (same codes; the edge must be
   /// stamped), then the sample as the history stores it is published with its stamp.
   [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
-                                        const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept;
+                                        const Eigen::Vector3d& p_ToHo_T,
+                                        core::Stamp stamp) noexcept;
   [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                          const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept;
 
   /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
   /// joint given is published with its state (mimics follow on the mirrors). A stamped
   /// SetJoints that makes a joint stamped (its first stamped state) republishes the structure.
-  core::BuildResult SetJoints(std::span<const core::JointValue> positions, std::span<const core::JointValue> velocities);
-  core::BuildResult SetJoints(std::span<const core::JointValue> positions, std::span<const core::JointValue> velocities,
-                              core::Stamp stamp);
-  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group, std::span<const double> q) noexcept;
-  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group, std::span<const double> q,
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions,
+                              std::span<const core::JointValue> velocities);
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions,
+                              std::span<const core::JointValue> velocities, core::Stamp stamp);
+  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group,
+                                                  std::span<const double> q) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group,
+                                                  std::span<const double> q,
                                                   core::Stamp stamp) noexcept;
-  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
+                                              std::span<const double> q,
                                               std::span<const double> qdot) noexcept;
-  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group, std::span<const double> q,
-                                              std::span<const double> qdot, core::Stamp stamp) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
+                                              std::span<const double> q,
+                                              std::span<const double> qdot,
+                                              core::Stamp stamp) noexcept;
 
   /// Batching, one DDS write per control cycle: after BeginBatch(), the values set through
   /// this publisher (poses, twists, joint states, stamped or not) are collected (up to 1024,

@@ -27,42 +27,41 @@
 #include <string_view>
 #include <vector>
 
-#include "semgraph/models/export.h"
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/models/export.h"
 
 namespace semgraph::models {
 
 /// What a load created, with prefixed names.
 struct Robot {
-  std::string name;                      ///< the URDF's robot name
+  std::string name;  ///< the URDF's robot name
   std::string prefix;
-  std::string root;                      ///< the root link's frame (and body)
-  std::vector<std::string> links;        ///< depth-first from the root; siblings by joint name
-  std::vector<std::string> joints;       ///< independent movable joints, depth-first (= group)
+  std::string root;                 ///< the root link's frame (and body)
+  std::vector<std::string> links;   ///< depth-first from the root; siblings by joint name
+  std::vector<std::string> joints;  ///< independent movable joints, depth-first (= group)
   std::vector<std::string> mimic_joints;
   std::vector<std::string> fixed_joints;
   std::vector<std::string> floating_joints;  ///< ordinary edges: "child wrt parent" by link frames
-  core::JointGroup group;                ///< `joints`, for SetJointPositions / State
+  core::JointGroup group;                    ///< `joints`, for SetJointPositions / State
 };
 
 /// Loads a URDF file: an absolute or relative path (relative to the working folder) or a
 /// file:// URI. An empty prefix is no prefix.
 template <coord::Backend B>
-[[nodiscard]] SEMGRAPH_MODELS_EXPORT base::Expected<Robot, core::BuildError> LoadUrdfFile(core::SceneGraph<B>& graph, std::string_view file,
-                                                                   std::string_view prefix = {});
+[[nodiscard]] SEMGRAPH_MODELS_EXPORT base::Expected<Robot, core::BuildError> LoadUrdfFile(
+    core::SceneGraph<B>& graph, std::string_view file, std::string_view prefix = {});
 /// Loads a URDF document given as text.
 template <coord::Backend B>
-[[nodiscard]] SEMGRAPH_MODELS_EXPORT base::Expected<Robot, core::BuildError> LoadUrdfString(core::SceneGraph<B>& graph,
-                                                                     std::string_view xml,
-                                                                     std::string_view prefix = {});
+[[nodiscard]] SEMGRAPH_MODELS_EXPORT base::Expected<Robot, core::BuildError> LoadUrdfString(
+    core::SceneGraph<B>& graph, std::string_view xml, std::string_view prefix = {});
 
-extern template base::Expected<Robot, core::BuildError> LoadUrdfFile(core::SceneGraph<coord::QuaternionBackend>&,
-                                                                    std::string_view, std::string_view);
-extern template base::Expected<Robot, core::BuildError> LoadUrdfFile(core::SceneGraph<coord::HomogeneousBackend>&,
-                                                                    std::string_view, std::string_view);
-extern template base::Expected<Robot, core::BuildError> LoadUrdfString(core::SceneGraph<coord::QuaternionBackend>&,
-                                                                      std::string_view, std::string_view);
-extern template base::Expected<Robot, core::BuildError> LoadUrdfString(core::SceneGraph<coord::HomogeneousBackend>&,
-                                                                      std::string_view, std::string_view);
+extern template base::Expected<Robot, core::BuildError> LoadUrdfFile(
+    core::SceneGraph<coord::QuaternionBackend>&, std::string_view, std::string_view);
+extern template base::Expected<Robot, core::BuildError> LoadUrdfFile(
+    core::SceneGraph<coord::HomogeneousBackend>&, std::string_view, std::string_view);
+extern template base::Expected<Robot, core::BuildError> LoadUrdfString(
+    core::SceneGraph<coord::QuaternionBackend>&, std::string_view, std::string_view);
+extern template base::Expected<Robot, core::BuildError> LoadUrdfString(
+    core::SceneGraph<coord::HomogeneousBackend>&, std::string_view, std::string_view);
 
 }  // namespace semgraph::models

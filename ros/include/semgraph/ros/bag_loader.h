@@ -56,19 +56,19 @@ struct TopicSummary {
 struct BagScan {
   BagFormat format = BagFormat::kMcap;
   std::vector<TopicSummary> topics;
-  std::uint64_t records = 0;  ///< every message of the bag
-  std::int64_t first_log_time_ns = 0, last_log_time_ns = 0;    ///< of every record
+  std::uint64_t records = 0;                                 ///< every message of the bag
+  std::int64_t first_log_time_ns = 0, last_log_time_ns = 0;  ///< of every record
   bool has_stamps = false;  ///< a transform or joint state was seen on the selected topics
   std::int64_t first_stamp_ns = 0, last_stamp_ns = 0;  ///< header stamps on the selected topics
-  std::vector<StaticEdge> statics;  ///< in log-time order
+  std::vector<StaticEdge> statics;                     ///< in log-time order
   /// Dynamic transforms' (parent, child) pairs, first occurrence order (for `bag info`).
   std::vector<StaticEdge> dynamics;
   std::optional<std::string> robot_description;  ///< the first one, when its topic is selected
 };
 
 struct BagLoadReport {
-  std::uint64_t messages = 0;  ///< selected-topic messages applied
-  std::uint64_t skipped = 0;   ///< the bag's other messages
+  std::uint64_t messages = 0;                                ///< selected-topic messages applied
+  std::uint64_t skipped = 0;                                 ///< the bag's other messages
   std::int64_t first_log_time_ns = 0, last_log_time_ns = 0;  ///< of the messages applied
   LiftCounts counts;
   Findings findings;

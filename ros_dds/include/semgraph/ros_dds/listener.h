@@ -59,9 +59,9 @@ struct Arrival {
 struct ListenerOptions {
   /// The DDS domain; default: ROS_DOMAIN_ID, else 0.
   std::optional<std::uint32_t> domain;
-  ros::LiftOptions lift;             ///< static mode and bodies map (docs/ros.md)
-  bool joint_states = true;          ///< subscribe to rt/joint_states
-  bool robot_description = true;     ///< subscribe to rt/robot_description
+  ros::LiftOptions lift;          ///< static mode and bodies map (docs/ros.md)
+  bool joint_states = true;       ///< subscribe to rt/joint_states
+  bool robot_description = true;  ///< subscribe to rt/robot_description
   /// Each finding occurrence, with its group as it is now (count, last times); `first`: the
   /// group is new. On the receive thread, outside the lock.
   std::function<void(const ros::FindingGroup& group, bool first)> on_finding;

@@ -17,9 +17,9 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <string_view>
-#include <memory>
 #include <vector>
 
 #include "semgraph/base/error_code.h"
@@ -47,16 +47,18 @@ enum class NameProblem : std::uint8_t { kEmpty, kTooLong, kNotPrintable, kNotUtf
 struct NameError {
   ErrorCode code = ErrorCode::kInvalidName;
   NameProblem problem = NameProblem::kEmpty;
-  std::size_t byte_offset = 0;  ///< offending byte for kNotPrintable / kNotUtf8
+  std::size_t byte_offset = 0;   ///< offending byte for kNotPrintable / kNotUtf8
   std::uint32_t code_point = 0;  ///< the character that is not printable (kNotPrintable)
 };
 
 /// Checks the name rule without interning. O(|name|), allocation-free.
-[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Expected<Ok, NameError> ValidateName(std::string_view name) noexcept;
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Expected<Ok, NameError> ValidateName(
+    std::string_view name) noexcept;
 
 /// Human-readable reason, e.g. "name is empty", "byte 3 of the name is a control character",
 /// "byte 0 of the name is U+200B, an invisible or formatting character".
-[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const NameError& error, std::string_view name);
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const NameError& error,
+                                                             std::string_view name);
 
 class SEMGRAPH_SEMANTICS_EXPORT NameTable {
  public:

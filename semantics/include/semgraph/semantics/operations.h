@@ -144,7 +144,8 @@ Inverse(const AngularVelocitySemantics& X) noexcept;
 // ---------------------------------------------------------------- Twist
 /// (e|C, D, [r]) -> (e|D, C, [r]); value (-v, -w).
 [[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT TwistSemantics Inverse(const TwistSemantics& X) noexcept;
-/// Checks: X.point = Y.point, X.ref_body = Y.body, X.[r] = Y.[r]. Result (e|X.body, Y.ref_body, [r]).
+/// Checks: X.point = Y.point, X.ref_body = Y.body, X.[r] = Y.[r]. Result (e|X.body, Y.ref_body,
+/// [r]).
 [[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT Checked<TwistSemantics> Compose(
     const TwistSemantics& X, const TwistSemantics& Y) noexcept;
 /// Change of velocity reference point. A = Position(old point e wrt new point f, [r]).

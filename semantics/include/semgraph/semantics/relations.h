@@ -7,8 +7,8 @@
 //   PositionSemantics        PositionCoord(e|C, f|D, [r])           vector from f to e
 //   OrientationSemantics     OrientationCoord([a]|C, [b]|D, [r])    operator carrying [b] onto [a]
 //   PoseSemantics            PoseCoord((e,[a])|C, (f,[b])|D, [r])   position + orientation
-//   LinearVelocitySemantics  LinearVelocityCoord(e|C, D, [r])       velocity of e fixed to C, rel. D
-//   AngularVelocitySemantics AngularVelocityCoord(C, D, [r])        angular velocity of C rel. D
+//   LinearVelocitySemantics  LinearVelocityCoord(e|C, D, [r])       velocity of e fixed to C, rel.
+//   D AngularVelocitySemantics AngularVelocityCoord(C, D, [r])        angular velocity of C rel. D
 //   TwistSemantics           TwistCoord(e|C, D, [r])                (v of e|C, omega of C), rel. D
 //
 // Field roles: the unprefixed fields describe what the relation is *of* (point, orientation,
@@ -86,9 +86,9 @@ struct AngularVelocitySemantics {
 };
 
 struct TwistSemantics {
-  Point point;                        // e: velocity reference point (a point of C coinciding with e)
-  Body body;                          // C
-  Body ref_body;                      // D
+  Point point;    // e: velocity reference point (a point of C coinciding with e)
+  Body body;      // C
+  Body ref_body;  // D
   OrientationFrame coordinate_frame;  // [r]
   friend constexpr bool operator==(const TwistSemantics&, const TwistSemantics&) = default;
 

@@ -94,12 +94,13 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
 
   /// The frame / body named `id` (invalid if the name is not one). O(1), noexcept.
   [[nodiscard]] FrameIndex FrameOfName(NameId id) const noexcept {
-    return id.is_valid() && id.value() < frame_of_name_.size() ? FrameIndex(frame_of_name_[id.value()])
-                                                                : FrameIndex();
+    return id.is_valid() && id.value() < frame_of_name_.size()
+               ? FrameIndex(frame_of_name_[id.value()])
+               : FrameIndex();
   }
   [[nodiscard]] BodyIndex BodyOfName(NameId id) const noexcept {
     return id.is_valid() && id.value() < body_of_name_.size() ? BodyIndex(body_of_name_[id.value()])
-                                                               : BodyIndex();
+                                                              : BodyIndex();
   }
   [[nodiscard]] FrameIndex FindFrame(std::string_view name) const noexcept {
     return FrameOfName(names_.Find(name));
@@ -107,7 +108,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   [[nodiscard]] BodyIndex FindBody(std::string_view name) const noexcept {
     return BodyOfName(names_.Find(name));
   }
-  [[nodiscard]] NameId frame_name_id(FrameIndex f) const noexcept { return frames_[f.value()].name; }
+  [[nodiscard]] NameId frame_name_id(FrameIndex f) const noexcept {
+    return frames_[f.value()].name;
+  }
   [[nodiscard]] NameId body_name_id(BodyIndex b) const noexcept { return bodies_[b.value()].name; }
   [[nodiscard]] std::string_view frame_name(FrameIndex f) const noexcept {
     return names_.name(frame_name_id(f));
@@ -124,7 +127,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   [[nodiscard]] semantics::Body BodySem(BodyIndex b) const noexcept {
     return semantics::Body(body_name_id(b));
   }
-  [[nodiscard]] semantics::Body BodyOfSem(FrameIndex f) const noexcept { return BodySem(body_of(f)); }
+  [[nodiscard]] semantics::Body BodyOfSem(FrameIndex f) const noexcept {
+    return BodySem(body_of(f));
+  }
 
   /// Reserves room for `frames` frames and `bodies` bodies in total (nodes, forest, tree sets,
   /// name maps and names), so that a build of known size does not reallocate.
@@ -178,7 +183,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// (invalid if none). O(min(b_t, b_h)).
   [[nodiscard]] BodyIndex SharedBody(FrameIndex t, FrameIndex h, BodyIndex allowed) const noexcept;
   /// A frame of `body` in the tree of `tree_member` (invalid if none). O(frames of body).
-  [[nodiscard]] FrameIndex SomeFrameOfBodyInTree(BodyIndex body, FrameIndex tree_member) const noexcept;
+  [[nodiscard]] FrameIndex SomeFrameOfBodyInTree(BodyIndex body,
+                                                 FrameIndex tree_member) const noexcept;
 
   // ---------------------------------------------------------------- twist edges
 
@@ -223,7 +229,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// f(frame) for every frame of `body`, newest first.
   template <class F>
   void ForEachFrameOfBody(BodyIndex body, F&& f) const {
-    for (std::uint32_t i = bodies_[body.value()].first_frame; i != kNone; i = frames_[i].next_in_body) {
+    for (std::uint32_t i = bodies_[body.value()].first_frame; i != kNone;
+         i = frames_[i].next_in_body) {
       f(FrameIndex(i));
     }
   }

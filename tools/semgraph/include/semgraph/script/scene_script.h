@@ -37,9 +37,9 @@
 namespace semgraph::script {
 
 /// Exit statuses of the tool, and `SceneRun::status`.
-inline constexpr int kExitOk = 0;         // every op succeeded
-inline constexpr int kExitOpFailed = 1;   // an op was rejected or a query failed
-inline constexpr int kExitMalformed = 2;  // malformed or unreadable script, out of memory
+inline constexpr int kExitOk = 0;            // every op succeeded
+inline constexpr int kExitOpFailed = 1;      // an op was rejected or a query failed
+inline constexpr int kExitMalformed = 2;     // malformed or unreadable script, out of memory
 inline constexpr int kExitOutputFailed = 3;  // the tool could not write its output (CLI only)
 
 /// What one op did.
@@ -54,17 +54,17 @@ struct OpResult {
 
 struct SceneRun {
   int status = kExitOk;
-  std::string error;            // status kExitMalformed: "FILE:LINE:COLUMN: message"
+  std::string error;  // status kExitMalformed: "FILE:LINE:COLUMN: message"
   // A malformed script, apart: the 1-based line and column of the node at fault and the message
   // without its place. 0, 0 and "" when no place in the script is at fault (an unreadable file,
   // out of memory).
   int error_line = 0;
   int error_column = 0;
   std::string error_message;
-  bool out_of_memory = false;   // status kExitMalformed because memory ran out (see error)
-  std::vector<OpResult> ops;    // one per op applied, in order (unless on_op took them)
-  std::string dot;              // RunOptions::dot: the final graph in Graphviz DOT
-  std::string scene;            // RunOptions::scene: the final graph as a script (WriteScene)
+  bool out_of_memory = false;  // status kExitMalformed because memory ran out (see error)
+  std::vector<OpResult> ops;   // one per op applied, in order (unless on_op took them)
+  std::string dot;             // RunOptions::dot: the final graph in Graphviz DOT
+  std::string scene;           // RunOptions::scene: the final graph as a script (WriteScene)
 };
 
 struct RunOptions {
