@@ -50,18 +50,14 @@ bool GoodStamp(std::int64_t t) {
   return t >= -core::kMaxStampNanoseconds && t <= core::kMaxStampNanoseconds;
 }
 
-// Checks one structure sample and copies it out; the reason when it is malformed.
-std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
-  out->owner = Str(s.owner);
-  if (!GoodName(out->owner)) return "the owner name is not a valid name";
-  if (s.elements._length > kMaxElements) return "more than 1048576 elements";
-  if (s.elements._length > 0 && s.elements._buffer == nullptr) return "elements missing";
-  out->source = s.source;
-  out->started_ns = s.started_ns;
-  out->revision = s.revision;
+using EdgeHeads = std::map<std::pair<std::uint8_t, std::string>, int>;  // (kind, head frame)
+
+namespace {
+
+// The structure's elements (bodies, frames, edges) into out->rows; `heads` gets each edge's head.
+std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHeads& heads) {
   out->rows.clear();
   out->rows.reserve(s.elements._length);
-  std::map<std::pair<std::uint8_t, std::string>, int> heads;
   std::map<std::pair<std::uint8_t, std::uint32_t>, int> ids;
   for (std::uint32_t i = 0; i < s.elements._length; ++i) {
     const semgraph_wire_Element& e = s.elements._buffer[i];
@@ -105,6 +101,11 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     }
     out->rows.push_back(std::move(r));
   }
+  return {};
+}
+
+// The structure's joints into out->joints; a joint owns the edges into its child (`heads`).
+std::string ParseJoints(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHeads& heads) {
   if (s.joints._length > kMaxElements) return "more than 1048576 joints";
   if (s.joints._length > 0 && s.joints._buffer == nullptr) return "joints missing";
   out->joints.clear();
@@ -159,7 +160,11 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     out->any_stamped = out->any_stamped || j.stamped();
     out->joints.push_back(std::move(j));
   }
-  // Time options: sample_capacity 0 = not given.
+  return {};
+}
+
+// The structure's time options (sample_capacity 0: not given).
+std::string ParseTimeOptions(const semgraph_wire_Structure& s, OwnerRec* out) {
   if (s.sample_capacity != 0) {
     if (s.window_ns <= 0) return "time options: the window is not positive (invalid_number)";
     if (s.sample_capacity < 2 || s.sample_capacity > kMaxSampleCapacity) {
@@ -175,6 +180,23 @@ std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
     out->time.sample_capacity = s.sample_capacity;
   }
   return {};
+}
+
+}  // namespace
+
+// Checks one structure sample and copies it out; the reason when it is malformed.
+std::string ParseStructure(const semgraph_wire_Structure& s, OwnerRec* out) {
+  out->owner = Str(s.owner);
+  if (!GoodName(out->owner)) return "the owner name is not a valid name";
+  if (s.elements._length > kMaxElements) return "more than 1048576 elements";
+  if (s.elements._length > 0 && s.elements._buffer == nullptr) return "elements missing";
+  out->source = s.source;
+  out->started_ns = s.started_ns;
+  out->revision = s.revision;
+  EdgeHeads heads;
+  if (std::string why = ParseElements(s, out, heads); !why.empty()) return why;
+  if (std::string why = ParseJoints(s, out, heads); !why.empty()) return why;
+  return ParseTimeOptions(s, out);
 }
 
 }  // namespace semgraph::dds::internal

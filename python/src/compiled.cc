@@ -148,14 +148,14 @@ py::object EvaluateAt(const C& c, py::handle at, py::handle max_extrapolation,
   return object(Evaluate(c, &t.policy));
 }
 
-}  // namespace
-
-void BindCompiled(py::module_& m) {
-  constexpr const char* kCompiledDoc = R"(
+constexpr const char* kCompiledDoc = R"(
 Made by SceneGraph.compile_*(): the semantics were checked and the path resolved once; evaluate()
 costs only the compositions along the path and sees every later set_pose/set_twist/add_pose
 update of the edges it reads. It keeps its SceneGraph alive. After an edge it reads is removed,
 evaluate() raises QueryError with code 'query_invalidated' (never a wrong number): compile again.)";
+
+// CompiledPose and CompiledPosition.
+void BindCompiledPoseAndPosition(py::module_& m) {
   py::class_<CompiledPoseObject, std::shared_ptr<CompiledPoseObject>>(
       m, "CompiledPose", Doc("A compiled pose query.", kCompiledDoc).c_str())
       // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
@@ -216,6 +216,10 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
                           c.query) +
                ")";
       });
+}
+
+// CompiledOrientation and CompiledTwist.
+void BindCompiledOrientationAndTwist(py::module_& m) {
   py::class_<CompiledOrientationObject, std::shared_ptr<CompiledOrientationObject>>(
       m, "CompiledOrientation", Doc("A compiled orientation query.", kCompiledDoc).c_str())
       // Two overloads: the untimed one first, so that the real-time call evaluate() does not pay
@@ -276,6 +280,13 @@ evaluate() raises QueryError with code 'query_invalidated' (never a wrong number
           "Twist edges read per evaluation.")
       .def("__repr__",
            [](const CompiledTwistObject& c) { return "CompiledTwist(" + CompiledText(c) + ")"; });
+}
+
+}  // namespace
+
+void BindCompiled(py::module_& m) {
+  BindCompiledPoseAndPosition(m);
+  BindCompiledOrientationAndTwist(m);
 }
 
 }  // namespace semgraph::python
