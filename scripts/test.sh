@@ -12,7 +12,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 
-scripts/setup.sh
+scripts/setup.sh --dds --ros --bench  # every layer and every peer the tests compare with
 scripts/build.sh build
 
 status=0
