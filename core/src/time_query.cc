@@ -340,37 +340,34 @@ QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(const TwistSpec& spec
                                                            TwistSource source,
                                                            internal::EdgeRecorder* recorder) const noexcept {
   const bool valid = internal::PartsOf(policy).valid();
-  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  TimeReport report;
-  if (source == TwistSource::kPoses) {
-    auto plan = PlanPoseTwist(topology_, spec);
+  // One body for both sources; they differ in the plan, its step walk and the horizon.
+  const auto run = [&](const auto& plan, bool no_horizon,
+                       const auto& for_each_step) -> QueryResult<Timed<coord::Twist>> {
     if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
-    const TimePolicy no_horizon = internal::WithoutExtrapolation(policy);  // nothing extrapolated
-    if (auto e = RunTimed(no_horizon, report, recorder, [&](TimeContext& tc) {
+    // Source poses: nothing extrapolated.
+    const TimePolicy run_policy = no_horizon ? internal::WithoutExtrapolation(policy) : policy;
+    Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+    TimeReport report;
+    if (auto e = RunTimed(run_policy, report, recorder, [&](TimeContext& tc) {
           const internal::ForestSource<B> src(topology_, values_, &tc);
           v.setZero();
           w.setZero();
-          ForEachPoseDerivativeStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
+          for_each_step(*plan, [&](const TwistStep<ForestChain>& step) {
             internal::AccumulateTwistStep<B>(src, step, v, w);
           });
         })) {
       return Unexpected{*e};
     }
     return Timed<coord::Twist>{coord::Twist{plan->semantics, v, w}, report};
+  };
+  if (source == TwistSource::kPoses) {
+    return run(PlanPoseTwist(topology_, spec), true, [&](const auto& plan, const auto& f) {
+      ForEachPoseDerivativeStep(topology_, plan, f);
+    });
   }
-  auto plan = PlanTwist(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
-  if (auto e = RunTimed(policy, report, recorder, [&](TimeContext& tc) {
-        const internal::ForestSource<B> src(topology_, values_, &tc);
-        v.setZero();
-        w.setZero();
-        ForEachTwistStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
-          internal::AccumulateTwistStep<B>(src, step, v, w);
-        });
-      })) {
-    return Unexpected{*e};
-  }
-  return Timed<coord::Twist>{coord::Twist{plan->semantics, v, w}, report};
+  return run(PlanTwist(topology_, spec), false, [&](const auto& plan, const auto& f) {
+    ForEachTwistStep(topology_, plan, f);
+  });
 }
 
 template <coord::Backend B>
