@@ -86,6 +86,17 @@ std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& pl
   return std::nullopt;
 }
 
+// The backend's check of a query's value (not of a position's), as the query's error.
+template <coord::Backend B, class Semantics>
+std::optional<QueryError> RepresentationError(const Semantics& q) noexcept {
+  auto ok = coord::CheckRepresentation<B>(q);
+  if (ok) return std::nullopt;
+  QueryError e;
+  e.code = ok.error().code;
+  e.detail = ok.error();
+  return e;
+}
+
 // The frame a time travel's fixed frame must share a tree with: the query's reference frame.
 NameId RefFrameOf(const semantics::PoseSemantics& q) { return q.ref_orientation.id(); }
 NameId RefFrameOf(const semantics::PositionSemantics& q) { return q.ref_point.id(); }
@@ -136,12 +147,7 @@ auto TimedAnswer(const Expected<Plan, QueryError>& plan, bool policy_valid, Run&
   using Result = typename internal::PartTraits<B, P>::Result;
   if (auto e = PlanOrPolicyError(plan, policy_valid)) return Unexpected{*e};
   if constexpr (P != Part::kTranslation) {
-    if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-      QueryError e;
-      e.code = ok.error().code;
-      e.detail = ok.error();
-      return Unexpected{e};
-    }
+    if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   }
   Result answer{plan->semantics, internal::PartTraits<B, P>::Initial()};
   TimeReport report;
@@ -271,12 +277,7 @@ QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(const Po
   auto plan = PlanPose(topology_, spec);
   FrameIndex x;
   if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
+  if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   const auto& q = plan->semantics;
   const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
   Timed<Pose> out{Pose{q, {}}, {}};
@@ -310,12 +311,7 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
   auto plan = PlanOrientation(topology_, spec);
   FrameIndex x;
   if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
+  if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   const auto& q = plan->semantics;
   const FrameIndex a = topology_.FrameOfName(q.orientation.id()), b = topology_.FrameOfName(q.ref_orientation.id());
   typename B::PoseCoords X;
