@@ -25,19 +25,27 @@ struct EdgeLookup {
   topology::TwistEdgeIndex edge;    ///< twist: the edge into head (from any body), if any
 };
 
-/// The pose edge {relative_to} -> {of}. O(|names|), allocation-free.
-[[nodiscard]] inline EdgeLookup LookUpPoseEdge(const topology::SceneTopology& t,
-                                               std::string_view of,
-                                               std::string_view relative_to) noexcept {
-  EdgeLookup l;
+/// Checks {of} then {relative_to}; on the first invalid one records invalid_name in {l} and
+/// returns false. Allocation-free.
+[[nodiscard]] inline bool NamesValid(EdgeLookup& l, std::string_view of,
+                                     std::string_view relative_to) noexcept {
   for (std::string_view n : {of, relative_to}) {
     if (auto ok = semantics::ValidateName(n); !ok) {
       l.code = base::ErrorCode::kInvalidName;
       l.bad_name = n;
       l.name_error = ok.error();
-      return l;
+      return false;
     }
   }
+  return true;
+}
+
+/// The pose edge {relative_to} -> {of}. O(|names|), allocation-free.
+[[nodiscard]] inline EdgeLookup LookUpPoseEdge(const topology::SceneTopology& t,
+                                               std::string_view of,
+                                               std::string_view relative_to) noexcept {
+  EdgeLookup l;
+  if (!NamesValid(l, of, relative_to)) return l;
   l.head = t.FindFrame(of);
   l.tail = t.FindFrame(relative_to);
   if (!l.head.is_valid() || !l.tail.is_valid()) {
@@ -55,14 +63,7 @@ struct EdgeLookup {
                                                 std::string_view relative_to) noexcept {
   EdgeLookup l;
   l.twist = true;
-  for (std::string_view n : {of, relative_to}) {
-    if (auto ok = semantics::ValidateName(n); !ok) {
-      l.code = base::ErrorCode::kInvalidName;
-      l.bad_name = n;
-      l.name_error = ok.error();
-      return l;
-    }
-  }
+  if (!NamesValid(l, of, relative_to)) return l;
   l.head = t.FindFrame(of);
   if (!l.head.is_valid()) {
     l.code = base::ErrorCode::kUnknownFrame;

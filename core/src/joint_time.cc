@@ -19,6 +19,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "joint_scan.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/timed_read.h"
 #include "text.h"
@@ -29,7 +30,7 @@ using text::Reject;
 
 namespace {
 
-constexpr double kLimitSlack = 1e-9;      // as the unstamped setters (joints.cc)
+using internal::kLimitSlack;
 constexpr double kSameJointValue = 1e-9;  // kinematics.md: identical samples
 
 bool Near(double a, double b) {
@@ -128,32 +129,20 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
   // As SetGroup: one pass collects every failure and the first in the rules' order is reported.
   const std::size_t n = group.joints.size();
   const std::int64_t s = stamp.nanoseconds();
-  bool bad_number = false, unknown = false, mimic = false, limit = false;
   ErrorCode time = ErrorCode::kOk;  // the first stamp failure in the order of the codes
   const auto note = [&time](ErrorCode c) {
     if (c != ErrorCode::kOk && (time == ErrorCode::kOk || c < time)) time = c;
   };
-  for (std::size_t i = 0; i < n; ++i) {
-    bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
-    const internal::JointRecord* j = joints_.Get(group.joints[i]);
-    if (!j || !j->movable()) {
-      unknown = true;
-      continue;
-    }
-    mimic |= j->is_mimic();
-    limit |=
-        q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
-    const double qi = q ? q[i] : j->q, qdoti = qdot ? qdot[i] : j->qdot;
-    note(CheckJointSample(*j, qi, qdoti, s));
-    for (JointIndex m : j->mimics) {
-      const internal::JointRecord& mj = joints_[m];
-      note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
-    }
-  }
-  if (bad_number) return RefuseJoints(ErrorCode::kInvalidNumber, group, q, qdot, why);
-  if (unknown) return RefuseJoints(ErrorCode::kUnknownJoint, group, q, qdot, why);
-  if (mimic) return RefuseJoints(ErrorCode::kMimicJoint, group, q, qdot, why);
-  if (limit) return RefuseJoints(ErrorCode::kJointLimit, group, q, qdot, why);
+  const ErrorCode code = internal::ScanJointGroup(
+      joints_, group, q, qdot, [&](std::size_t i, const internal::JointRecord& j) {
+        const double qi = q ? q[i] : j.q, qdoti = qdot ? qdot[i] : j.qdot;
+        note(CheckJointSample(j, qi, qdoti, s));
+        for (JointIndex m : j.mimics) {
+          const internal::JointRecord& mj = joints_[m];
+          note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
+        }
+      });
+  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, why);
   if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, why);
   for (std::size_t i = 0; i < n; ++i)
     StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);

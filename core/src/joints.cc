@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "add_plan.h"
+#include "joint_scan.h"
 #include "name_rollback.h"
 #include "semgraph/base/demand.h"
 #include "semgraph/core/scene_graph.h"
@@ -126,7 +127,7 @@ void JointRecord::TwistAt(double velocity, Eigen::Vector3d& v, Eigen::Vector3d& 
 
 namespace {
 
-constexpr double kLimitSlack = 1e-9;
+using internal::kLimitSlack;
 
 // A joint set without a stamp (and its mimics, which follow it): its edges are timeless.
 void MarkTimeless(internal::JointTable& joints, JointIndex index) noexcept {
@@ -437,23 +438,12 @@ ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, cons
   // One pass collects every failure; the first in the rules' order is reported, so a rejected
   // set changes nothing (all or nothing) and costs one pass too.
   const std::size_t n = group.joints.size();
-  bool bad_number = false, unknown = false, mimic = false, limit = false, stamped = false;
-  for (std::size_t i = 0; i < n; ++i) {
-    bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
-    const internal::JointRecord* j = joints_.Get(group.joints[i]);
-    if (!j || !j->movable()) {
-      unknown = true;
-      continue;
-    }
-    mimic |= j->is_mimic();
-    limit |=
-        q && j->limited() && !(q[i] >= j->lower - kLimitSlack && q[i] <= j->upper + kLimitSlack);
-    stamped |= values_.history.pose_of(j->child.value()) != nullptr;  // its states need a stamp
-  }
-  if (bad_number) return RefuseJoints(ErrorCode::kInvalidNumber, group, q, qdot, why);
-  if (unknown) return RefuseJoints(ErrorCode::kUnknownJoint, group, q, qdot, why);
-  if (mimic) return RefuseJoints(ErrorCode::kMimicJoint, group, q, qdot, why);
-  if (limit) return RefuseJoints(ErrorCode::kJointLimit, group, q, qdot, why);
+  bool stamped = false;
+  const ErrorCode code = internal::ScanJointGroup(
+      joints_, group, q, qdot, [&](std::size_t, const internal::JointRecord& j) {
+        stamped |= values_.history.pose_of(j.child.value()) != nullptr;  // needs a stamp
+      });
+  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, why);
   if (stamped) return RefuseJoints(ErrorCode::kStampMismatch, group, q, qdot, why);
   for (std::size_t i = 0; i < n; ++i) {
     ApplyJoint(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr);

@@ -170,6 +170,27 @@ ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOp
   }
   return ErrorCode::kOk;
 }
+
+// The one store of a sample (after CheckSample accepted it): untimed, the value; stamped, into
+// the history (the same value again at a stored stamp is kept as stored), and into the value
+// when it becomes the newest sample (the untimed readers' value). history() makes the history
+// writable, only when stamped. Allocation-free once the history's capacity is reserved.
+template <class Slot, class T, class History, class Same, class ToWords>
+void StoreSample(Slot& value, const T& x, std::optional<Stamp> stamp, std::int64_t window,
+                 History&& history, Same&& same, ToWords&& to_words) noexcept {
+  if (!stamp) {
+    value.Store(x);
+    return;
+  }
+  auto& h = history();
+  const std::int64_t s = stamp->nanoseconds();
+  double w[std::remove_reference_t<decltype(h)>::kValueWords];
+  if (s <= h.newest_stamp() && h.ValueAt(s, w) && same(w)) return;  // the same value again
+  to_words(w);
+  const bool becomes_newest = s >= h.newest_stamp();
+  h.Insert(s, w, window);
+  if (becomes_newest) value.Store(x);
+}
 }  // namespace
 
 template <coord::Backend B>
@@ -182,21 +203,11 @@ ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex head, const typename B::Pose
 template <coord::Backend B>
 void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
                                     std::optional<Stamp> stamp) noexcept {
-  if (!stamp) {
-    values_.X_PF[head.value()].Store(X);
-    return;
-  }
-  PoseHistory& h = values_.history.pose.writable(head.value());
-  const std::int64_t s = stamp->nanoseconds();
-  double w[7];
-  const bool newest = s > h.newest_stamp();  // in order: no equal stamp to look for
-  if (!newest && h.ValueAt(s, w) && SamePose<B>(w, X))
-    return;  // the same value again: kept as stored
-  PoseWords<B>(X, w);
-  const bool becomes_newest = s >= h.newest_stamp();
-  h.Insert(s, w, values_.history.options.window.nanoseconds());
-  if (becomes_newest)
-    values_.X_PF[head.value()].Store(X);  // the untimed readers' value: the newest sample
+  StoreSample(
+      values_.X_PF[head.value()], X, stamp, values_.history.options.window.nanoseconds(),
+      [&]() -> PoseHistory& { return values_.history.pose.writable(head.value()); },
+      [&](const double(&w)[7]) { return SamePose<B>(w, X); },
+      [&](double(&w)[7]) { PoseWords<B>(X, w); });
 }
 
 template <coord::Backend B>
@@ -209,18 +220,11 @@ ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumber
 template <coord::Backend B>
 void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
                                      std::optional<Stamp> stamp) noexcept {
-  if (!stamp) {
-    values_.V_DH[edge.value()].Store(V);
-    return;
-  }
-  TwistHistory& h = values_.history.twist.writable(edge.value());
-  const std::int64_t s = stamp->nanoseconds();
-  double w[6];
-  if (s <= h.newest_stamp() && h.ValueAt(s, w) && SameTwist(w, V)) return;
-  internal::WordsFromTwist(V, w);
-  const bool becomes_newest = s >= h.newest_stamp();
-  h.Insert(s, w, values_.history.options.window.nanoseconds());
-  if (becomes_newest) values_.V_DH[edge.value()].Store(V);
+  StoreSample(
+      values_.V_DH[edge.value()], V, stamp, values_.history.options.window.nanoseconds(),
+      [&]() -> TwistHistory& { return values_.history.twist.writable(edge.value()); },
+      [&](const double(&w)[6]) { return SameTwist(w, V); },
+      [&](double(&w)[6]) { internal::WordsFromTwist(V, w); });
 }
 
 template <coord::Backend B>

@@ -89,6 +89,17 @@ std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& pl
   return std::nullopt;
 }
 
+// The backend's check of a query's value (not of a position's), as the query's error.
+template <coord::Backend B, class Semantics>
+std::optional<QueryError> RepresentationError(const Semantics& q) noexcept {
+  auto ok = coord::CheckRepresentation<B>(q);
+  if (ok) return std::nullopt;
+  QueryError e;
+  e.code = ok.error().code;
+  e.detail = ok.error();
+  return e;
+}
+
 // The frame a time travel's fixed frame must share a tree with: the query's reference frame.
 NameId RefFrameOf(const semantics::PoseSemantics& q) { return q.ref_orientation.id(); }
 NameId RefFrameOf(const semantics::PositionSemantics& q) { return q.ref_point.id(); }
@@ -139,12 +150,7 @@ auto TimedAnswer(const Expected<Plan, QueryError>& plan, bool policy_valid, Run&
   using Result = typename internal::PartTraits<B, P>::Result;
   if (auto e = PlanOrPolicyError(plan, policy_valid)) return Unexpected{*e};
   if constexpr (P != Part::kTranslation) {
-    if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-      QueryError e;
-      e.code = ok.error().code;
-      e.detail = ok.error();
-      return Unexpected{e};
-    }
+    if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   }
   Result answer{plan->semantics, internal::PartTraits<B, P>::Initial()};
   TimeReport report;
@@ -277,12 +283,7 @@ QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(
   auto plan = PlanPose(topology_, spec);
   FrameIndex x;
   if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
+  if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   const auto& q = plan->semantics;
   const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
   Timed<Pose> out{Pose{q, {}}, {}};
@@ -318,12 +319,7 @@ QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrient
   auto plan = PlanOrientation(topology_, spec);
   FrameIndex x;
   if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
+  if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   const auto& q = plan->semantics;
   const FrameIndex a = topology_.FrameOfName(q.orientation.id()),
                    b = topology_.FrameOfName(q.ref_orientation.id());
@@ -350,37 +346,33 @@ QueryResult<Timed<coord::Twist>> SceneGraph<B>::TimedTwist(
     const TwistSpec& spec, const TimePolicy& policy, TwistSource source,
     internal::EdgeRecorder* recorder) const noexcept {
   const bool valid = internal::PartsOf(policy).valid();
-  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  TimeReport report;
-  if (source == TwistSource::kPoses) {
-    auto plan = PlanPoseTwist(topology_, spec);
+  // One body for both sources; they differ in the plan, its step walk and the horizon.
+  const auto run = [&](const auto& plan, bool no_horizon,
+                       const auto& for_each_step) -> QueryResult<Timed<coord::Twist>> {
     if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
-    const TimePolicy no_horizon = internal::WithoutExtrapolation(policy);  // nothing extrapolated
-    if (auto e = RunTimed(no_horizon, report, recorder, [&](TimeContext& tc) {
+    // Source poses: nothing extrapolated.
+    const TimePolicy run_policy = no_horizon ? internal::WithoutExtrapolation(policy) : policy;
+    Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+    TimeReport report;
+    if (auto e = RunTimed(run_policy, report, recorder, [&](TimeContext& tc) {
           const internal::ForestSource<B> src(topology_, values_, &tc);
           v.setZero();
           w.setZero();
-          ForEachPoseDerivativeStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
+          for_each_step(*plan, [&](const TwistStep<ForestChain>& step) {
             internal::AccumulateTwistStep<B>(src, step, v, w);
           });
         })) {
       return Unexpected{*e};
     }
     return Timed<coord::Twist>{coord::Twist{plan->semantics, v, w}, report};
+  };
+  if (source == TwistSource::kPoses) {
+    return run(PlanPoseTwist(topology_, spec), true, [&](const auto& plan, const auto& f) {
+      ForEachPoseDerivativeStep(topology_, plan, f);
+    });
   }
-  auto plan = PlanTwist(topology_, spec);
-  if (auto e = PlanOrPolicyError(plan, valid)) return Unexpected{*e};
-  if (auto e = RunTimed(policy, report, recorder, [&](TimeContext& tc) {
-        const internal::ForestSource<B> src(topology_, values_, &tc);
-        v.setZero();
-        w.setZero();
-        ForEachTwistStep(topology_, *plan, [&](const TwistStep<ForestChain>& step) {
-          internal::AccumulateTwistStep<B>(src, step, v, w);
-        });
-      })) {
-    return Unexpected{*e};
-  }
-  return Timed<coord::Twist>{coord::Twist{plan->semantics, v, w}, report};
+  return run(PlanTwist(topology_, spec), false,
+             [&](const auto& plan, const auto& f) { ForEachTwistStep(topology_, plan, f); });
 }
 
 template <coord::Backend B>

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,9 +46,90 @@ PoseRow ReadPoseRow(const double* data, bool matrices, std::size_t i) {
   return row;
 }
 
+// Row i of a pose batch: the position, then the bottom row of a matrix, then the rotation.
+std::optional<coord::Error> CheckPoseRow(const double* data, bool matrices, std::size_t i) {
+  const PoseRow row = ReadPoseRow(data, matrices, i);
+  auto vp = coord::ValidateVector(row.p, coord::ValueRole::kPosition);
+  if (!vp) return vp.error();
+  if (matrices) {
+    const double* T = data + 16 * i;
+    if (T[12] != 0.0 || T[13] != 0.0 || T[14] != 0.0 || T[15] != 1.0) {
+      coord::Error e;
+      e.code = ErrorCode::kInvalidRotation;
+      e.value.problem = coord::ValueProblem::kNotRigidTransform;
+      e.value.role = coord::ValueRole::kHomogeneousMatrix;
+      return e;
+    }
+    auto v = coord::ValidateRotationMatrix(row.R);
+    if (!v) return v.error();
+  } else {
+    auto v = coord::ValidateQuaternion(row.q);
+    if (!v) return v.error();
+  }
+  return std::nullopt;
+}
+
+// Row i of a twist batch: the linear, then the angular velocity.
+std::optional<coord::Error> CheckTwistRow(const double* data, std::size_t i) {
+  const double* x = data + 6 * i;
+  auto vv =
+      coord::ValidateVector(Eigen::Vector3d(x[0], x[1], x[2]), coord::ValueRole::kLinearVelocity);
+  if (!vv) return vv.error();
+  auto vw =
+      coord::ValidateVector(Eigen::Vector3d(x[3], x[4], x[5]), coord::ValueRole::kAngularVelocity);
+  if (!vw) return vw.error();
+  return std::nullopt;
+}
+
+// The one update of both batches: the row count; then, without the GIL and under the writer
+// lock, the handles re-checked once per topology generation (find(g, i): the edge's handle
+// now), every row checked (check(i)) before any is stored (store(g, i)), so a refused batch
+// changes nothing. The failure names its row; the caller raises it with the GIL.
+template <class Batch, class Find, class Check, class Store>
+BatchFailure RunBatch(Batch& batch, const char* fn, py::ssize_t rows, const Find& find,
+                      const Check& check, const Store& store) {
+  const auto n = static_cast<py::ssize_t>(batch.handles.size());
+  if (rows != n) {
+    throw py::value_error(std::string(fn) + "(): values has " + std::to_string(rows) +
+                          " rows, the batch has " + std::to_string(n) + " edges");
+  }
+  GraphBox& box = *batch.graph;
+  BatchFailure failure;
+  py::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(box.writer);
+  box.Visit([&](auto& g) {
+    const std::size_t count = batch.handles.size();
+    if (batch.checked_generation != box.topology_generation) {
+      for (std::size_t i = 0; i < count; ++i) {
+        auto current = find(g, i);
+        if (!current || !SameHandle(*current, batch.handles[i])) {
+          failure = {true, i, true, {}};
+          return;
+        }
+      }
+      batch.checked_generation = box.topology_generation;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      if (std::optional<coord::Error> e = check(i)) {
+        failure = {true, i, false, *e};
+        return;
+      }
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      const ErrorCode code = store(g, i);
+      if (code != ErrorCode::kOk) {  // not expected: every row and edge was checked above
+        coord::Error e;
+        e.code = code;
+        failure = {true, i, code == ErrorCode::kNoSuchEdge, e};
+        return;
+      }
+    }
+  });
+  return failure;
+}
+
 void SetPoseBatch(PoseBatchObject& batch, py::handle values) {
   auto array = FloatArrayArg(values, "PoseBatch.set", "values");
-  const auto n = static_cast<py::ssize_t>(batch.handles.size());
   const bool rows7 = array.ndim() == 2 && array.shape(1) == 7;
   const bool mats = array.ndim() == 3 && array.shape(1) == 4 && array.shape(2) == 4;
   if (!rows7 && !mats) {
@@ -56,72 +138,17 @@ void SetPoseBatch(PoseBatchObject& batch, py::handle values) {
         "qz] or (N, 4, 4), got " +
         ShapeText(array));
   }
-  if (array.shape(0) != n) {
-    throw py::value_error("PoseBatch.set(): values has " + std::to_string(array.shape(0)) +
-                          " rows, the batch has " + std::to_string(n) + " edges");
-  }
   const double* data = array.data();
+  const BatchFailure failure = RunBatch(
+      batch, "PoseBatch.set", array.shape(0),
+      [&](auto& g, std::size_t i) { return g.FindPoseEdge(batch.of[i], batch.wrt[i]); },
+      [&](std::size_t i) { return CheckPoseRow(data, mats, i); },
+      [&](auto& g, std::size_t i) {
+        const PoseRow row = ReadPoseRow(data, mats, i);
+        return mats ? g.SetPose(batch.handles[i], row.R, row.p)
+                    : g.SetPose(batch.handles[i], row.q, row.p);
+      });
   GraphBox& box = *batch.graph;
-  BatchFailure failure;
-  {
-    py::gil_scoped_release release;
-    std::lock_guard<std::mutex> lock(box.writer);
-    box.Visit([&](auto& g) {
-      const std::size_t count = batch.handles.size();
-      if (batch.checked_generation != box.topology_generation) {
-        for (std::size_t i = 0; i < count; ++i) {
-          auto current = g.FindPoseEdge(batch.of[i], batch.wrt[i]);
-          if (!current || !SameHandle(*current, batch.handles[i])) {
-            failure = {true, i, true, {}};
-            return;
-          }
-        }
-        batch.checked_generation = box.topology_generation;
-      }
-      // Every row is validated before any is stored: a refused batch changes nothing.
-      for (std::size_t i = 0; i < count; ++i) {
-        const PoseRow row = ReadPoseRow(data, mats, i);
-        auto vp = coord::ValidateVector(row.p, coord::ValueRole::kPosition);
-        if (!vp) {
-          failure = {true, i, false, vp.error()};
-          return;
-        }
-        if (mats) {
-          const double* T = data + 16 * i;
-          if (T[12] != 0.0 || T[13] != 0.0 || T[14] != 0.0 || T[15] != 1.0) {
-            coord::Error e;
-            e.code = ErrorCode::kInvalidRotation;
-            e.value.problem = coord::ValueProblem::kNotRigidTransform;
-            e.value.role = coord::ValueRole::kHomogeneousMatrix;
-            failure = {true, i, false, e};
-            return;
-          }
-          auto v = coord::ValidateRotationMatrix(row.R);
-          if (!v) {
-            failure = {true, i, false, v.error()};
-            return;
-          }
-        } else {
-          auto v = coord::ValidateQuaternion(row.q);
-          if (!v) {
-            failure = {true, i, false, v.error()};
-            return;
-          }
-        }
-      }
-      for (std::size_t i = 0; i < count; ++i) {
-        const PoseRow row = ReadPoseRow(data, mats, i);
-        const ErrorCode code = mats ? g.SetPose(batch.handles[i], row.R, row.p)
-                                    : g.SetPose(batch.handles[i], row.q, row.p);
-        if (code != ErrorCode::kOk) {  // not expected: every row and edge was checked above
-          coord::Error e;
-          e.code = code;
-          failure = {true, i, code == ErrorCode::kNoSuchEdge, e};
-          return;
-        }
-      }
-    });
-  }
   if (!failure.failed) return;
   const std::string context = "row " + std::to_string(failure.row) + " " +
                               EdgeText(batch.wrt[failure.row], batch.of[failure.row]);
@@ -131,63 +158,23 @@ void SetPoseBatch(PoseBatchObject& batch, py::handle values) {
 
 void SetTwistBatch(TwistBatchObject& batch, py::handle values) {
   auto array = FloatArrayArg(values, "TwistBatch.set", "values");
-  const auto n = static_cast<py::ssize_t>(batch.handles.size());
   if (array.ndim() != 2 || array.shape(1) != 6) {
     throw py::value_error(
         "TwistBatch.set(): values must have shape (N, 6) [vx, vy, vz, wx, wy, "
         "wz], got " +
         ShapeText(array));
   }
-  if (array.shape(0) != n) {
-    throw py::value_error("TwistBatch.set(): values has " + std::to_string(array.shape(0)) +
-                          " rows, the batch has " + std::to_string(n) + " edges");
-  }
   const double* data = array.data();
+  const BatchFailure failure = RunBatch(
+      batch, "TwistBatch.set", array.shape(0),
+      [&](auto& g, std::size_t i) { return g.FindTwistEdge(batch.point[i], batch.ref_body[i]); },
+      [&](std::size_t i) { return CheckTwistRow(data, i); },
+      [&](auto& g, std::size_t i) {
+        const double* x = data + 6 * i;
+        return g.SetTwist(batch.handles[i], Eigen::Vector3d(x[0], x[1], x[2]),
+                          Eigen::Vector3d(x[3], x[4], x[5]));
+      });
   GraphBox& box = *batch.graph;
-  BatchFailure failure;
-  {
-    py::gil_scoped_release release;
-    std::lock_guard<std::mutex> lock(box.writer);
-    box.Visit([&](auto& g) {
-      const std::size_t count = batch.handles.size();
-      if (batch.checked_generation != box.topology_generation) {
-        for (std::size_t i = 0; i < count; ++i) {
-          auto current = g.FindTwistEdge(batch.point[i], batch.ref_body[i]);
-          if (!current || !SameHandle(*current, batch.handles[i])) {
-            failure = {true, i, true, {}};
-            return;
-          }
-        }
-        batch.checked_generation = box.topology_generation;
-      }
-      for (std::size_t i = 0; i < count; ++i) {
-        const double* x = data + 6 * i;
-        auto vv = coord::ValidateVector(Eigen::Vector3d(x[0], x[1], x[2]),
-                                        coord::ValueRole::kLinearVelocity);
-        if (!vv) {
-          failure = {true, i, false, vv.error()};
-          return;
-        }
-        auto vw = coord::ValidateVector(Eigen::Vector3d(x[3], x[4], x[5]),
-                                        coord::ValueRole::kAngularVelocity);
-        if (!vw) {
-          failure = {true, i, false, vw.error()};
-          return;
-        }
-      }
-      for (std::size_t i = 0; i < count; ++i) {
-        const double* x = data + 6 * i;
-        const ErrorCode code = g.SetTwist(batch.handles[i], Eigen::Vector3d(x[0], x[1], x[2]),
-                                          Eigen::Vector3d(x[3], x[4], x[5]));
-        if (code != ErrorCode::kOk) {
-          coord::Error e;
-          e.code = code;
-          failure = {true, i, code == ErrorCode::kNoSuchEdge, e};
-          return;
-        }
-      }
-    });
-  }
   if (!failure.failed) return;
   const std::string context = "row " + std::to_string(failure.row) + " " +
                               TwistEdgeText(batch.ref_body[failure.row], batch.point[failure.row]);

@@ -92,15 +92,8 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   /// compiled-query hot loop); false otherwise.
   [[nodiscard]] bool LoadWords(Word (&words)[kWords],
                                std::uint64_t expected_header) const noexcept {
-    for (;;) {
-      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
-      if ((h1 ^ expected_header) & kCheckMask) {  // another epoch, or a write in progress
-        if ((h1 ^ expected_header) >> 32) return false;
-        continue;
-      }
-      LoadWords(words, std::make_index_sequence<kWords>{});
-      if (header_.load(std::memory_order_relaxed) == h1) return true;
-    }
+    std::uint64_t header;  // unused: optimised away once inlined
+    return LoadWords(words, expected_header, header);
   }
 
   /// The current header (epoch << 32 | sequence): a reader that cached a value together with the
@@ -114,18 +107,7 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   [[nodiscard]] bool LoadWithHeader(T& out, std::uint64_t expected_header,
                                     std::uint64_t& header) const noexcept {
     Word words[kWords];
-    for (;;) {
-      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
-      if ((h1 ^ expected_header) & kCheckMask) {  // another epoch, or a write in progress
-        if ((h1 ^ expected_header) >> 32) return false;
-        continue;
-      }
-      LoadWords(words, std::make_index_sequence<kWords>{});
-      if (header_.load(std::memory_order_relaxed) == h1) {
-        header = h1;
-        break;
-      }
-    }
+    if (!LoadWords(words, expected_header, header)) return false;
     std::memcpy(static_cast<void*>(&out), static_cast<const void*>(words), Bytes);
     return true;
   }
@@ -159,6 +141,24 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   }
 
  private:
+  // The one epoch-checked read (LoadWords, LoadWithHeader): the raw words and the header they
+  // were read under if the epoch is still the one of `expected_header`; false otherwise.
+  [[nodiscard]] bool LoadWords(Word (&words)[kWords], std::uint64_t expected_header,
+                               std::uint64_t& header) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+      if ((h1 ^ expected_header) & kCheckMask) {  // another epoch, or a write in progress
+        if ((h1 ^ expected_header) >> 32) return false;
+        continue;
+      }
+      LoadWords(words, std::make_index_sequence<kWords>{});
+      if (header_.load(std::memory_order_relaxed) == h1) {
+        header = h1;
+        return true;
+      }
+    }
+  }
+
   template <std::size_t... I>
   void LoadWords(Word* words, std::index_sequence<I...>) const noexcept {
     CompilerBarrier();  // the word loads stay between the header load and its re-check

@@ -150,6 +150,34 @@ bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_
                         TimeContext& parent, Eigen::Vector3d& v_out,
                         Eigen::Vector3d& w_out) noexcept;
 
+/// The newest sample of history `h` of edge `index` (the latest policy), noted in the context
+/// and in the record. The first half of both edge reads (ReadPoseAt, ReadTwistAt).
+template <class History>
+void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& tc, EdgeRead& rec,
+                double (&w)[History::kValueWords]) noexcept {
+  std::int64_t s = 0, first = 0;
+  h.Newest(s, w, first);
+  tc.Read(s);
+  if (!tc.nested) tc.Used(twist, index, first, s);
+  rec.first = first;
+  rec.last = s;
+  rec.read_from = rec.read_to = s;
+  rec.has_read = true;
+}
+
+/// The samples of history `h` of edge `index` around the context's time, their span noted in
+/// the context and in the record (what is read of them is the caller's).
+template <class History>
+typename History::Bracket FindAtTime(const History& h, bool twist, std::uint32_t index,
+                                     TimeContext& tc, EdgeRead& rec) noexcept {
+  typename History::Bracket b;
+  h.Find(tc.t, b);
+  rec.first = b.first;
+  rec.last = b.last;
+  if (!tc.nested) tc.Used(twist, index, b.first, b.last);
+  return b;
+}
+
 /// The value of the pose edge into `frame` under the context's policy.
 template <coord::Backend B>
 void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
@@ -168,21 +196,10 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
   double w0[7];
   QuatPose out;
   if (!tc.at) {
-    std::int64_t s = 0, first = 0;
-    h->Newest(s, w0, first);
+    ReadNewest(*h, false, frame, tc, rec, w0);
     out = PoseFromWords(w0);
-    tc.Read(s);
-    if (!tc.nested) tc.Used(false, frame, first, s);
-    rec.first = first;
-    rec.last = s;
-    rec.read_from = rec.read_to = s;
-    rec.has_read = true;
   } else {
-    PoseHistory::Bracket b;
-    h->Find(tc.t, b);
-    rec.first = b.first;
-    rec.last = b.last;
-    if (!tc.nested) tc.Used(false, frame, b.first, b.last);
+    const PoseHistory::Bracket b = FindAtTime(*h, false, frame, tc, rec);
     using Where = PoseHistory::Bracket::Where;
     if (b.where == Where::kInside) {
       rec.has_read = true;
@@ -236,22 +253,11 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc,
   }
   rec.stamped = true;
   if (!tc.at) {
-    std::int64_t s = 0, first = 0;
     double w[6];
-    h->Newest(s, w, first);
+    ReadNewest(*h, true, slot, tc, rec, w);
     V = TwistFromWords(w);
-    tc.Read(s);
-    if (!tc.nested) tc.Used(true, slot, first, s);
-    rec.first = first;
-    rec.last = s;
-    rec.read_from = rec.read_to = s;
-    rec.has_read = true;
   } else {
-    TwistHistory::Bracket b;
-    h->Find(tc.t, b);
-    rec.first = b.first;
-    rec.last = b.last;
-    if (!tc.nested) tc.Used(true, slot, b.first, b.last);
+    const TwistHistory::Bracket b = FindAtTime(*h, true, slot, tc, rec);
     using Where = TwistHistory::Bracket::Where;
     V = TwistFromWords(b.v0);
     if (b.where == Where::kInside) {
