@@ -95,7 +95,7 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   /// Every transform of a message, in order.
   void Apply(const TFMessage& message, bool is_static, std::string_view topic,
              std::int64_t log_time_ns);
-  /// A joint state message; refusals are findings with parent = "" and child = the first name.
+  /// A joint state message; a refusal is a finding with empty parent and child frames.
   /// Then compares the deferred covered transforms stamped at or before it.
   void Apply(const JointState& state, std::string_view topic, std::int64_t log_time_ns);
   /// Compares every deferred covered transform now (the end of a bag or of a stream).
