@@ -514,7 +514,10 @@ Expected<Timed<Jacobian>, QueryError> SceneGraph<B>::GetJacobian(const TwistSpec
   return out;
 }
 
+// AtPolicy too: its return type is deduced, so without this a build that does not inline it
+// (Debug) finds no definition (SceneGraph<B> is an extern template in the other units).
 #define SEMGRAPH_INSTANTIATE_TIME_QUERY(B)                                                        \
+  template auto SceneGraph<B>::AtPolicy(const TimePolicy&) const noexcept;                        \
   template std::optional<QueryError> SceneGraph<B>::TimeTravelPose(                               \
       FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, FrameIndex, const TimeTravel&,  \
       typename B::PoseCoords&, TimeReport&) const noexcept;                                       \
