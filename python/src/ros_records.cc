@@ -45,6 +45,7 @@ struct BagRecords {
   std::string tf_topic;
   std::int64_t tf_log_time_ns = 0;
   std::size_t next_transform = 0;
+  bool ended = false;  // the reader returned its end: later next() calls stop at once
   std::atomic<bool> busy{false};
 };
 
@@ -84,9 +85,13 @@ Next ReadNext(BagRecords& r) {
       return TransformRecord{r.tf_topic, r.tf_log_time_ns, r.tf_topic == "/tf_static",
                              std::move(r.tf.transforms[r.next_transform++])};
     }
+    if (r.ended) return std::monostate{};
     const auto more = r.reader->Next(r.record);
     if (!more) return more.error();
-    if (!*more) return std::monostate{};
+    if (!*more) {
+      r.ended = true;
+      return std::monostate{};
+    }
     const ros::BagRecord& rec = r.record;
     if (!Selected(r, rec.topic) || rec.encoding == ros::MessageEncoding::kOther) continue;
     if (rec.kind == ros::MessageKind::kTfMessage) {
