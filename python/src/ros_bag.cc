@@ -274,9 +274,7 @@ wrong) before anything is applied: the bag is read to its end once (decoding eve
 message) before the first transform is applied. A bad URDF raises RejectedError (nothing of
 the bag applied). Runs without the GIL.)";
 
-}  // namespace
-
-void BindRosBags(py::module_& m) {
+void BindFinding(py::module_& m) {
   py::class_<FindingObject>(m, "Finding", R"(One finding group of the tf checker (docs/ros.md,
 "Findings"): transforms refused by the graph, or covered by the robot model and different from
 it, grouped by (code, parent, child). Times: float seconds; *_ns: exact int nanoseconds.)")
@@ -295,25 +293,26 @@ it, grouped by (code, parent, child). Times: float seconds; *_ns: exact int nano
       .def_property_readonly(
           "count", [](const FindingObject& f) { return f.group.count; }, "Occurrences.")
       .def_property_readonly(
-          "first_log_time", [](const FindingObject& f) { return Seconds(f.group.first_log_time_ns); },
+          "first_log_time",
+          [](const FindingObject& f) { return Seconds(f.group.first_log_time_ns); },
           "Log (or receive) time of the first occurrence, s.")
-      .def_property_readonly(
-          "first_log_time_ns", [](const FindingObject& f) { return f.group.first_log_time_ns; })
+      .def_property_readonly("first_log_time_ns",
+                             [](const FindingObject& f) { return f.group.first_log_time_ns; })
       .def_property_readonly(
           "last_log_time", [](const FindingObject& f) { return Seconds(f.group.last_log_time_ns); },
           "Log (or receive) time of the last occurrence, s.")
-      .def_property_readonly(
-          "last_log_time_ns", [](const FindingObject& f) { return f.group.last_log_time_ns; })
+      .def_property_readonly("last_log_time_ns",
+                             [](const FindingObject& f) { return f.group.last_log_time_ns; })
       .def_property_readonly(
           "first_stamp", [](const FindingObject& f) { return Seconds(f.group.first_stamp_ns); },
           "Header stamp of the first occurrence, s.")
-      .def_property_readonly(
-          "first_stamp_ns", [](const FindingObject& f) { return f.group.first_stamp_ns; })
+      .def_property_readonly("first_stamp_ns",
+                             [](const FindingObject& f) { return f.group.first_stamp_ns; })
       .def_property_readonly(
           "last_stamp", [](const FindingObject& f) { return Seconds(f.group.last_stamp_ns); },
           "Header stamp of the last occurrence, s.")
-      .def_property_readonly(
-          "last_stamp_ns", [](const FindingObject& f) { return f.group.last_stamp_ns; })
+      .def_property_readonly("last_stamp_ns",
+                             [](const FindingObject& f) { return f.group.last_stamp_ns; })
       .def_property_readonly(
           "message", [](const FindingObject& f) { return f.group.message; },
           "What was refused and why (the first occurrence).")
@@ -325,9 +324,35 @@ it, grouped by (code, parent, child). Times: float seconds; *_ns: exact int nano
                f.group.parent + "', child='" + f.group.child +
                "', count=" + std::to_string(f.group.count) + ")";
       });
+}
 
-  py::class_<BagReportObject>(m, "BagReport", R"(What load_bag / check_bag did: the graph, the
-findings and the counts (those of the `bag` script op and `semgraph bag check`).)")
+/// The lift's counts of a BagReport (ros::LiftCounts), one property each.
+struct CountProperty {
+  const char* name;
+  std::uint64_t ros::LiftCounts::*field;
+  const char* doc;
+};
+constexpr CountProperty kCountProperties[] = {
+    {"transforms", &ros::LiftCounts::transforms, "Transforms seen (applied + refused + covered)."},
+    {"applied", &ros::LiftCounts::applied, "Transforms added or updated."},
+    {"refused", &ros::LiftCounts::refused, "Transforms the graph refused (each a finding)."},
+    {"covered", &ros::LiftCounts::covered, "Transforms covered by the robot model (equal or not)."},
+    {"mismatched", &ros::LiftCounts::mismatched,
+     "Covered transforms that differ from the model (model_mismatch)."},
+    {"normalized", &ros::LiftCounts::normalized,
+     "Quaternions off unit by more than 1e-6 (within tf2's 0.01), normalized."},
+    {"joint_states", &ros::LiftCounts::joint_states, "Joint state messages applied."},
+    {"joint_states_refused", &ros::LiftCounts::joint_states_refused,
+     "Joint state messages refused (each a finding)."},
+    {"joint_states_skipped", &ros::LiftCounts::joint_states_skipped,
+     "Joint state messages skipped: the graph has no joints."},
+};
+
+void BindBagReport(py::module_& m) {
+  py::class_<BagReportObject> report(m, "BagReport",
+                                     R"(What load_bag / check_bag did: the graph, the
+findings and the counts (those of the `bag` script op and `semgraph bag check`).)");
+  report
       .def_property_readonly(
           "graph", [](const BagReportObject& r) { return r.graph; },
           "The SceneGraph the bag was applied to (all queries work, time queries included).")
@@ -340,11 +365,9 @@ findings and the counts (those of the `bag` script op and `semgraph bag check`).
           },
           "The finding groups, in the order of their first occurrence (a list of Finding).")
       .def_property_readonly(
-          "ok", [](const BagReportObject& r) { return r.report.findings.empty(); },
-          "No finding.")
+          "ok", [](const BagReportObject& r) { return r.report.findings.empty(); }, "No finding.")
       .def_property_readonly(
-          "exit_status",
-          [](const BagReportObject& r) { return r.report.findings.empty() ? 0 : 1; },
+          "exit_status", [](const BagReportObject& r) { return r.report.findings.empty() ? 0 : 1; },
           "`semgraph bag check`'s exit status: 0 clean, 1 findings (2, an unreadable bag, is "
           "BagError).")
       .def_property_readonly(
@@ -357,35 +380,6 @@ findings and the counts (those of the `bag` script op and `semgraph bag check`).
           "skipped", [](const BagReportObject& r) { return r.report.skipped; },
           "The bag's other messages.")
       .def_property_readonly(
-          "transforms", [](const BagReportObject& r) { return r.report.counts.transforms; },
-          "Transforms seen (applied + refused + covered).")
-      .def_property_readonly(
-          "applied", [](const BagReportObject& r) { return r.report.counts.applied; },
-          "Transforms added or updated.")
-      .def_property_readonly(
-          "refused", [](const BagReportObject& r) { return r.report.counts.refused; },
-          "Transforms the graph refused (each a finding).")
-      .def_property_readonly(
-          "covered", [](const BagReportObject& r) { return r.report.counts.covered; },
-          "Transforms covered by the robot model (equal or not).")
-      .def_property_readonly(
-          "mismatched", [](const BagReportObject& r) { return r.report.counts.mismatched; },
-          "Covered transforms that differ from the model (model_mismatch).")
-      .def_property_readonly(
-          "normalized", [](const BagReportObject& r) { return r.report.counts.normalized; },
-          "Quaternions off unit by more than 1e-6 (within tf2's 0.01), normalized.")
-      .def_property_readonly(
-          "joint_states", [](const BagReportObject& r) { return r.report.counts.joint_states; },
-          "Joint state messages applied.")
-      .def_property_readonly(
-          "joint_states_refused",
-          [](const BagReportObject& r) { return r.report.counts.joint_states_refused; },
-          "Joint state messages refused (each a finding).")
-      .def_property_readonly(
-          "joint_states_skipped",
-          [](const BagReportObject& r) { return r.report.counts.joint_states_skipped; },
-          "Joint state messages skipped: the graph has no joints.")
-      .def_property_readonly(
           "start",
           [](const BagReportObject& r) {
             return OptionalSeconds(r.report.messages > 0, r.report.first_log_time_ns);
@@ -393,8 +387,7 @@ findings and the counts (those of the `bag` script op and `semgraph bag check`).
           "The first log time read, s (None: no message).")
       .def_property_readonly("start_ns",
                              [](const BagReportObject& r) {
-                               return OptionalNs(r.report.messages > 0,
-                                                 r.report.first_log_time_ns);
+                               return OptionalNs(r.report.messages > 0, r.report.first_log_time_ns);
                              })
       .def_property_readonly(
           "end",
@@ -428,6 +421,14 @@ findings and the counts (those of the `bag` script op and `semgraph bag check`).
                ", findings=" + std::to_string(r.report.findings.groups().size()) + ")";
       });
 
+  for (const CountProperty& c : kCountProperties) {
+    report.def_property_readonly(
+        c.name, [field = c.field](const BagReportObject& r) { return r.report.counts.*field; },
+        c.doc);
+  }
+}
+
+void BindBagInfo(py::module_& m) {
   py::class_<ros::TopicSummary>(m, "BagTopic", "A topic of a bag, as bag_info counted it.")
       .def_property_readonly(
           "name", [](const ros::TopicSummary& t) { return t.topic.name; }, "e.g. '/tf'.")
@@ -454,7 +455,8 @@ findings and the counts (those of the `bag` script op and `semgraph bag check`).
                     "The body check_bag puts it on (mode same_body, no bodies map).")
       .def_readonly("depth", &BagFrame::depth, "0 for a root.")
       .def("__repr__", [](const BagFrame& f) {
-        return "BagFrame(name='" + f.name + "', parent=" + (f.parent ? "'" + *f.parent + "'" : "None") +
+        return "BagFrame(name='" + f.name +
+               "', parent=" + (f.parent ? "'" + *f.parent + "'" : "None") +
                ", static=" + (f.is_static ? "True" : "False") + ", body='" + f.body + "')";
       });
 
@@ -463,7 +465,8 @@ topics, the time ranges and the tf frame tree with each frame's body. Times: flo
 ns; None when the bag has no message (log times) or no transform or joint state (stamps).)")
       .def_readonly("path", &BagInfoObject::path)
       .def_property_readonly(
-          "format", [](const BagInfoObject& i) { return std::string(ros::ToString(i.scan.format)); },
+          "format",
+          [](const BagInfoObject& i) { return std::string(ros::ToString(i.scan.format)); },
           "'mcap', 'rosbag2_sqlite3' or 'ros1'.")
       .def_property_readonly(
           "messages", [](const BagInfoObject& i) { return i.scan.records; },
@@ -475,46 +478,50 @@ ns; None when the bag has no message (log times) or no transform or joint state 
           "frames", [](const BagInfoObject& i) { return i.frames; },
           "The tf tree (a list of BagFrame): each root in name order, then its children depth "
           "first.")
-      .def_property_readonly(
-          "first_log_time",
-          [](const BagInfoObject& i) {
-            return OptionalSeconds(i.scan.records > 0, i.scan.first_log_time_ns);
-          })
-      .def_property_readonly(
-          "first_log_time_ns",
-          [](const BagInfoObject& i) { return OptionalNs(i.scan.records > 0, i.scan.first_log_time_ns); })
-      .def_property_readonly(
-          "last_log_time",
-          [](const BagInfoObject& i) {
-            return OptionalSeconds(i.scan.records > 0, i.scan.last_log_time_ns);
-          })
-      .def_property_readonly(
-          "last_log_time_ns",
-          [](const BagInfoObject& i) { return OptionalNs(i.scan.records > 0, i.scan.last_log_time_ns); })
+      .def_property_readonly("first_log_time",
+                             [](const BagInfoObject& i) {
+                               return OptionalSeconds(i.scan.records > 0, i.scan.first_log_time_ns);
+                             })
+      .def_property_readonly("first_log_time_ns",
+                             [](const BagInfoObject& i) {
+                               return OptionalNs(i.scan.records > 0, i.scan.first_log_time_ns);
+                             })
+      .def_property_readonly("last_log_time",
+                             [](const BagInfoObject& i) {
+                               return OptionalSeconds(i.scan.records > 0, i.scan.last_log_time_ns);
+                             })
+      .def_property_readonly("last_log_time_ns",
+                             [](const BagInfoObject& i) {
+                               return OptionalNs(i.scan.records > 0, i.scan.last_log_time_ns);
+                             })
       .def_property_readonly(
           "first_stamp",
           [](const BagInfoObject& i) {
             return OptionalSeconds(i.scan.has_stamps, i.scan.first_stamp_ns);
           },
           "The oldest header stamp of /tf and /joint_states.")
-      .def_property_readonly(
-          "first_stamp_ns",
-          [](const BagInfoObject& i) { return OptionalNs(i.scan.has_stamps, i.scan.first_stamp_ns); })
+      .def_property_readonly("first_stamp_ns",
+                             [](const BagInfoObject& i) {
+                               return OptionalNs(i.scan.has_stamps, i.scan.first_stamp_ns);
+                             })
       .def_property_readonly(
           "last_stamp",
           [](const BagInfoObject& i) {
             return OptionalSeconds(i.scan.has_stamps, i.scan.last_stamp_ns);
           },
           "The newest header stamp of /tf and /joint_states.")
-      .def_property_readonly(
-          "last_stamp_ns",
-          [](const BagInfoObject& i) { return OptionalNs(i.scan.has_stamps, i.scan.last_stamp_ns); })
+      .def_property_readonly("last_stamp_ns",
+                             [](const BagInfoObject& i) {
+                               return OptionalNs(i.scan.has_stamps, i.scan.last_stamp_ns);
+                             })
       .def("__repr__", [](const BagInfoObject& i) {
         return "BagInfo(format='" + std::string(ros::ToString(i.scan.format)) +
                "', messages=" + std::to_string(i.scan.records) +
                ", frames=" + std::to_string(i.frames.size()) + ")";
       });
+}
 
+void BindBagFunctions(py::module_& m) {
   m.def(
       "load_bag",
       [](py::handle path, py::handle graph, py::handle topics, py::handle static_mode,
@@ -523,12 +530,11 @@ ns; None when the bag has no message (log times) or no transform or joint state 
         return LoadBag(path, graph, topics, static_mode, bodies, urdf, start, end, window,
                        sample_capacity, "load_bag");
       },
-      py::arg("path"), py::arg("graph") = py::none(), py::kw_only(),
-      py::arg("topics") = py::none(), py::arg("static") = py::none(),
-      py::arg("bodies") = py::none(), py::arg("urdf") = py::none(), py::arg("start") = py::none(),
-      py::arg("end") = py::none(), py::arg("window") = py::none(),
+      py::arg("path"), py::arg("graph") = py::none(), py::kw_only(), py::arg("topics") = py::none(),
+      py::arg("static") = py::none(), py::arg("bodies") = py::none(), py::arg("urdf") = py::none(),
+      py::arg("start") = py::none(), py::arg("end") = py::none(), py::arg("window") = py::none(),
       py::arg("sample_capacity") = py::none(),
-      Doc(R"(Applies a bag's tf and joint states to a scene graph (the `bag` script op) and returns a
+      Doc(R"(Applies a bag's tf and joint states to a scene graph (the `bag` script op); returns a
 BagReport (the graph, the findings, the counts).
 
 graph            a SceneGraph to apply to (its own time options); None [default]: a new graph,
@@ -548,9 +554,8 @@ sample_capacity  with graph=None: samples kept per stamped edge [1024]: raise it
                        py::none(), "check_bag");
       },
       py::arg("path"), py::kw_only(), py::arg("topics") = py::none(),
-      py::arg("static") = py::none(), py::arg("bodies") = py::none(),
-      py::arg("urdf") = py::none(), py::arg("start") = py::none(), py::arg("end") = py::none(),
-      py::arg("window") = py::none(),
+      py::arg("static") = py::none(), py::arg("bodies") = py::none(), py::arg("urdf") = py::none(),
+      py::arg("start") = py::none(), py::arg("end") = py::none(), py::arg("window") = py::none(),
       Doc(R"(`semgraph bag check`: applies a bag to a new graph and returns the BagReport; its
 findings are the tool's JSON lines (Finding.to_json), its summary the summary line, its
 exit_status the tool's (0 clean, 1 findings; an unreadable bag raises BagError, the tool's 2).
@@ -563,6 +568,15 @@ window           a tf2 buffer of that length (int ns, float s) instead of a wind
         R"(`semgraph bag info`: reads the whole bag once and returns a BagInfo (format, topics
 with types and counts, log-time and stamp ranges, the tf tree with the body of each frame).
 A bag that cannot be read or is corrupt raises BagError. Runs without the GIL.)");
+}
+
+}  // namespace
+
+void BindRosBags(py::module_& m) {
+  BindFinding(m);
+  BindBagReport(m);
+  BindBagInfo(m);
+  BindBagFunctions(m);
 }
 
 }  // namespace semgraph::python

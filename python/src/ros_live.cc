@@ -225,8 +225,7 @@ struct BroadcasterObject {
 
 std::shared_ptr<BroadcasterObject> MakeBroadcaster(const GraphPtr& graph, py::handle domain) {
   if (graph->graph.index() != 0) {
-    throw py::value_error(
-        "Broadcaster(): the graph must have representation 'quaternion' (tf's)");
+    throw py::value_error("Broadcaster(): the graph must have representation 'quaternion' (tf's)");
   }
   ros_dds::BroadcasterOptions options;
   if (!domain.is_none()) {
@@ -317,8 +316,7 @@ DDS is configured by CYCLONEDDS_URI. Raises ValueError when DDS refuses (with it
 result: one-shot queries by name and compile_* belong here, e.g.
 listener.with_graph(lambda g: g.pose(of='tool', wrt='world', at='latest_common')).
 A long fn delays the messages behind it. Waits for the lock without the GIL.)")
-      .def("findings", &Findings,
-           "The finding groups so far (a list of Finding, as check_bag's).")
+      .def("findings", &Findings, "The finding groups so far (a list of Finding, as check_bag's).")
       .def("poll_findings", &PollFindings,
            R"(The finding events since the last call, oldest first: a list of (Finding, new), the
 group as it was after the occurrence(s) reported, new = the group is new. At most 65536 are

@@ -71,8 +71,7 @@ std::optional<ros::BagError> Decode(const BagRecords& r, M& out) {
   if (decoded) return std::nullopt;
   return ros::BagError{ros::BagErrorCode::kMalformed, r.path, 0,
                        "the " + std::string(rec.type_name) + " message on " +
-                           std::string(rec.topic) + " at log time " +
-                           SecondsText(rec.log_time_ns) +
+                           std::string(rec.topic) + " at log time " + SecondsText(rec.log_time_ns) +
                            " s does not decode: " + ros::Describe(decoded.error())};
 }
 
@@ -135,9 +134,7 @@ constexpr const char* kTimesDoc = R"(
 log_time      when the recorder received it, s (log_time_ns: exact int ns)
 stamp         header.stamp, s (stamp_ns: exact int ns, sec * 10**9 + nanosec))";
 
-}  // namespace
-
-void BindRosRecords(py::module_& m) {
+void BindTransformRecord(py::module_& m) {
   py::class_<TransformRecord>(m, "TransformRecord",
                               Doc(R"(One transform of a TFMessage on /tf or /tf_static, as recorded
 (not normalized, not checked: load_bag applies and checks).
@@ -193,18 +190,23 @@ rotation_matrix  numpy (3, 3) of the normalized quaternion)",
                                const double xyzw[4] = {q.x, q.y, q.z, q.w};
                                return Array(xyzw, {4});
                              })
-      .def_property_readonly("rotation_matrix",
-                             [](const TransformRecord& r) {
-                               return MatrixArray(
-                                   QuaternionOf(r.transform.transform.rotation).normalized());
-                             })
+      .def_property_readonly(
+          "rotation_matrix",
+          [](const TransformRecord& r) {
+            return MatrixArray(QuaternionOf(r.transform.transform.rotation).normalized());
+          })
       .def("__repr__", [](const TransformRecord& r) {
         return "TransformRecord(topic='" + r.topic + "', parent='" +
                std::string(ros::LiftFrameName(r.transform.header.frame_id)) + "', child='" +
                std::string(ros::LiftFrameName(r.transform.child_frame_id)) +
                "', stamp_ns=" + std::to_string(ros::ToNanoseconds(r.transform.header.stamp)) + ")";
       });
+}
 
+}  // namespace
+
+void BindRosRecords(py::module_& m) {
+  BindTransformRecord(m);
   py::class_<JointStateRecord>(m, "JointStateRecord",
                                Doc(R"(One sensor_msgs/JointState message, as recorded.
 
@@ -232,8 +234,8 @@ position, velocity, effort   numpy (n,) each, as many as the message has (may be
       .def_property_readonly("effort",
                              [](const JointStateRecord& r) { return Doubles(r.state.effort); })
       .def("__repr__", [](const JointStateRecord& r) {
-        return "JointStateRecord(topic='" + r.topic + "', joints=" +
-               std::to_string(r.state.name.size()) +
+        return "JointStateRecord(topic='" + r.topic +
+               "', joints=" + std::to_string(r.state.name.size()) +
                ", stamp_ns=" + std::to_string(ros::ToNanoseconds(r.state.header.stamp)) + ")";
       });
 

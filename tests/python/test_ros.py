@@ -397,6 +397,9 @@ def test_listener_reads_what_semgraph_serve_broadcasts(tmp_path, loopback):
             X_BA = listener.with_graph(lambda g: g.pose(of="arm", wrt="base", at=100.25))
             np.testing.assert_allclose(X_BA.position, [0, 0.05, 0.55], atol=1e-12)
             assert listener.findings() == [] and listener.poll_findings() == []
+            with pytest.raises(semgraph.QueryError) as e:  # fn's exception, raised by with_graph
+                listener.with_graph(lambda g: g.pose(of="nowhere", wrt="world"))
+            assert e.value.code == "unknown_frame"
             # compiled: evaluated outside with_graph, while the listener runs
             q = listener.with_graph(lambda g: g.compile_pose(of="camera", wrt="world"))
             np.testing.assert_allclose(q.evaluate().position, X_WC.position, atol=1e-15)
