@@ -144,7 +144,7 @@ def test_read_bag_streams():
     path = foxglove_bags()[0][0]
     it = ros.read_bag(path)
     first = next(it)
-    assert first.topic == "/tf_static"  # nothing else was read beyond what it yields
+    assert first.topic == "/tf_static"  # the URDF on /robot_description (a String) is passed over
     assert sum(1 for _ in it) == len(foxglove_bags()[1]) - 1
 
 
