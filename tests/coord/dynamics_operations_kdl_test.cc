@@ -44,6 +44,8 @@ KDL::Rotation ToKdl(const Eigen::Matrix3d& R) {
 }
 
 // Names: the wrench on C by D; points e, q; frames {a}, {b} (origin and axes); [r], [s].
+// Monograms: F_DCe the wrench on C by D about e (F_DCe_s: expressed in [s]), V_DCa the twist of
+// C relative to D at a; KDL values are named kW, kV.
 template <class B>
 class WrenchKdl : public ::testing::Test {
  protected:
@@ -78,14 +80,14 @@ TYPED_TEST_SUITE(WrenchKdl, Backends, BackendName);
 TYPED_TEST(WrenchKdl, ChangeOfPointIsRefPoint) {
   auto& t = *this;
   for (int i = 0; i < kCases; ++i) {
-    const Wrench W_e = t.RandomWrench({t.e, t.C, t.D, t.r});
+    const Wrench F_DCe = t.RandomWrench({t.e, t.C, t.D, t.r});
     const Vec v_eq = RandomVector(t.rng_, 3.0);  // from the old point e to the new point q
     const KDL::Wrench kdl =
-        KDL::Wrench(ToKdl(W_e.force), ToKdl(W_e.moment)).RefPoint(ToKdl(v_eq));
-    const Wrench W_q = t.Must(ChangePoint(W_e, *MakePosition({t.e, t.C, t.q, t.C, t.r}, -v_eq)));
-    ASSERT_EQ(W_q.semantics, (WrenchSemantics{t.q, t.C, t.D, t.r}));
-    EXPECT_TRUE(Near(W_q.force, FromKdl(kdl.force), kTol));
-    EXPECT_TRUE(Near(W_q.moment, FromKdl(kdl.torque), kTol));
+        KDL::Wrench(ToKdl(F_DCe.force), ToKdl(F_DCe.moment)).RefPoint(ToKdl(v_eq));
+    const Wrench F_DCq = t.Must(ChangePoint(F_DCe, *MakePosition({t.e, t.C, t.q, t.C, t.r}, -v_eq)));
+    ASSERT_EQ(F_DCq.semantics, (WrenchSemantics{t.q, t.C, t.D, t.r}));
+    EXPECT_TRUE(Near(F_DCq.force, FromKdl(kdl.force), kTol));
+    EXPECT_TRUE(Near(F_DCq.moment, FromKdl(kdl.torque), kTol));
   }
 }
 
@@ -93,14 +95,14 @@ TYPED_TEST(WrenchKdl, ChangeOfFrameIsRotationTimesWrench) {
   using B = TypeParam;
   auto& t = *this;
   for (int i = 0; i < kCases; ++i) {
-    const Wrench W_r = t.RandomWrench({t.e, t.C, t.D, t.r});
+    const Wrench F_DCe_r = t.RandomWrench({t.e, t.C, t.D, t.r});
     const Eigen::Matrix3d R_sr = RandomUnitQuaternion(t.rng_).toRotationMatrix();
-    const KDL::Wrench kdl = ToKdl(R_sr) * KDL::Wrench(ToKdl(W_r.force), ToKdl(W_r.moment));
+    const KDL::Wrench kdl = ToKdl(R_sr) * KDL::Wrench(ToKdl(F_DCe_r.force), ToKdl(F_DCe_r.moment));
     const auto O_sr = *MakeOrientation<B>({t.r, t.D, t.s, t.D, t.s}, R_sr);
-    const Wrench W_s = t.Must(ChangeCoordinateFrame(W_r, O_sr));
-    ASSERT_EQ(W_s.semantics, (WrenchSemantics{t.e, t.C, t.D, t.s}));
-    EXPECT_TRUE(Near(W_s.force, FromKdl(kdl.force), kTol));
-    EXPECT_TRUE(Near(W_s.moment, FromKdl(kdl.torque), kTol));
+    const Wrench F_DCe_s = t.Must(ChangeCoordinateFrame(F_DCe_r, O_sr));
+    ASSERT_EQ(F_DCe_s.semantics, (WrenchSemantics{t.e, t.C, t.D, t.s}));
+    EXPECT_TRUE(Near(F_DCe_s.force, FromKdl(kdl.force), kTol));
+    EXPECT_TRUE(Near(F_DCe_s.moment, FromKdl(kdl.torque), kTol));
   }
 }
 
@@ -109,17 +111,17 @@ TYPED_TEST(WrenchKdl, ScrewTransformIsFrameTimesWrench) {
   auto& t = *this;
   for (int i = 0; i < kCases; ++i) {
     // The wrench at {a}'s origin in [a]; the pose of {a} in {b} (KDL's Frame F_ba).
-    const Wrench W_a = t.RandomWrench({t.a.origin(), t.C, t.D, t.a.axes()});
+    const Wrench F_DCa = t.RandomWrench({t.a.origin(), t.C, t.D, t.a.axes()});
     const Eigen::Matrix3d R_ba = RandomUnitQuaternion(t.rng_).toRotationMatrix();
     const Vec p_ba = RandomVector(t.rng_, 3.0);
     const KDL::Frame F_ba(ToKdl(R_ba), ToKdl(p_ba));
-    const KDL::Wrench kdl = F_ba * KDL::Wrench(ToKdl(W_a.force), ToKdl(W_a.moment));
+    const KDL::Wrench kdl = F_ba * KDL::Wrench(ToKdl(F_DCa.force), ToKdl(F_DCa.moment));
     const auto X_ba =
         *MakePose<B>(PoseSemantics::OfFrame(t.a, t.C, t.b, t.D, t.b.axes()), R_ba, p_ba);
-    const Wrench W_b = t.Must(ScrewTransform(W_a, X_ba));
-    ASSERT_EQ(W_b.semantics, (WrenchSemantics{t.b.origin(), t.C, t.D, t.b.axes()}));
-    EXPECT_TRUE(Near(W_b.force, FromKdl(kdl.force), kTol));
-    EXPECT_TRUE(Near(W_b.moment, FromKdl(kdl.torque), kTol));
+    const Wrench F_DCb = t.Must(ScrewTransform(F_DCa, X_ba));
+    ASSERT_EQ(F_DCb.semantics, (WrenchSemantics{t.b.origin(), t.C, t.D, t.b.axes()}));
+    EXPECT_TRUE(Near(F_DCb.force, FromKdl(kdl.force), kTol));
+    EXPECT_TRUE(Near(F_DCb.moment, FromKdl(kdl.torque), kTol));
   }
 }
 
@@ -127,12 +129,12 @@ TYPED_TEST(WrenchKdl, PowerIsKdlsDotAndSurvivesEveryChangeOfPointAndFrame) {
   using B = TypeParam;
   auto& t = *this;
   for (int i = 0; i < kCases; ++i) {
-    const Wrench W_a = t.RandomWrench({t.a.origin(), t.C, t.D, t.a.axes()});
+    const Wrench F_DCa = t.RandomWrench({t.a.origin(), t.C, t.D, t.a.axes()});
     const Twist V_a = *MakeTwist({t.a.origin(), t.C, t.D, t.a.axes()}, RandomVector(t.rng_, 2.0),
                                  RandomVector(t.rng_, 2.0));
-    const KDL::Wrench kW(ToKdl(W_a.force), ToKdl(W_a.moment));
+    const KDL::Wrench kW(ToKdl(F_DCa.force), ToKdl(F_DCa.moment));
     const KDL::Twist kV(ToKdl(V_a.linear), ToKdl(V_a.angular));
-    const double P = t.Must(PowerOf(W_a, V_a)).value;
+    const double P = t.Must(PowerOf(F_DCa, V_a)).value;
     const double tol = kTol * (1.0 + std::abs(P));
     EXPECT_NEAR(P, KDL::dot(kV, kW), tol);
     // Along a pose, in both libraries.
@@ -142,7 +144,7 @@ TYPED_TEST(WrenchKdl, PowerIsKdlsDotAndSurvivesEveryChangeOfPointAndFrame) {
     const auto X_ba =
         *MakePose<B>(PoseSemantics::OfFrame(t.a, t.C, t.b, t.D, t.b.axes()), R_ba, p_ba);
     const double P_b =
-        t.Must(PowerOf(t.Must(ScrewTransform(W_a, X_ba)), t.Must(ScrewTransform(V_a, X_ba))))
+        t.Must(PowerOf(t.Must(ScrewTransform(F_DCa, X_ba)), t.Must(ScrewTransform(V_a, X_ba))))
             .value;
     EXPECT_NEAR(P_b, KDL::dot(F_ba * kV, F_ba * kW), tol);
     EXPECT_NEAR(P_b, P, tol);
@@ -150,7 +152,7 @@ TYPED_TEST(WrenchKdl, PowerIsKdlsDotAndSurvivesEveryChangeOfPointAndFrame) {
     const Vec v_aq = RandomVector(t.rng_, 3.0);
     const Position p_qa = *MakePosition({t.a.origin(), t.C, t.q, t.C, t.a.axes()}, -v_aq);
     const double P_q =
-        t.Must(PowerOf(t.Must(ChangePoint(W_a, p_qa)), t.Must(ChangePoint(V_a, p_qa)))).value;
+        t.Must(PowerOf(t.Must(ChangePoint(F_DCa, p_qa)), t.Must(ChangePoint(V_a, p_qa)))).value;
     EXPECT_NEAR(P_q, KDL::dot(kV.RefPoint(ToKdl(v_aq)), kW.RefPoint(ToKdl(v_aq))), tol);
     EXPECT_NEAR(P_q, P, tol);
   }

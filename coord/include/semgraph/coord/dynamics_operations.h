@@ -7,8 +7,10 @@
 // rotation). The raw arithmetic is in namespace `kernels`, for callers that checked the
 // semantics once already (the scene graph's evaluator).
 //
-// Monograms (docs/notation.md): A_DC_E = (a, alpha) of C relative to D at e, a_DCe the classical
-// acceleration of the point of C at e; V_DCe the twist; F_C_by_D_e the wrench on C by D about e.
+// Monograms (docs/notation.md): A_DCe_R = (a_DCe_R, alpha_DC_R) the acceleration of C relative to
+// D at (the point of C at) e in [r], a_DCe the classical acceleration of that point; V_DCe_R the
+// twist; F_DCe_R = (f_DC_R, m_DCe_R) the wrench on C by D about e, so that the power is
+// F_DCe_R . V_DCe_R, letters matching.
 // Cost: O(1), a few cross products; noexcept, allocation-free, string-free (real-time safe).
 #pragma once
 
