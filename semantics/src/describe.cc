@@ -201,8 +201,7 @@ std::string Describe(const AccelerationSemantics& s, const NameTable& n) {
 
 std::string Describe(const WrenchSemantics& s, const NameTable& n) {
   const std::string by = s.by_several ? std::string("several") : Str(n, s.by.id());
-  return "WrenchCoord(" + Pt(n, s.point, s.on) + ", " + by + ", " + Of(n, s.coordinate_frame) +
-         ")";
+  return "WrenchCoord(" + Pt(n, s.point, s.on) + ", " + by + ", " + Of(n, s.coordinate_frame) + ")";
 }
 
 std::string Describe(const PowerSemantics& s, const NameTable& n) {

@@ -16,8 +16,7 @@ constexpr RK kWr = RK::kWrench;
 Checked<Ok> CheckTwistOf(Operation op, Operand role, const AccelerationSemantics& X,
                          const TwistSemantics& V) noexcept {
   constexpr RK t = RK::kTwist;
-  if (!(V.point == X.point))
-    return Fail(op, PointSide(kArgument, t, V), PointSide(role, kAcc, X));
+  if (!(V.point == X.point)) return Fail(op, PointSide(kArgument, t, V), PointSide(role, kAcc, X));
   if (!(V.body == X.body)) return Fail(op, BodySide(kArgument, t, V), BodySide(role, kAcc, X));
   if (!(V.ref_body == X.ref_body))
     return Fail(op, RefBodySide(kArgument, t, V), RefBodySide(role, kAcc, X));
@@ -122,8 +121,7 @@ Checked<WrenchSemantics> ChangeCoordinateFrame(const WrenchSemantics& X,
   return r;
 }
 
-Checked<WrenchSemantics> ScrewTransform(const WrenchSemantics& X,
-                                        const PoseSemantics& P) noexcept {
+Checked<WrenchSemantics> ScrewTransform(const WrenchSemantics& X, const PoseSemantics& P) noexcept {
   constexpr Operation op = Operation::kScrewTransform;
   if (!(P.point == X.point))
     return Fail(op, PointSide(kArgument, RK::kPose, P), WrenchPoint(kSubject, X));

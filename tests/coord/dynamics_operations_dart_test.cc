@@ -99,8 +99,8 @@ class Tree {
     const int p = parent_[child];
     const Edge& edge = edges_[child - 1];
     // As given: at the child's origin, in the parent's axes.
-    const Acceleration A_P = *MakeAcceleration({origin(child), body(child), body(p), axes(p)},
-                                               edge.a, edge.alpha);
+    const Acceleration A_P =
+        *MakeAcceleration({origin(child), body(child), body(p), axes(p)}, edge.a, edge.alpha);
     const Twist V_P = *MakeTwist({origin(child), body(child), body(p), axes(p)}, edge.v, edge.w);
     // [p] wrt [r], expressed in [r]: R[r<-p].
     const Eigen::Matrix3d R_rp = R_W(r).transpose() * R_W(p);
@@ -180,12 +180,14 @@ void ExpectAsDart(Tree& t, int C, int D, const Vec& p_We, int r) {
   EXPECT_TRUE(Near(m.A.linear, a, kTol));
   EXPECT_TRUE(Near(m.A.angular, alpha, kTol));
   // The twist the composition carried along agrees with DART too.
-  EXPECT_TRUE(Near(m.V.linear, t.frame(C)->getLinearVelocity(offset, t.frame(D), t.frame(r)),
-                   kTol));
+  EXPECT_TRUE(
+      Near(m.V.linear, t.frame(C)->getLinearVelocity(offset, t.frame(D), t.frame(r)), kTol));
   EXPECT_TRUE(Near(m.V.angular, t.frame(C)->getAngularVelocity(t.frame(D), t.frame(r)), kTol));
 }
 
-int RandomNode(Tree& t) { return static_cast<int>(t.rng()() % static_cast<std::uint64_t>(t.size())); }
+int RandomNode(Tree& t) {
+  return static_cast<int>(t.rng()() % static_cast<std::uint64_t>(t.size()));
+}
 
 TEST(DynamicsDart, EveryEdgeInBothDirectionsAtRandomPointsInRandomFrames) {
   int checked = 0;
@@ -249,9 +251,8 @@ TEST(DynamicsDart, ChangesOfPointAndFrameOfAComposedAcceleration) {
       const Acceleration A_q = t.Must(ChangePoint(A_r, p_qe, w_r));
       ASSERT_EQ(A_q.semantics, (AccelerationSemantics{q, t.body(C), t.body(D), t.axes(r)}));
       const Vec offset = t.R_W(C).transpose() * (p_We - t.p_W(C));
-      EXPECT_TRUE(Near(A_q.linear, t.frame(C)->getLinearAcceleration(offset, t.frame(D),
-                                                                     t.frame(r)),
-                       kTol));
+      EXPECT_TRUE(Near(A_q.linear,
+                       t.frame(C)->getLinearAcceleration(offset, t.frame(D), t.frame(r)), kTol));
       EXPECT_TRUE(
           Near(A_q.angular, t.frame(C)->getAngularAcceleration(t.frame(D), t.frame(r)), kTol));
     }

@@ -84,7 +84,8 @@ TYPED_TEST(WrenchKdl, ChangeOfPointIsRefPoint) {
     const Vec v_eq = RandomVector(t.rng_, 3.0);  // from the old point e to the new point q
     const KDL::Wrench kdl =
         KDL::Wrench(ToKdl(F_DCe.force), ToKdl(F_DCe.moment)).RefPoint(ToKdl(v_eq));
-    const Wrench F_DCq = t.Must(ChangePoint(F_DCe, *MakePosition({t.e, t.C, t.q, t.C, t.r}, -v_eq)));
+    const Wrench F_DCq =
+        t.Must(ChangePoint(F_DCe, *MakePosition({t.e, t.C, t.q, t.C, t.r}, -v_eq)));
     ASSERT_EQ(F_DCq.semantics, (WrenchSemantics{t.q, t.C, t.D, t.r}));
     EXPECT_TRUE(Near(F_DCq.force, FromKdl(kdl.force), kTol));
     EXPECT_TRUE(Near(F_DCq.moment, FromKdl(kdl.torque), kTol));

@@ -99,8 +99,8 @@ TEST_F(Dynamics, APointOnAUniformlyRotatingDiscAcceleratesTowardsTheCentre) {
 TEST_F(Dynamics, ASpinningUpDiscAddsTheTangentialAcceleration) {
   const double w0 = 2.0, alpha0 = 5.0, R = 0.3;
   const Acceleration A_DCo = Acc({o, C, D, r}, Vec::Zero(), Vec(0, 0, alpha0));
-  const auto A_DCe = ChangePoint(A_DCo, Pos({o, C, e, C, r}, Vec(-R, 0, 0)),
-                                  Ang({C, D, r}, Vec(0, 0, w0)));
+  const auto A_DCe =
+      ChangePoint(A_DCo, Pos({o, C, e, C, r}, Vec(-R, 0, 0)), Ang({C, D, r}, Vec(0, 0, w0)));
   ASSERT_TRUE(A_DCe);
   EXPECT_TRUE(Near(A_DCe->linear, Vec(-w0 * w0 * R, alpha0 * R, 0)));
   // The same from the trajectory of e: angle w0 t + alpha0 t^2 / 2.
@@ -125,9 +125,8 @@ TEST_F(Dynamics, ABeadSlidingOnARotatingRodFeelsCoriolis) {
   EXPECT_EQ(A_MC_e->semantics, (AccelerationSemantics{e, C, M, r}));
   // Polar coordinates: (rho'' - rho th'^2, rho th'' + 2 rho' th') = (-rho w^2, 2 u w).
   EXPECT_TRUE(Near(A_MC_e->linear, Vec(-rho * w * w, 2 * u * w, 0)));
-  const Vec fd = SecondDerivative([&](double t) -> Vec {
-    return (rho + u * t) * Vec(std::cos(w * t), std::sin(w * t), 0);
-  });
+  const Vec fd = SecondDerivative(
+      [&](double t) -> Vec { return (rho + u * t) * Vec(std::cos(w * t), std::sin(w * t), 0); });
   EXPECT_TRUE(Near(A_MC_e->linear, fd, 1e-6));
   // alpha_MC = d/dt (w z + spin R_z(wt) x) = spin w y.
   EXPECT_TRUE(Near(A_MC_e->angular, Vec(0, spin * w, 0)));
@@ -139,8 +138,7 @@ TEST_F(Dynamics, TheInverseOfADiscsMotionIsNotItsNegation) {
   // Seen from the disc C, the point of D at e turns the other way on the same circle: its
   // acceleration is centripetal too, with the tangential part reversed.
   const double w0 = 2.0, alpha0 = 3.0, R = 0.4;
-  const Acceleration A_DCe = Acc({e, C, D, r}, Vec(-w0 * w0 * R, alpha0 * R, 0),
-                                  Vec(0, 0, alpha0));
+  const Acceleration A_DCe = Acc({e, C, D, r}, Vec(-w0 * w0 * R, alpha0 * R, 0), Vec(0, 0, alpha0));
   const Twist V_DCe = Tw({e, C, D, r}, Vec(0, w0 * R, 0), Vec(0, 0, w0));
   const auto A_CDe = Inverse(A_DCe, V_DCe);
   ASSERT_TRUE(A_CDe);
@@ -193,12 +191,12 @@ TEST_F(Dynamics, AccelerationOperationsRefuseMismatchesNamingTheField) {
   using semantics::Field;
   using semantics::Operation;
   EXPECT_TRUE(RefusedWith(Inverse(A_DCe, V_CDe), Operation::kInverse, Field::kBody));
-  EXPECT_TRUE(RefusedWith(ChangePoint(A_DCe, Pos({e, C, q, C, s}, Vec(1, 0, 0)),
-                                      Ang({C, D, r}, Vec(0, 0, 1))),
-                          Operation::kChangePoint, Field::kCoordinateFrame));
-  EXPECT_TRUE(RefusedWith(ChangePoint(A_DCe, Pos({e, C, q, C, r}, Vec(1, 0, 0)),
-                                      Ang({C, E, r}, Vec(0, 0, 1))),
-                          Operation::kChangePoint, Field::kRefBody));
+  EXPECT_TRUE(RefusedWith(
+      ChangePoint(A_DCe, Pos({e, C, q, C, s}, Vec(1, 0, 0)), Ang({C, D, r}, Vec(0, 0, 1))),
+      Operation::kChangePoint, Field::kCoordinateFrame));
+  EXPECT_TRUE(RefusedWith(
+      ChangePoint(A_DCe, Pos({e, C, q, C, r}, Vec(1, 0, 0)), Ang({C, E, r}, Vec(0, 0, 1))),
+      Operation::kChangePoint, Field::kRefBody));
   const Acceleration A_EDe = Acc({e, D, E, r}, Vec::Zero(), Vec::Zero());
   EXPECT_TRUE(RefusedWith(Compose(A_DCe, A_EDe, Tw({e, C, D, r}, Vec::Zero(), Vec::Zero()),
                                   Ang({C, D, r}, Vec::Zero())),
@@ -290,8 +288,8 @@ TYPED_TEST_SUITE(DynamicsTyped, Backends, BackendName);
 
 TYPED_TEST(DynamicsTyped, AccelerationsAreReexpressedByRotatingBothVectors) {
   using B = TypeParam;
-  const Acceleration A = this->Acc({this->e, this->C, this->D, this->r}, Vec(1, 2, 3),
-                                   Vec(-1, 0, 2));
+  const Acceleration A =
+      this->Acc({this->e, this->C, this->D, this->r}, Vec(1, 2, 3), Vec(-1, 0, 2));
   const Eigen::Matrix3d R_sr = Eigen::AngleAxisd(M_PI / 2, Vec::UnitX()).toRotationMatrix();
   // O = [r] wrt [s] expressed in [s] (the [r] = [b] form every backend holds).
   const auto O_sr = *MakeOrientation<B>({this->r, this->E, this->s, this->E, this->s}, R_sr);
@@ -347,19 +345,18 @@ TYPED_TEST(DynamicsTyped, AWrenchScrewTransformIsAChangeOfFrameThenOfPoint) {
   std::mt19937_64 rng(12);
   const semantics::Frame fa(t.r.id()), fb(t.s.id());
   for (int i = 0; i < 200; ++i) {
-    const Wrench F_DCa = t.Wr({fa.origin(), t.C, t.D, fa.axes()}, RandomVector(rng, 10),
-                            RandomVector(rng, 10));
+    const Wrench F_DCa =
+        t.Wr({fa.origin(), t.C, t.D, fa.axes()}, RandomVector(rng, 10), RandomVector(rng, 10));
     const Eigen::Quaterniond q_ba = RandomUnitQuaternion(rng);
     const Vec p_ba = RandomVector(rng, 3);  // origin of {a} wrt origin of {b}, in [b]
-    const auto X_ba = *MakePose<B>(PoseSemantics::OfFrame(fa, t.C, fb, t.D, fb.axes()), q_ba,
-                                   p_ba);
+    const auto X_ba = *MakePose<B>(PoseSemantics::OfFrame(fa, t.C, fb, t.D, fb.axes()), q_ba, p_ba);
     const auto F_DCb = ScrewTransform(F_DCa, X_ba);
     ASSERT_TRUE(F_DCb);
     EXPECT_EQ(F_DCb->semantics, (WrenchSemantics{fb.origin(), t.C, t.D, fb.axes()}));
     const auto O_ba = *MakeOrientation<B>({fa.axes(), t.E, fb.axes(), t.E, fb.axes()}, q_ba);
     const auto F_DCa_B = *ChangeCoordinateFrame(F_DCa, O_ba);
-    const auto F_DCb2 = ChangePoint(F_DCa_B, t.Pos({fa.origin(), t.C, fb.origin(), t.D, fb.axes()},
-                                                  p_ba));
+    const auto F_DCb2 =
+        ChangePoint(F_DCa_B, t.Pos({fa.origin(), t.C, fb.origin(), t.D, fb.axes()}, p_ba));
     ASSERT_TRUE(F_DCb2);
     EXPECT_EQ(F_DCb2->semantics, F_DCb->semantics);
     EXPECT_TRUE(Near(F_DCb->force, F_DCb2->force, 1e-12));

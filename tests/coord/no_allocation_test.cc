@@ -226,25 +226,25 @@ struct DynamicsOperands {
 template <class B>
 void RunDynamics(const DynamicsOperands<B>& d, Outcomes& out) {
   const Operands<B>& o = d.o;
-  out.Add(Inverse(d.A_BA, o.V_BAa_B));                            // ok
-  out.Add(Inverse(d.A_BA, o.V_CBa_B));                            // semantic
-  out.Add(Compose(d.A_BA, d.A_CB, o.V_BAa_B, o.w_CB_B));          // ok
-  out.Add(Compose(d.A_BA, d.A_CB, o.V_CBa_B, o.w_CB_B));          // semantic
-  out.Add(ChangePoint(d.A_BA, o.p_AA2_B, o.w_BA_B));              // semantic: p of a2 wrt a
-  out.Add(ChangePoint(d.A_BA, Inverse(o.p_AA2_B), o.w_BA_B));     // ok
-  out.Add(ChangeCoordinateFrame(d.A_BA, o.O_CB_C));               // ok
-  out.Add(ChangeCoordinateFrame(d.A_BA, o.O_BA_B));               // semantic
-  out.Add(ChangePoint(d.W_AB, Inverse(o.p_AA2_B)));               // ok
-  out.Add(ChangePoint(d.W_AB, o.p_CB_B));                         // semantic
-  out.Add(ChangeCoordinateFrame(d.W_AB, o.O_CB_C));               // ok
-  out.Add(ScrewTransform(d.W_Aa_A, o.X_BA_B));                    // ok
-  out.Add(ScrewTransform(d.W_AB, o.X_BA_B));                      // semantic
-  out.Add(Reaction(d.W_AB));                                      // ok
-  out.Add(Reaction(*Sum(d.W_AB, d.W_AC)));                        // semantic: by several
-  out.Add(Sum(d.W_AB, d.W_AC));                                   // ok
-  out.Add(Sum(d.W_AB, d.W_BA));                                   // semantic
-  out.Add(PowerOf(d.W_AB, o.V_BAa_B));                            // ok
-  out.Add(PowerOf(d.W_BA, o.V_BAa_B));                            // semantic
+  out.Add(Inverse(d.A_BA, o.V_BAa_B));                         // ok
+  out.Add(Inverse(d.A_BA, o.V_CBa_B));                         // semantic
+  out.Add(Compose(d.A_BA, d.A_CB, o.V_BAa_B, o.w_CB_B));       // ok
+  out.Add(Compose(d.A_BA, d.A_CB, o.V_CBa_B, o.w_CB_B));       // semantic
+  out.Add(ChangePoint(d.A_BA, o.p_AA2_B, o.w_BA_B));           // semantic: p of a2 wrt a
+  out.Add(ChangePoint(d.A_BA, Inverse(o.p_AA2_B), o.w_BA_B));  // ok
+  out.Add(ChangeCoordinateFrame(d.A_BA, o.O_CB_C));            // ok
+  out.Add(ChangeCoordinateFrame(d.A_BA, o.O_BA_B));            // semantic
+  out.Add(ChangePoint(d.W_AB, Inverse(o.p_AA2_B)));            // ok
+  out.Add(ChangePoint(d.W_AB, o.p_CB_B));                      // semantic
+  out.Add(ChangeCoordinateFrame(d.W_AB, o.O_CB_C));            // ok
+  out.Add(ScrewTransform(d.W_Aa_A, o.X_BA_B));                 // ok
+  out.Add(ScrewTransform(d.W_AB, o.X_BA_B));                   // semantic
+  out.Add(Reaction(d.W_AB));                                   // ok
+  out.Add(Reaction(*Sum(d.W_AB, d.W_AC)));                     // semantic: by several
+  out.Add(Sum(d.W_AB, d.W_AC));                                // ok
+  out.Add(Sum(d.W_AB, d.W_BA));                                // semantic
+  out.Add(PowerOf(d.W_AB, o.V_BAa_B));                         // ok
+  out.Add(PowerOf(d.W_BA, o.V_BAa_B));                         // semantic
   out.Sum(kernels::ShiftAcceleration(o.p1, o.p2, o.p1, o.p2));
   out.Sum(kernels::ComposeAccelerations(o.p1, o.p2, o.p2, o.p1, o.p1, o.p2, o.p1).linear);
   out.Sum(kernels::InvertAcceleration(o.p1, o.p2, o.p1, o.p2).linear);

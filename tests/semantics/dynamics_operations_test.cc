@@ -159,9 +159,9 @@ TEST_F(AccelerationInverse, ChecksPointBeforeBodiesBeforeFrame) {
 TEST_F(AccelerationCompose, ChainsBodiesAtOnePoint) {
   const AccelerationSemantics A_BCe{e, C, B, r};
   const AccelerationSemantics A_MBe{e, B, M, r};
-  EXPECT_TRUE(Gives(Compose(A_BCe, A_MBe, TwistSemantics{e, C, B, r},
-                            AngularVelocitySemantics{B, M, r}),
-                    AccelerationSemantics{e, C, M, r}));
+  EXPECT_TRUE(
+      Gives(Compose(A_BCe, A_MBe, TwistSemantics{e, C, B, r}, AngularVelocitySemantics{B, M, r}),
+            AccelerationSemantics{e, C, M, r}));
 }
 
 TEST_F(AccelerationCompose, RefusesDifferentPoints) {
@@ -176,7 +176,8 @@ TEST_F(AccelerationCompose, RefusesMismatchedRefBody) {
   const AccelerationSemantics A_BCe{e, C, B, r};
   const AccelerationSemantics A_MFe{e, F, M, r};
   EXPECT_TRUE(Refused(Compose(A_BCe, A_MFe, VelocityOf(A_BCe), {F, M, r}), Operation::kCompose,
-                      Side(kFirst, kAcc, Field::kRefBody, B), Side(kSecond, kAcc, Field::kBody, F)));
+                      Side(kFirst, kAcc, Field::kRefBody, B),
+                      Side(kSecond, kAcc, Field::kBody, F)));
 }
 
 TEST_F(AccelerationCompose, RefusesDifferentCoordinateFrames) {
@@ -225,7 +226,8 @@ TEST_F(AccelerationCompose, RefusesTheAngularVelocityOfTheFirstInPlaceOfTheSecon
   const AccelerationSemantics A_BCe{e, C, B, r};
   const AccelerationSemantics A_MBe{e, B, M, r};
   EXPECT_TRUE(Refused(Compose(A_BCe, A_MBe, VelocityOf(A_BCe), {C, B, r}), Operation::kCompose,
-                      Side(kArgument, kAng, Field::kBody, C), Side(kSecond, kAcc, Field::kBody, B)));
+                      Side(kArgument, kAng, Field::kBody, C),
+                      Side(kSecond, kAcc, Field::kBody, B)));
 }
 
 TEST_F(AccelerationCompose, RefusesAnAngularVelocityRelativeToAnotherBody) {
@@ -261,16 +263,14 @@ TEST_F(AccelerationCompose, ChecksTheAccelerationsBeforeTheTwistBeforeTheAngular
 TEST_F(AccelerationChangePoint, MovesThePointToTheArgumentsRefPoint) {
   const AccelerationSemantics A_DCe{e, C, D, r};
   const PositionSemantics p_qe{e, C, q, C, r};  // old point e wrt new point q
-  EXPECT_TRUE(
-      Gives(ChangePoint(A_DCe, p_qe, {C, D, r}), AccelerationSemantics{q, C, D, r}));
+  EXPECT_TRUE(Gives(ChangePoint(A_DCe, p_qe, {C, D, r}), AccelerationSemantics{q, C, D, r}));
 }
 
 TEST_F(AccelerationChangePoint, DoesNotCheckTheBodiesOfThePosition) {
   // As for twists (D3): the vector between two points at an instant has no body.
   const AccelerationSemantics A_DCe{e, C, D, r};
   const PositionSemantics p_xe{e, E, x, F, r};
-  EXPECT_TRUE(
-      Gives(ChangePoint(A_DCe, p_xe, {C, D, r}), AccelerationSemantics{x, C, D, r}));
+  EXPECT_TRUE(Gives(ChangePoint(A_DCe, p_xe, {C, D, r}), AccelerationSemantics{x, C, D, r}));
 }
 
 TEST_F(AccelerationChangePoint, RefusesAnArgumentNotOfTheOldPoint) {
@@ -470,8 +470,7 @@ TEST_F(WrenchSum, RefusesWrenchesOnDifferentBodies) {
 TEST_F(WrenchSum, RefusesMomentsAboutDifferentPoints) {
   const WrenchSemantics F_DCe{e, C, D, r};
   const WrenchSemantics F_ECq{q, C, E, r};
-  EXPECT_TRUE(Refused(Sum(F_DCe, F_ECq), Operation::kSum,
-                      Side(kFirst, kWr, Field::kPoint, e, C),
+  EXPECT_TRUE(Refused(Sum(F_DCe, F_ECq), Operation::kSum, Side(kFirst, kWr, Field::kPoint, e, C),
                       Side(kSecond, kWr, Field::kPoint, q, C)));
 }
 

@@ -78,8 +78,8 @@ inline Eigen::Vector3d ShiftMoment(const Eigen::Vector3d& m, const Eigen::Vector
                                                   const AngularVelocity& W_Y) noexcept {
   auto s = semantics::Compose(X.semantics, Y.semantics, V_X.semantics, W_Y.semantics);
   if (!s) return Unexpected{internal::SemanticError(s.error())};
-  const auto r = kernels::ComposeAccelerations(X.linear, X.angular, Y.linear, Y.angular,
-                                               V_X.linear, V_X.angular, W_Y.value);
+  const auto r = kernels::ComposeAccelerations(X.linear, X.angular, Y.linear, Y.angular, V_X.linear,
+                                               V_X.angular, W_Y.value);
   return Acceleration{*s, r.linear, r.angular};
 }
 

@@ -16,10 +16,10 @@
 //   Wrench              force = f, moment = m about the point e, both in [r]
 //   Power               value = f.v + m.w, the power delivered to C by D (W)
 //
-// Positions, velocities, twists, accelerations and wrenches are 3-vectors in every backend (no constraints), so they are
-// not templates. Invariant (established by Make*, kept by every operation): numbers are finite,
-// rotations proper and normalized, semantics admitted by the backend.
-// Cost: fixed-size values, trivially copyable, no allocation.
+// Positions, velocities, twists, accelerations and wrenches are 3-vectors in every backend (no
+// constraints), so they are not templates. Invariant (established by Make*, kept by every
+// operation): numbers are finite, rotations proper and normalized, semantics admitted by the
+// backend. Cost: fixed-size values, trivially copyable, no allocation.
 #pragma once
 
 #include <Eigen/Core>
