@@ -86,8 +86,10 @@ std::string Describe(const MismatchSide& s, const NameTable& names) {
       break;
     case Field::kBody:
     case Field::kRefBody:
-      // No name: a wrench by several bodies (a sum), the one body field that may be empty.
-      value = s.name.is_valid() ? Str(names, s.name) : std::string("(several bodies)");
+      // A wrench by several bodies (a sum) has no by body: the one body field that may be empty.
+      value = s.relation == RelationKind::kWrench && !s.name.is_valid()
+                  ? std::string("(several bodies)")
+                  : Str(names, s.name);
       break;
   }
   if (s.body.is_valid()) value += "|" + Str(names, s.body);
