@@ -5,7 +5,8 @@
 #
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
-#             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
+#             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics and wrench
+#             cross-check tests) libdart-dev (the acceleration cross-check tests)
 #   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
@@ -22,9 +23,9 @@
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; }
 
-packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
+packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev libdart-dev)
 for arg in "$@"; do
   case "$arg" in
     --clang) packages+=(clang libclang-rt-14-dev clang-format) ;;
