@@ -20,8 +20,8 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.h"
 #include "live_scene.h"
-#include "ros_child.h"
 #include "semgraph/ros_dds/broadcaster.h"
 
 namespace semgraph::ros_dds {
@@ -30,7 +30,7 @@ namespace {
 using namespace std::chrono_literals;
 using core::PoseSpec;
 using core::SceneGraph;
-using ros_dds_test::Child;
+using dds_test::Child;
 using ros_dds_test::kStep;
 using ros_dds_test::kT0;
 
