@@ -1,10 +1,8 @@
 // semgraph echo --ros / check --ros / serve --ros (ros_live_commands.h; docs/ros.md).
 #include "ros_live_commands.h"
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
@@ -16,6 +14,7 @@
 #include <vector>
 
 #include "bag_commands.h"
+#include "live_command.h"
 #include "script_runner.h"
 #include "semgraph/ros_dds/broadcaster.h"
 #include "semgraph/ros_dds/listener.h"
@@ -54,9 +53,6 @@ Options:
   --window S        the graph's history window in seconds (default 10, tf2's buffer)
 Configure DDS with CYCLONEDDS_URI (interfaces, peers): docs/ros.md, "Live ROS 2".
 )";
-
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop.store(true); }
 
 struct Args {
   std::vector<std::string> positional;
@@ -136,11 +132,6 @@ int Usage(const std::string& problem) {
   return kExitMalformed;
 }
 
-bool TimeUp(Clock::time_point start, double seconds) {
-  return g_stop.load() ||
-         (seconds >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= seconds);
-}
-
 std::string Vec(const Eigen::Vector3d& v) {
   return "[" + JsonNumber(v.x()) + ", " + JsonNumber(v.y()) + ", " + JsonNumber(v.z()) + "]";
 }
@@ -192,7 +183,7 @@ int Echo(const Args& a) {
   const auto period = std::chrono::duration<double>(1.0 / a.rate);
   long printed = 0, answered = 0;
   auto next = Clock::now();
-  while (!TimeUp(start, a.seconds) && (a.count < 0 || printed < a.count)) {
+  while (!live::TimeUp(start, a.seconds) && (a.count < 0 || printed < a.count)) {
     std::this_thread::sleep_until(next);
     next += std::chrono::duration_cast<Clock::duration>(period);
     std::string line;
@@ -231,7 +222,7 @@ int Check(const Args& a) {
   if (!listener) return Usage(listener.error());
   const auto start = Clock::now();
   auto last = start;  // the last time grown groups were printed again
-  while (!TimeUp(start, a.seconds)) {
+  while (!live::TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (Clock::now() - last < std::chrono::seconds(1)) continue;
     last = Clock::now();
@@ -286,7 +277,7 @@ int Serve(const Args& a) {
   // (a reader that has just matched may still drop a writer's next sample).
   std::uint32_t subscribers = b.subscribers_matched();
   std::optional<Clock::time_point> resend;
-  while (!TimeUp(start, a.seconds)) {
+  while (!live::TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const std::uint32_t now = b.subscribers_matched();
     if (now > subscribers) resend = Clock::now() + std::chrono::milliseconds(300);
@@ -307,25 +298,14 @@ int Serve(const Args& a) {
 bool IsRosLiveCommand(int argc, char** argv) {
   if (argc < 2) return false;
   const std::string_view c = argv[1];
-  if (c != "echo" && c != "check" && c != "serve") return false;
-  for (int i = 2; i < argc; ++i) {
-    if (std::string_view(argv[i]) == "--ros") return true;
-  }
-  return false;
+  return (c == "echo" || c == "check" || c == "serve") && live::HasFlag(argc, argv, "--ros");
 }
 
 int RunRosLiveCommand(int argc, char** argv) {
-  for (int i = 2; i < argc; ++i) {
-    const std::string_view s = argv[i];
-    if (s == "--help" || s == "-h") {
-      std::fwrite(kRosUsage.data(), 1, kRosUsage.size(), stdout);
-      return kExitOk;
-    }
-  }
+  if (live::PrintedHelp(argc, argv, kRosUsage)) return kExitOk;
   const Args a = Parse(argc, argv);
   if (!a.error.empty()) return Usage(a.error);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  live::StopOnSignals();
   const std::string_view c = argv[1];
   if (c == "echo") return Echo(a);
   if (c == "check") return Check(a);
