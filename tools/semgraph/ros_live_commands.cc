@@ -29,7 +29,7 @@ constexpr std::string_view kRosUsage =
     R"(Usage: semgraph echo --ros pose OF WRT [--in FRAME] [--rate HZ] [--count N]
                             [OPTIONS]
        semgraph check --ros [--window S] [OPTIONS]
-       semgraph serve --ros FILE [OPTIONS]
+       semgraph serve --ros FILE [--subscribers N] [OPTIONS]
 
 Live ROS 2 over DDS (rt/tf, rt/tf_static, rt/joint_states, rt/robot_description), no ROS
 installation needed:
@@ -43,7 +43,8 @@ installation needed:
                at the end; exit 0 clean, 1 findings
   serve --ros  apply the scene script FILE and publish its graph as tf until stopped (Ctrl-C)
                or --seconds pass: stamped edges' samples on /tf (again when a new subscriber
-               appears), timeless edges in one /tf_static message
+               appears), timeless edges in one /tf_static message; with --subscribers N, the
+               first /tf samples wait until N subscribers are matched and in sync
 
 Options:
   --domain N        DDS domain (default: ROS_DOMAIN_ID, else 0)
@@ -60,6 +61,7 @@ struct Args {
   double seconds = -1;
   double rate = 1.0;
   long count = -1;
+  std::uint32_t subscribers = 0;
   double window = 10.0;
   std::string in;
   ros::LiftOptions lift;
@@ -106,6 +108,12 @@ Args Parse(int argc, char** argv) {
     } else if (s == "--count") {
       number(&n, true);
       a.count = static_cast<long>(n);
+    } else if (s == "--subscribers") {
+      number(&n, true);
+      if (a.error.empty() && (n > 1000 || n != std::floor(n))) {
+        a.error = "--subscribers needs an integer from 1 to 1000";
+      }
+      a.subscribers = static_cast<std::uint32_t>(n);
     } else if (s == "--in") {
       if (const char* v = value()) a.in = v;
     } else if (s == "--static") {
@@ -264,6 +272,12 @@ int Serve(const Args& a) {
   auto broadcaster = ros_dds::Broadcaster::Create(graph, {a.domain, {}});
   if (!broadcaster) return Usage(broadcaster.error());
   ros_dds::Broadcaster& b = **broadcaster;
+  const auto start = Clock::now();
+  // --subscribers N: the first /tf samples go out once N readers are matched and in sync (they
+  // reach them); waited for in short slices so that Ctrl-C and --seconds still stop it.
+  while (a.subscribers > 0 && !live::TimeUp(start, a.seconds) &&
+         !b.WaitForSubscribers(a.subscribers, std::chrono::milliseconds(200))) {
+  }
   auto sent = b.Broadcast();
   if (!sent) {
     std::fprintf(stderr, "semgraph: %s\n", sent.error().c_str());
@@ -272,23 +286,22 @@ int Serve(const Args& a) {
   std::printf("{\"serving\": \"ros\", \"domain\": %u, \"tf\": %zu, \"tf_static\": %zu}\n",
               b.domain(), sent->tf_transforms, b.last_static().transforms.size());
   std::fflush(stdout);
-  const auto start = Clock::now();
-  // rt/tf is volatile: the samples go again for each new subscriber, 300 ms after it matched
-  // (a reader that has just matched may still drop a writer's next sample).
+  // rt/tf is volatile: each new subscriber gets the stored samples again, once the matched
+  // readers are in sync (WaitForSubscribers), so that they reach it; the others get identical
+  // restatements.
   std::uint32_t subscribers = b.subscribers_matched();
-  std::optional<Clock::time_point> resend;
   while (!live::TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const std::uint32_t now = b.subscribers_matched();
-    if (now > subscribers) resend = Clock::now() + std::chrono::milliseconds(300);
-    if (resend && Clock::now() >= *resend) {
-      resend.reset();
-      b.Rewind();
-      if (auto again = b.Broadcast(); !again) {
-        std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());
-      }
-    }
+    if (now == subscribers) continue;
     subscribers = now;
+    if (auto synced = b.WaitForSubscribers(1, std::chrono::seconds(2)); !synced) {
+      std::fprintf(stderr, "semgraph: %s\n", synced.error().c_str());
+    }
+    b.Rewind();
+    if (auto again = b.Broadcast(); !again) {
+      std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());
+    }
   }
   return run.status;
 }

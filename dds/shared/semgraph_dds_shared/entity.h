@@ -3,9 +3,13 @@
 // other (CMake target semgraph_dds_shared, header-only, never installed).
 //   Entity  owns one DDS entity (participant, topic, reader, writer, waitset, condition) and
 //           deletes it, with its children, on destruction.
+//   SyncWithReaders  waits until a writer has matched readers and each of them is in sync with
+//           it (every later sample reaches it).
 #pragma once
 
 #include <dds/dds.h>
+
+#include <cstdint>
 
 namespace semgraph::dds_shared {
 
@@ -35,5 +39,39 @@ class Entity {
  private:
   dds_entity_t e_ = 0;
 };
+
+/// Waits, at most `timeout`, until `writer` (of a keyless topic) has matched at least `count`
+/// readers and each reader matched then has acknowledged it. Why both, on a volatile topic:
+/// a sample written before the writer matched a reader never reaches it, and the reader's own
+/// matched status may show the writer earlier than the writer's shows the reader; and a
+/// reader drops a writer's data until it has had the writer's first heartbeat (Cyclone then
+/// recovers it from the writer's history, other DDS readers may count it as missed). An
+/// acknowledgement answers a heartbeat: once every matched reader acknowledged a message
+/// written after the match, every later sample reaches it (reliable QoS).
+/// The message is `key_sample` unregistered: no data, a sequence number only (readers take it
+/// as an invalid sample, which ROS 2 and semgraph's listener skip; a later write registers the
+/// instance again). `key_sample`: any sample of the topic (its key fields, none here).
+/// Returns DDS_RETCODE_OK, DDS_RETCODE_TIMEOUT, or DDS's error. Blocks: not for real-time code.
+inline dds_return_t SyncWithReaders(dds_entity_t writer, std::uint32_t count,
+                                    dds_duration_t timeout, const void* key_sample) {
+  const dds_time_t deadline = dds_time() + timeout;
+  // Event-driven: the writer's status condition wakes the waitset on each match change.
+  dds_return_t rc = dds_set_status_mask(writer, DDS_PUBLICATION_MATCHED_STATUS);
+  if (rc != DDS_RETCODE_OK) return rc;
+  Entity waitset(dds_create_waitset(dds_get_participant(writer)));
+  if (!waitset.ok()) return waitset.get();
+  if ((rc = dds_waitset_attach(waitset.get(), writer, 0)) != DDS_RETCODE_OK) return rc;
+  dds_publication_matched_status_t status{};
+  for (;;) {
+    if ((rc = dds_get_publication_matched_status(writer, &status)) != DDS_RETCODE_OK) return rc;
+    if (status.current_count >= count) break;
+    if (dds_time() >= deadline) return DDS_RETCODE_TIMEOUT;
+    if ((rc = dds_waitset_wait_until(waitset.get(), nullptr, 0, deadline)) < 0) return rc;
+  }
+  if (status.current_count == 0) return DDS_RETCODE_OK;  // no reader to sync with
+  if ((rc = dds_unregister_instance(writer, key_sample)) != DDS_RETCODE_OK) return rc;
+  const dds_time_t now = dds_time();
+  return dds_wait_for_acks(writer, deadline > now ? deadline - now : 0);
+}
 
 }  // namespace semgraph::dds_shared
