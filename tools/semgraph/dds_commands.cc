@@ -124,7 +124,9 @@ int Serve(const Args& a) {
               JsonString(owner).c_str(), graph.num_pose_edges(), graph.num_twist_edges());
   std::fflush(stdout);
   const auto start = Clock::now();
-  while (!live::TimeUp(start, a.seconds)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  while (!live::TimeUp(start, a.seconds)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   return run.status;
 }
 
