@@ -8,6 +8,7 @@
 #include <map>
 
 #include "child_process.h"
+#include "dds_isolation.h"
 #include "scenes.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/dds/mirror.h"

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "dds_isolation.h"
 #include "ros2_messages.h"
 
 namespace semgraph::ros_dds {

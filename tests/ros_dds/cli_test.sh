@@ -7,6 +7,10 @@
 #    independent raw writer): its finding as a JSON line, the summary, exit 1.
 #   cli_test.sh SEMGRAPH_BINARY TEST_NODE SCRIPT
 set -euo pipefail
+# This run's own discovery tag (as tests/dds/dds_isolation.h): Cyclone DDS ignores participants
+# with another tag, e.g. the same test run at the same time from another checkout.
+tag="semgraph-test-$$-$RANDOM$RANDOM"
+export CYCLONEDDS_URI="${CYCLONEDDS_URI:+$CYCLONEDDS_URI,}<Discovery><Tag>$tag</Tag></Discovery>"
 tool="$1"
 node="$2"
 script="$3"

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "child_process.h"
+#include "dds_isolation.h"
 #include "live_scene.h"
 #include "semgraph/ros_dds/broadcaster.h"
 
