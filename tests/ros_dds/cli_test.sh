@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # semgraph serve --ros + echo --ros + check --ros on loopback (DDS domains 149, 150):
-#  - the pose echo --ros prints for what serve --ros broadcasts equals the answer `semgraph run`
+#  - the pose echo --ros prints for what serve --ros broadcasts (its first /tf samples wait for
+#    echo: --subscribers 1) equals the answer `semgraph run`
 #    prints for the same query on the same script, within 1e-12;
 #  - check --ros on that clean stream: no finding, exit 0;
 #  - check --ros on a stream with a second parent for a frame (ros_dds_test_node, an
@@ -15,7 +16,7 @@ tool="$1"
 node="$2"
 script="$3"
 out="$(mktemp -d)"
-"$tool" serve --ros "$script" --domain 149 --seconds 15 > "$out/serve" &
+"$tool" serve --ros "$script" --domain 149 --subscribers 1 --seconds 15 > "$out/serve" &
 serve_pid=$!
 trap 'kill -9 $serve_pid 2>/dev/null || true; rm -rf "$out"' EXIT
 "$tool" echo --ros pose camera arm --domain 149 --rate 10 --seconds 8 > "$out/echo" || true
