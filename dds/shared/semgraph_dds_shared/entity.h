@@ -3,6 +3,7 @@
 // other (CMake target semgraph_dds_shared, header-only, never installed).
 //   Entity  owns one DDS entity (participant, topic, reader, writer, waitset, condition) and
 //           deletes it, with its children, on destruction.
+//   WaitForMatches   waits until a writer has matched readers (the writer's side).
 //   SyncWithReaders  waits until a writer has matched readers and each of them is in sync with
 //           it (every later sample reaches it).
 #pragma once
@@ -40,6 +41,31 @@ class Entity {
   dds_entity_t e_ = 0;
 };
 
+/// Waits until `writer` has matched at least `count` readers (the writer's side: from then on
+/// it keeps every sample for them until acknowledged), or until `deadline`. Woken by the
+/// writer's publication-matched status on a waitset, and rechecked every 10 ms (a listener on
+/// the writer may consume the status); sets the writer's status mask to that status alone.
+/// `*matched`: the count last seen. Returns
+/// DDS_RETCODE_OK, DDS_RETCODE_TIMEOUT, or DDS's error. Blocks: not for real-time code.
+inline dds_return_t WaitForMatches(dds_entity_t writer, std::uint32_t count, dds_time_t deadline,
+                                   std::uint32_t* matched) {
+  dds_return_t rc = dds_set_status_mask(writer, DDS_PUBLICATION_MATCHED_STATUS);
+  if (rc != DDS_RETCODE_OK) return rc;
+  Entity waitset(dds_create_waitset(dds_get_participant(writer)));
+  if (!waitset.ok()) return waitset.get();
+  if ((rc = dds_waitset_attach(waitset.get(), writer, 0)) != DDS_RETCODE_OK) return rc;
+  for (;;) {
+    dds_publication_matched_status_t status{};
+    if ((rc = dds_get_publication_matched_status(writer, &status)) != DDS_RETCODE_OK) return rc;
+    *matched = status.current_count;
+    if (status.current_count >= count) return DDS_RETCODE_OK;
+    const dds_time_t now = dds_time();
+    if (now >= deadline) return DDS_RETCODE_TIMEOUT;
+    const dds_time_t wake = deadline - now < DDS_MSECS(10) ? deadline : now + DDS_MSECS(10);
+    if ((rc = dds_waitset_wait_until(waitset.get(), nullptr, 0, wake)) < 0) return rc;
+  }
+}
+
 /// Waits, at most `timeout`, until `writer` (of a keyless topic) has matched at least `count`
 /// readers and each reader matched then has acknowledged it. Why both, on a volatile topic:
 /// a sample written before the writer matched a reader never reaches it, and the reader's own
@@ -55,20 +81,9 @@ class Entity {
 inline dds_return_t SyncWithReaders(dds_entity_t writer, std::uint32_t count,
                                     dds_duration_t timeout, const void* key_sample) {
   const dds_time_t deadline = dds_time() + timeout;
-  // Event-driven: the writer's status condition wakes the waitset on each match change.
-  dds_return_t rc = dds_set_status_mask(writer, DDS_PUBLICATION_MATCHED_STATUS);
-  if (rc != DDS_RETCODE_OK) return rc;
-  Entity waitset(dds_create_waitset(dds_get_participant(writer)));
-  if (!waitset.ok()) return waitset.get();
-  if ((rc = dds_waitset_attach(waitset.get(), writer, 0)) != DDS_RETCODE_OK) return rc;
-  dds_publication_matched_status_t status{};
-  for (;;) {
-    if ((rc = dds_get_publication_matched_status(writer, &status)) != DDS_RETCODE_OK) return rc;
-    if (status.current_count >= count) break;
-    if (dds_time() >= deadline) return DDS_RETCODE_TIMEOUT;
-    if ((rc = dds_waitset_wait_until(waitset.get(), nullptr, 0, deadline)) < 0) return rc;
-  }
-  if (status.current_count == 0) return DDS_RETCODE_OK;  // no reader to sync with
+  std::uint32_t matched = 0;
+  dds_return_t rc = WaitForMatches(writer, count, deadline, &matched);
+  if (rc != DDS_RETCODE_OK || matched == 0) return rc;  // matched == 0: no reader to sync
   if ((rc = dds_unregister_instance(writer, key_sample)) != DDS_RETCODE_OK) return rc;
   const dds_time_t now = dds_time();
   return dds_wait_for_acks(writer, deadline > now ? deadline - now : 0);
