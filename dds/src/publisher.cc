@@ -540,7 +540,8 @@ base::Expected<base::Ok, std::string> Publisher::WaitForMirrors(
     std::uint32_t count, std::chrono::milliseconds timeout) {
   const Impl& m = *impl_;
   const dds_time_t deadline = dds_time() + DDS_MSECS(timeout.count());
-  for (const Entity* w : {&m.structure_writer, &m.value_writer, &m.sample_writer, &m.batch_writer}) {
+  for (const Entity* w :
+       {&m.structure_writer, &m.value_writer, &m.sample_writer, &m.batch_writer}) {
     std::uint32_t matched = 0;
     const dds_return_t rc = dds_shared::WaitForMatches(w->get(), count, deadline, &matched);
     if (rc == DDS_RETCODE_TIMEOUT) {
