@@ -9,10 +9,9 @@
 namespace semgraph::coord {
 namespace {
 
-CovarianceCheck Refuse(ErrorCode code, ValueProblem problem, int row, int col, double value,
-                       double other, double limit) noexcept {
-  return CovarianceCheck{code,  problem, static_cast<std::uint8_t>(row),
-                         static_cast<std::uint8_t>(col), value, other, limit};
+CovarianceCheck Refuse(CovarianceProblem problem, int row, int col, double value, double other,
+                       double limit) noexcept {
+  return CovarianceCheck{problem, row, col, value, other, limit};
 }
 
 // diag(R, R) as a 6x6 (the same rotation on both halves).
@@ -25,12 +24,34 @@ Covariance6 BlockDiagonal(const Eigen::Matrix3d& R) noexcept {
 
 }  // namespace
 
+ErrorCode CovarianceCheck::code() const noexcept {
+  if (ok()) return ErrorCode::kOk;
+  return is_number_problem() ? ErrorCode::kInvalidNumber : ErrorCode::kInvalidCovariance;
+}
+
 Error CovarianceCheck::error() const noexcept {
   Error e;
-  e.code = code;
+  e.code = code();
+  ValueProblem p = ValueProblem::kNone;
   double magnitude = value;
-  if (problem == ValueProblem::kNotSymmetric) magnitude = std::abs(value - other);
-  e.value = ValueDetail{problem, ValueRole::kCovariance, static_cast<std::uint8_t>(6 * row + col),
+  switch (problem) {
+    case CovarianceProblem::kNone:
+      break;
+    case CovarianceProblem::kNotFinite:
+      p = ValueProblem::kNotFinite;
+      break;
+    case CovarianceProblem::kTooLarge:
+      p = ValueProblem::kTooLarge;
+      break;
+    case CovarianceProblem::kNotSymmetric:
+      p = ValueProblem::kNotSymmetric;
+      magnitude = std::abs(value - other);
+      break;
+    case CovarianceProblem::kNotPositive:
+      p = ValueProblem::kNegativeEigenvalue;
+      break;
+  }
+  e.value = ValueDetail{p, ValueRole::kCovariance, static_cast<std::uint8_t>(6 * row + col),
                         magnitude};
   return e;
 }
@@ -42,11 +63,10 @@ CovarianceCheck CheckCovariance(const Covariance6& sigma) noexcept {
     for (int c = 0; c < 6; ++c) {
       const double x = sigma(r, c);
       if (!std::isfinite(x)) {
-        return Refuse(ErrorCode::kInvalidNumber, ValueProblem::kNotFinite, r, c, x, 0.0, 0.0);
+        return Refuse(CovarianceProblem::kNotFinite, r, c, x, 0.0, 0.0);
       }
       if (std::abs(x) > kMaxMagnitude) {
-        return Refuse(ErrorCode::kInvalidNumber, ValueProblem::kTooLarge, r, c, x, 0.0,
-                      kMaxMagnitude);
+        return Refuse(CovarianceProblem::kTooLarge, r, c, x, 0.0, kMaxMagnitude);
       }
       largest = std::max(largest, std::abs(x));
     }
@@ -55,8 +75,7 @@ CovarianceCheck CheckCovariance(const Covariance6& sigma) noexcept {
   for (int r = 0; r < 6; ++r) {
     for (int c = r + 1; c < 6; ++c) {
       if (std::abs(sigma(r, c) - sigma(c, r)) > tol) {
-        return Refuse(ErrorCode::kInvalidCovariance, ValueProblem::kNotSymmetric, r, c,
-                      sigma(r, c), sigma(c, r), tol);
+        return Refuse(CovarianceProblem::kNotSymmetric, r, c, sigma(r, c), sigma(c, r), tol);
       }
     }
   }
@@ -65,8 +84,7 @@ CovarianceCheck CheckCovariance(const Covariance6& sigma) noexcept {
                                                          Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues()[0];  // ascending
   if (!(smallest >= -tol)) {
-    return Refuse(ErrorCode::kInvalidCovariance, ValueProblem::kNegativeEigenvalue, 0, 0, smallest,
-                  0.0, -tol);
+    return Refuse(CovarianceProblem::kNotPositive, 0, 0, smallest, 0.0, -tol);
   }
   return CovarianceCheck{};
 }
@@ -75,16 +93,17 @@ Covariance6 Symmetrized(const Covariance6& sigma) noexcept {
   return 0.5 * (sigma + sigma.transpose());
 }
 
-Covariance6 Reordered(const Covariance6& sigma, CovarianceOrder from,
-                      CovarianceOrder to) noexcept {
-  if (from == to) return sigma;
-  // The permutation swapping the two halves is its own inverse, so one formula serves both ways.
+Covariance6 SwapHalves(const Covariance6& sigma) noexcept {
   Covariance6 out;
   out.topLeftCorner<3, 3>() = sigma.bottomRightCorner<3, 3>();
   out.bottomRightCorner<3, 3>() = sigma.topLeftCorner<3, 3>();
   out.topRightCorner<3, 3>() = sigma.bottomLeftCorner<3, 3>();
   out.bottomLeftCorner<3, 3>() = sigma.topRightCorner<3, 3>();
   return out;
+}
+
+Covariance6 Reorder(const Covariance6& sigma, CovarianceOrder order) noexcept {
+  return order == CovarianceOrder::kLinearAngular ? sigma : SwapHalves(sigma);
 }
 
 Covariance6 BodyToCoordinates(const Eigen::Matrix3d& R_TH, const Covariance6& sigma_body) noexcept {
@@ -104,7 +123,7 @@ base::Expected<Covariance6, CovarianceCheck> PoseCovarianceToEdgeForm(
     const Eigen::Matrix3d& R_TH) noexcept {
   const CovarianceCheck check = CheckCovariance(sigma);
   if (!check.ok()) return base::Unexpected{check};
-  Covariance6 out = Reordered(sigma, order, CovarianceOrder::kLinearAngular);
+  Covariance6 out = Reorder(sigma, order);
   if (convention == PoseCovarianceConvention::kBody) out = BodyToCoordinates(R_TH, out);
   return Symmetrized(out);
 }
@@ -114,14 +133,14 @@ Covariance6 PoseCovarianceFromEdgeForm(const Covariance6& sigma_edge, Covariance
                                        const Eigen::Matrix3d& R_TH) noexcept {
   Covariance6 out = sigma_edge;
   if (convention == PoseCovarianceConvention::kBody) out = CoordinatesToBody(R_TH, out);
-  return Symmetrized(Reordered(out, CovarianceOrder::kLinearAngular, order));
+  return Symmetrized(Reorder(out, order));
 }
 
 base::Expected<Covariance6, CovarianceCheck> TwistCovarianceToEdgeForm(
     const Covariance6& sigma, CovarianceOrder order) noexcept {
   const CovarianceCheck check = CheckCovariance(sigma);
   if (!check.ok()) return base::Unexpected{check};
-  return Symmetrized(Reordered(sigma, order, CovarianceOrder::kLinearAngular));
+  return Symmetrized(Reorder(sigma, order));
 }
 
 std::string Describe(const CovarianceCheck& check) {
@@ -130,24 +149,23 @@ std::string Describe(const CovarianceCheck& check) {
   };
   const std::string at = "covariance entry " + entry(check.row, check.col);
   switch (check.problem) {
-    case ValueProblem::kNone:
+    case CovarianceProblem::kNone:
       return "ok";
-    case ValueProblem::kNotFinite:
+    case CovarianceProblem::kNotFinite:
       return at + " is " + FormatNumber(check.value) + " (must be finite)";
-    case ValueProblem::kTooLarge:
+    case CovarianceProblem::kTooLarge:
       return at + " is " + FormatNumber(check.value) + " (magnitude above " +
              FormatNumber(kMaxMagnitude) + ")";
-    case ValueProblem::kNotSymmetric:
+    case CovarianceProblem::kNotSymmetric:
       return at + " = " + FormatNumber(check.value) + " differs from entry " +
              entry(check.col, check.row) + " = " + FormatNumber(check.other) + " by " +
              FormatNumber(std::abs(check.value - check.other)) + " (more than " +
              FormatNumber(check.limit) + ": not symmetric)";
-    case ValueProblem::kNegativeEigenvalue:
+    case CovarianceProblem::kNotPositive:
       return "covariance has eigenvalue " + FormatNumber(check.value) + " (below " +
              FormatNumber(check.limit) + ": not positive semi-definite)";
-    default:
-      return std::string(base::ToString(check.code));
   }
+  return "ok";
 }
 
 }  // namespace semgraph::coord

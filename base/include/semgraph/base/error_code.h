@@ -62,8 +62,8 @@ enum class ErrorCode : std::uint8_t {
   kJointLimit,
   kMimicJoint,
   kJointEdge,
-  // Uncertainty (docs/uncertainty.md): checked right after invalid_rotation; listed last so
-  // that the earlier codes keep their values.
+  // Uncertainty (docs/uncertainty.md): checked right after invalid_rotation; appended here so
+  // that the other codes keep their values.
   kInvalidCovariance,
 };
 

@@ -57,23 +57,35 @@ enum class PoseCovarianceConvention : std::uint8_t {
 /// Relative tolerance of the symmetry and eigenvalue checks (times max(1, max |S(i,j)|)).
 inline constexpr double kCovarianceTolerance = 1e-9;
 
+/// What is wrong with a covariance: the first problem found, in the checks' order.
+enum class CovarianceProblem : std::uint8_t {
+  kNone,
+  kNotFinite,     ///< invalid_number: an entry is NaN or infinite
+  kTooLarge,      ///< invalid_number: |entry| > kMaxMagnitude
+  kNotSymmetric,  ///< invalid_covariance: |S(i,j) - S(j,i)| > tol
+  kNotPositive,   ///< invalid_covariance: an eigenvalue of (S + S^T)/2 below -tol
+};
+
 /// The verdict of CheckCovariance: small, trivially copyable, no strings. Describe formats it.
 struct CovarianceCheck {
-  ErrorCode code = ErrorCode::kOk;  ///< kOk, kInvalidNumber or kInvalidCovariance
-  /// kNotFinite, kTooLarge (invalid_number); kNotSymmetric, kNegativeEigenvalue
-  /// (invalid_covariance); kNone when ok.
-  ValueProblem problem = ValueProblem::kNone;
-  /// The entry (row, col) as given; kNegativeEigenvalue: row = col = the eigenvalue's index in
-  /// ascending order (0, the smallest).
-  std::uint8_t row = 0;
-  std::uint8_t col = 0;
-  double value = 0.0;  ///< the entry S(row, col), or the eigenvalue
+  CovarianceProblem problem = CovarianceProblem::kNone;
+  /// The entry (row, col) as given (kNotFinite, kTooLarge, kNotSymmetric: the upper one, i < j);
+  /// 0, 0 for kNotPositive.
+  int row = 0;
+  int col = 0;
+  double value = 0.0;  ///< the entry S(row, col), or the smallest eigenvalue (kNotPositive)
   double other = 0.0;  ///< kNotSymmetric: S(col, row)
-  double limit = 0.0;  ///< the bound broken: kMaxMagnitude, tol, or -tol (eigenvalue)
+  double limit = 0.0;  ///< the bound broken: kMaxMagnitude, tol, or -tol (kNotPositive)
 
-  [[nodiscard]] bool ok() const noexcept { return code == ErrorCode::kOk; }
-  /// As a coord::Error (role kCovariance, component 6 * row + col, magnitude: the entry, the
-  /// asymmetry |S(row,col) - S(col,row)|, or the eigenvalue), for callers that carry one.
+  [[nodiscard]] bool ok() const noexcept { return problem == CovarianceProblem::kNone; }
+  [[nodiscard]] bool is_number_problem() const noexcept {
+    return problem == CovarianceProblem::kNotFinite || problem == CovarianceProblem::kTooLarge;
+  }
+  /// kOk, kInvalidNumber or kInvalidCovariance.
+  [[nodiscard]] SEMGRAPH_COORD_EXPORT ErrorCode code() const noexcept;
+  /// As a coord::Error (role kCovariance, component 6 * row + col, problem kNotFinite,
+  /// kTooLarge, kNotSymmetric or kNegativeEigenvalue, magnitude: the entry, the asymmetry
+  /// |S(row,col) - S(col,row)|, or the eigenvalue), for callers that carry one.
   [[nodiscard]] SEMGRAPH_COORD_EXPORT Error error() const noexcept;
 };
 
@@ -84,10 +96,13 @@ struct CovarianceCheck {
 /// (S + S^T) / 2.
 [[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 Symmetrized(const Covariance6& sigma) noexcept;
 
-/// `sigma` in order `from`, rewritten in order `to` (swaps the 3x3 blocks when they differ).
-[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 Reordered(const Covariance6& sigma,
-                                                          CovarianceOrder from,
-                                                          CovarianceOrder to) noexcept;
+/// `sigma` with its linear and angular halves swapped: an involution, so the same call converts
+/// either way between kLinearAngular and kAngularLinear.
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 SwapHalves(const Covariance6& sigma) noexcept;
+/// `sigma` given in `order`, as kLinearAngular; or, the same swap, a kLinearAngular `sigma`
+/// written in `order`.
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 Reorder(const Covariance6& sigma,
+                                                        CovarianceOrder order) noexcept;
 
 /// kBody -> kCoordinates for an edge-form pose with rotation R_TH (= R[t<-h]), linear-angular
 /// order: diag(R, R) S diag(R, R)^T.
