@@ -214,39 +214,78 @@ struct TwistStepInZ {
   return J;
 }
 
-/// d(answer) / d(pose edge) for a twist answer at e in [r]: the sum over its twist steps of
-/// the moved points and rotated twists (v_Z = a_Z + w_Z x (h - e)), then [r]'s rotation.
-/// `answer_Z` is the whole answer in Z (v at e, w); m_e, m_r whether e, [r] move.
-template <class Steps>
-[[nodiscard]] Matrix6 PoseEdgeOnTwist(const Matrix3d& R_RZ, const Vector3d& p_ZoEo_Z,
-                                      const Vector3d& v_answer_Z, const Vector3d& w_answer_Z,
-                                      const Steps& steps, const EdgeInZ& edge, bool m_e,
-                                      bool m_r) noexcept {
-  const Vector3d& g = edge.p_ZoGo_Z;
-  const Vector3d& e = p_ZoEo_Z;
+/// A pose edge's Jacobian on a twist answer, accumulated step by step (in Z, per (t, x)):
+/// the moved points and rotated twists of the steps (v_Z = a_Z + w_Z x (h - e)), e's motion,
+/// then [r]'s rotation and the edge's axes (Finish).
+struct PoseEdgeOnTwistSum {
   Matrix3d Vx = Matrix3d::Zero(), Vt = Matrix3d::Zero(), Wx = Matrix3d::Zero();
-  for (const TwistStepInZ& st : steps) {
+
+  /// One step; m_e whether e moves with the edge.
+  void Add(const TwistStepInZ& st, const Vector3d& p_ZoEo_Z, const EdgeInZ& edge,
+           bool m_e) noexcept {
     const Matrix3d Wh = Hat(st.w_Z);
     if (st.moves) {  // h and [h] move: the step's twist rotates by x, h moves with (t, x)
       const Vector3d& h = st.p_ZoHo_Z;
-      Vx += -Hat(st.a_Z) + Hat(h - e) * Wh - Wh * Hat(h - g);
+      Vx += -Hat(st.a_Z) + Hat(h - p_ZoEo_Z) * Wh - Wh * Hat(h - edge.p_ZoGo_Z);
       Vt += Wh;
       Wx -= Wh;
     }
     if (m_e) {  // e moves: v_Z changes by -w_Z x (t + x x (e - g))
       Vt -= Wh;
-      Vx += Wh * Hat(e - g);
+      Vx += Wh * Hat(p_ZoEo_Z - edge.p_ZoGo_Z);
     }
   }
-  if (m_r) {  // [r] rotates by x: d(R_RZ y) = R_RZ [y]x x
-    Vx += Hat(v_answer_Z);
-    Wx += Hat(w_answer_Z);
+  /// Rows (dv, dw) of the answer in [r], columns the edge's (dp, dth) in [p]. `answer_Z`: the
+  /// whole answer in Z; m_r whether [r] moves (d(R_RZ y) = R_RZ [y]x x).
+  [[nodiscard]] Matrix6 Finish(const Matrix3d& R_RZ, const Vector3d& v_answer_Z,
+                               const Vector3d& w_answer_Z, const EdgeInZ& edge,
+                               bool m_r) const noexcept {
+    Matrix3d vx = Vx, wx = Wx;
+    if (m_r) {
+      vx += Hat(v_answer_Z);
+      wx += Hat(w_answer_Z);
+    }
+    Matrix6 J = Matrix6::Zero();
+    J.topLeftCorner<3, 3>() = R_RZ * Vt * edge.R_ZP;
+    J.topRightCorner<3, 3>() = R_RZ * vx * edge.R_ZP;
+    J.bottomRightCorner<3, 3>() = R_RZ * wx * edge.R_ZP;
+    return J;
   }
+};
+
+/// The same over a container of steps.
+template <class Steps>
+[[nodiscard]] Matrix6 PoseEdgeOnTwist(const Matrix3d& R_RZ, const Vector3d& p_ZoEo_Z,
+                                      const Vector3d& v_answer_Z, const Vector3d& w_answer_Z,
+                                      const Steps& steps, const EdgeInZ& edge, bool m_e,
+                                      bool m_r) noexcept {
+  PoseEdgeOnTwistSum sum;
+  for (const TwistStepInZ& st : steps) sum.Add(st, p_ZoEo_Z, edge, m_e);
+  return sum.Finish(R_RZ, v_answer_Z, w_answer_Z, edge, m_r);
+}
+
+// ============================================================ conversions of a given value
+
+/// d(answer) for a re-expression X -> (R M R^T, R p) (poses) or (R v, R w) (twists).
+[[nodiscard]] inline Matrix6 Reexpress(const Matrix3d& R) noexcept {
   Matrix6 J = Matrix6::Zero();
-  J.topLeftCorner<3, 3>() = R_RZ * Vt * edge.R_ZP;
-  J.topRightCorner<3, 3>() = R_RZ * Vx * edge.R_ZP;
-  J.bottomRightCorner<3, 3>() = R_RZ * Wx * edge.R_ZP;
+  J.topLeftCorner<3, 3>() = R;
+  J.bottomRightCorner<3, 3>() = R;
   return J;
+}
+/// d(answer) for a point moved with the pose's rotation: p -> p + R u (u fixed in the pose's
+/// own axes, d = R u): dp' = dp - [d]x dth.
+[[nodiscard]] inline Matrix6 MovePoint(const Vector3d& d) noexcept {
+  Matrix6 J = Matrix6::Identity();
+  J.topRightCorner<3, 3>() = -Hat(d);
+  return J;
+}
+/// A pose covariance in the body convention (X Exp(xi)) as coordinates: dp = R rho, dth = R phi.
+[[nodiscard]] inline Covariance6 BodyToCoordinates(const Matrix3d& R,
+                                                   const Covariance6& S_body) noexcept {
+  Covariance6 S = Covariance6::Zero();
+  AddPropagated(Reexpress(R), S_body, S);
+  return S;
 }
 
 }  // namespace semgraph::coord::jacobians
