@@ -1,9 +1,10 @@
 // Tests for coord/covariance.h: the meaning of a covariance (docs/uncertainty.md) on cases
 // worked by hand, the body -> coordinates conversion against a Jacobian measured by finite
 // differences of the exact perturbation (X Exp(xi) by the 4x4 matrix exponential, delta by
-// AngleAxis: neither is semgraph code), the orders (a GTSAM-order matrix round trip), every
-// check at its boundary (1e12, the symmetry and eigenvalue tolerances scaled by
-// max(1, max |S|)), NaN / Inf in every entry, the checks' order, the texts, and no allocation.
+// AngleAxis: neither is semgraph code), likewise the docs' formula for Barfoot's left
+// perturbation, the orders (a GTSAM-order matrix round trip), every check at its boundary
+// (1e12, the symmetry and eigenvalue tolerances scaled by max(1, max |S|)), NaN / Inf in every
+// entry, the checks' order, the texts, and no allocation.
 #include "semgraph/coord/covariance.h"
 
 #include <gtest/gtest.h>
@@ -127,6 +128,29 @@ TEST(Covariance, BodyToCoordinatesIsTheFirstOrderMapOfTheExactPerturbation) {
     const Covariance6 S = RandomCovariance(rng);
     ExpectMatrixNear(BodyToCoordinates(R, S), J * S * J.transpose(), 1e-8);
     ExpectMatrixNear(CoordinatesToBody(R, BodyToCoordinates(R, S)), S, 1e-14);
+  }
+}
+
+TEST(Covariance, LeftPerturbationFormulaOfTheDocs) {
+  // docs/uncertainty.md: Barfoot's Exp(xi^) X, xi = (rho, phi), is delta = B xi with
+  // B = [[I, -[p]x], [0, I]] (the rotation about t's origin moves h's origin by p). Measured by
+  // central differences of the exact left perturbation, as above.
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Matrix4d X = RandomPose(rng);
+    Covariance6 B = Covariance6::Identity();
+    B.topRightCorner<3, 3>() = -Hat(X.topRightCorner<3, 1>());
+    Covariance6 J;
+    const double h = 1e-6;
+    for (int k = 0; k < 6; ++k) {
+      Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
+      e[k] = h;
+      const auto left = [&](const Eigen::Matrix<double, 6, 1>& xi) {
+        return Eigen::Matrix4d(RightPerturbed(Eigen::Matrix4d::Identity(), xi) * X);
+      };
+      J.col(k) = (CoordinatesDelta(X, left(e)) - CoordinatesDelta(X, left(-e))) / (2 * h);
+    }
+    EXPECT_LT((J - B).cwiseAbs().maxCoeff(), 1e-8);
   }
 }
 
