@@ -47,8 +47,8 @@ Eigen::Matrix4d RightPerturbed(const Eigen::Matrix4d& X, const Eigen::Matrix<dou
 Eigen::Matrix<double, 6, 1> CoordinatesDelta(const Eigen::Matrix4d& X, const Eigen::Matrix4d& Xt) {
   Eigen::Matrix<double, 6, 1> d;
   d.head<3>() = Xt.topRightCorner<3, 1>() - X.topRightCorner<3, 1>();
-  const Eigen::AngleAxisd aa(Eigen::Matrix3d(Xt.topLeftCorner<3, 3>() *
-                                             X.topLeftCorner<3, 3>().transpose()));
+  const Eigen::AngleAxisd aa(
+      Eigen::Matrix3d(Xt.topLeftCorner<3, 3>() * X.topLeftCorner<3, 3>().transpose()));
   d.tail<3>() = aa.angle() * aa.axis();
   return d;
 }
@@ -122,8 +122,9 @@ TEST(Covariance, BodyToCoordinatesIsTheFirstOrderMapOfTheExactPerturbation) {
     for (int k = 0; k < 6; ++k) {
       Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
       e[k] = h;
-      J.col(k) = (CoordinatesDelta(X, RightPerturbed(X, e)) -
-                  CoordinatesDelta(X, RightPerturbed(X, -e))) / (2 * h);
+      J.col(k) =
+          (CoordinatesDelta(X, RightPerturbed(X, e)) - CoordinatesDelta(X, RightPerturbed(X, -e))) /
+          (2 * h);
     }
     const Covariance6 S = RandomCovariance(rng);
     ExpectMatrixNear(BodyToCoordinates(R, S), J * S * J.transpose(), 1e-8);
@@ -172,8 +173,7 @@ TEST(Covariance, GtsamOrderRoundTrip) {
   EXPECT_EQ(Reorder(g, CovarianceOrder::kLinearAngular), g);
 
   // Through the whole input and output path, with a rotation.
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
   const auto edge = PoseCovarianceToEdgeForm(g, CovarianceOrder::kAngularLinear,
                                              PoseCovarianceConvention::kBody, R);
   ASSERT_TRUE(edge.has_value());
