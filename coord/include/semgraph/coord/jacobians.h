@@ -281,12 +281,4 @@ template <class Steps>
   J.topRightCorner<3, 3>() = -Hat(d);
   return J;
 }
-/// A pose covariance in the body convention (X Exp(xi)) as coordinates: dp = R rho, dth = R phi.
-[[nodiscard]] inline Covariance6 BodyToCoordinates(const Matrix3d& R,
-                                                   const Covariance6& S_body) noexcept {
-  Covariance6 S = Covariance6::Zero();
-  AddPropagated(Reexpress(R), S_body, S);
-  return S;
-}
-
 }  // namespace semgraph::coord::jacobians
