@@ -47,6 +47,7 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "joint_limit",
     "mimic_joint",
     "joint_edge",
+    "invalid_covariance",
 };
 }  // namespace
 

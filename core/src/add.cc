@@ -8,8 +8,10 @@
 #include <cmath>
 
 #include "add_plan.h"
+#include "covariance_input.h"
 #include "edge_lookup.h"
 #include "name_rollback.h"
+#include "semgraph/core/propagate.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
 #include "text.h"
@@ -193,6 +195,28 @@ BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Matrix3d& 
   return AddPoseImpl(spec, R_rotation, p_position);
 }
 
+// With a covariance (docs/uncertainty.md).
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                                   const Eigen::Vector3d& p_position,
+                                   const CovarianceInput& covariance) {
+  return AddPoseImpl(spec, q_rotation, p_position, std::nullopt, &covariance);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
+                                   const Eigen::Vector3d& p_position,
+                                   const CovarianceInput& covariance) {
+  return AddPoseImpl(spec, R_rotation, p_position, std::nullopt, &covariance);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                    const Eigen::Vector3d& w_angular,
+                                    const CovarianceInput& covariance) {
+  return AddTwistImpl(spec, v_linear, w_angular, std::nullopt, &covariance);
+}
+
 // Stamped values (docs/time.md; the stamp rules live in time_add.cc).
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
@@ -216,7 +240,8 @@ template <coord::Backend B>
 template <class R>
 BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                                        const Eigen::Vector3d& p_position,
-                                       std::optional<Stamp> stamp) {
+                                       std::optional<Stamp> stamp,
+                                       const CovarianceInput* covariance) {
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::PoseAdd(spec); };  // formatted only on rejection
@@ -246,6 +271,19 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     if (!R_ok) return Reject(R_ok.error().code, what(), coord::Describe(R_ok.error(), names));
     M = B::FromMatrix(*R_ok);
   }
+  // 3'. invalid_number -> invalid_covariance of a covariance (docs/uncertainty.md §2).
+  const bool has_covariance = covariance != nullptr && covariance->matrix != nullptr;
+  coord::Covariance6 S_BA;  // the covariance of the value as given, then of the edge form
+  if (has_covariance) {
+    const bool edge_form = spec.point == spec.orientation &&
+                           spec.ref_point == spec.ref_orientation &&
+                           spec.coordinate_frame == spec.ref_orientation;
+    if (auto bad = internal::CheckCovarianceInput(*covariance, edge_form, false)) {
+      return Reject(bad->code, what(), bad->message);
+    }
+    S_BA = internal::CoordinatesCovariance(*covariance, B::ToMatrix(M));
+  }
+  const coord::Covariance6* S = has_covariance ? &S_BA : nullptr;
 
   // 4-7. Node resolution (names are interned now, rolled back on rejection) -> self_edge ->
   // representation_constraint -> pose_not_convertible.
@@ -262,11 +300,12 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     const PoseSteps<ForestChain> steps = PlanChanges(t, e, a, f, b, r);
     // A stamped value is converted with the values at its stamp (docs/time.md).
     internal::TimeContext at_stamp = ConversionContext(stamp);
-    X_BA = internal::ToEdgeForm<B>(
-        internal::ForestSource<B>(topology_, values_, stamp ? &at_stamp : nullptr), steps, X_BA);
+    const internal::ForestSource<B> src(topology_, values_, stamp ? &at_stamp : nullptr);
+    X_BA = internal::ToEdgeForm<B>(src, steps, X_BA);
     if (at_stamp.error() != ErrorCode::kOk) {
       return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
     }
+    if (has_covariance) S_BA = internal::ToEdgeFormCovariance<B>(src, steps, X_BA, S_BA);
     X_BA = B::MakePose(Renormalized<B>(B::RotationOf(X_BA)), B::TranslationOf(X_BA));
   }
 
@@ -285,9 +324,20 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
           B::ToMatrix(B::RotationOf(stored)) - B::ToMatrix(B::RotationOf(X_BA));
       const Eigen::Vector3d p_stored = B::TranslationOf(stored);
       const double dp = (p_stored - B::TranslationOf(X_BA)).norm();
-      if (dR.cwiseAbs().maxCoeff() <= 1e-6 && dp <= 1e-6 * std::max(1.0, p_stored.norm())) {
+      const coord::Covariance6 S_stored = values_.PoseCovarianceOf(a.value());
+      const bool same_covariance = internal::SameCovariance(S_stored, S);
+      if (dR.cwiseAbs().maxCoeff() <= 1e-6 && dp <= 1e-6 * std::max(1.0, p_stored.norm()) &&
+          same_covariance) {
         rollback.Commit();
         return Ok{};  // same value again: accepted, stored value kept
+      }
+      if (!same_covariance) {
+        return Reject(ErrorCode::kConstantPoseChange, what(),
+                      text::Frame(t, a) + " and " + text::Frame(t, b) +
+                          " are both fixed to body " + std::string(t.body_name(t.body_of(a))) +
+                          ", so their pose and its covariance are constant; the covariance "
+                          "given differs from the stored one; remove the edge first to "
+                          "recalibrate");
       }
       return Reject(ErrorCode::kConstantPoseChange, what(),
                     text::Frame(t, a) + " and " + text::Frame(t, b) + " are both fixed to body " +
@@ -299,7 +349,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     if (const ErrorCode code = CheckPoseSample(a, X_BA, stamp); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, false, a.value(), stamp));
     }
-    StorePoseSample(a, X_BA, stamp);
+    StorePoseSample(a, X_BA, stamp, S);
     rollback.Commit();
     return Ok{};
   }
@@ -316,6 +366,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   if (stamp && !plan.same_body()) history = NewPoseHistory();
   rollback.Commit();
   const FrameIndex head = CommitAdd(plan).head;
+  values_.StorePoseCovariance(head.value(), X_BA, S);  // before the value (edge_values.h)
   values_.X_PF[head.value()].Store(X_BA);
   if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp);
   return Ok{};
@@ -332,7 +383,8 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                                         const Eigen::Vector3d& w_angular,
-                                        std::optional<Stamp> stamp) {
+                                        std::optional<Stamp> stamp,
+                                        const CovarianceInput* covariance) {
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::TwistAdd(spec); };  // formatted only on rejection
@@ -351,6 +403,15 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   if (!v_ok) return Reject(v_ok.error().code, what(), coord::Describe(v_ok.error(), names));
   auto w_ok = coord::ValidateVector(w_angular, coord::ValueRole::kAngularVelocity);
   if (!w_ok) return Reject(w_ok.error().code, what(), coord::Describe(w_ok.error(), names));
+  const bool has_covariance = covariance != nullptr && covariance->matrix != nullptr;
+  coord::Covariance6 S_V;  // as given, then at {e} in [e]
+  if (has_covariance) {
+    if (auto bad = internal::CheckCovarianceInput(*covariance, false, true)) {
+      return Reject(bad->code, what(), bad->message);
+    }
+    S_V = internal::CoordinatesCovariance(*covariance, Eigen::Matrix3d::Identity());
+  }
+  const coord::Covariance6* S = has_covariance ? &S_V : nullptr;
 
   // Node resolution: the point must be the origin of a frame on the moving body.
   ids.Intern(names, named);
@@ -396,6 +457,12 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     }
     V.v_DHo_H = B::Rotate(B::RotationOf(X_ER), V.v_DHo_H);
     V.w_DH_H = B::Rotate(B::RotationOf(X_ER), V.w_DH_H);
+    if (has_covariance) {  // re-expressed with the same rotation, taken as exact
+      coord::Covariance6 S_E = coord::Covariance6::Zero();
+      coord::jacobians::AddPropagated(
+          coord::jacobians::Reexpress(B::ToMatrix(B::RotationOf(X_ER))), S_V, S_E);
+      S_V = S_E;
+    }
   }
   // W1 -> W3; an existing edge D -> {e} is a value update.
   const BodyIndex D = plan.tail.body;
@@ -411,7 +478,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
     }
-    StoreTwistSample(existing, V, stamp);
+    StoreTwistSample(existing, V, stamp, S);
     rollback.Commit();
     return Ok{};
   }
@@ -426,6 +493,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   if (stamp) history = NewTwistHistory();
   rollback.Commit();
   const TwistEdgeIndex edge = CommitAdd(plan).twist;
+  values_.StoreTwistCovariance(edge.value(), V, S);  // before the value (edge_values.h)
   values_.V_DH[edge.value()].Store(V);
   if (history) InstallTwistHistory(edge, std::move(history), V, *stamp);
   return Ok{};
@@ -515,6 +583,7 @@ BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view rel
 template <coord::Backend B>
 void SceneGraph<B>::RemovePoseEdge(FrameIndex head) {
   topology_.CutPose(head);
+  values_.ClearPoseCovariance(head.value());
   values_.X_PF[head.value()]
       .BumpEpoch();       // compiled queries and handles using this edge become invalid
   DropPoseHistory(head);  // removing an edge drops its history
@@ -523,6 +592,7 @@ void SceneGraph<B>::RemovePoseEdge(FrameIndex head) {
 template <coord::Backend B>
 void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
   topology_.UnlinkTwist(edge);
+  values_.ClearTwistCovariance(edge.value());
   values_.V_DH[edge.value()]
       .BumpEpoch();  // compiled queries and handles using this edge become invalid
   DropTwistHistory(edge);
@@ -545,8 +615,15 @@ void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
                                               const Eigen::Vector3d&, Stamp);                     \
   template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
                                                const Eigen::Vector3d&, Stamp);                    \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
+                                              const Eigen::Vector3d&, const CovarianceInput&);    \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
+                                              const Eigen::Vector3d&, const CovarianceInput&);    \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&, const CovarianceInput&);   \
   template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,      \
-                                                   const Eigen::Vector3d&, std::optional<Stamp>); \
+                                                   const Eigen::Vector3d&, std::optional<Stamp>,  \
+                                                   const CovarianceInput*);                       \
   template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);             \
   template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);            \
   template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                        \

@@ -159,7 +159,9 @@ ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle edge, const Eigen::Quaterni
 #endif
   if (values_.history.pose_of(edge.child.value()))
     return ErrorCode::kStampMismatch;  // a stamped edge
-  values_.X_PF[edge.child.value()].Store(B::MakePose(B::FromQuaternion(q_TH), p_ToHo_T));
+  const typename B::PoseCoords X = B::MakePose(B::FromQuaternion(q_TH), p_ToHo_T);
+  values_.StorePoseCovariance(edge.child.value(), X, nullptr);  // exact: a zero covariance
+  values_.X_PF[edge.child.value()].Store(X);
   return ErrorCode::kOk;
 }
 

@@ -16,6 +16,7 @@
 #include <optional>
 #include <vector>
 
+#include "semgraph/coord/jacobians.h"
 #include "semgraph/core/scene_graph.h"
 #include "text.h"
 
@@ -51,14 +52,30 @@ void SceneGraph<B>::RerootAt(FrameIndex v) {
   std::vector<FrameIndex> path;  // v = x0, x1, ..., xk = root
   for (FrameIndex x = v; x.is_valid(); x = topology_.pose_parent(x)) path.push_back(x);
   std::vector<typename B::PoseCoords> X_old;  // X_old[i]: the edge x_{i+1} -> x_i
+  std::vector<coord::Covariance6> S_old;      // its covariance (docs/uncertainty.md)
   X_old.reserve(path.size());
-  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+  S_old.reserve(path.size());
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
     X_old.push_back(values_.X_PF[path[i].value()].Load());
+    S_old.push_back(values_.PoseCovarianceOf(path[i].value()));
+  }
   topology_.RerootPose(v);
   for (const FrameIndex x : path) values_.X_PF[x.value()].BumpEpoch();
+  values_.ClearPoseCovariance(v.value());
   values_.X_PF[v.value()].Store(B::Identity());
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    values_.X_PF[path[i + 1].value()].Store(B::InvertChain(X_old[i]));  // the edge x_i -> x_{i+1}
+    const typename B::PoseCoords X_inv = B::InvertChain(X_old[i]);  // the edge x_i -> x_{i+1}
+    if (S_old[i].isZero(0.0)) {
+      values_.StorePoseCovariance(path[i + 1].value(), X_inv, nullptr);
+    } else {  // the inverse's covariance (coord/jacobians.h)
+      coord::Covariance6 S_inv = coord::Covariance6::Zero();
+      coord::jacobians::AddPropagated(
+          coord::jacobians::Inverse(B::ToMatrix(B::RotationOf(X_old[i])),
+                                    B::TranslationOf(X_old[i])),
+          S_old[i], S_inv);
+      values_.StorePoseCovariance(path[i + 1].value(), X_inv, &S_inv);
+    }
+    values_.X_PF[path[i + 1].value()].Store(X_inv);
   }
 }
 
@@ -143,11 +160,14 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec,
   // undo by a second re-root would invert every value twice, off by rounding).
   std::vector<FrameIndex> path;
   std::vector<typename B::PoseCoords> X_saved;
+  std::vector<coord::Covariance6> S_saved;
   path.reserve(reversed + 1);
   X_saved.reserve(reversed + 1);
+  S_saved.reserve(reversed + 1);
   for (FrameIndex x = b; x.is_valid(); x = t.pose_parent(x)) {
     path.push_back(x);
     X_saved.push_back(values_.X_PF[x.value()].Load());
+    S_saved.push_back(values_.PoseCovarianceOf(x.value()));
   }
   topology_.ReserveLinkPose(a, b);    // the add's link, reserved before anything changes
   const auto undo = [&]() noexcept {  // allocation-free: the forest re-roots in place
@@ -155,6 +175,11 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec,
     for (std::size_t i = 0; i < path.size(); ++i) {
       values_.X_PF[path[i].value()]
           .BumpEpoch();  // handles of the twice-reversed edges stay invalid
+      if (S_saved[i].isZero(0.0)) {
+        values_.ClearPoseCovariance(path[i].value());
+      } else {
+        values_.StorePoseCovariance(path[i].value(), X_saved[i], &S_saved[i]);
+      }
       values_.X_PF[path[i].value()].Store(X_saved[i]);
     }
   };

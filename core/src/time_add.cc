@@ -202,7 +202,14 @@ ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex head, const typename B::Pose
 
 template <coord::Backend B>
 void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
-                                    std::optional<Stamp> stamp) noexcept {
+                                    std::optional<Stamp> stamp,
+                                    const coord::Covariance6* S) noexcept {
+  // The covariance record first (edge_values.h); a stamped edge's samples carry none here.
+  if (stamp) {
+    values_.ClearPoseCovariance(head.value());
+  } else {
+    values_.StorePoseCovariance(head.value(), X, S);
+  }
   StoreSample(
       values_.X_PF[head.value()], X, stamp, values_.history.options.window.nanoseconds(),
       [&]() -> PoseHistory& { return values_.history.pose.writable(head.value()); },
@@ -219,7 +226,13 @@ ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumber
 
 template <coord::Backend B>
 void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                                     std::optional<Stamp> stamp) noexcept {
+                                     std::optional<Stamp> stamp,
+                                     const coord::Covariance6* S) noexcept {
+  if (stamp) {
+    values_.ClearTwistCovariance(edge.value());
+  } else {
+    values_.StoreTwistCovariance(edge.value(), V, S);
+  }
   StoreSample(
       values_.V_DH[edge.value()], V, stamp, values_.history.options.window.nanoseconds(),
       [&]() -> TwistHistory& { return values_.history.twist.writable(edge.value()); },
@@ -287,11 +300,13 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
   template ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex, const typename B::PoseCoords&,   \
                                                     std::optional<Stamp>) const noexcept;        \
   template void SceneGraph<B>::StorePoseSample(FrameIndex, const typename B::PoseCoords&,        \
-                                               std::optional<Stamp>) noexcept;                   \
+                                               std::optional<Stamp>,                             \
+                                               const coord::Covariance6*) noexcept;              \
   template ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex, const TwistNumbers&,        \
                                                      std::optional<Stamp>) const noexcept;       \
   template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&,             \
-                                                std::optional<Stamp>) noexcept;                  \
+                                                std::optional<Stamp>,                            \
+                                                const coord::Covariance6*) noexcept;             \
   template std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode, bool, std::uint32_t,    \
                                                               std::optional<Stamp>) const;
 SEMGRAPH_INSTANTIATE_TIME_ADD(coord::QuaternionBackend)

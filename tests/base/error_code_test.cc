@@ -55,6 +55,7 @@ const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
       {ErrorCode::kJointLimit, "joint_limit"},
       {ErrorCode::kMimicJoint, "mimic_joint"},
       {ErrorCode::kJointEdge, "joint_edge"},
+      {ErrorCode::kInvalidCovariance, "invalid_covariance"},
   };
   return codes;
 }

@@ -62,9 +62,12 @@ enum class ErrorCode : std::uint8_t {
   kJointLimit,
   kMimicJoint,
   kJointEdge,
+  // Uncertainty (docs/uncertainty.md): checked right after invalid_rotation; appended here so
+  // that the other codes keep their values.
+  kInvalidCovariance,
 };
 
-inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kJointEdge) + 1;
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kInvalidCovariance) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
 [[nodiscard]] SEMGRAPH_BASE_EXPORT std::string_view ToString(ErrorCode code) noexcept;

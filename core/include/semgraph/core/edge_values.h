@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "semgraph/coord/backend.h"
+#include "semgraph/coord/covariance.h"
 #include "semgraph/core/edge_history.h"
 #include "semgraph/core/export.h"
 #include "semgraph/core/seqlock_value.h"
@@ -54,6 +55,21 @@ struct TwistNumbers {
   Eigen::Vector3d w_DH_H;   ///< angular velocity of H relative to D
 };
 using TwistValue = SeqLockValue<TwistNumbers>;
+
+/// An edge value with its covariance (docs/uncertainty.md: the edge form, linear first), kept
+/// apart from the hot value (X_PF / V_DH stay one cache line) and seqlocked together, so that a
+/// reader gets a value and the covariance of that very value. `active` (0 or 1): the edge has
+/// carried a covariance; the record then follows every store of the value (the writer stores
+/// it first), else the value is read from X_PF / V_DH with a zero covariance.
+template <class T>
+struct ValueAndCovariance {
+  T value;
+  coord::Covariance6 S;
+  double active;
+};
+template <coord::Backend B>
+using PoseCovarianceValue = SeqLockValue<ValueAndCovariance<typename B::PoseCoords>>;
+using TwistCovarianceValue = SeqLockValue<ValueAndCovariance<TwistNumbers>>;
 
 /// Which graph made a handle: a process-wide unique id per SceneGraph object, drawn from one
 /// global atomic counter (0 is never drawn: it means "no graph"). A move hands the id to the
@@ -114,31 +130,115 @@ struct EdgeValues {
   StableArray<TwistValue> V_DH;    ///< by twist edge slot
   /// Stamped edges' samples (edge_history.h); X_PF / V_DH then hold the newest sample.
   EdgeHistories history;
+  /// Covariances (ValueAndCovariance), by frame and by twist slot, and the writer's own flags
+  /// of which records are active (read by the writer thread only).
+  StableArray<PoseCovarianceValue<B>> S_PF;
+  StableArray<TwistCovarianceValue> S_DH;
+  StableArray<std::uint8_t> pose_covariance_on, twist_covariance_on;
 
   /// The value of a new frame: the identity (it has no pose parent yet).
   /// Its history entry too (null: timeless), so that every frame a reader knows has one.
   void AddFrame() {
     X_PF.EmplaceBack(B::Identity());
+    S_PF.EmplaceBack();
+    pose_covariance_on.EmplaceBack(std::uint8_t{0});
     history.pose.Grow(X_PF.size());
   }
   /// Makes room for the value (and the history entry) of twist edge slot `e`.
   void AddTwistSlot(topology::TwistEdgeIndex e) {
-    if (V_DH.size() <= e.value()) V_DH.Resize(e.value() + 1);
+    if (V_DH.size() <= e.value()) {
+      V_DH.Resize(e.value() + 1);
+      S_DH.Resize(e.value() + 1);
+      twist_covariance_on.Resize(e.value() + 1);
+    }
     history.twist.Grow(V_DH.size());
+  }
+
+  // Writer: the covariance record of an edge, stored before the value itself (so a reader
+  // that loads the value, then the record, never pairs a new value with an old covariance).
+  // S null: the value is exact (zero covariance). O(1), noexcept, allocation-free.
+  void StorePoseCovariance(std::uint32_t frame, const typename B::PoseCoords& X,
+                           const coord::Covariance6* S) noexcept {
+    StoreCovariance(S_PF[frame], pose_covariance_on[frame], X, S);
+  }
+  void StoreTwistCovariance(std::uint32_t slot, const TwistNumbers& V,
+                            const coord::Covariance6* S) noexcept {
+    StoreCovariance(S_DH[slot], twist_covariance_on[slot], V, S);
+  }
+  /// Writer: a removed (or stamped) edge's record goes inactive.
+  void ClearPoseCovariance(std::uint32_t frame) noexcept {
+    ClearCovariance(S_PF[frame], pose_covariance_on[frame], B::Identity());
+  }
+  void ClearTwistCovariance(std::uint32_t slot) noexcept {
+    ClearCovariance(S_DH[slot], twist_covariance_on[slot],
+                    TwistNumbers{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+  }
+  /// Writer: the covariance stored with an edge (zero when none). O(1).
+  [[nodiscard]] coord::Covariance6 PoseCovarianceOf(std::uint32_t frame) const noexcept {
+    if (!pose_covariance_on[frame]) return coord::Covariance6::Zero();
+    return S_PF[frame].Load().S;
+  }
+  [[nodiscard]] coord::Covariance6 TwistCovarianceOf(std::uint32_t slot) const noexcept {
+    if (!twist_covariance_on[slot]) return coord::Covariance6::Zero();
+    return S_DH[slot].Load().S;
+  }
+  /// Reader: an edge's value and the covariance of that value, consistent under a concurrent
+  /// writer. O(1).
+  void LoadPose(std::uint32_t frame, typename B::PoseCoords& X,
+                coord::Covariance6& S) const noexcept {
+    X = X_PF[frame].Load();
+    LoadCovariance(S_PF[frame], X, S);
+  }
+  void LoadTwist(std::uint32_t slot, TwistNumbers& V, coord::Covariance6& S) const noexcept {
+    V = V_DH[slot].Load();
+    LoadCovariance(S_DH[slot], V, S);
   }
   /// Room for `frames` frame values / `slots` twist slot values in total (blocks of doubling
   /// size), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
   /// call these before their first change (all or nothing under std::bad_alloc).
   void ReserveFrames(std::size_t frames) {
     X_PF.Reserve(frames);
+    S_PF.Reserve(frames);
+    pose_covariance_on.Reserve(frames);
     history.pose.Reserve(frames);
   }
   void ReserveTwistSlots(std::size_t slots) {
     V_DH.Reserve(slots);
+    S_DH.Reserve(slots);
+    twist_covariance_on.Reserve(slots);
     history.twist.Reserve(slots);
   }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    return X_PF.bytes() + V_DH.bytes() + history.ApproximateBytes();
+    return X_PF.bytes() + V_DH.bytes() + S_PF.bytes() + S_DH.bytes() + pose_covariance_on.bytes() +
+           twist_covariance_on.bytes() + history.ApproximateBytes();
+  }
+
+ private:
+  template <class Slot, class T>
+  static void StoreCovariance(Slot& slot, std::uint8_t& on, const T& x,
+                              const coord::Covariance6* S) noexcept {
+    if (S != nullptr) {
+      slot.Store(ValueAndCovariance<T>{x, *S, 1.0});
+      on = 1;
+    } else if (on) {
+      slot.Store(ValueAndCovariance<T>{x, coord::Covariance6::Zero(), 1.0});
+    }
+  }
+  template <class Slot, class T>
+  static void ClearCovariance(Slot& slot, std::uint8_t& on, const T& x) noexcept {
+    if (!on) return;
+    slot.Store(ValueAndCovariance<T>{x, coord::Covariance6::Zero(), 0.0});
+    on = 0;
+  }
+  template <class Slot, class T>
+  static void LoadCovariance(const Slot& slot, T& x, coord::Covariance6& S) noexcept {
+    const ValueAndCovariance<T> r = slot.Load();
+    if (r.active != 0.0) {
+      x = r.value;
+      S = r.S;
+    } else {
+      S.setZero();
+    }
   }
 };
 

@@ -62,6 +62,7 @@
 #include "semgraph/core/joints.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/core/time.h"
+#include "semgraph/core/uncertainty.h"
 #include "semgraph/core/update_error.h"
 #include "semgraph/topology/scene_topology.h"
 
@@ -332,6 +333,39 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] QueryResult<coord::Twist> GetTwist(
       const semantics::TwistSemantics& q) const noexcept;
 
+  // ---------------------------------------------------------------- uncertainty
+  // docs/uncertainty.md (uncertainty.cc). A value with a covariance: the checks of the plain add,
+  // with invalid_number (an entry not finite or above 1e12) and invalid_covariance (not
+  // symmetric within 1e-9 max(1, max|S|), or an eigenvalue below minus that) right after
+  // invalid_rotation; then as the plain add. A value in another form than the edge's is stored
+  // with a covariance converted through the conversion's values, taken as exact; a restated
+  // constant pose needs the same covariance (constant_pose_change). Atomic as every add.
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                      const Eigen::Vector3d& p_position, const CovarianceInput& covariance);
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
+                      const Eigen::Vector3d& p_position, const CovarianceInput& covariance);
+  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                       const Eigen::Vector3d& w_angular, const CovarianceInput& covariance);
+  /// The queries with the first-order covariance of their answer (docs/uncertainty.md §3), in
+  /// `order` (6x6 answers). Errors as the plain queries. O(d log n) for poses; twists
+  /// O(k d (d + log n)) (k twist edges, d edges on the chains). noexcept, allocation-free.
+  [[nodiscard]] QueryResult<WithCovariance<Pose, 6>> GetPoseWithCovariance(
+      const PoseSpec& spec, CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+  [[nodiscard]] QueryResult<WithCovariance<coord::Position, 3>> GetPositionWithCovariance(
+      const PoseSpec& spec) const noexcept;
+  [[nodiscard]] QueryResult<WithCovariance<Orientation, 3>> GetOrientationWithCovariance(
+      const PoseSpec& spec) const noexcept;
+  [[nodiscard]] QueryResult<WithCovariance<coord::Twist, 6>> GetTwistWithCovariance(
+      const TwistSpec& spec, CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+  [[nodiscard]] QueryResult<WithCovariance<coord::LinearVelocity, 3>>
+  GetLinearVelocityWithCovariance(const TwistSpec& spec) const noexcept;
+  [[nodiscard]] QueryResult<WithCovariance<coord::AngularVelocity, 3>>
+  GetAngularVelocityWithCovariance(const TwistSpec& spec) const noexcept;
+  /// The covariance stored with the pose edge into f / the twist edge into f, in the edge form
+  /// (zero: exact, or no edge). Writer thread. O(1).
+  [[nodiscard]] Covariance6 pose_covariance(FrameIndex f) const noexcept;
+  [[nodiscard]] Covariance6 twist_covariance(FrameIndex f) const noexcept;
+
   // ---------------------------------------------------------------- joints (joints.cc)
   // A joint owns a pose edge and a twist edge whose values follow its state (joints.h,
   // docs/kinematics.md). Adds and removals are build time; setting states by group is the
@@ -463,9 +497,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   template <class R>
   BuildResult AddPoseImpl(const PoseSpec& spec, const R& rotation,
                           const Eigen::Vector3d& p_position,
-                          std::optional<Stamp> stamp = std::nullopt);
+                          std::optional<Stamp> stamp = std::nullopt,
+                          const CovarianceInput* covariance = nullptr);
   BuildResult AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
-                           const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp);
+                           const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp,
+                           const CovarianceInput* covariance = nullptr);
   template <class R>
   ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
                         std::optional<Stamp> stamp, UpdateError* why) noexcept;
@@ -499,11 +535,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X,
                             std::optional<Stamp> stamp) const noexcept;
   void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
-                       std::optional<Stamp> stamp) noexcept;
+                       std::optional<Stamp> stamp,
+                       const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
                              std::optional<Stamp> stamp) const noexcept;
   void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                        std::optional<Stamp> stamp) noexcept;
+                        std::optional<Stamp> stamp,
+                        const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                            std::optional<Stamp> stamp) noexcept;
   std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index,

@@ -1,0 +1,226 @@
+// File: semgraph/core/propagate.h
+//
+// The first-order covariance of a query's answer (docs/uncertainty.md, "Propagation"): the sum
+// over the edges the query uses of J_i S_i J_i^T, J_i from coord/jacobians.h. One routine per
+// answer kind, over any edge reader, so every query (one-shot or compiled, at any time) runs
+// the same code:
+//   PoseCovariance    the frames e, [a], f, [b], [r] of Algorithm 1 (a position: e, e, f, f, r;
+//                     an orientation: a, a, b, b, r). Z = their youngest common ancestor; each
+//                     frame's pose in Z (one walk up each), then each edge of the union of the
+//                     five chains once (a chain stops where it meets an earlier one), with the
+//                     frames it moves read off depths: an edge at depth d on frame k's chain
+//                     moves frame i iff d <= depth(common ancestor of k and i).
+//   TwistCovariance   e, [r] and the head h of each twist edge of Algorithm 3: each twist
+//                     edge's own covariance, and each pose edge below Z that moves e, [r] or
+//                     an h (the points that move twists and the rotations).
+// A reader is read(FrameIndex g, X_PG, S_PG) (pose edges) / read(TwistEdgeIndex, V, S).
+// Costs: pose O(d log n) (d: edges on the five chains), twist O(k d (d + log n)) for k twist
+// edges; noexcept, allocation-free, lock-free.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "semgraph/coord/jacobians.h"
+#include "semgraph/core/edge_values.h"
+#include "semgraph/core/evaluate.h"
+#include "semgraph/core/query_plan.h"
+
+namespace semgraph::core::internal {
+
+/// A pose in the Jacobians' working form.
+struct Rigid {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Rigid Then(const Rigid& b) const noexcept { return {R * b.R, R * b.p + p}; }
+};
+template <coord::Backend B>
+Rigid ToRigid(const typename B::PoseCoords& X) noexcept {
+  return {B::ToMatrix(B::RotationOf(X)), B::TranslationOf(X)};
+}
+
+/// X_ZK for K below Z, with each edge read through `read`.
+template <coord::Backend B, class Read>
+Rigid PoseInAncestor(const topology::SceneTopology& t, FrameIndex k, FrameIndex z,
+                     Read& read) noexcept {
+  Rigid acc;
+  typename B::PoseCoords X;
+  coord::Covariance6 S;
+  for (FrameIndex g = k; g != z; g = t.pose_parent(g)) {
+    read(g, X, S);
+    acc = ToRigid<B>(X).Then(acc);
+  }
+  return acc;
+}
+
+/// Walks frame k's chain up to z, stopping at the edges at depth <= `counted` (those lie on
+/// an earlier frame's chain): calls f(g, X_PG, S_PG, X_ZG, d) for each edge (g its head, d its
+/// depth). X_Zk: k in Z.
+template <coord::Backend B, class Read, class F>
+void ForEachNewEdge(const topology::SceneTopology& t, FrameIndex k, FrameIndex z,
+                    std::int64_t counted, const Rigid& X_Zk, Read& read, F&& f) noexcept {
+  Rigid X_Gk;
+  std::int64_t d = t.forest().depth(k);
+  typename B::PoseCoords X;
+  coord::Covariance6 S;
+  for (FrameIndex g = k; g != z && d > counted; g = t.pose_parent(g), --d) {
+    read(g, X, S);
+    Rigid X_ZG;
+    X_ZG.R = X_Zk.R * X_Gk.R.transpose();
+    X_ZG.p = X_Zk.p - X_ZG.R * X_Gk.p;
+    const Rigid X_PG = ToRigid<B>(X);
+    f(g, X_PG, S, X_ZG, d);
+    X_Gk = X_PG.Then(X_Gk);
+  }
+}
+/// The depth at or above which k's chain meets the chains of `earlier` frames (-1: none).
+inline std::int64_t MeetDepth(const topology::PoseForest& forest, FrameIndex k,
+                              const FrameIndex* earlier, int n) noexcept {
+  std::int64_t counted = -1;
+  for (int i = 0; i < n; ++i) {
+    counted = std::max<std::int64_t>(counted, forest.depth(forest.CommonAncestor(k, earlier[i])));
+  }
+  return counted;
+}
+
+/// The covariance of the pose answer (e,[a]) wrt (f,[b]) in [r] (frames k = {e, a, f, b, r},
+/// all of one pose tree), rows (dp, dth) in [r].
+template <coord::Backend B, class Read>
+void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], Read&& read,
+                    coord::Covariance6& S_out) noexcept {
+  const topology::PoseForest& forest = t.forest();
+  FrameIndex z = k[0];
+  for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
+  Rigid X_Z[5];
+  for (int i = 0; i < 5; ++i) X_Z[i] = PoseInAncestor<B>(t, k[i], z, read);
+  coord::jacobians::PoseInZ q;
+  q.R_RZ = X_Z[4].R.transpose();
+  q.p_ZoEo_Z = X_Z[0].p;
+  q.p_ZoFo_Z = X_Z[2].p;
+  q.O_Z = X_Z[1].R * X_Z[3].R.transpose();
+  S_out.setZero();
+  for (int j = 0; j < 5; ++j) {
+    std::int64_t lca[5];  // depth of k[j]'s common ancestor with each frame
+    for (int i = 0; i < 5; ++i) lca[i] = forest.depth(forest.CommonAncestor(k[j], k[i]));
+    ForEachNewEdge<B>(t, k[j], z, MeetDepth(forest, k[j], k, j), X_Z[j], read,
+                      [&](FrameIndex, const Rigid& X_PG, const coord::Covariance6& S,
+                          const Rigid& X_ZG, std::int64_t d) {
+                        if (S.isZero(0.0)) return;  // an exact edge adds nothing
+                        const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(),
+                                                             X_ZG.p};
+                        const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1],
+                                                            d <= lca[3], d <= lca[4]};
+                        coord::jacobians::AddPropagated(coord::jacobians::EdgeOnPose(q, edge, m),
+                                                        S, S_out);
+                      });
+  }
+}
+
+/// A twist step's contribution seen from Z, and its edge's covariance.
+template <coord::Backend B, class ReadPose, class ReadTwist>
+coord::jacobians::TwistStepInZ StepInZ(const topology::SceneTopology& t,
+                                       const TwistStep<ForestChain>& step, FrameIndex z,
+                                       ReadPose& read_pose, ReadTwist& read_twist,
+                                       Eigen::Matrix3d& R_ZH, coord::Covariance6& S) noexcept {
+  const FrameIndex h = t.twist_edge(step.edge).head;
+  const Rigid X_ZH = PoseInAncestor<B>(t, h, z, read_pose);
+  TwistNumbers V;
+  read_twist(step.edge, V, S);
+  const double s = step.invert ? -1.0 : 1.0;
+  R_ZH = X_ZH.R;
+  return {s * (X_ZH.R * V.v_DHo_H), s * (X_ZH.R * V.w_DH_H), X_ZH.p, false};
+}
+
+/// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw).
+template <coord::Backend B, class ReadPose, class ReadTwist>
+void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan,
+                     ReadPose&& read_pose, ReadTwist&& read_twist,
+                     coord::Covariance6& S_out) noexcept {
+  namespace jac = coord::jacobians;
+  S_out.setZero();
+  if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
+  const topology::PoseForest& forest = t.forest();
+  const FrameIndex e = plan.point, r = plan.frame;
+  FrameIndex z = forest.CommonAncestor(e, r);
+  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+    z = forest.CommonAncestor(z, t.twist_edge(step.edge).head);
+  });
+  const Rigid X_Ze = PoseInAncestor<B>(t, e, z, read_pose);
+  const Rigid X_Zr = PoseInAncestor<B>(t, r, z, read_pose);
+  const Eigen::Matrix3d R_RZ = X_Zr.R.transpose();
+  // The answer in Z, and each twist edge's own covariance.
+  Eigen::Vector3d v_Z = Eigen::Vector3d::Zero(), w_Z = Eigen::Vector3d::Zero();
+  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+    Eigen::Matrix3d R_ZH;
+    coord::Covariance6 S;
+    const jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S);
+    v_Z += st.a_Z + st.w_Z.cross(X_Ze.p - st.p_ZoHo_Z);
+    w_Z += st.w_Z;
+    if (S.isZero(0.0)) return;
+    jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, R_ZH, st.p_ZoHo_Z, X_Ze.p, step.invert ? -1 : 1),
+                       S, S_out);
+  });
+  // Each pose edge on the chains of e, r and the heads, once: its Jacobian sums over the steps.
+  const auto pose_edges_of = [&](FrameIndex k, std::int64_t counted, const Rigid& X_Zk) {
+    ForEachNewEdge<B>(
+        t, k, z, counted, X_Zk, read_pose,
+        [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S, const Rigid& X_ZG,
+            std::int64_t) {
+          if (S.isZero(0.0)) return;
+          const jac::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
+          jac::PoseEdgeOnTwistSum sum;
+          ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+            Eigen::Matrix3d R_ZH;
+            coord::Covariance6 S_step;
+            jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S_step);
+            st.moves = forest.IsAncestor(g, t.twist_edge(step.edge).head);
+            sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
+          });
+          jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S,
+                             S_out);
+        });
+  };
+  const FrameIndex er[2] = {e, r};
+  pose_edges_of(e, -1, X_Ze);
+  pose_edges_of(r, MeetDepth(forest, r, er, 1), X_Zr);
+  int index = 0;
+  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+    const FrameIndex h = t.twist_edge(step.edge).head;
+    std::int64_t counted = MeetDepth(forest, h, er, 2);
+    int other = 0;  // the heads of the steps before this one
+    ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& earlier) {
+      if (other++ >= index) return;
+      const FrameIndex h2 = t.twist_edge(earlier.edge).head;
+      counted = std::max<std::int64_t>(counted, forest.depth(forest.CommonAncestor(h, h2)));
+    });
+    ++index;
+    pose_edges_of(h, counted, PoseInAncestor<B>(t, h, z, read_pose));
+  });
+}
+
+/// The covariance of a pose given in another form, in the edge form (ToEdgeForm's steps, with
+/// the conversion's values exact): re-expressed [r] -> [b], the reference point moved (exact,
+/// no change), the point moved e -> a with the pose's rotation. X_BA: ToEdgeForm's answer.
+template <coord::Backend B>
+coord::Covariance6 ToEdgeFormCovariance(const ForestSource<B>& src,
+                                        const PoseSteps<ForestChain>& s,
+                                        const typename B::PoseCoords& X_BA,
+                                        const coord::Covariance6& S_given) noexcept {
+  namespace jac = coord::jacobians;
+  jac::Matrix6 J = jac::Matrix6::Identity();
+  if (s.change_frame) {
+    typename B::PoseCoords X_RB;
+    EvalBasic<B>(src, s.br, X_RB);
+    J = jac::Reexpress(B::ToMatrix(B::RotationOf(X_RB)).transpose());
+  }
+  if (s.change_point) {  // p_BA = p - R_BA p_AE_A
+    typename B::PoseCoords X_AE;
+    EvalBasic<B>(src, s.ea, X_AE);
+    J = jac::MovePoint(-B::Rotate(B::RotationOf(X_BA), B::TranslationOf(X_AE))) * J;
+  }
+  coord::Covariance6 S = coord::Covariance6::Zero();
+  jac::AddPropagated(J, S_given, S);
+  return S;
+}
+
+}  // namespace semgraph::core::internal
