@@ -6,15 +6,17 @@
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
 #             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
+#             libmrpt-poses-dev (the uncertainty cross-check tests: MRPT's pose PDFs)
 #   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
 #   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
 #   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
 #   --ros     libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev (semgraph::ros: bag chunks, rosbag2
 #             sqlite3) zlib1g-dev (its tests' CRC32); python3-rosbag python3-roslz4
-#             python3-tf2-msgs python3-sensor-msgs python3-geometry-msgs python3-std-msgs (the ROS 1
-#             bag fixtures); ros-core ros-robot-state-publisher (roscore, rospy, rostopic, rosbag
-#             record, robot_state_publisher: the recorded ROS 1 system of tests/ros/ros1_system);
+#             python3-tf2-msgs python3-sensor-msgs python3-geometry-msgs python3-std-msgs
+#             python3-nav-msgs (the ROS 1 bag and message fixtures); ros-core
+#             ros-robot-state-publisher (roscore, rospy, rostopic, rosbag record,
+#             robot_state_publisher: the recorded ROS 1 system of tests/ros/ros1_system);
 #             nodejs npm only when `node` is not on PATH (the tests' fixtures are written with
 #             Foxglove's npm packages; Debian's npm conflicts with another node)
 #
@@ -22,9 +24,9 @@
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; }
 
-packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev)
+packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev libmrpt-poses-dev)
 for arg in "$@"; do
   case "$arg" in
     --clang) packages+=(clang libclang-rt-14-dev clang-format) ;;
@@ -34,7 +36,7 @@ for arg in "$@"; do
     --ros)
       packages+=(libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev zlib1g-dev python3-rosbag
                  python3-roslz4 python3-tf2-msgs python3-sensor-msgs python3-geometry-msgs
-                 python3-std-msgs ros-core ros-robot-state-publisher)
+                 python3-std-msgs python3-nav-msgs ros-core ros-robot-state-publisher)
       if ! command -v node >/dev/null 2>&1; then packages+=(nodejs npm); fi
       ;;
     -h | --help) usage; exit 0 ;;

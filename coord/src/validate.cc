@@ -223,8 +223,17 @@ const char* RoleName(ValueRole role) noexcept {
       return "joint position";
     case ValueRole::kJointVelocity:
       return "joint velocity";
+    case ValueRole::kCovariance:
+      return "covariance";
   }
   return "value";
+}
+}  // namespace
+
+namespace {
+// "(row, col)" of a covariance entry given as 6 * row + col.
+std::string CovarianceEntry(int component) {
+  return "(" + std::to_string(component / 6) + ", " + std::to_string(component % 6) + ")";
 }
 }  // namespace
 
@@ -252,6 +261,12 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
              semantics::Describe(error.mismatch.rhs, names);
     }
     case ErrorCode::kInvalidNumber:
+      if (error.value.role == ValueRole::kCovariance) {
+        return "covariance entry " + CovarianceEntry(error.value.component) + " is " + magnitude +
+               (error.value.problem == ValueProblem::kTooLarge
+                    ? " (magnitude above " + FormatNumber(kMaxMagnitude) + ")"
+                    : std::string(" (must be finite)"));
+      }
       return std::string(RoleName(error.value.role)) + " component " +
              std::to_string(int(error.value.component)) + " is " + magnitude +
              (error.value.problem == ValueProblem::kTooLarge
@@ -272,6 +287,16 @@ std::string Describe(const Error& error, const semantics::NameTable& names) {
         default:
           return "invalid rotation";
       }
+    case ErrorCode::kInvalidCovariance:
+      // The tolerance scales with the matrix, which this Error does not carry: the rule in
+      // words (coord::Describe(CovarianceCheck) gives the number).
+      if (error.value.problem == ValueProblem::kNegativeEigenvalue) {
+        return "covariance has eigenvalue " + magnitude +
+               " (below -1e-09 * max(1, max |entry|): not positive semi-definite)";
+      }
+      return "covariance entry " + CovarianceEntry(error.value.component) +
+             " differs from its transpose by " + magnitude +
+             " (more than 1e-09 * max(1, max |entry|): not symmetric)";
     default:
       return std::string(base::ToString(error.code));
   }

@@ -113,6 +113,11 @@ class Reader {
     for (std::uint32_t i = 0; i < n && !failed_; ++i) F64(v[i]);
   }
 
+  template <std::size_t N>
+  void FixedDoubles(std::array<double, N>& a) {
+    for (double& d : a) F64(d);
+  }
+
  private:
   // Inlined: the decoders' inner loop (about 25 of a TFMessage's transform's 30 steps); the
   // error texts are built out of line.
@@ -211,6 +216,11 @@ class Writer {
     for (double d : v) F64(d);
   }
 
+  template <std::size_t N>
+  void FixedDoubles(const std::array<double, N>& a) {
+    for (double d : a) F64(d);
+  }
+
  private:
   void Fail(std::string message) {
     if (failed_) return;
@@ -263,7 +273,7 @@ void FieldsOf(C& c, M& m) {
     if (c.ros1()) c.U32(m.seq);
     c.Stamp(m.stamp);
     c.Str(m.frame_id);
-  } else if constexpr (std::is_same_v<T, Vector3>) {
+  } else if constexpr (std::is_same_v<T, Vector3> || std::is_same_v<T, Point>) {
     c.F64(m.x);
     c.F64(m.y);
     c.F64(m.z);
@@ -287,6 +297,26 @@ void FieldsOf(C& c, M& m) {
     c.Doubles(m.position);
     c.Doubles(m.velocity);
     c.Doubles(m.effort);
+  } else if constexpr (std::is_same_v<T, Pose>) {
+    FieldsOf(c, m.position);
+    FieldsOf(c, m.orientation);
+  } else if constexpr (std::is_same_v<T, Twist>) {
+    FieldsOf(c, m.linear);
+    FieldsOf(c, m.angular);
+  } else if constexpr (std::is_same_v<T, PoseWithCovariance>) {
+    FieldsOf(c, m.pose);
+    c.FixedDoubles(m.covariance);
+  } else if constexpr (std::is_same_v<T, PoseWithCovarianceStamped>) {
+    FieldsOf(c, m.header);
+    FieldsOf(c, m.pose);
+  } else if constexpr (std::is_same_v<T, TwistWithCovariance>) {
+    FieldsOf(c, m.twist);
+    c.FixedDoubles(m.covariance);
+  } else if constexpr (std::is_same_v<T, Odometry>) {
+    FieldsOf(c, m.header);
+    c.Str(m.child_frame_id);
+    FieldsOf(c, m.pose);
+    FieldsOf(c, m.twist);
   } else {
     static_assert(std::is_same_v<T, String>);
     c.Str(m.data);
@@ -369,6 +399,13 @@ SEMGRAPH_ROS_INSTANTIATE(TransformStamped)
 SEMGRAPH_ROS_INSTANTIATE(TFMessage)
 SEMGRAPH_ROS_INSTANTIATE(JointState)
 SEMGRAPH_ROS_INSTANTIATE(String)
+SEMGRAPH_ROS_INSTANTIATE(Point)
+SEMGRAPH_ROS_INSTANTIATE(Pose)
+SEMGRAPH_ROS_INSTANTIATE(Twist)
+SEMGRAPH_ROS_INSTANTIATE(PoseWithCovariance)
+SEMGRAPH_ROS_INSTANTIATE(PoseWithCovarianceStamped)
+SEMGRAPH_ROS_INSTANTIATE(TwistWithCovariance)
+SEMGRAPH_ROS_INSTANTIATE(Odometry)
 #undef SEMGRAPH_ROS_INSTANTIATE
 
 }  // namespace semgraph::ros

@@ -211,7 +211,7 @@ Vector6 TwistAnswer(const Tree& t, const TwistData& d, int e, int r) {
   for (std::size_t j = 0; j < d.h.size(); ++j) {
     const Pose Zh = t.InZ(d.h[j]);
     const Vector3d w_Z = d.sign[j] * Zh.R * d.w[j];
-    v += d.sign[j] * Zh.R * d.v[j] + w_Z.cross(Zh.p - Ze.p);
+    v += d.sign[j] * Zh.R * d.v[j] + w_Z.cross(Ze.p - Zh.p);  // the rigid-body velocity at e
     w += w_Z;
   }
   Vector6 out;
@@ -241,7 +241,7 @@ TEST(Jacobians, EdgesOnTwistMatchFiniteDifferences) {
     for (std::size_t j = 0; j < d.h.size(); ++j) {
       const Pose Zh = t.InZ(d.h[j]);
       TwistStepInZ s{d.sign[j] * Zh.R * d.v[j], d.sign[j] * Zh.R * d.w[j], Zh.p, false};
-      v_Z += s.a_Z + s.w_Z.cross(Zh.p - p_e);
+      v_Z += s.a_Z + s.w_Z.cross(p_e - Zh.p);
       w_Z += s.w_Z;
       steps.push_back(s);
       // The twist edge itself.

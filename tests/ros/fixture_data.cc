@@ -73,6 +73,25 @@ std::vector<double> Doubles(const YAML::Node& v) {
   for (const auto& x : v) out.push_back(x.as<double>());
   return out;
 }
+Point PointOf(const YAML::Node& v) {
+  return Point{v["x"].as<double>(), v["y"].as<double>(), v["z"].as<double>()};
+}
+Pose PoseOf(const YAML::Node& v) {
+  return Pose{PointOf(v["position"]), QuaternionOf(v["orientation"])};
+}
+Twist TwistOf(const YAML::Node& v) { return Twist{Vector3Of(v["linear"]), Vector3Of(v["angular"])}; }
+Covariance36 CovarianceOf(const YAML::Node& v) {
+  Covariance36 out{};
+  EXPECT_EQ(v.size(), out.size());
+  for (std::size_t i = 0; i < out.size() && i < v.size(); ++i) out[i] = v[i].as<double>();
+  return out;
+}
+PoseWithCovariance PoseWithCovarianceOf(const YAML::Node& v) {
+  return PoseWithCovariance{PoseOf(v["pose"]), CovarianceOf(v["covariance"])};
+}
+TwistWithCovariance TwistWithCovarianceOf(const YAML::Node& v) {
+  return TwistWithCovariance{TwistOf(v["twist"]), CovarianceOf(v["covariance"])};
+}
 }  // namespace
 
 template <>
@@ -118,6 +137,35 @@ JointState FromJson<JointState>(const YAML::Node& v, bool ros1) {
 template <>
 String FromJson<String>(const YAML::Node& v, bool) {
   return String{v["data"].as<std::string>()};
+}
+template <>
+Point FromJson<Point>(const YAML::Node& v, bool) {
+  return PointOf(v);
+}
+template <>
+Pose FromJson<Pose>(const YAML::Node& v, bool) {
+  return PoseOf(v);
+}
+template <>
+Twist FromJson<Twist>(const YAML::Node& v, bool) {
+  return TwistOf(v);
+}
+template <>
+PoseWithCovariance FromJson<PoseWithCovariance>(const YAML::Node& v, bool) {
+  return PoseWithCovarianceOf(v);
+}
+template <>
+PoseWithCovarianceStamped FromJson<PoseWithCovarianceStamped>(const YAML::Node& v, bool ros1) {
+  return PoseWithCovarianceStamped{HeaderOf(v["header"], ros1), PoseWithCovarianceOf(v["pose"])};
+}
+template <>
+TwistWithCovariance FromJson<TwistWithCovariance>(const YAML::Node& v, bool) {
+  return TwistWithCovarianceOf(v);
+}
+template <>
+Odometry FromJson<Odometry>(const YAML::Node& v, bool ros1) {
+  return Odometry{HeaderOf(v["header"], ros1), v["child_frame_id"].as<std::string>(),
+                  PoseWithCovarianceOf(v["pose"]), TwistWithCovarianceOf(v["twist"])};
 }
 
 std::uint64_t LoadU64(const std::vector<std::uint8_t>& b, std::size_t at) {

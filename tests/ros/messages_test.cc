@@ -92,6 +92,13 @@ const std::map<std::string, SampleChecks>& ChecksByType() {
       {"tf2_msgs/TFMessage", ChecksOf<TFMessage>()},
       {"sensor_msgs/JointState", ChecksOf<JointState>()},
       {"std_msgs/String", ChecksOf<String>()},
+      {"geometry_msgs/Point", ChecksOf<Point>()},
+      {"geometry_msgs/Pose", ChecksOf<Pose>()},
+      {"geometry_msgs/Twist", ChecksOf<Twist>()},
+      {"geometry_msgs/PoseWithCovariance", ChecksOf<PoseWithCovariance>()},
+      {"geometry_msgs/PoseWithCovarianceStamped", ChecksOf<PoseWithCovarianceStamped>()},
+      {"geometry_msgs/TwistWithCovariance", ChecksOf<TwistWithCovariance>()},
+      {"nav_msgs/Odometry", ChecksOf<Odometry>()},
   };
   return checks;
 }
@@ -134,6 +141,57 @@ TEST(RosMessages, RefusesEveryTruncationOfEverySample) {
       checks.ros1_truncations(ReadBytes(FixturesDir() + "/ros1/" + name + ".bin"));
     }
   }
+}
+
+// The messages with a covariance (expected.json's covariance_samples): both wires, every
+// truncation. Their ROS 1 bytes are also genpy's (python3-geometry-msgs, python3-nav-msgs):
+// the fixture ros_bag_fixtures (write_ros1_bags.py) fails unless genpy writes the same bytes.
+TEST(RosMessages, CovarianceMessagesOfFoxgloveAndGenpy) {
+  SKIP_WITHOUT_FIXTURES();
+  int n = 0;
+  for (const auto& s : Expected()["covariance_samples"]) {
+    const auto name = s["name"].as<std::string>();
+    SCOPED_TRACE(name);
+    const auto& checks = ChecksByType().at(s["type"].as<std::string>());
+    const Bytes cdr = ReadBytes(FixturesDir() + "/cdr/" + name + ".bin");
+    const Bytes ros1 = ReadBytes(FixturesDir() + "/ros1/" + name + ".bin");
+    checks.cdr(cdr, s["value"]);
+    checks.ros1(ros1, s["value"]);
+    checks.cdr_truncations(cdr);
+    checks.ros1_truncations(ros1);
+    ++n;
+  }
+  EXPECT_EQ(n, 7);
+}
+
+TEST(RosMessages, CovarianceIsThirtySixDoublesWithoutACount) {
+  // PoseWithCovariance: 7 pose doubles then 36 covariance doubles, nothing else: 43 * 8 bytes
+  // on both wires (plus CDR's header); entry i of the array is at 8 * (7 + i).
+  PoseWithCovariance m;
+  for (std::size_t i = 0; i < 36; ++i) m.covariance[i] = static_cast<double>(i) + 0.5;
+  Bytes cdr, ros1;
+  ASSERT_TRUE(EncodeCdr(m, cdr).has_value());
+  ASSERT_TRUE(EncodeRos1(m, ros1).has_value());
+  ASSERT_EQ(cdr.size(), 4U + 43U * 8U);
+  ASSERT_EQ(ros1.size(), 43U * 8U);
+  double x = 0;
+  std::memcpy(&x, ros1.data() + 8 * (7 + 13), 8);
+  EXPECT_EQ(x, 13.5);
+  std::memcpy(&x, cdr.data() + 4 + 8 * (7 + 35), 8);
+  EXPECT_EQ(x, 35.5);
+  // Odometry: header "ab" (stamp 8, length 4, 3 bytes: 15), child "c" (4 + 2 at 16: 22), then
+  // padding to 24 before the doubles: 24 + (7 + 36 + 6 + 36) * 8.
+  Odometry o;
+  o.header.frame_id = "ab";
+  o.child_frame_id = "c";
+  o.twist.covariance[0] = -1.0;
+  ASSERT_TRUE(EncodeCdr(o, cdr).has_value());
+  ASSERT_EQ(cdr.size(), 4U + 24U + 85U * 8U);
+  std::memcpy(&x, cdr.data() + 4 + 24 + 8 * (7 + 36 + 6), 8);
+  EXPECT_EQ(x, -1.0);
+  Odometry back;
+  ASSERT_TRUE(DecodeCdr(std::span<const std::uint8_t>(cdr), back).has_value());
+  EXPECT_EQ(back, o);
 }
 
 // ---- Hand-computed bytes (no fixtures needed) ----

@@ -12,6 +12,8 @@
 //                              slow down every later product)
 //   kInvalidRotation           quaternion norm or matrix orthonormality off by more than
 //                              kRotationTolerance, or a reflection
+//   kInvalidCovariance         a covariance not symmetric or not positive semi-definite
+//                              (coord/covariance.h; value says which entry or eigenvalue)
 // Cost: O(1), 56 bytes.
 #pragma once
 
@@ -45,6 +47,8 @@ enum class ValueProblem : std::uint8_t {
   kReflection,         ///< det(M) <= 0
   kNotRigidTransform,  ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
   kOutsideLimits,      ///< a joint position beyond [lower, upper]; `magnitude` is the value
+  kNotSymmetric,       ///< a covariance: `magnitude` = |S(i,j) - S(j,i)| (coord/covariance.h)
+  kNegativeEigenvalue,  ///< a covariance: `magnitude` is the eigenvalue (coord/covariance.h)
 };
 
 /// Which input a ValueProblem is about.
@@ -57,6 +61,7 @@ enum class ValueRole : std::uint8_t {
   kAngularVelocity,
   kJointPosition,
   kJointVelocity,
+  kCovariance,  ///< a 6x6 covariance; component = 6 * row + col (an eigenvalue: its index)
 };
 
 struct ValueDetail {
@@ -86,7 +91,7 @@ struct Error {
   ErrorCode code = ErrorCode::kOk;
   semantics::Mismatch mismatch;          ///< kSemanticMismatch, kRepresentationConstraint
   const char* representation = nullptr;  ///< backend name for kRepresentationConstraint
-  ValueDetail value;                     ///< kInvalidNumber, kInvalidRotation
+  ValueDetail value;  ///< kInvalidNumber, kInvalidRotation, kInvalidCovariance
 };
 
 /// x in the fewest digits that read back as exactly x (std::to_chars, shortest round trip):

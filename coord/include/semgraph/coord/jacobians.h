@@ -193,7 +193,8 @@ struct PoseMoves {
 }
 
 /// One twist edge's contribution to a twist answer at e, seen from Z: its twist (the signed
-/// stored one, rotated into Z: a_Z = s R_ZH v at h, w_Z = s R_ZH w) and the point h.
+/// stored one, rotated into Z: a_Z = s R_ZH v at h, w_Z = s R_ZH w) and the point h; moved to
+/// e it is (a_Z + w_Z x (e - h), w_Z).
 struct TwistStepInZ {
   Vector3d a_Z, w_Z;
   Vector3d p_ZoHo_Z;
@@ -205,17 +206,17 @@ struct TwistStepInZ {
 [[nodiscard]] inline Matrix6 TwistEdgeOnTwist(const Matrix3d& R_RZ, const Matrix3d& R_ZH,
                                               const Vector3d& p_ZoHo_Z, const Vector3d& p_ZoEo_Z,
                                               double s) noexcept {
-  // v_Z = R_ZH v + (R_ZH w) x (h - e), w_Z = R_ZH w.
+  // v_Z = R_ZH v + (R_ZH w) x (e - h), w_Z = R_ZH w.
   const Matrix3d RRH = s * R_RZ * R_ZH;
   Matrix6 J = Matrix6::Zero();
   J.topLeftCorner<3, 3>() = RRH;
-  J.topRightCorner<3, 3>() = -R_RZ * Hat(p_ZoHo_Z - p_ZoEo_Z) * (s * R_ZH);
+  J.topRightCorner<3, 3>() = -R_RZ * Hat(p_ZoEo_Z - p_ZoHo_Z) * (s * R_ZH);
   J.bottomRightCorner<3, 3>() = RRH;
   return J;
 }
 
 /// A pose edge's Jacobian on a twist answer, accumulated step by step (in Z, per (t, x)):
-/// the moved points and rotated twists of the steps (v_Z = a_Z + w_Z x (h - e)), e's motion,
+/// the moved points and rotated twists of the steps (v_Z = a_Z + w_Z x (e - h)), e's motion,
 /// then [r]'s rotation and the edge's axes (Finish).
 struct PoseEdgeOnTwistSum {
   Matrix3d Vx = Matrix3d::Zero(), Vt = Matrix3d::Zero(), Wx = Matrix3d::Zero();
@@ -226,13 +227,13 @@ struct PoseEdgeOnTwistSum {
     const Matrix3d Wh = Hat(st.w_Z);
     if (st.moves) {  // h and [h] move: the step's twist rotates by x, h moves with (t, x)
       const Vector3d& h = st.p_ZoHo_Z;
-      Vx += -Hat(st.a_Z) + Hat(h - p_ZoEo_Z) * Wh - Wh * Hat(h - edge.p_ZoGo_Z);
-      Vt += Wh;
+      Vx += -Hat(st.a_Z) + Hat(p_ZoEo_Z - h) * Wh + Wh * Hat(h - edge.p_ZoGo_Z);
+      Vt -= Wh;
       Wx -= Wh;
     }
-    if (m_e) {  // e moves: v_Z changes by -w_Z x (t + x x (e - g))
-      Vt -= Wh;
-      Vx += Wh * Hat(p_ZoEo_Z - edge.p_ZoGo_Z);
+    if (m_e) {  // e moves: v_Z changes by w_Z x (t + x x (e - g))
+      Vt += Wh;
+      Vx -= Wh * Hat(p_ZoEo_Z - edge.p_ZoGo_Z);
     }
   }
   /// Rows (dv, dw) of the answer in [r], columns the edge's (dp, dth) in [p]. `answer_Z`: the

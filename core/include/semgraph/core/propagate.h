@@ -154,7 +154,7 @@ void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan,
     Eigen::Matrix3d R_ZH;
     coord::Covariance6 S;
     const jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S);
-    v_Z += st.a_Z + st.w_Z.cross(st.p_ZoHo_Z - X_Ze.p);
+    v_Z += st.a_Z + st.w_Z.cross(X_Ze.p - st.p_ZoHo_Z);
     w_Z += st.w_Z;
     if (S.isZero(0.0)) return;
     jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, R_ZH, st.p_ZoHo_Z, X_Ze.p, step.invert ? -1 : 1),

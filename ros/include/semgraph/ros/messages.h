@@ -8,7 +8,8 @@
 //    NUL; a sequence is a uint32 count then its elements (an empty sequence of doubles is not
 //    followed by alignment padding, as in Cyclone DDS and Foxglove's writer).
 //  - ROS 1: little-endian, no alignment; strings and arrays as a uint32 length then the bytes
-//    or elements; a Header starts with `uint32 seq`, and Time is `uint32 secs, uint32 nsecs`.
+//    or elements (a fixed-size array such as a covariance's float64[36]: the elements only, on
+//    both wires); a Header starts with `uint32 seq`, and Time is `uint32 secs, uint32 nsecs`.
 // Field order is defined once (messages.cc) for decoding and encoding alike.
 //
 // Invariants: decoding is bounds-checked: a length or count past the end, a missing NUL, or
@@ -20,6 +21,7 @@
 // replaces `out` (reusing its capacity).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -97,12 +99,72 @@ struct String {
   friend bool operator==(const String&, const String&) = default;
 };
 
+struct Point {
+  double x = 0, y = 0, z = 0;
+  friend bool operator==(const Point&, const Point&) = default;
+};
+
+/// geometry_msgs/Pose: the pose of some frame relative to the message's frame.
+struct Pose {
+  Point position;
+  Quaternion orientation;
+  friend bool operator==(const Pose&, const Pose&) = default;
+};
+
+/// geometry_msgs/Twist.
+struct Twist {
+  Vector3 linear;
+  Vector3 angular;
+  friend bool operator==(const Twist&, const Twist&) = default;
+};
+
+/// A ROS covariance: float64[36], row-major 6x6 over (x, y, z, rotation about X, Y, Z) for a
+/// pose, (linear x, y, z, angular x, y, z) for a twist. On the wire: 36 doubles, no count.
+using Covariance36 = std::array<double, 36>;
+
+/// geometry_msgs/PoseWithCovariance. docs/uncertainty.md says how semgraph reads the covariance
+/// (the `coordinates` convention, linear-angular order: its edge form, unchanged).
+struct PoseWithCovariance {
+  Pose pose;
+  Covariance36 covariance{};
+  friend bool operator==(const PoseWithCovariance&, const PoseWithCovariance&) = default;
+};
+
+/// geometry_msgs/PoseWithCovarianceStamped: the pose in header.frame_id of a frame the message
+/// does not name (the user names it with the topic).
+struct PoseWithCovarianceStamped {
+  Header header;
+  PoseWithCovariance pose;
+  friend bool operator==(const PoseWithCovarianceStamped&,
+                         const PoseWithCovarianceStamped&) = default;
+};
+
+/// geometry_msgs/TwistWithCovariance.
+struct TwistWithCovariance {
+  Twist twist;
+  Covariance36 covariance{};
+  friend bool operator==(const TwistWithCovariance&, const TwistWithCovariance&) = default;
+};
+
+/// nav_msgs/Odometry: the pose of child_frame_id in header.frame_id, and the twist of the
+/// child's body relative to the header frame's body, at the child's origin, in [child].
+struct Odometry {
+  Header header;
+  std::string child_frame_id;
+  PoseWithCovariance pose;
+  TwistWithCovariance twist;
+  friend bool operator==(const Odometry&, const Odometry&) = default;
+};
+
 /// The types the codecs accept.
 template <class M>
 concept Message = std::is_same_v<M, Time> || std::is_same_v<M, Header> ||
     std::is_same_v<M, Vector3> || std::is_same_v<M, Quaternion> || std::is_same_v<M, Transform> ||
     std::is_same_v<M, TransformStamped> || std::is_same_v<M, TFMessage> ||
-    std::is_same_v<M, JointState> || std::is_same_v<M, String>;
+    std::is_same_v<M, JointState> || std::is_same_v<M, String> || std::is_same_v<M, Point> ||
+    std::is_same_v<M, Pose> || std::is_same_v<M, Twist> ||
+    std::is_same_v<M, PoseWithCovariance> || std::is_same_v<M, PoseWithCovarianceStamped> ||
+    std::is_same_v<M, TwistWithCovariance> || std::is_same_v<M, Odometry>;
 
 /// Why bytes do not decode to a message, or a message cannot be encoded.
 struct CodecError {
