@@ -3,10 +3,14 @@ covariance=, and the *_with_covariance queries. Every expected covariance is J S
 Jacobians derived by hand here (a pose edge's perturbation (dp, dth) at its head, in its tail's
 frame: p + dp, Exp(dth) R), never read back from the module."""
 
+import os
+import re
+
 import numpy as np
 import pytest
 
 import semgraph
+from conftest import source_dir
 
 RZ90 = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])
 I3, Z3 = np.eye(3), np.zeros((3, 3))
@@ -169,3 +173,13 @@ def test_query_errors_as_the_plain_query():
     assert info.value.code == "unknown_frame"
     with pytest.raises(ValueError):
         g.pose_with_covariance(of="b", wrt="w", covariance_order="xyz")
+
+
+def test_docs_example_runs():
+    """The Python block of docs/uncertainty.md runs as written."""
+    with open(os.path.join(source_dir(), "docs", "uncertainty.md")) as f:
+        (code,) = re.findall(r"```python\n(.*?)```", f.read(), re.S)
+    env = {}
+    exec(compile(code, "docs/uncertainty.md", "exec"), env)
+    assert env["S"].shape == (6, 6) and env["S3"].shape == (3, 3)
+    np.testing.assert_allclose(env["S3"], np.diag([4e-6, 4e-6, 2.5e-5]), atol=1e-15)
