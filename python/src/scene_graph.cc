@@ -344,8 +344,7 @@ covariance  the value's 6x6 covariance (docs/uncertainty.md; none: exact), rows 
         'coordinates' (default: p + dp, Exp(dtheta) R) or 'body' (X Exp(xi), edge form only).
         Not with stamp or repair in this version.
 RejectedError (code): invalid_name, invalid_number, invalid_rotation, invalid_covariance,
-frame_body_mismatch,
-self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
+frame_body_mismatch, self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
 multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, joint_edge;
 with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation (a conversion at a
 stamp the other edges have no values for); with repair a refused consistency check keeps its
@@ -368,7 +367,8 @@ repair: True or a RepairPolicy: repair a rejection by W1 (the inverse twist on a
 reference body) or duplicate_twist_path (consistency check); returns a RepairReport.
 covariance: the value's 6x6 covariance, rows (dv, dw) (covariance_order 'angular_linear' for
 (dw, dv)); as for add_pose.
-RejectedError: invalid_name, invalid_number, invalid_covariance, unknown_frame, unknown_body, frame_body_mismatch,
+RejectedError: invalid_name, invalid_number, invalid_covariance, unknown_frame, unknown_body,
+frame_body_mismatch,
 twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path,
 joint_edge; with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation.)");
   graph.def(

@@ -118,7 +118,8 @@ base::Expected<std::string, std::string> WriteEllipses(const core::SceneGraph<B>
   std::vector<Ellipse> items;
   for (std::uint32_t i = 0; i < graph.num_frames(); ++i) {
     const std::string name(graph.frame_name(core::FrameIndex(i)));
-    const auto r = graph.GetPositionWithCovariance(core::PoseSpec::Of(name).RelativeTo(options.root));
+    const core::PoseSpec spec = core::PoseSpec::Of(name).RelativeTo(options.root);
+    const auto r = graph.GetPositionWithCovariance(spec);
     if (!r) continue;  // another tree: no position relative to the root
     const Eigen::Vector3d p = r->value.value;
     Eigen::Matrix2d C;

@@ -630,7 +630,9 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
                                            ? coord::CovarianceOrder::kAngularLinear
                                            : coord::CovarianceOrder::kLinearAngular;
   const auto emit = [&](const auto& answer, const auto& spec) {
-    if (!answer) return Failure(op, index, answer.error().code, graph.Describe(answer.error(), spec));
+    if (!answer) {
+      return Failure(op, index, answer.error().code, graph.Describe(answer.error(), spec));
+    }
     return WithCovarianceKey(std::move(out), op, index, answer->covariance);
   };
   switch (op.query_kind) {
