@@ -79,8 +79,8 @@ def test_body_convention_by_hand():
 def test_twist_in_another_frame_by_hand():
     g = chain()
     St = np.diag([0.1, 0.2, 0.3, 0.01, 0.02, 0.03])
-    g.add_twist(point="a", body="A", ref_body="W", linear=(1, 0, 0), angular=(0, 0, 0.5),
-                covariance=St)
+    g.add_twist(point="a", body="A", ref_body="W", expressed_in="a", linear=(1, 0, 0),
+                angular=(0, 0, 0.5), covariance=St)
     V, S = g.twist_with_covariance(point="a", body="A", ref_body="W", expressed_in="a")
     np.testing.assert_allclose(S, St, atol=1e-12, rtol=0)
     v_w, w_w = RZ90 @ [1.0, 0, 0], RZ90 @ [0, 0, 0.5]
@@ -163,7 +163,8 @@ def test_bad_keywords(kwargs, error, words):
 def test_twist_takes_no_convention():
     g = chain()
     with pytest.raises(TypeError):
-        g.add_twist(point="a", ref_body="W", covariance=np.eye(6), convention="body")
+        g.add_twist(point="a", ref_body="W", expressed_in="a", covariance=np.eye(6),
+                    convention="body")
 
 
 def test_query_errors_as_the_plain_query():
