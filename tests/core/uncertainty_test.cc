@@ -231,3 +231,195 @@ TEST(Uncertainty, FirstOrderCovarianceMatchesMonteCarloForEveryQueryKind) {
 
 }  // namespace
 }  // namespace semgraph::core
+
+namespace semgraph::core {
+namespace {
+
+// Both backends give the same covariances (the propagation reads the backend's values only).
+TEST(Uncertainty, BackendsAgree) {
+  std::mt19937 rng(7);
+  const Scene scene = RandomScene(rng);
+  Graph g;
+  SceneGraph<coord::HomogeneousBackend> h;
+  Build(scene, g, nullptr);
+  for (const PoseEdge& e : scene.poses) {
+    ASSERT_TRUE(h.AddPose(PoseSpec::Of(e.head, e.head_body).RelativeTo(e.tail, e.tail_body), e.R,
+                          e.p, CovarianceInput{&e.S}));
+  }
+  for (const TwistEdge& e : scene.twists) {
+    ASSERT_TRUE(h.AddTwist(
+        TwistSpec::Of(e.point, e.body).RelativeTo(e.ref_body).ExpressedIn(e.point), e.v, e.w,
+        CovarianceInput{&e.S}));
+  }
+  for (int i = 0; i < 10; ++i) {
+    Queries q = RandomQueries(rng);
+    // The homogeneous backend holds frame-form poses in [b] only (representation_constraint).
+    q.pose.point = q.pose.orientation;
+    q.pose.ref_point = q.pose.ref_orientation;
+    q.pose.coordinate_frame = q.pose.ref_orientation;
+    const auto a = g.GetPoseWithCovariance(q.pose);
+    const auto b = h.GetPoseWithCovariance(q.pose);
+    ASSERT_TRUE(a && b);
+    EXPECT_LE((a->covariance - b->covariance).norm(), 1e-12 + 1e-9 * a->covariance.norm());
+    const auto v = g.GetTwistWithCovariance(q.twist);
+    const auto w = h.GetTwistWithCovariance(q.twist);
+    ASSERT_TRUE(v && w);
+    EXPECT_LE((v->covariance - w->covariance).norm(), 1e-12 + 1e-9 * v->covariance.norm());
+  }
+}
+
+// Order and convention on input and output: the same covariance given in GTSAM's order and in
+// the body convention is stored as the coordinates / linear_angular one; an edge asked back in
+// its own form returns it; angular_linear output is the swap.
+TEST(Uncertainty, OrdersAndConventionsRoundTrip) {
+  std::mt19937 rng(8);
+  const Covariance6 S = RandomCovariance(rng, 1e-4);
+  const Eigen::Matrix3d R = ExpR(Eigen::Vector3d(0.3, -0.7, 1.1));
+  const Eigen::Vector3d p(1, 2, 3);
+  Covariance6 S_body = Covariance6::Zero();  // diag(R, R)^T S diag(R, R), by hand
+  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+  D.topLeftCorner<3, 3>() = R;
+  D.bottomRightCorner<3, 3>() = R;
+  S_body = D.transpose() * S * D;
+  Covariance6 S_body_al;  // angular first
+  S_body_al << S_body.bottomRightCorner<3, 3>(), S_body.bottomLeftCorner<3, 3>(),
+      S_body.topRightCorner<3, 3>(), S_body.topLeftCorner<3, 3>();
+  Graph g;
+  const auto spec = PoseSpec::Of("c", "C").RelativeTo("w", "W");
+  ASSERT_TRUE(g.AddPose(spec, R, p,
+                        CovarianceInput{&S_body_al, CovarianceOrder::kAngularLinear,
+                                        PoseCovarianceConvention::kBody}));
+  EXPECT_LE((g.pose_covariance(g.FindFrame("c")) - S).norm(), 1e-15);
+  const auto back = g.GetPoseWithCovariance(spec);
+  ASSERT_TRUE(back);
+  EXPECT_LE((back->covariance - S).norm(), 1e-15);
+  const auto swapped = g.GetPoseWithCovariance(spec, CovarianceOrder::kAngularLinear);
+  const Covariance6& Sb = back->covariance;
+  EXPECT_TRUE((swapped->covariance.topLeftCorner<3, 3>() == Sb.bottomRightCorner<3, 3>()));
+  EXPECT_TRUE((swapped->covariance.topRightCorner<3, 3>() == Sb.bottomLeftCorner<3, 3>()));
+  // The inverse pose's covariance: J S J^T with the inverse's Jacobian written out by hand:
+  // R^T -> dth' = -R^T dth, p' = -R^T p -> dp' = -R^T dp - R^T [p]x dth.
+  Eigen::Matrix3d P;
+  P << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+  J.topLeftCorner<3, 3>() = -R.transpose();
+  J.topRightCorner<3, 3>() = -R.transpose() * P;
+  J.bottomRightCorner<3, 3>() = -R.transpose();
+  const auto inverse = g.GetPoseWithCovariance(PoseSpec::Of("w", "W").RelativeTo("c", "C"));
+  ASSERT_TRUE(inverse);
+  EXPECT_LE((inverse->covariance - J * S * J.transpose()).norm(), 1e-12 * S.norm());
+}
+
+// A value given in another form, relative to exact frames: asked back in that form it returns
+// the covariance given (§1: the conversion's values taken as exact); a twist in another [r] too.
+TEST(Uncertainty, ConvertedValuesAskedBackInTheirFormReturnTheirCovariance) {
+  std::mt19937 rng(9);
+  const Covariance6 S = RandomCovariance(rng, 1e-4);
+  Graph g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.1, 0.2, 0.3))),
+                        Eigen::Vector3d(1, 0, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e", "A").RelativeTo("a", "A"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(-0.4, 0.2, 0.1))),
+                        Eigen::Vector3d(0, 2, 0)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("r", "W").RelativeTo("w", "W"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.5, -0.3, 0.9))),
+                        Eigen::Vector3d(0, 0, 3)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), Eigen::Matrix3d::Identity(),
+                        Eigen::Vector3d(0, 1, 1)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("f", "B").RelativeTo("b", "B"), Eigen::Matrix3d::Identity(),
+                        Eigen::Vector3d(0, 0, 1)));
+  // c|C wrt b|B given at point e... : a new edge b -> c given at c's point, ref point f, in [r].
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.2, 0.2, -0.2))),
+                        Eigen::Vector3d(0.5, 0.5, 0.5)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("d", "C").RelativeTo("c", "C"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.0, 0.7, 0.0))),
+                        Eigen::Vector3d(0.3, 0, 0)));
+  const auto form = PoseSpec::Of("c", "C").RelativeTo("b", "B").AtPoint("d").RelativeToPoint("f")
+                        .ExpressedIn("r");
+  const Eigen::Quaterniond q(ExpR(Eigen::Vector3d(0.3, 0.1, 0.2)));
+  ASSERT_TRUE(g.AddPose(form, q, Eigen::Vector3d(0.1, -0.2, 0.3), CovarianceInput{&S}));
+  const auto back = g.GetPoseWithCovariance(form);
+  ASSERT_TRUE(back);
+  EXPECT_LE((back->covariance - S).norm(), 1e-12 * S.norm());
+  EXPECT_GT((g.pose_covariance(g.FindFrame("c")) - S).norm(), 1e-3 * S.norm());  // converted
+  // A twist in [r] of a frame whose path to r is exact.
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("m", "M").RelativeTo("w", "W"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.6, 0.1, -0.3))),
+                        Eigen::Vector3d(1, 1, 0)));
+  const auto twist = TwistSpec::Of("m", "M").RelativeTo("W").ExpressedIn("r");
+  ASSERT_TRUE(g.AddTwist(twist, Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(0.1, 0.2, 0.3),
+                         CovarianceInput{&S}));
+  const auto tw = g.GetTwistWithCovariance(twist);
+  ASSERT_TRUE(tw);
+  EXPECT_LE((tw->covariance - S).norm(), 1e-12 * S.norm());
+}
+
+// §2: every error with the graph unchanged, in the rules' order.
+TEST(Uncertainty, BadCovariancesAreRefusedWithTheGraphUnchanged) {
+  Graph g;
+  const Covariance6 good = 1e-4 * Covariance6::Identity();
+  const auto spec = PoseSpec::Of("c", "C").RelativeTo("w", "W");
+  ASSERT_TRUE(g.AddPose(spec, Eigen::Matrix3d::Identity(), Eigen::Vector3d(1, 0, 0),
+                        CovarianceInput{&good}));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("k", "C").RelativeTo("c", "C"),
+                        Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 1, 0),
+                        CovarianceInput{&good}));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c", "C").RelativeTo("W").ExpressedIn("c"),
+                         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero(), CovarianceInput{&good}));
+  const std::string before = Dump(g);
+  const Covariance6 pose_before = g.pose_covariance(g.FindFrame("c"));
+  const auto unchanged = [&] {
+    EXPECT_EQ(Dump(g), before);
+    EXPECT_EQ(g.pose_covariance(g.FindFrame("c")), pose_before);
+    EXPECT_EQ(g.pose_covariance(g.FindFrame("k")), good);
+    EXPECT_EQ(g.twist_covariance(g.FindFrame("c")), good);
+  };
+  const auto expect = [&](BuildResult r, ErrorCode code, const char* phrase) {
+    ASSERT_FALSE(r.has_value());
+    EXPECT_EQ(r.error().code, code) << r.error().message;
+    EXPECT_NE(r.error().message.find(phrase), std::string::npos) << r.error().message;
+    unchanged();
+  };
+  Covariance6 nan = good, huge = good, asym = good, negative = good;
+  nan(2, 3) = std::nan("");
+  huge(4, 4) = 2e12;
+  asym(0, 1) = 1e-3;
+  negative(5, 5) = -1e-3;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d p(2, 0, 0);
+  expect(g.AddPose(spec, I, p, CovarianceInput{&nan}), ErrorCode::kInvalidNumber, "(2, 3)");
+  expect(g.AddPose(spec, I, p, CovarianceInput{&huge}), ErrorCode::kInvalidNumber, "(4, 4)");
+  expect(g.AddPose(spec, I, p, CovarianceInput{&asym}), ErrorCode::kInvalidCovariance, "(0, 1)");
+  expect(g.AddPose(spec, I, p, CovarianceInput{&negative}), ErrorCode::kInvalidCovariance,
+         "eigenvalue");
+  // invalid_rotation before invalid_covariance; invalid_covariance before node resolution
+  // (frame c is on body C, not D: frame_body_mismatch comes later).
+  expect(g.AddPose(spec, Eigen::Matrix3d(2.0 * I), p, CovarianceInput{&asym}),
+         ErrorCode::kInvalidRotation, "");
+  expect(g.AddPose(PoseSpec::Of("c", "D").RelativeTo("w", "W"), I, p, CovarianceInput{&asym}),
+         ErrorCode::kInvalidCovariance, "(0, 1)");
+  // The body convention: a pose in edge form only.
+  expect(g.AddPose(PoseSpec::Of("c", "C").RelativeTo("w", "W").ExpressedIn("c"), I, p,
+                   CovarianceInput{&good, CovarianceOrder::kLinearAngular,
+                                   PoseCovarianceConvention::kBody}),
+         ErrorCode::kInvalidCovariance, "edge form");
+  // A restated constant pose: the same value with another covariance, or none.
+  const auto k = PoseSpec::Of("k", "C").RelativeTo("c", "C");
+  const Covariance6 other = 2.0 * good;
+  expect(g.AddPose(k, I, Eigen::Vector3d(0, 1, 0), CovarianceInput{&other}),
+         ErrorCode::kConstantPoseChange, "covariance");
+  expect(g.AddPose(k, I, Eigen::Vector3d(0, 1, 0)), ErrorCode::kConstantPoseChange, "covariance");
+  EXPECT_TRUE(g.AddPose(k, I, Eigen::Vector3d(0, 1, 0), CovarianceInput{&good}));  // the same
+  expect(g.AddTwist(TwistSpec::Of("c", "C").RelativeTo("W").ExpressedIn("c"),
+                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), CovarianceInput{&negative}),
+         ErrorCode::kInvalidCovariance, "eigenvalue");
+  // An update without a covariance makes the value exact.
+  ASSERT_TRUE(g.AddPose(spec, I, p));
+  EXPECT_EQ(g.pose_covariance(g.FindFrame("c")), Covariance6::Zero());
+  EXPECT_EQ(g.GetPoseWithCovariance(spec)->covariance, Covariance6::Zero());
+}
+
+}  // namespace
+}  // namespace semgraph::core
