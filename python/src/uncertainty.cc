@@ -73,12 +73,15 @@ CovarianceArgs ReadCovarianceArgs(py::handle covariance, py::handle order, py::h
   return c;
 }
 
-void BindUncertainty(GraphClass& graph) {
-  constexpr const char* kCovDoc = R"(
+namespace {
+
+constexpr const char* kCovDoc = R"(
 Returns (result, covariance): the first-order covariance of the answer's coordinates
 (docs/uncertainty.md) under the independent covariances of the edges it uses, of the current
 values (no time keywords). covariance_order: 'linear_angular' (default) or 'angular_linear'
 for the (6, 6) answers. QueryError as the plain query.)";
+
+void BindPoseCovarianceQueries(GraphClass& graph) {
   graph.def(
       "pose_with_covariance",
       [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
@@ -147,6 +150,9 @@ for the (6, 6) answers. QueryError as the plain query.)";
   };
   position_or_orientation("position_with_covariance", true);
   position_or_orientation("orientation_with_covariance", false);
+}
+
+void BindTwistCovarianceQueries(GraphClass& graph) {
   graph.def(
       "twist_with_covariance",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
@@ -206,6 +212,13 @@ for the (6, 6) answers. QueryError as the plain query.)";
       py::arg("expressed_in") = py::none(),
       (std::string("angular_velocity() with the covariance of its answer, (3, 3).") + kCovDoc)
           .c_str());
+}
+
+}  // namespace
+
+void BindUncertainty(GraphClass& graph) {
+  BindPoseCovarianceQueries(graph);
+  BindTwistCovarianceQueries(graph);
 }
 
 }  // namespace semgraph::python
