@@ -367,7 +367,36 @@ def scene_ops_seeds():
     return out
 
 
+I6 = "[[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0], [0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1]]"  # a 6x6 identity covariance
+
 SCRIPTS = {
+    # Covariances (docs/uncertainty.md): both forms, both orders, the body convention, queries
+    # with and without covariance_order, op errors, and malformed variants.
+    "covariance.yaml": """ops:
+  - {op: pose, of: a, body: A, wrt: w, ref_body: W, position: [1, 0, 0], rotation: {rpy: [0, 0, 1.5707963267948966]}, covariance: I6}
+  - {op: pose, of: b, body: B, wrt: a, ref_body: A, position: [2, 0, 0], covariance: {matrix: I6, order: angular_linear}}
+  - {op: pose, of: c, body: C, wrt: w, ref_body: W, covariance: {matrix: I6, convention: body}}
+  - {op: twist, point: a, body: A, ref_body: W, coord: a, linear: [1, 0, 0], covariance: {matrix: I6, order: linear_angular}}
+  - {op: query, kind: pose, of: b, wrt: w, covariance: true, covariance_order: angular_linear}
+  - {op: query, kind: position, of: b, wrt: c, covariance: true}
+  - {op: query, kind: orientation, of: b, wrt: w, covariance: false}
+  - {op: query, kind: twist, point: a, body: A, ref_body: W, coord: w, covariance: true}
+  - {op: query, kind: linear_velocity, point: a, body: A, ref_body: W, coord: w, covariance: true}
+  - {op: query, kind: angular_velocity, body: A, ref_body: W, coord: w, covariance: true}
+  - {op: pose, of: a, body: A, wrt: w, ref_body: W, covariance: [[.nan, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0], [0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, -1]]}
+""".replace("I6", I6),
+    "bad_covariance_shape.yaml": """ops:
+  - {op: pose, of: a, wrt: w, covariance: [1, 0, 0, 0, 0, 0]}
+""",
+    "bad_covariance_key.yaml": """ops:
+  - {op: pose, of: a, wrt: w, covariance: {matrix: [[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0], [0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1]], frame: w}}
+""",
+    "bad_covariance_on_body.yaml": """ops:
+  - {op: body, name: W, covariance: [[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0], [0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1]]}
+""",
+    "bad_covariance_order.yaml": """ops:
+  - {op: query, kind: position, of: a, wrt: w, covariance: true, covariance_order: angular_linear}
+""",
     "spec_example.yaml": """ops:
   - {op: pose, of: c, body: C, wrt: b, ref_body: B, position: [1.0, 0.0, 0.5]}
   - {op: pose, of: o1, body: O1, wrt: c, ref_body: C, position: [0.5, 0.2, 0.0], rotation: {rpy: [0, 0, 0.3]}}

@@ -335,7 +335,9 @@ class SceneGraph:
                  position: Optional[ArrayLike] = None, rotation: Optional[ArrayLike] = None,
                  quaternion: Optional[ArrayLike] = None, rotation_matrix: Optional[ArrayLike] = None,
                  rpy: Optional[ArrayLike] = None, stamp: Optional[Time] = None,
-                 repair: Union[bool, RepairPolicy, None] = None) -> Optional[RepairReport]:
+                 repair: Union[bool, RepairPolicy, None] = None,
+                 covariance: Optional[ArrayLike] = None, covariance_order: Optional[str] = None,
+                 convention: Optional[str] = None) -> Optional[RepairReport]:
         """Adds (or updates) the pose of `of` relative to `wrt` as the edge {wrt} -> {of}.
 
         position: of's origin relative to wrt's origin in [expressed_in or wrt], default 0.
@@ -343,14 +345,20 @@ class SceneGraph:
         quaternion (w, x, y, z), rotation_matrix (3x3), rpy (roll, pitch, yaw; R = Rz Ry Rx).
         stamp: a stamped sample (int ns or float s). repair: True or a RepairPolicy: repair a
         P1 / pose_cycle rejection and return a RepairReport (None without repair).
+        covariance: the value's (6, 6) covariance (docs/uncertainty.md), rows (dp, dtheta);
+        covariance_order "linear_angular" (default) or "angular_linear"; convention
+        "coordinates" (default) or "body" (edge form only). Not with stamp or repair.
         RejectedError on any violated rule; the graph is then unchanged."""
     def add_twist(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
                   expressed_in: Name = None, linear: Optional[ArrayLike] = None,
                   angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None,
-                  repair: Union[bool, RepairPolicy, None] = None) -> Optional[RepairReport]:
+                  repair: Union[bool, RepairPolicy, None] = None,
+                  covariance: Optional[ArrayLike] = None,
+                  covariance_order: Optional[str] = None) -> Optional[RepairReport]:
         """Adds (or updates) the twist of `body` (default: point's body) relative to `ref_body`
         as the edge ref_body -> {point}; linear/angular in [expressed_in]. stamp, repair: as
-        add_pose (repair: W1 by the inverse twist, duplicate_twist_path by consistency)."""
+        add_pose (repair: W1 by the inverse twist, duplicate_twist_path by consistency).
+        covariance: (6, 6), rows (dv, dw) (covariance_order as add_pose)."""
     def remove_pose(self, *, of: str, wrt: str) -> None: ...
     def remove_twist(self, *, point: str, ref_body: str) -> None: ...
 
@@ -384,6 +392,38 @@ class SceneGraph:
     def angular_velocity(self, *, body: Name = None, ref_body: Name = None,
                          expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
                          not_before: Optional[Time] = None, source: Optional[str] = None) -> AngularVelocity: ...
+
+    def pose_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
+                             ref_body: Name = None, point: Name = None, orientation: Name = None,
+                             ref_point: Name = None, ref_orientation: Name = None,
+                             expressed_in: Name = None,
+                             covariance_order: Optional[str] = None) -> Tuple[Pose, np.ndarray]:
+        """pose() and the (6, 6) first-order covariance of its coordinates (dp, dtheta), from
+        the covariances of the edges it uses (docs/uncertainty.md). No time keywords."""
+    def position_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
+                                 ref_body: Name = None, point: Name = None,
+                                 orientation: Name = None, ref_point: Name = None,
+                                 ref_orientation: Name = None,
+                                 expressed_in: Name = None) -> Tuple[Position, np.ndarray]:
+        """position() and its (3, 3) covariance."""
+    def orientation_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
+                                    ref_body: Name = None, point: Name = None,
+                                    orientation: Name = None, ref_point: Name = None,
+                                    ref_orientation: Name = None,
+                                    expressed_in: Name = None) -> Tuple[Orientation, np.ndarray]:
+        """orientation() and its (3, 3) covariance (dtheta)."""
+    def twist_with_covariance(self, *, point: Name = None, body: Name = None,
+                              ref_body: Name = None, expressed_in: Name = None,
+                              covariance_order: Optional[str] = None) -> Tuple[Twist, np.ndarray]:
+        """twist() and its (6, 6) covariance (dv, dw)."""
+    def linear_velocity_with_covariance(
+            self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+            expressed_in: Name = None) -> Tuple[LinearVelocity, np.ndarray]:
+        """linear_velocity() and its (3, 3) covariance."""
+    def angular_velocity_with_covariance(
+            self, *, body: Name = None, ref_body: Name = None,
+            expressed_in: Name = None) -> Tuple[AngularVelocity, np.ndarray]:
+        """angular_velocity() and its (3, 3) covariance."""
 
     def compile_pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
                      point: Name = None, orientation: Name = None, ref_point: Name = None,

@@ -5,6 +5,7 @@
 
 #include "common.h"
 #include "graph.h"
+#include "uncertainty.h"
 #ifdef SEMGRAPH_PYTHON_WITH_ROS
 #include "ros.h"
 #endif
@@ -28,6 +29,7 @@ PYBIND11_MODULE(_semgraph, m) {
     GraphClass graph = BindSceneGraph(m);
     BindBuild(graph);
     BindQueries(graph);
+    BindUncertainty(graph);
     BindHandleMethods(graph);
     BindBatchMethods(graph);
     BindInspection(graph);

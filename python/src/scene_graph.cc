@@ -18,6 +18,7 @@
 #include "semgraph/coord/validate.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "timed.h"
+#include "uncertainty.h"
 
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
 #include "semgraph/script/scene_script.h"
@@ -107,7 +108,8 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
                    py::handle point, py::handle orientation, py::handle ref_point,
                    py::handle ref_orientation, py::handle expressed_in, py::handle position,
                    py::handle rotation, py::handle quaternion, py::handle rotation_matrix,
-                   py::handle rpy, py::handle stamp, py::handle repair) {
+                   py::handle rpy, py::handle stamp, py::handle repair, py::handle covariance,
+                   py::handle covariance_order, py::handle convention) {
   const PoseNames n = ReadPoseNames("add_pose", of, body, wrt, ref_body, point, orientation,
                                     ref_point, ref_orientation, expressed_in);
   const Eigen::Vector3d p = Vector3Arg(position, "add_pose", "position");
@@ -118,6 +120,12 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
     throw py::value_error(
         "add_pose(): stamp= and repair= cannot be combined (repair applies to "
         "timeless relations)");
+  }
+  const CovarianceArgs cov =
+      ReadCovarianceArgs(covariance, covariance_order, convention, "add_pose");
+  if (cov.given && (t || policy)) {
+    throw py::value_error(
+        "add_pose(): covariance= goes with a timeless value without repair in this version");
   }
   const core::PoseSpec spec = n.Spec();
   std::lock_guard<WriterMutex> lock(b.writer);
@@ -136,6 +144,10 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
     });
   }
   Check(b.Visit([&](auto& g) {
+    if (cov.given) {
+      return rot.is_matrix ? g.AddPose(spec, rot.R, p, cov.Input())
+                           : g.AddPose(spec, rot.q, p, cov.Input());
+    }
     if (t) return rot.is_matrix ? g.AddPose(spec, rot.R, p, *t) : g.AddPose(spec, rot.q, p, *t);
     return rot.is_matrix ? g.AddPose(spec, rot.R, p) : g.AddPose(spec, rot.q, p);
   }));
@@ -145,7 +157,8 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
 // add_twist(): as add_pose.
 py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
                     py::handle expressed_in, py::handle linear, py::handle angular,
-                    py::handle stamp, py::handle repair) {
+                    py::handle stamp, py::handle repair, py::handle covariance,
+                    py::handle covariance_order) {
   const core::TwistSpec spec = ReadTwistSpec("add_twist", point, body, ref_body, expressed_in);
   const Eigen::Vector3d v = Vector3Arg(linear, "add_twist", "linear");
   const Eigen::Vector3d w = Vector3Arg(angular, "add_twist", "angular");
@@ -156,6 +169,12 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
         "add_twist(): stamp= and repair= cannot be combined (repair applies "
         "to timeless relations)");
   }
+  const CovarianceArgs cov =
+      ReadCovarianceArgs(covariance, covariance_order, py::none(), "add_twist");
+  if (cov.given && (t || policy)) {
+    throw py::value_error(
+        "add_twist(): covariance= goes with a timeless value without repair in this version");
+  }
   std::lock_guard<WriterMutex> lock(b.writer);
   if (policy) {
     return b.Visit([&](auto& g) -> py::object {
@@ -164,7 +183,10 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
       return py::cast(std::move(*r));
     });
   }
-  Check(b.Visit([&](auto& g) { return t ? g.AddTwist(spec, v, w, *t) : g.AddTwist(spec, v, w); }));
+  Check(b.Visit([&](auto& g) {
+    if (cov.given) return g.AddTwist(spec, v, w, cov.Input());
+    return t ? g.AddTwist(spec, v, w, *t) : g.AddTwist(spec, v, w);
+  }));
   return py::none();
 }
 
@@ -305,6 +327,8 @@ void BindBuild(GraphClass& graph) {
       py::arg("position") = py::none(), py::arg("rotation") = py::none(),
       py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
       py::arg("rpy") = py::none(), py::arg("stamp") = py::none(), py::arg("repair") = py::none(),
+      py::arg("covariance") = py::none(), py::arg("covariance_order") = py::none(),
+      py::arg("convention") = py::none(),
       Doc(R"(Adds the pose of `of` (body `body`) relative to `wrt` (body `ref_body`), stored as the
 edge {wrt} -> {of}, or updates the value of that existing edge. Frames and bodies that do not
 exist yet are created. A pose in a non-edge form (other point, reference point or coordinate
@@ -315,8 +339,12 @@ stamp   a stamped sample (docs/time.md): int nanoseconds or float seconds. The e
         values at the stamp. Same-body edges are timeless (the stamp only serves the conversion).
 repair  True or a RepairPolicy: repair a rejection by P1 / pose_cycle (docs/repair.md) and
         return a RepairReport; without it (the default) the add returns None. Not with stamp.
-RejectedError (code): invalid_name, invalid_number, invalid_rotation, frame_body_mismatch,
-self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
+covariance  the value's 6x6 covariance (docs/uncertainty.md; none: exact), rows (dp, dtheta);
+        covariance_order 'linear_angular' (default) or 'angular_linear'; convention
+        'coordinates' (default: p + dp, Exp(dtheta) R) or 'body' (X Exp(xi), edge form only).
+        Not with stamp or repair in this version.
+RejectedError (code): invalid_name, invalid_number, invalid_rotation, invalid_covariance,
+frame_body_mismatch, self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
 multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, joint_edge;
 with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation (a conversion at a
 stamp the other edges have no values for); with repair a refused consistency check keeps its
@@ -328,7 +356,8 @@ code and has .discrepancy = (position, angle).
             py::arg("body") = py::none(), py::arg("ref_body") = py::none(),
             py::arg("expressed_in") = py::none(), py::arg("linear") = py::none(),
             py::arg("angular") = py::none(), py::arg("stamp") = py::none(),
-            py::arg("repair") = py::none(),
+            py::arg("repair") = py::none(), py::arg("covariance") = py::none(),
+            py::arg("covariance_order") = py::none(),
             R"(Adds the twist of body `body` (default: the body of frame `point`) relative to body
 `ref_body`, as the twist edge ref_body -> {point}, or updates it.
 linear: velocity of the point of `body` at the origin of `point`; angular: angular velocity;
@@ -336,7 +365,10 @@ both expressed in [expressed_in] (converted to [point] once when different); def
 stamp: a stamped sample (int nanoseconds or float seconds), as for add_pose.
 repair: True or a RepairPolicy: repair a rejection by W1 (the inverse twist on a frame of the
 reference body) or duplicate_twist_path (consistency check); returns a RepairReport.
-RejectedError: invalid_name, invalid_number, unknown_frame, unknown_body, frame_body_mismatch,
+covariance: the value's 6x6 covariance, rows (dv, dw) (covariance_order 'angular_linear' for
+(dw, dv)); as for add_pose.
+RejectedError: invalid_name, invalid_number, invalid_covariance, unknown_frame, unknown_body,
+frame_body_mismatch,
 twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path,
 joint_edge; with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapolation.)");
   graph.def(

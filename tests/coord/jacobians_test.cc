@@ -92,6 +92,12 @@ TEST(Jacobians, CovarianceHelpersAreTheFirstOrderSums) {
   Compose(AB.R, AB.p, BC.R, BC.p, J1, J2);
   const Covariance6 expected = J1 * S1 * J1.transpose() + J2 * S2 * J2.transpose();
   EXPECT_LE((ComposeCovariance(X_AB, S1, X_BC, S2) - expected).norm(), 1e-12 * expected.norm());
+  // AddPropagated's block form against the dense product, for a J with a zero bottom-left.
+  Matrix6 Jr = Matrix6::Random();
+  Jr.bottomLeftCorner<3, 3>().setZero();
+  Covariance6 acc = S2;
+  AddPropagated(Jr, S1, acc);
+  EXPECT_LE((acc - (S2 + Jr * S1 * Jr.transpose())).norm(), 1e-12 * acc.norm());
   const Matrix6 Ji = Inverse(AB.R, AB.p);
   EXPECT_LE((InverseCovariance(X_AB, S1) - Ji * S1 * Ji.transpose()).norm(),
             1e-12 * S1.norm() * 10);

@@ -343,5 +343,42 @@ TYPED_TEST(WriteSceneRandom, RebuildsTheSameGraph) {
   EXPECT_GT(joints, 50u);
 }
 
+// ------------------------------------------------------------------ covariances
+
+// A scene with covariances on pose and twist edges (tests/tools/scripts/covariance_chain.yaml,
+// given in both orders and both conventions) is written with them, in edge form and the default
+// order, and comes back with every edge's covariance and every answer's covariance identical.
+TEST(WriteScene, RoundTripsCovariances) {
+  const std::filesystem::path script = std::filesystem::path(SEMGRAPH_SOURCE_DIR) / "tests" /
+                                       "tools" / "scripts" / "covariance_chain.yaml";
+  core::SceneGraph<coord::QuaternionBackend> g;
+  ASSERT_EQ(LoadScene(ReadFile(script), g).status, kExitOk);
+  const std::string text = ExpectRoundTrip(g);
+  EXPECT_NE(text.find(", covariance: [["), std::string::npos) << text;
+  core::SceneGraph<coord::QuaternionBackend> rebuilt;
+  ASSERT_EQ(LoadScene(text, rebuilt).status, kExitOk);
+  int nonzero = 0;
+  for (std::uint32_t i = 0; i < g.num_frames(); ++i) {
+    const core::FrameIndex f(i);
+    EXPECT_EQ(rebuilt.pose_covariance(f), g.pose_covariance(f)) << g.frame_name(f);
+    EXPECT_EQ(rebuilt.twist_covariance(f), g.twist_covariance(f)) << g.frame_name(f);
+    nonzero += g.pose_covariance(f).isZero(0.0) ? 0 : 1;
+    nonzero += g.twist_covariance(f).isZero(0.0) ? 0 : 1;
+    for (std::uint32_t j = 0; j < g.num_frames(); ++j) {
+      const std::string of(g.frame_name(f)), wrt(g.frame_name(core::FrameIndex(j)));
+      const PoseSpec spec = PoseSpec::Of(of).RelativeTo(wrt);
+      const auto before = g.GetPoseWithCovariance(spec);
+      const auto after = rebuilt.GetPoseWithCovariance(spec);
+      ASSERT_EQ(before.has_value(), after.has_value()) << of << " wrt " << wrt;
+      if (!before) continue;
+      EXPECT_EQ(after->covariance, before->covariance) << of << " wrt " << wrt;
+    }
+  }
+  EXPECT_EQ(nonzero, 4);  // a, b, c pose edges and the twist edge at a
+  const TwistSpec twist = TwistSpec::Of("a").RelativeTo("W").ExpressedIn("w");
+  EXPECT_EQ(rebuilt.GetTwistWithCovariance(twist)->covariance,
+            g.GetTwistWithCovariance(twist)->covariance);
+}
+
 }  // namespace
 }  // namespace semgraph::script

@@ -6,13 +6,17 @@
 // out of memory or bad usage; 3: the output could not be written.
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <initializer_list>
 #include <new>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <variant>
 
+#include "semgraph/ellipse_writer.h"
 #include "semgraph/script/scene_script.h"
 #if SEMGRAPH_WITH_DDS
 #include "dds_commands.h"  // serve, echo, monitor, dot --live
@@ -30,6 +34,7 @@ namespace {
 constexpr std::string_view kUsage = R"(Usage: semgraph run FILE
        semgraph dot FILE
        semgraph export FILE
+       semgraph ellipses FILE --root FRAME [--plane xy|xz|yz] [--sigma S]
        semgraph --help | --version
        semgraph run --help | semgraph dot --help | semgraph export --help
        semgraph serve | echo | monitor | dot --live ... (with DDS; semgraph serve --help)
@@ -55,6 +60,15 @@ constexpr std::string_view kExport = R"(
              it: `semgraph run` of the output gives the same names, ids, edges and values
              (17 significant digits), e.g. to save a scene built by a longer script, with its
              updates and removals, as its final state. Queries leave no trace in it.
+             Rejected ops and failed queries are printed as JSON lines on stderr.
+)";
+
+constexpr std::string_view kEllipses = R"(
+  ellipses FILE --root FRAME [--plane xy|xz|yz] [--sigma S]
+             apply the ops, then print SVG: for every frame connected to FRAME, its origin's
+             position relative to FRAME's, in [FRAME], with the covariance the edges' covariances
+             give it (docs/uncertainty.md), projected on the plane (default xy) and drawn as
+             the S-sigma ellipse (default 1) at the frame's position, labelled {frame}.
              Rejected ops and failed queries are printed as JSON lines on stderr.
 )";
 
@@ -184,10 +198,67 @@ int Print(std::initializer_list<std::string_view> texts) {
   return kExitOutputFailed;
 }
 
+// `semgraph ellipses FILE --root FRAME [--plane P] [--sigma S]` (ellipse_writer.h).
+int Ellipses(int argc, char** argv) {
+  EllipseOptions options;
+  for (int i = 3; i + 1 < argc; i += 2) {
+    const std::string_view flag = argv[i], value = argv[i + 1];
+    if (flag == "--root") {
+      options.root = value;
+    } else if (flag == "--plane" && (value == "xy" || value == "xz" || value == "yz")) {
+      options.plane = value == "xy" ? EllipsePlane::kXY
+                                    : (value == "xz" ? EllipsePlane::kXZ : EllipsePlane::kYZ);
+    } else if (flag == "--sigma") {
+      char* end = nullptr;
+      options.sigma = std::strtod(argv[i + 1], &end);
+      if (end == argv[i + 1] || *end != '\0') options.sigma = -1;  // refused below
+    } else {
+      return Usage("ellipses: unknown option '" + std::string(flag) + " " + std::string(value) +
+                   "' (--root FRAME, --plane xy|xz|yz, --sigma S)");
+    }
+  }
+  if (argc < 5 || argc % 2 == 0 || options.root.empty()) {
+    return Usage("ellipses needs FILE and --root FRAME");
+  }
+  std::string text, reason;
+  const std::string path = argv[2];
+  if (!ReadScriptFile(path, &text, &reason)) {
+    std::fprintf(stderr, "%s: cannot read: %s\n", path.c_str(), reason.c_str());
+    return kExitMalformed;
+  }
+  RunOptions run_options;
+  run_options.display_name = path == "-" ? "<stdin>" : path;
+  run_options.on_op = [](const OpResult& r) {
+    if (!r.ok) PrintLine(stderr, r.json);  // stdout carries only the SVG
+    return true;
+  };
+  const BuiltScene built = BuildScene(text, run_options);
+  if (built.run.status == kExitMalformed) {
+    PrintLine(stderr, built.run.error);
+    return kExitMalformed;
+  }
+  const auto svg = std::visit(
+      [&](const auto& g) -> base::Expected<std::string, std::string> {
+        if constexpr (std::is_same_v<std::decay_t<decltype(g)>, std::monostate>) {
+          return base::Unexpected{std::string("no scene was built")};
+        } else {
+          return WriteEllipses(g, options);
+        }
+      },
+      built.graph);
+  if (!svg) {
+    std::fprintf(stderr, "semgraph: ellipses: %s\n", svg.error().c_str());
+    return kExitMalformed;
+  }
+  const int printed = Print({*svg});
+  return printed != kExitOk ? printed : built.run.status;
+}
+
 int Main(int argc, char** argv) {
   const auto is_help = [](std::string_view arg) { return arg == "--help" || arg == "-h"; };
   if (argc == 2 && is_help(argv[1])) {
-    return Print({kUsage, kRun, kDot, kExport, kFileAndExit, kScript, kOutput, kLimits});
+    return Print({kUsage, kRun, kDot, kExport, kEllipses, kFileAndExit, kScript, kOutput,
+                  kLimits});
   }
   if (argc == 2 && std::string_view(argv[1]) == "--version") {
     return Print({"semgraph " SEMGRAPH_VERSION "\n"});
@@ -203,6 +274,13 @@ int Main(int argc, char** argv) {
     if (std::string_view(argv[1]) == "export") {
       return Print({"Usage: semgraph export FILE\n", kExport, kFileAndExit, kLimits, kMore});
     }
+  }
+  if (argc >= 2 && std::string_view(argv[1]) == "ellipses") {
+    if (argc == 3 && is_help(argv[2])) {
+      return Print({"Usage: semgraph ellipses FILE --root FRAME [--plane xy|xz|yz] [--sigma S]\n",
+                    kEllipses, kFileAndExit, kLimits, kMore});
+    }
+    return Ellipses(argc, argv);
   }
 #if SEMGRAPH_WITH_ROS_DDS
   if (IsRosLiveCommand(argc, argv)) return RunRosLiveCommand(argc, argv);

@@ -23,7 +23,8 @@
 // Numbers: %.17g, so each double reads back to itself; rotations as the backend stores them (a
 // quaternion for the quaternion backend, else the matrix), which validation keeps bit for bit
 // (coord/validate.h: normalizing is idempotent). Pose edges are written in edge form (the stored
-// value X_PF in [P]) and twist edges at their head in its frame, so nothing is converted.
+// value X_PF in [P]) and twist edges at their head in its frame, so nothing is converted;
+// an edge's covariance (docs/uncertainty.md) likewise, as stored, when not zero.
 //
 // Joints: each live joint as a `joint` op (origin, axis, limits, mimic as stored), in table
 // order; one creates its frames where the order of ids needs it (a joint interns [p, c, P, C]
@@ -197,6 +198,7 @@ class Writer {
         out_ += "{matrix: [" + Numbers(M.row(0), 3) + ", " + Numbers(M.row(1), 3) + ", " +
                 Numbers(M.row(2), 3) + "]}";
       }
+      Covariance(g_.pose_covariance(a));
       pose_done_[a.value()] = true;
     }
     out_ += "}\n";
@@ -209,9 +211,18 @@ class Writer {
     if (g_.twist_parent(h) == D) {
       const std::optional<coord::Twist> V = g_.twist_value(h);
       out_ += ", linear: " + Numbers(V->linear, 3) + ", angular: " + Numbers(V->angular, 3);
+      Covariance(g_.twist_covariance(h));
       twist_done_[h.value()] = true;
     }
     out_ += "}\n";
+  }
+  // An edge's covariance as stored (edge form, linear_angular, coordinates: the defaults of a
+  // script's `covariance`); none when zero (an exact value).
+  void Covariance(const coord::Covariance6& S) {
+    if (S.isZero(0.0)) return;
+    out_ += ", covariance: [";
+    for (int i = 0; i < 6; ++i) out_ += (i > 0 ? ", " : "") + Numbers(S.row(i), 6);
+    out_ += "]";
   }
   void RemovePose(FrameIndex a, FrameIndex b) {
     out_ += "  - {op: remove, kind: pose, of: " + Quoted(FrameName(a)) +

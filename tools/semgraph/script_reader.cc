@@ -64,6 +64,8 @@ enum Field : int {
   kBodies,
   kStart,
   kEnd,
+  kCovariance,
+  kCovarianceOrder,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -109,9 +111,11 @@ constexpr std::string_view kFieldNames[kNumFields] = {"op",
                                                       "static",
                                                       "bodies",
                                                       "start",
-                                                      "end"};
+                                                      "end",
+                                                      "covariance",
+                                                      "covariance_order"};
 
-static_assert(kFieldNames[kNumFields - 1] == "end", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "covariance_order", "one name per Field, in order");
 static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
 
 constexpr std::uint64_t Bit(Field f) { return std::uint64_t{1} << f; }
@@ -140,6 +144,10 @@ Shape ShapeOf(OpKind op, QueryKind query) {
                                        Bit(kRefPoint) | Bit(kRefOrientation) | Bit(kRefBody) |
                                        Bit(kCoord);
   constexpr std::uint64_t kTwistNames = Bit(kPoint) | Bit(kBody) | Bit(kRefBody) | Bit(kCoord);
+  // Uncertainty (docs/uncertainty.md): every value query may ask for its answer's covariance;
+  // the 6x6 answers (pose, twist) may also name its order.
+  constexpr std::uint64_t kCov3 = Bit(kCovariance);
+  constexpr std::uint64_t kCov6 = kCov3 | Bit(kCovarianceOrder);
   const std::vector<Requirement> pose_required = {{kPoint, kOf},
                                                   {kOrientation, kOf},
                                                   {kRefPoint, kWrt},
@@ -155,11 +163,13 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       return {"a 'frame' op", Bit(kOp) | Bit(kName) | Bit(kBody), {{kName, kNoField}}};
     case OpKind::kPose:
       return {"a 'pose' op",
-              Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair) | Bit(kStamp),
+              Bit(kOp) | kPoseNames | Bit(kPosition) | Bit(kRotation) | Bit(kRepair) | Bit(kStamp) |
+                  Bit(kCovariance),
               pose_required};
     case OpKind::kTwist:
       return {"a 'twist' op",
-              Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair) | Bit(kStamp),
+              Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair) | Bit(kStamp) |
+                  Bit(kCovariance),
               twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
@@ -189,27 +199,28 @@ Shape ShapeOf(OpKind op, QueryKind query) {
   }
   switch (query) {
     case QueryKind::kPose:
-      return {"a 'pose' query", kHeader | kPoseNames | kPoseTime, pose_required};
+      return {"a 'pose' query", kHeader | kPoseNames | kPoseTime | kCov6, pose_required};
     case QueryKind::kPosition:
       return {"a 'position' query",
               kHeader | kShorthand | Bit(kPoint) | Bit(kBody) | Bit(kRefPoint) | Bit(kRefBody) |
-                  Bit(kCoord) | kPoseTime,
+                  Bit(kCoord) | kPoseTime | kCov3,
               {{kPoint, kOf}, {kRefPoint, kWrt}, {kCoord, kWrt}}};
     case QueryKind::kOrientation:
       return {"an 'orientation' query",
               kHeader | kShorthand | Bit(kOrientation) | Bit(kBody) | Bit(kRefOrientation) |
-                  Bit(kRefBody) | Bit(kCoord) | kPoseTime,
+                  Bit(kRefBody) | Bit(kCoord) | kPoseTime | kCov3,
               {{kOrientation, kOf}, {kRefOrientation, kWrt}, {kCoord, kWrt}}};
     case QueryKind::kTwist:
-      return {"a 'twist' query", kHeader | kTwistNames | kTwistTime, twist_required};
+      return {"a 'twist' query", kHeader | kTwistNames | kTwistTime | kCov6, twist_required};
     case QueryKind::kLinearVelocity:
-      return {"a 'linear_velocity' query", kHeader | kTwistNames | kTwistTime, twist_required};
+      return {"a 'linear_velocity' query", kHeader | kTwistNames | kTwistTime | kCov3,
+              twist_required};
     case QueryKind::kJacobian:
       return {"a 'jacobian' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
       return {"an 'angular_velocity' query",
-              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord) | kTwistTime,
+              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord) | kTwistTime | kCov3,
               {{kBody, kNoField}, {kRefBody, kNoField}, {kCoord, kNoField}}};
   }
   return {};
@@ -282,6 +293,11 @@ class Interpreter {
   bool ReadTimeSettings(std::uint32_t node, TimeSettings* out);
   bool ReadOpTime(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
                   ScriptOp* op);
+  bool ReadBool(std::uint32_t node, std::string_view field, bool* out);
+  bool ReadCovariance(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
+  bool ReadCovarianceValue(std::uint32_t node, ScriptOp* op);
+  bool ReadMatrix6(std::uint32_t node, std::string_view what, ScriptOp* op);
+  bool ReadQueryCovariance(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op);
 
   const YamlTree& tree_;
   ScriptError error_;
@@ -511,16 +527,139 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     }
   }
   if (!ReadOpTime(node, value, op)) return false;
-  if (value[kRepair] != kNoNode) {  // YAML 1.2 core schema booleans, plain style only
-    const NodeView n = At(value[kRepair]);
-    const bool plain = n.kind == NodeKind::kScalar && n.style == ScalarStyle::kPlain;
-    if (plain && (n.text == "true" || n.text == "True" || n.text == "TRUE")) {
-      op->repair = true;
-    } else if (plain && (n.text == "false" || n.text == "False" || n.text == "FALSE")) {
-      op->repair = false;
+  if (value[kRepair] != kNoNode && !ReadBool(value[kRepair], "repair", &op->repair)) return false;
+  if (op->kind == OpKind::kQuery) return ReadQueryCovariance(value, op);
+  return ReadCovariance(value, op);
+}
+
+bool Interpreter::ReadBool(std::uint32_t node, std::string_view field, bool* out) {
+  // YAML 1.2 core schema booleans, plain style only.
+  const NodeView n = At(node);
+  const bool plain = n.kind == NodeKind::kScalar && n.style == ScalarStyle::kPlain;
+  if (plain && (n.text == "true" || n.text == "True" || n.text == "TRUE")) {
+    *out = true;
+  } else if (plain && (n.text == "false" || n.text == "False" || n.text == "FALSE")) {
+    *out = false;
+  } else {
+    return Fail(node, "'" + std::string(field) + "' must be true or false, got " + Describe(node));
+  }
+  return true;
+}
+
+// A query's `covariance: true|false` and `covariance_order` (only with covariance: true).
+bool Interpreter::ReadQueryCovariance(const std::array<std::uint32_t, kNumFields>& value,
+                                      ScriptOp* op) {
+  if (value[kCovariance] != kNoNode &&
+      !ReadBool(value[kCovariance], "covariance", &op->query_covariance)) {
+    return false;
+  }
+  if (op->query_covariance) {
+    // The answer's covariance is that of the latest values: this version propagates no
+    // covariance through interpolation, extrapolation, time travel or differentiated poses.
+    for (const Field f : {kAt, kMaxExtrapolation, kNotBefore, kRefAt, kFixed, kSource}) {
+      if (value[f] == kNoNode) continue;
+      return Fail(value[f], "field " + Quoted(kFieldNames[f]) +
+                                " is not supported with 'covariance: true' in this version (a "
+                                "covariance is of the latest values)");
+    }
+  }
+  const std::uint32_t order = value[kCovarianceOrder];
+  if (order == kNoNode) return true;
+  if (!op->query_covariance) {
+    return Fail(order, "'covariance_order' needs 'covariance: true' on the query");
+  }
+  const NodeView n = At(order);
+  if (n.kind == NodeKind::kScalar && (n.text == "linear_angular" || n.text == "angular_linear")) {
+    op->covariance_angular_first = n.text == "angular_linear";
+    return true;
+  }
+  return Fail(order, "'covariance_order' must be linear_angular or angular_linear, got " +
+                         Describe(order));
+}
+
+// A pose or twist op's `covariance` (docs/uncertainty.md): a 6x6 list of lists, or a map
+// {matrix, order, convention}; `convention: body` only for a pose in edge form (of/wrt: point =
+// orientation, ref_point = ref_orientation = coord), the only form it has a meaning in.
+bool Interpreter::ReadCovariance(const std::array<std::uint32_t, kNumFields>& value,
+                                 ScriptOp* op) {
+  if (value[kCovariance] == kNoNode) return true;
+  if (!ReadCovarianceValue(value[kCovariance], op)) return false;
+  for (const Field f : {kRepair, kStamp}) {
+    if (value[f] == kNoNode) continue;
+    return Fail(value[f], "field " + Quoted(kFieldNames[f]) +
+                              " does not go with 'covariance' in this version (a covariance is "
+                              "given with an unstamped value, without repair)");
+  }
+  const SemanticNames& n = op->names;
+  const bool edge_form = n.point == n.orientation && n.ref_point == n.ref_orientation &&
+                         n.coord == n.ref_orientation;
+  if (op->covariance_body && !edge_form) {
+    return Fail(value[kCovariance],
+                "'convention: body' applies to a pose given in edge form only (point = "
+                "orientation, ref_point = ref_orientation = coord, as 'of' and 'wrt' give)");
+  }
+  return true;
+}
+
+bool Interpreter::ReadCovarianceValue(std::uint32_t node, ScriptOp* op) {
+  static constexpr std::string_view kForms =
+      "a 6x6 list of lists of numbers, or a map {matrix: 6x6, order: linear_angular | "
+      "angular_linear, convention: coordinates | body}";
+  op->has_covariance = true;
+  const NodeView v = At(node);
+  if (v.kind == NodeKind::kSequence) return ReadMatrix6(node, "'covariance'", op);
+  if (v.kind != NodeKind::kMap) {
+    return Fail(node, "'covariance' must be " + std::string(kForms) + ", got " + Describe(node));
+  }
+  const bool pose = op->kind == OpKind::kPose;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  if (!ReadMap(node, "'covariance'", &pairs)) return false;
+  bool has_matrix = false;
+  for (const auto& [key, item] : pairs) {
+    const std::string_view k = At(key).text;
+    const NodeView iv = At(item);
+    const bool text = iv.kind == NodeKind::kScalar;
+    if (k == "matrix") {
+      if (!ReadMatrix6(item, "the 'matrix' of 'covariance'", op)) return false;
+      has_matrix = true;
+    } else if (k == "order") {
+      if (!text || (iv.text != "linear_angular" && iv.text != "angular_linear")) {
+        return Fail(item, "the 'order' of 'covariance' must be linear_angular or angular_linear, "
+                          "got " + Describe(item));
+      }
+      op->covariance_angular_first = iv.text == "angular_linear";
+    } else if (k == "convention" && pose) {
+      if (!text || (iv.text != "coordinates" && iv.text != "body")) {
+        return Fail(item, "the 'convention' of 'covariance' must be coordinates or body, got " +
+                              Describe(item));
+      }
+      op->covariance_body = iv.text == "body";
     } else {
-      return Fail(value[kRepair],
-                  "'repair' must be true or false, got " + Describe(value[kRepair]));
+      return Fail(key, "unknown field " + Quoted(k) + " in 'covariance' of a '" +
+                           std::string(pose ? "pose" : "twist") + "' op (its fields: matrix, " +
+                           (pose ? "order, convention)" : "order; a twist has no convention)"));
+    }
+  }
+  if (!has_matrix) return Fail(node, "'covariance' needs 'matrix' (6 rows of 6 numbers)");
+  return true;
+}
+
+bool Interpreter::ReadMatrix6(std::uint32_t node, std::string_view what, ScriptOp* op) {
+  const NodeView v = At(node);
+  if (v.kind != NodeKind::kSequence || v.children.size() != 6) {
+    return Fail(node, std::string(what) + " must be a list of 6 rows of 6 numbers, got " +
+                          Describe(node));
+  }
+  for (std::size_t r = 0; r < 6; ++r) {
+    const std::uint32_t row = v.children[r];
+    if (At(row).kind != NodeKind::kSequence || At(row).children.size() != 6) {
+      return Fail(row, "row " + std::to_string(r + 1) + " of " + std::string(what) +
+                           " must be a list of 6 numbers, got " + Describe(row));
+    }
+    for (std::size_t c = 0; c < 6; ++c) {
+      const std::string element = "element " + std::to_string(c + 1) + " of row " +
+                                  std::to_string(r + 1) + " of " + std::string(what);
+      if (!ReadNumber(At(row).children[c], element, &op->covariance[r][c])) return false;
     }
   }
   return true;

@@ -145,6 +145,15 @@ struct ScriptOp {
   std::string static_mode;
   std::vector<std::pair<std::string, std::vector<std::string>>> bodies;
   std::optional<double> start, end;
+  // Uncertainty (docs/uncertainty.md). kPose, kTwist: the covariance given with the value, as
+  // written (checked by the scene graph: invalid_number, invalid_covariance), its order and,
+  // for a pose in edge form, the body convention. Queries: `covariance: true` asks for the
+  // answer's covariance, in `covariance_order` for a pose or twist.
+  bool has_covariance = false;
+  std::array<std::array<double, 6>, 6> covariance{};
+  bool covariance_angular_first = false;
+  bool covariance_body = false;
+  bool query_covariance = false;
 };
 
 /// The document's `time` map: the graph's time options (docs/time.md). Checked here: a window

@@ -211,6 +211,24 @@ bool StampOf(const ScriptOp& op, std::optional<core::Stamp>* stamp, std::string*
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The covariance of a pose or twist op as written (the reader checked its shape only).
+coord::Covariance6 CovarianceOf(const ScriptOp& op) {
+  coord::Covariance6 S;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) S(i, j) = op.covariance[i][j];
+  }
+  return S;
+}
+core::CovarianceInput CovarianceInputOf(const ScriptOp& op, const coord::Covariance6& S) {
+  core::CovarianceInput in;
+  in.matrix = op.has_covariance ? &S : nullptr;
+  in.order = op.covariance_angular_first ? coord::CovarianceOrder::kAngularLinear
+                                         : coord::CovarianceOrder::kLinearAngular;
+  in.convention = op.covariance_body ? coord::PoseCovarianceConvention::kBody
+                                     : coord::PoseCovarianceConvention::kCoordinates;
+  return in;
+}
+
 template <coord::Backend B>
 OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const core::PoseSpec spec = PoseSpecOf(op.names);
@@ -226,7 +244,10 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
     return Failure(op, index, base::ErrorCode::kInvalidNumber,
                    WithReason(probe.error().message, reason));
   }
+  const coord::Covariance6 S = CovarianceOf(op);
+  const core::CovarianceInput covariance = CovarianceInputOf(op, S);
   const auto add = [&](const auto& rotation) {
+    if (op.has_covariance) return graph.AddPose(spec, rotation, p, covariance);
     return stamp ? graph.AddPose(spec, rotation, p, *stamp) : graph.AddPose(spec, rotation, p);
   };
   if (op.repair) {
@@ -350,6 +371,12 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
     if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
     return Failure(op, index, base::ErrorCode::kInvalidNumber,
                    WithReason(probe.error().message, reason));
+  }
+  if (op.has_covariance) {
+    const coord::Covariance6 S = CovarianceOf(op);
+    return FromBuild(op, index,
+                     graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular),
+                                    CovarianceInputOf(op, S)));
   }
   if (stamp)
     return FromBuild(op, index,
@@ -487,7 +514,7 @@ OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::si
 }
 
 template <coord::Backend B>
-OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+OpOutcome QueryValue(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const SemanticNames& n = op.names;
   const bool pose_kind = op.query_kind == QueryKind::kPose ||
                          op.query_kind == QueryKind::kPosition ||
@@ -570,6 +597,61 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
       break;
   }
   base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
+}
+
+// Appends the answer's covariance, row-major, to a successful query's object.
+template <int N>
+OpOutcome WithCovarianceKey(OpOutcome out, const ScriptOp& op, std::size_t index,
+                            const Eigen::Matrix<double, N, N>& S) {
+  if (!S.allFinite()) {
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   "the covariance of the result is not finite (overflow)");
+  }
+  std::string key = ", \"covariance\": [";
+  for (int i = 0; i < N; ++i) {
+    for (int j = 0; j < N; ++j) {
+      if (i + j > 0) key += ',';
+      key += JsonNumber(S(i, j));
+    }
+  }
+  out.json.insert(out.json.size() - 1, key + "]");
+  return out;
+}
+
+// A query: its value (and time keys), then, when asked (`covariance: true`), the covariance of
+// the answer (docs/uncertainty.md §3), of the latest values (the reader refused time fields).
+template <coord::Backend B>
+OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  OpOutcome out = QueryValue(graph, op, index);
+  if (!out.ok || !op.query_covariance) return out;
+  const core::PoseSpec pose_spec = PoseSpecOf(op.names);
+  const core::TwistSpec twist_spec = TwistSpecOf(op.names);
+  const coord::CovarianceOrder order = op.covariance_angular_first
+                                           ? coord::CovarianceOrder::kAngularLinear
+                                           : coord::CovarianceOrder::kLinearAngular;
+  const auto emit = [&](const auto& answer, const auto& spec) {
+    if (!answer) {
+      return Failure(op, index, answer.error().code, graph.Describe(answer.error(), spec));
+    }
+    return WithCovarianceKey(std::move(out), op, index, answer->covariance);
+  };
+  switch (op.query_kind) {
+    case QueryKind::kPose:
+      return emit(graph.GetPoseWithCovariance(pose_spec, order), pose_spec);
+    case QueryKind::kPosition:
+      return emit(graph.GetPositionWithCovariance(pose_spec), pose_spec);
+    case QueryKind::kOrientation:
+      return emit(graph.GetOrientationWithCovariance(pose_spec), pose_spec);
+    case QueryKind::kTwist:
+      return emit(graph.GetTwistWithCovariance(twist_spec, order), twist_spec);
+    case QueryKind::kLinearVelocity:
+      return emit(graph.GetLinearVelocityWithCovariance(twist_spec), twist_spec);
+    case QueryKind::kAngularVelocity:
+      return emit(graph.GetAngularVelocityWithCovariance(twist_spec), twist_spec);
+    case QueryKind::kJacobian:
+      break;  // the reader takes no covariance on a Jacobian query
+  }
+  return out;
 }
 
 }  // namespace
