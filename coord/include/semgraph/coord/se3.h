@@ -19,8 +19,9 @@
 // coord::Pose<B> / coord::Twist, check the semantics (semantics/time_operations.h: the twist
 // must be the screw twist of that very edge, the two samples of one edge), then compute.
 // Accuracy: series expansions below th = 0.1 keep every coefficient to full double precision
-// (no cancellation at small angles). Cost: O(1), a few transcendental calls; noexcept,
-// allocation-free.
+// (no cancellation at small angles); slerp between close rotations uses an exact series instead
+// of trigonometry (SlerpSeriesWeights: within 3e-16 relative). Cost: O(1), a few transcendental
+// calls (none for slerp at small angles); noexcept, allocation-free.
 #pragma once
 
 #include <cmath>
@@ -115,15 +116,49 @@ inline QuatPose Integrate(const QuatPose& X, const Eigen::Vector3d& v, const Eig
   return X_out;
 }
 
-/// Slerp on the shorter arc (as tf2's Quaternion::slerp), lambda in [0, 1].
+/// The slerp weights of a small angle without trigonometry: with x = cos th (th in [0, pi/2],
+/// the half angle between the rotations) and u = 1 - x, for t in [0, 1]
+///   sin(t th) / sin th = t sum_i b_i(t) u^i,  b_0 = 1,  b_i = b_(i-1) (i^2 - t^2) / (i (2i + 1)),
+/// the Taylor series at x = 1 of the solution of (1 - x^2) f'' - 3x f' + (t^2 - 1) f = 0 with
+/// f(1) = t (as in Eberly, "A Fast and Accurate Algorithm for Computing SLERP", 2011; here the
+/// series itself, not a fitted approximation). Every term is >= 0 and each is at most u/2 times
+/// the one before, and f >= t, so stopping after i = 8 leaves a relative error of at most
+///   prod_(j=1..9) j/(2j+1) u^9 / (1 - u/2) <= 1.2e-17 for u <= kSlerpSeriesMaxU = 0.03
+/// (th <= 0.2456, a rotation of at most 0.49 rad between the two samples). The Horner sum of
+/// positive terms adds about 2 ulp of rounding: each weight is within 3e-16 of sin(t th)/sin th
+/// relative (tests/coord/se3_test.cc checks 1e-15 against long double trigonometry).
+inline constexpr double kSlerpSeriesMaxU = 0.03;
+inline void SlerpSeriesWeights(double t0, double t1, double u, double& w0,
+                               double& w1) noexcept {
+  const double a0 = t0 * t0, a1 = t1 * t1;
+  double r0 = 1.0, r1 = 1.0;
+  // i = 8 down to 1: r = 1 + u (i^2 - t^2) / (i (2i + 1)) r.
+  constexpr double kInv[9] = {0.0,          1.0 / 3.0,   1.0 / 10.0,  1.0 / 21.0, 1.0 / 36.0,
+                              1.0 / 55.0,   1.0 / 78.0,  1.0 / 105.0, 1.0 / 136.0};
+  for (int i = 8; i >= 1; --i) {
+    const double ui = u * kInv[i], ii = static_cast<double>(i * i);
+    r0 = 1.0 + (ii - a0) * ui * r0;
+    r1 = 1.0 + (ii - a1) * ui * r1;
+  }
+  w0 = t0 * r0;
+  w1 = t1 * r1;
+}
+
+/// Slerp on the shorter arc (as tf2's Quaternion::slerp), lambda in [0, 1]. Consecutive samples
+/// are close: their weights come from the series above (a few dozen flops); farther apart,
+/// from atan2 and three sines.
 inline Eigen::Quaterniond Slerp(const Eigen::Quaterniond& q0, const Eigen::Quaterniond& q1,
                                 double lambda) noexcept {
   double d = q0.coeffs().dot(q1.coeffs());
   const double sign = d < 0 ? -1.0 : 1.0;
   d = std::abs(d);
-  // The half angle between the rotations: atan2(sin, cos), accurate near 0 and near pi/2.
+  if (1.0 - d <= kSlerpSeriesMaxU) {
+    double s0 = 0.0, s1 = 0.0;
+    SlerpSeriesWeights(1.0 - lambda, lambda, 1.0 - d, s0, s1);
+    return Eigen::Quaterniond(s0 * q0.coeffs() + (s1 * sign) * q1.coeffs());
+  }
+  // The half angle between the rotations: atan2(sin, cos), accurate near pi/2.
   const double theta = std::atan2((sign * q1.coeffs() - d * q0.coeffs()).norm(), d);
-  if (theta < 1e-12) return q0;
   const double s = 1.0 / std::sin(theta);
   const double s0 = std::sin((1.0 - lambda) * theta) * s;
   const double s1 = std::sin(lambda * theta) * s * sign;
