@@ -128,41 +128,44 @@ inline QuatPose Integrate(const QuatPose& X, const Eigen::Vector3d& v, const Eig
 /// positive terms adds about 2 ulp of rounding: each weight is within 3e-16 of sin(t th)/sin th
 /// relative (tests/coord/se3_test.cc checks 1e-15 against long double trigonometry).
 inline constexpr double kSlerpSeriesMaxU = 0.03;
-inline void SlerpSeriesWeights(double t0, double t1, double u, double& w0,
-                               double& w1) noexcept {
-  const double a0 = t0 * t0, a1 = t1 * t1;
-  double r0 = 1.0, r1 = 1.0;
-  // i = 8 down to 1: r = 1 + u (i^2 - t^2) / (i (2i + 1)) r.
-  constexpr double kInv[9] = {0.0,          1.0 / 3.0,   1.0 / 10.0,  1.0 / 21.0, 1.0 / 36.0,
-                              1.0 / 55.0,   1.0 / 78.0,  1.0 / 105.0, 1.0 / 136.0};
-  for (int i = 8; i >= 1; --i) {
-    const double ui = u * kInv[i], ii = static_cast<double>(i * i);
-    r0 = 1.0 + (ii - a0) * ui * r0;
-    r1 = 1.0 + (ii - a1) * ui * r1;
-  }
-  w0 = t0 * r0;
-  w1 = t1 * r1;
+[[gnu::always_inline]] inline void SlerpSeriesWeights(double t0, double t1, double u, double& w0,
+                                                      double& w1) noexcept {
+  // Both weights at once (one SIMD lane each); i = 8 down to 1: r = 1 + (i^2 - t^2) u/(i (2i + 1)) r.
+  constexpr double kInv[9] = {0.0,        1.0 / 3.0,  1.0 / 10.0,  1.0 / 21.0, 1.0 / 36.0,
+                              1.0 / 55.0, 1.0 / 78.0, 1.0 / 105.0, 1.0 / 136.0};
+  const Eigen::Array2d t(t0, t1), a = t * t;
+  Eigen::Array2d r = Eigen::Array2d::Ones();
+  for (int i = 8; i >= 1; --i) r = ((static_cast<double>(i * i) - a) * (u * kInv[i])) * r + 1.0;
+  w0 = t0 * r[0];
+  w1 = t1 * r[1];
 }
 
-/// Slerp on the shorter arc (as tf2's Quaternion::slerp), lambda in [0, 1]. Consecutive samples
-/// are close: their weights come from the series above (a few dozen flops); farther apart,
-/// from atan2 and three sines.
-inline Eigen::Quaterniond Slerp(const Eigen::Quaterniond& q0, const Eigen::Quaterniond& q1,
-                                double lambda) noexcept {
-  double d = q0.coeffs().dot(q1.coeffs());
-  const double sign = d < 0 ? -1.0 : 1.0;
-  d = std::abs(d);
-  if (1.0 - d <= kSlerpSeriesMaxU) {
-    double s0 = 0.0, s1 = 0.0;
-    SlerpSeriesWeights(1.0 - lambda, lambda, 1.0 - d, s0, s1);
-    return Eigen::Quaterniond(s0 * q0.coeffs() + (s1 * sign) * q1.coeffs());
-  }
+/// Slerp weights from the angle, for rotations farther apart than the series covers (out of
+/// line: the common case stays small enough to inline).
+[[gnu::noinline]] inline Eigen::Quaterniond SlerpFar(const Eigen::Quaterniond& q0,
+                                                      const Eigen::Quaterniond& q1, double d,
+                                                      double sign, double lambda) noexcept {
   // The half angle between the rotations: atan2(sin, cos), accurate near pi/2.
   const double theta = std::atan2((sign * q1.coeffs() - d * q0.coeffs()).norm(), d);
   const double s = 1.0 / std::sin(theta);
   const double s0 = std::sin((1.0 - lambda) * theta) * s;
   const double s1 = std::sin(lambda * theta) * s * sign;
   return Eigen::Quaterniond(s0 * q0.coeffs() + s1 * q1.coeffs());
+}
+
+/// Slerp on the shorter arc (as tf2's Quaternion::slerp), lambda in [0, 1]. Consecutive samples
+/// are close: their weights come from the series above (a few dozen flops); farther apart,
+/// from atan2 and three sines (SlerpFar).
+[[gnu::always_inline]] inline Eigen::Quaterniond Slerp(const Eigen::Quaterniond& q0,
+                                                       const Eigen::Quaterniond& q1,
+                                                       double lambda) noexcept {
+  double d = q0.coeffs().dot(q1.coeffs());
+  const double sign = d < 0 ? -1.0 : 1.0;
+  d = std::abs(d);
+  if (!(1.0 - d <= kSlerpSeriesMaxU)) return SlerpFar(q0, q1, d, sign, lambda);
+  double s0 = 0.0, s1 = 0.0;
+  SlerpSeriesWeights(1.0 - lambda, lambda, 1.0 - d, s0, s1);
+  return Eigen::Quaterniond(s0 * q0.coeffs() + (s1 * sign) * q1.coeffs());
 }
 
 /// Screw interpolation X0 Exp(lambda Log(X0^-1 X1)).
