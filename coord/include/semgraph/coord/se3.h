@@ -122,20 +122,40 @@ inline QuatPose Integrate(const QuatPose& X, const Eigen::Vector3d& v, const Eig
 /// the Taylor series at x = 1 of the solution of (1 - x^2) f'' - 3x f' + (t^2 - 1) f = 0 with
 /// f(1) = t (as in Eberly, "A Fast and Accurate Algorithm for Computing SLERP", 2011; here the
 /// series itself, not a fitted approximation). Every term is >= 0 and each is at most u/2 times
-/// the one before, and f >= t, so stopping after i = 8 leaves a relative error of at most
-///   prod_(j=1..9) j/(2j+1) u^9 / (1 - u/2) <= 1.2e-17 for u <= kSlerpSeriesMaxU = 0.03
-/// (th <= 0.2456, a rotation of at most 0.49 rad between the two samples). The Horner sum of
-/// positive terms adds about 2 ulp of rounding: each weight is within 3e-16 of sin(t th)/sin th
+/// the one before, and f >= t, so stopping after term K leaves a relative error of at most
+///   E(K, u) = prod_(j=1..K+1) j/(2j+1) u^(K+1) / (1 - u/2),
+/// and K is the fewest terms with E <= 1.4e-17 (terms below): K = 1 up to u = 1e-8, 2 up to
+/// 5e-6, 3 up to 1.4e-4 (a rotation of 0.033 rad between the samples), 4 up to 1e-3, 8 up to
+/// kSlerpSeriesMaxU = 0.03 (th <= 0.2456, a rotation of 0.49 rad). The Horner sum of positive
+/// terms adds about 2 ulp of rounding: each weight is within 3e-16 of sin(t th) / sin th
 /// relative (tests/coord/se3_test.cc checks 1e-15 against long double trigonometry).
 inline constexpr double kSlerpSeriesMaxU = 0.03;
 [[gnu::always_inline]] inline void SlerpSeriesWeights(double t0, double t1, double u, double& w0,
                                                       double& w1) noexcept {
-  // Both weights at once (one SIMD lane each); i = 8 down to 1: r = 1 + (i^2 - t^2) u/(i (2i + 1)) r.
-  constexpr double kInv[9] = {0.0,        1.0 / 3.0,  1.0 / 10.0,  1.0 / 21.0, 1.0 / 36.0,
-                              1.0 / 55.0, 1.0 / 78.0, 1.0 / 105.0, 1.0 / 136.0};
+  // Both weights at once (one SIMD lane each): r = 1 + (i^2 - t^2) u / (i (2i + 1)) r.
   const Eigen::Array2d t(t0, t1), a = t * t;
   Eigen::Array2d r = Eigen::Array2d::Ones();
-  for (int i = 8; i >= 1; --i) r = ((static_cast<double>(i * i) - a) * (u * kInv[i])) * r + 1.0;
+  const auto term = [&](double ii, double inv) noexcept { r = ((ii - a) * (u * inv)) * r + 1.0; };
+  const int terms = u <= 1e-8 ? 1 : u <= 5e-6 ? 2 : u <= 1.4e-4 ? 3 : u <= 1e-3 ? 4 : 8;
+  switch (terms) {  // i = K down to 1
+    case 8:
+      term(64.0, 1.0 / 136.0);
+      term(49.0, 1.0 / 105.0);
+      term(36.0, 1.0 / 78.0);
+      term(25.0, 1.0 / 55.0);
+      [[fallthrough]];
+    case 4:
+      term(16.0, 1.0 / 36.0);
+      [[fallthrough]];
+    case 3:
+      term(9.0, 1.0 / 21.0);
+      [[fallthrough]];
+    case 2:
+      term(4.0, 1.0 / 10.0);
+      [[fallthrough]];
+    default:
+      term(1.0, 1.0 / 3.0);
+  }
   w0 = t0 * r[0];
   w1 = t1 * r[1];
 }

@@ -168,8 +168,10 @@ void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& 
 /// The samples of history `h` of edge `index` around the context's time, their span noted in
 /// the context and in the record (what is read of them is the caller's).
 template <class History>
-typename History::Bracket FindAtTime(const History& h, bool twist, std::uint32_t index,
-                                     TimeContext& tc, EdgeRead& rec) noexcept {
+[[gnu::always_inline]] inline typename History::Bracket FindAtTime(const History& h, bool twist,
+                                                                   std::uint32_t index,
+                                                                   TimeContext& tc,
+                                                                   EdgeRead& rec) noexcept {
   typename History::Bracket b;
   h.Find(tc.t, b);
   rec.first = b.first;
@@ -189,18 +191,22 @@ void SetPose(typename B::PoseCoords& X, const Eigen::Quaterniond& q,
 /// Linear interpolation, the common case, goes straight from the words to X (no QuatPose
 /// copies, Slerp inlined); numbers as coord::kernels::Interpolate's.
 template <coord::Backend B>
-void InterpolateWords(coord::Interpolation mode, const double (&w0)[7], const double (&w1)[7],
-                      double lambda, typename B::PoseCoords& X) noexcept {
-  if (mode == coord::Interpolation::kLinear) {
-    const Eigen::Quaterniond q0(w0[3], w0[0], w0[1], w0[2]), q1(w1[3], w1[0], w1[1], w1[2]);
-    SetPose<B>(X, coord::kernels::Slerp(q0, q1, lambda),
-               Eigen::Vector3d(w0[4] + lambda * (w1[4] - w0[4]), w0[5] + lambda * (w1[5] - w0[5]),
-                               w0[6] + lambda * (w1[6] - w0[6])));
-  } else {
-    const coord::kernels::QuatPose out =
-        coord::kernels::InterpolateScrew(PoseFromWords(w0), PoseFromWords(w1), lambda);
-    SetPose<B>(X, out.q, out.p);
-  }
+[[gnu::noinline]] void InterpolateScrewWords(const double (&w0)[7], const double (&w1)[7],
+                                             double lambda, typename B::PoseCoords& X) noexcept {
+  const coord::kernels::QuatPose out =
+      coord::kernels::InterpolateScrew(PoseFromWords(w0), PoseFromWords(w1), lambda);
+  SetPose<B>(X, out.q, out.p);
+}
+template <coord::Backend B>
+[[gnu::always_inline]] inline void InterpolateWords(coord::Interpolation mode,
+                                                    const double (&w0)[7], const double (&w1)[7],
+                                                    double lambda,
+                                                    typename B::PoseCoords& X) noexcept {
+  if (mode != coord::Interpolation::kLinear) return InterpolateScrewWords<B>(w0, w1, lambda, X);
+  const Eigen::Quaterniond q0(w0[3], w0[0], w0[1], w0[2]), q1(w1[3], w1[0], w1[1], w1[2]);
+  SetPose<B>(X, coord::kernels::Slerp(q0, q1, lambda),
+             Eigen::Vector3d(w0[4] + lambda * (w1[4] - w0[4]), w0[5] + lambda * (w1[5] - w0[5]),
+                             w0[6] + lambda * (w1[6] - w0[6])));
 }
 
 /// The value of the pose edge into `frame` under the context's policy.
