@@ -12,8 +12,9 @@
 //
 // Invariants: 0 < size <= capacity; stamps strictly increasing from the oldest; after every
 // insert no sample is older than newest - window. Costs: an in-order insert O(1) (plus the
-// samples the window drops); out of order O(samples after it) (a shift); a lookup O(log size)
-// stamp loads + 2 samples copied; all noexcept, allocation-free, lock-free.
+// samples the window drops); out of order O(samples after it) (a shift); a lookup 2 stamp loads
+// when the samples are evenly spaced (a guess, then galloping: O(log size) at worst) + 2 samples
+// copied; all noexcept, allocation-free, lock-free.
 // Thread safety: one writer (Insert, Restart); readers (Find*, Newest*) concurrent with it.
 // Creating and destroying a history needs exclusive access: a graph allocates them at build
 // time and frees them only when it is destroyed (HistoryTable below reuses retired ones).
