@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "semgraph/coord/homogeneous_backend.h"
@@ -129,6 +130,66 @@ TEST(Se3Test, LinearInterpolationIsLerpAndSlerp) {
   ExpectNear(X.q, Rz(0.5), 1e-14);
   // Identical rotations.
   ExpectNear(kernels::Slerp(Rz(0.3), Rz(0.3), 0.6), Rz(0.3), 1e-15);
+}
+
+// The series slerp weights against sin(t th) / sin th in long double (64-bit mantissa) over
+// random angles up to the series' limit (u = 1 - cos th <= kSlerpSeriesMaxU), log-uniform down to
+// 1e-9 rad, and random t: within 1e-15 relative (the header's bound is 3e-16).
+TEST(Se3Test, SlerpSeriesWeightsMatchTrigonometry) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const long double th_max = std::acos(1.0L - static_cast<long double>(kernels::kSlerpSeriesMaxU));
+  double worst = 0.0;
+  for (int k = 0; k < 200000; ++k) {
+    const double th = k % 2 ? static_cast<double>(th_max) * unit(rng)
+                            : static_cast<double>(th_max) * std::pow(1e-9, unit(rng));
+    const double x = std::cos(th);  // the series' input is the cosine, as a dot product gives
+    const double t = k % 7 == 0 ? (k % 14 == 0 ? 0.0 : 1.0) : unit(rng);
+    double w0 = 0.0, w1 = 0.0;
+    if (1.0 - x > kernels::kSlerpSeriesMaxU) continue;
+    kernels::SlerpSeriesWeights(1.0 - t, t, 1.0 - x, w0, w1);
+    const long double th_l = std::acos(static_cast<long double>(x));
+    const long double s = std::sin(th_l);
+    const long double t0 = static_cast<long double>(1.0 - t);  // 1 - t as the kernel rounds it
+    // At th = 0 (x == 1) the weights are the limits 1 - t and t.
+    const long double e0 = th_l == 0 ? t0 : std::sin(t0 * th_l) / s;
+    const long double e1 = th_l == 0 ? static_cast<long double>(t) : std::sin(t * th_l) / s;
+    if (e0 != 0) worst = std::max(worst, static_cast<double>(std::abs((w0 - e0) / e0)));
+    if (e1 != 0) worst = std::max(worst, static_cast<double>(std::abs((w1 - e1) / e1)));
+    if (e0 == 0) {
+      EXPECT_EQ(w0, 0.0);
+    }
+    if (e1 == 0) {
+      EXPECT_EQ(w1, 0.0);
+    }
+  }
+  EXPECT_LE(worst, 1e-15);
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", worst);
+  RecordProperty("worst_relative_error", text);
+}
+
+// Slerp on either side of the series' limit and at tiny angles: the rotation about a fixed axis
+// at the fraction of the angle (analytic), unit norm, and Eigen's slerp.
+TEST(Se3Test, SlerpSmallAnglesAndTheSeriesLimit) {
+  const double th_max = std::acos(1.0 - kernels::kSlerpSeriesMaxU);  // half angle
+  for (double angle : {1e-300, 1e-12, 1e-7, 1e-3, 0.1, 2 * th_max * (1 - 1e-12),
+                       2 * th_max * (1 + 1e-12), 0.6, 2.0}) {
+    for (double lambda : {0.0, 1e-9, 0.3, 0.5, 0.999, 1.0}) {
+      const Eigen::Quaterniond q0 = Rz(0.4) * Eigen::Quaterniond(Eigen::AngleAxisd(
+                                                  0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+      const Eigen::Vector3d axis = Eigen::Vector3d(-2, 1, 0.5).normalized();
+      const Eigen::Quaterniond q1 = q0 * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis));
+      const Eigen::Quaterniond truth =
+          q0 * Eigen::Quaterniond(Eigen::AngleAxisd(lambda * angle, axis));
+      const Eigen::Quaterniond q = kernels::Slerp(q0, q1, lambda);
+      ExpectNear(q, truth, 1e-15);
+      EXPECT_NEAR(q.norm(), 1.0, 1e-15);
+      Eigen::Quaterniond q1_neg = q1;
+      q1_neg.coeffs() = -q1.coeffs();  // the shorter arc: the same rotation
+      ExpectNear(kernels::Slerp(q0, q1_neg, lambda), truth, 1e-15);
+    }
+  }
 }
 
 // The body-fixed twist of the interpolated motion by central differences:

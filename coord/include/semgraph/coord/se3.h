@@ -19,8 +19,9 @@
 // coord::Pose<B> / coord::Twist, check the semantics (semantics/time_operations.h: the twist
 // must be the screw twist of that very edge, the two samples of one edge), then compute.
 // Accuracy: series expansions below th = 0.1 keep every coefficient to full double precision
-// (no cancellation at small angles). Cost: O(1), a few transcendental calls; noexcept,
-// allocation-free.
+// (no cancellation at small angles); slerp between close rotations uses an exact series instead
+// of trigonometry (SlerpSeriesWeights: within 3e-16 relative). Cost: O(1), a few transcendental
+// calls (none for slerp at small angles); noexcept, allocation-free.
 #pragma once
 
 #include <cmath>
@@ -115,19 +116,76 @@ inline QuatPose Integrate(const QuatPose& X, const Eigen::Vector3d& v, const Eig
   return X_out;
 }
 
-/// Slerp on the shorter arc (as tf2's Quaternion::slerp), lambda in [0, 1].
-inline Eigen::Quaterniond Slerp(const Eigen::Quaterniond& q0, const Eigen::Quaterniond& q1,
-                                double lambda) noexcept {
-  double d = q0.coeffs().dot(q1.coeffs());
-  const double sign = d < 0 ? -1.0 : 1.0;
-  d = std::abs(d);
-  // The half angle between the rotations: atan2(sin, cos), accurate near 0 and near pi/2.
+/// The slerp weights of a small angle without trigonometry: with x = cos th (th in [0, pi/2],
+/// the half angle between the rotations) and u = 1 - x, for t in [0, 1]
+///   sin(t th) / sin th = t sum_i b_i(t) u^i,  b_0 = 1,  b_i = b_(i-1) (i^2 - t^2) / (i (2i + 1)),
+/// the Taylor series at x = 1 of the solution of (1 - x^2) f'' - 3x f' + (t^2 - 1) f = 0 with
+/// f(1) = t (as in Eberly, "A Fast and Accurate Algorithm for Computing SLERP", 2011; here the
+/// series itself, not a fitted approximation). Every term is >= 0 and each is at most u/2 times
+/// the one before, and f >= t, so stopping after term K leaves a relative error of at most
+///   E(K, u) = prod_(j=1..K+1) j/(2j+1) u^(K+1) / (1 - u/2),
+/// and K is the fewest terms with E <= 1.4e-17 (terms below): K = 1 up to u = 1e-8, 2 up to
+/// 5e-6, 3 up to 1.4e-4 (a rotation of 0.033 rad between the samples), 4 up to 1e-3, 8 up to
+/// kSlerpSeriesMaxU = 0.03 (th <= 0.2456, a rotation of 0.49 rad). The Horner sum of positive
+/// terms adds about 2 ulp of rounding: each weight is within 3e-16 of sin(t th) / sin th
+/// relative (tests/coord/se3_test.cc checks 1e-15 against long double trigonometry).
+inline constexpr double kSlerpSeriesMaxU = 0.03;
+[[gnu::always_inline]] inline void SlerpSeriesWeights(double t0, double t1, double u, double& w0,
+                                                      double& w1) noexcept {
+  // Both weights at once (one SIMD lane each): r = 1 + (i^2 - t^2) u / (i (2i + 1)) r.
+  const Eigen::Array2d t(t0, t1), a = t * t;
+  Eigen::Array2d r = Eigen::Array2d::Ones();
+  const auto term = [&](double ii, double inv) noexcept { r = ((ii - a) * (u * inv)) * r + 1.0; };
+  const int terms = u <= 1e-8 ? 1 : u <= 5e-6 ? 2 : u <= 1.4e-4 ? 3 : u <= 1e-3 ? 4 : 8;
+  switch (terms) {  // i = K down to 1
+    case 8:
+      term(64.0, 1.0 / 136.0);
+      term(49.0, 1.0 / 105.0);
+      term(36.0, 1.0 / 78.0);
+      term(25.0, 1.0 / 55.0);
+      [[fallthrough]];
+    case 4:
+      term(16.0, 1.0 / 36.0);
+      [[fallthrough]];
+    case 3:
+      term(9.0, 1.0 / 21.0);
+      [[fallthrough]];
+    case 2:
+      term(4.0, 1.0 / 10.0);
+      [[fallthrough]];
+    default:
+      term(1.0, 1.0 / 3.0);
+  }
+  w0 = t0 * r[0];
+  w1 = t1 * r[1];
+}
+
+/// Slerp weights from the angle, for rotations farther apart than the series covers (out of
+/// line: the common case stays small enough to inline).
+[[gnu::noinline]] inline Eigen::Quaterniond SlerpFar(const Eigen::Quaterniond& q0,
+                                                      const Eigen::Quaterniond& q1, double d,
+                                                      double sign, double lambda) noexcept {
+  // The half angle between the rotations: atan2(sin, cos), accurate near pi/2.
   const double theta = std::atan2((sign * q1.coeffs() - d * q0.coeffs()).norm(), d);
-  if (theta < 1e-12) return q0;
   const double s = 1.0 / std::sin(theta);
   const double s0 = std::sin((1.0 - lambda) * theta) * s;
   const double s1 = std::sin(lambda * theta) * s * sign;
   return Eigen::Quaterniond(s0 * q0.coeffs() + s1 * q1.coeffs());
+}
+
+/// Slerp on the shorter arc (as tf2's Quaternion::slerp), lambda in [0, 1]. Consecutive samples
+/// are close: their weights come from the series above (a few dozen flops); farther apart,
+/// from atan2 and three sines (SlerpFar).
+[[gnu::always_inline]] inline Eigen::Quaterniond Slerp(const Eigen::Quaterniond& q0,
+                                                       const Eigen::Quaterniond& q1,
+                                                       double lambda) noexcept {
+  double d = q0.coeffs().dot(q1.coeffs());
+  const double sign = d < 0 ? -1.0 : 1.0;
+  d = std::abs(d);
+  if (!(1.0 - d <= kSlerpSeriesMaxU)) return SlerpFar(q0, q1, d, sign, lambda);
+  double s0 = 0.0, s1 = 0.0;
+  SlerpSeriesWeights(1.0 - lambda, lambda, 1.0 - d, s0, s1);
+  return Eigen::Quaterniond(s0 * q0.coeffs() + (s1 * sign) * q1.coeffs());
 }
 
 /// Screw interpolation X0 Exp(lambda Log(X0^-1 X1)).

@@ -12,8 +12,9 @@
 //
 // Invariants: 0 < size <= capacity; stamps strictly increasing from the oldest; after every
 // insert no sample is older than newest - window. Costs: an in-order insert O(1) (plus the
-// samples the window drops); out of order O(samples after it) (a shift); a lookup O(log size)
-// stamp loads + 2 samples copied; all noexcept, allocation-free, lock-free.
+// samples the window drops); out of order O(samples after it) (a shift); a lookup 2 stamp loads
+// when the samples are evenly spaced (a guess, then galloping: O(log size) at worst) + 2 samples
+// copied; all noexcept, allocation-free, lock-free.
 // Thread safety: one writer (Insert, Restart); readers (Find*, Newest*) concurrent with it.
 // Creating and destroying a history needs exclusive access: a graph allocates them at build
 // time and frees them only when it is destroyed (HistoryTable below reuses retired ones).
@@ -24,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "semgraph/core/stable_array.h"
@@ -60,111 +62,75 @@ class SampleHistory {
     std::int64_t s0 = 0,
                  s1 = 0;  ///< kInside: the bracket; kBefore/kAfter: the nearest sample (s0 = s1)
     std::int64_t first = 0, last = 0;  ///< the whole range
-    double v0[N] = {}, v1[N] = {};
-    bool exact = false;  ///< t equals s0 (only v0 is meaningful)
+    double v0[N], v1[N];  ///< at s0 (but not set by a false FindSegment), at s1 (unless exact)
+    bool exact = false;   ///< t equals s0 (only v0 is meaningful)
   };
 
   /// The bracket of t. Lock-free; retries only while a write overlaps.
   void Find(std::int64_t t, Bracket& out) const noexcept {
-    for (;;) {
-      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
-      if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire),
-                          head = head_.load(std::memory_order_acquire);
-      if (n == 0 || n > capacity_) continue;  // never for a history in use (it has a sample)
-      out.first = Stamp(head, 0);
-      out.last = Stamp(head, n - 1);
+    ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
+      out.first = r.Stamp(0);
+      out.last = r.Stamp(n - 1);
       if (t <= out.first) {
         out.where = t == out.first ? Bracket::Where::kInside : Bracket::Where::kBefore;
         out.s0 = out.s1 = out.first;
         out.exact = true;
-        LoadValues(head, 0, out.v0);
+        r.Load(0, out.v0);
       } else if (t >= out.last) {
         out.where = t == out.last ? Bracket::Where::kInside : Bracket::Where::kAfter;
         out.s0 = out.s1 = out.last;
         out.exact = true;
-        LoadValues(head, n - 1, out.v0);
+        r.Load(n - 1, out.v0);
       } else {
-        // first < t < last: the first index with stamp > t, in (0, n - 1].
-        std::uint32_t lo = 1, hi = n - 1;
-        while (lo < hi) {
-          const std::uint32_t mid = lo + (hi - lo) / 2;
-          if (Stamp(head, mid) > t)
-            hi = mid;
-          else
-            lo = mid + 1;
-        }
+        const std::uint32_t lo = FirstAfter(r, n, out.first, out.last, t);
         out.where = Bracket::Where::kInside;
-        out.s0 = Stamp(head, lo - 1);
+        out.s0 = r.Stamp(lo - 1);
         out.exact = out.s0 == t;
-        out.s1 = Stamp(head, lo);
-        LoadValues(head, lo - 1, out.v0);
-        LoadValues(head, lo, out.v1);
+        out.s1 = r.Stamp(lo);
+        r.Load(lo - 1, out.v0);
+        r.Load(lo, out.v1);
       }
-      if (seq_.load(std::memory_order_relaxed) == h1) return;
-    }
+    });
   }
 
   /// The segment a derivative at t uses: [s_i, s_i+1] containing t, the one after t when t is a
   /// stamp, the last one at the newest stamp. False when t is outside the samples or there is
   /// one sample.
   [[nodiscard]] bool FindSegment(std::int64_t t, Bracket& out) const noexcept {
-    for (;;) {
-      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
-      if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire),
-                          head = head_.load(std::memory_order_acquire);
-      if (n == 0 || n > capacity_) continue;
-      out.first = Stamp(head, 0);
-      out.last = Stamp(head, n - 1);
-      bool ok = n >= 2 && t >= out.first && t <= out.last;
+    bool ok = false;
+    ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
+      out.first = r.Stamp(0);
+      out.last = r.Stamp(n - 1);
+      ok = n >= 2 && t >= out.first && t <= out.last;
       if (ok) {
-        std::uint32_t lo = 1, hi = n - 1;  // first index with stamp > t, or n - 1 at the newest
-        while (lo < hi) {
-          const std::uint32_t mid = lo + (hi - lo) / 2;
-          if (Stamp(head, mid) > t)
-            hi = mid;
-          else
-            lo = mid + 1;
-        }
+        // The first index with stamp > t, or n - 1 at the newest.
+        const std::uint32_t lo = t == out.last ? n - 1 : FirstAfter(r, n, out.first, out.last, t);
         out.where = Bracket::Where::kInside;
-        out.s0 = Stamp(head, lo - 1);
-        out.s1 = Stamp(head, lo);
+        out.s0 = r.Stamp(lo - 1);
+        out.s1 = r.Stamp(lo);
         out.exact = false;
-        LoadValues(head, lo - 1, out.v0);
-        LoadValues(head, lo, out.v1);
+        r.Load(lo - 1, out.v0);
+        r.Load(lo, out.v1);
       } else {
         out.where = t < out.first ? Bracket::Where::kBefore : Bracket::Where::kAfter;
       }
-      if (seq_.load(std::memory_order_relaxed) == h1) return ok;
-    }
+    });
+    return ok;
   }
 
   /// The newest sample (stamp and value).
   void Newest(std::int64_t& stamp, double (&v)[N], std::int64_t& first) const noexcept {
-    for (;;) {
-      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
-      if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire),
-                          head = head_.load(std::memory_order_acquire);
-      if (n == 0 || n > capacity_) continue;
-      stamp = Stamp(head, n - 1);
-      first = Stamp(head, 0);
-      LoadValues(head, n - 1, v);
-      if (seq_.load(std::memory_order_relaxed) == h1) return;
-    }
+    ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
+      stamp = r.Stamp(n - 1);
+      first = r.Stamp(0);
+      r.Load(n - 1, v);
+    });
   }
   /// The newest stamp only.
   [[nodiscard]] std::int64_t NewestStamp() const noexcept {
-    for (;;) {
-      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
-      if (h1 & 1u) continue;
-      const std::uint32_t n = size_.load(std::memory_order_acquire),
-                          head = head_.load(std::memory_order_acquire);
-      if (n == 0 || n > capacity_) continue;
-      const std::int64_t s = Stamp(head, n - 1);
-      if (seq_.load(std::memory_order_relaxed) == h1) return s;
-    }
+    std::int64_t s = 0;
+    ReadLocked([&](const Ring& r, std::uint32_t n) noexcept { s = r.Stamp(n - 1); });
+    return s;
   }
 
   // ---------------------------------------------------------------- the writer's side
@@ -229,18 +195,102 @@ class SampleHistory {
  private:
   std::uint32_t head() const noexcept { return head_.load(std::memory_order_relaxed); }
   std::uint32_t Next(std::uint32_t i) const noexcept { return i + 1 == capacity_ ? 0 : i + 1; }
+
+  /// The samples as one read sees them: the array, capacity and head held in registers (every
+  /// acquire load orders the loads after it, so members would be loaded again for each word).
+  struct Ring {
+    const std::atomic<std::uint64_t>* words;
+    std::uint32_t capacity, head;
+    /// In bounds for head < capacity and i < capacity, even from a torn read (ReadLocked
+    /// checks both: head is stored < capacity, and i < n <= capacity).
+    std::size_t Slot(std::uint32_t i) const noexcept {
+      const std::uint32_t s = head + i;
+      return static_cast<std::size_t>(s >= capacity ? s - capacity : s) * kSampleWords;
+    }
+    std::int64_t Stamp(std::uint32_t i) const noexcept {
+      return static_cast<std::int64_t>(words[Slot(i)].load(std::memory_order_acquire));
+    }
+    void Load(std::uint32_t i, double (&v)[N]) const noexcept {
+      const std::atomic<std::uint64_t>* w = words + Slot(i) + 1;
+      [&]<std::size_t... k>(std::index_sequence<k...>) {  // unrolled: 2 instructions a word
+        ((v[k] = std::bit_cast<double>(w[k].load(std::memory_order_acquire))), ...);
+      }(std::make_index_sequence<N>{});
+    }
+  };
+  Ring ring(std::uint32_t head) const noexcept { return Ring{words_.get(), capacity_, head}; }
+
+  /// One read under the sequence lock: f(ring, size) on a consistent snapshot of the header,
+  /// again until no write overlapped it (f writes only its caller's variables).
+  template <class F>
+  [[gnu::always_inline]] void ReadLocked(F&& f) const noexcept {
+    const std::atomic<std::uint64_t>* const words = words_.get();
+    const std::uint32_t capacity = capacity_;
+    for (;;) {
+      const std::uint64_t h1 = seq_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;
+      const std::uint32_t n = size_.load(std::memory_order_acquire),
+                          head = head_.load(std::memory_order_acquire);
+      // Never for a history in use (it has a sample, and head < capacity); a torn read retries.
+      if (n == 0 || n > capacity || head >= capacity) continue;
+      f(Ring{words, capacity, head}, n);
+      if (seq_.load(std::memory_order_relaxed) == h1) return;
+    }
+  }
+
   std::size_t Slot(std::uint32_t head, std::uint32_t i) const noexcept {
-    std::uint32_t s = head + i;
-    if (s >= capacity_) s -= capacity_;
-    return static_cast<std::size_t>(s < capacity_ ? s : 0) * kSampleWords;  // bounded even if torn
+    return ring(head).Slot(i);
   }
   std::int64_t Stamp(std::uint32_t head, std::uint32_t i) const noexcept {
-    return static_cast<std::int64_t>(words_[Slot(head, i)].load(std::memory_order_acquire));
+    return ring(head).Stamp(i);
   }
   void LoadValues(std::uint32_t head, std::uint32_t i, double (&v)[N]) const noexcept {
-    const std::size_t s = Slot(head, i);
-    for (std::size_t k = 0; k < N; ++k)
-      v[k] = std::bit_cast<double>(words_[s + 1 + k].load(std::memory_order_acquire));
+    ring(head).Load(i, v);
+  }
+  /// The first index with stamp > t, in [1, n - 1], for first <= t < last (the stamps of
+  /// indices 0 and n - 1; n >= 2). Samples usually come at a steady rate, so the search starts
+  /// where t falls if they were evenly spaced (one division), then gallops away from that guess
+  /// (steps 1, 2, 4, ...) until it brackets the answer, then bisects the bracket: 2 stamp loads
+  /// when the guess is right, O(log distance) when it is not, O(log n) at worst. Under a torn
+  /// read (the stamps not sorted) the loops still end and the answer is clamped to [1, n - 1];
+  /// the caller's sequence check discards it.
+  static std::uint32_t FirstAfter(const Ring& r, std::uint32_t n, std::int64_t first,
+                                  std::int64_t last, std::int64_t t) noexcept {
+    const double f =
+        static_cast<double>(static_cast<std::uint64_t>(t) - static_cast<std::uint64_t>(first)) /
+        static_cast<double>(static_cast<std::uint64_t>(last) - static_cast<std::uint64_t>(first));
+    std::uint32_t lo = 1, hi = n - 1;
+    // f in [0, 1) (first <= t < last; rounding may give 1): the guess is in [1, n - 1].
+    std::uint32_t g = static_cast<std::uint32_t>(f * static_cast<double>(n - 1)) + 1;
+    if (g > hi) g = hi;
+    if (r.Stamp(g) > t) {  // the answer is in [lo, g]: gallop down from g - 1
+      hi = g;
+      for (std::uint32_t step = 1; hi - lo >= step; step *= 2) {
+        const std::uint32_t k = hi - step;
+        if (r.Stamp(k) <= t) {
+          lo = k + 1;
+          break;
+        }
+        hi = k;
+      }
+    } else {  // the answer is in [g + 1, hi]: gallop up from g + 1
+      lo = g + 1;
+      for (std::uint32_t step = 1; lo < hi; step *= 2) {
+        const std::uint32_t k = hi - lo >= step ? lo + step - 1 : hi;
+        if (r.Stamp(k) > t) {
+          hi = k;
+          break;
+        }
+        lo = k + 1;
+      }
+    }
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (r.Stamp(mid) > t)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return lo < n - 1 ? lo : n - 1;
   }
   void StoreValues(std::uint32_t head, std::uint32_t i, std::int64_t stamp,
                    const double (&v)[N]) noexcept {

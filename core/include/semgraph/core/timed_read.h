@@ -168,8 +168,10 @@ void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& 
 /// The samples of history `h` of edge `index` around the context's time, their span noted in
 /// the context and in the record (what is read of them is the caller's).
 template <class History>
-typename History::Bracket FindAtTime(const History& h, bool twist, std::uint32_t index,
-                                     TimeContext& tc, EdgeRead& rec) noexcept {
+[[gnu::always_inline]] inline typename History::Bracket FindAtTime(const History& h, bool twist,
+                                                                   std::uint32_t index,
+                                                                   TimeContext& tc,
+                                                                   EdgeRead& rec) noexcept {
   typename History::Bracket b;
   h.Find(tc.t, b);
   rec.first = b.first;
@@ -178,11 +180,39 @@ typename History::Bracket FindAtTime(const History& h, bool twist, std::uint32_t
   return b;
 }
 
+/// X from a pose (quaternion, vector) in the backend's form.
+template <coord::Backend B>
+void SetPose(typename B::PoseCoords& X, const Eigen::Quaterniond& q,
+             const Eigen::Vector3d& p) noexcept {
+  X = B::MakePose(B::FromQuaternion(q), p);
+}
+
+/// The sample (at lambda = 0) or the interpolation of two samples' words at lambda, into X.
+/// Linear interpolation, the common case, goes straight from the words to X (no QuatPose
+/// copies, Slerp inlined); numbers as coord::kernels::Interpolate's.
+template <coord::Backend B>
+[[gnu::noinline]] void InterpolateScrewWords(const double (&w0)[7], const double (&w1)[7],
+                                             double lambda, typename B::PoseCoords& X) noexcept {
+  const coord::kernels::QuatPose out =
+      coord::kernels::InterpolateScrew(PoseFromWords(w0), PoseFromWords(w1), lambda);
+  SetPose<B>(X, out.q, out.p);
+}
+template <coord::Backend B>
+[[gnu::always_inline]] inline void InterpolateWords(coord::Interpolation mode,
+                                                    const double (&w0)[7], const double (&w1)[7],
+                                                    double lambda,
+                                                    typename B::PoseCoords& X) noexcept {
+  if (mode != coord::Interpolation::kLinear) return InterpolateScrewWords<B>(w0, w1, lambda, X);
+  const Eigen::Quaterniond q0(w0[3], w0[0], w0[1], w0[2]), q1(w1[3], w1[0], w1[1], w1[2]);
+  SetPose<B>(X, coord::kernels::Slerp(q0, q1, lambda),
+             Eigen::Vector3d(w0[4] + lambda * (w1[4] - w0[4]), w0[5] + lambda * (w1[5] - w0[5]),
+                             w0[6] + lambda * (w1[6] - w0[6])));
+}
+
 /// The value of the pose edge into `frame` under the context's policy.
 template <coord::Backend B>
 void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
                 typename B::PoseCoords& X) noexcept {
-  using coord::kernels::QuatPose;
   const PoseHistory* h = v.history.pose_of(frame);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kPose;
@@ -193,30 +223,30 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
     return;
   }
   rec.stamped = true;
-  double w0[7];
-  QuatPose out;
   if (!tc.at) {
+    double w0[7];
     ReadNewest(*h, false, frame, tc, rec, w0);
-    out = PoseFromWords(w0);
+    SetPose<B>(X, Eigen::Quaterniond(w0[3], w0[0], w0[1], w0[2]),
+               Eigen::Vector3d(w0[4], w0[5], w0[6]));
   } else {
     const PoseHistory::Bracket b = FindAtTime(*h, false, frame, tc, rec);
     using Where = PoseHistory::Bracket::Where;
     if (b.where == Where::kInside) {
       rec.has_read = true;
       rec.read_from = b.s0;
+      tc.Read(b.s0);
       if (b.exact) {
-        out = PoseFromWords(b.v0);
-        tc.Read(b.s0);
+        SetPose<B>(X, Eigen::Quaterniond(b.v0[3], b.v0[0], b.v0[1], b.v0[2]),
+                   Eigen::Vector3d(b.v0[4], b.v0[5], b.v0[6]));
         rec.read_to = b.s0;
       } else {
-        out = coord::kernels::Interpolate(v.history.options.interpolation, PoseFromWords(b.v0),
-                                          PoseFromWords(b.v1), Fraction(b.s0, tc.t, b.s1));
-        tc.Read(b.s0);
+        InterpolateWords<B>(v.history.options.interpolation, b.v0, b.v1,
+                            Fraction(b.s0, tc.t, b.s1), X);
         tc.Read(b.s1);
         rec.read_to = b.s1;
       }
     } else {
-      out = PoseFromWords(b.v0);  // the nearest sample
+      coord::kernels::QuatPose out = PoseFromWords(b.v0);  // the nearest sample
       const std::int64_t gap =
           b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
       Eigen::Vector3d vv, ww;
@@ -232,9 +262,9 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
       } else {
         tc.Fail(false, frame, b.first, b.last);
       }
+      SetPose<B>(X, out.q, out.p);
     }
   }
-  X = B::MakePose(B::FromQuaternion(out.q), out.p);
   if (tc.recorder) tc.recorder->Record(rec);
 }
 
