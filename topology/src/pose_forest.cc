@@ -62,7 +62,7 @@ std::uint32_t PoseForest::Represent(std::uint32_t x, std::uint32_t above) noexce
   // Depth-first over the undirected tree, the neighbours of v in the order parent(v), then its
   // children; the rep parent (just set) is skipped, and serves as the way back, so no stack.
   const auto next = [this](std::uint32_t v, std::uint32_t u) {  // the neighbour of v after u
-    return u == nodes_[v].parent ? nodes_[v].first_child : nodes_[u].next_sibling;
+    return u == nodes_[v].parent ? nodes_[v].first_child.load() : nodes_[u].next_sibling.load();
   };
   const auto skip = [this, &next](std::uint32_t v, std::uint32_t u) {  // past rep_parent(v)
     return u != kNone && u == nodes_[v].rep_parent ? next(v, u) : u;
@@ -210,12 +210,15 @@ void PoseForest::Reroot(FrameIndex v) {
 
 std::uint32_t PoseForest::RepAncestorAtDepth(std::uint32_t v, std::uint32_t d) const noexcept {
   // Take the jump whenever it does not overshoot depth d, else one parent step. Jump depths
-  // are skew-binary, so this takes O(log depth) steps.
-  while (nodes_[v].rep_depth > d) {
+  // are skew-binary, so this takes O(log depth) steps. The bounds only matter to a reader
+  // racing the writer (each step lowers the depth in a consistent forest).
+  const std::uint32_t n = size32();
+  for (std::uint32_t steps = 0; v < n && nodes_[v].rep_depth > d; ++steps) {
     const std::uint32_t j = nodes_[v].rep_jump;
-    v = nodes_[j].rep_depth >= d ? j : nodes_[v].rep_parent;
+    if (j >= n || steps == n) return kNone;
+    v = nodes_[j].rep_depth >= d ? j : nodes_[v].rep_parent.load();
   }
-  return v;
+  return v < n ? v : kNone;
 }
 
 std::uint32_t PoseForest::RepLca(std::uint32_t u, std::uint32_t v) const noexcept {
@@ -226,7 +229,9 @@ std::uint32_t PoseForest::RepLca(std::uint32_t u, std::uint32_t v) const noexcep
   // ancestor is strictly above them), else step both to the parent: the same O(log n) search
   // as RepAncestorAtDepth, aimed at one below the common ancestor. Both are in one tree, so
   // they meet at the rep root at the latest (whose slots are never read: depth 0).
-  while (u != v) {
+  const std::uint32_t n = size32();
+  for (std::uint32_t steps = 0; u != v; ++steps) {
+    if (u >= n || steps == n) return kNone;  // only under a concurrent change
     if (nodes_[u].rep_jump != nodes_[v].rep_jump) {
       u = nodes_[u].rep_jump;
       v = nodes_[v].rep_jump;
@@ -234,6 +239,7 @@ std::uint32_t PoseForest::RepLca(std::uint32_t u, std::uint32_t v) const noexcep
       u = nodes_[u].rep_parent;
       v = nodes_[v].rep_parent;
     }
+    if (v >= n) return kNone;
   }
   return u;
 }
@@ -243,7 +249,9 @@ std::uint32_t PoseForest::depth(FrameIndex f) const noexcept {
   const std::uint32_t key = nodes_[v].rep_root;
   const std::uint32_t s = nodes_[key].rep_parent;
   if (s == key) return nodes_[v].rep_depth;
-  return nodes_[v].rep_depth + nodes_[s].rep_depth - 2 * nodes_[RepLca(v, s)].rep_depth;
+  const std::uint32_t m = RepLca(v, s);
+  if (m == kNone) return 0;
+  return nodes_[v].rep_depth + nodes_[s].rep_depth - 2 * nodes_[m].rep_depth;
 }
 
 FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noexcept {
@@ -255,6 +263,7 @@ FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noex
   }
   // The semantic path s .. v climbs from s to m = lca_R(s, v), then descends to v.
   const std::uint32_t m = RepLca(v, s);
+  if (m == kNone) return FrameIndex();
   const std::uint32_t up = nodes_[s].rep_depth - nodes_[m].rep_depth;
   const std::uint32_t down = nodes_[v].rep_depth - nodes_[m].rep_depth;
   if (d > up + down) return FrameIndex();
@@ -281,10 +290,11 @@ FrameIndex PoseForest::CommonAncestor(FrameIndex a, FrameIndex b) const noexcept
   if (nodes_[v].rep_root != key) return FrameIndex();  // different trees
   const std::uint32_t x = RepLca(u, v);
   const std::uint32_t s = nodes_[key].rep_parent;
-  if (s == key) return FrameIndex(x);
+  if (s == key || x == kNone) return FrameIndex(x);
   // Two of the three rep LCAs coincide; the semantic one is the deepest.
   const std::uint32_t y = RepLca(u, s);
   const std::uint32_t z = RepLca(v, s);
+  if (y == kNone || z == kNone) return FrameIndex();  // only under a concurrent change
   std::uint32_t best = nodes_[x].rep_depth >= nodes_[y].rep_depth ? x : y;
   if (nodes_[z].rep_depth > nodes_[best].rep_depth) best = z;
   return FrameIndex(best);
