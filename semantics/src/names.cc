@@ -1,6 +1,7 @@
 #include "semgraph/semantics/names.h"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -153,6 +154,7 @@ NameTable& NameTable::operator=(NameTable&& other) noexcept {
   records_ = std::move(other.records_);
   tables_ = std::move(other.tables_);
   other.tables_.clear();
+  index_slots_ = std::exchange(other.index_slots_, 0);
   slots_ = other.slots_.load();
   mask_ = other.mask_.load();
   other.slots_ = nullptr;
@@ -174,11 +176,10 @@ std::size_t NameTable::Probe(const Slot* slots, std::size_t mask,
   return i;
 }
 
-void NameTable::Grow() {
+void NameTable::Grow(std::size_t size) {
   // The new index is filled before it is published: an allocation failure leaves the table as
   // it was, and a reader sees the old index or the new one, each whole. The old one stays
   // allocated (tables_), since a reader may still be probing it.
-  const std::size_t size = tables_.empty() ? 16 : 2 * capacity();
   if (tables_.size() == tables_.capacity()) tables_.reserve(2 * tables_.size() + 4);
   auto grown = std::make_unique<Slot[]>(size);
   const std::size_t mask = size - 1;
@@ -193,6 +194,7 @@ void NameTable::Grow() {
   slots_ = grown.get();
   mask_ = mask;
   tables_.push_back(std::move(grown));  // within capacity: cannot throw
+  index_slots_ += size;
 }
 
 Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
@@ -204,7 +206,7 @@ Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
 
 void NameTable::Reserve(std::size_t n) {
   records_.reserve(n);
-  while (2 * n > capacity()) Grow();
+  if (2 * n > capacity()) Grow(std::bit_ceil(std::max<std::size_t>(16, 2 * n)));
 }
 
 NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept {
@@ -219,7 +221,7 @@ NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept 
 NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
   // Every allocation first (index, record array, a new arena block), each of which leaves the
   // table unchanged when it fails; then the name goes in without allocating.
-  if (2 * (records_.size() + 1) > capacity()) Grow();
+  if (2 * (records_.size() + 1) > capacity()) Grow(tables_.empty() ? 16 : 2 * capacity());
   if (records_.size() == records_.capacity())
     records_.reserve(std::max<std::size_t>(16, 2 * records_.size()));
   if (block_fill_ + name.size() > kBlockBytes) {
@@ -278,10 +280,7 @@ std::string_view NameTable::name(NameId id) const noexcept {
 }
 
 std::size_t NameTable::ApproximateBytes() const noexcept {
-  std::size_t index_bytes = 0;
-  for (std::size_t k = 0, size = 16; k < tables_.size(); ++k, size *= 2)
-    index_bytes += size * sizeof(Slot);
-  return blocks_.size() * kBlockBytes + records_.bytes() + index_bytes +
+  return blocks_.size() * kBlockBytes + records_.bytes() + index_slots_ * sizeof(Slot) +
          blocks_.capacity() * sizeof(void*);
 }
 

@@ -128,7 +128,7 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
   std::size_t Probe(std::string_view name, std::uint32_t hash) const noexcept {
     return Probe(slots_.load(), mask_.load(), records_, name, hash);
   }
-  void Grow();
+  void Grow(std::size_t size);  // a new index of `size` slots (a power of two)
   void EraseSlot(std::size_t slot) noexcept;
   [[nodiscard]] std::size_t capacity() const noexcept { return tables_.empty() ? 0 : mask_ + 1; }
 
@@ -141,6 +141,7 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
   std::vector<std::unique_ptr<Slot[]>> tables_;
   base::Published<Slot*> slots_ = nullptr;
   base::Published<std::size_t> mask_ = 0;
+  std::size_t index_slots_ = 0;  // slots of every index in tables_ (memory report)
 };
 
 }  // namespace semgraph::semantics
