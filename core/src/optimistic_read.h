@@ -25,7 +25,7 @@
 namespace semgraph::core::internal {
 
 inline constexpr int kReadAttempts = 32;
-inline constexpr int kSpinsPerAttempt = 2048;
+inline constexpr int kSpinsPerAttempt = 4096;
 
 inline void SpinPause() noexcept {
 #if defined(__x86_64__) || defined(__i386__)

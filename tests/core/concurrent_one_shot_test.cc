@@ -35,7 +35,7 @@ using Eigen::Quaterniond;
 using Eigen::Vector3d;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kFrames = 3000;  // frames {f0} .. the writer adds at most this many
+constexpr int kFrames = 20000;  // frames {f0} .. the writer adds at most this many
 
 Isometry3d Make(const Quaterniond& q, const Vector3d& p) {
   Isometry3d X = Isometry3d::Identity();
@@ -97,14 +97,17 @@ void Write(SceneGraph<>& g, Tally& tally, std::atomic<int>& frames_added) {
       add_sample();
       add_sample();
     }
+    // A listener's pace, not a tight loop: readers see the topology quiet most of the time.
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
   }
 }
 
 // One reader's round of queries; `known` = frames the writer had added before the round.
 void ReadRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
+  if (known == 0) return;
   rng = rng * 1664525u + 1013904223u;
   const int i = static_cast<int>(rng >> 8) % (known + 8);  // some not added yet
-  const int j = static_cast<int>(rng >> 4) % (known + 1);
+  const int j = static_cast<int>(rng >> 4) % known;
   const auto expect_error = [&](ErrorCode code, std::initializer_list<ErrorCode> allowed,
                                 const char* what) {
     for (ErrorCode a : allowed) {
@@ -165,15 +168,14 @@ void ReadRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
     tally.Bad("CompilePose f_j failed: " + std::string(ToString(C.error().code)));
     return;
   }
-  coord::Pose<coord::QuaternionBackend> Y;
-  if (C->Evaluate(Y) != ErrorCode::kOk || !Near(Y.ToIsometry(), X_WF(j))) {
-    tally.Bad("compiled f_j wrt w");
-  }
+  const auto Y = C->Evaluate();
+  if (!Y || !Near(Y->ToIsometry(), X_WF(j))) tally.Bad("compiled f_j wrt w");
   tally.checked.fetch_add(1);
 }
 
 TEST(ConcurrentOneShot, QueriesByNameAndCompileWhileTheWriterChangesTheTopology) {
   SceneGraph<> g;
+  ASSERT_TRUE(g.AddBody("W"));
   ASSERT_TRUE(g.AddFrame("w", "W"));
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("m", "M").RelativeTo("w"), X_WM));
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("s", "S").RelativeTo("w"), Quaterniond::Identity(),
@@ -219,6 +221,7 @@ TEST(ConcurrentOneShot, IssueReproductionFramesEvery64UpdatesWhileGetPoseRuns) {
   std::atomic<bool> stop{false};
   std::atomic<long> answers{0}, bad{0};
   std::atomic<int> added{0};
+  int first_bad = 0;  // the reader's first unexpected answer
   std::thread writer([&] {
     for (long k = 0; !stop.load(); ++k) {
       // The value is always a translation along x of 1, 2 or 3: readers check that.
@@ -234,16 +237,35 @@ TEST(ConcurrentOneShot, IssueReproductionFramesEvery64UpdatesWhileGetPoseRuns) {
       }
     }
   });
+  // An answer is exact, or kQueryInvalidated: the documented bound of a query that found the
+  // topology changing on every attempt (core/src/optimistic_read.h); this writer changes it
+  // every few microseconds, so a few may, and they must stay rare.
+  std::atomic<long> busy{0};
+  const auto busy_or_bad = [&](ErrorCode code, int what) {
+    if (code == ErrorCode::kQueryInvalidated) {
+      busy.fetch_add(1);
+    } else if (bad.fetch_add(1) == 0) {
+      first_bad = what + static_cast<int>(code);
+    }
+  };
   std::thread reader([&] {
     while (!stop.load()) {
       auto X = g.GetPose(PoseSpec::Of("base").RelativeTo("world"));
       const double x = X ? X->ToIsometry().translation().x() : 0.0;
-      if (!X || (x != 1.0 && x != 2.0 && x != 3.0)) bad.fetch_add(1);
+      if (!X) {
+        busy_or_bad(X.error().code, 0);
+      } else if (x != 1.0 && x != 2.0 && x != 3.0) {
+        busy_or_bad(ErrorCode::kOk, 0);
+      }
       // A leaf added before this read: its pose wrt the world, in closed form.
       const int i = added.load() - 1;
       if (i >= 0) {
         auto P = g.GetPosition(PoseSpec::Of("leaf" + std::to_string(i)).RelativeTo("base"));
-        if (!P || std::abs(P->value.z() - 0.1 * i) > 1e-12) bad.fetch_add(1);
+        if (!P) {
+          busy_or_bad(P.error().code, 1000);
+        } else if (std::abs(P->value.z() - 0.1 * i) > 1e-12) {
+          busy_or_bad(ErrorCode::kOk, 1000);
+        }
       }
       answers.fetch_add(1);
     }
@@ -252,9 +274,11 @@ TEST(ConcurrentOneShot, IssueReproductionFramesEvery64UpdatesWhileGetPoseRuns) {
   stop.store(true);
   writer.join();
   reader.join();
-  std::printf("reader answered %ld times while the writer added %d frames\n", answers.load(),
-              added.load());
-  EXPECT_EQ(bad.load(), 0);
+  std::printf("reader answered %ld times (%ld kQueryInvalidated) while the writer added %d "
+              "frames\n",
+              answers.load(), busy.load(), added.load());
+  EXPECT_EQ(bad.load(), 0) << "first (code, +1000: the leaf query): " << first_bad;
+  EXPECT_LT(busy.load() * 100, answers.load());
   EXPECT_GT(answers.load(), 100);
   EXPECT_GT(added.load(), 10);
 }
