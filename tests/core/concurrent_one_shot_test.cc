@@ -10,9 +10,10 @@
 // now and then. Readers ask GetPose / GetPosition / GetOrientation by name (untimed, Latest,
 // At), and CompilePose + Evaluate. Every answer must be either a documented error of the
 // moment (unknown_frame before {f<i>} exists, no_pose_path while {m} or {s} is between its
-// RemovePose and AddPose, extrapolation for a sample dropped meanwhile) or equal to the closed
-// form. The reproduction (a writer adding a frame every 64 value updates while a reader
-// runs GetPose) runs clean as its own case.
+// RemovePose and AddPose, extrapolation for a sample dropped meanwhile, and, rarely,
+// query_invalidated: every attempt overlapped a change) or equal to the closed form. The
+// issue's reproduction (a writer adding a frame every 64 value updates while a reader runs
+// GetPose) runs clean as its own case.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -58,7 +59,7 @@ std::string B(int i) { return "B" + std::to_string(i); }
 // What the readers saw: answers checked against the closed form, documented errors, and the
 // first unexpected thing (kept as text for the failure message).
 struct Tally {
-  std::atomic<long> checked{0}, errors{0}, bad{0};
+  std::atomic<long> checked{0}, errors{0}, busy{0}, bad{0};
   std::atomic<bool> stop{false};
   std::string first_bad;  // written once, by the thread that raised bad from 0
   void Bad(const std::string& what) {
@@ -110,6 +111,10 @@ void ReadRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
   const int j = static_cast<int>(rng >> 4) % known;
   const auto expect_error = [&](ErrorCode code, std::initializer_list<ErrorCode> allowed,
                                 const char* what) {
+    if (code == ErrorCode::kQueryInvalidated) {  // every attempt overlapped a change: rare
+      tally.busy.fetch_add(1);
+      return;
+    }
     for (ErrorCode a : allowed) {
       if (code == a) {
         tally.errors.fetch_add(1);
@@ -124,7 +129,8 @@ void ReadRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
     if (!Near(X->ToIsometry(), X_WF(j).inverse() * X_WF(i))) tally.Bad("GetPose f_i wrt f_j");
     tally.checked.fetch_add(1);
   } else {
-    if (i < known) tally.Bad("GetPose of a frame added before the round failed");
+    if (i < known && X.error().code != ErrorCode::kQueryInvalidated)
+      tally.Bad("GetPose of a frame added before the round failed");
     expect_error(X.error().code, {ErrorCode::kUnknownFrame}, "GetPose f_i wrt f_j");
   }
   // {m} wrt {w}: X_WM whatever its parent, or no_pose_path between the remove and the add.
@@ -165,7 +171,7 @@ void ReadRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
   // whose edge is never removed).
   auto C = g.CompilePose(PoseSpec::Of(F(j)).RelativeTo("w"));
   if (!C) {
-    tally.Bad("CompilePose f_j failed: " + std::string(ToString(C.error().code)));
+    expect_error(C.error().code, {}, "CompilePose f_j");
     return;
   }
   const auto Y = C->Evaluate();
@@ -197,9 +203,11 @@ TEST(ConcurrentOneShot, QueriesByNameAndCompileWhileTheWriterChangesTheTopology)
   tally.stop.store(true);
   writer.join();
   for (auto& t : readers) t.join();
-  std::printf("writer added %d frames; readers checked %ld answers, %ld documented errors\n",
-              frames_added.load(), tally.checked.load(), tally.errors.load());
+  std::printf("writer added %d frames; readers checked %ld answers, %ld documented errors, "
+              "%ld kQueryInvalidated\n",
+              frames_added.load(), tally.checked.load(), tally.errors.load(), tally.busy.load());
   EXPECT_EQ(tally.bad.load(), 0) << tally.first_bad;
+  EXPECT_LT(tally.busy.load() * 100, tally.checked.load());
   EXPECT_GT(frames_added.load(), 50);
   EXPECT_GT(tally.checked.load(), 100);
   EXPECT_EQ(CheckInvariants(g), "");
