@@ -45,20 +45,33 @@ inline QueryError TopologyBusy() noexcept {
 /// attempt() (planning and evaluation, returning an Expected<T, QueryError>) on a validated
 /// snapshot of t: its result when no change overlapped it, else kQueryInvalidated after
 /// kReadAttempts attempts.
+// The counter once even (or odd after kSpinsPerAttempt pauses: the attempt then fails).
+inline std::uint64_t QuietCount(const topology::SceneTopology& t) noexcept {
+  std::uint64_t count = t.change_count();
+  for (int spin = 0; (count & 1) != 0 && spin < kSpinsPerAttempt; ++spin) {
+    SpinPause();
+    count = t.change_count();
+  }
+  return count;
+}
+
+/// attempt() (planning and evaluation, returning an Expected<T, QueryError>) on a validated
+/// snapshot of t: its result when no change overlapped it, else kQueryInvalidated after
+/// kReadAttempts attempts. Every return returns `result`, so the first attempt's answer is
+/// built in the caller's return slot (no copy on the common path).
 template <class Attempt>
 auto ReadValidated(const topology::SceneTopology& t, Attempt&& attempt) noexcept
     -> decltype(attempt()) {
-  for (int i = 0; i < kReadAttempts; ++i) {
-    std::uint64_t before = t.change_count();
-    for (int spin = 0; (before & 1) != 0 && spin < kSpinsPerAttempt; ++spin) {
-      SpinPause();
-      before = t.change_count();
-    }
-    if ((before & 1) != 0) continue;
-    auto result = attempt();
-    if (t.change_count() == before) return result;
+  std::uint64_t before = QuietCount(t);
+  decltype(attempt()) result = attempt();
+  for (int i = 1;; ++i) {
+    if ((before & 1) == 0 && t.change_count() == before) return result;
+    if (i == kReadAttempts) break;
+    before = QuietCount(t);
+    result = attempt();
   }
-  return base::Unexpected{TopologyBusy()};
+  result = base::Unexpected{TopologyBusy()};
+  return result;
 }
 
 }  // namespace semgraph::core::internal

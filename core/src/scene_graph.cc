@@ -22,8 +22,11 @@ QueryError QError(const coord::Error& detail) {
 // Answers a planned pose, position or orientation query: the backend's check where the query
 // has one (not a position: it has no orientation to represent), then the evaluator. Each
 // one-shot query is planned exactly once, by names or by ids.
+// Inlined into the attempt of ReadValidated, as it was into the query before: the one-shot
+// path's cost (docs/performance.md).
 template <coord::Backend B, class Plan>
-auto Answer(const internal::ForestSource<B>& src, const Expected<Plan, QueryError>& plan) noexcept
+[[gnu::always_inline]] inline auto Answer(const internal::ForestSource<B>& src,
+                                          const Expected<Plan, QueryError>& plan) noexcept
     -> QueryResult<typename internal::PartTraits<B, internal::kPartOf<Plan>>::Result> {
   using Traits = internal::PartTraits<B, internal::kPartOf<Plan>>;
   if (!plan) return Unexpected{plan.error()};

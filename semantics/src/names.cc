@@ -163,7 +163,7 @@ NameTable& NameTable::operator=(NameTable&& other) noexcept {
 }
 
 std::size_t NameTable::Probe(const Slot* slots, std::size_t mask,
-                             const base::StableArray<Record>& records, std::string_view name,
+                             const base::RetiringArray<Record>& records, std::string_view name,
                              std::uint32_t hash) noexcept {
   const std::size_t n = records.size();
   std::size_t i = hash & mask;

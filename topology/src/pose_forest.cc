@@ -209,35 +209,44 @@ void PoseForest::Reroot(FrameIndex v) {
 }
 
 std::uint32_t PoseForest::RepAncestorAtDepth(std::uint32_t v, std::uint32_t d) const noexcept {
+  return RepAncestorAtDepth(nodes_.view(), v, d);
+}
+
+std::uint32_t PoseForest::RepAncestorAtDepth(Nodes nodes, std::uint32_t v,
+                                             std::uint32_t d) noexcept {
   // Take the jump whenever it does not overshoot depth d, else one parent step. Jump depths
   // are skew-binary, so this takes O(log depth) steps. The bounds only matter to a reader
   // racing the writer (each step lowers the depth in a consistent forest).
-  const std::uint32_t n = size32();
-  for (std::uint32_t steps = 0; v < n && nodes_[v].rep_depth > d; ++steps) {
-    const std::uint32_t j = nodes_[v].rep_jump;
+  const auto n = static_cast<std::uint32_t>(nodes.size);
+  const Node* node = nodes.data;
+  for (std::uint32_t steps = 0; v < n && node[v].rep_depth > d; ++steps) {
+    const std::uint32_t j = node[v].rep_jump;
     if (j >= n || steps == n) return kNone;
-    v = nodes_[j].rep_depth >= d ? j : nodes_[v].rep_parent.load();
+    v = node[j].rep_depth >= d ? j : node[v].rep_parent.load();
   }
   return v < n ? v : kNone;
 }
 
 std::uint32_t PoseForest::RepLca(std::uint32_t u, std::uint32_t v) const noexcept {
-  if (nodes_[u].rep_depth < nodes_[v].rep_depth) std::swap(u, v);
-  u = RepAncestorAtDepth(u, nodes_[v].rep_depth);
+  const Nodes nodes = nodes_.view();
+  const Node* node = nodes.data;
+  if (node[u].rep_depth < node[v].rep_depth) std::swap(u, v);
+  u = RepAncestorAtDepth(nodes, u, node[v].rep_depth);
   // u and v are now at equal depths, and a jump's target depth depends only on the depth, so
   // jump(u) and jump(v) are at equal depths too. Jump both while the targets differ (the common
   // ancestor is strictly above them), else step both to the parent: the same O(log n) search
   // as RepAncestorAtDepth, aimed at one below the common ancestor. Both are in one tree, so
   // they meet at the rep root at the latest (whose slots are never read: depth 0).
-  const std::uint32_t n = size32();
+  const auto n = static_cast<std::uint32_t>(nodes.size);
   for (std::uint32_t steps = 0; u != v; ++steps) {
     if (u >= n || steps == n) return kNone;  // only under a concurrent change
-    if (nodes_[u].rep_jump != nodes_[v].rep_jump) {
-      u = nodes_[u].rep_jump;
-      v = nodes_[v].rep_jump;
+    const std::uint32_t ju = node[u].rep_jump, jv = node[v].rep_jump;
+    if (ju != jv) {
+      u = ju;
+      v = jv;
     } else {
-      u = nodes_[u].rep_parent;
-      v = nodes_[v].rep_parent;
+      u = node[u].rep_parent;
+      v = node[v].rep_parent;
     }
     if (v >= n) return kNone;
   }
@@ -301,7 +310,7 @@ FrameIndex PoseForest::CommonAncestor(FrameIndex a, FrameIndex b) const noexcept
 }
 
 std::size_t PoseForest::ApproximateBytes() const noexcept {
-  return sizeof(Node) * nodes_.capacity();
+  return nodes_.bytes();  // current and retired arrays
 }
 
 bool PoseForest::CheckInvariants() const {

@@ -383,13 +383,13 @@ void SceneTopology::ReserveUnlinkAfterCut() {
 
 std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {
   std::size_t bytes = sizeof(*this);
-  bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);
+  bytes += frames_.bytes() + bodies_.bytes();
   bytes += forest_.ApproximateBytes();
   bytes += record_of_rep_.ApproximateBytes();
   for (const TreeRecord& r : records_)
     bytes += r.body_counts.ApproximateBytes() + r.twists.ApproximateBytes();
   bytes += twist_edges_.capacity() * sizeof(TwistEdge);
-  bytes += (frame_of_name_.capacity() + body_of_name_.capacity()) * sizeof(std::uint32_t);
+  bytes += frame_of_name_.bytes() + body_of_name_.bytes();
   return bytes;
 }
 

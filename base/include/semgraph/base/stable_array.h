@@ -1,17 +1,14 @@
 // File: semgraph/base/stable_array.h
 //
 // StableArray<T>: a growable array whose elements never move. It backs the seqlocked edge
-// values (core/edge_values.h) and the topology's node arrays (topology/scene_topology.h,
-// pose_forest.h) and name records (semantics/names.h), so that readers on other threads may
-// keep reading while the writer adds frames and edges (docs/realtime.md, "Topology changes
+// values (core/edge_values.h), so that readers on other threads (compiled queries keep element
+// addresses) may keep reading while the writer adds frames and edges (docs/realtime.md, "Topology changes
 // while readers run"): a std::vector would reallocate and leave them reading freed memory.
 //
-// Layout: blocks of doubling size, block k holding F << k elements (indices F * (2^k - 1) up
-// to F * (2^(k+1) - 1) - 1), allocated once and freed only by the destructor. F is kFirst, or
-// the power of two the first Reserve asks for when that is more (so that reserving a known
-// size up front allocates once, as a vector's reserve would). The block directory is a fixed
-// array inside the object (kMaxBlocks entries cover every 32-bit index), so growing never moves
-// it either.
+// Layout: blocks of doubling size, block k holding kFirst << k elements (indices
+// kFirst * (2^k - 1) up to kFirst * (2^(k+1) - 1) - 1), allocated once and freed only by the
+// destructor. The block directory is a fixed array inside the object (kMaxBlocks entries cover
+// every 32-bit index), so growing never moves it either.
 //
 // Invariants: elements [0, size()) are constructed; an element's address is fixed from its
 // construction to the array's destruction (a move hands the blocks over unchanged); blocks
@@ -67,7 +64,7 @@ class StableArray {
 
   [[nodiscard]] std::size_t size() const noexcept { return size_.load(); }
   [[nodiscard]] bool empty() const noexcept { return size() == 0; }
-  [[nodiscard]] std::size_t capacity() const noexcept { return Start(first_log2_, blocks_); }
+  [[nodiscard]] std::size_t capacity() const noexcept { return Start(blocks_); }
 
   [[nodiscard]] T& operator[](std::size_t i) noexcept { return At(i); }
   [[nodiscard]] const T& operator[](std::size_t i) const noexcept {
@@ -79,12 +76,9 @@ class StableArray {
   /// Allocates blocks until capacity() >= n (all or nothing: on std::bad_alloc the blocks
   /// allocated so far stay, unused, and nothing else changed).
   void Reserve(std::size_t n) {
-    if (blocks_ == 0 && n > kFirst) {
-      first_log2_ = static_cast<unsigned>(std::bit_width(n - 1));  // 2^first >= n
-    }
     while (capacity() < n) {
       SEMGRAPH_DEMAND(blocks_ < kMaxBlocks);
-      const std::size_t elements = std::size_t{1} << (first_log2_ + blocks_);
+      const std::size_t elements = kFirst << blocks_;
       block_[blocks_].store(
           static_cast<T*>(::operator new (elements * sizeof(T), std::align_val_t{alignof(T)})),
           std::memory_order_release);
@@ -136,15 +130,14 @@ class StableArray {
   }
 
  private:
-  static constexpr std::size_t Start(unsigned first_log2, std::size_t k) noexcept {
-    return (std::size_t{1} << first_log2) * ((std::size_t{1} << k) - 1);
+  static constexpr std::size_t Start(std::size_t k) noexcept {
+    return kFirst * ((std::size_t{1} << k) - 1);
   }
   T* Block(std::size_t k) const noexcept { return block_[k].load(std::memory_order_acquire); }
   T& At(std::size_t i) noexcept {
-    const unsigned f = first_log2_;
-    const std::size_t j = i + (std::size_t{1} << f);  // block k holds j in [F << k, F << (k+1))
-    const std::size_t k = static_cast<std::size_t>(std::bit_width(j)) - 1 - f;
-    return Block(k)[j - (std::size_t{1} << (f + k))];
+    const std::size_t j = i + kFirst;  // block k holds j in [kFirst << k, kFirst << (k + 1))
+    const std::size_t k = static_cast<std::size_t>(std::bit_width(j)) - 1 - kFirstLog2;
+    return Block(k)[j - (kFirst << k)];
   }
   // Exclusive access (a move): no reader may use either array meanwhile.
   void Swap(StableArray& o) noexcept {
@@ -154,9 +147,6 @@ class StableArray {
       o.block_[k].store(mine, std::memory_order_relaxed);
     }
     std::swap(blocks_, o.blocks_);
-    const unsigned f = first_log2_;
-    first_log2_ = o.first_log2_.load();
-    o.first_log2_ = f;
     const std::size_t n = size_.load();
     size_.store(o.size_.load());
     o.size_.store(n);
@@ -164,9 +154,6 @@ class StableArray {
 
   std::array<std::atomic<T*>, kMaxBlocks> block_{};
   std::size_t blocks_ = 0;
-  // log2 of block 0's size: set by the first Reserve, before any element exists (atomic: a
-  // reader's index arithmetic reads it).
-  Published<unsigned> first_log2_ = kFirstLog2;
   Published<std::size_t> size_;
 };
 

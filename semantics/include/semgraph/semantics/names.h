@@ -14,7 +14,7 @@
 // allocation per name); Find O(|name|), allocation-free; name(id) O(1).
 // Thread safety: one writer (Intern, InternNew, Reserve, TruncateTo) and any number of readers
 // of Find, FindWithHash, name and size, which never crash or read freed memory while the
-// writer changes the table: records live in a StableArray, the index is published through an
+// writer changes the table: records live in a RetiringArray (old arrays kept), the index is published through an
 // atomic pointer and mask and every index ever made is kept until the table dies (at most
 // twice the current one's size), and every field and text byte a reader reads is atomic
 // (base::Published, release stores / acquire loads). A reader's answer is meaningful when it
@@ -34,7 +34,7 @@
 #include "semgraph/base/expected.h"
 #include "semgraph/base/index.h"
 #include "semgraph/base/published.h"
-#include "semgraph/base/stable_array.h"
+#include "semgraph/base/retiring_array.h"
 #include "semgraph/semantics/export.h"
 
 namespace semgraph::semantics {
@@ -123,7 +123,7 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
   static std::uint32_t Hash(std::string_view name) noexcept;
   // The slot of `name` in `slots` (mask + 1 of them), or of the free slot ending its probe run;
   // at most mask + 1 probes (a reader racing the writer may see no free slot).
-  static std::size_t Probe(const Slot* slots, std::size_t mask, const base::StableArray<Record>& r,
+  static std::size_t Probe(const Slot* slots, std::size_t mask, const base::RetiringArray<Record>& r,
                            std::string_view name, std::uint32_t hash) noexcept;
   std::size_t Probe(std::string_view name, std::uint32_t hash) const noexcept {
     return Probe(slots_.load(), mask_.load(), records_, name, hash);
@@ -134,7 +134,7 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
 
   std::vector<std::unique_ptr<char[]>> blocks_;
   std::size_t block_fill_ = kBlockBytes;  // bytes used in blocks_.back()
-  base::StableArray<Record> records_;     // by id
+  base::RetiringArray<Record> records_;     // by id
   // Every index made (the current one last; older ones kept for readers that may still probe
   // them), and the current one published: slots then mask (writer), mask then slots (reader),
   // so a reader never pairs a larger mask with a smaller array.

@@ -72,7 +72,7 @@
 //
 // Thread safety: one writer (AddNode, Reserve, Link, Cut, Reroot) and any number of readers of
 // the const methods, which never crash or loop while the writer changes the forest: nodes live
-// in a StableArray (they never move), every field is a base::Published (atomic), and the walks
+// in a RetiringArray (grown by copy, old arrays kept), every field is a base::Published (atomic), and the walks
 // (depth, AncestorAtDepth, IsAncestor, CommonAncestor) check each index they follow against
 // size() and stop after size() steps, answering an invalid index (0 depth) when the forest was
 // inconsistent under them. Their answers are meaningful only when the reader validates that no
@@ -86,7 +86,7 @@
 #include <vector>
 
 #include "semgraph/base/published.h"
-#include "semgraph/base/stable_array.h"
+#include "semgraph/base/retiring_array.h"
 #include "semgraph/topology/export.h"
 #include "semgraph/topology/ids.h"
 
@@ -241,10 +241,13 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
     // Representation. At a rep root R: rep_parent = semantic root, rep_jump = tree size.
     base::Published<std::uint32_t> rep_parent, rep_depth, rep_jump, rep_root;
   };
+  using Nodes = base::RetiringArray<Node>::View;
+  // RepAncestorAtDepth over one load of the node array (the walks' inner loop).
+  static std::uint32_t RepAncestorAtDepth(Nodes nodes, std::uint32_t v, std::uint32_t d) noexcept;
   [[nodiscard]] std::uint32_t size32() const noexcept {
     return static_cast<std::uint32_t>(nodes_.size());
   }
-  base::StableArray<Node> nodes_;
+  base::RetiringArray<Node> nodes_;
   std::uint64_t rerepresented_ = 0;
 };
 

@@ -42,7 +42,7 @@
 // EndChange, nestable: the outermost pair counts). Readers on other threads may run the const
 // methods a query planner uses (names, FrameOfName, BodyOfName, body_of, the name ids, the
 // forest's queries) concurrently with it: they never crash, loop or read freed memory (node
-// arrays are StableArrays, fields are base::Published atomics, walks are bounded), but what
+// arrays are RetiringArrays, fields are base::Published atomics, walks are bounded), but what
 // they read is meaningful only if change_count() was even before and unchanged after (an
 // optimistic read, docs/realtime.md "Topology changes while readers run"). Tree records and
 // twist edges (RecordOf, TreeHasBody, twist_edge, the TwistForest) are writer-thread only.
@@ -54,7 +54,7 @@
 #include <vector>
 
 #include "semgraph/base/published.h"
-#include "semgraph/base/stable_array.h"
+#include "semgraph/base/retiring_array.h"
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/relations.h"
 #include "semgraph/topology/export.h"
@@ -102,12 +102,14 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return num_twist_edges_; }
 
   /// The frame / body named `id` (invalid if the name is not one). O(1), noexcept.
-  [[nodiscard]] FrameIndex FrameOfName(NameId id) const noexcept {
+  // Always inlined: the planner calls these per query field (they were inlined before their
+  // loads became atomic, which made the compiler's size estimate exceed its budget).
+  [[nodiscard, gnu::always_inline]] FrameIndex FrameOfName(NameId id) const noexcept {
     return id.is_valid() && id.value() < frame_of_name_.size()
                ? FrameIndex(frame_of_name_[id.value()].load())
                : FrameIndex();
   }
-  [[nodiscard]] BodyIndex BodyOfName(NameId id) const noexcept {
+  [[nodiscard, gnu::always_inline]] BodyIndex BodyOfName(NameId id) const noexcept {
     return id.is_valid() && id.value() < body_of_name_.size()
                ? BodyIndex(body_of_name_[id.value()].load())
                : BodyIndex();
@@ -137,7 +139,7 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   [[nodiscard]] semantics::Body BodySem(BodyIndex b) const noexcept {
     return semantics::Body(body_name_id(b));
   }
-  [[nodiscard]] semantics::Body BodyOfSem(FrameIndex f) const noexcept {
+  [[nodiscard, gnu::always_inline]] semantics::Body BodyOfSem(FrameIndex f) const noexcept {
     return BodySem(body_of(f));
   }
 
@@ -310,14 +312,15 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
 
   semantics::NameTable names_;
   // NameId -> FrameIndex (kNone if not a frame) / BodyIndex. The node arrays and these maps
-  // are StableArrays: they never move, so a concurrent reader never reads freed memory.
-  base::StableArray<base::Published<std::uint32_t>> frame_of_name_;
-  base::StableArray<base::Published<std::uint32_t>> body_of_name_;
+  // are RetiringArrays: grown by copy, old arrays kept, so a concurrent reader never reads
+  // freed memory.
+  base::RetiringArray<base::Published<std::uint32_t>> frame_of_name_;
+  base::RetiringArray<base::Published<std::uint32_t>> body_of_name_;
   // How many frames / bodies can be created, and up to how many names the name maps hold,
   // without allocating (the capacities every array of that kind has at least).
   std::size_t frame_room_ = 0, body_room_ = 0, name_map_room_ = 0;
-  base::StableArray<FrameNode> frames_;
-  base::StableArray<BodyNode> bodies_;
+  base::RetiringArray<FrameNode> frames_;
+  base::RetiringArray<BodyNode> bodies_;
   PoseForest forest_;
   FlatMap<std::uint32_t> record_of_rep_;  // PoseForest::TreeKey -> records_ index
   std::vector<TreeRecord> records_;
