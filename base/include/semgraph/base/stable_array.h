@@ -2,8 +2,9 @@
 //
 // StableArray<T>: a growable array whose elements never move. It backs the seqlocked edge
 // values (core/edge_values.h), so that readers on other threads (compiled queries keep element
-// addresses) may keep reading while the writer adds frames and edges (docs/realtime.md, "Topology changes
-// while readers run"): a std::vector would reallocate and leave them reading freed memory.
+// addresses) may keep reading while the writer adds frames and edges (docs/realtime.md,
+// "Topology changes while readers run"): a std::vector would reallocate and leave them
+// reading freed memory.
 //
 // Layout: blocks of doubling size, block k holding kFirst << k elements (indices
 // kFirst * (2^k - 1) up to kFirst * (2^(k+1) - 1) - 1), allocated once and freed only by the

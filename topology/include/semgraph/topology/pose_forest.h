@@ -72,12 +72,12 @@
 //
 // Thread safety: one writer (AddNode, Reserve, Link, Cut, Reroot) and any number of readers of
 // the const methods, which never crash or loop while the writer changes the forest: nodes live
-// in a RetiringArray (grown by copy, old arrays kept), every field is a base::Published (atomic), and the walks
-// (depth, AncestorAtDepth, IsAncestor, CommonAncestor) check each index they follow against
-// size() and stop after size() steps, answering an invalid index (0 depth) when the forest was
-// inconsistent under them. Their answers are meaningful only when the reader validates that no
-// change overlapped (SceneTopology's change counter; docs/realtime.md); without a concurrent
-// writer they are exact.
+// in a RetiringArray (grown by copy, old arrays kept), every field is a base::Published
+// (atomic), and the walks (depth, AncestorAtDepth, IsAncestor, CommonAncestor) check each
+// index they follow against size() and stop after size() steps, answering an invalid index (0
+// depth) when the forest was inconsistent under them. Their answers are meaningful only when
+// the reader validates that no change overlapped (SceneTopology's change counter;
+// docs/realtime.md); without a concurrent writer they are exact.
 #pragma once
 
 #include <cassert>
