@@ -123,20 +123,24 @@ BuildResult PlanPoseAdd(const topology::SceneTopology& t, const PoseSpec& spec,
 
 template <coord::Backend B>
 void SceneGraph<B>::Reserve(std::size_t frames, std::size_t bodies) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   topology_.Reserve(frames, bodies);
   values_.ReserveFrames(frames);
 }
 
 template <coord::Backend B>
 FrameIndex SceneGraph<B>::CreateFrame(NameId name, BodyIndex body) {
-  values_.ReserveFrames(values_.X_PF.size() + 1);  // before the topology changes: all or nothing
-  const FrameIndex f = topology_.CreateFrame(name, body);
+  // Every allocation before the first change (all or nothing); the value before the frame, so
+  // that a reader on another thread that finds the frame finds its value constructed.
+  values_.ReserveFrames(values_.X_PF.size() + 1);
+  topology_.ReserveNodes(0, 1);
   values_.AddFrame();
-  return f;
+  return topology_.CreateFrame(name, body);
 }
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddBody(std::string_view name) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   const auto what = [&] {
     return name.empty() ? std::string("body with an empty name") : "body " + std::string(name);
   };
@@ -155,6 +159,7 @@ BuildResult SceneGraph<B>::AddBody(std::string_view name) {
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddFrame(std::string_view name, std::string_view body) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   const auto what = [&] { return "frame " + text::Braced(name, body); };
   if (auto ok = semantics::ValidateName(name); !ok) {
     return Reject(ErrorCode::kInvalidName, what(), semantics::Describe(ok.error(), name));
@@ -242,6 +247,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                                        const Eigen::Vector3d& p_position,
                                        std::optional<Stamp> stamp,
                                        const CovarianceInput* covariance) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::PoseAdd(spec); };  // formatted only on rejection
@@ -385,6 +391,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
                                         const Eigen::Vector3d& w_angular,
                                         std::optional<Stamp> stamp,
                                         const CovarianceInput* covariance) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
   const auto what = [&spec] { return text::TwistAdd(spec); };  // formatted only on rejection
@@ -546,6 +553,7 @@ internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view relative_to) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   const auto what = [&] {
     return "removal of the pose of {" + std::string(of) + "} wrt {" + std::string(relative_to) +
            "}";
@@ -561,6 +569,7 @@ BuildResult SceneGraph<B>::RemovePose(std::string_view of, std::string_view rela
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::RemoveTwist(std::string_view of, std::string_view relative_to) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   const auto shown = [](std::string_view n) {
     return n.empty() ? std::string("\"\"") : std::string(n);
   };

@@ -47,7 +47,11 @@ template <coord::Backend B>
 auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const ForestChain& c) -> Chain {
   Chain flat;
   flat.begin = static_cast<std::uint32_t>(edges_.size());
-  for (FrameIndex g = c.from; g != c.to; g = t.pose_parent(g)) {
+  // Bounded: a reader compiling while the writer changes the topology may walk a torn forest
+  // (its plan is thrown away by the validation, optimistic_read.h).
+  const std::size_t n = t.num_frames();
+  std::size_t steps = 0;
+  for (FrameIndex g = c.from; g != c.to && g.is_valid() && steps++ < n; g = t.pose_parent(g)) {
     const PoseValue<B>& value = values_->X_PF[g.value()];
     edges_.push_back(
         internal::EdgeRef{PoseValue<B>::ExpectedHeader(value.epoch()), &value, g.value()});

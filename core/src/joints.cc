@@ -262,6 +262,7 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   semantics::NameTable& names = topology_.mutable_names();
   const auto what = [&] {
     return JointWhat(spec.name) + " (" + std::string(ToString(spec.type)) + ")";
@@ -374,6 +375,7 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord& joint) {
+  const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   const topology::SceneTopology& t = topology_;
   for (JointIndex m : joint.mimics) {
     if (joints_[m].alive) {

@@ -49,6 +49,8 @@ BuildError WithDiscrepancy(BuildError error, const Discrepancy& d, const char* p
 // compiled queries that read them report kNoSuchEdge / kQueryInvalidated, never a wrong number.
 template <coord::Backend B>
 void SceneGraph<B>::RerootAt(FrameIndex v) {
+  // One change for readers (the repair's own queries run before it, outside any change).
+  const topology::SceneTopology::ChangeScope change(topology_);
   std::vector<FrameIndex> path;  // v = x0, x1, ..., xk = root
   for (FrameIndex x = v; x.is_valid(); x = topology_.pose_parent(x)) path.push_back(x);
   std::vector<typename B::PoseCoords> X_old;  // X_old[i]: the edge x_{i+1} -> x_i
@@ -171,6 +173,7 @@ Expected<RepairReport, BuildError> SceneGraph<B>::AddPose(const PoseSpec& spec,
   }
   topology_.ReserveLinkPose(a, b);    // the add's link, reserved before anything changes
   const auto undo = [&]() noexcept {  // allocation-free: the forest re-roots in place
+    const topology::SceneTopology::ChangeScope change(topology_);
     topology_.RerootPose(old_root);
     for (std::size_t i = 0; i < path.size(); ++i) {
       values_.X_PF[path[i].value()]

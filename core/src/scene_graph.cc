@@ -4,6 +4,7 @@
 #include "semgraph/core/scene_graph.h"
 
 #include "angular_velocity.h"
+#include "optimistic_read.h"
 
 namespace semgraph::core {
 
@@ -21,8 +22,11 @@ QueryError QError(const coord::Error& detail) {
 // Answers a planned pose, position or orientation query: the backend's check where the query
 // has one (not a position: it has no orientation to represent), then the evaluator. Each
 // one-shot query is planned exactly once, by names or by ids.
+// Inlined into the attempt of ReadValidated, as it was into the query before: the one-shot
+// path's cost (docs/performance.md).
 template <coord::Backend B, class Plan>
-auto Answer(const internal::ForestSource<B>& src, const Expected<Plan, QueryError>& plan) noexcept
+[[gnu::always_inline]] inline auto Answer(const internal::ForestSource<B>& src,
+                                          const Expected<Plan, QueryError>& plan) noexcept
     -> QueryResult<typename internal::PartTraits<B, internal::kPartOf<Plan>>::Result> {
   using Traits = internal::PartTraits<B, internal::kPartOf<Plan>>;
   if (!plan) return Unexpected{plan.error()};
@@ -53,43 +57,51 @@ QueryResult<coord::Twist> Answer(const topology::SceneTopology& t,
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
     const semantics::PoseSemantics& q) const noexcept {
-  return Answer(source(), PlanPose(topology_, q));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(source(), PlanPose(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
     const PoseSpec& spec) const noexcept {
-  return Answer(source(), PlanPose(topology_, spec));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(source(), PlanPose(topology_, spec)); });
 }
 
 template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(
     const semantics::PositionSemantics& q) const noexcept {
-  return Answer(source(), PlanPosition(topology_, q));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(source(), PlanPosition(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) const noexcept {
-  return Answer(source(), PlanPosition(topology_, spec));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(source(), PlanPosition(topology_, spec)); });
 }
 
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
     const semantics::OrientationSemantics& q) const noexcept {
-  return Answer(source(), PlanOrientation(topology_, q));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(source(), PlanOrientation(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec) const noexcept {
-  return Answer(source(), PlanOrientation(topology_, spec));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(source(), PlanOrientation(topology_, spec)); });
 }
 
 template <coord::Backend B>
 QueryResult<coord::Twist> SceneGraph<B>::GetTwist(
     const semantics::TwistSemantics& q) const noexcept {
-  return Answer(topology_, source(), PlanTwist(topology_, q));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(topology_, source(), PlanTwist(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<coord::Twist> SceneGraph<B>::GetTwist(const TwistSpec& spec) const noexcept {
-  return Answer(topology_, source(), PlanTwist(topology_, spec));
+  return internal::ReadValidated(
+      topology_, [&] { return Answer(topology_, source(), PlanTwist(topology_, spec)); });
 }
 
 template <coord::Backend B>
@@ -111,40 +123,51 @@ QueryResult<coord::AngularVelocity> SceneGraph<B>::GetAngularVelocity(
 
 // ====================================================================== compiled
 
+// Compile* plan and flatten on a validated snapshot of the topology (optimistic_read.h), so
+// that a reader thread may compile while the writer changes the topology.
 template <coord::Backend B>
 Expected<CompiledPose<B>, QueryError> SceneGraph<B>::CompilePose(const PoseSpec& spec) const {
-  auto plan = PlanPose(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
-    return Unexpected{QError(ok.error())};
-  return CompiledPose<B>(topology_, values_, *plan);
+  return internal::ReadValidated(topology_, [&]() -> Expected<CompiledPose<B>, QueryError> {
+    auto plan = PlanPose(topology_, spec);
+    if (!plan) return Unexpected{plan.error()};
+    if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
+      return Unexpected{QError(ok.error())};
+    return CompiledPose<B>(topology_, values_, *plan);
+  });
 }
 
 template <coord::Backend B>
 Expected<CompiledPosition<B>, QueryError> SceneGraph<B>::CompilePosition(
     const PoseSpec& spec) const {
-  auto plan = PlanPosition(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  return CompiledPosition<B>(topology_, values_, *plan);
+  return internal::ReadValidated(topology_, [&]() -> Expected<CompiledPosition<B>, QueryError> {
+    auto plan = PlanPosition(topology_, spec);
+    if (!plan) return Unexpected{plan.error()};
+    return CompiledPosition<B>(topology_, values_, *plan);
+  });
 }
 
 template <coord::Backend B>
 Expected<CompiledOrientation<B>, QueryError> SceneGraph<B>::CompileOrientation(
     const PoseSpec& spec) const {
-  auto plan = PlanOrientation(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
-    return Unexpected{QError(ok.error())};
-  return CompiledOrientation<B>(topology_, values_, *plan);
+  return internal::ReadValidated(
+      topology_, [&]() -> Expected<CompiledOrientation<B>, QueryError> {
+        auto plan = PlanOrientation(topology_, spec);
+        if (!plan) return Unexpected{plan.error()};
+        if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
+          return Unexpected{QError(ok.error())};
+        return CompiledOrientation<B>(topology_, values_, *plan);
+      });
 }
 
 // The point is required, as for GetTwist (an angular velocity is the angular part of any
 // point's twist: pass the coordinate frame as the point).
 template <coord::Backend B>
 Expected<CompiledTwist<B>, QueryError> SceneGraph<B>::CompileTwist(const TwistSpec& spec) const {
-  auto plan = PlanTwist(topology_, spec);
-  if (!plan) return Unexpected{plan.error()};
-  return CompiledTwist<B>(topology_, values_, *plan);
+  return internal::ReadValidated(topology_, [&]() -> Expected<CompiledTwist<B>, QueryError> {
+    auto plan = PlanTwist(topology_, spec);
+    if (!plan) return Unexpected{plan.error()};
+    return CompiledTwist<B>(topology_, values_, *plan);
+  });
 }
 
 template class SceneGraph<coord::QuaternionBackend>;

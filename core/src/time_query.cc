@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "angular_velocity.h"
+#include "optimistic_read.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/time_plan.h"
 #include "text.h"
@@ -201,22 +202,28 @@ auto SceneGraph<B>::AtPolicy(const TimePolicy& policy) const noexcept {
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(
     const PoseSpec& spec, const TimePolicy& policy) const noexcept {
-  return TimedAnswer<B>(PlanPose(topology_, spec), internal::PartsOf(policy).valid(),
-                        AtPolicy(policy));
+  return internal::ReadValidated(topology_, [&] {
+    return TimedAnswer<B>(PlanPose(topology_, spec), internal::PartsOf(policy).valid(),
+                          AtPolicy(policy));
+  });
 }
 
 template <coord::Backend B>
 QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(
     const PoseSpec& spec, const TimePolicy& policy) const noexcept {
-  return TimedAnswer<B>(PlanPosition(topology_, spec), internal::PartsOf(policy).valid(),
-                        AtPolicy(policy));
+  return internal::ReadValidated(topology_, [&] {
+    return TimedAnswer<B>(PlanPosition(topology_, spec), internal::PartsOf(policy).valid(),
+                          AtPolicy(policy));
+  });
 }
 
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec, const TimePolicy& policy) const noexcept {
-  return TimedAnswer<B>(PlanOrientation(topology_, spec), internal::PartsOf(policy).valid(),
-                        AtPolicy(policy));
+  return internal::ReadValidated(topology_, [&] {
+    return TimedAnswer<B>(PlanOrientation(topology_, spec), internal::PartsOf(policy).valid(),
+                          AtPolicy(policy));
+  });
 }
 
 // ====================================================================== time travel
@@ -280,56 +287,62 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelPose(FrameIndex e, FrameIndex
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Pose>> SceneGraph<B>::GetPose(
     const PoseSpec& spec, const TimeTravel& travel) const noexcept {
-  auto plan = PlanPose(topology_, spec);
-  FrameIndex x;
-  if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
-  const auto& q = plan->semantics;
-  const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
-  Timed<Pose> out{Pose{q, {}}, {}};
-  if (auto e = TimeTravelPose(F(q.point.id()), F(q.orientation.id()), F(q.ref_point.id()),
-                              F(q.ref_orientation.id()), F(q.coordinate_frame.id()), x, travel,
-                              out.value.value, out.time)) {
-    return Unexpected{*e};
-  }
-  return out;
+  return internal::ReadValidated(topology_, [&]() -> QueryResult<Timed<Pose>> {
+    auto plan = PlanPose(topology_, spec);
+    FrameIndex x;
+    if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
+    if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
+    const auto& q = plan->semantics;
+    const auto F = [&](NameId id) { return topology_.FrameOfName(id); };
+    Timed<Pose> out{Pose{q, {}}, {}};
+    if (auto e = TimeTravelPose(F(q.point.id()), F(q.orientation.id()), F(q.ref_point.id()),
+                                F(q.ref_orientation.id()), F(q.coordinate_frame.id()), x, travel,
+                                out.value.value, out.time)) {
+      return Unexpected{*e};
+    }
+    return out;
+  });
 }
 
 template <coord::Backend B>
 QueryResult<Timed<coord::Position>> SceneGraph<B>::GetPosition(
     const PoseSpec& spec, const TimeTravel& travel) const noexcept {
-  auto plan = PlanPosition(topology_, spec);
-  FrameIndex x;
-  if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  const auto& q = plan->semantics;
-  const FrameIndex e = topology_.FrameOfName(q.point.id()),
-                   f = topology_.FrameOfName(q.ref_point.id());
-  typename B::PoseCoords X;
-  TimeReport report;
-  const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
-  if (auto err = TimeTravelPose(e, e, f, f, r, x, travel, X, report)) {
-    return Unexpected{*err};
-  }
-  return Timed<coord::Position>{coord::Position{q, B::TranslationOf(X)}, report};
+  return internal::ReadValidated(topology_, [&]() -> QueryResult<Timed<coord::Position>> {
+    auto plan = PlanPosition(topology_, spec);
+    FrameIndex x;
+    if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
+    const auto& q = plan->semantics;
+    const FrameIndex e = topology_.FrameOfName(q.point.id()),
+                     f = topology_.FrameOfName(q.ref_point.id());
+    typename B::PoseCoords X;
+    TimeReport report;
+    const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
+    if (auto err = TimeTravelPose(e, e, f, f, r, x, travel, X, report)) {
+      return Unexpected{*err};
+    }
+    return Timed<coord::Position>{coord::Position{q, B::TranslationOf(X)}, report};
+  });
 }
 
 template <coord::Backend B>
 QueryResult<Timed<typename SceneGraph<B>::Orientation>> SceneGraph<B>::GetOrientation(
     const PoseSpec& spec, const TimeTravel& travel) const noexcept {
-  auto plan = PlanOrientation(topology_, spec);
-  FrameIndex x;
-  if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
-  if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
-  const auto& q = plan->semantics;
-  const FrameIndex a = topology_.FrameOfName(q.orientation.id()),
-                   b = topology_.FrameOfName(q.ref_orientation.id());
-  typename B::PoseCoords X;
-  TimeReport report;
-  const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
-  if (auto err = TimeTravelPose(a, a, b, b, r, x, travel, X, report)) {
-    return Unexpected{*err};
-  }
-  return Timed<Orientation>{Orientation{q, B::RotationOf(X)}, report};
+  return internal::ReadValidated(topology_, [&]() -> QueryResult<Timed<Orientation>> {
+    auto plan = PlanOrientation(topology_, spec);
+    FrameIndex x;
+    if (auto e = ResolveFixedFrame(topology_, plan, travel, x)) return Unexpected{*e};
+    if (auto e = RepresentationError<B>(plan->semantics)) return Unexpected{*e};
+    const auto& q = plan->semantics;
+    const FrameIndex a = topology_.FrameOfName(q.orientation.id()),
+                     b = topology_.FrameOfName(q.ref_orientation.id());
+    typename B::PoseCoords X;
+    TimeReport report;
+    const FrameIndex r = topology_.FrameOfName(q.coordinate_frame.id());
+    if (auto err = TimeTravelPose(a, a, b, b, r, x, travel, X, report)) {
+      return Unexpected{*err};
+    }
+    return Timed<Orientation>{Orientation{q, B::RotationOf(X)}, report};
+  });
 }
 
 // ====================================================================== twists
@@ -338,7 +351,8 @@ template <coord::Backend B>
 QueryResult<Timed<coord::Twist>> SceneGraph<B>::GetTwist(const TwistSpec& spec,
                                                          const TimePolicy& policy,
                                                          TwistSource source) const noexcept {
-  return TimedTwist(spec, policy, source, nullptr);
+  return internal::ReadValidated(topology_,
+                                 [&] { return TimedTwist(spec, policy, source, nullptr); });
 }
 
 template <coord::Backend B>

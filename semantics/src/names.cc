@@ -1,10 +1,13 @@
 #include "semgraph/semantics/names.h"
 
 #include <algorithm>
+#include <bit>
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <iterator>
 #include <string>
+#include <utility>
 
 #include "semgraph/base/utf8.h"
 
@@ -128,28 +131,70 @@ std::uint32_t NameTable::Hash(std::string_view name) noexcept {
   return static_cast<std::uint32_t>(h >> 32);
 }
 
-std::size_t NameTable::Probe(std::string_view name, std::uint32_t hash) const noexcept {
-  const std::size_t mask = slots_.size() - 1;
-  for (std::size_t i = hash & mask;; i = (i + 1) & mask) {
-    const std::uint32_t slot = slots_[i];
-    if (slot == 0) return i;
-    const Record& r = records_[slot - 1];
-    if (r.hash == hash && std::string_view(r.text, r.size) == name) return i;
+namespace {
+// Text bytes are atomic too: TruncateTo gives arena bytes back, and a later name may be written
+// over a dropped one while a reader still compares it (the reader's validation then fails).
+bool SameText(const char* text, std::string_view name) noexcept {
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    if (std::atomic_ref<char>(const_cast<char&>(text[i])).load(std::memory_order_acquire) !=
+        name[i])
+      return false;
   }
+  return true;
+}
+void WriteText(char* text, std::string_view name) noexcept {
+  for (std::size_t i = 0; i < name.size(); ++i)
+    std::atomic_ref<char>(text[i]).store(name[i], std::memory_order_release);
+}
+}  // namespace
+
+NameTable& NameTable::operator=(NameTable&& other) noexcept {
+  blocks_ = std::move(other.blocks_);
+  block_fill_ = std::exchange(other.block_fill_, kBlockBytes);
+  records_ = std::move(other.records_);
+  tables_ = std::move(other.tables_);
+  other.tables_.clear();
+  index_slots_ = std::exchange(other.index_slots_, 0);
+  slots_ = other.slots_.load();
+  mask_ = other.mask_.load();
+  other.slots_ = nullptr;
+  other.mask_ = 0;
+  return *this;
 }
 
-void NameTable::Grow() {
-  // The new index is filled before it replaces the old one: an allocation failure leaves the
-  // table as it was.
-  std::vector<std::uint32_t> grown(slots_.empty() ? 16 : 2 * slots_.size(), 0);
-  const std::size_t mask = grown.size() - 1;
-  for (const std::uint32_t slot : slots_) {
+std::size_t NameTable::Probe(const Slot* slots, std::size_t mask,
+                             const base::RetiringArray<Record>& records, std::string_view name,
+                             std::uint32_t hash) noexcept {
+  const std::size_t n = records.size();
+  std::size_t i = hash & mask;
+  for (std::size_t probes = 0; probes <= mask; ++probes, i = (i + 1) & mask) {
+    const std::uint32_t slot = slots[i];
+    if (slot == 0 || slot > n) return i;  // > n: a reader racing a TruncateTo
+    const Record& r = records[slot - 1];
+    if (r.hash == hash && r.size == name.size() && SameText(r.text, name)) return i;
+  }
+  return i;
+}
+
+void NameTable::Grow(std::size_t size) {
+  // The new index is filled before it is published: an allocation failure leaves the table as
+  // it was, and a reader sees the old index or the new one, each whole. The old one stays
+  // allocated (tables_), since a reader may still be probing it.
+  if (tables_.size() == tables_.capacity()) tables_.reserve(2 * tables_.size() + 4);
+  auto grown = std::make_unique<Slot[]>(size);
+  const std::size_t mask = size - 1;
+  const Slot* old = slots_;
+  for (std::size_t k = 0; k < capacity(); ++k) {
+    const std::uint32_t slot = old[k];
     if (slot == 0) continue;
     std::size_t i = records_[slot - 1].hash & mask;
     while (grown[i] != 0) i = (i + 1) & mask;
     grown[i] = slot;
   }
-  slots_.swap(grown);
+  slots_ = grown.get();
+  mask_ = mask;
+  tables_.push_back(std::move(grown));  // within capacity: cannot throw
+  index_slots_ += size;
 }
 
 Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
@@ -161,20 +206,22 @@ Expected<NameId, NameError> NameTable::Intern(std::string_view name) {
 
 void NameTable::Reserve(std::size_t n) {
   records_.reserve(n);
-  while (2 * n > slots_.size()) Grow();
+  if (2 * n > capacity()) Grow(std::bit_ceil(std::max<std::size_t>(16, 2 * n)));
 }
 
 NameTable::Lookup NameTable::FindWithHash(std::string_view name) const noexcept {
   const std::uint32_t hash = Hash(name);
-  if (slots_.empty()) return Lookup{NameId(), hash};
-  const std::uint32_t slot = slots_[Probe(name, hash)];
+  const std::size_t mask = mask_;
+  const Slot* slots = slots_;
+  if (!slots) return Lookup{NameId(), hash};
+  const std::uint32_t slot = slots[Probe(slots, mask, records_, name, hash)];
   return Lookup{slot == 0 ? NameId() : NameId(slot - 1), hash};
 }
 
 NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
   // Every allocation first (index, record array, a new arena block), each of which leaves the
   // table unchanged when it fails; then the name goes in without allocating.
-  if (2 * (records_.size() + 1) > slots_.size()) Grow();
+  if (2 * (records_.size() + 1) > capacity()) Grow(tables_.empty() ? 16 : 2 * capacity());
   if (records_.size() == records_.capacity())
     records_.reserve(std::max<std::size_t>(16, 2 * records_.size()));
   if (block_fill_ + name.size() > kBlockBytes) {
@@ -185,23 +232,26 @@ NameId NameTable::InternNew(std::string_view name, std::uint32_t hash) {
     block_fill_ = 0;
   }
   char* text = blocks_.back().get() + block_fill_;
-  std::memcpy(text, name.data(), name.size());
+  WriteText(text, name);
   block_fill_ += name.size();
+  // The text, then the record, then the index slot (release): a reader that finds the slot
+  // reads the whole name.
   const NameId id(static_cast<std::uint32_t>(records_.size()));
   records_.push_back(Record{text, static_cast<std::uint32_t>(name.size()), hash});
-  slots_[Probe(name, hash)] = id.value() + 1;
+  slots_.load()[Probe(name, hash)] = id.value() + 1;
   return id;
 }
 
 // Backward-shift deletion keeps every remaining name reachable from its home slot.
 void NameTable::EraseSlot(std::size_t hole) noexcept {
-  const std::size_t mask = slots_.size() - 1;
-  slots_[hole] = 0;
-  for (std::size_t j = (hole + 1) & mask; slots_[j] != 0; j = (j + 1) & mask) {
-    const std::size_t home = records_[slots_[j] - 1].hash & mask;
+  const std::size_t mask = mask_;
+  Slot* slots = slots_;
+  slots[hole] = 0;
+  for (std::size_t j = (hole + 1) & mask; slots[j] != 0; j = (j + 1) & mask) {
+    const std::size_t home = records_[slots[j] - 1].hash & mask;
     if (((j - home) & mask) >= ((j - hole) & mask)) {
-      slots_[hole] = slots_[j];
-      slots_[j] = 0;
+      slots[hole] = slots[j].load();
+      slots[j] = 0;
       hole = j;
     }
   }
@@ -209,22 +259,19 @@ void NameTable::EraseSlot(std::size_t hole) noexcept {
 
 void NameTable::TruncateTo(std::size_t n) {
   while (records_.size() > n) {
-    const Record r = records_.back();
-    EraseSlot(Probe(std::string_view(r.text, r.size), r.hash));
-    records_.pop_back();
+    const Record& r = records_.back();
+    const char* text = r.text;
+    EraseSlot(Probe(std::string_view(text, r.size), r.hash));
+    records_.PopBack();
     // Names were appended in order: give the arena bytes back (an emptied block is kept).
-    if (!blocks_.empty() && r.text >= blocks_.back().get() &&
-        r.text < blocks_.back().get() + kBlockBytes) {
-      block_fill_ = static_cast<std::size_t>(r.text - blocks_.back().get());
+    if (!blocks_.empty() && text >= blocks_.back().get() &&
+        text < blocks_.back().get() + kBlockBytes) {
+      block_fill_ = static_cast<std::size_t>(text - blocks_.back().get());
     }
   }
 }
 
-NameId NameTable::Find(std::string_view name) const noexcept {
-  if (slots_.empty()) return NameId();
-  const std::uint32_t slot = slots_[Probe(name, Hash(name))];
-  return slot == 0 ? NameId() : NameId(slot - 1);
-}
+NameId NameTable::Find(std::string_view name) const noexcept { return FindWithHash(name).id; }
 
 std::string_view NameTable::name(NameId id) const noexcept {
   if (!id.is_valid() || id.value() >= records_.size()) return "<invalid>";
@@ -233,8 +280,8 @@ std::string_view NameTable::name(NameId id) const noexcept {
 }
 
 std::size_t NameTable::ApproximateBytes() const noexcept {
-  return blocks_.size() * kBlockBytes + records_.capacity() * sizeof(Record) +
-         slots_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(void*);
+  return blocks_.size() * kBlockBytes + records_.bytes() + index_slots_ * sizeof(Slot) +
+         blocks_.capacity() * sizeof(void*);
 }
 
 }  // namespace semgraph::semantics

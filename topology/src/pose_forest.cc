@@ -62,7 +62,7 @@ std::uint32_t PoseForest::Represent(std::uint32_t x, std::uint32_t above) noexce
   // Depth-first over the undirected tree, the neighbours of v in the order parent(v), then its
   // children; the rep parent (just set) is skipped, and serves as the way back, so no stack.
   const auto next = [this](std::uint32_t v, std::uint32_t u) {  // the neighbour of v after u
-    return u == nodes_[v].parent ? nodes_[v].first_child : nodes_[u].next_sibling;
+    return u == nodes_[v].parent ? nodes_[v].first_child.load() : nodes_[u].next_sibling.load();
   };
   const auto skip = [this, &next](std::uint32_t v, std::uint32_t u) {  // past rep_parent(v)
     return u != kNone && u == nodes_[v].rep_parent ? next(v, u) : u;
@@ -209,31 +209,46 @@ void PoseForest::Reroot(FrameIndex v) {
 }
 
 std::uint32_t PoseForest::RepAncestorAtDepth(std::uint32_t v, std::uint32_t d) const noexcept {
+  return RepAncestorAtDepth(nodes_.view(), v, d);
+}
+
+std::uint32_t PoseForest::RepAncestorAtDepth(Nodes nodes, std::uint32_t v,
+                                             std::uint32_t d) noexcept {
   // Take the jump whenever it does not overshoot depth d, else one parent step. Jump depths
-  // are skew-binary, so this takes O(log depth) steps.
-  while (nodes_[v].rep_depth > d) {
-    const std::uint32_t j = nodes_[v].rep_jump;
-    v = nodes_[j].rep_depth >= d ? j : nodes_[v].rep_parent;
+  // are skew-binary, so this takes O(log depth) steps. The bounds only matter to a reader
+  // racing the writer (each step lowers the depth in a consistent forest).
+  const auto n = static_cast<std::uint32_t>(nodes.size);
+  const Node* node = nodes.data;
+  for (std::uint32_t steps = 0; v < n && node[v].rep_depth > d; ++steps) {
+    const std::uint32_t j = node[v].rep_jump;
+    if (j >= n || steps == n) return kNone;
+    v = node[j].rep_depth >= d ? j : node[v].rep_parent.load();
   }
-  return v;
+  return v < n ? v : kNone;
 }
 
 std::uint32_t PoseForest::RepLca(std::uint32_t u, std::uint32_t v) const noexcept {
-  if (nodes_[u].rep_depth < nodes_[v].rep_depth) std::swap(u, v);
-  u = RepAncestorAtDepth(u, nodes_[v].rep_depth);
+  const Nodes nodes = nodes_.view();
+  const Node* node = nodes.data;
+  if (node[u].rep_depth < node[v].rep_depth) std::swap(u, v);
+  u = RepAncestorAtDepth(nodes, u, node[v].rep_depth);
   // u and v are now at equal depths, and a jump's target depth depends only on the depth, so
   // jump(u) and jump(v) are at equal depths too. Jump both while the targets differ (the common
   // ancestor is strictly above them), else step both to the parent: the same O(log n) search
   // as RepAncestorAtDepth, aimed at one below the common ancestor. Both are in one tree, so
   // they meet at the rep root at the latest (whose slots are never read: depth 0).
-  while (u != v) {
-    if (nodes_[u].rep_jump != nodes_[v].rep_jump) {
-      u = nodes_[u].rep_jump;
-      v = nodes_[v].rep_jump;
+  const auto n = static_cast<std::uint32_t>(nodes.size);
+  for (std::uint32_t steps = 0; u != v; ++steps) {
+    if (u >= n || steps == n) return kNone;  // only under a concurrent change
+    const std::uint32_t ju = node[u].rep_jump, jv = node[v].rep_jump;
+    if (ju != jv) {
+      u = ju;
+      v = jv;
     } else {
-      u = nodes_[u].rep_parent;
-      v = nodes_[v].rep_parent;
+      u = node[u].rep_parent;
+      v = node[v].rep_parent;
     }
+    if (v >= n) return kNone;
   }
   return u;
 }
@@ -243,7 +258,9 @@ std::uint32_t PoseForest::depth(FrameIndex f) const noexcept {
   const std::uint32_t key = nodes_[v].rep_root;
   const std::uint32_t s = nodes_[key].rep_parent;
   if (s == key) return nodes_[v].rep_depth;
-  return nodes_[v].rep_depth + nodes_[s].rep_depth - 2 * nodes_[RepLca(v, s)].rep_depth;
+  const std::uint32_t m = RepLca(v, s);
+  if (m == kNone) return 0;
+  return nodes_[v].rep_depth + nodes_[s].rep_depth - 2 * nodes_[m].rep_depth;
 }
 
 FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noexcept {
@@ -255,6 +272,7 @@ FrameIndex PoseForest::AncestorAtDepth(FrameIndex f, std::uint32_t d) const noex
   }
   // The semantic path s .. v climbs from s to m = lca_R(s, v), then descends to v.
   const std::uint32_t m = RepLca(v, s);
+  if (m == kNone) return FrameIndex();
   const std::uint32_t up = nodes_[s].rep_depth - nodes_[m].rep_depth;
   const std::uint32_t down = nodes_[v].rep_depth - nodes_[m].rep_depth;
   if (d > up + down) return FrameIndex();
@@ -281,17 +299,18 @@ FrameIndex PoseForest::CommonAncestor(FrameIndex a, FrameIndex b) const noexcept
   if (nodes_[v].rep_root != key) return FrameIndex();  // different trees
   const std::uint32_t x = RepLca(u, v);
   const std::uint32_t s = nodes_[key].rep_parent;
-  if (s == key) return FrameIndex(x);
+  if (s == key || x == kNone) return FrameIndex(x);
   // Two of the three rep LCAs coincide; the semantic one is the deepest.
   const std::uint32_t y = RepLca(u, s);
   const std::uint32_t z = RepLca(v, s);
+  if (y == kNone || z == kNone) return FrameIndex();  // only under a concurrent change
   std::uint32_t best = nodes_[x].rep_depth >= nodes_[y].rep_depth ? x : y;
   if (nodes_[z].rep_depth > nodes_[best].rep_depth) best = z;
   return FrameIndex(best);
 }
 
 std::size_t PoseForest::ApproximateBytes() const noexcept {
-  return sizeof(Node) * nodes_.capacity();
+  return nodes_.bytes();  // current and retired arrays
 }
 
 bool PoseForest::CheckInvariants() const {

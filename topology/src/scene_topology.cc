@@ -11,8 +11,8 @@ namespace semgraph::topology {
 namespace {
 // Makes room for n elements in v, growing at least twofold (O(1) amortized per element). On
 // std::bad_alloc v is unchanged.
-template <class T>
-void GrowCapacity(std::vector<T>& v, std::size_t n) {
+template <class Array>
+void GrowCapacity(Array& v, std::size_t n) {
   if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
 }
 }  // namespace
@@ -309,7 +309,7 @@ void SceneTopology::ReserveLinkTwist(FrameIndex head) {
 
 TwistEdgeIndex SceneTopology::LinkTwist(BodyIndex tail, FrameIndex head,
                                         const semantics::TwistSemantics& s) {
-  SEMGRAPH_DEMAND(!frames_[head.value()].twist_edge.is_valid() && tail != body_of(head));
+  SEMGRAPH_DEMAND(!frames_[head.value()].twist_edge.load().is_valid() && tail != body_of(head));
   ReserveLinkTwist(head);  // every allocation first: the changes below cannot fail
   std::uint32_t index;
   if (!free_twist_edges_.empty()) {
@@ -383,13 +383,13 @@ void SceneTopology::ReserveUnlinkAfterCut() {
 
 std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {
   std::size_t bytes = sizeof(*this);
-  bytes += frames_.capacity() * sizeof(FrameNode) + bodies_.capacity() * sizeof(BodyNode);
+  bytes += frames_.bytes() + bodies_.bytes();
   bytes += forest_.ApproximateBytes();
   bytes += record_of_rep_.ApproximateBytes();
   for (const TreeRecord& r : records_)
     bytes += r.body_counts.ApproximateBytes() + r.twists.ApproximateBytes();
   bytes += twist_edges_.capacity() * sizeof(TwistEdge);
-  bytes += (frame_of_name_.capacity() + body_of_name_.capacity()) * sizeof(std::uint32_t);
+  bytes += frame_of_name_.bytes() + body_of_name_.bytes();
   return bytes;
 }
 

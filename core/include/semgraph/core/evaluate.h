@@ -52,12 +52,24 @@ class ForestSource {
 
   /// X_AF, A = c.to above F = c.from; identity when F == A. Composed bottom-up (each parent's
   /// edge is prepended: acc = X_PG acc), straight from the locked words for quaternions.
+  /// False when the walk leaves the forest or takes more steps than there are frames: only a
+  /// reader racing a topology change (its answer is then thrown away, optimistic_read.h).
   bool EvalChain(const ForestChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
     identity = c.from == c.to;
     if (identity) return true;
+    const std::size_t n = t_.num_frames();
+    std::size_t steps = 0;
+    // The next frame up, or invalid when the walk went astray.
+    const auto up = [&](FrameIndex g) noexcept {
+      const FrameIndex p = t_.pose_parent(g);
+      return ++steps < n ? p : FrameIndex();
+    };
+    FrameIndex g = up(c.from);
+    if (!g.is_valid()) return false;  // c.from has no edge: no value to read
     if (time_) {  // each edge at the policy's time (timed_read.h)
       X_AF = Edge(c.from);
-      for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+      for (; g != c.to; g = up(g)) {
+        if (!g.is_valid()) return false;
         X_AF = B::ComposeChain(X_AF, Edge(g));
       }
     } else if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
@@ -65,7 +77,8 @@ class ForestSource {
       v_.X_PF[c.from.value()].LoadWords(w);
       Eigen::Quaterniond q(w[3], w[0], w[1], w[2]);
       Eigen::Vector3d p(w[4], w[5], w[6]);
-      for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+      for (; g != c.to; g = up(g)) {
+        if (!g.is_valid()) return false;
         v_.X_PF[g.value()].LoadWords(w);
         const Eigen::Quaterniond q_g(w[3], w[0], w[1], w[2]);
         p = B::Rotate(q_g, p) + Eigen::Vector3d(w[4], w[5], w[6]);
@@ -74,7 +87,8 @@ class ForestSource {
       X_AF = PoseCoords{q, p};
     } else {
       X_AF = v_.X_PF[c.from.value()].Load();
-      for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+      for (; g != c.to; g = up(g)) {
+        if (!g.is_valid()) return false;
         X_AF = B::ComposeChain(X_AF, v_.X_PF[g.value()].Load());
       }
     }
@@ -113,21 +127,30 @@ class ForestSource {
   }
   // The chain again through the checked coord::Compose: the same semantics as the shortcut,
   // and the same numbers up to rounding.
+  // Checked only on a topology no change overlapped (a reader on another thread may replay a
+  // torn forest; its answer is thrown away anyway): the counter, even and the same after.
   void ReplayChecked(const ForestChain& c, const PoseCoords& X_AF) const noexcept {
+    const std::uint64_t before = t_.change_count();
+    if ((before & 1) != 0) return;
     coord::Pose<B> checked = EdgePose(c.from);
+    bool composed = true;
+    std::size_t steps = 0;
     for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
+      if (!g.is_valid() || ++steps > t_.num_frames()) return;
       auto next = coord::Compose(checked, EdgePose(g));
-      SEMGRAPH_DEMAND(next.has_value());
-      checked = *next;
+      composed = composed && next.has_value();
+      if (next) checked = *next;
     }
-    SEMGRAPH_DEMAND(checked.semantics ==
-                    semantics::PoseSemantics::OfFrame(t_.FrameSem(c.from), t_.BodyOfSem(c.from),
-                                                      t_.FrameSem(c.to), t_.BodyOfSem(c.to),
-                                                      t_.FrameSem(c.to).axes()));
-    if (time_) return;  // the replay composes the current values; a timed read uses others
+    const bool same_semantics =
+        checked.semantics == semantics::PoseSemantics::OfFrame(
+                                 t_.FrameSem(c.from), t_.BodyOfSem(c.from), t_.FrameSem(c.to),
+                                 t_.BodyOfSem(c.to), t_.FrameSem(c.to).axes());
     const double scale = 1.0 + B::TranslationOf(X_AF).norm();
-    SEMGRAPH_DEMAND((B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <=
-                    1e-9 * scale);
+    // The replay composes the current values; a timed read uses others.
+    const bool same_numbers =
+        time_ || (B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <= 1e-9 * scale;
+    if (t_.change_count() != before) return;
+    SEMGRAPH_DEMAND(composed && same_semantics && same_numbers);
   }
 #endif
   const topology::SceneTopology& t_;

@@ -40,8 +40,15 @@
 // of memory, they throw std::bad_alloc and leave the graph exactly as it was: each makes every
 // allocation it needs before its first change (tests/core/add_out_of_memory_test.cc).
 // Queries are noexcept, allocation-free, lock-free; they return a small QueryError.
-// Thread safety: const queries may run concurrently with each other; any add/remove needs
-// exclusive access.
+// Thread safety (docs/realtime.md, "Topology changes while readers run"): one writer thread
+// makes every add, remove, Reserve and value update. Concurrently with it, any number of reader
+// threads may evaluate compiled queries, ask the one-shot pose queries (GetPose, GetPosition,
+// GetOrientation: by name or ids, untimed or timed, without extrapolation) and compile pose
+// queries (CompilePose, CompilePosition, CompileOrientation): these read the topology
+// optimistically, validated by its change counter, and retry when a change overlapped; a query
+// that never finds the topology quiet (32 attempts) returns kQueryInvalidated. Everything else
+// (twist queries, CompileTwist, Jacobians, Find*Edge, FindJoint, Explain*, Describe, the
+// inspection views) runs on the writer thread or is ordered with the changes by the caller.
 #pragma once
 
 #include <cstdint>
@@ -218,8 +225,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // SetPose/SetTwist while other threads evaluate compiled queries (per-edge sequence locks);
   // the same writer thread may also change the topology (Add*, Remove*) meanwhile: untimed
   // compiled evaluations then answer for the graph they were compiled on or return
-  // kQueryInvalidated (docs/realtime.md, "Topology changes while readers run"). One-shot queries
-  // by name, Find*Edge and Compile* read the topology: same thread as the changes.
+  // kQueryInvalidated (docs/realtime.md, "Topology changes while readers run"). One-shot pose
+  // queries and CompilePose/Position/Orientation may run on reader threads too (validated
+  // optimistic reads); Find*Edge (handles), twist queries and CompileTwist read the topology
+  // unvalidated: same thread as the changes.
 
   /// Handle of the existing pose edge {relative_to} -> {of}: invalid_name, unknown_frame,
   /// no_such_edge, or constant_pose_change for a same-body (constant) edge, which cannot be
@@ -293,6 +302,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// Compiled queries: the semantics are checked and the path resolved once (the same errors
   /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
   /// compiled query refers to this graph, which must outlive it and must not move.
+  /// CompilePose, CompilePosition and CompileOrientation may run on reader threads while the
+  /// writer changes the topology (then also kQueryInvalidated: see Thread safety above);
+  /// CompileTwist on the writer thread only.
   [[nodiscard]] Expected<CompiledPose<B>, QueryError> CompilePose(const PoseSpec& spec) const;
   [[nodiscard]] Expected<CompiledPosition<B>, QueryError> CompilePosition(
       const PoseSpec& spec) const;
@@ -307,7 +319,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// p_FoEo_R; for PoseSpec::Of("a").RelativeTo("b") that is X_BA).
   /// Error order: invalid_name (a required name empty or invalid, or a given body name invalid)
   /// -> unknown_frame -> unknown_body -> frame_body_mismatch -> no_pose_path ->
-  /// representation_constraint.
+  /// representation_constraint. On a reader thread while the writer changes the topology, also
+  /// query_invalidated: every attempt overlapped a change (see Thread safety above).
   [[nodiscard]] QueryResult<Pose> GetPose(const PoseSpec& spec) const noexcept;
   /// @retval p_FoEo_R: the position of point e wrt point f, in [r].
   [[nodiscard]] QueryResult<coord::Position> GetPosition(const PoseSpec& spec) const noexcept;
@@ -456,7 +469,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
     return topology_.body_name(b);
   }
   [[nodiscard]] BodyIndex body_of(FrameIndex f) const noexcept { return topology_.body_of(f); }
-  /// Pose parent P of f (invalid for a root) and the stored edge value X_PF in [P].
+  /// Pose parent P of f (invalid for a root) and the stored edge value X_PF in [P]. These
+  /// inspection calls read the topology without validation: writer thread (or quiet topology).
   [[nodiscard]] FrameIndex pose_parent(FrameIndex f) const noexcept {
     return topology_.pose_parent(f);
   }

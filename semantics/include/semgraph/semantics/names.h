@@ -12,7 +12,15 @@
 //    other than U+0020, no noncharacters (the definition and its reasons: docs/rules.md §1).
 // Costs: Intern O(|name|) amortized (one hash, one copy into a 64 KiB arena on first sight; no
 // allocation per name); Find O(|name|), allocation-free; name(id) O(1).
-// Thread safety: const methods may run concurrently; Intern needs exclusive access.
+// Thread safety: one writer (Intern, InternNew, Reserve, TruncateTo) and any number of readers
+// of Find, FindWithHash, name and size, which never crash or read freed memory while the
+// writer changes the table: records live in a RetiringArray (old arrays kept), the index is published through an
+// atomic pointer and mask and every index ever made is kept until the table dies (at most
+// twice the current one's size), and every field and text byte a reader reads is atomic
+// (base::Published, release stores / acquire loads). A reader's answer is meaningful when it
+// validates that no change overlapped (SceneTopology's change counter, docs/realtime.md);
+// without a concurrent writer it is exact. name(id)'s view is for the writer's thread (or text
+// no change can touch: names are never rewritten except after a TruncateTo that dropped them).
 #pragma once
 
 #include <cstdint>
@@ -25,6 +33,8 @@
 #include "semgraph/base/error_code.h"
 #include "semgraph/base/expected.h"
 #include "semgraph/base/index.h"
+#include "semgraph/base/published.h"
+#include "semgraph/base/retiring_array.h"
 #include "semgraph/semantics/export.h"
 
 namespace semgraph::semantics {
@@ -65,8 +75,8 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
   NameTable() = default;
   NameTable(const NameTable&) = delete;  // returned string_views point into the arena
   NameTable& operator=(const NameTable&) = delete;
-  NameTable(NameTable&&) = default;
-  NameTable& operator=(NameTable&&) = default;
+  NameTable(NameTable&& other) noexcept { *this = std::move(other); }
+  NameTable& operator=(NameTable&& other) noexcept;
 
   /// Returns the id of `name`, interning it on first sight. Fails with kInvalidName.
   [[nodiscard]] Expected<NameId, NameError> Intern(std::string_view name);
@@ -104,20 +114,34 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
   // indexed by an open-addressing table of ids (linear probing, load <= 1/2): no allocation per
   // name, one hash per lookup.
   struct Record {
-    const char* text;
-    std::uint32_t size;
-    std::uint32_t hash;
+    base::Published<const char*> text;
+    base::Published<std::uint32_t> size;
+    base::Published<std::uint32_t> hash;
   };
+  using Slot = base::Published<std::uint32_t>;  // id + 1, or 0 for empty
   static constexpr std::size_t kBlockBytes = 1 << 16;  // > kMaxNameBytes: a name never spans two
   static std::uint32_t Hash(std::string_view name) noexcept;
-  std::size_t Probe(std::string_view name, std::uint32_t hash) const noexcept;  // slot index
-  void Grow();
+  // The slot of `name` in `slots` (mask + 1 of them), or of the free slot ending its probe run;
+  // at most mask + 1 probes (a reader racing the writer may see no free slot).
+  static std::size_t Probe(const Slot* slots, std::size_t mask, const base::RetiringArray<Record>& r,
+                           std::string_view name, std::uint32_t hash) noexcept;
+  std::size_t Probe(std::string_view name, std::uint32_t hash) const noexcept {
+    return Probe(slots_.load(), mask_.load(), records_, name, hash);
+  }
+  void Grow(std::size_t size);  // a new index of `size` slots (a power of two)
   void EraseSlot(std::size_t slot) noexcept;
+  [[nodiscard]] std::size_t capacity() const noexcept { return tables_.empty() ? 0 : mask_ + 1; }
 
   std::vector<std::unique_ptr<char[]>> blocks_;
   std::size_t block_fill_ = kBlockBytes;  // bytes used in blocks_.back()
-  std::vector<Record> records_;           // by id
-  std::vector<std::uint32_t> slots_;      // id + 1, or 0 for empty; size a power of two
+  base::RetiringArray<Record> records_;     // by id
+  // Every index made (the current one last; older ones kept for readers that may still probe
+  // them), and the current one published: slots then mask (writer), mask then slots (reader),
+  // so a reader never pairs a larger mask with a smaller array.
+  std::vector<std::unique_ptr<Slot[]>> tables_;
+  base::Published<Slot*> slots_ = nullptr;
+  base::Published<std::size_t> mask_ = 0;
+  std::size_t index_slots_ = 0;  // slots of every index in tables_ (memory report)
 };
 
 }  // namespace semgraph::semantics

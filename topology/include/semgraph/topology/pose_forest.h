@@ -70,8 +70,14 @@
 //   ForEachInSubtree(root, f)                O(size of root's subtree) calls of f, no allocation
 //   CheckInvariants                          O(n), allocates O(n) scratch (tests only)
 //
-// Thread safety: const methods may run concurrently (no mutable state, no locks, no lazy work);
-// AddNode, Reserve, Link, Cut and Reroot need exclusive access.
+// Thread safety: one writer (AddNode, Reserve, Link, Cut, Reroot) and any number of readers of
+// the const methods, which never crash or loop while the writer changes the forest: nodes live
+// in a RetiringArray (grown by copy, old arrays kept), every field is a base::Published
+// (atomic), and the walks (depth, AncestorAtDepth, IsAncestor, CommonAncestor) check each
+// index they follow against size() and stop after size() steps, answering an invalid index (0
+// depth) when the forest was inconsistent under them. Their answers are meaningful only when
+// the reader validates that no change overlapped (SceneTopology's change counter;
+// docs/realtime.md); without a concurrent writer they are exact.
 #pragma once
 
 #include <cassert>
@@ -79,6 +85,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "semgraph/base/published.h"
+#include "semgraph/base/retiring_array.h"
 #include "semgraph/topology/export.h"
 #include "semgraph/topology/ids.h"
 
@@ -216,7 +224,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   // The rep jump pointer a new rep child of p gets (the skew-binary rule above).
   std::uint32_t JumpForChildOf(std::uint32_t p) const noexcept;
   // Rep queries: the rep ancestor of v at rep depth d <= rep_depth(v), and the rep LCA of two
-  // nodes of one tree.
+  // nodes of one tree; kNone when a concurrent change left an index out of range or a walk
+  // longer than the node count (see Thread safety).
   std::uint32_t RepAncestorAtDepth(std::uint32_t v, std::uint32_t d) const noexcept;
   std::uint32_t RepLca(std::uint32_t u, std::uint32_t v) const noexcept;
   // Re-represents the component of x (the semantic edges as they are, without the edge to
@@ -228,11 +237,17 @@ class SEMGRAPH_TOPOLOGY_EXPORT PoseForest {
   // query read several fields of one node, so each node costs one cache miss, not eight.
   struct Node {
     // Semantic forest.
-    std::uint32_t parent, first_child, next_sibling, prev_sibling;
+    base::Published<std::uint32_t> parent, first_child, next_sibling, prev_sibling;
     // Representation. At a rep root R: rep_parent = semantic root, rep_jump = tree size.
-    std::uint32_t rep_parent, rep_depth, rep_jump, rep_root;
+    base::Published<std::uint32_t> rep_parent, rep_depth, rep_jump, rep_root;
   };
-  std::vector<Node> nodes_;
+  using Nodes = base::RetiringArray<Node>::View;
+  // RepAncestorAtDepth over one load of the node array (the walks' inner loop).
+  static std::uint32_t RepAncestorAtDepth(Nodes nodes, std::uint32_t v, std::uint32_t d) noexcept;
+  [[nodiscard]] std::uint32_t size32() const noexcept {
+    return static_cast<std::uint32_t>(nodes_.size());
+  }
+  base::RetiringArray<Node> nodes_;
   std::uint64_t rerepresented_ = 0;
 };
 

@@ -38,7 +38,14 @@
 //   SameTree                           O(1), noexcept, no allocation
 //   RecordOf, TreeHasBody              O(1) expected
 //   SharedBody                         O(min(b1, b2))
-// Thread safety: const methods may run concurrently; mutations need exclusive access.
+// Thread safety: one writer thread makes every mutation, inside a change scope (BeginChange /
+// EndChange, nestable: the outermost pair counts). Readers on other threads may run the const
+// methods a query planner uses (names, FrameOfName, BodyOfName, body_of, the name ids, the
+// forest's queries) concurrently with it: they never crash, loop or read freed memory (node
+// arrays are RetiringArrays, fields are base::Published atomics, walks are bounded), but what
+// they read is meaningful only if change_count() was even before and unchanged after (an
+// optimistic read, docs/realtime.md "Topology changes while readers run"). Tree records and
+// twist edges (RecordOf, TreeHasBody, twist_edge, the TwistForest) are writer-thread only.
 #pragma once
 
 #include <cstddef>
@@ -46,6 +53,8 @@
 #include <string_view>
 #include <vector>
 
+#include "semgraph/base/published.h"
+#include "semgraph/base/retiring_array.h"
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/relations.h"
 #include "semgraph/topology/export.h"
@@ -93,14 +102,17 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return num_twist_edges_; }
 
   /// The frame / body named `id` (invalid if the name is not one). O(1), noexcept.
-  [[nodiscard]] FrameIndex FrameOfName(NameId id) const noexcept {
+  // Always inlined: the planner calls these per query field (they were inlined before their
+  // loads became atomic, which made the compiler's size estimate exceed its budget).
+  [[nodiscard, gnu::always_inline]] FrameIndex FrameOfName(NameId id) const noexcept {
     return id.is_valid() && id.value() < frame_of_name_.size()
-               ? FrameIndex(frame_of_name_[id.value()])
+               ? FrameIndex(frame_of_name_[id.value()].load())
                : FrameIndex();
   }
-  [[nodiscard]] BodyIndex BodyOfName(NameId id) const noexcept {
-    return id.is_valid() && id.value() < body_of_name_.size() ? BodyIndex(body_of_name_[id.value()])
-                                                              : BodyIndex();
+  [[nodiscard, gnu::always_inline]] BodyIndex BodyOfName(NameId id) const noexcept {
+    return id.is_valid() && id.value() < body_of_name_.size()
+               ? BodyIndex(body_of_name_[id.value()].load())
+               : BodyIndex();
   }
   [[nodiscard]] FrameIndex FindFrame(std::string_view name) const noexcept {
     return FrameOfName(names_.Find(name));
@@ -127,7 +139,7 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   [[nodiscard]] semantics::Body BodySem(BodyIndex b) const noexcept {
     return semantics::Body(body_name_id(b));
   }
-  [[nodiscard]] semantics::Body BodyOfSem(FrameIndex f) const noexcept {
+  [[nodiscard, gnu::always_inline]] semantics::Body BodyOfSem(FrameIndex f) const noexcept {
     return BodySem(body_of(f));
   }
 
@@ -146,6 +158,32 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// New nodes. The name must be interned and not yet name a node of that kind.
   BodyIndex CreateBody(NameId name);
   FrameIndex CreateFrame(NameId name, BodyIndex body);
+
+  // ---------------------------------------------------------------- change counter
+
+  /// Even between changes, odd while one is in progress; every change scope adds 2. A reader
+  /// reads it (acquire) before and after reading the topology: equal and even means it read
+  /// one consistent topology (the writer's stores are release: a reader that saw any store of
+  /// a change sees the odd count afterwards).
+  [[nodiscard]] std::uint64_t change_count() const noexcept { return change_count_.load(); }
+  /// Opens / closes a change (writer thread; nested scopes count as their outermost).
+  void BeginChange() noexcept {
+    if (change_depth_++ == 0) change_count_.store(change_count_.load() + 1);
+  }
+  void EndChange() noexcept {
+    if (--change_depth_ == 0) change_count_.store(change_count_.load() + 1);
+  }
+  /// BeginChange for the scope of the object.
+  class ChangeScope {
+   public:
+    explicit ChangeScope(SceneTopology& t) noexcept : t_(t) { t_.BeginChange(); }
+    ~ChangeScope() { t_.EndChange(); }
+    ChangeScope(const ChangeScope&) = delete;
+    ChangeScope& operator=(const ChangeScope&) = delete;
+
+   private:
+    SceneTopology& t_;
+  };
 
   // ---------------------------------------------------------------- pose forest
 
@@ -249,15 +287,17 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
 
  private:
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  // Node fields are Published (atomic): readers of other threads may read them while the
+  // writer changes them (see Thread safety).
   struct FrameNode {
-    NameId name;
-    BodyIndex body;
-    TwistEdgeIndex twist_edge;
-    std::uint32_t next_in_body = kNone;  // intrusive list of a body's frames
+    base::Published<NameId> name;
+    base::Published<BodyIndex> body;
+    base::Published<TwistEdgeIndex> twist_edge;
+    base::Published<std::uint32_t> next_in_body = kNone;  // intrusive list of a body's frames
   };
   struct BodyNode {
-    NameId name;
-    std::uint32_t first_frame = kNone;
+    base::Published<NameId> name;
+    base::Published<std::uint32_t> first_frame = kNone;
   };
 
   void GrowNameMaps();
@@ -271,13 +311,16 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   void InstallTree(FrameIndex member, TreeRecord&& record) noexcept;
 
   semantics::NameTable names_;
-  std::vector<std::uint32_t> frame_of_name_;  // NameId -> FrameIndex (kNone if not a frame)
-  std::vector<std::uint32_t> body_of_name_;   // NameId -> BodyIndex
+  // NameId -> FrameIndex (kNone if not a frame) / BodyIndex. The node arrays and these maps
+  // are RetiringArrays: grown by copy, old arrays kept, so a concurrent reader never reads
+  // freed memory.
+  base::RetiringArray<base::Published<std::uint32_t>> frame_of_name_;
+  base::RetiringArray<base::Published<std::uint32_t>> body_of_name_;
   // How many frames / bodies can be created, and up to how many names the name maps hold,
   // without allocating (the capacities every array of that kind has at least).
   std::size_t frame_room_ = 0, body_room_ = 0, name_map_room_ = 0;
-  std::vector<FrameNode> frames_;
-  std::vector<BodyNode> bodies_;
+  base::RetiringArray<FrameNode> frames_;
+  base::RetiringArray<BodyNode> bodies_;
   PoseForest forest_;
   FlatMap<std::uint32_t> record_of_rep_;  // PoseForest::TreeKey -> records_ index
   std::vector<TreeRecord> records_;
@@ -286,6 +329,8 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   std::vector<std::uint32_t> free_twist_edges_;
   std::size_t num_pose_edges_ = 0;
   std::size_t num_twist_edges_ = 0;
+  base::Published<std::uint64_t> change_count_ = 0;  // see change_count()
+  std::uint32_t change_depth_ = 0;                   // open change scopes (writer only)
 };
 
 }  // namespace semgraph::topology
