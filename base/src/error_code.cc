@@ -47,6 +47,10 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "joint_limit",
     "mimic_joint",
     "joint_edge",
+    "self_wrench",
+    "wrench_not_convertible",
+    "duplicate_wrench",
+    "no_wrench",
 };
 }  // namespace
 

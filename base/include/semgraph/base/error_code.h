@@ -62,9 +62,14 @@ enum class ErrorCode : std::uint8_t {
   kJointLimit,
   kMimicJoint,
   kJointEdge,
+  // Wrenches (docs/dynamics.md).
+  kSelfWrench,
+  kWrenchNotConvertible,
+  kDuplicateWrench,
+  kNoWrench,
 };
 
-inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kJointEdge) + 1;
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kNoWrench) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
 [[nodiscard]] SEMGRAPH_BASE_EXPORT std::string_view ToString(ErrorCode code) noexcept;
