@@ -141,9 +141,8 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   for (int d : {1, 8, 64}) Verify(d);
   const auto stats = [](benchmark::internal::Benchmark* b) {
-    b->ComputeStatistics("min", [](const std::vector<double>& v) {
-      return *std::min_element(v.begin(), v.end());
-    });
+    b->ComputeStatistics(
+        "min", [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
     b->Arg(1)->Arg(8)->Arg(64);
   };
   stats(benchmark::RegisterBenchmark("compiled_wrench", BM_CompiledWrench));

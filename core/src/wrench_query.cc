@@ -19,8 +19,7 @@ namespace {
 template <class OnTerm>
 std::optional<QueryError> PlanWrenchTerms(const topology::SceneTopology& t,
                                           const internal::WrenchStore& store,
-                                          const WrenchSpec& spec,
-                                          semantics::WrenchSemantics& sem,
+                                          const WrenchSpec& spec, semantics::WrenchSemantics& sem,
                                           OnTerm&& on_term) noexcept {
   if (auto bad = internal::CheckWrenchNames(t, spec, false)) return bad;
   internal::WrenchNodes n;
@@ -49,8 +48,8 @@ std::optional<QueryError> PlanWrenchTerms(const topology::SceneTopology& t,
         return on_term(term);
       });
   if (count == 0) {
-    QueryError e = internal::WrenchError(ErrorCode::kNoWrench, semantics::Field::kBody,
-                                         t.body_name_id(n.on));
+    QueryError e =
+        internal::WrenchError(ErrorCode::kNoWrench, semantics::Field::kBody, t.body_name_id(n.on));
     if (n.by.is_valid()) e.other = t.body_name_id(n.by);
     return e;
   }
@@ -69,19 +68,17 @@ template <coord::Backend B>
 QueryResult<coord::Wrench> SceneGraph<B>::GetWrench(const WrenchSpec& spec) const noexcept {
   coord::Wrench W{{}, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   const internal::ForestSource<B> src = source();
-  auto bad = PlanWrenchTerms(topology_, wrenches_, spec, W.semantics,
-                             [&](const internal::WrenchTerm<ForestChain>& term) {
-                               return internal::AccumulateWrench<B>(src, term.steps,
-                                                                    term.value->Load(), term.sign,
-                                                                    W.force, W.moment);
-                             });
+  auto bad = PlanWrenchTerms(
+      topology_, wrenches_, spec, W.semantics, [&](const internal::WrenchTerm<ForestChain>& term) {
+        return internal::AccumulateWrench<B>(src, term.steps, term.value->Load(), term.sign,
+                                             W.force, W.moment);
+      });
   if (bad) return Unexpected{*bad};
   return W;
 }
 
 template <coord::Backend B>
-Expected<CompiledWrench<B>, QueryError> SceneGraph<B>::CompileWrench(
-    const WrenchSpec& spec) const {
+Expected<CompiledWrench<B>, QueryError> SceneGraph<B>::CompileWrench(const WrenchSpec& spec) const {
   std::vector<internal::WrenchTerm<ForestChain>> terms;
   terms.reserve(wrenches_.num_live);  // so that the planner's callback does not allocate
   semantics::WrenchSemantics sem;
@@ -111,9 +108,9 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const WrenchSpec& spec)
       reason = field + ": the name is missing or invalid";
       break;
     case ErrorCode::kUnknownFrame:
-      reason = field + ": no frame named " +
-               name(e.name, e.field == semantics::Field::kPoint ? spec.point
-                                                                 : spec.coordinate_frame);
+      reason =
+          field + ": no frame named " +
+          name(e.name, e.field == semantics::Field::kPoint ? spec.point : spec.coordinate_frame);
       break;
     case ErrorCode::kUnknownBody:
       reason = field + ": no body named " + name(e.name, by_field ? spec.by : spec.on);
@@ -149,8 +146,7 @@ CompiledWrench<B>::CompiledWrench(const topology::SceneTopology& t, const EdgeVa
 }
 
 template <coord::Backend B>
-ErrorCode CompiledWrench<B>::Evaluate(Eigen::Vector3d& f_R,
-                                      Eigen::Vector3d& m_Re) const noexcept {
+ErrorCode CompiledWrench<B>::Evaluate(Eigen::Vector3d& f_R, Eigen::Vector3d& m_Re) const noexcept {
   Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
   const internal::FlatSource<B> src = this->source();
   for (const Term& term : terms_) {
@@ -168,10 +164,10 @@ ErrorCode CompiledWrench<B>::Evaluate(Eigen::Vector3d& f_R,
 template class CompiledWrench<coord::QuaternionBackend>;
 template class CompiledWrench<coord::HomogeneousBackend>;
 
-#define SEMGRAPH_INSTANTIATE_WRENCH_QUERIES(B)                                                  \
-  template QueryResult<coord::Wrench> SceneGraph<B>::GetWrench(const WrenchSpec&) const noexcept; \
-  template Expected<CompiledWrench<B>, QueryError> SceneGraph<B>::CompileWrench(                \
-      const WrenchSpec&) const;                                                                 \
+#define SEMGRAPH_INSTANTIATE_WRENCH_QUERIES(B)                                                     \
+  template QueryResult<coord::Wrench> SceneGraph<B>::GetWrench(const WrenchSpec&) const noexcept;  \
+  template Expected<CompiledWrench<B>, QueryError> SceneGraph<B>::CompileWrench(const WrenchSpec&) \
+      const;                                                                                       \
   template std::string SceneGraph<B>::Describe(const QueryError&, const WrenchSpec&) const;
 SEMGRAPH_INSTANTIATE_WRENCH_QUERIES(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_WRENCH_QUERIES(coord::HomogeneousBackend)

@@ -42,11 +42,11 @@ BuildResult RejectResolution(const topology::SceneTopology& t, const QueryError&
     case ErrorCode::kUnknownFrame:
       return Reject(e.code, what, field + ": no frame named " + name);
     case ErrorCode::kUnknownBody:
-      return Reject(e.code, what,
-                    field + ": no body named " +
-                        (name.empty() ? std::string(e.field == semantics::Field::kBody ? spec.on
-                                                                                       : spec.by)
-                                      : name));
+      return Reject(
+          e.code, what,
+          field + ": no body named " +
+              (name.empty() ? std::string(e.field == semantics::Field::kBody ? spec.on : spec.by)
+                            : name));
     default:
       return Reject(e.code, what, "a body cannot exert a wrench on itself (on = by)");
   }
@@ -72,7 +72,8 @@ std::optional<QueryError> FindPair(const topology::SceneTopology& t,
 
 BuildResult RejectPair(const topology::SceneTopology& t, const QueryError& e, std::string_view on,
                        std::string_view by, const std::string& what) {
-  if (e.code != ErrorCode::kNoWrench) return RejectResolution(t, e, WrenchSpec::On(on).By(by), what);
+  if (e.code != ErrorCode::kNoWrench)
+    return RejectResolution(t, e, WrenchSpec::On(on).By(by), what);
   return Reject(e.code, what,
                 "no wrench on " + std::string(on) + " by " + std::string(by) + " is stored");
 }
@@ -102,12 +103,12 @@ BuildResult SceneGraph<B>::AddWrench(const WrenchSpec& spec, const Eigen::Vector
                                      : internal::ChooseWrenchFrame(t, n);
   if (!s.is_valid() || !t.SameTree(s, n.point) || !t.SameTree(s, n.frame)) {
     return Reject(ErrorCode::kWrenchNotConvertible, what(),
-                  s.is_valid() ? "the wrench is stored in " + text::Frame(t, s) +
-                                     ", which is not in one pose tree with {" +
-                                     std::string(spec.point) + "} and [" +
-                                     std::string(spec.coordinate_frame) + "]"
-                               : "body " + std::string(spec.on) + " has no frame in the pose " +
-                                     "tree of {" + std::string(spec.point) + "}");
+                  s.is_valid()
+                      ? "the wrench is stored in " + text::Frame(t, s) +
+                            ", which is not in one pose tree with {" + std::string(spec.point) +
+                            "} and [" + std::string(spec.coordinate_frame) + "]"
+                      : "body " + std::string(spec.on) + " has no frame in the pose " +
+                            "tree of {" + std::string(spec.point) + "}");
   }
   if (wrenches_.Find(n.by, n.on) >= 0) {
     return Reject(ErrorCode::kDuplicateWrench, what(),
@@ -117,8 +118,7 @@ BuildResult SceneGraph<B>::AddWrench(const WrenchSpec& spec, const Eigen::Vector
   // The stored form: (f, m) about e in [r] moved by the pose of (e,[r]) wrt (s,[s]) in [s].
   const PoseSteps<ForestChain> steps = PlanPoseSteps(t, n.point, n.frame, s, s, s);
   WrenchNumbers W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-  internal::AccumulateWrench<B>(source(), steps, WrenchNumbers{*f_ok, *m_ok}, 1.0, W.f_S,
-                                W.m_So_S);
+  internal::AccumulateWrench<B>(source(), steps, WrenchNumbers{*f_ok, *m_ok}, 1.0, W.f_S, W.m_So_S);
   const std::uint32_t slot =
       existing >= 0 ? static_cast<std::uint32_t>(existing) : wrenches_.NewSlot();  // allocates
   wrenches_.values[slot].Store(W);
@@ -148,10 +148,10 @@ Expected<WrenchHandle, BuildError> SceneGraph<B>::FindWrench(std::string_view on
                                                              std::string_view by) const {
   int slot = -1;
   if (auto bad = FindPair(topology_, wrenches_, on, by, slot)) {
-    return Unexpected{RejectPair(topology_, *bad, on, by,
-                                 "handle of the wrench on " + std::string(on) + " by " +
-                                     std::string(by))
-                          .error()};
+    return Unexpected{
+        RejectPair(topology_, *bad, on, by,
+                   "handle of the wrench on " + std::string(on) + " by " + std::string(by))
+            .error()};
   }
   const auto i = static_cast<std::size_t>(slot);
   return WrenchHandle{static_cast<std::uint32_t>(slot), wrenches_.values[i].epoch(), id_.value(),
@@ -164,8 +164,7 @@ ErrorCode SceneGraph<B>::SetWrench(WrenchHandle handle, const Eigen::Vector3d& f
   using internal::Report;
   // The handle cannot lie: this graph's, a live slot, the epoch it was made at.
   if (handle.graph != id_.value() || handle.slot >= wrenches_.slots.size() ||
-      !wrenches_.slots[handle.slot].live ||
-      wrenches_.values[handle.slot].epoch() != handle.epoch) {
+      !wrenches_.slots[handle.slot].live || wrenches_.values[handle.slot].epoch() != handle.epoch) {
     return Report(why, ErrorCode::kNoWrench);
   }
   auto f = coord::ValidateVector(f_S, coord::ValueRole::kForce);
@@ -176,13 +175,13 @@ ErrorCode SceneGraph<B>::SetWrench(WrenchHandle handle, const Eigen::Vector3d& f
   return Report(why, ErrorCode::kOk);
 }
 
-#define SEMGRAPH_INSTANTIATE_WRENCHES(B)                                                        \
-  template BuildResult SceneGraph<B>::AddWrench(const WrenchSpec&, const Eigen::Vector3d&,      \
-                                                const Eigen::Vector3d&);                        \
-  template BuildResult SceneGraph<B>::RemoveWrench(std::string_view, std::string_view);         \
-  template Expected<WrenchHandle, BuildError> SceneGraph<B>::FindWrench(std::string_view,       \
+#define SEMGRAPH_INSTANTIATE_WRENCHES(B)                                                         \
+  template BuildResult SceneGraph<B>::AddWrench(const WrenchSpec&, const Eigen::Vector3d&,       \
+                                                const Eigen::Vector3d&);                         \
+  template BuildResult SceneGraph<B>::RemoveWrench(std::string_view, std::string_view);          \
+  template Expected<WrenchHandle, BuildError> SceneGraph<B>::FindWrench(std::string_view,        \
                                                                         std::string_view) const; \
-  template ErrorCode SceneGraph<B>::SetWrench(WrenchHandle, const Eigen::Vector3d&,             \
+  template ErrorCode SceneGraph<B>::SetWrench(WrenchHandle, const Eigen::Vector3d&,              \
                                               const Eigen::Vector3d&, UpdateError*) noexcept;
 SEMGRAPH_INSTANTIATE_WRENCHES(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_WRENCHES(coord::HomogeneousBackend)

@@ -75,23 +75,27 @@ TYPED_TEST(WrenchesKdl, RandomTreesMatchFrameTimesWrench) {
       body[i] = "B" + std::to_string(body_of[i]);
       const Eigen::Quaterniond q = RandomUnitQuaternion(rng);
       const Vec p = RandomVector(rng, 2.0);
-      ASSERT_TRUE(g.AddPose(PoseSpec::Of(frame[i], body[i]).RelativeTo(frame[parent], body[parent]),
-                            q, p));
+      ASSERT_TRUE(
+          g.AddPose(PoseSpec::Of(frame[i], body[i]).RelativeTo(frame[parent], body[parent]), q, p));
       X_W[i] = X_W[parent] * ToKdl(q, p);
     }
     // Wrenches between random pairs of distinct bodies, each given once (either direction).
     std::vector<Given> given;
     for (int k = 0; k < 6; ++k) {
-      Given w{body_of[UniformIndex(rng, kFrames)], body_of[UniformIndex(rng, kFrames)],
-              UniformIndex(rng, kFrames), UniformIndex(rng, kFrames), RandomVector(rng, 10.0),
+      Given w{body_of[UniformIndex(rng, kFrames)],
+              body_of[UniformIndex(rng, kFrames)],
+              UniformIndex(rng, kFrames),
+              UniformIndex(rng, kFrames),
+              RandomVector(rng, 10.0),
               RandomVector(rng, 10.0)};
       if (w.on == w.by) continue;
       bool seen = false;
-      for (const Given& o : given) seen |= (o.on == w.on && o.by == w.by) || (o.on == w.by && o.by == w.on);
+      for (const Given& o : given)
+        seen |= (o.on == w.on && o.by == w.by) || (o.on == w.by && o.by == w.on);
       if (seen) continue;
       const std::string on = "B" + std::to_string(w.on), by = "B" + std::to_string(w.by);
-      ASSERT_TRUE(g.AddWrench(WrenchSpec::On(on).By(by).At(frame[w.point]).ExpressedIn(frame[w.frame]),
-                              w.f, w.m));
+      ASSERT_TRUE(g.AddWrench(
+          WrenchSpec::On(on).By(by).At(frame[w.point]).ExpressedIn(frame[w.frame]), w.f, w.m));
       given.push_back(w);
     }
     if (given.empty()) continue;
@@ -102,7 +106,8 @@ TYPED_TEST(WrenchesKdl, RandomTreesMatchFrameTimesWrench) {
     };
     for (int k = 0; k < kQueries; ++k) {
       const int e = UniformIndex(rng, kFrames), r = UniformIndex(rng, kFrames);
-      const Given& w = given[static_cast<std::size_t>(UniformIndex(rng, static_cast<int>(given.size())))];
+      const Given& w =
+          given[static_cast<std::size_t>(UniformIndex(rng, static_cast<int>(given.size())))];
       const KDL::Frame Q(X_W[r].M, X_W[e].p);  // the query's axes and point
       const std::string on = "B" + std::to_string(w.on), by = "B" + std::to_string(w.by);
       // The stored wrench and its reaction.

@@ -45,9 +45,10 @@ class WrenchesNoAllocation : public ::testing::Test {
     std::string parent = "w", parent_body = "W";
     for (int i = 1; i <= 8; ++i) {
       const std::string f = "l" + std::to_string(i), b = "L" + std::to_string(i);
-      ASSERT_TRUE(g.AddPose(PoseSpec::Of(f, b).RelativeTo(parent, parent_body),
-                            Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * i, Vec(1, 2, 3).normalized())),
-                            Vec(0.1 * i, -0.2, 0.3)));
+      ASSERT_TRUE(
+          g.AddPose(PoseSpec::Of(f, b).RelativeTo(parent, parent_body),
+                    Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * i, Vec(1, 2, 3).normalized())),
+                    Vec(0.1 * i, -0.2, 0.3)));
       parent = f;
       parent_body = b;
     }

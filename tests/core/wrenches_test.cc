@@ -39,12 +39,12 @@ class Wrenches : public ::testing::Test {
     ASSERT_TRUE(g.AddPose(PoseSpec::Of("p2", "P2").RelativeTo("w", "G"), id, Vec(1, -1, 0)));
     ASSERT_TRUE(g.AddBody("Iso"));
     ASSERT_TRUE(g.AddFrame("iso", "Iso"));
-    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("Box").By("P1").At("p1").ExpressedIn("w"),
-                            Vec(5, 0, 0), Vec::Zero()));
-    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("Box").By("P2").At("p2").ExpressedIn("w"),
-                            Vec(-3, 0, 0), Vec::Zero()));
-    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("G").By("Box").At("b").ExpressedIn("w"),
-                            Vec(0, 0, -20), Vec::Zero()));
+    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("Box").By("P1").At("p1").ExpressedIn("w"), Vec(5, 0, 0),
+                            Vec::Zero()));
+    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("Box").By("P2").At("p2").ExpressedIn("w"), Vec(-3, 0, 0),
+                            Vec::Zero()));
+    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("G").By("Box").At("b").ExpressedIn("w"), Vec(0, 0, -20),
+                            Vec::Zero()));
   }
   coord::Wrench Get(const WrenchSpec& spec) {
     auto r = g.GetWrench(spec);
@@ -136,7 +136,9 @@ TYPED_TEST(Wrenches, UpdateReplacesAndKeepsTheStorageFrame) {
 TYPED_TEST(Wrenches, AddErrorsInTheRulesOrderLeaveTheGraphUnchanged) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto spec = [](std::string_view on, std::string_view by, std::string_view e,
-                       std::string_view r) { return WrenchSpec::On(on).By(by).At(e).ExpressedIn(r); };
+                       std::string_view r) {
+    return WrenchSpec::On(on).By(by).At(e).ExpressedIn(r);
+  };
   // invalid_name (a missing by) before invalid_number.
   this->ExpectRejectedAdd(ErrorCode::kInvalidName, spec("Box", "", "b", "w"), Vec(nan, 0, 0));
   this->ExpectRejectedAdd(ErrorCode::kInvalidName, spec("Box", "P1", "", "w"));

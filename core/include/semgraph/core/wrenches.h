@@ -80,8 +80,8 @@ using WrenchValue = SeqLockValue<WrenchNumbers>;
 struct WrenchHandle {
   std::uint32_t slot = 0;
   std::uint32_t epoch = 0;
-  std::uint32_t graph = 0;        ///< GraphId of the graph that made it (0: none)
-  topology::FrameIndex frame;     ///< the storage frame s: SetWrench takes f_S, m_So_S in [s]
+  std::uint32_t graph = 0;     ///< GraphId of the graph that made it (0: none)
+  topology::FrameIndex frame;  ///< the storage frame s: SetWrench takes f_S, m_So_S in [s]
   friend bool operator==(const WrenchHandle&, const WrenchHandle&) = default;
 };
 
