@@ -48,6 +48,10 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "mimic_joint",
     "joint_edge",
     "invalid_covariance",
+    "self_wrench",
+    "wrench_not_convertible",
+    "duplicate_wrench",
+    "no_wrench",
 };
 }  // namespace
 

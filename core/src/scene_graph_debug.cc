@@ -75,6 +75,18 @@ std::string Dump(const SceneGraph<B>& g) {
     }
     out << "\n";
   }
+  const internal::WrenchStore& w = g.wrench_store();
+  // Live wrenches in slot order; free slots and epochs are bookkeeping (a script that rebuilds
+  // the graph, semgraph export, renumbers them), like removed joints' records.
+  out << "wrenches " << w.num_live << "\n";
+  for (std::size_t i = 0; i < w.slots.size(); ++i) {
+    const internal::WrenchSlot& s = w.slots[i];
+    if (!s.live) continue;
+    const WrenchNumbers W = w.values[i].Load();
+    out << "  wrench on " << g.body_name(s.on) << " by " << g.body_name(s.by) << " at "
+        << t.frame_name(s.frame) << " f " << W.f_S.transpose() << " m " << W.m_So_S.transpose()
+        << "\n";
+  }
   return out.str();
 }
 

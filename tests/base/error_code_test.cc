@@ -56,6 +56,10 @@ const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
       {ErrorCode::kMimicJoint, "mimic_joint"},
       {ErrorCode::kJointEdge, "joint_edge"},
       {ErrorCode::kInvalidCovariance, "invalid_covariance"},
+      {ErrorCode::kSelfWrench, "self_wrench"},
+      {ErrorCode::kWrenchNotConvertible, "wrench_not_convertible"},
+      {ErrorCode::kDuplicateWrench, "duplicate_wrench"},
+      {ErrorCode::kNoWrench, "no_wrench"},
   };
   return codes;
 }

@@ -112,6 +112,36 @@ TEST(WriteScene, WritesNodesEdgesAndValuesInTheScriptFormat) {
             "angular: [0.001, 0, 0]}");
 }
 
+TEST(WriteScene, WritesWrenchesInTheirStoredForm) {
+  core::SceneGraph<> g;
+  const Eigen::Quaterniond q_BC(0.5, 0.5, -0.5, 0.5);
+  ASSERT_TRUE(
+      g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), q_BC, Eigen::Vector3d(1, -0.25, 0.1)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("d", "D").RelativeTo("b", "B"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(0, 2, 0)));
+  // Given about {b} in [b]: stored about C's frame {c} in [c] (converted), then written so.
+  ASSERT_TRUE(g.AddWrench(core::WrenchSpec::On("C").By("B").At("b"), Eigen::Vector3d(1, 2, 3),
+                          Eigen::Vector3d(0.5, 0, -1)));
+  ASSERT_TRUE(g.AddWrench(core::WrenchSpec::On("D").By("C").At("d"), Eigen::Vector3d(0, 0, 4),
+                          Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.AddWrench(core::WrenchSpec::On("B").By("D").At("b"), Eigen::Vector3d(1, 0, 0),
+                          Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(g.RemoveWrench("C", "B"));  // a free slot: the rebuilt graph renumbers
+  const std::vector<std::string> lines = Lines(ExpectRoundTrip(g));
+  EXPECT_NE(lines[0].find("2 wrenches"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[lines.size() - 2],
+            "  - {op: wrench, on: \"D\", by: \"C\", point: \"d\", coord: \"d\", force: [0, 0, 4], "
+            "moment: [0, 0, 0]}");
+  EXPECT_EQ(lines.back(),
+            "  - {op: wrench, on: \"B\", by: \"D\", point: \"b\", coord: \"b\", force: [1, 0, 0], "
+            "moment: [0, 0, 0]}");
+  // The converted value reads back bit for bit (the Dump of ExpectRoundTrip) and equals the
+  // wrench as given.
+  ASSERT_TRUE(g.AddWrench(core::WrenchSpec::On("C").By("B").At("b"), Eigen::Vector3d(1, 2, 3),
+                          Eigen::Vector3d(0.5, 0, -1)));
+  ExpectRoundTrip(g);
+}
+
 TEST(WriteScene, HomogeneousGraphsWriteTheStoredMatrix) {
   core::SceneGraph<coord::HomogeneousBackend> g;
   Eigen::Matrix3d R_BC;

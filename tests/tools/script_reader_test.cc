@@ -42,6 +42,35 @@ TEST(ReadScript, AppliesShorthandThenExplicitOverrides) {
   EXPECT_EQ(s.ops[0].location.column, 5);
 }
 
+TEST(ReadScript, ReadsWrenchOpsRemovalsAndQueries) {
+  const Script s = ReadOk(
+      "ops:\n"
+      "  - {op: wrench, on: C, by: D, point: e, coord: r, force: [1, 2, 3]}\n"
+      "  - {op: remove, kind: wrench, on: C, by: D}\n"
+      "  - {op: query, kind: moment, on: C, point: e, coord: r}\n");
+  ASSERT_EQ(s.ops.size(), 3u);
+  EXPECT_EQ(s.ops[0].kind, OpKind::kWrench);
+  EXPECT_EQ(s.ops[0].names.body, "C");  // on
+  EXPECT_EQ(s.ops[0].names.ref_body, "D");  // by
+  EXPECT_EQ(s.ops[0].names.point, "e");
+  EXPECT_EQ(s.ops[0].names.coord, "r");
+  EXPECT_EQ(s.ops[0].force, (std::array<double, 3>{1.0, 2.0, 3.0}));
+  EXPECT_EQ(s.ops[0].moment, (std::array<double, 3>{0.0, 0.0, 0.0}));  // missing: zero
+  EXPECT_EQ(s.ops[1].kind, OpKind::kRemoveWrench);
+  EXPECT_EQ(s.ops[2].query_kind, QueryKind::kMoment);
+  EXPECT_EQ(s.ops[2].names.ref_body, "");  // no by: the net wrench
+  // Fields of other ops, and missing ones, make the script malformed.
+  EXPECT_NE(ReadBad("ops:\n  - {op: wrench, on: C, by: D, point: e, coord: r, linear: [1, 2, 3]}\n")
+                .message.find("linear\" is not part of a 'wrench' op"),
+            std::string::npos);
+  EXPECT_NE(ReadBad("ops:\n  - {op: wrench, on: C, point: e, coord: r}\n")
+                .message.find("a 'wrench' op needs 'by'"),
+            std::string::npos);
+  EXPECT_NE(ReadBad("ops:\n  - {op: query, kind: force, body: C, point: e, coord: r}\n")
+                .message.find("body\" is not part of a 'force' query"),
+            std::string::npos);
+}
+
 TEST(ReadScript, ReadsValuesAndDefaults) {
   const Script s = ReadOk(
       "representation: homogeneous\n"

@@ -106,7 +106,9 @@ class Writer {
     out_ = "# A scene written by semgraph (semgraph export, semgraph::script::WriteScene): ";
     out_ += std::to_string(g_.num_bodies()) + " bodies, " + std::to_string(g_.num_frames()) +
             " frames, " + std::to_string(g_.num_pose_edges()) + " pose edges, " +
-            std::to_string(g_.num_twist_edges()) + " twist edges.\n";
+            std::to_string(g_.num_twist_edges()) + " twist edges" +
+            (g_.num_wrenches() > 0 ? ", " + std::to_string(g_.num_wrenches()) + " wrenches" : "") +
+            ".\n";
     out_ += "# Running it rebuilds the graph: the same names, ids, edges and values.\n";
     out_ += std::string("representation: ") + B::kName + "\nops:\n";
     if (g_.num_bodies() == 0 && g_.num_frames() == 0) {
@@ -122,6 +124,7 @@ class Writer {
       if (!twist_done_[head.value()] && !joint_child_[head.value()]) Twist(head, tail);
     });
     Joints();
+    Wrenches();
     return out_;
   }
 
@@ -223,6 +226,21 @@ class Writer {
     out_ += ", covariance: [";
     for (int i = 0; i < 6; ++i) out_ += (i > 0 ? ", " : "") + Numbers(S.row(i), 6);
     out_ += "]";
+  }
+  // Every stored wrench in its stored form, about its storage frame s (a frame of the body acted
+  // on) in [s]: the add keeps s and converts nothing, so the values read back exactly (slots
+  // are renumbered in order).
+  void Wrenches() {
+    const core::internal::WrenchStore& w = g_.wrench_store();
+    for (std::size_t i = 0; i < w.slots.size(); ++i) {
+      const core::internal::WrenchSlot& slot = w.slots[i];
+      if (!slot.live) continue;
+      const core::WrenchNumbers W = w.values[i].Load();
+      out_ += "  - {op: wrench, on: " + Quoted(BodyName(slot.on)) +
+              ", by: " + Quoted(BodyName(slot.by)) + ", point: " + Quoted(FrameName(slot.frame)) +
+              ", coord: " + Quoted(FrameName(slot.frame)) + ", force: " + Numbers(W.f_S, 3) +
+              ", moment: " + Numbers(W.m_So_S, 3) + "}\n";
+    }
   }
   void RemovePose(FrameIndex a, FrameIndex b) {
     out_ += "  - {op: remove, kind: pose, of: " + Quoted(FrameName(a)) +

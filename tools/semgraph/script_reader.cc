@@ -66,6 +66,10 @@ enum Field : int {
   kEnd,
   kCovariance,
   kCovarianceOrder,
+  kOn,
+  kBy,
+  kForce,
+  kMoment,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -113,9 +117,13 @@ constexpr std::string_view kFieldNames[kNumFields] = {"op",
                                                       "start",
                                                       "end",
                                                       "covariance",
-                                                      "covariance_order"};
+                                                      "covariance_order",
+                                                      "on",
+                                                      "by",
+                                                      "force",
+                                                      "moment"};
 
-static_assert(kFieldNames[kNumFields - 1] == "covariance_order", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "moment", "one name per Field, in order");
 static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
 
 constexpr std::uint64_t Bit(Field f) { return std::uint64_t{1} << f; }
@@ -148,6 +156,7 @@ Shape ShapeOf(OpKind op, QueryKind query) {
   // the 6x6 answers (pose, twist) may also name its order.
   constexpr std::uint64_t kCov3 = Bit(kCovariance);
   constexpr std::uint64_t kCov6 = kCov3 | Bit(kCovarianceOrder);
+  constexpr std::uint64_t kWrenchNames = Bit(kOn) | Bit(kBy) | Bit(kPoint) | Bit(kCoord);
   const std::vector<Requirement> pose_required = {{kPoint, kOf},
                                                   {kOrientation, kOf},
                                                   {kRefPoint, kWrt},
@@ -194,9 +203,19 @@ Shape ShapeOf(OpKind op, QueryKind query) {
               Bit(kOp) | Bit(kFile) | Bit(kTopics) | Bit(kStatic) | Bit(kBodies) | Bit(kStart) |
                   Bit(kEnd),
               {{kFile, kNoField}}};
+    case OpKind::kWrench:
+      return {"a 'wrench' op",
+              Bit(kOp) | kWrenchNames | Bit(kForce) | Bit(kMoment),
+              {{kOn, kNoField}, {kBy, kNoField}, {kPoint, kNoField}, {kCoord, kNoField}}};
+    case OpKind::kRemoveWrench:
+      return {"a 'remove' op of kind 'wrench'",
+              kHeader | Bit(kOn) | Bit(kBy),
+              {{kOn, kNoField}, {kBy, kNoField}}};
     case OpKind::kQuery:
       break;
   }
+  const std::vector<Requirement> wrench_required = {
+      {kOn, kNoField}, {kPoint, kNoField}, {kCoord, kNoField}};
   switch (query) {
     case QueryKind::kPose:
       return {"a 'pose' query", kHeader | kPoseNames | kPoseTime | kCov6, pose_required};
@@ -217,6 +236,12 @@ Shape ShapeOf(OpKind op, QueryKind query) {
               twist_required};
     case QueryKind::kJacobian:
       return {"a 'jacobian' query", kHeader | kTwistNames | kQueryTime, twist_required};
+    case QueryKind::kWrench:
+      return {"a 'wrench' query", kHeader | kWrenchNames, wrench_required};
+    case QueryKind::kForce:
+      return {"a 'force' query", kHeader | kWrenchNames, wrench_required};
+    case QueryKind::kMoment:
+      return {"a 'moment' query", kHeader | kWrenchNames, wrench_required};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
       return {"an 'angular_velocity' query",
@@ -385,7 +410,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   if (value[kOp] == kNoNode) return Fail(node, "an op needs an 'op' field");
   const NodeView op_name = At(value[kOp]);
   static constexpr std::string_view kOps =
-      "body, frame, pose, twist, remove, query, urdf, joint, joints, bag";
+      "body, frame, pose, twist, wrench, remove, query, urdf, joint, joints, bag";
   if (op_name.kind != NodeKind::kScalar) {
     return Fail(value[kOp],
                 "'op' must be one of " + std::string(kOps) + ", got " + Describe(value[kOp]));
@@ -408,20 +433,27 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     op->kind = OpKind::kJoints;
   } else if (op_name.text == "bag") {
     op->kind = OpKind::kBag;
+  } else if (op_name.text == "wrench") {
+    op->kind = OpKind::kWrench;
   } else if (op_name.text == "remove") {
-    if (value[kKind] == kNoNode) return Fail(node, "a 'remove' op needs 'kind' (pose or twist)");
+    if (value[kKind] == kNoNode) {
+      return Fail(node, "a 'remove' op needs 'kind' (pose, twist or wrench)");
+    }
     if (kind_is_text && kind_text == "pose") {
       op->kind = OpKind::kRemovePose;
     } else if (kind_is_text && kind_text == "twist") {
       op->kind = OpKind::kRemoveTwist;
+    } else if (kind_is_text && kind_text == "wrench") {
+      op->kind = OpKind::kRemoveWrench;
     } else {
-      return Fail(value[kKind], "the 'kind' of a 'remove' op must be pose or twist, got " +
+      return Fail(value[kKind], "the 'kind' of a 'remove' op must be pose, twist or wrench, got " +
                                     Describe(value[kKind]));
     }
   } else if (op_name.text == "query") {
     op->kind = OpKind::kQuery;
     static constexpr std::string_view kQueries =
-        "pose, position, orientation, twist, linear_velocity, angular_velocity, jacobian";
+        "pose, position, orientation, twist, linear_velocity, angular_velocity, jacobian, wrench, "
+        "force, moment";
     if (value[kKind] == kNoNode) {
       return Fail(node, "a 'query' op needs 'kind' (one of " + std::string(kQueries) + ")");
     }
@@ -432,7 +464,10 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
         {"twist", QueryKind::kTwist},
         {"linear_velocity", QueryKind::kLinearVelocity},
         {"angular_velocity", QueryKind::kAngularVelocity},
-        {"jacobian", QueryKind::kJacobian}};
+        {"jacobian", QueryKind::kJacobian},
+        {"wrench", QueryKind::kWrench},
+        {"force", QueryKind::kForce},
+        {"moment", QueryKind::kMoment}};
     bool found = false;
     for (const auto& [text, kind] : kKinds) {
       if (kind_is_text && kind_text == text) {
@@ -495,12 +530,15 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
       {kRefPoint, &names.ref_point},
       {kRefOrientation, &names.ref_orientation},
       {kRefBody, &names.ref_body},
-      {kCoord, &names.coord}};
+      {kCoord, &names.coord},
+      {kOn, &names.body},  // a wrench's fields (no shape takes both on and body)
+      {kBy, &names.ref_body}};
   for (const auto& [field, out] : explicit_names) {
     if (value[field] != kNoNode && !ReadText(value[field], kFieldNames[field], out)) return false;
   }
   const std::pair<Field, std::array<double, 3>*> vectors[] = {
-      {kPosition, &op->position}, {kLinear, &op->linear}, {kAngular, &op->angular}};
+      {kPosition, &op->position}, {kLinear, &op->linear}, {kAngular, &op->angular},
+      {kForce, &op->force},       {kMoment, &op->moment}};
   for (const auto& [field, out] : vectors) {
     if (value[field] != kNoNode && !ReadVector3(value[field], kFieldNames[field], out)) {
       return false;
@@ -1046,6 +1084,7 @@ std::string_view ToString(OpKind kind) noexcept {
       return "twist";
     case OpKind::kRemovePose:
     case OpKind::kRemoveTwist:
+    case OpKind::kRemoveWrench:
       return "remove";
     case OpKind::kQuery:
       return "query";
@@ -1057,6 +1096,8 @@ std::string_view ToString(OpKind kind) noexcept {
       return "joints";
     case OpKind::kBag:
       return "bag";
+    case OpKind::kWrench:
+      return "wrench";
   }
   return "?";
 }
@@ -1077,6 +1118,12 @@ std::string_view ToString(QueryKind kind) noexcept {
       return "angular_velocity";
     case QueryKind::kJacobian:
       return "jacobian";
+    case QueryKind::kWrench:
+      return "wrench";
+    case QueryKind::kForce:
+      return "force";
+    case QueryKind::kMoment:
+      return "moment";
   }
   return "?";
 }

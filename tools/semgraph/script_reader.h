@@ -61,6 +61,8 @@ enum class OpKind : std::uint8_t {
   kJoint,   // add one joint
   kJoints,  // set joint states
   kBag,     // apply a ROS bag's tf and joint states (docs/ros.md)
+  kWrench,  // a wrench on a body by another (docs/dynamics.md)
+  kRemoveWrench,
 };
 
 enum class QueryKind : std::uint8_t {
@@ -71,6 +73,9 @@ enum class QueryKind : std::uint8_t {
   kLinearVelocity,
   kAngularVelocity,
   kJacobian,
+  kWrench,  // on, by (optional), point, coord: "force" and "moment"
+  kForce,
+  kMoment,
 };
 
 enum class JointKind : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed };
@@ -89,6 +94,8 @@ enum class AtKind : std::uint8_t { kLatest, kTime, kLatestCommon };
 ///   remove pose                   orientation (of, the edge's head), ref_orientation (wrt, tail)
 ///   remove twist                  point, ref_body
 ///   frame op                      body (may be empty: the op error frame_without_body)
+///   wrench op / wrench queries    body (on), ref_body (by; optional in queries), point, coord
+///   remove wrench                 body (on), ref_body (by)
 struct SemanticNames {
   std::string point, orientation, body;
   std::string ref_point, ref_orientation, ref_body;
@@ -115,6 +122,8 @@ struct ScriptOp {
   std::array<double, 3> position{};  // kPose (metres)
   std::array<double, 3> linear{};    // kTwist (m/s)
   std::array<double, 3> angular{};   // kTwist (rad/s)
+  std::array<double, 3> force{};     // kWrench (N), about `point`, in [coord]
+  std::array<double, 3> moment{};    // kWrench (N m)
   // kUrdf: the file as written (resolved by the runner) and the name prefix.
   std::string file, prefix;
   // kJoint: name in `name`; parent / parent_body / child / child_body in names.ref_orientation,

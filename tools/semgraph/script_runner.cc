@@ -513,8 +513,32 @@ OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::si
   return WithTime(OpOutcome{true, "", json + "}"}, timed->time);
 }
 
+core::WrenchSpec WrenchSpecOf(const SemanticNames& n) {
+  core::WrenchSpec s;
+  s.on = n.body;
+  s.by = n.ref_body;
+  s.point = n.point;
+  s.coordinate_frame = n.coord;
+  return s;
+}
+
+// A wrench, force or moment query (docs/dynamics.md): no time fields.
+template <coord::Backend B>
+OpOutcome WrenchQuery(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  const core::WrenchSpec spec = WrenchSpecOf(op.names);
+  const auto W = graph.GetWrench(spec);
+  if (!W) return Failure(op, index, W.error().code, graph.Describe(W.error(), spec));
+  if (op.query_kind == QueryKind::kForce) return Success(index, {{"force", Values(W->force)}});
+  if (op.query_kind == QueryKind::kMoment) return Success(index, {{"moment", Values(W->moment)}});
+  return Success(index, {{"force", Values(W->force)}, {"moment", Values(W->moment)}});
+}
+
 template <coord::Backend B>
 OpOutcome QueryValue(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  if (op.query_kind == QueryKind::kWrench || op.query_kind == QueryKind::kForce ||
+      op.query_kind == QueryKind::kMoment) {
+    return WrenchQuery(graph, op, index);
+  }
   const SemanticNames& n = op.names;
   const bool pose_kind = op.query_kind == QueryKind::kPose ||
                          op.query_kind == QueryKind::kPosition ||
@@ -594,6 +618,9 @@ OpOutcome QueryValue(const core::SceneGraph<B>& graph, const ScriptOp& op, std::
       return WithTime(Success(index, {{"angular", Values(w->value.value)}}), w->time);
     }
     case QueryKind::kJacobian:
+    case QueryKind::kWrench:
+    case QueryKind::kForce:
+    case QueryKind::kMoment:
       break;
   }
   base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
@@ -741,6 +768,12 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
       return FromBuild(op, index, graph.RemovePose(n.orientation, n.ref_orientation));
     case OpKind::kRemoveTwist:
       return FromBuild(op, index, graph.RemoveTwist(n.point, n.ref_body));
+    case OpKind::kWrench:
+      return FromBuild(op, index,
+                       graph.AddWrench(WrenchSpecOf(n), Eigen::Vector3d::Map(op.force.data()),
+                                       Eigen::Vector3d::Map(op.moment.data())));
+    case OpKind::kRemoveWrench:
+      return FromBuild(op, index, graph.RemoveWrench(n.body, n.ref_body));
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
     case OpKind::kUrdf:
@@ -781,6 +814,8 @@ std::string OpLabel(const ScriptOp& op) {
       return "remove pose";
     case OpKind::kRemoveTwist:
       return "remove twist";
+    case OpKind::kRemoveWrench:
+      return "remove wrench";
     case OpKind::kQuery:
       return "query " + std::string(ToString(op.query_kind));
     default:

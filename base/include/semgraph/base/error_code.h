@@ -65,9 +65,14 @@ enum class ErrorCode : std::uint8_t {
   // Uncertainty (docs/uncertainty.md): checked right after invalid_rotation; appended here so
   // that the other codes keep their values.
   kInvalidCovariance,
+  // Wrenches (docs/dynamics.md).
+  kSelfWrench,
+  kWrenchNotConvertible,
+  kDuplicateWrench,
+  kNoWrench,
 };
 
-inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kInvalidCovariance) + 1;
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kNoWrench) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
 [[nodiscard]] SEMGRAPH_BASE_EXPORT std::string_view ToString(ErrorCode code) noexcept;

@@ -71,6 +71,7 @@
 #include "semgraph/core/time.h"
 #include "semgraph/core/uncertainty.h"
 #include "semgraph/core/update_error.h"
+#include "semgraph/core/wrenches.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core {
@@ -449,6 +450,39 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] Expected<CompiledJacobian<B>, QueryError> CompileJacobian(
       const TwistSpec& spec) const;
 
+  // ---------------------------------------------------------------- wrenches (wrenches.h)
+  // docs/dynamics.md: at most one wrench per ordered pair (on C, by D), stored at the origin
+  // of a frame s of C in [s] (wrenches.h: how s is chosen). wrenches.cc, wrench_query.cc.
+
+  /// Adds (or updates) WrenchCoord(point|on, by, [coordinate_frame]) = (f, m), converted to
+  /// (s, [s]) with the current poses. spec.by is required. invalid_name -> invalid_number ->
+  /// unknown_frame (point, coordinate frame) -> unknown_body (on, by) -> self_wrench ->
+  /// wrench_not_convertible (point, frame and s not in one pose tree) -> duplicate_wrench (the
+  /// wrench on D by C is stored: this one is its reaction). Graph unchanged on any error.
+  BuildResult AddWrench(const WrenchSpec& spec, const Eigen::Vector3d& f,
+                        const Eigen::Vector3d& m);
+  /// Removes the wrench on `on` by `by`: invalid_name -> unknown_body -> self_wrench ->
+  /// no_wrench.
+  BuildResult RemoveWrench(std::string_view on, std::string_view by);
+  /// Handle of the stored wrench on `on` by `by` (errors of RemoveWrench).
+  [[nodiscard]] Expected<WrenchHandle, BuildError> FindWrench(std::string_view on,
+                                                              std::string_view by) const;
+  /// New stored value (f_S, m_So_S) in the handle's storage frame [s], moment about s's origin.
+  /// O(1), noexcept, allocation-free. Codes: kNoWrench (removed, another graph's or forged
+  /// handle), kInvalidNumber (nothing written on either).
+  [[nodiscard]] ErrorCode SetWrench(WrenchHandle handle, const Eigen::Vector3d& f_S,
+                                    const Eigen::Vector3d& m_So_S,
+                                    UpdateError* why = nullptr) noexcept;
+  /// WrenchCoord(point|on, by, [coordinate_frame]): the stored wrench of the pair or the
+  /// reaction of the stored one; without `by`, the net wrench on C (every stored wrench on C
+  /// and the reaction of every stored wrench by C). Force and moment are the answer's parts.
+  /// invalid_name -> unknown_frame -> unknown_body -> self_wrench -> no_wrench -> no_pose_path.
+  [[nodiscard]] QueryResult<coord::Wrench> GetWrench(const WrenchSpec& spec) const noexcept;
+  [[nodiscard]] Expected<CompiledWrench<B>, QueryError> CompileWrench(const WrenchSpec& spec) const;
+  [[nodiscard]] std::string Describe(const QueryError& e, const WrenchSpec& spec) const;
+  [[nodiscard]] std::size_t num_wrenches() const noexcept { return wrenches_.num_live; }
+  [[nodiscard]] const internal::WrenchStore& wrench_store() const noexcept { return wrenches_; }
+
   // ---------------------------------------------------------------- inspection
 
   [[nodiscard]] const semantics::NameTable& names() const noexcept { return topology_.names(); }
@@ -600,6 +634,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   EdgeValues<B> values_;
   internal::JointTable joints_;
   GraphId id_;  // stamped into handles; SetPose/SetTwist refuse other graphs' handles
+  internal::WrenchStore wrenches_;  // wrenches.h
 };
 
 extern template class SceneGraph<coord::QuaternionBackend>;
