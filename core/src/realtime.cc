@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "edge_lookup.h"
+#include "covariance_input.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
 #include "text.h"
@@ -135,6 +136,59 @@ ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation,
   return Report(why, ErrorCode::kOk);
 }
 
+// With a covariance (docs/uncertainty.md): the handle, the value, then the covariance's checks
+// (kInvalidNumber, kInvalidCovariance: as AddPose's order), then the store. noexcept and
+// allocation-free (the checks' eigen decomposition is fixed-size).
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ToHo_T,
+                                 const CovarianceInput& covariance, UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckPoseHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
+  auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
+  if (!p) return Report(why, p.error());
+  auto q = coord::ValidateQuaternion(q_TH);
+  if (!q) return Report(why, q.error());
+  const typename B::PoseCoords X = B::MakePose(B::FromQuaternion(*q), *p);
+  if (covariance.matrix == nullptr) return SetPose(edge, *q, *p, why);
+  const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
+  if (!check.ok()) return Report(why, check.error());
+  const coord::Covariance6 S = internal::CoordinatesCovariance(covariance, q->toRotationMatrix());
+  if (const ErrorCode code = CheckPoseSample(edge.child, X, std::nullopt); code != ErrorCode::kOk) {
+    return Report(why, code);
+  }
+  StorePoseSample(edge.child, X, std::nullopt, &S);
+  return Report(why, ErrorCode::kOk);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                  const Eigen::Vector3d& w_DH_H,
+                                  const CovarianceInput& covariance, UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
+  auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
+  if (!v) return Report(why, v.error());
+  auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
+  if (!w) return Report(why, w.error());
+  if (covariance.matrix == nullptr) return SetTwist(edge, *v, *w, why);
+  const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
+  if (!check.ok()) return Report(why, check.error());
+  if (covariance.convention != PoseCovarianceConvention::kCoordinates) {
+    return Report(why, ErrorCode::kInvalidCovariance);  // a twist has no convention
+  }
+  const coord::Covariance6 S =
+      internal::CoordinatesCovariance(covariance, Eigen::Matrix3d::Identity());
+  const TwistNumbers V{*v, *w};
+  if (const ErrorCode code = CheckTwistSample(edge.slot, V, std::nullopt); code != ErrorCode::kOk) {
+    return Report(why, code);
+  }
+  StoreTwistSample(edge.slot, V, std::nullopt, &S);
+  return Report(why, ErrorCode::kOk);
+}
+
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                  const Eigen::Vector3d& p_ToHo_T, UpdateError* why) noexcept {
@@ -238,6 +292,12 @@ ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                                                  UpdateError*) noexcept;                           \
   template ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle, const TwistNumbers&,               \
                                                    std::optional<Stamp>) noexcept;                 \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
+                                            const Eigen::Vector3d&, const CovarianceInput&,        \
+                                            UpdateError*) noexcept;                                \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
+                                             const Eigen::Vector3d&, const CovarianceInput&,       \
+                                             UpdateError*) noexcept;                               \
   template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&,        \
                                                      const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)

@@ -106,6 +106,25 @@ SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec) const noe
 }
 
 template <coord::Backend B>
+Expected<CompiledPoseWithCovariance<B>, QueryError> SceneGraph<B>::CompilePoseWithCovariance(
+    const PoseSpec& spec) const {
+  auto plan = PlanPose(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  const topology::SceneTopology& t = topology_;
+  const semantics::PoseSemantics& q = plan->semantics;
+  const FrameIndex k[5] = {t.FrameOfName(q.point.id()), t.FrameOfName(q.orientation.id()),
+                           t.FrameOfName(q.ref_point.id()), t.FrameOfName(q.ref_orientation.id()),
+                           t.FrameOfName(q.coordinate_frame.id())};
+  return CompiledPoseWithCovariance<B>(t, values_, q, k);
+}
+
+template <coord::Backend B>
 Covariance6 SceneGraph<B>::pose_covariance(FrameIndex f) const noexcept {
   if (!f.is_valid() || f.value() >= values_.X_PF.size()) return Covariance6::Zero();
   return values_.PoseCovarianceOf(f.value());
@@ -131,6 +150,8 @@ Covariance6 SceneGraph<B>::twist_covariance(FrameIndex f) const noexcept {
   SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&) const noexcept;                \
   template QueryResult<WithCovariance<coord::AngularVelocity, 3>>                                  \
   SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&) const noexcept;               \
+  template Expected<CompiledPoseWithCovariance<B>, QueryError>                                    \
+  SceneGraph<B>::CompilePoseWithCovariance(const PoseSpec&) const;                                \
   template Covariance6 SceneGraph<B>::pose_covariance(FrameIndex) const noexcept;                 \
   template Covariance6 SceneGraph<B>::twist_covariance(FrameIndex) const noexcept;
 SEMGRAPH_INSTANTIATE_UNCERTAINTY(coord::QuaternionBackend)
