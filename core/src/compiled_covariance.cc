@@ -13,7 +13,7 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
                                                           const EdgeValues<B>& values,
                                                           const semantics::PoseSemantics& s,
                                                           const FrameIndex (&k)[5])
-    : semantics_(s) {
+    : semantics_(s), values_(&values) {
   const topology::PoseForest& forest = t.forest();
   FrameIndex z = k[0];
   for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
@@ -36,7 +36,7 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
   edges_.reserve(heads.size());
   for (const FrameIndex g : heads) {
     const PoseValue<B>& value = values.X_PF[g.value()];
-    Edge e{&value, &values.S_PF[g.value()], value.epoch(), entry_of(t.pose_parent(g)), {}};
+    Edge e{&value, g.value(), value.epoch(), entry_of(t.pose_parent(g)), {}};
     e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]),
                forest.IsAncestor(g, k[1]), forest.IsAncestor(g, k[3]),
                forest.IsAncestor(g, k[4])};
@@ -55,12 +55,10 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
     const Edge& e = edges_[i];
     InZ& out = scratch_[i];
     PoseCoords X_PG;
-    if (!e.value->Load(X_PG, e.epoch)) return ErrorCode::kQueryInvalidated;
-    const ValueAndCovariance<PoseCoords> record = e.covariance->Load();
-    if (record.active != 0.0) X_PG = record.value;
+    if (e.value->epoch() != e.epoch) return ErrorCode::kQueryInvalidated;
+    values_->LoadPose(e.frame, X_PG, out.S);  // value and covariance of one write
     if (e.value->epoch() != e.epoch) return ErrorCode::kQueryInvalidated;  // removed meanwhile
-    out.exact = record.active == 0.0 || record.S.isZero(0.0);
-    if (!out.exact) out.S = record.S;
+    out.exact = out.S.isZero(0.0);
     const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
     const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
     if (e.parent < 0) {

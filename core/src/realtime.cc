@@ -46,6 +46,8 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
                                  " are fixed to one body: their pose is constant")
                           .error()};
   }
+  // Room for the edge's covariance, so that SetPose with one never allocates (edge_values.h).
+  values_.ReservePoseCovariances(l.head.value() + 1);
   return PoseHandle{l.head, values_.X_PF[l.head.value()].epoch(), id_.value(), EdgeKind::kPose};
 }
 
@@ -68,6 +70,7 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
                                  ": set the joint's velocity instead")
                           .error()};
   }
+  values_.ReserveTwistCovariances(l.edge.value() + 1);  // as FindPoseEdge
   return TwistHandle{l.edge, values_.V_DH[l.edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
@@ -155,6 +158,11 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH
   const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
   if (!check.ok()) return Report(why, check.error());
   const coord::Covariance6 S = internal::CoordinatesCovariance(covariance, q->toRotationMatrix());
+  // FindPoseEdge reserved the record; a handle that passed the checks but has none (one copied
+  // from a handle of this graph's FindPoseEdge always has one) names no edge with a covariance.
+  if (edge.child.value() >= values_.pose_covariance_on.size()) {
+    return Report(why, ErrorCode::kNoSuchEdge);
+  }
   if (const ErrorCode code = CheckPoseSample(edge.child, X, std::nullopt); code != ErrorCode::kOk) {
     return Report(why, code);
   }
@@ -182,6 +190,9 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
   const coord::Covariance6 S =
       internal::CoordinatesCovariance(covariance, Eigen::Matrix3d::Identity());
   const TwistNumbers V{*v, *w};
+  if (edge.slot.value() >= values_.twist_covariance_on.size()) {  // as SetPose's
+    return Report(why, ErrorCode::kNoSuchEdge);
+  }
   if (const ErrorCode code = CheckTwistSample(edge.slot, V, std::nullopt); code != ErrorCode::kOk) {
     return Report(why, code);
   }

@@ -421,5 +421,33 @@ TEST(Uncertainty, BadCovariancesAreRefusedWithTheGraphUnchanged) {
   EXPECT_EQ(g.GetPoseWithCovariance(spec)->covariance, Covariance6::Zero());
 }
 
+// A repair that re-roots a tree inverts its edges' values and covariances: every relation keeps
+// its covariance.
+TEST(Uncertainty, RerootingKeepsEveryRelationsCovariance) {
+  std::mt19937 rng(10);
+  const Covariance6 S1 = RandomCovariance(rng, 1e-4), S2 = RandomCovariance(rng, 1e-4);
+  Graph g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("k", "K").RelativeTo("w", "W"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.2, -0.1, 0.4))),
+                        Eigen::Vector3d(1, 2, 0), CovarianceInput{&S1}));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "B").RelativeTo("c", "C"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.5, 0.3, -0.2))),
+                        Eigen::Vector3d(0, 1, 3), CovarianceInput{&S2}));
+  const auto cb = PoseSpec::Of("c", "C").RelativeTo("b", "B");
+  const auto before = g.GetPoseWithCovariance(cb);
+  // k has a parent: repaired as the inverse b wrt k, after re-rooting b's tree at b.
+  const auto r = g.AddPose(PoseSpec::Of("k", "K").RelativeTo("b", "B"),
+                           Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 1),
+                           RepairPolicy{});
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->applied, RepairKind::kRerooted) << r->change;
+  EXPECT_EQ(g.pose_parent(g.FindFrame("c")), g.FindFrame("b"));  // the edge c -> b reversed
+  const auto after = g.GetPoseWithCovariance(cb);
+  ASSERT_TRUE(before && after);
+  EXPECT_LE((after->covariance - before->covariance).norm(), 1e-12 * before->covariance.norm());
+  EXPECT_LE((g.pose_covariance(g.FindFrame("c")) - before->covariance).norm(),
+            1e-12 * before->covariance.norm());  // stored in the reversed edge's form
+}
+
 }  // namespace
 }  // namespace semgraph::core

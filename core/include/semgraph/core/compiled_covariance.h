@@ -65,7 +65,7 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
  private:
   struct Edge {
     const PoseValue<B>* value;
-    const PoseCovarianceValue<B>* covariance;
+    std::uint32_t frame;  ///< the edge's head (its covariance record, when it has one)
     std::uint32_t epoch;
     std::int32_t parent;  ///< the entry of the edge above (its tail's edge), -1: Z
     coord::jacobians::PoseMoves moves;
@@ -77,6 +77,7 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
     bool exact;
   };
   semantics::PoseSemantics semantics_;
+  const EdgeValues<B>* values_ = nullptr;
   std::vector<Edge> edges_;
   std::int32_t frame_entry_[5] = {-1, -1, -1, -1, -1};  ///< the entry of each frame's edge
   std::vector<InZ> scratch_;
