@@ -47,9 +47,9 @@ void MakeChain(ChainScene& s, int d) {
     for (int i = 0; i < 36; ++i) L(i / 6, i % 6) = n(rng);
     const Covariance6 S = 1e-6 * L * L.transpose();
     const std::string f = "f" + std::to_string(k), parent = "f" + std::to_string(k - 1);
-    const auto ok = s.graph.AddPose(PoseSpec::Of(f, "B" + std::to_string(k))
-                                        .RelativeTo(parent, "B" + std::to_string(k - 1)),
-                                    R, p, CovarianceInput{&S});
+    const auto ok = s.graph.AddPose(
+        PoseSpec::Of(f, "B" + std::to_string(k)).RelativeTo(parent, "B" + std::to_string(k - 1)), R,
+        p, CovarianceInput{&S});
     if (!ok) std::abort();
     // The stored (normalized quaternion) value, so the hand-written chain reads the same numbers.
     const auto X = s.graph.pose_value(s.graph.FindFrame(f));
@@ -119,7 +119,8 @@ struct Kernels {
     if (icount_compiled_cov(&cov, &X, &S) != 0 || icount_compiled_plain(&plain, &X_plain) != 0)
       std::abort();
     icount_raw_eigen_cov(&scene, &R, &p, &S_raw);
-    if ((S - S_raw).norm() > 1e-9 * S.norm() || (QuatB::TranslationOf(X) - p).norm() > 1e-9 * (1 + p.norm()) ||
+    if ((S - S_raw).norm() > 1e-9 * S.norm() ||
+        (QuatB::TranslationOf(X) - p).norm() > 1e-9 * (1 + p.norm()) ||
         (QuatB::TranslationOf(X_plain) - p).norm() > 1e-9 * (1 + p.norm())) {
       std::fprintf(stderr, "covariance_bench: the kernels disagree\n");
       std::abort();

@@ -26,9 +26,8 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
     }
   }
   // Top-down: by depth, so that each edge comes after the edge above it.
-  std::stable_sort(heads.begin(), heads.end(), [&](FrameIndex x, FrameIndex y) {
-    return forest.depth(x) < forest.depth(y);
-  });
+  std::stable_sort(heads.begin(), heads.end(),
+                   [&](FrameIndex x, FrameIndex y) { return forest.depth(x) < forest.depth(y); });
   const auto entry_of = [&](FrameIndex g) -> std::int32_t {
     const auto it = std::find(heads.begin(), heads.end(), g);
     return it == heads.end() ? -1 : static_cast<std::int32_t>(it - heads.begin());
@@ -37,9 +36,8 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
   for (const FrameIndex g : heads) {
     const PoseValue<B>& value = values.X_PF[g.value()];
     Edge e{&value, g.value(), value.epoch(), entry_of(t.pose_parent(g)), {}};
-    e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]),
-               forest.IsAncestor(g, k[1]), forest.IsAncestor(g, k[3]),
-               forest.IsAncestor(g, k[4])};
+    e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]), forest.IsAncestor(g, k[1]),
+               forest.IsAncestor(g, k[3]), forest.IsAncestor(g, k[4])};
     edges_.push_back(e);
   }
   for (int i = 0; i < 5; ++i) frame_entry_[i] = k[i] == z ? -1 : entry_of(k[i]);
@@ -95,9 +93,8 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
     const InZ& g = scratch_[i];
     if (g.exact) continue;
     const Edge& e = edges_[i];
-    const Eigen::Matrix3d R_ZP = e.parent < 0
-                                     ? Eigen::Matrix3d::Identity()
-                                     : scratch_[static_cast<std::size_t>(e.parent)].R_ZG;
+    const Eigen::Matrix3d R_ZP = e.parent < 0 ? Eigen::Matrix3d::Identity()
+                                              : scratch_[static_cast<std::size_t>(e.parent)].R_ZG;
     jac::AddPropagated(jac::EdgeOnPoseInZ(q, {R_ZP, g.p_ZG}, e.moves), g.S, S_Z);
   }
   S = jac::RotateRows(q.R_RZ, S_Z);

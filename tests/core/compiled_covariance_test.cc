@@ -19,8 +19,7 @@ using semgraph::testing::AllocationCounter;
 
 Eigen::Matrix3d ExpR(const Eigen::Vector3d& w) {
   const double th = w.norm();
-  return th == 0.0 ? Eigen::Matrix3d::Identity()
-                   : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
+  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
 }
 Covariance6 RandomCovariance(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
@@ -39,7 +38,7 @@ void BuildTree(Graph& g, std::mt19937& rng) {
     if (k > 0) {
       const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
       ASSERT_TRUE(g.AddPose(PoseSpec::Of(f, body).RelativeTo("f" + std::to_string(parent),
-                                                              "B" + std::to_string(parent)),
+                                                             "B" + std::to_string(parent)),
                             ExpR(Eigen::Vector3d(n(rng), n(rng), n(rng))),
                             Eigen::Vector3d(n(rng), n(rng), n(rng)), CovarianceInput{&S1}));
     }
@@ -59,8 +58,7 @@ void ExpectSameAsOneShot(Graph& g, const PoseSpec& spec) {
   ASSERT_TRUE(answer);
   const Eigen::Isometry3d A = answer->value.ToIsometry(), O = one_shot->value.ToIsometry();
   EXPECT_LE((A.matrix() - O.matrix()).norm(), 1e-9);
-  EXPECT_LE((answer->covariance - one_shot->covariance).norm(),
-            1e-9 * one_shot->covariance.norm());
+  EXPECT_LE((answer->covariance - one_shot->covariance).norm(), 1e-9 * one_shot->covariance.norm());
   const auto swapped = compiled->Evaluate(CovarianceOrder::kAngularLinear);
   EXPECT_TRUE((swapped->covariance == coord::SwapHalves(answer->covariance)));
 }
@@ -78,8 +76,8 @@ TEST(CompiledCovariance, SameAsOneShotForEveryFormOnBothBackends) {
     const auto name = [&](int k) { return (side(rng) ? "f" : "g") + std::to_string(k); };
     const std::string a = name(c), e = name(c), b = name(d), f = name(d), r = name(body(rng));
     const std::string C = "B" + std::to_string(c), D = "B" + std::to_string(d);
-    ExpectSameAsOneShot(g, PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r).AtPoint(e)
-                               .RelativeToPoint(f));
+    ExpectSameAsOneShot(
+        g, PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r).AtPoint(e).RelativeToPoint(f));
     ExpectSameAsOneShot(h, PoseSpec::Of(a, C).RelativeTo(b, D));
   }
 }
@@ -120,8 +118,8 @@ TEST(CompiledCovariance, RealTimeNoAllocationFollowsUpdatesAndRemovals) {
   Covariance6 S_exact;
   ASSERT_EQ(compiled->Evaluate(X, S_exact), ErrorCode::kOk);
   EXPECT_LT((S_exact - S).norm(), (S - Covariance6::Zero()).norm());  // f7's share is gone
-  EXPECT_LE((S_exact - g.GetPoseWithCovariance(PoseSpec::Of("g7", "B7").RelativeTo("g0", "B0"))
-                           ->covariance)
+  EXPECT_LE((S_exact -
+             g.GetPoseWithCovariance(PoseSpec::Of("g7", "B7").RelativeTo("g0", "B0"))->covariance)
                 .norm(),
             1e-12);
   // A removal invalidates.

@@ -152,8 +152,8 @@ inline void Compose(const Matrix3d& R_AB, const Vector3d& p_AB, const Matrix3d& 
 
 /// Y = X Exp(dt xi), xi = (v, w) the edge's screw twist in [h] (se3.h): the answer's
 /// perturbation from X's (J_X) and from xi's (J_xi, with (dv, dw) in [h]).
-inline void ExtrapolateJacobians(const Matrix3d& R, const Vector3d& v, const Vector3d& w,
-                                 double dt, Matrix6& J_X, Matrix6& J_xi) noexcept {
+inline void ExtrapolateJacobians(const Matrix3d& R, const Vector3d& v, const Vector3d& w, double dt,
+                                 Matrix6& J_X, Matrix6& J_xi) noexcept {
   const Vector3d phi = dt * w, rho = dt * v;
   const Matrix3d Jl = LeftJacobianSO3(phi);
   const Vector3d u = Jl * rho;  // translation of Exp(dt xi)

@@ -42,15 +42,15 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
   CompiledPoseWithCovariance() = default;
   /// From the frames {e, a, f, b, r} of a checked pose plan (all of one pose tree).
   CompiledPoseWithCovariance(const topology::SceneTopology& t, const EdgeValues<B>& values,
-                             const semantics::PoseSemantics& semantics,
-                             const FrameIndex (&k)[5]);
+                             const semantics::PoseSemantics& semantics, const FrameIndex (&k)[5]);
   [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return edges_.size(); }
 
   /// The answer X (as CompiledPose::Evaluate writes it, up to rounding) and its covariance S
   /// (rows (dp, dth) in [r], in `order`). kOk or kQueryInvalidated (nothing written).
-  [[nodiscard]] ErrorCode Evaluate(PoseCoords& X, Covariance6& S,
-                                   CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
+  [[nodiscard]] ErrorCode Evaluate(
+      PoseCoords& X, Covariance6& S,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
   /// In GetPoseWithCovariance's result type.
   [[nodiscard]] QueryResult<WithCovariance<coord::Pose<B>, 6>> Evaluate(
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept {

@@ -357,7 +357,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] QueryResult<WithCovariance<Orientation, 3>> GetOrientationWithCovariance(
       const PoseSpec& spec) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::Twist, 6>> GetTwistWithCovariance(
-      const TwistSpec& spec, CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+      const TwistSpec& spec,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::LinearVelocity, 3>>
   GetLinearVelocityWithCovariance(const TwistSpec& spec) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::AngularVelocity, 3>>
