@@ -355,6 +355,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     if (const ErrorCode code = CheckPoseSample(a, X_BA, stamp); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, false, a.value(), stamp));
     }
+    if (S) values_.ReservePoseCovariances(a.value() + 1);  // may throw: nothing changed yet
     StorePoseSample(a, X_BA, stamp, S);
     rollback.Commit();
     return Ok{};
@@ -368,6 +369,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   // changes nothing else; a stamped inter-body edge's history too), then the changes, none of
   // which allocates.
   ReserveAdd(plan);
+  if (S) values_.ReservePoseCovariances(values_.X_PF.size() + plan.new_frames());
   PoseHistoryLease history;
   if (stamp && !plan.same_body()) history = NewPoseHistory();
   rollback.Commit();
@@ -485,6 +487,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
     }
+    if (S) values_.ReserveTwistCovariances(existing.value() + 1);  // may throw: no change yet
     StoreTwistSample(existing, V, stamp, S);
     rollback.Commit();
     return Ok{};
@@ -496,6 +499,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   // Apply: every allocation first (as in AddPose; a stamped edge's history too), then the
   // changes.
   ReserveAdd(plan);
+  if (S) values_.ReserveTwistCovariances(t.num_twist_edge_slots() + 1);  // any slot it may get
   TwistHistoryLease history;
   if (stamp) history = NewTwistHistory();
   rollback.Commit();

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "edge_lookup.h"
+#include "covariance_input.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
 #include "text.h"
@@ -45,6 +46,8 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
                                  " are fixed to one body: their pose is constant")
                           .error()};
   }
+  // Room for the edge's covariance, so that SetPose with one never allocates (edge_values.h).
+  values_.ReservePoseCovariances(l.head.value() + 1);
   return PoseHandle{l.head, values_.X_PF[l.head.value()].epoch(), id_.value(), EdgeKind::kPose};
 }
 
@@ -67,6 +70,7 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
                                  ": set the joint's velocity instead")
                           .error()};
   }
+  values_.ReserveTwistCovariances(l.edge.value() + 1);  // as FindPoseEdge
   return TwistHandle{l.edge, values_.V_DH[l.edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
@@ -132,6 +136,67 @@ ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation,
     return Report(why, code);
   }
   StorePoseSample(edge.child, X, stamp);
+  return Report(why, ErrorCode::kOk);
+}
+
+// With a covariance (docs/uncertainty.md): the handle, the value, then the covariance's checks
+// (kInvalidNumber, kInvalidCovariance: as AddPose's order), then the store. noexcept and
+// allocation-free (the checks' eigen decomposition is fixed-size).
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ToHo_T,
+                                 const CovarianceInput& covariance, UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckPoseHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
+  auto p = coord::ValidateVector(p_ToHo_T, coord::ValueRole::kPosition);
+  if (!p) return Report(why, p.error());
+  auto q = coord::ValidateQuaternion(q_TH);
+  if (!q) return Report(why, q.error());
+  const typename B::PoseCoords X = B::MakePose(B::FromQuaternion(*q), *p);
+  if (covariance.matrix == nullptr) return SetPose(edge, *q, *p, why);
+  const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
+  if (!check.ok()) return Report(why, check.error());
+  const coord::Covariance6 S = internal::CoordinatesCovariance(covariance, q->toRotationMatrix());
+  // FindPoseEdge reserved the record; a handle that passed the checks but has none (one copied
+  // from a handle of this graph's FindPoseEdge always has one) names no edge with a covariance.
+  if (edge.child.value() >= values_.pose_covariance_on.size()) {
+    return Report(why, ErrorCode::kNoSuchEdge);
+  }
+  if (const ErrorCode code = CheckPoseSample(edge.child, X, std::nullopt); code != ErrorCode::kOk) {
+    return Report(why, code);
+  }
+  StorePoseSample(edge.child, X, std::nullopt, &S);
+  return Report(why, ErrorCode::kOk);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                  const Eigen::Vector3d& w_DH_H,
+                                  const CovarianceInput& covariance, UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
+  auto v = coord::ValidateVector(v_DHo_H, coord::ValueRole::kLinearVelocity);
+  if (!v) return Report(why, v.error());
+  auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
+  if (!w) return Report(why, w.error());
+  if (covariance.matrix == nullptr) return SetTwist(edge, *v, *w, why);
+  const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
+  if (!check.ok()) return Report(why, check.error());
+  if (covariance.convention != PoseCovarianceConvention::kCoordinates) {
+    return Report(why, ErrorCode::kInvalidCovariance);  // a twist has no convention
+  }
+  const coord::Covariance6 S =
+      internal::CoordinatesCovariance(covariance, Eigen::Matrix3d::Identity());
+  const TwistNumbers V{*v, *w};
+  if (edge.slot.value() >= values_.twist_covariance_on.size()) {  // as SetPose's
+    return Report(why, ErrorCode::kNoSuchEdge);
+  }
+  if (const ErrorCode code = CheckTwistSample(edge.slot, V, std::nullopt); code != ErrorCode::kOk) {
+    return Report(why, code);
+  }
+  StoreTwistSample(edge.slot, V, std::nullopt, &S);
   return Report(why, ErrorCode::kOk);
 }
 
@@ -238,6 +303,12 @@ ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                                                  UpdateError*) noexcept;                           \
   template ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle, const TwistNumbers&,               \
                                                    std::optional<Stamp>) noexcept;                 \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
+                                            const Eigen::Vector3d&, const CovarianceInput&,        \
+                                            UpdateError*) noexcept;                                \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
+                                             const Eigen::Vector3d&, const CovarianceInput&,       \
+                                             UpdateError*) noexcept;                               \
   template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&,        \
                                                      const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)

@@ -11,6 +11,7 @@
 //   W3 duplicate_twist_path -> compare with the derived twist.
 // duplicate_pose_path (P3) is never "already determined": it joins two trees, so the graph
 // derives no value to compare with; it keeps its error. Contract: scene_graph.h, docs/repair.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -60,6 +61,11 @@ void SceneGraph<B>::RerootAt(FrameIndex v) {
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
     X_old.push_back(values_.X_PF[path[i].value()].Load());
     S_old.push_back(values_.PoseCovarianceOf(path[i].value()));
+  }
+  std::uint32_t highest = 0;  // room for the inverted covariances, before any change
+  for (const FrameIndex x : path) highest = std::max(highest, x.value());
+  if (std::any_of(S_old.begin(), S_old.end(), [](const auto& S) { return !S.isZero(0.0); })) {
+    values_.ReservePoseCovariances(highest + 1);
   }
   topology_.RerootPose(v);
   for (const FrameIndex x : path) values_.X_PF[x.value()].BumpEpoch();

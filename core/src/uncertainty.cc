@@ -101,8 +101,27 @@ SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec) const noe
   auto tw = internal::TwistOfAngularVelocity(
       spec, [this](const TwistSpec& s) { return GetTwistWithCovariance(s); });
   if (!tw) return Unexpected{tw.error()};
-  return WithCovariance<coord::AngularVelocity, 3>{coord::AngularOf(tw->value),
-                                                   tw->covariance.template bottomRightCorner<3, 3>()};
+  return WithCovariance<coord::AngularVelocity, 3>{
+      coord::AngularOf(tw->value), tw->covariance.template bottomRightCorner<3, 3>()};
+}
+
+template <coord::Backend B>
+Expected<CompiledPoseWithCovariance<B>, QueryError> SceneGraph<B>::CompilePoseWithCovariance(
+    const PoseSpec& spec) const {
+  auto plan = PlanPose(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  const topology::SceneTopology& t = topology_;
+  const semantics::PoseSemantics& q = plan->semantics;
+  const FrameIndex k[5] = {t.FrameOfName(q.point.id()), t.FrameOfName(q.orientation.id()),
+                           t.FrameOfName(q.ref_point.id()), t.FrameOfName(q.ref_orientation.id()),
+                           t.FrameOfName(q.coordinate_frame.id())};
+  return CompiledPoseWithCovariance<B>(t, values_, q, k);
 }
 
 template <coord::Backend B>
@@ -118,20 +137,22 @@ Covariance6 SceneGraph<B>::twist_covariance(FrameIndex f) const noexcept {
   return e.is_valid() ? values_.TwistCovarianceOf(e.value()) : Covariance6::Zero();
 }
 
-#define SEMGRAPH_INSTANTIATE_UNCERTAINTY(B)                                                        \
-  template QueryResult<WithCovariance<SceneGraph<B>::Pose, 6>>                                     \
-  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, CovarianceOrder) const noexcept;          \
-  template QueryResult<WithCovariance<coord::Position, 3>>                                         \
-  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&) const noexcept;                       \
-  template QueryResult<WithCovariance<SceneGraph<B>::Orientation, 3>>                              \
-  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&) const noexcept;                    \
-  template QueryResult<WithCovariance<coord::Twist, 6>> SceneGraph<B>::GetTwistWithCovariance(     \
-      const TwistSpec&, CovarianceOrder) const noexcept;                                          \
-  template QueryResult<WithCovariance<coord::LinearVelocity, 3>>                                   \
-  SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&) const noexcept;                \
-  template QueryResult<WithCovariance<coord::AngularVelocity, 3>>                                  \
-  SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&) const noexcept;               \
-  template Covariance6 SceneGraph<B>::pose_covariance(FrameIndex) const noexcept;                 \
+#define SEMGRAPH_INSTANTIATE_UNCERTAINTY(B)                                                    \
+  template QueryResult<WithCovariance<SceneGraph<B>::Pose, 6>>                                 \
+  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, CovarianceOrder) const noexcept;       \
+  template QueryResult<WithCovariance<coord::Position, 3>>                                     \
+  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&) const noexcept;                    \
+  template QueryResult<WithCovariance<SceneGraph<B>::Orientation, 3>>                          \
+  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&) const noexcept;                 \
+  template QueryResult<WithCovariance<coord::Twist, 6>> SceneGraph<B>::GetTwistWithCovariance( \
+      const TwistSpec&, CovarianceOrder) const noexcept;                                       \
+  template QueryResult<WithCovariance<coord::LinearVelocity, 3>>                               \
+  SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&) const noexcept;             \
+  template QueryResult<WithCovariance<coord::AngularVelocity, 3>>                              \
+  SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&) const noexcept;            \
+  template Expected<CompiledPoseWithCovariance<B>, QueryError>                                 \
+  SceneGraph<B>::CompilePoseWithCovariance(const PoseSpec&) const;                             \
+  template Covariance6 SceneGraph<B>::pose_covariance(FrameIndex) const noexcept;              \
   template Covariance6 SceneGraph<B>::twist_covariance(FrameIndex) const noexcept;
 SEMGRAPH_INSTANTIATE_UNCERTAINTY(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_UNCERTAINTY(coord::HomogeneousBackend)

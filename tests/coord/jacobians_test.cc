@@ -58,7 +58,9 @@ Matrix6 Numeric(F&& f) {
 }
 void ExpectClose(const Matrix6& analytic, const Matrix6& numeric, const char* what) {
   EXPECT_LE((analytic - numeric).cwiseAbs().maxCoeff(), 1e-6 * (1.0 + numeric.norm()))
-      << what << "\nanalytic\n" << analytic << "\nnumeric\n" << numeric;
+      << what << "\nanalytic\n"
+      << analytic << "\nnumeric\n"
+      << numeric;
 }
 
 TEST(Jacobians, ComposeAndInverseMatchFiniteDifferences) {
@@ -191,8 +193,7 @@ TEST(Jacobians, EdgeOnPoseMatchesFiniteDifferencesForEveryEdge) {
     q.p_ZoFo_Z = t.InZ(f).p;
     q.O_Z = t.InZ(a).R * t.InZ(b).R.transpose();
     for (int g = 1; g < 8; ++g) {
-      const PoseMoves m{t.Below(g, e), t.Below(g, f), t.Below(g, a), t.Below(g, b),
-                        t.Below(g, r)};
+      const PoseMoves m{t.Below(g, e), t.Below(g, f), t.Below(g, a), t.Below(g, b), t.Below(g, r)};
       const EdgeInZ edge{t.InZ(t.parent[g]).R, t.InZ(g).p};
       ExpectClose(EdgeOnPose(q, edge, m), Numeric([&](const Vector6& d) {
                     Tree u = t;

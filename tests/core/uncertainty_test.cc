@@ -30,8 +30,7 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 
 Eigen::Matrix3d ExpR(const Eigen::Vector3d& w) {
   const double th = w.norm();
-  return th == 0.0 ? Eigen::Matrix3d::Identity()
-                   : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
+  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
 }
 Eigen::Vector3d LogR(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
@@ -121,7 +120,8 @@ void Build(const Scene& s, Graph& g, std::mt19937* rng) {
 
 // The Monte Carlo check: the worst entry's distance in standard errors.
 template <int N>
-double WorstZ(const Eigen::Matrix<double, N, N>& S, const std::vector<Eigen::Matrix<double, N, 1>>& d) {
+double WorstZ(const Eigen::Matrix<double, N, N>& S,
+              const std::vector<Eigen::Matrix<double, N, 1>>& d) {
   const double n = static_cast<double>(d.size());
   Eigen::Matrix<double, N, 1> mean = Eigen::Matrix<double, N, 1>::Zero();
   for (const auto& x : d) mean += x;
@@ -158,7 +158,11 @@ Queries RandomQueries(std::mt19937& rng) {
   const std::string& f = names[2 * cb + side(rng)];
   const std::string& r = names[any(rng)];
   Queries q;
-  q.pose = PoseSpec::Of(a, bodies[ca]).RelativeTo(b, bodies[cb]).ExpressedIn(r).AtPoint(e).RelativeToPoint(f);
+  q.pose = PoseSpec::Of(a, bodies[ca])
+               .RelativeTo(b, bodies[cb])
+               .ExpressedIn(r)
+               .AtPoint(e)
+               .RelativeToPoint(f);
   int cd = body(rng);
   if (cd == ca) cd = (ca + 1) % 5;
   q.twist = TwistSpec::Of(e, bodies[ca]).RelativeTo(bodies[cd]).ExpressedIn(r);
@@ -247,9 +251,9 @@ TEST(Uncertainty, BackendsAgree) {
                           e.p, CovarianceInput{&e.S}));
   }
   for (const TwistEdge& e : scene.twists) {
-    ASSERT_TRUE(h.AddTwist(
-        TwistSpec::Of(e.point, e.body).RelativeTo(e.ref_body).ExpressedIn(e.point), e.v, e.w,
-        CovarianceInput{&e.S}));
+    ASSERT_TRUE(
+        h.AddTwist(TwistSpec::Of(e.point, e.body).RelativeTo(e.ref_body).ExpressedIn(e.point), e.v,
+                   e.w, CovarianceInput{&e.S}));
   }
   for (int i = 0; i < 10; ++i) {
     Queries q = RandomQueries(rng);
@@ -336,8 +340,9 @@ TEST(Uncertainty, ConvertedValuesAskedBackInTheirFormReturnTheirCovariance) {
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("d", "C").RelativeTo("c", "C"),
                         Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.0, 0.7, 0.0))),
                         Eigen::Vector3d(0.3, 0, 0)));
-  const auto form = PoseSpec::Of("c", "C").RelativeTo("b", "B").AtPoint("d").RelativeToPoint("f")
-                        .ExpressedIn("r");
+  const auto form =
+      PoseSpec::Of("c", "C").RelativeTo("b", "B").AtPoint("d").RelativeToPoint("f").ExpressedIn(
+          "r");
   const Eigen::Quaterniond q(ExpR(Eigen::Vector3d(0.3, 0.1, 0.2)));
   ASSERT_TRUE(g.AddPose(form, q, Eigen::Vector3d(0.1, -0.2, 0.3), CovarianceInput{&S}));
   const auto back = g.GetPoseWithCovariance(form);
@@ -363,11 +368,11 @@ TEST(Uncertainty, BadCovariancesAreRefusedWithTheGraphUnchanged) {
   const auto spec = PoseSpec::Of("c", "C").RelativeTo("w", "W");
   ASSERT_TRUE(g.AddPose(spec, Eigen::Matrix3d::Identity(), Eigen::Vector3d(1, 0, 0),
                         CovarianceInput{&good}));
-  ASSERT_TRUE(g.AddPose(PoseSpec::Of("k", "C").RelativeTo("c", "C"),
-                        Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 1, 0),
-                        CovarianceInput{&good}));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("k", "C").RelativeTo("c", "C"), Eigen::Matrix3d::Identity(),
+                        Eigen::Vector3d(0, 1, 0), CovarianceInput{&good}));
   ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c", "C").RelativeTo("W").ExpressedIn("c"),
-                         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero(), CovarianceInput{&good}));
+                         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero(),
+                         CovarianceInput{&good}));
   const std::string before = Dump(g);
   const Covariance6 pose_before = g.pose_covariance(g.FindFrame("c"));
   const auto unchanged = [&] {
@@ -419,6 +424,34 @@ TEST(Uncertainty, BadCovariancesAreRefusedWithTheGraphUnchanged) {
   ASSERT_TRUE(g.AddPose(spec, I, p));
   EXPECT_EQ(g.pose_covariance(g.FindFrame("c")), Covariance6::Zero());
   EXPECT_EQ(g.GetPoseWithCovariance(spec)->covariance, Covariance6::Zero());
+}
+
+// A repair that re-roots a tree inverts its edges' values and covariances: every relation keeps
+// its covariance.
+TEST(Uncertainty, RerootingKeepsEveryRelationsCovariance) {
+  std::mt19937 rng(10);
+  const Covariance6 S1 = RandomCovariance(rng, 1e-4), S2 = RandomCovariance(rng, 1e-4);
+  Graph g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("k", "K").RelativeTo("w", "W"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.2, -0.1, 0.4))),
+                        Eigen::Vector3d(1, 2, 0), CovarianceInput{&S1}));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "B").RelativeTo("c", "C"),
+                        Eigen::Matrix3d(ExpR(Eigen::Vector3d(0.5, 0.3, -0.2))),
+                        Eigen::Vector3d(0, 1, 3), CovarianceInput{&S2}));
+  const auto cb = PoseSpec::Of("c", "C").RelativeTo("b", "B");
+  const auto before = g.GetPoseWithCovariance(cb);
+  // k has a parent: repaired as the inverse b wrt k, after re-rooting b's tree at b.
+  const auto r =
+      g.AddPose(PoseSpec::Of("k", "K").RelativeTo("b", "B"), Eigen::Quaterniond::Identity(),
+                Eigen::Vector3d(0, 0, 1), RepairPolicy{});
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->applied, RepairKind::kRerooted) << r->change;
+  EXPECT_EQ(g.pose_parent(g.FindFrame("c")), g.FindFrame("b"));  // the edge c -> b reversed
+  const auto after = g.GetPoseWithCovariance(cb);
+  ASSERT_TRUE(before && after);
+  EXPECT_LE((after->covariance - before->covariance).norm(), 1e-12 * before->covariance.norm());
+  EXPECT_LE((g.pose_covariance(g.FindFrame("c")) - before->covariance).norm(),
+            1e-12 * before->covariance.norm());  // stored in the reversed edge's form
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -130,56 +131,88 @@ struct EdgeValues {
   StableArray<TwistValue> V_DH;    ///< by twist edge slot
   /// Stamped edges' samples (edge_history.h); X_PF / V_DH then hold the newest sample.
   EdgeHistories history;
-  /// Covariances (ValueAndCovariance), by frame and by twist slot, and the writer's own flags
-  /// of which records are active (read by the writer thread only).
-  StableArray<PoseCovarianceValue<B>> S_PF;
-  StableArray<TwistCovarianceValue> S_DH;
-  StableArray<std::uint8_t> pose_covariance_on, twist_covariance_on;
+  /// Covariances (ValueAndCovariance), by frame and by twist slot, grown lazily: only up to the
+  /// highest edge that was given a covariance (or whose handle was made), so that a graph
+  /// without covariances allocates nothing more. Readers see the published sizes
+  /// (pose_covariance_size, twist_covariance_size; release / acquire). `mutable`: grown by
+  /// build-time calls on the writer thread that are const for the graph (FindPoseEdge,
+  /// FindTwistEdge). The flags (which records are active) are the writer's own.
+  mutable StableArray<PoseCovarianceValue<B>> S_PF;
+  mutable StableArray<TwistCovarianceValue> S_DH;
+  mutable StableArray<std::uint8_t> pose_covariance_on, twist_covariance_on;
+  /// A published size: an atomic that moves with the graph (exclusive access, as any move).
+  struct Published {
+    std::atomic<std::uint32_t> value{0};
+    Published() = default;
+    Published(Published&& o) noexcept : value(o.value.load(std::memory_order_relaxed)) {}
+    Published& operator=(Published&& o) noexcept {
+      value.store(o.value.load(std::memory_order_relaxed), std::memory_order_relaxed);
+      return *this;
+    }
+    [[nodiscard]] std::uint32_t load(std::memory_order m) const noexcept { return value.load(m); }
+    void store(std::uint32_t n, std::memory_order m) noexcept { value.store(n, m); }
+  };
+  mutable Published pose_covariance_size, twist_covariance_size;
 
   /// The value of a new frame: the identity (it has no pose parent yet).
   /// Its history entry too (null: timeless), so that every frame a reader knows has one.
   void AddFrame() {
     X_PF.EmplaceBack(B::Identity());
-    S_PF.EmplaceBack();
-    pose_covariance_on.EmplaceBack(std::uint8_t{0});
     history.pose.Grow(X_PF.size());
   }
   /// Makes room for the value (and the history entry) of twist edge slot `e`.
   void AddTwistSlot(topology::TwistEdgeIndex e) {
-    if (V_DH.size() <= e.value()) {
-      V_DH.Resize(e.value() + 1);
-      S_DH.Resize(e.value() + 1);
-      twist_covariance_on.Resize(e.value() + 1);
-    }
+    if (V_DH.size() <= e.value()) V_DH.Resize(e.value() + 1);
     history.twist.Grow(V_DH.size());
+  }
+  /// Writer, build time (allocates): covariance records for frames [0, frames) / twist slots
+  /// [0, slots), so that storing a covariance there allocates nothing.
+  void ReservePoseCovariances(std::size_t frames) const {
+    Grow(S_PF, pose_covariance_on, pose_covariance_size, frames);
+  }
+  void ReserveTwistCovariances(std::size_t slots) const {
+    Grow(S_DH, twist_covariance_on, twist_covariance_size, slots);
   }
 
   // Writer: the covariance record of an edge, stored before the value itself (so a reader
   // that loads the value, then the record, never pairs a new value with an old covariance).
   // S null: the value is exact (zero covariance). O(1), noexcept, allocation-free.
+  /// (S non-null needs the record reserved: ReservePoseCovariances / ReserveTwistCovariances.)
   void StorePoseCovariance(std::uint32_t frame, const typename B::PoseCoords& X,
                            const coord::Covariance6* S) noexcept {
-    StoreCovariance(S_PF[frame], pose_covariance_on[frame], X, S);
+    if (S != nullptr || (frame < pose_covariance_on.size() && pose_covariance_on[frame])) {
+      StoreCovariance(S_PF[frame], pose_covariance_on[frame], X, S);
+    }
   }
   void StoreTwistCovariance(std::uint32_t slot, const TwistNumbers& V,
                             const coord::Covariance6* S) noexcept {
-    StoreCovariance(S_DH[slot], twist_covariance_on[slot], V, S);
+    if (S != nullptr || (slot < twist_covariance_on.size() && twist_covariance_on[slot])) {
+      StoreCovariance(S_DH[slot], twist_covariance_on[slot], V, S);
+    }
   }
   /// Writer: a removed (or stamped) edge's record goes inactive.
   void ClearPoseCovariance(std::uint32_t frame) noexcept {
-    ClearCovariance(S_PF[frame], pose_covariance_on[frame], B::Identity());
+    if (frame < pose_covariance_on.size()) {
+      ClearCovariance(S_PF[frame], pose_covariance_on[frame], B::Identity());
+    }
   }
   void ClearTwistCovariance(std::uint32_t slot) noexcept {
-    ClearCovariance(S_DH[slot], twist_covariance_on[slot],
-                    TwistNumbers{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    if (slot < twist_covariance_on.size()) {
+      ClearCovariance(S_DH[slot], twist_covariance_on[slot],
+                      TwistNumbers{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    }
   }
   /// Writer: the covariance stored with an edge (zero when none). O(1).
   [[nodiscard]] coord::Covariance6 PoseCovarianceOf(std::uint32_t frame) const noexcept {
-    if (!pose_covariance_on[frame]) return coord::Covariance6::Zero();
+    if (frame >= pose_covariance_on.size() || !pose_covariance_on[frame]) {
+      return coord::Covariance6::Zero();
+    }
     return S_PF[frame].Load().S;
   }
   [[nodiscard]] coord::Covariance6 TwistCovarianceOf(std::uint32_t slot) const noexcept {
-    if (!twist_covariance_on[slot]) return coord::Covariance6::Zero();
+    if (slot >= twist_covariance_on.size() || !twist_covariance_on[slot]) {
+      return coord::Covariance6::Zero();
+    }
     return S_DH[slot].Load().S;
   }
   /// Reader: an edge's value and the covariance of that value, consistent under a concurrent
@@ -187,25 +220,29 @@ struct EdgeValues {
   void LoadPose(std::uint32_t frame, typename B::PoseCoords& X,
                 coord::Covariance6& S) const noexcept {
     X = X_PF[frame].Load();
-    LoadCovariance(S_PF[frame], X, S);
+    if (frame < pose_covariance_size.load(std::memory_order_acquire)) {
+      LoadCovariance(S_PF[frame], X, S);
+    } else {
+      S.setZero();
+    }
   }
   void LoadTwist(std::uint32_t slot, TwistNumbers& V, coord::Covariance6& S) const noexcept {
     V = V_DH[slot].Load();
-    LoadCovariance(S_DH[slot], V, S);
+    if (slot < twist_covariance_size.load(std::memory_order_acquire)) {
+      LoadCovariance(S_DH[slot], V, S);
+    } else {
+      S.setZero();
+    }
   }
   /// Room for `frames` frame values / `slots` twist slot values in total (blocks of doubling
   /// size), so that AddFrame / AddTwistSlot up to there do not allocate. Build operations
   /// call these before their first change (all or nothing under std::bad_alloc).
   void ReserveFrames(std::size_t frames) {
     X_PF.Reserve(frames);
-    S_PF.Reserve(frames);
-    pose_covariance_on.Reserve(frames);
     history.pose.Reserve(frames);
   }
   void ReserveTwistSlots(std::size_t slots) {
     V_DH.Reserve(slots);
-    S_DH.Reserve(slots);
-    twist_covariance_on.Reserve(slots);
     history.twist.Reserve(slots);
   }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
@@ -214,6 +251,18 @@ struct EdgeValues {
   }
 
  private:
+  template <class Records>
+  static void Grow(Records& records, StableArray<std::uint8_t>& on,
+                   Published& published, std::size_t n) {
+    if (records.size() >= n) return;
+    records.Reserve(n);
+    on.Reserve(n);
+    while (records.size() < n) {
+      records.EmplaceBack();
+      on.EmplaceBack(std::uint8_t{0});
+    }
+    published.store(static_cast<std::uint32_t>(n), std::memory_order_release);
+  }
   template <class Slot, class T>
   static void StoreCovariance(Slot& slot, std::uint8_t& on, const T& x,
                               const coord::Covariance6* S) noexcept {

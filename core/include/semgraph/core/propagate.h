@@ -106,14 +106,14 @@ void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], 
                       [&](FrameIndex, const Rigid& X_PG, const coord::Covariance6& S,
                           const Rigid& X_ZG, std::int64_t d) {
                         if (S.isZero(0.0)) return;  // an exact edge adds nothing
-                        const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(),
-                                                             X_ZG.p};
+                        const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
                         const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1],
                                                             d <= lca[3], d <= lca[4]};
-                        coord::jacobians::AddPropagated(coord::jacobians::EdgeOnPose(q, edge, m),
+                        coord::jacobians::AddPropagated(coord::jacobians::EdgeOnPoseInZ(q, edge, m),
                                                         S, S_out);
                       });
   }
+  S_out = coord::jacobians::RotateRows(q.R_RZ, S_out);  // rows in Z -> [r], once
 }
 
 /// A twist step's contribution seen from Z, and its edge's covariance.
@@ -133,9 +133,8 @@ coord::jacobians::TwistStepInZ StepInZ(const topology::SceneTopology& t,
 
 /// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw).
 template <coord::Backend B, class ReadPose, class ReadTwist>
-void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan,
-                     ReadPose&& read_pose, ReadTwist&& read_twist,
-                     coord::Covariance6& S_out) noexcept {
+void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, ReadPose&& read_pose,
+                     ReadTwist&& read_twist, coord::Covariance6& S_out) noexcept {
   namespace jac = coord::jacobians;
   S_out.setZero();
   if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
@@ -176,8 +175,7 @@ void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan,
             st.moves = forest.IsAncestor(g, t.twist_edge(step.edge).head);
             sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
           });
-          jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S,
-                             S_out);
+          jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S, S_out);
         });
   };
   const FrameIndex er[2] = {e, r};
@@ -202,8 +200,7 @@ void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan,
 /// the conversion's values exact): re-expressed [r] -> [b], the reference point moved (exact,
 /// no change), the point moved e -> a with the pose's rotation. X_BA: ToEdgeForm's answer.
 template <coord::Backend B>
-coord::Covariance6 ToEdgeFormCovariance(const ForestSource<B>& src,
-                                        const PoseSteps<ForestChain>& s,
+coord::Covariance6 ToEdgeFormCovariance(const ForestSource<B>& src, const PoseSteps<ForestChain>& s,
                                         const typename B::PoseCoords& X_BA,
                                         const coord::Covariance6& S_given) noexcept {
   namespace jac = coord::jacobians;

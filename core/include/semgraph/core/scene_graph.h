@@ -61,6 +61,7 @@
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/compiled_covariance.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/converting_handles.h"
 #include "semgraph/core/edge_values.h"
@@ -370,11 +371,27 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] QueryResult<WithCovariance<Orientation, 3>> GetOrientationWithCovariance(
       const PoseSpec& spec) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::Twist, 6>> GetTwistWithCovariance(
-      const TwistSpec& spec, CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+      const TwistSpec& spec,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::LinearVelocity, 3>>
   GetLinearVelocityWithCovariance(const TwistSpec& spec) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::AngularVelocity, 3>>
   GetAngularVelocityWithCovariance(const TwistSpec& spec) const noexcept;
+  /// Real-time updates with a covariance (edge form: the handle's edge), noexcept and
+  /// allocation-free: the codes of SetPose / SetTwist, then kInvalidNumber / kInvalidCovariance
+  /// for the covariance (kInvalidCovariance too for a twist given a convention). A null matrix:
+  /// the plain update (the value exact).
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                  const Eigen::Vector3d& p_ToHo_T,
+                                  const CovarianceInput& covariance,
+                                  UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                   const Eigen::Vector3d& w_DH_H,
+                                   const CovarianceInput& covariance,
+                                   UpdateError* why = nullptr) noexcept;
+  /// A compiled pose query with covariance (compiled_covariance.h): the errors of CompilePose.
+  [[nodiscard]] Expected<CompiledPoseWithCovariance<B>, QueryError> CompilePoseWithCovariance(
+      const PoseSpec& spec) const;
   /// The covariance stored with the pose edge into f / the twist edge into f, in the edge form
   /// (zero: exact, or no edge). Writer thread. O(1).
   [[nodiscard]] Covariance6 pose_covariance(FrameIndex f) const noexcept;

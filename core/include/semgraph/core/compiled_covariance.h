@@ -1,0 +1,89 @@
+// File: semgraph/core/compiled_covariance.h
+//
+// CompiledPoseWithCovariance<B>: a compiled pose query that gives the first-order covariance of
+// its answer too (docs/uncertainty.md §3), on the real-time path. Made by
+// SceneGraph::CompilePoseWithCovariance (build time, allocates): the query's frames e, [a], f,
+// [b], [r], their youngest common ancestor Z, and the union of their chains up to Z as one
+// edge list in top-down order (each edge after its parent's), each with the frames it moves.
+// Evaluate reads each edge once, value and covariance together (EdgeValues::LoadPose's record,
+// so they are consistent under a concurrent writer), composes every edge's pose in Z (one
+// composition per edge, as the plain query), computes the answer from the frames' poses in Z,
+// then adds each uncertain edge's J S J^T (coord/jacobians.h EdgeOnPose, the one formula of
+// one-shot queries too: core/propagate.h).
+// Invariants: the edge list holds each edge's epoch at compile time; a removed edge turns an
+// evaluation into kQueryInvalidated (nothing written).
+// Costs: Evaluate O(edges): one composition per edge, plus one Jacobian and one block J S J^T
+// per edge with a nonzero covariance; noexcept, allocation-free, lock-free, string-free.
+// Thread safety: Evaluate uses the object's own scratch (one evaluating thread per object; a
+// copy is independent), concurrently with one writer (SetPose, Add*, Remove*).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "semgraph/coord/homogeneous_backend.h"
+#include "semgraph/coord/jacobians.h"
+#include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/edge_values.h"
+#include "semgraph/core/export.h"
+#include "semgraph/core/specs.h"
+#include "semgraph/core/uncertainty.h"
+#include "semgraph/topology/scene_topology.h"
+
+namespace semgraph::core {
+
+using topology::FrameIndex;
+
+template <coord::Backend B>
+class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
+ public:
+  using PoseCoords = typename B::PoseCoords;
+
+  CompiledPoseWithCovariance() = default;
+  /// From the frames {e, a, f, b, r} of a checked pose plan (all of one pose tree).
+  CompiledPoseWithCovariance(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                             const semantics::PoseSemantics& semantics, const FrameIndex (&k)[5]);
+  [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
+  [[nodiscard]] std::size_t num_pose_edges() const noexcept { return edges_.size(); }
+
+  /// The answer X (as CompiledPose::Evaluate writes it, up to rounding) and its covariance S
+  /// (rows (dp, dth) in [r], in `order`). kOk or kQueryInvalidated (nothing written).
+  [[nodiscard]] ErrorCode Evaluate(
+      PoseCoords& X, Covariance6& S,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
+  /// In GetPoseWithCovariance's result type.
+  [[nodiscard]] QueryResult<WithCovariance<coord::Pose<B>, 6>> Evaluate(
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept {
+    WithCovariance<coord::Pose<B>, 6> r{{semantics_, B::Identity()}, Covariance6::Zero()};
+    const ErrorCode code = Evaluate(r.value.value, r.covariance, order);
+    if (code == ErrorCode::kOk) return r;
+    QueryError e;
+    e.code = code;
+    return base::Unexpected{e};
+  }
+
+ private:
+  struct Edge {
+    const PoseValue<B>* value;
+    std::uint32_t frame;  ///< the edge's head (its covariance record, when it has one)
+    std::uint32_t epoch;
+    std::int32_t parent;  ///< the entry of the edge above (its tail's edge), -1: Z
+    coord::jacobians::PoseMoves moves;
+  };
+  struct InZ {  // scratch of one evaluation, per edge
+    Eigen::Matrix3d R_ZG;
+    Eigen::Vector3d p_ZG;
+    Covariance6 S;
+    bool exact;
+  };
+  semantics::PoseSemantics semantics_;
+  const EdgeValues<B>* values_ = nullptr;
+  std::vector<Edge> edges_;
+  std::int32_t frame_entry_[5] = {-1, -1, -1, -1, -1};  ///< the entry of each frame's edge
+  std::vector<InZ> scratch_;
+};
+
+extern template class CompiledPoseWithCovariance<coord::QuaternionBackend>;
+extern template class CompiledPoseWithCovariance<coord::HomogeneousBackend>;
+
+}  // namespace semgraph::core
