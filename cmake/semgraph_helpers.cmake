@@ -81,12 +81,17 @@ function(semgraph_add_bench)
   target_link_libraries(${A_NAME} PRIVATE ${A_DEPS} benchmark::benchmark semgraph_warnings)
 endfunction()
 
-# semgraph_add_tests_in_dir(PREFIX <p> DEPS ...): one GoogleTest binary per *_test.cc in the
-# current folder, named <p>_<file stem>, so adding a test file needs no CMake edit.
+# semgraph_add_tests_in_dir(PREFIX <p> DEPS ... [EXCLUDE <file> ...]): one GoogleTest binary per
+# *_test.cc in the current folder, named <p>_<file stem>, so adding a test file needs no CMake
+# edit. EXCLUDE names files (e.g. peer-library tests) that the folder adds on its own.
 function(semgraph_add_tests_in_dir)
-  cmake_parse_arguments(A "" "PREFIX" "DEPS" ${ARGN})
+  cmake_parse_arguments(A "" "PREFIX" "DEPS;EXCLUDE" ${ARGN})
   file(GLOB tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc)
   foreach(src ${tests})
+    get_filename_component(name ${src} NAME)
+    if(name IN_LIST A_EXCLUDE)
+      continue()
+    endif()
     get_filename_component(stem ${src} NAME_WE)
     semgraph_add_test(NAME ${A_PREFIX}_${stem} SOURCES ${src} DEPS ${A_DEPS})
   endforeach()

@@ -5,10 +5,16 @@
 #
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
+<<<<<<< HEAD
 #             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
 #             libmrpt-poses-dev (the uncertainty cross-check tests: MRPT's pose PDFs)
+=======
+#             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics and wrench
+#             cross-check tests)
+>>>>>>> main
 #   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
-#   --bench   libtf2-dev valgrind        (the tf2 comparison benchmarks, callgrind counts)
+#   --bench   libtf2-dev valgrind libdart-dev (the tf2 comparison benchmarks, callgrind counts; DART:
+#             the acceleration cross-check tests, skipped without it)
 #   --dot     graphviz                   (rendering scene graphs exported as DOT)
 #   --dds     cyclonedds-dev cyclonedds-tools (semgraph::dds, distributed scenes; idlc, ddsperf)
 #   --ros     libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev (semgraph::ros: bag chunks, rosbag2
@@ -30,7 +36,7 @@ packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev lib
 for arg in "$@"; do
   case "$arg" in
     --clang) packages+=(clang libclang-rt-14-dev clang-format) ;;
-    --bench) packages+=(libtf2-dev valgrind) ;;
+    --bench) packages+=(libtf2-dev valgrind libdart-dev) ;;
     --dot) packages+=(graphviz) ;;
     --dds) packages+=(cyclonedds-dev cyclonedds-tools) ;;
     --ros)

@@ -131,6 +131,25 @@ Expected<Twist, Error> MakeTwist(const TwistSemantics& s, const Eigen::Vector3d&
   return Twist{s, *v_ok, *w_ok};
 }
 
+Expected<Acceleration, Error> MakeAcceleration(const AccelerationSemantics& s,
+                                               const Eigen::Vector3d& a,
+                                               const Eigen::Vector3d& alpha) noexcept {
+  auto a_ok = ValidateVector(a, ValueRole::kLinearAcceleration);
+  if (!a_ok) return Unexpected{a_ok.error()};
+  auto alpha_ok = ValidateVector(alpha, ValueRole::kAngularAcceleration);
+  if (!alpha_ok) return Unexpected{alpha_ok.error()};
+  return Acceleration{s, *a_ok, *alpha_ok};
+}
+
+Expected<Wrench, Error> MakeWrench(const WrenchSemantics& s, const Eigen::Vector3d& f,
+                                   const Eigen::Vector3d& m) noexcept {
+  auto f_ok = ValidateVector(f, ValueRole::kForce);
+  if (!f_ok) return Unexpected{f_ok.error()};
+  auto m_ok = ValidateVector(m, ValueRole::kMoment);
+  if (!m_ok) return Unexpected{m_ok.error()};
+  return Wrench{s, *f_ok, *m_ok};
+}
+
 namespace internal {
 
 Error RepresentationError(const char* representation, semantics::MismatchSide lhs,
@@ -223,8 +242,19 @@ const char* RoleName(ValueRole role) noexcept {
       return "joint position";
     case ValueRole::kJointVelocity:
       return "joint velocity";
+<<<<<<< HEAD
     case ValueRole::kCovariance:
       return "covariance";
+=======
+    case ValueRole::kLinearAcceleration:
+      return "linear acceleration";
+    case ValueRole::kAngularAcceleration:
+      return "angular acceleration";
+    case ValueRole::kForce:
+      return "force";
+    case ValueRole::kMoment:
+      return "moment";
+>>>>>>> main
   }
   return "value";
 }

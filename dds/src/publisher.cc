@@ -536,6 +536,24 @@ base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::spa
   return code;
 }
 
+base::Expected<base::Ok, std::string> Publisher::WaitForMirrors(
+    std::uint32_t count, std::chrono::milliseconds timeout) {
+  const Impl& m = *impl_;
+  const dds_time_t deadline = dds_time() + DDS_MSECS(timeout.count());
+  for (const Entity* w :
+       {&m.structure_writer, &m.value_writer, &m.sample_writer, &m.batch_writer}) {
+    std::uint32_t matched = 0;
+    const dds_return_t rc = dds_shared::WaitForMatches(w->get(), count, deadline, &matched);
+    if (rc == DDS_RETCODE_TIMEOUT) {
+      return base::Unexpected{std::to_string(matched) + " mirror(s) matched of " +
+                              std::to_string(count) + " expected within " +
+                              std::to_string(timeout.count()) + " ms"};
+    }
+    if (rc != DDS_RETCODE_OK) return base::Unexpected{internal::DdsError("matching", rc)};
+  }
+  return base::Ok{};
+}
+
 const std::string& Publisher::owner() const noexcept { return impl_->owner; }
 std::uint64_t Publisher::source() const noexcept { return impl_->source; }
 std::uint64_t Publisher::revision() const noexcept { return impl_->revision; }

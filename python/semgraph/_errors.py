@@ -73,3 +73,25 @@ class ScriptError(Error, ValueError):
 
     def __reduce__(self):
         return (type(self), (str(self), self.line, self.column, self.message))
+
+
+class BagError(Error):
+    """A bag cannot be read or is corrupt (semgraph.ros); nothing was applied. str() is the
+    semgraph tool's "FILE: byte OFFSET: MESSAGE (CODE)" line.
+
+    code:    "io", "unknown_format", "truncated", "malformed", "crc_mismatch", "over_limit",
+             "decompression" or "unsupported"
+    file:    the path as given
+    offset:  the byte offset in the file where the problem is (0 when not known: io, sqlite3)
+    message: what is wrong, e.g. "record length 9999 past the end (120 left)"
+    """
+
+    def __init__(self, code: str, file: str, offset: int, message: str) -> None:
+        super().__init__(f"{file}: byte {offset}: {message} ({code})")
+        self.code = code
+        self.file = file
+        self.offset = offset
+        self.message = message
+
+    def __reduce__(self):
+        return (type(self), (self.code, self.file, self.offset, self.message))

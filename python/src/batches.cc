@@ -96,7 +96,7 @@ BatchFailure RunBatch(Batch& batch, const char* fn, py::ssize_t rows, const Find
   GraphBox& box = *batch.graph;
   BatchFailure failure;
   py::gil_scoped_release release;
-  std::lock_guard<std::mutex> lock(box.writer);
+  std::lock_guard<WriterMutex> lock(box.writer);
   box.Visit([&](auto& g) {
     const std::size_t count = batch.handles.size();
     if (batch.checked_generation != box.topology_generation) {

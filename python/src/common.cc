@@ -2,6 +2,7 @@
 // the exception classes of semgraph/_errors.py, with messages that name the edge at fault.
 #include "common.h"
 
+#include <exception>
 #include <string>
 #include <string_view>
 
@@ -19,6 +20,18 @@ void InitErrors(py::module_ errors) {
   // static destructors run).
   g_rejected_error = py::object(errors.attr("RejectedError")).release();
   g_query_error = py::object(errors.attr("QueryError")).release();
+  // A write to a graph another component writes (a ROS listener's; graph.h, WriterMutex).
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const GraphReadOnly&) {
+      py::object exc = g_rejected_error(
+          py::str("read_only"),
+          py::str("write rejected (read_only): the graph is filled by a ROS listener, which is "
+                  "its one writer; it is read-only from Python"));
+      PyErr_SetObject(g_rejected_error.ptr(), exc.ptr());
+    }
+  });
 }
 
 void ThrowRejected(ErrorCode code, const std::string& message) {

@@ -20,6 +20,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -37,6 +38,24 @@ namespace py = pybind11;
 
 using QuaternionGraph = core::SceneGraph<coord::QuaternionBackend>;
 using HomogeneousGraph = core::SceneGraph<coord::HomogeneousBackend>;
+
+/// GraphBox::writer: a mutex that refuses to be taken while another component is the graph's one
+/// writer (a ROS listener's receive thread, ros_live.cc): lock() then throws GraphReadOnly, which
+/// the module raises as RejectedError("read_only") (common.cc), so that a Python write cannot
+/// race the listener's.
+struct GraphReadOnly {};
+class WriterMutex {
+ public:
+  void lock() {
+    if (read_only.load(std::memory_order_acquire)) throw GraphReadOnly{};
+    mutex_.lock();
+  }
+  void unlock() { mutex_.unlock(); }
+  std::atomic<bool> read_only{false};
+
+ private:
+  std::mutex mutex_;
+};
 
 struct GraphBox : std::enable_shared_from_this<GraphBox> {
   explicit GraphBox(bool homogeneous);
@@ -58,7 +77,7 @@ struct GraphBox : std::enable_shared_from_this<GraphBox> {
   [[nodiscard]] const semantics::NameTable& names() const noexcept;
 
   std::variant<QuaternionGraph, HomogeneousGraph> graph;
-  std::mutex writer;                      // held by every write (see the file comment)
+  WriterMutex writer;                     // held by every write (see the file comment)
   std::uint64_t topology_generation = 0;  // bumped by every accepted removal (under writer)
 };
 using GraphPtr = std::shared_ptr<GraphBox>;

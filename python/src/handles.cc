@@ -45,7 +45,7 @@ void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::
   core::UpdateError why;  // SetPose's own verdict: which number broke which limit
   ErrorCode code;
   {
-    std::lock_guard<std::mutex> lock(box.writer);
+    std::lock_guard<WriterMutex> lock(box.writer);
     code = box.Visit([&](auto& g) {
       if (t) {
         return rot.is_matrix ? g.SetPose(h.handle, rot.R, p, *t, &why)
@@ -76,7 +76,7 @@ void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::
   core::UpdateError why;  // SetTwist's own verdict: which number broke which limit
   ErrorCode code;
   {
-    std::lock_guard<std::mutex> lock(box.writer);
+    std::lock_guard<WriterMutex> lock(box.writer);
     code = box.Visit([&](auto& g) {
       return t ? g.SetTwist(h.handle, v, w, *t, &why) : g.SetTwist(h.handle, v, w, &why);
     });

@@ -149,7 +149,7 @@ void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities)
   };
   read(positions, q, "positions");
   read(velocities, qdot, "velocities");
-  std::lock_guard<std::mutex> lock(box.writer);
+  std::lock_guard<WriterMutex> lock(box.writer);
   Check(box.Visit([&](auto& g) { return g.SetJoints(q, qdot); }));
 }
 
@@ -174,7 +174,7 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
   py::array_t<double, py::array::c_style> q_array, qdot_array;
   if (has_q) q_array = StateArg(positions, n, "set_joints", "positions");
   if (has_qdot) qdot_array = StateArg(velocities, n, "set_joints", "velocities");
-  std::lock_guard<std::mutex> lock(box.writer);
+  std::lock_guard<WriterMutex> lock(box.writer);
   box.Visit([&](auto& g) {
     const bool q = has_q, qdot = has_qdot;
     const std::span<const double> sq(q ? q_array.data() : nullptr, q ? n : 0);
@@ -245,7 +245,7 @@ RobotObject LoadUrdf(GraphBox& box, const std::string& text, const std::string& 
   std::optional<models::Robot> robot;
   {
     py::gil_scoped_release release;
-    std::lock_guard<std::mutex> lock(box.writer);
+    std::lock_guard<WriterMutex> lock(box.writer);
     box.Visit([&](auto& g) {
       auto r =
           file ? models::LoadUrdfFile(g, text, prefix) : models::LoadUrdfString(g, text, prefix);
@@ -387,7 +387,7 @@ void BindJointMethods(GraphClass& graph) {
         spec.mimic = NameArg(mimic, "add_joint", "mimic");
         spec.multiplier = FloatArg(multiplier, 1.0, "add_joint", "multiplier");
         spec.offset = FloatArg(offset, 0.0, "add_joint", "offset");
-        std::lock_guard<std::mutex> lock(b.writer);
+        std::lock_guard<WriterMutex> lock(b.writer);
         Check(b.Visit([&](auto& g) { return g.AddJoint(spec); }));
       },
       py::arg("name"), py::kw_only(), py::arg("type"), py::arg("parent"), py::arg("child"),

@@ -5,6 +5,9 @@
 
 #include "common.h"
 #include "graph.h"
+#ifdef SEMGRAPH_PYTHON_WITH_ROS
+#include "ros.h"
+#endif
 
 #ifndef SEMGRAPH_VERSION
 #define SEMGRAPH_VERSION "0.0.0"
@@ -31,6 +34,14 @@ PYBIND11_MODULE(_semgraph, m) {
     BindTime(m, graph);
     BindKinematics(m, graph);
     BindScript(m);
+#ifdef SEMGRAPH_PYTHON_WITH_ROS
+    py::module_ ros = m.def_submodule("_ros", "semgraph.ros's kernel; import semgraph.ros.");
+    BindRosBags(ros);
+    BindRosRecords(ros);
+#ifdef SEMGRAPH_PYTHON_WITH_ROS_DDS
+    BindRosLive(ros);
+#endif
+#endif
   }
   m.attr("__version__") = SEMGRAPH_VERSION;
 #ifdef SEMGRAPH_PYTHON_WITH_SCRIPT
@@ -42,5 +53,15 @@ PYBIND11_MODULE(_semgraph, m) {
   m.attr("_has_models") = true;  // load_urdf() works (the models layer, urdfdom, is linked)
 #else
   m.attr("_has_models") = false;
+#endif
+#ifdef SEMGRAPH_PYTHON_WITH_ROS
+  m.attr("_has_ros") = true;  // semgraph.ros: bags (the ROS layer is linked)
+#else
+  m.attr("_has_ros") = false;
+#endif
+#ifdef SEMGRAPH_PYTHON_WITH_ROS_DDS
+  m.attr("_has_ros_dds") = true;  // semgraph.ros.Listener, Broadcaster (Cyclone DDS)
+#else
+  m.attr("_has_ros_dds") = false;
 #endif
 }

@@ -120,7 +120,7 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
         "timeless relations)");
   }
   const core::PoseSpec spec = n.Spec();
-  std::lock_guard<std::mutex> lock(b.writer);
+  std::lock_guard<WriterMutex> lock(b.writer);
   if (policy) {
     return b.Visit([&](auto& g) -> py::object {
       // The core repairs quaternion values: a valid matrix is converted; an invalid one is
@@ -156,7 +156,7 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
         "add_twist(): stamp= and repair= cannot be combined (repair applies "
         "to timeless relations)");
   }
-  std::lock_guard<std::mutex> lock(b.writer);
+  std::lock_guard<WriterMutex> lock(b.writer);
   if (policy) {
     return b.Visit([&](auto& g) -> py::object {
       auto r = g.AddTwist(spec, v, w, *policy);
@@ -282,7 +282,7 @@ void BindBuild(GraphClass& graph) {
       "add_body",
       [](GraphBox& b, py::handle name) {
         const std::string_view n = NameArg(name, "add_body", "name");
-        std::lock_guard<std::mutex> lock(b.writer);
+        std::lock_guard<WriterMutex> lock(b.writer);
         Check(b.Visit([&](auto& g) { return g.AddBody(n); }));
       },
       py::arg("name"), "Adds a body. RejectedError: invalid_name, duplicate_body.");
@@ -291,7 +291,7 @@ void BindBuild(GraphClass& graph) {
       [](GraphBox& b, py::handle name, py::handle body) {
         const std::string_view n = NameArg(name, "add_frame", "name");
         const std::string_view bd = NameArg(body, "add_frame", "body");
-        std::lock_guard<std::mutex> lock(b.writer);
+        std::lock_guard<WriterMutex> lock(b.writer);
         Check(b.Visit([&](auto& g) { return g.AddFrame(n, bd); }));
       },
       py::arg("name"), py::arg("body"),
@@ -344,7 +344,7 @@ joint_edge; with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapo
       [](GraphBox& b, py::handle of, py::handle wrt) {
         const std::string_view o = NameArg(of, "remove_pose", "of");
         const std::string_view w = NameArg(wrt, "remove_pose", "wrt");
-        std::lock_guard<std::mutex> lock(b.writer);
+        std::lock_guard<WriterMutex> lock(b.writer);
         Check(b.Visit([&](auto& g) { return g.RemovePose(o, w); }));
         ++b.topology_generation;
       },
@@ -356,7 +356,7 @@ joint_edge; with a stamp stamp_mismatch, stamp_too_old, duplicate_stamp, extrapo
       [](GraphBox& b, py::handle point, py::handle ref_body) {
         const std::string_view p = NameArg(point, "remove_twist", "point");
         const std::string_view r = NameArg(ref_body, "remove_twist", "ref_body");
-        std::lock_guard<std::mutex> lock(b.writer);
+        std::lock_guard<WriterMutex> lock(b.writer);
         Check(b.Visit([&](auto& g) { return g.RemoveTwist(p, r); }));
         ++b.topology_generation;
       },

@@ -13,36 +13,12 @@
 #include "semgraph/base/expected.h"
 #include "semgraph/ros/messages.h"
 #include "semgraph/ros_dds/ros_topics.h"
+#include "semgraph_dds_shared/entity.h"
 
 namespace semgraph::ros_dds::internal {
 
-/// Owns one DDS entity: deletes it (and its children) on destruction.
-class Entity {
- public:
-  Entity() = default;
-  explicit Entity(dds_entity_t e) : e_(e) {}
-  Entity(const Entity&) = delete;
-  Entity& operator=(const Entity&) = delete;
-  Entity(Entity&& o) noexcept : e_(o.e_) { o.e_ = 0; }
-  Entity& operator=(Entity&& o) noexcept {
-    if (this != &o) {
-      Reset();
-      e_ = o.e_;
-      o.e_ = 0;
-    }
-    return *this;
-  }
-  ~Entity() { Reset(); }
-  void Reset() {
-    if (e_ > 0) dds_delete(e_);
-    e_ = 0;
-  }
-  [[nodiscard]] dds_entity_t get() const noexcept { return e_; }
-  [[nodiscard]] bool ok() const noexcept { return e_ > 0; }
-
- private:
-  dds_entity_t e_ = 0;
-};
+/// Owns one DDS entity (semgraph_dds_shared/entity.h).
+using Entity = dds_shared::Entity;
 
 /// "what: <DDS's text for rc>".
 [[nodiscard]] std::string DdsError(const char* what, dds_return_t rc);

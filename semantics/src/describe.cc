@@ -53,10 +53,23 @@ std::string_view RelationName(RelationKind k) noexcept {
       return "angular velocity";
     case RelationKind::kTwist:
       return "twist";
+    case RelationKind::kAcceleration:
+      return "acceleration";
+    case RelationKind::kWrench:
+      return "wrench";
   }
   return "relation";
 }
 
+}  // namespace
+
+namespace {
+// A wrench names its bodies by their roles in the interaction: on C, by D.
+std::string_view SideFieldName(const MismatchSide& s) noexcept {
+  if (s.relation == RelationKind::kWrench && s.field == Field::kBody) return "on body";
+  if (s.relation == RelationKind::kWrench && s.field == Field::kRefBody) return "by body";
+  return FieldName(s.field);
+}
 }  // namespace
 
 std::string Describe(const MismatchSide& s, const NameTable& names) {
@@ -73,7 +86,10 @@ std::string Describe(const MismatchSide& s, const NameTable& names) {
       break;
     case Field::kBody:
     case Field::kRefBody:
-      value = Str(names, s.name);
+      // A wrench by several bodies (a sum) has no by body: the one body field that may be empty.
+      value = s.relation == RelationKind::kWrench && !s.name.is_valid()
+                  ? std::string("(several bodies)")
+                  : Str(names, s.name);
       break;
   }
   if (s.body.is_valid()) value += "|" + Str(names, s.body);
@@ -92,7 +108,7 @@ std::string Describe(const MismatchSide& s, const NameTable& names) {
       owner = "the argument " + std::string(RelationName(s.relation));
       break;
   }
-  return std::string(FieldName(s.field)) + " " + value + " of " + owner;
+  return std::string(SideFieldName(s)) + " " + value + " of " + owner;
 }
 
 std::string_view ToString(Operation op) noexcept {
@@ -121,11 +137,23 @@ std::string_view ToString(Operation op) noexcept {
       return "differentiate";
     case Operation::kInterpolate:
       return "interpolate";
+    case Operation::kInverse:
+      return "inverse";
+    case Operation::kReaction:
+      return "reaction";
+    case Operation::kSum:
+      return "sum";
+    case Operation::kPower:
+      return "power";
   }
   return "operation";
 }
 
 std::string Describe(const Mismatch& m, const NameTable& names) {
+  if (m.operation == Operation::kReaction) {  // its one refusal: no single body to act on
+    return "reaction: the wrench on " + Str(names, m.rhs.name) +
+           " is a sum of wrenches by several bodies, which has no single reaction";
+  }
   std::string text = std::string(ToString(m.operation)) + ": " + Describe(m.lhs, names) +
                      " does not match " + Describe(m.rhs, names);
   if (m.coordinate_forms) {
@@ -166,6 +194,20 @@ std::string Describe(const AngularVelocitySemantics& s, const NameTable& n) {
 std::string Describe(const TwistSemantics& s, const NameTable& n) {
   return "TwistCoord(" + Pt(n, s.point, s.body) + ", " + Str(n, s.ref_body.id()) + ", " +
          Of(n, s.coordinate_frame) + ")";
+}
+
+std::string Describe(const AccelerationSemantics& s, const NameTable& n) {
+  return "AccelerationCoord(" + Pt(n, s.point, s.body) + ", " + Str(n, s.ref_body.id()) + ", " +
+         Of(n, s.coordinate_frame) + ")";
+}
+
+std::string Describe(const WrenchSemantics& s, const NameTable& n) {
+  const std::string by = s.by_several ? std::string("several") : Str(n, s.by.id());
+  return "WrenchCoord(" + Pt(n, s.point, s.on) + ", " + by + ", " + Of(n, s.coordinate_frame) + ")";
+}
+
+std::string Describe(const PowerSemantics& s, const NameTable& n) {
+  return "Power(" + Str(n, s.on.id()) + ", " + Str(n, s.by.id()) + ")";
 }
 
 }  // namespace semgraph::semantics

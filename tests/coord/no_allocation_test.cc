@@ -7,7 +7,8 @@
 //     asserts on any Eigen heap allocation (Eigen allocates with malloc, not operator new).
 // The values are built before the counters are armed; nothing inside the loop formats text or
 // uses gtest assertions (which may allocate): outcomes are tallied in plain integers and
-// checked afterwards. Make* (validate.h, documented allocation-free) gets the same treatment.
+// checked afterwards. Make* (validate.h, documented allocation-free) gets the same treatment, and
+// so do the acceleration and wrench operations of coord/dynamics_operations.h.
 #define EIGEN_RUNTIME_NO_MALLOC 1  // before any Eigen include
 
 #include <gtest/gtest.h>
@@ -21,6 +22,7 @@
 #include <optional>
 #include <string>
 
+#include "semgraph/coord/dynamics_operations.h"
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
@@ -146,6 +148,9 @@ struct Outcomes {
   void Sum(const AngularVelocity& v) { checksum += v.value.sum(); }
   void Sum(const Twist& v) { checksum += v.linear.sum() + v.angular.sum(); }
   void Sum(const Eigen::Vector3d& v) { checksum += v.sum(); }
+  void Sum(const Acceleration& v) { checksum += v.linear.sum() + v.angular.sum(); }
+  void Sum(const Wrench& v) { checksum += v.force.sum() + v.moment.sum(); }
+  void Sum(const Power& v) { checksum += v.value; }
   template <class B>
   void Sum(const Orientation<B>& v) {
     checksum += B::ToMatrix(v.value).sum();
@@ -203,6 +208,48 @@ struct Operands {
     if (auto x = MakePose<B>(PoseSemantics::OfFrame(b, Bb, c, C, b.axes()), q2, p2)) X_CB_B = *x;
   }
 };
+
+/// Accelerations and wrenches (dynamics_operations.h), on the names of Operands: A moves
+/// relative to B, B relative to C, all at point a in [b]; wrenches on A by B.
+template <class B>
+struct DynamicsOperands {
+  Operands<B> o;
+  Acceleration A_BA = *MakeAcceleration({o.a.origin(), o.A, o.Bb, o.b.axes()}, o.p1, o.p2);
+  Acceleration A_CB = *MakeAcceleration({o.a.origin(), o.Bb, o.C, o.b.axes()}, o.p2, o.p1);
+  Wrench W_AB = *MakeWrench({o.a.origin(), o.A, o.Bb, o.b.axes()}, o.p1, o.p2);
+  Wrench W_AC = *MakeWrench({o.a.origin(), o.A, o.C, o.b.axes()}, o.p2, o.p1);
+  Wrench W_BA = *MakeWrench({o.a.origin(), o.Bb, o.A, o.b.axes()}, o.p2, o.p1);
+  Wrench W_Aa_A = *MakeWrench({o.a.origin(), o.A, o.Bb, o.a.axes()}, o.p2, o.p1);
+};
+
+/// One pass over every operation of dynamics_operations.h. Comments name the expected outcome.
+template <class B>
+void RunDynamics(const DynamicsOperands<B>& d, Outcomes& out) {
+  const Operands<B>& o = d.o;
+  out.Add(Inverse(d.A_BA, o.V_BAa_B));                         // ok
+  out.Add(Inverse(d.A_BA, o.V_CBa_B));                         // semantic
+  out.Add(Compose(d.A_BA, d.A_CB, o.V_BAa_B, o.w_CB_B));       // ok
+  out.Add(Compose(d.A_BA, d.A_CB, o.V_CBa_B, o.w_CB_B));       // semantic
+  out.Add(ChangePoint(d.A_BA, o.p_AA2_B, o.w_BA_B));           // semantic: p of a2 wrt a
+  out.Add(ChangePoint(d.A_BA, Inverse(o.p_AA2_B), o.w_BA_B));  // ok
+  out.Add(ChangeCoordinateFrame(d.A_BA, o.O_CB_C));            // ok
+  out.Add(ChangeCoordinateFrame(d.A_BA, o.O_BA_B));            // semantic
+  out.Add(ChangePoint(d.W_AB, Inverse(o.p_AA2_B)));            // ok
+  out.Add(ChangePoint(d.W_AB, o.p_CB_B));                      // semantic
+  out.Add(ChangeCoordinateFrame(d.W_AB, o.O_CB_C));            // ok
+  out.Add(ScrewTransform(d.W_Aa_A, o.X_BA_B));                 // ok
+  out.Add(ScrewTransform(d.W_AB, o.X_BA_B));                   // semantic
+  out.Add(Reaction(d.W_AB));                                   // ok
+  out.Add(Reaction(*Sum(d.W_AB, d.W_AC)));                     // semantic: by several
+  out.Add(Sum(d.W_AB, d.W_AC));                                // ok
+  out.Add(Sum(d.W_AB, d.W_BA));                                // semantic
+  out.Add(PowerOf(d.W_AB, o.V_BAa_B));                         // ok
+  out.Add(PowerOf(d.W_BA, o.V_BAa_B));                         // semantic
+  out.Sum(kernels::ShiftAcceleration(o.p1, o.p2, o.p1, o.p2));
+  out.Sum(kernels::ComposeAccelerations(o.p1, o.p2, o.p2, o.p1, o.p1, o.p2, o.p1).linear);
+  out.Sum(kernels::InvertAcceleration(o.p1, o.p2, o.p1, o.p2).linear);
+  out.Sum(kernels::ShiftMoment(o.p1, o.p2, o.p1));
+}
 
 /// One pass over every operation of operations.h. Comments name the expected outcome.
 template <class B>
@@ -369,6 +416,36 @@ TYPED_TEST(NoAllocation, MakeAcceptedOrRejected) {
   EXPECT_EQ(invalid, 3 * kIterations);
   EXPECT_EQ(armed.other, 0);
   EXPECT_EQ(armed.ok + armed.representation, 8 * kIterations);
+}
+
+TYPED_TEST(NoAllocation, EveryDynamicsOperationAcceptedOrRejected) {
+  using B = TypeParam;
+  const DynamicsOperands<B> operands;
+  Outcomes first;
+  RunDynamics(operands, first);
+  ASSERT_EQ(first.ok, 10);
+  ASSERT_EQ(first.semantic, 9);
+  ASSERT_EQ(first.representation + first.other, 0);
+  Outcomes armed;
+  long allocations = 0, deallocations = 0;
+  int invalid = 0;
+  const Eigen::Vector3d nan_v(0, std::numeric_limits<double>::quiet_NaN(), 0);
+  {
+    NoAllocationScope guard;
+    for (int i = 0; i < kIterations; ++i) {
+      RunDynamics(operands, armed);
+      invalid += !MakeAcceleration(operands.A_BA.semantics, nan_v, nan_v).has_value();
+      invalid += !MakeWrench(operands.W_AB.semantics, operands.o.p1, nan_v).has_value();
+    }
+    allocations = g_allocations.load();
+    deallocations = g_deallocations.load();
+  }
+  EXPECT_EQ(allocations, 0) << "operator new called inside the loop";
+  EXPECT_EQ(deallocations, 0) << "operator delete called inside the loop";
+  EXPECT_EQ(invalid, 2 * kIterations);
+  EXPECT_EQ(armed.ok, kIterations * first.ok);
+  EXPECT_EQ(armed.semantic, kIterations * first.semantic);
+  EXPECT_NEAR(armed.checksum, kIterations * first.checksum, 1e-6 * kIterations);
 }
 
 // The guards work: an allocation inside the scope is seen by both.

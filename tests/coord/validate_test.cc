@@ -56,6 +56,8 @@ struct Names {
   LinearVelocitySemantics Lin() const { return {a.origin(), A, B, a.axes()}; }
   AngularVelocitySemantics Ang() const { return {A, B, a.axes()}; }
   TwistSemantics Tw() const { return {a.origin(), A, B, a.axes()}; }
+  AccelerationSemantics Acc() const { return {a.origin(), A, B, a.axes()}; }
+  WrenchSemantics Wr() const { return {a.origin(), A, B, a.axes()}; }
 };
 
 Eigen::Matrix3d SomeRotation(std::uint64_t seed) {
@@ -136,6 +138,74 @@ TEST(Validate, NonFiniteVelocityComponentIsInvalidNumber) {
   // Both bad: the linear part is reported first.
   ExpectInvalidNumber(MakeTwist(n.Tw(), Eigen::Vector3d(0, kNaN, 0), Eigen::Vector3d(kInf, 0, 0)),
                       ValueRole::kLinearVelocity, 1, kNaN, n.table);
+}
+
+TEST(Validate, NonFiniteAccelerationOrWrenchComponentIsInvalidNumber) {
+  Names n;
+  for (double bad : kBadNumbers) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d u(0.1, 0.2, 0.3), w(-0.3, 0.2, -0.1);
+      Eigen::Vector3d u_bad = u, w_bad = w;
+      u_bad[i] = bad;
+      w_bad[i] = bad;
+      ExpectInvalidNumber(MakeAcceleration(n.Acc(), u_bad, w), ValueRole::kLinearAcceleration, i,
+                          bad, n.table);
+      ExpectInvalidNumber(MakeAcceleration(n.Acc(), u, w_bad), ValueRole::kAngularAcceleration, i,
+                          bad, n.table);
+      ExpectInvalidNumber(MakeWrench(n.Wr(), u_bad, w), ValueRole::kForce, i, bad, n.table);
+      ExpectInvalidNumber(MakeWrench(n.Wr(), u, w_bad), ValueRole::kMoment, i, bad, n.table);
+      EXPECT_TRUE(Contains(Describe(MakeAcceleration(n.Acc(), u_bad, w).error(), n.table),
+                           "linear acceleration component"));
+      EXPECT_TRUE(Contains(Describe(MakeAcceleration(n.Acc(), u, w_bad).error(), n.table),
+                           "angular acceleration component"));
+      EXPECT_TRUE(
+          Contains(Describe(MakeWrench(n.Wr(), u_bad, w).error(), n.table), "force component"));
+      EXPECT_TRUE(
+          Contains(Describe(MakeWrench(n.Wr(), u, w_bad).error(), n.table), "moment component"));
+    }
+  }
+  // Both bad: the linear part (the force) is reported first.
+  const Eigen::Vector3d nan_y(0, kNaN, 0), inf_x(kInf, 0, 0);
+  ExpectInvalidNumber(MakeAcceleration(n.Acc(), nan_y, inf_x), ValueRole::kLinearAcceleration, 1,
+                      kNaN, n.table);
+  ExpectInvalidNumber(MakeWrench(n.Wr(), nan_y, inf_x), ValueRole::kForce, 1, kNaN, n.table);
+}
+
+TEST(Validate, AccelerationsAndWrenchesAreBoundedLikeTwistsAndFlushSubnormals) {
+  Names n;
+  const Eigen::Vector3d ok(1e12, -1e12, 0.5), big(0, 0, -1.5e12), sub(1e-310, 2.0, 0);
+  auto acc = MakeAcceleration(n.Acc(), ok, sub);
+  ASSERT_TRUE(acc);
+  EXPECT_EQ(acc->semantics, n.Acc());
+  EXPECT_EQ(acc->linear, ok);
+  EXPECT_EQ(acc->angular, Eigen::Vector3d(0, 2.0, 0));
+  auto wr = MakeWrench(n.Wr(), sub, ok);
+  ASSERT_TRUE(wr);
+  EXPECT_EQ(wr->semantics, n.Wr());
+  EXPECT_EQ(wr->force, Eigen::Vector3d(0, 2.0, 0));
+  EXPECT_EQ(wr->moment, ok);
+  const std::pair<Expected<Acceleration, Error>, ValueRole> accs[] = {
+      {MakeAcceleration(n.Acc(), big, ok), ValueRole::kLinearAcceleration},
+      {MakeAcceleration(n.Acc(), ok, big), ValueRole::kAngularAcceleration}};
+  for (const auto& [r, role] : accs) {
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, ErrorCode::kInvalidNumber);
+    EXPECT_EQ(r.error().value.problem, ValueProblem::kTooLarge);
+    EXPECT_EQ(r.error().value.role, role);
+    EXPECT_EQ(int(r.error().value.component), 2);
+    EXPECT_EQ(r.error().value.magnitude, -1.5e12);
+  }
+  const std::pair<Expected<Wrench, Error>, ValueRole> wrs[] = {
+      {MakeWrench(n.Wr(), big, ok), ValueRole::kForce},
+      {MakeWrench(n.Wr(), ok, big), ValueRole::kMoment}};
+  for (const auto& [r, role] : wrs) {
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().value.problem, ValueProblem::kTooLarge);
+    EXPECT_EQ(r.error().value.role, role);
+    EXPECT_EQ(Describe(r.error(), n.table),
+              std::string(role == ValueRole::kForce ? "force" : "moment") +
+                  " component 2 is -1.5e+12 (magnitude above 1e+12)");
+  }
 }
 
 TEST(Validate, FiniteVectorsWithinRangeAreKeptExactly) {

@@ -20,6 +20,7 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "support/tolerance.h"
+#include "time_motions.h"
 
 namespace semgraph::core {
 namespace {
@@ -27,37 +28,7 @@ namespace {
 using semgraph::testing::ExpectNear;
 using Graph = SceneGraph<coord::QuaternionBackend>;
 
-Stamp S(double seconds) { return *StampFromSeconds(seconds); }
-Eigen::Quaterniond Rz(double a) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()));
-}
-Eigen::Quaterniond Rx(double a) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()));
-}
-
-struct ScrewMotion {
-  Eigen::Vector3d c{0.7, -0.4, 0.2};
-  double w = 1.3, h = 0.25;
-  Eigen::Quaterniond q(double s) const { return Rz(w * s); }
-  Eigen::Vector3d p(double s) const { return c - Rz(w * s) * c + Eigen::Vector3d(0, 0, h * s); }
-  Eigen::Vector3d v() const { return c.cross(Eigen::Vector3d(0, 0, w)) + Eigen::Vector3d(0, 0, h); }
-  Eigen::Vector3d omega() const { return {0, 0, w}; }
-};
-
-struct Orbit {
-  double rho = 1.5, a = 0.8, b = 2.1;
-  Eigen::Quaterniond q(double s) const { return Rz(a * s) * Rx(b * s); }
-  Eigen::Vector3d p(double s) const {
-    return rho * Eigen::Vector3d(std::cos(a * s), std::sin(a * s), 0);
-  }
-  Eigen::Vector3d omega(double s) const {
-    return a * (Rx(b * s).conjugate() * Eigen::Vector3d::UnitZ()) + b * Eigen::Vector3d::UnitX();
-  }
-  Eigen::Vector3d v(double s) const {
-    return q(s).conjugate() *
-           Eigen::Vector3d(-rho * a * std::sin(a * s), rho * a * std::cos(a * s), 0);
-  }
-};
+using namespace time_motions;  // S, Rz, Rx, ScrewMotion, Orbit
 
 // The error of a query result; code kOk when it answered (error() of an answer is not one).
 template <class R>

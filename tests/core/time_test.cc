@@ -19,6 +19,7 @@
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "support/tolerance.h"
+#include "time_motions.h"
 
 namespace semgraph::core {
 namespace {
@@ -26,30 +27,7 @@ namespace {
 using semgraph::testing::ExpectNear;
 using Graph = SceneGraph<coord::QuaternionBackend>;
 
-Stamp S(double seconds) { return *StampFromSeconds(seconds); }
-Eigen::Quaterniond Rz(double a) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()));
-}
-Eigen::Quaterniond Rx(double a) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()));
-}
-
-struct ScrewMotion {
-  Eigen::Vector3d c{0.7, -0.4, 0.2};
-  double w = 1.3, h = 0.25;
-  Eigen::Quaterniond q(double s) const { return Rz(w * s); }
-  Eigen::Vector3d p(double s) const { return c - Rz(w * s) * c + Eigen::Vector3d(0, 0, h * s); }
-  Eigen::Vector3d v() const { return c.cross(Eigen::Vector3d(0, 0, w)) + Eigen::Vector3d(0, 0, h); }
-  Eigen::Vector3d omega() const { return {0, 0, w}; }
-};
-
-struct Orbit {
-  double rho = 1.5, a = 0.8, b = 2.1;
-  Eigen::Quaterniond q(double s) const { return Rz(a * s) * Rx(b * s); }
-  Eigen::Vector3d p(double s) const {
-    return rho * Eigen::Vector3d(std::cos(a * s), std::sin(a * s), 0);
-  }
-};
+using namespace time_motions;  // S, Rz, Rx, ScrewMotion, Orbit
 
 const PoseSpec kOinW = PoseSpec::Of("o").RelativeTo("w");
 

@@ -1,5 +1,6 @@
-// A child process of a test: spawned with its stdout in a temporary file, killed (SIGKILL) and
-// reaped on destruction, so that no test leaves a process behind.
+// A child process of a test: spawned with its stdout in a temporary file and its stdin a pipe
+// (Command() drives a node line by line), killed (SIGKILL) and reaped on destruction, so that no
+// test leaves a process behind. Used by tests/dds and tests/ros_dds.
 #pragma once
 
 #include <fcntl.h>
@@ -27,19 +28,26 @@ class Child {
     const int fd = mkstemp(path);
     out_path_ = path;
     close(fd);
+    int pipe_fds[2];
+    if (pipe(pipe_fds) != 0) return;
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, pipe_fds[0], 0);
+    posix_spawn_file_actions_addclose(&actions, pipe_fds[1]);
     posix_spawn_file_actions_addopen(&actions, 1, out_path_.c_str(), O_WRONLY | O_TRUNC, 0600);
     std::vector<char*> argv;
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
     if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&actions);
+    close(pipe_fds[0]);
+    in_ = pipe_fds[1];
   }
   Child(const Child&) = delete;
   Child& operator=(const Child&) = delete;
   ~Child() {
     Kill();
+    if (in_ >= 0) close(in_);
     std::remove(out_path_.c_str());
   }
   [[nodiscard]] bool started() const { return pid_ > 0; }
@@ -86,11 +94,29 @@ class Child {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
   }
+  /// Sends one command line and waits for the node's "ok <n>" (true; n counts the commands),
+  /// or its "error <n> ..." or the timeout (false).
+  bool Command(const std::string& line,
+               std::chrono::milliseconds timeout = std::chrono::milliseconds(20000)) {
+    const std::string text = line + "\n";
+    if (write(in_, text.data(), text.size()) != static_cast<ssize_t>(text.size())) return false;
+    const std::string n = std::to_string(++sent_);
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      const std::string out = Output();
+      if (out.find("ok " + n + "\n") != std::string::npos) return true;
+      if (out.find("error " + n + " ") != std::string::npos) return false;
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
 
  private:
   pid_t pid_ = -1;
   bool exited_ = false;
   int code_ = -1;
+  int in_ = -1;  // the child's stdin
+  int sent_ = 0;
   std::string out_path_;
 };
 

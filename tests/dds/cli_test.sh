@@ -3,6 +3,10 @@
 # the one `semgraph run` prints for the same query on the same script, within 1e-12.
 #   cli_test.sh SEMGRAPH_BINARY SCRIPT
 set -euo pipefail
+# This run's own discovery tag (as tests/dds/dds_isolation.h): Cyclone DDS ignores participants
+# with another tag, e.g. the same test run at the same time from another checkout.
+tag="semgraph-test-$$-$RANDOM$RANDOM"
+export CYCLONEDDS_URI="${CYCLONEDDS_URI:+$CYCLONEDDS_URI,}<Discovery><Tag>$tag</Tag></Discovery>"
 tool="$1"
 script="$2"
 out="$(mktemp -d)"

@@ -7,9 +7,11 @@
 //       object (edges c->o and the twist gone) and with a new edge {probe} wrt {tool}.
 //   dds_test_node claim DOMAIN OWNER PARENT         publish {PARENT} wrt {w} and {o}|O wrt {PARENT}
 //       (a conflicting claim when two owners run it with different parents), stay at most 20 s.
-//   dds_test_node joints DOMAIN OWNER                the 10 s joint scene (scenes.h), stamped:
-//       10,000 joint states (1 kHz of scene time) and 300 detections (30 Hz) as fast as the
-//       mirrors take them, then the frame `done`, "P" answers at the compared stamps, "READY".
+//   dds_test_node joints DOMAIN OWNER MIRRORS        the 10 s joint scene (scenes.h), stamped:
+//       once MIRRORS mirrors matched (Publisher::WaitForMirrors: the stream is longer than the
+//       1024-sample history a late mirror gets), 10,000 joint states (1 kHz of scene time) and
+//       300 detections (30 Hz) as fast as the mirrors take them, then the frame `done`, "P"
+//       answers at the compared stamps, "READY".
 //   dds_test_node timed_mirror DOMAIN NAME LIMIT_MS  mirror the joint scene until `done` and caught
 //       up; print refusals ("R"), samples received per joint ("S name n"), the timed answers ("Q").
 //   dds_test_node mirror DOMAIN NAME FRAME OWNERS LIMIT_MS   mirror until frame FRAME exists,
@@ -77,7 +79,7 @@ int Robot(std::uint32_t domain, const std::string& owner, int steps) {
   return 0;
 }
 
-int Joints(std::uint32_t domain, const std::string& owner) {
+int Joints(std::uint32_t domain, const std::string& owner, std::uint32_t mirrors) {
   auto made = core::SceneGraph<>::Create(dds_test::TenSecondTime());
   if (!made) return 3;
   core::SceneGraph<>& g = *made;
@@ -89,7 +91,10 @@ int Joints(std::uint32_t domain, const std::string& owner) {
   auto obj = g.FindPoseEdge("o", "c");
   auto vel = g.FindTwistEdge("o", "C");
   if (!group || !obj || !vel) return 3;
-  std::this_thread::sleep_for(300ms);  // let the mirrors match
+  if (auto matched = (*pub)->WaitForMirrors(mirrors, 30s); !matched) {
+    std::fprintf(stderr, "%s\n", matched.error().c_str());
+    return 3;
+  }
   int j = 0;
   for (int k = 1; k <= dds_test::kJointSteps; ++k) {
     const double q[] = {dds_test::Q1(k), dds_test::Q2(k), dds_test::Q3(k)};
@@ -239,7 +244,9 @@ int main(int argc, char** argv) {
   const auto domain = static_cast<std::uint32_t>(std::atoi(argv[2]));
   if (mode == "robot" && argc == 5) return Robot(domain, argv[3], std::atoi(argv[4]));
   if (mode == "robot_v2" && argc == 4) return RobotV2(domain, argv[3]);
-  if (mode == "joints" && argc == 4) return Joints(domain, argv[3]);
+  if (mode == "joints" && argc == 5) {
+    return Joints(domain, argv[3], static_cast<std::uint32_t>(std::atoi(argv[4])));
+  }
   if (mode == "timed_mirror" && argc == 5) return TimedMirror(domain, argv[3], std::atoi(argv[4]));
   if (mode == "claim" && argc == 5) return Claim(domain, argv[3], argv[4]);
   if (mode == "mirror" && argc == 7) {

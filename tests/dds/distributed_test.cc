@@ -8,6 +8,7 @@
 #include <map>
 
 #include "child_process.h"
+#include "dds_isolation.h"
 #include "scenes.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/dds/mirror.h"
@@ -182,7 +183,7 @@ TEST(DistributedTest, LateMirrorCatchesUp) {
 TEST(DistributedTest, TenSecondJointSceneMirrorsAnswerAsThePublisherAtStamps) {
   Child m1({kNode, "timed_mirror", "15", "m1", "40000"});
   Child m2({kNode, "timed_mirror", "15", "m2", "40000"});
-  Child pub({kNode, "joints", "15", "arm"});
+  Child pub({kNode, "joints", "15", "arm", "2"});  // streams once both mirrors matched
   ASSERT_TRUE(pub.started() && m1.started() && m2.started());
   ASSERT_EQ(m1.Wait(45s), 0) << m1.Output().substr(0, 2000);
   ASSERT_EQ(m2.Wait(10s), 0) << m2.Output().substr(0, 2000);

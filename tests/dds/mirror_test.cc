@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 
+#include "dds_isolation.h"
 #include "scenes.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/dds/publisher.h"

@@ -107,3 +107,52 @@ def test_time_kinematics_and_repair_keywords_are_documented():
     for word in ["6 x n", "joints", "expressed_in"]:
         assert word in g.jacobian.__doc__, word
     assert "without the GIL" in g.load_urdf.__doc__
+
+
+def ros_module():
+    import pytest
+    if not semgraph._semgraph._has_ros:
+        pytest.skip("built without the ROS layer")
+    import importlib
+    ros = importlib.import_module("semgraph.ros")
+    path = os.path.join(os.path.dirname(semgraph.__file__), "ros.pyi")
+    with open(path) as f:
+        return ros, ast.parse(f.read())
+
+
+def test_ros_stubs_cover_the_submodule():
+    ros, tree = ros_module()
+    classes, functions = stub_members(tree)
+    for name in ros.__all__:
+        assert name in classes or name in functions, name
+        obj = getattr(ros, name)
+        if inspect.isclass(obj) and not issubclass(obj, BaseException):
+            assert obj.__doc__, name
+            public = {m for m in dir(obj) if not m.startswith("_")}
+            assert public <= classes[name], (name, public - classes[name])
+        elif not inspect.isclass(obj):
+            assert obj.__doc__ and len(obj.__doc__) > 200, name
+
+
+def test_ros_stub_signatures_match_the_module():
+    ros, tree = ros_module()
+    checked = 0
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef) and hasattr(ros, node.name):
+            a = node.args
+            stub_args = [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs]
+            assert pybind_keywords(getattr(ros, node.name).__doc__) == stub_args, node.name
+            checked += 1
+    for class_name in ["Listener", "Broadcaster"]:
+        if not hasattr(ros, class_name):
+            continue
+        cls = getattr(ros, class_name)
+        for name, stub_args in stub_signatures(tree, class_name).items():
+            if name.startswith("__") and name != "__init__":
+                continue
+            assert pybind_keywords(getattr(cls, name).__doc__) == stub_args, (class_name, name)
+            checked += 1
+    assert checked >= 4
+    for word in ["same_body", "own_body", "bodies", "urdf", "BagError", "byte offset", "GIL", "window"]:
+        assert word in ros.load_bag.__doc__, word
+    assert "streaming" in ros.read_bag.__doc__

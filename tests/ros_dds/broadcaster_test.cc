@@ -1,7 +1,8 @@
 // Broadcaster (semgraph/ros_dds/broadcaster.h): the bytes Cyclone DDS puts on the wire for its
 // rt/tf and rt/tf_static samples, taken raw (dds_takecdr), equal Foxglove's serialization of
 // the same messages (tests/ros/fixtures/write_fixtures.mjs: broadcast_tf, broadcast_tf_static);
-// what each Broadcast() sends (only what changed); BodiesOf.
+// what each Broadcast() sends (only what changed); WaitForSubscribers (a timeout without
+// readers; with one, a sample without data, then the broadcast reaches it); BodiesOf.
 #include "semgraph/ros_dds/broadcaster.h"
 
 #include <dds/dds.h>
@@ -14,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "dds_isolation.h"
 #include "ros2_messages.h"
 
 namespace semgraph::ros_dds {
@@ -101,9 +103,7 @@ TEST(BroadcasterTest, SamplesOnTheWireAreFoxglovesSerializationByteForByte) {
   RawReader tf(participant, "rt/tf", false), tf_static(participant, "rt/tf_static", true);
   ASSERT_GT(tf.reader, 0);
   ASSERT_GT(tf_static.reader, 0);
-  for (int i = 0; i < 5000 && (*b)->subscribers() == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
+  ASSERT_TRUE((*b)->WaitForSubscribers(1, std::chrono::seconds(10)));  // Take skips its unregister
   ASSERT_EQ((*b)->subscribers(), 1u);
   const auto sent = (*b)->Broadcast();
   ASSERT_TRUE(sent) << sent.error();
@@ -116,6 +116,39 @@ TEST(BroadcasterTest, SamplesOnTheWireAreFoxglovesSerializationByteForByte) {
   EXPECT_EQ(got_tf, expected_tf);
   EXPECT_EQ(got_static, expected_static);
   EXPECT_EQ(Bytes(got_tf.begin(), got_tf.begin() + 4), (Bytes{0, 1, 0, 0}));  // XCDR1, LE
+  dds_delete(participant);
+}
+
+TEST(BroadcasterTest, WaitForSubscribersWaitsForReadersInSyncAndSendsNoData) {
+  constexpr std::uint32_t kDomain = 151;
+  SceneGraph<> g;
+  BuildFixtureGraph(g);
+  auto b = Broadcaster::Create(g, {kDomain, {}});
+  ASSERT_TRUE(b) << b.error();
+  // No reader: a timeout, with the counts.
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto none = (*b)->WaitForSubscribers(1, std::chrono::milliseconds(150));
+  ASSERT_FALSE(none);
+  EXPECT_GE(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(150));
+  EXPECT_EQ(none.error(),
+            "0 subscriber(s) matched on rt/tf of 1 expected, or not all in sync, within 150 ms");
+  const dds_entity_t participant = dds_create_participant(kDomain, nullptr, nullptr);
+  ASSERT_GT(participant, 0);
+  RawReader tf(participant, "rt/tf", false);
+  ASSERT_GT(tf.reader, 0);
+  ASSERT_TRUE((*b)->WaitForSubscribers(1, std::chrono::seconds(10)));
+  EXPECT_EQ((*b)->subscribers(), 1u);
+  // What it sent: one unregister, no data (a tf reader skips it).
+  ddsi_serdata* sd[1] = {nullptr};
+  dds_sample_info_t info[1];
+  ASSERT_EQ(dds_takecdr(tf.reader, sd, 1, info, DDS_ANY_STATE), 1);
+  ddsi_serdata_unref(sd[0]);
+  EXPECT_FALSE(info[0].valid_data);
+  EXPECT_NE(info[0].instance_state, DDS_IST_ALIVE);
+  EXPECT_EQ(dds_takecdr(tf.reader, sd, 1, info, DDS_ANY_STATE), 0);
+  // The next broadcast's samples reach the reader, and the instance is alive again.
+  ASSERT_TRUE((*b)->Broadcast());
+  EXPECT_FALSE(tf.Take(std::chrono::seconds(10)).empty());
   dds_delete(participant);
 }
 

@@ -20,8 +20,9 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.h"
+#include "dds_isolation.h"
 #include "live_scene.h"
-#include "ros_child.h"
 #include "semgraph/ros_dds/broadcaster.h"
 
 namespace semgraph::ros_dds {
@@ -30,21 +31,12 @@ namespace {
 using namespace std::chrono_literals;
 using core::PoseSpec;
 using core::SceneGraph;
-using ros_dds_test::Child;
+using dds_test::Child;
 using ros_dds_test::kStep;
 using ros_dds_test::kT0;
 
 Child Node(std::uint32_t domain) {
   return Child({SEMGRAPH_ROS_DDS_TEST_NODE, std::to_string(domain)});
-}
-
-// Waits until `l` matched `writers` writers on rt/tf, then a little more: /tf is volatile, and a
-// reader that has just matched a writer may still drop the writer's first samples until its
-// first heartbeat arrives (Cyclone's heartbeat interval is 100 ms).
-bool Matched(const Listener& l, std::uint32_t writers) {
-  if (!l.WaitUntil([&] { return l.tf_publishers() == writers; }, 20s)) return false;
-  std::this_thread::sleep_for(300ms);
-  return true;
 }
 
 ListenerOptions On(std::uint32_t domain) {
@@ -116,15 +108,12 @@ TEST(ListenerTest, BroadcastSceneReadBackAnswersEveryPoseQueryAsTheOriginal) {
 
   Child node = Node(kDomain);
   ASSERT_TRUE(node.started());
+  // The scene's first Broadcast() sends sample 0 before any reader can have it (rt/tf is
+  // volatile). Once both listeners are matched and in sync with both rt/tf writers (the raw
+  // one and the broadcaster), a rewind restates it, and it reaches them, the first time.
   ASSERT_TRUE(node.Command("scene"));
   ASSERT_TRUE(node.Command("wait_subscribers 2"));
-  for (Listener* l : {l1->get(), l2->get()}) {  // the raw writer's and the broadcaster's
-    ASSERT_TRUE(Matched(*l, 2));
-  }
-  // Sample 0 first, sent again until both listeners have it: a volatile reader that has just
-  // matched a writer may still miss that writer's first /tf sample (seen under ThreadSanitizer,
-  // about one run in six); a restated sample is an identical one (duplicate policy replace).
-  ASSERT_TRUE(node.Command("steps 0 0"));
+  ASSERT_TRUE(node.Command("rewind"));
   const auto has = [](const Listener& l, const char* frame, std::int64_t stamp) {
     bool found = false;
     l.WithGraph([&](const SceneGraph<>& g) {
@@ -140,11 +129,8 @@ TEST(ListenerTest, BroadcastSceneReadBackAnswersEveryPoseQueryAsTheOriginal) {
     }
     return true;
   };
-  for (int attempt = 0; attempt < 10 && !(*l1)->WaitUntil([&] { return both(kT0); }, 1s);
-       ++attempt) {
-    ASSERT_TRUE(node.Command("rewind"));
-  }
-  ASSERT_TRUE(both(kT0)) << History(**l1, "base") << "; " << History(**l2, "base");
+  ASSERT_TRUE((*l1)->WaitUntil([&] { return both(kT0); }, 20s))
+      << History(**l1, "base") << "; " << History(**l2, "base");
   ASSERT_TRUE(node.Command("steps 1 " + std::to_string(kSteps)));
   const std::int64_t last = kT0 + kSteps * kStep;
   ASSERT_TRUE((*l1)->WaitUntil([&] { return both(last); }, 20s))
@@ -182,8 +168,8 @@ TEST(ListenerTest, LateJoinerGetsTheStaticTransforms) {
   ASSERT_TRUE(ros_dds_test::BuildScene(original));
   Child node = Node(kDomain);
   ASSERT_TRUE(node.Command("scene"));
-  ASSERT_TRUE(node.Command("steps 0 0"));  // the static message and sample 0, no reader yet
-  std::this_thread::sleep_for(300ms);
+  // The static message and sample 0, written (dds_write returned) before any reader exists.
+  ASSERT_TRUE(node.Command("steps 0 0"));
 
   SceneGraph<> late;
   auto listener = Listener::Create(late, On(kDomain));
@@ -222,8 +208,7 @@ TEST(ListenerTest, BurstOfOneThousandTransformsInOneMessage) {
   ASSERT_TRUE(listener) << listener.error();
   Listener& l = **listener;
   Child node = Node(kDomain);
-  ASSERT_TRUE(node.Command("wait_subscribers 1"));
-  ASSERT_TRUE(Matched(l, 1));
+  ASSERT_TRUE(node.Command("wait_subscribers 1"));  // matched and in sync
   ASSERT_TRUE(node.Command("burst " + std::to_string(kN) + " " + std::to_string(kSec)));
   ASSERT_TRUE(l.WaitUntil([&] { return l.stats().counts.transforms == kN; }, 20s));
   EXPECT_EQ(l.stats().counts.applied, static_cast<std::uint64_t>(kN));
@@ -267,8 +252,7 @@ TEST(ListenerTest, CompiledQueriesRunWhileTheListenerAddsFrames) {
   ASSERT_TRUE(listener) << listener.error();
   Listener& l = **listener;
   Child node = Node(kDomain);
-  ASSERT_TRUE(node.Command("wait_subscribers 1"));
-  ASSERT_TRUE(Matched(l, 1));
+  ASSERT_TRUE(node.Command("wait_subscribers 1"));  // matched and in sync
   ASSERT_TRUE(node.Command("tf world base 1733300000 0 1 2 3 0 0 0 1"));
   ASSERT_TRUE(l.WaitUntil([&] { return l.stats().counts.applied == 1; }, 20s));
   std::optional<core::CompiledPose<coord::QuaternionBackend>> query;
@@ -373,10 +357,7 @@ class FindingsTest : public ::testing::Test {
     own_body_ = std::move(*o);
     node_ = std::make_unique<Child>(
         std::vector<std::string>{SEMGRAPH_ROS_DDS_TEST_NODE, std::to_string(kDomain)});
-    ASSERT_TRUE(node_->Command("wait_subscribers 2"));
-    for (Listener* l : {same_body_.get(), own_body_.get()}) {
-      ASSERT_TRUE(Matched(*l, 1));
-    }
+    ASSERT_TRUE(node_->Command("wait_subscribers 2"));  // both listeners, in sync
   }
 
   // Sends a command that carries `transforms` transforms, waits until both listeners applied
@@ -510,7 +491,7 @@ TEST(ListenerTest, LatencyFromTheBroadcastersWriteToTheListenersGraph) {
   Listener& l = **listener;
   Child node = Node(kDomain);
   ASSERT_TRUE(node.Command("latency_setup"));
-  ASSERT_TRUE(Matched(l, 2));
+  ASSERT_TRUE(node.Command("wait_subscribers 1"));  // raw writer and broadcaster, in sync
   ASSERT_TRUE(node.Command("latency " + std::to_string(kN) + " 200", 60s));
   ASSERT_TRUE(l.WaitUntil([&] { return l.stats().counts.applied == kN; }, 20s))
       << l.stats().counts.applied;

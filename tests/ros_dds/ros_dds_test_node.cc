@@ -4,7 +4,11 @@
 //   steps A B             samples A..B of the scene (AddStep; 0: BuildScene's), one Broadcast
 //                         each, 2 ms apart
 //   rewind                Broadcaster::Rewind, then Broadcast (every stored sample again)
-//   wait_subscribers N    until N readers matched the broadcaster's rt/tf
+//   wait_subscribers N    until N readers matched each rt/tf writer here (the raw one, and the
+//                         broadcasters made so far) and are in sync with it, so that every
+//                         sample written afterwards reaches them (SyncWithReaders,
+//                         Broadcaster::WaitForSubscribers: event-driven, no sleep)
+//   wait_acks             until every matched reader acknowledged everything written so far
 //   latency_setup         a Broadcaster of a graph of its own (for `latency`)
 //   latency N HZ          N stamped samples world -> base at HZ, each broadcast at once (stamp:
 //                         now)
@@ -36,6 +40,7 @@
 #include "live_scene.h"
 #include "ros2_messages.h"
 #include "semgraph/ros_dds/broadcaster.h"
+#include "semgraph_dds_shared/entity.h"
 
 namespace {
 
@@ -145,15 +150,23 @@ class Node {
     if (cmd == "wait_subscribers") {
       std::uint32_t n = 0;
       in >> n;
-      const dds_entity_t w = raw_.tf;
-      for (int i = 0; i < 5000; ++i) {
-        dds_publication_matched_status_t s{};
-        dds_get_publication_matched_status(w, &s);
-        const bool b = !scene_broadcaster_ || scene_broadcaster_->subscribers() >= n;
-        if (s.current_count >= n && b) return {};
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      const tf2_msgs_msg_dds__TFMessage_ key{};  // keyless: any sample names the one instance
+      if (semgraph::dds_shared::SyncWithReaders(raw_.tf, n, DDS_SECS(20), &key) != 0) {
+        return "raw rt/tf: no " + std::to_string(n) + " subscribers in sync";
       }
-      return "no subscribers";
+      for (Broadcaster* b : {scene_broadcaster_.get(), latency_broadcaster_.get()}) {
+        if (b == nullptr) continue;
+        if (auto synced = b->WaitForSubscribers(n, std::chrono::seconds(20)); !synced) {
+          return synced.error();
+        }
+      }
+      return {};
+    }
+    if (cmd == "wait_acks") {
+      for (dds_entity_t w : {raw_.tf, raw_.tf_static, raw_.joints, raw_.description}) {
+        if (dds_wait_for_acks(w, DDS_SECS(20)) != DDS_RETCODE_OK) return "no acknowledgement";
+      }
+      return {};
     }
     if (cmd == "sleep") {
       int ms = 0;

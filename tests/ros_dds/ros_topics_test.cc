@@ -5,7 +5,9 @@
 
 #include <cstdlib>
 
+#include "dds_isolation.h"
 #include "semgraph/ros_dds/listener.h"
+
 
 namespace semgraph::ros_dds {
 namespace {

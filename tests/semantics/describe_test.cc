@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "semgraph/semantics/dynamics_operations.h"
 #include "semgraph/semantics/operations.h"
 
 namespace semgraph::semantics {
@@ -299,6 +300,46 @@ TEST_F(DescribeMismatch, AcceptedOperationsHaveNoMessage) {
   const PositionSemantics p_DC{e, C, f, D, r};
   const PositionSemantics p_ED{f, D, g, E, r};
   EXPECT_EQ(Message(Compose(p_DC, p_ED)), "<accepted>");
+}
+
+// ================================================================ Accelerations and wrenches
+
+TEST_F(DescribeSemantics, WritesAnAcceleration) {
+  const AccelerationSemantics A_DCe{e, C, D, r};
+  EXPECT_EQ(Describe(A_DCe, names_), "AccelerationCoord(e|C, D, [r])");
+}
+
+TEST_F(DescribeSemantics, WritesAWrenchOnItsBodyByTheOther) {
+  const WrenchSemantics F_DCe{e, C, D, r};
+  EXPECT_EQ(Describe(F_DCe, names_), "WrenchCoord(e|C, D, [r])");
+  const WrenchSemantics F_Ce{e, C, Body(), r, true};
+  EXPECT_EQ(Describe(F_Ce, names_), "WrenchCoord(e|C, several, [r])");
+  EXPECT_EQ(Describe(PowerSemantics{C, D}, names_), "Power(C, D)");
+}
+
+TEST_F(DescribeMismatch, NamesTheTwistAnAccelerationOperationNeeds) {
+  const AccelerationSemantics A_DCe{e, C, D, r};
+  EXPECT_EQ(Message(Inverse(A_DCe, TwistSemantics{e, D, C, r})),
+            "inverse: body D of the argument twist does not match body C of the acceleration");
+  const AccelerationSemantics A_EDe{e, D, E, r};
+  EXPECT_EQ(Message(Compose(A_DCe, A_EDe, VelocityOf(A_DCe), AngularVelocitySemantics{D, F, r})),
+            "compose: reference body F of the argument angular velocity does not match reference "
+            "body E of the second");
+}
+
+TEST_F(DescribeMismatch, NamesAWrenchsBodiesByTheirRoles) {
+  const WrenchSemantics F_DCe{e, C, D, r};
+  EXPECT_EQ(Message(PowerOf(F_DCe, TwistSemantics{e, C, E, r})),
+            "power: reference body E of the argument twist does not match by body D of the wrench");
+  EXPECT_EQ(Message(Sum(F_DCe, WrenchSemantics{e, D, C, r})),
+            "sum: on body C of the first does not match on body D of the second");
+  const WrenchSemantics F_Ce{e, C, Body(), r, true};
+  EXPECT_EQ(Message(PowerOf(F_Ce, TwistSemantics{e, C, D, r})),
+            "power: reference body D of the argument twist does not match by body (several "
+            "bodies) of the wrench");
+  EXPECT_EQ(Message(Reaction(F_Ce)),
+            "reaction: the wrench on C is a sum of wrenches by several bodies, which has no single "
+            "reaction");
 }
 
 }  // namespace

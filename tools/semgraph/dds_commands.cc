@@ -3,7 +3,6 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -12,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "live_command.h"
 #include "script_runner.h"
 #include "semgraph/dds/mirror.h"
 #include "semgraph/dds/publisher.h"
@@ -42,9 +42,6 @@ Options:
                  for dot --live, unlimited otherwise)
 Configure DDS with CYCLONEDDS_URI (interfaces, peers): docs/distributed.md.
 )";
-
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop.store(true); }
 
 struct Args {
   std::vector<std::string> positional;
@@ -93,11 +90,6 @@ int Usage(const std::string& problem) {
   return kExitMalformed;
 }
 
-bool TimeUp(Clock::time_point start, double seconds) {
-  return g_stop.load() ||
-         (seconds >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= seconds);
-}
-
 int Serve(const Args& a) {
   if (a.positional.size() != 1) return Usage("serve needs one FILE");
   const std::string& path = a.positional[0];
@@ -132,7 +124,9 @@ int Serve(const Args& a) {
               JsonString(owner).c_str(), graph.num_pose_edges(), graph.num_twist_edges());
   std::fflush(stdout);
   const auto start = Clock::now();
-  while (!TimeUp(start, a.seconds)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  while (!live::TimeUp(start, a.seconds)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   return run.status;
 }
 
@@ -158,7 +152,7 @@ int Echo(const Args& a) {
   const auto start = Clock::now();
   std::string last;
   long printed = 0;
-  while (!TimeUp(start, a.seconds) && (a.count < 0 || printed < a.count)) {
+  while (!live::TimeUp(start, a.seconds) && (a.count < 0 || printed < a.count)) {
     if (!changed.exchange(false)) {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
       continue;
@@ -214,7 +208,7 @@ int Monitor(const Args& a) {
   const auto start = Clock::now();
   std::map<std::string, std::uint64_t> previous;
   auto last = Clock::now();
-  while (!TimeUp(start, a.seconds)) {
+  while (!live::TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::seconds(1));
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
@@ -255,7 +249,7 @@ int DotLive(const Args& a) {
   }
   const double seconds = a.seconds >= 0 ? a.seconds : 10.0;
   const bool caught_up =
-      (*mirror)->WaitUntil([&] { return g_stop.load() || (*mirror)->CaughtUp(); },
+      (*mirror)->WaitUntil([&] { return live::StopRequested() || (*mirror)->CaughtUp(); },
                            std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
   std::string dot;
   (*mirror)->WithGraph([&](const core::SceneGraph<>& g) { dot = WriteDot(g); });
@@ -271,26 +265,14 @@ bool IsDdsCommand(int argc, char** argv) {
   if (argc < 2) return false;
   const std::string_view c = argv[1];
   if (c == "serve" || c == "echo" || c == "monitor") return true;
-  if (c == "dot") {
-    for (int i = 2; i < argc; ++i) {
-      if (std::string_view(argv[i]) == "--live") return true;
-    }
-  }
-  return false;
+  return c == "dot" && live::HasFlag(argc, argv, "--live");
 }
 
 int RunDdsCommand(int argc, char** argv) {
-  for (int i = 2; i < argc; ++i) {
-    const std::string_view s = argv[i];
-    if (s == "--help" || s == "-h") {
-      std::fwrite(kDdsUsage.data(), 1, kDdsUsage.size(), stdout);
-      return kExitOk;
-    }
-  }
+  if (live::PrintedHelp(argc, argv, kDdsUsage)) return kExitOk;
   const Args a = Parse(argc, argv);
   if (!a.error.empty()) return Usage(a.error);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  live::StopOnSignals();
   const std::string_view c = argv[1];
   if (c == "serve") return Serve(a);
   if (c == "echo") return Echo(a);

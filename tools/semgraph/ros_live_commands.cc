@@ -1,10 +1,8 @@
 // semgraph echo --ros / check --ros / serve --ros (ros_live_commands.h; docs/ros.md).
 #include "ros_live_commands.h"
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
@@ -16,6 +14,7 @@
 #include <vector>
 
 #include "bag_commands.h"
+#include "live_command.h"
 #include "script_runner.h"
 #include "semgraph/ros_dds/broadcaster.h"
 #include "semgraph/ros_dds/listener.h"
@@ -30,7 +29,7 @@ constexpr std::string_view kRosUsage =
     R"(Usage: semgraph echo --ros pose OF WRT [--in FRAME] [--rate HZ] [--count N]
                             [OPTIONS]
        semgraph check --ros [--window S] [OPTIONS]
-       semgraph serve --ros FILE [OPTIONS]
+       semgraph serve --ros FILE [--subscribers N] [OPTIONS]
 
 Live ROS 2 over DDS (rt/tf, rt/tf_static, rt/joint_states, rt/robot_description), no ROS
 installation needed:
@@ -44,7 +43,8 @@ installation needed:
                at the end; exit 0 clean, 1 findings
   serve --ros  apply the scene script FILE and publish its graph as tf until stopped (Ctrl-C)
                or --seconds pass: stamped edges' samples on /tf (again when a new subscriber
-               appears), timeless edges in one /tf_static message
+               appears), timeless edges in one /tf_static message; with --subscribers N, the
+               first /tf samples wait until N subscribers are matched and in sync
 
 Options:
   --domain N        DDS domain (default: ROS_DOMAIN_ID, else 0)
@@ -55,15 +55,13 @@ Options:
 Configure DDS with CYCLONEDDS_URI (interfaces, peers): docs/ros.md, "Live ROS 2".
 )";
 
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop.store(true); }
-
 struct Args {
   std::vector<std::string> positional;
   std::optional<std::uint32_t> domain;
   double seconds = -1;
   double rate = 1.0;
   long count = -1;
+  std::uint32_t subscribers = 0;
   double window = 10.0;
   std::string in;
   ros::LiftOptions lift;
@@ -110,6 +108,12 @@ Args Parse(int argc, char** argv) {
     } else if (s == "--count") {
       number(&n, true);
       a.count = static_cast<long>(n);
+    } else if (s == "--subscribers") {
+      number(&n, true);
+      if (a.error.empty() && (n > 1000 || n != std::floor(n))) {
+        a.error = "--subscribers needs an integer from 1 to 1000";
+      }
+      a.subscribers = static_cast<std::uint32_t>(n);
     } else if (s == "--in") {
       if (const char* v = value()) a.in = v;
     } else if (s == "--static") {
@@ -134,11 +138,6 @@ int Usage(const std::string& problem) {
   std::fprintf(stderr, "semgraph: %s\n%.*s", problem.c_str(), static_cast<int>(kRosUsage.size()),
                kRosUsage.data());
   return kExitMalformed;
-}
-
-bool TimeUp(Clock::time_point start, double seconds) {
-  return g_stop.load() ||
-         (seconds >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= seconds);
 }
 
 std::string Vec(const Eigen::Vector3d& v) {
@@ -192,7 +191,7 @@ int Echo(const Args& a) {
   const auto period = std::chrono::duration<double>(1.0 / a.rate);
   long printed = 0, answered = 0;
   auto next = Clock::now();
-  while (!TimeUp(start, a.seconds) && (a.count < 0 || printed < a.count)) {
+  while (!live::TimeUp(start, a.seconds) && (a.count < 0 || printed < a.count)) {
     std::this_thread::sleep_until(next);
     next += std::chrono::duration_cast<Clock::duration>(period);
     std::string line;
@@ -231,7 +230,7 @@ int Check(const Args& a) {
   if (!listener) return Usage(listener.error());
   const auto start = Clock::now();
   auto last = start;  // the last time grown groups were printed again
-  while (!TimeUp(start, a.seconds)) {
+  while (!live::TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (Clock::now() - last < std::chrono::seconds(1)) continue;
     last = Clock::now();
@@ -273,6 +272,12 @@ int Serve(const Args& a) {
   auto broadcaster = ros_dds::Broadcaster::Create(graph, {a.domain, {}});
   if (!broadcaster) return Usage(broadcaster.error());
   ros_dds::Broadcaster& b = **broadcaster;
+  const auto start = Clock::now();
+  // --subscribers N: the first /tf samples go out once N readers are matched and in sync (they
+  // reach them); waited for in short slices so that Ctrl-C and --seconds still stop it.
+  while (a.subscribers > 0 && !live::TimeUp(start, a.seconds) &&
+         !b.WaitForSubscribers(a.subscribers, std::chrono::milliseconds(200))) {
+  }
   auto sent = b.Broadcast();
   if (!sent) {
     std::fprintf(stderr, "semgraph: %s\n", sent.error().c_str());
@@ -281,23 +286,22 @@ int Serve(const Args& a) {
   std::printf("{\"serving\": \"ros\", \"domain\": %u, \"tf\": %zu, \"tf_static\": %zu}\n",
               b.domain(), sent->tf_transforms, b.last_static().transforms.size());
   std::fflush(stdout);
-  const auto start = Clock::now();
-  // rt/tf is volatile: the samples go again for each new subscriber, 300 ms after it matched
-  // (a reader that has just matched may still drop a writer's next sample).
+  // rt/tf is volatile: each new subscriber gets the stored samples again, once the matched
+  // readers are in sync (WaitForSubscribers), so that they reach it; the others get identical
+  // restatements.
   std::uint32_t subscribers = b.subscribers_matched();
-  std::optional<Clock::time_point> resend;
-  while (!TimeUp(start, a.seconds)) {
+  while (!live::TimeUp(start, a.seconds)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const std::uint32_t now = b.subscribers_matched();
-    if (now > subscribers) resend = Clock::now() + std::chrono::milliseconds(300);
-    if (resend && Clock::now() >= *resend) {
-      resend.reset();
-      b.Rewind();
-      if (auto again = b.Broadcast(); !again) {
-        std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());
-      }
-    }
+    if (now == subscribers) continue;
     subscribers = now;
+    if (auto synced = b.WaitForSubscribers(1, std::chrono::seconds(2)); !synced) {
+      std::fprintf(stderr, "semgraph: %s\n", synced.error().c_str());
+    }
+    b.Rewind();
+    if (auto again = b.Broadcast(); !again) {
+      std::fprintf(stderr, "semgraph: %s\n", again.error().c_str());
+    }
   }
   return run.status;
 }
@@ -307,25 +311,14 @@ int Serve(const Args& a) {
 bool IsRosLiveCommand(int argc, char** argv) {
   if (argc < 2) return false;
   const std::string_view c = argv[1];
-  if (c != "echo" && c != "check" && c != "serve") return false;
-  for (int i = 2; i < argc; ++i) {
-    if (std::string_view(argv[i]) == "--ros") return true;
-  }
-  return false;
+  return (c == "echo" || c == "check" || c == "serve") && live::HasFlag(argc, argv, "--ros");
 }
 
 int RunRosLiveCommand(int argc, char** argv) {
-  for (int i = 2; i < argc; ++i) {
-    const std::string_view s = argv[i];
-    if (s == "--help" || s == "-h") {
-      std::fwrite(kRosUsage.data(), 1, kRosUsage.size(), stdout);
-      return kExitOk;
-    }
-  }
+  if (live::PrintedHelp(argc, argv, kRosUsage)) return kExitOk;
   const Args a = Parse(argc, argv);
   if (!a.error.empty()) return Usage(a.error);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  live::StopOnSignals();
   const std::string_view c = argv[1];
   if (c == "echo") return Echo(a);
   if (c == "check") return Check(a);

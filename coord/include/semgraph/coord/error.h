@@ -6,7 +6,8 @@
 //   kSemanticMismatch          the names do not fit (mismatch says which fields)
 //   kRepresentationConstraint  the backend cannot express the semantics (representation names
 //                              the backend; mismatch.lhs/rhs name the two names it requires equal)
-//   kInvalidNumber             NaN or +-Inf in an input, or a position/velocity component beyond
+//   kInvalidNumber             NaN or +-Inf in an input, or a position/velocity/acceleration/
+//                              force/moment component beyond
 //                              kMaxMagnitude (value says where); subnormal inputs are accepted
 //                              and flushed to zero (they carry no physical meaning and would
 //                              slow down every later product)
@@ -33,8 +34,9 @@ using base::ErrorCode;
 /// Spec tolerance for rotations: | |q| - 1 | <= 1e-6; max |M^T M - I| <= 1e-6.
 inline constexpr double kRotationTolerance = 1e-6;
 
-/// Largest accepted magnitude of a position (m) or velocity (m/s, rad/s) component: beyond it,
-/// sums along long paths lose all precision (and 1e12 m is seven times Earth–Sun).
+/// Largest accepted magnitude of a position (m), velocity (m/s, rad/s), acceleration (m/s^2,
+/// rad/s^2), force (N) or moment (N m) component: beyond it, sums along long paths lose all
+/// precision (and 1e12 m is seven times Earth–Sun).
 inline constexpr double kMaxMagnitude = 1e12;
 
 /// What is wrong with an input number.
@@ -61,7 +63,14 @@ enum class ValueRole : std::uint8_t {
   kAngularVelocity,
   kJointPosition,
   kJointVelocity,
+<<<<<<< HEAD
   kCovariance,  ///< a 6x6 covariance; component = 6 * row + col (an eigenvalue: its index)
+=======
+  kLinearAcceleration,
+  kAngularAcceleration,
+  kForce,
+  kMoment,
+>>>>>>> main
 };
 
 struct ValueDetail {

@@ -74,6 +74,13 @@ template <Backend B>
     const AngularVelocitySemantics& s, const Eigen::Vector3d& w) noexcept;
 [[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Twist, Error> MakeTwist(
     const TwistSemantics& s, const Eigen::Vector3d& v, const Eigen::Vector3d& w) noexcept;
+/// Linear (classical) acceleration a, angular acceleration alpha.
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Acceleration, Error> MakeAcceleration(
+    const AccelerationSemantics& s, const Eigen::Vector3d& a,
+    const Eigen::Vector3d& alpha) noexcept;
+/// Force f, moment m (about the semantics' point).
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Expected<Wrench, Error> MakeWrench(
+    const WrenchSemantics& s, const Eigen::Vector3d& f, const Eigen::Vector3d& m) noexcept;
 
 // ------------------------------------------------------------------ implementation
 

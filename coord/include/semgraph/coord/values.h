@@ -12,11 +12,14 @@
 //   LinearVelocity      value = v of point e fixed to C, relative to D, in [r]
 //   AngularVelocity     value = w of C relative to D, in [r]
 //   Twist               linear = v (of the velocity reference point), angular = w, both in [r]
+//   Acceleration        linear = a (classical, of the point of C at e), angular = alpha, in [r]
+//   Wrench              force = f, moment = m about the point e, both in [r]
+//   Power               value = f.v + m.w, the power delivered to C by D (W)
 //
-// Positions, velocities and twists are 3-vectors in every backend (no constraints), so they are
-// not templates. Invariant (established by Make*, kept by every operation): numbers are finite,
-// rotations proper and normalized, semantics admitted by the backend.
-// Cost: fixed-size values, trivially copyable, no allocation.
+// Positions, velocities, twists, accelerations and wrenches are 3-vectors in every backend (no
+// constraints), so they are not templates. Invariant (established by Make*, kept by every
+// operation): numbers are finite, rotations proper and normalized, semantics admitted by the
+// backend. Cost: fixed-size values, trivially copyable, no allocation.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,12 +32,15 @@
 
 namespace semgraph::coord {
 
+using semantics::AccelerationSemantics;
 using semantics::AngularVelocitySemantics;
 using semantics::LinearVelocitySemantics;
 using semantics::OrientationSemantics;
 using semantics::PoseSemantics;
 using semantics::PositionSemantics;
+using semantics::PowerSemantics;
 using semantics::TwistSemantics;
+using semantics::WrenchSemantics;
 
 struct Position {
   PositionSemantics semantics;
@@ -81,6 +87,23 @@ struct Twist {
   TwistSemantics semantics;
   Eigen::Vector3d linear;
   Eigen::Vector3d angular;
+};
+
+struct Acceleration {
+  AccelerationSemantics semantics;
+  Eigen::Vector3d linear;   // a
+  Eigen::Vector3d angular;  // alpha
+};
+
+struct Wrench {
+  WrenchSemantics semantics;
+  Eigen::Vector3d force;   // f
+  Eigen::Vector3d moment;  // m, about semantics.point
+};
+
+struct Power {
+  PowerSemantics semantics;
+  double value = 0.0;
 };
 
 }  // namespace semgraph::coord

@@ -31,6 +31,7 @@
 // readers of compiled queries on other threads).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -110,6 +111,15 @@ class SEMGRAPH_DDS_EXPORT Publisher {
   /// so that it gets every edge's latest value, not only those of the batches it receives.
   void BeginBatch() noexcept;
   void Flush();
+
+  /// Waits, at most `timeout`, until each of this publisher's writers has matched at least
+  /// `count` mirrors (the writer's side): from then on every value and sample reaches them, where
+  /// the transient-local history gives a later mirror only the newest ones (per edge: the last
+  /// value, the last 1024 samples). E.g. before a stream longer than that history. Event-driven
+  /// (the writers' publication-matched status). Fails (message with the counts) on timeout.
+  /// Blocks: a set-up step, not for the real-time path.
+  base::Expected<base::Ok, std::string> WaitForMirrors(std::uint32_t count,
+                                                       std::chrono::milliseconds timeout);
 
   [[nodiscard]] const std::string& owner() const noexcept;
   [[nodiscard]] std::uint64_t source() const noexcept;

@@ -23,6 +23,7 @@
 // (or one synchronized with it) is the graph's writer.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -73,8 +74,21 @@ class SEMGRAPH_ROS_DDS_EXPORT Broadcaster {
   void Pending(ros::TFMessage& tf, ros::TFMessage& tf_static) const;
   /// The static message last sent (empty before the first).
   [[nodiscard]] const ros::TFMessage& last_static() const noexcept;
-  /// Readers matched on rt/tf now (e.g. to wait for a listener before sending samples: rt/tf
-  /// is volatile, a sample sent before a reader matched never reaches it).
+  /// Waits, at most `timeout`, until at least `count` readers are matched on rt/tf (the
+  /// writer's side) and each reader matched then is in sync with this broadcaster: every
+  /// sample sent afterwards reaches it. rt/tf is volatile: a sample sent before the writer
+  /// matched a reader never reaches it (the reader's own matched status may show the writer
+  /// earlier), and a reader drops data until it has had the writer's first heartbeat
+  /// (docs/ros.md, "/tf is volatile"). Use it before the first Broadcast() when a listener is
+  /// expected, or after a new subscriber appeared and before Rewind() and Broadcast().
+  /// Event-driven (a waitset on the matched status, no polling, no sleep); when a reader is
+  /// matched, sends one message on rt/tf without data (an unregister, which tf readers skip)
+  /// and waits for every matched reader's acknowledgement. Fails (message with the counts) on
+  /// timeout. Blocks the calling thread; call it on the thread that calls Broadcast().
+  base::Expected<base::Ok, std::string> WaitForSubscribers(std::uint32_t count,
+                                                           std::chrono::milliseconds timeout);
+  /// Readers matched on rt/tf now (a sample sent before a reader matched never reaches it;
+  /// WaitForSubscribers() waits for readers).
   [[nodiscard]] std::uint32_t subscribers() const noexcept;
   /// Readers ever matched on rt/tf (grows by one per new subscriber, even one that left).
   [[nodiscard]] std::uint32_t subscribers_matched() const noexcept;

@@ -98,8 +98,10 @@ class SEMGRAPH_ROS_DDS_EXPORT Listener {
   [[nodiscard]] std::vector<ros::FindingGroup> findings() const;
   /// Waits (polling every 2 ms) until pred() or the timeout; returns pred().
   bool WaitUntil(const std::function<bool()>& pred, std::chrono::milliseconds timeout) const;
-  /// Writers matched on rt/tf now (rt/tf is volatile: a sample a writer sends before this
-  /// listener matched it never arrives; wait for the match first where that matters).
+  /// Writers matched on rt/tf now, as this listener sees them. rt/tf is volatile: a sample a
+  /// writer sends before it matched this listener never arrives, and the writer's side may
+  /// match later than this count shows; the sending side waits where that matters
+  /// (Broadcaster::WaitForSubscribers, docs/ros.md "/tf is volatile").
   [[nodiscard]] std::uint32_t tf_publishers() const noexcept;
   [[nodiscard]] std::uint32_t domain() const noexcept;
 

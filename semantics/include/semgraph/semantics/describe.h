@@ -31,11 +31,22 @@ namespace semgraph::semantics {
 /// "TwistCoord(e|C, D, [r])"
 [[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const TwistSemantics& s,
                                                              const NameTable& names);
+/// "AccelerationCoord(e|C, D, [r])"
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const AccelerationSemantics& s,
+                                                             const NameTable& names);
+/// "WrenchCoord(e|C, D, [r])" (on C by D), or "WrenchCoord(e|C, several, [r])" for a sum of
+/// wrenches by several bodies.
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const WrenchSemantics& s,
+                                                             const NameTable& names);
+/// "Power(C, D)": the power delivered to C by D.
+[[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const PowerSemantics& s,
+                                                             const NameTable& names);
 /// "compose: reference point f|D of the first does not match point g|D of the second"
 [[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const Mismatch& m,
                                                              const NameTable& names);
 
-/// One side of a mismatch: "reference point f|D of the first".
+/// One side of a mismatch: "reference point f|D of the first". A wrench's body fields read
+/// "on body C" and "by body D" ("by several bodies" for a sum).
 [[nodiscard]] SEMGRAPH_SEMANTICS_EXPORT std::string Describe(const MismatchSide& side,
                                                              const NameTable& names);
 

@@ -28,6 +28,11 @@ enum class Operation : std::uint8_t {
   kIntegrate,
   kDifferentiate,
   kInterpolate,
+  // Dynamics (dynamics_operations.h): accelerations and wrenches.
+  kInverse,   // an acceleration's inverse relation (needs the twist: not a plain negation)
+  kReaction,  // the wrench on D by C from the one on C by D
+  kSum,       // wrenches on one body at one point in one frame
+  kPower,     // a wrench with a twist
 };
 
 enum class RelationKind : std::uint8_t {
@@ -37,8 +42,12 @@ enum class RelationKind : std::uint8_t {
   kLinearVelocity,
   kAngularVelocity,
   kTwist,
+  kAcceleration,
+  kWrench,
 };
 
+/// The fields of every relation. A wrench reuses kBody for the body it acts on and kRefBody for
+/// the body that exerts it (Describe says "on body" and "by body" for a wrench).
 enum class Field : std::uint8_t {
   kPoint,
   kOrientation,

@@ -10,14 +10,21 @@
 //   LinearVelocitySemantics  LinearVelocityCoord(e|C, D, [r])       velocity of e fixed to C, rel.
 //   D AngularVelocitySemantics AngularVelocityCoord(C, D, [r])        angular velocity of C rel. D
 //   TwistSemantics           TwistCoord(e|C, D, [r])                (v of e|C, omega of C), rel. D
+//   AccelerationSemantics    AccelerationCoord(e|C, D, [r])         (a of e|C, alpha of C), rel. D
+//   WrenchSemantics          WrenchCoord(e|C, D, [r])               (f, m about e) on C by D
+//   PowerSemantics           power delivered to C by D (a scalar: no point, no frame)
 //
 // Field roles: the unprefixed fields describe what the relation is *of* (point, orientation,
 // body), the ref_ fields what it is *relative to*, and coordinate_frame what it is *expressed
 // in*. In velocity relations, e|C is the point of C that coincides with e at this instant.
+// Accelerations are classical (docs/dynamics.md): a is the second time derivative, taken in D,
+// of the position of the point of C at e; alpha the derivative, taken in D, of omega. A wrench
+// names the body it acts on (`on`) and the body that exerts it (`by`) instead of a body and a
+// reference body; its point e is the point its moment is taken about.
 //
 // Invariants: none beyond valid ids; any combination of names is a well-formed semantics (an
 // identity relation such as a position of e wrt e is legal).
-// Cost: plain aggregates of 3..7 ids, trivially copyable, compared field by field.
+// Cost: plain aggregates of 2..7 ids, trivially copyable, compared field by field.
 #pragma once
 
 #include "semgraph/semantics/primitives.h"
@@ -96,6 +103,45 @@ struct TwistSemantics {
   [[nodiscard]] constexpr bool is_screw_twist() const noexcept {
     return IsOriginOf(point, coordinate_frame);
   }
+};
+
+struct AccelerationSemantics {
+  Point point;    // e: the point of C coinciding with e whose acceleration is `linear`
+  Body body;      // C
+  Body ref_body;  // D: the derivatives are taken as seen from D
+  OrientationFrame coordinate_frame;  // [r]
+  friend constexpr bool operator==(const AccelerationSemantics&,
+                                   const AccelerationSemantics&) = default;
+};
+
+/// The twist of the same relation (same point, bodies, coordinate frame): what the checked
+/// acceleration operations need beside the acceleration (omega, and v at e).
+[[nodiscard]] constexpr TwistSemantics VelocityOf(const AccelerationSemantics& A) noexcept {
+  return {A.point, A.body, A.ref_body, A.coordinate_frame};
+}
+/// The acceleration of the same relation as a twist.
+[[nodiscard]] constexpr AccelerationSemantics AccelerationOf(const TwistSemantics& V) noexcept {
+  return {V.point, V.body, V.ref_body, V.coordinate_frame};
+}
+
+/// WrenchCoord(e|C, D, [r]): the wrench on C by D, moment about e. A sum of wrenches by
+/// different bodies is by several bodies: `by` is then invalid and `by_several` true (such a
+/// wrench has no single reaction and no power: both need the one body that exerts it).
+struct WrenchSemantics {
+  Point point;                        // e: moment reference point
+  Body on;                            // C: the body acted on
+  Body by;                            // D: the body acting (invalid when by_several)
+  OrientationFrame coordinate_frame;  // [r]
+  bool by_several = false;            // a sum of wrenches by more than one body
+  friend constexpr bool operator==(const WrenchSemantics&, const WrenchSemantics&) = default;
+};
+
+/// The power delivered to C by D: f.v + m.omega with the wrench on C by D and the twist of C
+/// relative to D at one point in one frame. A scalar: it depends on no point and no frame.
+struct PowerSemantics {
+  Body on;  // C
+  Body by;  // D
+  friend constexpr bool operator==(const PowerSemantics&, const PowerSemantics&) = default;
 };
 
 }  // namespace semgraph::semantics
