@@ -242,10 +242,8 @@ const char* RoleName(ValueRole role) noexcept {
       return "joint position";
     case ValueRole::kJointVelocity:
       return "joint velocity";
-<<<<<<< HEAD
     case ValueRole::kCovariance:
       return "covariance";
-=======
     case ValueRole::kLinearAcceleration:
       return "linear acceleration";
     case ValueRole::kAngularAcceleration:
@@ -254,7 +252,6 @@ const char* RoleName(ValueRole role) noexcept {
       return "force";
     case ValueRole::kMoment:
       return "moment";
->>>>>>> main
   }
   return "value";
 }
