@@ -5,13 +5,9 @@
 #
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
-<<<<<<< HEAD
-#             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics cross-check tests)
-#             libmrpt-poses-dev (the uncertainty cross-check tests: MRPT's pose PDFs)
-=======
 #             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics and wrench
-#             cross-check tests)
->>>>>>> main
+#             cross-check tests) libmrpt-poses-dev (the uncertainty cross-check tests: MRPT's pose
+#             PDFs)
 #   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
 #   --bench   libtf2-dev valgrind libdart-dev (the tf2 comparison benchmarks, callgrind counts; DART:
 #             the acceleration cross-check tests, skipped without it)
