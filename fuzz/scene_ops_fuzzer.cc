@@ -14,7 +14,7 @@
 //                     13 and 14 are extended ops, one more byte (% 12): 0-3 repairing adds,
 //                     4 joint, 5 joint states by name, 6 joint group made / set, 7 Jacobian,
 //                     8 stamped pose, 9 stamped twist, 10-11 a query under a time policy;
-//                     12 an add with a covariance (pose, restated pose, twist, updated twist;
+//                     17 an add with a covariance (pose, restated pose, twist, updated twist;
 //                     valid, asymmetric, NaN/Inf/huge, negative eigenvalue; both orders; the
 //                     body convention)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
@@ -293,7 +293,7 @@ class Fuzzer {
       case 11:
         RemoveTwist();
         break;
-      case 12:
+      case 17:
         WithCovariance();
         break;
       case 13:
@@ -467,7 +467,7 @@ class Fuzzer {
     return c;
   }
 
-  // Op 12: an add with a covariance: a new pose edge, an existing one restated or updated (a
+  // Op 17: an add with a covariance: a new pose edge, an existing one restated or updated (a
   // constant one with the same covariance: accepted; another: constant_pose_change), a twist,
   // an existing twist edge updated (in its frame or converted from another).
   void WithCovariance() {
@@ -490,7 +490,9 @@ class Fuzzer {
       const reference::CovarianceIn c = Covariance();
       const std::string coord = TwistCoord(t.head);
       const Eigen::Vector3d v = Velocity();
-      d_.Twist(t.head, BodyFor(t.head), t.tail_body, coord, v, Velocity(), &c);
+      const Eigen::Vector3d w = Velocity();
+      const std::string body = BodyFor(t.head);  // (read in this order: see Extended)
+      d_.Twist(t.head, body, t.tail_body, coord, v, w, &c);
       return;
     }
     if (which < 3) {
