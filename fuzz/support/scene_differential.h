@@ -25,6 +25,11 @@
 //     AskJacobian: the columns' joints in order and the matrix, one-shot and compiled;
 //   - time (StampedPose, StampedTwist, AskTimed): codes, values, and the TimeReport (time
 //     answered, extrapolated, stamps read when not extrapolated), one-shot and compiled.
+//   - covariances (Pose, Twist with a CovarianceIn): codes; every edge's stored covariance
+//     (pose_covariance / twist_covariance) equal to the model's edge form within 1e-12 of
+//     max(1, max|S|) and symmetric; a nonzero one asked back for the edge alone
+//     (GetPoseWithCovariance of head wrt tail, GetTwistWithCovariance at head in [head]) within
+//     1e-9; a rejected op leaves every stored covariance bit-identical (Dump() has none).
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
 // tree; repair, joints, time); see tests/reference/reference_model.h.

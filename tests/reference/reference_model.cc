@@ -88,11 +88,7 @@ bool CovarianceShapeOk(const Matrix6& S) {
   }
   return !(ReferenceModel::SmallestEigenvalue(0.5 * (S + S.transpose())) < -tol);
 }
-Eigen::Matrix3d Hat(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
+Eigen::Matrix3d Hat(const Eigen::Vector3d& w);  // [w]x, defined below
 // J S J^T with J = [[A, B], [0, D]] written out block by block.
 Matrix6 Propagate(const Eigen::Matrix3d& A, const Eigen::Matrix3d& B, const Eigen::Matrix3d& D,
                   const Matrix6& S) {

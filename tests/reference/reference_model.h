@@ -14,6 +14,7 @@
 //   twists_   vector of twist edges {tail body D, head frame h, v, w}: the screw twist
 //             TwistCoord(h|H, D, [h]) (docs/rules.md §3)
 //   a stamped edge also keeps its samples (sorted by stamp; the plain value is the newest);
+//   each edge also keeps its covariance S in the edge form (zero: exact; docs/uncertainty.md);
 //   joints_   live joints {name, type, parent, child, X_origin, axis, limits, mimic, q, qdot}:
 //             their edges are ordinary entries of poses_ / twists_ whose values Drive() writes.
 //
