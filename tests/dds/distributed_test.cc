@@ -208,7 +208,7 @@ TEST(DistributedTest, CovariancesReachTheMirrorInTheEdgeForm) {
     const auto o = g.GetPoseWithCovariance(core::PoseSpec::Of("o").RelativeTo("c"));
     ASSERT_TRUE(o);
     EXPECT_LT((o->covariance - obj_expected).cwiseAbs().maxCoeff(), 1e-18) << o->covariance;
-    EXPECT_NEAR((o->value.translation - ObjectPosition(1)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((o->value.value.translation - ObjectPosition(1)).norm(), 0.0, 1e-15);
     // {l1}'s last value came without a covariance: exact, zero.
     const auto l1 = g.GetPoseWithCovariance(l1_in_b);
     ASSERT_TRUE(l1);
