@@ -89,8 +89,9 @@ int Covariances(std::uint32_t domain, const std::string& owner) {
   if (!dds_test::BuildRobot(g)) return 3;
   const core::Covariance6 S_cam = dds_test::TestCovariance(1), S_obj = dds_test::TestCovariance(2);
   const core::Covariance6 S_l1 = dds_test::TestCovariance(3), S_vel = dds_test::TestCovariance(4);
+  const core::CovarianceInput calibration{&S_cam};
   if (!g.AddPose(core::PoseSpec::Of("cam", "L2").RelativeTo("l2", "L2"),
-                 Eigen::Quaterniond::Identity(), dds_test::kP_L2Cam, core::CovarianceInput{&S_cam})) {
+                 Eigen::Quaterniond::Identity(), dds_test::kP_L2Cam, calibration)) {
     return 3;
   }
   auto pub = dds::Publisher::Create(g, {owner, domain});
