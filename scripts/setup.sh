@@ -6,8 +6,8 @@
 #   (always)  cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev
 #             pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy (Python module)
 #             liburdfdom-dev (semgraph::models, URDF) liborocos-kdl-dev (the kinematics and wrench
-#             cross-check tests) libmrpt-poses-dev (the uncertainty cross-check tests: MRPT's pose
-#             PDFs)
+#             cross-check tests) libmrpt-poses-dev (the uncertainty cross-check tests: MRPT's
+#             pose PDFs)
 #   --clang   clang libclang-rt-14-dev clang-format (clang++ builds, sanitizers, libFuzzer; formatting)
 #   --bench   libtf2-dev valgrind libdart-dev (the tf2 comparison benchmarks, callgrind counts; DART:
 #             the acceleration cross-check tests, skipped without it)
@@ -26,7 +26,7 @@
 # another user it fails, printing the command to run.
 set -euo pipefail
 
-usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; }
 
 packages=(cmake g++ make pkgconf libeigen3-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy liburdfdom-dev liborocos-kdl-dev libmrpt-poses-dev)
 for arg in "$@"; do

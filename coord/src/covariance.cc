@@ -51,8 +51,8 @@ Error CovarianceCheck::error() const noexcept {
       p = ValueProblem::kNegativeEigenvalue;
       break;
   }
-  e.value = ValueDetail{p, ValueRole::kCovariance, static_cast<std::uint8_t>(6 * row + col),
-                        magnitude};
+  e.value =
+      ValueDetail{p, ValueRole::kCovariance, static_cast<std::uint8_t>(6 * row + col), magnitude};
   return e;
 }
 

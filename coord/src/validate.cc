@@ -242,8 +242,6 @@ const char* RoleName(ValueRole role) noexcept {
       return "joint position";
     case ValueRole::kJointVelocity:
       return "joint velocity";
-    case ValueRole::kCovariance:
-      return "covariance";
     case ValueRole::kLinearAcceleration:
       return "linear acceleration";
     case ValueRole::kAngularAcceleration:
@@ -252,6 +250,8 @@ const char* RoleName(ValueRole role) noexcept {
       return "force";
     case ValueRole::kMoment:
       return "moment";
+    case ValueRole::kCovariance:
+      return "covariance";
   }
   return "value";
 }

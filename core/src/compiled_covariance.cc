@@ -92,7 +92,7 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
   q.O_Z.noalias() = R_Z[1] * R_Z[3].transpose();
   const Eigen::Matrix3d M = q.R_RZ * q.O_Z * R_Z[4];
   X = B::MakePose(B::FromMatrix(M), q.R_RZ * (p_Z[0] - p_Z[2]));
-  S.setZero();
+  Covariance6 S_Z = Covariance6::Zero();  // rows in Z: rotated into [r] once, at the end
   for (std::size_t i = 0; i < n; ++i) {
     const InZ& g = scratch_[i];
     if (g.exact) continue;
@@ -100,8 +100,9 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
     const Eigen::Matrix3d R_ZP = e.parent < 0
                                      ? Eigen::Matrix3d::Identity()
                                      : scratch_[static_cast<std::size_t>(e.parent)].R_ZG;
-    jac::AddPropagated(jac::EdgeOnPose(q, {R_ZP, g.p_ZG}, e.moves), g.S, S);
+    jac::AddPropagated(jac::EdgeOnPoseInZ(q, {R_ZP, g.p_ZG}, e.moves), g.S, S_Z);
   }
+  S = jac::RotateRows(q.R_RZ, S_Z);
   if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);
   return ErrorCode::kOk;
 }

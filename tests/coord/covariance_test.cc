@@ -1,9 +1,10 @@
 // Tests for coord/covariance.h: the meaning of a covariance (docs/uncertainty.md) on cases
 // worked by hand, the body -> coordinates conversion against a Jacobian measured by finite
 // differences of the exact perturbation (X Exp(xi) by the 4x4 matrix exponential, delta by
-// AngleAxis: neither is semgraph code), the orders (a GTSAM-order matrix round trip), every
-// check at its boundary (1e12, the symmetry and eigenvalue tolerances scaled by
-// max(1, max |S|)), NaN / Inf in every entry, the checks' order, the texts, and no allocation.
+// AngleAxis: neither is semgraph code), likewise the docs' formula for Barfoot's left
+// perturbation, the orders (a GTSAM-order matrix round trip), every check at its boundary
+// (1e12, the symmetry and eigenvalue tolerances scaled by max(1, max |S|)), NaN / Inf in every
+// entry, the checks' order, the texts, and no allocation.
 #include "semgraph/coord/covariance.h"
 
 #include <gtest/gtest.h>
@@ -46,8 +47,8 @@ Eigen::Matrix4d RightPerturbed(const Eigen::Matrix4d& X, const Eigen::Matrix<dou
 Eigen::Matrix<double, 6, 1> CoordinatesDelta(const Eigen::Matrix4d& X, const Eigen::Matrix4d& Xt) {
   Eigen::Matrix<double, 6, 1> d;
   d.head<3>() = Xt.topRightCorner<3, 1>() - X.topRightCorner<3, 1>();
-  const Eigen::AngleAxisd aa(Eigen::Matrix3d(Xt.topLeftCorner<3, 3>() *
-                                             X.topLeftCorner<3, 3>().transpose()));
+  const Eigen::AngleAxisd aa(
+      Eigen::Matrix3d(Xt.topLeftCorner<3, 3>() * X.topLeftCorner<3, 3>().transpose()));
   d.tail<3>() = aa.angle() * aa.axis();
   return d;
 }
@@ -121,12 +122,36 @@ TEST(Covariance, BodyToCoordinatesIsTheFirstOrderMapOfTheExactPerturbation) {
     for (int k = 0; k < 6; ++k) {
       Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
       e[k] = h;
-      J.col(k) = (CoordinatesDelta(X, RightPerturbed(X, e)) -
-                  CoordinatesDelta(X, RightPerturbed(X, -e))) / (2 * h);
+      J.col(k) =
+          (CoordinatesDelta(X, RightPerturbed(X, e)) - CoordinatesDelta(X, RightPerturbed(X, -e))) /
+          (2 * h);
     }
     const Covariance6 S = RandomCovariance(rng);
     ExpectMatrixNear(BodyToCoordinates(R, S), J * S * J.transpose(), 1e-8);
     ExpectMatrixNear(CoordinatesToBody(R, BodyToCoordinates(R, S)), S, 1e-14);
+  }
+}
+
+TEST(Covariance, LeftPerturbationFormulaOfTheDocs) {
+  // docs/uncertainty.md: Barfoot's Exp(xi^) X, xi = (rho, phi), is delta = B xi with
+  // B = [[I, -[p]x], [0, I]] (the rotation about t's origin moves h's origin by p). Measured by
+  // central differences of the exact left perturbation, as above.
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Matrix4d X = RandomPose(rng);
+    Covariance6 B = Covariance6::Identity();
+    B.topRightCorner<3, 3>() = -Hat(X.topRightCorner<3, 1>());
+    Covariance6 J;
+    const double h = 1e-6;
+    for (int k = 0; k < 6; ++k) {
+      Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
+      e[k] = h;
+      const auto left = [&](const Eigen::Matrix<double, 6, 1>& xi) {
+        return Eigen::Matrix4d(RightPerturbed(Eigen::Matrix4d::Identity(), xi) * X);
+      };
+      J.col(k) = (CoordinatesDelta(X, left(e)) - CoordinatesDelta(X, left(-e))) / (2 * h);
+    }
+    EXPECT_LT((J - B).cwiseAbs().maxCoeff(), 1e-8);
   }
 }
 
@@ -148,8 +173,7 @@ TEST(Covariance, GtsamOrderRoundTrip) {
   EXPECT_EQ(Reorder(g, CovarianceOrder::kLinearAngular), g);
 
   // Through the whole input and output path, with a rotation.
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
   const auto edge = PoseCovarianceToEdgeForm(g, CovarianceOrder::kAngularLinear,
                                              PoseCovarianceConvention::kBody, R);
   ASSERT_TRUE(edge.has_value());

@@ -49,8 +49,7 @@ Matrix3d Rot(const Vector3d& axis, double angle) { return Eigen::AngleAxisd(angl
 
 // R = Rz(yaw) Ry(pitch) Rx(roll), written here (then checked against MRPT's).
 Matrix3d YawPitchRoll(double yaw, double pitch, double roll) {
-  return Rot(Vector3d::UnitZ(), yaw) * Rot(Vector3d::UnitY(), pitch) *
-         Rot(Vector3d::UnitX(), roll);
+  return Rot(Vector3d::UnitZ(), yaw) * Rot(Vector3d::UnitY(), pitch) * Rot(Vector3d::UnitX(), roll);
 }
 
 // J = diag(I, E): MRPT's (dx, dy, dz, dyaw, dpitch, droll) -> semgraph's (dp, dtheta).
@@ -222,8 +221,7 @@ TEST(JacobiansMrpt, CompositionAndInversionAgreeOnAThousandPairs) {
       return inverse;
     });
     const Covariance6 numeric_AC =
-        J_AC * (F_AB * M_AB * F_AB.transpose() + F_BC * M_BC * F_BC.transpose()) *
-        J_AC.transpose();
+        J_AC * (F_AB * M_AB * F_AB.transpose() + F_BC * M_BC * F_BC.transpose()) * J_AC.transpose();
     const Covariance6 numeric_BA = J_BA * F_inv * M_AB * F_inv.transpose() * J_BA.transpose();
     const double e_numeric =
         std::max(RelativeError(ours_AC, numeric_AC), RelativeError(ours_BA, numeric_BA));
@@ -250,12 +248,13 @@ TEST(JacobiansMrpt, CompositionAndInversionAgreeOnAThousandPairs) {
   // Most pairs agree outright: the flip is MRPT's exception, not a convention mismatch.
   EXPECT_GT(same[0], compared / 2);
   EXPECT_GT(same[1], compared / 2);
-  std::printf("compared %d pairs (%d near gimbal lock skipped). Against finite differences of "
-              "MRPT's composition and inversion: worst relative difference %.3g. Against "
-              "CPose3DPDFGaussian: composition %d same, %d with MRPT's angular rows negated; "
-              "inversion %d same, %d negated; worst relative difference %.3g\n",
-              compared, near_gimbal_lock, worst_numeric, same[0], negated[0], same[1], negated[1],
-              worst_analytic);
+  std::printf(
+      "compared %d pairs (%d near gimbal lock skipped). Against finite differences of "
+      "MRPT's composition and inversion: worst relative difference %.3g. Against "
+      "CPose3DPDFGaussian: composition %d same, %d with MRPT's angular rows negated; "
+      "inversion %d same, %d negated; worst relative difference %.3g\n",
+      compared, near_gimbal_lock, worst_numeric, same[0], negated[0], same[1], negated[1],
+      worst_analytic);
 }
 
 TEST(JacobiansMrpt, DifferentConventionsDifferWithoutTheConversion) {

@@ -79,7 +79,9 @@ Point PointOf(const YAML::Node& v) {
 Pose PoseOf(const YAML::Node& v) {
   return Pose{PointOf(v["position"]), QuaternionOf(v["orientation"])};
 }
-Twist TwistOf(const YAML::Node& v) { return Twist{Vector3Of(v["linear"]), Vector3Of(v["angular"])}; }
+Twist TwistOf(const YAML::Node& v) {
+  return Twist{Vector3Of(v["linear"]), Vector3Of(v["angular"])};
+}
 Covariance36 CovarianceOf(const YAML::Node& v) {
   Covariance36 out{};
   EXPECT_EQ(v.size(), out.size());

@@ -27,10 +27,9 @@
 // microseconds); the conversions are a few 6x6 products.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "semgraph/base/expected.h"
 #include "semgraph/coord/error.h"
@@ -90,8 +89,8 @@ struct CovarianceCheck {
 };
 
 /// The checks above, on `sigma` as given. No allocation.
-[[nodiscard]] SEMGRAPH_COORD_EXPORT CovarianceCheck CheckCovariance(
-    const Covariance6& sigma) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT CovarianceCheck
+CheckCovariance(const Covariance6& sigma) noexcept;
 
 /// (S + S^T) / 2.
 [[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 Symmetrized(const Covariance6& sigma) noexcept;
@@ -106,19 +105,18 @@ struct CovarianceCheck {
 
 /// kBody -> kCoordinates for an edge-form pose with rotation R_TH (= R[t<-h]), linear-angular
 /// order: diag(R, R) S diag(R, R)^T.
-[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 BodyToCoordinates(
-    const Eigen::Matrix3d& R_TH, const Covariance6& sigma_body) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6
+BodyToCoordinates(const Eigen::Matrix3d& R_TH, const Covariance6& sigma_body) noexcept;
 /// kCoordinates -> kBody, the inverse: diag(R, R)^T S diag(R, R).
-[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 CoordinatesToBody(
-    const Eigen::Matrix3d& R_TH, const Covariance6& sigma_coordinates) noexcept;
+[[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6
+CoordinatesToBody(const Eigen::Matrix3d& R_TH, const Covariance6& sigma_coordinates) noexcept;
 
 /// The input path of an edge-form pose's covariance: check `sigma` as given, then reorder to
 /// linear-angular, convert to kCoordinates (R_TH: the pose's rotation, used by kBody only), and
 /// symmetrize. The error is the check's verdict.
 [[nodiscard]] SEMGRAPH_COORD_EXPORT base::Expected<Covariance6, CovarianceCheck>
 PoseCovarianceToEdgeForm(const Covariance6& sigma, CovarianceOrder order,
-                         PoseCovarianceConvention convention,
-                         const Eigen::Matrix3d& R_TH) noexcept;
+                         PoseCovarianceConvention convention, const Eigen::Matrix3d& R_TH) noexcept;
 /// The output path: an edge-form (coordinates, linear-angular) covariance in `convention` and
 /// `order`.
 [[nodiscard]] SEMGRAPH_COORD_EXPORT Covariance6 PoseCovarianceFromEdgeForm(

@@ -63,11 +63,11 @@ enum class ValueRole : std::uint8_t {
   kAngularVelocity,
   kJointPosition,
   kJointVelocity,
-  kCovariance,  ///< a 6x6 covariance; component = 6 * row + col (an eigenvalue: its index)
   kLinearAcceleration,
   kAngularAcceleration,
   kForce,
   kMoment,
+  kCovariance,  ///< a 6x6 covariance; component = 6 * row + col (an eigenvalue: its index)
 };
 
 struct ValueDetail {

@@ -187,28 +187,48 @@ struct PoseMoves {
   bool e = false, f = false, a = false, b = false, r = false;
 };
 
+/// d(answer) / d(edge) for a pose answer, with the answer's rows still in Z (dp_Z, dth_Z; the
+/// answer in [r] is diag(R_RZ, R_RZ) times this): what a sum over many edges accumulates, so
+/// that the rotation into [r] is done once. Columns: the edge's (dp, dth) in [p].
+[[nodiscard]] inline Matrix6 EdgeOnPoseInZ(const PoseInZ& q, const EdgeInZ& edge,
+                                           const PoseMoves& m) noexcept {
+  const Vector3d& e = q.p_ZoEo_Z;
+  const Vector3d& f = q.p_ZoFo_Z;
+  const Vector3d& g = edge.p_ZoGo_Z;
+  // Per (t, x): dp_Z = (m_e - m_f) t + (m_e [g - e]x - m_f [g - f]x + m_r [e - f]x) x,
+  // dth_Z = ((m_a - m_r) I + (m_r - m_b) O) x; then columns R_ZP.
+  Vector3d lever = Vector3d::Zero();  // the skew part is [lever]x: linear in the points
+  if (m.e) lever += g - e;
+  if (m.f) lever -= g - f;
+  if (m.r) lever += e - f;
+  Matrix6 J = Matrix6::Zero();
+  if (m.e != m.f) J.topLeftCorner<3, 3>() = m.e ? edge.R_ZP : Matrix3d(-edge.R_ZP);
+  J.topRightCorner<3, 3>().noalias() = Hat(lever) * edge.R_ZP;
+  if (m.r != m.b) {
+    J.bottomRightCorner<3, 3>().noalias() = (m.r ? 1.0 : -1.0) * q.O_Z * edge.R_ZP;
+  }
+  if (m.a != m.r) J.bottomRightCorner<3, 3>() += m.a ? edge.R_ZP : Matrix3d(-edge.R_ZP);
+  return J;
+}
+
 /// d(answer) / d(edge) for a pose answer: rows (dp, dth) of the answer in [r], columns the
 /// edge's (dp, dth) in [p]. (A position answer is the top rows, an orientation the bottom.)
 [[nodiscard]] inline Matrix6 EdgeOnPose(const PoseInZ& q, const EdgeInZ& edge,
                                         const PoseMoves& m) noexcept {
-  const Vector3d& e = q.p_ZoEo_Z;
-  const Vector3d& f = q.p_ZoFo_Z;
-  const Vector3d& g = edge.p_ZoGo_Z;
-  // In Z, per (t, x): dp_Z = (m_e - m_f) t + (m_e [g - e]x - m_f [g - f]x + m_r [e - f]x) x,
-  // dth_Z = ((m_a - m_r) I + (m_r - m_b) O) x; then rows R_RZ, columns R_ZP.
-  Matrix3d A = Matrix3d::Zero();  // dp / dth
-  if (m.e) A += Hat(g - e);
-  if (m.f) A -= Hat(g - f);
-  if (m.r) A += Hat(e - f);
-  Matrix3d C = Matrix3d::Zero();  // dth / dth
-  if (m.a != m.r) C.diagonal().setConstant(m.a ? 1.0 : -1.0);
-  if (m.r != m.b) C += m.r ? q.O_Z : Matrix3d(-q.O_Z);
-  const Matrix3d RRP = q.R_RZ * edge.R_ZP;
-  Matrix6 J = Matrix6::Zero();
-  if (m.e != m.f) J.topLeftCorner<3, 3>() = m.e ? RRP : Matrix3d(-RRP);
-  J.topRightCorner<3, 3>() = q.R_RZ * A * edge.R_ZP;
-  J.bottomRightCorner<3, 3>() = q.R_RZ * C * edge.R_ZP;
+  Matrix6 J = EdgeOnPoseInZ(q, edge, m);
+  J.topRows<3>() = q.R_RZ * J.topRows<3>();
+  J.bottomRows<3>() = q.R_RZ * J.bottomRows<3>();
   return J;
+}
+
+/// S_Z (rows and columns in Z) as rows and columns in [r]: diag(R_RZ, R_RZ) S_Z diag^T.
+[[nodiscard]] inline Covariance6 RotateRows(const Matrix3d& R_RZ, const Covariance6& S_Z) noexcept {
+  Matrix6 D = Matrix6::Zero();
+  D.topLeftCorner<3, 3>() = R_RZ;
+  D.bottomRightCorner<3, 3>() = R_RZ;
+  Covariance6 S = Covariance6::Zero();
+  AddPropagated(D, S_Z, S);
+  return S;
 }
 
 /// One twist edge's contribution to a twist answer at e, seen from Z: its twist (the signed

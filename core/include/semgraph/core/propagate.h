@@ -110,10 +110,11 @@ void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], 
                                                              X_ZG.p};
                         const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1],
                                                             d <= lca[3], d <= lca[4]};
-                        coord::jacobians::AddPropagated(coord::jacobians::EdgeOnPose(q, edge, m),
-                                                        S, S_out);
+                        coord::jacobians::AddPropagated(
+                            coord::jacobians::EdgeOnPoseInZ(q, edge, m), S, S_out);
                       });
   }
+  S_out = coord::jacobians::RotateRows(q.R_RZ, S_out);  // rows in Z -> [r], once
 }
 
 /// A twist step's contribution seen from Z, and its edge's covariance.
