@@ -302,9 +302,10 @@ def scene_ops_seeds():
     seeds["cov_rerooted"] = (
         Ops().pose_cov("b", "B", "a", "A", (3, 0), (4, 0), cov=(21, 2, 0, 0))
         .pose_cov("c", "C", "b", "B", (2, 0), (1, 0), cov=(22, 1, 0, 1))
-        .repair_pose("c", "C", "d", "D", (1, 0), (2, 0))  # the inverse, then a re-root
-        .repair_pose("a", "A", "e", "E", (4, 0), (3, 0))
-        .ask_pose("a", "e"))
+        .repair_pose("c", "C", "d", "D", (1, 0), (2, 0))  # inverted: {d} wrt {c}
+        .pose_cov("f", "F", "e", "E", (4, 0), (3, 0), cov=(23, 2, 7, 0))
+        .repair_pose("b", "B", "f", "F", (5, 0), (6, 0))  # {f}'s tree re-rooted at {f}
+        .ask_pose("e", "a"))
     seeds["fig4_multiple_parents"] = (
         Ops().pose("e", "C", "f", "D", (1, 0), (2, 0))
         .pose("e", "C", "g", "F", (2, 0), (3, 0))  # multiple_pose_parents
