@@ -66,6 +66,45 @@ class Ops:
             self.value(*rotation).value(*position)
         return self.byte(1).byte(1)
 
+    # ---- op 17, WithCovariance(): an add with a covariance. `cov` is Covariance()'s four
+    # bytes: (seed, scale index 0-3 for 1e-6..1e3, kind, form). kind % 8: 0-2, 7 valid, 3 zero,
+    # 4 asymmetric (bit 7: by 1e-3 max, else 1e-12), 5 NaN/Inf/-Inf/2e12 ((kind >> 1) % 4), 6 a
+    # negative diagonal entry; entry (i, j) = ((kind >> 3) % 6, (kind >> 5) % 6). form: bit 0
+    # angular_linear, bits 1-2 both set: the body convention.
+    def covariance(self, cov):
+        for x in cov:
+            self.byte(x)
+        return self
+
+    def pose_cov(self, head, head_body, tail, tail_body, rotation=(0, 0), position=(0, 0),
+                 cov=(1, 2, 0, 0)):
+        self.byte(17).byte(0).frame_name(head).body_for(head_body)
+        self.frame_name(tail).body_for(tail_body)
+        return self.value(*rotation).value(*position).covariance(cov)
+
+    def restate_pose_cov(self, edge_index, bump=False, cov=None):
+        # The stored value with the stored covariance (bump: + 1e-6 on entry (0, 0)), or `cov`.
+        self.byte(17).byte(2).byte(edge_index).byte(1 if bump else 0).byte(1 if cov else 0)
+        if cov:
+            self.covariance(cov)
+        return self.body_for(None).body_for(None)
+
+    def twist_cov(self, point, body, ref_body, coord=None, v=(1, 0), w=(2, 0), cov=(1, 2, 0, 0)):
+        self.byte(17).byte(3).frame_name(point).body_for(body).body_name(ref_body)
+        if coord is None:
+            self.byte(0)
+        else:
+            self.byte(7).frame_name(coord)
+        return self.value(*v).value(*w).covariance(cov)
+
+    def update_twist_cov(self, twist_index, cov, coord=None, v=(1, 0), w=(2, 0)):
+        self.byte(17).byte(5).byte(twist_index).covariance(cov)
+        if coord is None:
+            self.byte(0)
+        else:
+            self.byte(7).frame_name(coord)
+        return self.value(*v).value(*w).body_for(None)
+
     def remove_pose(self, of, wrt):  # the "any pair" branch (needs at least one pose edge)
         return self.byte(7).byte(0).frame_name(of).byte(0).frame_name(wrt)
 
@@ -227,6 +266,46 @@ def scene_ops_seeds():
         .remove_pose("b", "c")
         .pose("b", "B", "c", "B", (4, 0), (1, 0))  # recalibrated after removal
         .ask_pose("b", "c"))
+    # Covariances (docs/uncertainty.md): a between-bodies edge with a covariance (body
+    # convention, angular_linear), updated with another and without one; a constant edge's
+    # covariance restated (same: accepted; bumped or another: constant_pose_change); the checks
+    # (NaN with a bad rotation: invalid_number first; asymmetric; negative eigenvalue; a twist
+    # in the body convention); a twist converted from another frame; a re-rooted covariance.
+    seeds["cov_pose_update"] = (
+        Ops().pose_cov("b", "B", "a", "A", (3, 0), (4, 0), cov=(7, 2, 0, 6))
+        .pose_cov("b", "B", "a", "A", (2, 0), (1, 0), cov=(9, 3, 7, 1))
+        .ask_pose("b", "a")
+        .readd_pose(0, 6, (1, 0), (2, 0))  # a value without one: exact again
+        .ask_pose("a", "b"))
+    seeds["cov_constant_restated"] = (
+        Ops().pose_cov("b", "B", "c", "B", (3, 0), (4, 0), cov=(5, 1, 0, 0))
+        .restate_pose_cov(0)             # the same covariance: accepted
+        .restate_pose_cov(0, bump=True)  # off by 1e-6 of (0, 0): constant_pose_change
+        .restate_pose_cov(0, cov=(6, 1, 0, 0))  # another: constant_pose_change
+        .readd_pose(0, 0)                # without one: constant_pose_change
+        .ask_pose("c", "b"))
+    seeds["cov_checks"] = (
+        Ops().pose_cov("b", "B", "a", "A", (3, 0x06), (4, 0), cov=(5, 2, 5, 0))  # NaN, bad q
+        .pose_cov("b", "B", "a", "A", (3, 0), (4, 0), cov=(5, 2, 5 + 2 + 8, 0))   # Inf
+        .pose_cov("b", "B", "a", "A", (3, 0), (4, 0), cov=(5, 2, 4 + 128 + 8, 0))  # asymmetric
+        .pose_cov("b", "B", "a", "A", (3, 0), (4, 0), cov=(5, 2, 4 + 8, 0))  # by 1e-12: ok
+        .pose_cov("d", "D", "a", "A", (3, 0), (4, 0), cov=(5, 2, 6 + 16, 0))  # eigenvalue < 0
+        .twist_cov("b", None, "C", cov=(5, 2, 0, 6))  # a twist in the body convention
+        .twist_cov("b", None, "C", cov=(5, 3, 0, 1)))
+    seeds["cov_twist_converted"] = (
+        Ops().pose("b", "B", "a", "A", (3, 0), (4, 0))
+        .pose("c", "B", "b", "B", (2, 0), (1, 0))
+        .twist_cov("b", None, "C", coord="c", cov=(11, 2, 7, 1))
+        .update_twist_cov(0, (12, 1, 0, 0), coord="a")
+        .update_twist_cov(0, (13, 0, 3, 0))  # a zero covariance
+        .ask_twist("b", "B", "C"))
+    seeds["cov_rerooted"] = (
+        Ops().pose_cov("b", "B", "a", "A", (3, 0), (4, 0), cov=(21, 2, 0, 0))
+        .pose_cov("c", "C", "b", "B", (2, 0), (1, 0), cov=(22, 1, 0, 1))
+        .repair_pose("c", "C", "d", "D", (1, 0), (2, 0))  # inverted: {d} wrt {c}
+        .pose_cov("f", "F", "e", "E", (4, 0), (3, 0), cov=(23, 2, 7, 0))
+        .repair_pose("b", "B", "f", "F", (5, 0), (6, 0))  # {f}'s tree re-rooted at {f}
+        .ask_pose("e", "a"))
     seeds["fig4_multiple_parents"] = (
         Ops().pose("e", "C", "f", "D", (1, 0), (2, 0))
         .pose("e", "C", "g", "F", (2, 0), (3, 0))  # multiple_pose_parents

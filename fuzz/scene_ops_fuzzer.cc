@@ -13,7 +13,10 @@
 //   then ops          one op-code byte (% 20), then the op's arguments (names, value choices);
 //                     13 and 14 are extended ops, one more byte (% 12): 0-3 repairing adds,
 //                     4 joint, 5 joint states by name, 6 joint group made / set, 7 Jacobian,
-//                     8 stamped pose, 9 stamped twist, 10-11 a query under a time policy
+//                     8 stamped pose, 9 stamped twist, 10-11 a query under a time policy;
+//                     17 an add with a covariance (pose, restated pose, twist, updated twist;
+//                     valid, asymmetric, NaN/Inf/huge, negative eigenvalue; both orders; the
+//                     body convention)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -28,10 +31,13 @@
 // its tree; their repair; joints; stamped adds and time policies:
 // tests/reference/reference_model.h). Caps: at most kMaxOps ops per backend run. Debugging:
 // SEMGRAPH_FUZZ_TRACE=1 prints every input's op sequence (e.g. with the replay main).
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -287,6 +293,9 @@ class Fuzzer {
       case 11:
         RemoveTwist();
         break;
+      case 17:
+        WithCovariance();
+        break;
       case 13:
       case 14:
         Extended();
@@ -407,6 +416,104 @@ class Fuzzer {
     }
     const std::string point = Frame();
     d_.RemoveTwist(point, Body());
+  }
+
+  // ---------------------------------------------------------------- covariances
+
+  // A 6x6 covariance (docs/uncertainty.md §2) from a few bytes: S = s A A^T (symmetric PSD,
+  // often rank-deficient) with A's entries from a seeded table and s from 1e-6 to 1e3; then a
+  // kind: valid as is, zero, asymmetric by 1e-12 (within the tolerance: accepted, stored
+  // symmetrized) or by 1e-3 max(1, max|S|) (invalid_covariance), a NaN / Inf / 2e12 entry
+  // (invalid_number), a negative eigenvalue (e_k^T S e_k = -c: invalid_covariance). Order and
+  // convention from one more byte. No case lands within rounding of a bound.
+  reference::CovarianceIn Covariance() {
+    static const double kScales[] = {1e-6, 1e-2, 1.0, 1e3};
+    const std::uint32_t seed = in_.Byte();
+    const double scale = kScales[in_.Below(4)];
+    Eigen::Matrix<double, 6, 6> A;
+    for (int i = 0; i < 36; ++i) {
+      const std::uint32_t h = (seed * 2654435761u + static_cast<std::uint32_t>(i) * 40503u) >> 7;
+      A(i / 6, i % 6) = (h % 5 == 0) ? 0.0 : static_cast<double>(static_cast<int>(h % 17) - 8) / 8;
+    }
+    reference::CovarianceIn c;
+    c.S = scale * A * A.transpose();
+    c.S = 0.5 * (c.S + c.S.transpose());
+    const std::uint32_t kind = in_.Byte();
+    const int i = static_cast<int>((kind >> 3) % 6), j = static_cast<int>((kind >> 5) % 6);
+    const double big = 1e-3 * std::max(1.0, c.S.cwiseAbs().maxCoeff());
+    switch (kind % 8) {
+      case 3:
+        c.S.setZero();
+        break;
+      case 4:
+        if (i != j) c.S(i, j) += (kind & 0x80) ? big : 1e-12;
+        break;
+      case 5: {
+        static const double kBad[] = {std::numeric_limits<double>::quiet_NaN(),
+                                      std::numeric_limits<double>::infinity(),
+                                      -std::numeric_limits<double>::infinity(), 2e12};
+        c.S(i, j) = kBad[(kind >> 1) % 4];
+        break;
+      }
+      case 6:
+        c.S(i, i) = -big;  // the rest of row and column i kept: e_i^T S e_i = -big
+        break;
+      default:
+        break;
+    }
+    const std::uint8_t form = in_.Byte();
+    c.angular_linear = (form & 1u) != 0;
+    c.body = (form & 6u) == 6u;  // 1 in 4 (a twist then: invalid_covariance)
+    return c;
+  }
+
+  // Op 17: an add with a covariance: a new pose edge, an existing one restated or updated (a
+  // constant one with the same covariance: accepted; another: constant_pose_change), a twist,
+  // an existing twist edge updated (in its frame or converted from another).
+  void WithCovariance() {
+    const std::uint32_t which = in_.Below(6);
+    const auto& poses = d_.model().poses();
+    const auto& twists = d_.model().twists();
+    if (which == 2 && !poses.empty()) {
+      const reference::PoseEdge e = poses[in_.Below(static_cast<std::uint32_t>(poses.size()))];
+      reference::CovarianceIn c;
+      c.S = e.S;  // the stored one (edge form): a restatement, or changed by 1e-6 relative
+      if (in_.Bool()) c.S(0, 0) += 1e-6 * std::max(1.0, e.S.cwiseAbs().maxCoeff());
+      if (in_.Bool()) c = Covariance();
+      const std::string head_body = BodyFor(e.head), tail_body = BodyFor(e.tail);
+      d_.Pose(e.head, head_body, e.tail, tail_body, AsQuaternion(Eigen::Quaterniond(e.X_TH.R)),
+              e.X_TH.p, &c);
+      return;
+    }
+    if (which == 5 && !twists.empty()) {
+      const reference::TwistEdge t = twists[in_.Below(static_cast<std::uint32_t>(twists.size()))];
+      const reference::CovarianceIn c = Covariance();
+      const std::string coord = TwistCoord(t.head);
+      const Eigen::Vector3d v = Velocity();
+      const Eigen::Vector3d w = Velocity();
+      const std::string body = BodyFor(t.head);  // (read in this order: see Extended)
+      d_.Twist(t.head, body, t.tail_body, coord, v, w, &c);
+      return;
+    }
+    if (which < 3) {
+      const std::string head = Frame();
+      const std::string head_body = BodyFor(head);
+      const std::string tail = Frame();
+      const std::string tail_body = BodyFor(tail);
+      const RotationInput rotation = Rotation();
+      const Eigen::Vector3d p = Position();
+      const reference::CovarianceIn c = Covariance();
+      d_.Pose(head, head_body, tail, tail_body, rotation, p, &c);
+      return;
+    }
+    const std::string point = Frame();
+    const std::string body = BodyFor(point);
+    const std::string ref_body = Body();
+    const std::string coord = TwistCoord(point);
+    const Eigen::Vector3d v = Velocity();
+    const Eigen::Vector3d w = Velocity();
+    const reference::CovarianceIn c = Covariance();
+    d_.Twist(point, body, ref_body, coord, v, w, &c);
   }
 
   // ---------------------------------------------------------------- extended ops (one more byte)

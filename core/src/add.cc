@@ -267,6 +267,14 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   // 2-3. invalid_number -> invalid_rotation.
   auto p_ok = coord::ValidateVector(p_position, coord::ValueRole::kPosition);
   if (!p_ok) return Reject(p_ok.error().code, what(), coord::Describe(p_ok.error(), names));
+  // A covariance's entries are numbers too: invalid_number in that code's place, before
+  // invalid_rotation (docs/uncertainty.md §2); its invalid_covariance comes after.
+  if (covariance != nullptr && covariance->matrix != nullptr) {
+    if (const coord::CovarianceCheck c = coord::CheckCovariance(*covariance->matrix);
+        c.is_number_problem()) {
+      return Reject(c.code(), what(), coord::Describe(c));
+    }
+  }
   typename B::Rotation M;
   if constexpr (std::is_same_v<R, Eigen::Quaterniond>) {
     auto q_ok = coord::ValidateQuaternion(rotation);

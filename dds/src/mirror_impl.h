@@ -116,6 +116,7 @@ struct Pending {
   std::int64_t stamp_ns = 0;
   double n[7];
   std::int64_t time_ns = 0;  // a stamped sample's stamp
+  double cov[21] = {};       // the packed covariance (wire.h)
 };
 
 // An edge of the replica and where it came from.
@@ -126,6 +127,7 @@ struct Applied {
   bool twist = false;
   std::string head, head_body, tail, tail_body;
   double n[7];
+  double cov[21] = {};  // packed (wire.h)
   std::uint32_t edge = 0;
   std::uint64_t seq = 0;
   bool stamped = false;
@@ -134,8 +136,10 @@ struct Applied {
         tail != o.tail || tail_body != o.tail_body || stamped != o.stamped) {
       return false;
     }
-    // A constant (same-body) pose edge changes only through the structure.
-    if (!twist && head_body == tail_body) return std::equal(n, n + 7, o.n);
+    // A constant (same-body) pose edge changes only through the structure, its covariance too.
+    if (!twist && head_body == tail_body) {
+      return std::equal(n, n + 7, o.n) && std::equal(cov, cov + 21, o.cov);
+    }
     return true;
   }
 };
@@ -231,6 +235,7 @@ struct Mirror::Impl {
     std::uint64_t seq;
     std::int64_t stamp_ns, time_ns;
     const double* numbers;
+    const double* covariance;  // packed, 21 (wire.h)
   };
   bool HandleValue(const In& v, bool samples);
   // on_change, one call at a time (values are taken on Cyclone's and the mirror's threads).
@@ -244,11 +249,12 @@ struct Mirror::Impl {
   void TakeBatches();
   // After a batch of values: the counter, then on_change.
   void CountApplied(std::uint64_t applied_now);
-  // Applies a value (time: a stamped sample's stamp); true when the graph took it. `from` (the
-  // message on the wire) names its edge and source when the setter refuses its numbers.
+  // Applies a value (time: a stamped sample's stamp) with its packed covariance `cov` (null or
+  // all zero: exact); true when the graph took it. `from` (the message on the wire) names its
+  // edge and source when the setter refuses its numbers.
   bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                  const std::string& what, std::optional<std::int64_t> time = std::nullopt,
-                  const In* from = nullptr);
+                  const double* cov, const std::string& what,
+                  std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
   // True when a refusal of the current structures names `owner`.
   [[nodiscard]] bool HasRefusal(const std::string& owner) const;
 

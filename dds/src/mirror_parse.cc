@@ -70,6 +70,7 @@ std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeH
     r.tail = Str(e.tail);
     r.tail_body = Str(e.tail_body);
     std::copy(e.numbers, e.numbers + 7, r.n);
+    std::copy(e.covariance, e.covariance + internal::kPackedCovariance, r.cov);
     r.stamped = e.stamped;
     r.time_ns = e.time_ns;
     const std::string at =
@@ -84,6 +85,10 @@ std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeH
       if (e.kind == semgraph_wire_ELEMENT_POSE && !GoodName(r.tail_body))
         return at + "invalid reference body name";
       if (!Finite(r.n, 7)) return at + "a number is not finite (invalid_number)";
+      if (!Finite(r.cov, internal::kPackedCovariance))
+        return at + "a covariance entry is not finite (invalid_number)";
+      if (r.stamped && internal::HasCovariance(r.cov))
+        return at + "a stamped edge carries no covariance in this version";
       if (e.kind == semgraph_wire_ELEMENT_POSE && !UnitQuaternion(r.n))
         return at + "not a unit quaternion (invalid_rotation)";
       if (!heads.emplace(std::pair{e.kind, r.head}, 0).second)

@@ -23,21 +23,25 @@ bool SameTime(const core::TimeOptions& a, const core::TimeOptions& b) {
          a.duplicate_stamp == b.duplicate_stamp && a.sample_capacity == b.sample_capacity;
 }
 
-// Adds the edge of a structure row to g (stamped: with its newest sample's stamp).
+// Adds the edge of a structure row to g (stamped: with its newest sample's stamp; timeless:
+// with its covariance, in the edge form as the wire carries it).
 core::BuildResult AddEdge(core::SceneGraph<>& g, const Row& r) {
   const Eigen::Vector3d a(r.n[0], r.n[1], r.n[2]), b(r.n[3], r.n[4], r.n[5]);
   const Eigen::Quaterniond q(r.n[0], r.n[1], r.n[2], r.n[3]);
   const Eigen::Vector3d p(r.n[4], r.n[5], r.n[6]);
+  const coord::Covariance6 S = internal::UnpackCovariance(r.cov);
+  core::CovarianceInput covariance;
+  if (!r.stamped && internal::HasCovariance(r.cov)) covariance.matrix = &S;
   if (r.kind == semgraph_wire_ELEMENT_TWIST) {
     const core::TwistSpec spec =
         core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head);
     return r.stamped ? g.AddTwist(spec, a, b, core::Stamp::Nanoseconds(r.time_ns))
-                     : g.AddTwist(spec, a, b);
+                     : g.AddTwist(spec, a, b, covariance);
   }
   const core::PoseSpec spec =
       core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body);
   return r.stamped ? g.AddPose(spec, q, p, core::Stamp::Nanoseconds(r.time_ns))
-                   : g.AddPose(spec, q, p);
+                   : g.AddPose(spec, q, p, covariance);
 }
 
 // A refusal of one of `owner`'s relations, as reported (code: the graph's, or the replay's).
@@ -177,6 +181,7 @@ void Mirror::Impl::ReplayEdges(const OwnerRec& o, Replay& replay) {
         a.tail = r.tail;
         a.tail_body = twist ? std::string() : r.tail_body;
         std::copy(r.n, r.n + 7, a.n);
+        std::copy(r.cov, r.cov + 21, a.cov);
         a.edge = r.edge;
         a.seq = r.seq;
         a.stamped = r.stamped;
@@ -311,14 +316,14 @@ void Mirror::Impl::ApplyPending(const ValueKey& key, Slot& slot) {
   auto p = pending.find(key);
   if (p != pending.end()) {
     if (p->second.seq > slot.seq) {
-      ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, "value");
+      ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, p->second.cov, "value");
     }
     pending.erase(p);
   }
   auto ps = pending_samples.find(key);
   if (ps != pending_samples.end()) {
     for (const Pending& e : ps->second) {
-      ApplyValue(slot, e.seq, e.stamp_ns, e.n, "sample", e.time_ns);
+      ApplyValue(slot, e.seq, e.stamp_ns, e.n, e.cov, "sample", e.time_ns);
     }
     pending_samples.erase(ps);
   }
@@ -371,7 +376,7 @@ void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Rep
       if (time) slot.time_ns = *time;
     } else if (!known || r.seq > slot.seq) {
       // A kept edge under a new incarnation, or a newer value announced by the structure.
-      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, "structure value", time);
+      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, r.cov, "structure value", time);
       slot.seq = r.seq;
     }
     ApplyPending(key, slot);
@@ -442,7 +447,7 @@ void Mirror::Impl::MakeJointSlot(const JointRow& j, bool added, Slots& new_slots
     slot.seq = j.seq;
   } else if (slot.settable && (!known || j.seq > slot.seq)) {
     const double n[7] = {j.q, j.qdot, 0, 0, 0, 0, 0};
-    ApplyValue(slot, j.seq, 0, n, "structure value",
+    ApplyValue(slot, j.seq, 0, n, nullptr, "structure value",
                j.stamped() ? std::optional<std::int64_t>(j.time_ns) : std::nullopt);
     slot.seq = j.seq;
   }

@@ -90,8 +90,8 @@ void Mirror::Impl::TakeStructure() {
 }
 
 bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                              const std::string& what, std::optional<std::int64_t> time,
-                              const In* from) {
+                              const double* cov, const std::string& what,
+                              std::optional<std::int64_t> time, const In* from) {
   if (time.has_value() != slot.stamped) {
     Reject(slot.owner, what +
                            (time ? ": a stamped sample for the unstamped "
@@ -104,6 +104,19 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
   const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
   const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
   const Eigen::Vector3d p(n[4], n[5], n[6]);
+  // The covariance (docs/uncertainty.md): none or zero is an exact value, which sets the edge's
+  // covariance to zero; the setter checks it (invalid_number, invalid_covariance).
+  const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
+  if (has_covariance && (time || slot.joint)) {
+    Reject(slot.owner, what + " into '" + slot.head + "': a covariance with a " +
+                           (time ? "stamped sample" : "joint state") +
+                           " (not carried in this version)");
+    return false;
+  }
+  const coord::Covariance6 S = has_covariance ? internal::UnpackCovariance(cov)
+                                              : coord::Covariance6::Zero();
+  core::CovarianceInput covariance;
+  covariance.matrix = &S;
   if (slot.joint) {
     if (!slot.settable) {
       Reject(slot.owner, what + ": a state for the fixed or mimic joint '" + slot.head + "'");
@@ -113,11 +126,14 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
     code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time), &bad)
                 : graph.SetJointState(slot.group, q, qdot, &bad);
   } else if (slot.twist) {
-    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time), &bad)
-                : graph.SetTwist(slot.twist_handle, a, b, &bad);
+    code = time              ? graph.SetTwist(slot.twist_handle, a, b,
+                                              core::Stamp::Nanoseconds(*time), &bad)
+           : has_covariance ? graph.SetTwist(slot.twist_handle, a, b, covariance, &bad)
+                            : graph.SetTwist(slot.twist_handle, a, b, &bad);
   } else if (slot.settable) {
-    code = time ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time), &bad)
-                : graph.SetPose(slot.pose, q, p, &bad);
+    code = time             ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time), &bad)
+           : has_covariance ? graph.SetPose(slot.pose, q, p, covariance, &bad)
+                            : graph.SetPose(slot.pose, q, p, &bad);
   } else {
     Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
     return false;
@@ -131,6 +147,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
   if (code != base::ErrorCode::kOk) {
     const bool numbers = code == base::ErrorCode::kInvalidNumber ||
                          code == base::ErrorCode::kInvalidRotation ||
+                         code == base::ErrorCode::kInvalidCovariance ||
                          code == base::ErrorCode::kJointLimit;
     Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
                            (numbers ? ": " + core::Describe(bad) : std::string()) +
@@ -178,6 +195,7 @@ bool Mirror::Impl::HandleValue(const In& v, bool samples) {
     got.stamp_ns = v.stamp_ns;
     got.time_ns = v.time_ns;
     std::copy(v.numbers, v.numbers + 7, got.n);
+    std::copy(v.covariance, v.covariance + internal::kPackedCovariance, got.cov);
     if (samples) {
       std::vector<Pending>& list = pending_samples[key];
       if (list.size() < kMaxPendingSamples) list.push_back(got);
@@ -190,7 +208,8 @@ bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // Unstamped values: a repeat or an older value is dropped by its number. Stamped samples go
   // to the history, whose rules decide.
   if (!samples && v.seq <= it->second.seq) return false;
-  return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, samples ? "sample" : "value",
+  return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, v.covariance,
+                    samples ? "sample" : "value",
                     samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt, &v);
 }
 
@@ -208,7 +227,8 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
         const semgraph_wire_Value& v = buffer[i];
-        const In in{v.source, v.edge, v.kind, v.seq, v.stamp_ns, v.time_ns, v.numbers};
+        const In in{v.source,  v.edge,    v.kind,    v.seq,
+                    v.stamp_ns, v.time_ns, v.numbers, v.covariance};
         if (HandleValue(in, samples)) ++applied_now;
       }
     }
@@ -238,7 +258,8 @@ void Mirror::Impl::TakeBatches() {
         }
         for (std::uint32_t k = 0; k < b.updates._length; ++k) {
           const semgraph_wire_Update& u = b.updates._buffer[k];
-          const In in{b.source, u.edge, u.kind, u.seq, u.stamp_ns, u.time_ns, u.numbers};
+          const In in{b.source,  u.edge,    u.kind,    u.seq,
+                      u.stamp_ns, u.time_ns, u.numbers, u.covariance};
           if (HandleValue(in, u.stamped)) ++applied_now;
         }
       }

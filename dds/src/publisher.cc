@@ -64,6 +64,10 @@ struct Publisher::Impl {
   // the structure (with every edge's latest value) for it, as the batches name only changes.
   std::atomic<bool> matched{false};
 
+  // The latest value of a timeless edge as the graph stores it, with its covariance (zero after
+  // a value without one: exact), on the value topic or into the batch.
+  void PublishPose(core::FrameIndex child) noexcept;
+  void PublishTwist(core::TwistHandle edge) noexcept;
   // Sends one value: into the batch while batching, else on the value or sample topic.
   void Send(const semgraph_wire_Value& v, bool stamped) noexcept {
     if (!batching) {
@@ -80,6 +84,7 @@ struct Publisher::Impl {
     u.stamp_ns = v.stamp_ns;
     u.time_ns = v.time_ns;
     std::copy(v.numbers, v.numbers + 7, u.numbers);
+    std::copy(v.covariance, v.covariance + internal::kPackedCovariance, u.covariance);
     batch.push_back(u);  // within the reserved capacity: no allocation
   }
   void WriteBatch() noexcept {
@@ -244,6 +249,8 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
     if (const core::PoseHistory* h = g.pose_history(f)) {
       r.stamped = true;
       r.time_ns = h->newest_stamp();
+    } else {
+      internal::PackCovariance(g.pose_covariance(f), r.cov);
     }
     rows.push_back(std::move(r));
   }
@@ -263,6 +270,8 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
     if (const core::TwistHistory* h = g.twist_history(g.topology().twist_edge_of(f))) {
       r.stamped = true;
       r.time_ns = h->newest_stamp();
+    } else {
+      internal::PackCovariance(g.twist_covariance(f), r.cov);
     }
     rows.push_back(std::move(r));
   }
@@ -284,6 +293,7 @@ std::vector<semgraph_wire_Element> WireElements(std::vector<internal::Row>& rows
     for (int j = 0; j < 7; ++j) e.numbers[j] = rows[k].n[j];
     e.stamped = rows[k].stamped;
     e.time_ns = rows[k].time_ns;
+    std::copy(rows[k].cov, rows[k].cov + internal::kPackedCovariance, e.covariance);
   }
   return elements;
 }
@@ -381,15 +391,36 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   return base::Ok{};
 }
 
+void Publisher::Impl::PublishPose(core::FrameIndex child) noexcept {
+  semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_POSE, child.value(), pose_seq);
+  PutPose(v.numbers, graph->pose_value(child));
+  internal::PackCovariance(graph->pose_covariance(child), v.covariance);
+  Send(v, false);
+}
+
+void Publisher::Impl::PublishTwist(core::TwistHandle edge) noexcept {
+  const core::FrameIndex head = graph->topology().twist_edge(edge.slot).head;
+  semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_TWIST, head.value(), twist_seq);
+  const auto V = graph->twist_value(head);
+  PutTwist(v.numbers, V->linear, V->angular);
+  internal::PackCovariance(graph->twist_covariance(head), v.covariance);
+  Send(v, false);
+}
+
 base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                    const Eigen::Vector3d& p_ToHo_T) noexcept {
   Impl& m = *impl_;
   const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T);
-  if (code != base::ErrorCode::kOk) return code;
-  const std::uint32_t id = edge.child.value();
-  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_POSE, id, m.pose_seq);
-  PutPose(v.numbers, m.graph->pose_value(edge.child));
-  m.Send(v, false);
+  if (code == base::ErrorCode::kOk) m.PublishPose(edge.child);
+  return code;
+}
+
+base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                   const Eigen::Vector3d& p_ToHo_T,
+                                   const core::CovarianceInput& covariance) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T, covariance);
+  if (code == base::ErrorCode::kOk) m.PublishPose(edge.child);
   return code;
 }
 
@@ -397,11 +428,16 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
                                     const Eigen::Vector3d& w_DH_H) noexcept {
   Impl& m = *impl_;
   const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H);
-  if (code != base::ErrorCode::kOk) return code;
-  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
-  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_TWIST, id, m.twist_seq);
-  PutTwist(v.numbers, v_DHo_H, w_DH_H);
-  m.Send(v, false);
+  if (code == base::ErrorCode::kOk) m.PublishTwist(edge);
+  return code;
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H,
+                                    const core::CovarianceInput& covariance) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, covariance);
+  if (code == base::ErrorCode::kOk) m.PublishTwist(edge);
   return code;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 
+#include "semgraph/coord/covariance.h"
 #include "semgraph_dds_shared/entity.h"
 #include "semgraph_wire.h"
 
@@ -33,7 +34,32 @@ struct Row {
   double n[7] = {0, 0, 0, 0, 0, 0, 0};
   bool stamped = false;
   std::int64_t time_ns = 0;
+  double cov[21] = {};  // the packed covariance (semgraph_wire.idl; zero: exact)
 };
+
+/// The wire's packed covariance: the upper triangle of the symmetric 6x6 S, row by row.
+inline constexpr int kPackedCovariance = 21;
+inline void PackCovariance(const coord::Covariance6& S, double* out) noexcept {
+  int k = 0;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) out[k++] = S(i, j);
+  }
+}
+inline coord::Covariance6 UnpackCovariance(const double* in) noexcept {
+  coord::Covariance6 S;
+  int k = 0;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) S(i, j) = S(j, i) = in[k++];
+  }
+  return S;
+}
+/// True when a packed covariance is given (some entry nonzero; NaN counts as given).
+inline bool HasCovariance(const double* packed) noexcept {
+  for (int k = 0; k < kPackedCovariance; ++k) {
+    if (!(packed[k] == 0.0)) return true;
+  }
+  return false;
+}
 
 /// Owns one DDS entity (semgraph_dds_shared/entity.h).
 using Entity = dds_shared::Entity;

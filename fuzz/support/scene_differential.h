@@ -25,6 +25,11 @@
 //     AskJacobian: the columns' joints in order and the matrix, one-shot and compiled;
 //   - time (StampedPose, StampedTwist, AskTimed): codes, values, and the TimeReport (time
 //     answered, extrapolated, stamps read when not extrapolated), one-shot and compiled.
+//   - covariances (Pose, Twist with a CovarianceIn): codes; every edge's stored covariance
+//     (pose_covariance / twist_covariance) equal to the model's edge form within 1e-12 of
+//     max(1, max|S|) and symmetric; a nonzero one asked back for the edge alone
+//     (GetPoseWithCovariance of head wrt tail, GetTwistWithCovariance at head in [head]) within
+//     1e-9; a rejected op leaves every stored covariance bit-identical (Dump() has none).
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
 // tree; repair, joints, time); see tests/reference/reference_model.h.
@@ -113,6 +118,19 @@ inline std::string YamlRotation(const RotationInput& r) {
 }
 
 /// `, key: value` when value is not empty.
+/// A covariance as scene-script.md's `covariance: {matrix, order, convention}` value.
+inline std::string YamlCovariance(const reference::CovarianceIn& c) {
+  std::string m = "[";
+  for (int i = 0; i < 6; ++i) {
+    m += i ? ", [" : "[";
+    for (int j = 0; j < 6; ++j) m += (j ? ", " : "") + YamlNumber(c.S(i, j));
+    m += "]";
+  }
+  return ", covariance: {matrix: " + m + "], order: " +
+         (c.angular_linear ? "angular_linear" : "linear_angular") +
+         ", convention: " + (c.body ? "body" : "coordinates") + "}";
+}
+
 inline std::string Field(const char* key, const std::string& value) {
   return value.empty() ? std::string() : std::string(", ") + key + ": " + YamlName(value);
 }
@@ -229,30 +247,42 @@ class Differential {
     return Finish(graph_.AddFrame(name, body), model_.AddFrame(name, body));
   }
 
-  /// Edge-form pose tail -> head: PoseCoord({head}|head_body, {tail}|tail_body, [tail]).
+  /// Edge-form pose tail -> head: PoseCoord({head}|head_body, {tail}|tail_body, [tail]); with
+  /// a covariance when `cov` is set (docs/uncertainty.md).
   ErrorCode Pose(const std::string& head, const std::string& head_body, const std::string& tail,
                  const std::string& tail_body, const RotationInput& rotation,
-                 const Eigen::Vector3d& p) {
+                 const Eigen::Vector3d& p, const reference::CovarianceIn* cov = nullptr) {
+    const std::string cov_text = cov ? YamlCovariance(*cov) : std::string();
     Begin([=] {
       return "{op: pose, of: " + YamlName(head) + Field("body", head_body) +
              ", wrt: " + YamlName(tail) + Field("ref_body", tail_body) +
-             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) + "}";
+             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) +
+             cov_text + "}";
     });
     core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
-    const auto result = rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p)
-                                           : graph_.AddPose(spec, rotation.q, p);
-    return Finish(result, model_.AddPose(head, head_body, tail, tail_body, rotation, p));
+    const core::CovarianceInput in = KernelCovariance(cov);
+    const auto result = !cov ? (rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p)
+                                                   : graph_.AddPose(spec, rotation.q, p))
+                             : (rotation.is_matrix ? graph_.AddPose(spec, rotation.R, p, in)
+                                                   : graph_.AddPose(spec, rotation.q, p, in));
+    return Finish(result,
+                  model_.AddPose(head, head_body, tail, tail_body, rotation, p, std::nullopt, cov));
   }
 
   ErrorCode Twist(const std::string& point, const std::string& body, const std::string& ref_body,
-                  const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+                  const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                  const reference::CovarianceIn* cov = nullptr) {
+    const std::string cov_text = cov ? YamlCovariance(*cov) : std::string();
     Begin([=] {
       return "{op: twist, point: " + YamlName(point) + Field("body", body) +
              ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
-             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) + "}";
+             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) + cov_text + "}";
     });
     core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
-    return Finish(graph_.AddTwist(spec, v, w), model_.AddTwist(point, body, ref_body, coord, v, w));
+    const auto result =
+        cov ? graph_.AddTwist(spec, v, w, KernelCovariance(cov)) : graph_.AddTwist(spec, v, w);
+    return Finish(result,
+                  model_.AddTwist(point, body, ref_body, coord, v, w, std::nullopt, cov));
   }
 
   /// Edge-form pose add with repair (docs/repair.md): besides the checks of Pose, the same
@@ -685,7 +715,33 @@ class Differential {
   };
   void Begin(std::function<std::string()> render) {
     trace_.push_back(TraceLine{std::move(render), std::nullopt, {}});
-    if (checks_) before_ = CurrentDump();
+    if (checks_) {
+      before_ = CurrentDump();
+      covariances_before_ = Covariances();  // Dump() does not show covariances
+    }
+  }
+  static core::CovarianceInput KernelCovariance(const reference::CovarianceIn* cov) {
+    core::CovarianceInput in;
+    if (cov == nullptr) return in;
+    in.matrix = &cov->S;
+    in.order = cov->angular_linear ? core::CovarianceOrder::kAngularLinear
+                                   : core::CovarianceOrder::kLinearAngular;
+    in.convention = cov->body ? core::PoseCovarianceConvention::kBody
+                              : core::PoseCovarianceConvention::kCoordinates;
+    return in;
+  }
+  // The kernel's stored covariance of every edge the model knows, by edge key.
+  std::map<std::string, coord::Covariance6> Covariances() const {
+    std::map<std::string, coord::Covariance6> out;
+    for (const reference::PoseEdge& e : model_.poses()) {
+      out[ReferenceModel::PoseKey(e.tail, e.head)] =
+          graph_.pose_covariance(graph_.FindFrame(e.head));
+    }
+    for (const reference::TwistEdge& t : model_.twists()) {
+      out[ReferenceModel::TwistKey(t.tail_body, t.head)] =
+          graph_.twist_covariance(graph_.FindFrame(t.head));
+    }
+    return out;
   }
   void Annotate(ErrorCode code) { trace_.back().code = code; }
   // Dump() of the graph before the current op, cached: only an accepted op changes it.
@@ -709,6 +765,9 @@ class Differential {
     }
     if (!result && result.error().message.empty()) Fail("a rejection without a message");
     if (!result && Dump(graph_) != before_) Fail("a rejected op changed the graph's Dump()");
+    if (!result && Covariances() != covariances_before_) {
+      Fail("a rejected op changed a stored covariance");
+    }
     if (result) dump_valid_ = false;
     if (const std::string broken = CheckInvariants(graph_); !broken.empty()) {
       Fail("CheckInvariants() after the op:\n" + broken);
@@ -1013,6 +1072,12 @@ class Differential {
           !Near(B::TranslationOf(X), e.X_TH.p, tol)) {
         Fail("stored value of the pose edge " + e.tail + " -> " + e.head + " differs");
       }
+      CompareCovariance("pose edge " + e.tail + " -> " + e.head, graph_.pose_covariance(h), e.S);
+      if (!e.S.isZero(0.0)) {  // asked back in its own form: the edge's covariance itself
+        const auto r = graph_.GetPoseWithCovariance(core::PoseSpec::Of(e.head).RelativeTo(e.tail));
+        if (!r) Fail("GetPoseWithCovariance of the edge " + e.tail + " -> " + e.head + " failed");
+        CompareCovariance("queried pose " + e.head + " wrt " + e.tail, r->covariance, e.S, 1e-9);
+      }
     }
     if (graph_.num_joints() != model_.joints().size()) {
       Fail("joint counts differ: kernel " + std::to_string(graph_.num_joints()) + ", model " +
@@ -1039,6 +1104,32 @@ class Differential {
       if (!Near(value->linear, t.v, tol_v) || !Near(value->angular, t.w, tol_v)) {
         Fail("stored value of the twist edge " + t.tail_body + " -> " + t.head + " differs");
       }
+      const std::string key = "twist edge " + t.tail_body + " -> " + t.head;
+      CompareCovariance(key, graph_.twist_covariance(h), t.S);
+      if (!t.S.isZero(0.0)) {  // the twist of h wrt D at h in [h]: the edge alone (W3: a tree)
+        const auto r = graph_.GetTwistWithCovariance(
+            core::TwistSpec::Of(t.head).RelativeTo(t.tail_body).ExpressedIn(t.head));
+        if (!r) Fail("GetTwistWithCovariance of the " + key + " failed");
+        CompareCovariance("queried twist of the " + key, r->covariance, t.S, 1e-9);
+      }
+    }
+  }
+
+  // A kernel covariance against the model's (edge form): within `rel` of max(1, max|S|), and
+  // symmetric (stored symmetrized) within 1e-12 of that scale.
+  void CompareCovariance(const std::string& what, const coord::Covariance6& kernel,
+                         const reference::Matrix6& model, double rel = 1e-12) const {
+    const double scale = std::max(1.0, model.cwiseAbs().maxCoeff());
+    const double diff = (kernel - model).cwiseAbs().maxCoeff();
+    const double asym = (kernel - kernel.transpose()).cwiseAbs().maxCoeff();
+    if (!(diff <= rel * scale) || !(asym <= 1e-12 * scale)) {
+      std::ostringstream m;
+      m.precision(17);
+      m << "covariance of the " << what << " differs (max difference " << diff
+        << ", asymmetry " << asym << "):\nkernel\n"
+        << kernel << "\nmodel\n"
+        << model;
+      Fail(m.str());
     }
   }
 
@@ -1269,6 +1360,7 @@ class Differential {
   ReferenceModel model_;
   std::vector<TraceLine> trace_;
   std::string before_;  // Dump() before the current op
+  std::map<std::string, coord::Covariance6> covariances_before_;  // Covariances() likewise
   std::string dump_;    // cache of Dump() while dump_valid_
   bool dump_valid_ = false;
   bool checks_ = true;

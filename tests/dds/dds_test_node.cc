@@ -14,6 +14,11 @@
 //       answers at the compared stamps, "READY".
 //   dds_test_node timed_mirror DOMAIN NAME LIMIT_MS  mirror the joint scene until `done` and caught
 //       up; print refusals ("R"), samples received per joint ("S name n"), the timed answers ("Q").
+//   dds_test_node covariance DOMAIN OWNER         the robot with a calibrated camera {cam} wrt
+//       {l2} (constant, covariance TestCovariance(1)); once a mirror matched: {o} wrt {c} set
+//       with TestCovariance(2) in the body convention, {l1} wrt {b} set with TestCovariance(3)
+//       and then without one (exact again), the twist of {o} in a batch with TestCovariance(4)
+//       in angular_linear order; then "READY" (the mirror checks the covariances it got).
 //   dds_test_node mirror DOMAIN NAME FRAME OWNERS LIMIT_MS   mirror until frame FRAME exists,
 //   OWNERS
 //       owners are known and the replica is caught up; then print refusals ("R owner code")
@@ -74,6 +79,42 @@ int Robot(std::uint32_t domain, const std::string& owner, int steps) {
     if (answers[i] == 'Q' && (i == 0 || answers[i - 1] == '\n')) answers[i] = 'P';
   }
   std::fputs(answers.c_str(), stdout);
+  std::puts("READY");
+  StayAlive();
+  return 0;
+}
+
+int Covariances(std::uint32_t domain, const std::string& owner) {
+  core::SceneGraph<> g;
+  if (!dds_test::BuildRobot(g)) return 3;
+  const core::Covariance6 S_cam = dds_test::TestCovariance(1), S_obj = dds_test::TestCovariance(2);
+  const core::Covariance6 S_l1 = dds_test::TestCovariance(3), S_vel = dds_test::TestCovariance(4);
+  const core::CovarianceInput calibration{&S_cam};
+  if (!g.AddPose(core::PoseSpec::Of("cam", "L2").RelativeTo("l2", "L2"),
+                 Eigen::Quaterniond::Identity(), dds_test::kP_L2Cam, calibration)) {
+    return 3;
+  }
+  auto pub = dds::Publisher::Create(g, {owner, domain});
+  if (!pub || !(*pub)->PublishStructure()) return 3;
+  auto j1 = g.FindPoseEdge("l1", "b");
+  auto obj = g.FindPoseEdge("o", "c");
+  auto vel = g.FindTwistEdge("o", "C");
+  if (!j1 || !obj || !vel || !(*pub)->WaitForMirrors(1, 20s)) return 3;
+  using core::CovarianceOrder;
+  using core::PoseCovarianceConvention;
+  const core::CovarianceInput body{&S_obj, CovarianceOrder::kLinearAngular,
+                                   PoseCovarianceConvention::kBody};
+  const core::CovarianceInput swapped{&S_vel, CovarianceOrder::kAngularLinear,
+                                      PoseCovarianceConvention::kCoordinates};
+  bool ok = (*pub)->SetPose(*obj, dds_test::Rx(dds_test::CovarianceObjectRoll()),
+                            dds_test::ObjectPosition(1), body) == base::ErrorCode::kOk;
+  ok &= (*pub)->SetPose(*j1, dds_test::Rz(0.1), {0, 0, 0.5}, core::CovarianceInput{&S_l1}) ==
+        base::ErrorCode::kOk;
+  ok &= (*pub)->SetPose(*j1, dds_test::Rz(0.2), {0, 0, 0.5}) == base::ErrorCode::kOk;
+  (*pub)->BeginBatch();
+  ok &= (*pub)->SetTwist(*vel, {0.02, 0, 0}, {0, 0, 0.2}, swapped) == base::ErrorCode::kOk;
+  (*pub)->Flush();
+  if (!ok) return 4;
   std::puts("READY");
   StayAlive();
   return 0;
@@ -244,6 +285,7 @@ int main(int argc, char** argv) {
   const auto domain = static_cast<std::uint32_t>(std::atoi(argv[2]));
   if (mode == "robot" && argc == 5) return Robot(domain, argv[3], std::atoi(argv[4]));
   if (mode == "robot_v2" && argc == 4) return RobotV2(domain, argv[3]);
+  if (mode == "covariance" && argc == 4) return Covariances(domain, argv[3]);
   if (mode == "joints" && argc == 5) {
     return Joints(domain, argv[3], static_cast<std::uint32_t>(std::atoi(argv[4])));
   }

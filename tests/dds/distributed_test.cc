@@ -165,6 +165,64 @@ TEST(DistributedTest, KilledPublisherKeepsValuesAndRestartReconciles) {
   EXPECT_TRUE(mirror.Owners()[0].alive);
 }
 
+// Covariances (docs/uncertainty.md) between processes: a publisher process sets a constant
+// edge's calibration covariance (in the structure), a pose value with a covariance in the body
+// convention, a value with one and then one without (exact again), and a batched twist with one
+// in angular_linear order; this process's mirror holds each in the edge form, as computed here
+// by hand: diag(R, R) S diag(R, R)^T for the body convention, the halves swapped for the order.
+TEST(DistributedTest, CovariancesReachTheMirrorInTheEdgeForm) {
+  auto made = dds::Mirror::Create({"driver", 28, {}, {}, {}, {}});
+  ASSERT_TRUE(made) << made.error();
+  dds::Mirror& mirror = **made;
+  Child pub({kNode, "covariance", "28", "arm"});
+  const core::Covariance6 S_cam = TestCovariance(1), S_obj = TestCovariance(2);
+  const core::Covariance6 S_vel = TestCovariance(4);
+  const Eigen::Matrix3d R = Rx(CovarianceObjectRoll()).toRotationMatrix();
+  core::Covariance6 B = core::Covariance6::Zero();
+  B.topLeftCorner<3, 3>() = R;
+  B.bottomRightCorner<3, 3>() = R;
+  const core::Covariance6 obj_expected = B * S_obj * B.transpose();
+  core::Covariance6 vel_expected;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) vel_expected(i, j) = S_vel((i + 3) % 6, (j + 3) % 6);
+  }
+  const auto l1_in_b = core::PoseSpec::Of("l1").RelativeTo("b");
+  const auto arrived = [&] {
+    bool ok = false;
+    mirror.WithGraph([&](const core::SceneGraph<>& g) {
+      const auto o = g.GetPoseWithCovariance(core::PoseSpec::Of("o").RelativeTo("c"));
+      const auto l1 = g.GetPose(l1_in_b);
+      const auto v = g.GetTwistWithCovariance(
+          core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("o"));
+      ok = g.FindFrame("cam").is_valid() && o && !o->covariance.isZero(0.0) && l1 &&
+           l1->value.rotation.angularDistance(Rz(0.2)) < 1e-12 && v &&
+           !v->covariance.isZero(0.0);
+    });
+    return ok;
+  };
+  ASSERT_TRUE(mirror.WaitUntil(arrived, 20s)) << pub.Output();
+  mirror.WithGraph([&](const core::SceneGraph<>& g) {
+    const auto cam = g.GetPoseWithCovariance(core::PoseSpec::Of("cam").RelativeTo("l2"));
+    ASSERT_TRUE(cam);
+    EXPECT_LT((cam->covariance - S_cam).cwiseAbs().maxCoeff(), 1e-18) << cam->covariance;
+    const auto o = g.GetPoseWithCovariance(core::PoseSpec::Of("o").RelativeTo("c"));
+    ASSERT_TRUE(o);
+    EXPECT_LT((o->covariance - obj_expected).cwiseAbs().maxCoeff(), 1e-18) << o->covariance;
+    EXPECT_NEAR((o->value.value.translation - ObjectPosition(1)).norm(), 0.0, 1e-15);
+    // {l1}'s last value came without a covariance: exact, zero.
+    const auto l1 = g.GetPoseWithCovariance(l1_in_b);
+    ASSERT_TRUE(l1);
+    EXPECT_TRUE(l1->covariance.isZero(0.0)) << l1->covariance;
+    EXPECT_TRUE(g.pose_covariance(g.FindFrame("l1")).isZero(0.0));
+    const auto v =
+        g.GetTwistWithCovariance(core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("o"));
+    ASSERT_TRUE(v);
+    EXPECT_LT((v->covariance - vel_expected).cwiseAbs().maxCoeff(), 1e-18) << v->covariance;
+    EXPECT_NEAR((v->value.linear - Eigen::Vector3d(0.02, 0, 0)).norm(), 0.0, 1e-15);
+  });
+  EXPECT_TRUE(mirror.Reports().empty() || mirror.Reports().back().event != "refused");
+}
+
 TEST(DistributedTest, LateMirrorCatchesUp) {
   Child pub({kNode, "robot", "14", "arm", "200"});
   ASSERT_TRUE(pub.WaitForLine("READY", 5s)) << pub.Output();

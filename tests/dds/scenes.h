@@ -251,4 +251,21 @@ inline std::string TimedAnswers(const core::SceneGraph<>& g) {
   return out;
 }
 
+
+// ---- covariances (docs/uncertainty.md): the numbers of the covariance test
+// (distributed_test.cc, dds_test_node covariance). A symmetric, diagonally dominant (hence
+// positive definite) 6x6 matrix: diag(d) + 1e-6 * (i + 1)(j + 1) / 36 off the diagonal, times
+// `scale`.
+inline core::Covariance6 TestCovariance(double scale) {
+  const double d[6] = {4e-4, 5e-4, 6e-4, 1e-4, 2e-4, 3e-4};
+  core::Covariance6 S;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) S(i, j) = i == j ? d[i] : 1e-6 * (i + 1) * (j + 1) / 36.0;
+  }
+  return scale * S;
+}
+/// The camera's calibration (a constant edge {cam} wrt {l2}, both on L2) and its covariance.
+inline const Eigen::Vector3d kP_L2Cam{0.05, 0.0, 0.02};
+inline double CovarianceObjectRoll() { return 0.3; }
+
 }  // namespace semgraph::dds_test

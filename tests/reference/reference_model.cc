@@ -63,6 +63,70 @@ ErrorCode ValidateRotation(const RotationInput& in, Eigen::Matrix3d* R) {
   return ErrorCode::kOk;
 }
 
+// ============================================================ covariances (docs/uncertainty.md)
+
+constexpr double kMaxMagnitude = 1e12;         // invalid_number: |x| above this
+constexpr double kCovarianceTolerance = 1e-9;  // symmetry and eigenvalue bound, relative
+
+double CovarianceTolerance(const Matrix6& S) {
+  return kCovarianceTolerance * std::max(1.0, S.cwiseAbs().maxCoeff());
+}
+// invalid_number: every entry finite and at most 1e12 in magnitude.
+bool CovarianceNumbersOk(const Matrix6& S) {
+  for (int i = 0; i < 36; ++i) {
+    if (!std::isfinite(S(i / 6, i % 6)) || std::abs(S(i / 6, i % 6)) > kMaxMagnitude) return false;
+  }
+  return true;
+}
+// invalid_covariance: asymmetric beyond tol, or an eigenvalue of the symmetric part below -tol.
+bool CovarianceShapeOk(const Matrix6& S) {
+  const double tol = CovarianceTolerance(S);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i + 1; j < 6; ++j) {
+      if (std::abs(S(i, j) - S(j, i)) > tol) return false;
+    }
+  }
+  return !(ReferenceModel::SmallestEigenvalue(0.5 * (S + S.transpose())) < -tol);
+}
+Eigen::Matrix3d Hat(const Eigen::Vector3d& w);  // [w]x, defined below
+// J S J^T with J = [[A, B], [0, D]] written out block by block.
+Matrix6 Propagate(const Eigen::Matrix3d& A, const Eigen::Matrix3d& B, const Eigen::Matrix3d& D,
+                  const Matrix6& S) {
+  Matrix6 J = Matrix6::Zero();
+  J.topLeftCorner<3, 3>() = A;
+  J.topRightCorner<3, 3>() = B;
+  J.bottomRightCorner<3, 3>() = D;
+  return J * S * J.transpose();
+}
+// A checked covariance in the edge form: linear first, symmetrized, the body convention turned
+// into coordinates (delta = (R rho, R phi)). R: the value's rotation (poses; identity for twists).
+Matrix6 EdgeForm(const CovarianceIn& c, const Eigen::Matrix3d& R) {
+  Matrix6 S = c.S;
+  if (c.angular_linear) {  // rows and columns (dtheta, dp) -> (dp, dtheta)
+    Matrix6 T;
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) T((i + 3) % 6, (j + 3) % 6) = S(i, j);
+    }
+    S = T;
+  }
+  S = 0.5 * (S + S.transpose());
+  if (c.body) S = Propagate(R, Eigen::Matrix3d::Zero(), R, S);
+  return S;
+}
+// The covariance of X^-1 for X = (R, p) with coordinates perturbation (p + dp, Exp(dtheta) R):
+// R'_true = R^T Exp(-dtheta) = Exp(-R^T dtheta) R^T, so dtheta' = -R^T dtheta; and
+// p'_true = -R_true^T p_true = -R^T (I - [dtheta]x)(p + dp) = p' - R^T dp - R^T [p]x dtheta.
+Matrix6 InverseCovariance(const Transform& X, const Matrix6& S) {
+  const Eigen::Matrix3d Rt = X.R.transpose();
+  return Propagate(-Rt, -Rt * Hat(X.p), -Rt, S);
+}
+// A restated constant pose's covariance (docs/uncertainty.md §2). AMBIGUITY, resolved like the
+// library: "none = none" read literally: no covariance matches only a stored zero one.
+bool SameCovariance(const Matrix6& stored, const CovarianceIn* given, const Matrix6& S) {
+  if (given == nullptr) return stored.isZero(0.0);
+  return (stored - S).cwiseAbs().maxCoeff() <= CovarianceTolerance(stored);
+}
+
 Transform Compose(const Transform& X_AB, const Transform& X_BC) {  // -> X_AC
   return {X_AB.R * X_BC.R, X_AB.R * X_BC.p + X_AB.p};
 }
@@ -192,6 +256,38 @@ bool NearTolerance(double x, double tolerance, double margin) {
 
 }  // namespace
 
+double ReferenceModel::SmallestEigenvalue(const Matrix6& S) {
+  // Cyclic Jacobi (Numerical Recipes' rotation): A <- P^T A P zeroes A(p, q), until the
+  // off-diagonal part is negligible; the diagonal is then the spectrum.
+  Matrix6 A = 0.5 * (S + S.transpose());
+  for (int sweep = 0; sweep < 60; ++sweep) {
+    double off = 0.0;
+    for (int i = 0; i < 6; ++i) {
+      for (int j = i + 1; j < 6; ++j) off += A(i, j) * A(i, j);
+    }
+    if (off <= 1e-40 * std::max(A.squaredNorm(), 1e-300)) break;
+    for (int p = 0; p < 6; ++p) {
+      for (int q = p + 1; q < 6; ++q) {
+        if (A(p, q) == 0.0) continue;
+        const double theta = (A(q, q) - A(p, p)) / (2.0 * A(p, q));
+        const double t = std::abs(theta) > 1e150
+                             ? 0.5 / theta
+                             : (theta >= 0 ? 1.0 : -1.0) /
+                                   (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        Matrix6 P = Matrix6::Identity();
+        P(p, p) = c;
+        P(q, q) = c;
+        P(p, q) = s;
+        P(q, p) = -s;
+        A = P.transpose() * A * P;
+        A(p, q) = A(q, p) = 0.0;
+      }
+    }
+  }
+  return A.diagonal().minCoeff();
+}
+
 bool ReferenceModel::ValidName(const std::string& name) {
   if (name.empty() || name.size() > 255) return false;
   for (unsigned char c : name) {
@@ -270,7 +366,7 @@ ErrorCode ReferenceModel::AddFrame(const std::string& name, const std::string& b
 ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& head_body,
                                   const std::string& tail, const std::string& tail_body,
                                   const RotationInput& rotation, const Eigen::Vector3d& p,
-                                  std::optional<std::int64_t> stamp) {
+                                  std::optional<std::int64_t> stamp, const CovarianceIn* cov) {
   // invalid_name (bodies are optional).
   if (!ValidName(head) || !ValidName(tail)) return ErrorCode::kInvalidName;
   if ((!head_body.empty() && !ValidName(head_body)) ||
@@ -286,8 +382,11 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
              std::isfinite(rotation.q.y()) && std::isfinite(rotation.q.z());
   }
   if (!finite) return ErrorCode::kInvalidNumber;
+  if (cov && !CovarianceNumbersOk(cov->S)) return ErrorCode::kInvalidNumber;
   Eigen::Matrix3d R;
   if (const ErrorCode c = ValidateRotation(rotation, &R); c != ErrorCode::kOk) return c;
+  if (cov && !CovarianceShapeOk(cov->S)) return ErrorCode::kInvalidCovariance;
+  const Matrix6 S = cov ? EdgeForm(*cov, R) : Matrix6::Zero();
   // Node resolution, one frame at a time: the head (orientation frame), then the tail. (The
   // spec does not order frame_body_mismatch and frame_without_body of DIFFERENT frames; see
   // the header.)
@@ -307,8 +406,9 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
       const bool same_R = (e.X_TH.R - R).cwiseAbs().maxCoeff() <= kConstantTolerance;
       const bool same_p =
           (e.X_TH.p - p).norm() <= kConstantTolerance * std::max(1.0, e.X_TH.p.norm());
-      return same_R && same_p ? ErrorCode::kOk
-                              : ErrorCode::kConstantPoseChange;  // (a stamp is ignored)
+      return same_R && same_p && SameCovariance(e.S, cov, S)
+                 ? ErrorCode::kOk
+                 : ErrorCode::kConstantPoseChange;  // (a stamp is ignored)
     }
     const Transform X{R, p};
     const auto same = [&](const PoseSample& x) { return SamePose(x.X, X); };
@@ -317,6 +417,7 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
       return c;
     if (!stamp) {
       e.X_TH = X;
+      e.S = S;
       return ErrorCode::kOk;
     }
     InsertSample(e.samples, PoseSample{*stamp, X}, time_, same);
@@ -333,7 +434,7 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
     next.bodies.insert(tail_body);
     next.frames[tail] = tail_body;
   }
-  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}, false, {}});
+  next.poses.push_back(PoseEdge{tail, head, Transform{R, p}, false, {}, S});
   if (stamp && next.frames.at(head) != next.frames.at(tail)) {  // a stamped edge between bodies
     next.poses.back().stamped = true;
     next.poses.back().samples.push_back(PoseSample{*stamp, Transform{R, p}});
@@ -393,7 +494,7 @@ std::vector<std::string> ReferenceModel::Reroot(const std::string& frame) {
   for (const std::size_t i : path) {
     PoseEdge& e = s_.poses[i];
     keys.push_back(PoseKey(e.tail, e.head));
-    e = PoseEdge{e.head, e.tail, Invert(e.X_TH), false, {}};
+    e = PoseEdge{e.head, e.tail, Invert(e.X_TH), false, {}, InverseCovariance(e.X_TH, e.S)};
   }
   return keys;
 }
@@ -640,7 +741,7 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   next.bodies.insert(C);
   next.frames[in.child] = C;
   next.frames[in.parent] = P;
-  next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}, false, {}});
+  next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}, false, {}, Matrix6::Zero()});
   switch (Violation(next)) {
     case Rule::kP1:
       return ErrorCode::kMultiplePoseParents;
@@ -657,7 +758,8 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
     if (t.head == in.child) return ErrorCode::kMultipleTwistParents;
   }
   next.twists.push_back(
-      TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}});
+      TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {},
+                Matrix6::Zero()});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   j.serial = next_serial_++;
   next.joints.push_back(j);
@@ -793,11 +895,15 @@ JacobianAnswer ReferenceModel::Jacobian(const Query& query) const {
 ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& body,
                                    const std::string& ref_body, const std::string& coord,
                                    const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                                   std::optional<std::int64_t> stamp) {
+                                   std::optional<std::int64_t> stamp, const CovarianceIn* cov) {
   if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord))
     return ErrorCode::kInvalidName;
   if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
   if (!Finite(v) || !Finite(w)) return ErrorCode::kInvalidNumber;
+  if (cov && !CovarianceNumbersOk(cov->S)) return ErrorCode::kInvalidNumber;
+  // A twist's covariance has no convention: body is refused as the library does.
+  if (cov && (!CovarianceShapeOk(cov->S) || cov->body)) return ErrorCode::kInvalidCovariance;
+  Matrix6 S = cov ? EdgeForm(*cov, Eigen::Matrix3d::Identity()) : Matrix6::Zero();
   const bool point_exists = s_.frames.count(point) > 0;
   if (point_exists && !body.empty() && s_.frames.at(point) != body)
     return ErrorCode::kFrameBodyMismatch;
@@ -825,6 +931,7 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     }
     v_e = X_ER.R * v;
     w_e = X_ER.R * w;
+    S = Propagate(X_ER.R, Eigen::Matrix3d::Zero(), X_ER.R, S);  // re-expressed, R taken exact
   }
   for (TwistEdge& t : s_.twists) {
     if (t.head != point) continue;
@@ -837,6 +944,7 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     if (!stamp) {
       t.v = v_e;
       t.w = w_e;
+      t.S = S;
       return ErrorCode::kOk;
     }
     InsertSample(t.samples, TwistSample{*stamp, v_e, w_e}, time_, same);
@@ -848,7 +956,7 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
   next.bodies.insert(C);
   next.bodies.insert(ref_body);
   next.frames[point] = C;
-  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}});
+  next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}, S});
   if (stamp) next.twists.back().samples.push_back(TwistSample{*stamp, v_e, w_e});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   s_ = std::move(next);

@@ -14,6 +14,7 @@
 //   twists_   vector of twist edges {tail body D, head frame h, v, w}: the screw twist
 //             TwistCoord(h|H, D, [h]) (docs/rules.md §3)
 //   a stamped edge also keeps its samples (sorted by stamp; the plain value is the newest);
+//   each edge also keeps its covariance S in the edge form (zero: exact; docs/uncertainty.md);
 //   joints_   live joints {name, type, parent, child, X_origin, axis, limits, mimic, q, qdot}:
 //             their edges are ordinary entries of poses_ / twists_ whose values Drive() writes.
 //
@@ -137,11 +138,23 @@ struct TwistSample {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
 };
 
+/// A 6x6 covariance (docs/uncertainty.md): rows and columns (dp, dtheta) / (dv, dw).
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+/// A covariance given with an add: the matrix as given, its order (angular first when
+/// `angular_linear`) and, for a pose, the body convention (X_true = X Exp(xi)).
+struct CovarianceIn {
+  Matrix6 S = Matrix6::Zero();
+  bool angular_linear = false;
+  bool body = false;
+};
+
 struct PoseEdge {
   std::string tail, head;
   Transform X_TH;
   bool stamped = false;
   std::vector<PoseSample> samples;
+  Matrix6 S = Matrix6::Zero();  // the edge form's covariance (zero: exact)
 };
 
 struct TwistEdge {
@@ -149,6 +162,7 @@ struct TwistEdge {
   Eigen::Vector3d v, w;  // at {head}, in [head]
   bool stamped = false;
   std::vector<TwistSample> samples;
+  Matrix6 S = Matrix6::Zero();  // at {head} in [head], linear first (zero: exact)
 };
 
 /// The model's copy of the graph's time options.
@@ -245,6 +259,19 @@ class ReferenceModel {
   //           duplicate_twist_path
   //   remove: invalid_name -> unknown_frame -> unknown_body -> no_such_edge
   // Empty head_body / tail_body / body mean "not given".
+  // UNCERTAINTY (docs/uncertainty.md §1-§2), untimed adds only: a covariance `cov` (null: none,
+  // the value exact: an update then sets the edge's covariance to zero). Its checks on the matrix
+  // as given: invalid_number (an entry not finite or |x| > 1e12) in invalid_number's place, i.e.
+  // before invalid_rotation; invalid_covariance (|S(i,j) - S(j,i)| > tol, or an eigenvalue of
+  // (S + S^T)/2 below -tol, tol = 1e-9 max(1, max|S|), eigenvalues by the model's own cyclic
+  // Jacobi; for a twist also: the body convention, which has no meaning there, as the library
+  // reads it) right after invalid_rotation (twists: after invalid_number). Stored in the edge
+  // form: reordered to linear-angular, symmetrized, body -> diag(R, R) S diag(R, R)^T; a twist
+  // given in [r] != [h]: diag(R_hr, R_hr) S diag(R_hr, R_hr)^T. A constant pose restated needs
+  // the same covariance too (every entry within 1e-9 max(1, max|S_stored|); none = zero), else
+  // constant_pose_change. A re-rooted edge's covariance is the inverse's, J S J^T with
+  // J = [[-R^T, -R^T [p]x], [0, -R^T]] (derived in the .cc). Not covered: stamped adds with a
+  // covariance (the library has no public call for them yet), covariance queries.
   ErrorCode AddBody(const std::string& name);
   ErrorCode AddFrame(const std::string& name, const std::string& body);
   // Time: an add with a stamp gives a stamped edge (a new edge between bodies) or a sample
@@ -257,10 +284,15 @@ class ReferenceModel {
   // extrapolation, in twist_not_convertible's place).
   ErrorCode AddPose(const std::string& head, const std::string& head_body, const std::string& tail,
                     const std::string& tail_body, const RotationInput& rotation,
-                    const Eigen::Vector3d& p, std::optional<std::int64_t> stamp = std::nullopt);
+                    const Eigen::Vector3d& p, std::optional<std::int64_t> stamp = std::nullopt,
+                    const CovarianceIn* cov = nullptr);
   ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
                      const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                     std::optional<std::int64_t> stamp = std::nullopt);
+                     std::optional<std::int64_t> stamp = std::nullopt,
+                     const CovarianceIn* cov = nullptr);
+  /// The smallest eigenvalue of a symmetric 6x6 matrix (cyclic Jacobi), for callers that need
+  /// to tell a borderline case (an eigenvalue within rounding of the check's bound).
+  static double SmallestEigenvalue(const Matrix6& S);
 
   /// A query under a time policy: the codes of Ask, with invalid_number (negative horizon)
   /// right after invalid_name, then extrapolation (a used stamped edge without a value at the

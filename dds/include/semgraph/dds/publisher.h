@@ -24,8 +24,9 @@
 // Only the quaternion backend (SceneGraph<>) is shared; edges go on the wire in edge form
 // (pose: X_TH of {tail} -> {head} in [tail]; twist: the screw twist at {head} in [head]).
 // Costs: PublishStructure O(frames + edges) and one DDS sample (allocates); SetPose/SetTwist
-// O(1) for the graph plus one DDS write of a 100-byte sample (the DDS write takes Cyclone's
-// locks and allocates its serialized sample: it is not on the real-time path); in a batch
+// O(1) for the graph plus one DDS write of a 270-byte sample (168 bytes of it the covariance;
+// the DDS write takes Cyclone's locks and allocates its serialized sample: it is not on the
+// real-time path); in a batch
 // (BeginBatch / Flush) a copy into the preallocated batch, and one DDS write per Flush.
 // Thread safety: one thread uses a Publisher and its graph (the graph's own rules apply to
 // readers of compiled queries on other threads).
@@ -74,6 +75,17 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                         const Eigen::Vector3d& p_ToHo_T) noexcept;
   [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                          const Eigen::Vector3d& w_DH_H) noexcept;
+  /// With a covariance (docs/uncertainty.md): SceneGraph's SetPose/SetTwist with a covariance
+  /// (same codes: kInvalidNumber, kInvalidCovariance for a bad one), then the value goes out
+  /// with the covariance as the graph stored it (edge form, linear first, symmetrized; on the
+  /// wire packed as 21 numbers) and mirrors set both. A value without one (the calls above, or
+  /// a null matrix) is exact: it goes out with a zero covariance, and mirrors set it to zero.
+  [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                        const Eigen::Vector3d& p_ToHo_T,
+                                        const core::CovarianceInput& covariance) noexcept;
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H,
+                                         const core::CovarianceInput& covariance) noexcept;
   /// A stamped sample: SceneGraph's stamped SetPose/SetTwist (same codes; the edge must be
   /// stamped), then the sample as the history stores it is published with its stamp.
   [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
