@@ -676,7 +676,10 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     case QueryKind::kAngularVelocity:
       return emit(graph.GetAngularVelocityWithCovariance(twist_spec), twist_spec);
     case QueryKind::kJacobian:
-      break;  // the reader takes no covariance on a Jacobian query
+    case QueryKind::kWrench:
+    case QueryKind::kForce:
+    case QueryKind::kMoment:
+      break;  // the reader takes no covariance on Jacobian and wrench queries
   }
   return out;
 }
