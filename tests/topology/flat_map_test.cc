@@ -263,5 +263,35 @@ TEST(FlatMap, ReadersValidatedAgainstAWriterFindExactValues) {
   EXPECT_EQ(map.size(), kPermanent);
 }
 
+// Assigning maps of one size again and again (a scene topology's tree records when trees are
+// cut over and over) copies into the array already there: no allocation, no memory growth.
+TEST(FlatMap, AssignOrAdoptReusesTheArrayWhenItHasRoom) {
+  FlatMap<int> slot;
+  {
+    FlatMap<int> first;
+    for (int i = 0; i < 40; ++i) first.Insert(static_cast<std::uint32_t>(i), i);
+    slot.AssignOrAdopt(std::move(first));  // empty slot: adopts first's array
+  }
+  EXPECT_EQ(slot.size(), 40u);
+  const std::size_t bytes = slot.ApproximateBytes();
+  for (int round = 0; round < 100; ++round) {
+    FlatMap<int> next;
+    for (int i = 0; i < 30; ++i) next.Insert(static_cast<std::uint32_t>(i + round), -i);
+    const std::size_t before = AllocationCounter::total();
+    slot.AssignOrAdopt(std::move(next));
+    EXPECT_EQ(AllocationCounter::total(), before);
+    ASSERT_EQ(slot.size(), 30u);
+    EXPECT_EQ(*slot.Find(static_cast<std::uint32_t>(round + 7)), -7);
+    EXPECT_EQ(slot.Find(static_cast<std::uint32_t>(round + 30)), nullptr);
+  }
+  EXPECT_EQ(slot.ApproximateBytes(), bytes);
+  FlatMap<int> larger;  // no room: adopted, and ours retired
+  for (int i = 0; i < 100; ++i) larger.Insert(static_cast<std::uint32_t>(i), i);
+  slot.AssignOrAdopt(std::move(larger));
+  EXPECT_EQ(slot.size(), 100u);
+  EXPECT_EQ(*slot.Find(99), 99);
+  EXPECT_TRUE(larger.empty());  // NOLINT(bugprone-use-after-move): adopted
+}
+
 }  // namespace
 }  // namespace semgraph::topology

@@ -245,11 +245,13 @@ void SceneTopology::InstallTree(FrameIndex member, TreeRecord&& record) noexcept
   if (forest_.TreeSize(member) == 1 && record.twists.empty())
     return;  // a single frame without twists needs no record
   // A record slot was reserved by CutPose: popping it and inserting into record_of_rep_ do not
-  // allocate, and the moves only swap storage.
+  // allocate. The slot's maps take the contents in their own arrays when those have room, else
+  // take over record's arrays (theirs retired, not freed: a reader thread may still read them),
+  // so the memory of a slot stays within twice its largest size however often trees are cut.
   const std::uint32_t index = free_records_.back();
   free_records_.pop_back();
-  records_[index].body_counts = std::move(record.body_counts);
-  records_[index].twists = std::move(record.twists);
+  records_[index].body_counts.AssignOrAdopt(std::move(record.body_counts));
+  records_[index].twists.AssignOrAdopt(std::move(record.twists));
   record_of_rep_.Insert(forest_.TreeKey(member).value(), index);
 }
 

@@ -101,6 +101,23 @@ class FlatMap {
     other.size_ = 0;
     return *this;
   }
+  /// Makes this map's contents those of `other` without allocating: copied into this map's
+  /// current array when it has room for them (other keeps its arrays and frees them when it
+  /// dies), else other's arrays are taken over as by a move (ours retired). So a map assigned
+  /// to repeatedly retires an array only when it grows, and its memory stays within twice its
+  /// largest capacity (a plain move would retire ours every time). other is left valid.
+  void AssignOrAdopt(FlatMap&& other) noexcept {
+    if (this == &other) return;
+    if (capacity_ < 2 * other.size() || capacity_ == 0) {
+      *this = std::move(other);
+      return;
+    }
+    Clear();
+    other.ForEach([this](std::uint32_t key, const V& value) {
+      bool inserted = false;
+      Emplace(key, value, &inserted);  // within capacity: no rehash, no allocation
+    });
+  }
   ~FlatMap() {
     for (Header* h = blocks_; h != nullptr;) {
       Header* previous = h->previous;

@@ -44,8 +44,11 @@
 // forest's queries) concurrently with it: they never crash, loop or read freed memory (node
 // arrays are RetiringArrays, fields are base::Published atomics, walks are bounded), but what
 // they read is meaningful only if change_count() was even before and unchanged after (an
-// optimistic read, docs/realtime.md "Topology changes while readers run"). Tree records and
-// twist edges (RecordOf, TreeHasBody, twist_edge, the TwistForest) are writer-thread only.
+// optimistic read, docs/realtime.md "Topology changes while readers run"). So may the twist
+// planner's reads: RecordOf (records never move; the index is checked), twist_edge(e).head and
+// num_twist_edge_slots (twist edges grow by copy), and the TwistForest's queries (its maps
+// retire old arrays, flat_map.h). TreeHasBody and the other twist-edge fields are the
+// writer's.
 #pragma once
 
 #include <cstddef>

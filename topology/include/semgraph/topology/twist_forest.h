@@ -56,6 +56,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 
 #include "semgraph/base/published.h"
 #include "semgraph/topology/export.h"
@@ -166,6 +167,13 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
   /// @pre CanMerge(other), &other != this (checked edge by edge through Link's checks, which
   /// abort on violation, possibly after some edges were moved).
   void Merge(TwistForest&& other);
+
+  /// This forest becomes `other` (left valid), without allocating: FlatMap::AssignOrAdopt on
+  /// both maps (copied into this forest's arrays when they have room, else taken over).
+  void AssignOrAdopt(TwistForest&& other) noexcept {
+    nodes_.AssignOrAdopt(std::move(other.nodes_));
+    edges_.AssignOrAdopt(std::move(other.edges_));
+  }
 
   /// Removes all bodies and edges; keeps the memory.
   void Clear() noexcept {
