@@ -74,10 +74,12 @@ class FlatMap {
 
   FlatMap() noexcept = default;
   FlatMap(const FlatMap& other) { CopyFrom(other); }
+  // Copies into our array when it has room (AssignOrAdopt), so repeated assignment does not
+  // keep retiring arrays.
   FlatMap& operator=(const FlatMap& other) {
     if (this != &other) {
       FlatMap copy(other);
-      *this = std::move(copy);
+      AssignOrAdopt(std::move(copy));
     }
     return *this;
   }
