@@ -328,7 +328,10 @@ void WriteTwists(SceneGraph<>& g, Tally& tally, std::atomic<int>& added) {
       std::this_thread::sleep_for(std::chrono::microseconds(20));
       add_twist(e);
     }
-    std::this_thread::sleep_for(std::chrono::microseconds(50));
+    // A listener's pace (slower than the pose case's: each round here makes two or four
+    // changes, and under ThreadSanitizer a change takes long enough for readers to overlap it
+    // often).
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
 }
 
