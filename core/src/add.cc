@@ -552,6 +552,11 @@ internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
   if (plan.twist_edge) {
     const topology::SceneTopology& t = topology_;
     const NameId h = plan.head.frame_name;
+    // The value slot first (reserved by ReserveAdd): a reader thread that sees the edge in the
+    // topology then finds its value constructed (LinkTwist takes a free slot, whose value
+    // exists, or this one).
+    values_.AddTwistSlot(topology::TwistEdgeIndex(
+        static_cast<std::uint32_t>(topology_.num_twist_edge_slots())));
     out.twist = topology_.LinkTwist(
         out.tail_body, out.head,
         semantics::TwistSemantics{semantics::Point(h), t.BodySem(out.head_body),

@@ -221,14 +221,22 @@ Expected<TwistPlan, QueryError> PlanTwist(const SceneTopology& t,
     return Unexpected{
         QError(ErrorCode::kNoTwistPath, Field::kBody, q.body.id(), q.ref_body.id(), q.point.id())};
   }
-  // Youngest common ancestor of C and D in the rooted TG, by depth.
+  // Youngest common ancestor of C and D in the rooted TG, by depth. Bounded: a concurrent
+  // writer (docs/realtime.md) may show a reader thread inconsistent depths or parents; the
+  // answer is then kNoTwistPath, which the reader's validation discards. A consistent forest
+  // takes at most num_bodies() steps a side.
   const topology::TwistForest& tg = rec->twists;
   BodyIndex c = plan.body, d = plan.ref_body;
-  while (tg.depth(c) > tg.depth(d)) c = tg.parent(c);
-  while (tg.depth(d) > tg.depth(c)) d = tg.parent(d);
-  while (c != d) {
+  std::size_t budget = 2 * tg.num_bodies();
+  while (tg.depth(c) > tg.depth(d) && budget-- > 0) c = tg.parent(c);
+  while (tg.depth(d) > tg.depth(c) && budget-- > 0) d = tg.parent(d);
+  while (c != d && budget-- > 0) {
     c = tg.parent(c);
     d = tg.parent(d);
+  }
+  if (c != d) {
+    return Unexpected{
+        QError(ErrorCode::kNoTwistPath, Field::kBody, q.body.id(), q.ref_body.id(), q.point.id())};
   }
   plan.ancestor = c;
   plan.tg = &tg;

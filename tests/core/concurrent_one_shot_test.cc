@@ -291,5 +291,147 @@ TEST(ConcurrentOneShot, IssueReproductionFramesEvery64UpdatesWhileGetPoseRuns) {
   EXPECT_GT(added.load(), 10);
 }
 
+// Twist queries while the writer adds and removes twist edges. Scene: body W with frame {w};
+// the writer adds frames {g<i>} of bodies G<i>, all at {w} (identity poses: every point and
+// axes coincide, so a twist path's twists simply add), and the twist edge G<p(i)> -> {g<i>}
+// (p(i) = (i - 1) / 2, a binary tree under W = G<-1>) with V_i = (v, w) = (i + 1) (1, 0, 0 |
+// 0, 0, 0.01). The twist of G<i> wrt G<j> is then S(i) - S(j), S the sum of V along the path
+// to W. Every 8th frame the writer removes an earlier twist edge and adds it back (the
+// forest's Unlink and Link with rerooting): queries across it may meanwhile answer
+// no_twist_path. Readers run GetTwist (untimed and Latest), GetLinearVelocity,
+// GetAngularVelocity by name and CompileTwist + Evaluate.
+int TwistParent(int i) { return i == 0 ? -1 : (i - 1) / 2; }
+double TwistSum(int i) {  // the factor of (1, 0, 0 | 0, 0, 0.01) in S(i)
+  double s = 0;
+  for (; i >= 0; i = TwistParent(i)) s += i + 1;
+  return s;
+}
+std::string G(int i) { return i < 0 ? "W" : "G" + std::to_string(i); }
+std::string Gf(int i) { return i < 0 ? "w" : "g" + std::to_string(i); }
+
+void WriteTwists(SceneGraph<>& g, Tally& tally, std::atomic<int>& added) {
+  for (int i = 0; i < kFrames && !tally.stop.load(); ++i) {
+    if (!g.AddPose(PoseSpec::Of(Gf(i), G(i)).RelativeTo("w"), Isometry3d::Identity()))
+      tally.Bad("writer: AddPose g_i refused");
+    const auto add_twist = [&](int e) {
+      const double f = e + 1;
+      const std::string point = Gf(e), ref_body = G(TwistParent(e));
+      if (!g.AddTwist(TwistSpec::Of(point).RelativeTo(ref_body).ExpressedIn(point),
+                      Vector3d(f, 0, 0), Vector3d(0, 0, 0.01 * f)))
+        tally.Bad("writer: AddTwist refused");
+    };
+    add_twist(i);
+    added.store(i + 1);
+    if (i % 8 == 7) {  // an earlier edge out and back in: Unlink, then Link (rerooting)
+      const int e = i / 2;
+      if (!g.RemoveTwist(Gf(e), G(TwistParent(e)))) tally.Bad("writer: RemoveTwist refused");
+      std::this_thread::sleep_for(std::chrono::microseconds(20));
+      add_twist(e);
+    }
+    // A listener's pace (slower than the pose case's: each round here makes two or four
+    // changes, and under ThreadSanitizer a change takes long enough for readers to overlap it
+    // often).
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+
+void ReadTwistRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
+  if (known == 0) return;
+  rng = rng * 1664525u + 1013904223u;
+  const int i = static_cast<int>(rng >> 8) % (known + 4);  // some not added yet
+  const int j = static_cast<int>(rng >> 4) % (known + 1) - 1;  // -1: W
+  const double want = TwistSum(i) - (j < 0 ? 0.0 : TwistSum(j));
+  const auto expect_error = [&](ErrorCode code, const char* what) {
+    if (code == ErrorCode::kQueryInvalidated) {
+      tally.busy.fetch_add(1);
+    } else if (code == ErrorCode::kNoTwistPath ||
+               (i >= known && (code == ErrorCode::kUnknownFrame ||
+                               code == ErrorCode::kUnknownBody))) {
+      tally.errors.fetch_add(1);
+    } else {
+      tally.Bad(std::string(what) + ": unexpected code " + std::string(ToString(code)));
+    }
+  };
+  const auto check = [&](const Vector3d& v, const Vector3d& w, const char* what) {
+    if ((v - Vector3d(want, 0, 0)).norm() > 1e-9 || (w - Vector3d(0, 0, 0.01 * want)).norm() > 1e-9)
+      tally.Bad(std::string(what) + ": wrong value");
+    tally.checked.fetch_add(1);
+  };
+  const std::string point = Gf(i), body = G(i), ref_body = G(j);  // the specs view these
+  const TwistSpec spec = TwistSpec::Of(point).RelativeTo(ref_body).ExpressedIn(point);
+  const TwistSpec angular = TwistSpec::Of("", body).RelativeTo(ref_body).ExpressedIn(point);
+  if (auto V = g.GetTwist(spec)) {
+    check(V->linear, V->angular, "GetTwist");
+  } else {
+    expect_error(V.error().code, "GetTwist");
+  }
+  if (auto V = g.GetTwist(spec, Latest{})) {
+    check(V->value.linear, V->value.angular, "GetTwist Latest");
+  } else {
+    expect_error(V.error().code, "GetTwist Latest");
+  }
+  if (auto v = g.GetLinearVelocity(spec)) {
+    check(v->value, Vector3d(0, 0, 0.01 * want), "GetLinearVelocity");
+  } else {
+    expect_error(v.error().code, "GetLinearVelocity");
+  }
+  if (auto w = g.GetAngularVelocity(angular)) {
+    check(Vector3d(want, 0, 0), w->value, "GetAngularVelocity");
+  } else {
+    expect_error(w.error().code, "GetAngularVelocity");
+  }
+  auto C = g.CompileTwist(spec);
+  if (!C) {
+    expect_error(C.error().code, "CompileTwist");
+    return;
+  }
+  // Evaluated later: an edge of its path may have been removed (and re-added) meanwhile,
+  // which a compiled query reports as invalidated.
+  const auto V = C->Evaluate();
+  if (V) {
+    check(V->linear, V->angular, "compiled twist");
+  } else if (V.error().code != ErrorCode::kQueryInvalidated) {
+    tally.Bad("compiled twist: unexpected code " + std::string(ToString(V.error().code)));
+  }
+}
+
+TEST(ConcurrentOneShot, TwistQueriesAndCompileTwistWhileTheWriterChangesTwistEdges) {
+  SceneGraph<> g;
+  ASSERT_TRUE(g.AddBody("W"));
+  ASSERT_TRUE(g.AddFrame("w", "W"));
+  Tally tally;
+  std::atomic<int> added{0};
+  std::vector<std::thread> readers;
+  for (unsigned r = 0; r < 2; ++r) {
+    readers.emplace_back([&, r] {
+      unsigned rng = 777u + r;
+      while (!tally.stop.load()) ReadTwistRound(g, tally, added.load(), rng);
+    });
+  }
+  std::thread writer([&] { WriteTwists(g, tally, added); });
+  const auto end = Clock::now() + std::chrono::seconds(2);
+  while (Clock::now() < end && added.load() < kFrames && tally.bad.load() == 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  tally.stop.store(true);
+  writer.join();
+  for (auto& t : readers) t.join();
+  std::printf("writer added %d twist edges; readers checked %ld answers, %ld documented "
+              "errors, %ld kQueryInvalidated\n",
+              added.load(), tally.checked.load(), tally.errors.load(), tally.busy.load());
+  EXPECT_EQ(tally.bad.load(), 0) << tally.first_bad;
+  EXPECT_LT(tally.busy.load() * 100, tally.checked.load());
+  EXPECT_GT(added.load(), 50);
+  EXPECT_GT(tally.checked.load(), 100);
+  EXPECT_EQ(CheckInvariants(g), "");
+  // After the writer: every twist answers, as single-threaded.
+  const int n = added.load();
+  const std::string last = Gf(n - 1);
+  auto V = g.GetTwist(TwistSpec::Of(last).RelativeTo("W").ExpressedIn(last));
+  ASSERT_TRUE(V);
+  EXPECT_NEAR(V->linear.x(), TwistSum(n - 1), 1e-9);
+  EXPECT_NEAR(V->angular.z(), 0.01 * TwistSum(n - 1), 1e-9);
+}
+
 }  // namespace
 }  // namespace semgraph::core

@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <random>
+#include <thread>
 #include <unordered_map>
 #include <vector>
 
+#include "semgraph/base/published.h"
 #include "support/alloc_counter.h"
 
 // Allocations are counted by the suite's one replacement of operator new/delete
@@ -194,6 +197,100 @@ TEST(FlatMap, MovingLeavesTheSourceEmptyAndCopyingIsDeep) {
   copy = std::move(moved);
   EXPECT_EQ(copy.size(), 20u);
   EXPECT_TRUE(moved.empty());  // NOLINT(bugprone-use-after-move)
+}
+
+// One writer inserts (growing the map several times), erases and moves maps while readers
+// look keys up. Readers validate with a change counter, as the scene topology's one-shot
+// queries do: a validated lookup must find every permanent key with its value, and any key it
+// finds with that key's value. Unvalidated reads may be stale, but never touch freed memory
+// (run under ThreadSanitizer / AddressSanitizer to check that).
+struct Shared {
+  base::Published<std::uint32_t> key_copy;
+  base::Published<std::uint32_t> square;
+};
+std::uint32_t ValueOf(std::uint32_t key) { return key * key + 7; }
+
+TEST(FlatMap, ReadersValidatedAgainstAWriterFindExactValues) {
+  constexpr std::uint32_t kPermanent = 64;
+  FlatMap<Shared> map;
+  for (std::uint32_t key = 0; key < kPermanent; ++key) map.Insert(key, {key, ValueOf(key)});
+  std::atomic<std::uint64_t> changes{0};
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> validated{0};
+  std::atomic<bool> wrong{false};
+  auto reader = [&](std::uint32_t seed) {
+    std::uint32_t key = seed;
+    while (!stop.load(std::memory_order_acquire)) {
+      key = (key * 1103515245u + 12345u) % 4096u;
+      const std::uint64_t before = changes.load(std::memory_order_acquire);
+      const Shared* found = map.Find(key);
+      const bool present = found != nullptr;
+      const std::uint32_t copy = present ? found->key_copy.load() : 0;
+      const std::uint32_t square = present ? found->square.load() : 0;
+      if ((before & 1) != 0 || changes.load(std::memory_order_acquire) != before) continue;
+      validated.fetch_add(1, std::memory_order_relaxed);
+      if ((key < kPermanent && !present) || (present && (copy != key || square != ValueOf(key))))
+        wrong.store(true);
+    }
+  };
+  std::thread r1(reader, 1u), r2(reader, 2u);
+  auto change = [&](auto&& f) {
+    changes.fetch_add(1, std::memory_order_acq_rel);
+    f();
+    changes.fetch_add(1, std::memory_order_acq_rel);
+  };
+  // About half a second of changes, longer if the readers have not validated enough yet.
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::steady_clock::now() - start; };
+  while (elapsed() < std::chrono::milliseconds(500) ||
+         (validated.load() < 1000 && elapsed() < std::chrono::seconds(10))) {
+    for (std::uint32_t key = kPermanent; key < 4096; key += 3) {
+      change([&] { map.Insert(key, {key, ValueOf(key)}); });
+    }
+    for (std::uint32_t key = kPermanent; key < 4096; key += 3) {
+      change([&] { map.Erase(key); });
+    }
+    change([&] {
+      FlatMap<Shared> moved = std::move(map);
+      map = std::move(moved);  // the arrays come back (retired ones too)
+    });
+  }
+  stop.store(true, std::memory_order_release);
+  r1.join();
+  r2.join();
+  EXPECT_FALSE(wrong.load());
+  EXPECT_GE(validated.load(), 1000u);
+  EXPECT_EQ(map.size(), kPermanent);
+}
+
+// Assigning maps of one size again and again (a scene topology's tree records when trees are
+// cut over and over) copies into the array already there: no allocation, no memory growth.
+TEST(FlatMap, AssignOrAdoptReusesTheArrayWhenItHasRoom) {
+  FlatMap<int> slot;
+  {
+    FlatMap<int> first;
+    for (int i = 0; i < 40; ++i) first.Insert(static_cast<std::uint32_t>(i), i);
+    slot.AssignOrAdopt(std::move(first));  // empty slot: adopts first's array
+  }
+  EXPECT_EQ(slot.size(), 40u);
+  const std::size_t bytes = slot.ApproximateBytes();
+  for (int round = 0; round < 100; ++round) {
+    FlatMap<int> next;
+    for (int i = 0; i < 30; ++i) next.Insert(static_cast<std::uint32_t>(i + round), -i);
+    const std::size_t before = AllocationCounter::total();
+    slot.AssignOrAdopt(std::move(next));
+    EXPECT_EQ(AllocationCounter::total(), before);
+    ASSERT_EQ(slot.size(), 30u);
+    EXPECT_EQ(*slot.Find(static_cast<std::uint32_t>(round + 7)), -7);
+    EXPECT_EQ(slot.Find(static_cast<std::uint32_t>(round + 30)), nullptr);
+  }
+  EXPECT_EQ(slot.ApproximateBytes(), bytes);
+  FlatMap<int> larger;  // no room: adopted, and ours retired
+  for (int i = 0; i < 100; ++i) larger.Insert(static_cast<std::uint32_t>(i), i);
+  slot.AssignOrAdopt(std::move(larger));
+  EXPECT_EQ(slot.size(), 100u);
+  EXPECT_EQ(*slot.Find(99), 99);
+  EXPECT_TRUE(larger.empty());  // NOLINT(bugprone-use-after-move): adopted
 }
 
 }  // namespace

@@ -78,18 +78,21 @@ FrameIndex SceneTopology::CreateFrame(NameId name, BodyIndex body) {
 // ====================================================================== tree records
 
 const TreeRecord* SceneTopology::RecordOf(FrameIndex f) const noexcept {
-  const std::uint32_t* index = record_of_rep_.Find(forest_.TreeKey(f).value());
-  return index ? &records_[*index] : nullptr;
+  const auto* index = record_of_rep_.Find(forest_.TreeKey(f).value());
+  if (index == nullptr) return nullptr;
+  // Checked against the size: a reader of another thread may see a stale index.
+  const std::uint32_t i = *index;
+  return i < records_.size() ? &records_[i] : nullptr;
 }
 
 TreeRecord* SceneTopology::MutableRecordOf(FrameIndex f) noexcept {
-  const std::uint32_t* index = record_of_rep_.Find(forest_.TreeKey(f).value());
+  const auto* index = record_of_rep_.Find(forest_.TreeKey(f).value());
   return index ? &records_[*index] : nullptr;
 }
 
 TreeRecord& SceneTopology::EnsureRecord(FrameIndex f) {
   const std::uint32_t rep = forest_.TreeKey(f).value();
-  if (const std::uint32_t* index = record_of_rep_.Find(rep)) return records_[*index];
+  if (const auto* index = record_of_rep_.Find(rep)) return records_[*index];
   // Only a single-frame tree has no record: its body set is {body(f)}.
   SEMGRAPH_DEMAND(forest_.is_root(f) && !forest_.first_child(f).is_valid());
   return NewRecord(rep, f);
@@ -123,7 +126,7 @@ TreeRecord& SceneTopology::NewRecord(std::uint32_t rep, FrameIndex f) {
 }
 
 void SceneTopology::FreeRecord(std::uint32_t rep) {
-  const std::uint32_t* index = record_of_rep_.Find(rep);
+  const auto* index = record_of_rep_.Find(rep);
   SEMGRAPH_DEMAND(index != nullptr);
   GrowCapacity(free_records_, free_records_.size() + 1);  // before any change
   records_[*index].body_counts.Clear();
@@ -203,10 +206,10 @@ void SceneTopology::LinkPose(FrameIndex tail, FrameIndex head) {
 void SceneTopology::LinkPoseReserved(FrameIndex tail, FrameIndex head) {
   const std::uint32_t rep_t = forest_.TreeKey(tail).value();
   const std::uint32_t rep_h = forest_.TreeKey(head).value();
-  const std::uint32_t* idx_t = record_of_rep_.Find(rep_t);
-  const std::uint32_t* idx_h = record_of_rep_.Find(rep_h);
+  const auto* idx_t = record_of_rep_.Find(rep_t);
+  const auto* idx_h = record_of_rep_.Find(rep_h);
   const bool head_is_single = idx_h == nullptr;
-  const std::uint32_t index_h = head_is_single ? kNone : *idx_h;
+  const std::uint32_t index_h = head_is_single ? kNone : idx_h->load();
   // Records are materialized before linking (EnsureRecord relies on single-frame trees).
   const std::uint32_t index_t = idx_t ? *idx_t : (EnsureRecord(tail), *record_of_rep_.Find(rep_t));
   forest_.Link(tail, head);
@@ -242,11 +245,13 @@ void SceneTopology::InstallTree(FrameIndex member, TreeRecord&& record) noexcept
   if (forest_.TreeSize(member) == 1 && record.twists.empty())
     return;  // a single frame without twists needs no record
   // A record slot was reserved by CutPose: popping it and inserting into record_of_rep_ do not
-  // allocate, and the moves only swap storage.
+  // allocate. The slot's maps take the contents in their own arrays when those have room, else
+  // take over record's arrays (theirs retired, not freed: a reader thread may still read them),
+  // so the memory of a slot stays within twice its largest size however often trees are cut.
   const std::uint32_t index = free_records_.back();
   free_records_.pop_back();
-  records_[index].body_counts = std::move(record.body_counts);
-  records_[index].twists = std::move(record.twists);
+  records_[index].body_counts.AssignOrAdopt(std::move(record.body_counts));
+  records_[index].twists.AssignOrAdopt(std::move(record.twists));
   record_of_rep_.Insert(forest_.TreeKey(member).value(), index);
 }
 
@@ -254,7 +259,7 @@ void SceneTopology::CutPose(FrameIndex head) {
   const FrameIndex tail = forest_.parent(head);
   SEMGRAPH_DEMAND(tail.is_valid());
   const std::uint32_t old_rep = forest_.TreeKey(head).value();
-  const std::uint32_t* old_index = record_of_rep_.Find(old_rep);
+  const auto* old_index = record_of_rep_.Find(old_rep);
   SEMGRAPH_DEMAND(old_index != nullptr);  // a tree with an edge has a record
   const TreeRecord& old = records_[*old_index];
 
@@ -386,9 +391,9 @@ std::size_t SceneTopology::ApproximateBytesExcludingNames() const noexcept {
   bytes += frames_.bytes() + bodies_.bytes();
   bytes += forest_.ApproximateBytes();
   bytes += record_of_rep_.ApproximateBytes();
-  for (const TreeRecord& r : records_)
-    bytes += r.body_counts.ApproximateBytes() + r.twists.ApproximateBytes();
-  bytes += twist_edges_.capacity() * sizeof(TwistEdge);
+  for (std::size_t i = 0; i < records_.size(); ++i)
+    bytes += records_[i].body_counts.ApproximateBytes() + records_[i].twists.ApproximateBytes();
+  bytes += twist_edges_.bytes();
   bytes += frame_of_name_.bytes() + body_of_name_.bytes();
   return bytes;
 }

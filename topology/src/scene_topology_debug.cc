@@ -65,7 +65,8 @@ std::string SceneTopology::CheckInvariants() const {
     if (!rec || !rec->twists.FindEdge(TwistEdgeIndex(i)))
       out << "twist edge " << i << " missing from its tree's TG\n";
     if (te.tail == body_of(te.head)) out << "W2 broken\n";
-    if (frames_[te.head.value()].twist_edge != TwistEdgeIndex(i)) out << "W1 bookkeeping broken\n";
+    if (frames_[te.head.load().value()].twist_edge != TwistEdgeIndex(i))
+      out << "W1 bookkeeping broken\n";
   }
   if (live != num_twist_edges_) out << "twist edge count mismatch\n";
   std::size_t edges = 0;

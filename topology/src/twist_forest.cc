@@ -8,17 +8,17 @@ namespace semgraph::topology {
 
 BodyIndex TwistForest::parent(BodyIndex body) const noexcept {
   const Node* node = FindNode(body);
-  return node != nullptr ? node->parent : BodyIndex();
+  return node != nullptr ? node->parent.load() : BodyIndex();
 }
 
 TwistEdgeIndex TwistForest::parent_edge(BodyIndex body) const noexcept {
   const Node* node = FindNode(body);
-  return node != nullptr ? node->parent_edge : TwistEdgeIndex();
+  return node != nullptr ? node->parent_edge.load() : TwistEdgeIndex();
 }
 
 std::uint32_t TwistForest::depth(BodyIndex body) const noexcept {
   const Node* node = FindNode(body);
-  return node != nullptr ? node->depth : 0;
+  return node != nullptr ? node->depth.load() : 0;
 }
 
 const TwistForest::Node& TwistForest::NodeAt(BodyIndex body) const noexcept {
@@ -35,43 +35,51 @@ TwistForest::Node& TwistForest::NodeAt(BodyIndex body) noexcept {
 
 BodyIndex TwistForest::FindRoot(BodyIndex body) const noexcept {
   const Node* node = FindNode(body);
-  if (node == nullptr) return body;
-  while (node->parent.is_valid()) {
-    body = node->parent;
-    node = &NodeAt(body);
+  // Bounded (a concurrent writer may show a reader a cycle): a root is at most num_bodies()
+  // steps up in a consistent forest.
+  for (std::size_t steps = num_bodies(); node != nullptr && steps > 0; --steps) {
+    const BodyIndex up = node->parent;
+    if (!up.is_valid()) break;
+    body = up;
+    node = FindNode(body);
   }
   return body;
 }
 
+// A walk that a concurrent writer can only make fail, not run away or abort: each step looks
+// the parent up (a missing one ends the walk) and at most num_bodies() steps are taken.
 bool TwistForest::Meet(BodyIndex u, BodyIndex v, std::size_t* up_u,
                        std::size_t* up_v) const noexcept {
-  const Node* a = &NodeAt(u);
-  const Node* b = &NodeAt(v);
+  const Node* a = FindNode(u);
+  const Node* b = FindNode(v);
   std::size_t steps_u = 0;
   std::size_t steps_v = 0;
+  std::size_t budget = 2 * num_bodies();
+  if (a == nullptr || b == nullptr) return false;
   // Equalize depths first, so the lockstep walk below meets exactly at the common ancestor.
   while (a->depth > b->depth) {
-    u = a->parent;
-    a = &NodeAt(u);
-    ++steps_u;
+    if (!Up(u, a, steps_u, budget)) return false;
   }
   while (b->depth > a->depth) {
-    v = b->parent;
-    b = &NodeAt(v);
-    ++steps_v;
+    if (!Up(v, b, steps_v, budget)) return false;
   }
   while (u != v) {
-    if (!a->parent.is_valid()) return false;  // two different roots
-    u = a->parent;
-    a = &NodeAt(u);
-    v = b->parent;
-    b = &NodeAt(v);
-    ++steps_u;
-    ++steps_v;
+    if (!a->parent.load().is_valid()) return false;  // two different roots
+    if (!Up(u, a, steps_u, budget) || !Up(v, b, steps_v, budget)) return false;
   }
   *up_u = steps_u;
   *up_v = steps_v;
   return true;
+}
+
+bool TwistForest::Up(BodyIndex& body, const Node*& node, std::size_t& steps,
+                     std::size_t& budget) const noexcept {
+  if (budget == 0) return false;
+  --budget;
+  body = node->parent;
+  node = FindNode(body);
+  ++steps;
+  return node != nullptr;
 }
 
 bool TwistForest::Connected(BodyIndex u, BodyIndex v) const noexcept {
@@ -94,17 +102,22 @@ std::size_t TwistForest::Path(BodyIndex u, BodyIndex v, std::span<PathStep> out)
   if (!Meet(u, v, &up_u, &up_v)) return kNoPath;
   const std::size_t length = up_u + up_v;
   if (length > out.size()) return kPathTooLong;
-  // u's side climbs towards the common ancestor: steps in path order.
+  // u's side climbs towards the common ancestor: steps in path order. Meet found every body
+  // on the way (a concurrent writer may have removed one since: the step is then a dead one,
+  // which the reader's validation rejects).
   for (std::size_t i = 0; i < up_u; ++i) {
-    const Node& node = NodeAt(u);
-    out[i] = PathStep{node.parent_edge, u, node.parent};
-    u = node.parent;
+    const Node* node = FindNode(u);
+    const BodyIndex up = node != nullptr ? node->parent.load() : BodyIndex();
+    out[i] = PathStep{node != nullptr ? node->parent_edge.load() : TwistEdgeIndex(), u, up};
+    u = up;
   }
   // v's side also climbs, but the path descends it: fill from the end, steps reversed.
   for (std::size_t i = 0; i < up_v; ++i) {
-    const Node& node = NodeAt(v);
-    out[length - 1 - i] = PathStep{node.parent_edge, node.parent, v};
-    v = node.parent;
+    const Node* node = FindNode(v);
+    const BodyIndex up = node != nullptr ? node->parent.load() : BodyIndex();
+    out[length - 1 - i] =
+        PathStep{node != nullptr ? node->parent_edge.load() : TwistEdgeIndex(), up, v};
+    v = up;
   }
   return length;
 }
@@ -189,7 +202,7 @@ void TwistForest::DetachChild(BodyIndex parent, BodyIndex child) noexcept {
 
 void TwistForest::Reroot(BodyIndex body) noexcept {
   Node& top = NodeAt(body);
-  if (!top.parent.is_valid()) return;
+  if (!top.parent.load().is_valid()) return;
   const std::uint32_t tree_size = NodeAt(FindRoot(body)).tree_size;
   BodyIndex up = top.parent;
   TwistEdgeIndex edge = top.parent_edge;
@@ -354,9 +367,9 @@ bool TwistForest::CheckInvariants() const {
     expect(length <= n);
     listed_children += length;
 
-    if (!node.parent.is_valid()) {
+    if (!node.parent.load().is_valid()) {
       ++roots;
-      expect(!node.parent_edge.is_valid() && node.depth == 0);
+      expect(!node.parent_edge.load().is_valid() && node.depth == 0);
       expect(!node.next_sibling.is_valid() && !node.prev_sibling.is_valid());
       expect(node.first_child.is_valid());  // no isolated body
       bodies_in_trees += node.tree_size;

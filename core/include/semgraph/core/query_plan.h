@@ -131,14 +131,22 @@ struct TwistPlan {
 
 /// The steps of a twist plan, in order (C's side up to the ancestor, then D's side), each
 /// passed to f(const TwistStep<ForestChain>&). O(k log n) for k twist edges; no allocation.
+/// On a reader thread under a concurrent writer (docs/realtime.md) the walk stays bounded
+/// (tg.num_bodies() steps a side) and stops at an edge or frame that no longer exists; the
+/// steps passed so far then describe no consistent topology, which the reader's validation
+/// rejects. In a consistent topology neither bound is reached.
 template <class F>
 void ForEachTwistStep(const topology::SceneTopology& t, const TwistPlan& plan, F&& f) {
   if (plan.tg == nullptr) return;
   const topology::TwistForest& tg = *plan.tg;
   const auto walk = [&](BodyIndex from, bool negate) {
-    for (BodyIndex body = from; body != plan.ancestor; body = tg.parent(body)) {
+    std::size_t budget = tg.num_bodies();
+    for (BodyIndex body = from; body != plan.ancestor && budget > 0;
+         body = tg.parent(body), --budget) {
       const TwistEdgeIndex edge = tg.parent_edge(body);
+      if (edge.value() >= t.num_twist_edge_slots()) return;
       const FrameIndex h = t.twist_edge(edge).head;
+      if (h.value() >= t.num_frames()) return;
       TwistStep<ForestChain> step;
       step.edge = edge;
       // Stored as TwistCoord(h|H, D, [h]): used as is when walking up from H, else inverted;

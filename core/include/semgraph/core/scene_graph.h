@@ -42,13 +42,14 @@
 // Queries are noexcept, allocation-free, lock-free; they return a small QueryError.
 // Thread safety (docs/realtime.md, "Topology changes while readers run"): one writer thread
 // makes every add, remove, Reserve and value update. Concurrently with it, any number of reader
-// threads may evaluate compiled queries, ask the one-shot pose queries (GetPose, GetPosition,
-// GetOrientation: by name or ids, untimed or timed, without extrapolation) and compile pose
-// queries (CompilePose, CompilePosition, CompileOrientation): these read the topology
-// optimistically, validated by its change counter, and retry when a change overlapped; a query
-// that never finds the topology quiet (32 attempts) returns kQueryInvalidated. Everything else
-// (twist queries, CompileTwist, Jacobians, Find*Edge, FindJoint, Explain*, Describe, the
-// inspection views) runs on the writer thread or is ordered with the changes by the caller.
+// threads may evaluate compiled queries, ask the one-shot pose and twist queries (GetPose,
+// GetPosition, GetOrientation, GetTwist, GetLinearVelocity, GetAngularVelocity: by name or ids,
+// untimed or timed, extrapolating too) and compile pose and twist queries (CompilePose,
+// CompilePosition, CompileOrientation, CompileTwist): these read the topology optimistically,
+// validated by its change counter, and retry when a change overlapped; a query that never
+// finds the topology quiet (32 attempts) returns kQueryInvalidated. Everything else
+// (Jacobians, Find*Edge, FindJoint, Explain*, Describe, the inspection views) runs on the
+// writer thread or is ordered with the changes by the caller.
 #pragma once
 
 #include <cstdint>
@@ -228,8 +229,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // the same writer thread may also change the topology (Add*, Remove*) meanwhile: untimed
   // compiled evaluations then answer for the graph they were compiled on or return
   // kQueryInvalidated (docs/realtime.md, "Topology changes while readers run"). One-shot pose
-  // queries and CompilePose/Position/Orientation may run on reader threads too (validated
-  // optimistic reads); Find*Edge (handles), twist queries and CompileTwist read the topology
+  // and twist queries and CompilePose/Position/Orientation/Twist may run on reader threads too
+  // (validated optimistic reads); Find*Edge (handles) and Jacobians read the topology
   // unvalidated: same thread as the changes.
 
   /// Handle of the existing pose edge {relative_to} -> {of}: invalid_name, unknown_frame,
@@ -305,8 +306,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
   /// compiled query refers to this graph, which must outlive it and must not move.
   /// CompilePose, CompilePosition and CompileOrientation may run on reader threads while the
-  /// writer changes the topology (then also kQueryInvalidated: see Thread safety above);
-  /// CompileTwist on the writer thread only.
+  /// writer changes the topology (then also kQueryInvalidated: see Thread safety above), and
+  /// so may CompileTwist.
   [[nodiscard]] Expected<CompiledPose<B>, QueryError> CompilePose(const PoseSpec& spec) const;
   [[nodiscard]] Expected<CompiledPosition<B>, QueryError> CompilePosition(
       const PoseSpec& spec) const;

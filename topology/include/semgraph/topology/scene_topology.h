@@ -44,8 +44,11 @@
 // forest's queries) concurrently with it: they never crash, loop or read freed memory (node
 // arrays are RetiringArrays, fields are base::Published atomics, walks are bounded), but what
 // they read is meaningful only if change_count() was even before and unchanged after (an
-// optimistic read, docs/realtime.md "Topology changes while readers run"). Tree records and
-// twist edges (RecordOf, TreeHasBody, twist_edge, the TwistForest) are writer-thread only.
+// optimistic read, docs/realtime.md "Topology changes while readers run"). So may the twist
+// planner's reads: RecordOf (records never move; the index is checked), twist_edge(e).head and
+// num_twist_edge_slots (twist edges grow by copy), and the TwistForest's queries (its maps
+// retire old arrays, flat_map.h). TreeHasBody and the other twist-edge fields are the
+// writer's.
 #pragma once
 
 #include <cstddef>
@@ -55,6 +58,7 @@
 
 #include "semgraph/base/published.h"
 #include "semgraph/base/retiring_array.h"
+#include "semgraph/base/stable_array.h"
 #include "semgraph/semantics/names.h"
 #include "semgraph/semantics/relations.h"
 #include "semgraph/topology/export.h"
@@ -68,9 +72,11 @@ namespace semgraph::topology {
 using semantics::NameId;
 
 /// A twist edge D -> {h}|H: its ends and the semantics TwistCoord(h|H, D, [h]) of its value.
+/// Readers of other threads (the twist planner under validation) read only `head`, which is
+/// therefore a Published atomic; the other fields are the writer thread's.
 struct TwistEdge {
-  BodyIndex tail;   ///< D, the reference body
-  FrameIndex head;  ///< {h}, a frame of the moving body H
+  BodyIndex tail;                     ///< D, the reference body
+  base::Published<FrameIndex> head;   ///< {h}, a frame of the moving body H
   bool alive = false;
   semantics::TwistSemantics semantics;
 };
@@ -275,8 +281,9 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   /// f(tail body, head frame) for every live twist edge, by slot.
   template <class F>
   void ForEachTwistEdge(F&& f) const {
-    for (const TwistEdge& e : twist_edges_) {
-      if (e.alive) f(e.tail, e.head);
+    for (std::size_t i = 0; i < twist_edges_.size(); ++i) {
+      const TwistEdge& e = twist_edges_[i];
+      if (e.alive) f(e.tail, e.head.load());
     }
   }
   /// Every invariant above, from scratch (slow; tests). Empty when all hold
@@ -322,10 +329,12 @@ class SEMGRAPH_TOPOLOGY_EXPORT SceneTopology {
   base::RetiringArray<FrameNode> frames_;
   base::RetiringArray<BodyNode> bodies_;
   PoseForest forest_;
-  FlatMap<std::uint32_t> record_of_rep_;  // PoseForest::TreeKey -> records_ index
-  std::vector<TreeRecord> records_;
+  // Read by the twist planner on reader threads (RecordOf): the map's values are Published and
+  // records never move (a StableArray; a freed record is cleared and reused, never destroyed).
+  FlatMap<base::Published<std::uint32_t>> record_of_rep_;  // PoseForest::TreeKey -> records_
+  base::StableArray<TreeRecord, 3> records_;
   std::vector<std::uint32_t> free_records_;
-  std::vector<TwistEdge> twist_edges_;
+  base::RetiringArray<TwistEdge> twist_edges_;  // grown by copy (twist_edge on reader threads)
   std::vector<std::uint32_t> free_twist_edges_;
   std::size_t num_pose_edges_ = 0;
   std::size_t num_twist_edges_ = 0;

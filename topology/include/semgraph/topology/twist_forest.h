@@ -43,14 +43,22 @@
 //
 // Thread safety: const methods may run concurrently; Contains, Connected, Path, PathLength,
 // FindRoot and the accessors are noexcept, lock-free and allocation-free. Link, Unlink, Merge
-// and Clear need exclusive access and may allocate.
+// and Clear need one writer and may allocate. Readers on other threads may run Contains,
+// ContainsEdge, parent, parent_edge, depth, FindRoot, Connected, PathLength and Path while the
+// writer changes the forest (the one-shot twist queries under the scene topology's change
+// counter, docs/realtime.md): the maps retire their old arrays (flat_map.h), the fields these
+// read are Published atomics, and every walk is bounded by num_bodies() steps and treats a
+// missing body as "not connected" instead of aborting. What such a reader gets is meaningful
+// only under validation (the change counter even and unchanged around it).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 
+#include "semgraph/base/published.h"
 #include "semgraph/topology/export.h"
 #include "semgraph/topology/flat_map.h"
 #include "semgraph/topology/ids.h"
@@ -160,6 +168,13 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
   /// abort on violation, possibly after some edges were moved).
   void Merge(TwistForest&& other);
 
+  /// This forest becomes `other` (left valid), without allocating: FlatMap::AssignOrAdopt on
+  /// both maps (copied into this forest's arrays when they have room, else taken over).
+  void AssignOrAdopt(TwistForest&& other) noexcept {
+    nodes_.AssignOrAdopt(std::move(other.nodes_));
+    edges_.AssignOrAdopt(std::move(other.edges_));
+  }
+
   /// Removes all bodies and edges; keeps the memory.
   void Clear() noexcept {
     nodes_.Clear();
@@ -187,10 +202,12 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
 
  private:
   // Links are invalid when absent (a root's parent, a last child's next_sibling, ...).
+  // The fields readers of other threads walk (parent, parent_edge, depth) are Published
+  // atomics (see Thread safety above); the rest are the writer's.
   struct Node {
-    BodyIndex parent;
-    TwistEdgeIndex parent_edge;
-    std::uint32_t depth = 0;
+    base::Published<BodyIndex> parent;
+    base::Published<TwistEdgeIndex> parent_edge;
+    base::Published<std::uint32_t> depth = 0;
     BodyIndex first_child;
     BodyIndex next_sibling;
     BodyIndex prev_sibling;
@@ -208,6 +225,10 @@ class SEMGRAPH_TOPOLOGY_EXPORT TwistForest {
   // Walks u and v up to their lowest common ancestor; on success stores the number of steps
   // from each side. False when they are in different trees. Both must be present.
   bool Meet(BodyIndex u, BodyIndex v, std::size_t* up_u, std::size_t* up_v) const noexcept;
+  // One step of Meet's walk: to the parent, within the step budget; false when the budget is
+  // spent or the parent is missing (only under a concurrent writer).
+  bool Up(BodyIndex& body, const Node*& node, std::size_t& steps,
+          std::size_t& budget) const noexcept;
 
   void AttachChild(BodyIndex parent, BodyIndex child) noexcept;
   void DetachChild(BodyIndex parent, BodyIndex child) noexcept;
