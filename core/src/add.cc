@@ -347,8 +347,8 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
       }
       if (!same_covariance) {
         return Reject(ErrorCode::kConstantPoseChange, what(),
-                      text::Frame(t, a) + " and " + text::Frame(t, b) +
-                          " are both fixed to body " + std::string(t.body_name(t.body_of(a))) +
+                      text::Frame(t, a) + " and " + text::Frame(t, b) + " are both fixed to body " +
+                          std::string(t.body_name(t.body_of(a))) +
                           ", so their pose and its covariance are constant; the covariance "
                           "given differs from the stored one; remove the edge first to "
                           "recalibrate");
@@ -476,8 +476,8 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     V.w_DH_H = B::Rotate(B::RotationOf(X_ER), V.w_DH_H);
     if (has_covariance) {  // re-expressed with the same rotation, taken as exact
       coord::Covariance6 S_E = coord::Covariance6::Zero();
-      coord::jacobians::AddPropagated(
-          coord::jacobians::Reexpress(B::ToMatrix(B::RotationOf(X_ER))), S_V, S_E);
+      coord::jacobians::AddPropagated(coord::jacobians::Reexpress(B::ToMatrix(B::RotationOf(X_ER))),
+                                      S_V, S_E);
       S_V = S_E;
     }
   }
@@ -555,8 +555,8 @@ internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan& plan) {
     // The value slot first (reserved by ReserveAdd): a reader thread that sees the edge in the
     // topology then finds its value constructed (LinkTwist takes a free slot, whose value
     // exists, or this one).
-    values_.AddTwistSlot(topology::TwistEdgeIndex(
-        static_cast<std::uint32_t>(topology_.num_twist_edge_slots())));
+    values_.AddTwistSlot(
+        topology::TwistEdgeIndex(static_cast<std::uint32_t>(topology_.num_twist_edge_slots())));
     out.twist = topology_.LinkTwist(
         out.tail_body, out.head,
         semantics::TwistSemantics{semantics::Point(h), t.BodySem(out.head_body),
@@ -624,37 +624,37 @@ void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
   DropTwistHistory(edge);
 }
 
-#define SEMGRAPH_INSTANTIATE_ADD(B)                                                               \
-  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                 \
-  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                              \
-  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                  \
-  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);               \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
-                                              const Eigen::Vector3d&);                            \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
-                                              const Eigen::Vector3d&);                            \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
-                                               const Eigen::Vector3d&);                           \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
-                                              const Eigen::Vector3d&, Stamp);                     \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
-                                              const Eigen::Vector3d&, Stamp);                     \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
-                                               const Eigen::Vector3d&, Stamp);                    \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,         \
-                                              const Eigen::Vector3d&, const CovarianceInput&);    \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,            \
-                                              const Eigen::Vector3d&, const CovarianceInput&);    \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
-                                               const Eigen::Vector3d&, const CovarianceInput&);   \
-  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,      \
-                                                   const Eigen::Vector3d&, std::optional<Stamp>,  \
-                                                   const CovarianceInput*);                       \
-  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);             \
-  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);            \
-  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                        \
-  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                   \
-  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                              \
+#define SEMGRAPH_INSTANTIATE_ADD(B)                                                              \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                \
+  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                             \
+  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                 \
+  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);              \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
+                                              const Eigen::Vector3d&);                           \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
+                                              const Eigen::Vector3d&);                           \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
+                                               const Eigen::Vector3d&);                          \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
+                                              const Eigen::Vector3d&, Stamp);                    \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
+                                              const Eigen::Vector3d&, Stamp);                    \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
+                                               const Eigen::Vector3d&, Stamp);                   \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
+                                              const Eigen::Vector3d&, const CovarianceInput&);   \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
+                                              const Eigen::Vector3d&, const CovarianceInput&);   \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
+                                               const Eigen::Vector3d&, const CovarianceInput&);  \
+  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,     \
+                                                   const Eigen::Vector3d&, std::optional<Stamp>, \
+                                                   const CovarianceInput*);                      \
+  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);            \
+  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);           \
+  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                       \
+  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                  \
+  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                             \
   template internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan&);
 SEMGRAPH_INSTANTIATE_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ADD(coord::HomogeneousBackend)

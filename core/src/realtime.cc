@@ -3,8 +3,8 @@
 #include <atomic>
 #include <cmath>
 
-#include "edge_lookup.h"
 #include "covariance_input.h"
+#include "edge_lookup.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/semantics/describe.h"
 #include "text.h"
@@ -144,8 +144,8 @@ ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation,
 // allocation-free (the checks' eigen decomposition is fixed-size).
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
-                                 const Eigen::Vector3d& p_ToHo_T,
-                                 const CovarianceInput& covariance, UpdateError* why) noexcept {
+                                 const Eigen::Vector3d& p_ToHo_T, const CovarianceInput& covariance,
+                                 UpdateError* why) noexcept {
   using internal::Report;
   const ErrorCode handle = CheckPoseHandle(edge, id_.value(), topology_, values_);
   if (handle != ErrorCode::kOk) return Report(why, handle);
@@ -172,8 +172,8 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
-                                  const Eigen::Vector3d& w_DH_H,
-                                  const CovarianceInput& covariance, UpdateError* why) noexcept {
+                                  const Eigen::Vector3d& w_DH_H, const CovarianceInput& covariance,
+                                  UpdateError* why) noexcept {
   using internal::Report;
   const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
   if (handle != ErrorCode::kOk) return Report(why, handle);

@@ -57,33 +57,33 @@ QueryResult<coord::Twist> Answer(const topology::SceneTopology& t,
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
     const semantics::PoseSemantics& q) const noexcept {
-  return internal::ReadValidated(
-      topology_, [&] { return Answer(source(), PlanPose(topology_, q)); });
+  return internal::ReadValidated(topology_,
+                                 [&] { return Answer(source(), PlanPose(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Pose> SceneGraph<B>::GetPose(
     const PoseSpec& spec) const noexcept {
-  return internal::ReadValidated(
-      topology_, [&] { return Answer(source(), PlanPose(topology_, spec)); });
+  return internal::ReadValidated(topology_,
+                                 [&] { return Answer(source(), PlanPose(topology_, spec)); });
 }
 
 template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(
     const semantics::PositionSemantics& q) const noexcept {
-  return internal::ReadValidated(
-      topology_, [&] { return Answer(source(), PlanPosition(topology_, q)); });
+  return internal::ReadValidated(topology_,
+                                 [&] { return Answer(source(), PlanPosition(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<coord::Position> SceneGraph<B>::GetPosition(const PoseSpec& spec) const noexcept {
-  return internal::ReadValidated(
-      topology_, [&] { return Answer(source(), PlanPosition(topology_, spec)); });
+  return internal::ReadValidated(topology_,
+                                 [&] { return Answer(source(), PlanPosition(topology_, spec)); });
 }
 
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
     const semantics::OrientationSemantics& q) const noexcept {
-  return internal::ReadValidated(
-      topology_, [&] { return Answer(source(), PlanOrientation(topology_, q)); });
+  return internal::ReadValidated(topology_,
+                                 [&] { return Answer(source(), PlanOrientation(topology_, q)); });
 }
 template <coord::Backend B>
 QueryResult<typename SceneGraph<B>::Orientation> SceneGraph<B>::GetOrientation(
@@ -149,14 +149,13 @@ Expected<CompiledPosition<B>, QueryError> SceneGraph<B>::CompilePosition(
 template <coord::Backend B>
 Expected<CompiledOrientation<B>, QueryError> SceneGraph<B>::CompileOrientation(
     const PoseSpec& spec) const {
-  return internal::ReadValidated(
-      topology_, [&]() -> Expected<CompiledOrientation<B>, QueryError> {
-        auto plan = PlanOrientation(topology_, spec);
-        if (!plan) return Unexpected{plan.error()};
-        if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
-          return Unexpected{QError(ok.error())};
-        return CompiledOrientation<B>(topology_, values_, *plan);
-      });
+  return internal::ReadValidated(topology_, [&]() -> Expected<CompiledOrientation<B>, QueryError> {
+    auto plan = PlanOrientation(topology_, spec);
+    if (!plan) return Unexpected{plan.error()};
+    if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok)
+      return Unexpected{QError(ok.error())};
+    return CompiledOrientation<B>(topology_, values_, *plan);
+  });
 }
 
 // The point is required, as for GetTwist (an angular velocity is the angular part of any

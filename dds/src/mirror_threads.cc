@@ -113,8 +113,8 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
                            " (not carried in this version)");
     return false;
   }
-  const coord::Covariance6 S = has_covariance ? internal::UnpackCovariance(cov)
-                                              : coord::Covariance6::Zero();
+  const coord::Covariance6 S =
+      has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
   core::CovarianceInput covariance;
   covariance.matrix = &S;
   if (slot.joint) {
@@ -126,8 +126,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
     code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time), &bad)
                 : graph.SetJointState(slot.group, q, qdot, &bad);
   } else if (slot.twist) {
-    code = time              ? graph.SetTwist(slot.twist_handle, a, b,
-                                              core::Stamp::Nanoseconds(*time), &bad)
+    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time), &bad)
            : has_covariance ? graph.SetTwist(slot.twist_handle, a, b, covariance, &bad)
                             : graph.SetTwist(slot.twist_handle, a, b, &bad);
   } else if (slot.settable) {
@@ -145,10 +144,9 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
     return false;
   }
   if (code != base::ErrorCode::kOk) {
-    const bool numbers = code == base::ErrorCode::kInvalidNumber ||
-                         code == base::ErrorCode::kInvalidRotation ||
-                         code == base::ErrorCode::kInvalidCovariance ||
-                         code == base::ErrorCode::kJointLimit;
+    const bool numbers =
+        code == base::ErrorCode::kInvalidNumber || code == base::ErrorCode::kInvalidRotation ||
+        code == base::ErrorCode::kInvalidCovariance || code == base::ErrorCode::kJointLimit;
     Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
                            (numbers ? ": " + core::Describe(bad) : std::string()) +
                            (from ? " (" + what + " of edge " + std::to_string(from->edge) +
@@ -227,7 +225,7 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
         const semgraph_wire_Value& v = buffer[i];
-        const In in{v.source,  v.edge,    v.kind,    v.seq,
+        const In in{v.source,   v.edge,    v.kind,    v.seq,
                     v.stamp_ns, v.time_ns, v.numbers, v.covariance};
         if (HandleValue(in, samples)) ++applied_now;
       }
@@ -258,7 +256,7 @@ void Mirror::Impl::TakeBatches() {
         }
         for (std::uint32_t k = 0; k < b.updates._length; ++k) {
           const semgraph_wire_Update& u = b.updates._buffer[k];
-          const In in{b.source,  u.edge,    u.kind,    u.seq,
+          const In in{b.source,   u.edge,    u.kind,    u.seq,
                       u.stamp_ns, u.time_ns, u.numbers, u.covariance};
           if (HandleValue(in, u.stamped)) ++applied_now;
         }

@@ -572,8 +572,8 @@ base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::spa
   return code;
 }
 
-base::Expected<base::Ok, std::string> Publisher::WaitForMirrors(
-    std::uint32_t count, std::chrono::milliseconds timeout) {
+base::Expected<base::Ok, std::string> Publisher::WaitForMirrors(std::uint32_t count,
+                                                                std::chrono::milliseconds timeout) {
   const Impl& m = *impl_;
   const dds_time_t deadline = dds_time() + DDS_MSECS(timeout.count());
   for (const Entity* w :

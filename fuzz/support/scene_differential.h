@@ -126,8 +126,8 @@ inline std::string YamlCovariance(const reference::CovarianceIn& c) {
     for (int j = 0; j < 6; ++j) m += (j ? ", " : "") + YamlNumber(c.S(i, j));
     m += "]";
   }
-  return ", covariance: {matrix: " + m + "], order: " +
-         (c.angular_linear ? "angular_linear" : "linear_angular") +
+  return ", covariance: {matrix: " + m +
+         "], order: " + (c.angular_linear ? "angular_linear" : "linear_angular") +
          ", convention: " + (c.body ? "body" : "coordinates") + "}";
 }
 
@@ -256,8 +256,8 @@ class Differential {
     Begin([=] {
       return "{op: pose, of: " + YamlName(head) + Field("body", head_body) +
              ", wrt: " + YamlName(tail) + Field("ref_body", tail_body) +
-             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) +
-             cov_text + "}";
+             ", position: " + YamlVector(p) + ", rotation: " + YamlRotation(rotation) + cov_text +
+             "}";
     });
     core::PoseSpec spec = core::PoseSpec::Of(head, head_body).RelativeTo(tail, tail_body);
     const core::CovarianceInput in = KernelCovariance(cov);
@@ -281,8 +281,7 @@ class Differential {
     core::TwistSpec spec = core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
     const auto result =
         cov ? graph_.AddTwist(spec, v, w, KernelCovariance(cov)) : graph_.AddTwist(spec, v, w);
-    return Finish(result,
-                  model_.AddTwist(point, body, ref_body, coord, v, w, std::nullopt, cov));
+    return Finish(result, model_.AddTwist(point, body, ref_body, coord, v, w, std::nullopt, cov));
   }
 
   /// Edge-form pose add with repair (docs/repair.md): besides the checks of Pose, the same
@@ -1125,8 +1124,8 @@ class Differential {
     if (!(diff <= rel * scale) || !(asym <= 1e-12 * scale)) {
       std::ostringstream m;
       m.precision(17);
-      m << "covariance of the " << what << " differs (max difference " << diff
-        << ", asymmetry " << asym << "):\nkernel\n"
+      m << "covariance of the " << what << " differs (max difference " << diff << ", asymmetry "
+        << asym << "):\nkernel\n"
         << kernel << "\nmodel\n"
         << model;
       Fail(m.str());
@@ -1359,9 +1358,9 @@ class Differential {
   Graph graph_;
   ReferenceModel model_;
   std::vector<TraceLine> trace_;
-  std::string before_;  // Dump() before the current op
+  std::string before_;                                            // Dump() before the current op
   std::map<std::string, coord::Covariance6> covariances_before_;  // Covariances() likewise
-  std::string dump_;    // cache of Dump() while dump_valid_
+  std::string dump_;  // cache of Dump() while dump_valid_
   bool dump_valid_ = false;
   bool checks_ = true;
   std::deque<Kept> kept_;

@@ -98,15 +98,14 @@ void BindPoseCovarianceQueries(GraphClass& graph) {
           auto r = g.GetPoseWithCovariance(spec, o);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
           return WithCovariance(
-              py::cast(MakePoseResult<B>(self, r->value.semantics, r->value.value)),
-              r->covariance);
+              py::cast(MakePoseResult<B>(self, r->value.semantics, r->value.value)), r->covariance);
         });
       },
       py::kw_only(), py::arg("of") = py::none(), py::arg("body") = py::none(),
-      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(),
-      py::arg("point") = py::none(), py::arg("orientation") = py::none(),
-      py::arg("ref_point") = py::none(), py::arg("ref_orientation") = py::none(),
-      py::arg("expressed_in") = py::none(), py::arg("covariance_order") = py::none(),
+      py::arg("wrt") = py::none(), py::arg("ref_body") = py::none(), py::arg("point") = py::none(),
+      py::arg("orientation") = py::none(), py::arg("ref_point") = py::none(),
+      py::arg("ref_orientation") = py::none(), py::arg("expressed_in") = py::none(),
+      py::arg("covariance_order") = py::none(),
       (std::string("pose() with the covariance of its answer, (6, 6): rows (dp, dtheta).") +
        kCovDoc)
           .c_str());
@@ -164,16 +163,15 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
         return b.Visit([&](const auto& g) {
           auto r = g.GetTwistWithCovariance(spec, o);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
-          return WithCovariance(py::cast(TwistResult{self, r->value.semantics, r->value.linear,
-                                                     r->value.angular}),
-                                r->covariance);
+          return WithCovariance(
+              py::cast(TwistResult{self, r->value.semantics, r->value.linear, r->value.angular}),
+              r->covariance);
         });
       },
       py::kw_only(), py::arg("point") = py::none(), py::arg("body") = py::none(),
       py::arg("ref_body") = py::none(), py::arg("expressed_in") = py::none(),
       py::arg("covariance_order") = py::none(),
-      (std::string("twist() with the covariance of its answer, (6, 6): rows (dv, dw).") +
-       kCovDoc)
+      (std::string("twist() with the covariance of its answer, (6, 6): rows (dv, dw).") + kCovDoc)
           .c_str());
   graph.def(
       "linear_velocity_with_covariance",

@@ -187,8 +187,8 @@ std::uint32_t Broadcaster::domain() const noexcept { return impl_->domain; }
 base::Expected<base::Ok, std::string> Broadcaster::WaitForSubscribers(
     std::uint32_t count, std::chrono::milliseconds timeout) {
   const tf2_msgs_msg_dds__TFMessage_ key{};  // keyless: any sample names the one instance
-  const dds_return_t rc = dds_shared::SyncWithReaders(
-      impl_->tf_writer.get(), count, DDS_MSECS(timeout.count()), &key);
+  const dds_return_t rc =
+      dds_shared::SyncWithReaders(impl_->tf_writer.get(), count, DDS_MSECS(timeout.count()), &key);
   if (rc == DDS_RETCODE_OK) return base::Ok{};
   if (rc != DDS_RETCODE_TIMEOUT) return base::Unexpected{internal::DdsError("rt/tf", rc)};
   return base::Unexpected{std::to_string(subscribers()) + " subscriber(s) matched on rt/tf of " +

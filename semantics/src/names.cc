@@ -1,8 +1,8 @@
 #include "semgraph/semantics/names.h"
 
 #include <algorithm>
-#include <bit>
 #include <atomic>
+#include <bit>
 #include <cstdio>
 #include <cstring>
 #include <iterator>

@@ -203,9 +203,10 @@ TEST(ConcurrentOneShot, QueriesByNameAndCompileWhileTheWriterChangesTheTopology)
   tally.stop.store(true);
   writer.join();
   for (auto& t : readers) t.join();
-  std::printf("writer added %d frames; readers checked %ld answers, %ld documented errors, "
-              "%ld kQueryInvalidated\n",
-              frames_added.load(), tally.checked.load(), tally.errors.load(), tally.busy.load());
+  std::printf(
+      "writer added %d frames; readers checked %ld answers, %ld documented errors, "
+      "%ld kQueryInvalidated\n",
+      frames_added.load(), tally.checked.load(), tally.errors.load(), tally.busy.load());
   EXPECT_EQ(tally.bad.load(), 0) << tally.first_bad;
   EXPECT_LT(tally.busy.load() * 100, tally.checked.load());
   EXPECT_GT(frames_added.load(), 50);
@@ -282,9 +283,10 @@ TEST(ConcurrentOneShot, IssueReproductionFramesEvery64UpdatesWhileGetPoseRuns) {
   stop.store(true);
   writer.join();
   reader.join();
-  std::printf("reader answered %ld times (%ld kQueryInvalidated) while the writer added %d "
-              "frames\n",
-              answers.load(), busy.load(), added.load());
+  std::printf(
+      "reader answered %ld times (%ld kQueryInvalidated) while the writer added %d "
+      "frames\n",
+      answers.load(), busy.load(), added.load());
   EXPECT_EQ(bad.load(), 0) << "first (code, +1000: the leaf query): " << first_bad;
   EXPECT_LT(busy.load() * 100, answers.load());
   EXPECT_GT(answers.load(), 100);
@@ -338,15 +340,15 @@ void WriteTwists(SceneGraph<>& g, Tally& tally, std::atomic<int>& added) {
 void ReadTwistRound(const SceneGraph<>& g, Tally& tally, int known, unsigned& rng) {
   if (known == 0) return;
   rng = rng * 1664525u + 1013904223u;
-  const int i = static_cast<int>(rng >> 8) % (known + 4);  // some not added yet
+  const int i = static_cast<int>(rng >> 8) % (known + 4);      // some not added yet
   const int j = static_cast<int>(rng >> 4) % (known + 1) - 1;  // -1: W
   const double want = TwistSum(i) - (j < 0 ? 0.0 : TwistSum(j));
   const auto expect_error = [&](ErrorCode code, const char* what) {
     if (code == ErrorCode::kQueryInvalidated) {
       tally.busy.fetch_add(1);
     } else if (code == ErrorCode::kNoTwistPath ||
-               (i >= known && (code == ErrorCode::kUnknownFrame ||
-                               code == ErrorCode::kUnknownBody))) {
+               (i >= known &&
+                (code == ErrorCode::kUnknownFrame || code == ErrorCode::kUnknownBody))) {
       tally.errors.fetch_add(1);
     } else {
       tally.Bad(std::string(what) + ": unexpected code " + std::string(ToString(code)));
@@ -416,9 +418,10 @@ TEST(ConcurrentOneShot, TwistQueriesAndCompileTwistWhileTheWriterChangesTwistEdg
   tally.stop.store(true);
   writer.join();
   for (auto& t : readers) t.join();
-  std::printf("writer added %d twist edges; readers checked %ld answers, %ld documented "
-              "errors, %ld kQueryInvalidated\n",
-              added.load(), tally.checked.load(), tally.errors.load(), tally.busy.load());
+  std::printf(
+      "writer added %d twist edges; readers checked %ld answers, %ld documented "
+      "errors, %ld kQueryInvalidated\n",
+      added.load(), tally.checked.load(), tally.errors.load(), tally.busy.load());
   EXPECT_EQ(tally.bad.load(), 0) << tally.first_bad;
   EXPECT_LT(tally.busy.load() * 100, tally.checked.load());
   EXPECT_GT(added.load(), 50);

@@ -21,8 +21,7 @@ std::vector<std::int64_t> Kept(const std::vector<std::int64_t>& all, std::size_t
   return kept;
 }
 
-void CheckAgainstScan(const PoseHistory& h, const std::vector<std::int64_t>& kept,
-                      std::int64_t t) {
+void CheckAgainstScan(const PoseHistory& h, const std::vector<std::int64_t>& kept, std::int64_t t) {
   PoseHistory::Bracket b;
   h.Find(t, b);
   ASSERT_EQ(b.first, kept.front());
@@ -62,10 +61,18 @@ TEST(EdgeHistoryTest, BracketSearchMatchesALinearScan) {
       std::int64_t s = 1'000;
       for (int k = 0; k < 600; ++k) {
         switch (spacing) {
-          case Spacing::kEven: s += 1'000; break;
-          case Spacing::kJitter: s += 900 + static_cast<std::int64_t>(rng() % 200); break;
-          case Spacing::kClustered: s += k % 10 == 0 ? 20'000 : 1 + rng() % 3; break;
-          case Spacing::kSparse: s += 1 + static_cast<std::int64_t>(rng() % 40'000); break;
+          case Spacing::kEven:
+            s += 1'000;
+            break;
+          case Spacing::kJitter:
+            s += 900 + static_cast<std::int64_t>(rng() % 200);
+            break;
+          case Spacing::kClustered:
+            s += k % 10 == 0 ? 20'000 : 1 + rng() % 3;
+            break;
+          case Spacing::kSparse:
+            s += 1 + static_cast<std::int64_t>(rng() % 40'000);
+            break;
         }
         const double v[7] = {0, 0, 0, 1, static_cast<double>(s), 0, 0};
         if (all.empty()) {
@@ -84,8 +91,7 @@ TEST(EdgeHistoryTest, BracketSearchMatchesALinearScan) {
         }
         for (int q = 0; q < 200; ++q) {
           const auto span = static_cast<std::uint64_t>(kept.back() - kept.front() + 2'000);
-          CheckAgainstScan(h, kept,
-                           kept.front() - 1'000 + static_cast<std::int64_t>(rng() % span));
+          CheckAgainstScan(h, kept, kept.front() - 1'000 + static_cast<std::int64_t>(rng() % span));
         }
       }
     }

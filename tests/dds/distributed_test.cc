@@ -192,11 +192,10 @@ TEST(DistributedTest, CovariancesReachTheMirrorInTheEdgeForm) {
     mirror.WithGraph([&](const core::SceneGraph<>& g) {
       const auto o = g.GetPoseWithCovariance(core::PoseSpec::Of("o").RelativeTo("c"));
       const auto l1 = g.GetPose(l1_in_b);
-      const auto v = g.GetTwistWithCovariance(
-          core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("o"));
+      const auto v =
+          g.GetTwistWithCovariance(core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("o"));
       ok = g.FindFrame("cam").is_valid() && o && !o->covariance.isZero(0.0) && l1 &&
-           l1->value.rotation.angularDistance(Rz(0.2)) < 1e-12 && v &&
-           !v->covariance.isZero(0.0);
+           l1->value.rotation.angularDistance(Rz(0.2)) < 1e-12 && v && !v->covariance.isZero(0.0);
     });
     return ok;
   };

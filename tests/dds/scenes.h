@@ -251,7 +251,6 @@ inline std::string TimedAnswers(const core::SceneGraph<>& g) {
   return out;
 }
 
-
 // ---- covariances (docs/uncertainty.md): the numbers of the covariance test
 // (distributed_test.cc, dds_test_node covariance). A symmetric, diagonally dominant (hence
 // positive definite) 6x6 matrix: diag(d) + 1e-6 * (i + 1)(j + 1) / 36 off the diagonal, times

@@ -270,10 +270,10 @@ double ReferenceModel::SmallestEigenvalue(const Matrix6& S) {
       for (int q = p + 1; q < 6; ++q) {
         if (A(p, q) == 0.0) continue;
         const double theta = (A(q, q) - A(p, p)) / (2.0 * A(p, q));
-        const double t = std::abs(theta) > 1e150
-                             ? 0.5 / theta
-                             : (theta >= 0 ? 1.0 : -1.0) /
-                                   (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double t =
+            std::abs(theta) > 1e150
+                ? 0.5 / theta
+                : (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
         const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
         Matrix6 P = Matrix6::Identity();
         P(p, p) = c;
@@ -757,9 +757,8 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   for (const TwistEdge& t : next.twists) {
     if (t.head == in.child) return ErrorCode::kMultipleTwistParents;
   }
-  next.twists.push_back(
-      TwistEdge{P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {},
-                Matrix6::Zero()});
+  next.twists.push_back(TwistEdge{
+      P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}, Matrix6::Zero()});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   j.serial = next_serial_++;
   next.joints.push_back(j);

@@ -8,7 +8,6 @@
 #include "dds_isolation.h"
 #include "semgraph/ros_dds/listener.h"
 
-
 namespace semgraph::ros_dds {
 namespace {
 

@@ -50,7 +50,7 @@ TEST(ReadScript, ReadsWrenchOpsRemovalsAndQueries) {
       "  - {op: query, kind: moment, on: C, point: e, coord: r}\n");
   ASSERT_EQ(s.ops.size(), 3u);
   EXPECT_EQ(s.ops[0].kind, OpKind::kWrench);
-  EXPECT_EQ(s.ops[0].names.body, "C");  // on
+  EXPECT_EQ(s.ops[0].names.body, "C");      // on
   EXPECT_EQ(s.ops[0].names.ref_body, "D");  // by
   EXPECT_EQ(s.ops[0].names.point, "e");
   EXPECT_EQ(s.ops[0].names.coord, "r");

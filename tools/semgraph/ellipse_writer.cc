@@ -23,12 +23,23 @@ std::string Xml(std::string_view text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -75,10 +86,11 @@ std::string Svg(const std::vector<Ellipse>& items, const EllipseOptions& options
          Num(height) + "\" data-root=\"" + Xml(options.root) + "\" data-plane=\"" +
          kPlanes[static_cast<int>(options.plane)] + "\" data-sigma=\"" + Num(options.sigma) +
          "\" data-scale=\"" + Num(scale) + "\">\n";
-  svg += "  <title>" + Xml(std::string("positions relative to {") + options.root + "} with " +
-                           Num(options.sigma) + "-sigma ellipses, plane " +
-                           kPlanes[static_cast<int>(options.plane)]) +
-         "</title>\n";
+  svg +=
+      "  <title>" +
+      Xml(std::string("positions relative to {") + options.root + "} with " + Num(options.sigma) +
+          "-sigma ellipses, plane " + kPlanes[static_cast<int>(options.plane)]) +
+      "</title>\n";
   for (const Ellipse& e : items) {
     const std::string cx = Num(sx(e.x)), cy = Num(sy(e.y));
     if (e.major > 0) {

@@ -257,8 +257,7 @@ int Ellipses(int argc, char** argv) {
 int Main(int argc, char** argv) {
   const auto is_help = [](std::string_view arg) { return arg == "--help" || arg == "-h"; };
   if (argc == 2 && is_help(argv[1])) {
-    return Print({kUsage, kRun, kDot, kExport, kEllipses, kFileAndExit, kScript, kOutput,
-                  kLimits});
+    return Print({kUsage, kRun, kDot, kExport, kEllipses, kFileAndExit, kScript, kOutput, kLimits});
   }
   if (argc == 2 && std::string_view(argv[1]) == "--version") {
     return Print({"semgraph " SEMGRAPH_VERSION "\n"});

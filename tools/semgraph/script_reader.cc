@@ -536,9 +536,11 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   for (const auto& [field, out] : explicit_names) {
     if (value[field] != kNoNode && !ReadText(value[field], kFieldNames[field], out)) return false;
   }
-  const std::pair<Field, std::array<double, 3>*> vectors[] = {
-      {kPosition, &op->position}, {kLinear, &op->linear}, {kAngular, &op->angular},
-      {kForce, &op->force},       {kMoment, &op->moment}};
+  const std::pair<Field, std::array<double, 3>*> vectors[] = {{kPosition, &op->position},
+                                                              {kLinear, &op->linear},
+                                                              {kAngular, &op->angular},
+                                                              {kForce, &op->force},
+                                                              {kMoment, &op->moment}};
   for (const auto& [field, out] : vectors) {
     if (value[field] != kNoNode && !ReadVector3(value[field], kFieldNames[field], out)) {
       return false;
@@ -611,15 +613,14 @@ bool Interpreter::ReadQueryCovariance(const std::array<std::uint32_t, kNumFields
     op->covariance_angular_first = n.text == "angular_linear";
     return true;
   }
-  return Fail(order, "'covariance_order' must be linear_angular or angular_linear, got " +
-                         Describe(order));
+  return Fail(
+      order, "'covariance_order' must be linear_angular or angular_linear, got " + Describe(order));
 }
 
 // A pose or twist op's `covariance` (docs/uncertainty.md): a 6x6 list of lists, or a map
 // {matrix, order, convention}; `convention: body` only for a pose in edge form (of/wrt: point =
 // orientation, ref_point = ref_orientation = coord), the only form it has a meaning in.
-bool Interpreter::ReadCovariance(const std::array<std::uint32_t, kNumFields>& value,
-                                 ScriptOp* op) {
+bool Interpreter::ReadCovariance(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op) {
   if (value[kCovariance] == kNoNode) return true;
   if (!ReadCovarianceValue(value[kCovariance], op)) return false;
   for (const Field f : {kRepair, kStamp}) {
@@ -629,8 +630,8 @@ bool Interpreter::ReadCovariance(const std::array<std::uint32_t, kNumFields>& va
                               "given with an unstamped value, without repair)");
   }
   const SemanticNames& n = op->names;
-  const bool edge_form = n.point == n.orientation && n.ref_point == n.ref_orientation &&
-                         n.coord == n.ref_orientation;
+  const bool edge_form =
+      n.point == n.orientation && n.ref_point == n.ref_orientation && n.coord == n.ref_orientation;
   if (op->covariance_body && !edge_form) {
     return Fail(value[kCovariance],
                 "'convention: body' applies to a pose given in edge form only (point = "
@@ -662,8 +663,10 @@ bool Interpreter::ReadCovarianceValue(std::uint32_t node, ScriptOp* op) {
       has_matrix = true;
     } else if (k == "order") {
       if (!text || (iv.text != "linear_angular" && iv.text != "angular_linear")) {
-        return Fail(item, "the 'order' of 'covariance' must be linear_angular or angular_linear, "
-                          "got " + Describe(item));
+        return Fail(item,
+                    "the 'order' of 'covariance' must be linear_angular or angular_linear, "
+                    "got " +
+                        Describe(item));
       }
       op->covariance_angular_first = iv.text == "angular_linear";
     } else if (k == "convention" && pose) {
@@ -685,8 +688,8 @@ bool Interpreter::ReadCovarianceValue(std::uint32_t node, ScriptOp* op) {
 bool Interpreter::ReadMatrix6(std::uint32_t node, std::string_view what, ScriptOp* op) {
   const NodeView v = At(node);
   if (v.kind != NodeKind::kSequence || v.children.size() != 6) {
-    return Fail(node, std::string(what) + " must be a list of 6 rows of 6 numbers, got " +
-                          Describe(node));
+    return Fail(
+        node, std::string(what) + " must be a list of 6 rows of 6 numbers, got " + Describe(node));
   }
   for (std::size_t r = 0; r < 6; ++r) {
     const std::uint32_t row = v.children[r];

@@ -374,9 +374,9 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
   }
   if (op.has_covariance) {
     const coord::Covariance6 S = CovarianceOf(op);
-    return FromBuild(op, index,
-                     graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular),
-                                    CovarianceInputOf(op, S)));
+    return FromBuild(
+        op, index,
+        graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), CovarianceInputOf(op, S)));
   }
   if (stamp)
     return FromBuild(op, index,

@@ -42,14 +42,14 @@ inline constexpr double kMaxMagnitude = 1e12;
 /// What is wrong with an input number.
 enum class ValueProblem : std::uint8_t {
   kNone,
-  kNotFinite,          ///< NaN or +-Inf; `component` is its index within `what`
-  kTooLarge,           ///< |x| > kMaxMagnitude; `magnitude` is the value
-  kQuaternionNorm,     ///< `magnitude` = | |q| - 1 |
-  kNotOrthonormal,     ///< `magnitude` = max |M^T M - I|
-  kReflection,         ///< det(M) <= 0
-  kNotRigidTransform,  ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
-  kOutsideLimits,      ///< a joint position beyond [lower, upper]; `magnitude` is the value
-  kNotSymmetric,       ///< a covariance: `magnitude` = |S(i,j) - S(j,i)| (coord/covariance.h)
+  kNotFinite,           ///< NaN or +-Inf; `component` is its index within `what`
+  kTooLarge,            ///< |x| > kMaxMagnitude; `magnitude` is the value
+  kQuaternionNorm,      ///< `magnitude` = | |q| - 1 |
+  kNotOrthonormal,      ///< `magnitude` = max |M^T M - I|
+  kReflection,          ///< det(M) <= 0
+  kNotRigidTransform,   ///< bottom row of a 4x4 homogeneous matrix is not [0 0 0 1]
+  kOutsideLimits,       ///< a joint position beyond [lower, upper]; `magnitude` is the value
+  kNotSymmetric,        ///< a covariance: `magnitude` = |S(i,j) - S(j,i)| (coord/covariance.h)
   kNegativeEigenvalue,  ///< a covariance: `magnitude` is the eigenvalue (coord/covariance.h)
 };
 
@@ -97,7 +97,7 @@ struct Error {
   ErrorCode code = ErrorCode::kOk;
   semantics::Mismatch mismatch;          ///< kSemanticMismatch, kRepresentationConstraint
   const char* representation = nullptr;  ///< backend name for kRepresentationConstraint
-  ValueDetail value;  ///< kInvalidNumber, kInvalidRotation, kInvalidCovariance
+  ValueDetail value;                     ///< kInvalidNumber, kInvalidRotation, kInvalidCovariance
 };
 
 /// x in the fewest digits that read back as exactly x (std::to_chars, shortest round trip):

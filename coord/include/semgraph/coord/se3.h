@@ -163,8 +163,8 @@ inline constexpr double kSlerpSeriesMaxU = 0.03;
 /// Slerp weights from the angle, for rotations farther apart than the series covers (out of
 /// line: the common case stays small enough to inline).
 [[gnu::noinline]] inline Eigen::Quaterniond SlerpFar(const Eigen::Quaterniond& q0,
-                                                      const Eigen::Quaterniond& q1, double d,
-                                                      double sign, double lambda) noexcept {
+                                                     const Eigen::Quaterniond& q1, double d,
+                                                     double sign, double lambda) noexcept {
   // The half angle between the rotations: atan2(sin, cos), accurate near pi/2.
   const double theta = std::atan2((sign * q1.coeffs() - d * q0.coeffs()).norm(), d);
   const double s = 1.0 / std::sin(theta);

@@ -214,7 +214,8 @@ class SampleHistory {
       const std::atomic<std::uint64_t>* w = words + Slot(i) + 1;
       [&]<std::size_t... k>(std::index_sequence<k...>) {  // unrolled: 2 instructions a word
         ((v[k] = std::bit_cast<double>(w[k].load(std::memory_order_acquire))), ...);
-      }(std::make_index_sequence<N>{});
+      }
+      (std::make_index_sequence<N>{});
     }
   };
   Ring ring(std::uint32_t head) const noexcept { return Ring{words_.get(), capacity_, head}; }

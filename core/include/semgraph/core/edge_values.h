@@ -252,8 +252,8 @@ struct EdgeValues {
 
  private:
   template <class Records>
-  static void Grow(Records& records, StableArray<std::uint8_t>& on,
-                   Published& published, std::size_t n) {
+  static void Grow(Records& records, StableArray<std::uint8_t>& on, Published& published,
+                   std::size_t n) {
     if (records.size() >= n) return;
     records.Reserve(n);
     on.Reserve(n);

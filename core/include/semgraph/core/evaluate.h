@@ -66,7 +66,7 @@ class ForestSource {
     };
     FrameIndex g = up(c.from);
     if (!g.is_valid()) return false;  // c.from has no edge: no value to read
-    if (time_) {  // each edge at the policy's time (timed_read.h)
+    if (time_) {                      // each edge at the policy's time (timed_read.h)
       X_AF = Edge(c.from);
       for (; g != c.to; g = up(g)) {
         if (!g.is_valid()) return false;

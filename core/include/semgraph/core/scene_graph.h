@@ -387,8 +387,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                   const CovarianceInput& covariance,
                                   UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
-                                   const Eigen::Vector3d& w_DH_H,
-                                   const CovarianceInput& covariance,
+                                   const Eigen::Vector3d& w_DH_H, const CovarianceInput& covariance,
                                    UpdateError* why = nullptr) noexcept;
   /// A compiled pose query with covariance (compiled_covariance.h): the errors of CompilePose.
   [[nodiscard]] Expected<CompiledPoseWithCovariance<B>, QueryError> CompilePoseWithCovariance(
@@ -477,8 +476,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// unknown_frame (point, coordinate frame) -> unknown_body (on, by) -> self_wrench ->
   /// wrench_not_convertible (point, frame and s not in one pose tree) -> duplicate_wrench (the
   /// wrench on D by C is stored: this one is its reaction). Graph unchanged on any error.
-  BuildResult AddWrench(const WrenchSpec& spec, const Eigen::Vector3d& f,
-                        const Eigen::Vector3d& m);
+  BuildResult AddWrench(const WrenchSpec& spec, const Eigen::Vector3d& f, const Eigen::Vector3d& m);
   /// Removes the wrench on `on` by `by`: invalid_name -> unknown_body -> self_wrench ->
   /// no_wrench.
   BuildResult RemoveWrench(std::string_view on, std::string_view by);
@@ -600,13 +598,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   void DropTwistHistory(TwistEdgeIndex edge) noexcept;
   ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X,
                             std::optional<Stamp> stamp) const noexcept;
-  void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
-                       std::optional<Stamp> stamp,
+  void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp,
                        const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
                              std::optional<Stamp> stamp) const noexcept;
-  void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                        std::optional<Stamp> stamp,
+  void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                         const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                            std::optional<Stamp> stamp) noexcept;

@@ -240,8 +240,8 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
                    Eigen::Vector3d(b.v0[4], b.v0[5], b.v0[6]));
         rec.read_to = b.s0;
       } else {
-        InterpolateWords<B>(v.history.options.interpolation, b.v0, b.v1,
-                            Fraction(b.s0, tc.t, b.s1), X);
+        InterpolateWords<B>(v.history.options.interpolation, b.v0, b.v1, Fraction(b.s0, tc.t, b.s1),
+                            X);
         tc.Read(b.s1);
         rec.read_to = b.s1;
       }

@@ -162,9 +162,9 @@ concept Message = std::is_same_v<M, Time> || std::is_same_v<M, Header> ||
     std::is_same_v<M, Vector3> || std::is_same_v<M, Quaternion> || std::is_same_v<M, Transform> ||
     std::is_same_v<M, TransformStamped> || std::is_same_v<M, TFMessage> ||
     std::is_same_v<M, JointState> || std::is_same_v<M, String> || std::is_same_v<M, Point> ||
-    std::is_same_v<M, Pose> || std::is_same_v<M, Twist> ||
-    std::is_same_v<M, PoseWithCovariance> || std::is_same_v<M, PoseWithCovarianceStamped> ||
-    std::is_same_v<M, TwistWithCovariance> || std::is_same_v<M, Odometry>;
+    std::is_same_v<M, Pose> || std::is_same_v<M, Twist> || std::is_same_v<M, PoseWithCovariance> ||
+    std::is_same_v<M, PoseWithCovarianceStamped> || std::is_same_v<M, TwistWithCovariance> ||
+    std::is_same_v<M, Odometry>;
 
 /// Why bytes do not decode to a message, or a message cannot be encoded.
 struct CodecError {

@@ -14,10 +14,10 @@
 // allocation per name); Find O(|name|), allocation-free; name(id) O(1).
 // Thread safety: one writer (Intern, InternNew, Reserve, TruncateTo) and any number of readers
 // of Find, FindWithHash, name and size, which never crash or read freed memory while the
-// writer changes the table: records live in a RetiringArray (old arrays kept), the index is published through an
-// atomic pointer and mask and every index ever made is kept until the table dies (at most
-// twice the current one's size), and every field and text byte a reader reads is atomic
-// (base::Published, release stores / acquire loads). A reader's answer is meaningful when it
+// writer changes the table: records live in a RetiringArray (old arrays kept), the index is
+// published through an atomic pointer and mask and every index ever made is kept until the table
+// dies (at most twice the current one's size), and every field and text byte a reader reads is
+// atomic (base::Published, release stores / acquire loads). A reader's answer is meaningful when it
 // validates that no change overlapped (SceneTopology's change counter, docs/realtime.md);
 // without a concurrent writer it is exact. name(id)'s view is for the writer's thread (or text
 // no change can touch: names are never rewritten except after a TruncateTo that dropped them).
@@ -118,13 +118,14 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
     base::Published<std::uint32_t> size;
     base::Published<std::uint32_t> hash;
   };
-  using Slot = base::Published<std::uint32_t>;  // id + 1, or 0 for empty
+  using Slot = base::Published<std::uint32_t>;         // id + 1, or 0 for empty
   static constexpr std::size_t kBlockBytes = 1 << 16;  // > kMaxNameBytes: a name never spans two
   static std::uint32_t Hash(std::string_view name) noexcept;
   // The slot of `name` in `slots` (mask + 1 of them), or of the free slot ending its probe run;
   // at most mask + 1 probes (a reader racing the writer may see no free slot).
-  static std::size_t Probe(const Slot* slots, std::size_t mask, const base::RetiringArray<Record>& r,
-                           std::string_view name, std::uint32_t hash) noexcept;
+  static std::size_t Probe(const Slot* slots, std::size_t mask,
+                           const base::RetiringArray<Record>& r, std::string_view name,
+                           std::uint32_t hash) noexcept;
   std::size_t Probe(std::string_view name, std::uint32_t hash) const noexcept {
     return Probe(slots_.load(), mask_.load(), records_, name, hash);
   }
@@ -134,7 +135,7 @@ class SEMGRAPH_SEMANTICS_EXPORT NameTable {
 
   std::vector<std::unique_ptr<char[]>> blocks_;
   std::size_t block_fill_ = kBlockBytes;  // bytes used in blocks_.back()
-  base::RetiringArray<Record> records_;     // by id
+  base::RetiringArray<Record> records_;   // by id
   // Every index made (the current one last; older ones kept for readers that may still probe
   // them), and the current one published: slots then mask (writer), mask then slots (reader),
   // so a reader never pairs a larger mask with a smaller array.

@@ -48,9 +48,9 @@
 #pragma once
 
 #include <bit>
-#include <new>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <type_traits>
 #include <utility>
 

@@ -75,8 +75,8 @@ using semantics::NameId;
 /// Readers of other threads (the twist planner under validation) read only `head`, which is
 /// therefore a Published atomic; the other fields are the writer thread's.
 struct TwistEdge {
-  BodyIndex tail;                     ///< D, the reference body
-  base::Published<FrameIndex> head;   ///< {h}, a frame of the moving body H
+  BodyIndex tail;                    ///< D, the reference body
+  base::Published<FrameIndex> head;  ///< {h}, a frame of the moving body H
   bool alive = false;
   semantics::TwistSemantics semantics;
 };
