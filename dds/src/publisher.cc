@@ -463,7 +463,7 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   Impl& m = *impl_;
   const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp);
   if (code != base::ErrorCode::kOk) return code;
-  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.value();
+  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.load().value();
   semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_TWIST, id, m.twist_seq);
   v.time_ns = stamp.nanoseconds();
   double h[6];
