@@ -42,10 +42,7 @@ inline QueryError TopologyBusy() noexcept {
   return e;
 }
 
-/// attempt() (planning and evaluation, returning an Expected<T, QueryError>) on a validated
-/// snapshot of t: its result when no change overlapped it, else kQueryInvalidated after
-/// kReadAttempts attempts.
-// The counter once even (or odd after kSpinsPerAttempt pauses: the attempt then fails).
+/// The counter once even (or odd after kSpinsPerAttempt pauses: the attempt then fails).
 inline std::uint64_t QuietCount(const topology::SceneTopology& t) noexcept {
   std::uint64_t count = t.change_count();
   for (int spin = 0; (count & 1) != 0 && spin < kSpinsPerAttempt; ++spin) {
