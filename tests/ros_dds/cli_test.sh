@@ -20,7 +20,11 @@ out="$(mktemp -d)"
 serve_pid=$!
 trap 'kill -9 $serve_pid 2>/dev/null || true; rm -rf "$out"' EXIT
 "$tool" echo --ros pose camera arm --domain 149 --rate 10 --seconds 8 > "$out/echo" || true
-"$tool" check --ros --domain 149 --seconds 2 > "$out/clean"
+"$tool" check --ros --domain 149 --seconds 2 > "$out/clean" || {
+  echo "check --ros on the clean stream failed; its output:" >&2
+  cat "$out/clean" >&2
+  exit 1
+}
 "$tool" run "$script" > "$out/run" || true
 python3 - "$out/echo" "$out/run" "$out/clean" <<'PY'
 import json, sys
