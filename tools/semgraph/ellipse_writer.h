@@ -21,6 +21,7 @@
 
 #include "semgraph/base/expected.h"
 #include "semgraph/core/scene_graph.h"
+#include "semgraph/script/export.h"
 
 namespace semgraph::script {
 
@@ -34,7 +35,7 @@ struct EllipseOptions {
 
 /// The SVG document; the error names an unknown root frame or a sigma that is not positive.
 template <coord::Backend B>
-[[nodiscard]] base::Expected<std::string, std::string> WriteEllipses(
+[[nodiscard]] SEMGRAPH_SCRIPT_EXPORT base::Expected<std::string, std::string> WriteEllipses(
     const core::SceneGraph<B>& graph, const EllipseOptions& options);
 
 }  // namespace semgraph::script
