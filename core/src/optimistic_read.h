@@ -19,6 +19,7 @@
 #include <cstdint>
 
 #include "semgraph/base/expected.h"
+#include "semgraph/core/evaluate.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/topology/scene_topology.h"
 
@@ -59,13 +60,26 @@ inline std::uint64_t QuietCount(const topology::SceneTopology& t) noexcept {
 template <class Attempt>
 auto ReadValidated(const topology::SceneTopology& t, Attempt&& attempt) noexcept
     -> decltype(attempt()) {
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+  // The checked replay (evaluate.h) trusts a plan only on the topology it was made on.
+  struct PlanCountScope {
+    std::uint64_t saved = ReplayPlanCount();
+    ~PlanCountScope() { ReplayPlanCount() = saved; }
+  } scope;
+  const auto run = [&](std::uint64_t count) {
+    ReplayPlanCount() = count;
+    return attempt();
+  };
+#else
+  const auto run = [&](std::uint64_t) { return attempt(); };
+#endif
   std::uint64_t before = QuietCount(t);
-  decltype(attempt()) result = attempt();
+  decltype(attempt()) result = run(before);
   for (int i = 1;; ++i) {
     if ((before & 1) == 0 && t.change_count() == before) return result;
     if (i == kReadAttempts) break;
     before = QuietCount(t);
-    result = attempt();
+    result = run(before);
   }
   result = base::Unexpected{TopologyBusy()};
   return result;

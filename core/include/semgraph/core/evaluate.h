@@ -39,6 +39,17 @@ namespace semgraph::core::internal {
 /// position and orientation queries skip the other half's arithmetic).
 enum class Part { kPose, kTranslation, kRotation };
 
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+/// The topology's change count when this thread's current optimistic read began (set by
+/// ReadValidated, optimistic_read.h), or kNoPlanCount outside one (the writer's own calls).
+/// Only the checked replay of debug builds reads it.
+inline constexpr std::uint64_t kNoPlanCount = ~std::uint64_t{0};
+inline std::uint64_t& ReplayPlanCount() noexcept {
+  thread_local std::uint64_t count = kNoPlanCount;
+  return count;
+}
+#endif
+
 /// Composes one-shot chains by walking the pose forest.
 template <coord::Backend B>
 class ForestSource {
@@ -57,6 +68,31 @@ class ForestSource {
   bool EvalChain(const ForestChain& c, PoseCoords& X_AF, bool& identity) const noexcept {
     identity = c.from == c.to;
     if (identity) return true;
+#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
+    const std::uint64_t headers = ChainHeaders(c);
+    if (!Compose(c, X_AF)) return false;
+    ReplayChecked(c, X_AF, headers);
+    return true;
+#else
+    return Compose(c, X_AF);
+#endif
+  }
+  bool LoadTwist(const TwistStep<ForestChain>& s, TwistNumbers& V) const noexcept {
+    if (s.pose_edge.is_valid()) {
+      TimeContext latest;  // a derivative without a context: of the newest segment
+      latest.histories = &v_.history;
+      DerivePoseAt<B>(v_, s.pose_edge.value(), time_ ? *time_ : latest, V);
+    } else if (time_) {
+      ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
+    } else {
+      V = v_.V_DH[s.edge.value()].Load();
+    }
+    return true;
+  }
+
+ private:
+  // EvalChain's composition (c.from != c.to).
+  [[gnu::always_inline]] bool Compose(const ForestChain& c, PoseCoords& X_AF) const noexcept {
     const std::size_t n = t_.num_frames();
     std::size_t steps = 0;
     // The next frame up, or invalid when the walk went astray.
@@ -92,25 +128,8 @@ class ForestSource {
         X_AF = B::ComposeChain(X_AF, v_.X_PF[g.value()].Load());
       }
     }
-#if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
-    ReplayChecked(c, X_AF);
-#endif
     return true;
   }
-  bool LoadTwist(const TwistStep<ForestChain>& s, TwistNumbers& V) const noexcept {
-    if (s.pose_edge.is_valid()) {
-      TimeContext latest;  // a derivative without a context: of the newest segment
-      latest.histories = &v_.history;
-      DerivePoseAt<B>(v_, s.pose_edge.value(), time_ ? *time_ : latest, V);
-    } else if (time_) {
-      ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
-    } else {
-      V = v_.V_DH[s.edge.value()].Load();
-    }
-    return true;
-  }
-
- private:
   PoseCoords Edge(FrameIndex g) const noexcept {
     if (!time_) return v_.X_PF[g.value()].Load();
     PoseCoords X;
@@ -118,26 +137,49 @@ class ForestSource {
     return X;
   }
 #if !defined(NDEBUG) || defined(SEMGRAPH_EXPENSIVE_CHECKS)
-  coord::Pose<B> EdgePose(FrameIndex child) const noexcept {
+  // A frame index the replay may read: a reader racing a change can meet any index.
+  bool Known(FrameIndex g) const noexcept { return g.is_valid() && g.value() < t_.num_frames(); }
+  // X_PF of `child` (Known) with its semantics; false when its parent is not Known.
+  bool EdgePose(FrameIndex child, coord::Pose<B>& X) const noexcept {
     const FrameIndex parent = t_.pose_parent(child);
-    return coord::Pose<B>{semantics::PoseSemantics::OfFrame(
-                              t_.FrameSem(child), t_.BodyOfSem(child), t_.FrameSem(parent),
-                              t_.BodyOfSem(parent), t_.FrameSem(parent).axes()),
-                          v_.X_PF[child.value()].Load()};
+    if (!Known(parent)) return false;
+    X = coord::Pose<B>{semantics::PoseSemantics::OfFrame(t_.FrameSem(child), t_.BodyOfSem(child),
+                                                         t_.FrameSem(parent), t_.BodyOfSem(parent),
+                                                         t_.FrameSem(parent).axes()),
+                       v_.X_PF[child.value()].Load()};
+    return true;
+  }
+  // The sum of the chain's sequence-lock headers, 0 when the walk went astray: unchanged across
+  // two reads means no write to the chain's values began or ended between them (each header
+  // only grows).
+  std::uint64_t ChainHeaders(const ForestChain& c) const noexcept {
+    std::uint64_t sum = 0;
+    std::size_t steps = 0;
+    for (FrameIndex g = c.from; g != c.to; g = t_.pose_parent(g)) {
+      if (!Known(g) || ++steps > t_.num_frames()) return 0;
+      sum += v_.X_PF[g.value()].header();
+    }
+    return sum;
   }
   // The chain again through the checked coord::Compose: the same semantics as the shortcut,
   // and the same numbers up to rounding.
-  // Checked only on a topology no change overlapped (a reader on another thread may replay a
-  // torn forest; its answer is thrown away anyway): the counter, even and the same after.
-  void ReplayChecked(const ForestChain& c, const PoseCoords& X_AF) const noexcept {
+  // Checked only when the topology is the one the plan was made on: no change since this
+  // thread's optimistic read began (ReplayPlanCount) and none during the replay. A reader on
+  // another thread may hold a plan of a torn forest; its answer is thrown away anyway.
+  void ReplayChecked(const ForestChain& c, const PoseCoords& X_AF,
+                     std::uint64_t headers) const noexcept {
     const std::uint64_t before = t_.change_count();
     if ((before & 1) != 0) return;
-    coord::Pose<B> checked = EdgePose(c.from);
+    if (ReplayPlanCount() != kNoPlanCount && ReplayPlanCount() != before) return;
+    if (!Known(c.from) || !Known(c.to)) return;
+    coord::Pose<B> checked;
+    if (!EdgePose(c.from, checked)) return;
     bool composed = true;
     std::size_t steps = 0;
     for (FrameIndex g = t_.pose_parent(c.from); g != c.to; g = t_.pose_parent(g)) {
-      if (!g.is_valid() || ++steps > t_.num_frames()) return;
-      auto next = coord::Compose(checked, EdgePose(g));
+      coord::Pose<B> X_PG;
+      if (!Known(g) || ++steps > t_.num_frames() || !EdgePose(g, X_PG)) return;
+      auto next = coord::Compose(checked, X_PG);
       composed = composed && next.has_value();
       if (next) checked = *next;
     }
@@ -146,9 +188,11 @@ class ForestSource {
                                  t_.FrameSem(c.from), t_.BodyOfSem(c.from), t_.FrameSem(c.to),
                                  t_.BodyOfSem(c.to), t_.FrameSem(c.to).axes());
     const double scale = 1.0 + B::TranslationOf(X_AF).norm();
-    // The replay composes the current values; a timed read uses others.
+    // The replay composes the current values: comparable unless a timed read used others, or
+    // another thread wrote a value of the chain since the shortcut read it.
     const bool same_numbers =
-        time_ || (B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <= 1e-9 * scale;
+        time_ || headers == 0 || ChainHeaders(c) != headers ||
+        (B::TranslationOf(checked.value) - B::TranslationOf(X_AF)).norm() <= 1e-9 * scale;
     if (t_.change_count() != before) return;
     SEMGRAPH_DEMAND(composed && same_semantics && same_numbers);
   }
