@@ -594,6 +594,54 @@ class Differential {
     return Finish(graph_.RemoveTwist(point, ref_body), expected);
   }
 
+  // ---------------------------------------------------------------- wrenches
+
+  /// WrenchCoord(point|on, by, [coord]) = (f, m) added or updated (docs/dynamics.md §7).
+  ErrorCode Wrench(const std::string& on, const std::string& by, const std::string& point,
+                   const std::string& coord, const Eigen::Vector3d& f, const Eigen::Vector3d& m) {
+    Begin([=] {
+      return "{op: wrench, on: " + YamlName(on) + ", by: " + YamlName(by) +
+             ", point: " + YamlName(point) + ", coord: " + YamlName(coord) +
+             ", force: " + YamlVector(f) + ", moment: " + YamlVector(m) + "}";
+    });
+    const auto spec = core::WrenchSpec::On(on).By(by).At(point).ExpressedIn(coord);
+    return Finish(graph_.AddWrench(spec, f, m), model_.AddWrench(on, by, point, coord, f, m));
+  }
+
+  ErrorCode RemoveWrench(const std::string& on, const std::string& by) {
+    Begin([=] {
+      return "{op: remove, kind: wrench, on: " + YamlName(on) + ", by: " + YamlName(by) + "}";
+    });
+    return Finish(graph_.RemoveWrench(on, by), model_.RemoveWrench(on, by));
+  }
+
+  /// A wrench query (by empty: the net wrench), one-shot and compiled.
+  void AskWrench(const std::string& on, const std::string& by, const std::string& point,
+                 const std::string& coord) {
+    Begin([=] {
+      return "# query {kind: wrench, on: " + YamlName(on) + Field("by", by) +
+             ", point: " + YamlName(point) + ", coord: " + YamlName(coord) + "}";
+    });
+    const std::string before = CurrentDump();
+    const reference::WrenchAnswer expected = model_.AskWrench(on, by, point, coord);
+    const auto spec = core::WrenchSpec::On(on).By(by).At(point).ExpressedIn(coord);
+    const auto got = graph_.GetWrench(spec);
+    const ErrorCode code = got ? ErrorCode::kOk : got.error().code;
+    Annotate(code);
+    CompareWrench("wrench query", expected, code, got ? got->force : Eigen::Vector3d::Zero(),
+                  got ? got->moment : Eigen::Vector3d::Zero());
+    const auto compiled = graph_.CompileWrench(spec);
+    if (!compiled) {
+      CompareWrench("compiled wrench query", expected, compiled.error().code,
+                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    } else {
+      Eigen::Vector3d f, m;
+      CompareWrench("compiled wrench query", expected, compiled->Evaluate(f, m), f, m);
+    }
+    if (Dump(graph_) != before) Fail("a wrench query changed the graph's Dump()");
+    CheckKept();
+  }
+
   /// A one-shot query, and the same query compiled and evaluated once.
   void Ask(const Query& q) {
     Begin([=] { return QueryText(q); });
@@ -1110,6 +1158,56 @@ class Differential {
             core::TwistSpec::Of(t.head).RelativeTo(t.tail_body).ExpressedIn(t.head));
         if (!r) Fail("GetTwistWithCovariance of the " + key + " failed");
         CompareCovariance("queried twist of the " + key, r->covariance, t.S, 1e-9);
+      }
+    }
+    CompareWrenches();
+  }
+
+  // Tolerance of wrench numbers of size `scale` moved along the graph's poses.
+  double WrenchTolerance(double scale) const {
+    double forces = 1.0;
+    for (const reference::WrenchEntry& w : model_.wrenches()) forces += w.f.norm() + w.m.norm();
+    return 1e-9 * (PositionScale() * forces + scale);
+  }
+
+  void CompareWrench(const std::string& what, const reference::WrenchAnswer& expected,
+                     ErrorCode code, const Eigen::Vector3d& f, const Eigen::Vector3d& m) {
+    if (code != expected.code) {
+      Fail(what + ": kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected.code)));
+    }
+    if (code != ErrorCode::kOk) return;
+    const double tol = WrenchTolerance(expected.scale);
+    if (!Near(f, expected.f, tol) || !Near(m, expected.m, tol)) {
+      const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+      std::ostringstream out;
+      out << what << ": values differ\n  kernel f " << f.transpose().format(fmt) << " m "
+          << m.transpose().format(fmt) << "\n  model  f " << expected.f.transpose().format(fmt)
+          << " m " << expected.m.transpose().format(fmt);
+      Fail(out.str());
+    }
+  }
+
+  // The stored wrenches: the same pairs, storage frames and values (stored form).
+  void CompareWrenches() {
+    const auto& wrenches = model_.wrenches();
+    if (graph_.num_wrenches() != wrenches.size()) {
+      Fail("wrench counts differ: kernel " + std::to_string(graph_.num_wrenches()) + ", model " +
+           std::to_string(wrenches.size()));
+    }
+    const auto& store = graph_.wrench_store();
+    for (const reference::WrenchEntry& w : wrenches) {
+      const auto h = graph_.FindWrench(w.on, w.by);
+      if (!h) Fail("the wrench on " + w.on + " by " + w.by + " is missing in the kernel");
+      if (h->frame != graph_.FindFrame(w.frame)) {
+        Fail("the wrench on " + w.on + " by " + w.by + " is stored in {" +
+             std::string(graph_.frame_name(h->frame)) + "} in the kernel, {" + w.frame +
+             "} in the model");
+      }
+      const core::WrenchNumbers W = store.values[h->slot].Load();
+      const double tol = WrenchTolerance(w.scale);
+      if (!Near(W.f_S, w.f, tol) || !Near(W.m_So_S, w.m, tol)) {
+        Fail("stored value of the wrench on " + w.on + " by " + w.by + " differs");
       }
     }
   }
