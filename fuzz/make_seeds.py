@@ -137,7 +137,8 @@ class Ops:
         return self.byte(12).byte(5).frame_name(coord).byte(1).body_name(body).body_name(ref_body)
 
     # ---- op 16, WrenchOp(): `which` (0-2 add, 3-4 add and 5 remove of a stored pair when there
-    # is one, 6-7 query), a stored pair's index and reverse flag (OneIn(3)), the bodies (`on`,
+    # is one, 6-7 query, 8 a handle kept (of a stored pair when there is one), 9 SetWrench
+    # through kept handle `pick`), a stored pair's index and reverse flag (OneIn(3)), the bodies (`on`,
     # OneIn(16) false, `by`), FrameOfBody's byte, the point (FrameNear: Bool false, a frame),
     # the coordinate frame (OneIn(3) true: the point; else FrameNear again), then the values.
     def _wrench_names(self, which, on, by, point, coord, pick=0, reverse=False):
@@ -155,6 +156,12 @@ class Ops:
 
     def remove_wrench(self, index, reverse=False, on="A", by="B"):  # a stored pair, else on/by
         return self._wrench_names(5, on, by, "a", "a", index, reverse)
+
+    def wrench_handle(self, index, reverse=False, on="A", by="B"):  # a stored pair, else on/by
+        return self._wrench_names(8, on, by, "a", "a", index, reverse)
+
+    def set_wrench(self, handle_index, f=(1, 0), m=(2, 0)):  # through a kept handle
+        return self._wrench_names(9, "A", "B", "a", "a", handle_index).value(*f).value(*m)
 
 
     # ---- extended ops (Step(): 13, then Extended(): byte % 12). Each encoder mirrors its
@@ -304,7 +311,12 @@ def scene_ops_seeds():
         .remove_pose("c", "a")
         .ask_wrench("B", None, "b", "b")              # both stored in {d}: answered
         .ask_wrench("A", "C", "c", "c")               # stored in {a}: no_pose_path
+        .wrench_handle(0)                             # the handle of the wrench on B by A
+        .set_wrench(0, (4, 0), (5, 0))                # in its storage frame {d}
+        .set_wrench(0, (1, 0x07), (5, 0))             # NaN: invalid_number
+        .ask_wrench("B", "A", "b", "a")
         .remove_wrench(0)
+        .set_wrench(0, (4, 0), (5, 0))                # its pair removed: no_wrench
         .remove_wrench(0, reverse=True)               # no_wrench
         .ask_wrench("B", "A", "a", "a"))
     seeds["fig4_constant_pose"] = (

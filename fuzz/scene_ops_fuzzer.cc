@@ -17,7 +17,8 @@
 //                     17 an add with a covariance (pose, restated pose, twist, updated twist;
 //                     valid, asymmetric, NaN/Inf/huge, negative eigenvalue; both orders; the
 //                     body convention); 16 a wrench op (add, update, the reverse of a stored
-//                     pair, removal, query of one pair, its reaction or a net wrench)
+//                     pair, removal, query of one pair, its reaction or a net wrench, a handle
+//                     kept, SetWrench through a kept handle)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -314,21 +315,22 @@ class Fuzzer {
   }
 
   // Wrenches (docs/dynamics.md §7): adds (new pairs, updates, the reverse of a stored pair),
-  // removals and queries (one pair, its reaction, a net wrench). The point is often a frame of
+  // removals, queries (one pair, its reaction, a net wrench), handles kept and SetWrench
+  // through them (also after their pair was removed). The point is often a frame of
   // `on`'s pose tree and the coordinate frame one of the point's, so that conversions mostly
   // succeed; the bodies are often those of the frames, so that storage frames vary.
   void WrenchOp() {
     // Every choice reads its bytes whether it is used or not (the decoding does not depend on
     // the model's state).
     const auto& stored = d_.model().wrenches();
-    const std::uint32_t which = in_.Below(8);
+    const std::uint32_t which = in_.Below(10);
     const std::uint8_t pick = in_.Byte();
     const bool reverse = in_.OneIn(3);
     std::string on = Body();
     const bool self = in_.OneIn(16);
     std::string by = Body();
     if (self) by = on;
-    if (which >= 3 && which <= 5 && !stored.empty()) {  // a stored pair, maybe reversed
+    if (((which >= 3 && which <= 5) || which == 8) && !stored.empty()) {  // a stored pair
       const reference::WrenchEntry& w = stored[pick % stored.size()];
       on = reverse ? w.by : w.on;
       by = reverse ? w.on : w.by;
@@ -337,6 +339,16 @@ class Fuzzer {
     const std::string coord = in_.OneIn(3) ? point : FrameNear(point);
     if (which == 5) {
       d_.RemoveWrench(on, by);
+      return;
+    }
+    if (which == 8) {
+      d_.WrenchHandle(on, by);
+      return;
+    }
+    if (which == 9) {  // a kept handle (picked by `pick`), a value in the stored form
+      const Eigen::Vector3d f = Velocity();
+      const Eigen::Vector3d m = Velocity();
+      d_.SetWrenchByHandle(pick, f, m);
       return;
     }
     if (which >= 6) {

@@ -615,6 +615,57 @@ class Differential {
     return Finish(graph_.RemoveWrench(on, by), model_.RemoveWrench(on, by));
   }
 
+  /// FindWrench(on, by): the same code as the model; a handle found is kept (at most 8) for
+  /// SetWrenchByHandle.
+  ErrorCode WrenchHandle(const std::string& on, const std::string& by) {
+    const std::size_t kept = wrench_handles_.size();
+    Begin([=] {
+      return "# handle of the wrench on " + YamlName(on) + " by " + YamlName(by) + " (kept " +
+             std::to_string(kept) + ")";
+    });
+    std::uint64_t serial = 0;
+    const ErrorCode expected = model_.FindWrench(on, by, &serial);
+    const auto h = graph_.FindWrench(on, by);
+    const ErrorCode code = h ? ErrorCode::kOk : h.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("FindWrench: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (h && wrench_handles_.size() < 8) wrench_handles_.push_back({on, by, serial, *h});
+    return code;
+  }
+
+  /// SetWrench through kept handle `which` (modulo their number; none kept: nothing), in the
+  /// stored form: the model's code, the graph's Dump() unchanged when refused, the state after.
+  ErrorCode SetWrenchByHandle(std::uint32_t which, const Eigen::Vector3d& f,
+                              const Eigen::Vector3d& m) {
+    if (wrench_handles_.empty()) return ErrorCode::kOk;
+    const KeptWrenchHandle& k = wrench_handles_[which % wrench_handles_.size()];
+    Begin([=] {
+      return "# SetWrench by the handle of the wrench on " + YamlName(k.on) + " by " +
+             YamlName(k.by) + ": force " + YamlVector(f) + ", moment " + YamlVector(m);
+    });
+    const std::string before = CurrentDump();
+    const ErrorCode expected = model_.SetWrench(k.on, k.by, k.serial, f, m);
+    const ErrorCode code = graph_.SetWrench(k.handle, f, m);
+    Annotate(code);
+    if (code != expected) {
+      Fail("SetWrench: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (code != ErrorCode::kOk) {
+      if (Dump(graph_) != before) Fail("a refused SetWrench changed the graph's Dump()");
+      return code;
+    }
+    dump_valid_ = false;
+    if (checks_) {
+      CompareState();
+      CheckKept();
+    }
+    return code;
+  }
+
   /// A wrench query (by empty: the net wrench), one-shot and compiled.
   void AskWrench(const std::string& on, const std::string& by, const std::string& point,
                  const std::string& coord) {
@@ -1162,6 +1213,13 @@ class Differential {
     }
     CompareWrenches();
   }
+
+  struct KeptWrenchHandle {
+    std::string on, by;
+    std::uint64_t serial = 0;
+    core::WrenchHandle handle;
+  };
+  std::vector<KeptWrenchHandle> wrench_handles_;
 
   // Tolerance of wrench numbers of size `scale` moved along the graph's poses.
   double WrenchTolerance(double scale) const {

@@ -1380,11 +1380,41 @@ ErrorCode ReferenceModel::AddWrench(const std::string& on, const std::string& by
   w.m = X_SR.R * m + X_SE.p.cross(w.f);
   w.scale = (f.norm() + m.norm()) * (1 + X_SE.p.norm());
   if (existing) {
+    w.serial = existing->serial;
     *existing = w;
   } else {
+    w.serial = s_.next_wrench_serial++;
     s_.wrenches.push_back(w);
   }
   return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::FindWrench(const std::string& on, const std::string& by,
+                                     std::uint64_t* serial) const {
+  if (!ValidName(on) || !ValidName(by)) return ErrorCode::kInvalidName;
+  if (!s_.bodies.count(on) || !s_.bodies.count(by)) return ErrorCode::kUnknownBody;
+  if (on == by) return ErrorCode::kSelfWrench;
+  for (const WrenchEntry& w : s_.wrenches) {
+    if (w.on == on && w.by == by) {
+      *serial = w.serial;
+      return ErrorCode::kOk;
+    }
+  }
+  return ErrorCode::kNoWrench;
+}
+
+ErrorCode ReferenceModel::SetWrench(const std::string& on, const std::string& by,
+                                    std::uint64_t serial, const Eigen::Vector3d& f_S,
+                                    const Eigen::Vector3d& m_S) {
+  for (WrenchEntry& w : s_.wrenches) {
+    if (w.on != on || w.by != by || w.serial != serial) continue;
+    if (!ValidWrenchNumbers(f_S, m_S)) return ErrorCode::kInvalidNumber;
+    w.f = f_S;
+    w.m = m_S;
+    w.scale = f_S.norm() + m_S.norm();
+    return ErrorCode::kOk;
+  }
+  return ErrorCode::kNoWrench;
 }
 
 ErrorCode ReferenceModel::RemoveWrench(const std::string& on, const std::string& by) {

@@ -70,8 +70,8 @@
 // spec also counts the stamps the integrating twist reads).
 // WRENCHES (docs/dynamics.md §7): adds (storage frame, conversion, the errors self_wrench,
 // duplicate_wrench, wrench_not_convertible, unknown_frame / unknown_body, invalid_name,
-// invalid_number), removals and one-shot queries (a pair, its reaction, a net wrench). Not
-// covered: SetWrench by handle, compiled wrench queries kept across later ops.
+// invalid_number), removals, handles and SetWrench, and one-shot queries (a pair, its
+// reaction, a net wrench). Not covered: compiled wrench queries kept across later ops.
 //
 // Numbers: a quaternion rotation is normalized to q/|q| and turned into a matrix; a matrix
 // rotation is replaced by its nearest rotation (polar decomposition by Newton iteration
@@ -228,6 +228,7 @@ struct WrenchEntry {
   std::string on, by, frame;
   Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
   double scale = 0;
+  std::uint64_t serial = 0;  ///< unique per pair made: a handle of a removed pair stays dead
 };
 /// A wrench query's outcome: f, m about the query's point in its frame, and the size of the
 /// numbers summed (for tolerances: terms may cancel).
@@ -394,6 +395,12 @@ class ReferenceModel {
                       const std::string& coord, const Eigen::Vector3d& f, const Eigen::Vector3d& m);
   /// invalid_name -> unknown_body (on, by) -> self_wrench -> no_wrench.
   ErrorCode RemoveWrench(const std::string& on, const std::string& by);
+  /// A handle's lookup: the errors of RemoveWrench; *serial receives the pair's serial.
+  ErrorCode FindWrench(const std::string& on, const std::string& by, std::uint64_t* serial) const;
+  /// SetWrench by a handle of the pair made with `serial`: no_wrench (that pair was removed)
+  /// -> invalid_number (f_S, m_S as for adds); the value is the stored form (about s, in [s]).
+  ErrorCode SetWrench(const std::string& on, const std::string& by, std::uint64_t serial,
+                      const Eigen::Vector3d& f_S, const Eigen::Vector3d& m_S);
   /// WrenchCoord(point|on, by, [coord]); `by` empty: the net wrench on `on` (every stored
   /// wrench on it, plus the negation of every stored wrench by it). invalid_name ->
   /// unknown_frame (point, coord) -> unknown_body (on, by) -> self_wrench -> no_wrench ->
@@ -434,6 +441,7 @@ class ReferenceModel {
     std::vector<Joint> joints;             // live joints, in add order
     std::vector<std::string> frame_order;  // frames in the order they were made
     std::vector<WrenchEntry> wrenches;     // stored wrenches, in add order
+    std::uint64_t next_wrench_serial = 1;
   };
   /// Makes (or re-labels) a frame, recording the order frames are made in.
   static void PutFrame(State& s, const std::string& frame, const std::string& body);
