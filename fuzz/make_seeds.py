@@ -137,7 +137,7 @@ class Ops:
         return self.byte(12).byte(5).frame_name(coord).byte(1).body_name(body).body_name(ref_body)
 
     # ---- op 16, WrenchOp(): `which` (0-2 add, 3-4 add and 5 remove of a stored pair when there
-    # is one, 6-7 query, 8 a handle kept (of a stored pair when there is one), 9 SetWrench
+    # is one, 6 query, 7 query compiled and kept, 8 a handle kept (of a stored pair when there is one), 9 SetWrench
     # through kept handle `pick`), a stored pair's index and reverse flag (OneIn(3)), the bodies (`on`,
     # OneIn(16) false, `by`), FrameOfBody's byte, the point (FrameNear: Bool false, a frame),
     # the coordinate frame (OneIn(3) true: the point; else FrameNear again), then the values.
@@ -150,8 +150,8 @@ class Ops:
     def wrench(self, on, by, point, coord, f=(1, 0), m=(2, 0)):
         return self._wrench_names(0, on, by, point, coord).value(*f).byte(1).value(*m)
 
-    def ask_wrench(self, on, by, point, coord):  # by None: the net wrench on `on`
-        self._wrench_names(6, on, by or on, point, coord)
+    def ask_wrench(self, on, by, point, coord, keep=False):  # by None: the net wrench on `on`
+        self._wrench_names(7 if keep else 6, on, by or on, point, coord)
         return self.byte(1 if by is None else 0)
 
     def remove_wrench(self, index, reverse=False, on="A", by="B"):  # a stored pair, else on/by
@@ -304,6 +304,8 @@ def scene_ops_seeds():
         .wrench("E", "A", "a", "a")                   # wrench_not_convertible
         .wrench("B", "A", "e", "e")                   # wrench_not_convertible
         .ask_wrench("B", None, "d", "a")
+        .ask_wrench("B", None, "b", "c", keep=True)   # invalidated by the removal of c's pose
+        .ask_wrench("A", "B", "b", "b", keep=True)    # invalidated by the removal of the wrench
         .ask_wrench("A", "B", "c", "b")
         .ask_wrench("C", None, "a", "d")
         .ask_wrench("B", "B", "a", "a")               # self_wrench

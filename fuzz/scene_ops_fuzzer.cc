@@ -17,8 +17,8 @@
 //                     17 an add with a covariance (pose, restated pose, twist, updated twist;
 //                     valid, asymmetric, NaN/Inf/huge, negative eigenvalue; both orders; the
 //                     body convention); 16 a wrench op (add, update, the reverse of a stored
-//                     pair, removal, query of one pair, its reaction or a net wrench, a handle
-//                     kept, SetWrench through a kept handle)
+//                     pair, removal, query of one pair, its reaction or a net wrench, one-shot
+//                     or compiled and kept, a handle kept, SetWrench through a kept handle)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -315,10 +315,10 @@ class Fuzzer {
   }
 
   // Wrenches (docs/dynamics.md §7): adds (new pairs, updates, the reverse of a stored pair),
-  // removals, queries (one pair, its reaction, a net wrench), handles kept and SetWrench
-  // through them (also after their pair was removed). The point is often a frame of
-  // `on`'s pose tree and the coordinate frame one of the point's, so that conversions mostly
-  // succeed; the bodies are often those of the frames, so that storage frames vary.
+  // removals, queries (one pair, its reaction, a net wrench; one-shot, or compiled and kept),
+  // handles kept and SetWrench through them (also after their pair was removed). The point is often
+  // a frame of `on`'s pose tree and the coordinate frame one of the point's, so that conversions
+  // mostly succeed; the bodies are often those of the frames, so that storage frames vary.
   void WrenchOp() {
     // Every choice reads its bytes whether it is used or not (the decoding does not depend on
     // the model's state).
@@ -351,8 +351,13 @@ class Fuzzer {
       d_.SetWrenchByHandle(pick, f, m);
       return;
     }
-    if (which >= 6) {
-      d_.AskWrench(on, in_.Bool() ? std::string() : by, point, coord);
+    if (which == 6 || which == 7) {  // 7: compiled and kept
+      const std::string query_by = in_.Bool() ? std::string() : by;
+      if (which == 6) {
+        d_.AskWrench(on, query_by, point, coord);
+      } else {
+        d_.KeepWrench(on, query_by, point, coord);
+      }
       return;
     }
     const Eigen::Vector3d f = Velocity();

@@ -612,7 +612,50 @@ class Differential {
     Begin([=] {
       return "{op: remove, kind: wrench, on: " + YamlName(on) + ", by: " + YamlName(by) + "}";
     });
-    return Finish(graph_.RemoveWrench(on, by), model_.RemoveWrench(on, by));
+    std::uint64_t serial = 0;
+    const bool stored = model_.FindWrench(on, by, &serial) == ErrorCode::kOk;
+    const ErrorCode expected = model_.RemoveWrench(on, by);
+    if (expected == ErrorCode::kOk && stored) {  // kept compiled queries summing it: invalid
+      for (KeptWrench& k : kept_wrenches_) {
+        if (std::find(k.serials.begin(), k.serials.end(), serial) != k.serials.end()) {
+          k.invalidated = true;
+        }
+      }
+    }
+    return Finish(graph_.RemoveWrench(on, by), expected);
+  }
+
+  /// A wrench query compiled and kept: re-evaluated after every later op (CheckKept) against
+  /// the model's sum of the same terms with their current values; query_invalidated once one
+  /// of its wrenches or a pose edge on a term's path (the pose of s wrt the point and [r]) was
+  /// removed.
+  void KeepWrench(const std::string& on, const std::string& by, const std::string& point,
+                  const std::string& coord) {
+    Begin([=] {
+      return "# keep compiled {kind: wrench, on: " + YamlName(on) + Field("by", by) +
+             ", point: " + YamlName(point) + ", coord: " + YamlName(coord) + "}";
+    });
+    const reference::WrenchAnswer expected = model_.AskWrench(on, by, point, coord);
+    auto compiled =
+        graph_.CompileWrench(core::WrenchSpec::On(on).By(by).At(point).ExpressedIn(coord));
+    Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+    const ErrorCode code = compiled ? compiled->Evaluate(f, m) : compiled.error().code;
+    Annotate(code);
+    CompareWrench("kept compiled wrench query", expected, code, f, m);
+    if (code != ErrorCode::kOk) return;
+    KeptWrench k{on, point, coord, model_.WrenchTerms(on, by), {}, false, std::move(*compiled)};
+    for (const reference::WrenchEntry& w : model_.wrenches()) {
+      if (std::find(k.serials.begin(), k.serials.end(), w.serial) == k.serials.end()) continue;
+      Query q;  // the pose of (s, [s]) wrt (point, [coord]): the term's pose path
+      q.kind = QueryKind::kPose;
+      q.point = q.orientation = w.frame;
+      q.ref_point = point;
+      q.ref_orientation = q.coord = coord;
+      const std::set<std::string> used = model_.UsedEdges(q);
+      k.used.insert(used.begin(), used.end());
+    }
+    if (kept_wrenches_.size() >= kMaxKept) kept_wrenches_.pop_front();
+    kept_wrenches_.push_back(std::move(k));
   }
 
   /// FindWrench(on, by): the same code as the model; a handle found is kept (at most 8) for
@@ -1214,6 +1257,33 @@ class Differential {
     CompareWrenches();
   }
 
+  struct KeptWrench {
+    std::string on, point, coord;
+    std::vector<std::uint64_t> serials;  // the model's wrenches it sums (fixed when compiled)
+    std::set<std::string> used;          // pose edge keys on its terms' paths
+    bool invalidated = false;
+    core::CompiledWrench<B> compiled;
+  };
+  std::deque<KeptWrench> kept_wrenches_;
+  void CheckKeptWrenches() {
+    for (std::size_t i = 0; i < kept_wrenches_.size(); ++i) {
+      KeptWrench& k = kept_wrenches_[i];
+      Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+      const ErrorCode code = k.compiled.Evaluate(f, m);
+      const std::string which = "kept compiled wrench query #" + std::to_string(i) + " on " + k.on +
+                                " at {" + k.point + "} in [" + k.coord + "]";
+      if (k.invalidated) {
+        if (code != ErrorCode::kQueryInvalidated) {
+          Fail(which + ": a wrench or pose edge it used was removed, but Evaluate() returned " +
+               std::string(base::ToString(code)) + " instead of query_invalidated");
+        }
+        continue;
+      }
+      CompareWrench(which + " (re-evaluated)",
+                    model_.AskWrenchTerms(k.serials, k.on, k.point, k.coord), code, f, m);
+    }
+  }
+
   struct KeptWrenchHandle {
     std::string on, by;
     std::uint64_t serial = 0;
@@ -1292,9 +1362,13 @@ class Differential {
     for (Kept& k : kept_) {
       if (k.used.count(key)) k.invalidated = true;
     }
+    for (KeptWrench& k : kept_wrenches_) {
+      if (k.used.count(key)) k.invalidated = true;
+    }
   }
 
   void CheckKept() {
+    CheckKeptWrenches();
     for (std::size_t i = 0; i < kept_.size(); ++i) {
       Kept& k = kept_[i];
       const Outcome got = Evaluate(k.compiled, k.query.kind);

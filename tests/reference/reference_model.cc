@@ -1445,17 +1445,37 @@ WrenchAnswer ReferenceModel::AskWrench(const std::string& on, const std::string&
     return fail(ErrorCode::kUnknownBody);
   }
   if (on == by) return fail(ErrorCode::kSelfWrench);
+  const std::vector<std::uint64_t> serials = WrenchTerms(on, by);
+  if (serials.empty()) return fail(ErrorCode::kNoWrench);
+  return AskWrenchTerms(serials, on, point, coord);
+}
+
+std::vector<std::uint64_t> ReferenceModel::WrenchTerms(const std::string& on,
+                                                       const std::string& by) const {
+  std::vector<std::uint64_t> serials;
+  for (const WrenchEntry& w : s_.wrenches) {
+    if ((w.on == on && (by.empty() || w.by == by)) || (w.by == on && (by.empty() || w.on == by))) {
+      serials.push_back(w.serial);
+    }
+  }
+  return serials;
+}
+
+WrenchAnswer ReferenceModel::AskWrenchTerms(const std::vector<std::uint64_t>& serials,
+                                            const std::string& on, const std::string& point,
+                                            const std::string& coord) const {
+  WrenchAnswer a;
   std::vector<std::pair<double, const WrenchEntry*>> terms;
   for (const WrenchEntry& w : s_.wrenches) {
-    if (w.on == on && (by.empty() || w.by == by)) terms.emplace_back(1.0, &w);
-    if (w.by == on && (by.empty() || w.on == by)) terms.emplace_back(-1.0, &w);
+    if (std::find(serials.begin(), serials.end(), w.serial) == serials.end()) continue;
+    terms.emplace_back(w.on == on ? 1.0 : -1.0, &w);  // a wrench by `on`: its reaction
   }
-  if (terms.empty()) return fail(ErrorCode::kNoWrench);
   for (const auto& [sign, w] : terms) {
     Transform X_RS, X_ES, X_RE;  // s wrt [r]; s wrt e (in [e]); e wrt [r]
     if (!Find(w->frame, coord, &X_RS) || !Find(w->frame, point, &X_ES) ||
         !Find(point, coord, &X_RE)) {
-      return fail(ErrorCode::kNoPosePath);
+      a.code = ErrorCode::kNoPosePath;
+      return a;
     }
     const Eigen::Vector3d f = sign * (X_RS.R * w->f);
     a.f += f;

@@ -71,7 +71,7 @@
 // WRENCHES (docs/dynamics.md §7): adds (storage frame, conversion, the errors self_wrench,
 // duplicate_wrench, wrench_not_convertible, unknown_frame / unknown_body, invalid_name,
 // invalid_number), removals, handles and SetWrench, and one-shot queries (a pair, its
-// reaction, a net wrench). Not covered: compiled wrench queries kept across later ops.
+// reaction, a net wrench; compiled ones kept across later ops by the differential).
 //
 // Numbers: a quaternion rotation is normalized to q/|q| and turned into a matrix; a matrix
 // rotation is replaced by its nearest rotation (polar decomposition by Newton iteration
@@ -407,6 +407,12 @@ class ReferenceModel {
   /// no_pose_path (a term's s, the point and coord not in one tree).
   WrenchAnswer AskWrench(const std::string& on, const std::string& by, const std::string& point,
                          const std::string& coord) const;
+  /// The serials of the stored wrenches AskWrench sums for (on, by) (by empty: every one on or
+  /// by `on`), and the answer of those alone, each with its current value (a compiled wrench
+  /// query: its terms are fixed when compiled). @pre AskWrench(on, by, ...) is kOk.
+  std::vector<std::uint64_t> WrenchTerms(const std::string& on, const std::string& by) const;
+  WrenchAnswer AskWrenchTerms(const std::vector<std::uint64_t>& serials, const std::string& on,
+                              const std::string& point, const std::string& coord) const;
   const std::vector<WrenchEntry>& wrenches() const { return s_.wrenches; }
 
   /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
