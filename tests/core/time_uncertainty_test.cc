@@ -157,10 +157,11 @@ Sample Perturbed(Sample s, std::mt19937& rng) {
   return s;
 }
 
-// The perturbed graph: every stamped edge with one sample per time in `ms` (each drawn
+// The perturbed graph: every stamped edge with one sample per time in ms_of(edge) (each drawn
 // independently at its time), every timeless edge drawn once.
-Graph PerturbedGraph(const Graph& nominal, const std::vector<Edge>& scene,
-                     const std::vector<std::int64_t>& ms, std::mt19937& rng) {
+template <class TimesOf>
+Graph PerturbedGraphAt(const Graph& nominal, const std::vector<Edge>& scene, TimesOf&& ms_of,
+                       std::mt19937& rng) {
   TimeOptions o;
   o.window = Duration::Seconds(100);
   Graph h = *Graph::Create(o);
@@ -169,9 +170,14 @@ Graph PerturbedGraph(const Graph& nominal, const std::vector<Edge>& scene,
       Add(h, e, Perturbed(AtTime(nominal, e, 0), rng), false);
       continue;
     }
-    for (std::int64_t m : ms) Add(h, e, Perturbed(AtTime(nominal, e, m), rng), false);
+    for (std::int64_t m : ms_of(e)) Add(h, e, Perturbed(AtTime(nominal, e, m), rng), false);
   }
   return h;
+}
+Graph PerturbedGraph(const Graph& nominal, const std::vector<Edge>& scene,
+                     const std::vector<std::int64_t>& ms, std::mt19937& rng) {
+  return PerturbedGraphAt(
+      nominal, scene, [&](const Edge&) { return ms; }, rng);
 }
 
 template <int N>
@@ -310,6 +316,40 @@ TEST(TimeUncertainty, TimeTravelSidesAreIndependent) {
       1e-15);
 }
 
+// Extrapolation at 3.4 s (horizon 1 s): w -> a from its sample at 3 s, a -> c from 2.5 s, each
+// integrated with its twist edge's sample there; the truth perturbs those samples (pose and
+// twist, independent) and integrates exactly (the perturbed graph holds just them).
+TEST(TimeUncertainty, ExtrapolationPropagatesTheSampleAndTheIntegrationTwist) {
+  std::mt19937 rng(777);
+  const std::vector<Edge> scene = RandomScene(rng);
+  const Graph g = Build(scene);
+  const TimePolicy policy = At{Ms(3400), Duration::Seconds(1)};
+  const auto pose = g.GetPoseWithCovariance(kPose, policy);
+  ASSERT_TRUE(pose);
+  EXPECT_TRUE(pose->time.extrapolated);
+  std::vector<Vector6> d;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph h = PerturbedGraphAt(
+        g, scene, [](const Edge& e) { return std::vector<std::int64_t>{e.samples.back().ms}; },
+        rng);
+    const auto X = h.GetPose(kPose, policy);
+    ASSERT_TRUE(X) << h.Describe(X.error(), kPose);
+    d.push_back(PoseDelta(pose->value.value, X->value));
+  }
+  EXPECT_LT(WorstZ<6>(pose->value.covariance, d), kMaxZ) << pose->value.covariance;
+  EXPECT_GT(WorstZ<6>(Flipped(pose->value.covariance), d), 3.0 * kMaxZ);
+  // Without the integration twist's part (the sample's alone) the answer is too small.
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  Graph exact_twists = *Graph::Create(o);
+  for (const Edge& e : scene) {
+    for (const Sample& s : e.samples) Add(exact_twists, e, s, !e.twist);
+  }
+  const auto partial = exact_twists.GetPoseWithCovariance(kPose, policy);
+  ASSERT_TRUE(partial);
+  EXPECT_GT(WorstZ<6>(partial->value.covariance, d), 3.0 * kMaxZ);
+}
+
 // Checks: a bad covariance on a stamped sample is refused with the graph unchanged; the
 // covariance is part of the sample's value for the duplicate rule; a sample without one
 // counts as zero.
@@ -387,7 +427,8 @@ TEST(TimeUncertainty, TimedCovarianceQueriesDoNotAllocate) {
   {
     semgraph::testing::CountAllocations counting;
     for (int i = 0; i < 100; ++i) {
-      const TimePolicy policies[] = {At{Ms(1700 + i)}, Latest{}, LatestCommon{}};
+      const TimePolicy policies[] = {At{Ms(1700 + i)}, Latest{}, LatestCommon{},
+                                     At{Ms(3400 + i), Duration::Seconds(1)}};
       for (const TimePolicy& p : policies) {
         sum += g.GetPoseWithCovariance(kPose, p)->value.covariance.trace();
         sum += g.GetTwistWithCovariance(kTwist, p)->value.covariance.trace();
