@@ -15,6 +15,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -247,6 +248,11 @@ void CheckPolicy(const TimePolicy& policy, std::int64_t ms, const TimePolicy& pe
   }
   EXPECT_GT(pose->value.covariance.trace(), 1e-7);
   EXPECT_GT(twist->value.covariance.trace(), 1e-7);
+  std::printf("worst z at %lld ms: pose %.2f, twist %.2f; sign error: pose %.1f, twist %.1f\n",
+              static_cast<long long>(ms), WorstZ<6>(pose->value.covariance, d_pose),
+              WorstZ<6>(twist->value.covariance, d_twist),
+              WorstZ<6>(Flipped(pose->value.covariance), d_pose),
+              WorstZ<6>(Flipped(twist->value.covariance), d_twist));
   EXPECT_LT(WorstZ<6>(pose->value.covariance, d_pose), kMaxZ) << pose->value.covariance;
   EXPECT_LT(WorstZ<3>(position->value.covariance, d_position), kMaxZ);
   EXPECT_LT(WorstZ<6>(twist->value.covariance, d_twist), kMaxZ) << twist->value.covariance;
@@ -307,6 +313,8 @@ TEST(TimeUncertainty, TimeTravelSidesAreIndependent) {
     ASSERT_TRUE(X) << h.Describe(X.error(), spec);
     d.push_back(PoseDelta(pose->value.value, X->value));
   }
+  std::printf("worst z, time travel: %.2f; sign error %.1f\n", WorstZ<6>(pose->value.covariance, d),
+              WorstZ<6>(Flipped(pose->value.covariance), d));
   EXPECT_LT(WorstZ<6>(pose->value.covariance, d), kMaxZ) << pose->value.covariance;
   EXPECT_GT(WorstZ<6>(Flipped(pose->value.covariance), d), 3.0 * kMaxZ);
   EXPECT_LE((position->value.covariance - pose->value.covariance.topLeftCorner<3, 3>()).norm(),
@@ -336,6 +344,8 @@ TEST(TimeUncertainty, ExtrapolationPropagatesTheSampleAndTheIntegrationTwist) {
     ASSERT_TRUE(X) << h.Describe(X.error(), kPose);
     d.push_back(PoseDelta(pose->value.value, X->value));
   }
+  std::printf("worst z, extrapolation: %.2f; sign error %.1f\n",
+              WorstZ<6>(pose->value.covariance, d), WorstZ<6>(Flipped(pose->value.covariance), d));
   EXPECT_LT(WorstZ<6>(pose->value.covariance, d), kMaxZ) << pose->value.covariance;
   EXPECT_GT(WorstZ<6>(Flipped(pose->value.covariance), d), 3.0 * kMaxZ);
   // Without the integration twist's part (the sample's alone) the answer is too small.

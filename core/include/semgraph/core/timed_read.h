@@ -12,6 +12,11 @@
 //                        else an extrapolation failure naming the edge and its range
 //   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t;
 //                        the query's other edges read with no horizon (WithoutExtrapolation)
+//   with covariance      ReadPoseAt / ReadTwistAt<B, true>: the same read, plus the covariance
+//                        of the value read (docs/uncertainty.md, "Time"): a sample's, (1 - l)
+//                        S_i + l S_i+1 between two, a held twist's, an extrapolated pose edge's
+//                        (ExtrapolationCovariance, timed_covariance.h); the flag is a template
+//                        parameter so the plain reads compile exactly as before
 // The context collects what the answer reports (oldest / newest stamp read, extrapolated), the
 // minimum newest stamp of the stamped edges read (latest common), the first extrapolation and
 // the first stale failure, and optionally records each edge read (the diagnostic call).
