@@ -14,10 +14,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
@@ -423,6 +426,61 @@ TEST(TimeUncertainty, StampedCovarianceChecksAndDuplicates) {
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kInvalidCovariance);
   EXPECT_EQ(g.GetTwist(ts, At{Ms(3000)}).error().code, ErrorCode::kExtrapolation);
+}
+
+// One writer adding stamped samples with covariances while a reader asks for covariances at
+// times inside the window: the sample at s is p = (s, 0, 0) with S = s 1e-6 I (s in seconds),
+// so between two samples the linear interpolation gives p_x = t and S = t 1e-6 I exactly as
+// the definition (1 - l) S_i + l S_i+1: a value paired with another sample's covariance, or a
+// torn covariance, breaks S_00 = 1e-6 p_x (run under ThreadSanitizer in CI).
+TEST(TimeUncertainty, ConcurrentReadersSeeEachValueWithItsCovariance) {
+  TimeOptions o;
+  o.interpolation = Interpolation::kLinear;
+  o.window = Duration::Seconds(1);
+  o.sample_capacity = 64;
+  Graph g = *Graph::Create(o);
+  const PoseSpec spec = PoseSpec::Of("a", "A").RelativeTo("w", "W");
+  const auto add = [&](std::int64_t ms) {
+    const Covariance6 S = Covariance6::Identity() * (1e-6 * double(ms) / 1000.0);
+    return g.AddPose(spec, Eigen::Quaterniond::Identity(), Eigen::Vector3d(ms / 1000.0, 0, 0),
+                     Ms(ms), CovarianceInput{&S});
+  };
+  for (std::int64_t ms = 0; ms <= 100; ms += 10) ASSERT_TRUE(add(ms));
+  std::atomic<bool> done{false};
+  std::atomic<std::int64_t> newest{100};
+  std::atomic<int> bad{0}, answered{0};
+  std::thread reader([&] {
+    while (!done.load(std::memory_order_acquire)) {
+      // Between two samples near the newest (the window keeps 1 s).
+      const std::int64_t t = newest.load() - 35;
+      const auto r = g.GetPoseWithCovariance(spec, At{Ms(t)});
+      if (!r) {  // an add overlapped every attempt (build-time calls change the topology), or
+                 // the reader slept while the capacity (64 samples) dropped its time
+        const bool dropped = r.error().code == ErrorCode::kExtrapolation && newest.load() - t > 600;
+        if (r.error().code != ErrorCode::kQueryInvalidated && !dropped) {
+          std::fprintf(stderr, "error %s\n", std::string(base::ToString(r.error().code)).c_str());
+          bad.fetch_add(1);
+        }
+        continue;
+      }
+      const double x = r->value.value.ToIsometry().translation().x();
+      const Covariance6& S = r->value.covariance;
+      if (std::abs(S(0, 0) - 1e-6 * x) > 1e-15 || std::abs(S(5, 5) - S(0, 0)) > 1e-18 ||
+          S(0, 1) != 0.0) {
+        bad.fetch_add(1);
+      }
+      answered.fetch_add(1);
+    }
+  });
+  for (std::int64_t ms = 110; ms <= 200000 && answered.load() < 2000; ms += 10) {
+    if (!add(ms)) bad.fetch_add(1000);
+    newest.store(ms);
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+  }
+  done.store(true, std::memory_order_release);
+  reader.join();
+  EXPECT_EQ(bad.load(), 0);
+  EXPECT_GT(answered.load(), 0);
 }
 
 // The timed covariance queries allocate nothing (graph built, plans warmed up).
