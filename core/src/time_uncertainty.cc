@@ -6,6 +6,7 @@
 // reference side at its own with the point side attached rigidly to the fixed frame; the two
 // independent, summed.
 #include "angular_velocity.h"
+#include "optimistic_read.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/timed_covariance.h"
 #include "time_errors.h"
@@ -24,6 +25,18 @@ TimePolicy SameTime(const TimePolicy& policy, const TimeReport& report) noexcept
   return policy;
 }
 
+// f() (an optional error) on a validated snapshot of the topology (optimistic_read.h): the
+// propagation walks the pose tree, which a writer may be changing.
+template <class F>
+std::optional<QueryError> Validated(const topology::SceneTopology& t, F&& f) noexcept {
+  const auto r = internal::ReadValidated(t, [&]() -> Expected<base::Ok, QueryError> {
+    if (auto e = f()) return Unexpected{*e};
+    return base::Ok{};
+  });
+  if (!r) return r.error();
+  return std::nullopt;
+}
+
 template <class Q>
 void FramesOf(const topology::SceneTopology& t, const Q& q, FrameIndex (&k)[5]) noexcept {
   const auto F = [&](NameId id) { return t.FrameOfName(id); };
@@ -40,9 +53,12 @@ template <coord::Backend B>
 std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(const FrameIndex (&k)[5],
                                                              const TimePolicy& policy,
                                                              Covariance6& S) const noexcept {
-  TimeReport report;
-  return RunTimed(policy, report, nullptr, [&](internal::TimeContext& tc) {
-    internal::PoseCovariance<B>(topology_, k, internal::TimedPoseCovarianceReader(values_, tc), S);
+  return Validated(topology_, [&] {
+    TimeReport report;
+    return RunTimed(policy, report, nullptr, [&](internal::TimeContext& tc) {
+      internal::PoseCovariance<B>(topology_, k, internal::TimedPoseCovarianceReader(values_, tc),
+                                  S);
+    });
   });
 }
 
@@ -54,6 +70,14 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelCovariance(const FrameIndex (
                                                               FrameIndex x,
                                                               const TimeTravel& travel,
                                                               Covariance6& S) const noexcept {
+  return Validated(topology_, [&] { return TimeTravelCovarianceOnce(k, x, travel, S); });
+}
+
+template <coord::Backend B>
+std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(const FrameIndex (&k)[5],
+                                                                  FrameIndex x,
+                                                                  const TimeTravel& travel,
+                                                                  Covariance6& S) const noexcept {
   const TimePolicy at1 = At{travel.time, travel.max_extrapolation, travel.not_before};
   const TimePolicy at2 = At{travel.ref_time, travel.max_extrapolation, travel.not_before};
   const FrameIndex k1[5] = {k[0], k[1], x, x, x};
@@ -196,16 +220,18 @@ QueryResult<Timed<WithCovariance<coord::Twist, 6>>> SceneGraph<B>::GetTwistWithC
     const TwistSpec& spec, const TimePolicy& policy, CovarianceOrder order) const noexcept {
   auto answer = GetTwist(spec, policy);
   if (!answer) return Unexpected{answer.error()};
-  auto plan = PlanTwist(topology_, spec);  // planned by the query above
-  if (!plan) return Unexpected{plan.error()};
   Timed<WithCovariance<coord::Twist, 6>> out{{answer->value, Covariance6::Zero()}, answer->time};
-  TimeReport report;
-  if (auto e =
-          RunTimed(SameTime(policy, answer->time), report, nullptr, [&](internal::TimeContext& tc) {
-            internal::TwistCovariance<B>(
-                topology_, *plan, internal::TimedPoseCovarianceReader(values_, tc),
-                internal::TimedTwistCovarianceReader(values_, tc), out.value.covariance);
-          })) {
+  if (auto e = Validated(topology_, [&]() -> std::optional<QueryError> {
+        auto plan = PlanTwist(topology_, spec);  // planned by the query above
+        if (!plan) return plan.error();
+        TimeReport report;
+        return RunTimed(
+            SameTime(policy, answer->time), report, nullptr, [&](internal::TimeContext& tc) {
+              internal::TwistCovariance<B>(
+                  topology_, *plan, internal::TimedPoseCovarianceReader(values_, tc),
+                  internal::TimedTwistCovarianceReader(values_, tc), out.value.covariance);
+            });
+      })) {
     return Unexpected{*e};
   }
   out.value.covariance = coord::Reorder(out.value.covariance, order);
@@ -239,6 +265,8 @@ SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec,
   template std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(                          \
       const FrameIndex(&)[5], const TimePolicy&, Covariance6&) const noexcept;                    \
   template std::optional<QueryError> SceneGraph<B>::TimeTravelCovariance(                         \
+      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;        \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(                     \
       const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;        \
   template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                             \
   SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimePolicy&, CovarianceOrder)       \

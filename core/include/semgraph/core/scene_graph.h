@@ -628,6 +628,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   std::optional<QueryError> TimeTravelCovariance(const FrameIndex (&k)[5], FrameIndex x,
                                                  const TimeTravel& travel,
                                                  Covariance6& S) const noexcept;
+  std::optional<QueryError> TimeTravelCovarianceOnce(const FrameIndex (&k)[5], FrameIndex x,
+                                                     const TimeTravel& travel,
+                                                     Covariance6& S) const noexcept;
   QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy,
                                               TwistSource source,
                                               internal::EdgeRecorder* recorder) const noexcept;
@@ -638,8 +641,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   TwistHistoryLease NewTwistHistory();
   void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X,
                           Stamp s, const coord::Covariance6* S = nullptr);
-  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V,
-                           Stamp s, const coord::Covariance6* S = nullptr);
+  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s,
+                           const coord::Covariance6* S = nullptr);
   void ReservePoseSampleCovariance(FrameIndex head);
   void ReserveTwistSampleCovariance(TwistEdgeIndex edge);
   void DropPoseHistory(FrameIndex head) noexcept;
@@ -649,8 +652,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                             const coord::Covariance6* S = nullptr) const noexcept;
   void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp,
                        const coord::Covariance6* S = nullptr) noexcept;
-  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                             std::optional<Stamp> stamp,
+  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                              const coord::Covariance6* S = nullptr) const noexcept;
   void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                         const coord::Covariance6* S = nullptr) noexcept;
