@@ -241,6 +241,28 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
   return AddTwistImpl(spec, v_linear, w_angular, stamp);
 }
 
+// Stamped values with a covariance (docs/uncertainty.md, "Time").
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                                   const Eigen::Vector3d& p_position, Stamp stamp,
+                                   const CovarianceInput& covariance) {
+  return AddPoseImpl(spec, q_rotation, p_position, stamp, &covariance);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
+                                   const Eigen::Vector3d& p_position, Stamp stamp,
+                                   const CovarianceInput& covariance) {
+  return AddPoseImpl(spec, R_rotation, p_position, stamp, &covariance);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                    const Eigen::Vector3d& w_angular, Stamp stamp,
+                                    const CovarianceInput& covariance) {
+  return AddTwistImpl(spec, v_linear, w_angular, stamp, &covariance);
+}
+
 template <coord::Backend B>
 template <class R>
 BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
@@ -360,10 +382,10 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
                         text::Vector(p_stored) + "); remove the edge first to recalibrate");
     }
     // A value update: the stamp rules, then the value (and the sample of a stamped edge).
-    if (const ErrorCode code = CheckPoseSample(a, X_BA, stamp); code != ErrorCode::kOk) {
+    if (const ErrorCode code = CheckPoseSample(a, X_BA, stamp, S); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, false, a.value(), stamp));
     }
-    if (S) values_.ReservePoseCovariances(a.value() + 1);  // may throw: nothing changed yet
+    if (S) ReservePoseSampleCovariance(a);  // may throw: nothing changed yet
     StorePoseSample(a, X_BA, stamp, S);
     rollback.Commit();
     return Ok{};
@@ -380,11 +402,12 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
   if (S) values_.ReservePoseCovariances(values_.X_PF.size() + plan.new_frames());
   PoseHistoryLease history;
   if (stamp && !plan.same_body()) history = NewPoseHistory();
+  if (history && S) history->EnsureCovariances();
   rollback.Commit();
   const FrameIndex head = CommitAdd(plan).head;
   values_.StorePoseCovariance(head.value(), X_BA, S);  // before the value (edge_values.h)
   values_.X_PF[head.value()].Store(X_BA);
-  if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp);
+  if (history) InstallPoseHistory(head, std::move(history), X_BA, *stamp, S);
   return Ok{};
 }
 
@@ -492,10 +515,10 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
                         "; set the joint's velocity instead");
     }
     const TwistEdgeIndex existing = t.twist_edge_of(e);
-    if (const ErrorCode code = CheckTwistSample(existing, V, stamp); code != ErrorCode::kOk) {
+    if (const ErrorCode code = CheckTwistSample(existing, V, stamp, S); code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
     }
-    if (S) values_.ReserveTwistCovariances(existing.value() + 1);  // may throw: no change yet
+    if (S) ReserveTwistSampleCovariance(existing);  // may throw: no change yet
     StoreTwistSample(existing, V, stamp, S);
     rollback.Commit();
     return Ok{};
@@ -510,11 +533,12 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   if (S) values_.ReserveTwistCovariances(t.num_twist_edge_slots() + 1);  // any slot it may get
   TwistHistoryLease history;
   if (stamp) history = NewTwistHistory();
+  if (history && S) history->EnsureCovariances();
   rollback.Commit();
   const TwistEdgeIndex edge = CommitAdd(plan).twist;
   values_.StoreTwistCovariance(edge.value(), V, S);  // before the value (edge_values.h)
   values_.V_DH[edge.value()].Store(V);
-  if (history) InstallTwistHistory(edge, std::move(history), V, *stamp);
+  if (history) InstallTwistHistory(edge, std::move(history), V, *stamp, S);
   return Ok{};
 }
 
@@ -647,6 +671,15 @@ void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
                                               const Eigen::Vector3d&, const CovarianceInput&);   \
   template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
                                                const Eigen::Vector3d&, const CovarianceInput&);  \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
+                                              const Eigen::Vector3d&, Stamp,                     \
+                                              const CovarianceInput&);                           \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
+                                              const Eigen::Vector3d&, Stamp,                     \
+                                              const CovarianceInput&);                           \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
+                                               const Eigen::Vector3d&, Stamp,                    \
+                                               const CovarianceInput&);                          \
   template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,     \
                                                    const Eigen::Vector3d&, std::optional<Stamp>, \
                                                    const CovarianceInput*);                      \

@@ -1,10 +1,14 @@
 // Time on the write side (docs/time.md): graph options, the stamp rules of a value update
 // (stamp_mismatch -> stamp_too_old -> duplicate_stamp), histories made, filled and dropped, and
 // the messages of those rejections. Check* never change anything; Store* never allocate.
+// A sample's covariance (docs/uncertainty.md, "Time") is part of its value for the duplicate
+// rule, stored beside it in the history (edge_history.h) and, for the newest sample, in the
+// edge's covariance record (the untimed readers' value, edge_values.h).
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
 
+#include "covariance_input.h"
 #include "semgraph/core/scene_graph.h"
 #include "text.h"
 
@@ -127,18 +131,38 @@ TwistHistoryLease SceneGraph<B>::NewTwistHistory() {
 
 template <coord::Backend B>
 void SceneGraph<B>::InstallPoseHistory(FrameIndex head, PoseHistoryLease h,
-                                       const typename B::PoseCoords& X, Stamp s) {
-  double w[7];
+                                       const typename B::PoseCoords& X, Stamp s,
+                                       const coord::Covariance6* S) {
+  double w[7], c[21];
   PoseWords<B>(X, w);
-  values_.history.pose.Install(head.value(), std::move(h), s.nanoseconds(), w);
+  if (S) internal::WordsFromCovariance(*S, c);
+  values_.history.pose.Install(head.value(), std::move(h), s.nanoseconds(), w, S ? c : nullptr);
 }
 
 template <coord::Backend B>
 void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h,
-                                        const TwistNumbers& V, Stamp s) {
-  double w[6];
+                                        const TwistNumbers& V, Stamp s,
+                                        const coord::Covariance6* S) {
+  double w[6], c[21];
   internal::WordsFromTwist(V, w);
-  values_.history.twist.Install(edge.value(), std::move(h), s.nanoseconds(), w);
+  if (S) internal::WordsFromCovariance(*S, c);
+  values_.history.twist.Install(edge.value(), std::move(h), s.nanoseconds(), w, S ? c : nullptr);
+}
+
+// Room for a covariance with the next sample of a stamped edge (a history's covariance array,
+// the edge's record); nothing for a timeless edge but the record. May throw: nothing changed.
+template <coord::Backend B>
+void SceneGraph<B>::ReservePoseSampleCovariance(FrameIndex head) {
+  values_.ReservePoseCovariances(head.value() + 1);
+  if (values_.history.pose_of(head.value()))
+    values_.history.pose.writable(head.value()).EnsureCovariances();
+}
+
+template <coord::Backend B>
+void SceneGraph<B>::ReserveTwistSampleCovariance(TwistEdgeIndex edge) {
+  values_.ReserveTwistCovariances(edge.value() + 1);
+  if (values_.history.twist_of(edge.value()))
+    values_.history.twist.writable(edge.value()).EnsureCovariances();
 }
 
 // The caller bumped the edge's epoch first: a reader that sees the retirement (or a reuse) sees
@@ -156,15 +180,25 @@ void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex edge) noexcept {
 // ---------------------------------------------------------------- the stamp rules of an update
 
 namespace {
+// The covariance stored with the sample at s equals S (null: none = zero), §2's tolerance.
+template <class History>
+bool SameSampleCovariance(const History& h, std::int64_t s, const coord::Covariance6* S) noexcept {
+  double c[21];
+  coord::Covariance6 stored = coord::Covariance6::Zero();
+  if (h.CovarianceAt(s, c)) internal::CovarianceFromWords(c, stored);
+  return internal::SameCovariance(stored, S);
+}
+
 template <class History, class Same>
 ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOptions& o,
-                      Same&& same) noexcept {
+                      const coord::Covariance6* S, Same&& same) noexcept {
   if (!stamp) return h ? ErrorCode::kStampMismatch : ErrorCode::kOk;
   if (!h) return ErrorCode::kStampMismatch;
   const std::int64_t s = stamp->nanoseconds();
   if (s < SaturatingSub(h->newest_stamp(), o.window.nanoseconds())) return ErrorCode::kStampTooOld;
   double stored[History::kValueWords];
-  if (s <= h->newest_stamp() && h->ValueAt(s, stored) && !same(stored) &&
+  if (s <= h->newest_stamp() && h->ValueAt(s, stored) &&
+      !(same(stored) && SameSampleCovariance(*h, s, S)) &&
       o.duplicate_stamp == DuplicatePolicy::kReject) {
     return ErrorCode::kDuplicateStamp;
   }
@@ -172,31 +206,42 @@ ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOp
 }
 
 // The one store of a sample (after CheckSample accepted it): untimed, the value; stamped, into
-// the history (the same value again at a stored stamp is kept as stored), and into the value
-// when it becomes the newest sample (the untimed readers' value). history() makes the history
-// writable, only when stamped. Allocation-free once the history's capacity is reserved.
-template <class Slot, class T, class History, class Same, class ToWords>
+// the history with its covariance S (the same value and covariance again at a stored stamp is
+// kept as stored), and into the value when it becomes the newest sample (the untimed readers'
+// value). record() stores the edge's covariance record, before the value (edge_values.h).
+// history() makes the history writable, only when stamped. Allocation-free once the history's
+// capacity (and, for S, its covariance array and the record) is reserved.
+template <class Slot, class T, class History, class Same, class ToWords, class Record>
 void StoreSample(Slot& value, const T& x, std::optional<Stamp> stamp, std::int64_t window,
-                 History&& history, Same&& same, ToWords&& to_words) noexcept {
+                 const coord::Covariance6* S, History&& history, Same&& same, ToWords&& to_words,
+                 Record&& record) noexcept {
   if (!stamp) {
+    record();
     value.Store(x);
     return;
   }
   auto& h = history();
   const std::int64_t s = stamp->nanoseconds();
-  double w[std::remove_reference_t<decltype(h)>::kValueWords];
-  if (s <= h.newest_stamp() && h.ValueAt(s, w) && same(w)) return;  // the same value again
+  double w[std::remove_reference_t<decltype(h)>::kValueWords], c[21];
+  if (s <= h.newest_stamp() && h.ValueAt(s, w) && same(w) && SameSampleCovariance(h, s, S)) {
+    return;  // the same value again
+  }
   to_words(w);
+  if (S) internal::WordsFromCovariance(*S, c);
   const bool becomes_newest = s >= h.newest_stamp();
-  h.Insert(s, w, window);
-  if (becomes_newest) value.Store(x);
+  h.Insert(s, w, window, S ? c : nullptr);
+  if (becomes_newest) {
+    record();
+    value.Store(x);
+  }
 }
 }  // namespace
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X,
-                                         std::optional<Stamp> stamp) const noexcept {
-  return CheckSample(values_.history.pose_of(head.value()), stamp, values_.history.options,
+                                         std::optional<Stamp> stamp,
+                                         const coord::Covariance6* S) const noexcept {
+  return CheckSample(values_.history.pose_of(head.value()), stamp, values_.history.options, S,
                      [&](const double(&w)[7]) { return SamePose<B>(w, X); });
 }
 
@@ -204,23 +249,19 @@ template <coord::Backend B>
 void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoords& X,
                                     std::optional<Stamp> stamp,
                                     const coord::Covariance6* S) noexcept {
-  // The covariance record first (edge_values.h); a stamped edge's samples carry none here.
-  if (stamp) {
-    values_.ClearPoseCovariance(head.value());
-  } else {
-    values_.StorePoseCovariance(head.value(), X, S);
-  }
   StoreSample(
-      values_.X_PF[head.value()], X, stamp, values_.history.options.window.nanoseconds(),
+      values_.X_PF[head.value()], X, stamp, values_.history.options.window.nanoseconds(), S,
       [&]() -> PoseHistory& { return values_.history.pose.writable(head.value()); },
       [&](const double(&w)[7]) { return SamePose<B>(w, X); },
-      [&](double(&w)[7]) { PoseWords<B>(X, w); });
+      [&](double(&w)[7]) { PoseWords<B>(X, w); },
+      [&] { values_.StorePoseCovariance(head.value(), X, S); });
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                                          std::optional<Stamp> stamp) const noexcept {
-  return CheckSample(values_.history.twist_of(edge.value()), stamp, values_.history.options,
+                                          std::optional<Stamp> stamp,
+                                          const coord::Covariance6* S) const noexcept {
+  return CheckSample(values_.history.twist_of(edge.value()), stamp, values_.history.options, S,
                      [&](const double(&w)[6]) { return SameTwist(w, V); });
 }
 
@@ -228,16 +269,12 @@ template <coord::Backend B>
 void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
                                      std::optional<Stamp> stamp,
                                      const coord::Covariance6* S) noexcept {
-  if (stamp) {
-    values_.ClearTwistCovariance(edge.value());
-  } else {
-    values_.StoreTwistCovariance(edge.value(), V, S);
-  }
   StoreSample(
-      values_.V_DH[edge.value()], V, stamp, values_.history.options.window.nanoseconds(),
+      values_.V_DH[edge.value()], V, stamp, values_.history.options.window.nanoseconds(), S,
       [&]() -> TwistHistory& { return values_.history.twist.writable(edge.value()); },
       [&](const double(&w)[6]) { return SameTwist(w, V); },
-      [&](double(&w)[6]) { internal::WordsFromTwist(V, w); });
+      [&](double(&w)[6]) { internal::WordsFromTwist(V, w); },
+      [&] { values_.StoreTwistCovariance(edge.value(), V, S); });
 }
 
 template <coord::Backend B>
@@ -283,31 +320,36 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
   }
 }
 
-#define SEMGRAPH_INSTANTIATE_TIME_ADD(B)                                                         \
-  template Expected<SceneGraph<B>, BuildError> SceneGraph<B>::Create(const TimeOptions&);        \
-  template internal::TimeContext SceneGraph<B>::ConversionContext(std::optional<Stamp>)          \
-      const noexcept;                                                                            \
-  template std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext&, Stamp) \
-      const;                                                                                     \
-  template PoseHistoryLease SceneGraph<B>::NewPoseHistory();                                     \
-  template TwistHistoryLease SceneGraph<B>::NewTwistHistory();                                   \
-  template void SceneGraph<B>::InstallPoseHistory(FrameIndex, PoseHistoryLease,                  \
-                                                  const typename B::PoseCoords&, Stamp);         \
-  template void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex, TwistHistoryLease,            \
-                                                   const TwistNumbers&, Stamp);                  \
-  template void SceneGraph<B>::DropPoseHistory(FrameIndex) noexcept;                             \
-  template void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex) noexcept;                        \
-  template ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex, const typename B::PoseCoords&,   \
-                                                    std::optional<Stamp>) const noexcept;        \
-  template void SceneGraph<B>::StorePoseSample(FrameIndex, const typename B::PoseCoords&,        \
-                                               std::optional<Stamp>,                             \
-                                               const coord::Covariance6*) noexcept;              \
-  template ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex, const TwistNumbers&,        \
-                                                     std::optional<Stamp>) const noexcept;       \
-  template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&,             \
-                                                std::optional<Stamp>,                            \
-                                                const coord::Covariance6*) noexcept;             \
-  template std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode, bool, std::uint32_t,    \
+#define SEMGRAPH_INSTANTIATE_TIME_ADD(B)                                                          \
+  template Expected<SceneGraph<B>, BuildError> SceneGraph<B>::Create(const TimeOptions&);         \
+  template internal::TimeContext SceneGraph<B>::ConversionContext(std::optional<Stamp>)           \
+      const noexcept;                                                                             \
+  template std::string SceneGraph<B>::DescribeConversionGap(const internal::TimeContext&, Stamp)  \
+      const;                                                                                      \
+  template PoseHistoryLease SceneGraph<B>::NewPoseHistory();                                      \
+  template TwistHistoryLease SceneGraph<B>::NewTwistHistory();                                    \
+  template void SceneGraph<B>::InstallPoseHistory(FrameIndex, PoseHistoryLease,                   \
+                                                  const typename B::PoseCoords&, Stamp,           \
+                                                  const coord::Covariance6*);                     \
+  template void SceneGraph<B>::InstallTwistHistory(                                               \
+      TwistEdgeIndex, TwistHistoryLease, const TwistNumbers&, Stamp, const coord::Covariance6*);  \
+  template void SceneGraph<B>::ReservePoseSampleCovariance(FrameIndex);                           \
+  template void SceneGraph<B>::ReserveTwistSampleCovariance(TwistEdgeIndex);                      \
+  template void SceneGraph<B>::DropPoseHistory(FrameIndex) noexcept;                              \
+  template void SceneGraph<B>::DropTwistHistory(TwistEdgeIndex) noexcept;                         \
+  template ErrorCode SceneGraph<B>::CheckPoseSample(                                              \
+      FrameIndex, const typename B::PoseCoords&, std::optional<Stamp>, const coord::Covariance6*) \
+      const noexcept;                                                                             \
+  template void SceneGraph<B>::StorePoseSample(FrameIndex, const typename B::PoseCoords&,         \
+                                               std::optional<Stamp>,                              \
+                                               const coord::Covariance6*) noexcept;               \
+  template ErrorCode SceneGraph<B>::CheckTwistSample(                                             \
+      TwistEdgeIndex, const TwistNumbers&, std::optional<Stamp>, const coord::Covariance6*)       \
+      const noexcept;                                                                             \
+  template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&,              \
+                                                std::optional<Stamp>,                             \
+                                                const coord::Covariance6*) noexcept;              \
+  template std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode, bool, std::uint32_t,     \
                                                               std::optional<Stamp>) const;
 SEMGRAPH_INSTANTIATE_TIME_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_TIME_ADD(coord::HomogeneousBackend)

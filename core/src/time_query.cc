@@ -9,12 +9,17 @@
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/time_plan.h"
 #include "text.h"
+#include "time_errors.h"
 
 namespace semgraph::core {
 
 using base::Unexpected;
+using internal::FromFailure;
+using internal::InvalidHorizon;
 using internal::Part;
+using internal::PlanOrPolicyError;
 using internal::PolicyParts;
+using internal::RepresentationError;
 using internal::TimeContext;
 using internal::TimeFailure;
 using semantics::Field;
@@ -53,53 +58,6 @@ Expected<PoseTwistPlan, QueryError> PlanPoseTwist(const topology::SceneTopology&
 // ====================================================================== helpers
 
 namespace {
-
-QueryError FromFailure(const topology::SceneTopology& t, const TimeFailure& f) {
-  QueryError e;
-  e.code = f.code;
-  e.time.twist_edge = f.twist_edge;
-  e.time.single_sample = f.single_sample;
-  e.time.first = f.first;
-  e.time.last = f.last;
-  e.time.asked = f.asked;
-  if (f.twist_edge) {
-    const auto& edge = t.twist_edge(TwistEdgeIndex(f.index));
-    e.name = t.frame_name_id(edge.head);
-    e.other = t.body_name_id(edge.tail);
-  } else {
-    const FrameIndex h(f.index);
-    e.name = t.frame_name_id(h);
-    e.other = t.frame_name_id(t.pose_parent(h));
-  }
-  return e;
-}
-
-QueryError InvalidHorizon() {
-  QueryError e;
-  e.code = ErrorCode::kInvalidNumber;
-  return e;
-}
-
-// invalid_name -> invalid_number (the policy) -> the plan's other errors.
-template <class Plan>
-std::optional<QueryError> PlanOrPolicyError(const Expected<Plan, QueryError>& plan,
-                                            bool policy_valid) {
-  if (!plan && plan.error().code == ErrorCode::kInvalidName) return plan.error();
-  if (!policy_valid) return InvalidHorizon();
-  if (!plan) return plan.error();
-  return std::nullopt;
-}
-
-// The backend's check of a query's value (not of a position's), as the query's error.
-template <coord::Backend B, class Semantics>
-std::optional<QueryError> RepresentationError(const Semantics& q) noexcept {
-  auto ok = coord::CheckRepresentation<B>(q);
-  if (ok) return std::nullopt;
-  QueryError e;
-  e.code = ok.error().code;
-  e.detail = ok.error();
-  return e;
-}
 
 // The frame a time travel's fixed frame must share a tree with: the query's reference frame.
 NameId RefFrameOf(const semantics::PoseSemantics& q) { return q.ref_orientation.id(); }
@@ -164,28 +122,6 @@ auto TimedAnswer(const Expected<Plan, QueryError>& plan, bool policy_valid, Run&
 }
 
 }  // namespace
-
-// The one driver of every timed one-shot query: eval(TimeContext&) runs the evaluator.
-template <coord::Backend B>
-template <class Eval>
-std::optional<QueryError> SceneGraph<B>::RunTimed(const TimePolicy& policy, TimeReport& report,
-                                                  internal::EdgeRecorder* recorder,
-                                                  Eval&& eval) const noexcept {
-  TimeContext base;
-  base.histories = &values_.history;
-  base.topology = &topology_;
-  base.recorder = recorder;
-  TimeFailure failure;
-  const ErrorCode code = internal::RunPolicy(
-      internal::PartsOf(policy), base,
-      [&](TimeContext& tc) {
-        eval(tc);
-        return ErrorCode::kOk;
-      },
-      report, &failure);
-  if (code != ErrorCode::kOk) return FromFailure(topology_, failure);
-  return std::nullopt;
-}
 
 template <coord::Backend B>
 auto SceneGraph<B>::AtPolicy(const TimePolicy& policy) const noexcept {

@@ -593,15 +593,12 @@ bool Interpreter::ReadQueryCovariance(const std::array<std::uint32_t, kNumFields
       !ReadBool(value[kCovariance], "covariance", &op->query_covariance)) {
     return false;
   }
-  if (op->query_covariance) {
-    // The answer's covariance is that of the latest values: this version propagates no
-    // covariance through interpolation, extrapolation, time travel or differentiated poses.
-    for (const Field f : {kAt, kMaxExtrapolation, kNotBefore, kRefAt, kFixed, kSource}) {
-      if (value[f] == kNoNode) continue;
-      return Fail(value[f], "field " + Quoted(kFieldNames[f]) +
-                                " is not supported with 'covariance: true' in this version (a "
-                                "covariance is of the latest values)");
-    }
+  if (op->query_covariance && value[kSource] != kNoNode) {
+    // The answer's covariance goes through every time policy and a time travel
+    // (docs/uncertainty.md, "Time"); not yet through differentiated poses.
+    return Fail(value[kSource], "field " + Quoted(kFieldNames[kSource]) +
+                                    " is not supported with 'covariance: true' in this version "
+                                    "(a covariance is of the twist edges' values)");
   }
   const std::uint32_t order = value[kCovarianceOrder];
   if (order == kNoNode) return true;
@@ -623,11 +620,10 @@ bool Interpreter::ReadQueryCovariance(const std::array<std::uint32_t, kNumFields
 bool Interpreter::ReadCovariance(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op) {
   if (value[kCovariance] == kNoNode) return true;
   if (!ReadCovarianceValue(value[kCovariance], op)) return false;
-  for (const Field f : {kRepair, kStamp}) {
-    if (value[f] == kNoNode) continue;
-    return Fail(value[f], "field " + Quoted(kFieldNames[f]) +
-                              " does not go with 'covariance' in this version (a covariance is "
-                              "given with an unstamped value, without repair)");
+  if (value[kRepair] != kNoNode) {
+    return Fail(value[kRepair], "field " + Quoted(kFieldNames[kRepair]) +
+                                    " does not go with 'covariance' in this version (a "
+                                    "covariance is given without repair)");
   }
   const SemanticNames& n = op->names;
   const bool edge_form =

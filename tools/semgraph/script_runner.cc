@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -247,7 +248,10 @@ OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t in
   const coord::Covariance6 S = CovarianceOf(op);
   const core::CovarianceInput covariance = CovarianceInputOf(op, S);
   const auto add = [&](const auto& rotation) {
-    if (op.has_covariance) return graph.AddPose(spec, rotation, p, covariance);
+    if (op.has_covariance) {
+      return stamp ? graph.AddPose(spec, rotation, p, *stamp, covariance)
+                   : graph.AddPose(spec, rotation, p, covariance);
+    }
     return stamp ? graph.AddPose(spec, rotation, p, *stamp) : graph.AddPose(spec, rotation, p);
   };
   if (op.repair) {
@@ -374,9 +378,11 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
   }
   if (op.has_covariance) {
     const coord::Covariance6 S = CovarianceOf(op);
+    const core::CovarianceInput covariance = CovarianceInputOf(op, S);
     return FromBuild(
         op, index,
-        graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), CovarianceInputOf(op, S)));
+        stamp ? graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), *stamp, covariance)
+              : graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), covariance));
   }
   if (stamp)
     return FromBuild(op, index,
@@ -645,12 +651,33 @@ OpOutcome WithCovarianceKey(OpOutcome out, const ScriptOp& op, std::size_t index
   return out;
 }
 
+// The covariance of a query at its time (docs/uncertainty.md, "Time"): `untimed` without time
+// fields, else the timed query's (time policy, or time travel unless at_travel is nullptr), as
+// `untimed` gives them back.
+template <class Untimed, class AtPolicy, class AtTravel>
+auto CovarianceAt(const ScriptOp& op, const QueryTime& time, Untimed&& untimed,
+                  AtPolicy&& at_policy, AtTravel&& at_travel) {
+  using Result = decltype(untimed());
+  const bool timed = time.travel || op.at != AtKind::kLatest || op.not_before.has_value();
+  if (!timed) return untimed();
+  const auto unwrap = [](auto&& answer) -> Result {
+    if (!answer) return base::Unexpected{answer.error()};
+    return answer->value;
+  };
+  if constexpr (!std::is_same_v<std::decay_t<AtTravel>, std::nullptr_t>) {
+    if (time.travel) return unwrap(at_travel(*time.travel));
+  }
+  return unwrap(at_policy(time.policy));
+}
+
 // A query: its value (and time keys), then, when asked (`covariance: true`), the covariance of
-// the answer (docs/uncertainty.md §3), of the latest values (the reader refused time fields).
+// the answer (docs/uncertainty.md §3) at the query's time (the reader refused `source`).
 template <coord::Backend B>
 OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   OpOutcome out = QueryValue(graph, op, index);
   if (!out.ok || !op.query_covariance) return out;
+  QueryTime time;
+  if (std::string reason; !TimeOf(op, &time, &reason)) return out;  // QueryValue refused it
   const core::PoseSpec pose_spec = PoseSpecOf(op.names);
   const core::TwistSpec twist_spec = TwistSpecOf(op.names);
   const coord::CovarianceOrder order = op.covariance_angular_first
@@ -662,19 +689,46 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     }
     return WithCovarianceKey(std::move(out), op, index, answer->covariance);
   };
+  const auto pose = [&](auto&& get) {
+    return CovarianceAt(
+        op, time, [&] { return get(); }, [&](const core::TimePolicy& p) { return get(p); },
+        [&](const core::TimeTravel& t) { return get(t); });
+  };
+  const auto twist = [&](auto&& get) {
+    return CovarianceAt(
+        op, time, [&] { return get(); }, [&](const core::TimePolicy& p) { return get(p); },
+        nullptr);  // the reader refuses ref_at on twists
+  };
   switch (op.query_kind) {
     case QueryKind::kPose:
-      return emit(graph.GetPoseWithCovariance(pose_spec, order), pose_spec);
+      return emit(pose([&](const auto&... t) {
+                    return graph.GetPoseWithCovariance(pose_spec, t..., order);
+                  }),
+                  pose_spec);
     case QueryKind::kPosition:
-      return emit(graph.GetPositionWithCovariance(pose_spec), pose_spec);
+      return emit(
+          pose([&](const auto&... t) { return graph.GetPositionWithCovariance(pose_spec, t...); }),
+          pose_spec);
     case QueryKind::kOrientation:
-      return emit(graph.GetOrientationWithCovariance(pose_spec), pose_spec);
+      return emit(pose([&](const auto&... t) {
+                    return graph.GetOrientationWithCovariance(pose_spec, t...);
+                  }),
+                  pose_spec);
     case QueryKind::kTwist:
-      return emit(graph.GetTwistWithCovariance(twist_spec, order), twist_spec);
+      return emit(twist([&](const auto&... t) {
+                    return graph.GetTwistWithCovariance(twist_spec, t..., order);
+                  }),
+                  twist_spec);
     case QueryKind::kLinearVelocity:
-      return emit(graph.GetLinearVelocityWithCovariance(twist_spec), twist_spec);
+      return emit(twist([&](const auto&... t) {
+                    return graph.GetLinearVelocityWithCovariance(twist_spec, t...);
+                  }),
+                  twist_spec);
     case QueryKind::kAngularVelocity:
-      return emit(graph.GetAngularVelocityWithCovariance(twist_spec), twist_spec);
+      return emit(twist([&](const auto&... t) {
+                    return graph.GetAngularVelocityWithCovariance(twist_spec, t...);
+                  }),
+                  twist_spec);
     case QueryKind::kJacobian:
     case QueryKind::kWrench:
     case QueryKind::kForce:

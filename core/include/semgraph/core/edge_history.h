@@ -9,6 +9,12 @@
 // ThreadSanitizer build checks the protocol).
 //   PoseHistory   N = 7: the pose (x y z w of the quaternion, then p), 64 bytes per sample
 //   TwistHistory  N = 6: (v, w) in [h], 56 bytes per sample
+// Covariances (docs/uncertainty.md, "Time"): each sample may carry one (the edge form, 21 words:
+// the upper triangle row by row), kept in a parallel array allocated only when the edge is first
+// given one (EnsureCovariances, build time), so a history without covariances costs nothing
+// more; once allocated it follows every insert and shift (a sample without a covariance stores
+// zeros: it counts as zero). Readers ask for them explicitly (Find / Newest with a
+// CovarianceBracket), under the same sequence lock as the values.
 //
 // Invariants: 0 < size <= capacity; stamps strictly increasing from the oldest; after every
 // insert no sample is older than newest - window. Costs: an in-order insert O(1) (plus the
@@ -46,6 +52,14 @@ class SampleHistory {
   static constexpr std::size_t kValueWords = N;
   static constexpr std::size_t kSampleWords = N + 1;
   using Values = double[N];
+  static constexpr std::size_t kCovarianceWords = 21;  ///< upper triangle of a 6x6, row by row
+  using CovarianceWords = double[kCovarianceWords];
+
+  /// The covariances of a Bracket's samples (`any` false: the edge has none, they are zero).
+  struct CovarianceBracket {
+    bool any = false;
+    double c0[kCovarianceWords], c1[kCovarianceWords];  ///< c1 only where the Bracket's v1 is
+  };
 
   /// Allocates capacity samples (>= 2).
   explicit SampleHistory(std::size_t capacity)
@@ -67,8 +81,10 @@ class SampleHistory {
   };
 
   /// The bracket of t. Lock-free; retries only while a write overlaps.
-  void Find(std::int64_t t, Bracket& out) const noexcept {
+  /// With `cov`: the covariances of the same samples too.
+  void Find(std::int64_t t, Bracket& out, CovarianceBracket* cov = nullptr) const noexcept {
     ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
+      std::uint32_t i0 = 0;
       out.first = r.Stamp(0);
       out.last = r.Stamp(n - 1);
       if (t <= out.first) {
@@ -81,8 +97,10 @@ class SampleHistory {
         out.s0 = out.s1 = out.last;
         out.exact = true;
         r.Load(n - 1, out.v0);
+        i0 = n - 1;
       } else {
         const std::uint32_t lo = FirstAfter(r, n, out.first, out.last, t);
+        i0 = lo - 1;
         out.where = Bracket::Where::kInside;
         out.s0 = r.Stamp(lo - 1);
         out.exact = out.s0 == t;
@@ -90,6 +108,7 @@ class SampleHistory {
         r.Load(lo - 1, out.v0);
         r.Load(lo, out.v1);
       }
+      if (cov != nullptr) LoadCovariances(r, i0, !out.exact, *cov);
     });
   }
 
@@ -118,12 +137,14 @@ class SampleHistory {
     return ok;
   }
 
-  /// The newest sample (stamp and value).
-  void Newest(std::int64_t& stamp, double (&v)[N], std::int64_t& first) const noexcept {
+  /// The newest sample (stamp and value), with its covariance (in c0) when `cov`.
+  void Newest(std::int64_t& stamp, double (&v)[N], std::int64_t& first,
+              CovarianceBracket* cov = nullptr) const noexcept {
     ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
       stamp = r.Stamp(n - 1);
       first = r.Stamp(0);
       r.Load(n - 1, v);
+      if (cov != nullptr) LoadCovariances(r, n - 1, false, *cov);
     });
   }
   /// The newest stamp only.
@@ -141,6 +162,35 @@ class SampleHistory {
   }
   [[nodiscard]] std::int64_t newest_stamp() const noexcept { return Stamp(head(), size() - 1); }
   [[nodiscard]] std::int64_t oldest_stamp() const noexcept { return Stamp(head(), 0); }
+  /// True once the edge was given a covariance (its samples then carry one each).
+  [[nodiscard]] bool has_covariances() const noexcept {
+    return cov_words_.load(std::memory_order_relaxed) != nullptr;
+  }
+  /// Writer, build time: the covariance array (zeros: every sample so far counts as exact).
+  /// Allocates once per history (a reused history keeps it); all or nothing (std::bad_alloc).
+  void EnsureCovariances() {
+    if (has_covariances()) return;
+    cov_owned_.reset(new std::atomic<std::uint64_t>[capacity_ * kCovarianceWords]());
+    for (std::size_t k = 0; k < capacity_ * kCovarianceWords; ++k) {
+      cov_owned_[k].store(0, std::memory_order_relaxed);
+    }
+    cov_words_.store(cov_owned_.get(), std::memory_order_release);
+  }
+  /// The covariance stored at exactly `stamp` (zeros when the edge has none); false when no
+  /// sample has that stamp. Writer.
+  [[nodiscard]] bool CovarianceAt(std::int64_t stamp,
+                                  double (&c)[kCovarianceWords]) const noexcept {
+    const std::uint32_t i = LowerBound(stamp);
+    if (i >= size() || Stamp(head(), i) != stamp) return false;
+    const std::atomic<std::uint64_t>* w = cov_words_.load(std::memory_order_relaxed);
+    for (std::size_t k = 0; k < kCovarianceWords; ++k) {
+      c[k] = w == nullptr
+                 ? 0.0
+                 : std::bit_cast<double>(w[CovSlot(head(), i) + k].load(std::memory_order_relaxed));
+    }
+    return true;
+  }
+
   /// The value stored at exactly `stamp`, if any.
   [[nodiscard]] bool ValueAt(std::int64_t stamp, double (&v)[N]) const noexcept {
     const std::uint32_t i = LowerBound(stamp);
@@ -152,10 +202,12 @@ class SampleHistory {
   /// Drops every sample and holds (stamp, v) alone: one write under the sequence lock, so a
   /// reader overlapping it retries, and one after it sees only the new sample (a retired
   /// history reused for another edge: HistoryTable::Install).
-  void Restart(std::int64_t stamp, const double (&v)[N]) noexcept {
+  /// `c`: the sample's covariance words (null: none, zeros if the history has the array).
+  void Restart(std::int64_t stamp, const double (&v)[N], const double* c = nullptr) noexcept {
     const std::uint64_t h = seq_.load(std::memory_order_relaxed);
     seq_.store(h + 1, std::memory_order_relaxed);  // odd; ordered before the release stores below
     StoreValues(0, 0, stamp, v);
+    StoreCovariance(0, 0, c);
     head_.store(0, std::memory_order_release);
     size_.store(1, std::memory_order_release);
     seq_.store(h + 2, std::memory_order_release);
@@ -164,7 +216,10 @@ class SampleHistory {
   /// Inserts (or replaces the value at an equal stamp), then drops the oldest sample when full
   /// and every sample older than newest - window. The caller checked stamp_too_old and the
   /// duplicate policy. A sample older than all while the history is full is dropped at once.
-  void Insert(std::int64_t stamp, const double (&v)[N], std::int64_t window_ns) noexcept {
+  /// `c`: the sample's covariance words (null: none; stored as zeros once the array exists,
+  /// which a non-null `c` needs: EnsureCovariances).
+  void Insert(std::int64_t stamp, const double (&v)[N], std::int64_t window_ns,
+              const double* c = nullptr) noexcept {
     const std::uint64_t h = seq_.load(std::memory_order_relaxed);
     seq_.store(h + 1, std::memory_order_relaxed);  // odd: a write is in progress
     std::uint32_t n = size(), head = this->head();
@@ -172,6 +227,7 @@ class SampleHistory {
     std::uint32_t pos = n > 0 && stamp > Stamp(head, n - 1) ? n : LowerBound(stamp);
     if (pos < n && Stamp(head, pos) == stamp) {
       StoreValues(head, pos, stamp, v);
+      StoreCovariance(head, pos, c);
     } else if (!(n == capacity_ && pos == 0)) {
       if (n == capacity_) {  // full: drop the oldest
         head = Next(head);
@@ -180,6 +236,7 @@ class SampleHistory {
       }
       for (std::uint32_t i = n; i > pos; --i) CopySample(head, i - 1, i);  // shift the later ones
       StoreValues(head, pos, stamp, v);
+      StoreCovariance(head, pos, c);
       ++n;
     }
     const std::int64_t keep_from = SaturatingSub(Stamp(head, n - 1), window_ns);
@@ -305,6 +362,40 @@ class SampleHistory {
     for (std::size_t k = 0; k < kSampleWords; ++k) {
       words_[b + k].store(words_[a + k].load(std::memory_order_relaxed), std::memory_order_release);
     }
+    if (std::atomic<std::uint64_t>* c = cov_owned_.get()) {
+      const std::size_t ca = CovSlot(head, from), cb = CovSlot(head, to);
+      for (std::size_t k = 0; k < kCovarianceWords; ++k) {
+        c[cb + k].store(c[ca + k].load(std::memory_order_relaxed), std::memory_order_release);
+      }
+    }
+  }
+  /// The first covariance word of sample i.
+  std::size_t CovSlot(std::uint32_t head, std::uint32_t i) const noexcept {
+    return Slot(head, i) / kSampleWords * kCovarianceWords;
+  }
+  void StoreCovariance(std::uint32_t head, std::uint32_t i, const double* c) noexcept {
+    std::atomic<std::uint64_t>* w = cov_owned_.get();
+    if (w == nullptr) return;
+    const std::size_t s = CovSlot(head, i);
+    for (std::size_t k = 0; k < kCovarianceWords; ++k) {
+      w[s + k].store(std::bit_cast<std::uint64_t>(c == nullptr ? 0.0 : c[k]),
+                     std::memory_order_release);
+    }
+  }
+  /// Reader: the covariances of samples i (and i + 1 when `both`); zero when none stored.
+  void LoadCovariances(const Ring& r, std::uint32_t i, bool both,
+                       CovarianceBracket& cov) const noexcept {
+    const std::atomic<std::uint64_t>* c = cov_words_.load(std::memory_order_acquire);
+    cov.any = c != nullptr;
+    if (c == nullptr) return;
+    LoadCovariance(c + r.Slot(i) / kSampleWords * kCovarianceWords, cov.c0);
+    if (both) LoadCovariance(c + r.Slot(i + 1) / kSampleWords * kCovarianceWords, cov.c1);
+  }
+  static void LoadCovariance(const std::atomic<std::uint64_t>* w,
+                             double (&c)[kCovarianceWords]) noexcept {
+    for (std::size_t k = 0; k < kCovarianceWords; ++k) {
+      c[k] = std::bit_cast<double>(w[k].load(std::memory_order_acquire));
+    }
   }
   // Writer only: the first index whose stamp is >= stamp.
   std::uint32_t LowerBound(std::int64_t stamp) const noexcept {
@@ -324,6 +415,10 @@ class SampleHistory {
   std::atomic<std::uint32_t> head_{0}, size_{0};
   std::uint32_t capacity_;
   std::unique_ptr<std::atomic<std::uint64_t>[]> words_;
+  /// The covariance words (capacity x 21), null until EnsureCovariances; never freed before the
+  /// history (readers may hold the pointer). cov_words_ publishes it (release / acquire).
+  std::unique_ptr<std::atomic<std::uint64_t>[]> cov_owned_;
+  std::atomic<const std::atomic<std::uint64_t>*> cov_words_{nullptr};
 };
 
 using PoseHistory = SampleHistory<7>;   ///< quaternion x y z w, then p
@@ -402,10 +497,10 @@ class HistoryTable {
   }
   /// Makes `h` edge i's history, holding the one sample (stamp, v) (a reused history loses its
   /// old samples through its sequence lock), then publishes it (release).
-  void Install(std::size_t i, Lease h, std::int64_t stamp,
-               const double (&v)[H::kValueWords]) noexcept {
+  void Install(std::size_t i, Lease h, std::int64_t stamp, const double (&v)[H::kValueWords],
+               const double* c = nullptr) noexcept {
     H* p = h.release();
-    p->Restart(stamp, v);
+    p->Restart(stamp, v, c);
     table_[i].store(p, std::memory_order_release);
   }
   /// Edge i becomes timeless (its edge was removed: the caller bumped the epoch before); its
@@ -424,7 +519,10 @@ class HistoryTable {
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
     std::size_t bytes =
         table_.bytes() + owned_.capacity() * sizeof(void*) + free_.capacity() * sizeof(void*);
-    for (const auto& h : owned_) bytes += sizeof(H) + h->capacity() * H::BytesPerSample();
+    for (const auto& h : owned_) {
+      bytes += sizeof(H) + h->capacity() * H::BytesPerSample();
+      if (h->has_covariances()) bytes += h->capacity() * H::kCovarianceWords * 8;
+    }
     return bytes;
   }
 

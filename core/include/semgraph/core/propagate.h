@@ -84,20 +84,25 @@ inline std::int64_t MeetDepth(const topology::PoseForest& forest, FrameIndex k,
 }
 
 /// The covariance of the pose answer (e,[a]) wrt (f,[b]) in [r] (frames k = {e, a, f, b, r},
-/// all of one pose tree), rows (dp, dth) in [r].
+/// all of one pose tree), rows (dp, dth) in [r]. `attached` (optional): the answer's frames are
+/// rigidly attached to k[i] at these poses (in [k[i]]), taken as exact: they move with k[i] (a
+/// time travel's side at the reference time, whose point side is frozen at the fixed frame).
 template <coord::Backend B, class Read>
 void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], Read&& read,
-                    coord::Covariance6& S_out) noexcept {
+                    coord::Covariance6& S_out, const Rigid* attached = nullptr) noexcept {
   const topology::PoseForest& forest = t.forest();
   FrameIndex z = k[0];
   for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
-  Rigid X_Z[5];
-  for (int i = 0; i < 5; ++i) X_Z[i] = PoseInAncestor<B>(t, k[i], z, read);
+  Rigid X_Z[5], A_Z[5];  // k[i] in Z; the answer's frames in Z
+  for (int i = 0; i < 5; ++i) {
+    X_Z[i] = PoseInAncestor<B>(t, k[i], z, read);
+    A_Z[i] = attached ? X_Z[i].Then(attached[i]) : X_Z[i];
+  }
   coord::jacobians::PoseInZ q;
-  q.R_RZ = X_Z[4].R.transpose();
-  q.p_ZoEo_Z = X_Z[0].p;
-  q.p_ZoFo_Z = X_Z[2].p;
-  q.O_Z = X_Z[1].R * X_Z[3].R.transpose();
+  q.R_RZ = A_Z[4].R.transpose();
+  q.p_ZoEo_Z = A_Z[0].p;
+  q.p_ZoFo_Z = A_Z[2].p;
+  q.O_Z = A_Z[1].R * A_Z[3].R.transpose();
   S_out.setZero();
   for (int j = 0; j < 5; ++j) {
     std::int64_t lca[5];  // depth of k[j]'s common ancestor with each frame

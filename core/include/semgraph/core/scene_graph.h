@@ -167,6 +167,18 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                       const Eigen::Vector3d& p_position, Stamp stamp);
   BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                        const Eigen::Vector3d& w_angular, Stamp stamp);
+  /// A stamped value with a covariance (docs/uncertainty.md, "Time"): the sample carries it
+  /// (converted to the edge form with the values at the stamp); the checks of both adds. The
+  /// covariance is part of the sample's value for duplicate_stamp.
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Quaterniond& q_rotation,
+                      const Eigen::Vector3d& p_position, Stamp stamp,
+                      const CovarianceInput& covariance);
+  BuildResult AddPose(const PoseSpec& spec, const Eigen::Matrix3d& R_rotation,
+                      const Eigen::Vector3d& p_position, Stamp stamp,
+                      const CovarianceInput& covariance);
+  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                       const Eigen::Vector3d& w_angular, Stamp stamp,
+                       const CovarianceInput& covariance);
   /// A stamped sample of a stamped edge by handle: O(1) amortized in order, O(later samples)
   /// out of order; never allocates. Codes as SetPose, then kStampMismatch (a timeless edge),
   /// kStampTooOld, kDuplicateStamp (policy reject, another value at that stamp).
@@ -378,6 +390,33 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   GetLinearVelocityWithCovariance(const TwistSpec& spec) const noexcept;
   [[nodiscard]] QueryResult<WithCovariance<coord::AngularVelocity, 3>>
   GetAngularVelocityWithCovariance(const TwistSpec& spec) const noexcept;
+  /// The same under a time policy or a time travel (time_uncertainty.cc; docs/uncertainty.md,
+  /// "Time"): the timed query's answer and report, and the covariance of that answer with each
+  /// edge's covariance at the time it is read (a sample's, or the interpolation (1 - l) S_i +
+  /// l S_i+1 of two, a held twist's, an extrapolated pose edge's propagated with its
+  /// integration twist's); a time travel's two sides independent. Errors as the timed queries.
+  /// Twists from twist edges (TwistSource::kTwists). noexcept, allocation-free.
+  [[nodiscard]] QueryResult<Timed<WithCovariance<Pose, 6>>> GetPoseWithCovariance(
+      const PoseSpec& spec, const TimePolicy& policy,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<coord::Position, 3>>> GetPositionWithCovariance(
+      const PoseSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<Orientation, 3>>> GetOrientationWithCovariance(
+      const PoseSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<Pose, 6>>> GetPoseWithCovariance(
+      const PoseSpec& spec, const TimeTravel& travel,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<coord::Position, 3>>> GetPositionWithCovariance(
+      const PoseSpec& spec, const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<Orientation, 3>>> GetOrientationWithCovariance(
+      const PoseSpec& spec, const TimeTravel& travel) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<coord::Twist, 6>>> GetTwistWithCovariance(
+      const TwistSpec& spec, const TimePolicy& policy,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>
+  GetLinearVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>
+  GetAngularVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy) const noexcept;
   /// Real-time updates with a covariance (edge form: the handle's edge), noexcept and
   /// allocation-free: the codes of SetPose / SetTwist, then kInvalidNumber / kInvalidCovariance
   /// for the covariance (kInvalidCovariance too for a twist given a convention). A null matrix:
@@ -582,6 +621,16 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                            FrameIndex r, FrameIndex x, const TimeTravel& travel,
                                            typename B::PoseCoords& X,
                                            TimeReport& report) const noexcept;
+  // Covariances at a time (time_uncertainty.cc): the pose answer's of frames k at a policy, and
+  // a time travel's (both sides).
+  std::optional<QueryError> TimedPoseCovariance(const FrameIndex (&k)[5], const TimePolicy& policy,
+                                                Covariance6& S) const noexcept;
+  std::optional<QueryError> TimeTravelCovariance(const FrameIndex (&k)[5], FrameIndex x,
+                                                 const TimeTravel& travel,
+                                                 Covariance6& S) const noexcept;
+  std::optional<QueryError> TimeTravelCovarianceOnce(const FrameIndex (&k)[5], FrameIndex x,
+                                                     const TimeTravel& travel,
+                                                     Covariance6& S) const noexcept;
   QueryResult<Timed<coord::Twist>> TimedTwist(const TwistSpec& spec, const TimePolicy& policy,
                                               TwistSource source,
                                               internal::EdgeRecorder* recorder) const noexcept;
@@ -591,17 +640,20 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   PoseHistoryLease NewPoseHistory();
   TwistHistoryLease NewTwistHistory();
   void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X,
-                          Stamp s);
-  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V,
-                           Stamp s);
+                          Stamp s, const coord::Covariance6* S = nullptr);
+  void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s,
+                           const coord::Covariance6* S = nullptr);
+  void ReservePoseSampleCovariance(FrameIndex head);
+  void ReserveTwistSampleCovariance(TwistEdgeIndex edge);
   void DropPoseHistory(FrameIndex head) noexcept;
   void DropTwistHistory(TwistEdgeIndex edge) noexcept;
   ErrorCode CheckPoseSample(FrameIndex head, const typename B::PoseCoords& X,
-                            std::optional<Stamp> stamp) const noexcept;
+                            std::optional<Stamp> stamp,
+                            const coord::Covariance6* S = nullptr) const noexcept;
   void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp,
                        const coord::Covariance6* S = nullptr) noexcept;
-  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                             std::optional<Stamp> stamp) const noexcept;
+  ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
+                             const coord::Covariance6* S = nullptr) const noexcept;
   void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                         const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V,

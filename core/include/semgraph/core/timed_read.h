@@ -12,6 +12,11 @@
 //                        else an extrapolation failure naming the edge and its range
 //   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t;
 //                        the query's other edges read with no horizon (WithoutExtrapolation)
+//   with covariance      ReadPoseAt / ReadTwistAt<B, true>: the same read, plus the covariance
+//                        of the value read (docs/uncertainty.md, "Time"): a sample's, (1 - l)
+//                        S_i + l S_i+1 between two, a held twist's, an extrapolated pose edge's
+//                        (ExtrapolationCovariance, timed_covariance.h); the flag is a template
+//                        parameter so the plain reads compile exactly as before
 // The context collects what the answer reports (oldest / newest stamp read, extrapolated), the
 // minimum newest stamp of the stamped edges read (latest common), the first extrapolation and
 // the first stale failure, and optionally records each edge read (the diagnostic call).
@@ -142,6 +147,20 @@ inline void WordsFromTwist(const TwistNumbers& V, double (&w)[6]) noexcept {
   }
 }
 
+/// A covariance (symmetric 6x6) as a history's 21 words (upper triangle, row by row) and back.
+inline void WordsFromCovariance(const coord::Covariance6& S, double (&w)[21]) noexcept {
+  int k = 0;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) w[k++] = S(i, j);
+  }
+}
+inline void CovarianceFromWords(const double (&w)[21], coord::Covariance6& S) noexcept {
+  int k = 0;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) S(i, j) = S(j, i) = w[k++];
+  }
+}
+
 /// The screw twist of the pose edge into `frame` at stamp s, from the twist edges (no
 /// extrapolation); false when there is no twist path or no twist data at s. Defined in
 /// evaluate.h (it runs the evaluator).
@@ -154,9 +173,10 @@ bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_
 /// and in the record. The first half of both edge reads (ReadPoseAt, ReadTwistAt).
 template <class History>
 void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& tc, EdgeRead& rec,
-                double (&w)[History::kValueWords]) noexcept {
+                double (&w)[History::kValueWords],
+                typename History::CovarianceBracket* cov = nullptr) noexcept {
   std::int64_t s = 0, first = 0;
-  h.Newest(s, w, first);
+  h.Newest(s, w, first, cov);
   tc.Read(s);
   if (!tc.nested) tc.Used(twist, index, first, s);
   rec.first = first;
@@ -168,12 +188,11 @@ void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& 
 /// The samples of history `h` of edge `index` around the context's time, their span noted in
 /// the context and in the record (what is read of them is the caller's).
 template <class History>
-[[gnu::always_inline]] inline typename History::Bracket FindAtTime(const History& h, bool twist,
-                                                                   std::uint32_t index,
-                                                                   TimeContext& tc,
-                                                                   EdgeRead& rec) noexcept {
+[[gnu::always_inline]] inline typename History::Bracket FindAtTime(
+    const History& h, bool twist, std::uint32_t index, TimeContext& tc, EdgeRead& rec,
+    typename History::CovarianceBracket* cov = nullptr) noexcept {
   typename History::Bracket b;
-  h.Find(tc.t, b);
+  h.Find(tc.t, b, cov);
   rec.first = b.first;
   rec.last = b.last;
   if (!tc.nested) tc.Used(twist, index, b.first, b.last);
@@ -209,27 +228,62 @@ template <coord::Backend B>
                              w0[6] + lambda * (w1[6] - w0[6])));
 }
 
-/// The value of the pose edge into `frame` under the context's policy.
+/// The covariance of a sample (c0), or of the interpolation at lambda of two (docs/uncertainty.md,
+/// "Time": (1 - lambda) S0 + lambda S1, in the edge form); zero when the edge has none.
+template <class Bracket>
+void SampleCovariance(const Bracket& cb, bool interpolated, double lambda,
+                      coord::Covariance6& S) noexcept {
+  if (!cb.any) {
+    S.setZero();
+    return;
+  }
+  CovarianceFromWords(cb.c0, S);
+  if (interpolated) {
+    coord::Covariance6 S1;
+    CovarianceFromWords(cb.c1, S1);
+    S = (1.0 - lambda) * S + lambda * S1;
+  }
+}
+
+/// The covariance of an extrapolated pose edge X_k Exp(dt xi) (docs/uncertainty.md, "Time"):
+/// the sample's covariance S_k and that of the integration twist xi at s (its twist edges and
+/// the pose edges that move them), to first order. Defined in timed_covariance.h (it runs the
+/// propagation); used only by the covariance reads (ReadPoseAt<B, true>).
 template <coord::Backend B>
+void ExtrapolationCovariance(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s,
+                             TimeContext& parent, const coord::kernels::QuatPose& X_k,
+                             const Eigen::Vector3d& v_xi, const Eigen::Vector3d& w_xi, double dt,
+                             const coord::Covariance6& S_k, coord::Covariance6& S) noexcept;
+
+/// The value of the pose edge into `frame` under the context's policy; with kCovariance, also
+/// the covariance of that value into *S (the same samples, one read).
+template <coord::Backend B, bool kCovariance = false>
 void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
-                typename B::PoseCoords& X) noexcept {
+                typename B::PoseCoords& X, coord::Covariance6* S = nullptr) noexcept {
   const PoseHistory* h = v.history.pose_of(frame);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kPose;
   rec.index = frame;
+  PoseHistory::CovarianceBracket cb;
+  PoseHistory::CovarianceBracket* const cov = kCovariance ? &cb : nullptr;
   if (h == nullptr) {
-    X = v.X_PF[frame].Load();
+    if constexpr (kCovariance) {
+      v.LoadPose(frame, X, *S);
+    } else {
+      X = v.X_PF[frame].Load();
+    }
     if (tc.recorder) tc.recorder->Record(rec);
     return;
   }
   rec.stamped = true;
   if (!tc.at) {
     double w0[7];
-    ReadNewest(*h, false, frame, tc, rec, w0);
+    ReadNewest(*h, false, frame, tc, rec, w0, cov);
+    if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
     SetPose<B>(X, Eigen::Quaterniond(w0[3], w0[0], w0[1], w0[2]),
                Eigen::Vector3d(w0[4], w0[5], w0[6]));
   } else {
-    const PoseHistory::Bracket b = FindAtTime(*h, false, frame, tc, rec);
+    const PoseHistory::Bracket b = FindAtTime(*h, false, frame, tc, rec, cov);
     using Where = PoseHistory::Bracket::Where;
     if (b.where == Where::kInside) {
       rec.has_read = true;
@@ -239,11 +293,13 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
         SetPose<B>(X, Eigen::Quaterniond(b.v0[3], b.v0[0], b.v0[1], b.v0[2]),
                    Eigen::Vector3d(b.v0[4], b.v0[5], b.v0[6]));
         rec.read_to = b.s0;
+        if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
       } else {
-        InterpolateWords<B>(v.history.options.interpolation, b.v0, b.v1, Fraction(b.s0, tc.t, b.s1),
-                            X);
+        const double lambda = Fraction(b.s0, tc.t, b.s1);
+        InterpolateWords<B>(v.history.options.interpolation, b.v0, b.v1, lambda, X);
         tc.Read(b.s1);
         rec.read_to = b.s1;
+        if constexpr (kCovariance) SampleCovariance(cb, true, lambda, *S);
       }
     } else {
       coord::kernels::QuatPose out = PoseFromWords(b.v0);  // the nearest sample
@@ -253,6 +309,11 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
       if (!tc.nested && gap <= tc.horizon && ExtrapolationTwist<B>(v, frame, b.s0, tc, vv, ww)) {
         const double dt =
             b.where == Where::kBefore ? -SecondsBetween(tc.t, b.s0) : SecondsBetween(b.s0, tc.t);
+        if constexpr (kCovariance) {
+          coord::Covariance6 S_k;
+          SampleCovariance(cb, false, 0.0, S_k);
+          ExtrapolationCovariance<B>(v, frame, b.s0, tc, out, vv, ww, dt, S_k, *S);
+        }
         out = coord::kernels::Integrate(out, vv, ww, dt);
         tc.Read(b.s0);
         tc.extrapolated = true;
@@ -261,6 +322,7 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
         rec.read_from = rec.read_to = b.s0;
       } else {
         tc.Fail(false, frame, b.first, b.last);
+        if constexpr (kCovariance) S->setZero();
       }
       SetPose<B>(X, out.q, out.p);
     }
@@ -268,28 +330,37 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
   if (tc.recorder) tc.recorder->Record(rec);
 }
 
-/// The value of twist edge `slot` under the context's policy.
-template <coord::Backend B>
-void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc,
-                 TwistNumbers& V) noexcept {
+/// The value of twist edge `slot` under the context's policy; with kCovariance, also the
+/// covariance of that value into *S (a held sample keeps its covariance).
+template <coord::Backend B, bool kCovariance = false>
+void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, TwistNumbers& V,
+                 coord::Covariance6* S = nullptr) noexcept {
   const TwistHistory* h = v.history.twist_of(slot);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kTwist;
   rec.index = slot;
+  TwistHistory::CovarianceBracket cb;
+  TwistHistory::CovarianceBracket* const cov = kCovariance ? &cb : nullptr;
   if (h == nullptr) {
-    V = v.V_DH[slot].Load();
+    if constexpr (kCovariance) {
+      v.LoadTwist(slot, V, *S);
+    } else {
+      V = v.V_DH[slot].Load();
+    }
     if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
     return;
   }
   rec.stamped = true;
   if (!tc.at) {
     double w[6];
-    ReadNewest(*h, true, slot, tc, rec, w);
+    ReadNewest(*h, true, slot, tc, rec, w, cov);
     V = TwistFromWords(w);
+    if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
   } else {
-    const TwistHistory::Bracket b = FindAtTime(*h, true, slot, tc, rec);
+    const TwistHistory::Bracket b = FindAtTime(*h, true, slot, tc, rec, cov);
     using Where = TwistHistory::Bracket::Where;
     V = TwistFromWords(b.v0);
+    if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
     if (b.where == Where::kInside) {
       rec.has_read = true;
       rec.read_from = b.s0;
@@ -302,6 +373,7 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc,
         V.w_DH_H += lambda * (V1.w_DH_H - V.w_DH_H);
         tc.Read(b.s1);
         rec.read_to = b.s1;
+        if constexpr (kCovariance) SampleCovariance(cb, true, lambda, *S);
       }
     } else {
       const std::int64_t gap =
