@@ -76,8 +76,7 @@ QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(
 }
 
 template <coord::Backend B>
-std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(
-    FrameIndex f) const noexcept {
+std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex f) const noexcept {
   if (!f.is_valid() || f.value() >= topology_.num_frames()) return std::nullopt;
   const TwistEdgeIndex e = topology_.twist_edge_of(f);
   if (!e.is_valid() || !values_.HasAcceleration(e.value())) return std::nullopt;
@@ -89,14 +88,14 @@ std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(
       r.A.a_DHo_H, r.A.alpha_DH_H};
 }
 
-#define SEMGRAPH_INSTANTIATE_ACCELERATION_QUERIES(B)                                         \
-  template QueryResult<coord::Acceleration> SceneGraph<B>::GetAcceleration(const TwistSpec&) \
-      const noexcept;                                                                         \
-  template QueryResult<LinearAcceleration> SceneGraph<B>::GetLinearAcceleration(              \
-      const TwistSpec&) const noexcept;                                                       \
-  template QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(            \
-      const TwistSpec&) const noexcept;                                                       \
-  template std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex)   \
+#define SEMGRAPH_INSTANTIATE_ACCELERATION_QUERIES(B)                                              \
+  template QueryResult<coord::Acceleration> SceneGraph<B>::GetAcceleration(const TwistSpec&)      \
+      const noexcept;                                                                             \
+  template QueryResult<LinearAcceleration> SceneGraph<B>::GetLinearAcceleration(const TwistSpec&) \
+      const noexcept;                                                                             \
+  template QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(                \
+      const TwistSpec&) const noexcept;                                                           \
+  template std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex)       \
       const noexcept;
 SEMGRAPH_INSTANTIATE_ACCELERATION_QUERIES(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ACCELERATION_QUERIES(coord::HomogeneousBackend)

@@ -73,8 +73,8 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
   // Node resolution: unknown_frame (point, coord) -> unknown_body (body, ref_body).
   const FrameIndex e = t.FindFrame(spec.point), r = t.FindFrame(spec.coordinate_frame);
   if (!e.is_valid()) {
-    return Reject(ErrorCode::kUnknownFrame, what(), "point: no frame named " +
-                                                        std::string(spec.point));
+    return Reject(ErrorCode::kUnknownFrame, what(),
+                  "point: no frame named " + std::string(spec.point));
   }
   if (!r.is_valid()) {
     return Reject(ErrorCode::kUnknownFrame, what(),
@@ -122,16 +122,16 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
   const typename B::Rotation R_HR = B::RotationOf(X_HR);
   AccelerationNumbers A{B::Rotate(R_HR, *a), B::Rotate(R_HR, *alpha)};
   // p_A = old point - new point = e - h = p_HE.
-  A.a_DHo_H = coord::kernels::ShiftAcceleration(A.a_DHo_H, A.alpha_DH_H, V.w_DH_H,
-                                                B::TranslationOf(X_HE));
+  A.a_DHo_H =
+      coord::kernels::ShiftAcceleration(A.a_DHo_H, A.alpha_DH_H, V.w_DH_H, B::TranslationOf(X_HE));
   values_.StoreAcceleration(edge.value(), V, &A);
   return Ok{};
 }
 
-#define SEMGRAPH_INSTANTIATE_ACCELERATIONS(B)                                                 \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,      \
+#define SEMGRAPH_INSTANTIATE_ACCELERATIONS(B)                                                     \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
                                                const Eigen::Vector3d&, const AccelerationInput&); \
-  template BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec&, const Eigen::Vector3d&, \
+  template BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec&, const Eigen::Vector3d&,   \
                                                       const Eigen::Vector3d&);
 SEMGRAPH_INSTANTIATE_ACCELERATIONS(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ACCELERATIONS(coord::HomogeneousBackend)
