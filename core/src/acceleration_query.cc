@@ -75,6 +75,17 @@ QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(
   return AngularAcceleration{A->semantics, A->angular};
 }
 
+// Planned and flattened on a validated snapshot of the topology, as CompileTwist.
+template <coord::Backend B>
+Expected<CompiledAcceleration<B>, QueryError> SceneGraph<B>::CompileAcceleration(
+    const TwistSpec& spec) const {
+  return internal::ReadValidated(topology_, [&]() -> Expected<CompiledAcceleration<B>, QueryError> {
+    auto plan = PlanTwist(topology_, spec);
+    if (!plan) return Unexpected{plan.error()};
+    return CompiledAcceleration<B>(topology_, values_, *plan);
+  });
+}
+
 template <coord::Backend B>
 std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex f) const noexcept {
   if (!f.is_valid() || f.value() >= topology_.num_frames()) return std::nullopt;
@@ -96,7 +107,9 @@ std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex 
   template QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(                \
       const TwistSpec&) const noexcept;                                                           \
   template std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex)       \
-      const noexcept;
+      const noexcept;                                                                             \
+  template Expected<CompiledAcceleration<B>, QueryError> SceneGraph<B>::CompileAcceleration(      \
+      const TwistSpec&) const;
 SEMGRAPH_INSTANTIATE_ACCELERATION_QUERIES(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ACCELERATION_QUERIES(coord::HomogeneousBackend)
 

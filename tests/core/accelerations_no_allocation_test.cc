@@ -1,8 +1,9 @@
 // The real-time claims of the acceleration queries (scene_graph.h "accelerations",
 // accelerations.h), proven by counting the global operator new (tests/support/alloc_counter.h):
 // GetAcceleration / GetLinearAcceleration / GetAngularAcceleration (along and against the twist
-// edges, at a point and in a frame away from them; accepted and rejected) and SetTwist on an edge
-// that carries an acceleration (which clears it) allocate nothing. Each case is first run once
+// edges, at a point and in a frame away from them; accepted and rejected), CompiledAcceleration::
+// Evaluate, SetAcceleration, and SetTwist on an edge that carries an acceleration (which clears
+// it) allocate nothing. Each case is first run once
 // unarmed to check that it takes the intended path, then kRepetitions times armed.
 #include <gtest/gtest.h>
 
@@ -92,12 +93,24 @@ TYPED_TEST(AccelerationsNoAllocation, QueriesAndSetTwist) {
     return CodeOf(
         g.GetAcceleration(TwistSpec::Of("nowhere", "L8").RelativeTo("W").ExpressedIn("w")));
   });
+  auto compiled = g.CompileAcceleration(tip);
+  ASSERT_TRUE(compiled);
+  Vec a, alpha;
+  ExpectNoAllocation("compiled", ErrorCode::kOk, [&] { return compiled->Evaluate(a, alpha); });
+  ExpectNoAllocation("compiled, result type", ErrorCode::kOk,
+                     [&] { return CodeOf(compiled->Evaluate()); });
   auto h = g.FindTwistEdge("l5", "L4");
   ASSERT_TRUE(h);
+  ExpectNoAllocation("SetAcceleration", ErrorCode::kOk,
+                     [&] { return g.SetAcceleration(*h, Vec(1, 0, 0), Vec(0, 1, 0)); });
+  ExpectNoAllocation("SetAcceleration, bad number", ErrorCode::kInvalidNumber,
+                     [&] { return g.SetAcceleration(*h, Vec(std::nan(""), 0, 0), Vec::Zero()); });
   ExpectNoAllocation("SetTwist clearing an acceleration", ErrorCode::kOk,
                      [&] { return g.SetTwist(*h, Vec(1, 1, 1), Vec(0, 0, 1)); });
   ExpectNoAllocation("no_acceleration", ErrorCode::kNoAcceleration,
                      [&] { return CodeOf(g.GetAcceleration(tip)); });
+  ExpectNoAllocation("compiled, no_acceleration", ErrorCode::kNoAcceleration,
+                     [&] { return compiled->Evaluate(a, alpha); });
 }
 
 }  // namespace

@@ -16,8 +16,10 @@
 // An edge on the path without an acceleration: no_acceleration, naming the edge.
 // Costs: AddAcceleration O(log n + d) (one basic pose each for the point and the frame); queries
 // O(k (log n + d)) as twist queries. Queries: noexcept, allocation-free, lock-free.
-// Not yet: stamped accelerations (a stamped edge refuses one: stamp_mismatch), joint q-double-dot,
-// compiled acceleration queries.
+// Real time: SetAcceleration (by twist handle, edge form) and CompiledAcceleration
+// (compiled_acceleration.h).
+// Not yet: stamped accelerations (a stamped edge refuses one: stamp_mismatch), joint
+// q-double-dot.
 #pragma once
 
 #include "semgraph/coord/values.h"

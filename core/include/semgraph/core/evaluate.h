@@ -308,6 +308,15 @@ class FlatSource {
     ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
     return value.epoch() == s.epoch;
   }
+  /// A compiled acceleration step's record (s.epoch: the record's epoch when compiled; current
+  /// values only). False when the edge was removed since.
+  bool LoadAcceleration(const TwistStep<FlatChain>& s, TwistAndAcceleration& r) const noexcept {
+    if (s.pose_edge.is_valid()) {
+      r.present = 0.0;
+      return true;
+    }
+    return v_.A_DH[s.edge.value()].Load(r, s.epoch);
+  }
 
  private:
   // Each edge at the policy's time, after its epoch check; composed top-down. Out of line so
@@ -603,7 +612,10 @@ bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>
 /// side appended (D rel ... rel X), then D rel X followed by X rel C.
 struct AccelerationComposer {
   Motion c_side = Motion::Zero(), d_side = Motion::Zero();
-  void Add(const TwistStep<ForestChain>& s, const Motion& m) noexcept { Add(s.ref_side, m); }
+  template <class Chain>
+  void Add(const TwistStep<Chain>& s, const Motion& m) noexcept {
+    Add(s.ref_side, m);
+  }
   void Add(bool ref_side, const Motion& m) noexcept {
     if (ref_side) {
       d_side = ComposeMotion(d_side, m);

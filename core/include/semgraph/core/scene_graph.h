@@ -63,6 +63,7 @@
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
 #include "semgraph/core/accelerations.h"
+#include "semgraph/core/compiled_acceleration.h"
 #include "semgraph/core/compiled_covariance.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/converting_handles.h"
@@ -529,6 +530,18 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// Uses body, ref_body and coordinate_frame only (as GetAngularVelocity).
   [[nodiscard]] QueryResult<AngularAcceleration> GetAngularAcceleration(
       const TwistSpec& spec) const noexcept;
+  /// GetAcceleration compiled (compiled_acceleration.h): the errors of GetAcceleration but
+  /// no_acceleration, which Evaluate reports (kNoAcceleration) when an edge carries none then.
+  [[nodiscard]] Expected<CompiledAcceleration<B>, QueryError> CompileAcceleration(
+      const TwistSpec& spec) const;
+  /// New acceleration of the handle's twist edge D -> {h}|H in the edge form (a_DHo_H,
+  /// alpha_DH_H: at h, in [h]), stored with the edge's current twist. O(1), noexcept,
+  /// allocation-free. Codes: kNoSuchEdge (as SetTwist), kJointEdge (a joint's edge),
+  /// kStampMismatch (a stamped edge: not supported yet), kInvalidNumber; nothing written on
+  /// any code but kOk. A later twist without an acceleration clears it.
+  [[nodiscard]] ErrorCode SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                          const Eigen::Vector3d& alpha_DH_H,
+                                          UpdateError* why = nullptr) noexcept;
   /// The acceleration stored on the twist edge into f, in the edge form (nullopt: none, or no
   /// twist edge). Writer thread. O(1).
   [[nodiscard]] std::optional<coord::Acceleration> acceleration_value(FrameIndex f) const noexcept;
