@@ -136,6 +136,33 @@ class Ops:
     def ask_angular(self, body, ref_body, coord):
         return self.byte(12).byte(5).frame_name(coord).byte(1).body_name(body).body_name(ref_body)
 
+    # ---- op 16, WrenchOp(): `which` (0-2 add, 3-4 add and 5 remove of a stored pair when there
+    # is one, 6 query, 7 query compiled and kept, 8 a handle kept (of a stored pair when there is one), 9 SetWrench
+    # through kept handle `pick`), a stored pair's index and reverse flag (OneIn(3)), the bodies (`on`,
+    # OneIn(16) false, `by`), FrameOfBody's byte, the point (FrameNear: Bool false, a frame),
+    # the coordinate frame (OneIn(3) true: the point; else FrameNear again), then the values.
+    def _wrench_names(self, which, on, by, point, coord, pick=0, reverse=False):
+        self.byte(16).byte(which).byte(pick).byte(0 if reverse else 1)
+        self.body_name(on).byte(1).body_name(by)
+        self.byte(0).byte(0).frame_name(point)
+        return self.byte(0) if coord == point else self.byte(1).byte(0).frame_name(coord)
+
+    def wrench(self, on, by, point, coord, f=(1, 0), m=(2, 0)):
+        return self._wrench_names(0, on, by, point, coord).value(*f).byte(1).value(*m)
+
+    def ask_wrench(self, on, by, point, coord, keep=False):  # by None: the net wrench on `on`
+        self._wrench_names(7 if keep else 6, on, by or on, point, coord)
+        return self.byte(1 if by is None else 0)
+
+    def remove_wrench(self, index, reverse=False, on="A", by="B"):  # a stored pair, else on/by
+        return self._wrench_names(5, on, by, "a", "a", index, reverse)
+
+    def wrench_handle(self, index, reverse=False, on="A", by="B"):  # a stored pair, else on/by
+        return self._wrench_names(8, on, by, "a", "a", index, reverse)
+
+    def set_wrench(self, handle_index, f=(1, 0), m=(2, 0)):  # through a kept handle
+        return self._wrench_names(9, "A", "B", "a", "a", handle_index).value(*f).value(*m)
+
 
     # ---- extended ops (Step(): 13, then Extended(): byte % 12). Each encoder mirrors its
     # decoder in scene_ops_fuzzer.cc; `policy` is Policy()'s byte (< 160: the default).
@@ -257,6 +284,43 @@ def scene_ops_seeds():
     seeds["fig2_unique_frame"] = Ops().body("A").frame("a", "A").frame("a", "A").frame("f", "A").frame("f", "B")
     seeds["fig2_frame_without_body"] = Ops().body("A").frame("l", None).frame("l", "C").frame("l", "A")
     # Fig. 4: {b1},{b2}|B -> b, c; {c1},{c2}|C -> d, e; {d}|D -> f; {f}|F -> g; {a}|A -> a.
+    # Wrenches (docs/dynamics.md §7): {a}|A, {b},{d}|B, {c}|C, {e}|E apart. Adds in other
+    # points and frames (storage frames: the point, the coordinate frame, a frame of `on` in
+    # the tree), an update, the reverse pair (duplicate_wrench), self_wrench, an unknown body,
+    # wrench_not_convertible, queries of one pair, its reaction and net wrenches, a pose
+    # removal that splits the tree (no_pose_path), removals.
+    seeds["wrenches"] = (
+        Ops().pose("b", "B", "a", "A", (3, 0), (2, 0))
+        .pose("c", "C", "a", "A", (4, 0), (3, 0))
+        .pose("d", "B", "b", "B", (5, 0), (1, 0))
+        .body("E").frame("e", "E")
+        .wrench("B", "A", "a", "c", (1, 0), (3, 0))
+        .wrench("B", "C", "c", "d", (3, 0), (4, 0))
+        .wrench("A", "C", "c", "c", (5, 0), (1, 0))
+        .wrench("B", "A", "d", "a", (2, 0), (2, 0))   # an update: keeps its storage frame
+        .wrench("A", "B", "a", "a")                   # duplicate_wrench
+        .wrench("B", "B", "b", "b")                   # self_wrench
+        .wrench("B", "D", "b", "b")                   # unknown_body
+        .wrench("E", "A", "a", "a")                   # wrench_not_convertible
+        .wrench("B", "A", "e", "e")                   # wrench_not_convertible
+        .ask_wrench("B", None, "d", "a")
+        .ask_wrench("B", None, "b", "c", keep=True)   # invalidated by the removal of c's pose
+        .ask_wrench("A", "B", "b", "b", keep=True)    # invalidated by the removal of the wrench
+        .ask_wrench("A", "B", "c", "b")
+        .ask_wrench("C", None, "a", "d")
+        .ask_wrench("B", "B", "a", "a")               # self_wrench
+        .ask_wrench("E", None, "e", "e")              # no_wrench
+        .remove_pose("c", "a")
+        .ask_wrench("B", None, "b", "b")              # both stored in {d}: answered
+        .ask_wrench("A", "C", "c", "c")               # stored in {a}: no_pose_path
+        .wrench_handle(0)                             # the handle of the wrench on B by A
+        .set_wrench(0, (4, 0), (5, 0))                # in its storage frame {d}
+        .set_wrench(0, (1, 0x07), (5, 0))             # NaN: invalid_number
+        .ask_wrench("B", "A", "b", "a")
+        .remove_wrench(0)
+        .set_wrench(0, (4, 0), (5, 0))                # its pair removed: no_wrench
+        .remove_wrench(0, reverse=True)               # no_wrench
+        .ask_wrench("B", "A", "a", "a"))
     seeds["fig4_constant_pose"] = (
         Ops().pose("b", "B", "c", "B", (3, 0), (4, 0))
         .readd_pose(0, 0)      # the same value again: accepted, kept

@@ -16,7 +16,9 @@
 //                     8 stamped pose, 9 stamped twist, 10-11 a query under a time policy;
 //                     17 an add with a covariance (pose, restated pose, twist, updated twist;
 //                     valid, asymmetric, NaN/Inf/huge, negative eigenvalue; both orders; the
-//                     body convention)
+//                     body convention); 16 a wrench op (add, update, the reverse of a stored
+//                     pair, removal, query of one pair, its reaction or a net wrench, one-shot
+//                     or compiled and kept, a handle kept, SetWrench through a kept handle)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -296,6 +298,9 @@ class Fuzzer {
       case 17:
         WithCovariance();
         break;
+      case 16:
+        WrenchOp();
+        break;
       case 13:
       case 14:
         Extended();
@@ -307,6 +312,68 @@ class Fuzzer {
         d_.Ask(MakeQuery(static_cast<QueryKind>(in_.Below(6))));
         break;
     }
+  }
+
+  // Wrenches (docs/dynamics.md §7): adds (new pairs, updates, the reverse of a stored pair),
+  // removals, queries (one pair, its reaction, a net wrench; one-shot, or compiled and kept),
+  // handles kept and SetWrench through them (also after their pair was removed). The point is often
+  // a frame of `on`'s pose tree and the coordinate frame one of the point's, so that conversions
+  // mostly succeed; the bodies are often those of the frames, so that storage frames vary.
+  void WrenchOp() {
+    // Every choice reads its bytes whether it is used or not (the decoding does not depend on
+    // the model's state).
+    const auto& stored = d_.model().wrenches();
+    const std::uint32_t which = in_.Below(10);
+    const std::uint8_t pick = in_.Byte();
+    const bool reverse = in_.OneIn(3);
+    std::string on = Body();
+    const bool self = in_.OneIn(16);
+    std::string by = Body();
+    if (self) by = on;
+    if (((which >= 3 && which <= 5) || which == 8) && !stored.empty()) {  // a stored pair
+      const reference::WrenchEntry& w = stored[pick % stored.size()];
+      on = reverse ? w.by : w.on;
+      by = reverse ? w.on : w.by;
+    }
+    const std::string point = FrameNear(on.empty() ? std::string("a") : FrameOfBody(on));
+    const std::string coord = in_.OneIn(3) ? point : FrameNear(point);
+    if (which == 5) {
+      d_.RemoveWrench(on, by);
+      return;
+    }
+    if (which == 8) {
+      d_.WrenchHandle(on, by);
+      return;
+    }
+    if (which == 9) {  // a kept handle (picked by `pick`), a value in the stored form
+      const Eigen::Vector3d f = Velocity();
+      const Eigen::Vector3d m = Velocity();
+      d_.SetWrenchByHandle(pick, f, m);
+      return;
+    }
+    if (which == 6 || which == 7) {  // 7: compiled and kept
+      const std::string query_by = in_.Bool() ? std::string() : by;
+      if (which == 6) {
+        d_.AskWrench(on, query_by, point, coord);
+      } else {
+        d_.KeepWrench(on, query_by, point, coord);
+      }
+      return;
+    }
+    const Eigen::Vector3d f = Velocity();
+    const Eigen::Vector3d m = in_.OneIn(4) ? Position() : Velocity();
+    d_.Wrench(on, by, point, coord, f, m);
+  }
+  // A frame of `body` in the model (one of them, by input), or `body` itself as a name. Reads
+  // one byte either way (the decoding does not depend on the model's state).
+  std::string FrameOfBody(const std::string& body) {
+    const std::uint8_t pick = in_.Byte();
+    std::vector<std::string> frames;
+    for (const auto& [frame, b] : d_.model().frames()) {
+      if (b == body) frames.push_back(frame);
+    }
+    if (frames.empty()) return body;
+    return frames[pick % frames.size()];
   }
 
   void AddPose() {

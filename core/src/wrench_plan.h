@@ -74,7 +74,7 @@ inline std::optional<QueryError> ResolveWrenchNodes(const topology::SceneTopolog
 }
 
 /// The storage frame of a new pair (wrenches.h): the point if a frame of C, else [r] if a frame
-/// of C, else C's first frame in the point's pose tree (invalid: none).
+/// of C, else C's frame made last in the point's pose tree (invalid: none).
 inline FrameIndex ChooseWrenchFrame(const topology::SceneTopology& t,
                                     const WrenchNodes& n) noexcept {
   if (t.body_of(n.point) == n.on) return n.point;

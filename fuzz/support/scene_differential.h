@@ -594,6 +594,148 @@ class Differential {
     return Finish(graph_.RemoveTwist(point, ref_body), expected);
   }
 
+  // ---------------------------------------------------------------- wrenches
+
+  /// WrenchCoord(point|on, by, [coord]) = (f, m) added or updated (docs/dynamics.md §7).
+  ErrorCode Wrench(const std::string& on, const std::string& by, const std::string& point,
+                   const std::string& coord, const Eigen::Vector3d& f, const Eigen::Vector3d& m) {
+    Begin([=] {
+      return "{op: wrench, on: " + YamlName(on) + ", by: " + YamlName(by) +
+             ", point: " + YamlName(point) + ", coord: " + YamlName(coord) +
+             ", force: " + YamlVector(f) + ", moment: " + YamlVector(m) + "}";
+    });
+    const auto spec = core::WrenchSpec::On(on).By(by).At(point).ExpressedIn(coord);
+    return Finish(graph_.AddWrench(spec, f, m), model_.AddWrench(on, by, point, coord, f, m));
+  }
+
+  ErrorCode RemoveWrench(const std::string& on, const std::string& by) {
+    Begin([=] {
+      return "{op: remove, kind: wrench, on: " + YamlName(on) + ", by: " + YamlName(by) + "}";
+    });
+    std::uint64_t serial = 0;
+    const bool stored = model_.FindWrench(on, by, &serial) == ErrorCode::kOk;
+    const ErrorCode expected = model_.RemoveWrench(on, by);
+    if (expected == ErrorCode::kOk && stored) {  // kept compiled queries summing it: invalid
+      for (KeptWrench& k : kept_wrenches_) {
+        if (std::find(k.serials.begin(), k.serials.end(), serial) != k.serials.end()) {
+          k.invalidated = true;
+        }
+      }
+    }
+    return Finish(graph_.RemoveWrench(on, by), expected);
+  }
+
+  /// A wrench query compiled and kept: re-evaluated after every later op (CheckKept) against
+  /// the model's sum of the same terms with their current values; query_invalidated once one
+  /// of its wrenches or a pose edge on a term's path (the pose of s wrt the point and [r]) was
+  /// removed.
+  void KeepWrench(const std::string& on, const std::string& by, const std::string& point,
+                  const std::string& coord) {
+    Begin([=] {
+      return "# keep compiled {kind: wrench, on: " + YamlName(on) + Field("by", by) +
+             ", point: " + YamlName(point) + ", coord: " + YamlName(coord) + "}";
+    });
+    const reference::WrenchAnswer expected = model_.AskWrench(on, by, point, coord);
+    auto compiled =
+        graph_.CompileWrench(core::WrenchSpec::On(on).By(by).At(point).ExpressedIn(coord));
+    Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+    const ErrorCode code = compiled ? compiled->Evaluate(f, m) : compiled.error().code;
+    Annotate(code);
+    CompareWrench("kept compiled wrench query", expected, code, f, m);
+    if (code != ErrorCode::kOk) return;
+    KeptWrench k{on, point, coord, model_.WrenchTerms(on, by), {}, false, std::move(*compiled)};
+    for (const reference::WrenchEntry& w : model_.wrenches()) {
+      if (std::find(k.serials.begin(), k.serials.end(), w.serial) == k.serials.end()) continue;
+      Query q;  // the pose of (s, [s]) wrt (point, [coord]): the term's pose path
+      q.kind = QueryKind::kPose;
+      q.point = q.orientation = w.frame;
+      q.ref_point = point;
+      q.ref_orientation = q.coord = coord;
+      const std::set<std::string> used = model_.UsedEdges(q);
+      k.used.insert(used.begin(), used.end());
+    }
+    if (kept_wrenches_.size() >= kMaxKept) kept_wrenches_.pop_front();
+    kept_wrenches_.push_back(std::move(k));
+  }
+
+  /// FindWrench(on, by): the same code as the model; a handle found is kept (at most 8) for
+  /// SetWrenchByHandle.
+  ErrorCode WrenchHandle(const std::string& on, const std::string& by) {
+    const std::size_t kept = wrench_handles_.size();
+    Begin([=] {
+      return "# handle of the wrench on " + YamlName(on) + " by " + YamlName(by) + " (kept " +
+             std::to_string(kept) + ")";
+    });
+    std::uint64_t serial = 0;
+    const ErrorCode expected = model_.FindWrench(on, by, &serial);
+    const auto h = graph_.FindWrench(on, by);
+    const ErrorCode code = h ? ErrorCode::kOk : h.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("FindWrench: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (h && wrench_handles_.size() < 8) wrench_handles_.push_back({on, by, serial, *h});
+    return code;
+  }
+
+  /// SetWrench through kept handle `which` (modulo their number; none kept: nothing), in the
+  /// stored form: the model's code, the graph's Dump() unchanged when refused, the state after.
+  ErrorCode SetWrenchByHandle(std::uint32_t which, const Eigen::Vector3d& f,
+                              const Eigen::Vector3d& m) {
+    if (wrench_handles_.empty()) return ErrorCode::kOk;
+    const KeptWrenchHandle& k = wrench_handles_[which % wrench_handles_.size()];
+    Begin([=] {
+      return "# SetWrench by the handle of the wrench on " + YamlName(k.on) + " by " +
+             YamlName(k.by) + ": force " + YamlVector(f) + ", moment " + YamlVector(m);
+    });
+    const std::string before = CurrentDump();
+    const ErrorCode expected = model_.SetWrench(k.on, k.by, k.serial, f, m);
+    const ErrorCode code = graph_.SetWrench(k.handle, f, m);
+    Annotate(code);
+    if (code != expected) {
+      Fail("SetWrench: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (code != ErrorCode::kOk) {
+      if (Dump(graph_) != before) Fail("a refused SetWrench changed the graph's Dump()");
+      return code;
+    }
+    dump_valid_ = false;
+    if (checks_) {
+      CompareState();
+      CheckKept();
+    }
+    return code;
+  }
+
+  /// A wrench query (by empty: the net wrench), one-shot and compiled.
+  void AskWrench(const std::string& on, const std::string& by, const std::string& point,
+                 const std::string& coord) {
+    Begin([=] {
+      return "# query {kind: wrench, on: " + YamlName(on) + Field("by", by) +
+             ", point: " + YamlName(point) + ", coord: " + YamlName(coord) + "}";
+    });
+    const std::string before = CurrentDump();
+    const reference::WrenchAnswer expected = model_.AskWrench(on, by, point, coord);
+    const auto spec = core::WrenchSpec::On(on).By(by).At(point).ExpressedIn(coord);
+    const auto got = graph_.GetWrench(spec);
+    const ErrorCode code = got ? ErrorCode::kOk : got.error().code;
+    Annotate(code);
+    CompareWrench("wrench query", expected, code, got ? got->force : Eigen::Vector3d::Zero(),
+                  got ? got->moment : Eigen::Vector3d::Zero());
+    const auto compiled = graph_.CompileWrench(spec);
+    if (!compiled) {
+      CompareWrench("compiled wrench query", expected, compiled.error().code,
+                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    } else {
+      Eigen::Vector3d f, m;
+      CompareWrench("compiled wrench query", expected, compiled->Evaluate(f, m), f, m);
+    }
+    if (Dump(graph_) != before) Fail("a wrench query changed the graph's Dump()");
+    CheckKept();
+  }
+
   /// A one-shot query, and the same query compiled and evaluated once.
   void Ask(const Query& q) {
     Begin([=] { return QueryText(q); });
@@ -1112,6 +1254,90 @@ class Differential {
         CompareCovariance("queried twist of the " + key, r->covariance, t.S, 1e-9);
       }
     }
+    CompareWrenches();
+  }
+
+  struct KeptWrench {
+    std::string on, point, coord;
+    std::vector<std::uint64_t> serials;  // the model's wrenches it sums (fixed when compiled)
+    std::set<std::string> used;          // pose edge keys on its terms' paths
+    bool invalidated = false;
+    core::CompiledWrench<B> compiled;
+  };
+  std::deque<KeptWrench> kept_wrenches_;
+  void CheckKeptWrenches() {
+    for (std::size_t i = 0; i < kept_wrenches_.size(); ++i) {
+      KeptWrench& k = kept_wrenches_[i];
+      Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+      const ErrorCode code = k.compiled.Evaluate(f, m);
+      const std::string which = "kept compiled wrench query #" + std::to_string(i) + " on " + k.on +
+                                " at {" + k.point + "} in [" + k.coord + "]";
+      if (k.invalidated) {
+        if (code != ErrorCode::kQueryInvalidated) {
+          Fail(which + ": a wrench or pose edge it used was removed, but Evaluate() returned " +
+               std::string(base::ToString(code)) + " instead of query_invalidated");
+        }
+        continue;
+      }
+      CompareWrench(which + " (re-evaluated)",
+                    model_.AskWrenchTerms(k.serials, k.on, k.point, k.coord), code, f, m);
+    }
+  }
+
+  struct KeptWrenchHandle {
+    std::string on, by;
+    std::uint64_t serial = 0;
+    core::WrenchHandle handle;
+  };
+  std::vector<KeptWrenchHandle> wrench_handles_;
+
+  // Tolerance of wrench numbers of size `scale` moved along the graph's poses.
+  double WrenchTolerance(double scale) const {
+    double forces = 1.0;
+    for (const reference::WrenchEntry& w : model_.wrenches()) forces += w.f.norm() + w.m.norm();
+    return 1e-9 * (PositionScale() * forces + scale);
+  }
+
+  void CompareWrench(const std::string& what, const reference::WrenchAnswer& expected,
+                     ErrorCode code, const Eigen::Vector3d& f, const Eigen::Vector3d& m) {
+    if (code != expected.code) {
+      Fail(what + ": kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected.code)));
+    }
+    if (code != ErrorCode::kOk) return;
+    const double tol = WrenchTolerance(expected.scale);
+    if (!Near(f, expected.f, tol) || !Near(m, expected.m, tol)) {
+      const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+      std::ostringstream out;
+      out << what << ": values differ\n  kernel f " << f.transpose().format(fmt) << " m "
+          << m.transpose().format(fmt) << "\n  model  f " << expected.f.transpose().format(fmt)
+          << " m " << expected.m.transpose().format(fmt);
+      Fail(out.str());
+    }
+  }
+
+  // The stored wrenches: the same pairs, storage frames and values (stored form).
+  void CompareWrenches() {
+    const auto& wrenches = model_.wrenches();
+    if (graph_.num_wrenches() != wrenches.size()) {
+      Fail("wrench counts differ: kernel " + std::to_string(graph_.num_wrenches()) + ", model " +
+           std::to_string(wrenches.size()));
+    }
+    const auto& store = graph_.wrench_store();
+    for (const reference::WrenchEntry& w : wrenches) {
+      const auto h = graph_.FindWrench(w.on, w.by);
+      if (!h) Fail("the wrench on " + w.on + " by " + w.by + " is missing in the kernel");
+      if (h->frame != graph_.FindFrame(w.frame)) {
+        Fail("the wrench on " + w.on + " by " + w.by + " is stored in {" +
+             std::string(graph_.frame_name(h->frame)) + "} in the kernel, {" + w.frame +
+             "} in the model");
+      }
+      const core::WrenchNumbers W = store.values[h->slot].Load();
+      const double tol = WrenchTolerance(w.scale);
+      if (!Near(W.f_S, w.f, tol) || !Near(W.m_So_S, w.m, tol)) {
+        Fail("stored value of the wrench on " + w.on + " by " + w.by + " differs");
+      }
+    }
   }
 
   // A kernel covariance against the model's (edge form): within `rel` of max(1, max|S|), and
@@ -1136,9 +1362,13 @@ class Differential {
     for (Kept& k : kept_) {
       if (k.used.count(key)) k.invalidated = true;
     }
+    for (KeptWrench& k : kept_wrenches_) {
+      if (k.used.count(key)) k.invalidated = true;
+    }
   }
 
   void CheckKept() {
+    CheckKeptWrenches();
     for (std::size_t i = 0; i < kept_.size(); ++i) {
       Kept& k = kept_[i];
       const Outcome got = Evaluate(k.compiled, k.query.kind);

@@ -37,6 +37,7 @@ from ._semgraph import (
     Twist,
     TwistBatch,
     TwistHandle,
+    Wrench,
     __version__,
 )
 from ._script import ScriptRun, run_script, run_script_text
@@ -70,6 +71,7 @@ __all__ = [
     "Twist",
     "TwistBatch",
     "TwistHandle",
+    "Wrench",
     "run_script",
     "run_script_text",
 ]

@@ -230,6 +230,16 @@ class AngularVelocity:
     def time(self) -> Optional[TimeReport]:
         """What a timed query read; None without time keywords."""
 
+class Wrench:
+    """WrenchCoord(e|C, D, [r]): the wrench on body C by body D (or by several: a net wrench),
+    moment about e's origin, in [r]."""
+    @property
+    def force(self) -> np.ndarray: ...
+    @property
+    def moment(self) -> np.ndarray: ...
+    @property
+    def semantics(self) -> str: ...
+
 class CompiledPose:
     """A compiled pose query; keeps its graph alive."""
     def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None, not_before: Optional[Time] = None) -> Pose:
@@ -361,6 +371,26 @@ class SceneGraph:
         covariance: (6, 6), rows (dv, dw) (covariance_order as add_pose)."""
     def remove_pose(self, *, of: str, wrt: str) -> None: ...
     def remove_twist(self, *, point: str, ref_body: str) -> None: ...
+
+    @property
+    def num_wrenches(self) -> int: ...
+    def add_wrench(self, *, on: Name = None, by: Name = None, point: Name = None,
+                   expressed_in: Name = None, force: Optional[ArrayLike] = None,
+                   moment: Optional[ArrayLike] = None) -> None:
+        """Adds (or updates) the wrench on body `on` by body `by`: force and moment (about
+        point's origin) in [expressed_in] (default [point]). RejectedError: invalid_name,
+        invalid_number, unknown_frame, unknown_body, self_wrench, wrench_not_convertible,
+        duplicate_wrench; the graph is unchanged."""
+    def remove_wrench(self, *, on: str, by: str) -> None: ...
+    def wrench(self, *, on: Name = None, by: Name = None, point: Name = None,
+               expressed_in: Name = None) -> Wrench:
+        """The wrench on `on` by `by` (or the net wrench on `on` without `by`), about `point`, in
+        [expressed_in] (default [point]). QueryError: invalid_name, unknown_frame, unknown_body,
+        self_wrench, no_wrench, no_pose_path."""
+    def force(self, *, on: Name = None, by: Name = None, point: Name = None,
+              expressed_in: Name = None) -> np.ndarray: ...
+    def moment(self, *, on: Name = None, by: Name = None, point: Name = None,
+               expressed_in: Name = None) -> np.ndarray: ...
 
     def pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
              point: Name = None, orientation: Name = None, ref_point: Name = None,

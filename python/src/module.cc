@@ -6,6 +6,7 @@
 #include "common.h"
 #include "graph.h"
 #include "uncertainty.h"
+#include "wrenches.h"
 #ifdef SEMGRAPH_PYTHON_WITH_ROS
 #include "ros.h"
 #endif
@@ -26,10 +27,12 @@ PYBIND11_MODULE(_semgraph, m) {
     BindHandles(m);
     BindBatches(m);
     BindRepair(m);
+    BindWrenchResult(m);
     GraphClass graph = BindSceneGraph(m);
     BindBuild(graph);
     BindQueries(graph);
     BindUncertainty(graph);
+    BindWrenches(graph);
     BindHandleMethods(graph);
     BindBatchMethods(graph);
     BindInspection(graph);

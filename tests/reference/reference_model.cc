@@ -357,7 +357,7 @@ ErrorCode ReferenceModel::AddFrame(const std::string& name, const std::string& b
   if (body.empty()) return ErrorCode::kFrameWithoutBody;
   if (s_.frames.count(name)) return ErrorCode::kDuplicateFrame;
   if (!s_.bodies.count(body)) return ErrorCode::kUnknownBody;
-  s_.frames[name] = body;
+  PutFrame(s_, name, body);
   return ErrorCode::kOk;
 }
 
@@ -428,11 +428,11 @@ ErrorCode ReferenceModel::AddPose(const std::string& head, const std::string& he
   State next = s_;
   if (!head_exists) {
     next.bodies.insert(head_body);
-    next.frames[head] = head_body;
+    PutFrame(next, head, head_body);
   }
   if (!tail_exists) {
     next.bodies.insert(tail_body);
-    next.frames[tail] = tail_body;
+    PutFrame(next, tail, tail_body);
   }
   next.poses.push_back(PoseEdge{tail, head, Transform{R, p}, false, {}, S});
   if (stamp && next.frames.at(head) != next.frames.at(tail)) {  // a stamped edge between bodies
@@ -739,8 +739,8 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   State next = s_;
   next.bodies.insert(P);
   next.bodies.insert(C);
-  next.frames[in.child] = C;
-  next.frames[in.parent] = P;
+  PutFrame(next, in.child, C);
+  PutFrame(next, in.parent, P);
   next.poses.push_back(PoseEdge{in.parent, in.child, Transform{}, false, {}, Matrix6::Zero()});
   switch (Violation(next)) {
     case Rule::kP1:
@@ -954,7 +954,7 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
   State next = s_;
   next.bodies.insert(C);
   next.bodies.insert(ref_body);
-  next.frames[point] = C;
+  PutFrame(next, point, C);
   next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}, S});
   if (stamp) next.twists.back().samples.push_back(TwistSample{*stamp, v_e, w_e});
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
@@ -1315,6 +1315,174 @@ std::set<std::string> ReferenceModel::UsedEdges(const Query& q) const {
     }
   }
   return used;
+}
+
+// ============================================================ wrenches
+
+void ReferenceModel::PutFrame(State& s, const std::string& frame, const std::string& body) {
+  if (!s.frames.count(frame)) s.frame_order.push_back(frame);
+  s.frames[frame] = body;
+}
+
+bool ReferenceModel::SameTree(const std::string& x, const std::string& y) const {
+  Transform unused;
+  return Find(x, y, &unused);
+}
+
+namespace {
+bool ValidWrenchNumbers(const Eigen::Vector3d& f, const Eigen::Vector3d& m) {
+  for (int i = 0; i < 3; ++i) {
+    for (double x : {f[i], m[i]}) {
+      if (!std::isfinite(x) || std::abs(x) > kMaxMagnitude) return false;
+    }
+  }
+  return true;
+}
+}  // namespace
+
+ErrorCode ReferenceModel::AddWrench(const std::string& on, const std::string& by,
+                                    const std::string& point, const std::string& coord,
+                                    const Eigen::Vector3d& f, const Eigen::Vector3d& m) {
+  if (!ValidName(on) || !ValidName(by) || !ValidName(point) || !ValidName(coord)) {
+    return ErrorCode::kInvalidName;
+  }
+  if (!ValidWrenchNumbers(f, m)) return ErrorCode::kInvalidNumber;
+  if (!s_.frames.count(point) || !s_.frames.count(coord)) return ErrorCode::kUnknownFrame;
+  if (!s_.bodies.count(on) || !s_.bodies.count(by)) return ErrorCode::kUnknownBody;
+  if (on == by) return ErrorCode::kSelfWrench;
+  WrenchEntry* existing = nullptr;
+  for (WrenchEntry& w : s_.wrenches) {
+    if (w.on == on && w.by == by) existing = &w;
+  }
+  // The storage frame: kept by an update, else chosen (the newest frame of C in the tree).
+  std::string frame;
+  if (existing) {
+    frame = existing->frame;
+  } else if (s_.frames.at(point) == on) {
+    frame = point;
+  } else if (s_.frames.at(coord) == on) {
+    frame = coord;
+  } else {
+    for (const std::string& x : s_.frame_order) {
+      if (s_.frames.at(x) == on && SameTree(x, point)) frame = x;  // the last one made wins
+    }
+  }
+  if (frame.empty() || !SameTree(frame, point) || !SameTree(frame, coord)) {
+    return ErrorCode::kWrenchNotConvertible;
+  }
+  for (const WrenchEntry& w : s_.wrenches) {
+    if (w.on == by && w.by == on) return ErrorCode::kDuplicateWrench;
+  }
+  Transform X_SE, X_SR;  // the point and the coordinate frame relative to s, in [s]
+  Find(point, frame, &X_SE);
+  Find(coord, frame, &X_SR);
+  WrenchEntry w{on, by, frame, X_SR.R * f, Eigen::Vector3d::Zero(), 0};
+  w.m = X_SR.R * m + X_SE.p.cross(w.f);
+  w.scale = (f.norm() + m.norm()) * (1 + X_SE.p.norm());
+  if (existing) {
+    w.serial = existing->serial;
+    *existing = w;
+  } else {
+    w.serial = s_.next_wrench_serial++;
+    s_.wrenches.push_back(w);
+  }
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::FindWrench(const std::string& on, const std::string& by,
+                                     std::uint64_t* serial) const {
+  if (!ValidName(on) || !ValidName(by)) return ErrorCode::kInvalidName;
+  if (!s_.bodies.count(on) || !s_.bodies.count(by)) return ErrorCode::kUnknownBody;
+  if (on == by) return ErrorCode::kSelfWrench;
+  for (const WrenchEntry& w : s_.wrenches) {
+    if (w.on == on && w.by == by) {
+      *serial = w.serial;
+      return ErrorCode::kOk;
+    }
+  }
+  return ErrorCode::kNoWrench;
+}
+
+ErrorCode ReferenceModel::SetWrench(const std::string& on, const std::string& by,
+                                    std::uint64_t serial, const Eigen::Vector3d& f_S,
+                                    const Eigen::Vector3d& m_S) {
+  for (WrenchEntry& w : s_.wrenches) {
+    if (w.on != on || w.by != by || w.serial != serial) continue;
+    if (!ValidWrenchNumbers(f_S, m_S)) return ErrorCode::kInvalidNumber;
+    w.f = f_S;
+    w.m = m_S;
+    w.scale = f_S.norm() + m_S.norm();
+    return ErrorCode::kOk;
+  }
+  return ErrorCode::kNoWrench;
+}
+
+ErrorCode ReferenceModel::RemoveWrench(const std::string& on, const std::string& by) {
+  if (!ValidName(on) || !ValidName(by)) return ErrorCode::kInvalidName;
+  if (!s_.bodies.count(on) || !s_.bodies.count(by)) return ErrorCode::kUnknownBody;
+  if (on == by) return ErrorCode::kSelfWrench;
+  for (std::size_t i = 0; i < s_.wrenches.size(); ++i) {
+    if (s_.wrenches[i].on == on && s_.wrenches[i].by == by) {
+      s_.wrenches.erase(s_.wrenches.begin() + static_cast<std::ptrdiff_t>(i));
+      return ErrorCode::kOk;
+    }
+  }
+  return ErrorCode::kNoWrench;
+}
+
+WrenchAnswer ReferenceModel::AskWrench(const std::string& on, const std::string& by,
+                                       const std::string& point, const std::string& coord) const {
+  WrenchAnswer a;
+  const auto fail = [&a](ErrorCode code) {
+    a.code = code;
+    return a;
+  };
+  if (!ValidName(on) || (!by.empty() && !ValidName(by)) || !ValidName(point) || !ValidName(coord)) {
+    return fail(ErrorCode::kInvalidName);
+  }
+  if (!s_.frames.count(point) || !s_.frames.count(coord)) return fail(ErrorCode::kUnknownFrame);
+  if (!s_.bodies.count(on) || (!by.empty() && !s_.bodies.count(by))) {
+    return fail(ErrorCode::kUnknownBody);
+  }
+  if (on == by) return fail(ErrorCode::kSelfWrench);
+  const std::vector<std::uint64_t> serials = WrenchTerms(on, by);
+  if (serials.empty()) return fail(ErrorCode::kNoWrench);
+  return AskWrenchTerms(serials, on, point, coord);
+}
+
+std::vector<std::uint64_t> ReferenceModel::WrenchTerms(const std::string& on,
+                                                       const std::string& by) const {
+  std::vector<std::uint64_t> serials;
+  for (const WrenchEntry& w : s_.wrenches) {
+    if ((w.on == on && (by.empty() || w.by == by)) || (w.by == on && (by.empty() || w.on == by))) {
+      serials.push_back(w.serial);
+    }
+  }
+  return serials;
+}
+
+WrenchAnswer ReferenceModel::AskWrenchTerms(const std::vector<std::uint64_t>& serials,
+                                            const std::string& on, const std::string& point,
+                                            const std::string& coord) const {
+  WrenchAnswer a;
+  std::vector<std::pair<double, const WrenchEntry*>> terms;
+  for (const WrenchEntry& w : s_.wrenches) {
+    if (std::find(serials.begin(), serials.end(), w.serial) == serials.end()) continue;
+    terms.emplace_back(w.on == on ? 1.0 : -1.0, &w);  // a wrench by `on`: its reaction
+  }
+  for (const auto& [sign, w] : terms) {
+    Transform X_RS, X_ES, X_RE;  // s wrt [r]; s wrt e (in [e]); e wrt [r]
+    if (!Find(w->frame, coord, &X_RS) || !Find(w->frame, point, &X_ES) ||
+        !Find(point, coord, &X_RE)) {
+      a.code = ErrorCode::kNoPosePath;
+      return a;
+    }
+    const Eigen::Vector3d f = sign * (X_RS.R * w->f);
+    a.f += f;
+    a.m += sign * (X_RS.R * w->m) + (X_RE.R * X_ES.p).cross(f);
+    a.scale += (w->f.norm() + w->m.norm()) * (1 + X_ES.p.norm()) + w->scale;
+  }
+  return a;
 }
 
 }  // namespace semgraph::reference

@@ -68,6 +68,10 @@
 // `poses` (differentiation), stamped SetPose/SetTwist by handle (the same Check/Store as the
 // stamped add), Explain*; the stamps read are compared only for answers not extrapolated (the
 // spec also counts the stamps the integrating twist reads).
+// WRENCHES (docs/dynamics.md §7): adds (storage frame, conversion, the errors self_wrench,
+// duplicate_wrench, wrench_not_convertible, unknown_frame / unknown_body, invalid_name,
+// invalid_number), removals, handles and SetWrench, and one-shot queries (a pair, its
+// reaction, a net wrench; compiled ones kept across later ops by the differential).
 //
 // Numbers: a quaternion rotation is normalized to q/|q| and turned into a matrix; a matrix
 // rotation is replaced by its nearest rotation (polar decomposition by Newton iteration
@@ -217,6 +221,23 @@ struct JacobianAnswer {
   Eigen::Matrix<double, 6, Eigen::Dynamic> J;
 };
 
+/// A stored wrench (docs/dynamics.md §7): on body `on` by body `by`, force f and moment m about
+/// the origin of `frame` (a frame of `on`), both in [frame]. `scale`: the size of the numbers
+/// that made it (|f| + |m|)(1 + lever arm), for tolerances.
+struct WrenchEntry {
+  std::string on, by, frame;
+  Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+  double scale = 0;
+  std::uint64_t serial = 0;  ///< unique per pair made: a handle of a removed pair stays dead
+};
+/// A wrench query's outcome: f, m about the query's point in its frame, and the size of the
+/// numbers summed (for tolerances: terms may cancel).
+struct WrenchAnswer {
+  ErrorCode code = ErrorCode::kOk;
+  Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+  double scale = 0;
+};
+
 /// Repair of a rejected add (docs/repair.md), the model's own copy of the policy.
 struct RepairPolicy {
   bool invert = true;
@@ -359,6 +380,41 @@ class ReferenceModel {
 
   ErrorCode RemoveTwist(const std::string& point, const std::string& ref_body);
 
+  /// WRENCHES (docs/dynamics.md §7; the library's contract in core/.../wrenches.h): at most one
+  /// per ordered pair (on C, by D), stored about the origin of a frame s of C in [s]. s is
+  /// chosen when the pair is first given: the point if a frame of C, else the coordinate frame
+  /// if a frame of C, else the most recently made frame of C in the point's pose tree (frames
+  /// in the order they were made: AddFrame, a pose add's head then tail, a joint's child then
+  /// parent, a twist add's point); an update keeps s. Pose removals leave wrenches (and s) as
+  /// they are. The model stores its own conversion (f_S = R_SR f, m_S = R_SR m + p_SE x f_S).
+  /// AddWrench: invalid_name (on, by, point, coord) -> invalid_number (f, m: finite, |x| <=
+  /// 1e12) -> unknown_frame (point, coord) -> unknown_body (on, by) -> self_wrench ->
+  /// wrench_not_convertible (no s, or s not in the tree of the point and of coord) ->
+  /// duplicate_wrench (the pair (by, on) is stored).
+  ErrorCode AddWrench(const std::string& on, const std::string& by, const std::string& point,
+                      const std::string& coord, const Eigen::Vector3d& f, const Eigen::Vector3d& m);
+  /// invalid_name -> unknown_body (on, by) -> self_wrench -> no_wrench.
+  ErrorCode RemoveWrench(const std::string& on, const std::string& by);
+  /// A handle's lookup: the errors of RemoveWrench; *serial receives the pair's serial.
+  ErrorCode FindWrench(const std::string& on, const std::string& by, std::uint64_t* serial) const;
+  /// SetWrench by a handle of the pair made with `serial`: no_wrench (that pair was removed)
+  /// -> invalid_number (f_S, m_S as for adds); the value is the stored form (about s, in [s]).
+  ErrorCode SetWrench(const std::string& on, const std::string& by, std::uint64_t serial,
+                      const Eigen::Vector3d& f_S, const Eigen::Vector3d& m_S);
+  /// WrenchCoord(point|on, by, [coord]); `by` empty: the net wrench on `on` (every stored
+  /// wrench on it, plus the negation of every stored wrench by it). invalid_name ->
+  /// unknown_frame (point, coord) -> unknown_body (on, by) -> self_wrench -> no_wrench ->
+  /// no_pose_path (a term's s, the point and coord not in one tree).
+  WrenchAnswer AskWrench(const std::string& on, const std::string& by, const std::string& point,
+                         const std::string& coord) const;
+  /// The serials of the stored wrenches AskWrench sums for (on, by) (by empty: every one on or
+  /// by `on`), and the answer of those alone, each with its current value (a compiled wrench
+  /// query: its terms are fixed when compiled). @pre AskWrench(on, by, ...) is kOk.
+  std::vector<std::uint64_t> WrenchTerms(const std::string& on, const std::string& by) const;
+  WrenchAnswer AskWrenchTerms(const std::vector<std::uint64_t>& serials, const std::string& on,
+                              const std::string& point, const std::string& coord) const;
+  const std::vector<WrenchEntry>& wrenches() const { return s_.wrenches; }
+
   /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
   /// no_pose_path -> representation_constraint -> no_twist_path.
   Answer Ask(const Query& q) const;
@@ -388,8 +444,15 @@ class ReferenceModel {
     std::map<std::string, std::string> frames;  // frame -> body
     std::vector<PoseEdge> poses;
     std::vector<TwistEdge> twists;
-    std::vector<Joint> joints;  // live joints, in add order
+    std::vector<Joint> joints;             // live joints, in add order
+    std::vector<std::string> frame_order;  // frames in the order they were made
+    std::vector<WrenchEntry> wrenches;     // stored wrenches, in add order
+    std::uint64_t next_wrench_serial = 1;
   };
+  /// Makes (or re-labels) a frame, recording the order frames are made in.
+  static void PutFrame(State& s, const std::string& frame, const std::string& body);
+  /// Pose tree labels (Trees) of two frames agree.
+  bool SameTree(const std::string& x, const std::string& y) const;
   static const Joint* JointOfChild(const State& s, const std::string& child);
   /// Writes joint j's pose and twist edge values from its q, qdot (and its mimics').
   static void Drive(State& s, const std::string& joint);

@@ -8,8 +8,8 @@
 // WrenchCoord(s|C, D, [s]) with s a frame of C (the dual of the screw form of twist edges):
 // force f_S and moment m_So_S about s's origin, both in [s]. The storage frame s is chosen once,
 // when the pair is first given: the op's point if it is a frame of C, else the op's coordinate
-// frame if it is a frame of C, else the first frame of C (in the order C's frames were made)
-// in the pose tree of the op's point. An update of the pair keeps s.
+// frame if it is a frame of C, else the frame of C made last (SceneTopology keeps a body's
+// frames newest first) in the pose tree of the op's point. An update of the pair keeps s.
 // A value given at another point or in another frame is converted with the pose graph at the
 // current values by the one evaluator (evaluate.h): the pose of the given point and frame
 // relative to (s, [s]), Algorithm 1.
