@@ -643,38 +643,37 @@ void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
   DropTwistHistory(edge);
 }
 
-#define SEMGRAPH_INSTANTIATE_ADD(B)                                                              \
-  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                \
-  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                             \
-  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                 \
-  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);              \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&);                           \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&);                           \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&);                          \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&, Stamp);                    \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&, Stamp);                    \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&, Stamp);                   \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&, const CovarianceInput&);   \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&, const CovarianceInput&);   \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&, const CovarianceInput&);  \
-  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,     \
-                                                   const Eigen::Vector3d&, std::optional<Stamp>, \
-                                                   const CovarianceInput*,                       \
-                                                   const AccelerationInput*);                    \
-  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);            \
-  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);           \
-  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                       \
-  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                  \
-  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                             \
+#define SEMGRAPH_INSTANTIATE_ADD(B)                                                             \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                               \
+  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                            \
+  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                \
+  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);             \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&);                          \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&);                          \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&);                         \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&, Stamp);                   \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&, Stamp);                   \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&, Stamp);                  \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&, const CovarianceInput&);  \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&, const CovarianceInput&);  \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&, const CovarianceInput&); \
+  template BuildResult SceneGraph<B>::AddTwistImpl(                                             \
+      const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, std::optional<Stamp>,   \
+      const CovarianceInput*, const AccelerationInput*);                                        \
+  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);           \
+  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);          \
+  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                      \
+  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                 \
+  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                            \
   template internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan&);
 SEMGRAPH_INSTANTIATE_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ADD(coord::HomogeneousBackend)

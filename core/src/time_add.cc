@@ -226,8 +226,7 @@ ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumber
 
 template <coord::Backend B>
 void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                                     std::optional<Stamp> stamp,
-                                     const coord::Covariance6* S,
+                                     std::optional<Stamp> stamp, const coord::Covariance6* S,
                                      const AccelerationNumbers* A) noexcept {
   // The acceleration record first (edge_values.h): a twist without an acceleration clears it.
   values_.StoreAcceleration(edge.value(), V, stamp ? nullptr : A);

@@ -295,8 +295,9 @@ struct EdgeValues {
     history.twist.Reserve(slots);
   }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    return X_PF.bytes() + V_DH.bytes() + A_DH.bytes() + acceleration_on.bytes() + S_PF.bytes() + S_DH.bytes() + pose_covariance_on.bytes() +
-           twist_covariance_on.bytes() + history.ApproximateBytes();
+    return X_PF.bytes() + V_DH.bytes() + A_DH.bytes() + acceleration_on.bytes() + S_PF.bytes() +
+           S_DH.bytes() + pose_covariance_on.bytes() + twist_covariance_on.bytes() +
+           history.ApproximateBytes();
   }
 
  private:
