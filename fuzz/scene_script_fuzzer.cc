@@ -534,6 +534,9 @@ struct Direct {
       case script::QueryKind::kWrench:  // not generated (Below(7)): wrenches are not fuzzed yet
       case script::QueryKind::kForce:
       case script::QueryKind::kMoment:
+      case script::QueryKind::kAcceleration:  // nor accelerations
+      case script::QueryKind::kLinearAcceleration:
+      case script::QueryKind::kAngularAcceleration:
         break;
     }
     if (!timed && op.query != script::QueryKind::kJacobian) Untimed(g, op, ps, ts);
@@ -586,6 +589,9 @@ struct Direct {
       case script::QueryKind::kWrench:  // not generated
       case script::QueryKind::kForce:
       case script::QueryKind::kMoment:
+      case script::QueryKind::kAcceleration:
+      case script::QueryKind::kLinearAcceleration:
+      case script::QueryKind::kAngularAcceleration:
         return;
     }
     untimed_differs = u.code != code || u.numbers.size() != numbers.size();

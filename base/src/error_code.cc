@@ -52,6 +52,8 @@ constexpr std::array<std::string_view, kNumErrorCodes> kNames = {
     "wrench_not_convertible",
     "duplicate_wrench",
     "no_wrench",
+    "no_acceleration",
+    "acceleration_not_convertible",
 };
 }  // namespace
 

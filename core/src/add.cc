@@ -423,7 +423,8 @@ template <coord::Backend B>
 BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                                         const Eigen::Vector3d& w_angular,
                                         std::optional<Stamp> stamp,
-                                        const CovarianceInput* covariance) {
+                                        const CovarianceInput* covariance,
+                                        const AccelerationInput* acceleration) {
   const topology::SceneTopology::ChangeScope change(topology_);  // readers validate
   semantics::NameTable& names = topology_.mutable_names();
   NameRollback rollback(names);
@@ -443,6 +444,17 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   if (!v_ok) return Reject(v_ok.error().code, what(), coord::Describe(v_ok.error(), names));
   auto w_ok = coord::ValidateVector(w_angular, coord::ValueRole::kAngularVelocity);
   if (!w_ok) return Reject(w_ok.error().code, what(), coord::Describe(w_ok.error(), names));
+  std::optional<AccelerationNumbers> A;  // as given, then at {e} in [e]
+  if (acceleration != nullptr) {
+    auto a_ok = coord::ValidateVector(acceleration->linear, coord::ValueRole::kLinearAcceleration);
+    if (!a_ok) return Reject(a_ok.error().code, what(), coord::Describe(a_ok.error(), names));
+    auto alpha_ok =
+        coord::ValidateVector(acceleration->angular, coord::ValueRole::kAngularAcceleration);
+    if (!alpha_ok) {
+      return Reject(alpha_ok.error().code, what(), coord::Describe(alpha_ok.error(), names));
+    }
+    A = AccelerationNumbers{*a_ok, *alpha_ok};
+  }
   const bool has_covariance = covariance != nullptr && covariance->matrix != nullptr;
   coord::Covariance6 S_V;  // as given, then at {e} in [e]
   if (has_covariance) {
@@ -497,6 +509,10 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
     }
     V.v_DHo_H = B::Rotate(B::RotationOf(X_ER), V.v_DHo_H);
     V.w_DH_H = B::Rotate(B::RotationOf(X_ER), V.w_DH_H);
+    if (A) {  // the same point: only the frame changes
+      A->a_DHo_H = B::Rotate(B::RotationOf(X_ER), A->a_DHo_H);
+      A->alpha_DH_H = B::Rotate(B::RotationOf(X_ER), A->alpha_DH_H);
+    }
     if (has_covariance) {  // re-expressed with the same rotation, taken as exact
       coord::Covariance6 S_E = coord::Covariance6::Zero();
       coord::jacobians::AddPropagated(coord::jacobians::Reexpress(B::ToMatrix(B::RotationOf(X_ER))),
@@ -519,7 +535,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
       return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
     }
     if (S) ReserveTwistSampleCovariance(existing);  // may throw: no change yet
-    StoreTwistSample(existing, V, stamp, S);
+    StoreTwistSample(existing, V, stamp, S, A ? &*A : nullptr);
     rollback.Commit();
     return Ok{};
   }
@@ -537,6 +553,7 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   rollback.Commit();
   const TwistEdgeIndex edge = CommitAdd(plan).twist;
   values_.StoreTwistCovariance(edge.value(), V, S);  // before the value (edge_values.h)
+  values_.StoreAcceleration(edge.value(), V, A ? &*A : nullptr);  // a reused slot's: cleared
   values_.V_DH[edge.value()].Store(V);
   if (history) InstallTwistHistory(edge, std::move(history), V, *stamp, S);
   return Ok{};
@@ -643,51 +660,53 @@ template <coord::Backend B>
 void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex edge) {
   topology_.UnlinkTwist(edge);
   values_.ClearTwistCovariance(edge.value());
+  values_.StoreAcceleration(edge.value(), values_.V_DH[edge.value()].Load(), nullptr);
   values_.V_DH[edge.value()]
       .BumpEpoch();  // compiled queries and handles using this edge become invalid
+  values_.A_DH[edge.value()].BumpEpoch();
   DropTwistHistory(edge);
 }
 
-#define SEMGRAPH_INSTANTIATE_ADD(B)                                                              \
-  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                                \
-  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                             \
-  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                 \
-  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);              \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&);                           \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&);                           \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&);                          \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&, Stamp);                    \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&, Stamp);                    \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&, Stamp);                   \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&, const CovarianceInput&);   \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&, const CovarianceInput&);   \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&, const CovarianceInput&);  \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,        \
-                                              const Eigen::Vector3d&, Stamp,                     \
-                                              const CovarianceInput&);                           \
-  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,           \
-                                              const Eigen::Vector3d&, Stamp,                     \
-                                              const CovarianceInput&);                           \
-  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,         \
-                                               const Eigen::Vector3d&, Stamp,                    \
-                                               const CovarianceInput&);                          \
-  template BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec&, const Eigen::Vector3d&,     \
-                                                   const Eigen::Vector3d&, std::optional<Stamp>, \
-                                                   const CovarianceInput*);                      \
-  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);            \
-  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);           \
-  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                       \
-  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                  \
-  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                             \
+#define SEMGRAPH_INSTANTIATE_ADD(B)                                                             \
+  template void SceneGraph<B>::Reserve(std::size_t, std::size_t);                               \
+  template FrameIndex SceneGraph<B>::CreateFrame(NameId, BodyIndex);                            \
+  template BuildResult SceneGraph<B>::AddBody(std::string_view);                                \
+  template BuildResult SceneGraph<B>::AddFrame(std::string_view, std::string_view);             \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&);                          \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&);                          \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&);                         \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&, Stamp);                   \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&, Stamp);                   \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&, Stamp);                  \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&, const CovarianceInput&);  \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&, const CovarianceInput&);  \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&, const CovarianceInput&); \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Quaterniond&,       \
+                                              const Eigen::Vector3d&, Stamp,                    \
+                                              const CovarianceInput&);                          \
+  template BuildResult SceneGraph<B>::AddPose(const PoseSpec&, const Eigen::Matrix3d&,          \
+                                              const Eigen::Vector3d&, Stamp,                    \
+                                              const CovarianceInput&);                          \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,        \
+                                               const Eigen::Vector3d&, Stamp,                   \
+                                               const CovarianceInput&);                         \
+  template BuildResult SceneGraph<B>::AddTwistImpl(                                             \
+      const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, std::optional<Stamp>,   \
+      const CovarianceInput*, const AccelerationInput*);                                        \
+  template BuildResult SceneGraph<B>::RemovePose(std::string_view, std::string_view);           \
+  template BuildResult SceneGraph<B>::RemoveTwist(std::string_view, std::string_view);          \
+  template void SceneGraph<B>::RemovePoseEdge(FrameIndex);                                      \
+  template void SceneGraph<B>::RemoveTwistEdge(TwistEdgeIndex);                                 \
+  template void SceneGraph<B>::ReserveAdd(const internal::AddPlan&);                            \
   template internal::AddedEdges SceneGraph<B>::CommitAdd(const internal::AddPlan&);
 SEMGRAPH_INSTANTIATE_ADD(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ADD(coord::HomogeneousBackend)

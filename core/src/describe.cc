@@ -358,6 +358,13 @@ std::string Reason(const topology::SceneTopology& t, const QueryError& e, const 
     case ErrorCode::kNoTwistPath:
       reason = NoTwistPath(t, e);
       break;
+    case ErrorCode::kNoAcceleration:
+      reason = "the twist edge " +
+               (e.other.is_valid() ? std::string(names.name(e.other)) : std::string("?")) +
+               " -> {" + (e.name.is_valid() ? std::string(names.name(e.name)) : std::string("?")) +
+               "} on the twist path carries no acceleration (give it with the twist, or with "
+               "AddAcceleration)";
+      break;
     case ErrorCode::kQueryInvalidated:
       reason =
           "an edge the compiled query reads was removed after it was compiled; compile it again";

@@ -281,6 +281,28 @@ ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
   return ErrorCode::kOk;
 }
 
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                         const Eigen::Vector3d& alpha_DH_H,
+                                         UpdateError* why) noexcept {
+  using internal::Report;
+  const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
+  if (handle != ErrorCode::kOk) return Report(why, handle);
+  if (joints_.OfChild(topology_.twist_edge(edge.slot).head) != nullptr) {
+    return Report(why, ErrorCode::kJointEdge);
+  }
+  if (values_.history.twist_of(edge.slot.value()) != nullptr) {
+    return Report(why, ErrorCode::kStampMismatch);
+  }
+  auto a = coord::ValidateVector(a_DHo_H, coord::ValueRole::kLinearAcceleration);
+  if (!a) return Report(why, a.error());
+  auto alpha = coord::ValidateVector(alpha_DH_H, coord::ValueRole::kAngularAcceleration);
+  if (!alpha) return Report(why, alpha.error());
+  const AccelerationNumbers A{*a, *alpha};
+  values_.StoreAcceleration(edge.slot.value(), values_.V_DH[edge.slot.value()].Load(), &A);
+  return Report(why, ErrorCode::kOk);
+}
+
 #define SEMGRAPH_INSTANTIATE_REALTIME(B)                                                           \
   template Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view,          \
                                                                         std::string_view) const;   \
@@ -292,6 +314,8 @@ ErrorCode SceneGraph<B>::SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                                             const Eigen::Vector3d&, UpdateError*) noexcept;        \
   template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
                                              const Eigen::Vector3d&, UpdateError*) noexcept;       \
+  template ErrorCode SceneGraph<B>::SetAcceleration(                                               \
+      TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, UpdateError*) noexcept;         \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
                                             const Eigen::Vector3d&, Stamp, UpdateError*) noexcept; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&,                    \

@@ -62,6 +62,9 @@ std::string Dump(const SceneGraph<B>& g) {
       out << " twist_parent " << g.body_name(g.twist_parent(f)) << " v " << tw->linear.transpose()
           << " w " << tw->angular.transpose();
     }
+    if (const std::optional<coord::Acceleration> A = g.acceleration_value(f)) {
+      out << " a " << A->linear.transpose() << " alpha " << A->angular.transpose();
+    }
     out << " tree " << t.forest().Root(f).value() << "\n";
   }
   out << "joints " << joints.num_alive << "\n";
@@ -97,6 +100,23 @@ std::string CheckInvariants(const SceneGraph<B>& g) {
   std::string out = t.CheckInvariants();
   if (values.X_PF.size() != t.num_frames()) out += "pose value count mismatch\n";
   if (values.V_DH.size() < t.num_twist_edge_slots()) out += "twist value count mismatch\n";
+  if (values.A_DH.size() != values.V_DH.size() ||
+      values.acceleration_on.size() != values.V_DH.size()) {
+    out += "acceleration record count mismatch\n";
+  }
+  // An acceleration goes with the twist it was stored with: the edge's current one.
+  for (std::uint32_t e = 0; e < t.num_twist_edge_slots() && e < values.A_DH.size(); ++e) {
+    const TwistAndAcceleration r = values.A_DH[e].Load();
+    if ((r.present != 0.0) != (values.acceleration_on[e] != 0)) {
+      out += "acceleration flag mismatch on twist slot " + std::to_string(e) + "\n";
+    }
+    if (!values.acceleration_on[e]) continue;
+    const TwistNumbers V = values.V_DH[e].Load();
+    if (!t.twist_edge(TwistEdgeIndex(e)).alive || r.V.v_DHo_H != V.v_DHo_H ||
+        r.V.w_DH_H != V.w_DH_H) {
+      out += "stale acceleration on twist slot " + std::to_string(e) + "\n";
+    }
+  }
   return out;
 }
 

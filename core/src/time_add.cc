@@ -267,8 +267,10 @@ ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumber
 
 template <coord::Backend B>
 void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                                     std::optional<Stamp> stamp,
-                                     const coord::Covariance6* S) noexcept {
+                                     std::optional<Stamp> stamp, const coord::Covariance6* S,
+                                     const AccelerationNumbers* A) noexcept {
+  // The acceleration record first (edge_values.h): a twist without an acceleration clears it.
+  values_.StoreAcceleration(edge.value(), V, stamp ? nullptr : A);
   StoreSample(
       values_.V_DH[edge.value()], V, stamp, values_.history.options.window.nanoseconds(), S,
       [&]() -> TwistHistory& { return values_.history.twist.writable(edge.value()); },
@@ -347,8 +349,8 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
       TwistEdgeIndex, const TwistNumbers&, std::optional<Stamp>, const coord::Covariance6*)       \
       const noexcept;                                                                             \
   template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&,              \
-                                                std::optional<Stamp>,                             \
-                                                const coord::Covariance6*) noexcept;              \
+                                                std::optional<Stamp>, const coord::Covariance6*,  \
+                                                const AccelerationNumbers*) noexcept;             \
   template std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode, bool, std::uint32_t,     \
                                                               std::optional<Stamp>) const;
 SEMGRAPH_INSTANTIATE_TIME_ADD(coord::QuaternionBackend)

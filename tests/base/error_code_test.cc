@@ -60,6 +60,8 @@ const std::vector<std::pair<ErrorCode, std::string_view>>& AllCodes() {
       {ErrorCode::kWrenchNotConvertible, "wrench_not_convertible"},
       {ErrorCode::kDuplicateWrench, "duplicate_wrench"},
       {ErrorCode::kNoWrench, "no_wrench"},
+      {ErrorCode::kNoAcceleration, "no_acceleration"},
+      {ErrorCode::kAccelerationNotConvertible, "acceleration_not_convertible"},
   };
   return codes;
 }

@@ -24,7 +24,9 @@
 // quaternion for the quaternion backend, else the matrix), which validation keeps bit for bit
 // (coord/validate.h: normalizing is idempotent). Pose edges are written in edge form (the stored
 // value X_PF in [P]) and twist edges at their head in its frame, so nothing is converted;
-// an edge's covariance (docs/uncertainty.md) likewise, as stored, when not zero.
+// an edge's covariance (docs/uncertainty.md) likewise, as stored, when not zero; a twist
+// edge's acceleration (docs/dynamics.md §7) as its own `acceleration` op right after the
+// twist's, in its edge form (at the head in its frame: nothing converted).
 //
 // Joints: each live joint as a `joint` op (origin, axis, limits, mimic as stored), in table
 // order; one creates its frames where the order of ids needs it (a joint interns [p, c, P, C]
@@ -218,6 +220,18 @@ class Writer {
       twist_done_[h.value()] = true;
     }
     out_ += "}\n";
+    if (g_.twist_parent(h) == D) Acceleration(h, D);
+  }
+  // The twist edge's acceleration, if it carries one, in its edge form (at {h} in [h]: the add
+  // converts nothing, so the values read back exactly); its own op, after the twist's (a twist
+  // op clears it), so that it goes with a covariance too.
+  void Acceleration(FrameIndex h, BodyIndex D) {
+    const std::optional<coord::Acceleration> A = g_.acceleration_value(h);
+    if (!A) return;
+    out_ += "  - {op: acceleration, point: " + Quoted(FrameName(h)) +
+            ", body: " + Quoted(BodyName(g_.body_of(h))) + ", ref_body: " + Quoted(BodyName(D)) +
+            ", coord: " + Quoted(FrameName(h)) + ", linear: " + Numbers(A->linear, 3) +
+            ", angular: " + Numbers(A->angular, 3) + "}\n";
   }
   // An edge's covariance as stored (edge form, linear_angular, coordinates: the defaults of a
   // script's `covariance`); none when zero (an exact value).

@@ -70,6 +70,7 @@ enum Field : int {
   kBy,
   kForce,
   kMoment,
+  kAcceleration,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -121,9 +122,10 @@ constexpr std::string_view kFieldNames[kNumFields] = {"op",
                                                       "on",
                                                       "by",
                                                       "force",
-                                                      "moment"};
+                                                      "moment",
+                                                      "acceleration"};
 
-static_assert(kFieldNames[kNumFields - 1] == "moment", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "acceleration", "one name per Field, in order");
 static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
 
 constexpr std::uint64_t Bit(Field f) { return std::uint64_t{1} << f; }
@@ -178,7 +180,10 @@ Shape ShapeOf(OpKind op, QueryKind query) {
     case OpKind::kTwist:
       return {"a 'twist' op",
               Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kRepair) | Bit(kStamp) |
-                  Bit(kCovariance),
+                  Bit(kCovariance) | Bit(kAcceleration),
+              twist_required};
+    case OpKind::kAcceleration:
+      return {"an 'acceleration' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular),
               twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
@@ -242,6 +247,14 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       return {"a 'force' query", kHeader | kWrenchNames, wrench_required};
     case QueryKind::kMoment:
       return {"a 'moment' query", kHeader | kWrenchNames, wrench_required};
+    case QueryKind::kAcceleration:
+      return {"an 'acceleration' query", kHeader | kTwistNames, twist_required};
+    case QueryKind::kLinearAcceleration:
+      return {"a 'linear_acceleration' query", kHeader | kTwistNames, twist_required};
+    case QueryKind::kAngularAcceleration:
+      return {"an 'angular_acceleration' query",
+              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord),
+              {{kBody, kNoField}, {kRefBody, kNoField}, {kCoord, kNoField}}};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
       return {"an 'angular_velocity' query",
@@ -309,6 +322,8 @@ class Interpreter {
   bool ReadNumber(std::uint32_t node, std::string_view what, double* out);
   bool ReadVector3(std::uint32_t node, std::string_view field, std::array<double, 3>* out);
   bool ReadRotation(std::uint32_t node, RotationValue* out);
+  bool ReadAcceleration(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
+                        ScriptOp* op);
   bool ReadJointFields(std::uint32_t node, const std::array<std::uint32_t, kNumFields>& value,
                        ScriptOp* op);
   bool ReadJointValues(std::uint32_t node, std::string_view field,
@@ -410,7 +425,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   if (value[kOp] == kNoNode) return Fail(node, "an op needs an 'op' field");
   const NodeView op_name = At(value[kOp]);
   static constexpr std::string_view kOps =
-      "body, frame, pose, twist, wrench, remove, query, urdf, joint, joints, bag";
+      "body, frame, pose, twist, acceleration, wrench, remove, query, urdf, joint, joints, bag";
   if (op_name.kind != NodeKind::kScalar) {
     return Fail(value[kOp],
                 "'op' must be one of " + std::string(kOps) + ", got " + Describe(value[kOp]));
@@ -435,6 +450,8 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     op->kind = OpKind::kBag;
   } else if (op_name.text == "wrench") {
     op->kind = OpKind::kWrench;
+  } else if (op_name.text == "acceleration") {
+    op->kind = OpKind::kAcceleration;
   } else if (op_name.text == "remove") {
     if (value[kKind] == kNoNode) {
       return Fail(node, "a 'remove' op needs 'kind' (pose, twist or wrench)");
@@ -453,7 +470,7 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     op->kind = OpKind::kQuery;
     static constexpr std::string_view kQueries =
         "pose, position, orientation, twist, linear_velocity, angular_velocity, jacobian, wrench, "
-        "force, moment";
+        "force, moment, acceleration, linear_acceleration, angular_acceleration";
     if (value[kKind] == kNoNode) {
       return Fail(node, "a 'query' op needs 'kind' (one of " + std::string(kQueries) + ")");
     }
@@ -467,7 +484,10 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
         {"jacobian", QueryKind::kJacobian},
         {"wrench", QueryKind::kWrench},
         {"force", QueryKind::kForce},
-        {"moment", QueryKind::kMoment}};
+        {"moment", QueryKind::kMoment},
+        {"acceleration", QueryKind::kAcceleration},
+        {"linear_acceleration", QueryKind::kLinearAcceleration},
+        {"angular_acceleration", QueryKind::kAngularAcceleration}};
     bool found = false;
     for (const auto& [text, kind] : kKinds) {
       if (kind_is_text && kind_text == text) {
@@ -547,6 +567,14 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     }
   }
   if (value[kRotation] != kNoNode && !ReadRotation(value[kRotation], &op->rotation)) return false;
+  if (op->kind == OpKind::kAcceleration) {  // its own linear / angular are the acceleration
+    op->has_acceleration = true;
+    op->acceleration_linear = op->linear;
+    op->acceleration_angular = op->angular;
+  }
+  if (value[kAcceleration] != kNoNode && !ReadAcceleration(value[kAcceleration], value, op)) {
+    return false;
+  }
   if (op->kind == OpKind::kUrdf) {
     if (!ReadText(value[kFile], "file", &op->file)) return false;
     if (value[kPrefix] != kNoNode && !ReadText(value[kPrefix], "prefix", &op->prefix)) return false;
@@ -697,6 +725,39 @@ bool Interpreter::ReadMatrix6(std::uint32_t node, std::string_view what, ScriptO
       const std::string element = "element " + std::to_string(c + 1) + " of row " +
                                   std::to_string(r + 1) + " of " + std::string(what);
       if (!ReadNumber(At(row).children[c], element, &op->covariance[r][c])) return false;
+    }
+  }
+  return true;
+}
+
+// A twist op's `acceleration: {linear: [..], angular: [..]}` (docs/dynamics.md §7), in the op's
+// point and frame; a missing part is zero. Given with an unstamped value without repair or
+// covariance only (stamped accelerations are not supported in this version).
+bool Interpreter::ReadAcceleration(std::uint32_t node,
+                                   const std::array<std::uint32_t, kNumFields>& value,
+                                   ScriptOp* op) {
+  for (const Field f : {kRepair, kStamp, kCovariance}) {
+    if (value[f] == kNoNode) continue;
+    return Fail(value[f], "field " + Quoted(kFieldNames[f]) +
+                              " does not go with 'acceleration' in this version (an acceleration "
+                              "is given with an unstamped twist, without repair or covariance)");
+  }
+  if (At(node).kind != NodeKind::kMap) {
+    return Fail(node, "'acceleration' must be a map {linear: [x, y, z], angular: [x, y, z]}, got " +
+                          Describe(node));
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  if (!ReadMap(node, "'acceleration'", &pairs)) return false;
+  op->has_acceleration = true;
+  for (const auto& [key, item] : pairs) {
+    const std::string_view k = At(key).text;
+    if (k == "linear") {
+      if (!ReadVector3(item, "acceleration.linear", &op->acceleration_linear)) return false;
+    } else if (k == "angular") {
+      if (!ReadVector3(item, "acceleration.angular", &op->acceleration_angular)) return false;
+    } else {
+      return Fail(
+          key, "unknown field " + Quoted(k) + " in 'acceleration' (its fields: linear, angular)");
     }
   }
   return true;
@@ -1097,6 +1158,8 @@ std::string_view ToString(OpKind kind) noexcept {
       return "bag";
     case OpKind::kWrench:
       return "wrench";
+    case OpKind::kAcceleration:
+      return "acceleration";
   }
   return "?";
 }
@@ -1123,6 +1186,12 @@ std::string_view ToString(QueryKind kind) noexcept {
       return "force";
     case QueryKind::kMoment:
       return "moment";
+    case QueryKind::kAcceleration:
+      return "acceleration";
+    case QueryKind::kLinearAcceleration:
+      return "linear_acceleration";
+    case QueryKind::kAngularAcceleration:
+      return "angular_acceleration";
   }
   return "?";
 }

@@ -63,6 +63,7 @@ enum class OpKind : std::uint8_t {
   kBag,     // apply a ROS bag's tf and joint states (docs/ros.md)
   kWrench,  // a wrench on a body by another (docs/dynamics.md)
   kRemoveWrench,
+  kAcceleration,  // an acceleration on its twist edge (docs/dynamics.md §7)
 };
 
 enum class QueryKind : std::uint8_t {
@@ -76,6 +77,9 @@ enum class QueryKind : std::uint8_t {
   kWrench,  // on, by (optional), point, coord: "force" and "moment"
   kForce,
   kMoment,
+  kAcceleration,  // the twist fields: "linear" and "angular"
+  kLinearAcceleration,
+  kAngularAcceleration,  // body, ref_body, coord: "angular"
 };
 
 enum class JointKind : std::uint8_t { kRevolute, kContinuous, kPrismatic, kFixed };
@@ -91,6 +95,8 @@ enum class AtKind : std::uint8_t { kLatest, kTime, kLatestCommon };
 ///   orientation query             orientation, body, ref_orientation, ref_body, coord
 ///   twist op, twist / linear_velocity query   point, body, ref_body, coord
 ///   angular_velocity query        body, ref_body, coord
+///   acceleration op, acceleration / linear_acceleration query   as a twist
+///   angular_acceleration query    body, ref_body, coord
 ///   remove pose                   orientation (of, the edge's head), ref_orientation (wrt, tail)
 ///   remove twist                  point, ref_body
 ///   frame op                      body (may be empty: the op error frame_without_body)
@@ -124,6 +130,11 @@ struct ScriptOp {
   std::array<double, 3> angular{};   // kTwist (rad/s)
   std::array<double, 3> force{};     // kWrench (N), about `point`, in [coord]
   std::array<double, 3> moment{};    // kWrench (N m)
+  // kTwist: an optional `acceleration: {linear, angular}` (has_acceleration); kAcceleration: its
+  // `linear` / `angular` (m/s^2, rad/s^2) in acceleration_linear / acceleration_angular. A
+  // missing part is zero.
+  bool has_acceleration = false;
+  std::array<double, 3> acceleration_linear{}, acceleration_angular{};
   // kUrdf: the file as written (resolved by the runner) and the name prefix.
   std::string file, prefix;
   // kJoint: name in `name`; parent / parent_body / child / child_body in names.ref_orientation,

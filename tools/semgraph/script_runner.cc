@@ -368,6 +368,12 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
         op, index,
         graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), core::RepairPolicy{}));
   }
+  if (op.has_acceleration) {  // unstamped, without covariance (the reader checked)
+    return FromBuild(op, index,
+                     graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular),
+                                    core::AccelerationInput{ToVector(op.acceleration_linear),
+                                                            ToVector(op.acceleration_angular)}));
+  }
   std::optional<core::Stamp> stamp;
   if (std::string reason; !StampOf(op, &stamp, &reason)) {
     const auto probe =
@@ -539,11 +545,35 @@ OpOutcome WrenchQuery(const core::SceneGraph<B>& graph, const ScriptOp& op, std:
   return Success(index, {{"force", Values(W->force)}, {"moment", Values(W->moment)}});
 }
 
+// An acceleration, linear_acceleration or angular_acceleration query (docs/dynamics.md §7):
+// no time fields.
+template <coord::Backend B>
+OpOutcome AccelerationQuery(const core::SceneGraph<B>& graph, const ScriptOp& op,
+                            std::size_t index) {
+  const core::TwistSpec spec = TwistSpecOf(op.names);
+  if (op.query_kind == QueryKind::kAngularAcceleration) {
+    const auto alpha = graph.GetAngularAcceleration(spec);
+    if (!alpha) return Failure(op, index, alpha.error().code, graph.Describe(alpha.error(), spec));
+    return Success(index, {{"angular", Values(alpha->value)}});
+  }
+  const auto A = graph.GetAcceleration(spec);
+  if (!A) return Failure(op, index, A.error().code, graph.Describe(A.error(), spec));
+  if (op.query_kind == QueryKind::kLinearAcceleration) {
+    return Success(index, {{"linear", Values(A->linear)}});
+  }
+  return Success(index, {{"linear", Values(A->linear)}, {"angular", Values(A->angular)}});
+}
+
 template <coord::Backend B>
 OpOutcome QueryValue(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   if (op.query_kind == QueryKind::kWrench || op.query_kind == QueryKind::kForce ||
       op.query_kind == QueryKind::kMoment) {
     return WrenchQuery(graph, op, index);
+  }
+  if (op.query_kind == QueryKind::kAcceleration ||
+      op.query_kind == QueryKind::kLinearAcceleration ||
+      op.query_kind == QueryKind::kAngularAcceleration) {
+    return AccelerationQuery(graph, op, index);
   }
   const SemanticNames& n = op.names;
   const bool pose_kind = op.query_kind == QueryKind::kPose ||
@@ -627,6 +657,9 @@ OpOutcome QueryValue(const core::SceneGraph<B>& graph, const ScriptOp& op, std::
     case QueryKind::kWrench:
     case QueryKind::kForce:
     case QueryKind::kMoment:
+    case QueryKind::kAcceleration:
+    case QueryKind::kLinearAcceleration:
+    case QueryKind::kAngularAcceleration:
       break;
   }
   base::DemandFailed("valid QueryKind", __FILE__, __LINE__);
@@ -733,7 +766,10 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
     case QueryKind::kWrench:
     case QueryKind::kForce:
     case QueryKind::kMoment:
-      break;  // the reader takes no covariance on Jacobian and wrench queries
+    case QueryKind::kAcceleration:
+    case QueryKind::kLinearAcceleration:
+    case QueryKind::kAngularAcceleration:
+      break;  // the reader takes no covariance on Jacobian, wrench and acceleration queries
   }
   return out;
 }
@@ -831,6 +867,10 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
                                        Eigen::Vector3d::Map(op.moment.data())));
     case OpKind::kRemoveWrench:
       return FromBuild(op, index, graph.RemoveWrench(n.body, n.ref_body));
+    case OpKind::kAcceleration:
+      return FromBuild(op, index,
+                       graph.AddAcceleration(TwistSpecOf(n), ToVector(op.acceleration_linear),
+                                             ToVector(op.acceleration_angular)));
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
     case OpKind::kUrdf:

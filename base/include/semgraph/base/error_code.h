@@ -70,9 +70,12 @@ enum class ErrorCode : std::uint8_t {
   kWrenchNotConvertible,
   kDuplicateWrench,
   kNoWrench,
+  // Accelerations on twist edges (docs/dynamics.md).
+  kNoAcceleration,
+  kAccelerationNotConvertible,
 };
 
-inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kNoWrench) + 1;
+inline constexpr int kNumErrorCodes = static_cast<int>(ErrorCode::kAccelerationNotConvertible) + 1;
 
 /// The spec's snake_case name, e.g. "multiple_pose_parents"; "ok" for kOk.
 [[nodiscard]] SEMGRAPH_BASE_EXPORT std::string_view ToString(ErrorCode code) noexcept;

@@ -3,10 +3,12 @@
 // EdgeValues<B>: the numbers of a scene graph, apart from its topology. One sequence-locked
 // value per frame, X_PF (the pose of frame F in its pose parent P, in [P]; the identity for a
 // root), and one per twist edge slot, the screw twist V_DH of the edge D -> {h}|H (velocity of
-// h's origin and angular velocity of H relative to D, both in [h]). Indexed by the topology's
-// FrameIndex and TwistEdgeIndex.
+// h's origin and angular velocity of H relative to D, both in [h]), with beside it the edge's
+// optional acceleration A_DH (AccelerationCoord(h|H, D, [h]), its own record and presence flag).
+// Indexed by the topology's FrameIndex and TwistEdgeIndex.
 //
-// Invariants: X_PF.size() == number of frames; V_DH.size() == number of twist edge slots; every
+// Invariants: X_PF.size() == number of frames; V_DH.size() == A_DH.size() == number of twist
+// edge slots; an acceleration record with present = 1 holds the edge's current twist; every
 // stored rotation is valid for B (validated before Store); each value's epoch is bumped when its
 // edge is removed, so handles and compiled queries made before see kNoSuchEdge /
 // kQueryInvalidated instead of another edge's numbers.
@@ -56,6 +58,25 @@ struct TwistNumbers {
   Eigen::Vector3d w_DH_H;   ///< angular velocity of H relative to D
 };
 using TwistValue = SeqLockValue<TwistNumbers>;
+
+/// The acceleration a twist edge D -> {h}|H may carry, in the edge form
+/// AccelerationCoord(h|H, D, [h]) (docs/dynamics.md §7): the classical acceleration of h's
+/// origin as a point of H relative to D, and the angular acceleration of H relative to D, in [h].
+struct AccelerationNumbers {
+  Eigen::Vector3d a_DHo_H;
+  Eigen::Vector3d alpha_DH_H;
+};
+/// A twist edge's acceleration record, kept apart from the hot value V_DH (one cache line) and
+/// seqlocked with a copy of the twist it goes with, so that a reader gets an acceleration and the
+/// twist of that very instant (the composition needs both). `present` (0 or 1): the edge carries
+/// an acceleration; a twist stored without one stores the record with present = 0 first (never
+/// a stale acceleration beside a new twist).
+struct TwistAndAcceleration {
+  TwistNumbers V;
+  AccelerationNumbers A;
+  double present;
+};
+using AccelerationValue = SeqLockValue<TwistAndAcceleration>;
 
 /// An edge value with its covariance (docs/uncertainty.md: the edge form, linear first), kept
 /// apart from the hot value (X_PF / V_DH stay one cache line) and seqlocked together, so that a
@@ -129,6 +150,11 @@ template <coord::Backend B>
 struct EdgeValues {
   StableArray<PoseValue<B>> X_PF;  ///< by frame
   StableArray<TwistValue> V_DH;    ///< by twist edge slot
+  /// Accelerations (TwistAndAcceleration), by twist edge slot, grown with V_DH (a reader that
+  /// sees a twist edge finds its record constructed). acceleration_on: the writer's own copy of
+  /// each record's `present`, so that a twist store touches the record only when it held one.
+  StableArray<AccelerationValue> A_DH;
+  StableArray<std::uint8_t> acceleration_on;
   /// Stamped edges' samples (edge_history.h); X_PF / V_DH then hold the newest sample.
   EdgeHistories history;
   /// Covariances (ValueAndCovariance), by frame and by twist slot, grown lazily: only up to the
@@ -163,7 +189,28 @@ struct EdgeValues {
   /// Makes room for the value (and the history entry) of twist edge slot `e`.
   void AddTwistSlot(topology::TwistEdgeIndex e) {
     if (V_DH.size() <= e.value()) V_DH.Resize(e.value() + 1);
+    while (A_DH.size() < V_DH.size()) {
+      A_DH.EmplaceBack();
+      acceleration_on.EmplaceBack(std::uint8_t{0});
+    }
     history.twist.Grow(V_DH.size());
+  }
+  /// Writer: a twist edge's acceleration (A non-null) or none (A null), with the twist V it goes
+  /// with; stored before V_DH itself (as covariances). O(1), noexcept, allocation-free.
+  void StoreAcceleration(std::uint32_t slot, const TwistNumbers& V,
+                         const AccelerationNumbers* A) noexcept {
+    if (A != nullptr) {
+      A_DH[slot].Store(TwistAndAcceleration{V, *A, 1.0});
+      acceleration_on[slot] = 1;
+    } else if (acceleration_on[slot]) {
+      A_DH[slot].Store(TwistAndAcceleration{
+          V, AccelerationNumbers{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, 0.0});
+      acceleration_on[slot] = 0;
+    }
+  }
+  /// Writer: whether the twist edge slot carries an acceleration. O(1).
+  [[nodiscard]] bool HasAcceleration(std::uint32_t slot) const noexcept {
+    return slot < acceleration_on.size() && acceleration_on[slot] != 0;
   }
   /// Writer, build time (allocates): covariance records for frames [0, frames) / twist slots
   /// [0, slots), so that storing a covariance there allocates nothing.
@@ -243,11 +290,14 @@ struct EdgeValues {
   }
   void ReserveTwistSlots(std::size_t slots) {
     V_DH.Reserve(slots);
+    A_DH.Reserve(slots);
+    acceleration_on.Reserve(slots);
     history.twist.Reserve(slots);
   }
   [[nodiscard]] std::size_t ApproximateBytes() const noexcept {
-    return X_PF.bytes() + V_DH.bytes() + S_PF.bytes() + S_DH.bytes() + pose_covariance_on.bytes() +
-           twist_covariance_on.bytes() + history.ApproximateBytes();
+    return X_PF.bytes() + V_DH.bytes() + A_DH.bytes() + acceleration_on.bytes() + S_PF.bytes() +
+           S_DH.bytes() + pose_covariance_on.bytes() + twist_covariance_on.bytes() +
+           history.ApproximateBytes();
   }
 
  private:

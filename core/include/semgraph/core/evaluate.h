@@ -26,6 +26,7 @@
 #include <type_traits>
 
 #include "semgraph/base/demand.h"
+#include "semgraph/coord/dynamics_operations.h"
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
@@ -86,6 +87,16 @@ class ForestSource {
       ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
     } else {
       V = v_.V_DH[s.edge.value()].Load();
+    }
+    return true;
+  }
+  /// The acceleration record of a step's twist edge, at the current values (present = 0: the
+  /// edge carries none; a pose edge's derivative never has one).
+  bool LoadAcceleration(const TwistStep<ForestChain>& s, TwistAndAcceleration& r) const noexcept {
+    if (s.pose_edge.is_valid()) {
+      r.present = 0.0;
+    } else {
+      r = v_.A_DH[s.edge.value()].Load();
     }
     return true;
   }
@@ -296,6 +307,15 @@ class FlatSource {
     if (value.epoch() != s.epoch) return false;
     ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
     return value.epoch() == s.epoch;
+  }
+  /// A compiled acceleration step's record (s.epoch: the record's epoch when compiled; current
+  /// values only). False when the edge was removed since.
+  bool LoadAcceleration(const TwistStep<FlatChain>& s, TwistAndAcceleration& r) const noexcept {
+    if (s.pose_edge.is_valid()) {
+      r.present = 0.0;
+      return true;
+    }
+    return v_.A_DH[s.edge.value()].Load(r, s.epoch);
   }
 
  private:
@@ -537,6 +557,74 @@ bool AccumulateTwistStep(const Source& src, const TwistStep<typename Source::Cha
   w += w_i;
   return true;
 }
+
+/// The motion of one relation at point e in [r]: twist (v, w) and acceleration (a, alpha).
+struct Motion {
+  Eigen::Vector3d v, w, a, alpha;
+  static Motion Zero() noexcept {
+    const Eigen::Vector3d z = Eigen::Vector3d::Zero();
+    return Motion{z, z, z, z};
+  }
+};
+/// The relation X (M rel B) followed by Y (B rel C) at one point, in one frame: M rel C
+/// (alpha = alpha_X + alpha_Y + w_X x w_Y, a = a_X + a_Y + 2 w_X x v_Y; twists summed).
+inline Motion ComposeMotion(const Motion& X, const Motion& Y) noexcept {
+  const auto A = coord::kernels::ComposeAccelerations(Y.a, Y.alpha, X.a, X.alpha, Y.v, Y.w, X.w);
+  return Motion{X.v + Y.v, X.w + Y.w, A.linear, A.angular};
+}
+
+/// Algorithm 3 for accelerations, one twist edge: its twist and acceleration (edge form),
+/// inverted if traversed against its direction (alpha' = -alpha, a' = -a + 2 w x v), moved to
+/// point e (a_e = a_h + alpha x p_HE + w x (w x p_HE)) and re-expressed in [r]. `present`
+/// false: the edge carries no acceleration (m then unspecified). False when a compiled edge
+/// changed epoch.
+template <coord::Backend B, class Source>
+bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>& s, Motion& m,
+                      bool& present) noexcept {
+  TwistAndAcceleration r;
+  if (!src.LoadAcceleration(s, r)) return false;
+  present = r.present != 0.0;
+  if (!present) return true;
+  m = Motion{r.V.v_DHo_H, r.V.w_DH_H, r.A.a_DHo_H, r.A.alpha_DH_H};
+  if (s.invert) {
+    const auto inv = coord::kernels::InvertAcceleration(m.a, m.alpha, m.v, m.w);
+    m = Motion{-m.v, -m.w, inv.linear, inv.angular};
+  }
+  if (s.move_point) {  // p_A = old point - new point = h - e = -p_HE
+    typename B::PoseCoords X_HE;
+    if (!EvalBasic<B>(src, s.eh, X_HE)) return false;
+    const Eigen::Vector3d p_HE = B::TranslationOf(X_HE);
+    m.a = coord::kernels::ShiftAcceleration(m.a, m.alpha, m.w, -p_HE);
+    m.v = coord::kernels::ShiftLinear(m.v, m.w, -p_HE);
+  }
+  if (s.change_frame) {
+    typename B::PoseCoords X_RH;
+    if (!EvalBasic<B>(src, s.hr, X_RH)) return false;
+    const typename B::Rotation R_RH = B::RotationOf(X_RH);
+    m = Motion{B::Rotate(R_RH, m.v), B::Rotate(R_RH, m.w), B::Rotate(R_RH, m.a),
+               B::Rotate(R_RH, m.alpha)};
+  }
+  return true;
+}
+
+/// The composition of a twist plan's steps (ForEachTwistStep's order: C's side from C up to the
+/// common ancestor X, then D's side from D up to X): C's side prepended (X rel ... rel C), D's
+/// side appended (D rel ... rel X), then D rel X followed by X rel C.
+struct AccelerationComposer {
+  Motion c_side = Motion::Zero(), d_side = Motion::Zero();
+  template <class Chain>
+  void Add(const TwistStep<Chain>& s, const Motion& m) noexcept {
+    Add(s.ref_side, m);
+  }
+  void Add(bool ref_side, const Motion& m) noexcept {
+    if (ref_side) {
+      d_side = ComposeMotion(d_side, m);
+    } else {
+      c_side = ComposeMotion(m, c_side);
+    }
+  }
+  [[nodiscard]] Motion Result() const noexcept { return ComposeMotion(d_side, c_side); }
+};
 
 /// The screw twist TwistCoord(h|H, T, [h]) of the pose edge {t}|T -> {h}|H into `frame`, at
 /// stamp s, from the twist edges (a twist query planned and evaluated here, at s, without

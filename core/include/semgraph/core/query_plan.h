@@ -70,6 +70,7 @@ struct TwistStep {
   FrameIndex pose_edge;     ///< valid: the derivative of the pose edge into this frame
   std::uint32_t epoch = 0;  ///< compiled queries: the edge's epoch when compiled
   bool invert = false;
+  bool ref_side = false;      ///< on D's side of the path (walked from D up to the ancestor)
   bool move_point = false;    ///< h != e: v += p_EH x w, with X_HE
   bool change_frame = false;  ///< h != r: rotate by R_RH
   BasicPath<Chain> eh;        ///< X_HE: e wrt h in [h]
@@ -152,6 +153,7 @@ void ForEachTwistStep(const topology::SceneTopology& t, const TwistPlan& plan, F
       // Stored as TwistCoord(h|H, D, [h]): used as is when walking up from H, else inverted;
       // D's side is subtracted (the inverse twist).
       step.invert = (t.body_of(h) != body) != negate;
+      step.ref_side = negate;
       if ((step.move_point = h != plan.point)) step.eh = PlanBasic(t, plan.point, h);
       if ((step.change_frame = h != plan.frame)) step.hr = PlanBasic(t, h, plan.frame);
       f(step);

@@ -62,6 +62,8 @@
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/accelerations.h"
+#include "semgraph/core/compiled_acceleration.h"
 #include "semgraph/core/compiled_covariance.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/converting_handles.h"
@@ -538,6 +540,51 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] std::size_t num_wrenches() const noexcept { return wrenches_.num_live; }
   [[nodiscard]] const internal::WrenchStore& wrench_store() const noexcept { return wrenches_; }
 
+  // ---------------------------------------------------------------- accelerations
+  // docs/dynamics.md §7 (accelerations.h): a twist edge may carry AccelerationCoord(h|H, D, [h]).
+  // accelerations.cc (adds), acceleration_query.cc (queries).
+
+  /// AddTwist, with the acceleration AccelerationCoord(point|body, ref_body, [coord]) given in the
+  /// same point and frame: both stored, the acceleration rotated into [point] as the twist.
+  /// Errors: AddTwist's, with invalid_number for the acceleration after the twist's.
+  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                       const Eigen::Vector3d& w_angular, const AccelerationInput& acceleration);
+  /// Sets the acceleration of the existing twist edge ref_body -> {h}|body (the one in the pose
+  /// tree of {point}) to AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha), converted
+  /// to the edge form with the current poses and the edge's twist. body empty: the body of
+  /// {point}. invalid_name -> invalid_number -> unknown_frame (point, coord) -> unknown_body
+  /// (body, ref_body) -> no_such_edge (no twist edge ref_body -> body in that tree) -> joint_edge
+  /// -> stamp_mismatch (a stamped edge) -> acceleration_not_convertible ([coord] not in that
+  /// tree). Graph unchanged on any error.
+  BuildResult AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
+                              const Eigen::Vector3d& alpha_angular);
+  /// AccelerationCoord(point|body, ref_body, [coord]): the accelerations of the twist path's
+  /// edges composed (accelerations.h). The errors of GetTwist, then no_acceleration (an edge on
+  /// the path carries none; the error names its head frame and tail body). body == ref_body:
+  /// zero.
+  [[nodiscard]] QueryResult<coord::Acceleration> GetAcceleration(
+      const TwistSpec& spec) const noexcept;
+  [[nodiscard]] QueryResult<LinearAcceleration> GetLinearAcceleration(
+      const TwistSpec& spec) const noexcept;
+  /// Uses body, ref_body and coordinate_frame only (as GetAngularVelocity).
+  [[nodiscard]] QueryResult<AngularAcceleration> GetAngularAcceleration(
+      const TwistSpec& spec) const noexcept;
+  /// GetAcceleration compiled (compiled_acceleration.h): the errors of GetAcceleration but
+  /// no_acceleration, which Evaluate reports (kNoAcceleration) when an edge carries none then.
+  [[nodiscard]] Expected<CompiledAcceleration<B>, QueryError> CompileAcceleration(
+      const TwistSpec& spec) const;
+  /// New acceleration of the handle's twist edge D -> {h}|H in the edge form (a_DHo_H,
+  /// alpha_DH_H: at h, in [h]), stored with the edge's current twist. O(1), noexcept,
+  /// allocation-free. Codes: kNoSuchEdge (as SetTwist), kJointEdge (a joint's edge),
+  /// kStampMismatch (a stamped edge: not supported yet), kInvalidNumber; nothing written on
+  /// any code but kOk. A later twist without an acceleration clears it.
+  [[nodiscard]] ErrorCode SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                          const Eigen::Vector3d& alpha_DH_H,
+                                          UpdateError* why = nullptr) noexcept;
+  /// The acceleration stored on the twist edge into f, in the edge form (nullopt: none, or no
+  /// twist edge). Writer thread. O(1).
+  [[nodiscard]] std::optional<coord::Acceleration> acceleration_value(FrameIndex f) const noexcept;
+
   // ---------------------------------------------------------------- inspection
 
   [[nodiscard]] const semantics::NameTable& names() const noexcept { return topology_.names(); }
@@ -604,7 +651,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                           const CovarianceInput* covariance = nullptr);
   BuildResult AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                            const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp,
-                           const CovarianceInput* covariance = nullptr);
+                           const CovarianceInput* covariance = nullptr,
+                           const AccelerationInput* acceleration = nullptr);
   template <class R>
   ErrorCode SetPoseImpl(PoseHandle edge, const R& rotation, const Eigen::Vector3d& p_ToHo_T,
                         std::optional<Stamp> stamp, UpdateError* why) noexcept;
@@ -654,8 +702,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                        const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                              const coord::Covariance6* S = nullptr) const noexcept;
+  // The twist's acceleration record first (A null: none, edge_values.h), then the sample.
   void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
-                        const coord::Covariance6* S = nullptr) noexcept;
+                        const coord::Covariance6* S = nullptr,
+                        const AccelerationNumbers* A = nullptr) noexcept;
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                            std::optional<Stamp> stamp) noexcept;
   std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index,

@@ -1,0 +1,139 @@
+// Acceleration adds (scene_graph.h "accelerations"; contract: accelerations.h): a twist with
+// its acceleration, and an acceleration on its own, converted to the edge form
+// AccelerationCoord(h|H, D, [h]) with the current poses and the edge's twist. Every check runs
+// before the only change (one record store), so a rejected call leaves the graph as it was.
+#include <string>
+
+#include "semgraph/core/scene_graph.h"
+#include "text.h"
+
+namespace semgraph::core {
+
+using text::Reject;
+
+namespace {
+
+std::string AccelerationAdd(const TwistSpec& spec) {
+  return "acceleration of " + std::string(spec.point) +
+         (spec.body.empty() ? "" : "|" + std::string(spec.body)) + " wrt " +
+         std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
+}
+
+// The twist edge D -> {h}|C of the pose tree of e (at most one: W3), or invalid. O(1).
+TwistEdgeIndex EdgeBetween(const topology::SceneTopology& t, FrameIndex e, BodyIndex C,
+                           BodyIndex D) noexcept {
+  const topology::TreeRecord* rec = t.RecordOf(e);
+  if (rec == nullptr || C == D) return {};
+  const topology::TwistForest& tg = rec->twists;
+  TwistEdgeIndex edge;
+  if (tg.parent(C) == D) {
+    edge = tg.parent_edge(C);
+  } else if (tg.parent(D) == C) {
+    edge = tg.parent_edge(D);
+  }
+  if (!edge.is_valid()) return {};
+  const auto& ends = t.twist_edge(edge);
+  return ends.tail == D && t.body_of(ends.head) == C ? edge : TwistEdgeIndex();
+}
+
+}  // namespace
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                    const Eigen::Vector3d& w_angular,
+                                    const AccelerationInput& acceleration) {
+  return AddTwistImpl(spec, v_linear, w_angular, std::nullopt, nullptr, &acceleration);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
+                                           const Eigen::Vector3d& alpha_angular) {
+  const topology::SceneTopology& t = topology_;
+  const auto what = [&spec] { return AccelerationAdd(spec); };  // formatted only on rejection
+  // invalid_name: point, ref_body, coord required; body optional.
+  const struct {
+    std::string_view name;
+    const char* field;
+    bool required;
+  } fields[] = {{spec.point, "point", true},
+                {spec.body, "body", false},
+                {spec.ref_body, "ref_body", true},
+                {spec.coordinate_frame, "coord", true}};
+  for (const auto& f : fields) {
+    if (f.name.empty() && !f.required) continue;
+    if (!t.names().Find(f.name).is_valid() && !semantics::ValidateName(f.name)) {
+      return Reject(ErrorCode::kInvalidName, what(),
+                    std::string(f.field) + ": the name is missing or invalid");
+    }
+  }
+  auto a = coord::ValidateVector(a_linear, coord::ValueRole::kLinearAcceleration);
+  if (!a) return Reject(a.error().code, what(), coord::Describe(a.error(), names()));
+  auto alpha = coord::ValidateVector(alpha_angular, coord::ValueRole::kAngularAcceleration);
+  if (!alpha) return Reject(alpha.error().code, what(), coord::Describe(alpha.error(), names()));
+  // Node resolution: unknown_frame (point, coord) -> unknown_body (body, ref_body).
+  const FrameIndex e = t.FindFrame(spec.point), r = t.FindFrame(spec.coordinate_frame);
+  if (!e.is_valid()) {
+    return Reject(ErrorCode::kUnknownFrame, what(),
+                  "point: no frame named " + std::string(spec.point));
+  }
+  if (!r.is_valid()) {
+    return Reject(ErrorCode::kUnknownFrame, what(),
+                  "coord: no frame named " + std::string(spec.coordinate_frame));
+  }
+  const BodyIndex C = spec.body.empty() ? t.body_of(e) : t.FindBody(spec.body);
+  if (!C.is_valid()) {
+    return Reject(ErrorCode::kUnknownBody, what(), "body: no body named " + std::string(spec.body));
+  }
+  const BodyIndex D = t.FindBody(spec.ref_body);
+  if (!D.is_valid()) {
+    return Reject(ErrorCode::kUnknownBody, what(),
+                  "ref_body: no body named " + std::string(spec.ref_body));
+  }
+  // no_such_edge -> joint_edge -> stamp_mismatch -> acceleration_not_convertible.
+  const TwistEdgeIndex edge = EdgeBetween(t, e, C, D);
+  if (!edge.is_valid()) {
+    return Reject(ErrorCode::kNoSuchEdge, what(),
+                  "no twist edge " + std::string(t.body_name(D)) + " -> {h}|" +
+                      std::string(t.body_name(C)) + " in the pose tree of {" +
+                      std::string(spec.point) + "} carries this relation; add the twist first");
+  }
+  const FrameIndex h = t.twist_edge(edge).head;
+  if (const internal::JointRecord* j = joints_.OfChild(h)) {
+    return Reject(ErrorCode::kJointEdge, what(),
+                  "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, h) +
+                      " belongs to joint " + std::string(joints_.name(*j)));
+  }
+  if (values_.history.twist_of(edge.value()) != nullptr) {
+    return Reject(ErrorCode::kStampMismatch, what(),
+                  "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, h) +
+                      " is stamped; stamped accelerations are not supported yet");
+  }
+  if (!t.SameTree(r, h)) {
+    return Reject(ErrorCode::kAccelerationNotConvertible, what(),
+                  "coordinate frame [" + std::string(spec.coordinate_frame) +
+                      "] is not in the pose tree of the twist edge's head " + text::Frame(t, h));
+  }
+  // The edge form: [r] -> [h] (R_HR), then the point e -> h with the edge's angular velocity.
+  const internal::ForestSource<B> src = source();
+  typename B::PoseCoords X_HR, X_HE;  // [r] wrt [h] and e wrt h, in [h]
+  internal::EvalBasic<B>(src, PlanBasic(t, r, h), X_HR);
+  internal::EvalBasic<B>(src, PlanBasic(t, e, h), X_HE);
+  const TwistNumbers V = values_.V_DH[edge.value()].Load();
+  const typename B::Rotation R_HR = B::RotationOf(X_HR);
+  AccelerationNumbers A{B::Rotate(R_HR, *a), B::Rotate(R_HR, *alpha)};
+  // p_A = old point - new point = e - h = p_HE.
+  A.a_DHo_H =
+      coord::kernels::ShiftAcceleration(A.a_DHo_H, A.alpha_DH_H, V.w_DH_H, B::TranslationOf(X_HE));
+  values_.StoreAcceleration(edge.value(), V, &A);
+  return Ok{};
+}
+
+#define SEMGRAPH_INSTANTIATE_ACCELERATIONS(B)                                                     \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&, const AccelerationInput&); \
+  template BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec&, const Eigen::Vector3d&,   \
+                                                      const Eigen::Vector3d&);
+SEMGRAPH_INSTANTIATE_ACCELERATIONS(coord::QuaternionBackend)
+SEMGRAPH_INSTANTIATE_ACCELERATIONS(coord::HomogeneousBackend)
+
+}  // namespace semgraph::core
