@@ -715,13 +715,13 @@ const char* const kMalformedOps[] = {
     "{op: pose, of: a, body: A, wrt: b, ref_body: B, position: [1, x, 3]}",  // not a number
     "{op: pose, of: a, wrt: b, rotation: {quaternion: [1, 0, 0, 0], rpy: [0, 0, 0]}}",  // two forms
     "{op: pose, of: a, wrt: b, rotation: {}}",                                          // no form
-    "{op: body, name: A, position: [0, 0, 0]}",                          // field of another op
-    "{op: remove, of: a, wrt: b}",                                       // remove without kind
-    "{op: query, kind: acceleration, point: a, ref_body: B, coord: a}",  // unknown query kind
-    "{op: twist, point: a, ref_body: B}",                                // coord missing
-    "{op: pose, of: a, wrt: b, position: [0, 0, 0",                      // broken flow sequence
-    "[op, body]",                                                        // op not a map
-    "{op: body, name: A, stamp: 1}",  // a time field of another op
+    "{op: body, name: A, position: [0, 0, 0]}",                  // field of another op
+    "{op: remove, of: a, wrt: b}",                               // remove without kind
+    "{op: query, kind: jerk, point: a, ref_body: B, coord: a}",  // unknown query kind
+    "{op: twist, point: a, ref_body: B}",                        // coord missing
+    "{op: pose, of: a, wrt: b, position: [0, 0, 0",              // broken flow sequence
+    "[op, body]",                                                // op not a map
+    "{op: body, name: A, stamp: 1}",                             // a time field of another op
     "{op: query, kind: twist, point: a, ref_body: B, coord: a, ref_at: 1, fixed: a, at: 0}",  // travel
                                                                                               // on
                                                                                               // a
