@@ -3,7 +3,7 @@
 #  - the pose echo --ros prints for what serve --ros broadcasts (its first /tf samples wait for
 #    echo: --subscribers 1) equals the answer `semgraph run`
 #    prints for the same query on the same script, within 1e-12;
-#  - check --ros on that clean stream: no finding, exit 0;
+#  - check --ros on that clean stream (static own_body: arrival-order free): no finding, exit 0;
 #  - check --ros on a stream with a second parent for a frame (ros_dds_test_node, an
 #    independent raw writer): its finding as a JSON line, the summary, exit 1.
 #   cli_test.sh SEMGRAPH_BINARY TEST_NODE SCRIPT
@@ -20,7 +20,10 @@ out="$(mktemp -d)"
 serve_pid=$!
 trap 'kill -9 $serve_pid 2>/dev/null || true; rm -rf "$out"' EXIT
 "$tool" echo --ros pose camera arm --domain 149 --rate 10 --seconds 8 > "$out/echo" || true
-"$tool" check --ros --domain 149 --seconds 2 > "$out/clean" || {
+# own_body: a late joiner may take a /tf sample of {base} before the transient-local
+# /tf_static that joins it to {world}; in same_body mode that order is frame_body_mismatch
+# (docs/ros.md, live lift), which is not what this check is about.
+"$tool" check --ros --static own_body --domain 149 --seconds 2 > "$out/clean" || {
   echo "check --ros on the clean stream failed; its output:" >&2
   cat "$out/clean" >&2
   exit 1
