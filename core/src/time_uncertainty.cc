@@ -46,6 +46,19 @@ void FramesOf(const topology::SceneTopology& t, const Q& q, FrameIndex (&k)[5]) 
   k[3] = F(q.ref_orientation.id());
   k[4] = F(q.coordinate_frame.id());
 }
+// A position (an orientation) names one frame per side: it fills both roles of FramesOf above.
+void FramesOf(const topology::SceneTopology& t, const semantics::PositionSemantics& q,
+              FrameIndex (&k)[5]) noexcept {
+  k[0] = k[1] = t.FrameOfName(q.point.id());
+  k[2] = k[3] = t.FrameOfName(q.ref_point.id());
+  k[4] = t.FrameOfName(q.coordinate_frame.id());
+}
+void FramesOf(const topology::SceneTopology& t, const semantics::OrientationSemantics& q,
+              FrameIndex (&k)[5]) noexcept {
+  k[0] = k[1] = t.FrameOfName(q.orientation.id());
+  k[2] = k[3] = t.FrameOfName(q.ref_orientation.id());
+  k[4] = t.FrameOfName(q.coordinate_frame.id());
+}
 
 }  // namespace
 
@@ -131,10 +144,8 @@ QueryResult<Timed<WithCovariance<coord::Position, 3>>> SceneGraph<B>::GetPositio
     const PoseSpec& spec, const TimePolicy& policy) const noexcept {
   auto answer = GetPosition(spec, policy);
   if (!answer) return Unexpected{answer.error()};
-  const semantics::PositionSemantics& q = answer->value.semantics;
-  const FrameIndex e = topology_.FrameOfName(q.point.id()),
-                   f = topology_.FrameOfName(q.ref_point.id());
-  const FrameIndex k[5] = {e, e, f, f, topology_.FrameOfName(q.coordinate_frame.id())};
+  FrameIndex k[5];
+  FramesOf(topology_, answer->value.semantics, k);
   Covariance6 S;
   if (auto err = TimedPoseCovariance(k, SameTime(policy, answer->time), S)) {
     return Unexpected{*err};
@@ -149,10 +160,8 @@ SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec& spec,
                                             const TimePolicy& policy) const noexcept {
   auto answer = GetOrientation(spec, policy);
   if (!answer) return Unexpected{answer.error()};
-  const semantics::OrientationSemantics& q = answer->value.semantics;
-  const FrameIndex a = topology_.FrameOfName(q.orientation.id()),
-                   b = topology_.FrameOfName(q.ref_orientation.id());
-  const FrameIndex k[5] = {a, a, b, b, topology_.FrameOfName(q.coordinate_frame.id())};
+  FrameIndex k[5];
+  FramesOf(topology_, answer->value.semantics, k);
   Covariance6 S;
   if (auto err = TimedPoseCovariance(k, SameTime(policy, answer->time), S)) {
     return Unexpected{*err};
@@ -183,10 +192,8 @@ QueryResult<Timed<WithCovariance<coord::Position, 3>>> SceneGraph<B>::GetPositio
     const PoseSpec& spec, const TimeTravel& travel) const noexcept {
   auto answer = GetPosition(spec, travel);
   if (!answer) return Unexpected{answer.error()};
-  const semantics::PositionSemantics& q = answer->value.semantics;
-  const FrameIndex e = topology_.FrameOfName(q.point.id()),
-                   f = topology_.FrameOfName(q.ref_point.id());
-  const FrameIndex k[5] = {e, e, f, f, topology_.FrameOfName(q.coordinate_frame.id())};
+  FrameIndex k[5];
+  FramesOf(topology_, answer->value.semantics, k);
   Covariance6 S;
   if (auto err = TimeTravelCovariance(k, topology_.FindFrame(travel.fixed_frame), travel, S)) {
     return Unexpected{*err};
@@ -201,10 +208,8 @@ SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec& spec,
                                             const TimeTravel& travel) const noexcept {
   auto answer = GetOrientation(spec, travel);
   if (!answer) return Unexpected{answer.error()};
-  const semantics::OrientationSemantics& q = answer->value.semantics;
-  const FrameIndex a = topology_.FrameOfName(q.orientation.id()),
-                   b = topology_.FrameOfName(q.ref_orientation.id());
-  const FrameIndex k[5] = {a, a, b, b, topology_.FrameOfName(q.coordinate_frame.id())};
+  FrameIndex k[5];
+  FramesOf(topology_, answer->value.semantics, k);
   Covariance6 S;
   if (auto err = TimeTravelCovariance(k, topology_.FindFrame(travel.fixed_frame), travel, S)) {
     return Unexpected{*err};
