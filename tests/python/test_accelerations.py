@@ -333,3 +333,16 @@ def test_wrong_python_arguments_raise_and_change_nothing(graph):
     with pytest.raises(ValueError):
         graph.set_acceleration(other.twist_handle(point="s", ref_body="Arm"), linear=[1, 0, 0])
     assert graph.dump() == before
+
+
+def test_a_joints_edge_refuses_an_acceleration(graph):
+    graph.add_joint("j", type="revolute", parent="w", child="link", parent_body="W",
+                    child_body="L", axis=[0, 0, 1])
+    before = graph.dump()
+    with pytest.raises(semgraph.RejectedError) as e:
+        graph.add_acceleration(point="link", ref_body="W", expressed_in="link", angular=[0, 0, 1])
+    assert e.value.code == "joint_edge"
+    with pytest.raises(semgraph.RejectedError) as e:
+        graph.set_acceleration(graph.twist_handle(point="link", ref_body="W"), angular=[0, 0, 1])
+    assert e.value.code == "joint_edge"
+    assert graph.dump() == before
