@@ -150,7 +150,7 @@ def test_constant_pose_restated_with_another_covariance():
     (dict(covariance=np.eye(6), convention="left"), ValueError, "'coordinates' or 'body'"),
     (dict(covariance=np.eye(6), convention=1), TypeError, "convention"),
     (dict(covariance_order="angular_linear"), ValueError, "need covariance="),
-    (dict(covariance=np.eye(6), stamp=1.0), ValueError, "timeless"),
+    (dict(covariance=np.eye(6), repair=True), ValueError, "repair"),
 ])
 def test_bad_keywords(kwargs, error, words):
     g = semgraph.SceneGraph()
