@@ -502,3 +502,22 @@ def test_twist_kinds_take_no_time_travel():
         with pytest.raises(TypeError, match="at must be a time"):
             getattr(g, name + "_with_covariance")(**twist_names(name), at=[1.0])
     assert g.dump() == before
+
+
+def test_time_travel_edge_on_both_sides_contributes_twice():
+    """{t} (exact in A) at 0.25 s relative to {a} at 0.75 s through {w}: the one stamped edge
+    w -> a is on both sides, read at each side's time, two independent perturbations."""
+    g = chain_graph()
+    pa_t, pa_ref = 0.75 * PA0 + 0.25 * PA1, 0.25 * PA0 + 0.75 * PA1
+    r = RZ90 @ np.array([2.0, 0, 0])  # t from a's origin, in [w]
+    B = np.block([[RZ90.T, Z3], [Z3, RZ90.T]])  # [w] -> [a]
+    J_point = B @ np.block([[I3, -skew(r)], [Z3, I3]])
+    J_ref = np.block([[-RZ90.T, RZ90.T @ skew(pa_t + r - pa_ref)], [Z3, -RZ90.T]])
+    want = (J_point @ (0.75 * SA0 + 0.25 * SA1) @ J_point.T +
+            J_ref @ (0.25 * SA0 + 0.75 * SA1) @ J_ref.T)
+    X, S = g.pose_with_covariance(of="t", wrt="a", at=0.25, ref_at=0.75, fixed="w")
+    np.testing.assert_allclose(X.position, RZ90.T @ (pa_t + r - pa_ref), atol=1e-12)
+    np.testing.assert_allclose(S, want, atol=1e-15, rtol=1e-12)
+    assert report(X) == report(g.pose(of="t", wrt="a", at=0.25, ref_at=0.75, fixed="w"))
+    # Untimed: one edge, one value: {t} is rigid in [a], exactly.
+    assert np.array_equal(g.pose_with_covariance(of="t", wrt="a")[1], np.zeros((6, 6)))
