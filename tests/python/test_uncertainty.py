@@ -184,6 +184,8 @@ def test_docs_example_runs():
     exec(compile(code, "docs/uncertainty.md", "exec"), env)
     assert env["S"].shape == (6, 6) and env["S3"].shape == (3, 3)
     np.testing.assert_allclose(env["S3"], np.diag([4e-6, 4e-6, 2.5e-5]), atol=1e-15)
+    np.testing.assert_allclose(env["St"], 1.5e-6 * np.eye(6), atol=1e-18)  # 0.75 S0 + 0.25 S1
+    assert env["Xt"].time.time == 0.25
 
 
 # ---------------------------------------------------------------------------------------------
