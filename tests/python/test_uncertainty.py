@@ -523,3 +523,50 @@ def test_time_travel_edge_on_both_sides_contributes_twice():
     assert report(X) == report(g.pose(of="t", wrt="a", at=0.25, ref_at=0.75, fixed="w"))
     # Untimed: one edge, one value: {t} is rigid in [a], exactly.
     assert np.array_equal(g.pose_with_covariance(of="t", wrt="a")[1], np.zeros((6, 6)))
+
+
+def test_extrapolated_pose_edge_propagates_its_integration_twist():
+    """w -> a has one sample (S0) at 0 s; A's twist (v, 0) at {a} in [a] (St, timeless) integrates
+    it to dt = 0.2 s: X = X_0 Exp(dt (v, 0)), p = p_0 + R v dt. By hand, to first order: the
+    sample's (dp, dth) in [w]: p + dp + dth x (R v dt), Exp(dth) R; the twist's (dv, dw) in [a]:
+    Exp(dt (v + dv, dw)) = (dt (v + dv) + dt^2/2 dw x v, Exp(dt dw)), then turned by R."""
+    g = semgraph.SceneGraph()
+    v, dt = np.array([1.0, 0.5, 0.0]), 0.2
+    g.add_pose(of="a", body="A", wrt="w", ref_body="W", position=PA0, rotation_matrix=RZ90,
+               stamp=0, covariance=SA0)
+    St = spd(6, 1e-3)
+    g.add_twist(point="a", body="A", ref_body="W", expressed_in="a", linear=v, covariance=St)
+    X, S = g.pose_with_covariance(of="a", wrt="w", at=dt, max_extrapolation=0.5)
+    np.testing.assert_allclose(X.position, PA0 + RZ90 @ v * dt, atol=1e-12)
+    assert X.time.extrapolated
+    assert report(X) == report(g.pose(of="a", wrt="w", at=dt, max_extrapolation=0.5))
+    J_sample = np.block([[I3, -skew(RZ90 @ v * dt)], [Z3, I3]])
+    J_twist = np.block([[dt * RZ90, -0.5 * dt * dt * RZ90 @ skew(v)], [Z3, dt * RZ90]])
+    want = J_sample @ SA0 @ J_sample.T + J_twist @ St @ J_twist.T
+    np.testing.assert_allclose(S, want, atol=1e-15, rtol=1e-10)
+
+
+def test_stamped_covariances_are_checked_and_refusals_change_nothing():
+    g = stamped_graph()
+    before = g.dump()
+    for bad, code in [(np.diag([1, 1, 1, 1, 1, -1.0]), "invalid_covariance"),
+                      (np.diag([np.nan, 1, 1, 1, 1, 1]), "invalid_number")]:
+        with pytest.raises(semgraph.RejectedError) as info:
+            g.add_pose(of="a", body="A", wrt="w", ref_body="W", position=PA0,
+                       rotation_matrix=RZ90, stamp=0.5, covariance=bad)
+        assert info.value.code == code
+        with pytest.raises(semgraph.RejectedError) as info:
+            g.add_twist(point="b", body="B", ref_body="W", expressed_in="b", stamp=0.5,
+                        covariance=bad)
+        assert info.value.code == code
+    assert g.dump() == before
+    np.testing.assert_allclose(g.pose_with_covariance(of="a", wrt="w", at=0.5)[1],
+                               0.5 * SA0 + 0.5 * SA1, atol=1e-15, rtol=1e-12)
+    # Another covariance at a stored stamp is another value: refused under 'reject'.
+    r = semgraph.SceneGraph(duplicate_stamp="reject")
+    r.add_pose(of="a", body="A", wrt="w", ref_body="W", stamp=0, covariance=SA0)
+    before = r.dump()
+    with pytest.raises(semgraph.RejectedError) as info:
+        r.add_pose(of="a", body="A", wrt="w", ref_body="W", stamp=0, covariance=SA1)
+    assert info.value.code == "duplicate_stamp"
+    assert r.dump() == before
