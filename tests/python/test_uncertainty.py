@@ -26,9 +26,9 @@ def swap(S):
     return np.block([[S[3:, 3:], S[3:, :3]], [S[:3, 3:], S[:3, :3]]])
 
 
-def chain():
+def chain(representation="quaternion"):
     """w -> a (Rz90, p = (1, 0, 0), S1) -> b (identity, p = (2, 0, 0), S2)."""
-    g = semgraph.SceneGraph()
+    g = semgraph.SceneGraph(representation=representation)
     g.add_pose(of="a", body="A", wrt="w", ref_body="W", position=(1, 0, 0),
                rotation_matrix=RZ90, covariance=S1)
     # Given angular first (GTSAM's order): the same S2 reordered.
@@ -215,8 +215,8 @@ def report(r):
     return (t.time_ns, t.ref_time_ns, t.oldest_ns, t.newest_ns, t.extrapolated)
 
 
-def stamped_graph():
-    g = semgraph.SceneGraph()
+def stamped_graph(representation="quaternion"):
+    g = semgraph.SceneGraph(representation=representation)
     # The stamps in both spellings: int nanoseconds and float seconds.
     g.add_pose(of="a", body="A", wrt="w", ref_body="W", position=PA0, rotation_matrix=RZ90,
                stamp=0, covariance=SA0)
@@ -311,8 +311,9 @@ def travel_expected(t, ref_t):
     return Ja @ Sa @ Ja.T + Jb @ Sb @ Jb.T, Ja, Jb, Sa, Sb, pa, pb
 
 
-def test_time_travel_sums_two_independent_sides():
-    g = stamped_graph()
+@pytest.mark.parametrize("representation", ["quaternion", "homogeneous"])
+def test_time_travel_sums_two_independent_sides(representation):
+    g = stamped_graph(representation)
     want, *_ = travel_expected(0.25, 0.75)
     X, S = g.pose_with_covariance(of="b", wrt="a", at=0.25, ref_at=0.75, fixed="w")
     plain = g.pose(of="b", wrt="a", at=0.25, ref_at=0.75, fixed="w")
@@ -360,8 +361,8 @@ def test_time_travel_monte_carlo():
     assert np.all(np.abs(S_mc - S) < 4 * sd), np.max(np.abs(S_mc - S) / sd)
 
 
-def stamped_twist_graph():
-    g = chain()  # timeless w -> a (S1) -> b (S2)
+def stamped_twist_graph(representation="quaternion"):
+    g = chain(representation)  # timeless w -> a (S1) -> b (S2)
     St0 = np.diag([0.1, 0.2, 0.3, 0.01, 0.02, 0.03])
     St1 = spd(5, 1e-2)
     for t, St in [(0, St0), (1.0, St1)]:
@@ -370,8 +371,9 @@ def stamped_twist_graph():
     return g, St0, St1
 
 
-def test_twist_at_a_time_by_hand():
-    g, St0, St1 = stamped_twist_graph()
+@pytest.mark.parametrize("representation", ["quaternion", "homogeneous"])
+def test_twist_at_a_time_by_hand(representation):
+    g, St0, St1 = stamped_twist_graph(representation)
     St = 0.75 * St0 + 0.25 * St1
     kw = dict(point="a", body="A", ref_body="W")
     V, S = g.twist_with_covariance(**kw, expressed_in="a", at=0.25)
