@@ -1,8 +1,9 @@
 """Covariances through the Python module (docs/uncertainty.md): add_pose / add_twist with
-covariance= (timeless and stamped), and the *_with_covariance queries, of the current values and
-at a time (at=, latest, latest_common, time travel, extrapolation). Every expected covariance is J S J^T with the
-Jacobians derived by hand here (a pose edge's perturbation (dp, dth) at its head, in its tail's
-frame: p + dp, Exp(dth) R), never read back from the module."""
+covariance= (timeless and stamped), and the *_with_covariance queries, of the current values
+and at a time (at=, latest, latest_common, time travel, extrapolation). Every expected
+covariance is J S J^T with the Jacobians derived by hand here (a pose edge's perturbation
+(dp, dth) at its head, in its tail's frame: p + dp, Exp(dth) R), never read back from the
+module; one time travel is also checked by Monte Carlo."""
 
 import os
 import re
