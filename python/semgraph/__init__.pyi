@@ -473,34 +473,50 @@ class SceneGraph:
     def pose_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
                              ref_body: Name = None, point: Name = None, orientation: Name = None,
                              ref_point: Name = None, ref_orientation: Name = None,
-                             expressed_in: Name = None,
-                             covariance_order: Optional[str] = None) -> Tuple[Pose, np.ndarray]:
+                             expressed_in: Name = None, covariance_order: Optional[str] = None,
+                             at: At = None, max_extrapolation: Optional[Time] = None,
+                             not_before: Optional[Time] = None, ref_at: Optional[Time] = None,
+                             fixed: Name = None) -> Tuple[Pose, np.ndarray]:
         """pose() and the (6, 6) first-order covariance of its coordinates (dp, dtheta), from
-        the covariances of the edges it uses (docs/uncertainty.md). No time keywords."""
+        the covariances of the edges it uses (docs/uncertainty.md). The time keywords of pose():
+        the answer at that time (result.time its TimeReport) with each edge's covariance at
+        the time it is read; a time travel's two sides independent."""
     def position_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
                                  ref_body: Name = None, point: Name = None,
                                  orientation: Name = None, ref_point: Name = None,
-                                 ref_orientation: Name = None,
-                                 expressed_in: Name = None) -> Tuple[Position, np.ndarray]:
-        """position() and its (3, 3) covariance."""
+                                 ref_orientation: Name = None, expressed_in: Name = None,
+                                 at: At = None, max_extrapolation: Optional[Time] = None,
+                                 not_before: Optional[Time] = None, ref_at: Optional[Time] = None,
+                                 fixed: Name = None) -> Tuple[Position, np.ndarray]:
+        """position() and its (3, 3) covariance; time keywords as pose_with_covariance."""
     def orientation_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
                                     ref_body: Name = None, point: Name = None,
                                     orientation: Name = None, ref_point: Name = None,
-                                    ref_orientation: Name = None,
-                                    expressed_in: Name = None) -> Tuple[Orientation, np.ndarray]:
-        """orientation() and its (3, 3) covariance (dtheta)."""
+                                    ref_orientation: Name = None, expressed_in: Name = None,
+                                    at: At = None, max_extrapolation: Optional[Time] = None,
+                                    not_before: Optional[Time] = None,
+                                    ref_at: Optional[Time] = None,
+                                    fixed: Name = None) -> Tuple[Orientation, np.ndarray]:
+        """orientation() and its (3, 3) covariance (dtheta); time keywords as
+        pose_with_covariance."""
     def twist_with_covariance(self, *, point: Name = None, body: Name = None,
                               ref_body: Name = None, expressed_in: Name = None,
-                              covariance_order: Optional[str] = None) -> Tuple[Twist, np.ndarray]:
-        """twist() and its (6, 6) covariance (dv, dw)."""
+                              covariance_order: Optional[str] = None, at: At = None,
+                              max_extrapolation: Optional[Time] = None,
+                              not_before: Optional[Time] = None) -> Tuple[Twist, np.ndarray]:
+        """twist() and its (6, 6) covariance (dv, dw); at= / max_extrapolation= / not_before=
+        as twist() (twist edges only: no source=; no time travel)."""
     def linear_velocity_with_covariance(
             self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-            expressed_in: Name = None) -> Tuple[LinearVelocity, np.ndarray]:
-        """linear_velocity() and its (3, 3) covariance."""
+            expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
+            not_before: Optional[Time] = None) -> Tuple[LinearVelocity, np.ndarray]:
+        """linear_velocity() and its (3, 3) covariance; time keywords as twist_with_covariance."""
     def angular_velocity_with_covariance(
-            self, *, body: Name = None, ref_body: Name = None,
-            expressed_in: Name = None) -> Tuple[AngularVelocity, np.ndarray]:
-        """angular_velocity() and its (3, 3) covariance."""
+            self, *, body: Name = None, ref_body: Name = None, expressed_in: Name = None,
+            at: At = None, max_extrapolation: Optional[Time] = None,
+            not_before: Optional[Time] = None) -> Tuple[AngularVelocity, np.ndarray]:
+        """angular_velocity() and its (3, 3) covariance; time keywords as
+        twist_with_covariance."""
 
     def compile_pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
                      point: Name = None, orientation: Name = None, ref_point: Name = None,
