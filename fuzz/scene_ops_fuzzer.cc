@@ -420,7 +420,9 @@ class Fuzzer {
         return;
       }
       default: {
-        const Query q = AccelerationQuery(some_edge(), some_edge());
+        const reference::TwistEdge* t1 = some_edge();  // in this order (not as two arguments)
+        const reference::TwistEdge* t2 = some_edge();
+        const Query q = AccelerationQuery(t1, t2);
         if (which == 8) {
           d_.AskAcceleration(q);
         } else {
