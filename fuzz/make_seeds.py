@@ -198,14 +198,18 @@ class Ops:
             self.byte(4).byte(1).byte(coord_near)  # a frame of the point's tree
         return self.value(*a).value(*alpha)
 
-    def twist_handle(self, twist_index):  # of a stored edge, relative to its tail body
-        return self.byte(15).byte(5).byte(twist_index).byte(1).byte(1)
+    # A handle of stored edge #twist_index (relative to its tail body); converting: taking twists
+    # in the frame of the head's tree at index `near` (FrameNear).
+    def twist_handle(self, twist_index, converting=False, near=0):
+        self.byte(15).byte(5).byte(twist_index).byte(2 if converting else 0).byte(1).byte(1)
+        return self.byte(1).byte(near) if converting else self
 
     def set_acc(self, handle_index, a=(1, 0), alpha=(2, 0)):
         return self.byte(15).byte(6).byte(handle_index).value(*a).value(*alpha)
 
-    def set_twist(self, handle_index, v=(1, 0), w=(2, 0)):
-        return self.byte(15).byte(7).byte(handle_index).value(*v).value(*w)
+    def set_twist(self, handle_index, v=(1, 0), w=(2, 0), converting=False):
+        self.byte(15).byte(7).byte(handle_index).byte(1 if converting else 0)
+        return self.value(*v).value(*w)
 
     # A query between stored edges t1 (C: its head's body when c_head, else its tail body) and
     # t2 (D likewise), at t1's head in its frame; kind 0 acceleration, 1 linear, 2 angular.
@@ -405,6 +409,12 @@ def scene_ops_seeds():
         .ask_acc(1, 0)                                  # no_acceleration
         .update_twist_acc(1, (1, 0), (4, 0), (4, 0), (2, 0))
         .ask_acc(1, 0, kind=1)
+        .twist_handle(1, converting=True, near=1)      # c's edge, taking twists in another frame
+        .set_twist(0, (3, 0), (1, 0), converting=True)  # clears c's acceleration again
+        .ask_acc(1, 0)                                  # no_acceleration
+        .set_acc(0, (3, 0), (5, 0))
+        .remove_pose("c", "b")                          # the conversion's edge (and the chain)
+        .set_twist(0, converting=True)                  # query_invalidated
         .remove_twist("c", "B")
         .set_acc(0)                                     # its edge removed: no_such_edge
         .ask_acc(0, 0))

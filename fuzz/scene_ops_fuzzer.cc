@@ -374,9 +374,10 @@ class Fuzzer {
   // acceleration (a new one as AddTwist, or a stored edge's update as ReAddTwist), 2-4
   // AddAcceleration (a stored edge's relation, often bent into an error: another body, the
   // reverse relation, a point or frame of another tree; joints' and stamped edges are stored
-  // edges too), 5 a twist handle kept (FindTwistEdge), 6 SetAcceleration and 7 SetTwist (which
-  // clears the acceleration) through a kept handle, 8 a query (acceleration, linear or angular,
-  // one-shot and compiled), 9 the same compiled and kept.
+  // edges too), 5 a twist handle kept (FindTwistEdge; 1 in 3 a converting one, taking twists
+  // in a frame of the head's tree), 6 SetAcceleration and 7 SetTwist (which clears the
+  // acceleration) through a kept handle (7: a converting one when a Bool says so), 8 a query
+  // (acceleration, linear or angular, one-shot and compiled), 9 the same compiled and kept.
   void AccelerationOp() {
     const std::uint32_t which = in_.Below(10);
     const auto& twists = d_.model().twists();
@@ -405,18 +406,28 @@ class Fuzzer {
         return AddAccelerationOp(some_edge());
       case 5: {
         const reference::TwistEdge* t = some_edge();
+        const bool converting = in_.Below(3) == 2;
         const bool any = in_.OneIn(8);
         const std::string of = t && !any ? t->head : Frame();
         const std::string wrt = t && !in_.OneIn(8) ? t->tail_body : Body();
-        d_.TwistHandle(of, wrt);
+        if (converting) {
+          d_.ConvertingTwistHandle(of, wrt, FrameNear(of));
+        } else {
+          d_.TwistHandle(of, wrt);
+        }
         return;
       }
       case 6:
       case 7: {
         const std::uint8_t pick = in_.Byte();
+        const bool converting = which == 7 && in_.Bool();
         const Eigen::Vector3d x = which == 6 ? AccelerationValue() : Velocity();
         const Eigen::Vector3d y = which == 6 ? AccelerationValue() : Velocity();
-        d_.SetByTwistHandle(pick, which == 6, x, y);
+        if (converting) {
+          d_.SetTwistConverted(pick, x, y);
+        } else {
+          d_.SetByTwistHandle(pick, which == 6, x, y);
+        }
         return;
       }
       default: {

@@ -30,6 +30,13 @@
 //     max(1, max|S|) and symmetric; a nonzero one asked back for the edge alone
 //     (GetPoseWithCovariance of head wrt tail, GetTwistWithCovariance at head in [head]) within
 //     1e-9; a rejected op leaves every stored covariance bit-identical (Dump() has none).
+//   - wrenches: codes, stored pairs and values, queries one-shot, compiled and kept, handles.
+//   - accelerations (TwistWithAcceleration, Acceleration, TwistHandle, ConvertingTwistHandle,
+//     SetByTwistHandle, SetTwistConverted, AskAcceleration, KeepAcceleration): codes; every
+//     twist edge's acceleration present exactly when the model's, equal to its edge form; query
+//     answers within 1e-9 of AccelerationScale(), one-shot and compiled; kept compiled ones
+//     invalidated exactly when an edge of their twist query was removed, else the model's
+//     answer of the moment (no_acceleration included); the light final sweep asks them too.
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
 // tree; repair, joints, time); see tests/reference/reference_model.h.
@@ -803,6 +810,93 @@ class Differential {
     return code;
   }
 
+  /// FindTwistEdge(of, wrt, coord), a converting handle: the codes of FindTwistEdge, then
+  /// invalid_name / unknown_frame (coord), twist_not_convertible; kept (at most 8) with the pose
+  /// edges of its conversion ([coord] wrt [of]) for SetTwistConverted.
+  ErrorCode ConvertingTwistHandle(const std::string& of, const std::string& wrt,
+                                  const std::string& coord) {
+    const std::size_t kept = converting_handles_.size();
+    Begin([=] {
+      return "# converting handle of the twist edge " + YamlName(wrt) + " -> " + YamlName(of) +
+             " taking twists in [" + YamlName(coord) + "] (kept " + std::to_string(kept) + ")";
+    });
+    std::uint64_t serial = 0;
+    ErrorCode expected = model_.FindTwist(of, wrt, &serial);
+    if (expected == ErrorCode::kOk && !ReferenceModel::ValidName(coord)) {
+      expected = ErrorCode::kInvalidName;
+    } else if (expected == ErrorCode::kOk && !model_.frames().count(coord)) {
+      expected = ErrorCode::kUnknownFrame;
+    }
+    std::set<std::string> used;
+    if (expected == ErrorCode::kOk && coord != of) {
+      Query q;  // the orientation of [coord] wrt [of]: the pose edges between them
+      q.kind = QueryKind::kOrientation;
+      q.orientation = coord;
+      q.ref_orientation = q.coord = of;
+      if (model_.Ask(q).code != ErrorCode::kOk) {
+        expected = ErrorCode::kTwistNotConvertible;
+      } else {
+        used = model_.UsedEdges(q);
+      }
+    }
+    const auto h = graph_.FindTwistEdge(of, wrt, coord);
+    const ErrorCode code = h ? ErrorCode::kOk : h.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("FindTwistEdge (converting): kernel says " + std::string(base::ToString(code)) +
+           ", model says " + std::string(base::ToString(expected)));
+    }
+    if (h && converting_handles_.size() < 8) {
+      converting_handles_.push_back({of, wrt, coord, serial, std::move(used), false, *h});
+    }
+    return code;
+  }
+
+  /// SetTwist through kept converting handle `which` (none kept: nothing): (v, w) in [coord]
+  /// rotated into [of] with the current poses; invalid_number -> query_invalidated (a pose
+  /// edge of the conversion removed or reversed since the handle was made) -> SetTwist's codes.
+  ErrorCode SetTwistConverted(std::uint32_t which, const Eigen::Vector3d& v,
+                              const Eigen::Vector3d& w) {
+    if (converting_handles_.empty()) return ErrorCode::kOk;
+    const KeptConvertingHandle& k = converting_handles_[which % converting_handles_.size()];
+    Begin([=] {
+      return "# SetTwist by the converting handle of the twist edge " + YamlName(k.wrt) + " -> " +
+             YamlName(k.of) + " in [" + YamlName(k.coord) + "]: " + YamlVector(v) + ", " +
+             YamlVector(w);
+    });
+    const std::string before = CurrentDump();
+    ErrorCode expected = ErrorCode::kOk;
+    if (!std::isfinite(v.sum()) || !std::isfinite(w.sum()) || v.cwiseAbs().maxCoeff() > 1e12 ||
+        w.cwiseAbs().maxCoeff() > 1e12) {
+      expected = ErrorCode::kInvalidNumber;
+    } else if (k.invalidated) {
+      expected = ErrorCode::kQueryInvalidated;
+    } else {
+      Query q;
+      q.kind = QueryKind::kOrientation;
+      q.orientation = k.coord;
+      q.ref_orientation = q.coord = k.of;
+      const Answer R = model_.Ask(q);  // R_HR (ok: no edge of the conversion was removed)
+      expected = R.code != ErrorCode::kOk ? R.code : model_.SetTwist(k.serial, R.M * v, R.M * w);
+    }
+    const ErrorCode code = graph_.SetTwist(k.handle, v, w);
+    Annotate(code);
+    if (code != expected) {
+      Fail("SetTwist (converting): kernel says " + std::string(base::ToString(code)) +
+           ", model says " + std::string(base::ToString(expected)));
+    }
+    if (code != ErrorCode::kOk) {
+      if (Dump(graph_) != before) Fail("a refused handle update changed the graph's Dump()");
+      return code;
+    }
+    dump_valid_ = false;
+    if (checks_) {
+      CompareState();
+      CheckKept();
+    }
+    return code;
+  }
+
   /// Through kept twist handle `which` (modulo their number; none kept: nothing): SetTwist
   /// (`acceleration` false, clears the edge's acceleration) or SetAcceleration, edge form.
   ErrorCode SetByTwistHandle(std::uint32_t which, bool acceleration, const Eigen::Vector3d& x,
@@ -995,6 +1089,14 @@ class Differential {
     core::TwistHandle handle;
   };
   std::vector<KeptTwistHandle> twist_handles_;
+  struct KeptConvertingHandle {
+    std::string of, wrt, coord;
+    std::uint64_t serial = 0;
+    std::set<std::string> used;  // the pose edges of its conversion
+    bool invalidated = false;    // one of them removed or reversed since it was made
+    core::ConvertingTwistHandle<B> handle;
+  };
+  std::vector<KeptConvertingHandle> converting_handles_;
 
   // An acceleration query through its own call (GetAcceleration, GetLinearAcceleration,
   // GetAngularAcceleration); the value as Outcome's v (a) and w (alpha).
@@ -1611,6 +1713,9 @@ class Differential {
       if (k.used.count(key)) k.invalidated = true;
     }
     for (KeptWrench& k : kept_wrenches_) {
+      if (k.used.count(key)) k.invalidated = true;
+    }
+    for (KeptConvertingHandle& k : converting_handles_) {
       if (k.used.count(key)) k.invalidated = true;
     }
   }
