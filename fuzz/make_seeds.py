@@ -168,7 +168,8 @@ class Ops:
     # edge's update with one, 2-4 AddAcceleration, 5 a twist handle kept, 6 SetAcceleration, 7
     # SetTwist through kept handle `pick`, 8 a query, 9 a query compiled and kept), then each
     # case's bytes as read by its decoder. Values: (table index, modifier); the acceleration
-    # table is AccelerationValue()'s (1: (0.5, -0.2, 0.1), 3: gravity, 5: (4, -3, 2), 7: 2e12).
+    # table is AccelerationValue()'s (1: (0.5, -0.2, 0.1), 3: gravity, 5: (4, -3, 2), 7: 2e12),
+    # its modifier applied only when >= 128 (0x8B: a NaN).
     def twist_acc(self, point, body, ref_body, v=(1, 0), w=(2, 0), a=(1, 0), alpha=(2, 0)):
         self.byte(15).byte(0).frame_name(point).body_for(body).body_name(ref_body)
         return self.byte(0).value(*v).value(*w).value(*a).value(*alpha)  # coord: the point
@@ -398,7 +399,7 @@ def scene_ops_seeds():
         .add_acc(0, how=5)                              # the reverse relation: no_such_edge
         .add_acc(0, how=6, other="C")                   # no edge C -> b: no_such_edge
         .add_acc(0, how=0, body_choice=3, other="F")    # unknown_body
-        .add_acc(0, a=(1, 0x07))                        # NaN: invalid_number
+        .add_acc(0, a=(1, 0x8B))                        # NaN: invalid_number
         .add_acc(0, a=(7, 0))                           # 2e12: invalid_number
         .add_acc(0, how=7, point="k")                   # unknown_frame
         .ask_acc(1, 0)

@@ -445,7 +445,8 @@ class Fuzzer {
   }
 
   // An acceleration value: a small table (zero, gravity, a spin-up, a large one: 2e12 is over
-  // the library's 1e12 bound, invalid_number) with ModifyVector's modifiers (NaN, Inf, 1e-9).
+  // the library's 1e12 bound, invalid_number) with ModifyVector's modifiers (NaN, Inf, 1e-9)
+  // when the modifier byte is >= 128 (else exact: an op takes up to four vectors).
   Eigen::Vector3d AccelerationValue() {
     static const Eigen::Vector3d kTable[] = {
         {0.0, 0.0, 0.0},   {0.5, -0.2, 0.1}, {-1.0, 2.0, 0.3}, {0.0, 0.0, -9.81},
@@ -453,7 +454,7 @@ class Fuzzer {
     };
     const Eigen::Vector3d& base = kTable[in_.Below(8)];
     const std::uint8_t modifier = in_.Byte();
-    return ModifyVector(base, modifier, modifier >> 4);
+    return modifier < 128 ? base : ModifyVector(base, modifier, modifier >> 4);
   }
 
   // AddAcceleration on stored edge t's relation (or on random names), bent by `how`.
