@@ -164,6 +164,63 @@ class Ops:
         return self._wrench_names(9, "A", "B", "a", "a", handle_index).value(*f).value(*m)
 
 
+    # ---- op 15, AccelerationOp(): `which` (0 a new twist with an acceleration, 1 a stored
+    # edge's update with one, 2-4 AddAcceleration, 5 a twist handle kept, 6 SetAcceleration, 7
+    # SetTwist through kept handle `pick`, 8 a query, 9 a query compiled and kept), then each
+    # case's bytes as read by its decoder. Values: (table index, modifier); the acceleration
+    # table is AccelerationValue()'s (1: (0.5, -0.2, 0.1), 3: gravity, 5: (4, -3, 2), 7: 2e12),
+    # its modifier applied only when >= 128 (0x8B: a NaN).
+    def twist_acc(self, point, body, ref_body, v=(1, 0), w=(2, 0), a=(1, 0), alpha=(2, 0)):
+        self.byte(15).byte(0).frame_name(point).body_for(body).body_name(ref_body)
+        return self.byte(0).value(*v).value(*w).value(*a).value(*alpha)  # coord: the point
+
+    def update_twist_acc(self, twist_index, v=(1, 0), w=(2, 0), a=(1, 0), alpha=(2, 0)):
+        self.byte(15).byte(1).byte(twist_index).byte(1).byte(1)  # body omitted, its tail body
+        return self.byte(0).value(*v).value(*w).value(*a).value(*alpha)
+
+    # AddAcceleration on stored edge #twist_index: how (0-2 at the head, 3-4 a frame of its tree:
+    # `near`, the index in the model's tree walk; 5 the reverse relation, 6 ref_body `other`, 7
+    # random names: `point`, `ref_body`), body_choice (0 omitted, 1 the head's body, 3 `other`).
+    def add_acc(self, twist_index, how=0, body_choice=1, near=0, other="A", point="a", ref_body="A",
+                coord_near=None, a=(1, 0), alpha=(2, 0)):
+        self.byte(15).byte(2).byte(twist_index).byte(how).byte(body_choice)
+        if how == 7:
+            self.frame_name(point).body_for(None).body_name(ref_body)
+        else:
+            if how >= 3:
+                self.byte(1).byte(near)  # FrameNear: a frame of the head's tree
+            if body_choice == 3:
+                self.body_name(other)
+            if how == 6:
+                self.body_name(other)
+        if coord_near is None:
+            self.byte(0)  # TwistCoord: the point
+        else:
+            self.byte(4).byte(1).byte(coord_near)  # a frame of the point's tree
+        return self.value(*a).value(*alpha)
+
+    # A handle of stored edge #twist_index (relative to its tail body); converting: taking twists
+    # in the frame of the head's tree at index `near` (FrameNear).
+    def twist_handle(self, twist_index, converting=False, near=0):
+        self.byte(15).byte(5).byte(twist_index).byte(2 if converting else 0).byte(1).byte(1)
+        return self.byte(1).byte(near) if converting else self
+
+    def set_acc(self, handle_index, a=(1, 0), alpha=(2, 0)):
+        return self.byte(15).byte(6).byte(handle_index).value(*a).value(*alpha)
+
+    def set_twist(self, handle_index, v=(1, 0), w=(2, 0), converting=False):
+        self.byte(15).byte(7).byte(handle_index).byte(1 if converting else 0)
+        return self.value(*v).value(*w)
+
+    # A query between stored edges t1 (C: its head's body when c_head, else its tail body) and
+    # t2 (D likewise), at t1's head in its frame; kind 0 acceleration, 1 linear, 2 angular.
+    def ask_acc(self, t1, t2, c_head=True, d_head=False, kind=0, keep=False):
+        self.byte(15).byte(9 if keep else 8).byte(t1).byte(t2).byte(kind).byte(1)
+        self.byte(1 if c_head else 0).byte(1 if d_head else 0).byte(1).byte(0)  # the point: t1's head
+        if kind != 2:
+            self.byte(1)  # the body given
+        return self.byte(1)  # coord: the point
+
     # ---- extended ops (Step(): 13, then Extended(): byte % 12). Each encoder mirrors its
     # decoder in scene_ops_fuzzer.cc; `policy` is Policy()'s byte (< 160: the default).
     def ext(self, sub):
@@ -321,6 +378,47 @@ def scene_ops_seeds():
         .set_wrench(0, (4, 0), (5, 0))                # its pair removed: no_wrench
         .remove_wrench(0, reverse=True)               # no_wrench
         .ask_wrench("B", "A", "a", "a"))
+    # Accelerations (docs/dynamics.md §1): a chain A -> {b}|B -> {c}|C with poses, twists with
+    # accelerations, queries across both edges (composition, Coriolis, the inverse), an
+    # AddAcceleration at another point (converted with the edge's twist), its errors (the
+    # reverse relation: no_such_edge, an unknown body, NaN, 2e12), handles (SetAcceleration,
+    # SetTwist which clears it: no_acceleration), an update with one, a kept compiled query
+    # invalidated by the removal of a twist edge.
+    seeds["accelerations"] = (
+        Ops().pose("b", "B", "a", "A", (1, 0), (1, 0))
+        .pose("c", "C", "b", "B", (3, 0), (2, 0))
+        .twist_acc("b", "B", "A", (1, 0), (2, 0), (1, 0), (5, 0))
+        .twist_acc("c", "C", "B", (3, 0), (4, 0), (3, 0), (6, 0))
+        .ask_acc(1, 0)                                  # C wrt A at c: two edges composed
+        .ask_acc(0, 1, c_head=False, d_head=True)       # A wrt C: both inverted
+        .ask_acc(1, 0, kind=1).ask_acc(1, 0, kind=2)
+        .ask_acc(1, 0, keep=True)                       # invalidated by the removal below
+        .ask_acc(0, 0, keep=True)                       # B wrt A at b: kept valid
+        .add_acc(0, how=3, near=1)                      # at a frame of b's tree, converted
+        .add_acc(0, how=4, near=2, coord_near=0)
+        .add_acc(0, how=5)                              # the reverse relation: no_such_edge
+        .add_acc(0, how=6, other="C")                   # no edge C -> b: no_such_edge
+        .add_acc(0, how=0, body_choice=3, other="F")    # unknown_body
+        .add_acc(0, a=(1, 0x8B))                        # NaN: invalid_number
+        .add_acc(0, a=(7, 0))                           # 2e12: invalid_number
+        .add_acc(0, how=7, point="k")                   # unknown_frame
+        .ask_acc(1, 0)
+        .twist_handle(1)
+        .set_acc(0, (5, 0), (1, 0))
+        .ask_acc(1, 0)
+        .set_twist(0, (2, 0), (3, 0))                   # clears c's acceleration
+        .ask_acc(1, 0)                                  # no_acceleration
+        .update_twist_acc(1, (1, 0), (4, 0), (4, 0), (2, 0))
+        .ask_acc(1, 0, kind=1)
+        .twist_handle(1, converting=True, near=1)      # c's edge, taking twists in another frame
+        .set_twist(0, (3, 0), (1, 0), converting=True)  # clears c's acceleration again
+        .ask_acc(1, 0)                                  # no_acceleration
+        .set_acc(0, (3, 0), (5, 0))
+        .remove_pose("c", "b")                          # the conversion's edge (and the chain)
+        .set_twist(0, converting=True)                  # query_invalidated
+        .remove_twist("c", "B")
+        .set_acc(0)                                     # its edge removed: no_such_edge
+        .ask_acc(0, 0))
     seeds["fig4_constant_pose"] = (
         Ops().pose("b", "B", "c", "B", (3, 0), (4, 0))
         .readd_pose(0, 0)      # the same value again: accepted, kept

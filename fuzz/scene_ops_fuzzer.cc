@@ -18,7 +18,10 @@
 //                     valid, asymmetric, NaN/Inf/huge, negative eigenvalue; both orders; the
 //                     body convention); 16 a wrench op (add, update, the reverse of a stored
 //                     pair, removal, query of one pair, its reaction or a net wrench, one-shot
-//                     or compiled and kept, a handle kept, SetWrench through a kept handle)
+//                     or compiled and kept, a handle kept, SetWrench through a kept handle);
+//                     15 an acceleration op (a twist with an acceleration, AddAcceleration with
+//                     every error class, twist handles with SetAcceleration / SetTwist, queries
+//                     of the three kinds one-shot, compiled, and compiled and kept)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -301,6 +304,9 @@ class Fuzzer {
       case 16:
         WrenchOp();
         break;
+      case 15:
+        AccelerationOp();
+        break;
       case 13:
       case 14:
         Extended();
@@ -364,6 +370,141 @@ class Fuzzer {
     const Eigen::Vector3d m = in_.OneIn(4) ? Position() : Velocity();
     d_.Wrench(on, by, point, coord, f, m);
   }
+  // Op 15, accelerations (docs/dynamics.md §1): `which` (Below(10)) 0-1 a twist with an
+  // acceleration (a new one as AddTwist, or a stored edge's update as ReAddTwist), 2-4
+  // AddAcceleration (a stored edge's relation, often bent into an error: another body, the
+  // reverse relation, a point or frame of another tree; joints' and stamped edges are stored
+  // edges too), 5 a twist handle kept (FindTwistEdge; 1 in 3 a converting one, taking twists
+  // in a frame of the head's tree), 6 SetAcceleration and 7 SetTwist (which clears the
+  // acceleration) through a kept handle (7: a converting one when a Bool says so), 8 a query
+  // (acceleration, linear or angular, one-shot and compiled), 9 the same compiled and kept.
+  void AccelerationOp() {
+    const std::uint32_t which = in_.Below(10);
+    const auto& twists = d_.model().twists();
+    const auto some_edge = [&]() -> const reference::TwistEdge* {
+      const std::uint8_t pick = in_.Byte();  // read whether used or not
+      return twists.empty() ? nullptr : &twists[pick % twists.size()];
+    };
+    switch (which) {
+      case 0:
+      case 1: {
+        const reference::TwistEdge* t = which == 1 ? some_edge() : nullptr;
+        const std::string point = t ? t->head : Frame();
+        const std::string body =
+            t ? (in_.Bool() ? std::string() : d_.model().frames().at(point)) : BodyFor(point);
+        const std::string ref_body = t && !in_.OneIn(8) ? t->tail_body : Body();
+        const std::string coord = TwistCoord(point);
+        const Eigen::Vector3d v = Velocity();
+        const Eigen::Vector3d w = Velocity();
+        const Eigen::Vector3d a = AccelerationValue();
+        d_.TwistWithAcceleration(point, body, ref_body, coord, v, w, a, AccelerationValue());
+        return;
+      }
+      case 2:
+      case 3:
+      case 4:
+        return AddAccelerationOp(some_edge());
+      case 5: {
+        const reference::TwistEdge* t = some_edge();
+        const bool converting = in_.Below(3) == 2;
+        const bool any = in_.OneIn(8);
+        const std::string of = t && !any ? t->head : Frame();
+        const std::string wrt = t && !in_.OneIn(8) ? t->tail_body : Body();
+        if (converting) {
+          d_.ConvertingTwistHandle(of, wrt, FrameNear(of));
+        } else {
+          d_.TwistHandle(of, wrt);
+        }
+        return;
+      }
+      case 6:
+      case 7: {
+        const std::uint8_t pick = in_.Byte();
+        const bool converting = which == 7 && in_.Bool();
+        const Eigen::Vector3d x = which == 6 ? AccelerationValue() : Velocity();
+        const Eigen::Vector3d y = which == 6 ? AccelerationValue() : Velocity();
+        if (converting) {
+          d_.SetTwistConverted(pick, x, y);
+        } else {
+          d_.SetByTwistHandle(pick, which == 6, x, y);
+        }
+        return;
+      }
+      default: {
+        const reference::TwistEdge* t1 = some_edge();  // in this order (not as two arguments)
+        const reference::TwistEdge* t2 = some_edge();
+        const Query q = AccelerationQuery(t1, t2);
+        if (which == 8) {
+          d_.AskAcceleration(q);
+        } else {
+          d_.KeepAcceleration(q);
+        }
+        return;
+      }
+    }
+  }
+
+  // An acceleration value: a small table (zero, gravity, a spin-up, a large one: 2e12 is over
+  // the library's 1e12 bound, invalid_number) with ModifyVector's modifiers (NaN, Inf, 1e-9)
+  // when the modifier byte is >= 128 (else exact: an op takes up to four vectors).
+  Eigen::Vector3d AccelerationValue() {
+    static const Eigen::Vector3d kTable[] = {
+        {0.0, 0.0, 0.0},   {0.5, -0.2, 0.1}, {-1.0, 2.0, 0.3}, {0.0, 0.0, -9.81},
+        {0.01, 0.02, 0.0}, {4.0, -3.0, 2.0}, {0.0, 0.7, 0.0},  {2e12, 0.0, 1.0},
+    };
+    const Eigen::Vector3d& base = kTable[in_.Below(8)];
+    const std::uint8_t modifier = in_.Byte();
+    return modifier < 128 ? base : ModifyVector(base, modifier, modifier >> 4);
+  }
+
+  // AddAcceleration on stored edge t's relation (or on random names), bent by `how`.
+  void AddAccelerationOp(const reference::TwistEdge* t) {
+    const std::uint32_t how = in_.Below(8);
+    const std::uint32_t body_choice = in_.Below(4);
+    if (t == nullptr || how == 7) {  // random names: mostly errors
+      const std::string point = Frame();
+      const std::string body = BodyFor(point);
+      const std::string ref_body = Body();
+      const std::string coord = TwistCoord(point);
+      const Eigen::Vector3d a = AccelerationValue();
+      d_.Acceleration(point, body, ref_body, coord, a, AccelerationValue());
+      return;
+    }
+    const reference::TwistEdge edge = *t;
+    const std::string H = d_.model().frames().at(edge.head);
+    // The point: the head, or a frame of its tree (on any body: the point of H at e).
+    const std::string point = how < 3 ? edge.head : FrameNear(edge.head);
+    std::string body = body_choice == 0 ? std::string() : H;  // empty: the point's body
+    if (body_choice == 3) body = Body();
+    std::string ref_body = edge.tail_body;
+    if (how == 5) body = edge.tail_body, ref_body = H;  // the reverse relation: no_such_edge
+    if (how == 6) ref_body = Body();
+    const std::string coord = TwistCoord(point);
+    const Eigen::Vector3d a = AccelerationValue();
+    d_.Acceleration(point, body, ref_body, coord, a, AccelerationValue());
+  }
+
+  // An acceleration query between bodies of stored edges t1 (the moving body's side) and t2,
+  // at a frame of t1's tree; a random one (MakeQuery) when there are no edges or 1 time in 8.
+  Query AccelerationQuery(const reference::TwistEdge* t1, const reference::TwistEdge* t2) {
+    static const QueryKind kKinds[] = {QueryKind::kTwist, QueryKind::kLinearVelocity,
+                                       QueryKind::kAngularVelocity};
+    const QueryKind kind = kKinds[in_.Below(3)];
+    if (t1 == nullptr || in_.OneIn(8)) return MakeQuery(kind);
+    const reference::TwistEdge a = *t1, b = *t2;
+    const auto& frames = d_.model().frames();
+    Query q;
+    q.kind = kind;
+    const std::string C = in_.Bool() ? frames.at(a.head) : a.tail_body;
+    const std::string D = in_.Bool() ? frames.at(b.head) : b.tail_body;
+    q.point = FrameNear(a.head);
+    q.body = kind != QueryKind::kAngularVelocity && in_.OneIn(4) ? std::string() : C;
+    q.ref_body = D;
+    q.coord = in_.Bool() ? q.point : FrameNear(q.point);
+    if (kind == QueryKind::kAngularVelocity) q.point.clear();
+    return q;
+  }
+
   // A frame of `body` in the model (one of them, by input), or `body` itself as a name. Reads
   // one byte either way (the decoding does not depend on the model's state).
   std::string FrameOfBody(const std::string& body) {

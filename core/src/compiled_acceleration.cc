@@ -27,13 +27,15 @@ ErrorCode CompiledAcceleration<B>::Evaluate(Eigen::Vector3d& a_DCe_R,
                                             Eigen::Vector3d& alpha_DC_R) const noexcept {
   const internal::FlatSource<B> src = this->source();
   internal::AccelerationComposer composer;
+  bool missing = false;  // reported only when no edge of the path was removed (every step read)
   for (const auto& step : steps_) {
     internal::Motion m;
     bool present = false;
     if (!internal::AccelerationStep<B>(src, step, m, present)) return ErrorCode::kQueryInvalidated;
-    if (!present) return ErrorCode::kNoAcceleration;
-    composer.Add(step.ref_side, m);
+    missing = missing || !present;
+    if (!missing) composer.Add(step.ref_side, m);
   }
+  if (missing) return ErrorCode::kNoAcceleration;
   const internal::Motion m = composer.Result();
   a_DCe_R = m.a;
   alpha_DC_R = m.alpha;

@@ -30,6 +30,13 @@
 //     max(1, max|S|) and symmetric; a nonzero one asked back for the edge alone
 //     (GetPoseWithCovariance of head wrt tail, GetTwistWithCovariance at head in [head]) within
 //     1e-9; a rejected op leaves every stored covariance bit-identical (Dump() has none).
+//   - wrenches: codes, stored pairs and values, queries one-shot, compiled and kept, handles.
+//   - accelerations (TwistWithAcceleration, Acceleration, TwistHandle, ConvertingTwistHandle,
+//     SetByTwistHandle, SetTwistConverted, AskAcceleration, KeepAcceleration): codes; every
+//     twist edge's acceleration present exactly when the model's, equal to its edge form; query
+//     answers within 1e-9 of AccelerationScale(), one-shot and compiled; kept compiled ones
+//     invalidated exactly when an edge of their twist query was removed, else the model's
+//     answer of the moment (no_acceleration included); the light final sweep asks them too.
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
 // tree; repair, joints, time); see tests/reference/reference_model.h.
@@ -56,6 +63,7 @@
 
 #include "reference_model.h"
 #include "semgraph/base/error_code.h"
+#include "semgraph/core/compiled_acceleration.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
@@ -117,7 +125,6 @@ inline std::string YamlRotation(const RotationInput& r) {
   return s + "]}";
 }
 
-/// `, key: value` when value is not empty.
 /// A covariance as scene-script.md's `covariance: {matrix, order, convention}` value.
 inline std::string YamlCovariance(const reference::CovarianceIn& c) {
   std::string m = "[";
@@ -131,6 +138,7 @@ inline std::string YamlCovariance(const reference::CovarianceIn& c) {
          ", convention: " + (c.body ? "body" : "coordinates") + "}";
 }
 
+/// `, key: value` when value is not empty.
 inline std::string Field(const char* key, const std::string& value) {
   return value.empty() ? std::string() : std::string(", ") + key + ": " + YamlName(value);
 }
@@ -177,6 +185,17 @@ inline std::string QueryText(const Query& q) {
       break;
   }
   return s + Field("coord", q.coord) + "}";
+}
+
+/// An acceleration query (the twist query's fields; kind kTwist: acceleration, kLinearVelocity:
+/// linear_acceleration, kAngularVelocity: angular_acceleration) in scene-script notation.
+inline std::string AccelerationQueryText(const Query& q) {
+  const char* kind = q.kind == QueryKind::kLinearVelocity    ? "linear_acceleration"
+                     : q.kind == QueryKind::kAngularVelocity ? "angular_acceleration"
+                                                             : "acceleration";
+  std::string s = std::string("{op: query, kind: ") + kind;
+  if (q.kind != QueryKind::kAngularVelocity) s += Field("point", q.point);
+  return s + Field("body", q.body) + Field("ref_body", q.ref_body) + Field("coord", q.coord) + "}";
 }
 
 // ------------------------------------------------------------------ the differential runner
@@ -736,6 +755,221 @@ class Differential {
     CheckKept();
   }
 
+  // ---------------------------------------------------------------- accelerations
+
+  /// AddTwist with an acceleration (a, alpha) at the same point, in the same frame.
+  ErrorCode TwistWithAcceleration(const std::string& point, const std::string& body,
+                                  const std::string& ref_body, const std::string& coord,
+                                  const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                                  const Eigen::Vector3d& a, const Eigen::Vector3d& alpha) {
+    Begin([=] {
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) +
+             ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
+             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) +
+             ", acceleration: {linear: " + YamlVector(a) + ", angular: " + YamlVector(alpha) + "}}";
+    });
+    const core::TwistSpec spec =
+        core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    const reference::AccelerationIn acc{a, alpha};
+    return Finish(graph_.AddTwist(spec, v, w, core::AccelerationInput{a, alpha}),
+                  model_.AddTwist(point, body, ref_body, coord, v, w, std::nullopt, nullptr, &acc));
+  }
+
+  /// AddAcceleration: AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha).
+  ErrorCode Acceleration(const std::string& point, const std::string& body,
+                         const std::string& ref_body, const std::string& coord,
+                         const Eigen::Vector3d& a, const Eigen::Vector3d& alpha) {
+    Begin([=] {
+      return "{op: acceleration, point: " + YamlName(point) + Field("body", body) +
+             ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
+             ", linear: " + YamlVector(a) + ", angular: " + YamlVector(alpha) + "}";
+    });
+    const core::TwistSpec spec =
+        core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    return Finish(graph_.AddAcceleration(spec, a, alpha),
+                  model_.AddAcceleration(point, body, ref_body, coord, a, alpha));
+  }
+
+  /// FindTwistEdge(of, wrt): the model's code; a handle found is kept (at most 8).
+  ErrorCode TwistHandle(const std::string& of, const std::string& wrt) {
+    const std::size_t kept = twist_handles_.size();
+    Begin([=] {
+      return "# handle of the twist edge " + YamlName(wrt) + " -> " + YamlName(of) + " (kept " +
+             std::to_string(kept) + ")";
+    });
+    std::uint64_t serial = 0;
+    const ErrorCode expected = model_.FindTwist(of, wrt, &serial);
+    const auto h = graph_.FindTwistEdge(of, wrt);
+    const ErrorCode code = h ? ErrorCode::kOk : h.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("FindTwistEdge: kernel says " + std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (h && twist_handles_.size() < 8) twist_handles_.push_back({of, wrt, serial, *h});
+    return code;
+  }
+
+  /// FindTwistEdge(of, wrt, coord), a converting handle: the codes of FindTwistEdge, then
+  /// invalid_name / unknown_frame (coord), twist_not_convertible; kept (at most 8) with the pose
+  /// edges of its conversion ([coord] wrt [of]) for SetTwistConverted.
+  ErrorCode ConvertingTwistHandle(const std::string& of, const std::string& wrt,
+                                  const std::string& coord) {
+    const std::size_t kept = converting_handles_.size();
+    Begin([=] {
+      return "# converting handle of the twist edge " + YamlName(wrt) + " -> " + YamlName(of) +
+             " taking twists in [" + YamlName(coord) + "] (kept " + std::to_string(kept) + ")";
+    });
+    std::uint64_t serial = 0;
+    ErrorCode expected = model_.FindTwist(of, wrt, &serial);
+    if (expected == ErrorCode::kOk && !ReferenceModel::ValidName(coord)) {
+      expected = ErrorCode::kInvalidName;
+    } else if (expected == ErrorCode::kOk && !model_.frames().count(coord)) {
+      expected = ErrorCode::kUnknownFrame;
+    }
+    std::set<std::string> used;
+    if (expected == ErrorCode::kOk && coord != of) {
+      Query q;  // the orientation of [coord] wrt [of]: the pose edges between them
+      q.kind = QueryKind::kOrientation;
+      q.orientation = coord;
+      q.ref_orientation = q.coord = of;
+      if (model_.Ask(q).code != ErrorCode::kOk) {
+        expected = ErrorCode::kTwistNotConvertible;
+      } else {
+        used = model_.UsedEdges(q);
+      }
+    }
+    const auto h = graph_.FindTwistEdge(of, wrt, coord);
+    const ErrorCode code = h ? ErrorCode::kOk : h.error().code;
+    Annotate(code);
+    if (code != expected) {
+      Fail("FindTwistEdge (converting): kernel says " + std::string(base::ToString(code)) +
+           ", model says " + std::string(base::ToString(expected)));
+    }
+    if (h && converting_handles_.size() < 8) {
+      converting_handles_.push_back({of, wrt, coord, serial, std::move(used), false, *h});
+    }
+    return code;
+  }
+
+  /// SetTwist through kept converting handle `which` (none kept: nothing): (v, w) in [coord]
+  /// rotated into [of] with the current poses; invalid_number -> query_invalidated (a pose
+  /// edge of the conversion removed or reversed since the handle was made) -> SetTwist's codes.
+  ErrorCode SetTwistConverted(std::uint32_t which, const Eigen::Vector3d& v,
+                              const Eigen::Vector3d& w) {
+    if (converting_handles_.empty()) return ErrorCode::kOk;
+    const KeptConvertingHandle& k = converting_handles_[which % converting_handles_.size()];
+    Begin([=] {
+      return "# SetTwist by the converting handle of the twist edge " + YamlName(k.wrt) + " -> " +
+             YamlName(k.of) + " in [" + YamlName(k.coord) + "]: " + YamlVector(v) + ", " +
+             YamlVector(w);
+    });
+    const std::string before = CurrentDump();
+    ErrorCode expected = ErrorCode::kOk;
+    if (!std::isfinite(v.sum()) || !std::isfinite(w.sum()) || v.cwiseAbs().maxCoeff() > 1e12 ||
+        w.cwiseAbs().maxCoeff() > 1e12) {
+      expected = ErrorCode::kInvalidNumber;
+    } else if (k.invalidated) {
+      expected = ErrorCode::kQueryInvalidated;
+    } else {
+      Query q;
+      q.kind = QueryKind::kOrientation;
+      q.orientation = k.coord;
+      q.ref_orientation = q.coord = k.of;
+      const Answer R = model_.Ask(q);  // R_HR (ok: no edge of the conversion was removed)
+      expected = R.code != ErrorCode::kOk ? R.code : model_.SetTwist(k.serial, R.M * v, R.M * w);
+    }
+    const ErrorCode code = graph_.SetTwist(k.handle, v, w);
+    Annotate(code);
+    if (code != expected) {
+      Fail("SetTwist (converting): kernel says " + std::string(base::ToString(code)) +
+           ", model says " + std::string(base::ToString(expected)));
+    }
+    if (code != ErrorCode::kOk) {
+      if (Dump(graph_) != before) Fail("a refused handle update changed the graph's Dump()");
+      return code;
+    }
+    dump_valid_ = false;
+    if (checks_) {
+      CompareState();
+      CheckKept();
+    }
+    return code;
+  }
+
+  /// Through kept twist handle `which` (modulo their number; none kept: nothing): SetTwist
+  /// (`acceleration` false, clears the edge's acceleration) or SetAcceleration, edge form.
+  ErrorCode SetByTwistHandle(std::uint32_t which, bool acceleration, const Eigen::Vector3d& x,
+                             const Eigen::Vector3d& y) {
+    if (twist_handles_.empty()) return ErrorCode::kOk;
+    const KeptTwistHandle& k = twist_handles_[which % twist_handles_.size()];
+    Begin([=] {
+      return std::string("# ") + (acceleration ? "SetAcceleration" : "SetTwist") +
+             " by the handle of the twist edge " + YamlName(k.wrt) + " -> " + YamlName(k.of) +
+             ": " + YamlVector(x) + ", " + YamlVector(y);
+    });
+    const std::string before = CurrentDump();
+    const ErrorCode expected =
+        acceleration ? model_.SetAcceleration(k.serial, x, y) : model_.SetTwist(k.serial, x, y);
+    const ErrorCode code =
+        acceleration ? graph_.SetAcceleration(k.handle, x, y) : graph_.SetTwist(k.handle, x, y);
+    Annotate(code);
+    if (code != expected) {
+      Fail(std::string(acceleration ? "SetAcceleration" : "SetTwist") + ": kernel says " +
+           std::string(base::ToString(code)) + ", model says " +
+           std::string(base::ToString(expected)));
+    }
+    if (code != ErrorCode::kOk) {
+      if (Dump(graph_) != before) Fail("a refused handle update changed the graph's Dump()");
+      return code;
+    }
+    dump_valid_ = false;
+    if (checks_) {
+      CompareState();
+      CheckKept();
+    }
+    return code;
+  }
+
+  /// An acceleration query (q.kind kTwist / kLinearVelocity / kAngularVelocity: acceleration,
+  /// linear, angular), one-shot through its own call and compiled (CompileAcceleration; the
+  /// angular one at the coordinate frame's origin, as angular velocities).
+  void AskAcceleration(const Query& q) {
+    Begin([=] { return AccelerationQueryText(q); });
+    const std::string before = CurrentDump();
+    const reference::AccelerationAnswer expected = model_.AskAcceleration(q);
+    const Outcome got = OneShotAcceleration(q);
+    Annotate(got.code);
+    CompareAcceleration("acceleration query", expected, got);
+    if (CompileComparable(q)) {
+      CompareAcceleration("compiled acceleration query", expected,
+                          CompiledAccelerationOutcome(q, nullptr));
+    }
+    if (Dump(graph_) != before) Fail("an acceleration query changed the graph's Dump()");
+    CheckKept();
+  }
+
+  /// An acceleration query compiled and kept: re-evaluated after every later op (CheckKept),
+  /// query_invalidated exactly when an edge of its twist query (UsedEdges) was removed, else
+  /// the model's answer of that moment (no_acceleration included).
+  void KeepAcceleration(const Query& q) {
+    Begin([=] { return "# keep compiled " + AccelerationQueryText(q); });
+    Kept k;
+    k.query = q;
+    k.acceleration = true;
+    const reference::AccelerationAnswer expected = model_.AskAcceleration(q);
+    const Outcome compiled = CompiledAccelerationOutcome(q, &k.compiled);
+    Annotate(compiled.code);
+    if (!CompileComparable(q)) return;
+    CompareAcceleration("kept compiled acceleration query", expected, compiled);
+    if (std::holds_alternative<std::monostate>(k.compiled)) return;  // compiling failed
+    const std::string& own = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
+    k.zero_twist = (q.body.empty() ? model_.frames().at(own) : q.body) == q.ref_body;
+    if (!k.zero_twist) k.used = model_.UsedEdges(q);
+    if (kept_.size() >= kMaxKept) kept_.pop_front();
+    kept_.push_back(std::move(k));
+  }
+
   /// A one-shot query, and the same query compiled and evaluated once.
   void Ask(const Query& q) {
     Begin([=] { return QueryText(q); });
@@ -816,6 +1050,7 @@ class Differential {
           q.body = C;
           q.ref_body = D;
           Check(q);
+          if (mode == Sweep::kLight) CheckAcceleration(q);
         }
       }
     }
@@ -832,20 +1067,134 @@ class Differential {
  private:
   static constexpr std::size_t kMaxKept = 6;
   using CompiledAny = std::variant<std::monostate, core::CompiledPose<B>, core::CompiledPosition<B>,
-                                   core::CompiledOrientation<B>, core::CompiledTwist<B>>;
-  struct Kept {
-    Query query;
-    CompiledAny compiled;
-    std::set<std::string> used;
-    bool invalidated = false;  // an edge in `used` was removed since compiling
-    bool zero_twist = false;   // a velocity of a body relative to itself (see Keep)
-  };
+                                   core::CompiledOrientation<B>, core::CompiledTwist<B>,
+                                   core::CompiledAcceleration<B>>;
   struct Outcome {
     ErrorCode code = ErrorCode::kOk;
     Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
     Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero(),
                     w = Eigen::Vector3d::Zero();
   };
+  struct Kept {
+    Query query;
+    CompiledAny compiled;
+    std::set<std::string> used;
+    bool invalidated = false;   // an edge in `used` was removed since compiling
+    bool zero_twist = false;    // a velocity of a body relative to itself (see Keep)
+    bool acceleration = false;  // an acceleration query (KeepAcceleration)
+  };
+  struct KeptTwistHandle {
+    std::string of, wrt;
+    std::uint64_t serial = 0;
+    core::TwistHandle handle;
+  };
+  std::vector<KeptTwistHandle> twist_handles_;
+  struct KeptConvertingHandle {
+    std::string of, wrt, coord;
+    std::uint64_t serial = 0;
+    std::set<std::string> used;  // the pose edges of its conversion
+    bool invalidated = false;    // one of them removed or reversed since it was made
+    core::ConvertingTwistHandle<B> handle;
+  };
+  std::vector<KeptConvertingHandle> converting_handles_;
+
+  // An acceleration query through its own call (GetAcceleration, GetLinearAcceleration,
+  // GetAngularAcceleration); the value as Outcome's v (a) and w (alpha).
+  Outcome OneShotAcceleration(const Query& q) const {
+    Outcome o;
+    const core::TwistSpec spec = TwistSpecOf(q);
+    switch (q.kind) {
+      case QueryKind::kLinearVelocity: {
+        const auto r = graph_.GetLinearAcceleration(spec);
+        if (!r) return Code(r);
+        o.v = r->value;
+        return o;
+      }
+      case QueryKind::kAngularVelocity: {
+        const auto r = graph_.GetAngularAcceleration(spec);
+        if (!r) return Code(r);
+        o.w = r->value;
+        return o;
+      }
+      default: {
+        const auto r = graph_.GetAcceleration(spec);
+        if (!r) return Code(r);
+        o.v = r->linear;
+        o.w = r->angular;
+        return o;
+      }
+    }
+  }
+
+  // CompileAcceleration (an angular one at the coordinate frame's origin), kept in *keep when
+  // compiled, and evaluated once.
+  Outcome CompiledAccelerationOutcome(const Query& q, CompiledAny* keep) const {
+    core::TwistSpec spec = TwistSpecOf(q);
+    if (q.kind == QueryKind::kAngularVelocity) spec.point = spec.coordinate_frame;
+    auto r = graph_.CompileAcceleration(spec);
+    if (!r) return Code(r);
+    CompiledAny c = std::move(*r);
+    const Outcome o = Evaluate(c, q.kind);
+    if (keep) *keep = std::move(c);
+    return o;
+  }
+
+  // Rounding of composed accelerations: every edge's own numbers, moved along lever arms up to
+  // the scene's positions (alpha x r, w x (w x r)), and the products of angular velocities with
+  // the twists of the other edges (Coriolis, w x w).
+  double AccelerationScale() const {
+    const double lever = PositionScale();
+    double own = 1.0, W = 0.0, V = 0.0;
+    for (const reference::TwistEdge& t : model_.twists()) {
+      const double w = t.w.norm();
+      own += t.a.norm() + t.alpha.norm() * lever + w * w * lever;
+      W += w;
+      V += t.v.norm() + w * lever;
+    }
+    return own + 2.0 * W * (V + W);
+  }
+
+  void CompareAcceleration(const std::string& what, const reference::AccelerationAnswer& expected,
+                           const Outcome& got) {
+    if (got.code != expected.code) {
+      Fail(what + ": kernel says " + std::string(base::ToString(got.code)) + ", model says " +
+           std::string(base::ToString(expected.code)));
+    }
+    if (got.code != ErrorCode::kOk) return;
+    const double tol = 1e-9 * std::max(AccelerationScale(), expected.a.norm());
+    if (!Near(got.v, expected.a, tol) || !Near(got.w, expected.alpha, tol)) {
+      const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+      std::ostringstream out;
+      out << what << ": values differ (tolerance " << tol << ")\n  kernel a "
+          << got.v.transpose().format(fmt) << " alpha " << got.w.transpose().format(fmt)
+          << "\n  model  a " << expected.a.transpose().format(fmt) << " alpha "
+          << expected.alpha.transpose().format(fmt);
+      Fail(out.str());
+    }
+  }
+
+  // Every twist edge's acceleration: present in the kernel exactly when in the model, the same
+  // edge-form values.
+  void CompareAccelerations() {
+    const double tol = 1e-9 * AccelerationScale();
+    for (const reference::TwistEdge& t : model_.twists()) {
+      const auto A = graph_.acceleration_value(graph_.FindFrame(t.head));
+      const std::string edge = "the twist edge " + t.tail_body + " -> " + t.head;
+      if (A.has_value() != t.has_A) {
+        Fail(edge + (t.has_A ? " has no acceleration in the kernel, one in the model"
+                             : " has an acceleration in the kernel, none in the model"));
+      }
+      if (A && (!Near(A->linear, t.a, tol) || !Near(A->angular, t.alpha, tol))) {
+        const Eigen::IOFormat fmt(17, Eigen::DontAlignCols, ", ", "; ", "", "", "[", "]");
+        std::ostringstream out;
+        out << "stored acceleration of " << edge << " differs\n  kernel a "
+            << A->linear.transpose().format(fmt) << " alpha " << A->angular.transpose().format(fmt)
+            << "\n  model  a " << t.a.transpose().format(fmt) << " alpha "
+            << t.alpha.transpose().format(fmt);
+        Fail(out.str());
+      }
+    }
+  }
 
   // The trace keeps each op's text unrendered (formatting every number of every op would cost
   // more than the checks) and the kernel's result.
@@ -1255,6 +1604,7 @@ class Differential {
       }
     }
     CompareWrenches();
+    CompareAccelerations();
   }
 
   struct KeptWrench {
@@ -1365,6 +1715,9 @@ class Differential {
     for (KeptWrench& k : kept_wrenches_) {
       if (k.used.count(key)) k.invalidated = true;
     }
+    for (KeptConvertingHandle& k : converting_handles_) {
+      if (k.used.count(key)) k.invalidated = true;
+    }
   }
 
   void CheckKept() {
@@ -1373,12 +1726,20 @@ class Differential {
       Kept& k = kept_[i];
       const Outcome got = Evaluate(k.compiled, k.query.kind);
       const std::string which =
-          "kept compiled query #" + std::to_string(i) + " " + QueryText(k.query);
+          "kept compiled query #" + std::to_string(i) + " " +
+          (k.acceleration ? AccelerationQueryText(k.query) : QueryText(k.query));
       if (k.invalidated) {
         if (got.code != ErrorCode::kQueryInvalidated) {
           Fail(which + ": an edge it used was removed, but Evaluate() returned " +
                std::string(base::ToString(got.code)) + " instead of query_invalidated");
         }
+        continue;
+      }
+      if (k.acceleration) {
+        CompareAcceleration(
+            "kept compiled acceleration query #" + std::to_string(i) + " " +
+                AccelerationQueryText(k.query) + " (re-evaluated)",
+            k.zero_twist ? reference::AccelerationAnswer{} : model_.AskAcceleration(k.query), got);
         continue;
       }
       if (got.code != ErrorCode::kOk) {
@@ -1527,6 +1888,11 @@ class Differential {
       o.code = twist->Evaluate(o.v, o.w);
       if (kind == QueryKind::kLinearVelocity) o.w.setZero();
       if (kind == QueryKind::kAngularVelocity) o.v.setZero();
+    } else if (const auto* acc = std::get_if<core::CompiledAcceleration<B>>(&c)) {
+      o.code = acc->Evaluate(o.v, o.w);  // a, alpha
+      if (o.code != ErrorCode::kOk) o.v.setZero(), o.w.setZero();
+      if (kind == QueryKind::kLinearVelocity) o.w.setZero();
+      if (kind == QueryKind::kAngularVelocity) o.v.setZero();
     }
     return o;
   }
@@ -1569,6 +1935,20 @@ class Differential {
           << expected.p.transpose().format(fmt) << " v " << expected.v.transpose().format(fmt)
           << " w " << expected.w.transpose().format(fmt);
       Fail(out.str());
+    }
+  }
+
+  // A sweep acceleration query: like AskAcceleration but not traced unless it fails.
+  void CheckAcceleration(const Query& q) {
+    const reference::AccelerationAnswer expected = model_.AskAcceleration(q);
+    const Outcome got = OneShotAcceleration(q);
+    if (got.code != expected.code || got.code == ErrorCode::kOk) {
+      trace_.push_back(TraceLine{
+          [=] { return "# final sweep: " + AccelerationQueryText(q); }, std::nullopt, {}});
+      CompareAcceleration("final sweep acceleration query", expected, got);
+      CompareAcceleration("final sweep acceleration query, compiled", expected,
+                          CompiledAccelerationOutcome(q, nullptr));
+      trace_.pop_back();
     }
   }
 

@@ -145,5 +145,35 @@ TYPED_TEST(CompiledAccelerations, StampedEdgesRefuseAnAcceleration) {
   EXPECT_FALSE(g.acceleration_value(g.FindFrame("d")));
 }
 
+// Found by scene_ops_fuzzer (op 15): a compiled query whose edge has no acceleration and whose
+// pose chain lost an edge said kNoAcceleration; the removal comes first (kQueryInvalidated),
+// as for a removed twist edge after an edge without an acceleration.
+TYPED_TEST(CompiledAccelerations, ARemovedEdgeComesBeforeAMissingAcceleration) {
+  SceneGraph<TypeParam> g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "B").RelativeTo("a", "A"), Eigen::Quaterniond::Identity(),
+                        Vec(1, 0, 0)));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("c", "B").RelativeTo("A").ExpressedIn("c"), Vec::Zero(),
+                         Vec(0, 0, 1)));  // no acceleration
+  auto at_a = g.CompileAcceleration(TwistSpec::Of("a", "B").RelativeTo("A").ExpressedIn("a"));
+  ASSERT_TRUE(at_a);
+  Vec a, alpha;
+  EXPECT_EQ(at_a->Evaluate(a, alpha), ErrorCode::kNoAcceleration);
+  ASSERT_TRUE(g.RemovePose("c", "a"));  // the pose chain from c to the point a and [a]
+  EXPECT_EQ(at_a->Evaluate(a, alpha), ErrorCode::kQueryInvalidated);
+  // Two edges: the first without an acceleration, the second removed.
+  SceneGraph<TypeParam> h;
+  ASSERT_TRUE(h.AddTwist(TwistSpec::Of("b", "B").RelativeTo("A").ExpressedIn("b"), Vec::Zero(),
+                         Vec(0, 0, 1)));
+  ASSERT_TRUE(h.AddTwist(TwistSpec::Of("c", "C").RelativeTo("B").ExpressedIn("c"), Vec::Zero(),
+                         Vec(0, 0, 1), AccelerationInput{Vec::Zero(), Vec::Zero()}));
+  ASSERT_TRUE(h.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), Eigen::Quaterniond::Identity(),
+                        Vec(1, 0, 0)));
+  auto chain = h.CompileAcceleration(TwistSpec::Of("c", "C").RelativeTo("A").ExpressedIn("c"));
+  ASSERT_TRUE(chain);
+  EXPECT_EQ(chain->Evaluate(a, alpha), ErrorCode::kNoAcceleration);
+  ASSERT_TRUE(h.RemoveTwist("c", "B"));
+  EXPECT_EQ(chain->Evaluate(a, alpha), ErrorCode::kQueryInvalidated);
+}
+
 }  // namespace
 }  // namespace semgraph::core

@@ -18,6 +18,8 @@ constexpr double kPi = 3.14159265358979323846;
 bool Finite(const Eigen::Vector3d& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
+// A number the library accepts in a vector (docs/rules.md: finite, |x| <= 1e12).
+bool NumberOk(const Eigen::Vector3d& v) { return Finite(v) && v.cwiseAbs().maxCoeff() <= 1e12; }
 
 // Union-find over strings, the naive way.
 struct Partition {
@@ -660,6 +662,7 @@ void ReferenceModel::Drive(State& s, const std::string& name) {
       if (t.head != j.child) continue;
       t.v.setZero();
       t.w.setZero();
+      t.has_A = false;  // joints give no accelerations (not yet in the library)
       if (j.type == JointType::kPrismatic) t.v = j.qdot * j.u;
       if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) t.w = j.qdot * j.u;
     }
@@ -759,6 +762,7 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   }
   next.twists.push_back(TwistEdge{
       P, in.child, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), false, {}, Matrix6::Zero()});
+  next.twists.back().serial = next.next_twist_serial++;
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   j.serial = next_serial_++;
   next.joints.push_back(j);
@@ -894,11 +898,13 @@ JacobianAnswer ReferenceModel::Jacobian(const Query& query) const {
 ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& body,
                                    const std::string& ref_body, const std::string& coord,
                                    const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                                   std::optional<std::int64_t> stamp, const CovarianceIn* cov) {
+                                   std::optional<std::int64_t> stamp, const CovarianceIn* cov,
+                                   const AccelerationIn* acc) {
   if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord))
     return ErrorCode::kInvalidName;
   if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
   if (!Finite(v) || !Finite(w)) return ErrorCode::kInvalidNumber;
+  if (acc && (!NumberOk(acc->a) || !NumberOk(acc->alpha))) return ErrorCode::kInvalidNumber;
   if (cov && !CovarianceNumbersOk(cov->S)) return ErrorCode::kInvalidNumber;
   // A twist's covariance has no convention: body is refused as the library does.
   if (cov && (!CovarianceShapeOk(cov->S) || cov->body)) return ErrorCode::kInvalidCovariance;
@@ -911,6 +917,8 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
   if (C == ref_body) return ErrorCode::kTwistSameBody;
   // Conversion to the screw twist at {point} in [point]: v_e = R_er v, w_e = R_er w.
   Eigen::Vector3d v_e = v, w_e = w;
+  Eigen::Vector3d a_e = acc ? acc->a : Eigen::Vector3d::Zero();
+  Eigen::Vector3d alpha_e = acc ? acc->alpha : Eigen::Vector3d::Zero();
   if (coord != point) {
     Transform X_ER;
     if (!point_exists || !s_.frames.count(coord) || !Find(coord, point, &X_ER)) {
@@ -930,6 +938,9 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     }
     v_e = X_ER.R * v;
     w_e = X_ER.R * w;
+    // The acceleration is given at the same point e: only its frame changes (a vector taken
+    // at an instant, re-expressed): a_e = R_er a, alpha_e = R_er alpha.
+    if (acc) a_e = X_ER.R * acc->a, alpha_e = X_ER.R * acc->alpha;
     S = Propagate(X_ER.R, Eigen::Matrix3d::Zero(), X_ER.R, S);  // re-expressed, R taken exact
   }
   for (TwistEdge& t : s_.twists) {
@@ -944,11 +955,14 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
       t.v = v_e;
       t.w = w_e;
       t.S = S;
+      t.has_A = acc != nullptr;  // a twist without an acceleration clears the edge's
+      t.a = a_e, t.alpha = alpha_e;
       return ErrorCode::kOk;
     }
     InsertSample(t.samples, TwistSample{*stamp, v_e, w_e}, time_, same);
     t.v = t.samples.back().v;
     t.w = t.samples.back().w;
+    t.has_A = false;  // a stamped sample: never an acceleration (none stored with samples)
     return ErrorCode::kOk;
   }
   State next = s_;
@@ -957,6 +971,9 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
   PutFrame(next, point, C);
   next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}, S});
   if (stamp) next.twists.back().samples.push_back(TwistSample{*stamp, v_e, w_e});
+  next.twists.back().has_A = acc != nullptr && !stamp;
+  next.twists.back().a = a_e, next.twists.back().alpha = alpha_e;
+  next.twists.back().serial = next.next_twist_serial++;
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
   s_ = std::move(next);
   return ErrorCode::kOk;
@@ -1483,6 +1500,153 @@ WrenchAnswer ReferenceModel::AskWrenchTerms(const std::vector<std::uint64_t>& se
     a.scale += (w->f.norm() + w->m.norm()) * (1 + X_ES.p.norm()) + w->scale;
   }
   return a;
+}
+
+// ============================================================ accelerations (docs/dynamics.md §1)
+//
+// The model's own formulas. Notation: for bodies X, Y and a point e, (w_XY, v_XYe) the twist of
+// Y relative to X at e and (alpha_XY, a_XYe) its acceleration (a: the classical acceleration of
+// the point of Y at e, a second derivative taken in X), all vectors at one instant in one frame.
+//
+// (1) Change of point within one body Y, r = q - p (both points fixed in Y): differentiating
+//     v_q = v_p + w x r twice in X, with dr/dt (in X) = w x r:
+//       a_q = a_p + alpha x r + w x (w x r).
+// (2) Composition, Y relative to X through Z (Y's point e moving in Z, Z moving in X): the
+//     classical five-term formula with e's position taken from Z's point at e gives
+//       alpha_XY = alpha_XZ + alpha_ZY + w_XZ x w_ZY,
+//       a_XYe   = a_XZe + a_ZYe + 2 w_XZ x v_ZYe
+//     (a_XZe: the acceleration of the point of Z at e, by (1) from wherever Z's is known; the
+//     centripetal and Euler terms of e in Z are in a_XZe, the 2 w x v term is Coriolis).
+// (3) Inverse, X relative to Y at e: from (2) with Y -> X -> Y, whose motion is zero:
+//       0 = alpha_YX + alpha_XY + w_YX x w_XY = alpha_YX + alpha_XY  (w_YX = -w_XY)
+//       0 = a_YXe + a_XYe + 2 w_YX x v_XYe = a_YXe + a_XYe - 2 w_XY x v_XYe
+//     hence alpha_YX = -alpha_XY and a_YXe = -a_XYe + 2 w_XY x v_XYe.
+// (4) Change of frame: each vector rotated, v_[r] = R_rh v_[h] (no derivative is involved).
+
+ErrorCode ReferenceModel::AddAcceleration(const std::string& point, const std::string& body,
+                                          const std::string& ref_body, const std::string& coord,
+                                          const Eigen::Vector3d& a, const Eigen::Vector3d& alpha) {
+  if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord))
+    return ErrorCode::kInvalidName;
+  if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
+  if (!NumberOk(a) || !NumberOk(alpha)) return ErrorCode::kInvalidNumber;
+  if (!s_.frames.count(point) || !s_.frames.count(coord)) return ErrorCode::kUnknownFrame;
+  const std::string C = body.empty() ? s_.frames.at(point) : body;
+  if (!s_.bodies.count(C) || !s_.bodies.count(ref_body)) return ErrorCode::kUnknownBody;
+  // The edge ref_body -> {h}|C with h in the tree of {point} (at most one: W3).
+  TwistEdge* edge = nullptr;
+  Transform unused;
+  for (TwistEdge& t : s_.twists) {
+    if (t.tail_body == ref_body && s_.frames.at(t.head) == C && Find(t.head, point, &unused))
+      edge = &t;
+  }
+  if (edge == nullptr) return ErrorCode::kNoSuchEdge;
+  if (JointOfChild(s_, edge->head)) return ErrorCode::kJointEdge;
+  if (edge->stamped) return ErrorCode::kStampMismatch;
+  Transform X_HR, X_HE;  // [coord] wrt [h]; e wrt h, in [h]
+  if (!Find(coord, edge->head, &X_HR)) return ErrorCode::kAccelerationNotConvertible;
+  Find(point, edge->head, &X_HE);
+  // (4) into [h]; then (1) from the point e of C to h's origin: r = p_h - p_e = -p_HE, with the
+  // angular velocity of C relative to ref_body, the edge's current w (in [h]).
+  const Eigen::Vector3d alpha_h = X_HR.R * alpha;
+  const Eigen::Vector3d r = -X_HE.p;
+  edge->a = X_HR.R * a + alpha_h.cross(r) + edge->w.cross(edge->w.cross(r));
+  edge->alpha = alpha_h;
+  edge->has_A = true;
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::FindTwist(const std::string& of, const std::string& wrt,
+                                    std::uint64_t* serial) const {
+  if (!ValidName(of) || !ValidName(wrt)) return ErrorCode::kInvalidName;
+  if (!s_.frames.count(of)) return ErrorCode::kUnknownFrame;
+  if (!s_.bodies.count(wrt)) return ErrorCode::kUnknownBody;
+  for (const TwistEdge& t : s_.twists) {
+    if (t.head != of || t.tail_body != wrt) continue;
+    if (JointOfChild(s_, of)) return ErrorCode::kJointEdge;
+    *serial = t.serial;
+    return ErrorCode::kOk;
+  }
+  return ErrorCode::kNoSuchEdge;
+}
+
+ErrorCode ReferenceModel::SetTwist(std::uint64_t serial, const Eigen::Vector3d& v,
+                                   const Eigen::Vector3d& w) {
+  for (TwistEdge& t : s_.twists) {
+    if (t.serial != serial) continue;
+    if (!NumberOk(v) || !NumberOk(w)) return ErrorCode::kInvalidNumber;
+    if (t.stamped) return ErrorCode::kStampMismatch;
+    t.v = v, t.w = w;
+    t.S = Matrix6::Zero();
+    t.has_A = false;
+    return ErrorCode::kOk;
+  }
+  return ErrorCode::kNoSuchEdge;
+}
+
+ErrorCode ReferenceModel::SetAcceleration(std::uint64_t serial, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& alpha) {
+  for (TwistEdge& t : s_.twists) {
+    if (t.serial != serial) continue;
+    if (JointOfChild(s_, t.head)) return ErrorCode::kJointEdge;
+    if (t.stamped) return ErrorCode::kStampMismatch;
+    if (!NumberOk(a) || !NumberOk(alpha)) return ErrorCode::kInvalidNumber;
+    t.a = a, t.alpha = alpha, t.has_A = true;
+    return ErrorCode::kOk;
+  }
+  return ErrorCode::kNoSuchEdge;
+}
+
+AccelerationAnswer ReferenceModel::AskAcceleration(const Query& q) const {
+  AccelerationAnswer out;
+  out.code = Ask(q).code;  // the twist query's errors (and its zero for C == D)
+  if (out.code != ErrorCode::kOk) return out;
+  const std::string& e = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
+  const std::string C = q.body.empty() ? s_.frames.at(e) : q.body;
+  const std::string& D = q.ref_body;
+  if (C == D) return out;                    // zero
+  std::vector<std::pair<int, double>> path;  // from D to C
+  TwistPath(e, C, D, &path);
+  for (const auto& [index, sign] : path) {
+    if (!s_.twists[index].has_A) {
+      out.code = ErrorCode::kNoAcceleration;
+      return out;
+    }
+  }
+  const auto X_R = [&](const std::string& n) {
+    Transform X;
+    Find(n, q.coord, &X);
+    return X;
+  };
+  const Eigen::Vector3d p_e = X_R(e).p;
+  // The motion of B_i relative to D (B_0 = D), at e in [r], composed edge by edge by (2).
+  Eigen::Vector3d w = Eigen::Vector3d::Zero(), v = w, alpha = w, a = w;
+  for (const auto& [index, sign] : path) {
+    const TwistEdge& t = s_.twists[index];
+    const Transform X_RH = X_R(t.head);
+    // The edge's motion (H relative to its tail body) at h, in [r] (4); then at e (1).
+    const Eigen::Vector3d w_i = X_RH.R * t.w, alpha_i = X_RH.R * t.alpha;
+    const Eigen::Vector3d r = p_e - X_RH.p;
+    Eigen::Vector3d v_i = X_RH.R * t.v + w_i.cross(r);
+    Eigen::Vector3d a_i = X_RH.R * t.a + alpha_i.cross(r) + w_i.cross(w_i.cross(r));
+    Eigen::Vector3d ww = w_i, aa = alpha_i;
+    if (sign < 0) {  // crossed from H to the tail body: the inverse (3)
+      a_i = -a_i + 2.0 * w_i.cross(v_i);
+      v_i = -v_i;
+      ww = -w_i;
+      aa = -alpha_i;
+    }
+    // (2): the step is B_{i+1} relative to B_i; (w, v, alpha, a) is B_i relative to D.
+    alpha += aa + w.cross(ww);
+    a += a_i + 2.0 * w.cross(v_i);
+    w += ww;
+    v += v_i;
+  }
+  out.a = a;
+  out.alpha = alpha;
+  if (q.kind == QueryKind::kLinearVelocity) out.alpha.setZero();  // only the asked part
+  if (q.kind == QueryKind::kAngularVelocity) out.a.setZero();
+  return out;
 }
 
 }  // namespace semgraph::reference

@@ -68,6 +68,11 @@
 // `poses` (differentiation), stamped SetPose/SetTwist by handle (the same Check/Store as the
 // stamped add), Explain*; the stamps read are compared only for answers not extrapolated (the
 // spec also counts the stamps the integrating twist reads).
+// ACCELERATIONS (docs/dynamics.md §1): on twist edges, given with a twist or on their own,
+// converted, cleared by any twist value stored without one (adds, stamped samples, SetTwist by
+// handle, removal), SetAcceleration and SetTwist by handle, queries (acceleration, linear,
+// angular) composed along the twist path. Not covered: stamped accelerations (refused),
+// joint accelerations (the library has none yet: a joint's edge carries none).
 // WRENCHES (docs/dynamics.md §7): adds (storage frame, conversion, the errors self_wrench,
 // duplicate_wrench, wrench_not_convertible, unknown_frame / unknown_body, invalid_name,
 // invalid_number), removals, handles and SetWrench, and one-shot queries (a pair, its
@@ -167,6 +172,23 @@ struct TwistEdge {
   bool stamped = false;
   std::vector<TwistSample> samples;
   Matrix6 S = Matrix6::Zero();  // at {head} in [head], linear first (zero: exact)
+  /// The edge's acceleration AccelerationCoord(h|H, D, [h]) (docs/dynamics.md §1): a = the
+  /// classical acceleration of h's origin as a point of H relative to D, alpha = the angular
+  /// acceleration of H relative to D, both in [h]. has_A false: none (every twist value stored
+  /// without an acceleration clears it).
+  bool has_A = false;
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), alpha = Eigen::Vector3d::Zero();
+  std::uint64_t serial = 0;  ///< unique per edge made: a handle of a removed edge stays dead
+};
+
+/// An acceleration given with a twist or on its own: (a, alpha) at the op's point, in its frame.
+struct AccelerationIn {
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), alpha = Eigen::Vector3d::Zero();
+};
+/// An acceleration query's outcome: a (classical, of the point of C at e) and alpha, in [r].
+struct AccelerationAnswer {
+  ErrorCode code = ErrorCode::kOk;
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), alpha = Eigen::Vector3d::Zero();
 };
 
 /// The model's copy of the graph's time options.
@@ -307,10 +329,14 @@ class ReferenceModel {
                     const std::string& tail_body, const RotationInput& rotation,
                     const Eigen::Vector3d& p, std::optional<std::int64_t> stamp = std::nullopt,
                     const CovarianceIn* cov = nullptr);
+  // ACCELERATIONS: `acc` (null: none, and the edge's acceleration is cleared) is checked for
+  // invalid_number right after the twist's numbers, rotated into [point] with the twist (the
+  // same point) and stored with it. Not covered: an acceleration with a stamp or a covariance
+  // (the library has no public call for them).
   ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
                      const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
                      std::optional<std::int64_t> stamp = std::nullopt,
-                     const CovarianceIn* cov = nullptr);
+                     const CovarianceIn* cov = nullptr, const AccelerationIn* acc = nullptr);
   /// The smallest eigenvalue of a symmetric 6x6 matrix (cyclic Jacobi), for callers that need
   /// to tell a borderline case (an eigenvalue within rounding of the check's bound).
   static double SmallestEigenvalue(const Matrix6& S);
@@ -415,6 +441,34 @@ class ReferenceModel {
                               const std::string& point, const std::string& coord) const;
   const std::vector<WrenchEntry>& wrenches() const { return s_.wrenches; }
 
+  /// ACCELERATIONS (docs/dynamics.md §1; the library's contract in core/.../accelerations.h).
+  /// AddAcceleration: AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha) set on the
+  /// twist edge ref_body -> {h}|C (C = body, or the body of {point} when empty) in the pose tree
+  /// of {point}. invalid_name (point, body when given, ref_body, coord) -> invalid_number
+  /// (finite, |x| <= 1e12) -> unknown_frame (point, coord) -> unknown_body (body, ref_body) ->
+  /// no_such_edge (no such edge in that tree; also C == ref_body) -> joint_edge ->
+  /// stamp_mismatch (a stamped edge) -> acceleration_not_convertible ([coord] not in the tree).
+  /// Converted to the edge form with the model's own formulas (see the .cc).
+  ErrorCode AddAcceleration(const std::string& point, const std::string& body,
+                            const std::string& ref_body, const std::string& coord,
+                            const Eigen::Vector3d& a, const Eigen::Vector3d& alpha);
+  /// A twist handle's lookup (FindTwistEdge(of, wrt)): invalid_name -> unknown_frame ->
+  /// unknown_body -> no_such_edge -> joint_edge; *serial receives the edge's serial.
+  ErrorCode FindTwist(const std::string& of, const std::string& wrt, std::uint64_t* serial) const;
+  /// SetTwist by the handle of the edge made with `serial` (edge form): no_such_edge (removed)
+  /// -> invalid_number -> stamp_mismatch (a stamped edge). Clears the acceleration and the
+  /// covariance (a plain value is exact).
+  ErrorCode SetTwist(std::uint64_t serial, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+  /// SetAcceleration by handle (edge form, stored as given): no_such_edge -> joint_edge ->
+  /// stamp_mismatch -> invalid_number.
+  ErrorCode SetAcceleration(std::uint64_t serial, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& alpha);
+  /// An acceleration query, with the fields of the twist query of the same kind: kTwist asks
+  /// the acceleration, kLinearVelocity the linear, kAngularVelocity the angular one (body
+  /// required, no point). The errors of Ask, then no_acceleration (an edge of the twist path
+  /// without one). C == D: zero. Composed along the TG path by the model's own formulas.
+  AccelerationAnswer AskAcceleration(const Query& q) const;
+
   /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
   /// no_pose_path -> representation_constraint -> no_twist_path.
   Answer Ask(const Query& q) const;
@@ -448,6 +502,7 @@ class ReferenceModel {
     std::vector<std::string> frame_order;  // frames in the order they were made
     std::vector<WrenchEntry> wrenches;     // stored wrenches, in add order
     std::uint64_t next_wrench_serial = 1;
+    std::uint64_t next_twist_serial = 1;
   };
   /// Makes (or re-labels) a frame, recording the order frames are made in.
   static void PutFrame(State& s, const std::string& frame, const std::string& body);

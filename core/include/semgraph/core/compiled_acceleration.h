@@ -29,7 +29,8 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
     return semantics_;
   }
   /// a_DCe_R (classical, of the point of C at e) and alpha_DC_R. kOk, kQueryInvalidated or
-  /// kNoAcceleration (then the outputs are unchanged).
+  /// kNoAcceleration (then the outputs are unchanged); kQueryInvalidated first: an edge of the
+  /// path removed is reported as such even when an edge carries no acceleration.
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& a_DCe_R,
                                    Eigen::Vector3d& alpha_DC_R) const noexcept;
   /// In GetAcceleration's result type (without the name of a missing edge).

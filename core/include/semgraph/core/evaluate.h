@@ -577,14 +577,19 @@ inline Motion ComposeMotion(const Motion& X, const Motion& Y) noexcept {
 /// inverted if traversed against its direction (alpha' = -alpha, a' = -a + 2 w x v), moved to
 /// point e (a_e = a_h + alpha x p_HE + w x (w x p_HE)) and re-expressed in [r]. `present`
 /// false: the edge carries no acceleration (m then unspecified). False when a compiled edge
-/// changed epoch.
+/// changed epoch, the step's pose chains included even when the edge carries no acceleration
+/// (a removed edge is reported as such, not as a missing acceleration).
 template <coord::Backend B, class Source>
 bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>& s, Motion& m,
                       bool& present) noexcept {
   TwistAndAcceleration r;
   if (!src.LoadAcceleration(s, r)) return false;
   present = r.present != 0.0;
-  if (!present) return true;
+  if (!present) {  // only the chains' validity
+    typename B::PoseCoords X;
+    return (!s.move_point || EvalBasic<B>(src, s.eh, X)) &&
+           (!s.change_frame || EvalBasic<B>(src, s.hr, X));
+  }
   m = Motion{r.V.v_DHo_H, r.V.w_DH_H, r.A.a_DHo_H, r.A.alpha_DH_H};
   if (s.invert) {
     const auto inv = coord::kernels::InvertAcceleration(m.a, m.alpha, m.v, m.w);
