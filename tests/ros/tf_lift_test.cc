@@ -82,7 +82,7 @@ TEST(TfLift, StaticTreeIsOneBodyAndQueriesComposeTheTransforms) {
 
 TEST(TfLift, OwnBodyMakesAStaticTransformATimelessInterBodyPose) {
   Graph graph;
-  auto lift = Lift(graph, {StaticMode::kOwnBody, {}});
+  auto lift = Lift(graph, {StaticMode::kOwnBody, {}, {}});
   EXPECT_EQ(lift.Apply(Tf("base", "laser", 0, {0, 0, 1}), true, "/tf_static", 1),
             LiftOutcome::kApplied);
   EXPECT_NE(graph.body_of(graph.FindFrame("laser")), graph.body_of(graph.FindFrame("base")));
@@ -125,7 +125,7 @@ TEST(TfLift, TwoPathsBetweenBodiesOfTheMapAreDuplicatePosePath) {
   // The map puts the unconnected frames arm and tip on one body ARM: base -> arm, then
   // camera (on base) -> tip is a second path between the bodies.
   Graph graph;
-  auto lift = Lift(graph, {StaticMode::kSameBody, {{"ARM", {"arm", "tip"}}}});
+  auto lift = Lift(graph, {StaticMode::kSameBody, {{"ARM", {"arm", "tip"}}}, {}});
   lift.plan().AddStatic("base", "camera");
   ASSERT_EQ(lift.Apply(Tf("base", "camera", 0), true, "/tf_static", 1), LiftOutcome::kApplied);
   ASSERT_EQ(lift.Apply(Tf("base", "arm", 5 * kSec), false, "/tf", 2), LiftOutcome::kApplied);
@@ -136,7 +136,7 @@ TEST(TfLift, TwoPathsBetweenBodiesOfTheMapAreDuplicatePosePath) {
 TEST(TfLift, AFrameBothStaticAndDynamicIsRefused) {
   {  // own_body: a timeless edge then a stamped sample of it.
     Graph graph;
-    auto lift = Lift(graph, {StaticMode::kOwnBody, {}});
+    auto lift = Lift(graph, {StaticMode::kOwnBody, {}, {}});
     ASSERT_EQ(lift.Apply(Tf("base", "arm", 0), true, "/tf_static", 1), LiftOutcome::kApplied);
     ExpectRefused(lift, graph, Tf("base", "arm", 3 * kSec, {1, 0, 0}), false,
                   ErrorCode::kStampMismatch);
@@ -452,7 +452,24 @@ TEST(TfLift, OdometryIsAPoseAndATwistWithTheirCovariances) {
   EXPECT_LE((rotated->value.value.linear - Eigen::Vector3d(0.4 * c - 0.1 * s, 0.4 * s + 0.1 * c, 0))
                 .norm(),
             1e-12);
-  EXPECT_LE((rotated->value.covariance - R6 * S * R6.transpose()).cwiseAbs().maxCoeff(), 1e-12);
+  // First order, by hand: R' = Exp(dθ) R (dθ: the pose's rotation error, in [odom], the
+  // rotational block of the pose covariance), so d(R v) = R dv - [R v]x dθ; the pose's and the
+  // twist's errors independent.
+  const Eigen::Vector3d Rv = R * Eigen::Vector3d(0.4, 0.1, 0.0);
+  const Eigen::Vector3d Rw = R * Eigen::Vector3d(0.0, 0.0, 0.3);
+  const auto cross = [](const Eigen::Vector3d& u) {
+    Eigen::Matrix3d K;
+    K << 0, -u.z(), u.y(), u.z(), 0, -u.x(), -u.y(), u.x(), 0;
+    return K;
+  };
+  Eigen::Matrix<double, 6, 3> J_theta;
+  J_theta << -cross(Rv), -cross(Rw);
+  const Eigen::Matrix3d S_theta = Matrix(m.pose.covariance).bottomRightCorner<3, 3>();
+  const Eigen::Matrix<double, 6, 6> S_odom =
+      R6 * S * R6.transpose() + J_theta * S_theta * J_theta.transpose();
+  EXPECT_LE((rotated->value.covariance - S_odom).cwiseAbs().maxCoeff(), 1e-12)
+      << rotated->value.covariance << "\n\n"
+      << S_odom;
 }
 
 /// Applies `m` (an Odometry, or a pose of base_footprint) and expects a refusal with `code`
@@ -473,7 +490,7 @@ void ExpectCovarianceRefused(TfLift<coord::QuaternionBackend>& lift, Graph& grap
   ASSERT_EQ(lift.findings().groups().size(), groups + 1);
   const FindingGroup& g = lift.findings().groups().back();
   EXPECT_EQ(g.code.name(), base::ToString(code)) << g.message;
-  EXPECT_EQ(g.topic, std::is_same_v<M, Odometry> ? "/odom" : "/amcl_pose");
+  EXPECT_EQ(g.topic, (std::is_same_v<M, Odometry> ? "/odom" : "/amcl_pose"));
   EXPECT_EQ(g.first_stamp_ns, ToNanoseconds(m.header.stamp));
   EXPECT_EQ(g.first_log_time_ns, 11);
   EXPECT_EQ(g.parent, LiftFrameName(m.header.frame_id));
@@ -497,6 +514,7 @@ TEST(TfLift, BadCovariancesAreFindingsAndLeaveTheGraphUnchanged) {
                           "pose covariance");
 
   auto negative = AmclPose(4 * kSec, 1.0, 0.1, 0.01);
+  negative.header.frame_id = "world";  // another group than the asymmetric one's
   negative.pose.covariance = {};
   negative.pose.covariance[35] = -1.0;  // an eigenvalue of -1
   ExpectCovarianceRefused(lift, graph, negative, ErrorCode::kInvalidCovariance, "pose covariance");
@@ -514,9 +532,10 @@ TEST(TfLift, BadCovariancesAreFindingsAndLeaveTheGraphUnchanged) {
   nan_twist.twist.twist.angular.z = std::numeric_limits<double>::infinity();
   ExpectCovarianceRefused(lift, graph, nan_twist, ErrorCode::kInvalidNumber, "twist");
 
-  // A graph rule: a second message at the same stamp with another value (duplicate_stamp).
-  auto duplicate = AmclPose(1 * kSec, 9.0, 0.1, 0.01);
-  ExpectCovarianceRefused(lift, graph, duplicate, ErrorCode::kDuplicateStamp, "pose");
+  // A graph rule: base_footprint already has its pose wrt map; one wrt odom is refused.
+  auto second_parent = AmclPose(1 * kSec, 9.0, 0.1, 0.01);
+  second_parent.header.frame_id = "odom";
+  ExpectCovarianceRefused(lift, graph, second_parent, ErrorCode::kMultiplePoseParents, "pose");
   EXPECT_EQ(lift.counts().poses_with_covariance, 1u);
   EXPECT_EQ(lift.counts().odometry, 1u);
 }
