@@ -87,12 +87,12 @@ TEST(BodyPlan, AStaticLoopEndsTheWalk) {
 }
 
 TEST(BodyPlan, RefusesAFrameListedUnderTwoBodies) {
-  const auto plan = BodyPlan::Make({StaticMode::kSameBody, {{"A", {"x"}}, {"B", {"/x"}}}, {}});
+  const auto plan = BodyPlan::Make({StaticMode::kSameBody, {{"A", {"x"}}, {"B", {"/x"}}}});
   ASSERT_FALSE(plan);
   EXPECT_NE(plan.error().find("frame x is listed under bodies A and B"), std::string::npos)
       << plan.error();
-  EXPECT_FALSE(BodyPlan::Make({StaticMode::kSameBody, {{"", {"x"}}}, {}}));
-  EXPECT_FALSE(BodyPlan::Make({StaticMode::kSameBody, {{"A", {"/"}}}, {}}));
+  EXPECT_FALSE(BodyPlan::Make({StaticMode::kSameBody, {{"", {"x"}}}}));
+  EXPECT_FALSE(BodyPlan::Make({StaticMode::kSameBody, {{"A", {"/"}}}}));
 }
 
 TEST(StaticMode, NamesRoundTrip) {

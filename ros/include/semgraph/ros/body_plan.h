@@ -53,7 +53,7 @@ using PoseTopicsMap = std::map<std::string, std::string, std::less<>>;
 struct LiftOptions {
   StaticMode static_mode = StaticMode::kSameBody;
   BodiesMap bodies;
-  PoseTopicsMap pose_topics;
+  PoseTopicsMap pose_topics{};  // ({}: aggregates of the two fields above stay warning-free)
 };
 
 /// tf2's frame name rule: one leading '/' removed ("/base" -> "base", "//x" -> "/x").
