@@ -239,11 +239,11 @@ TEST(LoadBag, TheRobotDescriptionTopicLoadsTheModelAndJointStatesDriveIt) {
   EXPECT_EQ(report->counts.joint_states, static_cast<std::uint64_t>(checked));
 }
 
-// covariance.mcap (written by @mcap/core): /amcl_pose (PoseWithCovarianceStamped, its frame
-// named by pose_topics) and /odom (Odometry). Each good message reads back at its stamp: the
-// value and the message's 6x6 exactly (a pose of the child wrt the header frame in [header]; the
-// odometry twist in [child] at the child's origin); each bad one is a finding naming its topic
-// and stamp, with nothing added at that stamp.
+// covariance.mcap (written by @mcap/core) and ros1_covariance.bag (python3-rosbag): /amcl_pose
+// (PoseWithCovarianceStamped, its frame named by pose_topics) and /odom (Odometry). Each good
+// message reads back at its stamp: the value and the message's 6x6 exactly (a pose of the child wrt
+// the header frame in [header]; the odometry twist in [child] at the child's origin); each bad one
+// is a finding naming its topic and stamp, with nothing added at that stamp.
 Eigen::Matrix<double, 6, 6> Covariance(const YAML::Node& c) {
   Eigen::Matrix<double, 6, 6> S;
   for (int k = 0; k < 36; ++k) S(k / 6, k % 6) = c[k].as<double>();
@@ -255,11 +255,11 @@ std::int64_t StampOf(const YAML::Node& header) {
          header["stamp"]["nanosec"].as<std::int64_t>();
 }
 
-TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariances) {
-  const std::string dir = SEMGRAPH_ROS_FIXTURES;
-  if (!std::filesystem::exists(dir + "/expected.json")) GTEST_SKIP() << "no fixtures (node)";
+/// Loads `dir`'s covariance bag (expected.json "covariance_bag") and checks it message by message.
+void CheckCovarianceBag(const std::string& dir) {
+  if (!std::filesystem::exists(dir + "/expected.json")) GTEST_SKIP() << "no fixtures in " << dir;
   const YAML::Node root = YAML::LoadFile(dir + "/expected.json");
-  ASSERT_TRUE(root["covariance_bag"]) << "fixtures written before covariance.mcap";
+  ASSERT_TRUE(root["covariance_bag"]) << "fixtures written before the covariance bag";
   const YAML::Node bag = root["covariance_bag"];
   Graph graph = LinearGraph();
   BagLoadOptions options;
@@ -331,6 +331,14 @@ TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariances) {
         1e-15);
   }
   EXPECT_EQ(bad, 2u);
+}
+
+TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesMcap) {
+  CheckCovarianceBag(SEMGRAPH_ROS_FIXTURES);  // covariance.mcap, by @mcap/core
+}
+
+TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesRos1) {
+  CheckCovarianceBag(SEMGRAPH_ROS_BAG_FIXTURES);  // ros1_covariance.bag, by python3-rosbag
 }
 
 }  // namespace
