@@ -171,7 +171,10 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
   TFMessage tf;  // reused, as in pass 1
   auto done = ForEachRecord(path, unchecked, 2, [&](const BagReader&, const BagRecord& r) {
     const bool is_static = r.topic == kStaticTopic;
-    if (!Selected(options, r.topic) || !Decodable(r) ||
+    const auto child = options.lift.pose_topics.find(r.topic);
+    const bool frameless_pose = r.kind == MessageKind::kPoseWithCovarianceStamped &&
+                                child == options.lift.pose_topics.end();  // no frame to give it
+    if (!Selected(options, r.topic) || !Decodable(r) || frameless_pose ||
         (!is_static && !InWindow(options, r.log_time_ns))) {
       ++report.skipped;
       return Expected<Ok, BagError>(Ok{});
@@ -191,14 +194,10 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
       Odometry odometry;
       if (auto ok = Decode(r, path, odometry); !ok) return ok;
       (void)lift.Apply(odometry, r.topic, r.log_time_ns);
-    } else if (const auto child = options.lift.pose_topics.find(r.topic);
-               child != options.lift.pose_topics.end()) {  // a PoseWithCovarianceStamped
+    } else {  // a PoseWithCovarianceStamped of a pose topic
       PoseWithCovarianceStamped pose;
       if (auto ok = Decode(r, path, pose); !ok) return ok;
       (void)lift.Apply(pose, child->second, r.topic, r.log_time_ns);
-    } else {  // a PoseWithCovarianceStamped on a topic pose_topics does not name: no child frame
-      --report.messages;
-      ++report.skipped;
     }
     return Expected<Ok, BagError>(Ok{});
   });

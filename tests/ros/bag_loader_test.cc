@@ -331,6 +331,17 @@ void CheckCovarianceBag(const std::string& dir) {
         1e-15);
   }
   EXPECT_EQ(bad, 2u);
+  // /amcl_pose selected by `topics` only: no frame to give its poses, so skipped.
+  Graph other = LinearGraph();
+  BagLoadOptions frameless;
+  frameless.topics = {"/amcl_pose", "/odom"};
+  const auto skipped = LoadBag(other, dir + "/" + bag["file"].as<std::string>(), frameless);
+  ASSERT_TRUE(skipped) << Describe(skipped.error());
+  EXPECT_EQ(skipped->messages, 3u);
+  EXPECT_EQ(skipped->skipped, 3u);
+  EXPECT_EQ(skipped->counts.poses_with_covariance, 0u);
+  EXPECT_EQ(skipped->counts.odometry, 2u);
+  EXPECT_FALSE(other.FindFrame("map").is_valid());
 }
 
 TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesMcap) {
