@@ -58,6 +58,8 @@ void Decode(const BagRecord& r) {
       (void)DecodeRos1(r.data, m);
       break;
     }
+    case MessageKind::kPoseWithCovarianceStamped:
+    case MessageKind::kOdometry:
     case MessageKind::kOther:
       break;
   }

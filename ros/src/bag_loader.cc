@@ -16,8 +16,10 @@ namespace {
 constexpr std::string_view kStaticTopic = "/tf_static";
 constexpr std::string_view kDescriptionTopic = "/robot_description";
 
+/// A topic of `topics`, or a pose topic of the lift (LiftOptions::pose_topics).
 bool Selected(const BagLoadOptions& options, std::string_view topic) {
-  return std::find(options.topics.begin(), options.topics.end(), topic) != options.topics.end();
+  return std::find(options.topics.begin(), options.topics.end(), topic) != options.topics.end() ||
+         options.lift.pose_topics.find(topic) != options.lift.pose_topics.end();
 }
 
 bool InWindow(const BagLoadOptions& options, std::int64_t log_time_ns) {
@@ -97,6 +99,14 @@ Expected<Ok, BagError> ScanRecord(const BagRecord& r, const std::string& path, B
     JointState js;
     if (auto ok = Decode(r, path, js); !ok) return ok;
     NoteStamp(scan, ToNanoseconds(js.header.stamp));
+  } else if (r.kind == MessageKind::kPoseWithCovarianceStamped) {
+    PoseWithCovarianceStamped m;
+    if (auto ok = Decode(r, path, m); !ok) return ok;
+    NoteStamp(scan, ToNanoseconds(m.header.stamp));
+  } else if (r.kind == MessageKind::kOdometry) {
+    Odometry m;
+    if (auto ok = Decode(r, path, m); !ok) return ok;
+    NoteStamp(scan, ToNanoseconds(m.header.stamp));
   } else if (r.kind == MessageKind::kString && r.topic == kDescriptionTopic) {
     String s;
     if (auto ok = Decode(r, path, s); !ok) return ok;
@@ -161,7 +171,10 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
   TFMessage tf;  // reused, as in pass 1
   auto done = ForEachRecord(path, unchecked, 2, [&](const BagReader&, const BagRecord& r) {
     const bool is_static = r.topic == kStaticTopic;
-    if (!Selected(options, r.topic) || !Decodable(r) ||
+    const auto child = options.lift.pose_topics.find(r.topic);
+    const bool frameless_pose = r.kind == MessageKind::kPoseWithCovarianceStamped &&
+                                child == options.lift.pose_topics.end();  // no frame to give it
+    if (!Selected(options, r.topic) || !Decodable(r) || frameless_pose ||
         (!is_static && !InWindow(options, r.log_time_ns))) {
       ++report.skipped;
       return Expected<Ok, BagError>(Ok{});
@@ -173,10 +186,18 @@ Expected<BagLoadReport, BagError> ApplyBag(core::SceneGraph<B>& graph, const std
     } else if (r.kind == MessageKind::kTfMessage) {
       if (auto ok = Decode(r, path, tf); !ok) return ok;
       lift.Apply(tf, is_static, r.topic, r.log_time_ns);
-    } else {
+    } else if (r.kind == MessageKind::kJointState) {
       JointState js;
       if (auto ok = Decode(r, path, js); !ok) return ok;
       lift.Apply(js, r.topic, r.log_time_ns);
+    } else if (r.kind == MessageKind::kOdometry) {
+      Odometry odometry;
+      if (auto ok = Decode(r, path, odometry); !ok) return ok;
+      (void)lift.Apply(odometry, r.topic, r.log_time_ns);
+    } else {  // a PoseWithCovarianceStamped of a pose topic
+      PoseWithCovarianceStamped pose;
+      if (auto ok = Decode(r, path, pose); !ok) return ok;
+      (void)lift.Apply(pose, child->second, r.topic, r.log_time_ns);
     }
     return Expected<Ok, BagError>(Ok{});
   });

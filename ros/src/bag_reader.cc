@@ -23,6 +23,13 @@ MessageKind MessageKindOf(std::string_view type_name) noexcept {
   if (type_name == "std_msgs/msg/String" || type_name == "std_msgs/String") {
     return MessageKind::kString;
   }
+  if (type_name == "geometry_msgs/msg/PoseWithCovarianceStamped" ||
+      type_name == "geometry_msgs/PoseWithCovarianceStamped") {
+    return MessageKind::kPoseWithCovarianceStamped;
+  }
+  if (type_name == "nav_msgs/msg/Odometry" || type_name == "nav_msgs/Odometry") {
+    return MessageKind::kOdometry;
+  }
   return MessageKind::kOther;
 }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "semgraph/coord/covariance.h"
 #include "semgraph/models/urdf.h"
 
 namespace semgraph::ros {
@@ -43,6 +44,49 @@ bool SameName(const std::string& a, std::string_view b) noexcept {
     if (a[i] != b[i]) return false;
   }
   return true;
+}
+
+/// A ROS covariance (row-major float64[36]) as a 6x6 matrix, entry for entry.
+coord::Covariance6 ToMatrix(const Covariance36& c) {
+  coord::Covariance6 S;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) S(i, j) = c[static_cast<std::size_t>(6 * i + j)];
+  }
+  return S;
+}
+
+/// Why a covariance message cannot be applied (checked before the graph is touched).
+struct MessageProblem {
+  ErrorCode code = ErrorCode::kOk;
+  std::string message;
+};
+
+/// The pose's numbers and quaternion (as a transform's), normalizing q_PC.
+MessageProblem CheckPose(const Pose& pose, Eigen::Quaterniond& q_PC) {
+  const auto& p = pose.position;
+  const auto& r = pose.orientation;
+  for (const double x : {p.x, p.y, p.z, r.x, r.y, r.z, r.w}) {
+    if (!std::isfinite(x)) {
+      return {ErrorCode::kInvalidNumber, "pose position " + Vec(p.x, p.y, p.z) +
+                                             " or orientation (w, x, y, z) = " + Quat(r) +
+                                             " has a NaN or infinite component"};
+    }
+  }
+  q_PC = Eigen::Quaterniond(r.w, r.x, r.y, r.z);
+  const double norm2 = q_PC.squaredNorm();
+  if (!(std::abs(norm2 - 1.0) <= kRosQuaternionTolerance)) {
+    return {ErrorCode::kInvalidRotation, "pose orientation with |q|^2 = " + std::to_string(norm2) +
+                                             ", more than 0.01 from 1 (tf2's tolerance)"};
+  }
+  q_PC.coeffs() /= std::sqrt(norm2);
+  return {};
+}
+
+/// The core's covariance check (finite, not above 1e12, symmetric, PSD) on `what`.
+MessageProblem CheckMatrix(const coord::Covariance6& S, std::string_view what) {
+  const coord::CovarianceCheck check = coord::CheckCovariance(S);
+  if (check.code() == ErrorCode::kOk) return {};
+  return {check.code(), std::string(what) + ": " + coord::Describe(check)};
 }
 
 }  // namespace
@@ -299,6 +343,81 @@ void TfLift<B>::CompareDeferredUpTo(std::int64_t up_to_ns) {
 template <coord::Backend B>
 void TfLift<B>::Flush() {
   CompareDeferredUpTo(std::numeric_limits<std::int64_t>::max());
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::Apply(const PoseWithCovarianceStamped& message, std::string_view child_frame,
+                             std::string_view topic, std::int64_t log_time_ns) {
+  return ApplyWithCovariance(message.header, child_frame, message.pose, nullptr, topic,
+                             log_time_ns);
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::Apply(const Odometry& message, std::string_view topic,
+                             std::int64_t log_time_ns) {
+  return ApplyWithCovariance(message.header, message.child_frame_id, message.pose, &message.twist,
+                             topic, log_time_ns);
+}
+
+template <coord::Backend B>
+LiftOutcome TfLift<B>::ApplyWithCovariance(const Header& header, std::string_view child_frame,
+                                           const PoseWithCovariance& pose,
+                                           const TwistWithCovariance* twist, std::string_view topic,
+                                           std::int64_t log_time_ns) {
+  const std::string_view parent = LiftFrameName(header.frame_id);
+  const std::string_view child = LiftFrameName(child_frame);
+  const TransformOrigin origin{topic, log_time_ns, ToNanoseconds(header.stamp)};
+  const auto refuse = [&](ErrorCode code, std::string message) {
+    ++counts_.covariance_refused;
+    findings_.Add(FindingCode{code, false}, parent, child, origin,
+                  [&] { return std::move(message); });
+    return LiftOutcome::kRefused;
+  };
+  // Every number first: a bad message leaves the graph as it was.
+  Eigen::Quaterniond q_PC;
+  MessageProblem problem = CheckPose(pose.pose, q_PC);
+  const coord::Covariance6 S_pose = ToMatrix(pose.covariance);
+  if (problem.code == ErrorCode::kOk) problem = CheckMatrix(S_pose, "pose covariance");
+  coord::Covariance6 S_twist = coord::Covariance6::Zero();
+  Eigen::Vector3d v_PCo_C = Eigen::Vector3d::Zero(), w_PC_C = Eigen::Vector3d::Zero();
+  if (twist != nullptr && problem.code == ErrorCode::kOk) {
+    const Vector3& v = twist->twist.linear;
+    const Vector3& w = twist->twist.angular;
+    for (const double x : {v.x, v.y, v.z, w.x, w.y, w.z}) {
+      if (!std::isfinite(x)) {
+        problem = {ErrorCode::kInvalidNumber, "twist linear " + Vec(v.x, v.y, v.z) +
+                                                  " or angular " + Vec(w.x, w.y, w.z) +
+                                                  " has a NaN or infinite component"};
+      }
+    }
+    v_PCo_C = Eigen::Vector3d(v.x, v.y, v.z);
+    w_PC_C = Eigen::Vector3d(w.x, w.y, w.z);
+    S_twist = ToMatrix(twist->covariance);
+    if (problem.code == ErrorCode::kOk) problem = CheckMatrix(S_twist, "twist covariance");
+  }
+  if (problem.code != ErrorCode::kOk) return refuse(problem.code, std::move(problem.message));
+
+  const std::string parent_body = BodyOf(parent);
+  const std::string child_body = BodyOf(child);
+  const Stamp stamp = Stamp::Nanoseconds(origin.stamp_ns);
+  const PoseSpec spec = PoseSpec::Of(child, child_body).RelativeTo(parent, parent_body);
+  const Eigen::Vector3d p_PoCo_P(pose.pose.position.x, pose.pose.position.y, pose.pose.position.z);
+  const core::BuildResult added =
+      graph_.AddPose(spec, q_PC, p_PoCo_P, stamp, core::CovarianceInput{&S_pose});
+  if (!added) return refuse(added.error().code, "pose: " + added.error().message);
+  if (twist != nullptr) {
+    const core::TwistSpec twist_spec =
+        core::TwistSpec::Of(child, child_body).RelativeTo(parent_body).ExpressedIn(child);
+    const core::BuildResult twisted =
+        graph_.AddTwist(twist_spec, v_PCo_C, w_PC_C, stamp, core::CovarianceInput{&S_twist});
+    if (!twisted) {
+      return refuse(twisted.error().code, "twist (its pose was added): " + twisted.error().message);
+    }
+    ++counts_.odometry;
+  } else {
+    ++counts_.poses_with_covariance;
+  }
+  return LiftOutcome::kApplied;
 }
 
 template class TfLift<coord::QuaternionBackend>;

@@ -239,5 +239,118 @@ TEST(LoadBag, TheRobotDescriptionTopicLoadsTheModelAndJointStatesDriveIt) {
   EXPECT_EQ(report->counts.joint_states, static_cast<std::uint64_t>(checked));
 }
 
+// covariance.mcap (written by @mcap/core) and ros1_covariance.bag (python3-rosbag): /amcl_pose
+// (PoseWithCovarianceStamped, its frame named by pose_topics) and /odom (Odometry). Each good
+// message reads back at its stamp: the value and the message's 6x6 exactly (a pose of the child wrt
+// the header frame in [header]; the odometry twist in [child] at the child's origin); each bad one
+// is a finding naming its topic and stamp, with nothing added at that stamp.
+Eigen::Matrix<double, 6, 6> Covariance(const YAML::Node& c) {
+  Eigen::Matrix<double, 6, 6> S;
+  for (int k = 0; k < 36; ++k) S(k / 6, k % 6) = c[k].as<double>();
+  return S;
+}
+
+std::int64_t StampOf(const YAML::Node& header) {
+  return header["stamp"]["sec"].as<std::int64_t>() * 1'000'000'000 +
+         header["stamp"]["nanosec"].as<std::int64_t>();
+}
+
+/// Loads `dir`'s covariance bag (expected.json "covariance_bag") and checks it message by message.
+void CheckCovarianceBag(const std::string& dir) {
+  if (!std::filesystem::exists(dir + "/expected.json")) GTEST_SKIP() << "no fixtures in " << dir;
+  const YAML::Node root = YAML::LoadFile(dir + "/expected.json");
+  ASSERT_TRUE(root["covariance_bag"]) << "fixtures written before the covariance bag";
+  const YAML::Node bag = root["covariance_bag"];
+  Graph graph = LinearGraph();
+  BagLoadOptions options;
+  options.topics = {"/odom"};
+  options.lift.pose_topics = {{"/amcl_pose", "base_footprint"}};
+  const auto report = LoadBag(graph, dir + "/" + bag["file"].as<std::string>(), options);
+  ASSERT_TRUE(report) << Describe(report.error());
+  EXPECT_EQ(report->messages, 6u);
+  EXPECT_EQ(report->counts.poses_with_covariance, 2u);
+  EXPECT_EQ(report->counts.odometry, 2u);
+  EXPECT_EQ(report->counts.covariance_refused, 2u);
+  std::size_t bad = 0;
+  for (const YAML::Node& m : bag["messages"]) {
+    const auto topic = m["topic"].as<std::string>();
+    const YAML::Node v = m["value"];
+    const std::int64_t stamp_ns = StampOf(v["header"]);
+    const auto at = core::At(core::Stamp::Nanoseconds(stamp_ns));
+    const std::string parent = v["header"]["frame_id"].as<std::string>();
+    const std::string child =
+        topic == "/odom" ? v["child_frame_id"].as<std::string>() : std::string("base_footprint");
+    const PoseSpec spec = PoseSpec::Of(child).RelativeTo(parent).ExpressedIn(parent);
+    if (!m["bad"].IsNull()) {  // a finding naming the topic and the stamp; no sample there
+      ASSERT_LT(bad, report->findings.groups().size());
+      const FindingGroup& g = report->findings.groups()[bad++];
+      EXPECT_EQ(g.topic, topic);
+      EXPECT_EQ(g.first_stamp_ns, stamp_ns);
+      EXPECT_EQ(g.parent, parent);
+      EXPECT_EQ(g.child, child);
+      EXPECT_EQ(g.code.name(), topic == "/odom" ? "invalid_number" : "invalid_covariance")
+          << g.message;
+      const auto explained = graph.ExplainPose(spec, core::Latest());
+      ASSERT_TRUE(explained);
+      for (const core::EdgeUse& use : *explained) {  // the newest sample is an earlier one's
+        ASSERT_TRUE(use.last);
+        EXPECT_LT(use.last->nanoseconds(), stamp_ns);
+      }
+      continue;
+    }
+    const auto pose = graph.GetPoseWithCovariance(spec, at);
+    ASSERT_TRUE(pose) << graph.Describe(pose.error(), spec);
+    const YAML::Node p = v["pose"]["pose"]["position"], q = v["pose"]["pose"]["orientation"];
+    EXPECT_LE(Distance(pose->value.value.ToIsometry(),
+                       Iso({p["x"].as<double>(), p["y"].as<double>(), p["z"].as<double>()},
+                           {q["w"].as<double>(), q["x"].as<double>(), q["y"].as<double>(),
+                            q["z"].as<double>()})),
+              1e-12);
+    EXPECT_LE((pose->value.covariance - Covariance(v["pose"]["covariance"])).cwiseAbs().maxCoeff(),
+              1e-15);
+    if (topic != "/odom") continue;
+    const auto body = [&](const std::string& f) {
+      return std::string(graph.body_name(graph.body_of(graph.FindFrame(f))));
+    };
+    const std::string child_body = body(child), parent_body = body(parent);  // the spec views them
+    const auto twist_spec =
+        core::TwistSpec::Of(child, child_body).RelativeTo(parent_body).ExpressedIn(child);
+    const auto twist = graph.GetTwistWithCovariance(twist_spec, at);
+    ASSERT_TRUE(twist) << graph.Describe(twist.error(), twist_spec);
+    const YAML::Node l = v["twist"]["twist"]["linear"], w = v["twist"]["twist"]["angular"];
+    EXPECT_LE((twist->value.value.linear -
+               Eigen::Vector3d(l["x"].as<double>(), l["y"].as<double>(), l["z"].as<double>()))
+                  .norm(),
+              1e-15);
+    EXPECT_LE((twist->value.value.angular -
+               Eigen::Vector3d(w["x"].as<double>(), w["y"].as<double>(), w["z"].as<double>()))
+                  .norm(),
+              1e-15);
+    EXPECT_LE(
+        (twist->value.covariance - Covariance(v["twist"]["covariance"])).cwiseAbs().maxCoeff(),
+        1e-15);
+  }
+  EXPECT_EQ(bad, 2u);
+  // /amcl_pose selected by `topics` only: no frame to give its poses, so skipped.
+  Graph other = LinearGraph();
+  BagLoadOptions frameless;
+  frameless.topics = {"/amcl_pose", "/odom"};
+  const auto skipped = LoadBag(other, dir + "/" + bag["file"].as<std::string>(), frameless);
+  ASSERT_TRUE(skipped) << Describe(skipped.error());
+  EXPECT_EQ(skipped->messages, 3u);
+  EXPECT_EQ(skipped->skipped, 3u);
+  EXPECT_EQ(skipped->counts.poses_with_covariance, 0u);
+  EXPECT_EQ(skipped->counts.odometry, 2u);
+  EXPECT_FALSE(other.FindFrame("map").is_valid());
+}
+
+TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesMcap) {
+  CheckCovarianceBag(SEMGRAPH_ROS_FIXTURES);  // covariance.mcap, by @mcap/core
+}
+
+TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesRos1) {
+  CheckCovarianceBag(SEMGRAPH_ROS_BAG_FIXTURES);  // ros1_covariance.bag, by python3-rosbag
+}
+
 }  // namespace
 }  // namespace semgraph::ros

@@ -19,8 +19,15 @@ TEST(RosBagReader, RecognisesTheMessageTypesByName) {
   EXPECT_EQ(MessageKindOf("sensor_msgs/JointState"), MessageKind::kJointState);
   EXPECT_EQ(MessageKindOf("std_msgs/msg/String"), MessageKind::kString);
   EXPECT_EQ(MessageKindOf("std_msgs/String"), MessageKind::kString);
-  for (const char* name : {"", "tf2_msgs/msg/TFMessage ", "geometry_msgs/msg/TransformStamped",
-                           "tf2_msgs/tfMessage", "TFMessage"}) {
+  for (const char* name :
+       {"geometry_msgs/msg/PoseWithCovarianceStamped", "geometry_msgs/PoseWithCovarianceStamped"}) {
+    EXPECT_EQ(MessageKindOf(name), MessageKind::kPoseWithCovarianceStamped) << name;
+  }
+  EXPECT_EQ(MessageKindOf("nav_msgs/msg/Odometry"), MessageKind::kOdometry);
+  EXPECT_EQ(MessageKindOf("nav_msgs/Odometry"), MessageKind::kOdometry);
+  for (const char* name :
+       {"", "tf2_msgs/msg/TFMessage ", "geometry_msgs/msg/TransformStamped", "tf2_msgs/tfMessage",
+        "TFMessage", "geometry_msgs/msg/PoseWithCovariance", "nav_msgs/msg/Odometry "}) {
     EXPECT_EQ(MessageKindOf(name), MessageKind::kOther) << name;
   }
   EXPECT_EQ(MessageEncodingOf("cdr"), MessageEncoding::kCdr);

@@ -164,11 +164,56 @@ def corrupt_checks(path):
     check(code == 2 and "--static" in err, "bad usage exits 2")
 
 
+def covariance_checks():
+    """covariance.mcap (Foxglove's writer): /amcl_pose through the op's pose_topics, /odom
+    through its topics; the queries at a message's stamp return its numbers (docs/ros.md)."""
+    foxglove = json.load(open(os.path.join(FOXGLOVE, "expected.json")))
+    bag = foxglove["covariance_bag"]
+    amcl = next(m["value"] for m in bag["messages"] if m["topic"] == "/amcl_pose")
+    odom = next(m["value"] for m in bag["messages"] if m["topic"] == "/odom")
+    stamp = lambda v: v["header"]["stamp"]["sec"] + v["header"]["stamp"]["nanosec"] * 1e-9
+    script = os.path.join(SCRATCH, "covariance.yaml")
+    with open(script, "w") as f:
+        f.write(f"""time: {{interpolation: linear, window: 1000}}
+ops:
+  - {{op: bag, file: {os.path.join(FOXGLOVE, bag["file"])}, topics: [/odom],
+     pose_topics: {{/amcl_pose: base_footprint}}}}
+  - {{op: query, kind: pose, of: base_footprint, wrt: map, at: {stamp(amcl)!r}, covariance: true}}
+  - {{op: query, kind: twist, point: base_link, ref_body: odom, coord: base_link,
+     at: {stamp(odom)!r}, covariance: true}}
+""")
+    code, out, err = run("run", script)
+    ops = [json.loads(line) for line in out.splitlines()]
+    check(len(ops) == 3, f"run of the covariance script: {code} {err} {out}")
+    if len(ops) != 3:
+        return
+    op = ops[0]
+    check(op["ok"] is False and op["error"] in ("invalid_covariance", "invalid_number"),
+          f"the bad messages are findings: {op}")
+    check((op["poses_with_covariance"], op["odometry"], op["covariance_refused"]) == (2, 2, 2),
+          f"covariance counts {op}")
+    check(ops[1]["ok"] and max(abs(a - b) for a, b in
+                               zip(ops[1]["covariance"], amcl["pose"]["covariance"])) < 1e-15,
+          f"pose covariance {ops[1]}")
+    check(ops[2]["ok"] and max(abs(a - b) for a, b in
+                               zip(ops[2]["covariance"], odom["twist"]["covariance"])) < 1e-15,
+          f"twist covariance {ops[2]}")
+    code, out, err = run("bag", "check", os.path.join(FOXGLOVE, bag["file"]), "--topics", "/odom",
+                         "--pose-topic", "/amcl_pose=base_footprint")
+    lines = [json.loads(line) for line in out.splitlines()]
+    groups = [g for g in lines if "summary" not in g]
+    check(code == 1 and sorted(g["topic"] for g in groups) == ["/amcl_pose", "/odom"],
+          f"bag check of covariance.mcap: {code} {err} {out}")
+    code, out, err = run("bag", "check", os.path.join(FOXGLOVE, bag["file"]), "--pose-topic", "x")
+    check(code == 2 and "--pose-topic" in err, f"bad --pose-topic exits 2: {code} {err}")
+
+
 os.makedirs(SCRATCH, exist_ok=True)
 dirty = os.path.join(SCRATCH, "dirty.bag")
 write_dirty_bag(dirty)
 dirty_checks(dirty)
 clean_checks()
+covariance_checks()
 corrupt_checks(dirty)
 print("bag_cli_test:", "FAILED" if failures else "ok", f"({len(failures)} failures)")
 sys.exit(1 if failures else 0)

@@ -22,13 +22,17 @@ namespace {
 constexpr std::string_view kBagUsage = R"(Usage: semgraph bag info FILE
        semgraph bag check FILE [--static same_body|own_body] [--bodies MAP.yaml] [--urdf FILE]
                                [--window SECONDS] [--topics /tf,/tf_static,/joint_states]
+                               [--pose-topic TOPIC=FRAME]...
 
   info    the bag's format, topics with types and counts, time range, and its tf frame tree
           with the body of each frame (as `bag check` would lift it)
   check   applies the bag's tf and joint states to a new scene graph and prints one JSON line
           per finding group (a transform the graph refuses, or one that differs from the robot
           model of --urdf), then a summary line. The window covers the whole bag unless
-          --window is given (a tf2 buffer of that many seconds).
+          --window is given (a tf2 buffer of that many seconds). nav_msgs/Odometry topics
+          given in --topics, and geometry_msgs/PoseWithCovarianceStamped topics given by
+          --pose-topic (the frame whose pose the topic gives), are applied with their
+          covariances (a bad covariance is a finding).
   FILE    an MCAP file, a rosbag2 sqlite3 .db3 file or bag folder, or a ROS 1 bag (by content)
 
 Exit status: 0 clean, 1 findings, 2 the file cannot be read, is corrupt, or bad usage.
@@ -92,6 +96,13 @@ bool ParseCheckArgs(int argc, char** argv, CheckArgs* args, std::string* error) 
         return false;
       }
       args->window_s = s;
+    } else if (flag == "--pose-topic") {
+      const std::size_t eq = value.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == value.size()) {
+        *error = "--pose-topic must be TOPIC=FRAME, got " + value;
+        return false;
+      }
+      args->options.lift.pose_topics[value.substr(0, eq)] = value.substr(eq + 1);
     } else if (flag == "--topics") {
       args->options.topics.clear();
       std::stringstream list(value);

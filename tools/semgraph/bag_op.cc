@@ -25,6 +25,7 @@ bool OptionsOf(const ScriptOp& op, ros::BagLoadOptions* options, std::string* re
   if (op.has_topics) options->topics = op.topics;
   if (op.static_mode == "own_body") options->lift.static_mode = ros::StaticMode::kOwnBody;
   for (const auto& [body, frames] : op.bodies) options->lift.bodies[body] = frames;
+  for (const auto& [topic, frame] : op.pose_topics) options->lift.pose_topics[topic] = frame;
   const std::pair<const std::optional<double>*, std::optional<std::int64_t>*> times[] = {
       {&op.start, &options->start_ns}, {&op.end, &options->end_ns}};
   for (const auto& [seconds, ns] : times) {
@@ -62,15 +63,19 @@ OpOutcome ApplyBagOp(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t
   }
   const ros::LiftCounts& c = report->counts;
   const bool any = report->messages > 0;
-  const std::string counts = ", \"messages\": " + std::to_string(report->messages) +
-                             ", \"skipped\": " + std::to_string(report->skipped) +
-                             ", \"transforms\": " + std::to_string(c.transforms) +
-                             ", \"applied\": " + std::to_string(c.applied) +
-                             ", \"refused\": " + std::to_string(c.refused) +
-                             ", \"covered\": " + std::to_string(c.covered) +
-                             ", \"normalized\": " + std::to_string(c.normalized) +
-                             ", \"start\": " + (any ? Seconds(report->first_log_time_ns) : "null") +
-                             ", \"end\": " + (any ? Seconds(report->last_log_time_ns) : "null");
+  const std::string counts =
+      ", \"messages\": " + std::to_string(report->messages) +
+      ", \"skipped\": " + std::to_string(report->skipped) +
+      ", \"transforms\": " + std::to_string(c.transforms) +
+      ", \"applied\": " + std::to_string(c.applied) +
+      ", \"refused\": " + std::to_string(c.refused) +
+      ", \"covered\": " + std::to_string(c.covered) +
+      ", \"normalized\": " + std::to_string(c.normalized) +
+      ", \"poses_with_covariance\": " + std::to_string(c.poses_with_covariance) +
+      ", \"odometry\": " + std::to_string(c.odometry) +
+      ", \"covariance_refused\": " + std::to_string(c.covariance_refused) +
+      ", \"start\": " + (any ? Seconds(report->first_log_time_ns) : "null") +
+      ", \"end\": " + (any ? Seconds(report->last_log_time_ns) : "null");
   if (report->findings.empty()) {
     return OpOutcome{true, "",
                      "{\"op\": " + std::to_string(index) + ", \"ok\": true" + counts + "}"};

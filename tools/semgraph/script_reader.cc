@@ -62,6 +62,7 @@ enum Field : int {
   kTopics,
   kStatic,
   kBodies,
+  kPoseTopics,
   kStart,
   kEnd,
   kCovariance,
@@ -115,6 +116,7 @@ constexpr std::string_view kFieldNames[kNumFields] = {"op",
                                                       "topics",
                                                       "static",
                                                       "bodies",
+                                                      "pose_topics",
                                                       "start",
                                                       "end",
                                                       "covariance",
@@ -205,8 +207,8 @@ Shape ShapeOf(OpKind op, QueryKind query) {
       return {"a 'joints' op", Bit(kOp) | Bit(kPositions) | Bit(kVelocities) | Bit(kStamp), {}};
     case OpKind::kBag:
       return {"a 'bag' op",
-              Bit(kOp) | Bit(kFile) | Bit(kTopics) | Bit(kStatic) | Bit(kBodies) | Bit(kStart) |
-                  Bit(kEnd),
+              Bit(kOp) | Bit(kFile) | Bit(kTopics) | Bit(kStatic) | Bit(kBodies) |
+                  Bit(kPoseTopics) | Bit(kStart) | Bit(kEnd),
               {{kFile, kNoField}}};
     case OpKind::kWrench:
       return {"a 'wrench' op",
@@ -980,7 +982,8 @@ bool Interpreter::ReadNames(std::uint32_t node, std::string_view field,
   return true;
 }
 
-// The `bag` op (docs/ros.md): file, topics, static, bodies {BODY: [frames]}, start, end.
+// The `bag` op (docs/ros.md): file, topics, static, bodies {BODY: [frames]}, pose_topics
+// {TOPIC: frame}, start, end.
 bool Interpreter::ReadBagFields(const std::array<std::uint32_t, kNumFields>& value, ScriptOp* op) {
   if (!ReadText(value[kFile], "file", &op->file)) return false;
   if ((op->has_topics = value[kTopics] != kNoNode) &&
@@ -1004,6 +1007,18 @@ bool Interpreter::ReadBagFields(const std::array<std::uint32_t, kNumFields>& val
     for (const auto& [key, frames] : pairs) {
       op->bodies.emplace_back(std::string(At(key).text), std::vector<std::string>());
       if (!ReadNames(frames, "bodies", &op->bodies.back().second)) return false;
+    }
+  }
+  if (value[kPoseTopics] != kNoNode) {
+    if (At(value[kPoseTopics]).kind != NodeKind::kMap) {
+      return Fail(value[kPoseTopics], "'pose_topics' must be a map of topics to frames, got " +
+                                          Describe(value[kPoseTopics]));
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if (!ReadMap(value[kPoseTopics], "'pose_topics'", &pairs)) return false;
+    for (const auto& [key, frame] : pairs) {
+      op->pose_topics.emplace_back(std::string(At(key).text), std::string());
+      if (!ReadText(frame, "pose_topics", &op->pose_topics.back().second)) return false;
     }
   }
   const std::pair<Field, std::optional<double>*> times[] = {{kStart, &op->start}, {kEnd, &op->end}};

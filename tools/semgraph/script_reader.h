@@ -159,11 +159,13 @@ struct ScriptOp {
   std::string fixed;
   bool source_poses = false;  // velocity kinds: differentiate the poses
   // kBag (file in `file`): the topics (has_topics: given), `static` mode as written (empty:
-  // same_body), the bodies map in document order, the log-time window in seconds.
+  // same_body), the bodies map in document order, the pose topics (geometry_msgs/
+  // PoseWithCovarianceStamped topic -> the frame it gives), the log-time window in seconds.
   bool has_topics = false;
   std::vector<std::string> topics;
   std::string static_mode;
   std::vector<std::pair<std::string, std::vector<std::string>>> bodies;
+  std::vector<std::pair<std::string, std::string>> pose_topics;  // TOPIC -> frame, as written
   std::optional<double> start, end;
   // Uncertainty (docs/uncertainty.md). kPose, kTwist: the covariance given with the value, as
   // written (checked by the scene graph: invalid_number, invalid_covariance), its order and,

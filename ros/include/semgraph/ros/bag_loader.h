@@ -34,6 +34,9 @@ namespace semgraph::ros {
 [[nodiscard]] SEMGRAPH_ROS_EXPORT std::vector<std::string> DefaultBagTopics();
 
 struct BagLoadOptions {
+  /// Read, with the topics of lift.pose_topics. A topic of nav_msgs/Odometry is applied as its
+  /// pose and twist with covariances; one of geometry_msgs/PoseWithCovarianceStamped only when
+  /// lift.pose_topics names its frame (else skipped).
   std::vector<std::string> topics = DefaultBagTopics();
   LiftOptions lift;
   std::optional<std::int64_t> start_ns, end_ns;  ///< log time, inclusive
@@ -58,7 +61,7 @@ struct BagScan {
   std::vector<TopicSummary> topics;
   std::uint64_t records = 0;                                 ///< every message of the bag
   std::int64_t first_log_time_ns = 0, last_log_time_ns = 0;  ///< of every record
-  bool has_stamps = false;  ///< a transform or joint state was seen on the selected topics
+  bool has_stamps = false;  ///< a stamped message was seen on the selected topics
   std::int64_t first_stamp_ns = 0, last_stamp_ns = 0;  ///< header stamps on the selected topics
   std::vector<StaticEdge> statics;                     ///< in log-time order
   /// Dynamic transforms' (parent, child) pairs, first occurrence order (for `bag info`).

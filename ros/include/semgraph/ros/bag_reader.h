@@ -56,6 +56,8 @@ enum class MessageKind : std::uint8_t {
   kTfMessage,   ///< tf2_msgs/msg/TFMessage, tf2_msgs/TFMessage, tf/tfMessage
   kJointState,  ///< sensor_msgs/msg/JointState, sensor_msgs/JointState
   kString,      ///< std_msgs/msg/String, std_msgs/String (the URDF on /robot_description)
+  kPoseWithCovarianceStamped,  ///< geometry_msgs/msg/PoseWithCovarianceStamped, ROS 1's name
+  kOdometry,                   ///< nav_msgs/msg/Odometry, nav_msgs/Odometry
 };
 
 /// The kind of a type name (exact match, as listed above); kOther for any other name.

@@ -46,9 +46,14 @@ enum class StaticMode : std::uint8_t {
 /// BODY -> its frames (names as lifted: no leading '/').
 using BodiesMap = std::map<std::string, std::vector<std::string>, std::less<>>;
 
+/// TOPIC -> the frame whose pose its geometry_msgs/PoseWithCovarianceStamped messages give (the
+/// message names only its header frame), e.g. {"/amcl_pose": "base_footprint"}.
+using PoseTopicsMap = std::map<std::string, std::string, std::less<>>;
+
 struct LiftOptions {
   StaticMode static_mode = StaticMode::kSameBody;
   BodiesMap bodies;
+  PoseTopicsMap pose_topics{};  // ({}: aggregates of the two fields above stay warning-free)
 };
 
 /// tf2's frame name rule: one leading '/' removed ("/base" -> "base", "//x" -> "/x").

@@ -20,6 +20,19 @@
 //   /joint_states          SetJoints at header.stamp with the names, the positions and (when as
 //                          many) the velocities; skipped when the graph has no joints
 // A refused transform changes nothing; the other transforms of its message still apply.
+//   PoseWithCovarianceStamped  a stamped sample with covariance of the pose of the frame the
+//                          user names with the topic (LiftOptions::pose_topics) wrt
+//                          {header.frame_id}; the covariance read as semgraph's default edge
+//                          form (coordinates convention, at the pose's origin, (x, y, z, rx, ry,
+//                          rz): docs/uncertainty.md)
+//   Odometry               the same for {child_frame_id} wrt {header.frame_id}, then a stamped
+//                          sample with covariance of the twist of the child's body relative to the
+//                          header frame's body, at the child's origin, in [child]
+//   covariance messages    the numbers, the quaternion (as a transform's) and each covariance
+//                          (coord::CheckCovariance: finite, symmetric, PSD) are checked before
+//                          the graph is touched: a bad one is a finding, the graph unchanged for
+//                          that message. A graph rule refusing the odometry twist after its pose
+//                          was added leaves the pose (a finding names the twist).
 //
 // Costs: a /tf transform of an edge the lift added before is one SetPose by handle, found by
 // comparing its names with the edge after the last one used (a publisher's order) or else by
@@ -66,9 +79,12 @@ struct LiftCounts {
   std::uint64_t covered = 0;     ///< covered by the model, equal or not
   std::uint64_t mismatched = 0;  ///< covered and different (model_mismatch)
   std::uint64_t normalized = 0;
-  std::uint64_t joint_states = 0;          ///< joint state messages applied
-  std::uint64_t joint_states_refused = 0;  ///< refused (a finding each)
-  std::uint64_t joint_states_skipped = 0;  ///< the graph has no joints
+  std::uint64_t joint_states = 0;           ///< joint state messages applied
+  std::uint64_t joint_states_refused = 0;   ///< refused (a finding each)
+  std::uint64_t joint_states_skipped = 0;   ///< the graph has no joints
+  std::uint64_t poses_with_covariance = 0;  ///< PoseWithCovarianceStamped messages applied
+  std::uint64_t odometry = 0;               ///< Odometry messages applied (pose and twist)
+  std::uint64_t covariance_refused = 0;     ///< of both kinds refused (a finding each)
 };
 
 /// tf2's quaternion tolerance on |‖q‖² − 1| for ROS input.
@@ -98,6 +114,11 @@ class SEMGRAPH_ROS_EXPORT TfLift {
   /// A joint state message; a refusal is a finding with empty parent and child frames.
   /// Then compares the deferred covered transforms stamped at or before it.
   void Apply(const JointState& state, std::string_view topic, std::int64_t log_time_ns);
+  /// A pose with covariance of `child_frame` (the frame pose_topics names for `topic`).
+  LiftOutcome Apply(const PoseWithCovarianceStamped& message, std::string_view child_frame,
+                    std::string_view topic, std::int64_t log_time_ns);
+  /// An odometry message: its pose and its twist, with their covariances.
+  LiftOutcome Apply(const Odometry& message, std::string_view topic, std::int64_t log_time_ns);
   /// Compares every deferred covered transform now (the end of a bag or of a stream).
   void Flush();
 
@@ -115,6 +136,10 @@ class SEMGRAPH_ROS_EXPORT TfLift {
                                const Eigen::Quaterniond& q_PC, const Eigen::Vector3d& p_PoCo_P,
                                bool is_static, const TransformOrigin& origin);
   std::string BodyOf(std::string_view frame) const;
+  /// A covariance message's pose (and the odometry twist, when `twist`): checked, then added.
+  LiftOutcome ApplyWithCovariance(const Header& header, std::string_view child_frame,
+                                  const PoseWithCovariance& pose, const TwistWithCovariance* twist,
+                                  std::string_view topic, std::int64_t log_time_ns);
   /// A covered transform waiting for the joint state at its stamp (its strings owned).
   struct DeferredCover {
     std::string topic, parent, child;
