@@ -51,7 +51,9 @@ struct AddNames {
       const NamedField& n = fields[i];
       first[i] = i;
       if (n.value.empty() && !n.required) continue;
-      for (int j = 0; j < i && first[i] == i; ++j) {
+      // An empty name is never shared: it must reach ValidateName (invalid_name), not borrow
+      // the unset id of an empty optional field.
+      for (int j = 0; j < i && first[i] == i && !n.value.empty(); ++j) {
         if (same_name(fields[j].value, n.value)) first[i] = j;
       }
       if (first[i] < i) {

@@ -125,6 +125,50 @@ Expected<CompiledPoseWithCovariance<B>, QueryError> SceneGraph<B>::CompilePoseWi
 }
 
 template <coord::Backend B>
+Expected<CompiledPositionWithCovariance<B>, QueryError>
+SceneGraph<B>::CompilePositionWithCovariance(const PoseSpec& spec) const {
+  auto plan = PlanPosition(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  const topology::SceneTopology& t = topology_;
+  const semantics::PositionSemantics& q = plan->semantics;
+  const FrameIndex e = t.FrameOfName(q.point.id()), f = t.FrameOfName(q.ref_point.id());
+  const FrameIndex k[5] = {e, e, f, f, t.FrameOfName(q.coordinate_frame.id())};
+  // The pose of {e} wrt {f} in [r], whose translation and linear block are the answer.
+  const semantics::PoseSemantics s{
+      q.point,           semantics::OrientationFrame(q.point.id()),     q.body,
+      q.ref_point,       semantics::OrientationFrame(q.ref_point.id()), q.ref_body,
+      q.coordinate_frame};
+  return CompiledPositionWithCovariance<B>(q, CompiledPoseWithCovariance<B>(t, values_, s, k));
+}
+
+template <coord::Backend B>
+Expected<CompiledOrientationWithCovariance<B>, QueryError>
+SceneGraph<B>::CompileOrientationWithCovariance(const PoseSpec& spec) const {
+  auto plan = PlanOrientation(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
+    QueryError e;
+    e.code = ok.error().code;
+    e.detail = ok.error();
+    return Unexpected{e};
+  }
+  const topology::SceneTopology& t = topology_;
+  const semantics::OrientationSemantics& q = plan->semantics;
+  const FrameIndex a = t.FrameOfName(q.orientation.id());
+  const FrameIndex b = t.FrameOfName(q.ref_orientation.id());
+  const FrameIndex k[5] = {a, a, b, b, t.FrameOfName(q.coordinate_frame.id())};
+  // The pose of {a} wrt {b} in [r], whose rotation and angular block are the answer.
+  const semantics::PoseSemantics s{semantics::Point(q.orientation.id()),
+                                   q.orientation,
+                                   q.body,
+                                   semantics::Point(q.ref_orientation.id()),
+                                   q.ref_orientation,
+                                   q.ref_body,
+                                   q.coordinate_frame};
+  return CompiledOrientationWithCovariance<B>(q, CompiledPoseWithCovariance<B>(t, values_, s, k));
+}
+
+template <coord::Backend B>
 Covariance6 SceneGraph<B>::pose_covariance(FrameIndex f) const noexcept {
   if (!f.is_valid() || f.value() >= values_.X_PF.size()) return Covariance6::Zero();
   return values_.PoseCovarianceOf(f.value());
@@ -152,6 +196,10 @@ Covariance6 SceneGraph<B>::twist_covariance(FrameIndex f) const noexcept {
   SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&) const noexcept;            \
   template Expected<CompiledPoseWithCovariance<B>, QueryError>                                 \
   SceneGraph<B>::CompilePoseWithCovariance(const PoseSpec&) const;                             \
+  template Expected<CompiledPositionWithCovariance<B>, QueryError>                             \
+  SceneGraph<B>::CompilePositionWithCovariance(const PoseSpec&) const;                         \
+  template Expected<CompiledOrientationWithCovariance<B>, QueryError>                          \
+  SceneGraph<B>::CompileOrientationWithCovariance(const PoseSpec&) const;                      \
   template Covariance6 SceneGraph<B>::pose_covariance(FrameIndex) const noexcept;              \
   template Covariance6 SceneGraph<B>::twist_covariance(FrameIndex) const noexcept;
 SEMGRAPH_INSTANTIATE_UNCERTAINTY(coord::QuaternionBackend)

@@ -14,7 +14,9 @@ The numbers are computed by the C++ library (semgraph._semgraph); see docs/pytho
 
 from ._errors import Error, QueryError, RejectedError, ScriptError
 from ._semgraph import (
+    Acceleration,
     AngularVelocity,
+    CompiledAcceleration,
     CompiledJacobian,
     CompiledOrientation,
     CompiledPose,
@@ -43,7 +45,9 @@ from ._semgraph import (
 from ._script import ScriptRun, run_script, run_script_text
 
 __all__ = [
+    "Acceleration",
     "AngularVelocity",
+    "CompiledAcceleration",
     "CompiledJacobian",
     "CompiledOrientation",
     "CompiledPose",

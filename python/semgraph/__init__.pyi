@@ -274,6 +274,26 @@ class CompiledTwist:
     @property
     def num_twist_edges(self) -> int: ...
 
+class Acceleration:
+    """AccelerationCoord(e|C, D, [r])."""
+    @property
+    def linear(self) -> np.ndarray:
+        """(3,): classical acceleration of the point of body C at e relative to body D, in [r]."""
+    @property
+    def angular(self) -> np.ndarray:
+        """(3,): angular acceleration of C relative to D, in [r]."""
+    @property
+    def semantics(self) -> str: ...
+
+class CompiledAcceleration:
+    """A compiled acceleration query (evaluate() raises QueryError no_acceleration while an edge
+    of the path carries none, query_invalidated after an edge it reads was removed)."""
+    def evaluate(self) -> Acceleration: ...
+    @property
+    def is_valid(self) -> bool: ...
+    @property
+    def num_twist_edges(self) -> int: ...
+
 class PoseHandle:
     """The resolved pose edge {wrt} -> {of}; keeps its graph alive."""
     @property
@@ -364,11 +384,16 @@ class SceneGraph:
                   angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None,
                   repair: Union[bool, RepairPolicy, None] = None,
                   covariance: Optional[ArrayLike] = None,
-                  covariance_order: Optional[str] = None) -> Optional[RepairReport]:
+                  covariance_order: Optional[str] = None,
+                  linear_acceleration: Optional[ArrayLike] = None,
+                  angular_acceleration: Optional[ArrayLike] = None) -> Optional[RepairReport]:
         """Adds (or updates) the twist of `body` (default: point's body) relative to `ref_body`
         as the edge ref_body -> {point}; linear/angular in [expressed_in]. stamp, repair: as
         add_pose (repair: W1 by the inverse twist, duplicate_twist_path by consistency).
-        covariance: (6, 6), rows (dv, dw) (covariance_order as add_pose)."""
+        covariance: (6, 6), rows (dv, dw) (covariance_order as add_pose).
+        linear_acceleration / angular_acceleration: the edge's acceleration (same point and
+        frame), stored with the twist; without them the edge carries none. Not with stamp,
+        repair or covariance."""
     def remove_pose(self, *, of: str, wrt: str) -> None: ...
     def remove_twist(self, *, point: str, ref_body: str) -> None: ...
 
@@ -391,6 +416,28 @@ class SceneGraph:
               expressed_in: Name = None) -> np.ndarray: ...
     def moment(self, *, on: Name = None, by: Name = None, point: Name = None,
                expressed_in: Name = None) -> np.ndarray: ...
+
+    def add_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                         expressed_in: Name = None, linear: Optional[ArrayLike] = None,
+                         angular: Optional[ArrayLike] = None) -> None:
+        """Sets the acceleration of the existing twist edge ref_body -> body: a of the point of
+        `body` at point's origin and alpha, in [expressed_in]. RejectedError: invalid_name,
+        invalid_number, unknown_frame, unknown_body, no_such_edge, joint_edge, stamp_mismatch,
+        acceleration_not_convertible; the graph is unchanged."""
+    def set_acceleration(self, handle: TwistHandle, *, linear: Optional[ArrayLike] = None,
+                         angular: Optional[ArrayLike] = None) -> None:
+        """O(1): the acceleration of the handle's edge in its form (at and in its head frame)."""
+    def acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                     expressed_in: Name = None) -> Acceleration:
+        """The acceleration of `body` at `point` relative to `ref_body`, in [expressed_in].
+        QueryError: invalid_name, unknown_frame, unknown_body, frame_body_mismatch,
+        no_pose_path, no_twist_path, no_acceleration."""
+    def linear_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                            expressed_in: Name = None) -> np.ndarray: ...
+    def angular_acceleration(self, *, body: Name = None, ref_body: Name = None,
+                             expressed_in: Name = None) -> np.ndarray: ...
+    def compile_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+                             expressed_in: Name = None) -> CompiledAcceleration: ...
 
     def pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
              point: Name = None, orientation: Name = None, ref_point: Name = None,
@@ -426,34 +473,50 @@ class SceneGraph:
     def pose_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
                              ref_body: Name = None, point: Name = None, orientation: Name = None,
                              ref_point: Name = None, ref_orientation: Name = None,
-                             expressed_in: Name = None,
-                             covariance_order: Optional[str] = None) -> Tuple[Pose, np.ndarray]:
+                             expressed_in: Name = None, covariance_order: Optional[str] = None,
+                             at: At = None, max_extrapolation: Optional[Time] = None,
+                             not_before: Optional[Time] = None, ref_at: Optional[Time] = None,
+                             fixed: Name = None) -> Tuple[Pose, np.ndarray]:
         """pose() and the (6, 6) first-order covariance of its coordinates (dp, dtheta), from
-        the covariances of the edges it uses (docs/uncertainty.md). No time keywords."""
+        the covariances of the edges it uses (docs/uncertainty.md). The time keywords of pose():
+        the answer at that time (result.time its TimeReport) with each edge's covariance at
+        the time it is read; a time travel's two sides independent."""
     def position_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
                                  ref_body: Name = None, point: Name = None,
                                  orientation: Name = None, ref_point: Name = None,
-                                 ref_orientation: Name = None,
-                                 expressed_in: Name = None) -> Tuple[Position, np.ndarray]:
-        """position() and its (3, 3) covariance."""
+                                 ref_orientation: Name = None, expressed_in: Name = None,
+                                 at: At = None, max_extrapolation: Optional[Time] = None,
+                                 not_before: Optional[Time] = None, ref_at: Optional[Time] = None,
+                                 fixed: Name = None) -> Tuple[Position, np.ndarray]:
+        """position() and its (3, 3) covariance; time keywords as pose_with_covariance."""
     def orientation_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
                                     ref_body: Name = None, point: Name = None,
                                     orientation: Name = None, ref_point: Name = None,
-                                    ref_orientation: Name = None,
-                                    expressed_in: Name = None) -> Tuple[Orientation, np.ndarray]:
-        """orientation() and its (3, 3) covariance (dtheta)."""
+                                    ref_orientation: Name = None, expressed_in: Name = None,
+                                    at: At = None, max_extrapolation: Optional[Time] = None,
+                                    not_before: Optional[Time] = None,
+                                    ref_at: Optional[Time] = None,
+                                    fixed: Name = None) -> Tuple[Orientation, np.ndarray]:
+        """orientation() and its (3, 3) covariance (dtheta); time keywords as
+        pose_with_covariance."""
     def twist_with_covariance(self, *, point: Name = None, body: Name = None,
                               ref_body: Name = None, expressed_in: Name = None,
-                              covariance_order: Optional[str] = None) -> Tuple[Twist, np.ndarray]:
-        """twist() and its (6, 6) covariance (dv, dw)."""
+                              covariance_order: Optional[str] = None, at: At = None,
+                              max_extrapolation: Optional[Time] = None,
+                              not_before: Optional[Time] = None) -> Tuple[Twist, np.ndarray]:
+        """twist() and its (6, 6) covariance (dv, dw); at= / max_extrapolation= / not_before=
+        as twist() (twist edges only: no source=; no time travel)."""
     def linear_velocity_with_covariance(
             self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-            expressed_in: Name = None) -> Tuple[LinearVelocity, np.ndarray]:
-        """linear_velocity() and its (3, 3) covariance."""
+            expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
+            not_before: Optional[Time] = None) -> Tuple[LinearVelocity, np.ndarray]:
+        """linear_velocity() and its (3, 3) covariance; time keywords as twist_with_covariance."""
     def angular_velocity_with_covariance(
-            self, *, body: Name = None, ref_body: Name = None,
-            expressed_in: Name = None) -> Tuple[AngularVelocity, np.ndarray]:
-        """angular_velocity() and its (3, 3) covariance."""
+            self, *, body: Name = None, ref_body: Name = None, expressed_in: Name = None,
+            at: At = None, max_extrapolation: Optional[Time] = None,
+            not_before: Optional[Time] = None) -> Tuple[AngularVelocity, np.ndarray]:
+        """angular_velocity() and its (3, 3) covariance; time keywords as
+        twist_with_covariance."""
 
     def compile_pose(self, *, of: Name = None, body: Name = None, wrt: Name = None, ref_body: Name = None,
                      point: Name = None, orientation: Name = None, ref_point: Name = None,

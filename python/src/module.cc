@@ -3,6 +3,7 @@
 // of its own (graph.h lists them); this file calls them in order.
 #include <pybind11/pybind11.h>
 
+#include "accelerations.h"
 #include "common.h"
 #include "graph.h"
 #include "uncertainty.h"
@@ -28,11 +29,13 @@ PYBIND11_MODULE(_semgraph, m) {
     BindBatches(m);
     BindRepair(m);
     BindWrenchResult(m);
+    BindAccelerationResults(m);
     GraphClass graph = BindSceneGraph(m);
     BindBuild(graph);
     BindQueries(graph);
     BindUncertainty(graph);
     BindWrenches(graph);
+    BindAccelerations(graph);
     BindHandleMethods(graph);
     BindBatchMethods(graph);
     BindInspection(graph);

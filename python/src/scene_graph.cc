@@ -123,9 +123,8 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
   }
   const CovarianceArgs cov =
       ReadCovarianceArgs(covariance, covariance_order, convention, "add_pose");
-  if (cov.given && (t || policy)) {
-    throw py::value_error(
-        "add_pose(): covariance= goes with a timeless value without repair in this version");
+  if (cov.given && policy) {
+    throw py::value_error("add_pose(): covariance= and repair= cannot be combined in this version");
   }
   const core::PoseSpec spec = n.Spec();
   std::lock_guard<WriterMutex> lock(b.writer);
@@ -144,6 +143,10 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
     });
   }
   Check(b.Visit([&](auto& g) {
+    if (cov.given && t) {
+      return rot.is_matrix ? g.AddPose(spec, rot.R, p, *t, cov.Input())
+                           : g.AddPose(spec, rot.q, p, *t, cov.Input());
+    }
     if (cov.given) {
       return rot.is_matrix ? g.AddPose(spec, rot.R, p, cov.Input())
                            : g.AddPose(spec, rot.q, p, cov.Input());
@@ -158,7 +161,8 @@ py::object AddPose(GraphBox& b, py::handle of, py::handle body, py::handle wrt, 
 py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
                     py::handle expressed_in, py::handle linear, py::handle angular,
                     py::handle stamp, py::handle repair, py::handle covariance,
-                    py::handle covariance_order) {
+                    py::handle covariance_order, py::handle linear_acceleration,
+                    py::handle angular_acceleration) {
   const core::TwistSpec spec = ReadTwistSpec("add_twist", point, body, ref_body, expressed_in);
   const Eigen::Vector3d v = Vector3Arg(linear, "add_twist", "linear");
   const Eigen::Vector3d w = Vector3Arg(angular, "add_twist", "angular");
@@ -171,11 +175,24 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
   }
   const CovarianceArgs cov =
       ReadCovarianceArgs(covariance, covariance_order, py::none(), "add_twist");
-  if (cov.given && (t || policy)) {
+  if (cov.given && policy) {
     throw py::value_error(
-        "add_twist(): covariance= goes with a timeless value without repair in this version");
+        "add_twist(): covariance= and repair= cannot be combined in this version");
+  }
+  const bool accelerated = !linear_acceleration.is_none() || !angular_acceleration.is_none();
+  const core::AccelerationInput acceleration{
+      Vector3Arg(linear_acceleration, "add_twist", "linear_acceleration"),
+      Vector3Arg(angular_acceleration, "add_twist", "angular_acceleration")};
+  if (accelerated && (t || policy || cov.given)) {
+    throw py::value_error(
+        "add_twist(): linear_acceleration= / angular_acceleration= go with a timeless value "
+        "without repair or covariance in this version");
   }
   std::lock_guard<WriterMutex> lock(b.writer);
+  if (accelerated) {
+    Check(b.Visit([&](auto& g) { return g.AddTwist(spec, v, w, acceleration); }));
+    return py::none();
+  }
   if (policy) {
     return b.Visit([&](auto& g) -> py::object {
       auto r = g.AddTwist(spec, v, w, *policy);
@@ -184,6 +201,7 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
     });
   }
   Check(b.Visit([&](auto& g) {
+    if (cov.given && t) return g.AddTwist(spec, v, w, *t, cov.Input());
     if (cov.given) return g.AddTwist(spec, v, w, cov.Input());
     return t ? g.AddTwist(spec, v, w, *t) : g.AddTwist(spec, v, w);
   }));
@@ -342,7 +360,8 @@ repair  True or a RepairPolicy: repair a rejection by P1 / pose_cycle (docs/repa
 covariance  the value's 6x6 covariance (docs/uncertainty.md; none: exact), rows (dp, dtheta);
         covariance_order 'linear_angular' (default) or 'angular_linear'; convention
         'coordinates' (default: p + dp, Exp(dtheta) R) or 'body' (X Exp(xi), edge form only).
-        Not with stamp or repair in this version.
+        With stamp: the sample's own covariance (docs/uncertainty.md, "Covariances and time").
+        Not with repair in this version.
 RejectedError (code): invalid_name, invalid_number, invalid_rotation, invalid_covariance,
 frame_body_mismatch, self_edge, representation_constraint, pose_not_convertible, constant_pose_change,
 multiple_pose_parents, pose_cycle, duplicate_pose_path, twist_merge_conflict, joint_edge;
@@ -357,7 +376,8 @@ code and has .discrepancy = (position, angle).
             py::arg("expressed_in") = py::none(), py::arg("linear") = py::none(),
             py::arg("angular") = py::none(), py::arg("stamp") = py::none(),
             py::arg("repair") = py::none(), py::arg("covariance") = py::none(),
-            py::arg("covariance_order") = py::none(),
+            py::arg("covariance_order") = py::none(), py::arg("linear_acceleration") = py::none(),
+            py::arg("angular_acceleration") = py::none(),
             R"(Adds the twist of body `body` (default: the body of frame `point`) relative to body
 `ref_body`, as the twist edge ref_body -> {point}, or updates it.
 linear: velocity of the point of `body` at the origin of `point`; angular: angular velocity;
@@ -366,7 +386,11 @@ stamp: a stamped sample (int nanoseconds or float seconds), as for add_pose.
 repair: True or a RepairPolicy: repair a rejection by W1 (the inverse twist on a frame of the
 reference body) or duplicate_twist_path (consistency check); returns a RepairReport.
 covariance: the value's 6x6 covariance, rows (dv, dw) (covariance_order 'angular_linear' for
-(dw, dv)); as for add_pose.
+(dw, dv)); as for add_pose (with stamp: the sample's own).
+linear_acceleration, angular_acceleration: the edge's acceleration (a of the same point, alpha;
+in [expressed_in]; either given: the other defaults to zero), stored with the twist; without
+them the edge carries no acceleration (a previous one is cleared). Not with stamp, repair or
+covariance in this version.
 RejectedError: invalid_name, invalid_number, invalid_covariance, unknown_frame, unknown_body,
 frame_body_mismatch,
 twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path,

@@ -82,6 +82,133 @@ TEST(CompiledCovariance, SameAsOneShotForEveryFormOnBothBackends) {
   }
 }
 
+template <class Graph>
+void ExpectPartsSameAsOneShot(Graph& g, const PoseSpec& spec) {
+  auto position = g.CompilePositionWithCovariance(spec);
+  auto orientation = g.CompileOrientationWithCovariance(spec);
+  ASSERT_TRUE(position && orientation);
+  const auto p = position->Evaluate();
+  const auto p_one_shot = g.GetPositionWithCovariance(spec);
+  ASSERT_TRUE(p && p_one_shot);
+  EXPECT_EQ(p->value.semantics, p_one_shot->value.semantics);
+  EXPECT_LE((p->value.value - p_one_shot->value.value).norm(), 1e-9);
+  EXPECT_LE((p->covariance - p_one_shot->covariance).norm(), 1e-9 * p_one_shot->covariance.norm());
+  const auto R = orientation->Evaluate();
+  const auto R_one_shot = g.GetOrientationWithCovariance(spec);
+  ASSERT_TRUE(R && R_one_shot);
+  EXPECT_EQ(R->value.semantics, R_one_shot->value.semantics);
+  using B = typename Graph::Backend;
+  EXPECT_LE((B::ToMatrix(R->value.value) - B::ToMatrix(R_one_shot->value.value)).norm(), 1e-9);
+  EXPECT_LE((R->covariance - R_one_shot->covariance).norm(), 1e-9 * R_one_shot->covariance.norm());
+}
+
+TEST(CompiledCovariance, PositionAndOrientationAreTheOneShotAnswersOnBothBackends) {
+  std::mt19937 rng(13);
+  SceneGraph<coord::QuaternionBackend> g;
+  SceneGraph<coord::HomogeneousBackend> h;
+  BuildTree(g, rng);
+  std::mt19937 rng2(13);
+  BuildTree(h, rng2);
+  std::uniform_int_distribution<int> body(0, 7), side(0, 1);
+  for (int i = 0; i < 40; ++i) {
+    const int c = body(rng), d = body(rng);
+    const auto name = [&](int k) { return (side(rng) ? "f" : "g") + std::to_string(k); };
+    const std::string a = name(c), b = name(d), r = name(body(rng));
+    const std::string C = "B" + std::to_string(c), D = "B" + std::to_string(d);
+    ExpectPartsSameAsOneShot(g, PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r));
+    ExpectPartsSameAsOneShot(h, PoseSpec::Of(a, C).RelativeTo(b, D));
+  }
+}
+
+// By hand: one uncertain edge X_01 (covariance S in the edge form: at f1's origin, in [f0]):
+// f1's position wrt f0 in [f0] carries its linear block, the reverse position in [f1] its
+// first-order image below; the orientation in [f1] is checked by finite differences.
+TEST(CompiledCovariance, PositionAndOrientationOfOneEdgeByHand) {
+  SceneGraph<> g;
+  std::mt19937 rng(14);
+  const Covariance6 S = RandomCovariance(rng);
+  const Eigen::Matrix3d R_01 = ExpR(Eigen::Vector3d(0.3, -0.2, 0.9));
+  const Eigen::Vector3d p_0o1o_0(0.5, -1.0, 2.0);
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("f1", "B1").RelativeTo("f0", "B0"), R_01, p_0o1o_0,
+                        CovarianceInput{&S}));
+  auto p = g.CompilePositionWithCovariance(PoseSpec::Of("f1", "B1").RelativeTo("f0", "B0"));
+  auto R = g.CompileOrientationWithCovariance(
+      PoseSpec::Of("f1", "B1").RelativeTo("f0", "B0").ExpressedIn("f1"));
+  ASSERT_TRUE(p && R);
+  Eigen::Vector3d p_value;
+  Eigen::Matrix3d S_p, S_R;
+  coord::QuaternionBackend::Rotation q_value;
+  ASSERT_EQ(p->Evaluate(p_value, S_p), ErrorCode::kOk);
+  ASSERT_EQ(R->Evaluate(q_value, S_R), ErrorCode::kOk);
+  EXPECT_LE((p_value - p_0o1o_0).norm(), 1e-12);
+  EXPECT_LE((S_p - S.topLeftCorner<3, 3>()).norm(), 1e-15);
+  // The orientation's Jacobian by central differences of the plain query on perturbed copies
+  // of the edge (p + dp, Exp(dth) R_01), the answer's change read as M' = Exp(d) M.
+  Eigen::Matrix<double, 3, 6> J_R;
+  const double h = 1e-6;
+  for (int i = 0; i < 6; ++i) {
+    Eigen::Matrix3d M[2];
+    for (int sign = 0; sign < 2; ++sign) {
+      Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+      d(i) = sign == 0 ? h : -h;
+      SceneGraph<> perturbed;
+      ASSERT_TRUE(perturbed.AddPose(PoseSpec::Of("f1", "B1").RelativeTo("f0", "B0"),
+                                    ExpR(d.tail<3>()) * R_01, p_0o1o_0 + d.head<3>()));
+      M[sign] =
+          perturbed
+              .GetOrientation(PoseSpec::Of("f1", "B1").RelativeTo("f0", "B0").ExpressedIn("f1"))
+              ->value.toRotationMatrix();
+    }
+    const Eigen::AngleAxisd d_M(M[0] * M[1].transpose());
+    J_R.col(i) = d_M.angle() * d_M.axis() / (2 * h);
+  }
+  EXPECT_LE((S_R - J_R * S * J_R.transpose()).norm(), 1e-9 * S.norm());
+  // f0's origin wrt f1's in [f1]: -R_01^T p; perturbed, -(Exp(dth) R_01)^T (p + dp), to first
+  // order -R_01^T dp - R_01^T [p]x dth.
+  auto back = g.CompilePositionWithCovariance(
+      PoseSpec::Of("f0", "B0").RelativeTo("f1", "B1").ExpressedIn("f1"));
+  ASSERT_TRUE(back);
+  ASSERT_EQ(back->Evaluate(p_value, S_p), ErrorCode::kOk);
+  Eigen::Matrix3d p_x;
+  p_x << 0, -p_0o1o_0.z(), p_0o1o_0.y(), p_0o1o_0.z(), 0, -p_0o1o_0.x(), -p_0o1o_0.y(),
+      p_0o1o_0.x(), 0;
+  Eigen::Matrix<double, 3, 6> J;
+  J << -R_01.transpose(), -R_01.transpose() * p_x;
+  EXPECT_LE((p_value + R_01.transpose() * p_0o1o_0).norm(), 1e-12);
+  EXPECT_LE((S_p - J * S * J.transpose()).norm(), 1e-15);
+}
+
+TEST(CompiledCovariance, PositionAndOrientationErrorsAndInvalidation) {
+  std::mt19937 rng(15);
+  SceneGraph<> g;
+  BuildTree(g, rng);
+  const auto unknown = PoseSpec::Of("nowhere", "B1").RelativeTo("f0", "B0");
+  ASSERT_FALSE(g.CompilePositionWithCovariance(unknown));
+  EXPECT_EQ(g.CompilePositionWithCovariance(unknown).error().code,
+            g.CompilePosition(unknown).error().code);
+  EXPECT_EQ(g.CompileOrientationWithCovariance(unknown).error().code,
+            g.CompileOrientation(unknown).error().code);
+  const auto wrong_body = PoseSpec::Of("f1", "B2").RelativeTo("f0", "B0");
+  EXPECT_EQ(g.CompilePositionWithCovariance(wrong_body).error().code,
+            g.CompilePosition(wrong_body).error().code);
+  auto p = g.CompilePositionWithCovariance(PoseSpec::Of("g7", "B7").RelativeTo("g0", "B0"));
+  auto R = g.CompileOrientationWithCovariance(PoseSpec::Of("g7", "B7").RelativeTo("g0", "B0"));
+  ASSERT_TRUE(p && R);
+  Eigen::Vector3d p_value;
+  Eigen::Matrix3d S_p, S_R;
+  Eigen::Quaterniond q_value;
+  static_assert(noexcept(p->Evaluate(p_value, S_p))&& noexcept(R->Evaluate(q_value, S_R)));
+  const std::size_t before = AllocationCounter::total();
+  for (int i = 0; i < 100; ++i) {
+    ASSERT_EQ(p->Evaluate(p_value, S_p), ErrorCode::kOk);
+    ASSERT_EQ(R->Evaluate(q_value, S_R), ErrorCode::kOk);
+  }
+  EXPECT_EQ(AllocationCounter::total(), before);
+  ASSERT_TRUE(g.RemovePose("g7", "f7"));
+  EXPECT_EQ(p->Evaluate(p_value, S_p), ErrorCode::kQueryInvalidated);
+  EXPECT_EQ(R->Evaluate(q_value, S_R), ErrorCode::kQueryInvalidated);
+}
+
 TEST(CompiledCovariance, RealTimeNoAllocationFollowsUpdatesAndRemovals) {
   std::mt19937 rng(12);
   SceneGraph<> g;

@@ -428,6 +428,15 @@ TYPED_TEST(SceneGraphConstraints,
     EXPECT_TRUE(rejects([&] { return g.RemoveTwist(n, "A"); }));
     EXPECT_TRUE(rejects([&] { return g.RemoveTwist("b", n); }));
   }
+  // A missing coordinate frame is an empty name even beside the empty (optional) body: both
+  // default views are the same null view, which once made the frame borrow the body's unset
+  // name and pass as twist_not_convertible.
+  TwistSpec no_frame;
+  no_frame.point = "z";
+  no_frame.ref_body = "A";
+  EXPECT_TRUE(RejectsAndKeeps(g, ErrorCode::kInvalidName, {"name is empty"}, [&] {
+    return g.AddTwist(no_frame, LinearNumber(1), AngularNumber(1));
+  }));
 }
 
 TYPED_TEST(SceneGraphConstraints, InvalidNameAcceptsLongestAndNonAsciiPrintableNames) {

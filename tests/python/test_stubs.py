@@ -78,7 +78,7 @@ def test_stub_signatures_match_the_module():
     tree = stub_tree()
     checked = 0
     for class_name in ["SceneGraph", "CompiledPose", "CompiledPosition", "CompiledOrientation", "CompiledTwist",
-                       "CompiledJacobian", "RepairPolicy", "PoseBatch", "TwistBatch"]:
+                       "CompiledAcceleration", "CompiledJacobian", "RepairPolicy", "PoseBatch", "TwistBatch"]:
         cls = getattr(semgraph, class_name)
         for name, stub_args in stub_signatures(tree, class_name).items():
             if name.startswith("__") and name != "__init__":

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "semgraph/coord/homogeneous_backend.h"
@@ -81,6 +82,85 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
   std::vector<Edge> edges_;
   std::int32_t frame_entry_[5] = {-1, -1, -1, -1, -1};  ///< the entry of each frame's edge
   std::vector<InZ> scratch_;
+};
+
+/// CompiledPositionWithCovariance<B> and CompiledOrientationWithCovariance<B>: the pose query
+/// above on the frames {e, e, f, f, r} (the position of e wrt f in [r]) or {a, a, b, b, r} (the
+/// orientation of [a] wrt [b] in [r]), answering its translation or rotation and the linear or
+/// angular 3x3 block of its covariance: what GetPositionWithCovariance and
+/// GetOrientationWithCovariance answer. Made by SceneGraph::CompilePositionWithCovariance /
+/// CompileOrientationWithCovariance. Invariants, costs and thread safety: the pose query's.
+template <coord::Backend B>
+class CompiledPositionWithCovariance {
+ public:
+  CompiledPositionWithCovariance() = default;
+  CompiledPositionWithCovariance(const semantics::PositionSemantics& s,
+                                 CompiledPoseWithCovariance<B> pose)
+      : semantics_(s), pose_(std::move(pose)) {}
+  [[nodiscard]] const semantics::PositionSemantics& semantics() const noexcept {
+    return semantics_;
+  }
+  /// p_FoEo_R and its covariance. kOk or kQueryInvalidated (nothing written).
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FoEo_R, Eigen::Matrix3d& S) noexcept {
+    typename B::PoseCoords X;
+    Covariance6 S6;
+    const ErrorCode code = pose_.Evaluate(X, S6);
+    if (code != ErrorCode::kOk) return code;
+    p_FoEo_R = B::TranslationOf(X);
+    S = S6.template topLeftCorner<3, 3>();
+    return code;
+  }
+  /// In GetPositionWithCovariance's result type.
+  [[nodiscard]] QueryResult<WithCovariance<coord::Position, 3>> Evaluate() noexcept {
+    WithCovariance<coord::Position, 3> r{{semantics_, Eigen::Vector3d::Zero()},
+                                         Eigen::Matrix3d::Zero()};
+    const ErrorCode code = Evaluate(r.value.value, r.covariance);
+    if (code == ErrorCode::kOk) return r;
+    QueryError e;
+    e.code = code;
+    return base::Unexpected{e};
+  }
+
+ private:
+  semantics::PositionSemantics semantics_;
+  CompiledPoseWithCovariance<B> pose_;
+};
+
+template <coord::Backend B>
+class CompiledOrientationWithCovariance {
+ public:
+  CompiledOrientationWithCovariance() = default;
+  CompiledOrientationWithCovariance(const semantics::OrientationSemantics& s,
+                                    CompiledPoseWithCovariance<B> pose)
+      : semantics_(s), pose_(std::move(pose)) {}
+  [[nodiscard]] const semantics::OrientationSemantics& semantics() const noexcept {
+    return semantics_;
+  }
+  /// R_BA_R (in B's rotation form) and its covariance. kOk or kQueryInvalidated (nothing
+  /// written).
+  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, Eigen::Matrix3d& S) noexcept {
+    typename B::PoseCoords X;
+    Covariance6 S6;
+    const ErrorCode code = pose_.Evaluate(X, S6);
+    if (code != ErrorCode::kOk) return code;
+    R_BA_R = B::RotationOf(X);
+    S = S6.template bottomRightCorner<3, 3>();
+    return code;
+  }
+  /// In GetOrientationWithCovariance's result type.
+  [[nodiscard]] QueryResult<WithCovariance<coord::Orientation<B>, 3>> Evaluate() noexcept {
+    WithCovariance<coord::Orientation<B>, 3> r{{semantics_, B::RotationOf(B::Identity())},
+                                               Eigen::Matrix3d::Zero()};
+    const ErrorCode code = Evaluate(r.value.value, r.covariance);
+    if (code == ErrorCode::kOk) return r;
+    QueryError e;
+    e.code = code;
+    return base::Unexpected{e};
+  }
+
+ private:
+  semantics::OrientationSemantics semantics_;
+  CompiledPoseWithCovariance<B> pose_;
 };
 
 extern template class CompiledPoseWithCovariance<coord::QuaternionBackend>;

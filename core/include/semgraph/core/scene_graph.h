@@ -433,6 +433,12 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// A compiled pose query with covariance (compiled_covariance.h): the errors of CompilePose.
   [[nodiscard]] Expected<CompiledPoseWithCovariance<B>, QueryError> CompilePoseWithCovariance(
       const PoseSpec& spec) const;
+  /// Compiled position / orientation queries with covariance: the errors of CompilePosition /
+  /// CompileOrientation.
+  [[nodiscard]] Expected<CompiledPositionWithCovariance<B>, QueryError>
+  CompilePositionWithCovariance(const PoseSpec& spec) const;
+  [[nodiscard]] Expected<CompiledOrientationWithCovariance<B>, QueryError>
+  CompileOrientationWithCovariance(const PoseSpec& spec) const;
   /// The covariance stored with the pose edge into f / the twist edge into f, in the edge form
   /// (zero: exact, or no edge). Writer thread. O(1).
   [[nodiscard]] Covariance6 pose_covariance(FrameIndex f) const noexcept;
