@@ -34,6 +34,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <unordered_set>
 #include <vector>
 
@@ -179,11 +180,19 @@ class Search {
 }  // namespace
 }  // namespace semgraph::fuzz
 
+// exhaustive_small_scope [LENGTH [empty|declared]]: both starts by default; one start alone
+// lets two processes share the work (CI runs the two starts side by side on its two cores).
 int main(int argc, char** argv) {
   const std::size_t max_length = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 4;
+  const std::string_view only = argc > 2 ? argv[2] : "";
+  if (argc > 3 || (argc > 2 && only != "empty" && only != "declared")) {
+    std::fprintf(stderr, "usage: %s [LENGTH [empty|declared]]\n", argv[0]);
+    return 2;
+  }
   const auto start = std::chrono::steady_clock::now();
   std::size_t total = 0;
   for (const bool declared : {false, true}) {
+    if (!only.empty() && declared != (only == "declared")) continue;
     semgraph::fuzz::Search search(declared, max_length);
     const std::size_t n = search.Run();
     std::printf(

@@ -12,12 +12,14 @@
 # The compiler, flags and build type are those of BUILD_DIR.
 #
 #   scripts/check_install.sh BUILD_DIR
-#   scripts/check_install.sh --shared SHARED_DIR [FROM_DIR]
+#   scripts/check_install.sh --shared [--unoptimized] SHARED_DIR [FROM_DIR]
 #
 # --shared: first configures SHARED_DIR (unless it is configured already) as a shared-library
 # build (BUILD_SHARED_LIBS=ON) of the libraries and the tool only - no tests, examples,
 # benchmarks, fuzzers or Python module - with the compiler and flags of FROM_DIR when given,
-# builds it, then checks it as above.
+# builds it, then checks it as above. --unoptimized builds it at -O0 (Debug without -g): what
+# is checked is installing, linking and the exported symbols, and -O0 compiles several times
+# faster (scripts/test.sh uses it).
 set -euo pipefail
 
 usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; }
@@ -27,7 +29,9 @@ jobs="${SEMGRAPH_JOBS:-2}"
 cache_value() { sed -n "s/^$1:[A-Z]*=//p" "$2"; }
 
 shared=0
+unoptimized=0
 if [ "${1:-}" = "--shared" ]; then shared=1; shift; fi
+if [ "$shared" -eq 1 ] && [ "${1:-}" = "--unoptimized" ]; then unoptimized=1; shift; fi
 if [ $# -lt 1 ] || [ $# -gt $((1 + shared)) ]; then usage >&2; exit 2; fi
 build_dir="$1"
 
@@ -39,6 +43,9 @@ if [ "$shared" -eq 1 ]; then
     from_args=(-DCMAKE_CXX_COMPILER="$(cache_value CMAKE_CXX_COMPILER "$from_cache")"
                -DCMAKE_CXX_FLAGS="$(cache_value CMAKE_CXX_FLAGS "$from_cache")"
                -DCMAKE_BUILD_TYPE="$(cache_value CMAKE_BUILD_TYPE "$from_cache")")
+  fi
+  if [ "$unoptimized" -eq 1 ]; then  # later -D arguments win
+    from_args+=(-DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-O0)
   fi
   if [ ! -f "$build_dir/CMakeCache.txt" ]; then
     echo "check_install: + cmake -S $root -B $build_dir -DBUILD_SHARED_LIBS=ON (libraries and tool only)"

@@ -9,6 +9,9 @@
 #   env      JOBS (build parallelism, default 1), FUZZ_FLAGS (extra libFuzzer flags, e.g.
 #            "-jobs=2 -workers=2"), BUILD_DIR (default <repo>/build-libfuzzer)
 #
+# A BUILD_DIR configured already with -DSEMGRAPH_LIBFUZZER=ON (e.g. CI's clang ASan + UBSan
+# build, whose flags include fuzzer-no-link) is used as it is: only the target is built.
+#
 # New interesting inputs go to BUILD_DIR/corpus/TARGET (the checked-in seeds are only read;
 # copy inputs worth keeping into fuzz/corpus/TARGET/ by hand, e.g. after `-merge=1`). Crashes,
 # leaks and timeouts land in fuzz/crashes/TARGET-*; replay one with
@@ -36,9 +39,13 @@ fi
 # standard library do not (fuzz/coverage_ignorelist.txt: they would only slow the search down).
 flags="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all -fno-omit-frame-pointer"
 flags+=" -fsanitize-coverage-ignorelist=$repo/fuzz/coverage_ignorelist.txt"
-CXX=${CXX:-clang++} cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DSEMGRAPH_LIBFUZZER=ON -DSEMGRAPH_BUILD_TESTS=OFF -DSEMGRAPH_BUILD_BENCH=OFF \
-  -DSEMGRAPH_BUILD_EXAMPLES=OFF -DSEMGRAPH_BUILD_TOOLS=ON -DCMAKE_CXX_FLAGS="$flags" >/dev/null
+if grep -qx 'SEMGRAPH_LIBFUZZER:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+  echo "fuzz: reusing the libFuzzer build $build as configured"
+else
+  CXX=${CXX:-clang++} cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DSEMGRAPH_LIBFUZZER=ON -DSEMGRAPH_BUILD_TESTS=OFF -DSEMGRAPH_BUILD_BENCH=OFF \
+    -DSEMGRAPH_BUILD_EXAMPLES=OFF -DSEMGRAPH_BUILD_TOOLS=ON -DCMAKE_CXX_FLAGS="$flags" >/dev/null
+fi
 cmake --build "$build" --target "$target" -j "${JOBS:-1}"
 if [[ $seconds -eq 0 ]]; then  # build only (e.g. before `ctest --test-dir $build -R '^fuzz\.'`)
   echo "built $build/fuzz/$target"
