@@ -100,9 +100,8 @@ endfunction()
 # semgraph_unity(<target> <batch>): compile the target's sources as unity batches of <batch>
 # files. The big libraries instantiate the same Eigen and evaluator templates in every file, and
 # CI compiles them four times (Release, shared, ASan, TSan): batched, they compile about three
-# times faster. A name clash between two files of a batch (their anonymous namespaces merge) is a
-# compile error, never a silent change; -DCMAKE_UNITY_BUILD=OFF is not needed to debug one file:
-# set SEMGRAPH_NO_UNITY=ON.
+# times faster. A name clash between two files of a batch (their anonymous namespaces merge) is
+# a compile error. -DSEMGRAPH_NO_UNITY=ON compiles every file on its own (e.g. to debug one).
 option(SEMGRAPH_NO_UNITY "Compile every file on its own (no unity batches)" OFF)
 function(semgraph_unity target batch)
   if(NOT SEMGRAPH_NO_UNITY)
