@@ -4,6 +4,7 @@
 #include "angular_velocity.h"
 #include "semgraph/core/propagate.h"
 #include "semgraph/core/scene_graph.h"
+#include "time_errors.h"
 
 namespace semgraph::core {
 
@@ -110,12 +111,7 @@ Expected<CompiledPoseWithCovariance<B>, QueryError> SceneGraph<B>::CompilePoseWi
     const PoseSpec& spec) const {
   auto plan = PlanPose(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
+  if (auto e = internal::RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   const topology::SceneTopology& t = topology_;
   const semantics::PoseSemantics& q = plan->semantics;
   const FrameIndex k[5] = {t.FrameOfName(q.point.id()), t.FrameOfName(q.orientation.id()),
@@ -146,12 +142,7 @@ Expected<CompiledOrientationWithCovariance<B>, QueryError>
 SceneGraph<B>::CompileOrientationWithCovariance(const PoseSpec& spec) const {
   auto plan = PlanOrientation(topology_, spec);
   if (!plan) return Unexpected{plan.error()};
-  if (auto ok = coord::CheckRepresentation<B>(plan->semantics); !ok) {
-    QueryError e;
-    e.code = ok.error().code;
-    e.detail = ok.error();
-    return Unexpected{e};
-  }
+  if (auto e = internal::RepresentationError<B>(plan->semantics)) return Unexpected{*e};
   const topology::SceneTopology& t = topology_;
   const semantics::OrientationSemantics& q = plan->semantics;
   const FrameIndex a = t.FrameOfName(q.orientation.id());
