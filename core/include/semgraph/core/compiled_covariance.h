@@ -25,6 +25,7 @@
 #include "semgraph/coord/homogeneous_backend.h"
 #include "semgraph/coord/jacobians.h"
 #include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
 #include "semgraph/core/specs.h"
@@ -56,11 +57,7 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
   [[nodiscard]] QueryResult<WithCovariance<coord::Pose<B>, 6>> Evaluate(
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept {
     WithCovariance<coord::Pose<B>, 6> r{{semantics_, B::Identity()}, Covariance6::Zero()};
-    const ErrorCode code = Evaluate(r.value.value, r.covariance, order);
-    if (code == ErrorCode::kOk) return r;
-    QueryError e;
-    e.code = code;
-    return base::Unexpected{e};
+    return internal::Answer(Evaluate(r.value.value, r.covariance, order), r);
   }
 
  private:
@@ -114,11 +111,7 @@ class CompiledPositionWithCovariance {
   [[nodiscard]] QueryResult<WithCovariance<coord::Position, 3>> Evaluate() noexcept {
     WithCovariance<coord::Position, 3> r{{semantics_, Eigen::Vector3d::Zero()},
                                          Eigen::Matrix3d::Zero()};
-    const ErrorCode code = Evaluate(r.value.value, r.covariance);
-    if (code == ErrorCode::kOk) return r;
-    QueryError e;
-    e.code = code;
-    return base::Unexpected{e};
+    return internal::Answer(Evaluate(r.value.value, r.covariance), r);
   }
 
  private:
@@ -151,11 +144,7 @@ class CompiledOrientationWithCovariance {
   [[nodiscard]] QueryResult<WithCovariance<coord::Orientation<B>, 3>> Evaluate() noexcept {
     WithCovariance<coord::Orientation<B>, 3> r{{semantics_, B::RotationOf(B::Identity())},
                                                Eigen::Matrix3d::Zero()};
-    const ErrorCode code = Evaluate(r.value.value, r.covariance);
-    if (code == ErrorCode::kOk) return r;
-    QueryError e;
-    e.code = code;
-    return base::Unexpected{e};
+    return internal::Answer(Evaluate(r.value.value, r.covariance), r);
   }
 
  private:
