@@ -477,7 +477,7 @@ class Fuzzer {
     std::string body = body_choice == 0 ? std::string() : H;  // empty: the point's body
     if (body_choice == 3) body = Body();
     std::string ref_body = edge.tail_body;
-    if (how == 5) body = edge.tail_body, ref_body = H;  // the reverse relation: no_such_edge
+    if (how == 5) body = edge.tail_body, ref_body = H;  // the inverse relation, against the edge
     if (how == 6) ref_body = Body();
     const std::string coord = TwistCoord(point);
     const Eigen::Vector3d a = AccelerationValue();

@@ -19,9 +19,10 @@ std::string AccelerationAdd(const TwistSpec& spec) {
          std::string(spec.ref_body) + " in [" + std::string(spec.coordinate_frame) + "]";
 }
 
-// The twist edge D -> {h}|C of the pose tree of e (at most one: W3), or invalid. O(1).
-TwistEdgeIndex EdgeBetween(const topology::SceneTopology& t, FrameIndex e, BodyIndex C,
-                           BodyIndex D) noexcept {
+// The twist edge between C and D in the pose tree of e (at most one: W3), or invalid: D -> {h}|C
+// (along the relation C wrt D) or C -> {h}|D (`against`: the edge holds the inverse). O(1).
+TwistEdgeIndex EdgeBetween(const topology::SceneTopology& t, FrameIndex e, BodyIndex C, BodyIndex D,
+                           bool& against) noexcept {
   const topology::TreeRecord* rec = t.RecordOf(e);
   if (rec == nullptr || C == D) return {};
   const topology::TwistForest& tg = rec->twists;
@@ -33,7 +34,8 @@ TwistEdgeIndex EdgeBetween(const topology::SceneTopology& t, FrameIndex e, BodyI
   }
   if (!edge.is_valid()) return {};
   const auto& ends = t.twist_edge(edge);
-  return ends.tail == D && t.body_of(ends.head) == C ? edge : TwistEdgeIndex();
+  against = ends.tail == C && t.body_of(ends.head) == D;
+  return against || (ends.tail == D && t.body_of(ends.head) == C) ? edge : TwistEdgeIndex();
 }
 
 }  // namespace
@@ -90,22 +92,24 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
                   "ref_body: no body named " + std::string(spec.ref_body));
   }
   // no_such_edge -> joint_edge -> stamp_mismatch -> acceleration_not_convertible.
-  const TwistEdgeIndex edge = EdgeBetween(t, e, C, D);
+  bool against = false;
+  const TwistEdgeIndex edge = EdgeBetween(t, e, C, D, against);
   if (!edge.is_valid()) {
     return Reject(ErrorCode::kNoSuchEdge, what(),
-                  "no twist edge " + std::string(t.body_name(D)) + " -> {h}|" +
-                      std::string(t.body_name(C)) + " in the pose tree of {" +
-                      std::string(spec.point) + "} carries this relation; add the twist first");
+                  "no twist edge between " + std::string(t.body_name(D)) + " and " +
+                      std::string(t.body_name(C)) + " (in either direction) in the pose tree of {" +
+                      std::string(spec.point) + "}; add the twist first");
   }
   const FrameIndex h = t.twist_edge(edge).head;
+  const BodyIndex tail = t.twist_edge(edge).tail;
   if (const internal::JointRecord* j = joints_.OfChild(h)) {
     return Reject(ErrorCode::kJointEdge, what(),
-                  "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, h) +
+                  "the twist edge " + std::string(t.body_name(tail)) + " -> " + text::Frame(t, h) +
                       " belongs to joint " + std::string(joints_.name(*j)));
   }
   if (values_.history.twist_of(edge.value()) != nullptr) {
     return Reject(ErrorCode::kStampMismatch, what(),
-                  "the twist edge " + std::string(t.body_name(D)) + " -> " + text::Frame(t, h) +
+                  "the twist edge " + std::string(t.body_name(tail)) + " -> " + text::Frame(t, h) +
                       " is stamped; stamped accelerations are not supported yet");
   }
   if (!t.SameTree(r, h)) {
@@ -113,7 +117,9 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
                   "coordinate frame [" + std::string(spec.coordinate_frame) +
                       "] is not in the pose tree of the twist edge's head " + text::Frame(t, h));
   }
-  // The edge form: [r] -> [h] (R_HR), then the point e -> h with the edge's angular velocity.
+  // The edge form: [r] -> [h] (R_HR), then the point e -> h with the given relation's angular
+  // velocity (+-w_DH: the shift's w x (w x .) is even in w), then, against the edge, the inverse
+  // relation at h (alpha' = -alpha, a' = -a + 2 w' x v', (v', w') = -(v, w) its twist at h).
   const internal::ForestSource<B> src = source();
   typename B::PoseCoords X_HR, X_HE;  // [r] wrt [h] and e wrt h, in [h]
   internal::EvalBasic<B>(src, PlanBasic(t, r, h), X_HR);
@@ -124,6 +130,11 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
   // p_A = old point - new point = e - h = p_HE.
   A.a_DHo_H =
       coord::kernels::ShiftAcceleration(A.a_DHo_H, A.alpha_DH_H, V.w_DH_H, B::TranslationOf(X_HE));
+  if (against) {
+    const auto inv =
+        coord::kernels::InvertAcceleration(A.a_DHo_H, A.alpha_DH_H, -V.v_DHo_H, -V.w_DH_H);
+    A = AccelerationNumbers{inv.linear, inv.angular};
+  }
   values_.StoreAcceleration(edge.value(), V, &A);
   return Ok{};
 }

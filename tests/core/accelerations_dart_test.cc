@@ -6,11 +6,11 @@
 // any frame's coordinates (getLinearAcceleration, getAngularAcceleration).
 //
 // The graph gets the same tree: frame f<i> on body B<i>, a pose edge f<p> -> f<i>, and one twist
-// edge per DART edge with its acceleration, given three ways at random: along the edge as DART
+// edge per DART edge with its acceleration, given four ways at random: along the edge as DART
 // has it (AddTwist with an acceleration, in [f<p>]); against it (the parent relative to the
 // child at f<p>'s origin in [f<i>], on a frame g<i> of B<p> at f<p>, the numbers read from
-// DART); or the twist alone followed by
-// AddAcceleration at a random frame's origin in a random frame (numbers from DART). Queries at
+// DART); or the twist alone followed by AddAcceleration at a random frame's origin in a random
+// frame (numbers from DART), of B<i> wrt B<p> or of B<p> wrt B<i> (against the edge). Queries at
 // random point frames (fixed on random bodies), for random pairs of bodies, in random frames,
 // are compared with DART's answers: composition, Coriolis terms, inversion, changes of point and
 // frame, and the conversion of the adds are all checked against the peer.
@@ -87,7 +87,7 @@ class Scene {
   int Node() { return static_cast<int>(rng_() % static_cast<std::uint64_t>(size())); }
   std::mt19937_64& rng() { return rng_; }
   const SceneGraph<B>& graph() const { return g_; }
-  int ways[3] = {0, 0, 0};  // edges given along, against, by AddAcceleration
+  int ways[4] = {0, 0, 0, 0};  // edges given along, against, by AddAcceleration along, against
 
   /// GetAcceleration(point q<j>|B<C>, B<D>, [f<r>]) against DART.
   void ExpectAsDart(int j, int C, int D, int r) {
@@ -112,9 +112,9 @@ class Scene {
   }
 
  private:
-  // The twist edge of DART edge p -> i, with its acceleration, in one of three ways.
+  // The twist edge of DART edge p -> i, with its acceleration, in one of four ways.
   void AddEdge(int i, int p, const Vec& v, const Vec& w, const Vec& a, const Vec& alpha) {
-    const int way = static_cast<int>(rng_() % 3);
+    const int way = static_cast<int>(rng_() % 4);
     ++ways[way];
     const std::string fi = F(i), fp = F(p), bi = Bd(i), bp = Bd(p);
     if (way == 0) {  // along: at f<i>'s origin, in [f<p>], as DART has it
@@ -131,18 +131,21 @@ class Scene {
                               c->getLinearVelocity(Vec::Zero(), d, d), c->getAngularVelocity(d, d),
                               AccelerationInput{c->getLinearAcceleration(Vec::Zero(), d, d),
                                                 c->getAngularAcceleration(d, d)}));
-    } else {  // the twist alone, then the acceleration at a random frame's origin in [f<r>]
+    } else {  // the twist alone, then the acceleration at a random frame's origin in [f<r>]:
+      // of B<i> wrt B<p> (way 2, along the edge) or of B<p> wrt B<i> (way 3, against it).
       EXPECT_TRUE(g_.AddTwist(TwistSpec::Of(fi, bi).RelativeTo(bp).ExpressedIn(fp), v, w));
       const int k = static_cast<int>(rng_() % static_cast<std::uint64_t>(size()));
       const int r = static_cast<int>(rng_() % static_cast<std::uint64_t>(size()));
-      const Eigen::Isometry3d X_WI = frames_[i]->getWorldTransform();
-      const Vec offset = X_WI.linear().transpose() *
-                         (frames_[k]->getWorldTransform().translation() - X_WI.translation());
-      const std::string fk = F(k), fr = F(r);
-      EXPECT_TRUE(
-          g_.AddAcceleration(TwistSpec::Of(fk, bi).RelativeTo(bp).ExpressedIn(fr),
-                             frames_[i]->getLinearAcceleration(offset, frames_[p], frames_[r]),
-                             frames_[i]->getAngularAcceleration(frames_[p], frames_[r])));
+      const int of = way == 2 ? i : p, wrt = way == 2 ? p : i;
+      const Eigen::Isometry3d X_WO = frames_[of]->getWorldTransform();
+      const Vec offset = X_WO.linear().transpose() *
+                         (frames_[k]->getWorldTransform().translation() - X_WO.translation());
+      const std::string fk = F(k), fr = F(r), b_of = Bd(of), b_wrt = Bd(wrt);
+      const TwistSpec spec = TwistSpec::Of(fk, b_of).RelativeTo(b_wrt).ExpressedIn(fr);
+      auto added = g_.AddAcceleration(
+          spec, frames_[of]->getLinearAcceleration(offset, frames_[wrt], frames_[r]),
+          frames_[of]->getAngularAcceleration(frames_[wrt], frames_[r]));
+      EXPECT_TRUE(added) << ToString(added.error().code) << ": " << added.error().message;
     }
   }
 
@@ -160,7 +163,7 @@ using Backends = ::testing::Types<coord::QuaternionBackend, coord::HomogeneousBa
 TYPED_TEST_SUITE(AccelerationsDart, Backends);
 
 TYPED_TEST(AccelerationsDart, EveryEdgeInBothDirectionsAtRandomPointsInRandomFrames) {
-  int ways[3] = {0, 0, 0};
+  int ways[4] = {0, 0, 0, 0};
   for (std::uint64_t seed = 1; seed <= 15; ++seed) {
     Scene<TypeParam> s(seed, 8, /*chain=*/false, 6);
     for (int child = 1; child < s.size(); ++child) {
@@ -170,9 +173,9 @@ TYPED_TEST(AccelerationsDart, EveryEdgeInBothDirectionsAtRandomPointsInRandomFra
         s.ExpectAsDart(j, s.parent(child), child, r);
       }
     }
-    for (int w = 0; w < 3; ++w) ways[w] += s.ways[w];
+    for (int w = 0; w < 4; ++w) ways[w] += s.ways[w];
   }
-  for (int w = 0; w < 3; ++w) EXPECT_GT(ways[w], 10) << "way " << w;
+  for (int w = 0; w < 4; ++w) EXPECT_GT(ways[w], 10) << "way " << w;
 }
 
 TYPED_TEST(AccelerationsDart, RandomPairsInRandomTrees) {

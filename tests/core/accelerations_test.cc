@@ -151,6 +151,34 @@ TYPED_TEST(Accelerations, AddAccelerationAtAnotherPointAndFrameIsConverted) {
   EXPECT_EQ(CheckInvariants(g), "");
 }
 
+TYPED_TEST(Accelerations, AddAccelerationAgainstTheEdgeIsTheInverseRelation) {
+  auto& g = this->g;
+  // The ground relative to the disc at p in [d] (by hand above: (-12, -1.5, 0), alpha = -beta z)
+  // is the disc's own acceleration inverted: stored at d as a = 0, alpha = beta z.
+  ASSERT_TRUE(g.AddAcceleration(TwistSpec::Of("p", "G").RelativeTo("Disc").ExpressedIn("d"),
+                                Vec(-kW * kW * kR, -kBeta * kR, 0), Vec(0, 0, -kBeta)));
+  const auto stored = g.acceleration_value(g.FindFrame("d"));
+  ASSERT_TRUE(stored);
+  EXPECT_TRUE(Near(stored->linear, Vec::Zero()));
+  EXPECT_TRUE(Near(stored->angular, Vec(0, 0, kBeta)));
+  // The disc relative to the slider at s, in [w], with the slider moving: Disc wrt Slider has
+  // w = 0 and v = -(u, 0, 0); given a = (0, 2, 0) in [w] = (2, 0, 0) in [d] = [s] and alpha = 0,
+  // the slider's own acceleration is its negation (w = 0: no Coriolis term), (-2, 0, 0) in [s].
+  ASSERT_TRUE(g.AddAcceleration(TwistSpec::Of("s", "Disc").RelativeTo("Slider").ExpressedIn("w"),
+                                Vec(0, 2, 0), Vec::Zero()));
+  const auto slider = g.acceleration_value(g.FindFrame("s"));
+  ASSERT_TRUE(slider);
+  EXPECT_TRUE(Near(slider->linear, Vec(-2, 0, 0)));
+  EXPECT_TRUE(Near(slider->angular, Vec::Zero()));
+  // The slider wrt G at s, composed from both (hand: centripetal and tangential of p, Coriolis
+  // 2 W u, and the slider's own -2 along [d]'s x): (-12 - 2, 1.5 + 2.8, 0) in [d].
+  const coord::Acceleration A =
+      this->Get(TwistSpec::Of("s", "Slider").RelativeTo("G").ExpressedIn("d"));
+  EXPECT_TRUE(Near(A.linear, Vec(-kW * kW * kR - 2, kBeta * kR + 2 * kW * kU, 0)));
+  EXPECT_TRUE(Near(A.angular, Vec(0, 0, kBeta)));
+  EXPECT_EQ(CheckInvariants(g), "");
+}
+
 TYPED_TEST(Accelerations, AddErrorsInTheRulesOrderLeaveTheGraphUnchanged) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto spec = [](std::string_view e, std::string_view C, std::string_view D,
@@ -167,10 +195,10 @@ TYPED_TEST(Accelerations, AddErrorsInTheRulesOrderLeaveTheGraphUnchanged) {
   this->ExpectRejected(ErrorCode::kUnknownFrame, spec("p", "Nobody", "G", "nope"));
   this->ExpectRejected(ErrorCode::kUnknownBody, spec("p", "Nobody", "Nobody", "w"));
   this->ExpectRejected(ErrorCode::kUnknownBody, spec("p", "Disc", "Nobody", "w"));
-  // no_such_edge: no twist edge G -> Slider (a path, not an edge); against the edge's
-  // direction; a body of another tree; C == D.
+  // no_such_edge: no twist edge between G and Slider (a path, not an edge), in either direction;
+  // a body of another tree; C == D.
   this->ExpectRejected(ErrorCode::kNoSuchEdge, spec("s", "Slider", "G", "iso"));
-  this->ExpectRejected(ErrorCode::kNoSuchEdge, spec("p", "G", "Disc", "w"));
+  this->ExpectRejected(ErrorCode::kNoSuchEdge, spec("s", "G", "Slider", "iso"));
   this->ExpectRejected(ErrorCode::kNoSuchEdge, spec("p", "Disc", "Iso", "w"));
   this->ExpectRejected(ErrorCode::kNoSuchEdge, spec("p", "Disc", "Disc", "w"));
   // acceleration_not_convertible: [r] not in the edge's pose tree.

@@ -1533,12 +1533,15 @@ ErrorCode ReferenceModel::AddAcceleration(const std::string& point, const std::s
   if (!s_.frames.count(point) || !s_.frames.count(coord)) return ErrorCode::kUnknownFrame;
   const std::string C = body.empty() ? s_.frames.at(point) : body;
   if (!s_.bodies.count(C) || !s_.bodies.count(ref_body)) return ErrorCode::kUnknownBody;
-  // The edge ref_body -> {h}|C with h in the tree of {point} (at most one: W3).
+  // The edge ref_body -> {h}|C, or C -> {h}|ref_body (against: it holds the inverse relation),
+  // with h in the tree of {point} (at most one: W3).
   TwistEdge* edge = nullptr;
+  bool against = false;
   Transform unused;
   for (TwistEdge& t : s_.twists) {
-    if (t.tail_body == ref_body && s_.frames.at(t.head) == C && Find(t.head, point, &unused))
-      edge = &t;
+    if (!Find(t.head, point, &unused)) continue;
+    if (t.tail_body == ref_body && s_.frames.at(t.head) == C) edge = &t, against = false;
+    if (t.tail_body == C && s_.frames.at(t.head) == ref_body) edge = &t, against = true;
   }
   if (edge == nullptr) return ErrorCode::kNoSuchEdge;
   if (JointOfChild(s_, edge->head)) return ErrorCode::kJointEdge;
@@ -1547,11 +1550,15 @@ ErrorCode ReferenceModel::AddAcceleration(const std::string& point, const std::s
   if (!Find(coord, edge->head, &X_HR)) return ErrorCode::kAccelerationNotConvertible;
   Find(point, edge->head, &X_HE);
   // (4) into [h]; then (1) from the point e of C to h's origin: r = p_h - p_e = -p_HE, with the
-  // angular velocity of C relative to ref_body, the edge's current w (in [h]).
+  // angular velocity of C relative to ref_body: the edge's current w (in [h]), or -w against it.
   const Eigen::Vector3d alpha_h = X_HR.R * alpha;
   const Eigen::Vector3d r = -X_HE.p;
-  edge->a = X_HR.R * a + alpha_h.cross(r) + edge->w.cross(edge->w.cross(r));
-  edge->alpha = alpha_h;
+  const Eigen::Vector3d w_given = against ? Eigen::Vector3d(-edge->w) : edge->w;
+  const Eigen::Vector3d a_h = X_HR.R * a + alpha_h.cross(r) + w_given.cross(w_given.cross(r));
+  // Against the edge, (3) at h: the edge's relation is the inverse of the given one, whose twist
+  // at h is (-v, -w): alpha_edge = -alpha_h, a_edge = -a_h + 2 (-w) x (-v).
+  edge->a = against ? Eigen::Vector3d(-a_h + 2.0 * edge->w.cross(edge->v)) : a_h;
+  edge->alpha = against ? Eigen::Vector3d(-alpha_h) : alpha_h;
   edge->has_A = true;
   return ErrorCode::kOk;
 }

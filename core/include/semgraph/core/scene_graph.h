@@ -557,9 +557,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                        const Eigen::Vector3d& w_angular, const AccelerationInput& acceleration);
   /// Sets the acceleration of the existing twist edge ref_body -> {h}|body (the one in the pose
   /// tree of {point}) to AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha), converted
-  /// to the edge form with the current poses and the edge's twist. body empty: the body of
-  /// {point}. invalid_name -> invalid_number -> unknown_frame (point, coord) -> unknown_body
-  /// (body, ref_body) -> no_such_edge (no twist edge ref_body -> body in that tree) -> joint_edge
+  /// to the edge form with the current poses and the edge's twist; on an edge body -> {h}|ref_body
+  /// the value is the inverse relation's, inverted (not negated: Coriolis). body empty: the body
+  /// of {point}. invalid_name -> invalid_number -> unknown_frame (point, coord) -> unknown_body
+  /// (body, ref_body) -> no_such_edge (no twist edge between them in that tree) -> joint_edge
   /// -> stamp_mismatch (a stamped edge) -> acceleration_not_convertible ([coord] not in that
   /// tree). Graph unchanged on any error.
   BuildResult AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
