@@ -1,6 +1,8 @@
 // Queries with the covariance of their answer (docs/uncertainty.md §3): the plain query's
 // answer (scene_graph.cc: the one evaluator), then the one propagation of propagate.h over the
 // same plan's frames, each edge read with its covariance (EdgeValues::LoadPose / LoadTwist).
+#include <utility>
+
 #include "angular_velocity.h"
 #include "semgraph/core/propagate.h"
 #include "semgraph/core/scene_graph.h"
@@ -172,6 +174,31 @@ Covariance6 SceneGraph<B>::twist_covariance(FrameIndex f) const noexcept {
   return e.is_valid() ? values_.TwistCovarianceOf(e.value()) : Covariance6::Zero();
 }
 
+template <coord::Backend B>
+Expected<CompiledTwistWithCovariance<B>, QueryError> SceneGraph<B>::CompileTwistWithCovariance(
+    const TwistSpec& spec) const {
+  auto plan = PlanTwist(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  return CompiledTwistWithCovariance<B>(topology_, values_, *plan);
+}
+
+template <coord::Backend B>
+Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>
+SceneGraph<B>::CompileLinearVelocityWithCovariance(const TwistSpec& spec) const {
+  auto twist = CompileTwistWithCovariance(spec);
+  if (!twist) return Unexpected{twist.error()};
+  return CompiledLinearVelocityWithCovariance<B>(std::move(*twist));
+}
+
+template <coord::Backend B>
+Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>
+SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec& spec) const {
+  auto twist = internal::TwistOfAngularVelocity(
+      spec, [this](const TwistSpec& s) { return CompileTwistWithCovariance(s); });
+  if (!twist) return Unexpected{twist.error()};
+  return CompiledAngularVelocityWithCovariance<B>(std::move(*twist));
+}
+
 #define SEMGRAPH_INSTANTIATE_UNCERTAINTY(B)                                                    \
   template QueryResult<WithCovariance<SceneGraph<B>::Pose, 6>>                                 \
   SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, CovarianceOrder) const noexcept;       \
@@ -187,6 +214,12 @@ Covariance6 SceneGraph<B>::twist_covariance(FrameIndex f) const noexcept {
   SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&) const noexcept;            \
   template Expected<CompiledPoseWithCovariance<B>, QueryError>                                 \
   SceneGraph<B>::CompilePoseWithCovariance(const PoseSpec&) const;                             \
+  template Expected<CompiledTwistWithCovariance<B>, QueryError>                                \
+  SceneGraph<B>::CompileTwistWithCovariance(const TwistSpec&) const;                           \
+  template Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>                       \
+  SceneGraph<B>::CompileLinearVelocityWithCovariance(const TwistSpec&) const;                  \
+  template Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>                      \
+  SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec&) const;                 \
   template Expected<CompiledPositionWithCovariance<B>, QueryError>                             \
   SceneGraph<B>::CompilePositionWithCovariance(const PoseSpec&) const;                         \
   template Expected<CompiledOrientationWithCovariance<B>, QueryError>                          \

@@ -66,6 +66,7 @@
 #include "semgraph/core/compiled_acceleration.h"
 #include "semgraph/core/compiled_covariance.h"
 #include "semgraph/core/compiled_query.h"
+#include "semgraph/core/compiled_twist_covariance.h"
 #include "semgraph/core/converting_handles.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
@@ -439,6 +440,15 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   CompilePositionWithCovariance(const PoseSpec& spec) const;
   [[nodiscard]] Expected<CompiledOrientationWithCovariance<B>, QueryError>
   CompileOrientationWithCovariance(const PoseSpec& spec) const;
+  /// Compiled twist, linear and angular velocity queries with covariance
+  /// (compiled_twist_covariance.h): the errors of CompileTwist / GetLinearVelocity /
+  /// GetAngularVelocity (current values; a twist source `poses` is not offered with covariance).
+  [[nodiscard]] Expected<CompiledTwistWithCovariance<B>, QueryError> CompileTwistWithCovariance(
+      const TwistSpec& spec) const;
+  [[nodiscard]] Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>
+  CompileLinearVelocityWithCovariance(const TwistSpec& spec) const;
+  [[nodiscard]] Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>
+  CompileAngularVelocityWithCovariance(const TwistSpec& spec) const;
   /// The covariance stored with the pose edge into f / the twist edge into f, in the edge form
   /// (zero: exact, or no edge). Writer thread. O(1).
   [[nodiscard]] Covariance6 pose_covariance(FrameIndex f) const noexcept;

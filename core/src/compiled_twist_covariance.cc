@@ -1,0 +1,166 @@
+// Compiled twist queries with covariance: the edge lists (compile), then one evaluation pass
+// top-down over the pose edges, one over the twist edges, and one Jacobian per uncertain edge.
+// Contract: compiled_twist_covariance.h.
+#include "semgraph/core/compiled_twist_covariance.h"
+
+#include <algorithm>
+
+namespace semgraph::core {
+
+namespace jac = coord::jacobians;
+
+template <coord::Backend B>
+CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::SceneTopology& t,
+                                                            const EdgeValues<B>& values,
+                                                            const TwistPlan& plan)
+    : semantics_(plan.semantics), values_(&values) {
+  const topology::PoseForest& forest = t.forest();
+  const FrameIndex e = plan.point, r = plan.frame;
+  std::vector<FrameIndex> heads;
+  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& s) {
+    heads.push_back(t.twist_edge(s.edge).head);
+    steps_.push_back(
+        {s.edge.value(), values.V_DH[s.edge.value()].epoch(), -1, s.invert ? -1.0 : 1.0});
+  });
+  FrameIndex z = forest.CommonAncestor(e, r);
+  for (const FrameIndex h : heads) z = forest.CommonAncestor(z, h);
+  // The union of the chains of e, [r] and the heads up to Z, each edge once (by its head frame).
+  std::vector<FrameIndex> chain_ends{e, r};
+  chain_ends.insert(chain_ends.end(), heads.begin(), heads.end());
+  std::vector<FrameIndex> edges;
+  for (const FrameIndex k : chain_ends) {
+    for (FrameIndex g = k; g != z; g = t.pose_parent(g)) {
+      if (std::find(edges.begin(), edges.end(), g) != edges.end()) break;
+      edges.push_back(g);
+    }
+  }
+  // Top-down: by depth, so that each edge comes after the edge above it.
+  std::stable_sort(edges.begin(), edges.end(),
+                   [&](FrameIndex x, FrameIndex y) { return forest.depth(x) < forest.depth(y); });
+  const auto entry_of = [&](FrameIndex g) -> std::int32_t {
+    const auto it = std::find(edges.begin(), edges.end(), g);
+    return it == edges.end() ? -1 : static_cast<std::int32_t>(it - edges.begin());
+  };
+  pose_edges_.reserve(edges.size());
+  moves_h_.reserve(edges.size() * heads.size());
+  for (const FrameIndex g : edges) {
+    pose_edges_.push_back({g.value(), values.X_PF[g.value()].epoch(), entry_of(t.pose_parent(g)),
+                           forest.IsAncestor(g, e), forest.IsAncestor(g, r)});
+    for (const FrameIndex h : heads) moves_h_.push_back(forest.IsAncestor(g, h) ? 1 : 0);
+  }
+  e_entry_ = e == z ? -1 : entry_of(e);
+  r_entry_ = r == z ? -1 : entry_of(r);
+  for (std::size_t j = 0; j < steps_.size(); ++j) {
+    steps_[j].head_entry = heads[j] == z ? -1 : entry_of(heads[j]);
+  }
+  scratch_.resize(pose_edges_.size());
+  step_scratch_.resize(steps_.size());
+}
+
+// Each pose edge's value and covariance, and its head's pose in Z (top-down).
+template <coord::Backend B>
+bool CompiledTwistWithCovariance<B>::LoadPoseEdges() noexcept {
+  for (std::size_t i = 0; i < pose_edges_.size(); ++i) {
+    const PoseEdge& e = pose_edges_[i];
+    const PoseValue<B>& value = values_->X_PF[e.frame];
+    InZ& out = scratch_[i];
+    typename B::PoseCoords X_PG;
+    if (value.epoch() != e.epoch) return false;
+    values_->LoadPose(e.frame, X_PG, out.S);     // value and covariance of one write
+    if (value.epoch() != e.epoch) return false;  // removed meanwhile
+    out.exact = out.S.isZero(0.0);
+    const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
+    const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
+    if (e.parent < 0) {
+      out.R_ZG = R_PG;
+      out.p_ZG = p_PG;
+    } else {
+      const InZ& up = scratch_[static_cast<std::size_t>(e.parent)];
+      out.R_ZG.noalias() = up.R_ZG * R_PG;
+      out.p_ZG.noalias() = up.R_ZG * p_PG;
+      out.p_ZG += up.p_ZG;
+    }
+  }
+  return true;
+}
+
+// Each twist edge's value and covariance, signed and rotated into Z at its head.
+template <coord::Backend B>
+bool CompiledTwistWithCovariance<B>::LoadTwistEdges() noexcept {
+  for (std::size_t j = 0; j < steps_.size(); ++j) {
+    const TwistEdge& s = steps_[j];
+    const TwistValue& value = values_->V_DH[s.slot];
+    StepScratch& out = step_scratch_[j];
+    TwistNumbers V;
+    if (value.epoch() != s.epoch) return false;
+    values_->LoadTwist(s.slot, V, out.S);
+    if (value.epoch() != s.epoch) return false;
+    Eigen::Vector3d p_ZH = Eigen::Vector3d::Zero();
+    out.R_ZH.setIdentity();
+    if (s.head_entry >= 0) {
+      const InZ& h = scratch_[static_cast<std::size_t>(s.head_entry)];
+      out.R_ZH = h.R_ZG;
+      p_ZH = h.p_ZG;
+    }
+    out.st = {s.sign * (out.R_ZH * V.v_DHo_H), s.sign * (out.R_ZH * V.w_DH_H), p_ZH, false};
+  }
+  return true;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
+                                                   Eigen::Vector3d& w_DC_R, Covariance6& S,
+                                                   CovarianceOrder order) noexcept {
+  if (!LoadPoseEdges() || !LoadTwistEdges()) return ErrorCode::kQueryInvalidated;
+  const auto pose_in_z = [&](std::int32_t entry, Eigen::Matrix3d& R, Eigen::Vector3d& p) {
+    if (entry < 0) {
+      R.setIdentity();
+      p.setZero();
+    } else {
+      R = scratch_[static_cast<std::size_t>(entry)].R_ZG;
+      p = scratch_[static_cast<std::size_t>(entry)].p_ZG;
+    }
+  };
+  Eigen::Matrix3d R_ZE, R_ZR;
+  Eigen::Vector3d p_ZoEo_Z, p_ZoRo_Z;
+  pose_in_z(e_entry_, R_ZE, p_ZoEo_Z);
+  pose_in_z(r_entry_, R_ZR, p_ZoRo_Z);
+  const Eigen::Matrix3d R_RZ = R_ZR.transpose();
+  // The answer in Z, and each uncertain twist edge's J S J^T (rows already in [r]).
+  Eigen::Vector3d v_Z = Eigen::Vector3d::Zero(), w_Z = Eigen::Vector3d::Zero();
+  Covariance6 S_R = Covariance6::Zero();
+  for (std::size_t j = 0; j < steps_.size(); ++j) {
+    const StepScratch& s = step_scratch_[j];
+    v_Z += s.st.a_Z + s.st.w_Z.cross(p_ZoEo_Z - s.st.p_ZoHo_Z);
+    w_Z += s.st.w_Z;
+    if (s.S.isZero(0.0)) continue;
+    jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, s.R_ZH, s.st.p_ZoHo_Z, p_ZoEo_Z, steps_[j].sign),
+                       s.S, S_R);
+  }
+  // Each uncertain pose edge: its Jacobian sums over the twist edges whose head it moves.
+  const std::size_t k = steps_.size();
+  for (std::size_t i = 0; i < pose_edges_.size(); ++i) {
+    const InZ& g = scratch_[i];
+    if (g.exact) continue;
+    const PoseEdge& e = pose_edges_[i];
+    const Eigen::Matrix3d R_ZP = e.parent < 0 ? Eigen::Matrix3d::Identity()
+                                              : scratch_[static_cast<std::size_t>(e.parent)].R_ZG;
+    const jac::EdgeInZ edge{R_ZP, g.p_ZG};
+    jac::PoseEdgeOnTwistSum sum;
+    for (std::size_t j = 0; j < k; ++j) {
+      jac::TwistStepInZ st = step_scratch_[j].st;
+      st.moves = moves_h_[i * k + j] != 0;
+      sum.Add(st, p_ZoEo_Z, edge, e.moves_e);
+    }
+    jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, e.moves_r), g.S, S_R);
+  }
+  v_DCe_R = R_RZ * v_Z;
+  w_DC_R = R_RZ * w_Z;
+  S = order == CovarianceOrder::kLinearAngular ? S_R : coord::SwapHalves(S_R);
+  return ErrorCode::kOk;
+}
+
+template class CompiledTwistWithCovariance<coord::QuaternionBackend>;
+template class CompiledTwistWithCovariance<coord::HomogeneousBackend>;
+
+}  // namespace semgraph::core
