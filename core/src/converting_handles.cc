@@ -5,6 +5,7 @@
 
 #include <type_traits>
 
+#include "covariance_input.h"
 #include "semgraph/core/scene_graph.h"
 #include "text.h"
 
@@ -25,13 +26,19 @@ ConvertingTwistHandle<B>::ConvertingTwistHandle(const topology::SceneTopology& t
 }
 
 template <coord::Backend B>
-bool ConvertingTwistHandle<B>::ToEdgeFrame(Eigen::Vector3d& v, Eigen::Vector3d& w) const noexcept {
+bool ConvertingTwistHandle<B>::ToEdgeFrame(Eigen::Vector3d& v, Eigen::Vector3d& w,
+                                           Covariance6* S) const noexcept {
   if (!change_frame_) return true;
   typename B::PoseCoords X_HR;  // [r] wrt [h]: R_HR carries [r] coordinates into [h]
   if (!internal::EvalBasic<B>(this->source(), rh_, X_HR)) return false;
   const typename B::Rotation R_HR = B::RotationOf(X_HR);
   v = B::Rotate(R_HR, v);
   w = B::Rotate(R_HR, w);
+  if (S != nullptr) {
+    Covariance6 S_H = Covariance6::Zero();
+    coord::jacobians::AddPropagated(coord::jacobians::Reexpress(B::ToMatrix(R_HR)), *S, S_H);
+    *S = S_H;
+  }
   return true;
 }
 
@@ -142,6 +149,29 @@ ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>& edge,
   return SetTwist(edge.edge(), v_DHo_H, w_DH_H, why);
 }
 
+// With a covariance of (v, w) in [r] (any order; a twist has no convention): rotated into [h]
+// with the value, then written as SetTwist(edge.edge(), ..., covariance) writes (its checks).
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>& edge,
+                                  const Eigen::Vector3d& v_DHo_R, const Eigen::Vector3d& w_DH_R,
+                                  const CovarianceInput& covariance, UpdateError* why) noexcept {
+  using internal::Report;
+  if (covariance.matrix == nullptr) return SetTwist(edge, v_DHo_R, w_DH_R, why);
+  auto v = coord::ValidateVector(v_DHo_R, coord::ValueRole::kLinearVelocity);
+  if (!v) return Report(why, v.error());
+  auto w = coord::ValidateVector(w_DH_R, coord::ValueRole::kAngularVelocity);
+  if (!w) return Report(why, w.error());
+  const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
+  if (!check.ok()) return Report(why, check.error());
+  if (covariance.convention != PoseCovarianceConvention::kCoordinates) {
+    return Report(why, ErrorCode::kInvalidCovariance);  // a twist has no convention
+  }
+  Covariance6 S = internal::CoordinatesCovariance(covariance, Eigen::Matrix3d::Identity());
+  Eigen::Vector3d v_DHo_H = *v, w_DH_H = *w;
+  if (!edge.ToEdgeFrame(v_DHo_H, w_DH_H, &S)) return Report(why, ErrorCode::kQueryInvalidated);
+  return SetTwist(edge.edge(), v_DHo_H, w_DH_H, CovarianceInput{&S}, why);
+}
+
 template <coord::Backend B>
 template <class R>
 ErrorCode SceneGraph<B>::SetConvertedPose(const ConvertingPoseHandle<B>& edge, const R& rotation,
@@ -192,6 +222,9 @@ ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eige
   template ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>&,                  \
                                              const Eigen::Vector3d&, const Eigen::Vector3d&,   \
                                              UpdateError*) noexcept;                           \
+  template ErrorCode SceneGraph<B>::SetTwist(const ConvertingTwistHandle<B>&,                  \
+                                             const Eigen::Vector3d&, const Eigen::Vector3d&,   \
+                                             const CovarianceInput&, UpdateError*) noexcept;   \
   template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                    \
                                             const Eigen::Quaterniond&, const Eigen::Vector3d&, \
                                             UpdateError*) noexcept;                            \

@@ -46,8 +46,10 @@ Expected<PoseHandle, BuildError> SceneGraph<B>::FindPoseEdge(std::string_view of
                                  " are fixed to one body: their pose is constant")
                           .error()};
   }
-  // Room for the edge's covariance, so that SetPose with one never allocates (edge_values.h).
+  // Room for the edge's covariance, so that SetPose with one never allocates (edge_values.h);
+  // for a stamped edge in every sample too.
   values_.ReservePoseCovariances(l.head.value() + 1);
+  values_.ReservePoseSampleCovariances(l.head.value());
   return PoseHandle{l.head, values_.X_PF[l.head.value()].epoch(), id_.value(), EdgeKind::kPose};
 }
 
@@ -71,6 +73,7 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
                           .error()};
   }
   values_.ReserveTwistCovariances(l.edge.value() + 1);  // as FindPoseEdge
+  values_.ReserveTwistSampleCovariances(l.edge.value());
   return TwistHandle{l.edge, values_.V_DH[l.edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
@@ -140,12 +143,15 @@ ErrorCode SceneGraph<B>::SetPoseImpl(PoseHandle edge, const R& rotation,
 }
 
 // With a covariance (docs/uncertainty.md): the handle, the value, then the covariance's checks
-// (kInvalidNumber, kInvalidCovariance: as AddPose's order), then the store. noexcept and
-// allocation-free (the checks' eigen decomposition is fixed-size).
+// (kInvalidNumber, kInvalidCovariance: as AddPose's order), then the stamp rules and the store
+// (a stamped sample carries it). noexcept and allocation-free (the checks' eigen decomposition is
+// fixed-size; FindPoseEdge / FindTwistEdge reserved the record and a stamped edge's samples').
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
-                                 const Eigen::Vector3d& p_ToHo_T, const CovarianceInput& covariance,
-                                 UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetPoseWithCovariance(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                               const Eigen::Vector3d& p_ToHo_T,
+                                               std::optional<Stamp> stamp,
+                                               const CovarianceInput& covariance,
+                                               UpdateError* why) noexcept {
   using internal::Report;
   const ErrorCode handle = CheckPoseHandle(edge, id_.value(), topology_, values_);
   if (handle != ErrorCode::kOk) return Report(why, handle);
@@ -154,26 +160,30 @@ ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH
   auto q = coord::ValidateQuaternion(q_TH);
   if (!q) return Report(why, q.error());
   const typename B::PoseCoords X = B::MakePose(B::FromQuaternion(*q), *p);
-  if (covariance.matrix == nullptr) return SetPose(edge, *q, *p, why);
+  if (covariance.matrix == nullptr) return SetPoseImpl(edge, *q, *p, stamp, why);
   const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
   if (!check.ok()) return Report(why, check.error());
   const coord::Covariance6 S = internal::CoordinatesCovariance(covariance, q->toRotationMatrix());
-  // FindPoseEdge reserved the record; a handle that passed the checks but has none (one copied
-  // from a handle of this graph's FindPoseEdge always has one) names no edge with a covariance.
-  if (edge.child.value() >= values_.pose_covariance_on.size()) {
+  // A handle that passed the checks but has no room (one copied from a handle of this graph's
+  // FindPoseEdge always has it) names no edge with a covariance.
+  const PoseHistory* history = values_.history.pose_of(edge.child.value());
+  if (edge.child.value() >= values_.pose_covariance_on.size() ||
+      (history != nullptr && !history->has_covariances())) {
     return Report(why, ErrorCode::kNoSuchEdge);
   }
-  if (const ErrorCode code = CheckPoseSample(edge.child, X, std::nullopt); code != ErrorCode::kOk) {
+  if (const ErrorCode code = CheckPoseSample(edge.child, X, stamp, &S); code != ErrorCode::kOk) {
     return Report(why, code);
   }
-  StorePoseSample(edge.child, X, std::nullopt, &S);
+  StorePoseSample(edge.child, X, stamp, &S);
   return Report(why, ErrorCode::kOk);
 }
 
 template <coord::Backend B>
-ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
-                                  const Eigen::Vector3d& w_DH_H, const CovarianceInput& covariance,
-                                  UpdateError* why) noexcept {
+ErrorCode SceneGraph<B>::SetTwistWithCovariance(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                                const Eigen::Vector3d& w_DH_H,
+                                                std::optional<Stamp> stamp,
+                                                const CovarianceInput& covariance,
+                                                UpdateError* why) noexcept {
   using internal::Report;
   const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
   if (handle != ErrorCode::kOk) return Report(why, handle);
@@ -181,7 +191,7 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
   if (!v) return Report(why, v.error());
   auto w = coord::ValidateVector(w_DH_H, coord::ValueRole::kAngularVelocity);
   if (!w) return Report(why, w.error());
-  if (covariance.matrix == nullptr) return SetTwist(edge, *v, *w, why);
+  if (covariance.matrix == nullptr) return Report(why, SetTwistSample(edge, {*v, *w}, stamp));
   const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
   if (!check.ok()) return Report(why, check.error());
   if (covariance.convention != PoseCovarianceConvention::kCoordinates) {
@@ -190,14 +200,44 @@ ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo
   const coord::Covariance6 S =
       internal::CoordinatesCovariance(covariance, Eigen::Matrix3d::Identity());
   const TwistNumbers V{*v, *w};
-  if (edge.slot.value() >= values_.twist_covariance_on.size()) {  // as SetPose's
+  const TwistHistory* history = values_.history.twist_of(edge.slot.value());
+  if (edge.slot.value() >= values_.twist_covariance_on.size() ||  // as SetPose's
+      (history != nullptr && !history->has_covariances())) {
     return Report(why, ErrorCode::kNoSuchEdge);
   }
-  if (const ErrorCode code = CheckTwistSample(edge.slot, V, std::nullopt); code != ErrorCode::kOk) {
+  if (const ErrorCode code = CheckTwistSample(edge.slot, V, stamp, &S); code != ErrorCode::kOk) {
     return Report(why, code);
   }
-  StoreTwistSample(edge.slot, V, std::nullopt, &S);
+  StoreTwistSample(edge.slot, V, stamp, &S);
   return Report(why, ErrorCode::kOk);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ToHo_T, const CovarianceInput& covariance,
+                                 UpdateError* why) noexcept {
+  return SetPoseWithCovariance(edge, q_TH, p_ToHo_T, std::nullopt, covariance, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                  const Eigen::Vector3d& w_DH_H, const CovarianceInput& covariance,
+                                  UpdateError* why) noexcept {
+  return SetTwistWithCovariance(edge, v_DHo_H, w_DH_H, std::nullopt, covariance, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                 const Eigen::Vector3d& p_ToHo_T, Stamp stamp,
+                                 const CovarianceInput& covariance, UpdateError* why) noexcept {
+  return SetPoseWithCovariance(edge, q_TH, p_ToHo_T, stamp, covariance, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                  const Eigen::Vector3d& w_DH_H, Stamp stamp,
+                                  const CovarianceInput& covariance, UpdateError* why) noexcept {
+  return SetTwistWithCovariance(edge, v_DHo_H, w_DH_H, stamp, covariance, why);
 }
 
 template <coord::Backend B>
@@ -333,6 +373,18 @@ ErrorCode SceneGraph<B>::SetAcceleration(TwistHandle edge, const Eigen::Vector3d
   template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
                                              const Eigen::Vector3d&, const CovarianceInput&,       \
                                              UpdateError*) noexcept;                               \
+  template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
+                                            const Eigen::Vector3d&, Stamp, const CovarianceInput&, \
+                                            UpdateError*) noexcept;                                \
+  template ErrorCode SceneGraph<B>::SetTwist(TwistHandle, const Eigen::Vector3d&,                  \
+                                             const Eigen::Vector3d&, Stamp,                        \
+                                             const CovarianceInput&, UpdateError*) noexcept;       \
+  template ErrorCode SceneGraph<B>::SetPoseWithCovariance(                                         \
+      PoseHandle, const Eigen::Quaterniond&, const Eigen::Vector3d&, std::optional<Stamp>,         \
+      const CovarianceInput&, UpdateError*) noexcept;                                              \
+  template ErrorCode SceneGraph<B>::SetTwistWithCovariance(                                        \
+      TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, std::optional<Stamp>,           \
+      const CovarianceInput&, UpdateError*) noexcept;                                              \
   template ErrorCode SceneGraph<B>::SetPoseUnchecked(PoseHandle, const Eigen::Quaterniond&,        \
                                                      const Eigen::Vector3d&) noexcept;
 SEMGRAPH_INSTANTIATE_REALTIME(coord::QuaternionBackend)

@@ -154,15 +154,13 @@ void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h
 template <coord::Backend B>
 void SceneGraph<B>::ReservePoseSampleCovariance(FrameIndex head) {
   values_.ReservePoseCovariances(head.value() + 1);
-  if (values_.history.pose_of(head.value()))
-    values_.history.pose.writable(head.value()).EnsureCovariances();
+  values_.ReservePoseSampleCovariances(head.value());
 }
 
 template <coord::Backend B>
 void SceneGraph<B>::ReserveTwistSampleCovariance(TwistEdgeIndex edge) {
   values_.ReserveTwistCovariances(edge.value() + 1);
-  if (values_.history.twist_of(edge.value()))
-    values_.history.twist.writable(edge.value()).EnsureCovariances();
+  values_.ReserveTwistSampleCovariances(edge.value());
 }
 
 // The caller bumped the edge's epoch first: a reader that sees the retirement (or a reuse) sees

@@ -103,6 +103,63 @@ TYPED_TEST(ConvertingHandles, TwistInTheCameraFrameIsRotatedIntoTheHeadFrame) {
   EXPECT_EQ(g.twist_value(g.FindFrame("o"))->linear, v_C);
 }
 
+// With a covariance of (v, w) in [b] (angular first, as a user may give it): the edge stores
+// diag(R_OB, R_OB) S diag(R_OB, R_OB)^T in linear-first order (by hand), the same as AddTwist
+// with that covariance in [b] stores, allocation-free; a bad covariance or a convention (a
+// twist has none) writes nothing.
+TYPED_TEST(ConvertingHandles, TwistCovarianceInAnotherFrameIsRotatedWithTheValue) {
+  auto& g = this->graph_;
+  auto handle = g.FindTwistEdge("o", "C", "b");
+  ASSERT_TRUE(handle) << handle.error().message;
+  const Vector3d v_B(0.3, -0.2, 0.05), w_B(0.01, 0.4, -0.3);
+  Covariance6 S_angular_first = Covariance6::Identity() * 1e-4;
+  S_angular_first(0, 0) = 9e-4;  // about [b]'s x
+  S_angular_first(1, 4) = 2e-5;  // angular y with linear y
+  S_angular_first(4, 1) = 2e-5;
+  const CovarianceInput input{&S_angular_first, CovarianceOrder::kAngularLinear};
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    EXPECT_EQ(g.SetTwist(*handle, v_B, w_B, input), ErrorCode::kOk);
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  // By hand: reorder to (linear, angular), then rotate both halves by R_OB.
+  Covariance6 S_B;
+  S_B << S_angular_first.bottomRightCorner<3, 3>(), S_angular_first.bottomLeftCorner<3, 3>(),
+      S_angular_first.topRightCorner<3, 3>(), S_angular_first.topLeftCorner<3, 3>();
+  const Matrix3d R_OB = (q_BC * q_CO).toRotationMatrix().transpose();
+  Covariance6 J = Covariance6::Zero();
+  J.topLeftCorner<3, 3>() = R_OB;
+  J.bottomRightCorner<3, 3>() = R_OB;
+  const Covariance6 S_O = J * S_B * J.transpose();
+  EXPECT_LT((g.twist_covariance(g.FindFrame("o")) - S_O).norm(), 1e-15);
+  EXPECT_LT((g.twist_value(g.FindFrame("o"))->linear - R_OB * v_B).norm(), 1e-15);
+  // The same as AddTwist in [b] with that covariance.
+  ASSERT_TRUE(
+      this->twin_.AddTwist(TwistSpec::Of("o").RelativeTo("C").ExpressedIn("b"), v_B, w_B, input));
+  EXPECT_LT((g.twist_covariance(g.FindFrame("o")) -
+             this->twin_.twist_covariance(this->twin_.FindFrame("o")))
+                .norm(),
+            1e-15);
+  // Refused, nothing written.
+  const std::string before = Dump(g);
+  Covariance6 bad = S_B;
+  bad(0, 1) = 1.0;
+  EXPECT_EQ(g.SetTwist(*handle, 2 * v_B, w_B, CovarianceInput{&bad}),
+            ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetTwist(*handle, 2 * v_B, w_B,
+                       CovarianceInput{&S_B, CovarianceOrder::kLinearAngular,
+                                       PoseCovarianceConvention::kBody}),
+            ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetTwist(*handle, Vector3d(NAN, 0, 0), w_B, CovarianceInput{&S_B}),
+            ErrorCode::kInvalidNumber);
+  EXPECT_EQ(Dump(g), before);
+  // Without one: the edge is exact again.
+  ASSERT_EQ(g.SetTwist(*handle, v_B, w_B, CovarianceInput{}), ErrorCode::kOk);
+  EXPECT_TRUE(g.twist_covariance(g.FindFrame("o")).isZero(0.0));
+}
+
 // PoseCoord((o2,[o])|O, (c2,[c])|C, [b]): the orientation operator carrying [c] onto [o]
 // expressed in [b], and the position of o2 wrt c2 in [b]. By hand:
 //   R_CO = R_BC^T M R_BC,  p_CO = R_BC^T p + p_CC2 - R_CO p_OO2.

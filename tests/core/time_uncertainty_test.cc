@@ -428,6 +428,78 @@ TEST(TimeUncertainty, StampedCovarianceChecksAndDuplicates) {
   EXPECT_EQ(g.GetTwist(ts, At{Ms(3000)}).error().code, ErrorCode::kExtrapolation);
 }
 
+// Stamped updates through handles with a covariance (SetPose / SetTwist with a Stamp and a
+// CovarianceInput): on edges whose first samples carried none (the handle's finder made room),
+// allocation-free; the samples' covariances read back by hand (a sample's own, the
+// interpolation (1 - l) S_i + l S_i+1, zero for the sample without one); the checks (a bad
+// covariance, a twist with a convention, a stamp on a timeless edge, none on a stamped one)
+// write nothing.
+TEST(TimeUncertainty, StampedHandleUpdatesCarryCovariances) {
+  Graph g = *Graph::Create(TimeOptions{});
+  const PoseSpec spec = PoseSpec::Of("a", "A").RelativeTo("w", "W");
+  const TwistSpec ts = TwistSpec::Of("a").RelativeTo("W").ExpressedIn("a");
+  const Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  ASSERT_TRUE(g.AddPose(spec, q, Eigen::Vector3d(0, 0, 0), Ms(1000)));  // no covariance
+  ASSERT_TRUE(g.AddTwist(ts, Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero(), Ms(1000)));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "B").RelativeTo("w", "W"), q, Eigen::Vector3d(1, 0, 0)));
+  const auto pose = g.FindPoseEdge("a", "w");
+  const auto twist = g.FindTwistEdge("a", "W");
+  const auto timeless = g.FindPoseEdge("b", "w");
+  ASSERT_TRUE(pose && twist && timeless);
+  Covariance6 S2 = Covariance6::Identity() * 1e-4, S3 = Covariance6::Identity() * 3e-4;
+  S2(0, 5) = S2(5, 0) = 2e-5;
+  const CovarianceInput in2{&S2}, in3{&S3};
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  const Stamp s2 = Ms(2000);
+  static_assert(noexcept(g.SetPose(*pose, q, zero, s2, in2))&& noexcept(
+      g.SetTwist(*twist, zero, zero, s2, in2)));
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    EXPECT_EQ(g.SetPose(*pose, q, Eigen::Vector3d(2, 0, 0), Ms(2000), in2), ErrorCode::kOk);
+    EXPECT_EQ(g.SetPose(*pose, q, Eigen::Vector3d(3, 0, 0), Ms(3000), in3), ErrorCode::kOk);
+    EXPECT_EQ(g.SetTwist(*twist, Eigen::Vector3d(2, 0, 0), Eigen::Vector3d::Zero(), Ms(2000), in2),
+              ErrorCode::kOk);
+    EXPECT_EQ(g.SetTwist(*twist, Eigen::Vector3d(3, 0, 0), Eigen::Vector3d::Zero(), Ms(3000), in3),
+              ErrorCode::kOk);
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  // By hand: at 1.5 s half of S2 (the first sample counts as zero), at 2.75 s 0.25 S2 + 0.75 S3,
+  // at 2 s S2 itself; the values interpolated alongside (p_x = t, v_x = t).
+  const auto p15 = g.GetPoseWithCovariance(spec, At{Ms(1500)});
+  const auto p275 = g.GetPoseWithCovariance(spec, At{Ms(2750)});
+  const auto v2 = g.GetTwistWithCovariance(ts, At{Ms(2000)});
+  const auto v275 = g.GetTwistWithCovariance(ts, At{Ms(2750)});
+  ASSERT_TRUE(p15 && p275 && v2 && v275);
+  EXPECT_LE((p15->value.covariance - 0.5 * S2).norm(), 1e-18);
+  EXPECT_LE((p275->value.covariance - (0.25 * S2 + 0.75 * S3)).norm(), 1e-18);
+  EXPECT_NEAR(p275->value.value.ToIsometry().translation().x(), 2.75, 1e-12);
+  EXPECT_LE((v2->value.covariance - S2).norm(), 1e-18);
+  EXPECT_LE((v275->value.covariance - (0.25 * S2 + 0.75 * S3)).norm(), 1e-18);
+  EXPECT_NEAR(v275->value.value.linear.x(), 2.75, 1e-12);
+  // Refusals write nothing: a bad covariance, a twist with a convention, a stamp on a timeless
+  // edge; then no stamp on a stamped edge.
+  Covariance6 bad = S2;
+  bad(0, 1) = 1.0;
+  EXPECT_EQ(g.SetPose(*pose, q, Eigen::Vector3d(4, 0, 0), Ms(4000), CovarianceInput{&bad}),
+            ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetTwist(*twist, Eigen::Vector3d(4, 0, 0), Eigen::Vector3d::Zero(), Ms(4000),
+                       CovarianceInput{&bad}),
+            ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetTwist(*twist, Eigen::Vector3d(4, 0, 0), Eigen::Vector3d::Zero(), Ms(4000),
+                       CovarianceInput{&S2, CovarianceOrder::kLinearAngular,
+                                       PoseCovarianceConvention::kBody}),
+            ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetPose(*timeless, q, Eigen::Vector3d(4, 0, 0), Ms(4000), in2),
+            ErrorCode::kStampMismatch);
+  EXPECT_EQ(g.GetPose(spec, At{Ms(4000)}).error().code, ErrorCode::kExtrapolation);
+  EXPECT_EQ(g.GetTwist(ts, At{Ms(4000)}).error().code, ErrorCode::kExtrapolation);
+  EXPECT_TRUE(g.pose_covariance(g.FindFrame("b")).isZero(0.0));
+  EXPECT_EQ(g.SetPose(*pose, q, Eigen::Vector3d(9, 0, 0), in2), ErrorCode::kStampMismatch);
+  EXPECT_NEAR(g.GetPose(spec)->ToIsometry().translation().x(), 3.0, 0.0);
+}
+
 // One writer adding stamped samples with covariances while a reader asks for covariances at
 // times inside the window: the sample at s is p = (s, 0, 0) with S = s 1e-6 I (s in seconds),
 // so between two samples the linear interpolation gives p_x = t and S = t 1e-6 I exactly as

@@ -27,6 +27,7 @@
 // must outlive it and must not move. Copies are independent and cheap to use.
 #pragma once
 
+#include "semgraph/coord/jacobians.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
@@ -48,9 +49,12 @@ class SEMGRAPH_CORE_EXPORT ConvertingTwistHandle : public CompiledQuery<B> {
   [[nodiscard]] TwistHandle edge() const noexcept { return edge_; }
   /// What the handle takes: TwistCoord(h|H, D, [r]).
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
-  /// (v, w) in [r] -> in [h]: v_H = R_HR v_R, w_H = R_HR w_R. False when an edge of the
-  /// conversion changed epoch (v, w then unspecified). O(edges between r and h).
-  [[nodiscard]] bool ToEdgeFrame(Eigen::Vector3d& v, Eigen::Vector3d& w) const noexcept;
+  /// (v, w) in [r] -> in [h]: v_H = R_HR v_R, w_H = R_HR w_R, and a covariance S of (v, w)
+  /// (linear first) with them: S_H = J S J^T, J = diag(R_HR, R_HR) (the rotation exact). False
+  /// when an edge of the conversion changed epoch (v, w, S then unspecified). O(edges between r
+  /// and h).
+  [[nodiscard]] bool ToEdgeFrame(Eigen::Vector3d& v, Eigen::Vector3d& w,
+                                 coord::Covariance6* S = nullptr) const noexcept;
 
  private:
   TwistHandle edge_;

@@ -168,7 +168,9 @@ class SampleHistory {
   }
   /// Writer, build time: the covariance array (zeros: every sample so far counts as exact).
   /// Allocates once per history (a reused history keeps it); all or nothing (std::bad_alloc).
-  void EnsureCovariances() {
+  /// const (the array is `mutable`): reserved by the graph's const handle finders too, as the
+  /// untimed covariance records are (edge_values.h).
+  void EnsureCovariances() const {
     if (has_covariances()) return;
     cov_owned_.reset(new std::atomic<std::uint64_t>[capacity_ * kCovarianceWords]());
     for (std::size_t k = 0; k < capacity_ * kCovarianceWords; ++k) {
@@ -417,8 +419,8 @@ class SampleHistory {
   std::unique_ptr<std::atomic<std::uint64_t>[]> words_;
   /// The covariance words (capacity x 21), null until EnsureCovariances; never freed before the
   /// history (readers may hold the pointer). cov_words_ publishes it (release / acquire).
-  std::unique_ptr<std::atomic<std::uint64_t>[]> cov_owned_;
-  std::atomic<const std::atomic<std::uint64_t>*> cov_words_{nullptr};
+  mutable std::unique_ptr<std::atomic<std::uint64_t>[]> cov_owned_;
+  mutable std::atomic<const std::atomic<std::uint64_t>*> cov_words_{nullptr};
 };
 
 using PoseHistory = SampleHistory<7>;   ///< quaternion x y z w, then p

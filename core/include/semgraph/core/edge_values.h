@@ -220,6 +220,15 @@ struct EdgeValues {
   void ReserveTwistCovariances(std::size_t slots) const {
     Grow(S_DH, twist_covariance_on, twist_covariance_size, slots);
   }
+  /// Writer, build time (allocates once per history): room for a covariance in every sample of
+  /// the stamped edge into `frame` / of twist slot `slot` (nothing for a timeless edge), so that
+  /// a stamped update with a covariance allocates nothing.
+  void ReservePoseSampleCovariances(std::uint32_t frame) const {
+    if (const PoseHistory* h = history.pose_of(frame)) h->EnsureCovariances();
+  }
+  void ReserveTwistSampleCovariances(std::uint32_t slot) const {
+    if (const TwistHistory* h = history.twist_of(slot)) h->EnsureCovariances();
+  }
 
   // Writer: the covariance record of an edge, stored before the value itself (so a reader
   // that loads the value, then the record, never pairs a new value with an old covariance).

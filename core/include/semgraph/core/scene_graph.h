@@ -309,6 +309,14 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] ErrorCode SetTwist(const ConvertingTwistHandle<B>& edge,
                                    const Eigen::Vector3d& v_DHo_R, const Eigen::Vector3d& w_DH_R,
                                    UpdateError* why = nullptr) noexcept;
+  /// With the covariance of (v, w) in [r] (CovarianceInput: any order, `coordinates`): rotated
+  /// into [h] with the value (diag(R_HR, R_HR) S diag(R_HR, R_HR)^T), then as SetTwist(edge.edge(),
+  /// ..., covariance). Codes: kInvalidNumber / kInvalidCovariance (the input), kQueryInvalidated,
+  /// then that SetTwist's. noexcept, allocation-free.
+  [[nodiscard]] ErrorCode SetTwist(const ConvertingTwistHandle<B>& edge,
+                                   const Eigen::Vector3d& v_DHo_R, const Eigen::Vector3d& w_DH_R,
+                                   const CovarianceInput& covariance,
+                                   UpdateError* why = nullptr) noexcept;
   /// The pose in the handle's form, converted to the edge form as AddPose converts it, then
   /// written as SetPose(edge.edge()) writes. Codes: kInvalidNumber / kInvalidRotation (the
   /// input), kQueryInvalidated, then SetPose's. O(edges of the conversion).
@@ -430,6 +438,18 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                   UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                    const Eigen::Vector3d& w_DH_H, const CovarianceInput& covariance,
+                                   UpdateError* why = nullptr) noexcept;
+  /// A stamped sample with its covariance (the checks of both: SetPose / SetTwist with a
+  /// covariance, then the stamp rules of the stamped SetPose / SetTwist). The handle's finder made
+  /// room for a covariance in every sample of the stamped edge (21 doubles a sample of the
+  /// history's capacity, once per history), so these never allocate.
+  [[nodiscard]] ErrorCode SetPose(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                  const Eigen::Vector3d& p_ToHo_T, Stamp stamp,
+                                  const CovarianceInput& covariance,
+                                  UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetTwist(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                   const Eigen::Vector3d& w_DH_H, Stamp stamp,
+                                   const CovarianceInput& covariance,
                                    UpdateError* why = nullptr) noexcept;
   /// A compiled pose query with covariance (compiled_covariance.h): the errors of CompilePose.
   [[nodiscard]] Expected<CompiledPoseWithCovariance<B>, QueryError> CompilePoseWithCovariance(
@@ -723,6 +743,12 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                         const coord::Covariance6* S = nullptr,
                         const AccelerationNumbers* A = nullptr) noexcept;
+  ErrorCode SetPoseWithCovariance(PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                  const Eigen::Vector3d& p_ToHo_T, std::optional<Stamp> stamp,
+                                  const CovarianceInput& covariance, UpdateError* why) noexcept;
+  ErrorCode SetTwistWithCovariance(TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                   const Eigen::Vector3d& w_DH_H, std::optional<Stamp> stamp,
+                                   const CovarianceInput& covariance, UpdateError* why) noexcept;
   ErrorCode SetTwistSample(TwistHandle edge, const TwistNumbers& V,
                            std::optional<Stamp> stamp) noexcept;
   std::string DescribeSampleRejection(ErrorCode code, bool twist, std::uint32_t index,
