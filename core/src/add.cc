@@ -341,7 +341,7 @@ BuildResult SceneGraph<B>::AddPoseImpl(const PoseSpec& spec, const R& rotation,
     if (at_stamp.error() != ErrorCode::kOk) {
       return Reject(ErrorCode::kExtrapolation, what(), DescribeConversionGap(at_stamp, *stamp));
     }
-    if (has_covariance) S_BA = internal::ToEdgeFormCovariance<B>(src, steps, X_BA, S_BA);
+    if (has_covariance) internal::ToEdgeFormCovariance<B>(src, steps, X_BA, S_BA, S_BA);
     X_BA = B::MakePose(Renormalized<B>(B::RotationOf(X_BA)), B::TranslationOf(X_BA));
   }
 

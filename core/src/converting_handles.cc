@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "covariance_input.h"
+#include "semgraph/core/propagate.h"
 #include "semgraph/core/scene_graph.h"
 #include "text.h"
 
@@ -56,6 +57,15 @@ template <coord::Backend B>
 bool ConvertingPoseHandle<B>::ToEdgeForm(const typename B::PoseCoords& X_given,
                                          typename B::PoseCoords& X_BA) const noexcept {
   return internal::ToEdgeForm<B>(this->source(), steps_, X_given, X_BA);
+}
+
+template <coord::Backend B>
+bool ConvertingPoseHandle<B>::ToEdgeForm(const typename B::PoseCoords& X_given,
+                                         const coord::Covariance6& S_given,
+                                         typename B::PoseCoords& X_BA,
+                                         coord::Covariance6& S_BA) const noexcept {
+  return ToEdgeForm(X_given, X_BA) &&
+         internal::ToEdgeFormCovariance<B>(this->source(), steps_, X_BA, S_given, S_BA);
 }
 
 template class ConvertingTwistHandle<coord::QuaternionBackend>;
@@ -214,6 +224,41 @@ ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eige
   return SetConvertedPose(edge, R, p, why);
 }
 
+// With a covariance of the given pose (CovarianceInput: order and convention as AddPose's, the
+// body convention for an edge-form handle only):
+// converted with the value through the conversion's Jacobian, then written as SetPose(
+// edge.edge(), ..., covariance) writes (its checks). Quaternion input, as the plain handles'.
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Quaterniond& q,
+                                 const Eigen::Vector3d& p, const CovarianceInput& covariance,
+                                 UpdateError* why) noexcept {
+  using internal::Report;
+  if (covariance.matrix == nullptr) return SetConvertedPose(edge, q, p, why);
+  auto p_ok = coord::ValidateVector(p, coord::ValueRole::kPosition);
+  if (!p_ok) return Report(why, p_ok.error());
+  auto q_ok = coord::ValidateQuaternion(q);
+  if (!q_ok) return Report(why, q_ok.error());
+  const coord::CovarianceCheck check = coord::CheckCovariance(*covariance.matrix);
+  if (!check.ok()) return Report(why, check.error());
+  if (covariance.convention == PoseCovarianceConvention::kBody && !edge.edge_form()) {
+    return Report(why, ErrorCode::kInvalidCovariance);  // as AddPose: body is for edge forms
+  }
+  const Covariance6 S_given = internal::CoordinatesCovariance(covariance, q_ok->toRotationMatrix());
+  typename B::PoseCoords X_BA;
+  Covariance6 S_BA;
+  if (!edge.ToEdgeForm(B::MakePose(B::FromQuaternion(*q_ok), *p_ok), S_given, X_BA, S_BA)) {
+    return Report(why, ErrorCode::kQueryInvalidated);
+  }
+  // Through the plain handle, which checks both and normalizes the product as AddPose does.
+  Eigen::Quaterniond q_BA;
+  if constexpr (std::is_same_v<typename B::Rotation, Eigen::Quaterniond>) {
+    q_BA = B::RotationOf(X_BA);
+  } else {
+    q_BA = Eigen::Quaterniond(B::ToMatrix(B::RotationOf(X_BA)));
+  }
+  return SetPose(edge.edge(), q_BA, B::TranslationOf(X_BA), CovarianceInput{&S_BA}, why);
+}
+
 #define SEMGRAPH_INSTANTIATE_CONVERTING(B)                                                     \
   template Expected<ConvertingTwistHandle<B>, BuildError> SceneGraph<B>::FindTwistEdge(        \
       std::string_view, std::string_view, std::string_view) const;                             \
@@ -228,6 +273,9 @@ ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>& edge, const Eige
   template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                    \
                                             const Eigen::Quaterniond&, const Eigen::Vector3d&, \
                                             UpdateError*) noexcept;                            \
+  template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                    \
+                                            const Eigen::Quaterniond&, const Eigen::Vector3d&, \
+                                            const CovarianceInput&, UpdateError*) noexcept;    \
   template ErrorCode SceneGraph<B>::SetPose(const ConvertingPoseHandle<B>&,                    \
                                             const Eigen::Matrix3d&, const Eigen::Vector3d&,    \
                                             UpdateError*) noexcept;

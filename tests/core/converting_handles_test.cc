@@ -160,6 +160,59 @@ TYPED_TEST(ConvertingHandles, TwistCovarianceInAnotherFrameIsRotatedWithTheValue
   EXPECT_TRUE(g.twist_covariance(g.FindFrame("o")).isZero(0.0));
 }
 
+// The same pose handle with a covariance of the given pose (angular first): stored as AddPose
+// stores it for the same input (the twin), and asked back in the handle's form (the only
+// uncertain edge: the query's Jacobian inverts the conversion's) it is the given covariance,
+// reordered by hand. Allocation-free; a bad covariance, a body convention (the handle's form is
+// not the edge form: refused as AddPose refuses it) or a bad rotation writes nothing.
+TEST(ConvertingHandlesCovariance, PoseCovarianceInAnotherFormIsConvertedAsAddPoseConvertsIt) {
+  SceneGraph<coord::QuaternionBackend> g, twin;
+  Build(g);
+  Build(twin);
+  const PoseSpec spec =
+      PoseSpec::Of("o").RelativeTo("c").RelativeToPoint("c2").AtPoint("o2").ExpressedIn("b");
+  auto handle = g.FindPoseEdge(spec);
+  ASSERT_TRUE(handle) << handle.error().message;
+  const Quaterniond M(AngleAxisd(0.9, Vector3d(-0.2, 0.5, 1).normalized()));
+  const Vector3d p(0.7, -0.4, 0.25);
+  Covariance6 S_given = Covariance6::Identity() * 1e-4;  // angular first
+  S_given(0, 0) = 4e-4;
+  S_given(2, 4) = S_given(4, 2) = 3e-5;
+  const CovarianceInput input{&S_given, CovarianceOrder::kAngularLinear};
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    EXPECT_EQ(g.SetPose(*handle, M, p, input), ErrorCode::kOk);
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  auto added = twin.AddPose(spec, M, p, input);
+  ASSERT_TRUE(added) << added.error().message;
+  EXPECT_LT(
+      (g.pose_covariance(g.FindFrame("o")) - twin.pose_covariance(twin.FindFrame("o"))).norm(),
+      1e-15);
+  EXPECT_FALSE(g.pose_covariance(g.FindFrame("o")).isZero(0.0));
+  Covariance6 S_coordinates;  // linear first
+  S_coordinates << S_given.bottomRightCorner<3, 3>(), S_given.bottomLeftCorner<3, 3>(),
+      S_given.topRightCorner<3, 3>(), S_given.topLeftCorner<3, 3>();
+  const auto back = g.GetPoseWithCovariance(spec);
+  ASSERT_TRUE(back);
+  EXPECT_LT((back->covariance - S_coordinates).norm(), 1e-12 * S_coordinates.norm())
+      << back->covariance << "\n\n"
+      << S_coordinates;
+  // Refused, nothing written.
+  const std::string before = Dump(g);
+  Covariance6 bad = S_given;
+  bad(0, 0) = -1.0;
+  EXPECT_EQ(g.SetPose(*handle, M, 2 * p, CovarianceInput{&bad}), ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetPose(*handle, M, 2 * p,
+                      CovarianceInput{&S_given, CovarianceOrder::kAngularLinear,
+                                      PoseCovarianceConvention::kBody}),
+            ErrorCode::kInvalidCovariance);
+  EXPECT_EQ(g.SetPose(*handle, Quaterniond(0, 0, 0, 0), p, input), ErrorCode::kInvalidRotation);
+  EXPECT_EQ(Dump(g), before);
+}
+
 // PoseCoord((o2,[o])|O, (c2,[c])|C, [b]): the orientation operator carrying [c] onto [o]
 // expressed in [b], and the position of o2 wrt c2 in [b]. By hand:
 //   R_CO = R_BC^T M R_BC,  p_CO = R_BC^T p + p_CC2 - R_CO p_OO2.

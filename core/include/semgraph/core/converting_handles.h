@@ -77,10 +77,21 @@ class SEMGRAPH_CORE_EXPORT ConvertingPoseHandle : public CompiledQuery<B> {
   [[nodiscard]] PoseHandle edge() const noexcept { return edge_; }
   /// What the handle takes: PoseCoord((e,[a])|C, (f,[b])|D, [r]).
   [[nodiscard]] const semantics::PoseSemantics& semantics() const noexcept { return semantics_; }
+  /// Whether it takes the edge form itself (nothing converted): the body convention of a
+  /// covariance applies to such a handle only, as to AddPose.
+  [[nodiscard]] bool edge_form() const noexcept {
+    return !steps_.change_ref_point && !steps_.change_point && !steps_.change_frame;
+  }
   /// The given pose -> the edge form X_BA (a wrt b in [b]). False when an edge of the
   /// conversion changed epoch. O(edges of the conversion's chains).
   [[nodiscard]] bool ToEdgeForm(const typename B::PoseCoords& X_given,
                                 typename B::PoseCoords& X_BA) const noexcept;
+  /// With a covariance S_given of the given pose (coordinates convention, linear first): S_BA,
+  /// the edge form's, through the conversion's Jacobian (propagate.h ToEdgeFormCovariance, the
+  /// one AddPose uses; the conversion's values exact). False as ToEdgeForm.
+  [[nodiscard]] bool ToEdgeForm(const typename B::PoseCoords& X_given,
+                                const coord::Covariance6& S_given, typename B::PoseCoords& X_BA,
+                                coord::Covariance6& S_BA) const noexcept;
 
  private:
   PoseHandle edge_;

@@ -204,25 +204,28 @@ void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, Re
 /// The covariance of a pose given in another form, in the edge form (ToEdgeForm's steps, with
 /// the conversion's values exact): re-expressed [r] -> [b], the reference point moved (exact,
 /// no change), the point moved e -> a with the pose's rotation. X_BA: ToEdgeForm's answer.
-template <coord::Backend B>
-coord::Covariance6 ToEdgeFormCovariance(const ForestSource<B>& src, const PoseSteps<ForestChain>& s,
-                                        const typename B::PoseCoords& X_BA,
-                                        const coord::Covariance6& S_given) noexcept {
+/// Any source (the forest at an add, a converting handle's flattened chains); false when a
+/// compiled chain's edge changed epoch (S_out then unspecified).
+template <coord::Backend B, class Source>
+bool ToEdgeFormCovariance(const Source& src, const PoseSteps<typename Source::Chain>& s,
+                          const typename B::PoseCoords& X_BA, const coord::Covariance6& S_given,
+                          coord::Covariance6& S_out) noexcept {
   namespace jac = coord::jacobians;
   jac::Matrix6 J = jac::Matrix6::Identity();
   if (s.change_frame) {
     typename B::PoseCoords X_RB;
-    EvalBasic<B>(src, s.br, X_RB);
+    if (!EvalBasic<B>(src, s.br, X_RB)) return false;
     J = jac::Reexpress(B::ToMatrix(B::RotationOf(X_RB)).transpose());
   }
   if (s.change_point) {  // p_BA = p - R_BA p_AE_A
     typename B::PoseCoords X_AE;
-    EvalBasic<B>(src, s.ea, X_AE);
+    if (!EvalBasic<B>(src, s.ea, X_AE)) return false;
     J = jac::MovePoint(-B::Rotate(B::RotationOf(X_BA), B::TranslationOf(X_AE))) * J;
   }
   coord::Covariance6 S = coord::Covariance6::Zero();
   jac::AddPropagated(J, S_given, S);
-  return S;
+  S_out = S;
+  return true;
 }
 
 }  // namespace semgraph::core::internal

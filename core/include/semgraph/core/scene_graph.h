@@ -324,6 +324,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                   const Eigen::Vector3d& p, UpdateError* why = nullptr) noexcept;
   [[nodiscard]] ErrorCode SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Matrix3d& R,
                                   const Eigen::Vector3d& p, UpdateError* why = nullptr) noexcept;
+  /// With the covariance of the given pose (CovarianceInput: order and convention as AddPose's):
+  /// converted to the edge form with the value, through the Jacobian AddPose uses for the same
+  /// conversion, then as SetPose(edge.edge(), ..., covariance). Codes: kInvalidNumber /
+  /// kInvalidRotation / kInvalidCovariance (the input), kQueryInvalidated, then that SetPose's.
+  [[nodiscard]] ErrorCode SetPose(const ConvertingPoseHandle<B>& edge, const Eigen::Quaterniond& q,
+                                  const Eigen::Vector3d& p, const CovarianceInput& covariance,
+                                  UpdateError* why = nullptr) noexcept;
 
   /// Compiled queries: the semantics are checked and the path resolved once (the same errors
   /// as the one-shot queries); Evaluate() then costs the compositions on the path only. A
