@@ -4,8 +4,11 @@
 
 #include <atomic>
 #include <cstdio>
+#include <iterator>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "ros_wire.h"
 #include "semgraph/models/urdf.h"
