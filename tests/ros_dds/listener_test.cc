@@ -521,13 +521,14 @@ struct PublishedPose {
   Matrix6 S = Matrix6::Identity();
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();  // odometry only
   Matrix6 S_twist = Matrix6::Identity();
+  std::string odom_child = "base_link";  // "-": the empty name
   std::string PoseFields() const {
     return " " + std::to_string(sec) + " 0" +
            Numbers({p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w()}) + Numbers(S);
   }
   std::string PoseCommand() const { return "pose /amcl_pose map" + PoseFields(); }
   std::string OdomCommand() const {
-    return "odom /odom odom base_link" + PoseFields() +
+    return "odom /odom odom " + odom_child + PoseFields() +
            Numbers({v.x(), v.y(), v.z(), w.x(), w.y(), w.z()}) + Numbers(S_twist);
   }
 };
@@ -675,6 +676,11 @@ TEST_F(CovarianceTopicsTest, HostileMessagesAreFindingsAndLeaveTheGraphUnchanged
       [](PublishedPose& m) { m.w.z() = std::numeric_limits<double>::infinity(); });
   add("odometry: asymmetric pose covariance", true, "invalid_covariance",
       [](PublishedPose& m) { m.S(5, 0) -= 1e-3; });
+  // Good numbers, refused by a graph rule (AddPose: nothing added).
+  add("odometry: its child is its header frame", true, "self_edge",
+      [](PublishedPose& m) { m.odom_child = "odom"; });
+  add("odometry: an empty child frame", true, "invalid_name",
+      [](PublishedPose& m) { m.odom_child = "-"; });
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Case& c = cases[i];
     const std::string before = State();
@@ -688,7 +694,10 @@ TEST_F(CovarianceTopicsTest, HostileMessagesAreFindingsAndLeaveTheGraphUnchanged
       EXPECT_EQ(g.code.name(), c.code) << c.what << ": " << g.message;
       EXPECT_EQ(g.topic, c.odom ? "/odom" : "/amcl_pose") << c.what;
       EXPECT_EQ(g.parent, c.odom ? "odom" : "map") << c.what;
-      EXPECT_EQ(g.child, c.odom ? "base_link" : "base_footprint") << c.what;
+      EXPECT_EQ(g.child, !c.odom                 ? "base_footprint"
+                         : c.m.odom_child == "-" ? ""
+                                                 : c.m.odom_child)
+          << c.what;
     }
     EXPECT_TRUE(found) << c.what;
     EXPECT_EQ(State(), before) << c.what;

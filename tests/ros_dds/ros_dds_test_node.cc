@@ -22,6 +22,7 @@
 //                         use, ROS 2's default QoS: reliable, volatile, keep last 10) matched N
 //                         readers
 //   pose TOPIC FRAME SEC NSEC X Y Z QX QY QZ QW C0 .. C35   one PoseWithCovarianceStamped, raw
+//                         (frame names: "-" is the empty name)
 //   odom TOPIC FRAME CHILD SEC NSEC X Y Z QX QY QZ QW C0 .. C35 VX VY VZ WX WY WZ C0 .. C35
 //                         one Odometry, raw
 //   sleep MS              waits MS milliseconds
@@ -313,6 +314,8 @@ class Node {
     in >> topic >> frame;
     if (kind == "odom") in >> child;
     in >> sec >> nsec;
+    frame = Name(frame);
+    child = Name(child);
     double pose[7 + 36], twist[6 + 36];
     if (!ReadNumbers(in, pose, 7 + 36)) return "bad " + kind;
     if (kind == "odom" && !ReadNumbers(in, twist, 6 + 36)) return "bad odom twist";
