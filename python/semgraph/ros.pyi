@@ -89,6 +89,12 @@ class BagReport:
     @property
     def joint_states_skipped(self) -> int: ...
     @property
+    def poses_with_covariance(self) -> int: ...
+    @property
+    def odometry(self) -> int: ...
+    @property
+    def covariance_refused(self) -> int: ...
+    @property
     def start(self) -> Optional[float]: ...
     @property
     def start_ns(self) -> Optional[int]: ...
@@ -212,12 +218,14 @@ class BagRecords(Iterator[Union[TransformRecord, JointStateRecord]]):
 
 def load_bag(path: Path, graph: Optional[SceneGraph] = None, *, topics: Optional[Sequence[str]] = None,
              static: Optional[str] = None, bodies: Optional[Mapping[str, Sequence[str]]] = None,
+             pose_topics: Optional[Mapping[str, str]] = None,
              urdf: Optional[Path] = None, start: Optional[Time] = None, end: Optional[Time] = None,
              window: Optional[Time] = None, sample_capacity: Optional[int] = None) -> BagReport:
     """Applies a bag's tf and joint states to a graph (new when None). BagError, RejectedError."""
 
 def check_bag(path: Path, *, topics: Optional[Sequence[str]] = None, static: Optional[str] = None,
-              bodies: Optional[Mapping[str, Sequence[str]]] = None, urdf: Optional[Path] = None,
+              bodies: Optional[Mapping[str, Sequence[str]]] = None,
+              pose_topics: Optional[Mapping[str, str]] = None, urdf: Optional[Path] = None,
               start: Optional[Time] = None, end: Optional[Time] = None,
               window: Optional[Time] = None) -> BagReport:
     """`semgraph bag check` as data."""
@@ -231,7 +239,9 @@ def read_bag(path: Path, *, topics: Optional[Sequence[str]] = None) -> BagRecord
 class Listener:
     """Live tf over Cyclone DDS into a graph it owns (read-only from Python while it runs)."""
     def __init__(self, *, domain: Optional[int] = None, static: Optional[str] = None,
-                 bodies: Optional[Mapping[str, Sequence[str]]] = None, joint_states: bool = True,
+                 bodies: Optional[Mapping[str, Sequence[str]]] = None,
+                 pose_topics: Optional[Mapping[str, str]] = None,
+                 odometry_topics: Optional[Sequence[str]] = None, joint_states: bool = True,
                  robot_description: bool = True, window: Optional[Time] = None,
                  interpolation: Optional[str] = None, sample_capacity: Optional[int] = None) -> None: ...
     @property
@@ -240,6 +250,7 @@ class Listener:
     def domain(self) -> int: ...
     @property
     def tf_publishers(self) -> int: ...
+    def publishers(self, topic: str) -> int: ...
     def with_graph(self, fn: Callable[[SceneGraph], _T]) -> _T:
         """fn(graph) while no message is applied: one-shot queries and compile_* go here."""
     def findings(self) -> List[Finding]: ...

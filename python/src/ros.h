@@ -29,6 +29,9 @@ std::string PathArg(py::handle path, const char* function, const char* argument)
 std::vector<std::string> TopicsArg(py::handle topics, const char* function);
 /// static= and bodies=: the lift's options (ValueError for an unknown mode or a bad map).
 ros::LiftOptions LiftArgs(py::handle static_mode, py::handle bodies, const char* function);
+/// pose_topics=: None -> none, else a dict {topic: frame} (LiftOptions::pose_topics; TypeError
+/// for another type, ValueError for an empty topic or frame).
+ros::PoseTopicsMap PoseTopicsArg(py::handle pose_topics, const char* function);
 
 /// Seconds of a nanosecond time, for the float properties (the *_ns ones are exact).
 inline double Seconds(std::int64_t ns) { return static_cast<double>(ns) * 1e-9; }

@@ -88,6 +88,26 @@ ros::LiftOptions LiftArgs(py::handle static_mode, py::handle bodies, const char*
   return lift;
 }
 
+ros::PoseTopicsMap PoseTopicsArg(py::handle pose_topics, const char* function) {
+  ros::PoseTopicsMap out;
+  if (pose_topics.is_none()) return out;
+  if (!py::isinstance<py::dict>(pose_topics)) {
+    throw py::type_error(std::string(function) +
+                         "(): pose_topics must be a dict {topic: frame}, not " +
+                         TypeName(pose_topics));
+  }
+  for (auto [topic, frame] : py::reinterpret_borrow<py::dict>(pose_topics)) {
+    const std::string_view t = NameArg(topic, function, "pose_topics");
+    const std::string_view f = NameArg(frame, function, "pose_topics");
+    if (t.empty() || f.empty()) {
+      throw py::value_error(std::string(function) + "(): pose_topics: an empty " +
+                            (t.empty() ? "topic" : "frame for '" + std::string(t) + "'"));
+    }
+    out.emplace(std::string(t), std::string(f));
+  }
+  return out;
+}
+
 namespace {
 
 struct BagReportObject {
@@ -129,13 +149,14 @@ core::TimeOptions NewGraphTime(const ros::BagScan& scan, const std::optional<std
 }
 
 BagReportObject LoadBag(py::handle path, py::handle graph, py::handle topics,
-                        py::handle static_mode, py::handle bodies, py::handle urdf,
-                        py::handle start, py::handle end, py::handle window,
+                        py::handle static_mode, py::handle bodies, py::handle pose_topics,
+                        py::handle urdf, py::handle start, py::handle end, py::handle window,
                         py::handle sample_capacity, const char* fn) {
   const std::string file = PathArg(path, fn, "path");
   ros::BagLoadOptions options;
   options.topics = TopicsArg(topics, fn);
   options.lift = LiftArgs(static_mode, bodies, fn);
+  options.lift.pose_topics = PoseTopicsArg(pose_topics, fn);
   if (!start.is_none()) options.start_ns = NanosecondsArg(start, fn, "start", false);
   if (!end.is_none()) options.end_ns = NanosecondsArg(end, fn, "end", false);
   const std::string urdf_file = urdf.is_none() ? std::string() : PathArg(urdf, fn, "urdf");
@@ -264,6 +285,10 @@ static           'same_body' [default]: frames joined by /tf_static are one rigi
                  (constant poses); 'own_body': every frame its own body, a static transform a
                  timeless inter-body pose (docs/ros.md, "Frames and bodies")
 bodies           {body: [frame, ...]}: frames listed lie on the listed body
+pose_topics      {topic: frame}: read these topics too; their PoseWithCovarianceStamped
+                 messages give the pose of `frame` wrt the header frame, a stamped sample with
+                 its covariance (an Odometry topic needs only topics=: it names its child frame);
+                 a bad covariance (NaN, not symmetric, not PSD) is a finding
 urdf             a URDF file loaded into the graph first: its joints cover the tf transforms
                  between their link frames, compared with its forward kinematics
                  (model_mismatch when they differ)
@@ -346,6 +371,11 @@ constexpr CountProperty kCountProperties[] = {
      "Joint state messages refused (each a finding)."},
     {"joint_states_skipped", &ros::LiftCounts::joint_states_skipped,
      "Joint state messages skipped: the graph has no joints."},
+    {"poses_with_covariance", &ros::LiftCounts::poses_with_covariance,
+     "PoseWithCovarianceStamped messages applied (pose_topics)."},
+    {"odometry", &ros::LiftCounts::odometry, "Odometry messages applied (pose and twist)."},
+    {"covariance_refused", &ros::LiftCounts::covariance_refused,
+     "PoseWithCovarianceStamped and Odometry messages refused (each a finding)."},
 };
 
 void BindBagReport(py::module_& m) {
@@ -525,13 +555,14 @@ void BindBagFunctions(py::module_& m) {
   m.def(
       "load_bag",
       [](py::handle path, py::handle graph, py::handle topics, py::handle static_mode,
-         py::handle bodies, py::handle urdf, py::handle start, py::handle end, py::handle window,
-         py::handle sample_capacity) {
-        return LoadBag(path, graph, topics, static_mode, bodies, urdf, start, end, window,
-                       sample_capacity, "load_bag");
+         py::handle bodies, py::handle pose_topics, py::handle urdf, py::handle start,
+         py::handle end, py::handle window, py::handle sample_capacity) {
+        return LoadBag(path, graph, topics, static_mode, bodies, pose_topics, urdf, start, end,
+                       window, sample_capacity, "load_bag");
       },
       py::arg("path"), py::arg("graph") = py::none(), py::kw_only(), py::arg("topics") = py::none(),
-      py::arg("static") = py::none(), py::arg("bodies") = py::none(), py::arg("urdf") = py::none(),
+      py::arg("static") = py::none(), py::arg("bodies") = py::none(),
+      py::arg("pose_topics") = py::none(), py::arg("urdf") = py::none(),
       py::arg("start") = py::none(), py::arg("end") = py::none(), py::arg("window") = py::none(),
       py::arg("sample_capacity") = py::none(),
       Doc(R"(Applies a bag's tf and joint states to a scene graph (the `bag` script op); returns a
@@ -549,12 +580,14 @@ sample_capacity  with graph=None: samples kept per stamped edge [1024]: raise it
   m.def(
       "check_bag",
       [](py::handle path, py::handle topics, py::handle static_mode, py::handle bodies,
-         py::handle urdf, py::handle start, py::handle end, py::handle window) {
-        return LoadBag(path, py::none(), topics, static_mode, bodies, urdf, start, end, window,
-                       py::none(), "check_bag");
+         py::handle pose_topics, py::handle urdf, py::handle start, py::handle end,
+         py::handle window) {
+        return LoadBag(path, py::none(), topics, static_mode, bodies, pose_topics, urdf, start, end,
+                       window, py::none(), "check_bag");
       },
       py::arg("path"), py::kw_only(), py::arg("topics") = py::none(),
-      py::arg("static") = py::none(), py::arg("bodies") = py::none(), py::arg("urdf") = py::none(),
+      py::arg("static") = py::none(), py::arg("bodies") = py::none(),
+      py::arg("pose_topics") = py::none(), py::arg("urdf") = py::none(),
       py::arg("start") = py::none(), py::arg("end") = py::none(), py::arg("window") = py::none(),
       Doc(R"(`semgraph bag check`: applies a bag to a new graph and returns the BagReport; its
 findings are the tool's JSON lines (Finding.to_json), its summary the summary line, its

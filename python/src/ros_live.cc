@@ -57,7 +57,8 @@ struct ListenerObject {
 };
 
 std::shared_ptr<ListenerObject> MakeListener(py::handle domain, py::handle static_mode,
-                                             py::handle bodies, bool joint_states,
+                                             py::handle bodies, py::handle pose_topics,
+                                             py::handle odometry_topics, bool joint_states,
                                              bool robot_description, py::handle window,
                                              py::handle interpolation, py::handle sample_capacity) {
   ros_dds::ListenerOptions options;
@@ -73,6 +74,17 @@ std::shared_ptr<ListenerObject> MakeListener(py::handle domain, py::handle stati
     options.domain = static_cast<std::uint32_t>(d);
   }
   options.lift = LiftArgs(static_mode, bodies, "Listener");
+  options.lift.pose_topics = PoseTopicsArg(pose_topics, "Listener");
+  if (!odometry_topics.is_none()) {
+    if (py::isinstance<py::str>(odometry_topics) ||
+        !py::isinstance<py::sequence>(odometry_topics)) {
+      throw py::type_error("Listener(): odometry_topics must be a sequence of str, not " +
+                           TypeName(odometry_topics));
+    }
+    for (py::handle t : odometry_topics) {
+      options.odometry_topics.emplace_back(NameArg(t, "Listener", "odometry_topics"));
+    }
+  }
   options.joint_states = joint_states;
   options.robot_description = robot_description;
   core::TimeOptions time;  // tf2's buffer unless told: 10 s, linear
@@ -196,6 +208,11 @@ py::dict Stats(const ListenerObject& self) {
   d["joint_states_applied"] = s.counts.joint_states;
   d["joint_states_refused"] = s.counts.joint_states_refused;
   d["joint_states_skipped"] = s.counts.joint_states_skipped;
+  d["poses_with_covariance"] = s.poses_with_covariance;
+  d["odometry"] = s.odometry;
+  d["poses_with_covariance_applied"] = s.counts.poses_with_covariance;
+  d["odometry_applied"] = s.counts.odometry;
+  d["covariance_refused"] = s.counts.covariance_refused;
   return d;
 }
 
@@ -290,6 +307,7 @@ run inside with_graph(fn), which holds the listener's lock. Blocking calls relea
 A context manager: `with Listener(...) as l:` closes it at the end.)")
       .def(py::init(&MakeListener), py::kw_only(), py::arg("domain") = py::none(),
            py::arg("static") = py::none(), py::arg("bodies") = py::none(),
+           py::arg("pose_topics") = py::none(), py::arg("odometry_topics") = py::none(),
            py::arg("joint_states") = true, py::arg("robot_description") = true,
            py::arg("window") = py::none(), py::arg("interpolation") = py::none(),
            py::arg("sample_capacity") = py::none(),
@@ -297,6 +315,10 @@ A context manager: `with Listener(...) as l:` closes it at the end.)")
 
 domain            the DDS domain (ROS_DOMAIN_ID): None [default] reads ROS_DOMAIN_ID, else 0
 static, bodies    as load_bag: 'same_body' [default] or 'own_body'; {body: [frame, ...]}
+pose_topics       {topic: frame}: PoseWithCovarianceStamped topics, each message the pose of
+                  `frame` wrt its header frame with its covariance (as load_bag)
+odometry_topics   [topic, ...]: Odometry topics (pose and twist with their covariances);
+                  a bad message is a finding, the graph unchanged
 joint_states, robot_description   subscribe to them [True]
 window            the graph's history window [10.0 s, tf2's buffer] (int ns, float s)
 interpolation     'linear' [default, tf2's] or 'screw'
@@ -311,6 +333,13 @@ DDS is configured by CYCLONEDDS_URI. Raises ValueError when DDS refuses (with it
       .def_property_readonly(
           "tf_publishers", [](const ListenerObject& l) { return l.Running().tf_publishers(); },
           "Writers matched on /tf now (a sample sent before the match never arrives).")
+      .def(
+          "publishers",
+          [](const ListenerObject& l, py::handle topic) {
+            return l.Running().publishers(NameArg(topic, "publishers", "topic"));
+          },
+          py::arg("topic"),
+          "Writers matched now on one of the pose or odometry topics (0 for another topic).")
       .def("with_graph", &WithGraph, py::arg("fn"),
            R"(Calls fn(graph) while no message is applied (the listener's lock) and returns its
 result: one-shot queries by name and compile_* belong here, e.g.
@@ -323,8 +352,9 @@ group as it was after the occurrence(s) reported, new = the group is new. At mos
 kept between calls (the oldest dropped).)")
       .def_property_readonly("stats", &Stats,
                              R"(Counts (a dict): messages per topic (tf, tf_static, joint_states,
-robot_descriptions), robot_loaded, and the lift's transforms, applied, refused, covered,
-mismatched, normalized, joint_states_applied, joint_states_refused, joint_states_skipped.)")
+robot_descriptions, poses_with_covariance, odometry), robot_loaded, and the lift's transforms,
+applied, refused, covered, mismatched, normalized, joint_states_applied, joint_states_refused,
+joint_states_skipped, poses_with_covariance_applied, odometry_applied, covariance_refused.)")
       .def("wait", &Wait, py::arg("timeout"), py::kw_only(),
            py::arg("frames") = std::vector<std::string>{}, py::arg("transforms") = 0,
            R"(Waits (without the GIL) until every frame of `frames` is in the graph and at least

@@ -1,11 +1,14 @@
-// Listener (listener.h): rt/tf, rt/tf_static, rt/joint_states, rt/robot_description into a
-// scene graph through TfLift, on one receive thread.
+// Listener (listener.h): rt/tf, rt/tf_static, rt/joint_states, rt/robot_description and the
+// user's pose and odometry topics into a scene graph through TfLift, on one receive thread.
 #include "semgraph/ros_dds/listener.h"
 
 #include <atomic>
 #include <cstdio>
+#include <iterator>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "ros_wire.h"
 #include "semgraph/models/urdf.h"
@@ -19,6 +22,7 @@ namespace {
 constexpr RosTopic kTopics[] = {RosTopic::kRobotDescription, RosTopic::kTfStatic, RosTopic::kTf,
                                 RosTopic::kJointStates};
 constexpr std::uint32_t kTakeBatch = 16;
+constexpr std::size_t kFixedTopics = std::size(kTopics);
 
 }  // namespace
 
@@ -37,6 +41,8 @@ struct Listener::Impl {
   // Receive thread only: decoded messages and the events to report after unlocking.
   ros::TFMessage tf;
   ros::JointState joint_state;
+  ros::PoseWithCovarianceStamped pose_message;
+  ros::Odometry odometry_message;
   struct FindingEvent {
     ros::FindingGroup group;
     bool first;
@@ -48,10 +54,21 @@ struct Listener::Impl {
   std::atomic<bool> stop{false};
   std::thread thread;
 
+  // A reader of a topic the user named (LiftOptions::pose_topics, odometry_topics).
+  struct UserReader {
+    RosTopic kind = RosTopic::kPoseWithCovariance;
+    std::string topic;  // the ROS name, e.g. "/amcl_pose"
+    std::string frame;  // a pose topic's frame (pose_topics), empty for odometry
+    Entity reader;
+  };
+
   void Loop();
-  void Take(RosTopic topic, dds_entity_t reader);
+  // `user`: the user-named topic `reader` reads, else null.
+  void Take(RosTopic topic, dds_entity_t reader, const UserReader* user);
   // Under the lock: one sample of `topic`.
-  void Apply(RosTopic topic, const void* sample, std::int64_t log_time_ns);
+  void Apply(RosTopic topic, const void* sample, std::int64_t log_time_ns, const UserReader* user);
+  void ApplyWithCovariance(RosTopic topic, const void* sample, std::int64_t log_time_ns,
+                           const UserReader& user);
   void ApplyTf(bool is_static, std::int64_t log_time_ns);
   void ApplyDescription(const char* xml);
   // Under the lock: the finding groups whose count changed since last reported.
@@ -61,7 +78,12 @@ struct Listener::Impl {
 
   // Declared last, destroyed first (the thread is joined before, in ~Listener).
   Entity participant, waitset, guard;
-  Entity readers[4];  // in kTopics order; absent topics stay empty
+  Entity readers[kFixedTopics];          // in kTopics order; absent topics stay empty
+  std::vector<UserReader> user_readers;  // the pose topics (by name), then the odometry topics
+
+  // Subscribes to the user-named topics (in Create).
+  base::Expected<base::Ok, std::string> AddUserReader(RosTopic kind, const std::string& topic,
+                                                      const std::string& frame);
 };
 
 Listener::Listener(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -122,21 +144,66 @@ base::Expected<std::unique_ptr<Listener>, std::string> Listener::Create(core::Sc
       return base::Unexpected{std::string("cannot attach the DDS read conditions")};
     }
   }
+  for (const auto& [topic, frame] : m.options.lift.pose_topics) {
+    if (auto added = m.AddUserReader(RosTopic::kPoseWithCovariance, topic, frame); !added) {
+      return base::Unexpected{added.error()};
+    }
+  }
+  for (const std::string& topic : m.options.odometry_topics) {
+    if (auto added = m.AddUserReader(RosTopic::kOdometry, topic, {}); !added) {
+      return base::Unexpected{added.error()};
+    }
+  }
   m.thread = std::thread([&m] { m.Loop(); });
   return std::unique_ptr<Listener>(new Listener(std::move(impl)));
+}
+
+base::Expected<base::Ok, std::string> Listener::Impl::AddUserReader(RosTopic kind,
+                                                                    const std::string& topic,
+                                                                    const std::string& frame) {
+  const char* what = kind == RosTopic::kOdometry ? "odometry topic" : "pose topic";
+  for (const UserReader& u : user_readers) {
+    if (u.topic == topic) {
+      return base::Unexpected{std::string(what) + " " + topic + " is also a " +
+                              (u.kind == RosTopic::kOdometry ? "odometry" : "pose") + " topic"};
+    }
+  }
+  auto dds_name = DdsTopicName(topic);
+  if (!dds_name) return base::Unexpected{std::string(what) + ": " + dds_name.error()};
+  if (kind == RosTopic::kPoseWithCovariance && ros::LiftFrameName(frame).empty()) {
+    return base::Unexpected{std::string(what) + " " + topic + " has no frame"};
+  }
+  const dds_entity_t t = internal::CreateTopic(participant.get(), kind, *dds_name);
+  if (t < 0) {
+    return base::Unexpected{
+        internal::DdsError(("cannot create the topic " + *dds_name).c_str(), t)};
+  }
+  Entity reader(internal::CreateReader(participant.get(), t, kind));
+  if (!reader.ok()) {
+    return base::Unexpected{
+        internal::DdsError(("cannot create the reader of " + *dds_name).c_str(), reader.get())};
+  }
+  const dds_entity_t c = dds_create_readcondition(reader.get(), DDS_ANY_STATE);
+  const auto attach = static_cast<dds_attach_t>(kFixedTopics + 1 + user_readers.size());
+  if (c < 0 || dds_waitset_attach(waitset.get(), c, attach) < 0) {
+    return base::Unexpected{std::string("cannot attach the DDS read conditions")};
+  }
+  user_readers.push_back({kind, topic, frame, std::move(reader)});
+  return base::Ok{};
 }
 
 void Listener::Impl::Loop() {
   while (!stop.load()) {
     (void)dds_waitset_wait(waitset.get(), nullptr, 0, DDS_MSECS(100));
     if (stop.load()) break;
-    for (std::size_t i = 0; i < 4; ++i) {
-      if (readers[i].ok()) Take(kTopics[i], readers[i].get());
+    for (std::size_t i = 0; i < kFixedTopics; ++i) {
+      if (readers[i].ok()) Take(kTopics[i], readers[i].get(), nullptr);
     }
+    for (const UserReader& u : user_readers) Take(u.kind, u.reader.get(), &u);
   }
 }
 
-void Listener::Impl::Take(RosTopic topic, dds_entity_t reader) {
+void Listener::Impl::Take(RosTopic topic, dds_entity_t reader, const UserReader* user) {
   for (;;) {
     void* samples[kTakeBatch] = {nullptr};  // null: Cyclone lends its buffers
     dds_sample_info_t infos[kTakeBatch];
@@ -146,7 +213,7 @@ void Listener::Impl::Take(RosTopic topic, dds_entity_t reader) {
       std::lock_guard<std::mutex> lock(mutex);
       for (dds_return_t i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
-        Apply(topic, samples[i], dds_time());
+        Apply(topic, samples[i], dds_time(), user);
         Arrival a;
         a.topic = topic;
         a.source_timestamp_ns = infos[i].source_timestamp;
@@ -161,7 +228,8 @@ void Listener::Impl::Take(RosTopic topic, dds_entity_t reader) {
   }
 }
 
-void Listener::Impl::Apply(RosTopic topic, const void* sample, std::int64_t log_time_ns) {
+void Listener::Impl::Apply(RosTopic topic, const void* sample, std::int64_t log_time_ns,
+                           const UserReader* user) {
   switch (topic) {
     case RosTopic::kTf:
     case RosTopic::kTfStatic:
@@ -182,8 +250,30 @@ void Listener::Impl::Apply(RosTopic topic, const void* sample, std::int64_t log_
       ++stats.robot_descriptions;
       ApplyDescription(static_cast<const std_msgs_msg_dds__String_*>(sample)->data_);
       break;
+    case RosTopic::kPoseWithCovariance:
+    case RosTopic::kOdometry:
+      ApplyWithCovariance(topic, sample, log_time_ns, *user);
+      break;
   }
   stats.counts = lift->counts();
+}
+
+void Listener::Impl::ApplyWithCovariance(RosTopic topic, const void* sample,
+                                         std::int64_t log_time_ns, const UserReader& user) {
+  // The same lift as a bag's (TfLift::Apply): checked before the graph is touched.
+  const std::uint64_t before = lift->findings().total();
+  if (topic == RosTopic::kOdometry) {
+    internal::FromWire(*static_cast<const nav_msgs_msg_dds__Odometry_*>(sample), odometry_message);
+    ++stats.odometry;
+    (void)lift->Apply(odometry_message, user.topic, log_time_ns);
+  } else {
+    internal::FromWire(
+        *static_cast<const geometry_msgs_msg_dds__PoseWithCovarianceStamped_*>(sample),
+        pose_message);
+    ++stats.poses_with_covariance;
+    (void)lift->Apply(pose_message, ros::LiftFrameName(user.frame), user.topic, log_time_ns);
+  }
+  if (lift->findings().total() != before) CollectFindings();
 }
 
 void Listener::Impl::ApplyTf(bool is_static, std::int64_t log_time_ns) {
@@ -266,6 +356,16 @@ bool Listener::WaitUntil(const std::function<bool()>& pred,
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   return true;
+}
+
+std::uint32_t Listener::publishers(std::string_view ros_topic) const noexcept {
+  for (const Impl::UserReader& u : impl_->user_readers) {  // fixed after Create: no lock
+    if (u.topic != ros_topic) continue;
+    dds_subscription_matched_status_t status{};
+    if (dds_get_subscription_matched_status(u.reader.get(), &status) != DDS_RETCODE_OK) return 0;
+    return status.current_count;
+  }
+  return 0;
 }
 
 std::uint32_t Listener::domain() const noexcept { return impl_->domain; }

@@ -1,9 +1,11 @@
 // ROS 2 topics, QoS and conversions (ros_topics.h, ros_wire.h).
 #include "ros_wire.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <limits>
 
 namespace semgraph::ros_dds {
@@ -18,6 +20,9 @@ std::string_view RosName(RosTopic topic) noexcept {
       return "/joint_states";
     case RosTopic::kRobotDescription:
       return "/robot_description";
+    case RosTopic::kPoseWithCovariance:
+    case RosTopic::kOdometry:
+      return "";  // named by the user
   }
   return "";
 }
@@ -32,8 +37,32 @@ std::string_view DdsName(RosTopic topic) noexcept {
       return "rt/joint_states";
     case RosTopic::kRobotDescription:
       return "rt/robot_description";
+    case RosTopic::kPoseWithCovariance:
+    case RosTopic::kOdometry:
+      return "";  // DdsTopicName of the user's name
   }
   return "";
+}
+
+base::Expected<std::string, std::string> DdsTopicName(std::string_view ros_topic) {
+  const auto refuse = [&](const char* why) {
+    return base::Unexpected{"'" + std::string(ros_topic) + "' is not a ROS 2 topic name: " + why};
+  };
+  if (ros_topic.size() < 2 || ros_topic.front() != '/')
+    return refuse("it must start with '/' and hold a name");
+  if (ros_topic.back() == '/') return refuse("it ends with '/'");
+  for (std::size_t i = 0; i < ros_topic.size(); ++i) {
+    const char c = ros_topic[i];
+    const bool token_start = ros_topic[i - (i > 0 ? 1 : 0)] == '/';
+    if (c == '/') {
+      if (i > 0 && token_start) return refuse("it holds \"//\"");
+    } else if (c >= '0' && c <= '9') {
+      if (token_start) return refuse("a name token starts with a digit");
+    } else if (!(c == '_' || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'))) {
+      return refuse("only letters, digits, '_' and '/' are allowed");
+    }
+  }
+  return "rt" + std::string(ros_topic);
 }
 
 namespace {
@@ -47,14 +76,22 @@ const dds_topic_descriptor_t* Descriptor(RosTopic topic) noexcept {
       return &sensor_msgs_msg_dds__JointState__desc;
     case RosTopic::kRobotDescription:
       return &std_msgs_msg_dds__String__desc;
+    case RosTopic::kPoseWithCovariance:
+      return &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc;
+    case RosTopic::kOdometry:
+      return &nav_msgs_msg_dds__Odometry__desc;
   }
   return nullptr;
+}
+
+bool UserNamed(RosTopic topic) noexcept {
+  return topic == RosTopic::kPoseWithCovariance || topic == RosTopic::kOdometry;
 }
 
 // tf2_ros's QoS (ros_topics.h); `reader` selects the reader's side where it differs.
 dds_qos_t* MakeQos(RosTopic topic, bool reader) {
   dds_qos_t* qos = dds_create_qos();
-  const bool best_effort = reader && topic == RosTopic::kJointStates;
+  const bool best_effort = reader && (topic == RosTopic::kJointStates || UserNamed(topic));
   dds_qset_reliability(qos, best_effort ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE,
                        DDS_MSECS(100));
   const bool durable = topic == RosTopic::kTfStatic || topic == RosTopic::kRobotDescription;
@@ -62,7 +99,7 @@ dds_qos_t* MakeQos(RosTopic topic, bool reader) {
   int depth = 100;
   if (topic == RosTopic::kTfStatic && !reader) depth = 1;
   if (topic == RosTopic::kRobotDescription) depth = 1;
-  if (topic == RosTopic::kJointStates) depth = 10;
+  if (topic == RosTopic::kJointStates || UserNamed(topic)) depth = 10;
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   dds_qset_data_representation(qos, 1, &xcdr1);
@@ -105,9 +142,13 @@ base::Expected<std::uint32_t, std::string> ResolveDomain(const std::uint32_t* re
 }
 
 dds_entity_t CreateTopic(dds_entity_t participant, RosTopic topic) {
+  return CreateTopic(participant, topic, std::string(DdsName(topic)));
+}
+
+dds_entity_t CreateTopic(dds_entity_t participant, RosTopic topic, const std::string& dds_name) {
   dds_qos_t* qos = MakeQos(topic, false);
-  const dds_entity_t t = dds_create_topic(participant, Descriptor(topic),
-                                          std::string(DdsName(topic)).c_str(), qos, nullptr);
+  const dds_entity_t t =
+      dds_create_topic(participant, Descriptor(topic), dds_name.c_str(), qos, nullptr);
   dds_delete_qos(qos);
   return t;
 }
@@ -139,6 +180,23 @@ void FromWire(const dds_sequence_double& in, std::vector<double>& out) {
   out.assign(in._buffer, in._buffer + in._length);
 }
 
+void FromWire(const geometry_msgs_msg_dds__PoseWithCovariance_& in, ros::PoseWithCovariance& out) {
+  const auto& p = in.pose_.position_;
+  const auto& q = in.pose_.orientation_;
+  out.pose.position = {p.x_, p.y_, p.z_};
+  out.pose.orientation = {q.x_, q.y_, q.z_, q.w_};
+  std::copy(std::begin(in.covariance_), std::end(in.covariance_), out.covariance.begin());
+}
+
+void FromWire(const geometry_msgs_msg_dds__TwistWithCovariance_& in,
+              ros::TwistWithCovariance& out) {
+  const auto& v = in.twist_.linear_;
+  const auto& w = in.twist_.angular_;
+  out.twist.linear = {v.x_, v.y_, v.z_};
+  out.twist.angular = {w.x_, w.y_, w.z_};
+  std::copy(std::begin(in.covariance_), std::end(in.covariance_), out.covariance.begin());
+}
+
 }  // namespace
 
 void FromWire(const tf2_msgs_msg_dds__TFMessage_& in, ros::TFMessage& out) {
@@ -164,6 +222,19 @@ void FromWire(const sensor_msgs_msg_dds__JointState_& in, ros::JointState& out) 
   FromWire(in.position_, out.position);
   FromWire(in.velocity_, out.velocity);
   FromWire(in.effort_, out.effort);
+}
+
+void FromWire(const geometry_msgs_msg_dds__PoseWithCovarianceStamped_& in,
+              ros::PoseWithCovarianceStamped& out) {
+  FromWire(in.header_, out.header);
+  FromWire(in.pose_, out.pose);
+}
+
+void FromWire(const nav_msgs_msg_dds__Odometry_& in, ros::Odometry& out) {
+  FromWire(in.header_, out.header);
+  out.child_frame_id.assign(in.child_frame_id_ != nullptr ? in.child_frame_id_ : "");
+  FromWire(in.pose_, out.pose);
+  FromWire(in.twist_, out.twist);
 }
 
 ros::Time TimeFromNanoseconds(std::int64_t ns) noexcept {

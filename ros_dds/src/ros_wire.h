@@ -29,6 +29,9 @@ using Entity = dds_shared::Entity;
 
 /// Creates the topic of `topic` on `participant` (a negative return is DDS's error).
 [[nodiscard]] dds_entity_t CreateTopic(dds_entity_t participant, RosTopic topic);
+/// The same under `dds_name` (a user-named topic: DdsTopicName).
+[[nodiscard]] dds_entity_t CreateTopic(dds_entity_t participant, RosTopic topic,
+                                       const std::string& dds_name);
 /// A writer / reader of `topic` with tf2_ros's QoS (ros_topics.h).
 [[nodiscard]] dds_entity_t CreateWriter(dds_entity_t participant, dds_entity_t topic_entity,
                                         RosTopic topic);
@@ -38,6 +41,9 @@ using Entity = dds_shared::Entity;
 /// Generated struct -> semgraph's message (reusing `out`'s capacity).
 void FromWire(const tf2_msgs_msg_dds__TFMessage_& in, ros::TFMessage& out);
 void FromWire(const sensor_msgs_msg_dds__JointState_& in, ros::JointState& out);
+void FromWire(const geometry_msgs_msg_dds__PoseWithCovarianceStamped_& in,
+              ros::PoseWithCovarianceStamped& out);
+void FromWire(const nav_msgs_msg_dds__Odometry_& in, ros::Odometry& out);
 
 /// A TFMessage as the generated struct, pointing into the strings of the ros::TFMessage it was
 /// made from (which must outlive it and stay unchanged). Fails when a stamp's seconds do not

@@ -218,6 +218,72 @@ def test_check_bag_options_window_and_log_time_range():
         ros.check_bag(files[0], topics="/tf")
 
 
+def covariance_bags():
+    """(path, messages) of the three bags of PoseWithCovarianceStamped (/amcl_pose) and Odometry
+    (/odom): Foxglove's covariance.mcap, python3-rosbag's ros1_covariance.bag and the sqlite3
+    bag of Foxglove's CDR bytes (ros2_covariance.db3), with their writers' values."""
+    fox = load_json(os.path.join(foxglove_dir(), "expected.json"))["covariance_bag"]
+    bags = load_json(os.path.join(bag_fixtures_dir(), "expected.json"))
+    return [(os.path.join(foxglove_dir(), fox["file"]), fox["messages"])] + [
+        (os.path.join(bag_fixtures_dir(), bags[k]["file"]), bags[k]["messages"])
+        for k in ("covariance_bag", "sqlite3_covariance_bag")]
+
+
+def stamp_ns(header):
+    return header["stamp"]["sec"] * 10**9 + header["stamp"]["nanosec"]
+
+
+def test_load_bag_pose_topics_give_stamped_poses_and_twists_with_covariance():
+    for path, messages in covariance_bags():
+        report = ros.load_bag(path, topics=["/odom"], pose_topics={"/amcl_pose": "base_footprint"})
+        assert report.messages == 6, path
+        assert (report.poses_with_covariance, report.odometry, report.covariance_refused) == \
+            (2, 2, 2), path
+        g = report.graph
+        bad = [m for m in messages if m["bad"]]
+        assert [(f.code, f.topic, f.first_stamp_ns) for f in report.findings] == [
+            ("invalid_covariance" if m["topic"] == "/amcl_pose" else "invalid_number",
+             m["topic"], stamp_ns(m["value"]["header"])) for m in bad], path
+        for m in messages:
+            if m["bad"]:
+                continue
+            v, t = m["value"], stamp_ns(m["value"]["header"])
+            parent = v["header"]["frame_id"]
+            child = v.get("child_frame_id", "base_footprint")
+            X, S = g.pose_with_covariance(of=child, wrt=parent, expressed_in=parent, at=t)
+            p, q = v["pose"]["pose"]["position"], v["pose"]["pose"]["orientation"]
+            np.testing.assert_allclose(X.position, [p["x"], p["y"], p["z"]], atol=1e-12, rtol=0)
+            np.testing.assert_allclose(
+                X.rotation_matrix,
+                Rotation.from_quat([q["x"], q["y"], q["z"], q["w"]]).as_matrix(), atol=1e-12)
+            # ROS's row-major 6x6 over (x, y, z, rotX, rotY, rotZ): semgraph's default order
+            np.testing.assert_allclose(S, np.reshape(v["pose"]["covariance"], (6, 6)),
+                                       atol=1e-15, rtol=0)
+            if m["topic"] != "/odom":
+                continue
+            V, St = g.twist_with_covariance(point=child, body=g.body_of(child),
+                                            ref_body=g.body_of(parent), expressed_in=child, at=t)
+            lin, ang = v["twist"]["twist"]["linear"], v["twist"]["twist"]["angular"]
+            np.testing.assert_allclose(V.linear, [lin[k] for k in "xyz"], atol=1e-15, rtol=0)
+            np.testing.assert_allclose(V.angular, [ang[k] for k in "xyz"], atol=1e-15, rtol=0)
+            np.testing.assert_allclose(St, np.reshape(v["twist"]["covariance"], (6, 6)),
+                                       atol=1e-15, rtol=0)
+
+
+def test_pose_topics_argument_errors():
+    path = covariance_bags()[0][0]
+    with pytest.raises(TypeError, match="pose_topics must be a dict"):
+        ros.load_bag(path, pose_topics=[("/amcl_pose", "base_footprint")])
+    with pytest.raises(TypeError):
+        ros.check_bag(path, pose_topics={"/amcl_pose": 3})
+    with pytest.raises(ValueError, match="an empty frame for '/amcl_pose'"):
+        ros.check_bag(path, pose_topics={"/amcl_pose": ""})
+    # check_bag takes it too; without a frame the pose topic is not read
+    report = ros.check_bag(path, topics=["/odom"], pose_topics={"/amcl_pose": "base_footprint"})
+    assert report.poses_with_covariance == 2 and report.exit_status == 1
+    assert ros.check_bag(path, topics=["/odom"]).poses_with_covariance == 0
+
+
 def test_bag_info_lists_the_tree_topics_and_ranges():
     files, expected = foxglove_bags()
     info = ros.bag_info(files[2])
@@ -411,6 +477,96 @@ def test_listener_reads_what_semgraph_serve_broadcasts(tmp_path, loopback):
             server.wait(10)
     assert listener.closed
     listener.graph.add_pose(of="y", body="Y", wrt="world", ref_body="world")  # writable again
+
+
+def spd6(scale, seed):
+    """A symmetric positive definite 6x6 with distinct entries: A A^T + diag."""
+    A = np.sin(seed + 7 * np.arange(6)[:, None] + 3 * np.arange(6)[None, :])
+    return scale * (A @ A.T + (1 + 0.25 * seed) * np.eye(6))
+
+
+def numbers(xs):
+    return " ".join(repr(float(x)) for x in np.ravel(xs))  # repr: exact, read back by strtod
+
+
+@needs_dds
+def test_listener_pose_and_odometry_topics_from_another_process(loopback):
+    # ros_dds_test_node (tests/ros_dds) writes raw PoseWithCovarianceStamped and Odometry
+    # samples built from the IDL structs, not through semgraph.
+    node_path = os.path.join(build_dir(), "tests", "ros_dds", "ros_dds_test_node")
+    if not os.path.exists(node_path):
+        pytest.skip(f"no {node_path}")
+    sec = 1733300030
+    p, yaw, S = [1.5, -0.25, 0.125], 0.4, spd6(0.01, 1)
+    q = [0, 0, math.sin(yaw / 2), math.cos(yaw / 2)]
+    po, qo, So = [0.2, 0.1, 0], [0, 0, 0, 1], spd6(0.001, 2)
+    v, w, St = [0.4, -0.05, 0], [0, 0.01, 0.2], spd6(1e-4, 3)
+    bad = S.copy()
+    bad[0, 1] += 0.5  # not symmetric
+    with ros.Listener(domain=loopback, pose_topics={"/amcl_pose": "base_footprint"},
+                      odometry_topics=["/odom"]) as listener:
+        node = subprocess.Popen([node_path, str(loopback)], stdin=subprocess.PIPE,
+                                stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+
+        def command(line):
+            node.stdin.write(line + "\n")
+            node.stdin.flush()
+            reply = node.stdout.readline()
+            assert reply.startswith("ok"), (line, reply)
+
+        def until(pred, timeout=20.0):
+            deadline = time.time() + timeout
+            while not pred() and time.time() < deadline:
+                time.sleep(0.005)
+            return pred()
+
+        try:
+            command("wait_match pose /amcl_pose 1")
+            command("wait_match odom /odom 1")
+            assert until(lambda: listener.publishers("/amcl_pose") == 1 and
+                         listener.publishers("/odom") == 1)
+            assert listener.publishers("/tf_nope") == 0
+            command(f"pose /amcl_pose map {sec} 0 {numbers(p + q)} {numbers(S)}")
+            command(f"odom /odom odom base_link {sec} 0 {numbers(po + qo)} {numbers(So)} "
+                    f"{numbers(v + w)} {numbers(St)}")
+            command(f"pose /amcl_pose map {sec + 1} 0 {numbers(p + q)} {numbers(bad)}")
+            assert until(lambda: listener.stats["poses_with_covariance"] == 2 and
+                         listener.stats["odometry"] == 1), listener.stats
+            stats = listener.stats
+            assert (stats["poses_with_covariance_applied"], stats["odometry_applied"],
+                    stats["covariance_refused"]) == (1, 1, 1)
+            (f,) = listener.findings()
+            assert (f.code, f.topic, f.parent, f.child, f.first_stamp_ns) == \
+                ("invalid_covariance", "/amcl_pose", "map", "base_footprint", (sec + 1) * 10**9)
+
+            def read_back(g):
+                t = sec * 10**9
+                X, SX = g.pose_with_covariance(of="base_footprint", wrt="map", expressed_in="map",
+                                               at=t)
+                Xo, SXo = g.pose_with_covariance(of="base_link", wrt="odom", expressed_in="odom",
+                                                 at=t)
+                V, SV = g.twist_with_covariance(point="base_link", body=g.body_of("base_link"),
+                                                ref_body=g.body_of("odom"),
+                                                expressed_in="base_link", at=t)
+                return X, SX, Xo, SXo, V, SV
+
+            X, SX, Xo, SXo, V, SV = listener.with_graph(read_back)
+            np.testing.assert_allclose(X.position, p, atol=1e-15, rtol=0)
+            np.testing.assert_allclose(X.rotation_matrix, Rotation.from_quat(q).as_matrix(),
+                                       atol=1e-15)
+            np.testing.assert_allclose(SX, S, atol=1e-15, rtol=0)  # ROS's 6x6, unchanged
+            np.testing.assert_allclose(Xo.position, po, atol=1e-15, rtol=0)
+            np.testing.assert_allclose(SXo, So, atol=1e-15, rtol=0)
+            np.testing.assert_allclose(V.linear, v, atol=1e-15, rtol=0)
+            np.testing.assert_allclose(V.angular, w, atol=1e-15, rtol=0)
+            np.testing.assert_allclose(SV, St, atol=1e-15, rtol=0)
+        finally:
+            node.stdin.close()
+            node.wait(10)
+    with pytest.raises(ValueError, match="not a ROS 2 topic name"):
+        ros.Listener(domain=loopback, odometry_topics=["odom"])
+    with pytest.raises(TypeError, match="odometry_topics must be a sequence of str"):
+        ros.Listener(domain=loopback, odometry_topics="/odom")
 
 
 @needs_dds

@@ -239,7 +239,8 @@ TEST(LoadBag, TheRobotDescriptionTopicLoadsTheModelAndJointStatesDriveIt) {
   EXPECT_EQ(report->counts.joint_states, static_cast<std::uint64_t>(checked));
 }
 
-// covariance.mcap (written by @mcap/core) and ros1_covariance.bag (python3-rosbag): /amcl_pose
+// covariance.mcap (written by @mcap/core), ros1_covariance.bag (python3-rosbag) and
+// ros2_covariance.db3 (Python's sqlite3, rows of @foxglove/rosmsg2-serialization's CDR): /amcl_pose
 // (PoseWithCovarianceStamped, its frame named by pose_topics) and /odom (Odometry). Each good
 // message reads back at its stamp: the value and the message's 6x6 exactly (a pose of the child wrt
 // the header frame in [header]; the odometry twist in [child] at the child's origin); each bad one
@@ -255,12 +256,12 @@ std::int64_t StampOf(const YAML::Node& header) {
          header["stamp"]["nanosec"].as<std::int64_t>();
 }
 
-/// Loads `dir`'s covariance bag (expected.json "covariance_bag") and checks it message by message.
-void CheckCovarianceBag(const std::string& dir) {
+/// Loads `dir`'s covariance bag (expected.json's `key`) and checks it message by message.
+void CheckCovarianceBag(const std::string& dir, const char* key = "covariance_bag") {
   if (!std::filesystem::exists(dir + "/expected.json")) GTEST_SKIP() << "no fixtures in " << dir;
   const YAML::Node root = YAML::LoadFile(dir + "/expected.json");
-  ASSERT_TRUE(root["covariance_bag"]) << "fixtures written before the covariance bag";
-  const YAML::Node bag = root["covariance_bag"];
+  ASSERT_TRUE(root[key]) << "fixtures written before " << key;
+  const YAML::Node bag = root[key];
   Graph graph = LinearGraph();
   BagLoadOptions options;
   options.topics = {"/odom"};
@@ -350,6 +351,11 @@ TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesMcap)
 
 TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesRos1) {
   CheckCovarianceBag(SEMGRAPH_ROS_BAG_FIXTURES);  // ros1_covariance.bag, by python3-rosbag
+}
+
+TEST(LoadBag, PoseAndOdometryMessagesBecomeStampedEdgesWithTheirCovariancesSqlite3) {
+  // ros2_covariance.db3: Foxglove's CDR bytes of covariance.mcap's messages in rosbag2's schema
+  CheckCovarianceBag(SEMGRAPH_ROS_BAG_FIXTURES, "sqlite3_covariance_bag");
 }
 
 }  // namespace

@@ -5,7 +5,8 @@
 #    prints for the same query on the same script, within 1e-12;
 #  - check --ros on that clean stream (static own_body: arrival-order free): no finding, exit 0;
 #  - check --ros on a stream with a second parent for a frame (ros_dds_test_node, an
-#    independent raw writer): its finding as a JSON line, the summary, exit 1.
+#    independent raw writer): its finding as a JSON line, the summary, exit 1;
+#  - check --ros --pose-topic --odom-topic: a good pose, a bad odometry message's finding.
 #   cli_test.sh SEMGRAPH_BINARY TEST_NODE SCRIPT
 set -euo pipefail
 # This run's own discovery tag (as tests/dds/dds_isolation.h): Cyclone DDS ignores participants
@@ -69,4 +70,33 @@ summary = lines[-1]
 assert summary["summary"] and summary["findings"] == 1 and summary["groups"] == 1, lines
 assert 2 <= summary["transforms"] == summary["messages"] <= 4, lines
 print("check --ros:", finding["message"])
+PY
+# Pose and odometry topics: a good pose, then an odometry message with a NaN in its twist
+# covariance. Their readers are best effort: the node waits until its writers matched the
+# listener's readers, then 300 ms for the listener's side of the match.
+"$tool" check --ros --domain 150 --seconds 5 --pose-topic /amcl_pose=base_footprint \
+  --odom-topic /odom > "$out/cov" &
+check_pid=$!
+# identity quaternion, then a 6x6 identity covariance (row-major); the twist's has a NaN
+cov="0 0 0 1 $(python3 -c 'print(" ".join(str(float(i == j)) for i in range(6) for j in range(6)))')"
+twist="0.4 0 0 0 0 0.1 $(python3 -c 'print(" ".join("nan" if i == j == 2 else str(float(i == j)) for i in range(6) for j in range(6)))')"
+printf '%s\n' 'wait_match pose /amcl_pose 1' 'wait_match odom /odom 1' 'sleep 300' \
+  "pose /amcl_pose map 20 0 1 2 0 $cov" "odom /odom odom base_link 21 0 0.5 0 0 $cov $twist" |
+  "$node" 150 > "$out/node_cov"
+set +e
+wait $check_pid
+code=$?
+set -e
+grep -q '^ok 5$' "$out/node_cov"
+test "$code" = 1
+python3 - "$out/cov" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+finding = lines[0]
+assert finding["error"] == "invalid_number", lines
+assert (finding["topic"], finding["parent"], finding["child"]) == ("/odom", "odom", "base_link"), finding
+assert abs(finding["first_stamp"] - 21.0) < 1e-9, finding
+summary = lines[-1]
+assert summary["summary"] and summary["messages"] == 2 and summary["groups"] == 1, lines
+print("check --ros with pose and odometry topics:", finding["message"])
 PY

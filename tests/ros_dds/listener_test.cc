@@ -3,7 +3,9 @@
 // query as the original, a late joiner getting /tf_static, a burst of 1,000 transforms in one
 // message, every finding of docs/ros.md "Transforms into the graph" from a live stream with the
 // graph unchanged by each refused transform, and the latency from the broadcaster's write to
-// the listener's graph. Own DDS domain per test; loopback config from CYCLONEDDS_URI.
+// the listener's graph, and PoseWithCovarianceStamped / Odometry topics read back with their
+// covariances (hostile ones findings, the graph unchanged). Own DDS domain per test; loopback
+// config from CYCLONEDDS_URI.
 #include "semgraph/ros_dds/listener.h"
 
 #include <gtest/gtest.h>
@@ -13,16 +15,20 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "child_process.h"
 #include "dds_isolation.h"
 #include "live_scene.h"
+#include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/ros_dds/broadcaster.h"
 
 namespace semgraph::ros_dds {
@@ -473,6 +479,233 @@ TEST_F(FindingsTest, EveryFindingFromALiveStreamLeavesTheGraphUnchanged) {
     for (const std::string& k : firsts) found |= k.rfind(std::string(code) + " ", 0) == 0;
     EXPECT_TRUE(found) << code;
   }
+}
+
+// --- PoseWithCovarianceStamped and Odometry topics ----------------------------------------------
+
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+// A symmetric positive definite 6x6 with every entry distinct: A A^T + diag, A from `seed`.
+Matrix6 Spd(double scale, int seed) {
+  Matrix6 A;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) A(i, j) = std::sin(seed + 7 * i + 3 * j);
+  }
+  Matrix6 S = A * A.transpose();
+  S.diagonal().array() += 1.0 + 0.25 * seed;
+  return scale * S;
+}
+
+// Numbers printed exactly (%.17g), space-separated; a ROS covariance row-major.
+std::string Numbers(std::initializer_list<double> xs) {
+  std::string out;
+  char buf[40];
+  for (double x : xs) {
+    std::snprintf(buf, sizeof buf, " %.17g", x);
+    out += buf;
+  }
+  return out;
+}
+std::string Numbers(const Matrix6& S) {
+  std::string out;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) out += Numbers({S(i, j)});
+  }
+  return out;
+}
+
+struct PublishedPose {
+  std::int64_t sec = 0;
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Matrix6 S = Matrix6::Identity();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();  // odometry only
+  Matrix6 S_twist = Matrix6::Identity();
+  std::string odom_child = "base_link";  // "-": the empty name
+  std::string PoseFields() const {
+    return " " + std::to_string(sec) + " 0" +
+           Numbers({p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w()}) + Numbers(S);
+  }
+  std::string PoseCommand() const { return "pose /amcl_pose map" + PoseFields(); }
+  std::string OdomCommand() const {
+    return "odom /odom odom " + odom_child + PoseFields() +
+           Numbers({v.x(), v.y(), v.z(), w.x(), w.y(), w.z()}) + Numbers(S_twist);
+  }
+};
+
+class CovarianceTopicsTest : public ::testing::Test {
+ protected:
+  static constexpr std::uint32_t kDomain = 147;
+  static constexpr std::int64_t kSec = 1733300020;
+
+  void SetUp() override {
+    ListenerOptions options = On(kDomain);
+    options.lift.pose_topics = {{"/amcl_pose", "base_footprint"}};
+    options.odometry_topics = {"/odom"};
+    auto l = Listener::Create(graph_, options);
+    ASSERT_TRUE(l) << l.error();
+    listener_ = std::move(*l);
+    node_ = std::make_unique<Child>(
+        std::vector<std::string>{SEMGRAPH_ROS_DDS_TEST_NODE, std::to_string(kDomain)});
+    // Best-effort readers: both sides matched before the first sample.
+    ASSERT_TRUE(node_->Command("wait_match pose /amcl_pose 1"));
+    ASSERT_TRUE(node_->Command("wait_match odom /odom 1"));
+    ASSERT_TRUE(listener_->WaitUntil(
+        [&] {
+          return listener_->publishers("/amcl_pose") == 1 && listener_->publishers("/odom") == 1;
+        },
+        20s));
+  }
+
+  // The graph's complete state (Dump: frames, edges, values; Snapshot: histories).
+  std::string State() {
+    std::string s;
+    listener_->WithGraph([&](const SceneGraph<>& g) { s = core::Dump(g) + Snapshot(g); });
+    return s;
+  }
+  // Sends `command`, waits until `done()` (under the graph's lock).
+  bool SendAndWait(const std::string& command, const std::function<bool()>& done) {
+    return node_->Command(command) && listener_->WaitUntil(done, 20s);
+  }
+
+  SceneGraph<> graph_;
+  std::unique_ptr<Listener> listener_;
+  std::unique_ptr<Child> node_;
+};
+
+TEST_F(CovarianceTopicsTest, PosesAndOdometryReadBackWithTheirCovariances) {
+  PublishedPose amcl;  // base_footprint wrt map
+  amcl.sec = kSec;
+  amcl.p = {1.25, -0.5, 0.0625};
+  amcl.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  amcl.S = Spd(0.01, 1);
+  PublishedPose odom;  // base_link wrt odom, and its twist
+  odom.sec = kSec;
+  odom.p = {0.2, 0.1, 0};
+  odom.q = Eigen::Quaterniond(Eigen::AngleAxisd(-0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  odom.S = Spd(0.001, 2);
+  odom.v = {0.4, -0.05, 0};
+  odom.w = {0, 0.01, 0.2};
+  odom.S_twist = Spd(1e-4, 3);
+
+  const auto at = core::At(core::Stamp::Nanoseconds(kSec * 1'000'000'000));
+  ASSERT_TRUE(node_->Command(amcl.PoseCommand()));
+  ASSERT_TRUE(node_->Command(odom.OdomCommand()));
+  ASSERT_TRUE(listener_->WaitUntil(
+      [&] {
+        const ListenerStats s = listener_->stats();
+        return s.counts.poses_with_covariance == 1 && s.counts.odometry == 1;
+      },
+      20s))
+      << listener_->stats().poses_with_covariance << " " << listener_->stats().odometry;
+  EXPECT_TRUE(listener_->findings().empty());
+  // ROS's 6x6 over (x, y, z, rotX, rotY, rotZ) of the pose in the header frame is semgraph's
+  // edge form (coordinates convention, linear-angular): the published matrix, entry for entry.
+  listener_->WithGraph([&](const SceneGraph<>& g) {
+    for (const auto& [child, parent, m] :
+         {std::tuple<const char*, const char*, const PublishedPose&>{"base_footprint", "map", amcl},
+          {"base_link", "odom", odom}}) {
+      const PoseSpec spec = PoseSpec::Of(child).RelativeTo(parent).ExpressedIn(parent);
+      const auto X = g.GetPoseWithCovariance(spec, at);
+      ASSERT_TRUE(X) << g.Describe(X.error(), spec);
+      const Eigen::Isometry3d X_PC = X->value.value.ToIsometry();
+      EXPECT_LE((X_PC.translation() - m.p).norm(), 1e-15) << child;
+      EXPECT_LE((X_PC.linear() - m.q.toRotationMatrix()).cwiseAbs().maxCoeff(), 1e-15) << child;
+      EXPECT_LE((X->value.covariance - m.S).cwiseAbs().maxCoeff(), 1e-15) << child;
+    }
+    const auto body = [&](const char* f) {
+      return std::string(g.body_name(g.body_of(g.FindFrame(f))));
+    };
+    const std::string child_body = body("base_link"), parent_body = body("odom");
+    const auto spec = core::TwistSpec::Of("base_link", child_body)
+                          .RelativeTo(parent_body)
+                          .ExpressedIn("base_link");
+    const auto V = g.GetTwistWithCovariance(spec, at);
+    ASSERT_TRUE(V) << g.Describe(V.error(), spec);
+    EXPECT_LE((V->value.value.linear - odom.v).norm(), 1e-15);
+    EXPECT_LE((V->value.value.angular - odom.w).norm(), 1e-15);
+    EXPECT_LE((V->value.covariance - odom.S_twist).cwiseAbs().maxCoeff(), 1e-15);
+  });
+  EXPECT_EQ(listener_->stats().poses_with_covariance, 1u);
+  EXPECT_EQ(listener_->stats().odometry, 1u);
+}
+
+TEST_F(CovarianceTopicsTest, HostileMessagesAreFindingsAndLeaveTheGraphUnchanged) {
+  PublishedPose good;
+  good.sec = kSec;
+  good.S = Spd(0.01, 4);
+  good.S_twist = Spd(0.01, 5);
+  ASSERT_TRUE(SendAndWait(good.PoseCommand(),
+                          [&] { return listener_->stats().counts.poses_with_covariance == 1; }));
+  ASSERT_TRUE(
+      SendAndWait(good.OdomCommand(), [&] { return listener_->stats().counts.odometry == 1; }));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    const char* what;
+    bool odom;
+    PublishedPose m;
+    const char* code;
+  };
+  std::vector<Case> cases;
+  const auto add = [&](const char* what, bool odom, const char* code, auto change) {
+    PublishedPose m = good;
+    m.sec = kSec + 1 + static_cast<std::int64_t>(cases.size());  // newer: it would be the newest
+    change(m);
+    cases.push_back({what, odom, m, code});
+  };
+  add("NaN position", false, "invalid_number", [&](PublishedPose& m) { m.p.x() = nan; });
+  add("unnormalizable quaternion", false, "invalid_rotation",
+      [](PublishedPose& m) { m.q = Eigen::Quaterniond(2, 0, 0, 0); });
+  add("asymmetric pose covariance", false, "invalid_covariance",
+      [](PublishedPose& m) { m.S(0, 1) += 0.5; });
+  add("pose covariance not PSD", false, "invalid_covariance",  // eigenvalue -1 along e_3
+      [](PublishedPose& m) {
+        m.S = Matrix6::Identity();
+        m.S(3, 3) = -1;
+      });
+  add("NaN in the pose covariance", false, "invalid_number",
+      [&](PublishedPose& m) { m.S(2, 2) = nan; });
+  add("odometry: NaN in the twist covariance", true, "invalid_number",
+      [&](PublishedPose& m) { m.S_twist(2, 2) = nan; });
+  add("odometry: twist covariance not PSD", true, "invalid_covariance", [](PublishedPose& m) {
+    // symmetric, diagonal positive, indefinite: [[1, 2], [2, 1]] has eigenvalue -1
+    m.S_twist = Matrix6::Identity();
+    m.S_twist(0, 1) = m.S_twist(1, 0) = 2;
+  });
+  add("odometry: infinite twist", true, "invalid_number",
+      [](PublishedPose& m) { m.w.z() = std::numeric_limits<double>::infinity(); });
+  add("odometry: asymmetric pose covariance", true, "invalid_covariance",
+      [](PublishedPose& m) { m.S(5, 0) -= 1e-3; });
+  // Good numbers, refused by a graph rule (AddPose: nothing added).
+  add("odometry: its child is its header frame", true, "self_edge",
+      [](PublishedPose& m) { m.odom_child = "odom"; });
+  add("odometry: an empty child frame", true, "invalid_name",
+      [](PublishedPose& m) { m.odom_child = "-"; });
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Case& c = cases[i];
+    const std::string before = State();
+    ASSERT_TRUE(SendAndWait(c.odom ? c.m.OdomCommand() : c.m.PoseCommand(), [&] {
+      return listener_->stats().counts.covariance_refused == i + 1;
+    })) << c.what;
+    bool found = false;
+    for (const ros::FindingGroup& g : listener_->findings()) {
+      if (g.last_stamp_ns != c.m.sec * 1'000'000'000) continue;
+      found = true;
+      EXPECT_EQ(g.code.name(), c.code) << c.what << ": " << g.message;
+      EXPECT_EQ(g.topic, c.odom ? "/odom" : "/amcl_pose") << c.what;
+      EXPECT_EQ(g.parent, c.odom ? "odom" : "map") << c.what;
+      EXPECT_EQ(g.child, !c.odom                 ? "base_footprint"
+                         : c.m.odom_child == "-" ? ""
+                                                 : c.m.odom_child)
+          << c.what;
+    }
+    EXPECT_TRUE(found) << c.what;
+    EXPECT_EQ(State(), before) << c.what;
+  }
+  const ListenerStats s = listener_->stats();
+  EXPECT_EQ(s.counts.poses_with_covariance, 1u);
+  EXPECT_EQ(s.counts.odometry, 1u);
+  EXPECT_EQ(s.poses_with_covariance + s.odometry, 2 + cases.size());
 }
 
 TEST(ListenerTest, LatencyFromTheBroadcastersWriteToTheListenersGraph) {

@@ -18,12 +18,20 @@
 //   joints SEC NSEC NAME POS [NAME POS ...]   one JointState on rt/joint_states, raw
 //   urdf FILE             the file's text as a String on rt/robot_description, raw
 //   burst N SEC           one TFMessage of N transforms world -> f<i> on rt/tf, raw
+//   wait_match KIND TOPIC N   until the writer of KIND (pose | odom) on TOPIC (made on first
+//                         use, ROS 2's default QoS: reliable, volatile, keep last 10) matched N
+//                         readers
+//   pose TOPIC FRAME SEC NSEC X Y Z QX QY QZ QW C0 .. C35   one PoseWithCovarianceStamped, raw
+//                         (frame names: "-" is the empty name)
+//   odom TOPIC FRAME CHILD SEC NSEC X Y Z QX QY QZ QW C0 .. C35 VX VY VZ WX WY WZ C0 .. C35
+//                         one Odometry, raw
 //   sleep MS              waits MS milliseconds
 // "Raw" messages are built here from the idlc-generated structs with this file's own QoS (the
 // values of docs/ros.md), not through semgraph::ros_dds: an independent writer of the wire.
 // Usage: ros_dds_test_node DOMAIN
 #include <dds/dds.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -85,6 +93,16 @@ dds_return_t WriteTf(dds_entity_t writer, const std::vector<TfRow>& rows) {
   m.transforms_._length = m.transforms_._maximum = static_cast<std::uint32_t>(w.size());
   m.transforms_._buffer = w.data();
   return dds_write(writer, &m);
+}
+
+// Numbers of a command ("nan", "inf" too); false when fewer than out.size().
+bool ReadNumbers(std::istringstream& in, double* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    std::string t;
+    if (!(in >> t)) return false;
+    out[i] = std::strtod(t.c_str(), nullptr);
+  }
+  return true;
 }
 
 // A frame name token: "-" is the empty name.
@@ -195,6 +213,20 @@ class Node {
       return dds_write_ok(WriteTf(raw_.tf_static, rows));
     }
     if (cmd == "joints") return Joints(in);
+    if (cmd == "wait_match") {
+      std::string kind, topic;
+      std::uint32_t n = 0;
+      in >> kind >> topic >> n;
+      const dds_entity_t w = UserWriter(kind, topic);
+      if (w < 0) return "no writer for " + kind + " " + topic;
+      std::uint32_t matched = 0;
+      if (semgraph::dds_shared::WaitForMatches(w, n, dds_time() + DDS_SECS(20), &matched) != 0) {
+        return topic + ": " + std::to_string(matched) + " readers matched, not " +
+               std::to_string(n);
+      }
+      return {};
+    }
+    if (cmd == "pose" || cmd == "odom") return PoseOrOdometry(cmd, in);
     if (cmd == "urdf") {
       std::string path;
       in >> path;
@@ -261,6 +293,56 @@ class Node {
     return dds_write_ok(dds_write(raw_.joints, &m));
   }
 
+  // The raw writer of a pose (PoseWithCovarianceStamped) or odom (Odometry) topic.
+  dds_entity_t UserWriter(const std::string& kind, const std::string& topic) {
+    const auto key = std::make_pair(kind, topic);
+    if (auto it = user_writers_.find(key); it != user_writers_.end()) return it->second;
+    const dds_topic_descriptor_t* desc =
+        kind == "pose"   ? &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc
+        : kind == "odom" ? &nav_msgs_msg_dds__Odometry__desc
+                         : nullptr;
+    if (desc == nullptr || topic.empty() || topic[0] != '/') return -1;
+    const dds_entity_t w = Writer(raw_.participant, desc, ("rt" + topic).c_str(), false, 10);
+    if (w >= 0) user_writers_[key] = w;
+    return w;
+  }
+
+  std::string PoseOrOdometry(const std::string& kind, std::istringstream& in) {
+    std::string topic, frame, child;
+    long long sec = 0;
+    std::uint32_t nsec = 0;
+    in >> topic >> frame;
+    if (kind == "odom") in >> child;
+    in >> sec >> nsec;
+    frame = Name(frame);
+    child = Name(child);
+    double pose[7 + 36], twist[6 + 36];
+    if (!ReadNumbers(in, pose, 7 + 36)) return "bad " + kind;
+    if (kind == "odom" && !ReadNumbers(in, twist, 6 + 36)) return "bad odom twist";
+    const dds_entity_t w = UserWriter(kind, topic);
+    if (w < 0) return "no writer for " + kind + " " + topic;
+    std_msgs_msg_dds__Header_ header{};
+    header.stamp_.sec_ = static_cast<std::int32_t>(sec);
+    header.stamp_.nanosec_ = nsec;
+    header.frame_id_ = frame.data();
+    geometry_msgs_msg_dds__PoseWithCovariance_ p{};
+    p.pose_.position_ = {pose[0], pose[1], pose[2]};
+    p.pose_.orientation_ = {pose[3], pose[4], pose[5], pose[6]};
+    std::copy(pose + 7, pose + 7 + 36, p.covariance_);
+    if (kind == "pose") {
+      geometry_msgs_msg_dds__PoseWithCovarianceStamped_ m{header, p};
+      return dds_write_ok(dds_write(w, &m));
+    }
+    nav_msgs_msg_dds__Odometry_ m{};
+    m.header_ = header;
+    m.child_frame_id_ = child.data();
+    m.pose_ = p;
+    m.twist_.twist_.linear_ = {twist[0], twist[1], twist[2]};
+    m.twist_.twist_.angular_ = {twist[3], twist[4], twist[5]};
+    std::copy(twist + 6, twist + 6 + 36, m.twist_.covariance_);
+    return dds_write_ok(dds_write(w, &m));
+  }
+
   std::string Latency(std::istringstream& in) {
     int n = 0;
     double hz = 100;
@@ -285,6 +367,7 @@ class Node {
   std::uint32_t domain_;
   Raw raw_;
   std::map<std::pair<std::string, std::string>, TfRow> statics_;
+  std::map<std::pair<std::string, std::string>, dds_entity_t> user_writers_;  // (kind, topic)
   SceneGraph<> scene_, latency_;
   std::unique_ptr<Broadcaster> scene_broadcaster_, latency_broadcaster_;
 };

@@ -198,12 +198,22 @@ ops:
     check(ops[2]["ok"] and max(abs(a - b) for a, b in
                                zip(ops[2]["covariance"], odom["twist"]["covariance"])) < 1e-15,
           f"twist covariance {ops[2]}")
-    code, out, err = run("bag", "check", os.path.join(FOXGLOVE, bag["file"]), "--topics", "/odom",
-                         "--pose-topic", "/amcl_pose=base_footprint")
-    lines = [json.loads(line) for line in out.splitlines()]
-    groups = [g for g in lines if "summary" not in g]
-    check(code == 1 and sorted(g["topic"] for g in groups) == ["/amcl_pose", "/odom"],
-          f"bag check of covariance.mcap: {code} {err} {out}")
+    # The same messages in a ROS 1 bag (python3-rosbag) and a rosbag2 sqlite3 bag (Foxglove's
+    # CDR bytes): the same two finding groups from every format.
+    rosbag = json.load(open(os.path.join(ROSBAG, "expected.json")))
+    paths = [os.path.join(FOXGLOVE, bag["file"])] + [
+        os.path.join(ROSBAG, rosbag[k]["file"]) for k in ("covariance_bag", "sqlite3_covariance_bag")
+        if k in rosbag]
+    check(len(paths) == 3, f"three covariance bags: {paths}")
+    for path in paths:
+        code, out, err = run("bag", "check", path, "--topics", "/odom",
+                             "--pose-topic", "/amcl_pose=base_footprint")
+        lines = [json.loads(line) for line in out.splitlines()]
+        groups = [g for g in lines if "summary" not in g]
+        check(code == 1 and sorted((g["topic"], g["error"]) for g in groups) ==
+              [("/amcl_pose", "invalid_covariance"), ("/odom", "invalid_number")],
+              f"bag check of {path}: {code} {err} {out}")
+        check(lines[-1].get("messages") == 6, f"bag check of {path}: summary {lines[-1]}")
     code, out, err = run("bag", "check", os.path.join(FOXGLOVE, bag["file"]), "--pose-topic", "x")
     check(code == 2 and "--pose-topic" in err, f"bad --pose-topic exits 2: {code} {err}")
 

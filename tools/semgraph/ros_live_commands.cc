@@ -52,6 +52,10 @@ Options:
   --static MODE     same_body (default) or own_body: how /tf_static maps onto bodies
   --bodies MAP.yaml a bodies map {BODY: [frame, ...]}
   --window S        the graph's history window in seconds (default 10, tf2's buffer)
+  --pose-topic TOPIC=FRAME   also subscribe to TOPIC (geometry_msgs/PoseWithCovarianceStamped):
+                    each message a stamped pose of FRAME with its covariance (repeatable)
+  --odom-topic TOPIC         also subscribe to TOPIC (nav_msgs/Odometry): pose and twist with
+                    their covariances (repeatable); a bad covariance is a finding
 Configure DDS with CYCLONEDDS_URI (interfaces, peers): docs/ros.md, "Live ROS 2".
 )";
 
@@ -65,6 +69,7 @@ struct Args {
   double window = 10.0;
   std::string in;
   ros::LiftOptions lift;
+  std::vector<std::string> odometry_topics;
   std::string error;
 };
 
@@ -125,6 +130,18 @@ Args Parse(int argc, char** argv) {
     } else if (s == "--bodies") {
       const char* v = value();
       if (v != nullptr && !ReadBodiesMap(v, &a.lift.bodies, &a.error)) continue;
+    } else if (s == "--pose-topic") {
+      const char* v = value();
+      if (v == nullptr) continue;
+      const std::string_view text = v;
+      const std::size_t eq = text.find('=');
+      if (eq == std::string_view::npos || eq == 0 || eq + 1 == text.size()) {
+        a.error = "--pose-topic must be TOPIC=FRAME, got '" + std::string(text) + "'";
+        continue;
+      }
+      a.lift.pose_topics[std::string(text.substr(0, eq))] = std::string(text.substr(eq + 1));
+    } else if (s == "--odom-topic") {
+      if (const char* v = value()) a.odometry_topics.emplace_back(v);
     } else if (s.size() > 1 && s[0] == '-') {
       a.error = "unknown option " + std::string(s);
     } else {
@@ -158,6 +175,7 @@ ros_dds::ListenerOptions ListenOptions(const Args& a) {
   ros_dds::ListenerOptions o;
   o.domain = a.domain;
   o.lift = a.lift;
+  o.odometry_topics = a.odometry_topics;
   return o;
 }
 
@@ -250,7 +268,8 @@ int Check(const Args& a) {
       "{\"summary\": true, \"messages\": %llu, \"transforms\": %llu, \"findings\": %llu, "
       "\"groups\": %zu}\n",
       static_cast<unsigned long long>(stats.tf + stats.tf_static + stats.joint_states +
-                                      stats.robot_descriptions),
+                                      stats.robot_descriptions + stats.poses_with_covariance +
+                                      stats.odometry),
       static_cast<unsigned long long>(stats.counts.transforms),
       static_cast<unsigned long long>(total), groups.size());
   return groups.empty() ? kExitOk : kExitOpFailed;

@@ -15,9 +15,14 @@
 //   - rt/robot_description: the first URDF is loaded into the graph (models::LoadUrdfString)
 //     and its joints cover the tf transforms between their link frames (TfLift::CoverModel);
 //     a different later URDF is not applied (logged); a URDF that does not load is logged;
-//   - rt/joint_states: SetJoints at header.stamp (skipped while the graph has no joints).
+//   - rt/joint_states: SetJoints at header.stamp (skipped while the graph has no joints);
+//   - the pose topics of lift.pose_topics (geometry_msgs/PoseWithCovarianceStamped: the pose of
+//     the frame named with the topic) and the odometry_topics (nav_msgs/Odometry): stamped
+//     samples with covariance, through the same TfLift::Apply as a bag's; a message with a
+//     NaN, a bad quaternion or a covariance that is not symmetric PSD is a finding and changes
+//     nothing.
 // Within one wake-up of the receive thread, robot descriptions are applied first, then static
-// transforms, then tf, then joint states.
+// transforms, then tf, then joint states, then the pose topics, then the odometry topics.
 //
 // Threads. The listener's receive thread is the graph's one writer. Other threads may:
 //   - evaluate compiled queries and use handles made inside WithGraph(), at any time: they are
@@ -28,7 +33,8 @@
 //     WithGraph is the interim discipline until the core makes them so.
 // The callbacks run on the receive thread, outside the lock (they may call WithGraph).
 // Costs: per message, the conversion from the DDS sample (allocates) and one TfLift::Apply per
-// transform (build time); WithGraph blocks the receive thread for fn's duration.
+// transform or covariance message (build time); WithGraph blocks the receive thread for fn's
+// duration. One DDS reader per topic (4 + the user's pose and odometry topics).
 #pragma once
 
 #include <chrono>
@@ -37,6 +43,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
@@ -59,7 +66,10 @@ struct Arrival {
 struct ListenerOptions {
   /// The DDS domain; default: ROS_DOMAIN_ID, else 0.
   std::optional<std::uint32_t> domain;
-  ros::LiftOptions lift;          ///< static mode and bodies map (docs/ros.md)
+  ros::LiftOptions lift;  ///< static mode, bodies map, pose topics {topic: frame} (docs/ros.md)
+  /// nav_msgs/Odometry topics to subscribe to (fully qualified ROS names, e.g. "/odom"; a name
+  /// may not also be a pose topic).
+  std::vector<std::string> odometry_topics;
   bool joint_states = true;       ///< subscribe to rt/joint_states
   bool robot_description = true;  ///< subscribe to rt/robot_description
   /// Each finding occurrence, with its group as it is now (count, last times); `first`: the
@@ -75,15 +85,18 @@ struct ListenerOptions {
 /// Messages received per topic.
 struct ListenerStats {
   std::uint64_t tf = 0, tf_static = 0, joint_states = 0, robot_descriptions = 0;
-  bool robot_loaded = false;  ///< a URDF from rt/robot_description is in the graph
-  ros::LiftCounts counts;     ///< the lift's counts (transforms applied, refused, ...)
+  std::uint64_t poses_with_covariance = 0;  ///< messages on the pose topics
+  std::uint64_t odometry = 0;               ///< messages on the odometry topics
+  bool robot_loaded = false;                ///< a URDF from rt/robot_description is in the graph
+  ros::LiftCounts counts;  ///< the lift's counts (transforms applied, refused, ...)
 };
 
 class SEMGRAPH_ROS_DDS_EXPORT Listener {
  public:
   /// Joins the domain, subscribes and starts the receive thread. The graph must outlive the
   /// listener and not move; no other thread may change it while the listener runs. Fails
-  /// (message) when the domain or the bodies map is invalid, or DDS refuses.
+  /// (message) when the domain or the bodies map is invalid, a pose or odometry topic is not a
+  /// ROS 2 topic name (or is both, or a pose topic has no frame), or DDS refuses.
   static base::Expected<std::unique_ptr<Listener>, std::string> Create(
       core::SceneGraph<>& graph, ListenerOptions options = {});
   /// Stops the receive thread and leaves the domain.
@@ -103,6 +116,10 @@ class SEMGRAPH_ROS_DDS_EXPORT Listener {
   /// match later than this count shows; the sending side waits where that matters
   /// (Broadcaster::WaitForSubscribers, docs/ros.md "/tf is volatile").
   [[nodiscard]] std::uint32_t tf_publishers() const noexcept;
+  /// Writers matched now on one of this listener's pose or odometry topics (its ROS name, e.g.
+  /// "/odom"; 0 for a topic it does not read). Those readers are best effort: a sample sent
+  /// before both sides matched is lost, so a sender waits for this and its own match first.
+  [[nodiscard]] std::uint32_t publishers(std::string_view ros_topic) const noexcept;
   [[nodiscard]] std::uint32_t domain() const noexcept;
 
  private:

@@ -9,6 +9,9 @@
 //   rt/robot_description  RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1
 //   rt/joint_states       writer RELIABLE, VOLATILE, KEEP_LAST 10; reader BEST_EFFORT (it then
 //                         matches reliable and best-effort publishers alike)
+//   pose and odometry     topics the user names (geometry_msgs/PoseWithCovarianceStamped,
+//                         nav_msgs/Odometry): ROS 2's default QoS, RELIABLE, VOLATILE,
+//                         KEEP_LAST 10; the reader BEST_EFFORT (as rt/joint_states)
 // Every type is @final and keyless, written as XCDR1 (plain CDR), the data representation set
 // explicitly on each reader and writer. tf endpoints carry USER_DATA "typehash=RIHS01_<hex>;"
 // (what rmw_cyclonedds of ROS 2 Iron and later announces; older ROS ignores it).
@@ -23,16 +26,31 @@
 
 namespace semgraph::ros_dds {
 
-/// The four ROS topics of the live layer.
-enum class RosTopic : std::uint8_t { kTf, kTfStatic, kJointStates, kRobotDescription };
+/// The ROS topics of the live layer: four with fixed names, and two kinds of topics the user
+/// names (ListenerOptions: LiftOptions::pose_topics, odometry_topics).
+enum class RosTopic : std::uint8_t {
+  kTf,
+  kTfStatic,
+  kJointStates,
+  kRobotDescription,
+  kPoseWithCovariance,  ///< a geometry_msgs/PoseWithCovarianceStamped topic the user names
+  kOdometry,            ///< a nav_msgs/Odometry topic the user names
+};
 
-/// "/tf", "/tf_static", "/joint_states", "/robot_description".
+/// "/tf", "/tf_static", "/joint_states", "/robot_description"; "" for the user-named kinds.
 [[nodiscard]] SEMGRAPH_ROS_DDS_EXPORT std::string_view RosName(RosTopic topic) noexcept;
-/// "rt/tf", ...: the DDS topic name.
+/// "rt/tf", ...: the DDS topic name; "" for the user-named kinds (DdsTopicName).
 [[nodiscard]] SEMGRAPH_ROS_DDS_EXPORT std::string_view DdsName(RosTopic topic) noexcept;
 /// "tf2_msgs::msg::dds_::TFMessage_", "sensor_msgs::msg::dds_::JointState_",
-/// "std_msgs::msg::dds_::String_".
+/// "std_msgs::msg::dds_::String_", "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_",
+/// "nav_msgs::msg::dds_::Odometry_".
 [[nodiscard]] SEMGRAPH_ROS_DDS_EXPORT std::string_view DdsTypeName(RosTopic topic) noexcept;
+
+/// The DDS topic of a fully qualified ROS 2 topic name ("/amcl_pose" -> "rt/amcl_pose"). An
+/// error naming the topic when it is not one: it must start with '/', not end with '/', hold
+/// only letters, digits, '_' and '/', no "//", and no name token may start with a digit.
+[[nodiscard]] SEMGRAPH_ROS_DDS_EXPORT base::Expected<std::string, std::string> DdsTopicName(
+    std::string_view ros_topic);
 
 /// The RIHS01 type hash of tf2_msgs/msg/TFMessage (ROS 2 Iron and later).
 inline constexpr std::string_view kTfMessageTypeHash =
