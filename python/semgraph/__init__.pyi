@@ -539,10 +539,15 @@ class SceneGraph:
     def set_pose(self, handle: PoseHandle, *, position: Optional[ArrayLike] = None,
                  rotation: Optional[ArrayLike] = None, quaternion: Optional[ArrayLike] = None,
                  rotation_matrix: Optional[ArrayLike] = None, rpy: Optional[ArrayLike] = None,
-                 stamp: Optional[Time] = None) -> None:
-        """stamp: a new sample of a stamped edge (int ns or float s)."""
+                 stamp: Optional[Time] = None, covariance: Optional[ArrayLike] = None,
+                 covariance_order: Optional[str] = None,
+                 convention: Optional[str] = None) -> None:
+        """stamp: a new sample of a stamped edge (int ns or float s); covariance: its 6x6
+        covariance, as add_pose takes it."""
     def set_twist(self, handle: TwistHandle, *, linear: Optional[ArrayLike] = None,
-                  angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None) -> None: ...
+                  angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None,
+                  covariance: Optional[ArrayLike] = None,
+                  covariance_order: Optional[str] = None) -> None: ...
     def pose_batch(self, handles: Sequence[PoseHandle]) -> PoseBatch: ...
     def twist_batch(self, handles: Sequence[TwistHandle]) -> TwistBatch: ...
 

@@ -12,6 +12,7 @@
 #include "docstrings.h"
 #include "semgraph/coord/validate.h"
 #include "timed.h"
+#include "uncertainty.h"
 
 namespace semgraph::python {
 
@@ -29,24 +30,42 @@ std::string StampWhy(ErrorCode code, const std::optional<core::Stamp>& t) {
       return ": the stamp" + at + " is older than the edge's newest sample minus the window";
     case ErrorCode::kDuplicateStamp:
       return ": the edge has another value at the stamp" + at + " (duplicate_stamp='reject')";
+    case ErrorCode::kInvalidCovariance:
+      return ": the covariance is not symmetric positive semidefinite, or has a convention the "
+             "value cannot take ('body' is for poses only)";
     default:
       return "";
   }
 }
 
 void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::handle rotation,
-             py::handle quaternion, py::handle rotation_matrix, py::handle rpy, py::handle stamp) {
+             py::handle quaternion, py::handle rotation_matrix, py::handle rpy, py::handle stamp,
+             py::handle covariance, py::handle covariance_order, py::handle convention) {
   if (h.graph.get() != &box) {
     throw py::value_error("set_pose(): the handle belongs to another SceneGraph");
   }
   const Eigen::Vector3d p = Vector3Arg(position, "set_pose", "position");
   const RotationArg rot = RotationArgs(rotation, quaternion, rotation_matrix, rpy, "set_pose");
   const std::optional<core::Stamp> t = OptionalStampArg(stamp, "set_pose", "stamp", false);
+  const CovarianceArgs cov =
+      ReadCovarianceArgs(covariance, covariance_order, convention, "set_pose");
+  // The covariance setters take a quaternion: a matrix is validated here first, with the error
+  // of the matrix setter.
+  Eigen::Quaterniond q = rot.q;
+  if (cov.given && rot.is_matrix) {
+    auto M = coord::ValidateRotationMatrix(rot.R);
+    if (!M) ThrowValue("set_pose", EdgeText(h.wrt, h.of), M.error(), box.names());
+    q = Eigen::Quaterniond(*M);
+  }
   core::UpdateError why;  // SetPose's own verdict: which number broke which limit
   ErrorCode code;
   {
     std::lock_guard<WriterMutex> lock(box.writer);
     code = box.Visit([&](auto& g) {
+      if (cov.given) {
+        return t ? g.SetPose(h.handle, q, p, *t, cov.Input(), &why)
+                 : g.SetPose(h.handle, q, p, cov.Input(), &why);
+      }
       if (t) {
         return rot.is_matrix ? g.SetPose(h.handle, rot.R, p, *t, &why)
                              : g.SetPose(h.handle, rot.q, p, *t, &why);
@@ -66,18 +85,24 @@ void SetPose(GraphBox& box, const PoseHandleObject& h, py::handle position, py::
 }
 
 void SetTwist(GraphBox& box, const TwistHandleObject& h, py::handle linear, py::handle angular,
-              py::handle stamp) {
+              py::handle stamp, py::handle covariance, py::handle covariance_order) {
   if (h.graph.get() != &box) {
     throw py::value_error("set_twist(): the handle belongs to another SceneGraph");
   }
   const Eigen::Vector3d v = Vector3Arg(linear, "set_twist", "linear");
   const Eigen::Vector3d w = Vector3Arg(angular, "set_twist", "angular");
   const std::optional<core::Stamp> t = OptionalStampArg(stamp, "set_twist", "stamp", false);
+  const CovarianceArgs cov =
+      ReadCovarianceArgs(covariance, covariance_order, py::none(), "set_twist");
   core::UpdateError why;  // SetTwist's own verdict: which number broke which limit
   ErrorCode code;
   {
     std::lock_guard<WriterMutex> lock(box.writer);
     code = box.Visit([&](auto& g) {
+      if (cov.given) {
+        return t ? g.SetTwist(h.handle, v, w, *t, cov.Input(), &why)
+                 : g.SetTwist(h.handle, v, w, cov.Input(), &why);
+      }
       return t ? g.SetTwist(h.handle, v, w, *t, &why) : g.SetTwist(h.handle, v, w, &why);
     });
   }
@@ -169,22 +194,31 @@ void BindHandleMethods(GraphClass& graph) {
             py::arg("position") = py::none(), py::arg("rotation") = py::none(),
             py::arg("quaternion") = py::none(), py::arg("rotation_matrix") = py::none(),
             py::arg("rpy") = py::none(), py::arg("stamp") = py::none(),
+            py::arg("covariance") = py::none(), py::arg("covariance_order") = py::none(),
+            py::arg("convention") = py::none(),
             Doc(R"(New value of the edge behind `handle`: the head's origin in the tail (position,
 default (0, 0, 0)) and the head's orientation in the tail, both in [tail]. O(1).
 stamp: a new sample of a stamped edge (int nanoseconds or float seconds); never allocates.
-RejectedError: invalid_number, invalid_rotation, no_such_edge (removed since the handle was
-made), stamp_mismatch (a stamp for a timeless edge, or none for a stamped one), stamp_too_old,
-duplicate_stamp; the stored value is then unchanged. ValueError: a handle of another SceneGraph.
+covariance: the value's 6x6 covariance, as add_pose takes it (covariance_order, convention); a
+stamped sample carries it; without it the value is exact (the edge's covariance becomes zero).
+RejectedError: invalid_number, invalid_rotation, invalid_covariance, no_such_edge (removed
+since the handle was made), stamp_mismatch (a stamp for a timeless edge, or none for a stamped
+one), stamp_too_old, duplicate_stamp; the stored value is then unchanged. ValueError: a handle
+of another SceneGraph, a covariance of another shape.
 )",
                 kRotationDoc)
                 .c_str());
   graph.def("set_twist", &SetTwist, py::arg("handle"), py::kw_only(),
             py::arg("linear") = py::none(), py::arg("angular") = py::none(),
-            py::arg("stamp") = py::none(),
+            py::arg("stamp") = py::none(), py::arg("covariance") = py::none(),
+            py::arg("covariance_order") = py::none(),
             R"(New screw twist of the edge behind `handle`: velocity of the head frame's origin
 and angular velocity of its body relative to the reference body, both in [head]. O(1).
 stamp: a new sample of a stamped edge (int nanoseconds or float seconds).
-RejectedError: invalid_number, no_such_edge, stamp_mismatch, stamp_too_old, duplicate_stamp.)");
+covariance: the twist's 6x6 covariance (covariance_order as add_twist's); a stamped sample
+carries it; without it the value is exact.
+RejectedError: invalid_number, invalid_covariance, no_such_edge, stamp_mismatch, stamp_too_old,
+duplicate_stamp.)");
 }
 
 }  // namespace semgraph::python

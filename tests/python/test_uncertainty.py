@@ -574,3 +574,66 @@ def test_stamped_covariances_are_checked_and_refusals_change_nothing():
         r.add_pose(of="a", body="A", wrt="w", ref_body="W", stamp=0, covariance=SA1)
     assert info.value.code == "duplicate_stamp"
     assert r.dump() == before
+
+
+# ---------------------------------------------------------------- handles with a covariance
+
+def test_set_pose_and_set_twist_with_covariance_through_handles():
+    """Untimed and stamped updates through handles carry their covariances (by hand: the edge
+    form as given; between two samples (1 - l) S_i + l S_i+1; a rotation matrix too; the body
+    convention turned into coordinates by diag(R, R)); refusals change nothing."""
+    g = semgraph.SceneGraph()
+    g.add_pose(of="a", body="A", wrt="w", ref_body="W", position=(1, 0, 0))
+    g.add_pose(of="s", body="S", wrt="w", ref_body="W", position=(0, 0, 0), stamp=0.0)
+    g.add_twist(point="s", ref_body="W", expressed_in="s", linear=(1, 0, 0), stamp=0.0)
+    a = g.pose_handle(of="a", wrt="w")
+    s = g.pose_handle(of="s", wrt="w")
+    t = g.twist_handle(point="s", ref_body="W")
+    g.set_pose(a, position=(2, 0, 0), rotation_matrix=RZ90, covariance=S1)
+    _, S = g.pose_with_covariance(of="a", wrt="w")
+    np.testing.assert_allclose(S, S1, atol=1e-15, rtol=0)
+    g.set_pose(a, position=(2, 0, 0), rotation_matrix=RZ90, covariance=S1, convention="body")
+    B = np.block([[RZ90, Z3], [Z3, RZ90]])
+    _, S = g.pose_with_covariance(of="a", wrt="w")
+    np.testing.assert_allclose(S, B @ S1 @ B.T, atol=1e-15, rtol=0)
+    g.set_pose(a, position=(2, 0, 0))  # exact again
+    _, S = g.pose_with_covariance(of="a", wrt="w")
+    assert not S.any()
+    # Stamped: the first sample had none (zero), then S1 at 1 s and S2 at 2 s (angular first).
+    g.set_pose(s, position=(1, 0, 0), stamp=1.0, covariance=S1)
+    g.set_pose(s, position=(2, 0, 0), stamp=2.0, covariance=swap(S2),
+               covariance_order="angular_linear")
+    g.set_twist(t, linear=(2, 0, 0), stamp=1.0, covariance=S1)
+    g.set_twist(t, linear=(3, 0, 0), stamp=2.0, covariance=S2)
+    X, S = g.pose_with_covariance(of="s", wrt="w", at=1.25)
+    np.testing.assert_allclose(X.position, [1.25, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(S, 0.75 * S1 + 0.25 * S2, atol=1e-15, rtol=1e-12)
+    _, S = g.pose_with_covariance(of="s", wrt="w", at=0.5)
+    np.testing.assert_allclose(S, 0.5 * S1, atol=1e-15, rtol=1e-12)
+    V, S = g.twist_with_covariance(point="s", ref_body="W", expressed_in="s", at=1.5)
+    np.testing.assert_allclose(V.linear, [2.5, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(S, 0.5 * S1 + 0.5 * S2, atol=1e-15, rtol=1e-12)
+    # Refused: a bad matrix, a twist with a convention keyword (not taken), a stamp on a
+    # timeless edge; nothing changed.
+    before = g.dump()
+    bad = S1.copy()
+    bad[0, 1] = 1.0
+    with pytest.raises(semgraph.RejectedError) as e:
+        g.set_pose(s, position=(3, 0, 0), stamp=3.0, covariance=bad)
+    assert e.value.code == "invalid_covariance"
+    with pytest.raises(semgraph.RejectedError) as e:
+        g.set_twist(t, linear=(3, 0, 0), stamp=3.0, covariance=-S1)
+    assert e.value.code == "invalid_covariance"
+    with pytest.raises(semgraph.RejectedError) as e:
+        g.set_pose(a, position=(3, 0, 0), stamp=3.0, covariance=S1)
+    assert e.value.code == "stamp_mismatch"
+    with pytest.raises(TypeError):
+        g.set_twist(t, linear=(3, 0, 0), stamp=3.0, covariance=S1, convention="body")
+    with pytest.raises(ValueError):
+        g.set_pose(a, position=(3, 0, 0), covariance=np.eye(5))
+    with pytest.raises(ValueError):
+        g.set_pose(a, position=(3, 0, 0), covariance_order="angular_linear")
+    with pytest.raises(semgraph.RejectedError) as e:
+        g.set_pose(a, position=(3, 0, 0), rotation_matrix=2 * RZ90, covariance=S1)
+    assert e.value.code == "invalid_rotation"
+    assert g.dump() == before
