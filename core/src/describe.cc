@@ -443,10 +443,13 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) c
 std::string Describe(const UpdateError& e) {
   const coord::ValueDetail& v = e.value;
   const bool position = v.role == coord::ValueRole::kJointPosition;
-  const bool joint = position || v.role == coord::ValueRole::kJointVelocity;
+  const bool velocity = v.role == coord::ValueRole::kJointVelocity;
+  const bool joint = position || velocity || v.role == coord::ValueRole::kJointAcceleration;
   if (joint && (e.code == ErrorCode::kInvalidNumber || e.code == ErrorCode::kJointLimit)) {
-    const std::string what = std::string(position ? "position" : "velocity") + " of joint " +
-                             std::to_string(e.joint) + " of the group is " +
+    const std::string what = std::string(position   ? "position"
+                                         : velocity ? "velocity"
+                                                    : "acceleration") +
+                             " of joint " + std::to_string(e.joint) + " of the group is " +
                              coord::FormatNumber(v.magnitude);
     if (e.code == ErrorCode::kInvalidNumber) return what + " (must be finite)";
     return what +
