@@ -74,6 +74,7 @@ std::string Dump(const SceneGraph<B>& g) {
     if (j.alive) {
       out << " " << joints.name(j) << " " << ToString(j.type) << " " << t.frame_name(j.parent)
           << " -> " << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
+      if (j.has_qddot) out << " qddot " << j.qddot;
       if (j.is_mimic()) out << " mimic " << joints.name(joints[j.master]);
     }
     out << "\n";
