@@ -363,7 +363,7 @@ std::string Reason(const topology::SceneTopology& t, const QueryError& e, const 
                (e.other.is_valid() ? std::string(names.name(e.other)) : std::string("?")) +
                " -> {" + (e.name.is_valid() ? std::string(names.name(e.name)) : std::string("?")) +
                "} on the twist path carries no acceleration (give it with the twist, or with "
-               "AddAcceleration)";
+               "AddAcceleration; a joint's edge, as the joint's acceleration)";
       break;
     case ErrorCode::kQueryInvalidated:
       reason =

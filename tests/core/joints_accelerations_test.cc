@@ -122,7 +122,8 @@ TEST_F(JointAccelerations, ComposedAlongTheArmAsWorkedOutByHand) {
   ASSERT_TRUE(g.SetJoints(q, qdot, qddot));
   ExpectByHand(0.7, 1.5, 0.8, 0.25, -0.3, -0.6);
   // The inverse relation at the same point: a_CB = -a_BC + 2 w_BC x v_BC (not the negation).
-  auto A = g.GetAcceleration(spec), V = g.GetTwist(spec);
+  auto A = g.GetAcceleration(spec);
+  auto V = g.GetTwist(spec);
   auto Ainv = g.GetAcceleration(TwistSpec::Of("e", "B").RelativeTo("L2").ExpressedIn("b"));
   ASSERT_TRUE(A && V && Ainv);
   EXPECT_LE((Ainv->linear - (-A->linear + 2 * V->angular.cross(V->linear))).norm(), 1e-13);
