@@ -166,7 +166,7 @@ def test_wrong_python_arguments_of_the_joint_calls():
         g.add_joint("z", type="ball", parent="base", child="z", child_body="Z")
     with pytest.raises(TypeError, match="lower must be a number"):
         g.add_joint("z", type="revolute", parent="base", child="z", child_body="Z", lower="low")
-    with pytest.raises(TypeError, match="both be dicts"):
+    with pytest.raises(TypeError, match="all be dicts"):
         g.set_joints({"p1": 0.1}, [0.0])
     with pytest.raises(TypeError, match="names must be"):
         g.set_joints([0.1], names="p1")
