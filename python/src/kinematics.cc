@@ -5,7 +5,6 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
-
 #include <string>
 #include <utility>
 #include <vector>

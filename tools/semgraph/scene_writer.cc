@@ -31,10 +31,10 @@
 // Joints: each live joint as a `joint` op (origin, axis, limits, mimic as stored), in table
 // order; one creates its frames where the order of ids needs it (a joint interns [p, c, P, C]
 // and creates P, C, then c, p), the others follow the edges; then one `joints` op with the
-// states (accelerations only of the joints that were given one). A joint's own pose and twist edges are not written (they follow from its state). The
-// generation of a slot that held removed joints is rebuilt (the joint is removed and added again
-// as often); records of removed joints that no live joint took over are not: such a graph comes
-// back with its live joints renumbered (in order).
+// states (accelerations only of the joints that were given one). A joint's own pose and twist edges
+// are not written (they follow from its state). The generation of a slot that held removed joints
+// is rebuilt (the joint is removed and added again as often); records of removed joints that no
+// live joint took over are not: such a graph comes back with its live joints renumbered (in order).
 //
 // Cost: O((names + frames + edges) * k) with k the number of children of a frame looked at, plus
 // the text. Thread safety: reads the graph only.
