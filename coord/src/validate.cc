@@ -242,6 +242,8 @@ const char* RoleName(ValueRole role) noexcept {
       return "joint position";
     case ValueRole::kJointVelocity:
       return "joint velocity";
+    case ValueRole::kJointAcceleration:
+      return "joint acceleration";
     case ValueRole::kLinearAcceleration:
       return "linear acceleration";
     case ValueRole::kAngularAcceleration:

@@ -363,7 +363,7 @@ std::string Reason(const topology::SceneTopology& t, const QueryError& e, const 
                (e.other.is_valid() ? std::string(names.name(e.other)) : std::string("?")) +
                " -> {" + (e.name.is_valid() ? std::string(names.name(e.name)) : std::string("?")) +
                "} on the twist path carries no acceleration (give it with the twist, or with "
-               "AddAcceleration)";
+               "AddAcceleration; a joint's edge, as the joint's acceleration)";
       break;
     case ErrorCode::kQueryInvalidated:
       reason =
@@ -443,10 +443,13 @@ std::string SceneGraph<B>::Describe(const QueryError& e, const PoseSpec& spec) c
 std::string Describe(const UpdateError& e) {
   const coord::ValueDetail& v = e.value;
   const bool position = v.role == coord::ValueRole::kJointPosition;
-  const bool joint = position || v.role == coord::ValueRole::kJointVelocity;
+  const bool velocity = v.role == coord::ValueRole::kJointVelocity;
+  const bool joint = position || velocity || v.role == coord::ValueRole::kJointAcceleration;
   if (joint && (e.code == ErrorCode::kInvalidNumber || e.code == ErrorCode::kJointLimit)) {
-    const std::string what = std::string(position ? "position" : "velocity") + " of joint " +
-                             std::to_string(e.joint) + " of the group is " +
+    const std::string what = std::string(position   ? "position"
+                                         : velocity ? "velocity"
+                                                    : "acceleration") +
+                             " of joint " + std::to_string(e.joint) + " of the group is " +
                              coord::FormatNumber(v.magnitude);
     if (e.code == ErrorCode::kInvalidNumber) return what + " (must be finite)";
     return what +

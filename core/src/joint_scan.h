@@ -17,16 +17,18 @@ namespace semgraph::core::internal {
 inline constexpr double kLimitSlack = 1e-9;
 
 /// The first failing rule over the whole group in the rules' order invalid_number ->
-/// unknown_joint -> mimic_joint -> joint_limit (kOk: none). q / qdot may be null (not set).
+/// unknown_joint -> mimic_joint -> joint_limit (kOk: none). q / qdot / qddot may be null (not
+/// set); only positions are limited.
 /// `extra(i, j)` is called for each known movable joint j at position i, for the caller's own
 /// checks (reported after these). O(group size).
 template <class Extra>
 [[nodiscard]] base::ErrorCode ScanJointGroup(const JointTable& joints, const JointGroup& group,
                                              const double* q, const double* qdot,
-                                             Extra&& extra) noexcept {
+                                             const double* qddot, Extra&& extra) noexcept {
   bool bad_number = false, unknown = false, mimic = false, limit = false;
   for (std::size_t i = 0; i < group.joints.size(); ++i) {
-    bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i]));
+    bad_number |= (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i])) ||
+                  (qddot && !std::isfinite(qddot[i]));
     const JointRecord* j = joints.Get(group.joints[i]);
     if (!j || !j->movable()) {
       unknown = true;

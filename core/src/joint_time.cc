@@ -134,7 +134,7 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
     if (c != ErrorCode::kOk && (time == ErrorCode::kOk || c < time)) time = c;
   };
   const ErrorCode code = internal::ScanJointGroup(
-      joints_, group, q, qdot, [&](std::size_t i, const internal::JointRecord& j) {
+      joints_, group, q, qdot, nullptr, [&](std::size_t i, const internal::JointRecord& j) {
         const double qi = q ? q[i] : j.q, qdoti = qdot ? qdot[i] : j.qdot;
         note(CheckJointSample(j, qi, qdoti, s));
         for (JointIndex m : j.mimics) {
@@ -142,8 +142,8 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
           note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
         }
       });
-  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, why);
-  if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, why);
+  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, nullptr, why);
+  if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, nullptr, why);
   for (std::size_t i = 0; i < n; ++i)
     StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);
   return internal::Report(why, ErrorCode::kOk);
@@ -153,7 +153,8 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
 // collecting pass above keeps only flags, so that the accepted case stays one cheap pass).
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode code, const JointGroup& group, const double* q,
-                                      const double* qdot, UpdateError* why) const noexcept {
+                                      const double* qdot, const double* qddot,
+                                      UpdateError* why) const noexcept {
   internal::Report(why, code);
   if (why == nullptr) return code;
   if (code != ErrorCode::kInvalidNumber && code != ErrorCode::kJointLimit) return code;
@@ -162,11 +163,21 @@ ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode code, const JointGroup& group, c
     why->value.role = coord::ValueRole::kJointPosition;
     if (code == ErrorCode::kInvalidNumber) {
       why->value.problem = coord::ValueProblem::kNotFinite;
-      const bool bad_q = q && !std::isfinite(q[i]);
-      if (!bad_q && !(qdot && !std::isfinite(qdot[i]))) continue;
-      if (!bad_q) why->value.role = coord::ValueRole::kJointVelocity;
-      why->value.magnitude = bad_q ? q[i] : qdot[i];
-      return code;
+      // The first non-finite field of the joint: position, velocity, acceleration.
+      const struct {
+        const double* values;
+        coord::ValueRole role;
+      } fields[] = {{q, coord::ValueRole::kJointPosition},
+                    {qdot, coord::ValueRole::kJointVelocity},
+                    {qddot, coord::ValueRole::kJointAcceleration}};
+      for (const auto& f : fields) {
+        if (f.values && !std::isfinite(f.values[i])) {
+          why->value.role = f.role;
+          why->value.magnitude = f.values[i];
+          return code;
+        }
+      }
+      continue;
     }
     const internal::JointRecord* j = joints_.Get(group.joints[i]);
     if (!j || !j->limited()) continue;
@@ -209,9 +220,24 @@ ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
                                      std::span<const JointValue> velocities, Stamp stamp) {
+  return SetJoints(positions, velocities, std::span<const JointValue>(), stamp);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
+                                     std::span<const JointValue> velocities,
+                                     std::span<const JointValue> accelerations, Stamp stamp) {
   const auto what = [] { return std::string("joint state"); };
   // The rules before time, shared with the unstamped set (joints.cc).
-  if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
+  if (auto ok = CheckJointValues(positions, velocities, accelerations); !ok) return ok;
+  // Stamped accelerations are not supported yet (as on ordinary twist edges): the first of the
+  // stamp checks refuses them, whatever the joint's edges are.
+  if (!accelerations.empty()) {
+    return Reject(ErrorCode::kStampMismatch, what(),
+                  "joint " + std::string(joints_.name(*joints_.Find(accelerations[0].joint))) +
+                      ": stamped joint accelerations are not supported yet (give accelerations "
+                      "without a stamp, to joints whose edges are timeless)");
+  }
   // The sample of each joint given: its given fields, the others of its newest sample (its
   // state). A joint named in both maps gives one sample.
   struct Sample {
@@ -302,7 +328,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
   template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
                                                     const double*, Stamp, UpdateError*) noexcept;  \
   template ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode, const JointGroup&, const double*,      \
-                                                 const double*, UpdateError*) const noexcept;      \
+                                                 const double*, const double*, UpdateError*)       \
+      const noexcept;                                                                              \
   template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>,  \
                                                       Stamp, UpdateError*) noexcept;               \
   template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
@@ -311,6 +338,9 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
                                                   std::span<const double>, Stamp,                  \
                                                   UpdateError*) noexcept;                          \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
+                                                std::span<const JointValue>, Stamp);               \
+  template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
+                                                std::span<const JointValue>,                       \
                                                 std::span<const JointValue>, Stamp);
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_JOINT_TIME(coord::HomogeneousBackend)

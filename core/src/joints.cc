@@ -123,6 +123,11 @@ void JointRecord::TwistAt(double velocity, Eigen::Vector3d& v, Eigen::Vector3d& 
   }
 }
 
+void JointRecord::AccelerationAt(double acceleration, Eigen::Vector3d& a,
+                                 Eigen::Vector3d& alpha) const noexcept {
+  TwistAt(acceleration, a, alpha);  // the same form: axis times the derivative
+}
+
 }  // namespace internal
 
 namespace {
@@ -250,6 +255,8 @@ BuildResult MakeJointRecord(const internal::JointTable& joints, const semantics:
   if (j.is_mimic()) {
     j.q = j.multiplier * joints[j.master].q + j.offset;
     j.qdot = j.multiplier * joints[j.master].qdot;
+    j.qddot = j.multiplier * joints[j.master].qddot;
+    j.has_qddot = joints[j.master].has_qddot;
   } else if (j.limited()) {
     j.q = std::clamp(0.0, j.lower, j.upper);
   }
@@ -366,8 +373,8 @@ BuildResult SceneGraph<B>::AddJoint(const JointSpec& spec) {
   const internal::JointRecord& rec = joints_[index];
   if (rec.is_mimic()) joints_[rec.master].mimics.push_back(index);
   ++joints_.num_alive;
-  const double q0 = rec.q, qdot0 = rec.qdot;
-  ApplyJoint(index, &q0, &qdot0);
+  const double q0 = rec.q, qdot0 = rec.qdot, qddot0 = rec.qddot;
+  ApplyJoint(index, &q0, &qdot0, rec.has_qddot ? &qddot0 : nullptr);
   return Ok{};
 }
 
@@ -412,7 +419,8 @@ BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord& joint) {
 // ====================================================================== state
 
 template <coord::Backend B>
-void SceneGraph<B>::ApplyJoint(JointIndex index, const double* q, const double* qdot) noexcept {
+void SceneGraph<B>::ApplyJoint(JointIndex index, const double* q, const double* qdot,
+                               const double* qddot) noexcept {
   internal::JointRecord& j = joints_[index];
   if (q) {
     j.q = *q;
@@ -421,34 +429,49 @@ void SceneGraph<B>::ApplyJoint(JointIndex index, const double* q, const double* 
     j.PoseAt(j.q, q_PC, p_PC);
     values_.X_PF[j.child.value()].Store(B::MakePose(B::FromQuaternion(q_PC), p_PC));
   }
-  if (qdot) {
-    j.qdot = *qdot;
+  if (qdot) j.qdot = *qdot;
+  if (qddot) {
+    j.qddot = *qddot;
+    j.has_qddot = true;
+  }
+  if (qdot || qddot) {
+    // The acceleration record first, with the twist it goes with (edge_values.h): a new qdot
+    // keeps the joint's qddot, whose edge form does not depend on qdot.
+    const std::uint32_t slot = topology_.twist_edge_of(j.child).value();
     TwistNumbers V;
     j.TwistAt(j.qdot, V.v_DHo_H, V.w_DH_H);
-    values_.V_DH[topology_.twist_edge_of(j.child).value()].Store(V);
+    if (j.has_qddot) {
+      AccelerationNumbers A;
+      j.AccelerationAt(j.qddot, A.a_DHo_H, A.alpha_DH_H);
+      values_.StoreAcceleration(slot, V, &A);
+    }
+    if (qdot) values_.V_DH[slot].Store(V);
   }
   for (JointIndex m : j.mimics) {
     const internal::JointRecord& mj = joints_[m];
-    const double qm = mj.multiplier * j.q + mj.offset, qdotm = mj.multiplier * j.qdot;
-    ApplyJoint(m, q ? &qm : nullptr, qdot ? &qdotm : nullptr);  // a mimic has no mimics: depth 1
+    const double qm = mj.multiplier * j.q + mj.offset, qdotm = mj.multiplier * j.qdot,
+                 qddotm = mj.multiplier * j.qddot;
+    ApplyJoint(m, q ? &qm : nullptr, qdot ? &qdotm : nullptr,
+               qddot ? &qddotm : nullptr);  // a mimic has no mimics: depth 1
   }
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetGroup(const JointGroup& group, const double* q, const double* qdot,
-                                  UpdateError* why) noexcept {
+                                  const double* qddot, UpdateError* why) noexcept {
   // One pass collects every failure; the first in the rules' order is reported, so a rejected
   // set changes nothing (all or nothing) and costs one pass too.
   const std::size_t n = group.joints.size();
   bool stamped = false;
   const ErrorCode code = internal::ScanJointGroup(
-      joints_, group, q, qdot, [&](std::size_t, const internal::JointRecord& j) {
+      joints_, group, q, qdot, qddot, [&](std::size_t, const internal::JointRecord& j) {
         stamped |= values_.history.pose_of(j.child.value()) != nullptr;  // needs a stamp
       });
-  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, why);
-  if (stamped) return RefuseJoints(ErrorCode::kStampMismatch, group, q, qdot, why);
+  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, qddot, why);
+  if (stamped) return RefuseJoints(ErrorCode::kStampMismatch, group, q, qdot, qddot, why);
   for (std::size_t i = 0; i < n; ++i) {
-    ApplyJoint(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr);
+    ApplyJoint(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr,
+               qddot ? qddot + i : nullptr);
     MarkTimeless(joints_, group.joints[i].index);
   }
   return internal::Report(why, ErrorCode::kOk);
@@ -458,38 +481,58 @@ template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q,
                                            UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size());
-  return SetGroup(group, q.data(), nullptr, why);
+  return SetGroup(group, q.data(), nullptr, nullptr, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
                                             UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(qdot.size() == group.size());
-  return SetGroup(group, nullptr, qdot.data(), why);
+  return SetGroup(group, nullptr, qdot.data(), nullptr, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q,
                                        std::span<const double> qdot, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size());
-  return SetGroup(group, q.data(), qdot.data(), why);
+  return SetGroup(group, q.data(), qdot.data(), nullptr, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointAccelerations(const JointGroup& group,
+                                               std::span<const double> qddot,
+                                               UpdateError* why) noexcept {
+  SEMGRAPH_DEMAND(qddot.size() == group.size());
+  return SetGroup(group, nullptr, nullptr, qddot.data(), why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q,
+                                       std::span<const double> qdot, std::span<const double> qddot,
+                                       UpdateError* why) noexcept {
+  SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size() &&
+                  qddot.size() == group.size());
+  return SetGroup(group, q.data(), qdot.data(), qddot.data(), why);
 }
 
 template <coord::Backend B>
 BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> positions,
-                                            std::span<const JointValue> velocities) const {
+                                            std::span<const JointValue> velocities,
+                                            std::span<const JointValue> accelerations) const {
   const auto what = [] { return std::string("joint state"); };
+  const std::span<const JointValue>* lists[] = {&positions, &velocities, &accelerations};
+  const char* fields[] = {"position", "velocity", "acceleration"};
   // invalid_number -> unknown_joint -> mimic_joint -> joint_limit, over all values given.
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list) {
+  for (int k = 0; k < 3; ++k) {
+    for (const JointValue& v : *lists[k]) {
       if (!std::isfinite(v.value)) {
         return Reject(ErrorCode::kInvalidNumber, what(),
-                      std::string(list == &positions ? "position" : "velocity") + " of joint " +
-                          std::string(v.joint) + " is not a finite number");
+                      std::string(fields[k]) + " of joint " + std::string(v.joint) +
+                          " is not a finite number");
       }
     }
   }
-  for (const auto* list : {&positions, &velocities}) {
+  for (const auto* list : lists) {
     for (const JointValue& v : *list) {
       const internal::JointRecord* j = joints_.Find(v.joint);
       if (!j)
@@ -501,7 +544,7 @@ BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> position
       }
     }
   }
-  for (const auto* list : {&positions, &velocities}) {
+  for (const auto* list : lists) {
     for (const JointValue& v : *list) {
       const internal::JointRecord* j = joints_.Find(v.joint);
       if (j->is_mimic()) {
@@ -526,9 +569,17 @@ BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue> position
 template <coord::Backend B>
 BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
                                      std::span<const JointValue> velocities) {
+  return SetJoints(positions, velocities, std::span<const JointValue>());
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
+                                     std::span<const JointValue> velocities,
+                                     std::span<const JointValue> accelerations) {
   const auto what = [] { return std::string("joint state"); };
-  if (auto ok = CheckJointValues(positions, velocities); !ok) return ok;
-  for (const auto* list : {&positions, &velocities}) {
+  if (auto ok = CheckJointValues(positions, velocities, accelerations); !ok) return ok;
+  const std::span<const JointValue>* lists[] = {&positions, &velocities, &accelerations};
+  for (const auto* list : lists) {
     for (const JointValue& v : *list) {
       const internal::JointRecord* j = joints_.Find(v.joint);
       if (values_.history.pose_of(j->child.value()) != nullptr) {
@@ -539,14 +590,14 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
       }
     }
   }
-  for (const JointValue& v : positions)
-    ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, &v.value, nullptr);
-  for (const JointValue& v : velocities) {
-    ApplyJoint(joints_.HandleOf(*joints_.Find(v.joint)).index, nullptr, &v.value);
-  }
-  for (const auto* list : {&positions, &velocities}) {
-    for (const JointValue& v : *list)
-      MarkTimeless(joints_, joints_.HandleOf(*joints_.Find(v.joint)).index);
+  const auto index = [&](const JointValue& v) {
+    return joints_.HandleOf(*joints_.Find(v.joint)).index;
+  };
+  for (const JointValue& v : positions) ApplyJoint(index(v), &v.value, nullptr, nullptr);
+  for (const JointValue& v : velocities) ApplyJoint(index(v), nullptr, &v.value, nullptr);
+  for (const JointValue& v : accelerations) ApplyJoint(index(v), nullptr, nullptr, &v.value);
+  for (const auto* list : lists) {
+    for (const JointValue& v : *list) MarkTimeless(joints_, index(v));
   }
   return Ok{};
 }
@@ -622,6 +673,11 @@ double SceneGraph<B>::joint_velocity(JointHandle h) const noexcept {
   return j ? j->qdot : std::numeric_limits<double>::quiet_NaN();
 }
 template <coord::Backend B>
+double SceneGraph<B>::joint_acceleration(JointHandle h) const noexcept {
+  const internal::JointRecord* j = joints_.Get(h);
+  return j && j->has_qddot ? j->qddot : std::numeric_limits<double>::quiet_NaN();
+}
+template <coord::Backend B>
 std::string_view SceneGraph<B>::joint_name(JointHandle h) const noexcept {
   const internal::JointRecord* j = joints_.Get(h);
   return j ? joints_.name(*j) : std::string_view();
@@ -630,25 +686,35 @@ std::string_view SceneGraph<B>::joint_name(JointHandle h) const noexcept {
 #define SEMGRAPH_INSTANTIATE_JOINTS(B)                                                             \
   template BuildResult SceneGraph<B>::AddJoint(const JointSpec&);                                  \
   template BuildResult SceneGraph<B>::RemoveJoint(const internal::JointRecord&);                   \
-  template void SceneGraph<B>::ApplyJoint(JointIndex, const double*, const double*) noexcept;      \
+  template void SceneGraph<B>::ApplyJoint(JointIndex, const double*, const double*,                \
+                                          const double*) noexcept;                                 \
   template ErrorCode SceneGraph<B>::SetGroup(const JointGroup&, const double*, const double*,      \
-                                             UpdateError*) noexcept;                               \
+                                             const double*, UpdateError*) noexcept;                \
   template ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup&, std::span<const double>,  \
                                                       UpdateError*) noexcept;                      \
   template ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup&, std::span<const double>, \
                                                        UpdateError*) noexcept;                     \
+  template ErrorCode SceneGraph<B>::SetJointAccelerations(                                         \
+      const JointGroup&, std::span<const double>, UpdateError*) noexcept;                          \
   template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
+                                                  std::span<const double>, UpdateError*) noexcept; \
+  template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
+                                                  std::span<const double>,                         \
                                                   std::span<const double>, UpdateError*) noexcept; \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
                                                 std::span<const JointValue>);                      \
-  template BuildResult SceneGraph<B>::CheckJointValues(std::span<const JointValue>,                \
-                                                       std::span<const JointValue>) const;         \
+  template BuildResult SceneGraph<B>::SetJoints(                                                   \
+      std::span<const JointValue>, std::span<const JointValue>, std::span<const JointValue>);      \
+  template BuildResult SceneGraph<B>::CheckJointValues(                                            \
+      std::span<const JointValue>, std::span<const JointValue>, std::span<const JointValue>)       \
+      const;                                                                                       \
   template Expected<JointHandle, BuildError> SceneGraph<B>::FindJoint(std::string_view) const;     \
   template Expected<JointGroup, BuildError> SceneGraph<B>::MakeJointGroup(                         \
       std::span<const std::string_view>) const;                                                    \
   template JointGroup SceneGraph<B>::AllJoints() const;                                            \
   template double SceneGraph<B>::joint_position(JointHandle) const noexcept;                       \
   template double SceneGraph<B>::joint_velocity(JointHandle) const noexcept;                       \
+  template double SceneGraph<B>::joint_acceleration(JointHandle) const noexcept;                   \
   template std::string_view SceneGraph<B>::joint_name(JointHandle) const noexcept;
 
 SEMGRAPH_INSTANTIATE_JOINTS(coord::QuaternionBackend)

@@ -74,6 +74,7 @@ std::string Dump(const SceneGraph<B>& g) {
     if (j.alive) {
       out << " " << joints.name(j) << " " << ToString(j.type) << " " << t.frame_name(j.parent)
           << " -> " << t.frame_name(j.child) << " q " << j.q << " qdot " << j.qdot;
+      if (j.has_qddot) out << " qddot " << j.qddot;
       if (j.is_mimic()) out << " mimic " << joints.name(joints[j.master]);
     }
     out << "\n";
@@ -115,6 +116,21 @@ std::string CheckInvariants(const SceneGraph<B>& g) {
     if (!t.twist_edge(TwistEdgeIndex(e)).alive || r.V.v_DHo_H != V.v_DHo_H ||
         r.V.w_DH_H != V.w_DH_H) {
       out += "stale acceleration on twist slot " + std::to_string(e) + "\n";
+    }
+  }
+  // A joint's edge carries an acceleration exactly when its qddot was given, and that one.
+  for (const internal::JointRecord& j : g.joint_table().joints) {
+    if (!j.alive) continue;
+    const std::uint32_t e = t.twist_edge_of(j.child).value();
+    if (values.HasAcceleration(e) != j.has_qddot) {
+      out += "joint " + std::string(g.joint_table().name(j)) + ": acceleration flag mismatch\n";
+    } else if (j.has_qddot) {
+      AccelerationNumbers A;
+      j.AccelerationAt(j.qddot, A.a_DHo_H, A.alpha_DH_H);
+      const TwistAndAcceleration r = values.A_DH[e].Load();
+      if (r.A.a_DHo_H != A.a_DHo_H || r.A.alpha_DH_H != A.alpha_DH_H) {
+        out += "joint " + std::string(g.joint_table().name(j)) + ": acceleration is not qddot's\n";
+      }
     }
   }
   return out;

@@ -578,12 +578,16 @@ class SceneGraph:
         """Independent movable joints in add order: the default array layout."""
     def joint_group(self, names: Sequence[str]) -> JointGroup: ...
     def set_joints(self, positions: Union[ArrayLike, Mapping[str, float], None] = None,
-                   velocities: Union[ArrayLike, Mapping[str, float], None] = None, *,
+                   velocities: Union[ArrayLike, Mapping[str, float], None] = None,
+                   accelerations: Union[ArrayLike, Mapping[str, float], None] = None, *,
                    names: Union[Sequence[str], JointGroup, None] = None) -> None:
         """Arrays in the layout of `names` (default joint_names), or dicts by joint name.
-        All or nothing: invalid_number, unknown_joint, mimic_joint, joint_limit."""
+        All or nothing: invalid_number, unknown_joint, mimic_joint, joint_limit; accelerations
+        of stamped joints: stamp_mismatch."""
     def joint_positions(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray: ...
     def joint_velocities(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray: ...
+    def joint_accelerations(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray:
+        """NaN for a joint whose acceleration was never given."""
     def jacobian(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
                  expressed_in: Name = None) -> Jacobian:
         """Jacobian of TwistCoord(point|body, ref_body, [expressed_in]) at the current state."""

@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -134,8 +135,9 @@ py::array_t<double, py::array::c_style> StateArg(py::handle value, std::size_t n
   return a;
 }
 
-void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities) {
-  std::vector<core::JointValue> q, qdot;
+void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities,
+                     py::handle accelerations) {
+  std::vector<core::JointValue> q, qdot, qddot;
   std::vector<py::object> keep;
   auto read = [&](py::handle d, std::vector<core::JointValue>& out, const char* argument) {
     if (d.is_none()) return;
@@ -149,39 +151,65 @@ void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities)
   };
   read(positions, q, "positions");
   read(velocities, qdot, "velocities");
+  read(accelerations, qddot, "accelerations");
   std::lock_guard<WriterMutex> lock(box.writer);
-  Check(box.Visit([&](auto& g) { return g.SetJoints(q, qdot); }));
+  Check(box.Visit([&](auto& g) { return g.SetJoints(q, qdot, qddot); }));
 }
 
-void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::handle names) {
-  const bool pd = PyDict_Check(positions.ptr()), vd = PyDict_Check(velocities.ptr());
-  if (pd || vd) {
-    if ((!pd && !positions.is_none()) || (!vd && !velocities.is_none())) {
+void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::handle accelerations,
+               py::handle names) {
+  const py::handle given[] = {positions, velocities, accelerations};
+  bool any_dict = false, all_dicts = true;
+  for (py::handle h : given) {
+    any_dict |= PyDict_Check(h.ptr());
+    all_dicts &= PyDict_Check(h.ptr()) || h.is_none();
+  }
+  if (any_dict) {
+    if (!all_dicts) {
       throw py::type_error(
-          "set_joints(): positions and velocities must both be dicts (by joint name) or both "
-          "arrays (in the order of names)");
+          "set_joints(): positions, velocities and accelerations must all be dicts (by joint "
+          "name) or all arrays (in the order of names)");
     }
     if (!names.is_none())
       throw py::value_error("set_joints(): names= applies to arrays, not to dicts");
-    SetJointsByName(box, positions, velocities);
+    SetJointsByName(box, positions, velocities, accelerations);
     return;
   }
-  if (positions.is_none() && velocities.is_none()) return;
+  if (positions.is_none() && velocities.is_none() && accelerations.is_none()) return;
   const auto group = GroupArg(box, names, "set_joints", false);
   const std::size_t n = group->group.size();
   // (A default py::array is an empty array, not a null one: track what was given explicitly.)
-  const bool has_q = !positions.is_none(), has_qdot = !velocities.is_none();
-  py::array_t<double, py::array::c_style> q_array, qdot_array;
+  const bool has_q = !positions.is_none(), has_qdot = !velocities.is_none(),
+             has_qddot = !accelerations.is_none();
+  py::array_t<double, py::array::c_style> q_array, qdot_array, qddot_array;
   if (has_q) q_array = StateArg(positions, n, "set_joints", "positions");
   if (has_qdot) qdot_array = StateArg(velocities, n, "set_joints", "velocities");
+  if (has_qddot) qddot_array = StateArg(accelerations, n, "set_joints", "accelerations");
   std::lock_guard<WriterMutex> lock(box.writer);
   box.Visit([&](auto& g) {
-    const bool q = has_q, qdot = has_qdot;
-    const std::span<const double> sq(q ? q_array.data() : nullptr, q ? n : 0);
-    const std::span<const double> sv(qdot ? qdot_array.data() : nullptr, qdot ? n : 0);
+    const bool q = has_q, qdot = has_qdot, qddot = has_qddot;
+    // With accelerations and only one of q, qdot, the other is the joints' own (under the
+    // writer lock), so that the one all-or-nothing setter SetJointState(q, qdot, qddot) applies.
+    std::vector<double> kept;
+    if (qddot && q != qdot) {
+      kept.resize(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        kept[i] =
+            q ? g.joint_velocity(group->group.joints[i]) : g.joint_position(group->group.joints[i]);
+        if (std::isnan(kept[i])) kept[i] = 0;  // a removed joint: unknown_joint below
+      }
+    }
+    const std::span<const double> sq(q ? q_array.data() : kept.data(), q || !kept.empty() ? n : 0);
+    const std::span<const double> sv(qdot ? qdot_array.data() : kept.data(),
+                                     qdot || !kept.empty() ? n : 0);
+    const std::span<const double> sa(qddot ? qddot_array.data() : nullptr, qddot ? n : 0);
     ErrorCode code;
     core::UpdateError why;  // the setter's verdict: which joint, which value, which limit
-    if (q && qdot) {
+    if (qddot && (q || qdot)) {
+      code = g.SetJointState(group->group, sq, sv, sa, &why);
+    } else if (qddot) {
+      code = g.SetJointAccelerations(group->group, sa, &why);
+    } else if (q && qdot) {
       code = g.SetJointState(group->group, sq, sv, &why);
     } else if (q) {
       code = g.SetJointPositions(group->group, sq, &why);
@@ -202,14 +230,17 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
   });
 }
 
-py::array_t<double> JointValues(GraphBox& box, py::handle names, bool velocity, const char* fn) {
+// field: 0 positions, 1 velocities, 2 accelerations (NaN for a joint never given one).
+py::array_t<double> JointValues(GraphBox& box, py::handle names, int field, const char* fn) {
   const auto group = GroupArg(box, names, fn, false);
   py::array_t<double> out(static_cast<py::ssize_t>(group->group.size()));
   double* x = out.mutable_data();
   box.Visit([&](const auto& g) {
     for (std::size_t i = 0; i < group->group.size(); ++i) {
-      x[i] = velocity ? g.joint_velocity(group->group.joints[i])
-                      : g.joint_position(group->group.joints[i]);
+      const core::JointHandle j = group->group.joints[i];
+      x[i] = field == 2   ? g.joint_acceleration(j)
+             : field == 1 ? g.joint_velocity(j)
+                          : g.joint_position(j);
     }
   });
   return out;
@@ -433,24 +464,34 @@ multiple_pose_parents, pose_cycle, duplicate_pose_path, multiple_twist_parents, 
       "follows its master), duplicate_joint.");
   graph.def(
       "set_joints", &SetJoints, py::arg("positions") = py::none(),
-      py::arg("velocities") = py::none(), py::kw_only(), py::arg("names") = py::none(),
-      R"(Sets joint positions and/or velocities, all or nothing; a joint keeps what it is not given.
+      py::arg("velocities") = py::none(), py::arg("accelerations") = py::none(), py::kw_only(),
+      py::arg("names") = py::none(),
+      R"(Sets joint positions, velocities and/or accelerations, all or nothing; a joint keeps what
+it is not given. A joint given an acceleration makes its twist edge carry it (acceleration
+queries); a joint never given one carries none (no_acceleration).
 
-positions, velocities  arrays (lists or numpy, one value per joint of `names`), or dicts
+positions, velocities, accelerations
+                       arrays (lists or numpy, one value per joint of `names`), or dicts
                        {joint name: value} (any joints, by name; names= is then not used)
 names                  the arrays' layout: None (joint_names), a JointGroup, or a list of names
 RejectedError: invalid_number -> unknown_joint -> mimic_joint -> joint_limit (a position
 outside [lower, upper]); nothing changes. ValueError: an array of the wrong length.)");
   graph.def(
       "joint_positions",
-      [](GraphBox& b, py::handle names) { return JointValues(b, names, false, "joint_positions"); },
+      [](GraphBox& b, py::handle names) { return JointValues(b, names, 0, "joint_positions"); },
       py::arg("names") = py::none(),
       "Joint positions (a float64 array) in the layout of `names` (as set_joints).");
   graph.def(
       "joint_velocities",
-      [](GraphBox& b, py::handle names) { return JointValues(b, names, true, "joint_velocities"); },
+      [](GraphBox& b, py::handle names) { return JointValues(b, names, 1, "joint_velocities"); },
       py::arg("names") = py::none(),
       "Joint velocities (a float64 array) in the layout of `names`.");
+  graph.def(
+      "joint_accelerations",
+      [](GraphBox& b, py::handle names) { return JointValues(b, names, 2, "joint_accelerations"); },
+      py::arg("names") = py::none(),
+      "Joint accelerations (a float64 array) in the layout of `names`; NaN for a joint whose "
+      "acceleration was never given.");
 }
 
 void BindJacobianMethods(GraphClass& graph) {

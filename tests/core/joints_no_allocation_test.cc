@@ -1,8 +1,9 @@
 // The joints' real-time claims (joints.h, jacobian.h), proven by counting the global operator
-// new (tests/support/alloc_counter.h): setting positions, velocities or both for a group of
-// joints (with a mimic following), accepted and rejected (joint_limit, invalid_number,
-// unknown_joint), and evaluating compiled poses, twists and Jacobians after the updates, allocate
-// nothing. Each case runs once unarmed (to check its result code), then 100 times armed.
+// new (tests/support/alloc_counter.h): setting positions, velocities, accelerations or all of
+// them for a group of joints (with a mimic following), accepted and rejected (joint_limit,
+// invalid_number, unknown_joint), and evaluating compiled poses, twists, accelerations and
+// Jacobians after the updates, allocate nothing. Each case runs once unarmed (to check its result
+// code), then 100 times armed.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -65,7 +66,8 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
   auto pose = g.CompilePose(PoseSpec::Of("f").RelativeTo("l0"));
   auto twist = g.CompileTwist(TwistSpec::Of("f").RelativeTo("L0").ExpressedIn("l0"));
   auto jacobian = g.CompileJacobian(TwistSpec::Of("f").RelativeTo("L0").ExpressedIn("l0"));
-  ASSERT_TRUE(pose && twist && jacobian);
+  auto acceleration = g.CompileAcceleration(TwistSpec::Of("f").RelativeTo("L0").ExpressedIn("l0"));
+  ASSERT_TRUE(pose && twist && jacobian && acceleration);
   ASSERT_EQ(jacobian->num_columns(), 7u);
   std::vector<double> q(7, 0.3), qdot(7, -0.2), q_over(7, 0.3), q_nan(7, 0.3);
   q_over[5] = 2.5;
@@ -79,6 +81,18 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
                      [&] { return g.SetJointVelocities(all, qdot); });
   ExpectNoAllocation("SetJointState", ErrorCode::kOk,
                      [&] { return g.SetJointState(all, q, qdot); });
+  std::vector<double> qddot(7, 0.4), qddot_nan(7, 0.4);
+  qddot_nan[4] = std::nan("");
+  ExpectNoAllocation("SetJointAccelerations", ErrorCode::kOk, [&] {
+    qddot[1] = std::cos(t += 0.01);
+    return g.SetJointAccelerations(all, qddot);
+  });
+  ExpectNoAllocation("SetJointVelocities keeping the accelerations", ErrorCode::kOk,
+                     [&] { return g.SetJointVelocities(all, qdot); });
+  ExpectNoAllocation("SetJointState with accelerations", ErrorCode::kOk,
+                     [&] { return g.SetJointState(all, q, qdot, qddot); });
+  ExpectNoAllocation("SetJointAccelerations with NaN", ErrorCode::kInvalidNumber,
+                     [&] { return g.SetJointAccelerations(all, qddot_nan); });
   ExpectNoAllocation("SetJointPositions over a limit", ErrorCode::kJointLimit,
                      [&] { return g.SetJointPositions(all, q_over); });
   ExpectNoAllocation("SetJointPositions with NaN", ErrorCode::kInvalidNumber,
@@ -88,6 +102,9 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
                      [&] { return g.SetJointPositions(all, q_over, &why); });
   ExpectNoAllocation("SetJointPositions with NaN, with its detail", ErrorCode::kInvalidNumber,
                      [&] { return g.SetJointPositions(all, q_nan, &why); });
+  ExpectNoAllocation("SetJointState with a NaN acceleration, with its detail",
+                     ErrorCode::kInvalidNumber,
+                     [&] { return g.SetJointState(all, q, qdot, qddot_nan, &why); });
   coord::QuaternionBackend::PoseCoords X;
   ExpectNoAllocation("CompiledPose after joint updates", ErrorCode::kOk, [&] {
     if (g.SetJointPositions(all, q) != ErrorCode::kOk) return ErrorCode::kInvalidNumber;
@@ -95,6 +112,11 @@ TEST(JointsNoAllocation, StateUpdatesAndCompiledQueries) {
   });
   Eigen::Vector3d v, w;
   ExpectNoAllocation("CompiledTwist", ErrorCode::kOk, [&] { return twist->Evaluate(v, w); });
+  Eigen::Vector3d a, alpha;
+  ExpectNoAllocation("CompiledAcceleration after joint updates", ErrorCode::kOk, [&] {
+    if (g.SetJointAccelerations(all, qddot) != ErrorCode::kOk) return ErrorCode::kInvalidNumber;
+    return acceleration->Evaluate(a, alpha);
+  });
   Eigen::Matrix<double, 6, 7> J;  // caller storage, fixed size
   ExpectNoAllocation("CompiledJacobian (fixed-size storage)", ErrorCode::kOk,
                      [&] { return jacobian->Evaluate(J); });

@@ -166,7 +166,7 @@ def test_wrong_python_arguments_of_the_joint_calls():
         g.add_joint("z", type="ball", parent="base", child="z", child_body="Z")
     with pytest.raises(TypeError, match="lower must be a number"):
         g.add_joint("z", type="revolute", parent="base", child="z", child_body="Z", lower="low")
-    with pytest.raises(TypeError, match="both be dicts"):
+    with pytest.raises(TypeError, match="all be dicts"):
         g.set_joints({"p1": 0.1}, [0.0])
     with pytest.raises(TypeError, match="names must be"):
         g.set_joints([0.1], names="p1")
@@ -175,6 +175,77 @@ def test_wrong_python_arguments_of_the_joint_calls():
     other = prismatic_with_mimic()
     with pytest.raises(ValueError, match="another SceneGraph"):
         g.set_joints([0.1], names=other.joint_group(["p1"]))
+    assert g.dump() == before
+
+
+def planar_acceleration(q, qd, qdd):
+    """The end effector's classical acceleration relative to Base in [base], and alpha, by hand."""
+    q1, q12 = q[0], q[0] + q[1]
+    w1, w12, d1, d12 = qd[0], qd[0] + qd[1], qdd[0], qdd[0] + qdd[1]
+    a = np.array([-L1 * (math.cos(q1) * w1 ** 2 + math.sin(q1) * d1)
+                  - L2 * (math.cos(q12) * w12 ** 2 + math.sin(q12) * d12),
+                  L1 * (-math.sin(q1) * w1 ** 2 + math.cos(q1) * d1)
+                  + L2 * (-math.sin(q12) * w12 ** 2 + math.cos(q12) * d12), 0.0])
+    return a, np.array([0.0, 0.0, d12])
+
+
+def test_planar_arm_joint_accelerations():
+    g = planar_arm()
+    q, qd = [0.3, -1.1], [0.4, -1.3]
+    g.set_joints(q, qd)
+    with pytest.raises(semgraph.QueryError) as e:  # never given: no acceleration, not a zero
+        g.acceleration(point="ee", ref_body="Base", expressed_in="base")
+    assert e.value.code == "no_acceleration" and "l2" in e.value.message
+    assert np.isnan(g.joint_accelerations()).all()
+    qdd = [0.9, -0.35]
+    g.set_joints(accelerations=np.array(qdd))
+    np.testing.assert_array_equal(g.joint_accelerations(), qdd)
+    r = g.acceleration(point="ee", ref_body="Base", expressed_in="base")
+    a, alpha = planar_acceleration(q, qd, qdd)
+    np.testing.assert_allclose(r.linear, a, atol=1e-13)
+    np.testing.assert_allclose(r.angular, alpha, atol=1e-15)
+    # Velocities later, or positions with accelerations: what is not given is kept.
+    g.set_joints(velocities=[-0.8, 2.0])
+    a, _ = planar_acceleration(q, [-0.8, 2.0], qdd)
+    np.testing.assert_allclose(
+        g.linear_acceleration(point="ee", ref_body="Base", expressed_in="base"), a, atol=1e-13)
+    g.set_joints([1.2, 0.4], accelerations=[0.1, 0.2])
+    np.testing.assert_array_equal(g.joint_velocities(), [-0.8, 2.0])
+    a, _ = planar_acceleration([1.2, 0.4], [-0.8, 2.0], [0.1, 0.2])
+    np.testing.assert_allclose(
+        g.linear_acceleration(point="ee", ref_body="Base", expressed_in="base"), a, atol=1e-13)
+    # By name, and in a group's layout.
+    g.set_joints(None, {"j2": 0.5}, {"j1": -1.0})
+    np.testing.assert_array_equal(g.joint_accelerations(["j2", "j1"]), [0.2, -1.0])
+    g.set_joints(velocities=[0.0, 1.0], accelerations=[3.0, 4.0], names=g.joint_group(["j2", "j1"]))
+    np.testing.assert_array_equal(g.joint_velocities(), [1.0, 0.0])
+    np.testing.assert_array_equal(g.joint_accelerations(), [4.0, 3.0])
+    a, alpha = planar_acceleration([1.2, 0.4], [1.0, 0.0], [4.0, 3.0])
+    r = g.acceleration(point="ee", ref_body="Base", expressed_in="base")
+    np.testing.assert_allclose(r.linear, a, atol=1e-13)
+    np.testing.assert_allclose(r.angular, alpha, atol=1e-15)
+
+
+@pytest.mark.parametrize("error, code, words, op", [
+    (semgraph.RejectedError, "invalid_number", ["acceleration"], lambda g: g.set_joints(accelerations=[0, math.nan])),
+    (semgraph.RejectedError, "invalid_number", ["acceleration of joint j1"],
+     lambda g: g.set_joints(accelerations={"j1": math.inf})),
+    (semgraph.RejectedError, "unknown_joint", ["nope"], lambda g: g.set_joints(accelerations={"nope": 1.0})),
+    (semgraph.RejectedError, "joint_limit", ["j1"], lambda g: g.set_joints([4.0, 0.0], accelerations=[1.0, 1.0])),
+    (ValueError, None, ["accelerations must have shape (2,)"], lambda g: g.set_joints(accelerations=[1.0])),
+    (TypeError, None, ["all be dicts"], lambda g: g.set_joints({"j1": 0.1}, accelerations=[0.0, 0.0])),
+    (TypeError, None, ["accelerations['j1'] must be a number"], lambda g: g.set_joints(accelerations={"j1": "x"})),
+])
+def test_refused_joint_accelerations_change_nothing(error, code, words, op):
+    g = planar_arm()
+    g.set_joints([0.3, -1.1], [0.4, -1.3], [0.5, 0.6])
+    before = g.dump()
+    with pytest.raises(error) as e:
+        op(g)
+    if code is not None:
+        assert e.value.code == code, e.value.message
+    for w in words:
+        assert w in str(e.value)
     assert g.dump() == before
 
 

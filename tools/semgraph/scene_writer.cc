@@ -31,10 +31,10 @@
 // Joints: each live joint as a `joint` op (origin, axis, limits, mimic as stored), in table
 // order; one creates its frames where the order of ids needs it (a joint interns [p, c, P, C]
 // and creates P, C, then c, p), the others follow the edges; then one `joints` op with the
-// states. A joint's own pose and twist edges are not written (they follow from its state). The
-// generation of a slot that held removed joints is rebuilt (the joint is removed and added again
-// as often); records of removed joints that no live joint took over are not: such a graph comes
-// back with its live joints renumbered (in order).
+// states (accelerations only of the joints that were given one). A joint's own pose and twist edges
+// are not written (they follow from its state). The generation of a slot that held removed joints
+// is rebuilt (the joint is removed and added again as often); records of removed joints that no
+// live joint took over are not: such a graph comes back with its live joints renumbered (in order).
 //
 // Cost: O((names + frames + edges) * k) with k the number of children of a frame looked at, plus
 // the text. Thread safety: reads the graph only.
@@ -313,7 +313,7 @@ class Writer {
 
   void Joints() {
     const core::internal::JointTable& table = g_.joint_table();
-    std::string positions, velocities;
+    std::string positions, velocities, accelerations;
     for (std::uint32_t k = 0; k < table.joints.size(); ++k) {
       const core::internal::JointRecord& j = table.joints[k];
       if (!j.alive) continue;
@@ -323,11 +323,15 @@ class Writer {
             (positions.empty() ? "" : ", ") + JsonString(table.name(j)) + ": " + Number(j.q);
         velocities +=
             (velocities.empty() ? "" : ", ") + JsonString(table.name(j)) + ": " + Number(j.qdot);
+        if (j.has_qddot) {  // a joint whose qddot was never given has none (docs/dynamics.md)
+          accelerations += (accelerations.empty() ? "" : ", ") + JsonString(table.name(j)) + ": " +
+                           Number(j.qddot);
+        }
       }
     }
     if (!positions.empty()) {
-      out_ +=
-          "  - {op: joints, positions: {" + positions + "}, velocities: {" + velocities + "}}\n";
+      out_ += "  - {op: joints, positions: {" + positions + "}, velocities: {" + velocities + "}" +
+              (accelerations.empty() ? "" : ", accelerations: {" + accelerations + "}") + "}\n";
     }
   }
 

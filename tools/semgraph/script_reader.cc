@@ -72,6 +72,7 @@ enum Field : int {
   kForce,
   kMoment,
   kAcceleration,
+  kAccelerations,
   kNumFields,
 };
 constexpr Field kNoField = kNumFields;
@@ -125,9 +126,10 @@ constexpr std::string_view kFieldNames[kNumFields] = {"op",
                                                       "by",
                                                       "force",
                                                       "moment",
-                                                      "acceleration"};
+                                                      "acceleration",
+                                                      "accelerations"};
 
-static_assert(kFieldNames[kNumFields - 1] == "acceleration", "one name per Field, in order");
+static_assert(kFieldNames[kNumFields - 1] == "accelerations", "one name per Field, in order");
 static_assert(kNumFields <= 64, "fields are bits of a uint64_t");
 
 constexpr std::uint64_t Bit(Field f) { return std::uint64_t{1} << f; }
@@ -204,7 +206,9 @@ Shape ShapeOf(OpKind op, QueryKind query) {
                   Bit(kUpper) | Bit(kMimic),
               {{kName, kNoField}, {kType, kNoField}, {kParent, kNoField}, {kChild, kNoField}}};
     case OpKind::kJoints:
-      return {"a 'joints' op", Bit(kOp) | Bit(kPositions) | Bit(kVelocities) | Bit(kStamp), {}};
+      return {"a 'joints' op",
+              Bit(kOp) | Bit(kPositions) | Bit(kVelocities) | Bit(kAccelerations) | Bit(kStamp),
+              {}};
     case OpKind::kBag:
       return {"a 'bag' op",
               Bit(kOp) | Bit(kFile) | Bit(kTopics) | Bit(kStatic) | Bit(kBodies) |
@@ -584,8 +588,10 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
   if (op->kind == OpKind::kJoint && !ReadJointFields(node, value, op)) return false;
   if (op->kind == OpKind::kBag && !ReadBagFields(value, op)) return false;
   if (op->kind == OpKind::kJoints) {
-    if (value[kPositions] == kNoNode && value[kVelocities] == kNoNode) {
-      return Fail(node, "a 'joints' op needs 'positions' or 'velocities' (or both)");
+    if (value[kPositions] == kNoNode && value[kVelocities] == kNoNode &&
+        value[kAccelerations] == kNoNode) {
+      return Fail(node,
+                  "a 'joints' op needs 'positions', 'velocities' or 'accelerations' (or several)");
     }
     if ((op->has_positions = value[kPositions] != kNoNode) &&
         !ReadJointValues(value[kPositions], "positions", &op->positions)) {
@@ -593,6 +599,10 @@ bool Interpreter::ReadOp(std::uint32_t node, ScriptOp* op) {
     }
     if ((op->has_velocities = value[kVelocities] != kNoNode) &&
         !ReadJointValues(value[kVelocities], "velocities", &op->velocities)) {
+      return false;
+    }
+    if ((op->has_accelerations = value[kAccelerations] != kNoNode) &&
+        !ReadJointValues(value[kAccelerations], "accelerations", &op->accelerations)) {
       return false;
     }
   }

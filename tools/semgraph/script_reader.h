@@ -146,8 +146,8 @@ struct ScriptOp {
   std::string mimic_joint;
   double mimic_multiplier = 1.0, mimic_offset = 0.0;
   // kJoints: the maps as written, in document order.
-  bool has_positions = false, has_velocities = false;
-  std::vector<std::pair<std::string, double>> positions, velocities;
+  bool has_positions = false, has_velocities = false, has_accelerations = false;
+  std::vector<std::pair<std::string, double>> positions, velocities, accelerations;
   bool repair = false;  // kPose, kTwist: repair a rejected relation (docs/repair.md)
   // Time (docs/scene-script.md, "Time"), in seconds as written: the runner converts them to
   // nanoseconds (a non-finite or out-of-range time is then the op error invalid_number).

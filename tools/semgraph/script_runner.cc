@@ -398,16 +398,18 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
 
 template <coord::Backend B>
 OpOutcome SetJoints(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
-  std::vector<core::JointValue> q, qdot;
+  std::vector<core::JointValue> q, qdot, qddot;
   for (const auto& [name, value] : op.positions) q.push_back({name, value});
   for (const auto& [name, value] : op.velocities) qdot.push_back({name, value});
+  for (const auto& [name, value] : op.accelerations) qddot.push_back({name, value});
   std::optional<core::Stamp> stamp;
   if (std::string reason;
       !StampOf(op, &stamp, &reason)) {  // invalid_number comes first for joint states
     return Failure(op, index, base::ErrorCode::kInvalidNumber,
                    "joint state rejected (invalid_number): " + reason);
   }
-  return FromBuild(op, index, stamp ? graph.SetJoints(q, qdot, *stamp) : graph.SetJoints(q, qdot));
+  return FromBuild(
+      op, index, stamp ? graph.SetJoints(q, qdot, qddot, *stamp) : graph.SetJoints(q, qdot, qddot));
 }
 
 template <coord::Backend B>

@@ -63,6 +63,7 @@ enum class ValueRole : std::uint8_t {
   kAngularVelocity,
   kJointPosition,
   kJointVelocity,
+  kJointAcceleration,
   kLinearAcceleration,
   kAngularAcceleration,
   kForce,

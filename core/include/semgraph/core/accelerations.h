@@ -18,8 +18,11 @@
 // O(k (log n + d)) as twist queries. Queries: noexcept, allocation-free, lock-free.
 // Real time: SetAcceleration (by twist handle, edge form) and CompiledAcceleration
 // (compiled_acceleration.h).
-// Not yet: stamped accelerations (a stamped edge refuses one: stamp_mismatch), joint
-// q-double-dot.
+// Joints: a joint's twist edge carries the acceleration of its qddot when one was given
+// (SceneGraph::SetJoints with accelerations, SetJointAccelerations; joints.h); adds of an
+// acceleration on it are joint_edge.
+// Not yet: stamped accelerations (a stamped edge refuses one: stamp_mismatch; stamped joints
+// refuse qddot likewise).
 #pragma once
 
 #include "semgraph/coord/values.h"

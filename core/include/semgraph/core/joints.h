@@ -1,8 +1,9 @@
 // File: semgraph/core/joints.h
 //
 // Joints: a pose edge {p} -> {c} and a twist edge P -> {c}|C whose values are functions of a
-// joint state (q, qdot), computed on the write side, so a compiled query reads a joint's
-// edges exactly as any other edge and costs what it costs today (docs/kinematics.md).
+// joint state (q, qdot, and an optional qddot), computed on the write side, so a compiled query
+// reads a joint's edges exactly as any other edge and costs what it costs today
+// (docs/kinematics.md).
 //
 //   type        state            M(q)                                twist of the edge, in [c]
 //   revolute    q (rad), limited rotation by q about the unit axis u  (0, u qdot)
@@ -10,7 +11,13 @@
 //   prismatic   q (m), limited   translation q u                      (u qdot, 0)
 //   fixed       none             identity                             (0, 0)
 // The pose edge stores X_PC(q) = X_origin M(q) (X_origin: {c} wrt {p} at q = 0); u is given in
-// [c] and normalized. A mimic joint follows its master: q = m q_master + o, qdot = m qdot_master.
+// [c] and normalized. A mimic joint follows its master: q = m q_master + o, qdot = m qdot_master,
+// qddot = m qddot_master.
+// Accelerations (docs/dynamics.md): a joint given qddot makes its twist edge carry the edge form
+// AccelerationCoord(c|C, P, [c]) = (a, alpha): revolute and continuous (0, u qddot) (the child
+// origin is on the axis), prismatic (u qddot, 0); it does not depend on q or qdot. A joint whose
+// qddot was never given (since it was added) gives its edge no acceleration; once given, qddot
+// is kept, as q and qdot are, until it is set again. Stamped joints take no qddot (not yet).
 //
 // Invariants of a JointTable (kept by SceneGraph's joint operations):
 //  - a live joint's pose edge is the pose parent edge of its child frame and its twist edge the
@@ -21,9 +28,12 @@
 //    unique; a removed joint's slot is dead and its generation was bumped, so old handles
 //    are refused (unknown_joint);
 //  - a mimic's master is a live movable joint that is not a mimic; `mimics` of a master lists
-//    exactly its live mimics; the stored edge values equal X_origin M(q) and the twist of qdot.
+//    exactly its live mimics; the stored edge values equal X_origin M(q) and the twist of qdot;
+//    the twist edge carries an acceleration exactly when has_qddot, and then that of qddot
+//    (stored with the twist of qdot, edge_values.h); a mimic's has_qddot is its master's.
 // Costs: lookups by name O(|name|), allocation-free (one hash); by handle O(1). Setting the state
-// of n joints (SceneGraph::SetJointPositions/Velocities/State) is O(n + their mimics), noexcept,
+// of n joints (SceneGraph::SetJointPositions/Velocities/Accelerations/State) is O(n + their
+// mimics), noexcept,
 // allocation-free and lock-free for readers (each edge value is written through its sequence
 // lock: readers see either the old or the new value of an edge, never a torn one).
 // Thread safety: one writer sets joint states while readers evaluate queries; joint adds and
@@ -113,6 +123,8 @@ struct JointRecord {
   double multiplier = 1, offset = 0;
   std::vector<JointIndex> mimics;  ///< master: its mimics
   double q = 0, qdot = 0;          ///< the current state (stamped joints: the newest sample's)
+  double qddot = 0;                ///< the acceleration, meaningful when has_qddot
+  bool has_qddot = false;          ///< qddot was given (its twist edge carries an acceleration)
   /// Set without a stamp at least once (docs/time.md): its edges are timeless and take no
   /// stamped state (stamp_mismatch). A stamped joint is one whose edges have histories.
   bool timeless = false;
@@ -126,6 +138,9 @@ struct JointRecord {
   void PoseAt(double position, Eigen::Quaterniond& q_PC, Eigen::Vector3d& p_PoCo_P) const noexcept;
   /// The edge's screw twist at velocity qdot: (v, w) of {c}|C wrt P at c, in [c].
   void TwistAt(double velocity, Eigen::Vector3d& v, Eigen::Vector3d& w) const noexcept;
+  /// The edge's acceleration at qddot, in the edge form: (a, alpha) of {c}|C wrt P at c, in [c].
+  void AccelerationAt(double acceleration, Eigen::Vector3d& a,
+                      Eigen::Vector3d& alpha) const noexcept;
 };
 
 /// The joints of one scene graph (see the file comment for the invariants).

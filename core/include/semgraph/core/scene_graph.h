@@ -502,6 +502,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// mimic_joint -> joint_limit. A joint keeps the fields it is not given. Build time (messages).
   BuildResult SetJoints(std::span<const JointValue> positions,
                         std::span<const JointValue> velocities);
+  /// The same with accelerations qddot (docs/dynamics.md): each joint given one (and its mimics,
+  /// m qddot) makes its twist edge carry the acceleration it produces, kept until set again
+  /// (a later qdot keeps it). Accelerations are not limited; a joint that is stamped already is
+  /// stamp_mismatch, as any unstamped set of it.
+  BuildResult SetJoints(std::span<const JointValue> positions,
+                        std::span<const JointValue> velocities,
+                        std::span<const JointValue> accelerations);
   /// Real-time setters: values in the group's order (size must equal group.size()). All or
   /// nothing: kInvalidNumber -> kUnknownJoint (a joint removed since the group was made) ->
   /// kJointLimit. O(joints + mimics), noexcept, allocation-free.
@@ -514,6 +521,15 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
                                         std::span<const double> qdot,
                                         UpdateError* why = nullptr) noexcept;
+  /// Accelerations qddot (as SetJoints with accelerations): the same codes but kJointLimit
+  /// (accelerations are not limited), then kStampMismatch for a stamped joint; `why` names a
+  /// non-finite qddot with ValueRole::kJointAcceleration. noexcept, allocation-free.
+  [[nodiscard]] ErrorCode SetJointAccelerations(const JointGroup& group,
+                                                std::span<const double> qddot,
+                                                UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
+                                        std::span<const double> qdot, std::span<const double> qddot,
+                                        UpdateError* why = nullptr) noexcept;
   /// Stamped joint states (joint_time.cc; docs/kinematics.md, docs/time.md): a sample of
   /// (q, qdot) at `stamp` for each joint given and its mimics; a field not given keeps its value
   /// of the joint's newest sample. A joint's first state decides what its edges are: set
@@ -522,6 +538,12 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// joint_limit -> stamp_mismatch -> stamp_too_old -> duplicate_stamp; all or nothing.
   BuildResult SetJoints(std::span<const JointValue> positions,
                         std::span<const JointValue> velocities, Stamp stamp);
+  /// Stamped joint accelerations are not supported yet: any acceleration given is refused with
+  /// stamp_mismatch, after the rules before time (invalid_number -> unknown_joint ->
+  /// mimic_joint -> joint_limit); nothing changes.
+  BuildResult SetJoints(std::span<const JointValue> positions,
+                        std::span<const JointValue> velocities,
+                        std::span<const JointValue> accelerations, Stamp stamp);
   /// Real-time stamped setters, for joints that are stamped already (their first stamped state
   /// given by SetJoints with a stamp, else kStampMismatch; a mimic added since then too): codes
   /// as the unstamped ones, then kStampMismatch -> kStampTooOld -> kDuplicateStamp. All or
@@ -536,6 +558,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// Joint state and names (a stale handle: NaN / empty).
   [[nodiscard]] double joint_position(JointHandle j) const noexcept;
   [[nodiscard]] double joint_velocity(JointHandle j) const noexcept;
+  /// NaN also when the joint's acceleration was never given.
+  [[nodiscard]] double joint_acceleration(JointHandle j) const noexcept;
   [[nodiscard]] std::string_view joint_name(JointHandle j) const noexcept;
   [[nodiscard]] std::size_t num_joints() const noexcept { return joints_.num_alive; }
   [[nodiscard]] const internal::JointTable& joint_table() const noexcept { return joints_; }
@@ -776,17 +800,19 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Joints (joints.cc): removal of a joint's pose edge, state application; Jacobians
   // (jacobian.cc).
   BuildResult RemoveJoint(const internal::JointRecord& joint);
-  void ApplyJoint(JointIndex index, const double* q, const double* qdot) noexcept;
+  void ApplyJoint(JointIndex index, const double* q, const double* qdot,
+                  const double* qddot) noexcept;
   // SetJoints' rules in order (invalid_number, unknown_joint, mimic_joint, joint_limit), stamped or
   // not.
   BuildResult CheckJointValues(std::span<const JointValue> positions,
-                               std::span<const JointValue> velocities) const;
+                               std::span<const JointValue> velocities,
+                               std::span<const JointValue> accelerations) const;
   ErrorCode SetGroup(const JointGroup& group, const double* q, const double* qdot,
-                     UpdateError* why) noexcept;
+                     const double* qddot, UpdateError* why) noexcept;
   // A refused joint set: `code`, with the first joint in the group's order that breaks its rule
   // (joint_time.cc).
   ErrorCode RefuseJoints(ErrorCode code, const JointGroup& group, const double* q,
-                         const double* qdot, UpdateError* why) const noexcept;
+                         const double* qdot, const double* qddot, UpdateError* why) const noexcept;
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
                             Stamp stamp, UpdateError* why) noexcept;
