@@ -1067,7 +1067,12 @@ class Fuzzer {
       const std::string name = SomeJoint();
       velocities.emplace_back(name, JointValueFor(name));
     }
-    d_.SetJoints(positions, velocities);
+    typename Differential<B>::JointValues accelerations;  // q'': none most of the time
+    for (std::uint32_t n = in_.OneIn(3) ? in_.Below(3) + 1 : 0; n > 0; --n) {
+      const std::string name = SomeJoint();
+      accelerations.emplace_back(name, JointValueFor(name));
+    }
+    d_.SetJoints(positions, velocities, accelerations);
   }
 
   // MakeJointGroup (names of existing joints, mostly) or a real-time set of the kept group.

@@ -389,7 +389,9 @@ class Differential {
   }
 
   using JointValues = std::vector<std::pair<std::string, double>>;
-  ErrorCode SetJoints(const JointValues& positions, const JointValues& velocities) {
+  /// SetJoints by name; with accelerations (q'') when any is given.
+  ErrorCode SetJoints(const JointValues& positions, const JointValues& velocities,
+                      const JointValues& accelerations = {}) {
     Begin([=] {
       const auto map = [](const JointValues& list) {
         std::string s = "{";
@@ -398,12 +400,17 @@ class Differential {
         }
         return s + "}";
       };
-      return "{op: joints, positions: " + map(positions) + ", velocities: " + map(velocities) + "}";
+      return "{op: joints, positions: " + map(positions) + ", velocities: " + map(velocities) +
+             (accelerations.empty() ? "" : ", accelerations: " + map(accelerations)) + "}";
     });
-    std::vector<core::JointValue> q, qdot;
+    std::vector<core::JointValue> q, qdot, qddot;
     for (const auto& [name, value] : positions) q.push_back(core::JointValue{name, value});
     for (const auto& [name, value] : velocities) qdot.push_back(core::JointValue{name, value});
-    return Finish(graph_.SetJoints(q, qdot), model_.SetJoints(positions, velocities));
+    for (const auto& [name, value] : accelerations) qddot.push_back(core::JointValue{name, value});
+    const ErrorCode expected = model_.SetJoints(positions, velocities, accelerations);
+    return Finish(
+        accelerations.empty() ? graph_.SetJoints(q, qdot) : graph_.SetJoints(q, qdot, qddot),
+        expected);
   }
 
   /// MakeJointGroup(names): the same code; on success the group is kept for SetGroup.

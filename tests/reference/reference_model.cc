@@ -662,15 +662,23 @@ void ReferenceModel::Drive(State& s, const std::string& name) {
       if (t.head != j.child) continue;
       t.v.setZero();
       t.w.setZero();
-      t.has_A = false;  // joints give no accelerations (not yet in the library)
-      if (j.type == JointType::kPrismatic) t.v = j.qdot * j.u;
-      if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) t.w = j.qdot * j.u;
+      // The joint's acceleration in the edge form (at the child's origin, on the axis, in
+      // [child]): revolute alpha = u q'', a = 0; prismatic a = u q'', alpha = 0. None given: none.
+      t.has_A = j.has_qddot;
+      t.a.setZero();
+      t.alpha.setZero();
+      if (j.type == JointType::kPrismatic) t.v = j.qdot * j.u, t.a = j.qddot * j.u;
+      if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) {
+        t.w = j.qdot * j.u, t.alpha = j.qddot * j.u;
+      }
     }
   }
   for (Joint& m : s.joints) {
     if (m.master != name) continue;
     for (const Joint& j : s.joints) {
-      if (j.name == name) m.q = m.multiplier * j.q + m.offset, m.qdot = m.multiplier * j.qdot;
+      if (j.name != name) continue;
+      m.q = m.multiplier * j.q + m.offset, m.qdot = m.multiplier * j.qdot;
+      m.qddot = m.multiplier * j.qddot, m.has_qddot = j.has_qddot;
     }
     Drive(s, m.name);
   }
@@ -736,6 +744,7 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
     j.offset = in.offset;
     j.q = j.multiplier * master->q + j.offset;
     j.qdot = j.multiplier * master->qdot;
+    j.qddot = j.multiplier * master->qddot, j.has_qddot = master->has_qddot;
   } else if (j.limited()) {
     j.q = std::clamp(0.0, j.lower, j.upper);
   }
@@ -771,25 +780,27 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   return ErrorCode::kOk;
 }
 
-ErrorCode ReferenceModel::SetJoints(const std::vector<std::pair<std::string, double>>& positions,
-                                    const std::vector<std::pair<std::string, double>>& velocities) {
+ErrorCode ReferenceModel::SetJoints(
+    const std::vector<std::pair<std::string, double>>& positions,
+    const std::vector<std::pair<std::string, double>>& velocities,
+    const std::vector<std::pair<std::string, double>>& accelerations) {
   const auto find = [&](const std::string& name) -> Joint* {
     for (Joint& j : s_.joints) {
       if (j.name == name) return &j;
     }
     return nullptr;
   };
-  for (const auto* list : {&positions, &velocities}) {
+  for (const auto* list : {&positions, &velocities, &accelerations}) {
     for (const auto& [name, value] : *list) {
       if (!std::isfinite(value)) return ErrorCode::kInvalidNumber;
     }
   }
-  for (const auto* list : {&positions, &velocities}) {
+  for (const auto* list : {&positions, &velocities, &accelerations}) {
     for (const auto& [name, value] : *list) {
       if (!find(name) || !find(name)->movable()) return ErrorCode::kUnknownJoint;
     }
   }
-  for (const auto* list : {&positions, &velocities}) {
+  for (const auto* list : {&positions, &velocities, &accelerations}) {
     for (const auto& [name, value] : *list) {
       if (!find(name)->master.empty()) return ErrorCode::kMimicJoint;
     }
@@ -801,6 +812,9 @@ ErrorCode ReferenceModel::SetJoints(const std::vector<std::pair<std::string, dou
   }
   for (const auto& [name, value] : positions) find(name)->q = value, Drive(s_, name);
   for (const auto& [name, value] : velocities) find(name)->qdot = value, Drive(s_, name);
+  for (const auto& [name, value] : accelerations) {
+    find(name)->qddot = value, find(name)->has_qddot = true, Drive(s_, name);
+  }
   return ErrorCode::kOk;
 }
 

@@ -232,6 +232,8 @@ struct Joint {
   Eigen::Vector3d u = Eigen::Vector3d::UnitX();  // unit axis in [child]
   double lower = 0, upper = 0, multiplier = 1, offset = 0;
   double q = 0, qdot = 0;
+  double qddot = 0;  // with has_qddot: the joint's acceleration (never given: none)
+  bool has_qddot = false;
   std::uint64_t serial = 0;  // unique per add: a group made before a removal goes stale
   bool movable() const { return type != JointType::kFixed; }
   bool limited() const { return type == JointType::kRevolute || type == JointType::kPrismatic; }
@@ -387,10 +389,14 @@ class ReferenceModel {
   /// Edges: a joint's pose edge re-added / its twist edge re-added or removed: joint_edge; its
   /// pose edge removed: the joint is removed (joint_edge while live mimics follow it).
   ErrorCode AddJoint(const JointInput& in);
-  /// By name, all or nothing: invalid_number (positions, velocities) -> unknown_joint (missing
-  /// or fixed) -> mimic_joint -> joint_limit (outside [lower - 1e-9, upper + 1e-9]).
+  /// By name, all or nothing: invalid_number (positions, velocities, accelerations) ->
+  /// unknown_joint (missing or fixed) -> mimic_joint -> joint_limit (outside [lower - 1e-9,
+  /// upper + 1e-9]). An acceleration q'' gives the joint's twist edge its acceleration
+  /// (docs/dynamics.md: revolute alpha = u q'', prismatic a = u q''); a joint never given one
+  /// gives its edge none; q and q' set later keep it.
   ErrorCode SetJoints(const std::vector<std::pair<std::string, double>>& positions,
-                      const std::vector<std::pair<std::string, double>>& velocities);
+                      const std::vector<std::pair<std::string, double>>& velocities,
+                      const std::vector<std::pair<std::string, double>>& accelerations = {});
   /// A joint-state vector layout: each name's serial. unknown_joint -> mimic_joint ->
   /// duplicate_joint, per name in order.
   ErrorCode MakeGroup(const std::vector<std::string>& names,
