@@ -814,9 +814,13 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
 
 // Batches (Publisher::BeginBatch / Flush): one cycle's values of several edges, an unstamped
 // pose, stamped samples and a joint state, in one DDS write; the mirror applies them in order
-// as single values. A mirror that joins later gets every edge's latest value: the next Flush
-// republishes the structure for it. A batch of too many updates is rejected whole.
+// as single values (stamped samples with their covariances). A mirror that joins later gets
+// every edge's latest value: the next Flush republishes the structure for it (a stamped edge's
+// newest sample with its covariance). A batch of too many updates is rejected whole.
 TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
+  const auto SampleCovariance = [](int k) {
+    return core::Covariance6(k % 2 == 0 ? TestCovariance(0.01 * k) : core::Covariance6::Zero());
+  };
   constexpr std::uint32_t kDomain = 26;
   auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
   ASSERT_TRUE(mirror) << mirror.error();
@@ -846,9 +850,13 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
   for (int k = 1; k <= kCycles; ++k) {
     (*pub)->BeginBatch();
     ASSERT_EQ((*pub)->SetPose(*a, Rz(0.01 * k), {0.1 * k, 0, 0}), base::ErrorCode::kOk);
-    ASSERT_EQ(
-        (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, core::Stamp::Nanoseconds(1000 * k)),
-        base::ErrorCode::kOk);
+    // b's samples: with a covariance on even cycles (SampleCovariance), exact on odd ones.
+    const core::Stamp s = core::Stamp::Nanoseconds(1000 * k);
+    const core::Covariance6 S = SampleCovariance(k);
+    ASSERT_EQ(k % 2 == 0 ? (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, s,
+                                           core::CovarianceInput{&S})
+                         : (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, s),
+              base::ErrorCode::kOk);
     const double q[] = {0.01 * k};
     ASSERT_EQ((*pub)->SetJointPositions(*group, q), base::ErrorCode::kOk);
     (*pub)->Flush();
@@ -881,6 +889,12 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
           (Y->value.ToIsometry().matrix() - Iso(Rz(-0.01 * k), {0, 0.1 * k, 0}).matrix()).norm(),
           1e-12)
           << who << " " << k;
+      // With its covariance (the single edge's, in the query's form: the same numbers).
+      auto C = m.GetPoseWithCovariance(core::PoseSpec::Of("b").RelativeTo("w"),
+                                       core::At(core::Stamp::Nanoseconds(1000 * k)));
+      ASSERT_TRUE(C) << who << " " << k;
+      EXPECT_LE((C->value.covariance - SampleCovariance(k)).cwiseAbs().maxCoeff(), 1e-18)
+          << who << " " << k;
     }
   };
   (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { check(m, "mirror"); });
@@ -904,6 +918,11 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
     const Eigen::Isometry3d X_wl =
         Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
     EXPECT_LT((X->ToIsometry().matrix() - X_wl.matrix()).norm(), 1e-12);
+    // b's newest sample, with its covariance (the structure carries both).
+    auto C = m.GetPoseWithCovariance(core::PoseSpec::Of("b").RelativeTo("w"),
+                                     core::At(core::Stamp::Nanoseconds(1000 * kCycles)));
+    ASSERT_TRUE(C);
+    EXPECT_LE((C->value.covariance - SampleCovariance(kCycles)).cwiseAbs().maxCoeff(), 1e-18);
   });
 
   // A hostile batch: more updates than a batch may hold.
