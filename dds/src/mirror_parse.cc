@@ -87,8 +87,6 @@ std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeH
       if (!Finite(r.n, 7)) return at + "a number is not finite (invalid_number)";
       if (!Finite(r.cov, internal::kPackedCovariance))
         return at + "a covariance entry is not finite (invalid_number)";
-      if (r.stamped && internal::HasCovariance(r.cov))
-        return at + "a stamped edge carries no covariance in this version";
       if (e.kind == semgraph_wire_ELEMENT_POSE && !UnitQuaternion(r.n))
         return at + "not a unit quaternion (invalid_rotation)";
       if (!heads.emplace(std::pair{e.kind, r.head}, 0).second)

@@ -23,25 +23,29 @@ bool SameTime(const core::TimeOptions& a, const core::TimeOptions& b) {
          a.duplicate_stamp == b.duplicate_stamp && a.sample_capacity == b.sample_capacity;
 }
 
-// Adds the edge of a structure row to g (stamped: with its newest sample's stamp; timeless:
-// with its covariance, in the edge form as the wire carries it).
+// Adds the edge of a structure row to g with its covariance, in the edge form as the wire
+// carries it (stamped: the newest sample, with its stamp; a zero covariance: exact).
 core::BuildResult AddEdge(core::SceneGraph<>& g, const Row& r) {
   const Eigen::Vector3d a(r.n[0], r.n[1], r.n[2]), b(r.n[3], r.n[4], r.n[5]);
   const Eigen::Quaterniond q(r.n[0], r.n[1], r.n[2], r.n[3]);
   const Eigen::Vector3d p(r.n[4], r.n[5], r.n[6]);
   const coord::Covariance6 S = internal::UnpackCovariance(r.cov);
   core::CovarianceInput covariance;
-  if (!r.stamped && internal::HasCovariance(r.cov)) covariance.matrix = &S;
+  if (internal::HasCovariance(r.cov)) covariance.matrix = &S;
   if (r.kind == semgraph_wire_ELEMENT_TWIST) {
     const core::TwistSpec spec =
         core::TwistSpec::Of(r.head, r.head_body).RelativeTo(r.tail).ExpressedIn(r.head);
-    return r.stamped ? g.AddTwist(spec, a, b, core::Stamp::Nanoseconds(r.time_ns))
-                     : g.AddTwist(spec, a, b, covariance);
+    if (!r.stamped) return g.AddTwist(spec, a, b, covariance);
+    const core::Stamp t = core::Stamp::Nanoseconds(r.time_ns);
+    return covariance.matrix != nullptr ? g.AddTwist(spec, a, b, t, covariance)
+                                        : g.AddTwist(spec, a, b, t);
   }
   const core::PoseSpec spec =
       core::PoseSpec::Of(r.head, r.head_body).RelativeTo(r.tail, r.tail_body);
-  return r.stamped ? g.AddPose(spec, q, p, core::Stamp::Nanoseconds(r.time_ns))
-                   : g.AddPose(spec, q, p, covariance);
+  if (!r.stamped) return g.AddPose(spec, q, p, covariance);
+  const core::Stamp t = core::Stamp::Nanoseconds(r.time_ns);
+  return covariance.matrix != nullptr ? g.AddPose(spec, q, p, t, covariance)
+                                      : g.AddPose(spec, q, p, t);
 }
 
 // A refusal of one of `owner`'s relations, as reported (code: the graph's, or the replay's).

@@ -104,35 +104,39 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
   const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
   const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
   const Eigen::Vector3d p(n[4], n[5], n[6]);
-  // The covariance (docs/uncertainty.md): none or zero is an exact value, which sets the edge's
-  // covariance to zero; the setter checks it (invalid_number, invalid_covariance).
+  // The covariance (docs/uncertainty.md): none or zero is an exact value (a timeless edge's
+  // covariance becomes zero, a stamped sample carries none); the setter checks it
+  // (invalid_number, invalid_covariance). Joint states carry none in this version.
   const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
-  if (has_covariance && (time || slot.joint)) {
-    Reject(slot.owner, what + " into '" + slot.head + "': a covariance with a " +
-                           (time ? "stamped sample" : "joint state") +
-                           " (not carried in this version)");
+  if (has_covariance && slot.joint) {
+    Reject(slot.owner, what + " into '" + slot.head +
+                           "': a covariance with a joint state (not carried in this version)");
     return false;
   }
   const coord::Covariance6 S =
       has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
   core::CovarianceInput covariance;
   covariance.matrix = &S;
+  const std::optional<core::Stamp> at =
+      time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
   if (slot.joint) {
     if (!slot.settable) {
       Reject(slot.owner, what + ": a state for the fixed or mimic joint '" + slot.head + "'");
       return false;
     }
     const double q[1] = {n[0]}, qdot[1] = {n[1]};
-    code = time ? graph.SetJointState(slot.group, q, qdot, core::Stamp::Nanoseconds(*time), &bad)
-                : graph.SetJointState(slot.group, q, qdot, &bad);
+    code = at ? graph.SetJointState(slot.group, q, qdot, *at, &bad)
+              : graph.SetJointState(slot.group, q, qdot, &bad);
   } else if (slot.twist) {
-    code = time ? graph.SetTwist(slot.twist_handle, a, b, core::Stamp::Nanoseconds(*time), &bad)
-           : has_covariance ? graph.SetTwist(slot.twist_handle, a, b, covariance, &bad)
-                            : graph.SetTwist(slot.twist_handle, a, b, &bad);
+    code = at && has_covariance ? graph.SetTwist(slot.twist_handle, a, b, *at, covariance, &bad)
+           : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, &bad)
+           : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, &bad)
+                                : graph.SetTwist(slot.twist_handle, a, b, &bad);
   } else if (slot.settable) {
-    code = time             ? graph.SetPose(slot.pose, q, p, core::Stamp::Nanoseconds(*time), &bad)
-           : has_covariance ? graph.SetPose(slot.pose, q, p, covariance, &bad)
-                            : graph.SetPose(slot.pose, q, p, &bad);
+    code = at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, &bad)
+           : at                 ? graph.SetPose(slot.pose, q, p, *at, &bad)
+           : has_covariance     ? graph.SetPose(slot.pose, q, p, covariance, &bad)
+                                : graph.SetPose(slot.pose, q, p, &bad);
   } else {
     Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
     return false;

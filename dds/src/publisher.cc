@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "semgraph/core/timed_read.h"
 #include "wire.h"
 
 namespace semgraph::dds {
@@ -68,6 +69,10 @@ struct Publisher::Impl {
   // a value without one: exact), on the value topic or into the batch.
   void PublishPose(core::FrameIndex child) noexcept;
   void PublishTwist(core::TwistHandle edge) noexcept;
+  // The sample of a stamped edge at `stamp` as its history stores it, with its covariance (zero:
+  // exact), on the sample topic or into the batch.
+  void PublishPoseSample(core::FrameIndex child, core::Stamp stamp) noexcept;
+  void PublishTwistSample(core::TwistHandle edge, core::Stamp stamp) noexcept;
   // Sends one value: into the batch while batching, else on the value or sample topic.
   void Send(const semgraph_wire_Value& v, bool stamped) noexcept {
     if (!batching) {
@@ -205,8 +210,23 @@ void PutPoseSample(double* n, const double (&h)[7]) {
   n[6] = h[6];
 }
 
+// A history's covariance words (core's layout) in the wire's packed form.
+void PutCovarianceWords(double* packed, const double (&words)[21]) {
+  coord::Covariance6 S;
+  core::internal::CovarianceFromWords(words, S);
+  internal::PackCovariance(S, packed);
+}
+
+// The covariance of a history's newest sample, packed (zeros when it has none).
+template <class History>
+void PutNewestCovariance(double* packed, const History& h) {
+  double words[21];
+  if (h.CovarianceAt(h.newest_stamp(), words)) PutCovarianceWords(packed, words);
+}
+
 // The structure's elements: bodies, frames, then the pose and twist edges a joint does not own,
-// each with the number of its last value (stamped edges: with their newest sample's stamp).
+// each with the number of its last value and its covariance (stamped edges: the newest sample's
+// stamp and covariance).
 std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
                                        const std::vector<std::uint64_t>& pose_seq,
                                        const std::vector<std::uint64_t>& twist_seq) {
@@ -249,6 +269,7 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
     if (const core::PoseHistory* h = g.pose_history(f)) {
       r.stamped = true;
       r.time_ns = h->newest_stamp();
+      PutNewestCovariance(r.cov, *h);
     } else {
       internal::PackCovariance(g.pose_covariance(f), r.cov);
     }
@@ -270,6 +291,7 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
     if (const core::TwistHistory* h = g.twist_history(g.topology().twist_edge_of(f))) {
       r.stamped = true;
       r.time_ns = h->newest_stamp();
+      PutNewestCovariance(r.cov, *h);
     } else {
       internal::PackCovariance(g.twist_covariance(f), r.cov);
     }
@@ -441,20 +463,41 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   return code;
 }
 
+void Publisher::Impl::PublishPoseSample(core::FrameIndex child, core::Stamp stamp) noexcept {
+  const core::PoseHistory* history = graph->pose_history(child);
+  double h[7], c[21];
+  // The sample as stored (the newest value may be another sample's: out-of-order stamps).
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h) ||
+      !history->CovarianceAt(stamp.nanoseconds(), c)) {
+    return;
+  }
+  semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_POSE, child.value(), pose_seq);
+  v.time_ns = stamp.nanoseconds();
+  PutPoseSample(v.numbers, h);
+  PutCovarianceWords(v.covariance, c);
+  Send(v, true);
+}
+
+void Publisher::Impl::PublishTwistSample(core::TwistHandle edge, core::Stamp stamp) noexcept {
+  const core::TwistHistory* history = graph->twist_history(edge.slot);
+  double h[6], c[21];
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h) ||
+      !history->CovarianceAt(stamp.nanoseconds(), c)) {
+    return;
+  }
+  const std::uint32_t id = graph->topology().twist_edge(edge.slot).head.load().value();
+  semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_TWIST, id, twist_seq);
+  v.time_ns = stamp.nanoseconds();
+  for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
+  PutCovarianceWords(v.covariance, c);
+  Send(v, true);
+}
+
 base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
                                    const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp) noexcept {
   Impl& m = *impl_;
   const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T, stamp);
-  if (code != base::ErrorCode::kOk) return code;
-  const std::uint32_t id = edge.child.value();
-  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_POSE, id, m.pose_seq);
-  v.time_ns = stamp.nanoseconds();
-  // The sample as stored (the newest value may be another sample's: out-of-order stamps).
-  double h[7];
-  const core::PoseHistory* history = m.graph->pose_history(edge.child);
-  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
-  PutPoseSample(v.numbers, h);
-  m.Send(v, true);
+  if (code == base::ErrorCode::kOk) m.PublishPoseSample(edge.child, stamp);
   return code;
 }
 
@@ -462,15 +505,25 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
                                     const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept {
   Impl& m = *impl_;
   const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp);
-  if (code != base::ErrorCode::kOk) return code;
-  const std::uint32_t id = m.graph->topology().twist_edge(edge.slot).head.load().value();
-  semgraph_wire_Value v = m.NewValue(semgraph_wire_VALUE_TWIST, id, m.twist_seq);
-  v.time_ns = stamp.nanoseconds();
-  double h[6];
-  const core::TwistHistory* history = m.graph->twist_history(edge.slot);
-  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return code;
-  for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
-  m.Send(v, true);
+  if (code == base::ErrorCode::kOk) m.PublishTwistSample(edge, stamp);
+  return code;
+}
+
+base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                   const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp,
+                                   const core::CovarianceInput& covariance) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetPose(edge, q_TH, p_ToHo_T, stamp, covariance);
+  if (code == base::ErrorCode::kOk) m.PublishPoseSample(edge.child, stamp);
+  return code;
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H, core::Stamp stamp,
+                                    const core::CovarianceInput& covariance) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp, covariance);
+  if (code == base::ErrorCode::kOk) m.PublishTwistSample(edge, stamp);
   return code;
 }
 

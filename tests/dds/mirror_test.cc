@@ -331,6 +331,225 @@ TEST(MirrorTest, StampedSamplesReplicateHistories) {
   });
 }
 
+// Stamped samples with covariances (docs/uncertainty.md, "Time"): the structure carries a
+// stamped edge's newest sample with its covariance (here the first one, sent only that way),
+// each stamped SetPose / SetTwist with a covariance sends the sample with the covariance its
+// history stored (out of order: the history sorts them), a sample without one is exact. The
+// mirror's graph then answers at a time between two samples i, i+1 with the interpolation
+// (1 - l) S_i + l S_i+1, l = (t - t_i) / (t_i+1 - t_i), computed here by hand.
+TEST(MirrorTest, StampedSamplesCarryTheirCovariances) {
+  constexpr std::uint32_t kDomain = 29;
+  auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
+  ASSERT_TRUE(mirror) << mirror.error();
+  core::TimeOptions time;
+  time.window = core::Duration::Seconds(5);
+  time.sample_capacity = 64;
+  auto made = core::SceneGraph<>::Create(time);
+  ASSERT_TRUE(made);
+  core::SceneGraph<>& g = *made;
+  const std::int64_t t0 = 1'000'000'000, dt = 100'000'000;  // 100 ms
+  const auto at = [&](int k) { return core::Stamp::Nanoseconds(t0 + k * dt); };
+  // Pose covariances S0..S2, twist covariances T0..T2 (sample 3 carries none: zero).
+  core::Covariance6 S1 = TestCovariance(2.0), T2 = TestCovariance(4.0);
+  S1(0, 4) = S1(4, 0) = 3e-5;  // not a multiple of another: a wrong pairing shows
+  T2(1, 5) = T2(5, 1) = -2e-5;
+  const core::Covariance6 S[3] = {TestCovariance(1.0), S1, TestCovariance(0.5)};
+  const core::Covariance6 T[3] = {TestCovariance(3.0), TestCovariance(0.25), T2};
+  const core::PoseSpec pose_spec = core::PoseSpec::Of("a", "A").RelativeTo("w", "W");
+  const core::TwistSpec twist_spec = core::TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
+  // Sample k: p = (k, 0, 0), v = (0, 2k, 0), identity rotation and w = 0 (the covariance of the
+  // single edge is then the edge's own, in the query's form).
+  const auto p = [](int k) { return Eigen::Vector3d(k, 0, 0); };
+  const auto v = [](int k) { return Eigen::Vector3d(0, 2.0 * k, 0); };
+  const Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  ASSERT_TRUE(g.AddPose(pose_spec, q, p(0), at(0), core::CovarianceInput{&S[0]}));
+  ASSERT_TRUE(g.AddTwist(twist_spec, v(0), zero, at(0), core::CovarianceInput{&T[0]}));
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  auto pose = g.FindPoseEdge("a", "w");
+  auto twist = g.FindTwistEdge("a", "W");
+  ASSERT_TRUE(pose && twist);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  for (int k : {2, 1}) {
+    ASSERT_EQ((*pub)->SetPose(*pose, q, p(k), at(k), core::CovarianceInput{&S[k]}),
+              base::ErrorCode::kOk);
+    ASSERT_EQ((*pub)->SetTwist(*twist, v(k), zero, at(k), core::CovarianceInput{&T[k]}),
+              base::ErrorCode::kOk);
+  }
+  ASSERT_EQ((*pub)->SetPose(*pose, q, p(3), at(3)), base::ErrorCode::kOk);
+  ASSERT_EQ((*pub)->SetTwist(*twist, v(3), zero, at(3)), base::ErrorCode::kOk);
+  auto received = [&](bool want_twist) {
+    for (const dds::EdgeState& e : (*mirror)->Edges()) {
+      if (e.head == "a" && e.twist == want_twist) return e.received;
+    }
+    return std::uint64_t{0};
+  };
+  ASSERT_TRUE(
+      (*mirror)->WaitUntil([&] { return received(false) >= 3 && received(true) >= 3; }, 5s));
+  EXPECT_EQ((*mirror)->messages_rejected(), 0u);
+  EXPECT_EQ((*pub)->write_failures(), 0u);
+
+  // By hand: on sample k its own; between k and k+1 the weights from the stamps.
+  struct Probe {
+    std::int64_t t;
+    core::Covariance6 S, T;
+  };
+  const auto mix = [](const core::Covariance6& A, const core::Covariance6& B, double l) {
+    return core::Covariance6((1.0 - l) * A + l * B);
+  };
+  const core::Covariance6 Z = core::Covariance6::Zero();
+  const std::vector<Probe> probes = {
+      {t0, S[0], T[0]},  // the structure's sample
+      {t0 + dt / 4, mix(S[0], S[1], 0.25), mix(T[0], T[1], 0.25)},
+      {t0 + dt, S[1], T[1]},
+      {t0 + dt + 3 * dt / 5, mix(S[1], S[2], 0.6), mix(T[1], T[2], 0.6)},
+      {t0 + 2 * dt + dt / 2, mix(S[2], Z, 0.5), mix(T[2], Z, 0.5)},  // sample 3: exact
+      {t0 + 3 * dt, Z, Z},
+  };
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    for (const Probe& pr : probes) {
+      const core::Stamp s = core::Stamp::Nanoseconds(pr.t);
+      const double x = double(pr.t - t0) / double(dt);  // p_x = k at sample k, linear between
+      const auto X = m.GetPoseWithCovariance(pose_spec, core::At{s});
+      const auto V = m.GetTwistWithCovariance(twist_spec, core::At{s});
+      ASSERT_TRUE(X && V) << pr.t;
+      EXPECT_LE((X->value.covariance - pr.S).cwiseAbs().maxCoeff(), 1e-18)
+          << "pose at " << pr.t << "\n"
+          << X->value.covariance << "\nexpected\n"
+          << pr.S;
+      EXPECT_LE((V->value.covariance - pr.T).cwiseAbs().maxCoeff(), 1e-18)
+          << "twist at " << pr.t << "\n"
+          << V->value.covariance << "\nexpected\n"
+          << pr.T;
+      EXPECT_NEAR(X->value.value.ToIsometry().translation().x(), x, 1e-12) << pr.t;
+      EXPECT_NEAR(V->value.value.linear.y(), 2.0 * x, 1e-12) << pr.t;
+    }
+    // The edge's record follows the newest sample (exact).
+    EXPECT_TRUE(m.pose_covariance(m.FindFrame("a")).isZero(0.0));
+  });
+}
+
+// The wire's packed covariance (semgraph_wire.idl): the upper triangle of S, row by row.
+void PackUpper(const core::Covariance6& S, double* out) {
+  int k = 0;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) out[k++] = S(i, j);
+  }
+}
+
+// Hostile covariances of stamped samples: on the sample topic (a pose covariance that is not
+// positive semidefinite, a negative variance, a NaN in a twist covariance; the wire's packed
+// upper triangle cannot carry an asymmetric matrix) and in a structure (a stamped edge with a
+// covariance that is not PSD, one with a NaN). Each is refused with a report naming the edge,
+// and the mirror's graph is unchanged.
+TEST(MirrorTest, HostileStampedCovariancesAreRefused) {
+  constexpr std::uint32_t kDomain = 30;
+  std::mutex log_mutex;
+  std::string logs;
+  dds::MirrorOptions options;
+  options.name = "m";
+  options.domain = kDomain;
+  options.log = [&](const std::string& line) {
+    std::lock_guard<std::mutex> lock(log_mutex);
+    logs += line + "\n";
+  };
+  auto mirror = dds::Mirror::Create(options);
+  ASSERT_TRUE(mirror) << mirror.error();
+  core::SceneGraph<> g;
+  const core::Covariance6 S = TestCovariance(1.0);
+  ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(0.1), {1, 0, 0},
+                        core::Stamp::Nanoseconds(100), core::CovarianceInput{&S}));
+  ASSERT_TRUE(g.AddTwist(core::TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"),
+                         {0.1, 0, 0}, {0, 0, 0.2}, core::Stamp::Nanoseconds(100)));
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  std::string before;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = Dump(m); });
+
+  RawSampleWriter samples(kDomain);
+  auto sample = [&](std::uint8_t kind, std::uint64_t seq, std::int64_t time_ns) {
+    semgraph_wire_Value v{};
+    v.source = (*pub)->source();
+    v.edge = g.FindFrame("a").value();
+    v.kind = kind;
+    v.seq = seq;
+    v.time_ns = time_ns;
+    if (kind == semgraph_wire_VALUE_POSE) v.numbers[0] = 1;  // identity, at the origin
+    PackUpper(S, v.covariance);
+    return v;
+  };
+  semgraph_wire_Value not_psd = sample(semgraph_wire_VALUE_POSE, 10, 200);
+  not_psd.covariance[1] = 1.0;  // S(0, 1) = 1 with variances of 4e-4 and 5e-4
+  semgraph_wire_Value negative = sample(semgraph_wire_VALUE_POSE, 11, 300);
+  negative.covariance[0] = -1e-3;  // S(0, 0) < 0
+  semgraph_wire_Value nan = sample(semgraph_wire_VALUE_TWIST, 12, 200);
+  nan.covariance[20] = std::nan("");  // S(5, 5)
+  for (const semgraph_wire_Value* v : {&not_psd, &negative, &nan})
+    ASSERT_EQ(dds_write(samples.writer, v), DDS_RETCODE_OK);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 3; }, 5s))
+      << (*mirror)->messages_rejected();
+
+  // Structures of another owner: stamped edges into {x} (not PSD) and {y} (a NaN).
+  RawWriter structures(kDomain, &semgraph_wire_Structure_desc, "semgraph_structure");
+  char owner[] = "evil", x[] = "x", y[] = "y", body[] = "X", tail[] = "w", tail_body[] = "W";
+  semgraph_wire_Element e{};
+  e.kind = semgraph_wire_ELEMENT_POSE;
+  e.head = x;
+  e.head_body = body;
+  e.tail = tail;
+  e.tail_body = tail_body;
+  e.stamped = true;
+  e.time_ns = 5;
+  e.numbers[0] = 1;
+  PackUpper(S, e.covariance);
+  e.covariance[1] = 1.0;
+  std::uint64_t revision = 0;
+  auto structure = [&](semgraph_wire_Element* el) {
+    semgraph_wire_Structure s{};
+    s.owner = owner;
+    s.source = 77;
+    s.revision = ++revision;
+    s.elements._length = s.elements._maximum = 1;
+    s.elements._buffer = el;
+    ASSERT_EQ(dds_write(structures.writer, &s), DDS_RETCODE_OK);
+    std::this_thread::sleep_for(20ms);  // keep-last 1: let each one arrive
+  };
+  structure(&e);
+  auto refused_x = [&] {
+    for (const dds::Report& r : (*mirror)->Refusals()) {
+      if (r.owner == "evil" && r.code == "invalid_covariance") return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE((*mirror)->WaitUntil(refused_x, 5s));
+  std::string refusal;
+  for (const dds::Report& r : (*mirror)->Refusals()) refusal += r.message + "\n";
+  EXPECT_NE(refusal.find("{x}"), std::string::npos) << refusal;
+  semgraph_wire_Element f = e;
+  f.head = y;
+  f.covariance[1] = S(0, 1);
+  f.covariance[7] = std::nan("");
+  const std::uint64_t rejected = (*mirror)->messages_rejected();
+  structure(&f);
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() > rejected; }, 5s));
+
+  std::string after;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    after = Dump(m);
+    EXPECT_FALSE(m.FindFrame("x").is_valid());
+    EXPECT_FALSE(m.FindFrame("y").is_valid());
+  });
+  EXPECT_EQ(before, after);
+  std::lock_guard<std::mutex> lock(log_mutex);
+  EXPECT_NE(logs.find("sample into 'a': invalid_covariance"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("sample into 'a': invalid_number"), std::string::npos) << logs;
+  EXPECT_NE(logs.find("element 0 (pose 'y'): a covariance entry is not finite"), std::string::npos)
+      << logs;
+  EXPECT_EQ(logs.find("carries no covariance"), std::string::npos) << logs;
+}
+
 // Hostile messages for the time fields: a stamped sample for an unstamped edge, a stamp out of
 // range, an unstamped value for a stamped edge, a stamped body, absurd time options. Each is
 // rejected with a log line and changes nothing.
@@ -595,9 +814,13 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
 
 // Batches (Publisher::BeginBatch / Flush): one cycle's values of several edges, an unstamped
 // pose, stamped samples and a joint state, in one DDS write; the mirror applies them in order
-// as single values. A mirror that joins later gets every edge's latest value: the next Flush
-// republishes the structure for it. A batch of too many updates is rejected whole.
+// as single values (stamped samples with their covariances). A mirror that joins later gets
+// every edge's latest value: the next Flush republishes the structure for it (a stamped edge's
+// newest sample with its covariance). A batch of too many updates is rejected whole.
 TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
+  const auto SampleCovariance = [](int k) {
+    return core::Covariance6(k % 2 == 0 ? TestCovariance(0.01 * k) : core::Covariance6::Zero());
+  };
   constexpr std::uint32_t kDomain = 26;
   auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
   ASSERT_TRUE(mirror) << mirror.error();
@@ -627,9 +850,13 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
   for (int k = 1; k <= kCycles; ++k) {
     (*pub)->BeginBatch();
     ASSERT_EQ((*pub)->SetPose(*a, Rz(0.01 * k), {0.1 * k, 0, 0}), base::ErrorCode::kOk);
-    ASSERT_EQ(
-        (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, core::Stamp::Nanoseconds(1000 * k)),
-        base::ErrorCode::kOk);
+    // b's samples: with a covariance on even cycles (SampleCovariance), exact on odd ones.
+    const core::Stamp s = core::Stamp::Nanoseconds(1000 * k);
+    const core::Covariance6 S = SampleCovariance(k);
+    ASSERT_EQ(k % 2 == 0 ? (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, s,
+                                           core::CovarianceInput{&S})
+                         : (*pub)->SetPose(*b, Rz(-0.01 * k), {0, 0.1 * k, 0}, s),
+              base::ErrorCode::kOk);
     const double q[] = {0.01 * k};
     ASSERT_EQ((*pub)->SetJointPositions(*group, q), base::ErrorCode::kOk);
     (*pub)->Flush();
@@ -662,6 +889,12 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
           (Y->value.ToIsometry().matrix() - Iso(Rz(-0.01 * k), {0, 0.1 * k, 0}).matrix()).norm(),
           1e-12)
           << who << " " << k;
+      // With its covariance (the single edge's, in the query's form: the same numbers).
+      auto C = m.GetPoseWithCovariance(core::PoseSpec::Of("b").RelativeTo("w"),
+                                       core::At(core::Stamp::Nanoseconds(1000 * k)));
+      ASSERT_TRUE(C) << who << " " << k;
+      EXPECT_LE((C->value.covariance - SampleCovariance(k)).cwiseAbs().maxCoeff(), 1e-18)
+          << who << " " << k;
     }
   };
   (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { check(m, "mirror"); });
@@ -685,6 +918,11 @@ TEST(MirrorTest, BatchesApplyAsSingleValuesAndLateMirrorsGetTheLatest) {
     const Eigen::Isometry3d X_wl =
         Iso(Rz(0.01 * kCycles), {0.1 * kCycles, 0, 0}) * Iso(Rz(0), {0, 0.01 * kCycles, 0});
     EXPECT_LT((X->ToIsometry().matrix() - X_wl.matrix()).norm(), 1e-12);
+    // b's newest sample, with its covariance (the structure carries both).
+    auto C = m.GetPoseWithCovariance(core::PoseSpec::Of("b").RelativeTo("w"),
+                                     core::At(core::Stamp::Nanoseconds(1000 * kCycles)));
+    ASSERT_TRUE(C);
+    EXPECT_LE((C->value.covariance - SampleCovariance(kCycles)).cwiseAbs().maxCoeff(), 1e-18);
   });
 
   // A hostile batch: more updates than a batch may hold.

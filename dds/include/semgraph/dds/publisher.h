@@ -13,7 +13,8 @@
 //     time options, and each stamped SetPose/SetTwist goes out on the sample topic with its
 //     stamp (the graph's time; the publisher's clock stays in stamp_ns for monitors); mirrors
 //     insert the samples into the replica's histories, whose rules (out of order, duplicate
-//     stamps, window) decide reorders and repeats;
+//     stamps, window) decide reorders and repeats; each sample carries its covariance (zero:
+//     exact), and the structure carries a stamped edge's newest sample with its covariance;
 //   - joints (core/joints.h): each live joint with its AddJoint data (type, parent and child
 //     frames, origin, axis, limits, mimic) and state, in place of its two edges; joint states
 //     set through this Publisher (SetJoints, SetJointPositions, SetJointState, stamped or not)
@@ -93,6 +94,17 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                         core::Stamp stamp) noexcept;
   [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
                                          const Eigen::Vector3d& w_DH_H, core::Stamp stamp) noexcept;
+  /// A stamped sample with a covariance: SceneGraph's stamped SetPose/SetTwist with a
+  /// covariance (same codes), then the sample goes out as its history stores it, with the
+  /// covariance stored for that stamp (edge form, packed as above); mirrors insert both into
+  /// their history, which interpolates covariances between samples as the publisher's does. A
+  /// stamped sample without one (the calls above) goes out with a zero covariance: exact.
+  [[nodiscard]] base::ErrorCode SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
+                                        const Eigen::Vector3d& p_ToHo_T, core::Stamp stamp,
+                                        const core::CovarianceInput& covariance) noexcept;
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H, core::Stamp stamp,
+                                         const core::CovarianceInput& covariance) noexcept;
 
   /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
   /// joint given is published with its state (mimics follow on the mirrors). A stamped
