@@ -8,6 +8,30 @@ namespace semgraph::core {
 
 namespace jac = coord::jacobians;
 
+namespace internal {
+
+std::vector<FrameIndex> ChainUnionTopDown(const topology::SceneTopology& t,
+                                          std::span<const FrameIndex> ends, FrameIndex z) {
+  std::vector<FrameIndex> edges;
+  for (const FrameIndex k : ends) {
+    for (FrameIndex g = k; g != z; g = t.pose_parent(g)) {
+      if (std::find(edges.begin(), edges.end(), g) != edges.end()) break;  // an earlier chain's
+      edges.push_back(g);
+    }
+  }
+  const topology::PoseForest& forest = t.forest();
+  std::stable_sort(edges.begin(), edges.end(),
+                   [&](FrameIndex x, FrameIndex y) { return forest.depth(x) < forest.depth(y); });
+  return edges;
+}
+
+std::int32_t EntryOf(const std::vector<FrameIndex>& edges, FrameIndex g) {
+  const auto it = std::find(edges.begin(), edges.end(), g);
+  return it == edges.end() ? -1 : static_cast<std::int32_t>(it - edges.begin());
+}
+
+}  // namespace internal
+
 template <coord::Backend B>
 CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneTopology& t,
                                                           const EdgeValues<B>& values,
@@ -17,30 +41,16 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
   const topology::PoseForest& forest = t.forest();
   FrameIndex z = k[0];
   for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
-  // The union of the five chains up to Z, each edge once (named by its head frame).
-  std::vector<FrameIndex> heads;
-  for (const FrameIndex f : k) {
-    for (FrameIndex g = f; g != z; g = t.pose_parent(g)) {
-      if (std::find(heads.begin(), heads.end(), g) != heads.end()) break;
-      heads.push_back(g);
-    }
-  }
-  // Top-down: by depth, so that each edge comes after the edge above it.
-  std::stable_sort(heads.begin(), heads.end(),
-                   [&](FrameIndex x, FrameIndex y) { return forest.depth(x) < forest.depth(y); });
-  const auto entry_of = [&](FrameIndex g) -> std::int32_t {
-    const auto it = std::find(heads.begin(), heads.end(), g);
-    return it == heads.end() ? -1 : static_cast<std::int32_t>(it - heads.begin());
-  };
+  const std::vector<FrameIndex> heads = internal::ChainUnionTopDown(t, k, z);
   edges_.reserve(heads.size());
   for (const FrameIndex g : heads) {
-    const PoseValue<B>& value = values.X_PF[g.value()];
-    Edge e{&value, g.value(), value.epoch(), entry_of(t.pose_parent(g)), {}};
+    Edge e{
+        g.value(), values.X_PF[g.value()].epoch(), internal::EntryOf(heads, t.pose_parent(g)), {}};
     e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]), forest.IsAncestor(g, k[1]),
                forest.IsAncestor(g, k[3]), forest.IsAncestor(g, k[4])};
     edges_.push_back(e);
   }
-  for (int i = 0; i < 5; ++i) frame_entry_[i] = k[i] == z ? -1 : entry_of(k[i]);
+  for (int i = 0; i < 5; ++i) frame_entry_[i] = internal::EntryOf(heads, k[i]);
   scratch_.resize(edges_.size());
 }
 
@@ -51,22 +61,9 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
   const std::size_t n = edges_.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Edge& e = edges_[i];
-    InZ& out = scratch_[i];
-    PoseCoords X_PG;
-    if (e.value->epoch() != e.epoch) return ErrorCode::kQueryInvalidated;
-    values_->LoadPose(e.frame, X_PG, out.S);  // value and covariance of one write
-    if (e.value->epoch() != e.epoch) return ErrorCode::kQueryInvalidated;  // removed meanwhile
-    out.exact = out.S.isZero(0.0);
-    const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
-    const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
-    if (e.parent < 0) {
-      out.R_ZG = R_PG;
-      out.p_ZG = p_PG;
-    } else {
-      const InZ& up = scratch_[static_cast<std::size_t>(e.parent)];
-      out.R_ZG.noalias() = up.R_ZG * R_PG;
-      out.p_ZG.noalias() = up.R_ZG * p_PG;
-      out.p_ZG += up.p_ZG;
+    const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
+    if (!internal::LoadPoseEdgeInZ<B>(*values_, e.frame, e.epoch, up, scratch_[i])) {
+      return ErrorCode::kQueryInvalidated;
     }
   }
   // The frames in Z, the answer, then each uncertain edge's J S J^T.

@@ -3,8 +3,6 @@
 // Contract: compiled_twist_covariance.h.
 #include "semgraph/core/compiled_twist_covariance.h"
 
-#include <algorithm>
-
 namespace semgraph::core {
 
 namespace jac = coord::jacobians;
@@ -24,34 +22,21 @@ CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::Scen
   });
   FrameIndex z = forest.CommonAncestor(e, r);
   for (const FrameIndex h : heads) z = forest.CommonAncestor(z, h);
-  // The union of the chains of e, [r] and the heads up to Z, each edge once (by its head frame).
   std::vector<FrameIndex> chain_ends{e, r};
   chain_ends.insert(chain_ends.end(), heads.begin(), heads.end());
-  std::vector<FrameIndex> edges;
-  for (const FrameIndex k : chain_ends) {
-    for (FrameIndex g = k; g != z; g = t.pose_parent(g)) {
-      if (std::find(edges.begin(), edges.end(), g) != edges.end()) break;
-      edges.push_back(g);
-    }
-  }
-  // Top-down: by depth, so that each edge comes after the edge above it.
-  std::stable_sort(edges.begin(), edges.end(),
-                   [&](FrameIndex x, FrameIndex y) { return forest.depth(x) < forest.depth(y); });
-  const auto entry_of = [&](FrameIndex g) -> std::int32_t {
-    const auto it = std::find(edges.begin(), edges.end(), g);
-    return it == edges.end() ? -1 : static_cast<std::int32_t>(it - edges.begin());
-  };
+  const std::vector<FrameIndex> edges = internal::ChainUnionTopDown(t, chain_ends, z);
   pose_edges_.reserve(edges.size());
   moves_h_.reserve(edges.size() * heads.size());
   for (const FrameIndex g : edges) {
-    pose_edges_.push_back({g.value(), values.X_PF[g.value()].epoch(), entry_of(t.pose_parent(g)),
-                           forest.IsAncestor(g, e), forest.IsAncestor(g, r)});
+    pose_edges_.push_back({g.value(), values.X_PF[g.value()].epoch(),
+                           internal::EntryOf(edges, t.pose_parent(g)), forest.IsAncestor(g, e),
+                           forest.IsAncestor(g, r)});
     for (const FrameIndex h : heads) moves_h_.push_back(forest.IsAncestor(g, h) ? 1 : 0);
   }
-  e_entry_ = e == z ? -1 : entry_of(e);
-  r_entry_ = r == z ? -1 : entry_of(r);
+  e_entry_ = internal::EntryOf(edges, e);
+  r_entry_ = internal::EntryOf(edges, r);
   for (std::size_t j = 0; j < steps_.size(); ++j) {
-    steps_[j].head_entry = heads[j] == z ? -1 : entry_of(heads[j]);
+    steps_[j].head_entry = internal::EntryOf(edges, heads[j]);
   }
   scratch_.resize(pose_edges_.size());
   step_scratch_.resize(steps_.size());
@@ -62,24 +47,8 @@ template <coord::Backend B>
 bool CompiledTwistWithCovariance<B>::LoadPoseEdges() noexcept {
   for (std::size_t i = 0; i < pose_edges_.size(); ++i) {
     const PoseEdge& e = pose_edges_[i];
-    const PoseValue<B>& value = values_->X_PF[e.frame];
-    InZ& out = scratch_[i];
-    typename B::PoseCoords X_PG;
-    if (value.epoch() != e.epoch) return false;
-    values_->LoadPose(e.frame, X_PG, out.S);     // value and covariance of one write
-    if (value.epoch() != e.epoch) return false;  // removed meanwhile
-    out.exact = out.S.isZero(0.0);
-    const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
-    const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
-    if (e.parent < 0) {
-      out.R_ZG = R_PG;
-      out.p_ZG = p_PG;
-    } else {
-      const InZ& up = scratch_[static_cast<std::size_t>(e.parent)];
-      out.R_ZG.noalias() = up.R_ZG * R_PG;
-      out.p_ZG.noalias() = up.R_ZG * p_PG;
-      out.p_ZG += up.p_ZG;
-    }
+    const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
+    if (!internal::LoadPoseEdgeInZ<B>(*values_, e.frame, e.epoch, up, scratch_[i])) return false;
   }
   return true;
 }

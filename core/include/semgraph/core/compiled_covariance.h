@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -35,6 +36,51 @@
 namespace semgraph::core {
 
 using topology::FrameIndex;
+
+namespace internal {
+
+/// The pose edges a compiled query with covariance reads: the union of the chains of `ends` up
+/// to their youngest common ancestor `z`, each edge once (named by its head frame), top-down
+/// (each after the edge above it). Build time (allocates); O(n^2) for n edges.
+[[nodiscard]] std::vector<FrameIndex> ChainUnionTopDown(const topology::SceneTopology& t,
+                                                        std::span<const FrameIndex> ends,
+                                                        FrameIndex z);
+/// The index of g in `edges`, -1 when absent (z itself). Build time.
+[[nodiscard]] std::int32_t EntryOf(const std::vector<FrameIndex>& edges, FrameIndex g);
+
+/// One edge of such a list at evaluation: its head's pose in Z and its covariance.
+struct PoseEdgeInZ {
+  Eigen::Matrix3d R_ZG;
+  Eigen::Vector3d p_ZG;
+  Covariance6 S;
+  bool exact;
+};
+/// Reads the pose edge into `frame` (value and covariance of one write, between two checks of
+/// its epoch) and composes it with `up` (the edge above, nullptr: below Z). False when the edge
+/// was removed since `epoch`. noexcept, allocation-free.
+template <coord::Backend B>
+bool LoadPoseEdgeInZ(const EdgeValues<B>& values, std::uint32_t frame, std::uint32_t epoch,
+                     const PoseEdgeInZ* up, PoseEdgeInZ& out) noexcept {
+  const PoseValue<B>& value = values.X_PF[frame];
+  typename B::PoseCoords X_PG;
+  if (value.epoch() != epoch) return false;
+  values.LoadPose(frame, X_PG, out.S);       // value and covariance of one write
+  if (value.epoch() != epoch) return false;  // removed meanwhile
+  out.exact = out.S.isZero(0.0);
+  const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
+  const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
+  if (up == nullptr) {
+    out.R_ZG = R_PG;
+    out.p_ZG = p_PG;
+  } else {
+    out.R_ZG.noalias() = up->R_ZG * R_PG;
+    out.p_ZG.noalias() = up->R_ZG * p_PG;
+    out.p_ZG += up->p_ZG;
+  }
+  return true;
+}
+
+}  // namespace internal
 
 template <coord::Backend B>
 class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
@@ -62,18 +108,12 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
 
  private:
   struct Edge {
-    const PoseValue<B>* value;
-    std::uint32_t frame;  ///< the edge's head (its covariance record, when it has one)
+    std::uint32_t frame;  ///< the edge's head (its value and covariance records)
     std::uint32_t epoch;
     std::int32_t parent;  ///< the entry of the edge above (its tail's edge), -1: Z
     coord::jacobians::PoseMoves moves;
   };
-  struct InZ {  // scratch of one evaluation, per edge
-    Eigen::Matrix3d R_ZG;
-    Eigen::Vector3d p_ZG;
-    Covariance6 S;
-    bool exact;
-  };
+  using InZ = internal::PoseEdgeInZ;  // scratch of one evaluation, per edge
   semantics::PoseSemantics semantics_;
   const EdgeValues<B>* values_ = nullptr;
   std::vector<Edge> edges_;

@@ -30,6 +30,7 @@
 #include "semgraph/coord/jacobians.h"
 #include "semgraph/coord/operations.h"
 #include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/compiled_covariance.h"
 #include "semgraph/core/compiled_query.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
@@ -77,13 +78,8 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
     std::int32_t head_entry;  ///< the pose edge entry of its head h, -1: h is Z
     double sign;              ///< -1: traversed against its direction
   };
-  struct InZ {  // scratch of one evaluation, per pose edge
-    Eigen::Matrix3d R_ZG;
-    Eigen::Vector3d p_ZG;
-    Covariance6 S;
-    bool exact;
-  };
-  struct StepScratch {  // per twist edge
+  using InZ = internal::PoseEdgeInZ;  // scratch of one evaluation, per pose edge
+  struct StepScratch {                // per twist edge
     coord::jacobians::TwistStepInZ st;
     Eigen::Matrix3d R_ZH;
     Covariance6 S;
