@@ -40,6 +40,19 @@ struct RawWriter {
   ~RawWriter() { dds_delete(participant); }
 };
 
+// The options of a mirror "m" on `domain` whose log lines are appended to `logs` (each with
+// "\n"), under `mutex` (the mirror logs from its receive thread).
+dds::MirrorOptions LoggingOptions(std::uint32_t domain, std::mutex& mutex, std::string& logs) {
+  dds::MirrorOptions options;
+  options.name = "m";
+  options.domain = domain;
+  options.log = [&mutex, &logs](const std::string& line) {
+    std::lock_guard<std::mutex> lock(mutex);
+    logs += line + "\n";
+  };
+  return options;
+}
+
 TEST(MirrorTest, MalformedMessagesAreRejectedAndChangeNothing) {
   constexpr std::uint32_t kDomain = 21;
   std::mutex log_mutex;
@@ -447,14 +460,7 @@ TEST(MirrorTest, HostileStampedCovariancesAreRefused) {
   constexpr std::uint32_t kDomain = 30;
   std::mutex log_mutex;
   std::string logs;
-  dds::MirrorOptions options;
-  options.name = "m";
-  options.domain = kDomain;
-  options.log = [&](const std::string& line) {
-    std::lock_guard<std::mutex> lock(log_mutex);
-    logs += line + "\n";
-  };
-  auto mirror = dds::Mirror::Create(options);
+  auto mirror = dds::Mirror::Create(LoggingOptions(kDomain, log_mutex, logs));
   ASSERT_TRUE(mirror) << mirror.error();
   core::SceneGraph<> g;
   const core::Covariance6 S = TestCovariance(1.0);
@@ -557,14 +563,7 @@ TEST(MirrorTest, HostileTimeFieldsAreRejected) {
   constexpr std::uint32_t kDomain = 24;
   std::mutex log_mutex;
   std::string logs;
-  dds::MirrorOptions options;
-  options.name = "m";
-  options.domain = kDomain;
-  options.log = [&](const std::string& line) {
-    std::lock_guard<std::mutex> lock(log_mutex);
-    logs += line + "\n";
-  };
-  auto mirror = dds::Mirror::Create(options);
+  auto mirror = dds::Mirror::Create(LoggingOptions(kDomain, log_mutex, logs));
   ASSERT_TRUE(mirror) << mirror.error();
   core::SceneGraph<> g;
   ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("w", "W"), Rz(0.1), {1, 0, 0},
@@ -653,14 +652,7 @@ TEST(MirrorTest, JointsReplicateAndHostileJointMessagesAreRejected) {
   constexpr std::uint32_t kDomain = 25;
   std::mutex log_mutex;
   std::string logs;
-  dds::MirrorOptions options;
-  options.name = "m";
-  options.domain = kDomain;
-  options.log = [&](const std::string& line) {
-    std::lock_guard<std::mutex> lock(log_mutex);
-    logs += line + "\n";
-  };
-  auto mirror = dds::Mirror::Create(options);
+  auto mirror = dds::Mirror::Create(LoggingOptions(kDomain, log_mutex, logs));
   ASSERT_TRUE(mirror) << mirror.error();
   core::SceneGraph<> g;
   core::JointSpec j1;
