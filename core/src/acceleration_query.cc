@@ -1,9 +1,12 @@
 // Acceleration queries (scene_graph.h "accelerations"; contract: accelerations.h). Planned as
 // twist queries (PlanTwist) and evaluated by the one evaluator (evaluate.h: AccelerationStep,
-// AccelerationComposer), under the optimistic read of every one-shot query.
+// AccelerationComposer), under the optimistic read of every one-shot query. Under a time policy
+// (docs/dynamics.md, "Stamped accelerations"): the same answer with every edge read at the
+// policy's time (timed_read.h), through the driver of every timed query (RunTimed).
 #include "angular_velocity.h"
 #include "optimistic_read.h"
 #include "semgraph/core/scene_graph.h"
+#include "time_errors.h"
 
 namespace semgraph::core {
 
@@ -75,6 +78,46 @@ QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(
   return AngularAcceleration{A->semantics, A->angular};
 }
 
+// A latest-common probe may stop at an edge without an acceleration; the answer is then that
+// error whatever the evaluation at the common time finds.
+template <coord::Backend B>
+QueryResult<Timed<coord::Acceleration>> SceneGraph<B>::GetAcceleration(
+    const TwistSpec& spec, const TimePolicy& policy) const noexcept {
+  return internal::ReadValidated(topology_, [&]() -> QueryResult<Timed<coord::Acceleration>> {
+    const auto plan = PlanTwist(topology_, spec);
+    if (auto e = internal::PlanOrPolicyError(plan, internal::PartsOf(policy).valid())) {
+      return Unexpected{*e};
+    }
+    std::optional<QueryResult<coord::Acceleration>> answer;
+    TimeReport report;
+    if (auto e = RunTimed(policy, report, nullptr, [&](internal::TimeContext& tc) {
+          answer = AnswerAcceleration(topology_, internal::ForestSource<B>(topology_, values_, &tc),
+                                      plan);
+        })) {
+      return Unexpected{*e};
+    }
+    if (!*answer) return Unexpected{answer->error()};
+    return Timed<coord::Acceleration>{**answer, report};
+  });
+}
+
+template <coord::Backend B>
+QueryResult<Timed<LinearAcceleration>> SceneGraph<B>::GetLinearAcceleration(
+    const TwistSpec& spec, const TimePolicy& policy) const noexcept {
+  auto A = GetAcceleration(spec, policy);
+  if (!A) return Unexpected{A.error()};
+  return Timed<LinearAcceleration>{{A->value.semantics, A->value.linear}, A->time};
+}
+
+template <coord::Backend B>
+QueryResult<Timed<AngularAcceleration>> SceneGraph<B>::GetAngularAcceleration(
+    const TwistSpec& spec, const TimePolicy& policy) const noexcept {
+  auto A = internal::TwistOfAngularVelocity(
+      spec, [&](const TwistSpec& s) { return GetAcceleration(s, policy); });
+  if (!A) return Unexpected{A.error()};
+  return Timed<AngularAcceleration>{{A->value.semantics, A->value.angular}, A->time};
+}
+
 // Planned and flattened on a validated snapshot of the topology, as CompileTwist.
 template <coord::Backend B>
 Expected<CompiledAcceleration<B>, QueryError> SceneGraph<B>::CompileAcceleration(
@@ -106,6 +149,12 @@ std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex 
       const noexcept;                                                                             \
   template QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(                \
       const TwistSpec&) const noexcept;                                                           \
+  template QueryResult<Timed<coord::Acceleration>> SceneGraph<B>::GetAcceleration(                \
+      const TwistSpec&, const TimePolicy&) const noexcept;                                        \
+  template QueryResult<Timed<LinearAcceleration>> SceneGraph<B>::GetLinearAcceleration(           \
+      const TwistSpec&, const TimePolicy&) const noexcept;                                        \
+  template QueryResult<Timed<AngularAcceleration>> SceneGraph<B>::GetAngularAcceleration(         \
+      const TwistSpec&, const TimePolicy&) const noexcept;                                        \
   template std::optional<coord::Acceleration> SceneGraph<B>::acceleration_value(FrameIndex)       \
       const noexcept;                                                                             \
   template Expected<CompiledAcceleration<B>, QueryError> SceneGraph<B>::CompileAcceleration(      \

@@ -1,7 +1,10 @@
 // Acceleration adds (scene_graph.h "accelerations"; contract: accelerations.h): a twist with
 // its acceleration, and an acceleration on its own, converted to the edge form
-// AccelerationCoord(h|H, D, [h]) with the current poses and the edge's twist. Every check runs
-// before the only change (one record store), so a rejected call leaves the graph as it was.
+// AccelerationCoord(h|H, D, [h]) with the current poses and the edge's twist, or, stamped (docs/
+// dynamics.md, "Stamped accelerations"), with the poses at the stamp and the twist sample of that
+// stamp. Every check runs before the only change (one record or sample store), so a rejected
+// call leaves the graph as it was.
+#include <cmath>
 #include <string>
 
 #include "semgraph/core/scene_graph.h"
@@ -48,8 +51,29 @@ BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d
 }
 
 template <coord::Backend B>
+BuildResult SceneGraph<B>::AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                                    const Eigen::Vector3d& w_angular, Stamp stamp,
+                                    const AccelerationInput& acceleration) {
+  return AddTwistImpl(spec, v_linear, w_angular, stamp, nullptr, &acceleration);
+}
+
+template <coord::Backend B>
 BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
                                            const Eigen::Vector3d& alpha_angular) {
+  return AddAccelerationImpl(spec, a_linear, alpha_angular, std::nullopt);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
+                                           const Eigen::Vector3d& alpha_angular, Stamp stamp) {
+  return AddAccelerationImpl(spec, a_linear, alpha_angular, stamp);
+}
+
+template <coord::Backend B>
+BuildResult SceneGraph<B>::AddAccelerationImpl(const TwistSpec& spec,
+                                               const Eigen::Vector3d& a_linear,
+                                               const Eigen::Vector3d& alpha_angular,
+                                               std::optional<Stamp> stamp) {
   const topology::SceneTopology& t = topology_;
   const auto what = [&spec] { return AccelerationAdd(spec); };  // formatted only on rejection
   // invalid_name: point, ref_body, coord required; body optional.
@@ -107,24 +131,44 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
                   "the twist edge " + std::string(t.body_name(tail)) + " -> " + text::Frame(t, h) +
                       " belongs to joint " + std::string(joints_.name(*j)));
   }
-  if (values_.history.twist_of(edge.value()) != nullptr) {
+  const TwistHistory* history = values_.history.twist_of(edge.value());
+  if ((history != nullptr) != stamp.has_value()) {
     return Reject(ErrorCode::kStampMismatch, what(),
-                  "the twist edge " + std::string(t.body_name(tail)) + " -> " + text::Frame(t, h) +
-                      " is stamped; stamped accelerations are not supported yet");
+                  DescribeSampleRejection(ErrorCode::kStampMismatch, true, edge.value(), stamp));
   }
   if (!t.SameTree(r, h)) {
     return Reject(ErrorCode::kAccelerationNotConvertible, what(),
                   "coordinate frame [" + std::string(spec.coordinate_frame) +
                       "] is not in the pose tree of the twist edge's head " + text::Frame(t, h));
   }
+  // The twist it goes with: the edge's, or its sample at the stamp (no interpolated twist: the
+  // acceleration is stored with a sample).
+  TwistNumbers V = values_.V_DH[edge.value()].Load();
+  if (history != nullptr) {
+    double w[6];
+    if (!history->ValueAt(stamp->nanoseconds(), w)) {
+      return Reject(ErrorCode::kAccelerationNotConvertible, what(),
+                    "the twist edge " + std::string(t.body_name(tail)) + " -> " +
+                        text::Frame(t, h) + " has no twist sample at " +
+                        text::StampText(stamp->nanoseconds()) + " (samples in " +
+                        text::StampRange(history->oldest_stamp(), history->newest_stamp()) +
+                        "); a stamped acceleration belongs to the twist sample of its stamp");
+    }
+    V = internal::TwistFromWords(w);
+  }
   // The edge form: [r] -> [h] (R_HR), then the point e -> h with the given relation's angular
   // velocity (+-w_DH: the shift's w x (w x .) is even in w), then, against the edge, the inverse
   // relation at h (alpha' = -alpha, a' = -a + 2 w' x v', (v', w') = -(v, w) its twist at h).
-  const internal::ForestSource<B> src = source();
+  // A stamped value: with the poses at its stamp.
+  internal::TimeContext at_stamp = ConversionContext(stamp);
+  const internal::ForestSource<B> src(topology_, values_, stamp ? &at_stamp : nullptr);
   typename B::PoseCoords X_HR, X_HE;  // [r] wrt [h] and e wrt h, in [h]
   internal::EvalBasic<B>(src, PlanBasic(t, r, h), X_HR);
   internal::EvalBasic<B>(src, PlanBasic(t, e, h), X_HE);
-  const TwistNumbers V = values_.V_DH[edge.value()].Load();
+  if (at_stamp.error() != ErrorCode::kOk) {
+    return Reject(ErrorCode::kAccelerationNotConvertible, what(),
+                  DescribeConversionGap(at_stamp, *stamp));
+  }
   const typename B::Rotation R_HR = B::RotationOf(X_HR);
   AccelerationNumbers A{B::Rotate(R_HR, *a), B::Rotate(R_HR, *alpha)};
   // p_A = old point - new point = e - h = p_HE.
@@ -135,15 +179,59 @@ BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec& spec, const Eigen::V
         coord::kernels::InvertAcceleration(A.a_DHo_H, A.alpha_DH_H, -V.v_DHo_H, -V.w_DH_H);
     A = AccelerationNumbers{inv.linear, inv.angular};
   }
-  values_.StoreAcceleration(edge.value(), V, &A);
+  if (history == nullptr) {
+    values_.StoreAcceleration(edge.value(), V, &A);
+    return Ok{};
+  }
+  values_.ReserveTwistSampleAccelerations(edge.value());  // may throw: nothing changed yet
+  if (const ErrorCode code = StoreSampleAcceleration(edge, *stamp, A); code != ErrorCode::kOk) {
+    return Reject(code, what(), DescribeSampleRejection(code, true, edge.value(), stamp));
+  }
   return Ok{};
+}
+
+// A stamped acceleration's store: the duplicate rule of a value at a stored stamp (another
+// acceleration there, under the reject policy: duplicate_stamp), then the sample's words and,
+// for the newest sample, the edge's acceleration record. The caller found the sample and
+// reserved the history's acceleration words (the real-time SetAcceleration shares it).
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::StoreSampleAcceleration(TwistEdgeIndex edge, Stamp stamp,
+                                                 const AccelerationNumbers& A) noexcept {
+  TwistHistory& h = values_.history.twist.writable(edge.value());
+  const std::int64_t s = stamp.nanoseconds();
+  double stored[7], a[7], w[6];
+  internal::WordsFromAcceleration(A, a);
+  if (h.AccelerationAt(s, stored) && stored[6] != 0.0) {
+    bool same = true;
+    for (int k = 0; k < 6; ++k) {
+      same = same && std::abs(stored[k] - a[k]) <= 1e-6 * std::max(1.0, std::abs(stored[k]));
+    }
+    if (same) return ErrorCode::kOk;
+    if (values_.history.options.duplicate_stamp == DuplicatePolicy::kReject) {
+      return ErrorCode::kDuplicateStamp;
+    }
+  }
+  if (!h.SetAccelerationAt(s, a)) return ErrorCode::kStampMismatch;
+  if (s == h.newest_stamp() && h.ValueAt(s, w)) {
+    values_.StoreAcceleration(edge.value(), internal::TwistFromWords(w), &A);
+  }
+  return ErrorCode::kOk;
 }
 
 #define SEMGRAPH_INSTANTIATE_ACCELERATIONS(B)                                                     \
   template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
                                                const Eigen::Vector3d&, const AccelerationInput&); \
+  template BuildResult SceneGraph<B>::AddTwist(const TwistSpec&, const Eigen::Vector3d&,          \
+                                               const Eigen::Vector3d&, Stamp,                     \
+                                               const AccelerationInput&);                         \
   template BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec&, const Eigen::Vector3d&,   \
-                                                      const Eigen::Vector3d&);
+                                                      const Eigen::Vector3d&);                    \
+  template BuildResult SceneGraph<B>::AddAcceleration(const TwistSpec&, const Eigen::Vector3d&,   \
+                                                      const Eigen::Vector3d&, Stamp);             \
+  template BuildResult SceneGraph<B>::AddAccelerationImpl(                                        \
+      const TwistSpec&, const Eigen::Vector3d&, const Eigen::Vector3d&, std::optional<Stamp>);    \
+  template ErrorCode SceneGraph<B>::StoreSampleAcceleration(TwistEdgeIndex, Stamp,                \
+                                                            const AccelerationNumbers&) noexcept;
 SEMGRAPH_INSTANTIATE_ACCELERATIONS(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_ACCELERATIONS(coord::HomogeneousBackend)
 

@@ -531,10 +531,12 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
                         "; set the joint's velocity instead");
     }
     const TwistEdgeIndex existing = t.twist_edge_of(e);
-    if (const ErrorCode code = CheckTwistSample(existing, V, stamp, S); code != ErrorCode::kOk) {
+    if (const ErrorCode code = CheckTwistSample(existing, V, stamp, S, A ? &*A : nullptr);
+        code != ErrorCode::kOk) {
       return Reject(code, what(), DescribeSampleRejection(code, true, existing.value(), stamp));
     }
     if (S) ReserveTwistSampleCovariance(existing);  // may throw: no change yet
+    if (A) values_.ReserveTwistSampleAccelerations(existing.value());
     StoreTwistSample(existing, V, stamp, S, A ? &*A : nullptr);
     rollback.Commit();
     return Ok{};
@@ -550,12 +552,13 @@ BuildResult SceneGraph<B>::AddTwistImpl(const TwistSpec& spec, const Eigen::Vect
   TwistHistoryLease history;
   if (stamp) history = NewTwistHistory();
   if (history && S) history->EnsureCovariances();
+  if (history && A) history->EnsureAccelerations();
   rollback.Commit();
   const TwistEdgeIndex edge = CommitAdd(plan).twist;
   values_.StoreTwistCovariance(edge.value(), V, S);  // before the value (edge_values.h)
   values_.StoreAcceleration(edge.value(), V, A ? &*A : nullptr);  // a reused slot's: cleared
   values_.V_DH[edge.value()].Store(V);
-  if (history) InstallTwistHistory(edge, std::move(history), V, *stamp, S);
+  if (history) InstallTwistHistory(edge, std::move(history), V, *stamp, S, A ? &*A : nullptr);
   return Ok{};
 }
 

@@ -22,12 +22,13 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   });
 }
 
+// Every step read (a removed edge is reported as such even after an edge without an
+// acceleration), then kNoAcceleration or the composition into m.
 template <coord::Backend B>
-ErrorCode CompiledAcceleration<B>::Evaluate(Eigen::Vector3d& a_DCe_R,
-                                            Eigen::Vector3d& alpha_DC_R) const noexcept {
-  const internal::FlatSource<B> src = this->source();
+ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
+                                           internal::Motion& out) const noexcept {
   internal::AccelerationComposer composer;
-  bool missing = false;  // reported only when no edge of the path was removed (every step read)
+  bool missing = false;
   for (const auto& step : steps_) {
     internal::Motion m;
     bool present = false;
@@ -36,7 +37,34 @@ ErrorCode CompiledAcceleration<B>::Evaluate(Eigen::Vector3d& a_DCe_R,
     if (!missing) composer.Add(step.ref_side, m);
   }
   if (missing) return ErrorCode::kNoAcceleration;
-  const internal::Motion m = composer.Result();
+  out = composer.Result();
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+ErrorCode CompiledAcceleration<B>::Evaluate(Eigen::Vector3d& a_DCe_R,
+                                            Eigen::Vector3d& alpha_DC_R) const noexcept {
+  internal::Motion m;
+  const ErrorCode code = Compose(this->source(), m);
+  if (code != ErrorCode::kOk) return code;
+  a_DCe_R = m.a;
+  alpha_DC_R = m.alpha;
+  return ErrorCode::kOk;
+}
+
+// RunTimed knows only invalidation; a missing acceleration is carried beside it.
+template <coord::Backend B>
+ErrorCode CompiledAcceleration<B>::Evaluate(Eigen::Vector3d& a_DCe_R, Eigen::Vector3d& alpha_DC_R,
+                                            const TimePolicy& policy,
+                                            TimeReport& report) const noexcept {
+  internal::Motion m;
+  ErrorCode composed = ErrorCode::kOk;
+  const ErrorCode code = this->RunTimed(policy, report, [&](const internal::FlatSource<B>& src) {
+    composed = Compose(src, m);
+    return composed != ErrorCode::kQueryInvalidated;
+  });
+  if (code != ErrorCode::kOk) return code;
+  if (composed != ErrorCode::kOk) return composed;
   a_DCe_R = m.a;
   alpha_DC_R = m.alpha;
   return ErrorCode::kOk;

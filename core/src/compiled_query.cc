@@ -27,23 +27,6 @@ bool CompiledQuery<B>::is_valid() const noexcept {
 }
 
 template <coord::Backend B>
-template <class Eval>
-ErrorCode CompiledQuery<B>::RunTimed(const TimePolicy& policy, TimeReport& report,
-                                     Eval&& eval) const noexcept {
-  const internal::PolicyParts parts = internal::PartsOf(policy);
-  if (!parts.valid()) return ErrorCode::kInvalidNumber;
-  internal::TimeContext base;
-  base.histories = &values_->history;
-  base.topology = topology_;
-  return internal::RunPolicy(
-      parts, base,
-      [&](internal::TimeContext& tc) {
-        return eval(this->source(tc)) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
-      },
-      report);
-}
-
-template <coord::Backend B>
 auto CompiledQuery<B>::Flatten(const topology::SceneTopology& t, const ForestChain& c) -> Chain {
   Chain flat;
   flat.begin = static_cast<std::uint32_t>(edges_.size());

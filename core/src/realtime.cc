@@ -74,6 +74,7 @@ Expected<TwistHandle, BuildError> SceneGraph<B>::FindTwistEdge(std::string_view 
   }
   values_.ReserveTwistCovariances(l.edge.value() + 1);  // as FindPoseEdge
   values_.ReserveTwistSampleCovariances(l.edge.value());
+  values_.ReserveTwistSampleAccelerations(l.edge.value());  // SetAcceleration at a stamp
   return TwistHandle{l.edge, values_.V_DH[l.edge.value()].epoch(), id_.value(), EdgeKind::kTwist};
 }
 
@@ -325,13 +326,34 @@ template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
                                          const Eigen::Vector3d& alpha_DH_H,
                                          UpdateError* why) noexcept {
+  return SetAccelerationImpl(edge, a_DHo_H, alpha_DH_H, std::nullopt, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                         const Eigen::Vector3d& alpha_DH_H, Stamp stamp,
+                                         UpdateError* why) noexcept {
+  return SetAccelerationImpl(edge, a_DHo_H, alpha_DH_H, stamp, why);
+}
+
+// The handle, joint_edge, the stamp rule (a stamped edge takes stamped values only, and a
+// stamped acceleration needs the twist sample of its stamp: stamp_mismatch), the numbers; then
+// the record (timeless) or the sample's words (stamped; reserved by FindTwistEdge).
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetAccelerationImpl(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                             const Eigen::Vector3d& alpha_DH_H,
+                                             std::optional<Stamp> stamp,
+                                             UpdateError* why) noexcept {
   using internal::Report;
   const ErrorCode handle = CheckTwistHandle(edge, id_.value(), topology_, values_);
   if (handle != ErrorCode::kOk) return Report(why, handle);
   if (joints_.OfChild(topology_.twist_edge(edge.slot).head) != nullptr) {
     return Report(why, ErrorCode::kJointEdge);
   }
-  if (values_.history.twist_of(edge.slot.value()) != nullptr) {
+  const TwistHistory* h = values_.history.twist_of(edge.slot.value());
+  double w[6];
+  if ((h != nullptr) != stamp.has_value() ||
+      (h != nullptr && (!h->has_accelerations() || !h->ValueAt(stamp->nanoseconds(), w)))) {
     return Report(why, ErrorCode::kStampMismatch);
   }
   auto a = coord::ValidateVector(a_DHo_H, coord::ValueRole::kLinearAcceleration);
@@ -339,6 +361,7 @@ ErrorCode SceneGraph<B>::SetAcceleration(TwistHandle edge, const Eigen::Vector3d
   auto alpha = coord::ValidateVector(alpha_DH_H, coord::ValueRole::kAngularAcceleration);
   if (!alpha) return Report(why, alpha.error());
   const AccelerationNumbers A{*a, *alpha};
+  if (h != nullptr) return Report(why, StoreSampleAcceleration(edge.slot, *stamp, A));
   values_.StoreAcceleration(edge.slot.value(), values_.V_DH[edge.slot.value()].Load(), &A);
   return Report(why, ErrorCode::kOk);
 }
@@ -356,6 +379,11 @@ ErrorCode SceneGraph<B>::SetAcceleration(TwistHandle edge, const Eigen::Vector3d
                                              const Eigen::Vector3d&, UpdateError*) noexcept;       \
   template ErrorCode SceneGraph<B>::SetAcceleration(                                               \
       TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, UpdateError*) noexcept;         \
+  template ErrorCode SceneGraph<B>::SetAcceleration(                                               \
+      TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, Stamp, UpdateError*) noexcept;  \
+  template ErrorCode SceneGraph<B>::SetAccelerationImpl(                                           \
+      TwistHandle, const Eigen::Vector3d&, const Eigen::Vector3d&, std::optional<Stamp>,           \
+      UpdateError*) noexcept;                                                                      \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Quaterniond&,                 \
                                             const Eigen::Vector3d&, Stamp, UpdateError*) noexcept; \
   template ErrorCode SceneGraph<B>::SetPose(PoseHandle, const Eigen::Matrix3d&,                    \

@@ -3,7 +3,9 @@
 // the messages of those rejections. Check* never change anything; Store* never allocate.
 // A sample's covariance (docs/uncertainty.md, "Time") is part of its value for the duplicate
 // rule, stored beside it in the history (edge_history.h) and, for the newest sample, in the
-// edge's covariance record (the untimed readers' value, edge_values.h).
+// edge's covariance record (the untimed readers' value, edge_values.h). A twist sample's
+// acceleration (docs/dynamics.md, "Stamped accelerations") likewise: part of its value, beside it
+// in the history, and the newest sample's in the edge's acceleration record.
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -141,12 +143,14 @@ void SceneGraph<B>::InstallPoseHistory(FrameIndex head, PoseHistoryLease h,
 
 template <coord::Backend B>
 void SceneGraph<B>::InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h,
-                                        const TwistNumbers& V, Stamp s,
-                                        const coord::Covariance6* S) {
-  double w[6], c[21];
+                                        const TwistNumbers& V, Stamp s, const coord::Covariance6* S,
+                                        const AccelerationNumbers* A) {
+  double w[6], c[21], a[7];
   internal::WordsFromTwist(V, w);
   if (S) internal::WordsFromCovariance(*S, c);
-  values_.history.twist.Install(edge.value(), std::move(h), s.nanoseconds(), w, S ? c : nullptr);
+  if (A) internal::WordsFromAcceleration(*A, a);
+  values_.history.twist.Install(edge.value(), std::move(h), s.nanoseconds(), w, S ? c : nullptr,
+                                A ? a : nullptr);
 }
 
 // Room for a covariance with the next sample of a stamped edge (a history's covariance array,
@@ -187,16 +191,31 @@ bool SameSampleCovariance(const History& h, std::int64_t s, const coord::Covaria
   return internal::SameCovariance(stored, S);
 }
 
+// The acceleration stored with the sample at s equals a (null: none); vectors as SameTwist's.
+template <class History>
+bool SameSampleAcceleration(const History& h, std::int64_t s, const double* a) noexcept {
+  double stored[7];
+  if (!h.AccelerationAt(s, stored)) return a == nullptr;
+  if ((stored[6] != 0.0) != (a != nullptr)) return false;
+  if (a == nullptr) return true;
+  const auto close = [&](int k) {
+    const Eigen::Vector3d x(stored[k], stored[k + 1], stored[k + 2]), y(a[k], a[k + 1], a[k + 2]);
+    return (x - y).norm() <= 1e-6 * std::max(1.0, x.norm());
+  };
+  return close(0) && close(3);
+}
+
+// `a`: the sample's acceleration words (twist samples; null: none).
 template <class History, class Same>
 ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOptions& o,
-                      const coord::Covariance6* S, Same&& same) noexcept {
+                      const coord::Covariance6* S, const double* a, Same&& same) noexcept {
   if (!stamp) return h ? ErrorCode::kStampMismatch : ErrorCode::kOk;
   if (!h) return ErrorCode::kStampMismatch;
   const std::int64_t s = stamp->nanoseconds();
   if (s < SaturatingSub(h->newest_stamp(), o.window.nanoseconds())) return ErrorCode::kStampTooOld;
   double stored[History::kValueWords];
   if (s <= h->newest_stamp() && h->ValueAt(s, stored) &&
-      !(same(stored) && SameSampleCovariance(*h, s, S)) &&
+      !(same(stored) && SameSampleCovariance(*h, s, S) && SameSampleAcceleration(*h, s, a)) &&
       o.duplicate_stamp == DuplicatePolicy::kReject) {
     return ErrorCode::kDuplicateStamp;
   }
@@ -204,15 +223,16 @@ ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOp
 }
 
 // The one store of a sample (after CheckSample accepted it): untimed, the value; stamped, into
-// the history with its covariance S (the same value and covariance again at a stored stamp is
-// kept as stored), and into the value when it becomes the newest sample (the untimed readers'
-// value). record() stores the edge's covariance record, before the value (edge_values.h).
+// the history with its covariance S and acceleration words a (the same value, covariance and
+// acceleration again at a stored stamp is kept as stored), and into the value when it becomes
+// the newest sample (the untimed readers' value). record() stores the edge's covariance (and
+// acceleration) record, before the value (edge_values.h).
 // history() makes the history writable, only when stamped. Allocation-free once the history's
 // capacity (and, for S, its covariance array and the record) is reserved.
 template <class Slot, class T, class History, class Same, class ToWords, class Record>
 void StoreSample(Slot& value, const T& x, std::optional<Stamp> stamp, std::int64_t window,
-                 const coord::Covariance6* S, History&& history, Same&& same, ToWords&& to_words,
-                 Record&& record) noexcept {
+                 const coord::Covariance6* S, const double* a, History&& history, Same&& same,
+                 ToWords&& to_words, Record&& record) noexcept {
   if (!stamp) {
     record();
     value.Store(x);
@@ -221,13 +241,14 @@ void StoreSample(Slot& value, const T& x, std::optional<Stamp> stamp, std::int64
   auto& h = history();
   const std::int64_t s = stamp->nanoseconds();
   double w[std::remove_reference_t<decltype(h)>::kValueWords], c[21];
-  if (s <= h.newest_stamp() && h.ValueAt(s, w) && same(w) && SameSampleCovariance(h, s, S)) {
+  if (s <= h.newest_stamp() && h.ValueAt(s, w) && same(w) && SameSampleCovariance(h, s, S) &&
+      SameSampleAcceleration(h, s, a)) {
     return;  // the same value again
   }
   to_words(w);
   if (S) internal::WordsFromCovariance(*S, c);
   const bool becomes_newest = s >= h.newest_stamp();
-  h.Insert(s, w, window, S ? c : nullptr);
+  h.Insert(s, w, window, S ? c : nullptr, a);
   if (becomes_newest) {
     record();
     value.Store(x);
@@ -240,7 +261,7 @@ ErrorCode SceneGraph<B>::CheckPoseSample(FrameIndex head, const typename B::Pose
                                          std::optional<Stamp> stamp,
                                          const coord::Covariance6* S) const noexcept {
   return CheckSample(values_.history.pose_of(head.value()), stamp, values_.history.options, S,
-                     [&](const double(&w)[7]) { return SamePose<B>(w, X); });
+                     nullptr, [&](const double(&w)[7]) { return SamePose<B>(w, X); });
 }
 
 template <coord::Backend B>
@@ -249,7 +270,7 @@ void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoord
                                     const coord::Covariance6* S) noexcept {
   StoreSample(
       values_.X_PF[head.value()], X, stamp, values_.history.options.window.nanoseconds(), S,
-      [&]() -> PoseHistory& { return values_.history.pose.writable(head.value()); },
+      nullptr, [&]() -> PoseHistory& { return values_.history.pose.writable(head.value()); },
       [&](const double(&w)[7]) { return SamePose<B>(w, X); },
       [&](double(&w)[7]) { PoseWords<B>(X, w); },
       [&] { values_.StorePoseCovariance(head.value(), X, S); });
@@ -257,24 +278,31 @@ void SceneGraph<B>::StorePoseSample(FrameIndex head, const typename B::PoseCoord
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
-                                          std::optional<Stamp> stamp,
-                                          const coord::Covariance6* S) const noexcept {
+                                          std::optional<Stamp> stamp, const coord::Covariance6* S,
+                                          const AccelerationNumbers* A) const noexcept {
+  double a[7];
+  if (A) internal::WordsFromAcceleration(*A, a);
   return CheckSample(values_.history.twist_of(edge.value()), stamp, values_.history.options, S,
-                     [&](const double(&w)[6]) { return SameTwist(w, V); });
+                     A ? a : nullptr, [&](const double(&w)[6]) { return SameTwist(w, V); });
 }
 
 template <coord::Backend B>
 void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V,
                                      std::optional<Stamp> stamp, const coord::Covariance6* S,
                                      const AccelerationNumbers* A) noexcept {
-  // The acceleration record first (edge_values.h): a twist without an acceleration clears it.
-  values_.StoreAcceleration(edge.value(), V, stamp ? nullptr : A);
+  double a[7];
+  if (A) internal::WordsFromAcceleration(*A, a);
   StoreSample(
       values_.V_DH[edge.value()], V, stamp, values_.history.options.window.nanoseconds(), S,
+      A ? a : nullptr,
       [&]() -> TwistHistory& { return values_.history.twist.writable(edge.value()); },
       [&](const double(&w)[6]) { return SameTwist(w, V); },
       [&](double(&w)[6]) { internal::WordsFromTwist(V, w); },
-      [&] { values_.StoreTwistCovariance(edge.value(), V, S); });
+      [&] {
+        // The acceleration record first (edge_values.h): a twist without one clears it.
+        values_.StoreAcceleration(edge.value(), V, A);
+        values_.StoreTwistCovariance(edge.value(), V, S);
+      });
 }
 
 template <coord::Backend B>
@@ -332,7 +360,8 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
                                                   const typename B::PoseCoords&, Stamp,           \
                                                   const coord::Covariance6*);                     \
   template void SceneGraph<B>::InstallTwistHistory(                                               \
-      TwistEdgeIndex, TwistHistoryLease, const TwistNumbers&, Stamp, const coord::Covariance6*);  \
+      TwistEdgeIndex, TwistHistoryLease, const TwistNumbers&, Stamp, const coord::Covariance6*,   \
+      const AccelerationNumbers*);                                                                \
   template void SceneGraph<B>::ReservePoseSampleCovariance(FrameIndex);                           \
   template void SceneGraph<B>::ReserveTwistSampleCovariance(TwistEdgeIndex);                      \
   template void SceneGraph<B>::DropPoseHistory(FrameIndex) noexcept;                              \
@@ -344,8 +373,8 @@ std::string SceneGraph<B>::DescribeSampleRejection(ErrorCode code, bool twist, s
                                                std::optional<Stamp>,                              \
                                                const coord::Covariance6*) noexcept;               \
   template ErrorCode SceneGraph<B>::CheckTwistSample(                                             \
-      TwistEdgeIndex, const TwistNumbers&, std::optional<Stamp>, const coord::Covariance6*)       \
-      const noexcept;                                                                             \
+      TwistEdgeIndex, const TwistNumbers&, std::optional<Stamp>, const coord::Covariance6*,       \
+      const AccelerationNumbers*) const noexcept;                                                 \
   template void SceneGraph<B>::StoreTwistSample(TwistEdgeIndex, const TwistNumbers&,              \
                                                 std::optional<Stamp>, const coord::Covariance6*,  \
                                                 const AccelerationNumbers*) noexcept;             \

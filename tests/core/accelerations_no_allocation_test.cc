@@ -3,7 +3,8 @@
 // GetAcceleration / GetLinearAcceleration / GetAngularAcceleration (along and against the twist
 // edges, at a point and in a frame away from them; accepted and rejected), CompiledAcceleration::
 // Evaluate, SetAcceleration, and SetTwist on an edge that carries an acceleration (which clears
-// it) allocate nothing. Each case is first run once
+// it) allocate nothing; on a stamped edge (docs/dynamics.md "Stamped accelerations"): SetTwist and
+// SetAcceleration at a stamp, the timed one-shot and compiled queries. Each case is first run once
 // unarmed to check that it takes the intended path, then kRepetitions times armed.
 #include <gtest/gtest.h>
 
@@ -111,6 +112,44 @@ TYPED_TEST(AccelerationsNoAllocation, QueriesAndSetTwist) {
                      [&] { return CodeOf(g.GetAcceleration(tip)); });
   ExpectNoAllocation("compiled, no_acceleration", ErrorCode::kNoAcceleration,
                      [&] { return compiled->Evaluate(a, alpha); });
+}
+
+TYPED_TEST(AccelerationsNoAllocation, Stamped) {
+  SceneGraph<TypeParam> g;
+  ASSERT_TRUE(g.AddBody("W"));
+  ASSERT_TRUE(g.AddFrame("w", "W"));
+  const auto stamp = [](int k) { return Stamp::Nanoseconds(k * 1000000); };
+  const TwistSpec edge = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
+  for (int k = 0; k < 4; ++k) {
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"),
+                          Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * k, Vec::UnitZ())),
+                          Vec(k, 0, 0), stamp(k)));
+    ASSERT_TRUE(g.AddTwist(edge, Vec(1, 0, 0), Vec(0, 0, 0.1), stamp(k),
+                           AccelerationInput{Vec(0, 1, 0), Vec(0, 0, 0.2)}));
+  }
+  auto h = g.FindTwistEdge("a", "W");
+  ASSERT_TRUE(h);
+  int k = 4;
+  // Each repetition a new newest sample, then its acceleration.
+  ExpectNoAllocation("SetTwist, then SetAcceleration at its stamp", ErrorCode::kOk, [&] {
+    const Stamp s = stamp(k++);
+    const ErrorCode code = g.SetTwist(*h, Vec(1, 0, 0), Vec(0, 0, 0.1), s);
+    return code != ErrorCode::kOk ? code : g.SetAcceleration(*h, Vec(0, 1, 0), Vec::Zero(), s);
+  });
+  ExpectNoAllocation("SetAcceleration, no sample at the stamp", ErrorCode::kStampMismatch,
+                     [&] { return g.SetAcceleration(*h, Vec(0, 1, 0), Vec::Zero(), stamp(-5)); });
+  const TwistSpec in_w = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("w");
+  const Stamp between = Stamp::Nanoseconds(1500000);
+  ExpectNoAllocation("timed query", ErrorCode::kOk,
+                     [&] { return CodeOf(g.GetAcceleration(in_w, At{between})); });
+  ExpectNoAllocation("timed query, latest common", ErrorCode::kOk,
+                     [&] { return CodeOf(g.GetAcceleration(in_w, LatestCommon{})); });
+  auto compiled = g.CompileAcceleration(in_w);
+  ASSERT_TRUE(compiled);
+  Vec a, alpha;
+  TimeReport report;
+  ExpectNoAllocation("compiled, timed", ErrorCode::kOk,
+                     [&] { return compiled->Evaluate(a, alpha, At{between}, report); });
 }
 
 }  // namespace

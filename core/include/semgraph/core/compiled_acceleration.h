@@ -5,6 +5,7 @@
 // epoch of its edge's acceleration record, evaluated any number of times by the one evaluator
 // (evaluate.h: AccelerationStep, AccelerationComposer over FlatSource).
 //
+// Under a time policy each edge is read as the timed one-shot query reads it (timed_read.h).
 // Invariants: as every compiled query (compiled_query.h): a removed edge of the path makes
 // Evaluate return kQueryInvalidated, never a wrong number. An edge of the path that carries no
 // acceleration when evaluated (never given, or cleared by a twist given without one):
@@ -33,6 +34,10 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   /// path removed is reported as such even when an edge carries no acceleration.
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& a_DCe_R,
                                    Eigen::Vector3d& alpha_DC_R) const noexcept;
+  /// At the policy's time (as CompiledTwist's): also kInvalidNumber (a negative horizon),
+  /// kExtrapolation, kStale; the outputs are written on kOk only.
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& a_DCe_R, Eigen::Vector3d& alpha_DC_R,
+                                   const TimePolicy& policy, TimeReport& report) const noexcept;
   /// In GetAcceleration's result type (without the name of a missing edge).
   [[nodiscard]] QueryResult<coord::Acceleration> Evaluate() const noexcept {
     coord::Acceleration A{semantics_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
@@ -41,6 +46,8 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
  private:
+  ErrorCode Compose(const internal::FlatSource<B>& src, internal::Motion& out) const noexcept;
+
   semantics::AccelerationSemantics semantics_;
   std::vector<TwistStep<typename CompiledQuery<B>::Chain>> steps_;
 };

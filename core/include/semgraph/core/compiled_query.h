@@ -122,6 +122,24 @@ class SEMGRAPH_CORE_EXPORT CompiledQuery {
   std::uint64_t id_ = 0;       // shared by copies (same edges): identifies the caches it made
 };
 
+// Defined here (not in compiled_query.cc) so that every compiled query's file can run it.
+template <coord::Backend B>
+template <class Eval>
+ErrorCode CompiledQuery<B>::RunTimed(const TimePolicy& policy, TimeReport& report,
+                                     Eval&& eval) const noexcept {
+  const internal::PolicyParts parts = internal::PartsOf(policy);
+  if (!parts.valid()) return ErrorCode::kInvalidNumber;
+  internal::TimeContext base;
+  base.histories = &values_->history;
+  base.topology = topology_;
+  return internal::RunPolicy(
+      parts, base,
+      [&](internal::TimeContext& tc) {
+        return eval(this->source(tc)) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
+      },
+      report);
+}
+
 namespace internal {
 /// A compiled query's answer as the one-shot queries give it: the value, or a QueryError with
 /// only the code (kQueryInvalidated: the query says nothing more).

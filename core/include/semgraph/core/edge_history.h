@@ -15,6 +15,10 @@
 // more; once allocated it follows every insert and shift (a sample without a covariance stores
 // zeros: it counts as zero). Readers ask for them explicitly (Find / Newest with a
 // CovarianceBracket), under the same sequence lock as the values.
+// Accelerations (docs/dynamics.md, "Stamped accelerations"): a twist history's samples may carry
+// one each (7 words: a, alpha in the edge form, then 1 = present / 0 = none), in a second
+// parallel array allocated when the edge is first given one (EnsureAccelerations), the same way.
+// Both arrays are SideWords below: one implementation of "words beside each sample".
 //
 // Invariants: 0 < size <= capacity; stamps strictly increasing from the oldest; after every
 // insert no sample is older than newest - window. Costs: an in-order insert O(1) (plus the
@@ -46,6 +50,78 @@ namespace semgraph::core {
   return r;
 }
 
+/// Words kept beside every sample of a SampleHistory in a parallel array (covariances,
+/// accelerations): null until Ensure (build time, once per history), then following every
+/// insert and shift of the samples; a sample stored without such words gets zeros. The array is
+/// never freed before its history (readers may hold the pointer); `words_` publishes it
+/// (release / acquire). Indexed by the sample's physical ring position.
+template <std::size_t W>
+class SideWords {
+ public:
+  [[nodiscard]] bool allocated() const noexcept {
+    return words_.load(std::memory_order_relaxed) != nullptr;
+  }
+  /// Writer, build time: allocates `capacity` zeroed entries once; all or nothing (bad_alloc).
+  void Ensure(std::size_t capacity) const {
+    if (allocated()) return;
+    owned_.reset(new std::atomic<std::uint64_t>[capacity * W]());
+    for (std::size_t k = 0; k < capacity * W; ++k) owned_[k].store(0, std::memory_order_relaxed);
+    words_.store(owned_.get(), std::memory_order_release);
+  }
+  /// Writer: entry `at` = c (null: zeros). Nothing when not allocated.
+  void Store(std::size_t at, const double* c) noexcept {
+    std::atomic<std::uint64_t>* w = owned_.get();
+    if (w == nullptr) return;
+    for (std::size_t k = 0; k < W; ++k) {
+      w[at * W + k].store(std::bit_cast<std::uint64_t>(c == nullptr ? 0.0 : c[k]),
+                          std::memory_order_release);
+    }
+  }
+  /// Writer: entry `to` = entry `from`.
+  void Copy(std::size_t from, std::size_t to) noexcept {
+    std::atomic<std::uint64_t>* w = owned_.get();
+    if (w == nullptr) return;
+    for (std::size_t k = 0; k < W; ++k) {
+      w[to * W + k].store(w[from * W + k].load(std::memory_order_relaxed),
+                          std::memory_order_release);
+    }
+  }
+  /// Writer: entry `at` (zeros when not allocated).
+  void WriterLoad(std::size_t at, double (&c)[W]) const noexcept {
+    const std::atomic<std::uint64_t>* w = owned_.get();
+    for (std::size_t k = 0; k < W; ++k) {
+      c[k] =
+          w == nullptr ? 0.0 : std::bit_cast<double>(w[at * W + k].load(std::memory_order_relaxed));
+    }
+  }
+  /// Reader (under the history's sequence lock): entries i0 (and i1 when `both`); false when
+  /// not allocated (nothing loaded).
+  bool Load(std::size_t i0, std::size_t i1, bool both, double (&c0)[W],
+            double (&c1)[W]) const noexcept {
+    const std::atomic<std::uint64_t>* w = words_.load(std::memory_order_acquire);
+    if (w == nullptr) return false;
+    LoadOne(w + i0 * W, c0);
+    if (both) LoadOne(w + i1 * W, c1);
+    return true;
+  }
+
+ private:
+  static void LoadOne(const std::atomic<std::uint64_t>* w, double (&c)[W]) noexcept {
+    for (std::size_t k = 0; k < W; ++k) {
+      c[k] = std::bit_cast<double>(w[k].load(std::memory_order_acquire));
+    }
+  }
+  mutable std::unique_ptr<std::atomic<std::uint64_t>[]> owned_;
+  mutable std::atomic<const std::atomic<std::uint64_t>*> words_{nullptr};
+};
+
+/// The side words of a Bracket's samples (`any` false: the history has none: zeros).
+template <std::size_t W>
+struct SideBracket {
+  bool any = false;
+  double c0[W], c1[W];  ///< c1 only where the Bracket's v1 is
+};
+
 template <std::size_t N>
 class SampleHistory {
  public:
@@ -54,12 +130,13 @@ class SampleHistory {
   using Values = double[N];
   static constexpr std::size_t kCovarianceWords = 21;  ///< upper triangle of a 6x6, row by row
   using CovarianceWords = double[kCovarianceWords];
+  /// a (3), alpha (3), present (1 or 0): an acceleration in the edge form (twist histories).
+  static constexpr std::size_t kAccelerationWords = 7;
 
   /// The covariances of a Bracket's samples (`any` false: the edge has none, they are zero).
-  struct CovarianceBracket {
-    bool any = false;
-    double c0[kCovarianceWords], c1[kCovarianceWords];  ///< c1 only where the Bracket's v1 is
-  };
+  using CovarianceBracket = SideBracket<kCovarianceWords>;
+  /// The accelerations of a Bracket's samples (`any` false: none was ever given).
+  using AccelerationBracket = SideBracket<kAccelerationWords>;
 
   /// Allocates capacity samples (>= 2).
   explicit SampleHistory(std::size_t capacity)
@@ -81,8 +158,9 @@ class SampleHistory {
   };
 
   /// The bracket of t. Lock-free; retries only while a write overlaps.
-  /// With `cov`: the covariances of the same samples too.
-  void Find(std::int64_t t, Bracket& out, CovarianceBracket* cov = nullptr) const noexcept {
+  /// With `cov` / `acc`: the covariances / accelerations of the same samples too.
+  void Find(std::int64_t t, Bracket& out, CovarianceBracket* cov = nullptr,
+            AccelerationBracket* acc = nullptr) const noexcept {
     ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
       std::uint32_t i0 = 0;
       out.first = r.Stamp(0);
@@ -108,7 +186,7 @@ class SampleHistory {
         r.Load(lo - 1, out.v0);
         r.Load(lo, out.v1);
       }
-      if (cov != nullptr) LoadCovariances(r, i0, !out.exact, *cov);
+      LoadSides(r, i0, !out.exact, cov, acc);
     });
   }
 
@@ -137,14 +215,15 @@ class SampleHistory {
     return ok;
   }
 
-  /// The newest sample (stamp and value), with its covariance (in c0) when `cov`.
+  /// The newest sample (stamp and value), with its covariance / acceleration (in c0) when
+  /// `cov` / `acc`.
   void Newest(std::int64_t& stamp, double (&v)[N], std::int64_t& first,
-              CovarianceBracket* cov = nullptr) const noexcept {
+              CovarianceBracket* cov = nullptr, AccelerationBracket* acc = nullptr) const noexcept {
     ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
       stamp = r.Stamp(n - 1);
       first = r.Stamp(0);
       r.Load(n - 1, v);
-      if (cov != nullptr) LoadCovariances(r, n - 1, false, *cov);
+      LoadSides(r, n - 1, false, cov, acc);
     });
   }
   /// The newest stamp only.
@@ -163,33 +242,44 @@ class SampleHistory {
   [[nodiscard]] std::int64_t newest_stamp() const noexcept { return Stamp(head(), size() - 1); }
   [[nodiscard]] std::int64_t oldest_stamp() const noexcept { return Stamp(head(), 0); }
   /// True once the edge was given a covariance (its samples then carry one each).
-  [[nodiscard]] bool has_covariances() const noexcept {
-    return cov_words_.load(std::memory_order_relaxed) != nullptr;
-  }
+  [[nodiscard]] bool has_covariances() const noexcept { return cov_.allocated(); }
+  /// True once the edge was given an acceleration (twist histories).
+  [[nodiscard]] bool has_accelerations() const noexcept { return acc_.allocated(); }
   /// Writer, build time: the covariance array (zeros: every sample so far counts as exact).
   /// Allocates once per history (a reused history keeps it); all or nothing (std::bad_alloc).
   /// const (the array is `mutable`): reserved by the graph's const handle finders too, as the
   /// untimed covariance records are (edge_values.h).
-  void EnsureCovariances() const {
-    if (has_covariances()) return;
-    cov_owned_.reset(new std::atomic<std::uint64_t>[capacity_ * kCovarianceWords]());
-    for (std::size_t k = 0; k < capacity_ * kCovarianceWords; ++k) {
-      cov_owned_[k].store(0, std::memory_order_relaxed);
-    }
-    cov_words_.store(cov_owned_.get(), std::memory_order_release);
-  }
+  void EnsureCovariances() const { cov_.Ensure(capacity_); }
+  /// Writer, build time: the acceleration array (every sample so far: none), as covariances.
+  void EnsureAccelerations() const { acc_.Ensure(capacity_); }
   /// The covariance stored at exactly `stamp` (zeros when the edge has none); false when no
   /// sample has that stamp. Writer.
   [[nodiscard]] bool CovarianceAt(std::int64_t stamp,
                                   double (&c)[kCovarianceWords]) const noexcept {
     const std::uint32_t i = LowerBound(stamp);
     if (i >= size() || Stamp(head(), i) != stamp) return false;
-    const std::atomic<std::uint64_t>* w = cov_words_.load(std::memory_order_relaxed);
-    for (std::size_t k = 0; k < kCovarianceWords; ++k) {
-      c[k] = w == nullptr
-                 ? 0.0
-                 : std::bit_cast<double>(w[CovSlot(head(), i) + k].load(std::memory_order_relaxed));
-    }
+    cov_.WriterLoad(Sample(head(), i), c);
+    return true;
+  }
+  /// The acceleration words stored at exactly `stamp` (zeros, i.e. none, when the history has
+  /// no acceleration array); false when no sample has that stamp. Writer.
+  [[nodiscard]] bool AccelerationAt(std::int64_t stamp,
+                                    double (&a)[kAccelerationWords]) const noexcept {
+    const std::uint32_t i = LowerBound(stamp);
+    if (i >= size() || Stamp(head(), i) != stamp) return false;
+    acc_.WriterLoad(Sample(head(), i), a);
+    return true;
+  }
+  /// Writer: the acceleration words of the sample at exactly `stamp` become `a` (the array
+  /// exists: EnsureAccelerations), under the sequence lock; false (nothing written) when no
+  /// sample has that stamp.
+  bool SetAccelerationAt(std::int64_t stamp, const double (&a)[kAccelerationWords]) noexcept {
+    const std::uint32_t i = LowerBound(stamp);
+    if (i >= size() || Stamp(head(), i) != stamp) return false;
+    const std::uint64_t h = seq_.load(std::memory_order_relaxed);
+    seq_.store(h + 1, std::memory_order_relaxed);  // odd; ordered before the release stores
+    acc_.Store(Sample(head(), i), a);
+    seq_.store(h + 2, std::memory_order_release);
     return true;
   }
 
@@ -204,12 +294,14 @@ class SampleHistory {
   /// Drops every sample and holds (stamp, v) alone: one write under the sequence lock, so a
   /// reader overlapping it retries, and one after it sees only the new sample (a retired
   /// history reused for another edge: HistoryTable::Install).
-  /// `c`: the sample's covariance words (null: none, zeros if the history has the array).
-  void Restart(std::int64_t stamp, const double (&v)[N], const double* c = nullptr) noexcept {
+  /// `c`, `a`: the sample's covariance and acceleration words (null: none; zeros if the
+  /// history has the array).
+  void Restart(std::int64_t stamp, const double (&v)[N], const double* c = nullptr,
+               const double* a = nullptr) noexcept {
     const std::uint64_t h = seq_.load(std::memory_order_relaxed);
     seq_.store(h + 1, std::memory_order_relaxed);  // odd; ordered before the release stores below
     StoreValues(0, 0, stamp, v);
-    StoreCovariance(0, 0, c);
+    StoreSides(0, 0, c, a);
     head_.store(0, std::memory_order_release);
     size_.store(1, std::memory_order_release);
     seq_.store(h + 2, std::memory_order_release);
@@ -218,10 +310,10 @@ class SampleHistory {
   /// Inserts (or replaces the value at an equal stamp), then drops the oldest sample when full
   /// and every sample older than newest - window. The caller checked stamp_too_old and the
   /// duplicate policy. A sample older than all while the history is full is dropped at once.
-  /// `c`: the sample's covariance words (null: none; stored as zeros once the array exists,
-  /// which a non-null `c` needs: EnsureCovariances).
+  /// `c`, `a`: the sample's covariance and acceleration words (null: none; stored as zeros
+  /// once the array exists, which a non-null one needs: EnsureCovariances, EnsureAccelerations).
   void Insert(std::int64_t stamp, const double (&v)[N], std::int64_t window_ns,
-              const double* c = nullptr) noexcept {
+              const double* c = nullptr, const double* a = nullptr) noexcept {
     const std::uint64_t h = seq_.load(std::memory_order_relaxed);
     seq_.store(h + 1, std::memory_order_relaxed);  // odd: a write is in progress
     std::uint32_t n = size(), head = this->head();
@@ -229,7 +321,7 @@ class SampleHistory {
     std::uint32_t pos = n > 0 && stamp > Stamp(head, n - 1) ? n : LowerBound(stamp);
     if (pos < n && Stamp(head, pos) == stamp) {
       StoreValues(head, pos, stamp, v);
-      StoreCovariance(head, pos, c);
+      StoreSides(head, pos, c, a);
     } else if (!(n == capacity_ && pos == 0)) {
       if (n == capacity_) {  // full: drop the oldest
         head = Next(head);
@@ -238,7 +330,7 @@ class SampleHistory {
       }
       for (std::uint32_t i = n; i > pos; --i) CopySample(head, i - 1, i);  // shift the later ones
       StoreValues(head, pos, stamp, v);
-      StoreCovariance(head, pos, c);
+      StoreSides(head, pos, c, a);
       ++n;
     }
     const std::int64_t keep_from = SaturatingSub(Stamp(head, n - 1), window_ns);
@@ -364,40 +456,23 @@ class SampleHistory {
     for (std::size_t k = 0; k < kSampleWords; ++k) {
       words_[b + k].store(words_[a + k].load(std::memory_order_relaxed), std::memory_order_release);
     }
-    if (std::atomic<std::uint64_t>* c = cov_owned_.get()) {
-      const std::size_t ca = CovSlot(head, from), cb = CovSlot(head, to);
-      for (std::size_t k = 0; k < kCovarianceWords; ++k) {
-        c[cb + k].store(c[ca + k].load(std::memory_order_relaxed), std::memory_order_release);
-      }
-    }
+    cov_.Copy(Sample(head, from), Sample(head, to));
+    acc_.Copy(Sample(head, from), Sample(head, to));
   }
-  /// The first covariance word of sample i.
-  std::size_t CovSlot(std::uint32_t head, std::uint32_t i) const noexcept {
-    return Slot(head, i) / kSampleWords * kCovarianceWords;
+  /// The physical ring position of sample i (the side arrays' index).
+  std::size_t Sample(std::uint32_t head, std::uint32_t i) const noexcept {
+    return Slot(head, i) / kSampleWords;
   }
-  void StoreCovariance(std::uint32_t head, std::uint32_t i, const double* c) noexcept {
-    std::atomic<std::uint64_t>* w = cov_owned_.get();
-    if (w == nullptr) return;
-    const std::size_t s = CovSlot(head, i);
-    for (std::size_t k = 0; k < kCovarianceWords; ++k) {
-      w[s + k].store(std::bit_cast<std::uint64_t>(c == nullptr ? 0.0 : c[k]),
-                     std::memory_order_release);
-    }
+  void StoreSides(std::uint32_t head, std::uint32_t i, const double* c, const double* a) noexcept {
+    cov_.Store(Sample(head, i), c);
+    acc_.Store(Sample(head, i), a);
   }
-  /// Reader: the covariances of samples i (and i + 1 when `both`); zero when none stored.
-  void LoadCovariances(const Ring& r, std::uint32_t i, bool both,
-                       CovarianceBracket& cov) const noexcept {
-    const std::atomic<std::uint64_t>* c = cov_words_.load(std::memory_order_acquire);
-    cov.any = c != nullptr;
-    if (c == nullptr) return;
-    LoadCovariance(c + r.Slot(i) / kSampleWords * kCovarianceWords, cov.c0);
-    if (both) LoadCovariance(c + r.Slot(i + 1) / kSampleWords * kCovarianceWords, cov.c1);
-  }
-  static void LoadCovariance(const std::atomic<std::uint64_t>* w,
-                             double (&c)[kCovarianceWords]) noexcept {
-    for (std::size_t k = 0; k < kCovarianceWords; ++k) {
-      c[k] = std::bit_cast<double>(w[k].load(std::memory_order_acquire));
-    }
+  /// Reader: the side words of samples i (and i + 1 when `both`) asked for.
+  void LoadSides(const Ring& r, std::uint32_t i, bool both, CovarianceBracket* cov,
+                 AccelerationBracket* acc) const noexcept {
+    const std::size_t i0 = r.Slot(i) / kSampleWords, i1 = both ? r.Slot(i + 1) / kSampleWords : 0;
+    if (cov != nullptr) cov->any = cov_.Load(i0, i1, both, cov->c0, cov->c1);
+    if (acc != nullptr) acc->any = acc_.Load(i0, i1, both, acc->c0, acc->c1);
   }
   // Writer only: the first index whose stamp is >= stamp.
   std::uint32_t LowerBound(std::int64_t stamp) const noexcept {
@@ -417,10 +492,8 @@ class SampleHistory {
   std::atomic<std::uint32_t> head_{0}, size_{0};
   std::uint32_t capacity_;
   std::unique_ptr<std::atomic<std::uint64_t>[]> words_;
-  /// The covariance words (capacity x 21), null until EnsureCovariances; never freed before the
-  /// history (readers may hold the pointer). cov_words_ publishes it (release / acquire).
-  mutable std::unique_ptr<std::atomic<std::uint64_t>[]> cov_owned_;
-  mutable std::atomic<const std::atomic<std::uint64_t>*> cov_words_{nullptr};
+  SideWords<kCovarianceWords> cov_;    ///< until EnsureCovariances: none
+  SideWords<kAccelerationWords> acc_;  ///< until EnsureAccelerations: none
 };
 
 using PoseHistory = SampleHistory<7>;   ///< quaternion x y z w, then p
@@ -500,9 +573,9 @@ class HistoryTable {
   /// Makes `h` edge i's history, holding the one sample (stamp, v) (a reused history loses its
   /// old samples through its sequence lock), then publishes it (release).
   void Install(std::size_t i, Lease h, std::int64_t stamp, const double (&v)[H::kValueWords],
-               const double* c = nullptr) noexcept {
+               const double* c = nullptr, const double* a = nullptr) noexcept {
     H* p = h.release();
-    p->Restart(stamp, v, c);
+    p->Restart(stamp, v, c, a);
     table_[i].store(p, std::memory_order_release);
   }
   /// Edge i becomes timeless (its edge was removed: the caller bumped the epoch before); its
@@ -524,6 +597,7 @@ class HistoryTable {
     for (const auto& h : owned_) {
       bytes += sizeof(H) + h->capacity() * H::BytesPerSample();
       if (h->has_covariances()) bytes += h->capacity() * H::kCovarianceWords * 8;
+      if (h->has_accelerations()) bytes += h->capacity() * H::kAccelerationWords * 8;
     }
     return bytes;
   }

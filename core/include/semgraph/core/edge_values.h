@@ -229,6 +229,11 @@ struct EdgeValues {
   void ReserveTwistSampleCovariances(std::uint32_t slot) const {
     if (const TwistHistory* h = history.twist_of(slot)) h->EnsureCovariances();
   }
+  /// Writer, build time: room for an acceleration in every sample of the stamped twist edge
+  /// `slot` (nothing for a timeless one), as ReserveTwistSampleCovariances.
+  void ReserveTwistSampleAccelerations(std::uint32_t slot) const {
+    if (const TwistHistory* h = history.twist_of(slot)) h->EnsureAccelerations();
+  }
 
   // Writer: the covariance record of an edge, stored before the value itself (so a reader
   // that loads the value, then the record, never pairs a new value with an old covariance).

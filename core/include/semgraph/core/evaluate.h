@@ -90,11 +90,13 @@ class ForestSource {
     }
     return true;
   }
-  /// The acceleration record of a step's twist edge, at the current values (present = 0: the
-  /// edge carries none; a pose edge's derivative never has one).
+  /// The acceleration record of a step's twist edge, at the current values or the policy's time
+  /// (present = 0: the edge carries none; a pose edge's derivative never has one).
   bool LoadAcceleration(const TwistStep<ForestChain>& s, TwistAndAcceleration& r) const noexcept {
     if (s.pose_edge.is_valid()) {
       r.present = 0.0;
+    } else if (time_) {
+      ReadTwistAt<B, false, true>(v_, s.edge.value(), *time_, r.V, nullptr, &r);
     } else {
       r = v_.A_DH[s.edge.value()].Load();
     }
@@ -308,14 +310,19 @@ class FlatSource {
     ReadTwistAt<B>(v_, s.edge.value(), *time_, V);
     return value.epoch() == s.epoch;
   }
-  /// A compiled acceleration step's record (s.epoch: the record's epoch when compiled; current
-  /// values only). False when the edge was removed since.
+  /// A compiled acceleration step's record (s.epoch: the record's epoch when compiled), at the
+  /// current values or the policy's time (two epoch checks: see LoadTwist). False when the edge
+  /// was removed since.
   bool LoadAcceleration(const TwistStep<FlatChain>& s, TwistAndAcceleration& r) const noexcept {
     if (s.pose_edge.is_valid()) {
       r.present = 0.0;
       return true;
     }
-    return v_.A_DH[s.edge.value()].Load(r, s.epoch);
+    const AccelerationValue& value = v_.A_DH[s.edge.value()];
+    if (!time_) return value.Load(r, s.epoch);
+    if (value.epoch() != s.epoch) return false;
+    ReadTwistAt<B, false, true>(v_, s.edge.value(), *time_, r.V, nullptr, &r);
+    return value.epoch() == s.epoch;
   }
 
  private:

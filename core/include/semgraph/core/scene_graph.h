@@ -616,16 +616,29 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// Errors: AddTwist's, with invalid_number for the acceleration after the twist's.
   BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                        const Eigen::Vector3d& w_angular, const AccelerationInput& acceleration);
+  /// A stamped twist sample with its acceleration (the sample's; docs/dynamics.md "Stamped
+  /// accelerations"): AddTwist at a stamp, the acceleration converted with the same rotation.
+  /// A stamped sample given without one carries none (never the previous sample's).
+  BuildResult AddTwist(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
+                       const Eigen::Vector3d& w_angular, Stamp stamp,
+                       const AccelerationInput& acceleration);
   /// Sets the acceleration of the existing twist edge ref_body -> {h}|body (the one in the pose
   /// tree of {point}) to AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha), converted
   /// to the edge form with the current poses and the edge's twist; on an edge body -> {h}|ref_body
   /// the value is the inverse relation's, inverted (not negated: Coriolis). body empty: the body
   /// of {point}. invalid_name -> invalid_number -> unknown_frame (point, coord) -> unknown_body
   /// (body, ref_body) -> no_such_edge (no twist edge between them in that tree) -> joint_edge
-  /// -> stamp_mismatch (a stamped edge) -> acceleration_not_convertible ([coord] not in that
-  /// tree). Graph unchanged on any error.
+  /// -> stamp_mismatch (a stamped edge: its values need a stamp) -> acceleration_not_convertible
+  /// ([coord] not in that tree). Graph unchanged on any error.
   BuildResult AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
                               const Eigen::Vector3d& alpha_angular);
+  /// The acceleration of a stamped twist edge's sample at `stamp`, converted with the poses at
+  /// that stamp and that sample's twist. Errors as above, with stamp_mismatch for a timeless
+  /// edge, acceleration_not_convertible when the edge has no twist sample at `stamp` or a pose
+  /// needed has no value there, and duplicate_stamp for another acceleration already on that
+  /// sample under the reject policy (replace: replaced).
+  BuildResult AddAcceleration(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
+                              const Eigen::Vector3d& alpha_angular, Stamp stamp);
   /// AccelerationCoord(point|body, ref_body, [coord]): the accelerations of the twist path's
   /// edges composed (accelerations.h). The errors of GetTwist, then no_acceleration (an edge on
   /// the path carries none; the error names its head frame and tail body). body == ref_body:
@@ -637,6 +650,17 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// Uses body, ref_body and coordinate_frame only (as GetAngularVelocity).
   [[nodiscard]] QueryResult<AngularAcceleration> GetAngularAcceleration(
       const TwistSpec& spec) const noexcept;
+  /// Under a time policy (docs/dynamics.md "Stamped accelerations"): every edge's twist and
+  /// acceleration, and the poses moving them, read at the policy's time as a timed twist query
+  /// reads them (between two samples: interpolated linearly, component-wise, an acceleration
+  /// present only when both samples carry one; outside within the horizon: the nearest sample
+  /// held). The errors of the timed GetTwist, then no_acceleration.
+  [[nodiscard]] QueryResult<Timed<coord::Acceleration>> GetAcceleration(
+      const TwistSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<LinearAcceleration>> GetLinearAcceleration(
+      const TwistSpec& spec, const TimePolicy& policy) const noexcept;
+  [[nodiscard]] QueryResult<Timed<AngularAcceleration>> GetAngularAcceleration(
+      const TwistSpec& spec, const TimePolicy& policy) const noexcept;
   /// GetAcceleration compiled (compiled_acceleration.h): the errors of GetAcceleration but
   /// no_acceleration, which Evaluate reports (kNoAcceleration) when an edge carries none then.
   [[nodiscard]] Expected<CompiledAcceleration<B>, QueryError> CompileAcceleration(
@@ -644,10 +668,17 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// New acceleration of the handle's twist edge D -> {h}|H in the edge form (a_DHo_H,
   /// alpha_DH_H: at h, in [h]), stored with the edge's current twist. O(1), noexcept,
   /// allocation-free. Codes: kNoSuchEdge (as SetTwist), kJointEdge (a joint's edge),
-  /// kStampMismatch (a stamped edge: not supported yet), kInvalidNumber; nothing written on
-  /// any code but kOk. A later twist without an acceleration clears it.
+  /// kStampMismatch (a stamped edge: its values need a stamp), kInvalidNumber; nothing written
+  /// on any code but kOk. A later twist without an acceleration clears it.
   [[nodiscard]] ErrorCode SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
                                           const Eigen::Vector3d& alpha_DH_H,
+                                          UpdateError* why = nullptr) noexcept;
+  /// The acceleration of a stamped twist edge's sample at `stamp` (set the twist sample first,
+  /// SetTwist at the same stamp), in the edge form. The codes above, kStampMismatch also for a
+  /// timeless edge or no twist sample at `stamp`, kDuplicateStamp for another acceleration on
+  /// that sample under the reject policy. O(log samples), noexcept, allocation-free.
+  [[nodiscard]] ErrorCode SetAcceleration(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                          const Eigen::Vector3d& alpha_DH_H, Stamp stamp,
                                           UpdateError* why = nullptr) noexcept;
   /// The acceleration stored on the twist edge into f, in the edge form (nullopt: none, or no
   /// twist edge). Writer thread. O(1).
@@ -717,6 +748,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                           const Eigen::Vector3d& p_position,
                           std::optional<Stamp> stamp = std::nullopt,
                           const CovarianceInput* covariance = nullptr);
+  BuildResult AddAccelerationImpl(const TwistSpec& spec, const Eigen::Vector3d& a_linear,
+                                  const Eigen::Vector3d& alpha_angular, std::optional<Stamp> stamp);
+  ErrorCode StoreSampleAcceleration(TwistEdgeIndex edge, Stamp stamp,
+                                    const AccelerationNumbers& A) noexcept;
+  ErrorCode SetAccelerationImpl(TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                const Eigen::Vector3d& alpha_DH_H, std::optional<Stamp> stamp,
+                                UpdateError* why) noexcept;
   BuildResult AddTwistImpl(const TwistSpec& spec, const Eigen::Vector3d& v_linear,
                            const Eigen::Vector3d& w_angular, std::optional<Stamp> stamp,
                            const CovarianceInput* covariance = nullptr,
@@ -758,7 +796,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   void InstallPoseHistory(FrameIndex head, PoseHistoryLease h, const typename B::PoseCoords& X,
                           Stamp s, const coord::Covariance6* S = nullptr);
   void InstallTwistHistory(TwistEdgeIndex edge, TwistHistoryLease h, const TwistNumbers& V, Stamp s,
-                           const coord::Covariance6* S = nullptr);
+                           const coord::Covariance6* S = nullptr,
+                           const AccelerationNumbers* A = nullptr);
   void ReservePoseSampleCovariance(FrameIndex head);
   void ReserveTwistSampleCovariance(TwistEdgeIndex edge);
   void DropPoseHistory(FrameIndex head) noexcept;
@@ -769,8 +808,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   void StorePoseSample(FrameIndex head, const typename B::PoseCoords& X, std::optional<Stamp> stamp,
                        const coord::Covariance6* S = nullptr) noexcept;
   ErrorCode CheckTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
-                             const coord::Covariance6* S = nullptr) const noexcept;
-  // The twist's acceleration record first (A null: none, edge_values.h), then the sample.
+                             const coord::Covariance6* S = nullptr,
+                             const AccelerationNumbers* A = nullptr) const noexcept;
+  // The sample with its acceleration (A null: none); for a timeless edge or a sample that
+  // becomes the newest, the acceleration record first (edge_values.h).
   void StoreTwistSample(TwistEdgeIndex edge, const TwistNumbers& V, std::optional<Stamp> stamp,
                         const coord::Covariance6* S = nullptr,
                         const AccelerationNumbers* A = nullptr) noexcept;

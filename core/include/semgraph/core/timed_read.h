@@ -12,6 +12,10 @@
 //                        else an extrapolation failure naming the edge and its range
 //   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t;
 //                        the query's other edges read with no horizon (WithoutExtrapolation)
+//   with acceleration    ReadTwistAt<B, false, true>: the same read of a twist edge, plus its
+//                        acceleration record (docs/dynamics.md, "Stamped accelerations"): a
+//                        sample's, the component-wise linear interpolation of two (present only
+//                        when both are), a held sample's
 //   with covariance      ReadPoseAt / ReadTwistAt<B, true>: the same read, plus the covariance
 //                        of the value read (docs/uncertainty.md, "Time"): a sample's, (1 - l)
 //                        S_i + l S_i+1 between two, a held twist's, an extrapolated pose edge's
@@ -147,6 +151,21 @@ inline void WordsFromTwist(const TwistNumbers& V, double (&w)[6]) noexcept {
   }
 }
 
+/// An acceleration as a twist history's 7 side words (a, alpha, present = 1) and back (a record
+/// with present 0 when the words say none).
+inline void WordsFromAcceleration(const AccelerationNumbers& A, double (&w)[7]) noexcept {
+  for (int k = 0; k < 3; ++k) {
+    w[k] = A.a_DHo_H[k];
+    w[3 + k] = A.alpha_DH_H[k];
+  }
+  w[6] = 1.0;
+}
+inline void AccelerationFromWords(const double (&w)[7], TwistAndAcceleration& R) noexcept {
+  R.A.a_DHo_H = Eigen::Vector3d(w[0], w[1], w[2]);
+  R.A.alpha_DH_H = Eigen::Vector3d(w[3], w[4], w[5]);
+  R.present = w[6] != 0.0 ? 1.0 : 0.0;
+}
+
 /// A covariance (symmetric 6x6) as a history's 21 words (upper triangle, row by row) and back.
 inline void WordsFromCovariance(const coord::Covariance6& S, double (&w)[21]) noexcept {
   int k = 0;
@@ -174,9 +193,10 @@ bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_
 template <class History>
 void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& tc, EdgeRead& rec,
                 double (&w)[History::kValueWords],
-                typename History::CovarianceBracket* cov = nullptr) noexcept {
+                typename History::CovarianceBracket* cov = nullptr,
+                typename History::AccelerationBracket* acc = nullptr) noexcept {
   std::int64_t s = 0, first = 0;
-  h.Newest(s, w, first, cov);
+  h.Newest(s, w, first, cov, acc);
   tc.Read(s);
   if (!tc.nested) tc.Used(twist, index, first, s);
   rec.first = first;
@@ -190,9 +210,10 @@ void ReadNewest(const History& h, bool twist, std::uint32_t index, TimeContext& 
 template <class History>
 [[gnu::always_inline]] inline typename History::Bracket FindAtTime(
     const History& h, bool twist, std::uint32_t index, TimeContext& tc, EdgeRead& rec,
-    typename History::CovarianceBracket* cov = nullptr) noexcept {
+    typename History::CovarianceBracket* cov = nullptr,
+    typename History::AccelerationBracket* acc = nullptr) noexcept {
   typename History::Bracket b;
-  h.Find(tc.t, b, cov);
+  h.Find(tc.t, b, cov, acc);
   rec.first = b.first;
   rec.last = b.last;
   if (!tc.nested) tc.Used(twist, index, b.first, b.last);
@@ -330,20 +351,43 @@ void ReadPoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
   if (tc.recorder) tc.recorder->Record(rec);
 }
 
+/// The acceleration of a sample (c0), or the component-wise interpolation at lambda of two
+/// (present only when both samples carry one); none when the edge was never given one.
+inline void SampleAcceleration(const TwistHistory::AccelerationBracket& ab, bool interpolated,
+                               double lambda, TwistAndAcceleration& R) noexcept {
+  R.present = 0.0;
+  if (!ab.any) return;
+  AccelerationFromWords(ab.c0, R);
+  if (interpolated && R.present != 0.0) {
+    TwistAndAcceleration R1;
+    AccelerationFromWords(ab.c1, R1);
+    R.present = R1.present;
+    R.A.a_DHo_H += lambda * (R1.A.a_DHo_H - R.A.a_DHo_H);
+    R.A.alpha_DH_H += lambda * (R1.A.alpha_DH_H - R.A.alpha_DH_H);
+  }
+}
+
 /// The value of twist edge `slot` under the context's policy; with kCovariance, also the
-/// covariance of that value into *S (a held sample keeps its covariance).
-template <coord::Backend B, bool kCovariance = false>
+/// covariance of that value into *S (a held sample keeps its covariance); with kAcceleration,
+/// also the acceleration going with that value into *R (R->V = V; a held sample keeps its
+/// acceleration, as it keeps its twist).
+template <coord::Backend B, bool kCovariance = false, bool kAcceleration = false>
 void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, TwistNumbers& V,
-                 coord::Covariance6* S = nullptr) noexcept {
+                 coord::Covariance6* S = nullptr, TwistAndAcceleration* R = nullptr) noexcept {
   const TwistHistory* h = v.history.twist_of(slot);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kTwist;
   rec.index = slot;
   TwistHistory::CovarianceBracket cb;
   TwistHistory::CovarianceBracket* const cov = kCovariance ? &cb : nullptr;
+  TwistHistory::AccelerationBracket ab;
+  TwistHistory::AccelerationBracket* const acc = kAcceleration ? &ab : nullptr;
   if (h == nullptr) {
     if constexpr (kCovariance) {
       v.LoadTwist(slot, V, *S);
+    } else if constexpr (kAcceleration) {
+      *R = v.A_DH[slot].Load();
+      V = R->V;
     } else {
       V = v.V_DH[slot].Load();
     }
@@ -353,14 +397,16 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
   rec.stamped = true;
   if (!tc.at) {
     double w[6];
-    ReadNewest(*h, true, slot, tc, rec, w, cov);
+    ReadNewest(*h, true, slot, tc, rec, w, cov, acc);
     V = TwistFromWords(w);
     if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
+    if constexpr (kAcceleration) SampleAcceleration(ab, false, 0.0, *R);
   } else {
-    const TwistHistory::Bracket b = FindAtTime(*h, true, slot, tc, rec, cov);
+    const TwistHistory::Bracket b = FindAtTime(*h, true, slot, tc, rec, cov, acc);
     using Where = TwistHistory::Bracket::Where;
     V = TwistFromWords(b.v0);
     if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
+    if constexpr (kAcceleration) SampleAcceleration(ab, false, 0.0, *R);
     if (b.where == Where::kInside) {
       rec.has_read = true;
       rec.read_from = b.s0;
@@ -374,6 +420,7 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
         tc.Read(b.s1);
         rec.read_to = b.s1;
         if constexpr (kCovariance) SampleCovariance(cb, true, lambda, *S);
+        if constexpr (kAcceleration) SampleAcceleration(ab, true, lambda, *R);
       }
     } else {
       const std::int64_t gap =
@@ -388,6 +435,7 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
       }
     }
   }
+  if constexpr (kAcceleration) R->V = V;
   if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
 }
 
