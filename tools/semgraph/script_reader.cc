@@ -187,8 +187,8 @@ Shape ShapeOf(OpKind op, QueryKind query) {
                   Bit(kCovariance) | Bit(kAcceleration),
               twist_required};
     case OpKind::kAcceleration:
-      return {"an 'acceleration' op", Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular),
-              twist_required};
+      return {"an 'acceleration' op",
+              Bit(kOp) | kTwistNames | Bit(kLinear) | Bit(kAngular) | Bit(kStamp), twist_required};
     case OpKind::kRemovePose:
       return {"a 'remove' op of kind 'pose'",
               kHeader | kShorthand,
@@ -254,12 +254,12 @@ Shape ShapeOf(OpKind op, QueryKind query) {
     case QueryKind::kMoment:
       return {"a 'moment' query", kHeader | kWrenchNames, wrench_required};
     case QueryKind::kAcceleration:
-      return {"an 'acceleration' query", kHeader | kTwistNames, twist_required};
+      return {"an 'acceleration' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kLinearAcceleration:
-      return {"a 'linear_acceleration' query", kHeader | kTwistNames, twist_required};
+      return {"a 'linear_acceleration' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kAngularAcceleration:
       return {"an 'angular_acceleration' query",
-              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord),
+              kHeader | Bit(kBody) | Bit(kRefBody) | Bit(kCoord) | kQueryTime,
               {{kBody, kNoField}, {kRefBody, kNoField}, {kCoord, kNoField}}};
     case QueryKind::kAngularVelocity:
       // No point: an angular velocity is the same at every point of the body.
@@ -743,16 +743,16 @@ bool Interpreter::ReadMatrix6(std::uint32_t node, std::string_view what, ScriptO
 }
 
 // A twist op's `acceleration: {linear: [..], angular: [..]}` (docs/dynamics.md §7), in the op's
-// point and frame; a missing part is zero. Given with an unstamped value without repair or
-// covariance only (stamped accelerations are not supported in this version).
+// point and frame; a missing part is zero. Given with a twist value, stamped or not, without
+// repair or covariance.
 bool Interpreter::ReadAcceleration(std::uint32_t node,
                                    const std::array<std::uint32_t, kNumFields>& value,
                                    ScriptOp* op) {
-  for (const Field f : {kRepair, kStamp, kCovariance}) {
+  for (const Field f : {kRepair, kCovariance}) {
     if (value[f] == kNoNode) continue;
     return Fail(value[f], "field " + Quoted(kFieldNames[f]) +
                               " does not go with 'acceleration' in this version (an acceleration "
-                              "is given with an unstamped twist, without repair or covariance)");
+                              "is given with a twist value, without repair or covariance)");
   }
   if (At(node).kind != NodeKind::kMap) {
     return Fail(node, "'acceleration' must be a map {linear: [x, y, z], angular: [x, y, z]}, got " +

@@ -368,12 +368,6 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
         op, index,
         graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), core::RepairPolicy{}));
   }
-  if (op.has_acceleration) {  // unstamped, without covariance (the reader checked)
-    return FromBuild(op, index,
-                     graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular),
-                                    core::AccelerationInput{ToVector(op.acceleration_linear),
-                                                            ToVector(op.acceleration_angular)}));
-  }
   std::optional<core::Stamp> stamp;
   if (std::string reason; !StampOf(op, &stamp, &reason)) {
     const auto probe =
@@ -381,6 +375,14 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
     if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
     return Failure(op, index, base::ErrorCode::kInvalidNumber,
                    WithReason(probe.error().message, reason));
+  }
+  if (op.has_acceleration) {  // without covariance (the reader checked)
+    const core::AccelerationInput A{ToVector(op.acceleration_linear),
+                                    ToVector(op.acceleration_angular)};
+    return FromBuild(
+        op, index,
+        stamp ? graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), *stamp, A)
+              : graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), A));
   }
   if (op.has_covariance) {
     const coord::Covariance6 S = CovarianceOf(op);
@@ -394,6 +396,25 @@ OpOutcome AddTwist(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t i
     return FromBuild(op, index,
                      graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular), *stamp));
   return FromBuild(op, index, graph.AddTwist(spec, ToVector(op.linear), ToVector(op.angular)));
+}
+
+// An acceleration on its own, at the op's stamp if it has one (a stamp that is no time: the
+// graph's name checks first, as AddTwist).
+template <coord::Backend B>
+OpOutcome AddAcceleration(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  const core::TwistSpec spec = TwistSpecOf(op.names);
+  const Eigen::Vector3d a = ToVector(op.acceleration_linear),
+                        alpha = ToVector(op.acceleration_angular);
+  std::optional<core::Stamp> stamp;
+  if (std::string reason; !StampOf(op, &stamp, &reason)) {
+    const auto probe = graph.AddAcceleration(spec, Eigen::Vector3d(kNaN, 0, 0), alpha);
+    if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   WithReason(probe.error().message, reason));
+  }
+  return FromBuild(op, index,
+                   stamp ? graph.AddAcceleration(spec, a, alpha, *stamp)
+                         : graph.AddAcceleration(spec, a, alpha));
 }
 
 template <coord::Backend B>
@@ -547,23 +568,39 @@ OpOutcome WrenchQuery(const core::SceneGraph<B>& graph, const ScriptOp& op, std:
   return Success(index, {{"force", Values(W->force)}, {"moment", Values(W->moment)}});
 }
 
-// An acceleration, linear_acceleration or angular_acceleration query (docs/dynamics.md §7):
-// no time fields.
+// An acceleration, linear_acceleration or angular_acceleration query (docs/dynamics.md §7),
+// under the query's time policy (docs/dynamics.md "Stamped accelerations"; no time travel, no
+// source: the reader refuses them).
 template <coord::Backend B>
 OpOutcome AccelerationQuery(const core::SceneGraph<B>& graph, const ScriptOp& op,
                             std::size_t index) {
   const core::TwistSpec spec = TwistSpecOf(op.names);
-  if (op.query_kind == QueryKind::kAngularAcceleration) {
-    const auto alpha = graph.GetAngularAcceleration(spec);
-    if (!alpha) return Failure(op, index, alpha.error().code, graph.Describe(alpha.error(), spec));
-    return Success(index, {{"angular", Values(alpha->value)}});
+  const bool angular = op.query_kind == QueryKind::kAngularAcceleration;
+  QueryTime time;
+  if (std::string reason; !TimeOf(op, &time, &reason)) {
+    // invalid_name before invalid_number, as the other queries (a negative horizon probes).
+    const core::At probe{core::Stamp{}, core::Duration::Nanoseconds(-1)};
+    const core::QueryError error = angular ? graph.GetAngularAcceleration(spec, probe).error()
+                                           : graph.GetAcceleration(spec, probe).error();
+    if (error.code != base::ErrorCode::kInvalidNumber) {
+      return Failure(op, index, error.code, graph.Describe(error, spec));
+    }
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   "query failed (invalid_number): " + reason);
   }
-  const auto A = graph.GetAcceleration(spec);
+  if (angular) {
+    const auto alpha = graph.GetAngularAcceleration(spec, time.policy);
+    if (!alpha) return Failure(op, index, alpha.error().code, graph.Describe(alpha.error(), spec));
+    return WithTime(Success(index, {{"angular", Values(alpha->value.value)}}), alpha->time);
+  }
+  const auto A = graph.GetAcceleration(spec, time.policy);
   if (!A) return Failure(op, index, A.error().code, graph.Describe(A.error(), spec));
   if (op.query_kind == QueryKind::kLinearAcceleration) {
-    return Success(index, {{"linear", Values(A->linear)}});
+    return WithTime(Success(index, {{"linear", Values(A->value.linear)}}), A->time);
   }
-  return Success(index, {{"linear", Values(A->linear)}, {"angular", Values(A->angular)}});
+  return WithTime(
+      Success(index, {{"linear", Values(A->value.linear)}, {"angular", Values(A->value.angular)}}),
+      A->time);
 }
 
 template <coord::Backend B>
@@ -870,9 +907,7 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
     case OpKind::kRemoveWrench:
       return FromBuild(op, index, graph.RemoveWrench(n.body, n.ref_body));
     case OpKind::kAcceleration:
-      return FromBuild(op, index,
-                       graph.AddAcceleration(TwistSpecOf(n), ToVector(op.acceleration_linear),
-                                             ToVector(op.acceleration_angular)));
+      return AddAcceleration(graph, op, index);
     case OpKind::kQuery:
       return Query(std::as_const(graph), op, index);
     case OpKind::kUrdf:
