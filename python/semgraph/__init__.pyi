@@ -284,6 +284,9 @@ class Acceleration:
         """(3,): angular acceleration of C relative to D, in [r]."""
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """The TimeReport of a query given a time (at=, not_before=), else None."""
 
 class CompiledAcceleration:
     """A compiled acceleration query (evaluate() raises QueryError no_acceleration while an edge
@@ -392,8 +395,8 @@ class SceneGraph:
         add_pose (repair: W1 by the inverse twist, duplicate_twist_path by consistency).
         covariance: (6, 6), rows (dv, dw) (covariance_order as add_pose).
         linear_acceleration / angular_acceleration: the edge's acceleration (same point and
-        frame), stored with the twist; without them the edge carries none. Not with stamp,
-        repair or covariance."""
+        frame), stored with the twist (with stamp: the sample's); without them the edge (or the
+        sample) carries none. Not with repair or covariance."""
     def remove_pose(self, *, of: str, wrt: str) -> None: ...
     def remove_twist(self, *, point: str, ref_body: str) -> None: ...
 
@@ -419,23 +422,31 @@ class SceneGraph:
 
     def add_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
                          expressed_in: Name = None, linear: Optional[ArrayLike] = None,
-                         angular: Optional[ArrayLike] = None) -> None:
+                         angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None) -> None:
         """Sets the acceleration of the existing twist edge ref_body -> body: a of the point of
-        `body` at point's origin and alpha, in [expressed_in]. RejectedError: invalid_name,
-        invalid_number, unknown_frame, unknown_body, no_such_edge, joint_edge, stamp_mismatch,
-        acceleration_not_convertible; the graph is unchanged."""
+        `body` at point's origin and alpha, in [expressed_in]; on a stamped edge, with stamp=,
+        that of its twist sample at the stamp. RejectedError: invalid_name, invalid_number,
+        unknown_frame, unknown_body, no_such_edge, joint_edge, stamp_mismatch,
+        acceleration_not_convertible, duplicate_stamp; the graph is unchanged."""
     def set_acceleration(self, handle: TwistHandle, *, linear: Optional[ArrayLike] = None,
-                         angular: Optional[ArrayLike] = None) -> None:
-        """O(1): the acceleration of the handle's edge in its form (at and in its head frame)."""
+                         angular: Optional[ArrayLike] = None, stamp: Optional[Time] = None) -> None:
+        """O(1): the acceleration of the handle's edge in its form (at and in its head frame);
+        stamp=: of its twist sample at that stamp."""
     def acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-                     expressed_in: Name = None) -> Acceleration:
-        """The acceleration of `body` at `point` relative to `ref_body`, in [expressed_in].
-        QueryError: invalid_name, unknown_frame, unknown_body, frame_body_mismatch,
-        no_pose_path, no_twist_path, no_acceleration."""
+                     expressed_in: Name = None, at: At = None,
+                     max_extrapolation: Optional[Time] = None,
+                     not_before: Optional[Time] = None) -> Acceleration:
+        """The acceleration of `body` at `point` relative to `ref_body`, in [expressed_in], at the
+        time asked (at=, as twist()). QueryError: invalid_name, unknown_frame, unknown_body,
+        frame_body_mismatch, no_pose_path, no_twist_path, no_acceleration, extrapolation, stale."""
     def linear_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
-                            expressed_in: Name = None) -> np.ndarray: ...
+                            expressed_in: Name = None, at: At = None,
+                            max_extrapolation: Optional[Time] = None,
+                            not_before: Optional[Time] = None) -> np.ndarray: ...
     def angular_acceleration(self, *, body: Name = None, ref_body: Name = None,
-                             expressed_in: Name = None) -> np.ndarray: ...
+                             expressed_in: Name = None, at: At = None,
+                             max_extrapolation: Optional[Time] = None,
+                             not_before: Optional[Time] = None) -> np.ndarray: ...
     def compile_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
                              expressed_in: Name = None) -> CompiledAcceleration: ...
 

@@ -183,14 +183,16 @@ py::object AddTwist(GraphBox& b, py::handle point, py::handle body, py::handle r
   const core::AccelerationInput acceleration{
       Vector3Arg(linear_acceleration, "add_twist", "linear_acceleration"),
       Vector3Arg(angular_acceleration, "add_twist", "angular_acceleration")};
-  if (accelerated && (t || policy || cov.given)) {
+  if (accelerated && (policy || cov.given)) {
     throw py::value_error(
-        "add_twist(): linear_acceleration= / angular_acceleration= go with a timeless value "
-        "without repair or covariance in this version");
+        "add_twist(): linear_acceleration= / angular_acceleration= go with a value without "
+        "repair or covariance in this version");
   }
   std::lock_guard<WriterMutex> lock(b.writer);
   if (accelerated) {
-    Check(b.Visit([&](auto& g) { return g.AddTwist(spec, v, w, acceleration); }));
+    Check(b.Visit([&](auto& g) {
+      return t ? g.AddTwist(spec, v, w, *t, acceleration) : g.AddTwist(spec, v, w, acceleration);
+    }));
     return py::none();
   }
   if (policy) {
@@ -389,8 +391,8 @@ covariance: the value's 6x6 covariance, rows (dv, dw) (covariance_order 'angular
 (dw, dv)); as for add_pose (with stamp: the sample's own).
 linear_acceleration, angular_acceleration: the edge's acceleration (a of the same point, alpha;
 in [expressed_in]; either given: the other defaults to zero), stored with the twist; without
-them the edge carries no acceleration (a previous one is cleared). Not with stamp, repair or
-covariance in this version.
+them the edge carries no acceleration (a previous one is cleared); with stamp, the sample's.
+Not with repair or covariance in this version.
 RejectedError: invalid_name, invalid_number, invalid_covariance, unknown_frame, unknown_body,
 frame_body_mismatch,
 twist_same_body, twist_not_convertible, multiple_twist_parents, duplicate_twist_path,

@@ -321,8 +321,8 @@ def test_wrong_python_arguments_raise_and_change_nothing(graph):
         graph.add_acceleration(point="s", ref_body="Arm", expressed_in="s", linear=[1, 2])
     with pytest.raises(TypeError):
         graph.add_acceleration(point=3, ref_body="Arm", expressed_in="s")
-    with pytest.raises(ValueError):  # not with stamp / repair / covariance in this version
-        graph.add_twist(point="s", ref_body="Arm", expressed_in="s", stamp=5,
+    with pytest.raises(ValueError):  # not with repair / covariance in this version
+        graph.add_twist(point="s", ref_body="Arm", expressed_in="s", repair=True,
                         linear_acceleration=[1, 0, 0])
     with pytest.raises(ValueError):
         graph.add_twist(point="s", ref_body="Arm", expressed_in="s", covariance=np.eye(6) * 1e-4,
@@ -346,3 +346,50 @@ def test_a_joints_edge_refuses_an_acceleration(graph):
         graph.set_acceleration(graph.twist_handle(point="link", ref_body="W"), angular=[0, 0, 1])
     assert e.value.code == "joint_edge"
     assert graph.dump() == before
+
+
+def test_stamped_accelerations_interpolate_convert_at_their_stamp_and_are_never_implicit():
+    """A disc turned by TH at 0 s and by TH + pi/2 at 2 s, its twist samples carrying
+    accelerations (at the disc's origin, in [disc]); values by hand: halfway, the mean of the
+    two samples; in [w], rotated by the disc's angle then; an acceleration given on its own in
+    [w] at 2 s, rotated into [disc] with the angle at 2 s."""
+    g = semgraph.SceneGraph()
+    for t, angle in [(0, TH), (2, TH + math.pi / 2)]:
+        g.add_pose(of="disc", body="Disc", wrt="w", ref_body="W", quaternion=wxyz(Rz(angle)),
+                   stamp=float(t))
+    g.add_twist(point="disc", ref_body="W", expressed_in="disc", angular=[0, 0, 1], stamp=0.0,
+                linear_acceleration=[1, 0, 0], angular_acceleration=[0, 0, 0.5])
+    g.add_twist(point="disc", ref_body="W", expressed_in="disc", angular=[0, 0, 2], stamp=2.0,
+                linear_acceleration=[3, 0, 0], angular_acceleration=[0, 0, 0.5])
+    A = g.acceleration(point="disc", ref_body="W", expressed_in="disc", at=1.0)
+    np.testing.assert_allclose(A.linear, [2, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(A.angular, [0, 0, 0.5], atol=1e-12)
+    assert A.time.time == 1.0 and A.time.oldest == 0.0 and A.time.newest == 2.0
+    in_w = g.linear_acceleration(point="disc", ref_body="W", expressed_in="w", at=1.0)
+    np.testing.assert_allclose(in_w, Rz(TH + math.pi / 4).apply([2, 0, 0]), atol=1e-12)
+    a_w = np.array([0.3, -0.8, 0.1])
+    g.add_acceleration(point="disc", ref_body="W", expressed_in="w", linear=a_w, stamp=2.0)
+    np.testing.assert_allclose(
+        g.linear_acceleration(point="disc", ref_body="W", expressed_in="disc", at=2.0),
+        Rz(TH + math.pi / 2).inv().apply(a_w), atol=1e-12)
+    np.testing.assert_allclose(
+        g.angular_acceleration(body="Disc", ref_body="W", expressed_in="disc", at=2.0),
+        [0, 0, 0], atol=1e-12)
+    h = g.twist_handle(point="disc", ref_body="W")
+    g.set_twist(h, angular=[0, 0, 2], stamp=3.0)  # a sample without an acceleration
+    with pytest.raises(semgraph.QueryError) as e:
+        g.acceleration(point="disc", ref_body="W", expressed_in="disc", at=2.5)
+    assert e.value.code == "no_acceleration"
+    g.set_acceleration(h, linear=[7, 0, 0], stamp=3.0)
+    np.testing.assert_allclose(
+        g.acceleration(point="disc", ref_body="W", expressed_in="disc").linear, [7, 0, 0])
+    before = g.dump()
+    for code, call in [
+            ("acceleration_not_convertible",
+             lambda: g.add_acceleration(point="disc", ref_body="W", expressed_in="disc",
+                                        linear=[1, 0, 0], stamp=1.0)),
+            ("stamp_mismatch", lambda: g.set_acceleration(h, linear=[1, 0, 0], stamp=1.5))]:
+        with pytest.raises(semgraph.RejectedError) as e:
+            call()
+        assert e.value.code == code, e.value.message
+    assert g.dump() == before
