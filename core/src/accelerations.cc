@@ -202,11 +202,7 @@ ErrorCode SceneGraph<B>::StoreSampleAcceleration(TwistEdgeIndex edge, Stamp stam
   double stored[7], a[7], w[6];
   internal::WordsFromAcceleration(A, a);
   if (h.AccelerationAt(s, stored) && stored[6] != 0.0) {
-    bool same = true;
-    for (int k = 0; k < 6; ++k) {
-      same = same && std::abs(stored[k] - a[k]) <= 1e-6 * std::max(1.0, std::abs(stored[k]));
-    }
-    if (same) return ErrorCode::kOk;
+    if (SameSampleAcceleration(h, s, a)) return ErrorCode::kOk;
     if (values_.history.options.duplicate_stamp == DuplicatePolicy::kReject) {
       return ErrorCode::kDuplicateStamp;
     }

@@ -58,11 +58,21 @@ bool SameAngle(double q, double stored) {
   return std::abs(d) <= kSameJointValue * std::max(1.0, std::abs(q));
 }
 
+// The acceleration words of a joint's edge for qddot (null: none; a: room for them).
+const double* JointAccelerationWords(const internal::JointRecord& j, const double* qddot,
+                                     double (&a)[7]) noexcept {
+  if (qddot == nullptr) return nullptr;
+  AccelerationNumbers A;
+  j.AccelerationAt(*qddot, A.a_DHo_H, A.alpha_DH_H);
+  internal::WordsFromAcceleration(A, a);
+  return a;
+}
+
 }  // namespace
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord& j, double q, double qdot,
-                                          std::int64_t s) const noexcept {
+                                          const double* qddot, std::int64_t s) const noexcept {
   const PoseHistory* hp = values_.history.pose_of(j.child.value());
   const TwistHistory* ht = values_.history.twist_of(topology_.twist_edge_of(j.child).value());
   if (j.timeless || !hp || !ht) return ErrorCode::kStampMismatch;
@@ -74,27 +84,37 @@ ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord& j, double
       double q0 = 0, qdot0 = 0;
       StoredJointState(j, pw, tw, q0, qdot0);
       const bool same_q = j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0);
-      if (!same_q || !Near(qdot, qdot0)) return ErrorCode::kDuplicateStamp;
+      double a[7];
+      if (!same_q || !Near(qdot, qdot0) ||
+          !SameSampleAcceleration(*ht, s, JointAccelerationWords(j, qddot, a))) {
+        return ErrorCode::kDuplicateStamp;
+      }
     }
   }
   return ErrorCode::kOk;
 }
 
+// A sample's qddot: the given one, else the joint's state (the newest sample's), if it has one;
+// its edge's twist history then has its acceleration words (SetJoints reserved them).
 template <coord::Backend B>
 void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
-                                     const double* qdot_given, std::int64_t s) noexcept {
+                                     const double* qdot_given, const double* qddot_given,
+                                     std::int64_t s) noexcept {
   internal::JointRecord& j = joints_[index];
   const double q = q_given ? *q_given : j.q, qdot = qdot_given ? *qdot_given : j.qdot;
+  const double* qddot = qddot_given ? qddot_given : (j.has_qddot ? &j.qddot : nullptr);
+  const double qddot_value = qddot ? *qddot : 0.0;  // j.qddot may change below
   const TwistEdgeIndex edge = topology_.twist_edge_of(j.child);
   PoseHistory& hp = values_.history.pose.writable(j.child.value());
   TwistHistory& ht = values_.history.twist.writable(edge.value());
-  double pw[7], tw[6];
+  double pw[7], tw[6], aw[7];
+  const double* a = JointAccelerationWords(j, qddot, aw);
   bool identical = false;
   if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
     double q0 = 0, qdot0 = 0;
     StoredJointState(j, pw, tw, q0, qdot0);
-    identical =
-        (j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0)) && Near(qdot, qdot0);
+    identical = (j.type == JointType::kPrismatic ? Near(q, q0) : SameAngle(q, q0)) &&
+                Near(qdot, qdot0) && SameSampleAcceleration(ht, s, a);
   }
   if (!identical) {  // the same sample again is a no-op that keeps the stored one
     Eigen::Quaterniond q_PC;
@@ -107,18 +127,26 @@ void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
     const bool becomes_newest = s >= hp.newest_stamp();
     const std::int64_t window = values_.history.options.window.nanoseconds();
     hp.Insert(s, pw, window);
-    ht.Insert(s, tw, window);
+    ht.Insert(s, tw, window, nullptr, a);
     if (becomes_newest) {  // the untimed readers' values and the state: the newest sample's
       j.q = q;
       j.qdot = qdot;
+      if (qddot) {
+        j.qddot = qddot_value;
+        j.has_qddot = true;
+      }
       values_.X_PF[j.child.value()].Store(B::MakePose(B::FromQuaternion(q_PC), p_PC));
+      AccelerationNumbers A;
+      if (qddot) j.AccelerationAt(qddot_value, A.a_DHo_H, A.alpha_DH_H);
+      values_.StoreAcceleration(edge.value(), V, qddot ? &A : nullptr);  // before the twist
       values_.V_DH[edge.value()].Store(V);
     }
   }
   for (JointIndex m : j.mimics) {
     const internal::JointRecord& mj = joints_[m];
-    const double qm = mj.multiplier * q + mj.offset, qdotm = mj.multiplier * qdot;
-    StoreJointSample(m, &qm, &qdotm, s);  // a mimic has no mimics: depth 1
+    const double qm = mj.multiplier * q + mj.offset, qdotm = mj.multiplier * qdot,
+                 qddotm = mj.multiplier * qddot_value;
+    StoreJointSample(m, &qm, &qdotm, qddot ? &qddotm : nullptr, s);  // mimics have no mimics
   }
 }
 
@@ -136,16 +164,20 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
   const ErrorCode code = internal::ScanJointGroup(
       joints_, group, q, qdot, nullptr, [&](std::size_t i, const internal::JointRecord& j) {
         const double qi = q ? q[i] : j.q, qdoti = qdot ? qdot[i] : j.qdot;
-        note(CheckJointSample(j, qi, qdoti, s));
+        const double* qddot = j.has_qddot ? &j.qddot : nullptr;  // the state's, kept
+        note(CheckJointSample(j, qi, qdoti, qddot, s));
         for (JointIndex m : j.mimics) {
           const internal::JointRecord& mj = joints_[m];
-          note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti, s));
+          const double qddotm = mj.multiplier * j.qddot;
+          note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti,
+                                qddot ? &qddotm : nullptr, s));
         }
       });
   if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, nullptr, why);
   if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, nullptr, why);
   for (std::size_t i = 0; i < n; ++i)
-    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, s);
+    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr,
+                     nullptr, s);
   return internal::Report(why, ErrorCode::kOk);
 }
 
@@ -230,32 +262,27 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
   const auto what = [] { return std::string("joint state"); };
   // The rules before time, shared with the unstamped set (joints.cc).
   if (auto ok = CheckJointValues(positions, velocities, accelerations); !ok) return ok;
-  // Stamped accelerations are not supported yet (as on ordinary twist edges): the first of the
-  // stamp checks refuses them, whatever the joint's edges are.
-  if (!accelerations.empty()) {
-    return Reject(ErrorCode::kStampMismatch, what(),
-                  "joint " + std::string(joints_.name(*joints_.Find(accelerations[0].joint))) +
-                      ": stamped joint accelerations are not supported yet (give accelerations "
-                      "without a stamp, to joints whose edges are timeless)");
-  }
   // The sample of each joint given: its given fields, the others of its newest sample (its
-  // state). A joint named in both maps gives one sample.
+  // state; an acceleration only if the joint has one). A joint named in several maps gives one
+  // sample.
   struct Sample {
     JointIndex index;
     const double* q;
     const double* qdot;
+    const double* qddot;
   };
   std::vector<Sample> samples;
-  samples.reserve(positions.size() + velocities.size());
+  samples.reserve(positions.size() + velocities.size() + accelerations.size());
   const auto sample_of = [&](const JointValue& v) -> Sample& {
     const JointIndex index = joints_.HandleOf(*joints_.Find(v.joint)).index;
     for (Sample& x : samples) {
       if (x.index == index) return x;
     }
-    return samples.emplace_back(Sample{index, nullptr, nullptr});
+    return samples.emplace_back(Sample{index, nullptr, nullptr, nullptr});
   };
   for (const JointValue& v : positions) sample_of(v).q = &v.value;
   for (const JointValue& v : velocities) sample_of(v).qdot = &v.value;
+  for (const JointValue& v : accelerations) sample_of(v).qddot = &v.value;
   const std::int64_t s = stamp.nanoseconds();
   // A joint never set yet becomes stamped: its (and its mimics') histories are made first, so a
   // refusal below or running out of memory changes nothing.
@@ -276,13 +303,15 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
   for (const Sample& x : samples) {
     const internal::JointRecord& j = joints_[x.index];
     const double q = x.q ? *x.q : j.q, qdot = x.qdot ? *x.qdot : j.qdot;
+    const double* qddot = x.qddot ? x.qddot : (j.has_qddot ? &j.qddot : nullptr);
     for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
       const JointIndex idx = k == 0 ? x.index : j.mimics[k - 1];
       if (std::find(fresh.begin(), fresh.end(), idx) != fresh.end()) continue;
       const internal::JointRecord& jk = joints_[idx];
       const double qk = k == 0 ? q : jk.multiplier * q + jk.offset,
-                   qdotk = k == 0 ? qdot : jk.multiplier * qdot;
-      const ErrorCode code = CheckJointSample(jk, qk, qdotk, s);
+                   qdotk = k == 0 ? qdot : jk.multiplier * qdot,
+                   qddotk = qddot ? (k == 0 ? *qddot : jk.multiplier * *qddot) : 0.0;
+      const ErrorCode code = CheckJointSample(jk, qk, qdotk, qddot ? &qddotk : nullptr, s);
       if (code == ErrorCode::kOk || (worst != ErrorCode::kOk && code >= worst)) continue;
       worst = code;
       std::string reason = "joint " + std::string(joints_.name(jk)) + ": ";
@@ -302,6 +331,17 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
   for (std::size_t i = 0; i < fresh.size(); ++i) {
     new_pose.push_back(NewPoseHistory());
     new_twist.push_back(NewTwistHistory());
+    new_twist.back()->EnsureAccelerations();  // whether or not this call gives one: a later may
+  }
+  // The acceleration words of the stamped joints given a qddot (and their mimics).
+  for (const Sample& x : samples) {
+    if (x.qddot == nullptr) continue;
+    const internal::JointRecord& j = joints_[x.index];
+    for (std::size_t k = 0; k <= j.mimics.size(); ++k) {
+      const JointIndex idx = k == 0 ? x.index : j.mimics[k - 1];
+      values_.ReserveTwistSampleAccelerations(
+          topology_.twist_edge_of(joints_[idx].child).value());  // nothing for a fresh one yet
+    }
   }
   // No failure from here on. A fresh joint's first sample is its current state (the newest
   // "sample" of a joint without one), replaced at once by StoreJointSample at the same stamp.
@@ -316,15 +356,15 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
                        stamp);
     InstallTwistHistory(topology_.twist_edge_of(j.child), std::move(new_twist[i]), V, stamp);
   }
-  for (const Sample& x : samples) StoreJointSample(x.index, x.q, x.qdot, s);
+  for (const Sample& x : samples) StoreJointSample(x.index, x.q, x.qdot, x.qddot, s);
   return Ok{};
 }
 
 #define SEMGRAPH_INSTANTIATE_JOINT_TIME(B)                                                         \
   template ErrorCode SceneGraph<B>::CheckJointSample(const internal::JointRecord&, double, double, \
-                                                     std::int64_t) const noexcept;                 \
+                                                     const double*, std::int64_t) const noexcept;  \
   template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*,          \
-                                                std::int64_t) noexcept;                            \
+                                                const double*, std::int64_t) noexcept;             \
   template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
                                                     const double*, Stamp, UpdateError*) noexcept;  \
   template ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode, const JointGroup&, const double*,      \

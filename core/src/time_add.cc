@@ -191,20 +191,6 @@ bool SameSampleCovariance(const History& h, std::int64_t s, const coord::Covaria
   return internal::SameCovariance(stored, S);
 }
 
-// The acceleration stored with the sample at s equals a (null: none); vectors as SameTwist's.
-template <class History>
-bool SameSampleAcceleration(const History& h, std::int64_t s, const double* a) noexcept {
-  double stored[7];
-  if (!h.AccelerationAt(s, stored)) return a == nullptr;
-  if ((stored[6] != 0.0) != (a != nullptr)) return false;
-  if (a == nullptr) return true;
-  const auto close = [&](int k) {
-    const Eigen::Vector3d x(stored[k], stored[k + 1], stored[k + 2]), y(a[k], a[k + 1], a[k + 2]);
-    return (x - y).norm() <= 1e-6 * std::max(1.0, x.norm());
-  };
-  return close(0) && close(3);
-}
-
 // `a`: the sample's acceleration words (twist samples; null: none).
 template <class History, class Same>
 ErrorCode CheckSample(const History* h, std::optional<Stamp> stamp, const TimeOptions& o,

@@ -2,7 +2,9 @@
 // joints' edge histories, interpolated in joint space, differentiated, extrapolated with the
 // joint velocity; a field not given keeps the newest sample's value; mimics follow; the stamp
 // rules (stamp_mismatch both ways, stamp_too_old, duplicate_stamp with the joint tolerance) with
-// the graph unchanged on refusal; the real-time stamped setters allocate nothing. Expected
+// the graph unchanged on refusal; the real-time stamped setters allocate nothing; stamped joint
+// accelerations (each sample's qddot, kept from the state when not given, mimics m qddot, the
+// composed acceleration of a point by hand, duplicates under the reject policy). Expected
 // values are written by hand from the joint formulas X(q) = X_origin Rot(u, q) / Trans(q u).
 #include <gtest/gtest.h>
 
@@ -272,6 +274,75 @@ TEST(JointTimeTest, StampRulesRefuseAndChangeNothing) {
     auto X = g.GetOrientation(PoseSpec::Of("l1").RelativeTo("base"), At{S(1.5)});
     ExpectNear(X->value.value, Rz(0.5), 1e-12);
   }
+}
+
+// Samples with qddot: t = 1 s: q1 = 0.2, qdot1 = 0.5, qddot1 = 2, q2 = 0.1, qddot2 = -1; t = 2 s:
+// q1 = 0.6, qdot1 = 1.5, qddot1 = 4, q2 = 0.3 (qdot2 = 0 and qddot2 = -1 kept from the state).
+void TwoSamplesWithAccelerations(Graph& g) {
+  const JointValue q_a[] = {{"j1", 0.2}, {"j2", 0.1}};
+  const JointValue qd_a[] = {{"j1", 0.5}};
+  const JointValue qdd_a[] = {{"j1", 2.0}, {"j2", -1.0}};
+  ASSERT_TRUE(g.SetJoints(q_a, qd_a, qdd_a, S(1.0)).has_value());
+  const JointValue q_b[] = {{"j1", 0.6}, {"j2", 0.3}};
+  const JointValue qd_b[] = {{"j1", 1.5}};
+  const JointValue qdd_b[] = {{"j1", 4.0}};
+  ASSERT_TRUE(g.SetJoints(q_b, qd_b, qdd_b, S(2.0)).has_value());
+}
+
+TEST(JointTimeTest, StampedAccelerations) {
+  Graph g = Robot(Interpolation::kScrew);
+  TwoSamplesWithAccelerations(g);
+  const auto alpha = [&](const char* body, const char* ref, double t) {
+    auto r = g.GetAngularAcceleration(TwistSpec::Of("", body).RelativeTo(ref).ExpressedIn("base"),
+                                      At{S(t)});
+    EXPECT_TRUE(r) << body << " at " << t;
+    return r ? r->value.value : Eigen::Vector3d::Constant(NAN);
+  };
+  ExpectNear(alpha("L1", "Base", 1.0), Eigen::Vector3d(0, 0, 2), 1e-12);
+  ExpectNear(alpha("L1", "Base", 1.5), Eigen::Vector3d(0, 0, 3), 1e-12);  // interpolated
+  ExpectNear(alpha("F", "L1", 1.5), Eigen::Vector3d(0, 0, 6), 1e-12);     // the mimic: 2 qddot
+  // The slider's own acceleration at t = 2 (kept from t = 1): qddot2 along its axis, y of l1.
+  auto slide = g.GetLinearAcceleration(TwistSpec::Of("l2", "L2").RelativeTo("L1").ExpressedIn("l1"),
+                                       At{S(2.0)});
+  ASSERT_TRUE(slide);
+  ExpectNear(slide->value.value, Eigen::Vector3d(0, -1, 0), 1e-12);
+  // l2's origin wrt Base in [base] at t = 2, by hand: r = Rz(q1) (1, q2, 0) from the axis,
+  // a = alpha x r + w x (w x r) + a_slide (no Coriolis: qdot2 = 0).
+  const Eigen::Vector3d r = Rz(0.6) * Eigen::Vector3d(1, 0.3, 0), w(0, 0, 1.5), al(0, 0, 4);
+  const Eigen::Vector3d a_hand =
+      al.cross(r) + w.cross(w.cross(r)) + Rz(0.6) * Eigen::Vector3d(0, -1, 0);
+  auto tip = g.GetLinearAcceleration(
+      TwistSpec::Of("l2", "L2").RelativeTo("Base").ExpressedIn("base"), At{S(2.0)});
+  ASSERT_TRUE(tip);
+  ExpectNear(tip->value.value, a_hand, 1e-12);
+  // A sample without qddot keeps the state's (4), and so do the real-time setters.
+  const JointValue q_c[] = {{"j1", 0.8}};
+  ASSERT_TRUE(g.SetJoints(q_c, {}, S(3.0)).has_value());
+  ExpectNear(alpha("L1", "Base", 2.5), Eigen::Vector3d(0, 0, 4), 1e-12);
+  const std::string_view names[] = {"j1"};
+  const JointGroup group = *g.MakeJointGroup(names);
+  const double q[] = {0.9}, qdot[] = {1.0};
+  ASSERT_EQ(g.SetJointState(group, q, qdot, S(4.0)), ErrorCode::kOk);
+  ExpectNear(alpha("L1", "Base", 4.0), Eigen::Vector3d(0, 0, 4), 1e-12);
+  EXPECT_DOUBLE_EQ(g.joint_acceleration(group.joints[0]), 4.0);
+}
+
+TEST(JointTimeTest, AnotherAccelerationAtAStoredStampIsADuplicateUnderReject) {
+  Graph g = Robot(Interpolation::kScrew, DuplicatePolicy::kReject);
+  TwoSamplesWithAccelerations(g);
+  const std::string before = State(g);
+  const JointValue q_b[] = {{"j1", 0.6}, {"j2", 0.3}};
+  const JointValue qd_b[] = {{"j1", 1.5}};
+  const JointValue other[] = {{"j1", 5.0}}, same[] = {{"j1", 4.0}};
+  auto dup = g.SetJoints(q_b, qd_b, other, S(2.0));
+  ASSERT_FALSE(dup);
+  EXPECT_EQ(dup.error().code, ErrorCode::kDuplicateStamp);
+  EXPECT_EQ(State(g), before);
+  auto alpha = g.GetAngularAcceleration(
+      TwistSpec::Of("", "L1").RelativeTo("Base").ExpressedIn("base"), At{S(2.0)});
+  ASSERT_TRUE(alpha);
+  ExpectNear(alpha->value.value, Eigen::Vector3d(0, 0, 4), 1e-12);
+  EXPECT_TRUE(g.SetJoints(q_b, qd_b, same, S(2.0)).has_value());  // the same sample again
 }
 
 TEST(JointTimeTest, RealTimeStampedUpdatesAllocateNothing) {

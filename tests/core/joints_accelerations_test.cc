@@ -240,9 +240,9 @@ TEST_F(JointAccelerations, RejectionsByNameLeaveTheGraphUnchanged) {
   const JointValue over[] = {{"j2", 2.5}};
   const JointValue fine[] = {{"j1", -3.0}, {"j2", 4.0}};  // accelerations are not limited
   expect(g.SetJoints(over, {}, fine), ErrorCode::kJointLimit, "j2");
-  // Stamped accelerations are not supported yet: refused, and the joints stay timeless.
+  // A stamp on timeless joints: refused, and the joints stay timeless.
   expect(g.SetJoints({}, {}, fine, Stamp::Nanoseconds(1)), ErrorCode::kStampMismatch,
-         "not supported yet");
+         "timeless");
   ASSERT_TRUE(g.SetJoints({}, {}, fine));
   EXPECT_EQ(Qddot("j2"), 4.0);
 }
@@ -273,7 +273,8 @@ TEST_F(JointAccelerations, RejectionsByGroupLeaveTheGraphUnchanged) {
   EXPECT_EQ(Dump(g), after_removal);
 }
 
-TEST(JointAccelerationsStamped, StampedJointsRefuseQddot) {
+// Stamped joints take qddot with a stamp only (the stamped samples' values: joint_time_test).
+TEST(JointAccelerationsStamped, StampedJointsTakeQddotWithAStampOnly) {
   Graph g;
   JointSpec s;
   s.name = "j";
@@ -290,16 +291,22 @@ TEST(JointAccelerationsStamped, StampedJointsRefuseQddot) {
   auto r = g.SetJoints({}, {}, qddot);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kStampMismatch);
-  r = g.SetJoints({}, {}, qddot, Stamp::Nanoseconds(20));
-  ASSERT_FALSE(r);
-  EXPECT_EQ(r.error().code, ErrorCode::kStampMismatch);
-  EXPECT_NE(r.error().message.find("not supported yet"), std::string::npos) << r.error().message;
   const double one[] = {1.0};
   EXPECT_EQ(g.SetJointAccelerations(g.AllJoints(), one), ErrorCode::kStampMismatch);
   EXPECT_EQ(Dump(g), before);
   auto A = g.GetAcceleration(TwistSpec::Of("c").RelativeTo("B").ExpressedIn("b"));
   ASSERT_FALSE(A);
   EXPECT_EQ(A.error().code, ErrorCode::kNoAcceleration);
+  ASSERT_TRUE(g.SetJoints({}, {}, qddot, Stamp::Nanoseconds(20)));
+  auto alpha = g.GetAngularAcceleration(TwistSpec::Of("", "C").RelativeTo("B").ExpressedIn("b"),
+                                        At{Stamp::Nanoseconds(20)});
+  ASSERT_TRUE(alpha);
+  EXPECT_EQ(alpha->value.value, Vec(0, 0, 1));
+  // The sample at 10 ns has none: no implicit zero between the two.
+  auto between = g.GetAcceleration(TwistSpec::Of("c").RelativeTo("B").ExpressedIn("b"),
+                                   At{Stamp::Nanoseconds(15)});
+  ASSERT_FALSE(between);
+  EXPECT_EQ(between.error().code, ErrorCode::kNoAcceleration);
 }
 
 TEST_F(JointAccelerations, CompiledQueriesSeeQddotWhenItIsGiven) {

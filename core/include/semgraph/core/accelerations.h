@@ -21,8 +21,10 @@
 // Joints: a joint's twist edge carries the acceleration of its qddot when one was given
 // (SceneGraph::SetJoints with accelerations, SetJointAccelerations; joints.h); adds of an
 // acceleration on it are joint_edge.
-// Not yet: stamped accelerations (a stamped edge refuses one: stamp_mismatch; stamped joints
-// refuse qddot likewise).
+// Stamped edges (docs/dynamics.md "Stamped accelerations"): each twist sample may carry its
+// acceleration (edge_history.h, beside the sample); AddTwist / AddAcceleration / SetAcceleration
+// with a stamp; timed queries read it as the twist (timed_read.h: interpolated linearly,
+// present only when both samples carry one, held within the horizon).
 #pragma once
 
 #include "semgraph/coord/values.h"

@@ -496,6 +496,27 @@ class SampleHistory {
   SideWords<kAccelerationWords> acc_;  ///< until EnsureAccelerations: none
 };
 
+/// Writer: whether the acceleration stored with h's sample at s equals the words a (null: none),
+/// each vector within 1e-6 max(1, |stored|) as the twists of the duplicate-stamp rule. True
+/// for no sample at s only when a is null.
+template <class History>
+[[nodiscard]] bool SameSampleAcceleration(const History& h, std::int64_t s,
+                                          const double* a) noexcept {
+  double stored[History::kAccelerationWords];
+  if (!h.AccelerationAt(s, stored)) return a == nullptr;
+  if ((stored[6] != 0.0) != (a != nullptr)) return false;
+  if (a == nullptr) return true;
+  const auto close = [&](int k) {
+    double d2 = 0, n2 = 0;
+    for (int i = k; i < k + 3; ++i) {
+      d2 += (stored[i] - a[i]) * (stored[i] - a[i]);
+      n2 += stored[i] * stored[i];
+    }
+    return d2 <= 1e-12 * (n2 > 1.0 ? n2 : 1.0);
+  };
+  return close(0) && close(3);
+}
+
 using PoseHistory = SampleHistory<7>;   ///< quaternion x y z w, then p
 using TwistHistory = SampleHistory<6>;  ///< v, then w, both in [h]
 static_assert(PoseHistory::BytesPerSample() == 64);

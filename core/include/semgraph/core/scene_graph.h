@@ -538,9 +538,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// joint_limit -> stamp_mismatch -> stamp_too_old -> duplicate_stamp; all or nothing.
   BuildResult SetJoints(std::span<const JointValue> positions,
                         std::span<const JointValue> velocities, Stamp stamp);
-  /// Stamped joint accelerations are not supported yet: any acceleration given is refused with
-  /// stamp_mismatch, after the rules before time (invalid_number -> unknown_joint ->
-  /// mimic_joint -> joint_limit); nothing changes.
+  /// With accelerations qddot (docs/dynamics.md "Stamped accelerations"): each sample carries
+  /// the acceleration of its qddot (a joint given none: its newest sample's, if it ever had
+  /// one, as for q and qdot), mimics m qddot; the rules and order above, a different qddot at a
+  /// stored stamp being a duplicate under the reject policy. The real-time stamped setters keep
+  /// the joint's qddot in their samples.
   BuildResult SetJoints(std::span<const JointValue> positions,
                         std::span<const JointValue> velocities,
                         std::span<const JointValue> accelerations, Stamp stamp);
@@ -857,10 +859,11 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
                             Stamp stamp, UpdateError* why) noexcept;
+  // qddot: the sample's joint acceleration (null: none).
   ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot,
-                             std::int64_t s) const noexcept;
+                             const double* qddot, std::int64_t s) const noexcept;
   void StoreJointSample(JointIndex index, const double* q, const double* qdot,
-                        std::int64_t s) noexcept;
+                        const double* qddot, std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;
