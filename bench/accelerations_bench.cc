@@ -172,7 +172,7 @@ void Verify(int d) {
 }
 
 void BM_CompiledAcceleration(benchmark::State& state) {
-  const CompiledAcceleration<QuatB>& c = *SceneOf(static_cast<int>(state.range(0))).acceleration;
+  CompiledAcceleration<QuatB>& c = *SceneOf(static_cast<int>(state.range(0))).acceleration;
   for (auto _ : state) {
     Eigen::Vector3d a, alpha;
     if (c.Evaluate(a, alpha) != ErrorCode::kOk) [[unlikely]] {
@@ -218,7 +218,7 @@ void BM_Raw(benchmark::State& state) {
 
 // The callgrind kernels: one query each, not inlined, so that --toggle-collect counts exactly it.
 extern "C" [[gnu::noinline]] void icount_compiled_acceleration(
-    const semgraph::core::CompiledAcceleration<semgraph::coord::QuaternionBackend>* c,
+    semgraph::core::CompiledAcceleration<semgraph::coord::QuaternionBackend>* c,
     semgraph_bench::MotionOut* out) {
   if (c->Evaluate(out->a, out->alpha) != semgraph::core::ErrorCode::kOk) std::abort();
 }

@@ -1879,7 +1879,7 @@ class Differential {
     return o;
   }
 
-  static Outcome Evaluate(const CompiledAny& c, QueryKind kind) {
+  static Outcome Evaluate(CompiledAny& c, QueryKind kind) {
     Outcome o;
     if (const auto* pose = std::get_if<core::CompiledPose<B>>(&c)) {
       typename B::PoseCoords X;
@@ -1895,7 +1895,7 @@ class Differential {
       o.code = twist->Evaluate(o.v, o.w);
       if (kind == QueryKind::kLinearVelocity) o.w.setZero();
       if (kind == QueryKind::kAngularVelocity) o.v.setZero();
-    } else if (const auto* acc = std::get_if<core::CompiledAcceleration<B>>(&c)) {
+    } else if (auto* acc = std::get_if<core::CompiledAcceleration<B>>(&c)) {
       o.code = acc->Evaluate(o.v, o.w);  // a, alpha
       if (o.code != ErrorCode::kOk) o.v.setZero(), o.w.setZero();
       if (kind == QueryKind::kLinearVelocity) o.w.setZero();

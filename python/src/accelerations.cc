@@ -96,11 +96,11 @@ std::shared_ptr<CompiledAccelerationObject> Compile(const GraphBox& b, py::handl
   });
 }
 
-AccelerationResult Evaluate(const CompiledAccelerationObject& c) {
+AccelerationResult Evaluate(CompiledAccelerationObject& c) {
   Eigen::Vector3d a, alpha;
   semantics::AccelerationSemantics s;
   const ErrorCode code = std::visit(
-      [&](const auto& q) {
+      [&](auto& q) {
         s = q.semantics();
         return q.Evaluate(a, alpha);
       },

@@ -1,17 +1,30 @@
 // File: semgraph/core/compiled_acceleration.h
 //
 // CompiledAcceleration: AccelerationCoord(e|C, D, [r]) compiled (SceneGraph::CompileAcceleration,
-// build time, allocates): the twist plan's steps flattened as CompiledTwist's, each with the
-// epoch of its edge's acceleration record, evaluated any number of times by the one evaluator
-// (evaluate.h: AccelerationStep, AccelerationComposer over FlatSource).
-//
-// Under a time policy each edge is read as the timed one-shot query reads it (timed_read.h).
-// Invariants: as every compiled query (compiled_query.h): a removed edge of the path makes
-// Evaluate return kQueryInvalidated, never a wrong number. An edge of the path that carries no
-// acceleration when evaluated (never given, or cleared by a twist given without one):
-// kNoAcceleration. Costs: Evaluate O(edges on the path and on their pose paths); noexcept,
-// allocation-free, lock-free, string-free. Thread safety: as CompiledTwist (one writer, any number
-// of readers); each edge's acceleration and twist are read together, untorn.
+// build time, allocates), evaluated in one pass (docs/performance.md, "Accelerations"):
+//   - compile: the twist plan's steps (edge, direction, side), the frames they need (e, [r] and
+//     every step's head h), their youngest common ancestor Z, and the union of those frames'
+//     pose chains up to Z, each pose edge once, top-down (compiled_covariance.h,
+//     ChainUnionTopDown);
+//   - evaluate: every union edge read once and composed with the one above it (its head's pose
+//     in Z, kept in the object's scratch: one composition per edge); every step's twist and
+//     acceleration (evaluate.h EdgeMotion) rotated into [Z] and moved to Z's origin with that
+//     pose, then composed with the Coriolis terms (AccelerationComposer); the result moved to e
+//     and rotated into [r] once. Each edge is read through the one evaluator's source
+//     (FlatSource: the current values, or the policy's time), so the reads are those of every
+//     compiled query.
+// Invariants: as every compiled query (compiled_query.h): a removed edge makes Evaluate return
+// kQueryInvalidated, never a wrong number (reported before kNoAcceleration). An edge of the path
+// that carries no acceleration when evaluated (never given, cleared by a twist given without
+// one, a stamped sample without one): kNoAcceleration. Under a time policy each edge is read as
+// the timed one-shot query reads it (timed_read.h).
+// Costs: Evaluate O(pose edges in the union + twist edges): one composition per pose edge, four
+// rotations, one shift and one composition per twist edge (the one-shot query moves each edge
+// through its own chains: O(twist edges x chain length)); noexcept, allocation-free, lock-free,
+// string-free.
+// Thread safety: Evaluate uses the object's own scratch: one evaluating thread per object (a
+// copy is independent), concurrently with one writer; each edge's acceleration and twist are
+// read together, untorn.
 #pragma once
 
 #include <vector>
@@ -32,24 +45,33 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   /// a_DCe_R (classical, of the point of C at e) and alpha_DC_R. kOk, kQueryInvalidated or
   /// kNoAcceleration (then the outputs are unchanged); kQueryInvalidated first: an edge of the
   /// path removed is reported as such even when an edge carries no acceleration.
-  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& a_DCe_R,
-                                   Eigen::Vector3d& alpha_DC_R) const noexcept;
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& a_DCe_R, Eigen::Vector3d& alpha_DC_R) noexcept;
   /// At the policy's time (as CompiledTwist's): also kInvalidNumber (a negative horizon),
   /// kExtrapolation, kStale; the outputs are written on kOk only.
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& a_DCe_R, Eigen::Vector3d& alpha_DC_R,
-                                   const TimePolicy& policy, TimeReport& report) const noexcept;
+                                   const TimePolicy& policy, TimeReport& report) noexcept;
   /// In GetAcceleration's result type (without the name of a missing edge).
-  [[nodiscard]] QueryResult<coord::Acceleration> Evaluate() const noexcept {
+  [[nodiscard]] QueryResult<coord::Acceleration> Evaluate() noexcept {
     coord::Acceleration A{semantics_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
     return internal::Answer(Evaluate(A.linear, A.angular), A);
   }
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
+  [[nodiscard]] std::size_t num_pose_edges() const noexcept { return parent_.size(); }
 
  private:
-  ErrorCode Compose(const internal::FlatSource<B>& src, internal::Motion& out) const noexcept;
+  /// A twist step: the record it reads (step.epoch: the acceleration record's) and the entry
+  /// of its head's pose in the union (-1: Z itself).
+  struct Step {
+    TwistStep<typename CompiledQuery<B>::Chain> step;
+    std::int32_t head = -1;
+  };
+  ErrorCode Compose(const internal::FlatSource<B>& src, internal::Motion& out) noexcept;
 
   semantics::AccelerationSemantics semantics_;
-  std::vector<TwistStep<typename CompiledQuery<B>::Chain>> steps_;
+  std::vector<std::int32_t> parent_;  ///< per union edge (edges_ entry i): the entry above, -1: Z
+  std::vector<Step> steps_;
+  std::int32_t e_entry_ = -1, r_entry_ = -1;
+  std::vector<typename B::PoseCoords> scratch_;  ///< per union edge: its head's pose in Z
 };
 
 extern template class CompiledAcceleration<coord::QuaternionBackend>;

@@ -586,6 +586,28 @@ inline Motion ComposeMotion(const Motion& X, const Motion& Y) noexcept {
 /// false: the edge carries no acceleration (m then unspecified). False when a compiled edge
 /// changed epoch, the step's pose chains included even when the edge carries no acceleration
 /// (a removed edge is reported as such, not as a missing acceleration).
+/// A twist edge's record as the motion of the step's relation at h in [h]: the edge's own, or
+/// its inverse when traversed against its direction (alpha' = -alpha, a' = -a + 2 w x v).
+inline Motion EdgeMotion(const TwistAndAcceleration& r, bool invert) noexcept {
+  Motion m{r.V.v_DHo_H, r.V.w_DH_H, r.A.a_DHo_H, r.A.alpha_DH_H};
+  if (invert) {
+    const auto inv = coord::kernels::InvertAcceleration(m.a, m.alpha, m.v, m.w);
+    m = Motion{-m.v, -m.w, inv.linear, inv.angular};
+  }
+  return m;
+}
+/// The motion at another point of the same relation: p = old point - new point, in m's frame
+/// (v' = v + p x w, a' = a + p x alpha - w x (w x p)).
+inline void ShiftMotion(Motion& m, const Eigen::Vector3d& p) noexcept {
+  m.a = coord::kernels::ShiftAcceleration(m.a, m.alpha, m.w, p);
+  m.v = coord::kernels::ShiftLinear(m.v, m.w, p);
+}
+/// The motion re-expressed with rotation R (R_new_old).
+template <coord::Backend B>
+Motion RotateMotion(const typename B::Rotation& R, const Motion& m) noexcept {
+  return Motion{B::Rotate(R, m.v), B::Rotate(R, m.w), B::Rotate(R, m.a), B::Rotate(R, m.alpha)};
+}
+
 template <coord::Backend B, class Source>
 bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>& s, Motion& m,
                       bool& present) noexcept {
@@ -597,24 +619,16 @@ bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>
     return (!s.move_point || EvalBasic<B>(src, s.eh, X)) &&
            (!s.change_frame || EvalBasic<B>(src, s.hr, X));
   }
-  m = Motion{r.V.v_DHo_H, r.V.w_DH_H, r.A.a_DHo_H, r.A.alpha_DH_H};
-  if (s.invert) {
-    const auto inv = coord::kernels::InvertAcceleration(m.a, m.alpha, m.v, m.w);
-    m = Motion{-m.v, -m.w, inv.linear, inv.angular};
-  }
-  if (s.move_point) {  // p_A = old point - new point = h - e = -p_HE
+  m = EdgeMotion(r, s.invert);
+  if (s.move_point) {  // p = old point - new point = h - e = -p_HE
     typename B::PoseCoords X_HE;
     if (!EvalBasic<B>(src, s.eh, X_HE)) return false;
-    const Eigen::Vector3d p_HE = B::TranslationOf(X_HE);
-    m.a = coord::kernels::ShiftAcceleration(m.a, m.alpha, m.w, -p_HE);
-    m.v = coord::kernels::ShiftLinear(m.v, m.w, -p_HE);
+    ShiftMotion(m, -B::TranslationOf(X_HE));
   }
   if (s.change_frame) {
     typename B::PoseCoords X_RH;
     if (!EvalBasic<B>(src, s.hr, X_RH)) return false;
-    const typename B::Rotation R_RH = B::RotationOf(X_RH);
-    m = Motion{B::Rotate(R_RH, m.v), B::Rotate(R_RH, m.w), B::Rotate(R_RH, m.a),
-               B::Rotate(R_RH, m.alpha)};
+    m = RotateMotion<B>(B::RotationOf(X_RH), m);
   }
   return true;
 }
