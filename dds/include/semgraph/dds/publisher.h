@@ -34,10 +34,11 @@
 // Only the quaternion backend (SceneGraph<>) is shared; edges go on the wire in edge form
 // (pose: X_TH of {tail} -> {head} in [tail]; twist: the screw twist at {head} in [head]).
 // Costs: PublishStructure O(frames + edges) and one DDS sample (allocates); SetPose/SetTwist
-// O(1) for the graph plus one DDS write of a 270-byte sample (168 bytes of it the covariance;
-// the DDS write takes Cyclone's locks and allocates its serialized sample: it is not on the
-// real-time path); in a batch
-// (BeginBatch / Flush) a copy into the preallocated batch, and one DDS write per Flush.
+// O(1) for the graph plus one DDS write of a value sample (about 270 bytes, 168 of them the
+// covariance, plus 49 for the acceleration's flag and numbers; the DDS write takes Cyclone's
+// locks and allocates its serialized sample: it is not on the real-time path); SetWrench and
+// SetAcceleration likewise; in a batch (BeginBatch / Flush) a copy into the preallocated batch,
+// and one DDS write per Flush.
 // Thread safety: one thread uses a Publisher and its graph (the graph's own rules apply to
 // readers of compiled queries on other threads).
 #pragma once
