@@ -274,6 +274,13 @@ struct Mirror::Impl {
   bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
                   const double* cov, const double* acc, const std::string& what,
                   std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
+  // ApplyValue's steps: what the value carries beside its numbers (the reason it is malformed,
+  // or empty), and the setter of the slot's kind (noexcept, allocation-free).
+  [[nodiscard]] std::string Malformed(const Slot& slot, bool stamped, bool has_covariance,
+                                      const double* acc) const;
+  base::ErrorCode SetSlot(Slot& slot, const double* n, const coord::Covariance6* S,
+                          const double* acc, std::optional<core::Stamp> at,
+                          core::UpdateError* bad) noexcept;
   // True when a refusal of the current structures names `owner`.
   [[nodiscard]] bool HasRefusal(const std::string& owner) const;
 

@@ -90,6 +90,59 @@ void Mirror::Impl::TakeStructure() {
   }
 }
 
+// The graph's setter for the slot's kind, with the stamped, covariance (S null: exact) and
+// acceleration (null: none) variants; the twist's acceleration is set right after the twist.
+base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::Covariance6* S,
+                                      const double* acc, std::optional<core::Stamp> at,
+                                      core::UpdateError* bad) noexcept {
+  const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
+  const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
+  const Eigen::Vector3d p(n[4], n[5], n[6]);
+  const coord::Covariance6 zero = coord::Covariance6::Zero();
+  core::CovarianceInput covariance;
+  covariance.matrix = S != nullptr ? S : &zero;
+  const bool has_covariance = S != nullptr;
+  if (slot.wrench) return graph.SetWrench(slot.wrench_handle, a, b, bad);
+  if (slot.joint) {
+    const double qv[1] = {n[0]}, qdot[1] = {n[1]};
+    const double qddot[1] = {acc != nullptr ? acc[0] : 0.0};
+    return at    ? graph.SetJointState(slot.group, qv, qdot, *at, bad)
+           : acc ? graph.SetJointState(slot.group, qv, qdot, qddot, bad)
+                 : graph.SetJointState(slot.group, qv, qdot, bad);
+  }
+  if (slot.twist) {
+    const base::ErrorCode code =
+        at && has_covariance ? graph.SetTwist(slot.twist_handle, a, b, *at, covariance, bad)
+        : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, bad)
+        : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, bad)
+                             : graph.SetTwist(slot.twist_handle, a, b, bad);
+    // A twist clears the edge's acceleration; one given comes with it (checked before).
+    if (code != base::ErrorCode::kOk || acc == nullptr) return code;
+    return graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(acc[0], acc[1], acc[2]),
+                                 Eigen::Vector3d(acc[3], acc[4], acc[5]), bad);
+  }
+  return at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, bad)
+         : at                 ? graph.SetPose(slot.pose, q, p, *at, bad)
+         : has_covariance     ? graph.SetPose(slot.pose, q, p, covariance, bad)
+                              : graph.SetPose(slot.pose, q, p, bad);
+}
+
+// What a value may carry beside its numbers, checked before anything is set: the reason it is
+// malformed (empty: fine). A covariance goes with edges only; an acceleration with a timeless
+// twist edge's value or joint's state (stamped ones: not carried in this version).
+std::string Mirror::Impl::Malformed(const Slot& slot, bool stamped, bool has_covariance,
+                                    const double* acc) const {
+  if (has_covariance && (slot.joint || slot.wrench)) {
+    return std::string("a covariance with a ") + (slot.joint ? "joint state" : "wrench") +
+           " (not carried in this version)";
+  }
+  if (acc != nullptr && stamped)
+    return "an acceleration with a stamped sample (not carried in this version)";
+  if (acc != nullptr && !(slot.twist || slot.joint))
+    return "an acceleration with a value that is neither a twist nor a joint state";
+  return {};
+}
+
 bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
                               const double* cov, const double* acc, const std::string& what,
                               std::optional<std::int64_t> time, const In* from) {
@@ -103,75 +156,38 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
                            slot.head + "'");
     return false;
   }
-  base::ErrorCode code = base::ErrorCode::kOk;
-  core::UpdateError bad;  // the setter's verdict on the numbers: which, and which limit
-  // Accelerations (docs/dynamics.md): only a timeless twist edge's value or joint's state
-  // carries one; a twist's is checked before anything is set (the twist and its acceleration
-  // are two setter calls; a refused acceleration must leave the twist as it was).
-  if (acc != nullptr && (time || !(slot.twist || slot.joint))) {
-    Reject(slot.owner, what + " into '" + slot.head + "': an acceleration with " +
-                           (time ? "a stamped sample (not carried in this version)"
-                                 : "a value that is neither a twist nor a joint state"));
+  if (!slot.settable) {
+    Reject(slot.owner, what +
+                           (slot.joint ? ": a state for the fixed or mimic joint '"
+                                       : ": a value for the constant edge into '") +
+                           slot.head + "'");
     return false;
   }
+  // The covariance (docs/uncertainty.md): none or zero is an exact value (a timeless edge's
+  // covariance becomes zero, a stamped sample carries none); the setter checks it
+  // (invalid_number, invalid_covariance).
+  const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
+  if (std::string why = Malformed(slot, time.has_value(), has_covariance, acc); !why.empty()) {
+    Reject(slot.owner, what + " into '" + slot.head + "': " + why);
+    return false;
+  }
+  base::ErrorCode code = base::ErrorCode::kOk;
+  core::UpdateError bad;  // the setter's verdict on the numbers: which, and which limit
   if (acc != nullptr && slot.twist) {
+    // The twist and its acceleration are two setter calls: the acceleration is checked first
+    // (as SetAcceleration checks it), so a refused one leaves the twist as it was.
     auto a = coord::ValidateVector(Eigen::Vector3d(acc[0], acc[1], acc[2]),
                                    coord::ValueRole::kLinearAcceleration);
     auto alpha = coord::ValidateVector(Eigen::Vector3d(acc[3], acc[4], acc[5]),
                                        coord::ValueRole::kAngularAcceleration);
     if (!a || !alpha) code = core::internal::Report(&bad, !a ? a.error() : alpha.error());
   }
-  const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
-  const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
-  const Eigen::Vector3d p(n[4], n[5], n[6]);
-  // The covariance (docs/uncertainty.md): none or zero is an exact value (a timeless edge's
-  // covariance becomes zero, a stamped sample carries none); the setter checks it
-  // (invalid_number, invalid_covariance). Joint states carry none in this version.
-  const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
-  if (has_covariance && (slot.joint || slot.wrench)) {
-    Reject(slot.owner, what + " into '" + slot.head + "': a covariance with a " +
-                           (slot.joint ? "joint state" : "wrench") +
-                           " (not carried in this version)");
-    return false;
-  }
-  const coord::Covariance6 S =
-      has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
-  core::CovarianceInput covariance;
-  covariance.matrix = &S;
-  const std::optional<core::Stamp> at =
-      time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
-  if (code != base::ErrorCode::kOk) {
-    // the acceleration refused above: reported below, nothing set
-  } else if (slot.wrench) {
-    code = graph.SetWrench(slot.wrench_handle, a, b, &bad);
-  } else if (slot.joint) {
-    if (!slot.settable) {
-      Reject(slot.owner, what + ": a state for the fixed or mimic joint '" + slot.head + "'");
-      return false;
-    }
-    const double q[1] = {n[0]}, qdot[1] = {n[1]};
-    const double qddot[1] = {acc != nullptr ? acc[0] : 0.0};
-    code = at    ? graph.SetJointState(slot.group, q, qdot, *at, &bad)
-           : acc ? graph.SetJointState(slot.group, q, qdot, qddot, &bad)
-                 : graph.SetJointState(slot.group, q, qdot, &bad);
-  } else if (slot.twist) {
-    code = at && has_covariance ? graph.SetTwist(slot.twist_handle, a, b, *at, covariance, &bad)
-           : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, &bad)
-           : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, &bad)
-                                : graph.SetTwist(slot.twist_handle, a, b, &bad);
-    // A twist clears the edge's acceleration; one given comes with it (checked above).
-    if (code == base::ErrorCode::kOk && acc != nullptr) {
-      code = graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(acc[0], acc[1], acc[2]),
-                                   Eigen::Vector3d(acc[3], acc[4], acc[5]), &bad);
-    }
-  } else if (slot.settable) {
-    code = at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, &bad)
-           : at                 ? graph.SetPose(slot.pose, q, p, *at, &bad)
-           : has_covariance     ? graph.SetPose(slot.pose, q, p, covariance, &bad)
-                                : graph.SetPose(slot.pose, q, p, &bad);
-  } else {
-    Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
-    return false;
+  if (code == base::ErrorCode::kOk) {
+    const coord::Covariance6 S =
+        has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
+    const std::optional<core::Stamp> at =
+        time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
+    code = SetSlot(slot, n, has_covariance ? &S : nullptr, acc, at, &bad);
   }
   if (code == base::ErrorCode::kStampTooOld || code == base::ErrorCode::kDuplicateStamp) {
     // The history's rules decide reordered and repeated samples (docs/time.md): not malformed.
