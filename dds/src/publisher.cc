@@ -257,12 +257,30 @@ void PutNewestCovariance(double* packed, const History& h) {
   if (h.CovarianceAt(h.newest_stamp(), words)) PutCovarianceWords(packed, words);
 }
 
+// The stored wrenches (wrenches.h), one element per live slot: on (head_body), by (tail_body),
+// the storage frame (head), the value (f_S, m_So_S).
+void WrenchRows(const core::SceneGraph<>& g, const std::vector<std::uint64_t>& wrench_seq,
+                std::vector<internal::Row>& rows) {
+  const core::internal::WrenchStore& store = g.wrench_store();
+  for (std::uint32_t i = 0; i < store.slots.size(); ++i) {
+    const core::internal::WrenchSlot& w = store.slots[i];
+    if (!w.live) continue;
+    internal::Row r{semgraph_wire_ELEMENT_WRENCH,
+                    i,
+                    wrench_seq[i],
+                    std::string(g.frame_name(w.frame)),
+                    std::string(g.body_name(w.on)),
+                    {},
+                    std::string(g.body_name(w.by))};
+    const core::WrenchNumbers W = store.values[i].Load();
+    PutTwist(r.n, W.f_S, W.m_So_S);  // (f, m, 0): the same layout
+    rows.push_back(std::move(r));
+  }
+}
+
 // The structure's elements: bodies, frames, then the pose and twist edges a joint does not own,
 // each with the number of its last value and its covariance (stamped edges: the newest sample's
-// stamp and covariance).
-void WrenchRows(const core::SceneGraph<>& g, const std::vector<std::uint64_t>& wrench_seq,
-                std::vector<internal::Row>& rows);
-
+// stamp and covariance; timeless twist edges: their acceleration or none), then the wrenches.
 std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
                                        const std::vector<std::uint64_t>& pose_seq,
                                        const std::vector<std::uint64_t>& twist_seq,
@@ -337,27 +355,6 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
   }
   WrenchRows(g, wrench_seq, rows);
   return rows;
-}
-
-// The stored wrenches (wrenches.h), one element per live slot: on (head_body), by (tail_body),
-// the storage frame (head), the value (f_S, m_So_S).
-void WrenchRows(const core::SceneGraph<>& g, const std::vector<std::uint64_t>& wrench_seq,
-                std::vector<internal::Row>& rows) {
-  const core::internal::WrenchStore& store = g.wrench_store();
-  for (std::uint32_t i = 0; i < store.slots.size(); ++i) {
-    const core::internal::WrenchSlot& w = store.slots[i];
-    if (!w.live) continue;
-    internal::Row r{semgraph_wire_ELEMENT_WRENCH,
-                    i,
-                    wrench_seq[i],
-                    std::string(g.frame_name(w.frame)),
-                    std::string(g.body_name(w.on)),
-                    {},
-                    std::string(g.body_name(w.by))};
-    const core::WrenchNumbers W = store.values[i].Load();
-    PutTwist(r.n, W.f_S, W.m_So_S);  // (f, m, 0): the same layout
-    rows.push_back(std::move(r));
-  }
 }
 
 // The wire elements of `rows` (pointing into their names).
