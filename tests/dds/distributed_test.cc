@@ -233,7 +233,9 @@ TEST(DistributedTest, AccelerationsAndWrenchesReachAnotherProcess) {
     bool ok = false;
     mirror.WithGraph([&](const core::SceneGraph<>& g) {
       const auto w = g.GetWrench(core::WrenchSpec::On("O").By("C").At("o"));
-      ok = g.FindFrame("o").is_valid() && g.acceleration_value(g.FindFrame("o")).has_value() && w &&
+      // Queries only (sequence locks): the receive thread may be writing meanwhile.
+      ok = g.FindFrame("o").is_valid() &&
+           g.GetAcceleration(core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("o")) && w &&
            w->force == kF_o;
     });
     return ok;
