@@ -41,7 +41,7 @@ struct Publisher::Impl {
     return v;
   }
   // Publishes joint `index`'s state (q, qdot), stamped or not; an unstamped one with the
-  // joint's qddot when it has one (stamped joints take none yet).
+  // joint's qddot when it has one (stamped joints take none).
   void PublishJoint(std::uint32_t index, double q, double qdot,
                     std::optional<core::Stamp> stamp) noexcept {
     semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);

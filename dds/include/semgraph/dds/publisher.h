@@ -26,8 +26,8 @@
 //   - wrenches (core/wrenches.h): each stored (on, by) pair with its storage frame is a
 //     structure element (AddWrench / RemoveWrench on the graph, then PublishStructure), and
 //     SetWrench through this Publisher sends the new (f_S, m_So_S) on the value topic.
-// Not yet carried: stamped accelerations and stamped wrenches (the core gains them; the wire's
-// acceleration flag on a stamped sample is where they will go, docs/distributed.md).
+// Not carried by this version: stamped accelerations and stamped wrenches (extension point: a
+// stamped sample's acceleration fields on the wire, docs/distributed.md).
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
