@@ -121,10 +121,11 @@ std::vector<EdgeState> Mirror::Edges() const {
   std::vector<EdgeState> out;
   for (const auto& [key, s] : impl_->slots) {
     out.push_back({s.owner, s.twist, s.head, s.tail, s.seq, s.received, s.stamp_ns, s.receive_ns,
-                   s.stamped, s.time_ns, s.joint});
+                   s.stamped, s.time_ns, s.joint, s.wrench});
   }
   std::sort(out.begin(), out.end(), [](const EdgeState& a, const EdgeState& b) {
-    return std::tie(a.joint, a.twist, a.head) < std::tie(b.joint, b.twist, b.head);
+    return std::tie(a.wrench, a.joint, a.twist, a.head, a.tail) <
+           std::tie(b.wrench, b.joint, b.twist, b.head, b.tail);
   });
   return out;
 }
@@ -158,7 +159,9 @@ bool Mirror::CaughtUp() const {
     for (const Row& r : o.rows) {
       if (r.kind < semgraph_wire_ELEMENT_POSE) continue;
       const std::uint8_t vkind = r.kind == semgraph_wire_ELEMENT_TWIST ? semgraph_wire_VALUE_TWIST
-                                                                       : semgraph_wire_VALUE_POSE;
+                                 : r.kind == semgraph_wire_ELEMENT_WRENCH
+                                     ? semgraph_wire_VALUE_WRENCH
+                                     : semgraph_wire_VALUE_POSE;
       if (!holds(name, {o.source, r.edge, vkind}, r.seq)) return false;
     }
     for (const JointRow& j : o.joints) {

@@ -4,9 +4,10 @@
 //   mirror_threads.cc    the receive paths: structures on the mirror's thread, values and
 //                        batches where they arrive (Cyclone's listener or the mirror's thread)
 //   mirror_reconcile.cc  the replay of the owners' structures, and the replica brought to it
-// Invariants (under Impl::state_mutex): `applied` and `applied_joints` are the replica's mirrored
-// edges and joints; `slots` has one slot per mirrored edge or joint, keyed by (source, edge id,
-// value kind); `pending` and `pending_samples` hold values whose structure has not come yet.
+// Invariants (under Impl::state_mutex): `applied`, `applied_joints` and `applied_wrenches` are
+// the replica's mirrored edges, joints and wrenches; `slots` has one slot per mirrored edge,
+// joint or wrench, keyed by (source, edge id, value kind); `pending` and `pending_samples` hold
+// values whose structure has not come yet.
 #pragma once
 
 #include <algorithm>
@@ -39,6 +40,8 @@ struct JointRow {
   std::uint8_t state = 0;
   double q = 0, qdot = 0;
   std::int64_t time_ns = 0;
+  bool has_qddot = false;  // qddot given (timeless joints only)
+  double qddot = 0;
   [[nodiscard]] bool stamped() const { return state == semgraph_wire_JOINT_STATE_STAMPED; }
   // The AddJoint spec (views into this row).
   [[nodiscard]] core::JointSpec Spec() const {
@@ -98,6 +101,8 @@ struct ValueKeyHash {
 struct Slot {
   bool twist = false;
   bool joint = false;  // a joint's state (group: the joint alone; empty for fixed and mimic joints)
+  bool wrench = false;  // a wrench: head = on body, tail = by body (wrench_handle)
+  core::WrenchHandle wrench_handle;
   core::JointGroup group;
   bool unset = false;     // a joint never set (its first stamped state may still be on the way)
   bool stamped = false;   // a stamped edge: values come as stamped samples
@@ -117,6 +122,16 @@ struct Pending {
   double n[7];
   std::int64_t time_ns = 0;  // a stamped sample's stamp
   double cov[21] = {};       // the packed covariance (wire.h)
+  bool has_acc = false;      // the acceleration (twist) or qddot (joint, acc[0]) given
+  double acc[6] = {};
+};
+
+// A wrench of the replica (the pair on, by) and where it came from.
+struct AppliedWrench {
+  std::string owner;
+  std::uint64_t source = 0;
+  std::uint32_t id = 0;
+  std::string frame;  // the storage frame s
 };
 
 // An edge of the replica and where it came from.
@@ -188,6 +203,8 @@ struct Mirror::Impl {
     JointRow row;
   };
   std::map<std::string, AppliedJoint> applied_joints;  // joint name -> joint
+  std::map<std::pair<std::string, std::string>, internal::AppliedWrench>
+      applied_wrenches;  // (on, by) -> wrench
   std::unordered_map<ValueKey, Slot, ValueKeyHash> slots;
   std::unordered_map<ValueKey, Pending, ValueKeyHash> pending;
   std::unordered_map<ValueKey, std::vector<Pending>, ValueKeyHash> pending_samples;
@@ -235,7 +252,8 @@ struct Mirror::Impl {
     std::uint64_t seq;
     std::int64_t stamp_ns, time_ns;
     const double* numbers;
-    const double* covariance;  // packed, 21 (wire.h)
+    const double* covariance;    // packed, 21 (wire.h)
+    const double* acceleration;  // null: none; twist: 6 numbers, joint: qddot (wire.h)
   };
   bool HandleValue(const In& v, bool samples);
   // on_change, one call at a time (values are taken on Cyclone's and the mirror's threads).
@@ -250,23 +268,36 @@ struct Mirror::Impl {
   // After a batch of values: the counter, then on_change.
   void CountApplied(std::uint64_t applied_now);
   // Applies a value (time: a stamped sample's stamp) with its packed covariance `cov` (null or
-  // all zero: exact); true when the graph took it. `from` (the message on the wire) names its
-  // edge and source when the setter refuses its numbers.
+  // all zero: exact) and its acceleration `acc` (null: none; a twist's is then cleared, a
+  // joint keeps its qddot); true when the graph took it. `from` (the message on the wire) names
+  // its edge and source when the setter refuses its numbers.
   bool ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                  const double* cov, const std::string& what,
+                  const double* cov, const double* acc, const std::string& what,
                   std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
+  // ApplyValue's steps: what the value carries beside its numbers (the reason it is malformed,
+  // or empty), and the setter of the slot's kind (noexcept, allocation-free).
+  [[nodiscard]] std::string Malformed(const Slot& slot, bool stamped, bool has_covariance,
+                                      const double* acc) const;
+  base::ErrorCode SetSlot(Slot& slot, const double* n, const coord::Covariance6* S,
+                          const double* acc, std::optional<core::Stamp> at,
+                          core::UpdateError* bad) noexcept;
   // True when a refusal of the current structures names `owner`.
   [[nodiscard]] bool HasRefusal(const std::string& owner) const;
 
   // The reconcile (mirror_reconcile.cc), step by step.
   void Reconcile();
   struct DesiredJoint;
+  struct DesiredWrench;
   struct Replay;  // the scratch graph and what it accepted
   using Slots = std::unordered_map<ValueKey, Slot, ValueKeyHash>;
   [[nodiscard]] std::vector<const OwnerRec*> OwnersInOrder() const;
   void SettleTimeOptions(const std::vector<const OwnerRec*>& order);
   static void ReplayEdges(const OwnerRec& o, Replay& replay);
   static void ReplayJoints(const OwnerRec& o, Replay& replay);
+  static void ReplayWrenches(const OwnerRec& o, Replay& replay);
+  void RemoveChangedWrenches(const std::vector<DesiredWrench>& desired);
+  void AddWrenches(const std::vector<DesiredWrench>& desired, std::vector<Report>& refused,
+                   Slots& new_slots);
   [[nodiscard]] bool JointStampedInReplica(const core::internal::JointRecord* rec) const;
   void RemoveChangedJoints(const std::vector<DesiredJoint>& desired_joints);
   void RemoveChangedEdges(const std::vector<Applied>& desired);

@@ -30,6 +30,8 @@ const char* KindName(std::uint8_t k) {
       return "pose";
     case semgraph_wire_ELEMENT_TWIST:
       return "twist";
+    case semgraph_wire_ELEMENT_WRENCH:
+      return "wrench";
   }
   return "?";
 }
@@ -54,11 +56,50 @@ using EdgeHeads = std::map<std::pair<std::uint8_t, std::string>, int>;  // (kind
 
 namespace {
 
+// One wrench element alone: names, numbers, and its pair (or the reaction's) and id not seen yet.
+std::string CheckWrench(const Row& r,
+                        std::map<std::pair<std::string, std::string>, std::uint32_t>& seen) {
+  if (!GoodName(r.head) || !GoodName(r.head_body) || !GoodName(r.tail_body)) return "invalid name";
+  if (!r.tail.empty()) return "a wrench names no reference frame";
+  if (r.head_body == r.tail_body) return "a wrench on a body by itself (self_wrench)";
+  if (r.stamped) return "a wrench cannot be stamped (not carried in this version)";
+  if (HasCovariance(r.cov)) return "a wrench carries no covariance";
+  if (!Finite(r.n, 6) || r.n[6] != 0.0) return "a number is not finite (invalid_number)";
+  const auto pair = std::minmax(r.head_body, r.tail_body);
+  if (!seen.emplace(std::pair{pair.first, pair.second}, r.edge).second)
+    return "a second wrench of the same pair of bodies (duplicate_wrench)";
+  return {};
+}
+
+// Each wrench names bodies and a storage frame this structure declares, the frame one of the
+// wrench's `on` body (the publisher's graph stores it so; anything else is malformed).
+std::string WrenchesNameDeclared(const OwnerRec& o) {
+  std::map<std::string, const std::string*> frames;  // frame -> its body
+  std::map<std::string, int> bodies;
+  for (const Row& r : o.rows) {
+    if (r.kind == semgraph_wire_ELEMENT_BODY) bodies.emplace(r.head, 0);
+    if (r.kind == semgraph_wire_ELEMENT_FRAME) frames.emplace(r.head, &r.head_body);
+  }
+  for (const Row& r : o.rows) {
+    if (r.kind != semgraph_wire_ELEMENT_WRENCH) continue;
+    const std::string at = "wrench on '" + r.head_body + "' by '" + r.tail_body + "': ";
+    if (!bodies.count(r.head_body) || !bodies.count(r.tail_body))
+      return at + "a body the structure does not declare (unknown_body)";
+    auto f = frames.find(r.head);
+    if (f == frames.end()) return at + "storage frame '" + r.head + "' is not declared";
+    if (*f->second != r.head_body)
+      return at + "storage frame '" + r.head + "' is a frame of '" + *f->second + "', not of '" +
+             r.head_body + "'";
+  }
+  return {};
+}
+
 // The structure's elements (bodies, frames, edges) into out->rows; `heads` gets each edge's head.
 std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHeads& heads) {
   out->rows.clear();
   out->rows.reserve(s.elements._length);
   std::map<std::pair<std::uint8_t, std::uint32_t>, int> ids;
+  std::map<std::pair<std::string, std::string>, std::uint32_t> wrenches;  // unordered pair -> id
   for (std::uint32_t i = 0; i < s.elements._length; ++i) {
     const semgraph_wire_Element& e = s.elements._buffer[i];
     Row r;
@@ -73,10 +114,25 @@ std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeH
     std::copy(e.covariance, e.covariance + internal::kPackedCovariance, r.cov);
     r.stamped = e.stamped;
     r.time_ns = e.time_ns;
+    r.has_acc = e.has_acceleration;
+    std::copy(e.acceleration, e.acceleration + 6, r.acc);
     const std::string at =
         "element " + std::to_string(i) + " (" + KindName(e.kind) + " '" + r.head + "'): ";
-    if (e.kind > semgraph_wire_ELEMENT_TWIST)
+    if (e.kind > semgraph_wire_ELEMENT_WRENCH)
       return "element " + std::to_string(i) + ": unknown kind " + std::to_string(e.kind);
+    if (r.has_acc && e.kind != semgraph_wire_ELEMENT_TWIST)
+      return at + "an acceleration on an element that is not a twist edge";
+    if (r.has_acc && r.stamped)
+      return at + "an acceleration on a stamped twist edge (not carried in this version)";
+    if (r.has_acc && !Finite(r.acc, 6))
+      return at + "an acceleration number is not finite (invalid_number)";
+    if (e.kind == semgraph_wire_ELEMENT_WRENCH) {
+      if (std::string why = CheckWrench(r, wrenches); !why.empty()) return at + why;
+      if (!ids.emplace(std::pair{e.kind, e.edge}, 0).second)
+        return at + "a second wrench with the same id";
+      out->rows.push_back(std::move(r));
+      continue;
+    }
     if (!GoodName(r.head)) return at + "invalid name";
     if (e.kind != semgraph_wire_ELEMENT_BODY && !GoodName(r.head_body))
       return at + "invalid body name";
@@ -104,7 +160,7 @@ std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeH
     }
     out->rows.push_back(std::move(r));
   }
-  return {};
+  return WrenchesNameDeclared(*out);
 }
 
 // The structure's joints into out->joints; a joint owns the edges into its child (`heads`).
@@ -136,6 +192,8 @@ std::string ParseJoints(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHea
     j.q = w.q;
     j.qdot = w.qdot;
     j.time_ns = w.time_ns;
+    j.has_qddot = w.has_qddot;
+    j.qddot = w.has_qddot ? w.qddot : 0.0;
     const std::string at = "joint " + std::to_string(i) + " ('" + j.name + "'): ";
     if (w.type > semgraph_wire_JOINT_FIXED)
       return at + "unknown joint type " + std::to_string(w.type);
@@ -153,6 +211,8 @@ std::string ParseJoints(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHea
       return at + "unknown state " + std::to_string(w.state);
     if (j.stamped() && !GoodStamp(j.time_ns))
       return at + "the stamp is out of range (invalid_number)";
+    if (j.has_qddot && (!std::isfinite(j.qddot) || j.state != semgraph_wire_JOINT_STATE_TIMELESS))
+      return at + "qddot is not finite, or given with a state that is not timeless";
     if (!joint_names.emplace(j.name, 0).second) return at + "a second joint of that name";
     if (!joint_ids.emplace(j.id, 0).second) return at + "a second joint with the same id";
     // The joint owns the edges into its child: the owner must not publish them as well.

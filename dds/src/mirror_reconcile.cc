@@ -62,6 +62,13 @@ struct Mirror::Impl::DesiredJoint {
   const JointRow* row;
 };
 
+// A wrench the replay accepted (its row: on = head_body, by = tail_body, s = head).
+struct Mirror::Impl::DesiredWrench {
+  std::string owner;
+  std::uint64_t source;
+  const Row* row;
+};
+
 // The replay: the scratch graph, the edges and joints it accepted (their rows point into
 // `owners`, unchanged during a reconcile), the refusals in the deterministic order, and the
 // owner that took each (twist, head).
@@ -70,8 +77,10 @@ struct Mirror::Impl::Replay {
   core::SceneGraph<> scratch;
   std::vector<Applied> edges;
   std::vector<DesiredJoint> joints;
+  std::vector<DesiredWrench> wrenches;
   std::vector<Report> refused;
   std::map<std::pair<bool, std::string>, std::string> edge_owner;
+  std::map<std::pair<std::string, std::string>, std::string> wrench_owner;  // {on, by} sorted
 };
 
 // The replica from scratch in a scratch graph, then the live graph brought to it (mirror.h).
@@ -84,6 +93,8 @@ void Mirror::Impl::Reconcile() {
     ReplayEdges(*o, replay);
     // The owner's joints, in its order (masters before their mimics), after its edges.
     ReplayJoints(*o, replay);
+    // Its wrenches last: their bodies and storage frames are in the scratch graph by then.
+    ReplayWrenches(*o, replay);
   }
 
   // Bring the replica to the replay: removals first (joints, then twists, then poses), then
@@ -91,10 +102,12 @@ void Mirror::Impl::Reconcile() {
   // accepted one, so the adds pass the same checks they passed on the scratch graph.
   RemoveChangedJoints(replay.joints);
   RemoveChangedEdges(replay.edges);
+  RemoveChangedWrenches(replay.wrenches);
   AddMissingBodiesAndFrames(replay.scratch);
   Slots new_slots;
   AddEdges(replay.edges, replay.refused, new_slots);
   AddJoints(replay.joints, replay.refused, new_slots);
+  AddWrenches(replay.wrenches, replay.refused, new_slots);
   slots = std::move(new_slots);
   ReportNewRefusals(std::move(replay.refused));
 }
@@ -320,14 +333,16 @@ void Mirror::Impl::ApplyPending(const ValueKey& key, Slot& slot) {
   auto p = pending.find(key);
   if (p != pending.end()) {
     if (p->second.seq > slot.seq) {
-      ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, p->second.cov, "value");
+      ApplyValue(slot, p->second.seq, p->second.stamp_ns, p->second.n, p->second.cov,
+                 p->second.has_acc ? p->second.acc : nullptr, "value");
     }
     pending.erase(p);
   }
   auto ps = pending_samples.find(key);
   if (ps != pending_samples.end()) {
     for (const Pending& e : ps->second) {
-      ApplyValue(slot, e.seq, e.stamp_ns, e.n, e.cov, "sample", e.time_ns);
+      ApplyValue(slot, e.seq, e.stamp_ns, e.n, e.cov, e.has_acc ? e.acc : nullptr, "sample",
+                 e.time_ns);
     }
     pending_samples.erase(ps);
   }
@@ -378,9 +393,22 @@ void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Rep
     if (added) {
       slot.seq = r.seq;
       if (time) slot.time_ns = *time;
+      if (r.has_acc && a.twist && slot.settable) {
+        // The twist was added with the structure's value; its acceleration (checked finite).
+        const base::ErrorCode code =
+            graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(r.acc[0], r.acc[1], r.acc[2]),
+                                  Eigen::Vector3d(r.acc[3], r.acc[4], r.acc[5]));
+        if (code != base::ErrorCode::kOk) {
+          Log("the acceleration of the twist into " + a.head +
+              " is refused: " + std::string(base::ToString(code)));
+        }
+      }
     } else if (!known || r.seq > slot.seq) {
       // A kept edge under a new incarnation, or a newer value announced by the structure.
-      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, r.cov, "structure value", time);
+      if (slot.settable) {
+        ApplyValue(slot, r.seq, 0, r.n, r.cov, r.has_acc ? r.acc : nullptr, "structure value",
+                   time);
+      }
       slot.seq = r.seq;
     }
     ApplyPending(key, slot);
@@ -440,10 +468,12 @@ void Mirror::Impl::MakeJointSlot(const JointRow& j, bool added, Slots& new_slots
   if (slot.settable && j.state != semgraph_wire_JOINT_STATE_NONE &&
       (added || (j.stamped() && !replica_stamped))) {
     // The joint's first state decides its kind (timeless or stamped: histories allocated here).
-    const core::JointValue q[] = {{j.name, j.q}}, qdot[] = {{j.name, j.qdot}};
+    const core::JointValue q[] = {{j.name, j.q}}, qdot[] = {{j.name, j.qdot}},
+                           qddot[] = {{j.name, j.qddot}};
     const core::BuildResult res =
-        j.stamped() ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
-                    : graph.SetJoints(q, qdot);
+        j.stamped()   ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
+        : j.has_qddot ? graph.SetJoints(q, qdot, qddot)
+                      : graph.SetJoints(q, qdot);
     if (!res) Log("joint " + j.name + ": its state is refused: " + res.error().message);
     slot.seq = j.seq;
     if (j.stamped()) slot.time_ns = j.time_ns;
@@ -451,12 +481,114 @@ void Mirror::Impl::MakeJointSlot(const JointRow& j, bool added, Slots& new_slots
     slot.seq = j.seq;
   } else if (slot.settable && (!known || j.seq > slot.seq)) {
     const double n[7] = {j.q, j.qdot, 0, 0, 0, 0, 0};
-    ApplyValue(slot, j.seq, 0, n, nullptr, "structure value",
+    ApplyValue(slot, j.seq, 0, n, nullptr, j.has_qddot ? &j.qddot : nullptr, "structure value",
                j.stamped() ? std::optional<std::int64_t>(j.time_ns) : std::nullopt);
     slot.seq = j.seq;
   }
   ApplyPending(key, slot);
   new_slots.emplace(key, std::move(slot));
+}
+
+// Replays one owner's wrenches on the scratch graph (core/wrenches.h): a pair whose bodies
+// (either order) another owner took already is refused duplicate_wrench; a storage frame that
+// is not a frame of `on` in the scratch graph (another owner's frame of that name) is refused
+// unknown_frame; AddWrench's own checks decide the rest.
+void Mirror::Impl::ReplayWrenches(const OwnerRec& o, Replay& replay) {
+  core::SceneGraph<>& scratch = replay.scratch;
+  for (const Row& r : o.rows) {
+    if (r.kind != semgraph_wire_ELEMENT_WRENCH) continue;
+    const std::string what =
+        "wrench on " + r.head_body + " by " + r.tail_body + " at {" + r.head + "}";
+    const auto [lo, hi] = std::minmax(r.head_body, r.tail_body);
+    auto prior = replay.wrench_owner.find({lo, hi});
+    if (prior != replay.wrench_owner.end()) {
+      replay.refused.push_back(Refusal(o.owner, base::ErrorCode::kDuplicateWrench,
+                                       what + " rejected (duplicate_wrench): the pair is " +
+                                           "published by '" + prior->second + "'"));
+      continue;
+    }
+    const core::FrameIndex s = scratch.FindFrame(r.head);
+    const core::BodyIndex on = scratch.FindBody(r.head_body);
+    if (!s.is_valid() || !on.is_valid() || scratch.body_of(s) != on) {
+      replay.refused.push_back(Refusal(o.owner, base::ErrorCode::kUnknownFrame,
+                                       what + " rejected (unknown_frame): {" + r.head +
+                                           "} is not a frame of " + r.head_body + " here"));
+      continue;
+    }
+    const core::BuildResult res = scratch.AddWrench(
+        core::WrenchSpec::On(r.head_body).By(r.tail_body).At(r.head),
+        Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]));
+    if (!res) {
+      replay.refused.push_back(Refusal(o.owner, res.error().code, res.error().message));
+      continue;
+    }
+    replay.wrench_owner[{lo, hi}] = o.owner;
+    replay.wrenches.push_back({o.owner, o.source, &r});
+  }
+}
+
+// Removes the replica's wrenches that are no longer wanted, or wanted from another owner or at
+// another storage frame.
+void Mirror::Impl::RemoveChangedWrenches(const std::vector<DesiredWrench>& desired) {
+  std::map<std::pair<std::string, std::string>, const DesiredWrench*> want;
+  for (const DesiredWrench& d : desired) want[{d.row->head_body, d.row->tail_body}] = &d;
+  for (auto it = applied_wrenches.begin(); it != applied_wrenches.end();) {
+    auto w = want.find(it->first);
+    if (w != want.end() && w->second->owner == it->second.owner &&
+        w->second->row->head == it->second.frame) {
+      ++it;
+      continue;
+    }
+    const core::BuildResult res = graph.RemoveWrench(it->first.first, it->first.second);
+    if (!res) Log("cannot remove the wrench on " + it->first.first + ": " + res.error().message);
+    it = applied_wrenches.erase(it);
+  }
+}
+
+// Adds the wanted wrenches the replica lacks (stored at their storage frame: no conversion), and
+// gives each its slot: its handle, and the value its structure announced when newer.
+void Mirror::Impl::AddWrenches(const std::vector<DesiredWrench>& desired,
+                               std::vector<Report>& refused, Slots& new_slots) {
+  for (const DesiredWrench& d : desired) {
+    const Row& r = *d.row;
+    const std::pair<std::string, std::string> pair{r.head_body, r.tail_body};
+    auto have = applied_wrenches.find(pair);
+    bool added = false;
+    if (have == applied_wrenches.end()) {
+      const core::BuildResult res = graph.AddWrench(
+          core::WrenchSpec::On(r.head_body).By(r.tail_body).At(r.head),
+          Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]));
+      if (!res) {
+        refused.push_back(Refusal(d.owner, res.error().code, res.error().message));
+        continue;
+      }
+      have =
+          applied_wrenches.emplace(pair, internal::AppliedWrench{d.owner, d.source, r.edge, r.head})
+              .first;
+      added = true;
+    } else {
+      have->second.source = d.source;
+      have->second.id = r.edge;
+    }
+    const ValueKey key{d.source, r.edge, semgraph_wire_VALUE_WRENCH};
+    bool known = false;
+    Slot slot = TakeSlot(key, added, &known);
+    slot.wrench = true;
+    slot.owner = d.owner;
+    slot.head = r.head_body;
+    slot.tail = r.tail_body;
+    auto h = graph.FindWrench(r.head_body, r.tail_body);
+    slot.settable = static_cast<bool>(h);
+    if (h) slot.wrench_handle = *h;
+    if (added) {
+      slot.seq = r.seq;
+    } else if (!known || r.seq > slot.seq) {
+      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, nullptr, nullptr, "structure value");
+      slot.seq = r.seq;
+    }
+    ApplyPending(key, slot);
+    new_slots.emplace(key, std::move(slot));
+  }
 }
 
 // Reports each refusal once, in the deterministic order; they become the current refusals.

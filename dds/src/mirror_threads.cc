@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mirror_impl.h"
+#include "semgraph/coord/validate.h"
 
 namespace semgraph::dds {
 
@@ -89,57 +90,104 @@ void Mirror::Impl::TakeStructure() {
   }
 }
 
+// The graph's setter for the slot's kind, with the stamped, covariance (S null: exact) and
+// acceleration (null: none) variants; the twist's acceleration is set right after the twist.
+base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::Covariance6* S,
+                                      const double* acc, std::optional<core::Stamp> at,
+                                      core::UpdateError* bad) noexcept {
+  const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
+  const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
+  const Eigen::Vector3d p(n[4], n[5], n[6]);
+  const coord::Covariance6 zero = coord::Covariance6::Zero();
+  core::CovarianceInput covariance;
+  covariance.matrix = S != nullptr ? S : &zero;
+  const bool has_covariance = S != nullptr;
+  if (slot.wrench) return graph.SetWrench(slot.wrench_handle, a, b, bad);
+  if (slot.joint) {
+    const double qv[1] = {n[0]}, qdot[1] = {n[1]};
+    const double qddot[1] = {acc != nullptr ? acc[0] : 0.0};
+    return at    ? graph.SetJointState(slot.group, qv, qdot, *at, bad)
+           : acc ? graph.SetJointState(slot.group, qv, qdot, qddot, bad)
+                 : graph.SetJointState(slot.group, qv, qdot, bad);
+  }
+  if (slot.twist) {
+    const base::ErrorCode code =
+        at && has_covariance ? graph.SetTwist(slot.twist_handle, a, b, *at, covariance, bad)
+        : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, bad)
+        : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, bad)
+                             : graph.SetTwist(slot.twist_handle, a, b, bad);
+    // A twist clears the edge's acceleration; one given comes with it (checked before).
+    if (code != base::ErrorCode::kOk || acc == nullptr) return code;
+    return graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(acc[0], acc[1], acc[2]),
+                                 Eigen::Vector3d(acc[3], acc[4], acc[5]), bad);
+  }
+  return at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, bad)
+         : at                 ? graph.SetPose(slot.pose, q, p, *at, bad)
+         : has_covariance     ? graph.SetPose(slot.pose, q, p, covariance, bad)
+                              : graph.SetPose(slot.pose, q, p, bad);
+}
+
+// What a value may carry beside its numbers, checked before anything is set: the reason it is
+// malformed (empty: fine). A covariance goes with edges only; an acceleration with a timeless
+// twist edge's value or joint's state (stamped ones: not carried in this version).
+std::string Mirror::Impl::Malformed(const Slot& slot, bool stamped, bool has_covariance,
+                                    const double* acc) const {
+  if (has_covariance && (slot.joint || slot.wrench)) {
+    return std::string("a covariance with a ") + (slot.joint ? "joint state" : "wrench") +
+           " (not carried in this version)";
+  }
+  if (acc != nullptr && stamped)
+    return "an acceleration with a stamped sample (not carried in this version)";
+  if (acc != nullptr && !(slot.twist || slot.joint))
+    return "an acceleration with a value that is neither a twist nor a joint state";
+  return {};
+}
+
 bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp, const double* n,
-                              const double* cov, const std::string& what,
+                              const double* cov, const double* acc, const std::string& what,
                               std::optional<std::int64_t> time, const In* from) {
   if (time.has_value() != slot.stamped) {
     Reject(slot.owner, what +
                            (time ? ": a stamped sample for the unstamped "
                                  : ": an unstamped value for the stamped ") +
-                           (slot.joint ? "joint '" : "edge into '") + slot.head + "'");
+                           (slot.joint    ? "joint '"
+                            : slot.wrench ? "wrench on '"
+                                          : "edge into '") +
+                           slot.head + "'");
     return false;
   }
-  base::ErrorCode code;
-  core::UpdateError bad;  // the setter's verdict on the numbers: which, and which limit
-  const Eigen::Vector3d a(n[0], n[1], n[2]), b(n[3], n[4], n[5]);
-  const Eigen::Quaterniond q(n[0], n[1], n[2], n[3]);
-  const Eigen::Vector3d p(n[4], n[5], n[6]);
+  if (!slot.settable) {
+    Reject(slot.owner, what +
+                           (slot.joint ? ": a state for the fixed or mimic joint '"
+                                       : ": a value for the constant edge into '") +
+                           slot.head + "'");
+    return false;
+  }
   // The covariance (docs/uncertainty.md): none or zero is an exact value (a timeless edge's
   // covariance becomes zero, a stamped sample carries none); the setter checks it
-  // (invalid_number, invalid_covariance). Joint states carry none in this version.
+  // (invalid_number, invalid_covariance).
   const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
-  if (has_covariance && slot.joint) {
-    Reject(slot.owner, what + " into '" + slot.head +
-                           "': a covariance with a joint state (not carried in this version)");
+  if (std::string why = Malformed(slot, time.has_value(), has_covariance, acc); !why.empty()) {
+    Reject(slot.owner, what + " into '" + slot.head + "': " + why);
     return false;
   }
-  const coord::Covariance6 S =
-      has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
-  core::CovarianceInput covariance;
-  covariance.matrix = &S;
-  const std::optional<core::Stamp> at =
-      time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
-  if (slot.joint) {
-    if (!slot.settable) {
-      Reject(slot.owner, what + ": a state for the fixed or mimic joint '" + slot.head + "'");
-      return false;
-    }
-    const double q[1] = {n[0]}, qdot[1] = {n[1]};
-    code = at ? graph.SetJointState(slot.group, q, qdot, *at, &bad)
-              : graph.SetJointState(slot.group, q, qdot, &bad);
-  } else if (slot.twist) {
-    code = at && has_covariance ? graph.SetTwist(slot.twist_handle, a, b, *at, covariance, &bad)
-           : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, &bad)
-           : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, &bad)
-                                : graph.SetTwist(slot.twist_handle, a, b, &bad);
-  } else if (slot.settable) {
-    code = at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, &bad)
-           : at                 ? graph.SetPose(slot.pose, q, p, *at, &bad)
-           : has_covariance     ? graph.SetPose(slot.pose, q, p, covariance, &bad)
-                                : graph.SetPose(slot.pose, q, p, &bad);
-  } else {
-    Reject(slot.owner, what + ": a value for the constant edge into '" + slot.head + "'");
-    return false;
+  base::ErrorCode code = base::ErrorCode::kOk;
+  core::UpdateError bad;  // the setter's verdict on the numbers: which, and which limit
+  if (acc != nullptr && slot.twist) {
+    // The twist and its acceleration are two setter calls: the acceleration is checked first
+    // (as SetAcceleration checks it), so a refused one leaves the twist as it was.
+    auto a = coord::ValidateVector(Eigen::Vector3d(acc[0], acc[1], acc[2]),
+                                   coord::ValueRole::kLinearAcceleration);
+    auto alpha = coord::ValidateVector(Eigen::Vector3d(acc[3], acc[4], acc[5]),
+                                       coord::ValueRole::kAngularAcceleration);
+    if (!a || !alpha) code = core::internal::Report(&bad, !a ? a.error() : alpha.error());
+  }
+  if (code == base::ErrorCode::kOk) {
+    const coord::Covariance6 S =
+        has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
+    const std::optional<core::Stamp> at =
+        time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
+    code = SetSlot(slot, n, has_covariance ? &S : nullptr, acc, at, &bad);
   }
   if (code == base::ErrorCode::kStampTooOld || code == base::ErrorCode::kDuplicateStamp) {
     // The history's rules decide reordered and repeated samples (docs/time.md): not malformed.
@@ -170,9 +218,15 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
 // One value from the value or sample topic, or from a batch; true when applied.
 bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // The numbers are checked by the graph's setter when applied (ApplyValue: its UpdateError).
-  const char* why = v.kind > semgraph_wire_VALUE_JOINT ? ": unknown kind"
+  // Stamped accelerations and stamped wrenches are not carried in this version (the extension
+  // point: such a sample will name its stamp in time_ns as the others do).
+  const char* why = v.kind > semgraph_wire_VALUE_WRENCH ? ": unknown kind"
                     : samples && !GoodStamp(v.time_ns)
                         ? ": the stamp is out of range (invalid_number)"
+                    : samples && v.kind == semgraph_wire_VALUE_WRENCH
+                        ? ": a stamped wrench (not carried in this version)"
+                    : samples && v.acceleration != nullptr
+                        ? ": an acceleration with a stamped sample (not carried in this version)"
                         : nullptr;
   if (why != nullptr) {
     Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) +
@@ -198,6 +252,8 @@ bool Mirror::Impl::HandleValue(const In& v, bool samples) {
     got.time_ns = v.time_ns;
     std::copy(v.numbers, v.numbers + 7, got.n);
     std::copy(v.covariance, v.covariance + internal::kPackedCovariance, got.cov);
+    got.has_acc = v.acceleration != nullptr;
+    if (got.has_acc) std::copy(v.acceleration, v.acceleration + 6, got.acc);
     if (samples) {
       std::vector<Pending>& list = pending_samples[key];
       if (list.size() < kMaxPendingSamples) list.push_back(got);
@@ -210,7 +266,7 @@ bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // Unstamped values: a repeat or an older value is dropped by its number. Stamped samples go
   // to the history, whose rules decide.
   if (!samples && v.seq <= it->second.seq) return false;
-  return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, v.covariance,
+  return ApplyValue(it->second, v.seq, v.stamp_ns, v.numbers, v.covariance, v.acceleration,
                     samples ? "sample" : "value",
                     samples ? std::optional<std::int64_t>(v.time_ns) : std::nullopt, &v);
 }
@@ -229,8 +285,9 @@ void Mirror::Impl::TakeValues(dds_entity_t reader, bool samples) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
         const semgraph_wire_Value& v = buffer[i];
-        const In in{v.source,   v.edge,    v.kind,    v.seq,
-                    v.stamp_ns, v.time_ns, v.numbers, v.covariance};
+        const In in{v.source,  v.edge,       v.kind,
+                    v.seq,     v.stamp_ns,   v.time_ns,
+                    v.numbers, v.covariance, v.has_acceleration ? v.acceleration : nullptr};
         if (HandleValue(in, samples)) ++applied_now;
       }
     }
@@ -260,8 +317,9 @@ void Mirror::Impl::TakeBatches() {
         }
         for (std::uint32_t k = 0; k < b.updates._length; ++k) {
           const semgraph_wire_Update& u = b.updates._buffer[k];
-          const In in{b.source,   u.edge,    u.kind,    u.seq,
-                      u.stamp_ns, u.time_ns, u.numbers, u.covariance};
+          const In in{b.source,  u.edge,       u.kind,
+                      u.seq,     u.stamp_ns,   u.time_ns,
+                      u.numbers, u.covariance, u.has_acceleration ? u.acceleration : nullptr};
           if (HandleValue(in, u.stamped)) ++applied_now;
         }
       }

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "semgraph/coord/validate.h"
 #include "semgraph/core/timed_read.h"
 #include "wire.h"
 
@@ -24,7 +25,8 @@ struct Publisher::Impl {
   std::uint64_t write_failures = 0;
   // Per frame (the edge id of the pose or twist edge into it): values published so far.
   std::vector<std::uint64_t> pose_seq, twist_seq;
-  std::vector<std::uint64_t> joint_seq;  // per joint index: states published so far
+  std::vector<std::uint64_t> joint_seq;   // per joint index: states published so far
+  std::vector<std::uint64_t> wrench_seq;  // per wrench slot (wrenches.h): values published so far
 
   // The next value of edge or joint `id` (of `kind`): numbered by its counter in `seqs` (0 for
   // an id the last structure did not count), on the publisher's clock; numbers still to fill.
@@ -38,13 +40,20 @@ struct Publisher::Impl {
     v.stamp_ns = internal::NowNs();
     return v;
   }
-  // Publishes joint `index`'s state (q, qdot), stamped or not.
+  // Publishes joint `index`'s state (q, qdot), stamped or not; an unstamped one with the
+  // joint's qddot when it has one (stamped joints take none).
   void PublishJoint(std::uint32_t index, double q, double qdot,
                     std::optional<core::Stamp> stamp) noexcept {
     semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);
     v.numbers[0] = q;
     v.numbers[1] = qdot;
-    if (stamp) v.time_ns = stamp->nanoseconds();
+    if (stamp) {
+      v.time_ns = stamp->nanoseconds();
+    } else if (const core::internal::JointRecord& j = graph->joint_table().joints[index];
+               j.has_qddot) {
+      v.has_acceleration = true;
+      v.acceleration[0] = j.qddot;
+    }
     Send(v, stamp.has_value());
   }
   // After a group's state was set: q (and qdot when given) from the input, the other field the
@@ -55,6 +64,14 @@ struct Publisher::Impl {
       const core::JointHandle h = group.joints[i];
       PublishJoint(h.index.value(), q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h),
                    stamp);
+    }
+  }
+  // After an unstamped set of a group: each joint's state as the graph holds it (q, qdot, qddot).
+  void PublishGroupState(const core::JointGroup& group) noexcept {
+    const core::internal::JointTable& t = graph->joint_table();
+    for (std::size_t i = 0; i < group.size(); ++i) {
+      const std::uint32_t index = group.joints[i].index.value();
+      PublishJoint(index, t.joints[index].q, t.joints[index].qdot, std::nullopt);
     }
   }
   // Batching (BeginBatch / Flush): the cycle's values, preallocated (kMaxBatchUpdates).
@@ -69,6 +86,8 @@ struct Publisher::Impl {
   // a value without one: exact), on the value topic or into the batch.
   void PublishPose(core::FrameIndex child) noexcept;
   void PublishTwist(core::TwistHandle edge) noexcept;
+  // The value of the wrench in `slot` (wrenches.h) as the store holds it.
+  void PublishWrench(std::uint32_t slot) noexcept;
   // The sample of a stamped edge at `stamp` as its history stores it, with its covariance (zero:
   // exact), on the sample topic or into the batch.
   void PublishPoseSample(core::FrameIndex child, core::Stamp stamp) noexcept;
@@ -90,6 +109,8 @@ struct Publisher::Impl {
     u.time_ns = v.time_ns;
     std::copy(v.numbers, v.numbers + 7, u.numbers);
     std::copy(v.covariance, v.covariance + internal::kPackedCovariance, u.covariance);
+    u.has_acceleration = v.has_acceleration;
+    std::copy(v.acceleration, v.acceleration + 6, u.acceleration);
     batch.push_back(u);  // within the reserved capacity: no allocation
   }
   void WriteBatch() noexcept {
@@ -199,6 +220,18 @@ void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
   n[6] = 0.0;
 }
 
+// The acceleration stored on the twist edge into f (edge form), if any: the wire's flag and
+// numbers (semgraph_wire.idl). Stamped edges carry none in this version.
+void PutAcceleration(const core::SceneGraph<>& g, core::FrameIndex f, bool* has, double* a) {
+  const std::optional<coord::Acceleration> A = g.acceleration_value(f);
+  *has = A.has_value();
+  if (!A) return;
+  for (int i = 0; i < 3; ++i) {
+    a[i] = A->linear[i];
+    a[3 + i] = A->angular[i];
+  }
+}
+
 // A history's stored sample (x y z w p / v w) in wire order.
 void PutPoseSample(double* n, const double (&h)[7]) {
   n[0] = h[3];
@@ -224,12 +257,34 @@ void PutNewestCovariance(double* packed, const History& h) {
   if (h.CovarianceAt(h.newest_stamp(), words)) PutCovarianceWords(packed, words);
 }
 
+// The stored wrenches (wrenches.h), one element per live slot: on (head_body), by (tail_body),
+// the storage frame (head), the value (f_S, m_So_S).
+void WrenchRows(const core::SceneGraph<>& g, const std::vector<std::uint64_t>& wrench_seq,
+                std::vector<internal::Row>& rows) {
+  const core::internal::WrenchStore& store = g.wrench_store();
+  for (std::uint32_t i = 0; i < store.slots.size(); ++i) {
+    const core::internal::WrenchSlot& w = store.slots[i];
+    if (!w.live) continue;
+    internal::Row r{semgraph_wire_ELEMENT_WRENCH,
+                    i,
+                    wrench_seq[i],
+                    std::string(g.frame_name(w.frame)),
+                    std::string(g.body_name(w.on)),
+                    {},
+                    std::string(g.body_name(w.by))};
+    const core::WrenchNumbers W = store.values[i].Load();
+    PutTwist(r.n, W.f_S, W.m_So_S);  // (f, m, 0): the same layout
+    rows.push_back(std::move(r));
+  }
+}
+
 // The structure's elements: bodies, frames, then the pose and twist edges a joint does not own,
 // each with the number of its last value and its covariance (stamped edges: the newest sample's
-// stamp and covariance).
+// stamp and covariance; timeless twist edges: their acceleration or none), then the wrenches.
 std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
                                        const std::vector<std::uint64_t>& pose_seq,
-                                       const std::vector<std::uint64_t>& twist_seq) {
+                                       const std::vector<std::uint64_t>& twist_seq,
+                                       const std::vector<std::uint64_t>& wrench_seq) {
   using internal::Row;
   const core::internal::JointTable& joints = g.joint_table();
   std::vector<Row> rows;
@@ -294,9 +349,11 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
       PutNewestCovariance(r.cov, *h);
     } else {
       internal::PackCovariance(g.twist_covariance(f), r.cov);
+      PutAcceleration(g, f, &r.has_acc, r.acc);
     }
     rows.push_back(std::move(r));
   }
+  WrenchRows(g, wrench_seq, rows);
   return rows;
 }
 
@@ -316,6 +373,8 @@ std::vector<semgraph_wire_Element> WireElements(std::vector<internal::Row>& rows
     e.stamped = rows[k].stamped;
     e.time_ns = rows[k].time_ns;
     std::copy(rows[k].cov, rows[k].cov + internal::kPackedCovariance, e.covariance);
+    e.has_acceleration = rows[k].has_acc;
+    std::copy(rows[k].acc, rows[k].acc + 6, e.acceleration);
   }
   return elements;
 }
@@ -367,6 +426,8 @@ std::vector<semgraph_wire_Joint> WireJoints(const core::SceneGraph<>& g,
     w.offset = j.offset;
     w.q = j.q;
     w.qdot = j.qdot;
+    w.has_qddot = j.has_qddot;
+    w.qddot = j.has_qddot ? j.qddot : 0.0;
     if (const core::PoseHistory* h = g.pose_history(j.child)) {
       w.state = semgraph_wire_JOINT_STATE_STAMPED;
       w.time_ns = h->newest_stamp();
@@ -386,8 +447,9 @@ base::Expected<base::Ok, std::string> Publisher::PublishStructure() {
   m.pose_seq.resize(g.num_frames(), 0);
   m.twist_seq.resize(g.num_frames(), 0);
   m.joint_seq.resize(g.joint_table().joints.size(), 0);
+  m.wrench_seq.resize(g.wrench_store().slots.size(), 0);
   // Names are copied into strings first: the sample points into them.
-  std::vector<internal::Row> rows = ElementRows(g, m.pose_seq, m.twist_seq);
+  std::vector<internal::Row> rows = ElementRows(g, m.pose_seq, m.twist_seq, m.wrench_seq);
   std::vector<semgraph_wire_Element> elements = WireElements(rows);
   std::vector<JointNames> joint_names;
   std::vector<semgraph_wire_Joint> joint_rows = WireJoints(g, m.joint_seq, joint_names);
@@ -426,6 +488,14 @@ void Publisher::Impl::PublishTwist(core::TwistHandle edge) noexcept {
   const auto V = graph->twist_value(head);
   PutTwist(v.numbers, V->linear, V->angular);
   internal::PackCovariance(graph->twist_covariance(head), v.covariance);
+  PutAcceleration(*graph, head, &v.has_acceleration, v.acceleration);
+  Send(v, false);
+}
+
+void Publisher::Impl::PublishWrench(std::uint32_t slot) noexcept {
+  semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_WRENCH, slot, wrench_seq);
+  const core::WrenchNumbers W = graph->wrench_store().values[slot].Load();
+  PutTwist(v.numbers, W.f_S, W.m_So_S);
   Send(v, false);
 }
 
@@ -460,6 +530,39 @@ base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3
   Impl& m = *impl_;
   const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, covariance);
   if (code == base::ErrorCode::kOk) m.PublishTwist(edge);
+  return code;
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H,
+                                    const core::AccelerationInput& acceleration) noexcept {
+  Impl& m = *impl_;
+  // Checked first, so that a refused acceleration leaves the twist as it was.
+  if (!coord::ValidateVector(acceleration.linear, coord::ValueRole::kLinearAcceleration) ||
+      !coord::ValidateVector(acceleration.angular, coord::ValueRole::kAngularAcceleration)) {
+    return base::ErrorCode::kInvalidNumber;
+  }
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H);
+  if (code != base::ErrorCode::kOk) return code;
+  const base::ErrorCode with =
+      m.graph->SetAcceleration(edge, acceleration.linear, acceleration.angular);
+  m.PublishTwist(edge);  // the twist is set: it goes out, with the acceleration when taken
+  return with;
+}
+
+base::ErrorCode Publisher::SetAcceleration(core::TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                           const Eigen::Vector3d& alpha_DH_H) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetAcceleration(edge, a_DHo_H, alpha_DH_H);
+  if (code == base::ErrorCode::kOk) m.PublishTwist(edge);
+  return code;
+}
+
+base::ErrorCode Publisher::SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
+                                     const Eigen::Vector3d& m_So_S) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetWrench(wrench, f_S, m_So_S);
+  if (code == base::ErrorCode::kOk) m.PublishWrench(wrench.slot);
   return code;
 }
 
@@ -537,18 +640,22 @@ struct Named {
 };
 std::vector<Named> NamedJoints(const core::SceneGraph<>& g,
                                std::span<const core::JointValue> positions,
-                               std::span<const core::JointValue> velocities) {
+                               std::span<const core::JointValue> velocities,
+                               std::span<const core::JointValue> accelerations = {}) {
   std::vector<Named> out;
   std::map<std::uint32_t, std::size_t> at;
-  auto add = [&](const core::JointValue& v, bool velocity) {
+  // (An acceleration names its joint only: the state published is the graph's after the call.)
+  auto add = [&](const core::JointValue& v, int field) {
     auto h = g.FindJoint(v.joint);
     if (!h) return;
     auto [it, fresh] = at.emplace(h->index.value(), out.size());
     if (fresh) out.push_back({h->index.value(), std::nullopt, std::nullopt});
-    (velocity ? out[it->second].qdot : out[it->second].q) = v.value;
+    if (field == 0) out[it->second].q = v.value;
+    if (field == 1) out[it->second].qdot = v.value;
   };
-  for (const core::JointValue& v : positions) add(v, false);
-  for (const core::JointValue& v : velocities) add(v, true);
+  for (const core::JointValue& v : positions) add(v, 0);
+  for (const core::JointValue& v : velocities) add(v, 1);
+  for (const core::JointValue& v : accelerations) add(v, 2);
   return out;
 }
 
@@ -563,6 +670,20 @@ core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positio
   for (const Named& n : NamedJoints(*m.graph, positions, velocities)) {
     const core::internal::JointRecord& j = t.joints[n.index];
     m.PublishJoint(n.index, n.q.value_or(j.q), n.qdot.value_or(j.qdot), std::nullopt);
+  }
+  return res;
+}
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities,
+                                       std::span<const core::JointValue> accelerations) {
+  Impl& m = *impl_;
+  core::BuildResult res = m.graph->SetJoints(positions, velocities, accelerations);
+  if (!res) return res;
+  const core::internal::JointTable& t = m.graph->joint_table();
+  for (const Named& n : NamedJoints(*m.graph, positions, velocities, accelerations)) {
+    const core::internal::JointRecord& j = t.joints[n.index];
+    m.PublishJoint(n.index, j.q, j.qdot, std::nullopt);
   }
   return res;
 }
@@ -622,6 +743,20 @@ base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::spa
                                          std::span<const double> qdot, core::Stamp stamp) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, stamp);
   if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), stamp);
+  return code;
+}
+
+base::ErrorCode Publisher::SetJointAccelerations(const core::JointGroup& group,
+                                                 std::span<const double> qddot) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointAccelerations(group, qddot);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroupState(group);
+  return code;
+}
+base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                         std::span<const double> qdot,
+                                         std::span<const double> qddot) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, qddot);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroupState(group);
   return code;
 }
 

@@ -34,7 +34,9 @@ struct Row {
   double n[7] = {0, 0, 0, 0, 0, 0, 0};
   bool stamped = false;
   std::int64_t time_ns = 0;
-  double cov[21] = {};  // the packed covariance (semgraph_wire.idl; zero: exact)
+  double cov[21] = {};   // the packed covariance (semgraph_wire.idl; zero: exact)
+  bool has_acc = false;  // a twist edge's acceleration is given (semgraph_wire.idl)
+  double acc[6] = {};    // (a_DHo_H, alpha_DH_H) in [head]
 };
 
 /// The wire's packed covariance: the upper triangle of the symmetric 6x6 S, row by row.

@@ -120,6 +120,27 @@ int Covariances(std::uint32_t domain, const std::string& owner) {
   return 0;
 }
 
+// The dynamics scene (scenes.h): the robot with the object's acceleration and a wrench on O by
+// C, their values set once the mirror matched; then stays alive.
+int Dynamics(std::uint32_t domain, const std::string& owner) {
+  core::SceneGraph<> g;
+  if (!dds_test::BuildRobot(g)) return 3;
+  if (!g.AddWrench(core::WrenchSpec::On("O").By("C").At("o"), {1, 0, 0}, {0, 0, 0})) return 3;
+  auto pub = dds::Publisher::Create(g, {owner, domain});
+  if (!pub || !(*pub)->PublishStructure()) return 3;
+  auto vel = g.FindTwistEdge("o", "C");
+  auto wrench = g.FindWrench("O", "C");
+  if (!vel || !wrench || !(*pub)->WaitForMirrors(1, 20s)) return 3;
+  bool ok = (*pub)->SetTwist(*vel, {0.01, 0, 0}, {0, 0, 0.1},
+                             core::AccelerationInput{dds_test::kA_o, dds_test::kAlpha_o}) ==
+            base::ErrorCode::kOk;
+  ok &= (*pub)->SetWrench(*wrench, dds_test::kF_o, dds_test::kM_o) == base::ErrorCode::kOk;
+  if (!ok) return 4;
+  std::puts("READY");
+  StayAlive();
+  return 0;
+}
+
 int Joints(std::uint32_t domain, const std::string& owner, std::uint32_t mirrors) {
   auto made = core::SceneGraph<>::Create(dds_test::TenSecondTime());
   if (!made) return 3;
@@ -286,6 +307,7 @@ int main(int argc, char** argv) {
   if (mode == "robot" && argc == 5) return Robot(domain, argv[3], std::atoi(argv[4]));
   if (mode == "robot_v2" && argc == 4) return RobotV2(domain, argv[3]);
   if (mode == "covariance" && argc == 4) return Covariances(domain, argv[3]);
+  if (mode == "dynamics" && argc == 4) return Dynamics(domain, argv[3]);
   if (mode == "joints" && argc == 5) {
     return Joints(domain, argv[3], static_cast<std::uint32_t>(std::atoi(argv[4])));
   }

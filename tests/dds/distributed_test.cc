@@ -222,6 +222,47 @@ TEST(DistributedTest, CovariancesReachTheMirrorInTheEdgeForm) {
   EXPECT_TRUE(mirror.Reports().empty() || mirror.Reports().back().event != "refused");
 }
 
+// Accelerations and wrenches from another process: the mirror's answers in [c] equal the edge
+// values rotated and moved by hand (the object's pose X_co = (Rx(roll(0)), p(0))).
+TEST(DistributedTest, AccelerationsAndWrenchesReachAnotherProcess) {
+  auto made = dds::Mirror::Create({"driver", 33, {}, {}, {}, {}});
+  ASSERT_TRUE(made) << made.error();
+  dds::Mirror& mirror = **made;
+  Child pub({kNode, "dynamics", "33", "arm"});
+  const auto arrived = [&] {
+    bool ok = false;
+    mirror.WithGraph([&](const core::SceneGraph<>& g) {
+      const auto w = g.GetWrench(core::WrenchSpec::On("O").By("C").At("o"));
+      // Queries only (sequence locks): the receive thread may be writing meanwhile.
+      ok = g.FindFrame("o").is_valid() &&
+           g.GetAcceleration(core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("o")) && w &&
+           w->force == kF_o;
+    });
+    return ok;
+  };
+  ASSERT_TRUE(mirror.WaitUntil(arrived, 20s)) << pub.Output();
+  const Eigen::Quaterniond q_co = Rx(ObjectRoll(0));
+  const Eigen::Vector3d p_co = ObjectPosition(0);
+  mirror.WithGraph([&](const core::SceneGraph<>& g) {
+    const auto A = g.GetAcceleration(core::TwistSpec::Of("o").RelativeTo("C").ExpressedIn("c"));
+    ASSERT_TRUE(A);
+    EXPECT_LT((A->linear - q_co * kA_o).norm(), 1e-15);
+    EXPECT_LT((A->angular - q_co * kAlpha_o).norm(), 1e-15);
+    // On O by C about c's origin in [c]: f_c = R_co f, m_c = R_co m + p_co x f_c; its reaction
+    // (on C by O) is the negation.
+    const Eigen::Vector3d f_c = q_co * kF_o, m_c = q_co * kM_o + p_co.cross(f_c);
+    const auto W = g.GetWrench(core::WrenchSpec::On("O").By("C").At("c"));
+    ASSERT_TRUE(W);
+    EXPECT_LT((W->force - f_c).norm(), 1e-15);
+    EXPECT_LT((W->moment - m_c).norm(), 1e-15);
+    const auto R = g.GetWrench(core::WrenchSpec::On("C").By("O").At("c"));
+    ASSERT_TRUE(R);
+    EXPECT_LT((R->force + f_c).norm(), 1e-15);
+    EXPECT_LT((R->moment + m_c).norm(), 1e-15);
+  });
+  EXPECT_EQ(mirror.messages_rejected(), 0u);
+}
+
 TEST(DistributedTest, LateMirrorCatchesUp) {
   Child pub({kNode, "robot", "14", "arm", "200"});
   ASSERT_TRUE(pub.WaitForLine("READY", 5s)) << pub.Output();

@@ -1,6 +1,6 @@
 // In-process tests of the mirror (semgraph/dds/mirror.h): hostile messages change nothing and
-// are logged; a reader thread evaluates compiled queries while values stream in (run under
-// ThreadSanitizer in CI). Own DDS domain per test; loopback config from CYCLONEDDS_URI.
+// are logged; a reader thread evaluates compiled queries (a pose, a wrench) while values stream in
+// (run under ThreadSanitizer in CI). Own DDS domain per test; loopback config from CYCLONEDDS_URI.
 #include "semgraph/dds/mirror.h"
 
 #include <dds/dds.h>
@@ -151,17 +151,25 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
                         Eigen::Quaterniond::Identity(), {0, 0, 1}));
   ASSERT_TRUE(g.AddPose(core::PoseSpec::Of("a", "A").RelativeTo("m", "M"),
                         Eigen::Quaterniond::Identity(), {0, 0, 0}));
+  // A wrench on A by M streams as well: a compiled wrench query reads it on the reader thread.
+  ASSERT_TRUE(g.AddWrench(core::WrenchSpec::On("A").By("M").At("a"), {0, 0, 0}, {0, 0, 0}));
   auto pub = dds::Publisher::Create(g, {"arm", kDomain});
   ASSERT_TRUE(pub && (*pub)->PublishStructure());
   auto edge = g.FindPoseEdge("a", "m");
   ASSERT_TRUE(edge);
+  auto wrench = g.FindWrench("A", "M");
+  ASSERT_TRUE(wrench);
   ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
   std::optional<core::CompiledPose<coord::QuaternionBackend>> query;
+  std::optional<core::CompiledWrench<coord::QuaternionBackend>> wrench_query;
   (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
     auto c = m.CompilePose(core::PoseSpec::Of("a").RelativeTo("w"));
     if (c) query.emplace(std::move(*c));
+    auto cw = m.CompileWrench(core::WrenchSpec::On("A").By("M").At("a"));
+    if (cw) wrench_query.emplace(std::move(*cw));
   });
   ASSERT_TRUE(query);
+  ASSERT_TRUE(wrench_query);
   std::atomic<bool> stop{false};
   std::atomic<long> evaluations{0}, inconsistent{0};
   std::thread reader([&] {
@@ -176,6 +184,12 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
           std::abs(X.translation.z() - 1.0) > 1e-12) {
         inconsistent.fetch_add(1);
       }
+      // The wrench (t, 2t, 0), (0, 0, 3t) is read whole or not at all (its sequence lock).
+      Eigen::Vector3d f, mo;
+      if (wrench_query->Evaluate(f, mo) != base::ErrorCode::kOk ||
+          std::abs(f.y() - 2.0 * f.x()) > 1e-12 || std::abs(mo.z() - 3.0 * f.x()) > 1e-12) {
+        inconsistent.fetch_add(1);
+      }
       evaluations.fetch_add(1);
     }
   });
@@ -183,12 +197,18 @@ TEST(MirrorTest, ReaderThreadEvaluatesWhileValuesStream) {
   for (int k = 1; k <= kUpdates; ++k) {
     const double t = 1e-4 * k;
     ASSERT_EQ((*pub)->SetPose(*edge, Rz(t), {2.0 * t, 0, 0}), base::ErrorCode::kOk);
+    if (k % 4 == 0) {
+      ASSERT_EQ((*pub)->SetWrench(*wrench, {t, 2.0 * t, 0}, {0, 0, 3.0 * t}), base::ErrorCode::kOk);
+    }
   }
   const bool seen = (*mirror)->WaitUntil(
       [&] {
         coord::QuaternionBackend::PoseCoords X;
+        Eigen::Vector3d f, mo;
         return query->Evaluate(X) == base::ErrorCode::kOk &&
-               std::abs(X.translation.x() - 2e-4 * kUpdates) < 1e-12;
+               std::abs(X.translation.x() - 2e-4 * kUpdates) < 1e-12 &&
+               wrench_query->Evaluate(f, mo) == base::ErrorCode::kOk &&
+               std::abs(f.x() - 1e-4 * kUpdates) < 1e-15;
       },
       5s);
   stop.store(true);

@@ -267,4 +267,12 @@ inline core::Covariance6 TestCovariance(double scale) {
 inline const Eigen::Vector3d kP_L2Cam{0.05, 0.0, 0.02};
 inline double CovarianceObjectRoll() { return 0.3; }
 
+// The dynamics scene (the robot scene, owner "arm"): the object's twist edge C -> {o}|O carries
+// the acceleration (kA_o, kAlpha_o) in its edge form, and the wrench on O by C is stored at o
+// as (kF_o, kM_o): values set by the publisher process after the structure.
+inline const Eigen::Vector3d kA_o{0.3, -0.2, 0.1};
+inline const Eigen::Vector3d kAlpha_o{0.0, 0.05, 0.4};
+inline const Eigen::Vector3d kF_o{2.0, 0.0, -1.0};
+inline const Eigen::Vector3d kM_o{0.0, 0.5, 0.0};
+
 }  // namespace semgraph::dds_test

@@ -217,7 +217,7 @@ int Monitor(const Args& a) {
     std::printf("%-16s %-6s %-28s %10s %12s %10s\n", "publisher", "kind", "edge", "rate_hz",
                 "delay_us", "age_ms");
     for (const dds::EdgeState& e : (*mirror)->Edges()) {
-      const char* kind = e.joint ? "joint" : e.twist ? "twist" : "pose";
+      const char* kind = e.wrench ? "wrench" : e.joint ? "joint" : e.twist ? "twist" : "pose";
       const std::string key = std::string(kind) + ":" + e.head;
       const double rate = (e.received - previous[key]) / dt;
       previous[key] = e.received;

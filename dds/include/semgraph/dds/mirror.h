@@ -28,6 +28,14 @@
 //     a parent from an earlier owner is refused multiple_pose_parents, any other AddJoint error
 //     with its code); their states through SetJoints / SetJointState, stamped or not, so mimics
 //     follow and the joint rules (limits, stamp rules) apply as in the publisher.
+//   - accelerations: a twist edge's value (or structure element) carries its acceleration or
+//     says it has none; the mirror sets the twist then the acceleration (checked first, so a
+//     refused one changes nothing), and a twist without one clears the replica's. A joint state
+//     with qddot goes through SetJointState with accelerations (atomic).
+//   - wrenches: each owner's (on, by) pairs are replayed after its joints (AddWrench at the
+//     storage frame; a pair, or its reaction, another owner took is refused duplicate_wrench);
+//     the replica adds and removes them as edges, and their values go through SetWrench on the
+//     wrench's handle.
 //   - batches (Publisher::BeginBatch / Flush): a batch's values are applied in order under the
 //     same rules as single values, then on_change is called once.
 //   - faults: a publisher whose lease ends (killed, cut off) is reported `liveliness_lost`; its
@@ -100,7 +108,8 @@ struct EdgeState {
   std::int64_t last_receive_ns = 0;
   bool stamped = false;             ///< a stamped edge (its values are samples in a history)
   std::int64_t newest_time_ns = 0;  ///< stamped: the newest sample's stamp (the graph's time)
-  bool joint = false;  ///< a joint's state: head = the joint's name, tail = its parent frame
+  bool joint = false;   ///< a joint's state: head = the joint's name, tail = its parent frame
+  bool wrench = false;  ///< a wrench: head = the body it acts on, tail = the body exerting it
 };
 
 class SEMGRAPH_DDS_EXPORT Mirror {

@@ -18,17 +18,27 @@
 //   - joints (core/joints.h): each live joint with its AddJoint data (type, parent and child
 //     frames, origin, axis, limits, mimic) and state, in place of its two edges; joint states
 //     set through this Publisher (SetJoints, SetJointPositions, SetJointState, stamped or not)
-//     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors.
+//     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors;
+//   - accelerations (docs/dynamics.md): a timeless twist edge's value carries the acceleration
+//     the graph stores on it (edge form) or says it has none, so a twist set without one clears
+//     the mirrors' as it clears the graph's; a timeless joint's state carries its qddot once it
+//     was given. The structure carries both as well;
+//   - wrenches (core/wrenches.h): each stored (on, by) pair with its storage frame is a
+//     structure element (AddWrench / RemoveWrench on the graph, then PublishStructure), and
+//     SetWrench through this Publisher sends the new (f_S, m_So_S) on the value topic.
+// Not carried by this version: stamped accelerations and stamped wrenches (extension point: a
+// stamped sample's acceleration fields on the wire, docs/distributed.md).
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
 // Only the quaternion backend (SceneGraph<>) is shared; edges go on the wire in edge form
 // (pose: X_TH of {tail} -> {head} in [tail]; twist: the screw twist at {head} in [head]).
 // Costs: PublishStructure O(frames + edges) and one DDS sample (allocates); SetPose/SetTwist
-// O(1) for the graph plus one DDS write of a 270-byte sample (168 bytes of it the covariance;
-// the DDS write takes Cyclone's locks and allocates its serialized sample: it is not on the
-// real-time path); in a batch
-// (BeginBatch / Flush) a copy into the preallocated batch, and one DDS write per Flush.
+// O(1) for the graph plus one DDS write of a value sample (about 270 bytes, 168 of them the
+// covariance, plus 49 for the acceleration's flag and numbers; the DDS write takes Cyclone's
+// locks and allocates its serialized sample: it is not on the real-time path); SetWrench and
+// SetAcceleration likewise; in a batch (BeginBatch / Flush) a copy into the preallocated batch,
+// and one DDS write per Flush.
 // Thread safety: one thread uses a Publisher and its graph (the graph's own rules apply to
 // readers of compiled queries on other threads).
 #pragma once
@@ -106,6 +116,24 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                                          const Eigen::Vector3d& w_DH_H, core::Stamp stamp,
                                          const core::CovarianceInput& covariance) noexcept;
 
+  /// Accelerations (docs/dynamics.md). SetTwist with an acceleration in the edge form (a_DHo_H,
+  /// alpha_DH_H: at {head}, in [head]): SceneGraph's SetTwist then SetAcceleration, published as
+  /// one value. The acceleration is checked first: kInvalidNumber leaves the twist unchanged;
+  /// SetAcceleration's other codes (kJointEdge, kStampMismatch) leave the twist set and
+  /// published without an acceleration. SetAcceleration alone: SceneGraph's (same codes), then
+  /// the edge's twist value goes out again with it. Timeless twist edges only.
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H,
+                                         const core::AccelerationInput& acceleration) noexcept;
+  [[nodiscard]] base::ErrorCode SetAcceleration(core::TwistHandle edge,
+                                                const Eigen::Vector3d& a_DHo_H,
+                                                const Eigen::Vector3d& alpha_DH_H) noexcept;
+  /// A wrench's new value (SceneGraph::SetWrench, same codes): (f_S, m_So_S) in the handle's
+  /// storage frame, published on the value topic when the graph took it. The pair itself is
+  /// structure: add and remove it on the graph, then PublishStructure().
+  [[nodiscard]] base::ErrorCode SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
+                                          const Eigen::Vector3d& m_So_S) noexcept;
+
   /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
   /// joint given is published with its state (mimics follow on the mirrors). A stamped
   /// SetJoints that makes a joint stamped (its first stamped state) republishes the structure.
@@ -113,6 +141,17 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                               std::span<const core::JointValue> velocities);
   core::BuildResult SetJoints(std::span<const core::JointValue> positions,
                               std::span<const core::JointValue> velocities, core::Stamp stamp);
+  /// With accelerations qddot (timeless joints only, as the graph's): each joint named goes out
+  /// with the state the graph holds after the call (q, qdot, qddot).
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions,
+                              std::span<const core::JointValue> velocities,
+                              std::span<const core::JointValue> accelerations);
+  [[nodiscard]] base::ErrorCode SetJointAccelerations(const core::JointGroup& group,
+                                                      std::span<const double> qddot) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
+                                              std::span<const double> q,
+                                              std::span<const double> qdot,
+                                              std::span<const double> qddot) noexcept;
   [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group,
                                                   std::span<const double> q) noexcept;
   [[nodiscard]] base::ErrorCode SetJointPositions(const core::JointGroup& group,

@@ -1,0 +1,443 @@
+// Accelerations and wrenches through DDS (docs/distributed.md, docs/dynamics.md): a publisher's
+// twist edges with accelerations, a joint's qddot and the stored wrenches reach a mirror over
+// the loopback domain; the mirror's GetAcceleration / GetWrench answers equal the publisher's
+// and values composed here by hand. A twist without an acceleration clears the mirror's, a
+// removed wrench disappears, and hostile messages (NaN, a wrench naming bodies or a frame its
+// structure does not declare) are rejected with a log line and change nothing.
+// The mirror's graph is read through queries (sequence locks) while values may stream in,
+// never through writer-thread inspectors (joint_acceleration, acceleration_value).
+#include <dds/dds.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dds_isolation.h"
+#include "scenes.h"
+#include "semgraph/core/scene_graph_debug.h"
+#include "semgraph/dds/mirror.h"
+#include "semgraph/dds/publisher.h"
+#include "semgraph_wire.h"
+
+namespace semgraph::dds_test {
+namespace {
+
+using namespace std::chrono_literals;
+using core::AccelerationInput;
+using core::WrenchSpec;
+
+// The answer's six numbers (linear/force first), or empty with *code set to the error's.
+std::vector<double> Acc(const core::SceneGraph<>& g, const TwistSpec& spec,
+                        base::ErrorCode* code = nullptr) {
+  auto A = g.GetAcceleration(spec);
+  if (code != nullptr) *code = A ? base::ErrorCode::kOk : A.error().code;
+  if (!A) return {};
+  return {A->linear.x(),  A->linear.y(),  A->linear.z(),
+          A->angular.x(), A->angular.y(), A->angular.z()};
+}
+std::vector<double> Wrench(const core::SceneGraph<>& g, const WrenchSpec& spec,
+                           base::ErrorCode* code = nullptr) {
+  auto W = g.GetWrench(spec);
+  if (code != nullptr) *code = W ? base::ErrorCode::kOk : W.error().code;
+  if (!W) return {};
+  return {W->force.x(), W->force.y(), W->force.z(), W->moment.x(), W->moment.y(), W->moment.z()};
+}
+std::vector<double> Six(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return {a.x(), a.y(), a.z(), b.x(), b.y(), b.z()};
+}
+void ExpectNear(const std::vector<double>& got, const std::vector<double>& want, double tol,
+                const std::string& what) {
+  ASSERT_EQ(got.size(), 6u) << what;
+  ASSERT_EQ(want.size(), 6u) << what;
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(got[i], want[i], tol) << what << " [" << i << "]";
+}
+
+// The publisher's scene: W -> {a}|A -> {b}|B (poses and twist edges, both with accelerations),
+// W -> {c}|C a twist without one, the revolute joint j1 w -> l1 (axis z), the wrenches on A by B
+// (stored at a) and on B by W (at b).
+const Eigen::Quaterniond kQ_wa = Rz(0.3);
+const Eigen::Vector3d kP_wa{1, 0, 0};
+struct Scene {
+  core::SceneGraph<> g;
+  core::TwistHandle twist_a, twist_b;
+  core::WrenchHandle on_a_by_b;
+  core::JointGroup joints;
+};
+void BuildScene(Scene& s) {
+  core::SceneGraph<>& g = s.g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"), kQ_wa, kP_wa));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("b", "B").RelativeTo("a", "A"), Rx(0.2), {0.5, 0, 0}));
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "C").RelativeTo("w", "W"), Rz(-0.1), {0, 1, 0}));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a"), {0.5, 0, 0},
+                         {0, 0, 0.2}, AccelerationInput{{1, 2, 3}, {0.1, 0.2, 0.3}}));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("b", "B").RelativeTo("A").ExpressedIn("b"), {0, 0.1, 0},
+                         {0.3, 0, 0}, AccelerationInput{{-1, 0, 0.5}, {0, 0.4, 0}}));
+  ASSERT_TRUE(
+      g.AddTwist(TwistSpec::Of("c", "C").RelativeTo("W").ExpressedIn("c"), {0, 0, 1}, {0, 0, 0}));
+  core::JointSpec j1;
+  j1.name = "j1";
+  j1.type = core::JointType::kRevolute;
+  j1.parent = "w";
+  j1.parent_body = "W";
+  j1.child = "l1";
+  j1.child_body = "L1";
+  j1.p_origin = {0, 0, 1};
+  j1.axis = {0, 0, 1};
+  j1.lower = -2;
+  j1.upper = 2;
+  ASSERT_TRUE(g.AddJoint(j1));
+  ASSERT_TRUE(g.AddWrench(WrenchSpec::On("A").By("B").At("a"), {1, 0, 0}, {0, 0, 2}));
+  ASSERT_TRUE(g.AddWrench(WrenchSpec::On("B").By("W").At("b"), {0, 0, -9.81}, {0, 0, 0}));
+  auto ta = g.FindTwistEdge("a", "W");
+  auto tb = g.FindTwistEdge("b", "A");
+  auto w = g.FindWrench("A", "B");
+  const std::string_view names[] = {"j1"};
+  auto group = g.MakeJointGroup(names);
+  ASSERT_TRUE(ta && tb && w && group);
+  s.twist_a = *ta;
+  s.twist_b = *tb;
+  s.on_a_by_b = *w;
+  s.joints = std::move(*group);
+}
+
+const TwistSpec kA_a = TwistSpec::Of("a").RelativeTo("W").ExpressedIn("a");
+const TwistSpec kA_w = TwistSpec::Of("a").RelativeTo("W").ExpressedIn("w");
+const TwistSpec kB_w = TwistSpec::Of("b").RelativeTo("W").ExpressedIn("w");
+const TwistSpec kC_c = TwistSpec::Of("c").RelativeTo("W").ExpressedIn("c");
+const TwistSpec kL1 = TwistSpec::Of("l1").RelativeTo("W").ExpressedIn("l1");
+const WrenchSpec kAB_a = WrenchSpec::On("A").By("B").At("a");
+const WrenchSpec kAB_w = WrenchSpec::On("A").By("B").At("w");
+const WrenchSpec kBA_b = WrenchSpec::On("B").By("A").At("b");
+const WrenchSpec kBW_w = WrenchSpec::On("B").By("W").At("w");
+
+// The mirror's and the publisher's answers to every dynamics query of the scene are equal.
+void ExpectSameDynamics(const dds::Mirror& mirror, const core::SceneGraph<>& g) {
+  mirror.WithGraph([&](const core::SceneGraph<>& m) {
+    for (const TwistSpec& spec : {kA_a, kA_w, kB_w, kC_c, kL1}) {
+      base::ErrorCode cm = base::ErrorCode::kOk, cg = base::ErrorCode::kOk;
+      const std::vector<double> am = Acc(m, spec, &cm), ag = Acc(g, spec, &cg);
+      EXPECT_EQ(cm, cg) << spec.point;
+      if (cm == base::ErrorCode::kOk && cg == base::ErrorCode::kOk)
+        ExpectNear(am, ag, 1e-12, std::string("acceleration of ") + std::string(spec.point));
+    }
+    for (const WrenchSpec& spec : {kAB_a, kAB_w, kBA_b, kBW_w}) {
+      base::ErrorCode cm = base::ErrorCode::kOk, cg = base::ErrorCode::kOk;
+      const std::vector<double> wm = Wrench(m, spec, &cm), wg = Wrench(g, spec, &cg);
+      EXPECT_EQ(cm, cg) << spec.on << " by " << spec.by;
+      if (cm == base::ErrorCode::kOk && cg == base::ErrorCode::kOk)
+        ExpectNear(wm, wg, 1e-12, std::string("wrench on ") + std::string(spec.on));
+    }
+  });
+}
+
+// Waits until the mirror applied `n` more values than `before`.
+bool WaitValues(const dds::Mirror& mirror, std::uint64_t before, std::uint64_t n) {
+  return mirror.WaitUntil([&] { return mirror.values_applied() >= before + n; }, 5s);
+}
+
+TEST(MirrorDynamicsTest, AccelerationsAndWrenchesReachMirrors) {
+  constexpr std::uint32_t kDomain = 31;
+  auto mirror = dds::Mirror::Create({"m", kDomain, {}, {}, {}, {}});
+  ASSERT_TRUE(mirror) << mirror.error();
+  Scene s;
+  BuildScene(s);
+  if (HasFatalFailure()) return;
+  core::SceneGraph<>& g = s.g;
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub) << pub.error();
+  ASSERT_TRUE((*pub)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  // The structure: edges with their accelerations (one without), the wrenches at their frames.
+  ExpectSameDynamics(**mirror, g);
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    EXPECT_EQ(m.num_wrenches(), 2u);
+    // By hand: the edge form as given, then rotated into [w] (a's origin: no transport terms).
+    ExpectNear(Acc(m, kA_a), {1, 2, 3, 0.1, 0.2, 0.3}, 1e-15, "edge form");
+    ExpectNear(Acc(m, kA_w),
+               Six(kQ_wa * Eigen::Vector3d(1, 2, 3), kQ_wa * Eigen::Vector3d(0.1, 0.2, 0.3)), 1e-14,
+               "in [w]");
+    base::ErrorCode code = base::ErrorCode::kOk;
+    EXPECT_TRUE(Acc(m, kC_c, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoAcceleration);
+    // A joint never given qddot: no acceleration on its edge.
+    EXPECT_TRUE(Acc(m, kL1, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoAcceleration);
+    // The wrench on A by B moved to w in [w] by hand: f_w = R_wa f, m_w = R_wa m + p_WoAo x f_w.
+    const Eigen::Vector3d f_w = kQ_wa * Eigen::Vector3d(1, 0, 0);
+    ExpectNear(Wrench(m, kAB_w), Six(f_w, kQ_wa * Eigen::Vector3d(0, 0, 2) + kP_wa.cross(f_w)),
+               1e-14, "wrench in [w]");
+  });
+
+  // Values: a twist with an acceleration, a joint state with qddot, a wrench.
+  std::uint64_t before = (*mirror)->values_applied();
+  ASSERT_EQ((*pub)->SetTwist(s.twist_a, {0.1, 0, 0}, {0, 0, 0.5},
+                             AccelerationInput{{0, -1, 0}, {0, 0, 2}}),
+            base::ErrorCode::kOk);
+  const double q[] = {0.4}, qdot[] = {-0.1}, qddot[] = {0.7};
+  ASSERT_EQ((*pub)->SetJointState(s.joints, q, qdot, qddot), base::ErrorCode::kOk);
+  ASSERT_EQ((*pub)->SetWrench(s.on_a_by_b, {0, 3, 0}, {1, 0, 0}), base::ErrorCode::kOk);
+  ASSERT_TRUE(WaitValues(**mirror, before, 3));
+  ExpectSameDynamics(**mirror, g);
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    ExpectNear(Acc(m, kA_a), {0, -1, 0, 0, 0, 2}, 0, "new edge form");
+    // j1's edge: revolute about z through the child's origin: (0, u qddot).
+    ExpectNear(Acc(m, kL1), {0, 0, 0, 0, 0, 0.7}, 1e-15, "joint qddot");
+    ExpectNear(Wrench(m, kAB_a), {0, 3, 0, 1, 0, 0}, 0, "stored wrench");
+  });
+
+  // A twist without an acceleration clears it, on the mirror as on the publisher; a position-
+  // only joint state keeps qddot (as the graph does).
+  before = (*mirror)->values_applied();
+  ASSERT_EQ((*pub)->SetTwist(s.twist_a, {0.2, 0, 0}, {0, 0, 0.1}), base::ErrorCode::kOk);
+  const double q2[] = {0.5};
+  ASSERT_EQ((*pub)->SetJointPositions(s.joints, q2), base::ErrorCode::kOk);
+  ASSERT_TRUE(WaitValues(**mirror, before, 2));
+  ExpectSameDynamics(**mirror, g);
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    base::ErrorCode code = base::ErrorCode::kOk;
+    EXPECT_TRUE(Acc(m, kA_w, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoAcceleration);
+    EXPECT_TRUE(Acc(m, kA_a, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoAcceleration);
+    ExpectNear(Acc(m, kL1), {0, 0, 0, 0, 0, 0.7}, 1e-15, "qddot kept");
+  });
+  // SetAcceleration alone brings it back.
+  before = (*mirror)->values_applied();
+  ASSERT_EQ((*pub)->SetAcceleration(s.twist_a, {4, 0, 0}, {0, 0, -1}), base::ErrorCode::kOk);
+  ASSERT_TRUE(WaitValues(**mirror, before, 1));
+  ExpectSameDynamics(**mirror, g);
+
+  // A batch carries them as single values do.
+  before = (*mirror)->values_applied();
+  (*pub)->BeginBatch();
+  ASSERT_EQ((*pub)->SetTwist(s.twist_b, {0, 0.2, 0}, {0.1, 0, 0},
+                             AccelerationInput{{0, 0, 1}, {0.5, 0, 0}}),
+            base::ErrorCode::kOk);
+  ASSERT_EQ((*pub)->SetWrench(s.on_a_by_b, {-2, 0, 0}, {0, 0.5, 0}), base::ErrorCode::kOk);
+  ASSERT_EQ((*pub)->SetTwist(s.twist_a, {0.3, 0, 0}, {0, 0, 0}), base::ErrorCode::kOk);
+  (*pub)->Flush();
+  ASSERT_TRUE(WaitValues(**mirror, before, 3));
+  ExpectSameDynamics(**mirror, g);
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    ExpectNear(Wrench(m, kAB_a), {-2, 0, 0, 0, 0.5, 0}, 0, "batched wrench");
+    base::ErrorCode code = base::ErrorCode::kOk;
+    EXPECT_TRUE(Acc(m, kA_a, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoAcceleration);
+  });
+
+  // A late mirror gets all of it from the structure (accelerations, qddot, wrench values).
+  ASSERT_TRUE((*pub)->PublishStructure());
+  auto late = dds::Mirror::Create({"late", kDomain, {}, {}, {}, {}});
+  ASSERT_TRUE(late) << late.error();
+  ASSERT_TRUE((*late)->WaitUntil([&] { return (*late)->CaughtUp(); }, 5s));
+  ExpectSameDynamics(**late, g);
+
+  // A wrench removed on the publisher disappears from the mirrors (its reaction query too).
+  ASSERT_TRUE(g.RemoveWrench("A", "B"));
+  const std::uint64_t generation = (*mirror)->structure_generation();
+  ASSERT_TRUE((*pub)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil(
+      [&] { return (*mirror)->structure_generation() > generation && (*mirror)->CaughtUp(); }, 5s));
+  ExpectSameDynamics(**mirror, g);
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) {
+    EXPECT_EQ(m.num_wrenches(), 1u);
+    base::ErrorCode code = base::ErrorCode::kOk;
+    EXPECT_TRUE(Wrench(m, kAB_a, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoWrench);
+    EXPECT_TRUE(Wrench(m, kBA_b, &code).empty());
+    EXPECT_EQ(code, base::ErrorCode::kNoWrench);
+    ExpectNear(Wrench(m, WrenchSpec::On("B").By("W").At("b")), {0, 0, -9.81, 0, 0, 0}, 0,
+               "the other wrench stays");
+  });
+  // Added again (a new slot value on the publisher): it comes back with its value.
+  ASSERT_TRUE(g.AddWrench(WrenchSpec::On("A").By("B").At("a"), {0, 0, 5}, {0, 0, 0}));
+  ASSERT_TRUE((*pub)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil(
+      [&] {
+        bool back = false;
+        (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { back = m.num_wrenches() == 2; });
+        return back && (*mirror)->CaughtUp();
+      },
+      5s));
+  ExpectSameDynamics(**mirror, g);
+  EXPECT_EQ((*mirror)->messages_rejected(), 0u);
+  EXPECT_EQ((*pub)->write_failures(), 0u);
+}
+
+// A raw DDS writer on one of semgraph's topics (keep-last 1, as the publishers' value writers).
+struct RawWriter {
+  dds_entity_t participant = 0, writer = 0;
+  RawWriter(std::uint32_t domain, const dds_topic_descriptor_t* desc, const char* name) {
+    participant = dds_create_participant(domain, nullptr, nullptr);
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+    dds_qset_destination_order(qos, DDS_DESTINATIONORDER_BY_RECEPTION_TIMESTAMP);
+    const dds_entity_t topic = dds_create_topic(participant, desc, name, qos, nullptr);
+    writer = dds_create_writer(participant, topic, qos, nullptr);
+    dds_delete_qos(qos);
+  }
+  ~RawWriter() { dds_delete(participant); }
+};
+
+// Hostile values (a NaN acceleration with a twist, a NaN wrench, an acceleration with a pose
+// value or a stamped sample, a stamped wrench, a NaN qddot) and hostile structures (a wrench
+// naming a body or a storage frame not of its `on` body, a NaN wrench, a NaN acceleration on a
+// twist element) are rejected with a log line and change nothing; another owner's reaction of
+// a mirrored wrench is refused duplicate_wrench.
+TEST(MirrorDynamicsTest, HostileAccelerationsAndWrenchesAreRejected) {
+  constexpr std::uint32_t kDomain = 32;
+  std::mutex log_mutex;
+  std::string logs;
+  dds::MirrorOptions options;
+  options.name = "m";
+  options.domain = kDomain;
+  options.log = [&](const std::string& line) {
+    std::lock_guard<std::mutex> lock(log_mutex);
+    logs += line + "\n";
+  };
+  auto mirror = dds::Mirror::Create(options);
+  ASSERT_TRUE(mirror) << mirror.error();
+  Scene s;
+  BuildScene(s);
+  if (HasFatalFailure()) return;
+  core::SceneGraph<>& g = s.g;
+  auto pub = dds::Publisher::Create(g, {"arm", kDomain});
+  ASSERT_TRUE(pub && (*pub)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->CaughtUp(); }, 5s));
+  const double q[] = {0.4}, qdot[] = {-0.1}, qddot[] = {0.7};
+  ASSERT_EQ((*pub)->SetJointState(s.joints, q, qdot, qddot), base::ErrorCode::kOk);
+  ASSERT_TRUE(WaitValues(**mirror, 0, 1));
+  std::string before;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { before = core::Dump(m); });
+  ExpectSameDynamics(**mirror, g);
+
+  RawWriter values(kDomain, &semgraph_wire_Value_desc, "semgraph_values");
+  RawWriter samples(kDomain, &semgraph_wire_Value_desc, "semgraph_samples");
+  const double nan = std::nan("");
+  auto value = [&](std::uint8_t kind, std::uint32_t edge, std::uint64_t seq) {
+    semgraph_wire_Value v{};
+    v.source = (*pub)->source();
+    v.edge = edge;
+    v.kind = kind;
+    v.seq = seq;
+    v.time_ns = 1000;
+    return v;
+  };
+  const std::uint32_t a = g.FindFrame("a").value(), c = g.FindFrame("c").value();
+  const std::uint32_t wrench = s.on_a_by_b.slot, j1 = g.FindJoint("j1")->index.value();
+  // A new twist whose acceleration is NaN: neither is set.
+  semgraph_wire_Value v1 = value(semgraph_wire_VALUE_TWIST, a, 100);
+  v1.numbers[0] = 9;
+  v1.has_acceleration = true;
+  v1.acceleration[4] = nan;
+  semgraph_wire_Value v2 = value(semgraph_wire_VALUE_WRENCH, wrench, 100);  // NaN force
+  v2.numbers[0] = 1;
+  v2.numbers[2] = nan;
+  semgraph_wire_Value v3 = value(semgraph_wire_VALUE_POSE, c, 100);  // a pose with one
+  v3.numbers[0] = 1;
+  v3.has_acceleration = true;
+  semgraph_wire_Value v4 = value(semgraph_wire_VALUE_JOINT, j1, 100);  // NaN qddot
+  v4.numbers[0] = 0.1;
+  v4.has_acceleration = true;
+  v4.acceleration[0] = nan;
+  semgraph_wire_Value s1 = value(semgraph_wire_VALUE_TWIST, c, 101);  // stamped, with one
+  s1.has_acceleration = true;
+  semgraph_wire_Value s2 = value(semgraph_wire_VALUE_WRENCH, wrench, 101);  // stamped wrench
+  for (const semgraph_wire_Value* v : {&v1, &v2, &v3, &v4})
+    ASSERT_EQ(dds_write(values.writer, v), DDS_RETCODE_OK);
+  for (const semgraph_wire_Value* v : {&s1, &s2})
+    ASSERT_EQ(dds_write(samples.writer, v), DDS_RETCODE_OK);
+
+  // Hostile structures of owner "evil".
+  RawWriter structures(kDomain, &semgraph_wire_Structure_desc, "semgraph_structure");
+  char owner[] = "evil", X[] = "X", Y[] = "Y", Z[] = "Z", x[] = "x", w[] = "w", W[] = "W",
+       empty[] = "";
+  auto element = [&](std::uint8_t kind, char* head, char* head_body, char* tail, char* tail_body,
+                     std::uint32_t id) {
+    semgraph_wire_Element e{};
+    e.kind = kind;
+    e.edge = id;
+    e.head = head;
+    e.head_body = head_body;
+    e.tail = tail;
+    e.tail_body = tail_body;
+    return e;
+  };
+  std::uint64_t revision = 0;
+  auto structure = [&](std::vector<semgraph_wire_Element> elements) {
+    semgraph_wire_Structure st{};
+    st.owner = owner;
+    st.source = 79;
+    st.revision = ++revision;
+    st.elements._length = st.elements._maximum = static_cast<std::uint32_t>(elements.size());
+    st.elements._buffer = elements.data();
+    ASSERT_EQ(dds_write(structures.writer, &st), DDS_RETCODE_OK);
+    std::this_thread::sleep_for(20ms);  // keep-last 1: let each one arrive
+  };
+  const semgraph_wire_Element body_x =
+      element(semgraph_wire_ELEMENT_BODY, X, empty, empty, empty, 0);
+  const semgraph_wire_Element body_y =
+      element(semgraph_wire_ELEMENT_BODY, Y, empty, empty, empty, 0);
+  const semgraph_wire_Element frame_x = element(semgraph_wire_ELEMENT_FRAME, x, X, empty, empty, 0);
+  // On X by Z: Z is not declared.
+  structure({body_x, frame_x, element(semgraph_wire_ELEMENT_WRENCH, x, X, empty, Z, 1)});
+  // On Y by X at x: x is a frame of X.
+  structure({body_x, body_y, frame_x, element(semgraph_wire_ELEMENT_WRENCH, x, Y, empty, X, 1)});
+  semgraph_wire_Element nan_wrench = element(semgraph_wire_ELEMENT_WRENCH, x, X, empty, Y, 1);
+  nan_wrench.numbers[3] = nan;
+  structure({body_x, body_y, frame_x, nan_wrench});
+  semgraph_wire_Element twist = element(semgraph_wire_ELEMENT_TWIST, x, X, W, empty, 2);
+  twist.has_acceleration = true;
+  twist.acceleration[0] = nan;
+  structure({body_x, frame_x, twist});
+  (void)w;
+
+  ASSERT_TRUE((*mirror)->WaitUntil([&] { return (*mirror)->messages_rejected() >= 10; }, 5s))
+      << (*mirror)->messages_rejected();
+  std::string after;
+  (*mirror)->WithGraph([&](const core::SceneGraph<>& m) { after = core::Dump(m); });
+  EXPECT_EQ(before, after);
+  EXPECT_EQ((*mirror)->Owners().size(), 1u);
+  ExpectSameDynamics(**mirror, g);
+  {
+    std::lock_guard<std::mutex> lock(log_mutex);
+    for (const char* line :
+         {"value into 'a': invalid_number", "value into 'A': invalid_number",
+          "value into 'c': an acceleration with a value that is neither a twist nor a joint state",
+          "value into 'j1': invalid_number",
+          "an acceleration with a stamped sample (not carried in this version)",
+          "a stamped wrench (not carried in this version)",
+          "wrench on 'X' by 'Z': a body the structure does not declare (unknown_body)",
+          "wrench on 'Y' by 'X': storage frame 'x' is a frame of 'X', not of 'Y'",
+          "element 3 (wrench 'x'): a number is not finite (invalid_number)",
+          "element 2 (twist 'x'): an acceleration number is not finite (invalid_number)"}) {
+      EXPECT_NE(logs.find(line), std::string::npos) << line << "\n" << logs;
+    }
+  }
+
+  // Another owner's wrench on B by A (the reaction of arm's): refused, nothing changes.
+  core::SceneGraph<> g2;
+  ASSERT_TRUE(g2.AddBody("A"));
+  ASSERT_TRUE(g2.AddBody("B"));
+  ASSERT_TRUE(g2.AddFrame("a", "A"));
+  ASSERT_TRUE(g2.AddFrame("b", "B"));
+  ASSERT_TRUE(g2.AddWrench(WrenchSpec::On("B").By("A").At("b"), {7, 7, 7}, {0, 0, 0}));
+  auto other = dds::Publisher::Create(g2, {"other", kDomain});
+  ASSERT_TRUE(other && (*other)->PublishStructure());
+  ASSERT_TRUE((*mirror)->WaitUntil(
+      [&] {
+        for (const dds::Report& r : (*mirror)->Refusals())
+          if (r.owner == "other" && r.code == "duplicate_wrench") return true;
+        return false;
+      },
+      5s));
+  ExpectSameDynamics(**mirror, g);
+}
+
+}  // namespace
+}  // namespace semgraph::dds_test
