@@ -61,8 +61,9 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
                       ? X_PG
                       : B::ComposeChain(X_PG, scratch_[static_cast<std::size_t>(parent_[i])]);
   }
-  const auto in_z = [&](std::int32_t entry) {
-    return entry < 0 ? B::Identity() : scratch_[static_cast<std::size_t>(entry)];
+  static const typename B::PoseCoords kZ = B::Identity();
+  const auto in_z = [&](std::int32_t entry) -> const typename B::PoseCoords& {
+    return entry < 0 ? kZ : scratch_[static_cast<std::size_t>(entry)];
   };
   // Every step at Z's origin in [Z], composed; every record read even after a missing one.
   internal::AccelerationComposer composer;
@@ -72,17 +73,17 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
     if (!src.LoadAcceleration(s.step, rec)) return ErrorCode::kQueryInvalidated;
     missing = missing || rec.present == 0.0;
     if (missing) continue;
-    const typename B::PoseCoords X_ZH = in_z(s.head);
-    internal::Motion m =
-        internal::RotateMotion<B>(B::RotationOf(X_ZH), internal::EdgeMotion(rec, s.step.invert));
+    const typename B::PoseCoords& X_ZH = in_z(s.head);
+    internal::Motion m = internal::EdgeMotion(rec, s.step.invert);
+    internal::RotateMotion<B>(B::RotationOf(X_ZH), m);
     internal::ShiftMotion(m, B::TranslationOf(X_ZH));  // h to Z's origin: p = h - Zo
     composer.Add(s.step.ref_side, m);
   }
   if (missing) return ErrorCode::kNoAcceleration;
   // To e, then into [r].
-  internal::Motion m = composer.Result();
-  internal::ShiftMotion(m, -B::TranslationOf(in_z(e_entry_)));  // Z's origin to e: p = Zo - e
-  out = internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z(r_entry_))), m);
+  out = composer.Result();
+  internal::ShiftMotion(out, -B::TranslationOf(in_z(e_entry_)));  // Z's origin to e: p = Zo - e
+  internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z(r_entry_))), out);
   return ErrorCode::kOk;
 }
 

@@ -602,10 +602,15 @@ inline void ShiftMotion(Motion& m, const Eigen::Vector3d& p) noexcept {
   m.a = coord::kernels::ShiftAcceleration(m.a, m.alpha, m.w, p);
   m.v = coord::kernels::ShiftLinear(m.v, m.w, p);
 }
-/// The motion re-expressed with rotation R (R_new_old).
+/// The motion re-expressed with rotation R (R_new_old), in place: one 3x3 matrix for the four
+/// vectors (a quaternion's four rotations cost twice as much).
 template <coord::Backend B>
-Motion RotateMotion(const typename B::Rotation& R, const Motion& m) noexcept {
-  return Motion{B::Rotate(R, m.v), B::Rotate(R, m.w), B::Rotate(R, m.a), B::Rotate(R, m.alpha)};
+[[gnu::always_inline]] inline void RotateMotion(const typename B::Rotation& R, Motion& m) noexcept {
+  const Eigen::Matrix3d M = B::ToMatrix(R);
+  m.v = M * m.v;
+  m.w = M * m.w;
+  m.a = M * m.a;
+  m.alpha = M * m.alpha;
 }
 
 template <coord::Backend B, class Source>
@@ -628,7 +633,7 @@ bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>
   if (s.change_frame) {
     typename B::PoseCoords X_RH;
     if (!EvalBasic<B>(src, s.hr, X_RH)) return false;
-    m = RotateMotion<B>(B::RotationOf(X_RH), m);
+    RotateMotion<B>(B::RotationOf(X_RH), m);
   }
   return true;
 }
@@ -636,6 +641,8 @@ bool AccelerationStep(const Source& src, const TwistStep<typename Source::Chain>
 /// The composition of a twist plan's steps (ForEachTwistStep's order: C's side from C up to the
 /// common ancestor X, then D's side from D up to X): C's side prepended (X rel ... rel C), D's
 /// side appended (D rel ... rel X), then D rel X followed by X rel C.
+/// In place (no Motion copied per edge): d_side = ComposeMotion(d_side, m), c_side =
+/// ComposeMotion(m, c_side), written out.
 struct AccelerationComposer {
   Motion c_side = Motion::Zero(), d_side = Motion::Zero();
   template <class Chain>
@@ -643,10 +650,18 @@ struct AccelerationComposer {
     Add(s.ref_side, m);
   }
   void Add(bool ref_side, const Motion& m) noexcept {
-    if (ref_side) {
-      d_side = ComposeMotion(d_side, m);
-    } else {
-      c_side = ComposeMotion(m, c_side);
+    if (ref_side) {  // X = d_side, Y = m
+      Motion& X = d_side;
+      X.a += m.a + 2.0 * X.w.cross(m.v);
+      X.alpha += m.alpha + X.w.cross(m.w);
+      X.v += m.v;
+      X.w += m.w;
+    } else {  // X = m, Y = c_side
+      Motion& Y = c_side;
+      Y.a += m.a + 2.0 * m.w.cross(Y.v);
+      Y.alpha += m.alpha + m.w.cross(Y.w);
+      Y.v += m.v;
+      Y.w += m.w;
     }
   }
   [[nodiscard]] Motion Result() const noexcept { return ComposeMotion(d_side, c_side); }
