@@ -35,9 +35,11 @@
 
 #include "semgraph/coord/values.h"
 #include "semgraph/core/compiled_query.h"
+#include "semgraph/core/edge_history.h"
 #include "semgraph/core/seqlock_value.h"
 #include "semgraph/core/specs.h"
 #include "semgraph/core/stable_array.h"
+#include "semgraph/core/timed_read.h"
 #include "semgraph/topology/scene_topology.h"
 
 namespace semgraph::core {
@@ -74,6 +76,8 @@ struct WrenchNumbers {
   Eigen::Vector3d m_So_S;
 };
 using WrenchValue = SeqLockValue<WrenchNumbers>;
+/// The samples of a stamped wrench: f_S, then m_So_S (6 words, as a twist edge's).
+using WrenchHistory = SampleHistory<6>;
 
 /// A stored wrench, for O(1) value updates from a control loop (SceneGraph::SetWrench). Made by
 /// FindWrench; refused by SetWrench when made by another graph, forged, or its wrench removed.
@@ -94,10 +98,12 @@ struct WrenchSlot {
   bool live = false;
 };
 
-/// The graph's wrenches: slots (reused after removal) and their seqlocked values.
+/// The graph's wrenches: slots (reused after removal), their seqlocked values (a stamped pair's:
+/// its newest sample) and the histories of the stamped pairs (null: timeless).
 struct WrenchStore {
   std::vector<WrenchSlot> slots;
-  StableArray<WrenchValue> values;  ///< by slot; never move (compiled queries point at them)
+  StableArray<WrenchValue> values;      ///< by slot; never move (compiled queries point at them)
+  HistoryTable<WrenchHistory> history;  ///< by slot, as the twist edges' (edge_history.h)
   std::size_t num_live = 0;
 
   /// The live slot of (on, by), or -1. O(W).
@@ -114,12 +120,44 @@ struct WrenchStore {
       if (!slots[i].live) return static_cast<std::uint32_t>(i);
     }
     values.Reserve(slots.size() + 1);
+    history.Reserve(slots.size() + 1);
     slots.reserve(slots.size() + 1);
     values.EmplaceBack();
+    history.Grow(slots.size() + 1);  // reserved: no allocation
     slots.emplace_back();
     return static_cast<std::uint32_t>(slots.size() - 1);
   }
 };
+
+inline void WordsFromWrench(const WrenchNumbers& W, double (&w)[6]) noexcept {
+  for (int k = 0; k < 3; ++k) {
+    w[k] = W.f_S[k];
+    w[3 + k] = W.m_So_S[k];
+  }
+}
+inline WrenchNumbers WrenchFromWords(const double (&w)[6]) noexcept {
+  return {Eigen::Vector3d(w[0], w[1], w[2]), Eigen::Vector3d(w[3], w[4], w[5])};
+}
+
+/// The stored wrench of `slot` at the context's time: its value when timeless (or tc null: the
+/// newest sample of a stamped one), else its samples read as a twist edge's (ReadLinearAt: linear
+/// in the stored form, a nearest sample held within the horizon); a failure of its samples is
+/// marked as the wrench's (TimeFailure::wrench). O(log samples), noexcept, allocation-free.
+inline void ReadWrenchAt(const WrenchValue& value, const WrenchHistory* h, std::uint32_t slot,
+                         TimeContext* tc, WrenchNumbers& W) noexcept {
+  if (tc == nullptr || h == nullptr) {
+    W = value.Load();
+    return;
+  }
+  const bool failed = tc->extrapolation.code != base::ErrorCode::kOk,
+             stale = tc->stale.code != base::ErrorCode::kOk;
+  EdgeRead rec;  // not an edge: never recorded
+  double w[6];
+  (void)ReadLinearAt(*h, true, slot, *tc, rec, w);
+  W = WrenchFromWords(w);
+  if (!failed && tc->extrapolation.code != base::ErrorCode::kOk) tc->extrapolation.wrench = true;
+  if (!stale && tc->stale.code != base::ErrorCode::kOk) tc->stale.wrench = true;
+}
 
 /// One term of a wrench answer: a stored wrench (or its reaction, sign -1) moved with the plan
 /// of the pose of (s,[s]) wrt (e,[r]) in [r].
@@ -127,6 +165,8 @@ template <class Chain>
 struct WrenchTerm {
   PoseSteps<Chain> steps;
   const WrenchValue* value = nullptr;
+  const HistoryTable<WrenchHistory>* histories = nullptr;  ///< the store's (its samples, if any)
+  std::uint32_t slot = 0;
   std::uint32_t epoch = 0;
   double sign = 1.0;
 };
@@ -165,6 +205,11 @@ class SEMGRAPH_CORE_EXPORT CompiledWrench : public CompiledQuery<B> {
   [[nodiscard]] const semantics::WrenchSemantics& semantics() const noexcept { return semantics_; }
   /// f_R and m_Re. kOk or kQueryInvalidated (then the outputs are unspecified).
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& f_R, Eigen::Vector3d& m_Re) const noexcept;
+  /// At the policy's time (compiled_query.h, Time): the stored wrenches and the poses moving
+  /// them read at one time; `f_R`, `m_Re` written on kOk only. Codes: kOk, kQueryInvalidated,
+  /// kInvalidNumber (a negative horizon), kExtrapolation, kStale.
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& f_R, Eigen::Vector3d& m_Re,
+                                   const TimePolicy& policy, TimeReport& report) const noexcept;
   /// In GetWrench's result type.
   [[nodiscard]] QueryResult<coord::Wrench> Evaluate() const noexcept {
     coord::Wrench W{semantics_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
@@ -173,6 +218,8 @@ class SEMGRAPH_CORE_EXPORT CompiledWrench : public CompiledQuery<B> {
   [[nodiscard]] std::size_t num_terms() const noexcept { return terms_.size(); }
 
  private:
+  /// One evaluation (tc null: the current values); false when a term was removed since.
+  bool Accumulate(internal::TimeContext* tc, Eigen::Vector3d& f, Eigen::Vector3d& m) const noexcept;
   semantics::WrenchSemantics semantics_;
   std::vector<Term> terms_;
 };
