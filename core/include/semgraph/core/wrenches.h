@@ -14,19 +14,35 @@
 // current values by the one evaluator (evaluate.h): the pose of the given point and frame
 // relative to (s, [s]), Algorithm 1.
 //
+// Stamped pairs (docs/dynamics.md, "Stamped wrenches"): a pair whose first value had a stamp
+// keeps its samples (f_S, m_So_S) in a WrenchHistory (edge_history.h SampleHistory<6>, the
+// graph's TimeOptions, allocated by the add), in WrenchStore::history by slot; its value is its
+// newest sample. A stamped value given at another point or frame is converted with the poses at
+// its stamp. Read at a time as a twist edge is (timed_read.h ReadLinearAt: linear in the stored
+// form, a nearest sample held within the horizon), through the query's TimeContext, which also
+// reads the poses moving it.
+//
 // Moving a stored wrench to point e and frame [r] (queries): with X = pose of (s,[s]) wrt
 // (e,[r]) in [r] (R_RS, p_EoSo_R): f_R = R_RS f_S, m_Re = R_RS m_S + p_EoSo_R x f_R (KDL
 // Frame*Wrench). The reaction of a stored wrench (the wrench on D by C) is its negation.
 //
 // Invariants: a live slot names two different bodies and a frame of its `on` body; no two live
-// slots name the same unordered pair of bodies. Removing a slot bumps its value's epoch, so
-// handles and compiled queries that used it are refused / invalidated, never wrong.
-// Costs: AddWrench O(W + log n + d) (W stored wrenches: the pair is found by a scan);
-// RemoveWrench O(W); one-shot queries O(W + terms * (log n + d)); SetWrench O(1);
-// CompiledWrench::Evaluate O(terms * edges on their pose paths).
+// slots name the same unordered pair of bodies; a live slot is stamped (history.of(slot) not
+// null, >= 1 sample, the value = its newest sample) or timeless for its whole life; a free
+// slot has no history. Removing a slot bumps its value's epoch, then retires its history (reused
+// by the next stamped pair, HistoryTable), so handles and compiled queries that used it are
+// refused / invalidated, never wrong.
+// Costs: AddWrench O(W + log n + d) (W stored wrenches: the pair is found by a scan; a stamped
+// value also O(log samples) per stamped pose edge converting it, plus a shift when out of
+// order); RemoveWrench O(W); one-shot queries O(W + terms * (log n + d)), at a policy also
+// O(log samples) per stamped wrench and edge read (twice for latest common); SetWrench O(1)
+// (stamped: in order O(1), out of order a shift), noexcept, allocation-free;
+// CompiledWrench::Evaluate O(terms * edges on their pose paths) (+ O(log samples) each at a
+// policy), noexcept, allocation-free. Memory: a stamped pair's history, capacity x 56 bytes.
 // Thread safety: as pose and twist edges: one writer may call SetWrench while other threads
-// evaluate compiled wrench queries (each value behind a sequence lock; values never move:
-// stable_array.h). Adds, removals and one-shot queries: the writer thread.
+// evaluate compiled wrench queries (each value behind a sequence lock, each history behind its
+// own; values and histories never move: stable_array.h, edge_history.h). Adds, removals and
+// one-shot queries: the writer thread.
 #pragma once
 
 #include <cstdint>
