@@ -239,6 +239,9 @@ class Wrench:
     def moment(self) -> np.ndarray: ...
     @property
     def semantics(self) -> str: ...
+    @property
+    def time(self) -> Optional[TimeReport]:
+        """What a timed query read, or None for a query without time keywords."""
 
 class CompiledPose:
     """A compiled pose query; keeps its graph alive."""
@@ -404,21 +407,30 @@ class SceneGraph:
     def num_wrenches(self) -> int: ...
     def add_wrench(self, *, on: Name = None, by: Name = None, point: Name = None,
                    expressed_in: Name = None, force: Optional[ArrayLike] = None,
-                   moment: Optional[ArrayLike] = None) -> None:
+                   moment: Optional[ArrayLike] = None, stamp: Optional[Time] = None) -> None:
         """Adds (or updates) the wrench on body `on` by body `by`: force and moment (about
-        point's origin) in [expressed_in] (default [point]). RejectedError: invalid_name,
-        invalid_number, unknown_frame, unknown_body, self_wrench, wrench_not_convertible,
-        duplicate_wrench; the graph is unchanged."""
+        point's origin) in [expressed_in] (default [point]); with `stamp`, a sample at that time
+        converted with the poses there. RejectedError: invalid_name, invalid_number,
+        unknown_frame, unknown_body, self_wrench, wrench_not_convertible, extrapolation,
+        duplicate_wrench, stamp_mismatch, stamp_too_old, duplicate_stamp; the graph is
+        unchanged."""
     def remove_wrench(self, *, on: str, by: str) -> None: ...
     def wrench(self, *, on: Name = None, by: Name = None, point: Name = None,
-               expressed_in: Name = None) -> Wrench:
+               expressed_in: Name = None, at: At = None,
+               max_extrapolation: Optional[Time] = None,
+               not_before: Optional[Time] = None) -> Wrench:
         """The wrench on `on` by `by` (or the net wrench on `on` without `by`), about `point`, in
-        [expressed_in] (default [point]). QueryError: invalid_name, unknown_frame, unknown_body,
-        self_wrench, no_wrench, no_pose_path."""
+        [expressed_in] (default [point]); with a time keyword, the wrenches and poses at that
+        time (as twist queries). QueryError: invalid_name, invalid_number, unknown_frame,
+        unknown_body, self_wrench, no_wrench, no_pose_path, extrapolation, stale."""
     def force(self, *, on: Name = None, by: Name = None, point: Name = None,
-              expressed_in: Name = None) -> np.ndarray: ...
+              expressed_in: Name = None, at: At = None,
+              max_extrapolation: Optional[Time] = None,
+              not_before: Optional[Time] = None) -> np.ndarray: ...
     def moment(self, *, on: Name = None, by: Name = None, point: Name = None,
-               expressed_in: Name = None) -> np.ndarray: ...
+               expressed_in: Name = None, at: At = None,
+               max_extrapolation: Optional[Time] = None,
+               not_before: Optional[Time] = None) -> np.ndarray: ...
 
     def add_acceleration(self, *, point: Name = None, body: Name = None, ref_body: Name = None,
                          expressed_in: Name = None, linear: Optional[ArrayLike] = None,

@@ -1,7 +1,9 @@
 // The real-time claims of the wrenches (scene_graph.h "wrenches", wrenches.h), proven by
 // counting the global operator new (tests/support/alloc_counter.h): one-shot wrench queries
 // (one wrench, a reaction, a net wrench; accepted and rejected), CompiledWrench::Evaluate, and
-// SetWrench through a handle (accepted and rejected) allocate nothing. Each case is first run
+// SetWrench through a handle (accepted and rejected) allocate nothing; so do the stamped ones:
+// SetWrench with a stamp (in order, out of order, refused), GetWrench and the compiled
+// Evaluate at a time policy. Each case is first run
 // once unarmed to check that it takes the intended path, then kRepetitions times armed.
 #include <gtest/gtest.h>
 
@@ -102,6 +104,62 @@ TYPED_TEST(WrenchesNoAllocation, QueriesCompiledEvaluationAndSetWrench) {
                      [&] { return g.SetWrench(*h, Vec(1, 1, 1), Vec::Zero()); });
   ExpectNoAllocation("compiled, invalidated", ErrorCode::kQueryInvalidated,
                      [&] { return compiled->Evaluate(f, m); });
+}
+
+TYPED_TEST(WrenchesNoAllocation, StampedSetWrenchAndTimedQueries) {
+  auto& g = this->g;
+  // A stamped pose edge l8 -> m|M (samples 0 .. 1 s) and a stamped wrench on M by L1.
+  for (int i = 0; i <= 10; ++i) {
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of("m", "M").RelativeTo("l8"),
+                          Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * i, Vec::UnitZ())),
+                          Vec(0.1 * i, 0, 0), Stamp::Nanoseconds(100'000'000LL * i)));
+    ASSERT_TRUE(g.AddWrench(WrenchSpec::On("M").By("L1").At("l1"), Vec(i, 1, 0), Vec(0, 0, i),
+                            Stamp::Nanoseconds(100'000'000LL * i)));
+  }
+  auto h = g.FindWrench("M", "L1");
+  ASSERT_TRUE(h);
+  std::int64_t next = 1'000'000'000;
+  ExpectNoAllocation("SetWrench, stamped in order", ErrorCode::kOk, [&] {
+    next += 1'000'000;
+    return g.SetWrench(*h, Vec(1, 2, 3), Vec(4, 5, 6), Stamp::Nanoseconds(next));
+  });
+  std::int64_t back = 500'000'000;
+  ExpectNoAllocation("SetWrench, stamped out of order", ErrorCode::kOk, [&] {
+    back += 1'000;
+    return g.SetWrench(*h, Vec(1, 2, 3), Vec(4, 5, 6), Stamp::Nanoseconds(back));
+  });
+  ExpectNoAllocation("SetWrench, stamp_mismatch", ErrorCode::kStampMismatch,
+                     [&] { return g.SetWrench(*h, Vec(1, 2, 3), Vec(4, 5, 6)); });
+  ExpectNoAllocation("SetWrench, stamp_too_old", ErrorCode::kStampTooOld, [&] {
+    return g.SetWrench(*h, Vec(1, 2, 3), Vec(4, 5, 6), Stamp::Nanoseconds(-20'000'000'000LL));
+  });
+  const Stamp mid = Stamp::Nanoseconds(450'000'000);
+  const WrenchSpec net = WrenchSpec::On("M").At("l2").ExpressedIn("w");
+  ExpectNoAllocation("GetWrench at a time", ErrorCode::kOk,
+                     [&] { return CodeOf(g.GetWrench(net, At(mid))); });
+  ExpectNoAllocation("GetWrench, latest common", ErrorCode::kOk,
+                     [&] { return CodeOf(g.GetWrench(net, LatestCommon())); });
+  ExpectNoAllocation("GetWrench, extrapolation", ErrorCode::kExtrapolation, [&] {
+    return CodeOf(g.GetWrench(net, At(Stamp::Nanoseconds(-1'000'000'000))));
+  });
+  auto compiled = g.CompileWrench(net);
+  ASSERT_TRUE(compiled);
+  Vec f, m;
+  TimeReport report;
+  ExpectNoAllocation("compiled at a time", ErrorCode::kOk,
+                     [&] { return compiled->Evaluate(f, m, At(mid), report); });
+  ExpectNoAllocation("compiled, latest", ErrorCode::kOk,
+                     [&] { return compiled->Evaluate(f, m, Latest(), report); });
+  ExpectNoAllocation("compiled, latest common", ErrorCode::kOk,
+                     [&] { return compiled->Evaluate(f, m, LatestCommon(), report); });
+  auto at_m = g.CompileWrench(WrenchSpec::On("M").By("L1").At("m"));  // no pose edge read
+  ASSERT_TRUE(at_m);
+  ExpectNoAllocation("compiled, held within the horizon", ErrorCode::kOk, [&] {
+    return at_m->Evaluate(f, m, At(Stamp::Nanoseconds(-1'000'000), Duration::Seconds(1)), report);
+  });
+  ExpectNoAllocation("compiled, stale", ErrorCode::kStale, [&] {
+    return compiled->Evaluate(f, m, Latest(Stamp::Nanoseconds(50'000'000'000LL)), report);
+  });
 }
 
 }  // namespace

@@ -142,6 +142,21 @@ TEST(WriteScene, WritesWrenchesInTheirStoredForm) {
   ExpectRoundTrip(g);
 }
 
+TEST(WriteScene, WritesAStampedWrenchAsItsNewestSample) {
+  core::SceneGraph<> g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("c", "C").RelativeTo("b", "B"), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(1, 0, 0)));
+  const auto spec = core::WrenchSpec::On("C").By("B").At("c");
+  ASSERT_TRUE(g.AddWrench(spec, Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero(),
+                          core::Stamp::Nanoseconds(2'000'000'000)));
+  ASSERT_TRUE(g.AddWrench(spec, Eigen::Vector3d(5, 0, 0), Eigen::Vector3d::Zero(),
+                          core::Stamp::Nanoseconds(1'000'000'000)));  // older: not the value
+  const std::vector<std::string> lines = Lines(ExpectRoundTrip(g));
+  EXPECT_EQ(lines.back(),
+            "  - {op: wrench, on: \"C\", by: \"B\", point: \"c\", coord: \"c\", force: [1, 0, 0], "
+            "moment: [0, 0, 0]}");
+}
+
 TEST(WriteScene, HomogeneousGraphsWriteTheStoredMatrix) {
   core::SceneGraph<coord::HomogeneousBackend> g;
   Eigen::Matrix3d R_BC;

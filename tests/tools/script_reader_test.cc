@@ -71,6 +71,31 @@ TEST(ReadScript, ReadsWrenchOpsRemovalsAndQueries) {
             std::string::npos);
 }
 
+TEST(ReadScript, ReadsTheTimeFieldsOfWrenchOpsAndQueries) {
+  const Script s = ReadOk(
+      "ops:\n"
+      "  - {op: wrench, on: C, by: D, point: e, coord: r, force: [1, 2, 3], stamp: 1.5}\n"
+      "  - {op: query, kind: wrench, on: C, point: e, coord: r, at: 2, max_extrapolation: 0.5}\n"
+      "  - {op: query, kind: force, on: C, point: e, coord: r, at: latest_common}\n"
+      "  - {op: query, kind: moment, on: C, point: e, coord: r, not_before: 3}\n");
+  ASSERT_EQ(s.ops.size(), 4u);
+  EXPECT_EQ(s.ops[0].stamp, 1.5);
+  EXPECT_EQ(s.ops[1].at, AtKind::kTime);
+  EXPECT_EQ(s.ops[1].at_seconds, 2.0);
+  EXPECT_EQ(s.ops[1].max_extrapolation, 0.5);
+  EXPECT_EQ(s.ops[2].at, AtKind::kLatestCommon);
+  EXPECT_EQ(s.ops[3].not_before, 3.0);
+  // The twist queries' source and the pose queries' time travel are not wrench fields.
+  EXPECT_NE(
+      ReadBad("ops:\n  - {op: query, kind: wrench, on: C, point: e, coord: r, source: poses}\n")
+          .message.find("source\" is not part of a 'wrench' query"),
+      std::string::npos);
+  EXPECT_NE(ReadBad("ops:\n  - {op: query, kind: force, on: C, point: e, coord: r, at: 1, "
+                    "ref_at: 2, fixed: w}\n")
+                .message.find("is not part of a 'force' query"),
+            std::string::npos);
+}
+
 TEST(ReadScript, ReadsValuesAndDefaults) {
   const Script s = ReadOk(
       "representation: homogeneous\n"

@@ -135,7 +135,7 @@ Time (seconds; kept as whole nanoseconds):
   time: {window: 10, interpolation: screw | linear, duplicate_stamp: replace | reject}
                             optional top-level map, each key optional (a window that is not a
                             finite positive time is a malformed script)
-  stamp: t                  on pose, twist and joints ops: the value is a sample at t
+  stamp: t                  on pose, twist, joints and wrench ops: the value is a sample at t
   at: t | latest_common     on queries (none: each edge's newest sample)
   max_extrapolation: h      on queries: allow t up to h outside an edge's samples
   not_before: t             on queries: fail with stale if a used edge has nothing since t

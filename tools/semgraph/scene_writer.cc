@@ -243,7 +243,8 @@ class Writer {
   }
   // Every stored wrench in its stored form, about its storage frame s (a frame of the body acted
   // on) in [s]: the add keeps s and converts nothing, so the values read back exactly (slots
-  // are renumbered in order).
+  // are renumbered in order). A stamped pair is written as its newest sample, without a stamp,
+  // as the stamped edges are (their values: the newest samples).
   void Wrenches() {
     const core::internal::WrenchStore& w = g_.wrench_store();
     for (std::size_t i = 0; i < w.slots.size(); ++i) {

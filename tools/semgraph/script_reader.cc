@@ -216,7 +216,7 @@ Shape ShapeOf(OpKind op, QueryKind query) {
               {{kFile, kNoField}}};
     case OpKind::kWrench:
       return {"a 'wrench' op",
-              Bit(kOp) | kWrenchNames | Bit(kForce) | Bit(kMoment),
+              Bit(kOp) | kWrenchNames | Bit(kForce) | Bit(kMoment) | Bit(kStamp),
               {{kOn, kNoField}, {kBy, kNoField}, {kPoint, kNoField}, {kCoord, kNoField}}};
     case OpKind::kRemoveWrench:
       return {"a 'remove' op of kind 'wrench'",
@@ -248,11 +248,11 @@ Shape ShapeOf(OpKind op, QueryKind query) {
     case QueryKind::kJacobian:
       return {"a 'jacobian' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kWrench:
-      return {"a 'wrench' query", kHeader | kWrenchNames, wrench_required};
+      return {"a 'wrench' query", kHeader | kWrenchNames | kQueryTime, wrench_required};
     case QueryKind::kForce:
-      return {"a 'force' query", kHeader | kWrenchNames, wrench_required};
+      return {"a 'force' query", kHeader | kWrenchNames | kQueryTime, wrench_required};
     case QueryKind::kMoment:
-      return {"a 'moment' query", kHeader | kWrenchNames, wrench_required};
+      return {"a 'moment' query", kHeader | kWrenchNames | kQueryTime, wrench_required};
     case QueryKind::kAcceleration:
       return {"an 'acceleration' query", kHeader | kTwistNames | kQueryTime, twist_required};
     case QueryKind::kLinearAcceleration:

@@ -230,6 +230,31 @@ core::CovarianceInput CovarianceInputOf(const ScriptOp& op, const coord::Covaria
   return in;
 }
 
+core::WrenchSpec WrenchSpecOf(const SemanticNames& n) {
+  core::WrenchSpec s;
+  s.on = n.body;
+  s.by = n.ref_body;
+  s.point = n.point;
+  s.coordinate_frame = n.coord;
+  return s;
+}
+
+// A wrench op, stamped or not (the stamp's invalid_number after the names', as AddPose).
+template <coord::Backend B>
+OpOutcome AddWrench(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
+  const core::WrenchSpec spec = WrenchSpecOf(op.names);
+  const Eigen::Vector3d f = Eigen::Vector3d::Map(op.force.data()),
+                        m = Eigen::Vector3d::Map(op.moment.data());
+  std::optional<core::Stamp> stamp;
+  if (std::string reason; !StampOf(op, &stamp, &reason)) {
+    const auto probe = graph.AddWrench(spec, Eigen::Vector3d(kNaN, 0, 0), m);
+    if (probe.error().code != base::ErrorCode::kInvalidNumber) return FromBuild(op, index, probe);
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   WithReason(probe.error().message, reason));
+  }
+  return FromBuild(op, index, graph.AddWrench(spec, f, m, stamp));
+}
+
 template <coord::Backend B>
 OpOutcome AddPose(core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const core::PoseSpec spec = PoseSpecOf(op.names);
@@ -548,24 +573,33 @@ OpOutcome Jacobian(const core::SceneGraph<B>& graph, const ScriptOp& op, std::si
   return WithTime(OpOutcome{true, "", json + "}"}, timed->time);
 }
 
-core::WrenchSpec WrenchSpecOf(const SemanticNames& n) {
-  core::WrenchSpec s;
-  s.on = n.body;
-  s.by = n.ref_body;
-  s.point = n.point;
-  s.coordinate_frame = n.coord;
-  return s;
-}
-
-// A wrench, force or moment query (docs/dynamics.md): no time fields.
+// A wrench, force or moment query (docs/dynamics.md) under the query's time policy (the time
+// fields of a twist query but 'source'); the time keys of the answer as a twist query's.
 template <coord::Backend B>
 OpOutcome WrenchQuery(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   const core::WrenchSpec spec = WrenchSpecOf(op.names);
-  const auto W = graph.GetWrench(spec);
+  QueryTime time;
+  if (std::string reason; !TimeOf(op, &time, &reason)) {
+    // invalid_name before invalid_number: a negative horizon makes the graph check the names.
+    const auto probe =
+        graph.GetWrench(spec, core::At{core::Stamp{}, core::Duration::Nanoseconds(-1)});
+    if (probe.error().code != base::ErrorCode::kInvalidNumber) {
+      return Failure(op, index, probe.error().code, graph.Describe(probe.error(), spec));
+    }
+    return Failure(op, index, base::ErrorCode::kInvalidNumber,
+                   "query failed (invalid_number): " + reason);
+  }
+  const auto W = graph.GetWrench(spec, time.policy);
   if (!W) return Failure(op, index, W.error().code, graph.Describe(W.error(), spec));
-  if (op.query_kind == QueryKind::kForce) return Success(index, {{"force", Values(W->force)}});
-  if (op.query_kind == QueryKind::kMoment) return Success(index, {{"moment", Values(W->moment)}});
-  return Success(index, {{"force", Values(W->force)}, {"moment", Values(W->moment)}});
+  const coord::Wrench& w = W->value;
+  if (op.query_kind == QueryKind::kForce) {
+    return WithTime(Success(index, {{"force", Values(w.force)}}), W->time);
+  }
+  if (op.query_kind == QueryKind::kMoment) {
+    return WithTime(Success(index, {{"moment", Values(w.moment)}}), W->time);
+  }
+  return WithTime(Success(index, {{"force", Values(w.force)}, {"moment", Values(w.moment)}}),
+                  W->time);
 }
 
 // An acceleration, linear_acceleration or angular_acceleration query (docs/dynamics.md §7),
@@ -901,9 +935,7 @@ OpOutcome ApplyOpUnlabelled(core::SceneGraph<B>& graph, const ScriptOp& op, std:
     case OpKind::kRemoveTwist:
       return FromBuild(op, index, graph.RemoveTwist(n.point, n.ref_body));
     case OpKind::kWrench:
-      return FromBuild(op, index,
-                       graph.AddWrench(WrenchSpecOf(n), Eigen::Vector3d::Map(op.force.data()),
-                                       Eigen::Vector3d::Map(op.moment.data())));
+      return AddWrench(graph, op, index);
     case OpKind::kRemoveWrench:
       return FromBuild(op, index, graph.RemoveWrench(n.body, n.ref_body));
     case OpKind::kAcceleration:

@@ -587,6 +587,13 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// wrench_not_convertible (point, frame and s not in one pose tree) -> duplicate_wrench (the
   /// wrench on D by C is stored: this one is its reaction). Graph unchanged on any error.
   BuildResult AddWrench(const WrenchSpec& spec, const Eigen::Vector3d& f, const Eigen::Vector3d& m);
+  /// The same with a stamp (nullopt: the call above): a sample of the pair, converted with the
+  /// poses at its stamp (none there: extrapolation, in the place of wrench_not_convertible). The
+  /// pair becomes stamped with its first value (a history of the graph's TimeOptions); then
+  /// duplicate_wrench -> stamp_mismatch (stamped and timeless values of one pair) ->
+  /// stamp_too_old -> duplicate_stamp, as for edges. Graph unchanged on any error.
+  BuildResult AddWrench(const WrenchSpec& spec, const Eigen::Vector3d& f, const Eigen::Vector3d& m,
+                        std::optional<Stamp> stamp);
   /// Removes the wrench on `on` by `by`: invalid_name -> unknown_body -> self_wrench ->
   /// no_wrench.
   BuildResult RemoveWrench(std::string_view on, std::string_view by);
@@ -595,15 +602,28 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                                               std::string_view by) const;
   /// New stored value (f_S, m_So_S) in the handle's storage frame [s], moment about s's origin.
   /// O(1), noexcept, allocation-free. Codes: kNoWrench (removed, another graph's or forged
-  /// handle), kInvalidNumber (nothing written on either).
+  /// handle), kInvalidNumber (nothing written on either), kStampMismatch (a stamped pair).
   [[nodiscard]] ErrorCode SetWrench(WrenchHandle handle, const Eigen::Vector3d& f_S,
                                     const Eigen::Vector3d& m_So_S,
+                                    UpdateError* why = nullptr) noexcept;
+  /// A stamped sample (f_S, m_So_S) of a stamped pair: the codes above, then kStampMismatch (a
+  /// timeless pair), kStampTooOld, kDuplicateStamp (nothing written). O(1) in order (out of
+  /// order: a shift, edge_history.h), noexcept, allocation-free.
+  [[nodiscard]] ErrorCode SetWrench(WrenchHandle handle, const Eigen::Vector3d& f_S,
+                                    const Eigen::Vector3d& m_So_S, Stamp stamp,
                                     UpdateError* why = nullptr) noexcept;
   /// WrenchCoord(point|on, by, [coordinate_frame]): the stored wrench of the pair or the
   /// reaction of the stored one; without `by`, the net wrench on C (every stored wrench on C
   /// and the reaction of every stored wrench by C). Force and moment are the answer's parts.
   /// invalid_name -> unknown_frame -> unknown_body -> self_wrench -> no_wrench -> no_pose_path.
   [[nodiscard]] QueryResult<coord::Wrench> GetWrench(const WrenchSpec& spec) const noexcept;
+  /// The same under a time policy (docs/time.md): every stored wrench (interpolated linearly in
+  /// its stored form; a nearest sample held within the horizon) and the poses moving it read at
+  /// the policy's time; latest common over the stamped wrenches and pose edges used. Errors: the
+  /// query's (invalid_number: a negative horizon, after invalid_name), then extrapolation, stale
+  /// (of a wrench: QueryTimeDetail::wrench, name/other its bodies).
+  [[nodiscard]] QueryResult<Timed<coord::Wrench>> GetWrench(
+      const WrenchSpec& spec, const TimePolicy& policy) const noexcept;
   [[nodiscard]] Expected<CompiledWrench<B>, QueryError> CompileWrench(const WrenchSpec& spec) const;
   [[nodiscard]] std::string Describe(const QueryError& e, const WrenchSpec& spec) const;
   [[nodiscard]] std::size_t num_wrenches() const noexcept { return wrenches_.num_live; }

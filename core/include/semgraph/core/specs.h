@@ -89,11 +89,13 @@ using BuildResult = Expected<Ok, BuildError>;
 ///   representation_constraint, semantic_mismatch: detail
 ///   extrapolation, stale  name: the edge's head frame; other: its tail frame (a pose edge) or
 ///                         tail body (a twist edge, time.twist_edge); time: its samples, the time
+///                         (time.wrench: a stored wrench, name: its `on` body, other: its `by`)
 ///   unknown_frame, no_pose_path with time.fixed_frame: about TimeTravel's fixed frame
 struct QueryTimeDetail {
   bool twist_edge = false;
   bool fixed_frame = false;
   bool single_sample = false;  ///< extrapolation: a derivative of an edge with one sample
+  bool wrench = false;         ///< extrapolation, stale: of a stored wrench's samples
   std::int64_t first = 0, last = 0, asked = 0;  ///< nanoseconds
 };
 struct QueryError {

@@ -51,6 +51,7 @@ struct TimeFailure {
   std::uint32_t index = 0;
   std::int64_t first = 0, last = 0, asked = 0;  ///< the edge's samples and the time asked
   bool single_sample = false;                   ///< a derivative of an edge with one sample
+  bool wrench = false;  ///< index is a stored wrench's slot (wrenches.h; twist_edge also set)
 };
 
 /// One edge read, for the diagnostic call (SceneGraph::ExplainPose / ExplainTwist).
@@ -367,10 +368,54 @@ inline void SampleAcceleration(const TwistHistory::AccelerationBracket& ab, bool
   }
 }
 
-/// The value of twist edge `slot` under the context's policy; with kCovariance, also the
-/// covariance of that value into *S (a held sample keeps its covariance); with kAcceleration,
-/// also the acceleration going with that value into *R (R->V = V; a held sample keeps its
-/// acceleration, as it keeps its twist).
+/// The value at the context's time of a history read linearly word by word (twist edges,
+/// stamped wrenches: wrenches.h), into w: latest, the newest sample; at t inside the samples,
+/// the bracket's linear interpolation (t a stamp: that sample only); outside, within the horizon
+/// the nearest sample held (extrapolated), beyond it an extrapolation failure of (twist, index).
+/// Returns the fraction of the interpolation (0 when one sample was read), for the caller's
+/// covariance and acceleration (`cov`, `acc`: the samples' side words, as Find reads them).
+template <class History>
+double ReadLinearAt(const History& h, bool twist, std::uint32_t index, TimeContext& tc,
+                    EdgeRead& rec, double (&w)[History::kValueWords],
+                    typename History::CovarianceBracket* cov = nullptr,
+                    typename History::AccelerationBracket* acc = nullptr) noexcept {
+  constexpr std::size_t N = History::kValueWords;
+  rec.stamped = true;
+  if (!tc.at) {
+    ReadNewest(h, twist, index, tc, rec, w, cov, acc);
+    return 0.0;
+  }
+  const typename History::Bracket b = FindAtTime(h, twist, index, tc, rec, cov, acc);
+  using Where = typename History::Bracket::Where;
+  for (std::size_t k = 0; k < N; ++k) w[k] = b.v0[k];
+  if (b.where == Where::kInside) {
+    rec.has_read = true;
+    rec.read_from = rec.read_to = b.s0;
+    tc.Read(b.s0);
+    if (b.exact) return 0.0;
+    const double lambda = Fraction(b.s0, tc.t, b.s1);
+    for (std::size_t k = 0; k < N; ++k) w[k] += lambda * (b.v1[k] - w[k]);
+    tc.Read(b.s1);
+    rec.read_to = b.s1;
+    return lambda;
+  }
+  const std::int64_t gap =
+      b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
+  if (!tc.nested && gap <= tc.horizon) {  // hold the nearest sample
+    tc.Read(b.s0);
+    tc.extrapolated = true;
+    rec.extrapolated = rec.has_read = true;
+    rec.read_from = rec.read_to = b.s0;
+  } else {
+    tc.Fail(twist, index, b.first, b.last);
+  }
+  return 0.0;
+}
+
+/// The value of twist edge `slot` under the context's policy (ReadLinearAt); with kCovariance,
+/// also the covariance of that value into *S (a held sample keeps its covariance); with
+/// kAcceleration, also the acceleration going with that value into *R (R->V = V; a held sample
+/// keeps its acceleration, as it keeps its twist).
 template <coord::Backend B, bool kCovariance = false, bool kAcceleration = false>
 void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, TwistNumbers& V,
                  coord::Covariance6* S = nullptr, TwistAndAcceleration* R = nullptr) noexcept {
@@ -394,48 +439,14 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
     if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
     return;
   }
-  rec.stamped = true;
-  if (!tc.at) {
-    double w[6];
-    ReadNewest(*h, true, slot, tc, rec, w, cov, acc);
-    V = TwistFromWords(w);
-    if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
-    if constexpr (kAcceleration) SampleAcceleration(ab, false, 0.0, *R);
-  } else {
-    const TwistHistory::Bracket b = FindAtTime(*h, true, slot, tc, rec, cov, acc);
-    using Where = TwistHistory::Bracket::Where;
-    V = TwistFromWords(b.v0);
-    if constexpr (kCovariance) SampleCovariance(cb, false, 0.0, *S);
-    if constexpr (kAcceleration) SampleAcceleration(ab, false, 0.0, *R);
-    if (b.where == Where::kInside) {
-      rec.has_read = true;
-      rec.read_from = b.s0;
-      tc.Read(b.s0);
-      rec.read_to = b.s0;
-      if (!b.exact) {
-        const TwistNumbers V1 = TwistFromWords(b.v1);
-        const double lambda = Fraction(b.s0, tc.t, b.s1);
-        V.v_DHo_H += lambda * (V1.v_DHo_H - V.v_DHo_H);
-        V.w_DH_H += lambda * (V1.w_DH_H - V.w_DH_H);
-        tc.Read(b.s1);
-        rec.read_to = b.s1;
-        if constexpr (kCovariance) SampleCovariance(cb, true, lambda, *S);
-        if constexpr (kAcceleration) SampleAcceleration(ab, true, lambda, *R);
-      }
-    } else {
-      const std::int64_t gap =
-          b.where == Where::kBefore ? SaturatingSub(b.s0, tc.t) : SaturatingSub(tc.t, b.s0);
-      if (!tc.nested && gap <= tc.horizon) {  // hold the nearest sample
-        tc.Read(b.s0);
-        tc.extrapolated = true;
-        rec.extrapolated = rec.has_read = true;
-        rec.read_from = rec.read_to = b.s0;
-      } else {
-        tc.Fail(true, slot, b.first, b.last);
-      }
-    }
+  double w[6];
+  const double lambda = ReadLinearAt(*h, true, slot, tc, rec, w, cov, acc);
+  V = TwistFromWords(w);
+  if constexpr (kCovariance) SampleCovariance(cb, lambda != 0.0, lambda, *S);
+  if constexpr (kAcceleration) {
+    SampleAcceleration(ab, lambda != 0.0, lambda, *R);
+    R->V = V;
   }
-  if constexpr (kAcceleration) R->V = V;
   if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
 }
 
