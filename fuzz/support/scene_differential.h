@@ -782,19 +782,44 @@ class Differential {
                   model_.AddTwist(point, body, ref_body, coord, v, w, std::nullopt, nullptr, &acc));
   }
 
-  /// AddAcceleration: AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha).
-  ErrorCode Acceleration(const std::string& point, const std::string& body,
-                         const std::string& ref_body, const std::string& coord,
-                         const Eigen::Vector3d& a, const Eigen::Vector3d& alpha) {
+  /// A stamped twist sample with its acceleration (docs/dynamics.md §7.2).
+  ErrorCode StampedTwistWithAcceleration(const std::string& point, const std::string& body,
+                                         const std::string& ref_body, const std::string& coord,
+                                         const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                                         const Eigen::Vector3d& a, const Eigen::Vector3d& alpha,
+                                         std::int64_t stamp) {
     Begin([=] {
-      return "{op: acceleration, point: " + YamlName(point) + Field("body", body) +
+      return "{op: twist, point: " + YamlName(point) + Field("body", body) +
              ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
-             ", linear: " + YamlVector(a) + ", angular: " + YamlVector(alpha) + "}";
+             ", linear: " + YamlVector(v) + ", angular: " + YamlVector(w) +
+             ", acceleration: {linear: " + YamlVector(a) + ", angular: " + YamlVector(alpha) +
+             "}, stamp: " + StampText(stamp) + "}";
     });
     const core::TwistSpec spec =
         core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
-    return Finish(graph_.AddAcceleration(spec, a, alpha),
-                  model_.AddAcceleration(point, body, ref_body, coord, a, alpha));
+    const reference::AccelerationIn acc{a, alpha};
+    return Finish(graph_.AddTwist(spec, v, w, core::Stamp::Nanoseconds(stamp),
+                                  core::AccelerationInput{a, alpha}),
+                  model_.AddTwist(point, body, ref_body, coord, v, w, stamp, nullptr, &acc));
+  }
+
+  /// AddAcceleration: AccelerationCoord(point|body, ref_body, [coord]) = (a, alpha); with a
+  /// stamp, the acceleration of the twist sample at that stamp.
+  ErrorCode Acceleration(const std::string& point, const std::string& body,
+                         const std::string& ref_body, const std::string& coord,
+                         const Eigen::Vector3d& a, const Eigen::Vector3d& alpha,
+                         std::optional<std::int64_t> stamp = std::nullopt) {
+    Begin([=] {
+      return "{op: acceleration, point: " + YamlName(point) + Field("body", body) +
+             ", ref_body: " + YamlName(ref_body) + ", coord: " + YamlName(coord) +
+             ", linear: " + YamlVector(a) + ", angular: " + YamlVector(alpha) +
+             (stamp ? ", stamp: " + StampText(*stamp) : std::string()) + "}";
+    });
+    const core::TwistSpec spec =
+        core::TwistSpec::Of(point, body).RelativeTo(ref_body).ExpressedIn(coord);
+    return Finish(stamp ? graph_.AddAcceleration(spec, a, alpha, core::Stamp::Nanoseconds(*stamp))
+                        : graph_.AddAcceleration(spec, a, alpha),
+                  model_.AddAcceleration(point, body, ref_body, coord, a, alpha, stamp));
   }
 
   /// FindTwistEdge(of, wrt): the model's code; a handle found is kept (at most 8).
@@ -906,20 +931,26 @@ class Differential {
 
   /// Through kept twist handle `which` (modulo their number; none kept: nothing): SetTwist
   /// (`acceleration` false, clears the edge's acceleration) or SetAcceleration, edge form.
+  /// With `stamp` (acceleration only): SetAcceleration of the twist sample at that stamp.
   ErrorCode SetByTwistHandle(std::uint32_t which, bool acceleration, const Eigen::Vector3d& x,
-                             const Eigen::Vector3d& y) {
+                             const Eigen::Vector3d& y,
+                             std::optional<std::int64_t> stamp = std::nullopt) {
     if (twist_handles_.empty()) return ErrorCode::kOk;
     const KeptTwistHandle& k = twist_handles_[which % twist_handles_.size()];
     Begin([=] {
       return std::string("# ") + (acceleration ? "SetAcceleration" : "SetTwist") +
              " by the handle of the twist edge " + YamlName(k.wrt) + " -> " + YamlName(k.of) +
-             ": " + YamlVector(x) + ", " + YamlVector(y);
+             ": " + YamlVector(x) + ", " + YamlVector(y) +
+             (stamp ? ", stamp " + StampText(*stamp) : std::string());
     });
     const std::string before = CurrentDump();
-    const ErrorCode expected =
-        acceleration ? model_.SetAcceleration(k.serial, x, y) : model_.SetTwist(k.serial, x, y);
+    const ErrorCode expected = acceleration ? model_.SetAcceleration(k.serial, x, y, stamp)
+                                            : model_.SetTwist(k.serial, x, y);
     const ErrorCode code =
-        acceleration ? graph_.SetAcceleration(k.handle, x, y) : graph_.SetTwist(k.handle, x, y);
+        acceleration
+            ? (stamp ? graph_.SetAcceleration(k.handle, x, y, core::Stamp::Nanoseconds(*stamp))
+                     : graph_.SetAcceleration(k.handle, x, y))
+            : graph_.SetTwist(k.handle, x, y);
     Annotate(code);
     if (code != expected) {
       Fail(std::string(acceleration ? "SetAcceleration" : "SetTwist") + ": kernel says " +
@@ -953,6 +984,45 @@ class Differential {
                           CompiledAccelerationOutcome(q, nullptr));
     }
     if (Dump(graph_) != before) Fail("an acceleration query changed the graph's Dump()");
+    CheckKept();
+  }
+
+  /// An acceleration query under a time policy, one-shot (GetAcceleration / GetLinear... /
+  /// GetAngular... with the policy) and compiled (Evaluate with the policy): the model's code,
+  /// value (unless it interpolated a pose across a half turn), time answered, extrapolated flag
+  /// and, when not extrapolated, the stamps read.
+  void AskAccelerationTimed(const Query& q, const reference::TimeQuery& policy) {
+    Begin([=] { return AccelerationQueryText(q) + "   # time: " + PolicyText(policy); });
+    const std::string before = CurrentDump();
+    const ReferenceModel::TimedAcceleration expected = model_.AskAccelerationAt(q, policy);
+    const core::TimePolicy kernel_policy = KernelTimePolicy(policy);
+    core::TimeReport report;
+    const Outcome got = OneShotTimedAcceleration(q, kernel_policy, &report);
+    Annotate(got.code);
+    CompareTimedAcceleration("timed acceleration query", expected, got, report);
+    if (CompileComparable(q)) {
+      core::TwistSpec spec = TwistSpecOf(q);
+      if (q.kind == QueryKind::kAngularVelocity) spec.point = spec.coordinate_frame;
+      auto compiled = graph_.CompileAcceleration(spec);
+      if (!compiled) {  // as the untimed query's compile
+        Outcome c = Code(compiled);
+        reference::AccelerationAnswer untimed = model_.AskAcceleration(q);
+        if (untimed.code == ErrorCode::kNoAcceleration) untimed.code = ErrorCode::kOk;
+        if (c.code != untimed.code) {
+          Fail("compiling the timed acceleration query: kernel says " +
+               std::string(base::ToString(c.code)) + ", model says " +
+               std::string(base::ToString(untimed.code)));
+        }
+      } else {
+        Outcome c;
+        core::TimeReport compiled_report;
+        c.code = compiled->Evaluate(c.v, c.w, kernel_policy, compiled_report);
+        if (q.kind == QueryKind::kLinearVelocity) c.w.setZero();
+        if (q.kind == QueryKind::kAngularVelocity) c.v.setZero();
+        CompareTimedAcceleration("compiled timed acceleration query", expected, c, compiled_report);
+      }
+    }
+    if (Dump(graph_) != before) Fail("a timed acceleration query changed the graph's Dump()");
     CheckKept();
   }
 
@@ -1131,6 +1201,56 @@ class Differential {
         return o;
       }
     }
+  }
+
+  // The timed one-shot acceleration queries; the value as Outcome's v (a) and w (alpha).
+  Outcome OneShotTimedAcceleration(const Query& q, const core::TimePolicy& policy,
+                                   core::TimeReport* report) const {
+    Outcome o;
+    const core::TwistSpec spec = TwistSpecOf(q);
+    const auto take = [&](const auto& r) {
+      if (!r) {
+        o.code = r.error().code;
+        return false;
+      }
+      *report = r->time;
+      return true;
+    };
+    switch (q.kind) {
+      case QueryKind::kLinearVelocity: {
+        const auto r = graph_.GetLinearAcceleration(spec, policy);
+        if (take(r)) o.v = r->value.value;
+        return o;
+      }
+      case QueryKind::kAngularVelocity: {
+        const auto r = graph_.GetAngularAcceleration(spec, policy);
+        if (take(r)) o.w = r->value.value;
+        return o;
+      }
+      default: {
+        const auto r = graph_.GetAcceleration(spec, policy);
+        if (take(r)) o.v = r->value.linear, o.w = r->value.angular;
+        return o;
+      }
+    }
+  }
+
+  void CompareTimedAcceleration(const std::string& what,
+                                const ReferenceModel::TimedAcceleration& expected,
+                                const Outcome& got, const core::TimeReport& report) {
+    if (expected.ambiguous) {  // only the decision
+      if (got.code != expected.answer.code) {
+        Fail(what + ": kernel says " + std::string(base::ToString(got.code)) + ", model says " +
+             std::string(base::ToString(expected.answer.code)));
+      }
+    } else {
+      CompareAcceleration(what, expected.answer, got);
+    }
+    if (got.code != ErrorCode::kOk) return;
+    reference::TimedAnswer t;  // the report's checks, as for a timed twist query
+    t.time = expected.time, t.oldest = expected.oldest, t.newest = expected.newest;
+    t.extrapolated = expected.extrapolated;
+    CompareReport(what, t, report);
   }
 
   // CompileAcceleration (an angular one at the coordinate frame's origin), kept in *keep when
@@ -1388,6 +1508,11 @@ class Differential {
       CompareAnswer(what, expected.answer, got);
     }
     if (got.code != ErrorCode::kOk) return;
+    CompareReport(what, expected, report);
+  }
+  // The time answered, the extrapolated flag and, when not extrapolated, the stamps read.
+  void CompareReport(const std::string& what, const reference::TimedAnswer& expected,
+                     const core::TimeReport& report) {
     const auto ns = [](const std::optional<core::Stamp>& s) {
       return s ? std::optional<std::int64_t>(s->nanoseconds()) : std::nullopt;
     };
