@@ -37,6 +37,9 @@
 //     answers within 1e-9 of AccelerationScale(), one-shot and compiled; kept compiled ones
 //     invalidated exactly when an edge of their twist query was removed, else the model's
 //     answer of the moment (no_acceleration included); the light final sweep asks them too.
+//     Stamped (StampedTwistWithAcceleration, Acceleration and SetByTwistHandle with a stamp,
+//     AskAccelerationTimed): the same codes; timed queries as AskTimed (code, value, report),
+//     one-shot and compiled, except two known kernel deviations (see AskAccelerationTimed).
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
 // tree; repair, joints, time); see tests/reference/reference_model.h.
