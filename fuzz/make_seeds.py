@@ -221,6 +221,62 @@ class Ops:
             self.byte(1)  # the body given
         return self.byte(1)  # coord: the point
 
+    # Stamped accelerations (op 15, which 10-13; docs/dynamics.md §7.2). A new stamped edge's
+    # sample with an acceleration (stamp: kStamps index; stamped_exist: other stamped twist edges
+    # exist, so that the "new edge" branch is chosen by a byte), coord the point.
+    def stamped_twist_acc(self, point, body, ref_body, stamp, v=(1, 0), w=(2, 0), a=(1, 0),
+                          alpha=(2, 0), stamped_exist=False):
+        self.byte(15).byte(10).byte(0)
+        if stamped_exist:
+            self.byte(0)  # OneIn(4) true: a new edge
+        self.frame_name(point).body_for(body).body_name(ref_body).byte(0).byte(stamp)
+        return self.value(*v).value(*w).value(*a).value(*alpha)
+
+    # A sample of stamped twist edge #index (among the stamped ones) with an acceleration: at its
+    # sample #sample's stamp, or (sample None) at NextStamp(newest) case `when` (0 + 0.5 s, 2 +
+    # 1 ns, 3 the newest again); restate: the twist of the sample at that stamp.
+    def sample_acc(self, index, sample=None, when=0, v=(1, 0), w=(2, 0), restate=False, a=(1, 0),
+                   alpha=(2, 0)):
+        self.byte(15).byte(10).byte(index).byte(1).byte(1).byte(0)  # its tail body; coord: point
+        if sample is None:
+            self.byte(0).byte(when)
+        else:
+            self.byte(1).byte(sample)
+        return self.value(*v).value(*w).byte(1 if restate else 0).value(*a).value(*alpha)
+
+    # AddAcceleration at a stamp on stamped twist edge #index: how as add_acc's (0 at the head, 3
+    # a frame `near` of its tree, 5 the reverse relation); the stamp: its sample #sample's
+    # (stamp_how 0), + 1 ns (5), or kStamps[sample] (7). restate (None: not read): when the
+    # sample has an acceleration, give it again as stored.
+    def stamped_add_acc(self, index, how=0, body_choice=1, near=0, sample=0, stamp_how=0, a=(1, 0),
+                        alpha=(2, 0), restate=None):
+        self.byte(15).byte(11).byte(index).byte(how).byte(body_choice)
+        if how >= 3:
+            self.byte(1).byte(near)  # FrameNear: a frame of the head's tree (index in its walk)
+        self.byte(0).byte(0).byte(stamp_how).byte(sample)  # coord: the point; the stamp
+        self.value(*a).value(*alpha)
+        return self if restate is None else self.byte(1 if restate else 0)
+
+    # SetAcceleration by kept handle #handle at stamped edge #index's sample #sample (stamp_how
+    # as above).
+    def set_acc_at(self, handle, index, sample=0, stamp_how=0, a=(1, 0), alpha=(2, 0)):
+        self.byte(15).byte(12).byte(handle).value(*a).value(*alpha)
+        return self.byte(index).byte(stamp_how).byte(sample)
+
+    # An acceleration query as ask_acc's (t1 stamped) under policy 0 latest, 1 latest common,
+    # 2 at a time near t1's samples: near = (sample a, sample b, case as timed_pose's); horizon:
+    # kHorizons index; not_before: a kStamps index or None.
+    def ask_acc_at(self, t1, t2, c_head=True, d_head=False, kind=0, policy=2, near=(0, 0, 0),
+                   horizon=0, not_before=None):
+        self.byte(15).byte(13).byte(t1).byte(t2).byte(kind).byte(1)
+        self.byte(1 if c_head else 0).byte(1 if d_head else 0).byte(1).byte(0)
+        if kind != 2:
+            self.byte(1)
+        self.byte(1).byte(policy)
+        if policy >= 2:
+            self.byte(1).byte(1).byte(near[0]).byte(near[1]).byte(near[2]).byte(horizon)
+        return self.byte(1) if not_before is None else self.byte(0).byte(not_before)
+
     # ---- extended ops (Step(): 13, then Extended(): byte % 12). Each encoder mirrors its
     # decoder in scene_ops_fuzzer.cc; `policy` is Policy()'s byte (< 160: the default).
     def ext(self, sub):
@@ -585,10 +641,49 @@ def scene_ops_seeds():
              .next_sample(0, 5, 3)                                    # 12 s later: older ones pruned
              .timed_pose(0, near=(0, 0, 2)).timed_pose(0, kind=2, near=(0, 1, 1)))
     seeds["time_track"] = track(Ops())
+    # Stamped accelerations (docs/dynamics.md §7.2): A -> {b}|B sampled at 1, 1.5, 2 s with
+    # accelerations, B -> {c}|C at 1, 1.5, 2 s (the last without one); queries between
+    # samples (interpolated; across the sample without one: no_acceleration), held within a
+    # horizon, latest and latest common; AddAcceleration at a sample's stamp (at the head, at a
+    # frame of its tree, against the edge), at a stamp without a sample, the same one again and
+    # another (a duplicate), without a stamp (stamp_mismatch); SetAcceleration at a stamp.
+    seeds["time_accelerations"] = (
+        Ops().pose("b", "B", "a", "A", (1, 0), (1, 0))
+        .pose("c", "C", "b", "B", (3, 0), (2, 0))
+        .stamped_twist_acc("b", "B", "A", 0, (1, 0), (2, 0), (1, 0), (5, 0))
+        .sample_acc(0, when=0, v=(3, 0), w=(1, 0), a=(3, 0), alpha=(6, 0))  # 1.5 s
+        .stamped_twist_acc("c", "C", "B", 0, (3, 0), (4, 0), (3, 0), (6, 0), stamped_exist=True)
+        .sample_acc(1, when=0, v=(2, 0), w=(1, 0), a=(4, 0), alpha=(1, 0))  # 1.5 s
+        .sample_acc(0, when=0, v=(2, 0), w=(3, 0), a=(5, 0), alpha=(1, 0))  # 2 s
+        .stamped_twist("c", "B", 2, (1, 0), (2, 0), twists_exist=True)      # 2 s, without one
+        .ask_acc_at(0, 0, near=(0, 1, 1))                                   # A -> b interpolated
+        .ask_acc_at(1, 0, near=(0, 1, 2))                                   # composed, 1.25 s
+        .ask_acc_at(1, 0, near=(1, 2, 2))                                   # c: no_acceleration
+        .ask_acc_at(1, 0, policy=0).ask_acc_at(1, 0, policy=1)
+        .ask_acc_at(0, 0, kind=1, near=(0, 0, 3), horizon=3)                # held (extrapolated)
+        .ask_acc_at(0, 0, kind=2, near=(0, 0, 4), horizon=4)
+        .ask_acc_at(0, 0, near=(0, 0, 3))                                   # extrapolation
+        .ask_acc_at(0, 0, near=(0, 0, 0), not_before=4)                     # stale
+        .stamped_add_acc(1, sample=2, a=(5, 0), alpha=(3, 0))               # c at 2 s
+        .ask_acc_at(1, 0, near=(1, 2, 2))                                   # now both carry one
+        .stamped_add_acc(1, sample=2, a=(5, 0), alpha=(3, 0), restate=True) # the same again
+        .stamped_add_acc(1, sample=2, a=(1, 0), alpha=(3, 0), restate=False)  # another one
+        .stamped_add_acc(0, how=3, near=2, sample=1, a=(4, 0), alpha=(1, 0))  # at a frame of b's tree
+        .stamped_add_acc(0, how=5, sample=0)                                # against the edge, at b
+        .stamped_add_acc(0, sample=0, stamp_how=5)                          # 1 s + 1 ns: no sample
+        .add_acc(0)                                                         # stamp_mismatch
+        .twist_handle(0)
+        .set_acc_at(0, 0, sample=1, a=(6, 0), alpha=(2, 0))
+        .set_acc_at(0, 0, sample=0, stamp_how=5)                            # stamp_mismatch
+        .set_acc(0)                                                         # stamp_mismatch
+        .ask_acc_at(0, 0, near=(0, 1, 2)).ask_acc_at(1, 0, policy=1))
     for name, byte0 in (("linear", 2), ("reject", 4), ("small_window", 8)):
         seeds["time_track_" + name] = track(Ops())
         seeds["time_track_" + name].b[0] = byte0
     out = {}
+    seeds["time_accelerations_reject"] = Ops()
+    seeds["time_accelerations_reject"].b = bytearray(seeds["time_accelerations"].b)
+    seeds["time_accelerations_reject"].b[0] = 4  # duplicates rejected
     for name, ops in seeds.items():
         out[name] = bytes(ops.b)
         homogeneous = bytearray(ops.b)

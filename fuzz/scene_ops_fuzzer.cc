@@ -21,7 +21,9 @@
 //                     or compiled and kept, a handle kept, SetWrench through a kept handle);
 //                     15 an acceleration op (a twist with an acceleration, AddAcceleration with
 //                     every error class, twist handles with SetAcceleration / SetTwist, queries
-//                     of the three kinds one-shot, compiled, and compiled and kept)
+//                     of the three kinds one-shot, compiled, and compiled and kept; stamped: a
+//                     twist sample with an acceleration, AddAcceleration and SetAcceleration at
+//                     a sample's stamp or a wrong one, queries under every time policy)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -378,8 +380,13 @@ class Fuzzer {
   // in a frame of the head's tree), 6 SetAcceleration and 7 SetTwist (which clears the
   // acceleration) through a kept handle (7: a converting one when a Bool says so), 8 a query
   // (acceleration, linear or angular, one-shot and compiled), 9 the same compiled and kept.
+  // Stamped (docs/dynamics.md §7.2): 10 a stamped twist sample with an acceleration (a stored
+  // edge's next sample or one of its stamps, or a new edge), 11 AddAcceleration at a stamp (one
+  // of a stamped edge's samples or a wrong one; the edge's relation bent as for 2-4), 12
+  // SetAcceleration by a kept handle at a stamp, 13 an acceleration query under a time policy
+  // (At with or without a horizon, Latest, LatestCommon, not_before).
   void AccelerationOp() {
-    const std::uint32_t which = in_.Below(10);
+    const std::uint32_t which = in_.Below(14);
     const auto& twists = d_.model().twists();
     const auto some_edge = [&]() -> const reference::TwistEdge* {
       const std::uint8_t pick = in_.Byte();  // read whether used or not
@@ -430,11 +437,28 @@ class Fuzzer {
         }
         return;
       }
+      case 10:
+        return StampedTwistWithAcceleration();
+      case 11:
+        return StampedAddAcceleration();
+      case 12: {
+        const std::uint8_t pick = in_.Byte();
+        const Eigen::Vector3d a = AccelerationValue();
+        const Eigen::Vector3d alpha = AccelerationValue();
+        d_.SetByTwistHandle(pick, true, a, alpha, StampOfStampedEdge(nullptr));
+        return;
+      }
       default: {
         const reference::TwistEdge* t1 = some_edge();  // in this order (not as two arguments)
         const reference::TwistEdge* t2 = some_edge();
         const Query q = AccelerationQuery(t1, t2);
-        if (which == 8) {
+        if (which == 13) {
+          focus_stamps_.clear();  // times around t1's samples when it is stamped
+          if (t1 != nullptr) {
+            for (const reference::TwistSample& x : t1->samples) focus_stamps_.push_back(x.t);
+          }
+          d_.AskAccelerationTimed(q, TimePolicy());
+        } else if (which == 8) {
           d_.AskAcceleration(q);
         } else {
           d_.KeepAcceleration(q);
@@ -442,6 +466,106 @@ class Fuzzer {
         return;
       }
     }
+  }
+
+  // The stamped edges of the model (pointers into its twists).
+  std::vector<const reference::TwistEdge*> StampedTwistEdges() const {
+    std::vector<const reference::TwistEdge*> out;
+    for (const reference::TwistEdge& t : d_.model().twists()) {
+      if (t.stamped) out.push_back(&t);
+    }
+    return out;
+  }
+  // A stamp for an acceleration on `t` (null: a stamped edge picked by input): mostly one of its
+  // samples', else one just off it, the edge's next stamp, or one from the table.
+  std::int64_t StampOfStampedEdge(const reference::TwistEdge* t) {
+    const std::uint8_t pick = in_.Byte();
+    const std::uint32_t how = in_.Below(8);
+    if (t == nullptr) {
+      const auto stamped = StampedTwistEdges();
+      if (!stamped.empty()) t = stamped[pick % stamped.size()];
+    }
+    if (t == nullptr || t->samples.empty() || how == 7) return StampChoice();
+    const std::int64_t s = t->samples[in_.Below(static_cast<std::uint32_t>(t->samples.size()))].t;
+    if (how == 5) return s + 1;
+    if (how == 6) return NextStamp(t->samples.back().t);
+    return s;
+  }
+
+  // Op 15/10: a stamped twist with an acceleration: on a stored stamped edge (its next stamp or
+  // one of its samples: a duplicate, same or other acceleration), or as a new edge (any names).
+  void StampedTwistWithAcceleration() {
+    const auto stamped = StampedTwistEdges();
+    const std::uint8_t pick = in_.Byte();
+    const reference::TwistEdge* t =
+        stamped.empty() || in_.OneIn(4) ? nullptr : stamped[pick % stamped.size()];
+    const std::string point = t ? t->head : Frame();
+    const std::string body = t ? std::string() : BodyFor(point);
+    const std::string ref_body = t && !in_.OneIn(8) ? t->tail_body : Body();
+    const std::string coord = TwistCoord(point);
+    std::int64_t stamp = 0;
+    if (t == nullptr) {
+      stamp = StampChoice();
+    } else if (in_.Bool()) {
+      stamp = t->samples[in_.Below(static_cast<std::uint32_t>(t->samples.size()))].t;
+    } else {
+      stamp = NextStamp(t->samples.back().t);
+    }
+    // Restating a sample: often its own twist (then only the acceleration decides).
+    Eigen::Vector3d v = Velocity(), w = Velocity();
+    if (t != nullptr && coord == point && in_.Bool()) {
+      for (const reference::TwistSample& x : t->samples) {
+        if (x.t == stamp) v = x.v, w = x.w;
+      }
+    }
+    const Eigen::Vector3d a = AccelerationValue();
+    d_.StampedTwistWithAcceleration(point, body, ref_body, coord, v, w, a, AccelerationValue(),
+                                    stamp);
+  }
+
+  // Op 15/11: AddAcceleration at a stamp, on a stamped edge's relation (bent by `how` as in
+  // AddAccelerationOp: a point elsewhere in the tree, another body, the inverse relation), or
+  // on any edge (a timeless one: stamp_mismatch).
+  void StampedAddAcceleration() {
+    const auto stamped = StampedTwistEdges();
+    const std::uint8_t pick = in_.Byte();
+    const std::uint32_t how = in_.Below(8);
+    const std::uint32_t body_choice = in_.Below(4);
+    const auto& twists = d_.model().twists();
+    const reference::TwistEdge* t = nullptr;
+    if (!stamped.empty() && how != 7) t = stamped[pick % stamped.size()];
+    if (t == nullptr && !twists.empty()) t = &twists[pick % twists.size()];
+    if (t == nullptr) {
+      const std::string point = Frame();
+      const std::string body = BodyFor(point);
+      const std::string ref_body = Body();
+      const std::string coord = TwistCoord(point);
+      const Eigen::Vector3d a = AccelerationValue();
+      d_.Acceleration(point, body, ref_body, coord, a, AccelerationValue(), StampChoice());
+      return;
+    }
+    const reference::TwistEdge edge = *t;
+    const std::string H = d_.model().frames().at(edge.head);
+    const std::string point = how < 3 ? edge.head : FrameNear(edge.head);
+    std::string body = body_choice == 0 ? std::string() : H;
+    if (body_choice == 3 && in_.OneIn(4)) body = Body();
+    std::string ref_body = edge.tail_body;
+    if (how == 5) body = edge.tail_body, ref_body = H;  // the inverse relation, against the edge
+    if (how == 6 && in_.OneIn(2)) ref_body = Body();
+    const std::string coord = TwistCoord(point);
+    const std::int64_t stamp = StampOfStampedEdge(&edge);
+    const Eigen::Vector3d a = AccelerationValue();
+    const Eigen::Vector3d alpha = AccelerationValue();
+    // Restating a sample's acceleration as stored (edge form, at the head): the same again.
+    if (how == 0 && body_choice != 3 && coord == point) {
+      for (const reference::TwistSample& x : edge.samples) {
+        if (x.t == stamp && x.has_A && in_.Bool()) {
+          d_.Acceleration(point, body, ref_body, coord, x.a, x.alpha, stamp);
+          return;
+        }
+      }
+    }
+    d_.Acceleration(point, body, ref_body, coord, a, alpha, stamp);
   }
 
   // An acceleration value: a small table (zero, gravity, a spin-up, a large one: 2e12 is over

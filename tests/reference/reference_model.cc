@@ -151,6 +151,20 @@ bool SameTwist(const TwistSample& a, const Eigen::Vector3d& v, const Eigen::Vect
   return (a.v - v).norm() <= 1e-6 * std::max(1.0, a.v.norm()) &&
          (a.w - w).norm() <= 1e-6 * std::max(1.0, a.w.norm());
 }
+// A sample's acceleration against one given (null: none): both none, or each vector within
+// 1e-6 max(1, |stored|) (the twist's tolerance).
+bool SameSampleAcceleration(const TwistSample& x, const AccelerationIn* A) {
+  if (x.has_A != (A != nullptr)) return false;
+  if (A == nullptr) return true;
+  return (x.a - A->a).norm() <= 1e-6 * std::max(1.0, x.a.norm()) &&
+         (x.alpha - A->alpha).norm() <= 1e-6 * std::max(1.0, x.alpha.norm());
+}
+// The edge's record of a stamped edge: its newest sample's twist and acceleration.
+void FromNewest(TwistEdge& t) {
+  const TwistSample& n = t.samples.back();
+  t.v = n.v, t.w = n.w;
+  t.has_A = n.has_A, t.a = n.a, t.alpha = n.alpha;
+}
 
 // The stamp rules of an update (time.md §1-2): stamp_mismatch -> stamp_too_old -> duplicate_stamp.
 template <class Sample, class Same>
@@ -961,7 +975,10 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
     if (t.head != point) continue;
     if (t.tail_body != ref_body) return ErrorCode::kMultipleTwistParents;
     if (JointOfChild(s_, point)) return ErrorCode::kJointEdge;
-    const auto same = [&](const TwistSample& x) { return SameTwist(x, v_e, w_e); };
+    const AccelerationIn acc_e{a_e, alpha_e};  // in the edge form, compared as stored
+    const auto same = [&](const TwistSample& x) {
+      return SameTwist(x, v_e, w_e) && SameSampleAcceleration(x, acc ? &acc_e : nullptr);
+    };
     if (const ErrorCode c = CheckStamp(t.stamped, t.samples, stamp, time_, same);
         c != ErrorCode::kOk)
       return c;
@@ -973,10 +990,10 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
       t.a = a_e, t.alpha = alpha_e;
       return ErrorCode::kOk;
     }
-    InsertSample(t.samples, TwistSample{*stamp, v_e, w_e}, time_, same);
-    t.v = t.samples.back().v;
-    t.w = t.samples.back().w;
-    t.has_A = false;  // a stamped sample: never an acceleration (none stored with samples)
+    // The sample carries the acceleration given with it, or none (never the previous one's).
+    InsertSample(t.samples, TwistSample{*stamp, v_e, w_e, acc != nullptr, a_e, alpha_e}, time_,
+                 same);
+    FromNewest(t);
     return ErrorCode::kOk;
   }
   State next = s_;
@@ -984,8 +1001,11 @@ ErrorCode ReferenceModel::AddTwist(const std::string& point, const std::string& 
   next.bodies.insert(ref_body);
   PutFrame(next, point, C);
   next.twists.push_back(TwistEdge{ref_body, point, v_e, w_e, stamp.has_value(), {}, S});
-  if (stamp) next.twists.back().samples.push_back(TwistSample{*stamp, v_e, w_e});
-  next.twists.back().has_A = acc != nullptr && !stamp;
+  if (stamp) {
+    next.twists.back().samples.push_back(
+        TwistSample{*stamp, v_e, w_e, acc != nullptr, a_e, alpha_e});
+  }
+  next.twists.back().has_A = acc != nullptr;
   next.twists.back().a = a_e, next.twists.back().alpha = alpha_e;
   next.twists.back().serial = next.next_twist_serial++;
   if (Violation(next) != Rule::kNone) return ErrorCode::kDuplicateTwistPath;
@@ -1227,6 +1247,7 @@ bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon,
       while (S[i].t < t) ++i;
       if (S[i].t == t) {
         e.v = S[i].v, e.w = S[i].w;
+        e.has_A = S[i].has_A, e.a = S[i].a, e.alpha = S[i].alpha;
         read(t);
         continue;
       }
@@ -1234,6 +1255,10 @@ bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon,
       const double lambda = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
       e.v = (1.0 - lambda) * a.v + lambda * b.v;
       e.w = (1.0 - lambda) * a.w + lambda * b.w;
+      // An acceleration only when both samples carry one (no implicit zero), interpolated alike.
+      e.has_A = a.has_A && b.has_A;
+      e.a = (1.0 - lambda) * a.a + lambda * b.a;
+      e.alpha = (1.0 - lambda) * a.alpha + lambda * b.alpha;
       read(a.t);
       read(b.t);
       continue;
@@ -1243,7 +1268,8 @@ bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon,
                              static_cast<double>(horizon))) {
       return false;
     }
-    e.v = k.v, e.w = k.w;  // held
+    e.v = k.v, e.w = k.w;  // held, with its acceleration
+    e.has_A = k.has_A, e.a = k.a, e.alpha = k.alpha;
     report->extrapolated = true;
     read(k.t);
   }
@@ -1251,6 +1277,27 @@ bool ReferenceModel::ValuesAt(std::int64_t t, std::int64_t horizon,
 }
 
 TimedAnswer ReferenceModel::AskAt(const Query& q, const TimeQuery& policy) const {
+  ReferenceModel at = *this;
+  return AskAtWith(q, policy, &at);
+}
+
+ReferenceModel::TimedAcceleration ReferenceModel::AskAccelerationAt(const Query& q,
+                                                                    const TimeQuery& policy) const {
+  ReferenceModel at = *this;
+  const TimedAnswer twist = AskAtWith(q, policy, &at);
+  TimedAcceleration out;
+  out.time = twist.time, out.oldest = twist.oldest, out.newest = twist.newest;
+  out.extrapolated = twist.extrapolated;
+  out.ambiguous = twist.ambiguous;
+  out.answer.code = twist.answer.code;
+  if (out.answer.code != ErrorCode::kOk) return out;
+  out.answer = at.AskAcceleration(q);  // the values (and accelerations) at the time
+  return out;
+}
+
+TimedAnswer ReferenceModel::AskAtWith(const Query& q, const TimeQuery& policy,
+                                      ReferenceModel* at_model) const {
+  ReferenceModel& at = *at_model;  // a copy of *this
   TimedAnswer out;
   out.answer = Ask(q);
   if (out.answer.code == ErrorCode::kInvalidName) return out;
@@ -1279,7 +1326,6 @@ TimedAnswer ReferenceModel::AskAt(const Query& q, const TimeQuery& policy) const
   if (policy.kind == TimeQuery::Kind::kLatestCommon && !newest.empty()) {
     t = *std::min_element(newest.begin(), newest.end());
   }
-  ReferenceModel at = *this;
   if (t) {
     if (!ValuesAt(*t, policy.kind == TimeQuery::Kind::kAt ? policy.horizon : 0, used, &at.s_,
                   &out)) {
@@ -1539,7 +1585,8 @@ WrenchAnswer ReferenceModel::AskWrenchTerms(const std::vector<std::uint64_t>& se
 
 ErrorCode ReferenceModel::AddAcceleration(const std::string& point, const std::string& body,
                                           const std::string& ref_body, const std::string& coord,
-                                          const Eigen::Vector3d& a, const Eigen::Vector3d& alpha) {
+                                          const Eigen::Vector3d& a, const Eigen::Vector3d& alpha,
+                                          std::optional<std::int64_t> stamp) {
   if (!ValidName(point) || !ValidName(ref_body) || !ValidName(coord))
     return ErrorCode::kInvalidName;
   if (!body.empty() && !ValidName(body)) return ErrorCode::kInvalidName;
@@ -1559,21 +1606,63 @@ ErrorCode ReferenceModel::AddAcceleration(const std::string& point, const std::s
   }
   if (edge == nullptr) return ErrorCode::kNoSuchEdge;
   if (JointOfChild(s_, edge->head)) return ErrorCode::kJointEdge;
-  if (edge->stamped) return ErrorCode::kStampMismatch;
+  if (edge->stamped != stamp.has_value()) return ErrorCode::kStampMismatch;
   Transform X_HR, X_HE;  // [coord] wrt [h]; e wrt h, in [h]
   if (!Find(coord, edge->head, &X_HR)) return ErrorCode::kAccelerationNotConvertible;
   Find(point, edge->head, &X_HE);
+  // The twist it goes with: the edge's, or (stamped) its sample at exactly the stamp, with the
+  // poses read at the stamp (none there: not convertible).
+  Eigen::Vector3d v = edge->v, w = edge->w;
+  std::size_t sample = 0;
+  if (stamp) {
+    while (sample < edge->samples.size() && edge->samples[sample].t != *stamp) ++sample;
+    if (sample == edge->samples.size()) return ErrorCode::kAccelerationNotConvertible;
+    v = edge->samples[sample].v, w = edge->samples[sample].w;
+    TimeQuery at;
+    at.kind = TimeQuery::Kind::kAt;
+    at.t = *stamp;
+    Query o;  // the orientation of [coord] wrt [h]
+    o.kind = QueryKind::kOrientation;
+    o.orientation = coord;
+    o.ref_orientation = o.coord = edge->head;
+    Query x;  // the position of e wrt h, in [h]
+    x.kind = QueryKind::kPosition;
+    x.point = point;
+    x.ref_point = x.coord = edge->head;
+    const TimedAnswer R_at = AskAt(o, at), p_at = AskAt(x, at);
+    if (R_at.answer.code != ErrorCode::kOk || p_at.answer.code != ErrorCode::kOk)
+      return ErrorCode::kAccelerationNotConvertible;
+    X_HR.R = R_at.answer.M;
+    X_HE.p = p_at.answer.p;
+  }
   // (4) into [h]; then (1) from the point e of C to h's origin: r = p_h - p_e = -p_HE, with the
-  // angular velocity of C relative to ref_body: the edge's current w (in [h]), or -w against it.
+  // angular velocity of C relative to ref_body: the edge's w (in [h]), or -w against it.
   const Eigen::Vector3d alpha_h = X_HR.R * alpha;
   const Eigen::Vector3d r = -X_HE.p;
-  const Eigen::Vector3d w_given = against ? Eigen::Vector3d(-edge->w) : edge->w;
+  const Eigen::Vector3d w_given = against ? Eigen::Vector3d(-w) : w;
   const Eigen::Vector3d a_h = X_HR.R * a + alpha_h.cross(r) + w_given.cross(w_given.cross(r));
   // Against the edge, (3) at h: the edge's relation is the inverse of the given one, whose twist
   // at h is (-v, -w): alpha_edge = -alpha_h, a_edge = -a_h + 2 (-w) x (-v).
-  edge->a = against ? Eigen::Vector3d(-a_h + 2.0 * edge->w.cross(edge->v)) : a_h;
-  edge->alpha = against ? Eigen::Vector3d(-alpha_h) : alpha_h;
+  const Eigen::Vector3d a_edge = against ? Eigen::Vector3d(-a_h + 2.0 * w.cross(v)) : a_h;
+  const Eigen::Vector3d alpha_edge = against ? Eigen::Vector3d(-alpha_h) : alpha_h;
+  if (stamp) return StoreSampleAcceleration(*edge, sample, a_edge, alpha_edge);
+  edge->a = a_edge;
+  edge->alpha = alpha_edge;
   edge->has_A = true;
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::StoreSampleAcceleration(TwistEdge& t, std::size_t sample,
+                                                  const Eigen::Vector3d& a,
+                                                  const Eigen::Vector3d& alpha) const {
+  TwistSample& x = t.samples[sample];
+  const AccelerationIn A{a, alpha};
+  if (x.has_A) {
+    if (SameSampleAcceleration(x, &A)) return ErrorCode::kOk;  // the same again: no change
+    if (time_.reject_duplicates) return ErrorCode::kDuplicateStamp;
+  }
+  x.has_A = true, x.a = a, x.alpha = alpha;
+  FromNewest(t);
   return ErrorCode::kOk;
 }
 
@@ -1606,12 +1695,19 @@ ErrorCode ReferenceModel::SetTwist(std::uint64_t serial, const Eigen::Vector3d& 
 }
 
 ErrorCode ReferenceModel::SetAcceleration(std::uint64_t serial, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& alpha) {
+                                          const Eigen::Vector3d& alpha,
+                                          std::optional<std::int64_t> stamp) {
   for (TwistEdge& t : s_.twists) {
     if (t.serial != serial) continue;
     if (JointOfChild(s_, t.head)) return ErrorCode::kJointEdge;
-    if (t.stamped) return ErrorCode::kStampMismatch;
+    if (t.stamped != stamp.has_value()) return ErrorCode::kStampMismatch;
+    std::size_t sample = 0;  // stamped: the twist sample at exactly the stamp
+    if (stamp) {
+      while (sample < t.samples.size() && t.samples[sample].t != *stamp) ++sample;
+      if (sample == t.samples.size()) return ErrorCode::kStampMismatch;
+    }
     if (!NumberOk(a) || !NumberOk(alpha)) return ErrorCode::kInvalidNumber;
+    if (stamp) return StoreSampleAcceleration(t, sample, a, alpha);
     t.a = a, t.alpha = alpha, t.has_A = true;
     return ErrorCode::kOk;
   }

@@ -69,10 +69,12 @@
 // stamped add), Explain*; the stamps read are compared only for answers not extrapolated (the
 // spec also counts the stamps the integrating twist reads).
 // ACCELERATIONS (docs/dynamics.md §1): on twist edges, given with a twist or on their own,
-// converted, cleared by any twist value stored without one (adds, stamped samples, SetTwist by
-// handle, removal), SetAcceleration and SetTwist by handle, queries (acceleration, linear,
-// angular) composed along the twist path. Not covered: stamped accelerations (refused),
-// joint accelerations (the library has none yet: a joint's edge carries none).
+// converted, cleared by any twist value stored without one (adds, SetTwist by handle, removal),
+// SetAcceleration and SetTwist by handle, queries (acceleration, linear, angular) composed along
+// the twist path. Stamped (docs/dynamics.md §7.2): each twist sample may carry one (a stamped
+// twist with one, AddAcceleration / SetAcceleration at a sample's stamp), timed queries
+// (AskAccelerationAt). Joint accelerations by SetJoints. Not covered: stamped joint states
+// (their samples' q''), acceleration covariances.
 // WRENCHES (docs/dynamics.md §7): adds (storage frame, conversion, the errors self_wrench,
 // duplicate_wrench, wrench_not_convertible, unknown_frame / unknown_body, invalid_name,
 // invalid_number), removals, handles and SetWrench, and one-shot queries (a pair, its
@@ -142,9 +144,13 @@ struct PoseSample {
   std::int64_t t = 0;
   Transform X;
 };
+/// A twist sample may carry its own acceleration (docs/dynamics.md, "Stamped accelerations"), in
+/// the edge form as TwistEdge's; has_A false: none (a sample given without one carries none).
 struct TwistSample {
   std::int64_t t = 0;
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  bool has_A = false;
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), alpha = Eigen::Vector3d::Zero();
 };
 
 /// A 6x6 covariance (docs/uncertainty.md): rows and columns (dp, dtheta) / (dv, dw).
@@ -175,7 +181,7 @@ struct TwistEdge {
   /// The edge's acceleration AccelerationCoord(h|H, D, [h]) (docs/dynamics.md §1): a = the
   /// classical acceleration of h's origin as a point of H relative to D, alpha = the angular
   /// acceleration of H relative to D, both in [h]. has_A false: none (every twist value stored
-  /// without an acceleration clears it).
+  /// without an acceleration clears it). A stamped edge's is its newest sample's.
   bool has_A = false;
   Eigen::Vector3d a = Eigen::Vector3d::Zero(), alpha = Eigen::Vector3d::Zero();
   std::uint64_t serial = 0;  ///< unique per edge made: a handle of a removed edge stays dead
@@ -333,8 +339,9 @@ class ReferenceModel {
                     const CovarianceIn* cov = nullptr);
   // ACCELERATIONS: `acc` (null: none, and the edge's acceleration is cleared) is checked for
   // invalid_number right after the twist's numbers, rotated into [point] with the twist (the
-  // same point) and stored with it. Not covered: an acceleration with a stamp or a covariance
-  // (the library has no public call for them).
+  // same point) and stored with it; with a stamp it is the sample's (converted with the same
+  // rotation at the stamp), and the duplicate rule compares it too (both none, or each vector
+  // within 1e-6 max(1, |stored|)). Not covered: an acceleration with a covariance.
   ErrorCode AddTwist(const std::string& point, const std::string& body, const std::string& ref_body,
                      const std::string& coord, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
                      std::optional<std::int64_t> stamp = std::nullopt,
@@ -453,11 +460,16 @@ class ReferenceModel {
   /// of {point}. invalid_name (point, body when given, ref_body, coord) -> invalid_number
   /// (finite, |x| <= 1e12) -> unknown_frame (point, coord) -> unknown_body (body, ref_body) ->
   /// no_such_edge (no such edge in that tree; also C == ref_body) -> joint_edge ->
-  /// stamp_mismatch (a stamped edge) -> acceleration_not_convertible ([coord] not in the tree).
-  /// Converted to the edge form with the model's own formulas (see the .cc).
+  /// stamp_mismatch (a stamped edge without a stamp, or a timeless one with one) ->
+  /// acceleration_not_convertible ([coord] not in the tree; stamped: no twist sample at exactly
+  /// the stamp, or a pose needed without a value there) -> duplicate_stamp (reject policy,
+  /// another acceleration on that sample; the same one again: ok, no change). Converted to the
+  /// edge form with the model's own formulas (see the .cc); stamped, with the poses at the stamp
+  /// and that sample's twist, and stored on that sample (the newest's is the edge's).
   ErrorCode AddAcceleration(const std::string& point, const std::string& body,
                             const std::string& ref_body, const std::string& coord,
-                            const Eigen::Vector3d& a, const Eigen::Vector3d& alpha);
+                            const Eigen::Vector3d& a, const Eigen::Vector3d& alpha,
+                            std::optional<std::int64_t> stamp = std::nullopt);
   /// A twist handle's lookup (FindTwistEdge(of, wrt)): invalid_name -> unknown_frame ->
   /// unknown_body -> no_such_edge -> joint_edge; *serial receives the edge's serial.
   ErrorCode FindTwist(const std::string& of, const std::string& wrt, std::uint64_t* serial) const;
@@ -466,14 +478,28 @@ class ReferenceModel {
   /// covariance (a plain value is exact).
   ErrorCode SetTwist(std::uint64_t serial, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
   /// SetAcceleration by handle (edge form, stored as given): no_such_edge -> joint_edge ->
-  /// stamp_mismatch -> invalid_number.
+  /// stamp_mismatch (a stamped edge without a stamp; a timeless one with one; no twist sample
+  /// at the stamp) -> invalid_number -> duplicate_stamp (as AddAcceleration's).
   ErrorCode SetAcceleration(std::uint64_t serial, const Eigen::Vector3d& a,
-                            const Eigen::Vector3d& alpha);
+                            const Eigen::Vector3d& alpha,
+                            std::optional<std::int64_t> stamp = std::nullopt);
   /// An acceleration query, with the fields of the twist query of the same kind: kTwist asks
   /// the acceleration, kLinearVelocity the linear, kAngularVelocity the angular one (body
   /// required, no point). The errors of Ask, then no_acceleration (an edge of the twist path
   /// without one). C == D: zero. Composed along the TG path by the model's own formulas.
   AccelerationAnswer AskAcceleration(const Query& q) const;
+  /// An acceleration query under a time policy: AskAt's codes and report (the same used edges,
+  /// time and stamps read), then no_acceleration; the value is AskAcceleration on the graph
+  /// whose used edges hold their values at the time, each twist edge with its acceleration
+  /// read as its twist: a sample's; between two, each component interpolated linearly, present
+  /// only when both samples carry one; outside within the horizon, the nearest sample's (held).
+  struct TimedAcceleration {
+    AccelerationAnswer answer;
+    std::optional<std::int64_t> time, oldest, newest;
+    bool extrapolated = false;
+    bool ambiguous = false;
+  };
+  TimedAcceleration AskAccelerationAt(const Query& q, const TimeQuery& policy) const;
 
   /// Queries: invalid_name -> unknown_frame -> unknown_body -> frame_body_mismatch ->
   /// no_pose_path -> representation_constraint -> no_twist_path.
@@ -542,6 +568,12 @@ class ReferenceModel {
   /// (and *failure = extrapolation) when one has none. Records the stamps read.
   bool ValuesAt(std::int64_t t, std::int64_t horizon, const std::set<std::string>& used, State* at,
                 TimedAnswer* report) const;
+  /// AskAt's work: *at receives the model whose used edges hold their values at the time.
+  TimedAnswer AskAtWith(const Query& q, const TimeQuery& policy, ReferenceModel* at) const;
+  /// The acceleration of twist edge t's sample at stamp s: duplicate_stamp under the reject
+  /// policy when the sample has another one; the newest sample's also becomes the edge's.
+  ErrorCode StoreSampleAcceleration(TwistEdge& t, std::size_t sample, const Eigen::Vector3d& a,
+                                    const Eigen::Vector3d& alpha) const;
   Representation representation_;
   TimeOptions time_;
   State s_;
