@@ -16,7 +16,9 @@ namespace {
 
 // The acceleration of a planned twist query: every step's acceleration composed, or
 // no_acceleration naming the first edge on the path without one (its head frame in `name`,
-// its tail body in `other`). noexcept, allocation-free.
+// its tail body in `other`). Every step is read even after a missing one, so that under a time
+// policy every edge counts (the latest common time, an edge without data at the time: its
+// error comes first). noexcept, allocation-free.
 template <coord::Backend B>
 QueryResult<coord::Acceleration> AnswerAcceleration(
     const topology::SceneTopology& t, const internal::ForestSource<B>& src,
@@ -25,15 +27,11 @@ QueryResult<coord::Acceleration> AnswerAcceleration(
   internal::AccelerationComposer composer;
   TwistEdgeIndex missing;
   ForEachTwistStep(t, *plan, [&](const TwistStep<ForestChain>& step) {
-    if (missing.is_valid()) return;
     internal::Motion m;
     bool present = false;
     internal::AccelerationStep<B>(src, step, m, present);
-    if (!present) {
-      missing = step.edge;
-      return;
-    }
-    composer.Add(step, m);
+    if (!present && !missing.is_valid()) missing = step.edge;
+    if (!missing.is_valid()) composer.Add(step, m);
   });
   if (missing.is_valid()) {
     QueryError e;
@@ -78,8 +76,8 @@ QueryResult<AngularAcceleration> SceneGraph<B>::GetAngularAcceleration(
   return AngularAcceleration{A->semantics, A->angular};
 }
 
-// A latest-common probe may stop at an edge without an acceleration; the answer is then that
-// error whatever the evaluation at the common time finds.
+// The policy's errors (an edge without data at the time, stale) come before no_acceleration:
+// RunTimed reports them from the context of an evaluation that read every edge.
 template <coord::Backend B>
 QueryResult<Timed<coord::Acceleration>> SceneGraph<B>::GetAcceleration(
     const TwistSpec& spec, const TimePolicy& policy) const noexcept {

@@ -39,7 +39,7 @@
 //     answer of the moment (no_acceleration included); the light final sweep asks them too.
 //     Stamped (StampedTwistWithAcceleration, Acceleration and SetByTwistHandle with a stamp,
 //     AskAccelerationTimed): the same codes; timed queries as AskTimed (code, value, report),
-//     one-shot and compiled, except two known kernel deviations (see AskAccelerationTimed).
+//     one-shot and compiled.
 //
 // Scope: the model's (edge-form pose adds; twist adds in the point's or another frame of its
 // tree; repair, joints, time); see tests/reference/reference_model.h.
@@ -1002,34 +1002,6 @@ class Differential {
     core::TimeReport report;
     const Outcome got = OneShotTimedAcceleration(q, kernel_policy, &report);
     Annotate(got.code);
-    // KNOWN KERNEL DEVIATION (left unchecked, reported with the branch ref-stamped-acc): under
-    // latest_common the kernel's probe (core/src/acceleration_query.cc, RunPolicy's latest
-    // pass) stops at the first path edge whose newest sample carries no acceleration, so the
-    // common time is the minimum over the edges read before it, not over every edge used
-    // (docs/time.md); the model takes every used edge. Only that case is skipped: a path edge
-    // without an acceleration at the latest values.
-    if (policy.kind == reference::TimeQuery::Kind::kLatestCommon) {
-      const reference::TimeQuery latest;  // as the probe: no staleness
-      if (model_.AskAccelerationAt(q, latest).answer.code == ErrorCode::kNoAcceleration) {
-        trace_.back().note = "latest_common probe case: not compared";
-        if (Dump(graph_) != before) Fail("a timed acceleration query changed the graph's Dump()");
-        return;
-      }
-    }
-    // KNOWN KERNEL DEVIATION 2 (same cause: the kernel stops reading the path at the first edge
-    // without an acceleration): an extrapolation or staleness of an edge after it goes unseen,
-    // and the kernel says no_acceleration where the timed twist query's errors come first
-    // (scene_graph.h: "The errors of the timed GetTwist, then no_acceleration"). Skipped only
-    // when the model says extrapolation / stale and an edge of the path has a value without an
-    // acceleration.
-    if (got.code == ErrorCode::kNoAcceleration &&
-        (expected.answer.code == ErrorCode::kExtrapolation ||
-         expected.answer.code == ErrorCode::kStale) &&
-        PathHasValueWithoutAcceleration(q)) {
-      trace_.back().note = "error precedence case: not compared";
-      if (Dump(graph_) != before) Fail("a timed acceleration query changed the graph's Dump()");
-      return;
-    }
     CompareTimedAcceleration("timed acceleration query", expected, got, report);
     if (CompileComparable(q)) {
       core::TwistSpec spec = TwistSpecOf(q);
@@ -1232,23 +1204,6 @@ class Differential {
         return o;
       }
     }
-  }
-
-  // Whether a twist edge of q's path has a value (its record, or a sample) without an
-  // acceleration.
-  bool PathHasValueWithoutAcceleration(const Query& q) const {
-    if (model_.Ask(q).code != ErrorCode::kOk) return false;
-    const std::string& own = q.kind == QueryKind::kAngularVelocity ? q.coord : q.point;
-    if ((q.body.empty() ? model_.frames().at(own) : q.body) == q.ref_body) return false;
-    const std::set<std::string> used = model_.UsedEdges(q);
-    for (const reference::TwistEdge& t : model_.twists()) {
-      if (!used.count(ReferenceModel::TwistKey(t.tail_body, t.head))) continue;
-      if (!t.has_A) return true;
-      for (const reference::TwistSample& x : t.samples) {
-        if (!x.has_A) return true;
-      }
-    }
-    return false;
   }
 
   // The timed one-shot acceleration queries; the value as Outcome's v (a) and w (alpha).
