@@ -176,8 +176,8 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
   if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, nullptr, why);
   if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, nullptr, why);
   for (std::size_t i = 0; i < n; ++i)
-    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr,
-                     nullptr, s);
+    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, nullptr,
+                     s);
   return internal::Report(why, ErrorCode::kOk);
 }
 

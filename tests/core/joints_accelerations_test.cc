@@ -241,8 +241,7 @@ TEST_F(JointAccelerations, RejectionsByNameLeaveTheGraphUnchanged) {
   const JointValue fine[] = {{"j1", -3.0}, {"j2", 4.0}};  // accelerations are not limited
   expect(g.SetJoints(over, {}, fine), ErrorCode::kJointLimit, "j2");
   // A stamp on timeless joints: refused, and the joints stay timeless.
-  expect(g.SetJoints({}, {}, fine, Stamp::Nanoseconds(1)), ErrorCode::kStampMismatch,
-         "timeless");
+  expect(g.SetJoints({}, {}, fine, Stamp::Nanoseconds(1)), ErrorCode::kStampMismatch, "timeless");
   ASSERT_TRUE(g.SetJoints({}, {}, fine));
   EXPECT_EQ(Qddot("j2"), 4.0);
 }

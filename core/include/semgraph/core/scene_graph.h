@@ -882,8 +882,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   // qddot: the sample's joint acceleration (null: none).
   ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot,
                              const double* qddot, std::int64_t s) const noexcept;
-  void StoreJointSample(JointIndex index, const double* q, const double* qdot,
-                        const double* qddot, std::int64_t s) noexcept;
+  void StoreJointSample(JointIndex index, const double* q, const double* qdot, const double* qddot,
+                        std::int64_t s) noexcept;
   Expected<internal::JacobianPlan, QueryError> PlanJacobian(const TwistSpec& spec) const;
 
   topology::SceneTopology topology_;
