@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "dds_isolation.h"
+#include "mirror_test_support.h"
 #include "scenes.h"
 #include "semgraph/core/scene_graph_debug.h"
 #include "semgraph/dds/mirror.h"
@@ -267,23 +268,6 @@ TEST(MirrorDynamicsTest, AccelerationsAndWrenchesReachMirrors) {
   EXPECT_EQ((*pub)->write_failures(), 0u);
 }
 
-// A raw DDS writer on one of semgraph's topics (keep-last 1, as the publishers' value writers).
-struct RawWriter {
-  dds_entity_t participant = 0, writer = 0;
-  RawWriter(std::uint32_t domain, const dds_topic_descriptor_t* desc, const char* name) {
-    participant = dds_create_participant(domain, nullptr, nullptr);
-    dds_qos_t* qos = dds_create_qos();
-    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
-    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
-    dds_qset_destination_order(qos, DDS_DESTINATIONORDER_BY_RECEPTION_TIMESTAMP);
-    const dds_entity_t topic = dds_create_topic(participant, desc, name, qos, nullptr);
-    writer = dds_create_writer(participant, topic, qos, nullptr);
-    dds_delete_qos(qos);
-  }
-  ~RawWriter() { dds_delete(participant); }
-};
-
 // Hostile values (a NaN acceleration with a twist, a NaN wrench, an acceleration with a pose
 // value or a stamped sample, a stamped wrench, a NaN qddot) and hostile structures (a wrench
 // naming a body or a storage frame not of its `on` body, a NaN wrench, a NaN acceleration on a
@@ -293,14 +277,7 @@ TEST(MirrorDynamicsTest, HostileAccelerationsAndWrenchesAreRejected) {
   constexpr std::uint32_t kDomain = 32;
   std::mutex log_mutex;
   std::string logs;
-  dds::MirrorOptions options;
-  options.name = "m";
-  options.domain = kDomain;
-  options.log = [&](const std::string& line) {
-    std::lock_guard<std::mutex> lock(log_mutex);
-    logs += line + "\n";
-  };
-  auto mirror = dds::Mirror::Create(options);
+  auto mirror = dds::Mirror::Create(LoggingOptions(kDomain, log_mutex, logs));
   ASSERT_TRUE(mirror) << mirror.error();
   Scene s;
   BuildScene(s);
