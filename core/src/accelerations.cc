@@ -4,7 +4,6 @@
 // dynamics.md, "Stamped accelerations"), with the poses at the stamp and the twist sample of that
 // stamp. Every check runs before the only change (one record or sample store), so a rejected
 // call leaves the graph as it was.
-#include <cmath>
 #include <string>
 
 #include "semgraph/core/scene_graph.h"
