@@ -131,7 +131,8 @@ struct AppliedWrench {
   std::string owner;
   std::uint64_t source = 0;
   std::uint32_t id = 0;
-  std::string frame;  // the storage frame s
+  std::string frame;     // the storage frame s
+  bool stamped = false;  // added stamped (the pair keeps a history)
 };
 
 // An edge of the replica and where it came from.

@@ -102,7 +102,10 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
   core::CovarianceInput covariance;
   covariance.matrix = S != nullptr ? S : &zero;
   const bool has_covariance = S != nullptr;
-  if (slot.wrench) return graph.SetWrench(slot.wrench_handle, a, b, bad);
+  if (slot.wrench) {
+    return at ? graph.SetWrench(slot.wrench_handle, a, b, *at, bad)
+              : graph.SetWrench(slot.wrench_handle, a, b, bad);
+  }
   if (slot.joint) {
     const double qv[1] = {n[0]}, qdot[1] = {n[1]};
     const double qddot[1] = {acc != nullptr ? acc[0] : 0.0};
@@ -116,10 +119,12 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
         : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, bad)
         : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, bad)
                              : graph.SetTwist(slot.twist_handle, a, b, bad);
-    // A twist clears the edge's acceleration; one given comes with it (checked before).
+    // A twist (a stamped sample: its sample) clears the acceleration; one given comes with it
+    // (checked before), a stamped one on the sample just set.
     if (code != base::ErrorCode::kOk || acc == nullptr) return code;
-    return graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(acc[0], acc[1], acc[2]),
-                                 Eigen::Vector3d(acc[3], acc[4], acc[5]), bad);
+    const Eigen::Vector3d lin(acc[0], acc[1], acc[2]), ang(acc[3], acc[4], acc[5]);
+    return at ? graph.SetAcceleration(slot.twist_handle, lin, ang, *at, bad)
+              : graph.SetAcceleration(slot.twist_handle, lin, ang, bad);
   }
   return at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, bad)
          : at                 ? graph.SetPose(slot.pose, q, p, *at, bad)
@@ -128,16 +133,17 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
 }
 
 // What a value may carry beside its numbers, checked before anything is set: the reason it is
-// malformed (empty: fine). A covariance goes with edges only; an acceleration with a timeless
-// twist edge's value or joint's state (stamped ones: not carried in this version).
+// malformed (empty: fine). A covariance goes with edges only; an acceleration with a twist
+// edge's value or sample, or a timeless joint's state (stamped joints' qddot: not carried in
+// this version).
 std::string Mirror::Impl::Malformed(const Slot& slot, bool stamped, bool has_covariance,
                                     const double* acc) const {
   if (has_covariance && (slot.joint || slot.wrench)) {
     return std::string("a covariance with a ") + (slot.joint ? "joint state" : "wrench") +
            " (not carried in this version)";
   }
-  if (acc != nullptr && stamped)
-    return "an acceleration with a stamped sample (not carried in this version)";
+  if (acc != nullptr && stamped && slot.joint)
+    return "a qddot with a stamped joint state (not carried in this version)";
   if (acc != nullptr && !(slot.twist || slot.joint))
     return "an acceleration with a value that is neither a twist nor a joint state";
   return {};
@@ -153,7 +159,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
                            (slot.joint    ? "joint '"
                             : slot.wrench ? "wrench on '"
                                           : "edge into '") +
-                           slot.head + "'");
+                           slot.head + "' (stamp_mismatch)");
     return false;
   }
   if (!slot.settable) {
@@ -218,15 +224,11 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
 // One value from the value or sample topic, or from a batch; true when applied.
 bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // The numbers are checked by the graph's setter when applied (ApplyValue: its UpdateError).
-  // Stamped accelerations and stamped wrenches are not carried in this version (the extension
-  // point: such a sample will name its stamp in time_ns as the others do).
+  // A stamped twist sample may carry its acceleration, a stamped wrench its sample (f, m): the
+  // slot decides (ApplyValue: stamp_mismatch, Malformed).
   const char* why = v.kind > semgraph_wire_VALUE_WRENCH ? ": unknown kind"
                     : samples && !GoodStamp(v.time_ns)
                         ? ": the stamp is out of range (invalid_number)"
-                    : samples && v.kind == semgraph_wire_VALUE_WRENCH
-                        ? ": a stamped wrench (not carried in this version)"
-                    : samples && v.acceleration != nullptr
-                        ? ": an acceleration with a stamped sample (not carried in this version)"
                         : nullptr;
   if (why != nullptr) {
     Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) +

@@ -128,11 +128,30 @@ class SEMGRAPH_DDS_EXPORT Publisher {
   [[nodiscard]] base::ErrorCode SetAcceleration(core::TwistHandle edge,
                                                 const Eigen::Vector3d& a_DHo_H,
                                                 const Eigen::Vector3d& alpha_DH_H) noexcept;
+  /// Stamped accelerations (docs/dynamics.md "Stamped accelerations"), stamped twist edges:
+  /// SetTwist at a stamp with the sample's acceleration (edge form; checked first as above,
+  /// then SceneGraph's stamped SetTwist and SetAcceleration), published as one sample with it.
+  /// SetAcceleration at a stamp: SceneGraph's (the twist sample at `stamp` must exist, same
+  /// codes), then that sample goes out again with its acceleration. A stamped sample set
+  /// without one goes out without one (none: never the previous sample's).
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H, core::Stamp stamp,
+                                         const core::AccelerationInput& acceleration) noexcept;
+  [[nodiscard]] base::ErrorCode SetAcceleration(core::TwistHandle edge,
+                                                const Eigen::Vector3d& a_DHo_H,
+                                                const Eigen::Vector3d& alpha_DH_H,
+                                                core::Stamp stamp) noexcept;
   /// A wrench's new value (SceneGraph::SetWrench, same codes): (f_S, m_So_S) in the handle's
   /// storage frame, published on the value topic when the graph took it. The pair itself is
   /// structure: add and remove it on the graph, then PublishStructure().
   [[nodiscard]] base::ErrorCode SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
                                           const Eigen::Vector3d& m_So_S) noexcept;
+  /// A stamped wrench's sample (SceneGraph's stamped SetWrench, same codes: the pair must be
+  /// stamped, i.e. added with a stamp), published on the sample topic with its stamp as its
+  /// history stores it. A stamped pair goes in the structure with its newest sample and stamp.
+  [[nodiscard]] base::ErrorCode SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
+                                          const Eigen::Vector3d& m_So_S,
+                                          core::Stamp stamp) noexcept;
 
   /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
   /// joint given is published with its state (mimics follow on the mirrors). A stamped
