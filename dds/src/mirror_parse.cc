@@ -210,8 +210,8 @@ std::string ParseJoints(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHea
       return at + "unknown state " + std::to_string(w.state);
     if (j.stamped() && !GoodStamp(j.time_ns))
       return at + "the stamp is out of range (invalid_number)";
-    if (j.has_qddot && (!std::isfinite(j.qddot) || j.state != semgraph_wire_JOINT_STATE_TIMELESS))
-      return at + "qddot is not finite, or given with a state that is not timeless";
+    if (j.has_qddot && (!std::isfinite(j.qddot) || j.state == semgraph_wire_JOINT_STATE_NONE))
+      return at + "qddot is not finite, or given with a joint never set";
     if (!joint_names.emplace(j.name, 0).second) return at + "a second joint of that name";
     if (!joint_ids.emplace(j.id, 0).second) return at + "a second joint with the same id";
     // The joint owns the edges into its child: the owner must not publish them as well.

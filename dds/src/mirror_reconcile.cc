@@ -481,9 +481,14 @@ void Mirror::Impl::MakeJointSlot(const JointRow& j, bool added, Slots& new_slots
     // The joint's first state decides its kind (timeless or stamped: histories allocated here).
     const core::JointValue q[] = {{j.name, j.q}}, qdot[] = {{j.name, j.qdot}},
                            qddot[] = {{j.name, j.qddot}};
+    const std::span<const core::JointValue> a = j.has_qddot
+                                                    ? std::span<const core::JointValue>(qddot)
+                                                    : std::span<const core::JointValue>();
     const core::BuildResult res =
-        j.stamped()   ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
-        : j.has_qddot ? graph.SetJoints(q, qdot, qddot)
+        j.stamped()
+            ? (j.has_qddot ? graph.SetJoints(q, qdot, a, core::Stamp::Nanoseconds(j.time_ns))
+                           : graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns)))
+        : j.has_qddot ? graph.SetJoints(q, qdot, a)
                       : graph.SetJoints(q, qdot);
     if (!res) Log("joint " + j.name + ": its state is refused: " + res.error().message);
     slot.seq = j.seq;

@@ -40,17 +40,16 @@ struct Publisher::Impl {
     v.stamp_ns = internal::NowNs();
     return v;
   }
-  // Publishes joint `index`'s state (q, qdot), stamped or not; an unstamped one with the
-  // joint's qddot when it has one (stamped joints take none).
+  // Publishes joint `index`'s state (q, qdot), stamped or not, with the joint's qddot when it
+  // has one (a stamped sample's: the qddot the graph kept for the joint, which its samples take
+  // when a call gives none).
   void PublishJoint(std::uint32_t index, double q, double qdot,
                     std::optional<core::Stamp> stamp) noexcept {
     semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);
     v.numbers[0] = q;
     v.numbers[1] = qdot;
-    if (stamp) {
-      v.time_ns = stamp->nanoseconds();
-    } else if (const core::internal::JointRecord& j = graph->joint_table().joints[index];
-               j.has_qddot) {
+    if (stamp) v.time_ns = stamp->nanoseconds();
+    if (const core::internal::JointRecord& j = graph->joint_table().joints[index]; j.has_qddot) {
       v.has_acceleration = true;
       v.acceleration[0] = j.qddot;
     }
@@ -752,13 +751,22 @@ core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positio
 core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
                                        std::span<const core::JointValue> velocities,
                                        core::Stamp stamp) {
+  return SetJoints(positions, velocities, {}, stamp);
+}
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities,
+                                       std::span<const core::JointValue> accelerations,
+                                       core::Stamp stamp) {
   Impl& m = *impl_;
-  const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities);
+  const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities, accelerations);
   const core::internal::JointTable& t = m.graph->joint_table();
   std::vector<bool> was_stamped;
   for (const Named& n : named)
     was_stamped.push_back(m.graph->pose_history(t.joints[n.index].child) != nullptr);
-  core::BuildResult res = m.graph->SetJoints(positions, velocities, stamp);
+  core::BuildResult res = accelerations.empty()
+                              ? m.graph->SetJoints(positions, velocities, stamp)
+                              : m.graph->SetJoints(positions, velocities, accelerations, stamp);
   if (!res) return res;
   bool structure = false;
   for (std::size_t i = 0; i < named.size(); ++i) {

@@ -160,11 +160,17 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                               std::span<const core::JointValue> velocities);
   core::BuildResult SetJoints(std::span<const core::JointValue> positions,
                               std::span<const core::JointValue> velocities, core::Stamp stamp);
-  /// With accelerations qddot (timeless joints only, as the graph's): each joint named goes out
-  /// with the state the graph holds after the call (q, qdot, qddot).
+  /// With accelerations qddot (timeless joints): each joint named goes out with the state the
+  /// graph holds after the call (q, qdot, qddot).
   core::BuildResult SetJoints(std::span<const core::JointValue> positions,
                               std::span<const core::JointValue> velocities,
                               std::span<const core::JointValue> accelerations);
+  /// Stamped, with accelerations (docs/dynamics.md "Stamped accelerations"): SceneGraph's
+  /// stamped SetJoints with qddot, then each joint named goes out as the stamped one above,
+  /// with the joint's qddot (stamped states of a joint that has one always carry it).
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions,
+                              std::span<const core::JointValue> velocities,
+                              std::span<const core::JointValue> accelerations, core::Stamp stamp);
   [[nodiscard]] base::ErrorCode SetJointAccelerations(const core::JointGroup& group,
                                                       std::span<const double> qddot) noexcept;
   [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
