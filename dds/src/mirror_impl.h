@@ -40,7 +40,7 @@ struct JointRow {
   std::uint8_t state = 0;
   double q = 0, qdot = 0;
   std::int64_t time_ns = 0;
-  bool has_qddot = false;  // qddot given (timeless joints only)
+  bool has_qddot = false;  // qddot given (a stamped joint's: its newest sample's)
   double qddot = 0;
   [[nodiscard]] bool stamped() const { return state == semgraph_wire_JOINT_STATE_STAMPED; }
   // The AddJoint spec (views into this row).

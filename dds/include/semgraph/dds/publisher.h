@@ -21,13 +21,13 @@
 //     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors;
 //   - accelerations (docs/dynamics.md): a timeless twist edge's value carries the acceleration
 //     the graph stores on it (edge form) or says it has none, so a twist set without one clears
-//     the mirrors' as it clears the graph's; a timeless joint's state carries its qddot once it
-//     was given. The structure carries both as well;
+//     the mirrors' as it clears the graph's; a stamped twist sample carries the acceleration its
+//     history stores at its stamp, or none; a joint's state (stamped or not) carries its qddot
+//     once it was given. The structure carries them as well (stamped: the newest sample's);
 //   - wrenches (core/wrenches.h): each stored (on, by) pair with its storage frame is a
 //     structure element (AddWrench / RemoveWrench on the graph, then PublishStructure), and
-//     SetWrench through this Publisher sends the new (f_S, m_So_S) on the value topic.
-// Not carried by this version: stamped accelerations and stamped wrenches (extension point: a
-// stamped sample's acceleration fields on the wire, docs/distributed.md).
+//     SetWrench through this Publisher sends the new (f_S, m_So_S) on the value topic; a stamped
+//     pair is announced stamped (newest sample and stamp), its samples go on the sample topic.
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
