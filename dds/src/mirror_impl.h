@@ -40,7 +40,7 @@ struct JointRow {
   std::uint8_t state = 0;
   double q = 0, qdot = 0;
   std::int64_t time_ns = 0;
-  bool has_qddot = false;  // qddot given (timeless joints only)
+  bool has_qddot = false;  // qddot given (a stamped joint's: its newest sample's)
   double qddot = 0;
   [[nodiscard]] bool stamped() const { return state == semgraph_wire_JOINT_STATE_STAMPED; }
   // The AddJoint spec (views into this row).
@@ -131,7 +131,8 @@ struct AppliedWrench {
   std::string owner;
   std::uint64_t source = 0;
   std::uint32_t id = 0;
-  std::string frame;  // the storage frame s
+  std::string frame;     // the storage frame s
+  bool stamped = false;  // added stamped (the pair keeps a history)
 };
 
 // An edge of the replica and where it came from.
@@ -277,7 +278,10 @@ struct Mirror::Impl {
   // ApplyValue's steps: what the value carries beside its numbers (the reason it is malformed,
   // or empty), and the setter of the slot's kind (noexcept, allocation-free).
   [[nodiscard]] std::string Malformed(const Slot& slot, bool stamped, bool has_covariance,
-                                      const double* acc) const;
+                                      const double* n, const double* acc) const;
+  base::ErrorCode SetStampedJointWithQddot(const Slot& slot, const double* n, double qddot,
+                                           core::Stamp at);
+  std::string build_why;  // the message of a by-name setter's error (SetStampedJointWithQddot)
   base::ErrorCode SetSlot(Slot& slot, const double* n, const coord::Covariance6* S,
                           const double* acc, std::optional<core::Stamp> at,
                           core::UpdateError* bad) noexcept;

@@ -62,7 +62,7 @@ std::string CheckWrench(const Row& r,
   if (!GoodName(r.head) || !GoodName(r.head_body) || !GoodName(r.tail_body)) return "invalid name";
   if (!r.tail.empty()) return "a wrench names no reference frame";
   if (r.head_body == r.tail_body) return "a wrench on a body by itself (self_wrench)";
-  if (r.stamped) return "a wrench cannot be stamped (not carried in this version)";
+  if (r.stamped && !GoodStamp(r.time_ns)) return "the stamp is out of range (invalid_number)";
   if (HasCovariance(r.cov)) return "a wrench carries no covariance";
   if (!Finite(r.n, 6) || r.n[6] != 0.0) return "a number is not finite (invalid_number)";
   const auto pair = std::minmax(r.head_body, r.tail_body);
@@ -122,14 +122,13 @@ std::string ParseElements(const semgraph_wire_Structure& s, OwnerRec* out, EdgeH
       return "element " + std::to_string(i) + ": unknown kind " + std::to_string(e.kind);
     if (r.has_acc && e.kind != semgraph_wire_ELEMENT_TWIST)
       return at + "an acceleration on an element that is not a twist edge";
-    if (r.has_acc && r.stamped)
-      return at + "an acceleration on a stamped twist edge (not carried in this version)";
     if (r.has_acc && !Finite(r.acc, 6))
       return at + "an acceleration number is not finite (invalid_number)";
     if (e.kind == semgraph_wire_ELEMENT_WRENCH) {
       if (std::string why = CheckWrench(r, wrenches); !why.empty()) return at + why;
       if (!ids.emplace(std::pair{e.kind, e.edge}, 0).second)
         return at + "a second wrench with the same id";
+      out->any_stamped = out->any_stamped || r.stamped;
       out->rows.push_back(std::move(r));
       continue;
     }
@@ -211,8 +210,8 @@ std::string ParseJoints(const semgraph_wire_Structure& s, OwnerRec* out, EdgeHea
       return at + "unknown state " + std::to_string(w.state);
     if (j.stamped() && !GoodStamp(j.time_ns))
       return at + "the stamp is out of range (invalid_number)";
-    if (j.has_qddot && (!std::isfinite(j.qddot) || j.state != semgraph_wire_JOINT_STATE_TIMELESS))
-      return at + "qddot is not finite, or given with a state that is not timeless";
+    if (j.has_qddot && (!std::isfinite(j.qddot) || j.state == semgraph_wire_JOINT_STATE_NONE))
+      return at + "qddot is not finite, or given with a joint never set";
     if (!joint_names.emplace(j.name, 0).second) return at + "a second joint of that name";
     if (!joint_ids.emplace(j.id, 0).second) return at + "a second joint with the same id";
     // The joint owns the edges into its child: the owner must not publish them as well.

@@ -48,6 +48,15 @@ core::BuildResult AddEdge(core::SceneGraph<>& g, const Row& r) {
                                       : g.AddPose(spec, q, p, t);
 }
 
+// Adds the wrench of a structure row to g at its storage frame (no conversion): stamped, its
+// newest sample at its stamp (the pair then keeps a history).
+core::BuildResult AddWrenchRow(core::SceneGraph<>& g, const Row& r) {
+  const Eigen::Vector3d f(r.n[0], r.n[1], r.n[2]), m(r.n[3], r.n[4], r.n[5]);
+  const core::WrenchSpec spec = core::WrenchSpec::On(r.head_body).By(r.tail_body).At(r.head);
+  if (!r.stamped) return g.AddWrench(spec, f, m);
+  return g.AddWrench(spec, f, m, core::Stamp::Nanoseconds(r.time_ns));
+}
+
 // A refusal of one of `owner`'s relations, as reported (code: the graph's, or the replay's).
 Report Refusal(const std::string& owner, base::ErrorCode code, const std::string& text) {
   return {"refused", owner, std::string(base::ToString(code)), "owner '" + owner + "': " + text};
@@ -394,10 +403,12 @@ void Mirror::Impl::AddEdges(const std::vector<Applied>& desired, std::vector<Rep
       slot.seq = r.seq;
       if (time) slot.time_ns = *time;
       if (r.has_acc && a.twist && slot.settable) {
-        // The twist was added with the structure's value; its acceleration (checked finite).
-        const base::ErrorCode code =
-            graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(r.acc[0], r.acc[1], r.acc[2]),
-                                  Eigen::Vector3d(r.acc[3], r.acc[4], r.acc[5]));
+        // The twist was added with the structure's value; its acceleration (checked finite), a
+        // stamped edge's on its newest sample.
+        const Eigen::Vector3d lin(r.acc[0], r.acc[1], r.acc[2]), ang(r.acc[3], r.acc[4], r.acc[5]);
+        const base::ErrorCode code = time ? graph.SetAcceleration(slot.twist_handle, lin, ang,
+                                                                  core::Stamp::Nanoseconds(*time))
+                                          : graph.SetAcceleration(slot.twist_handle, lin, ang);
         if (code != base::ErrorCode::kOk) {
           Log("the acceleration of the twist into " + a.head +
               " is refused: " + std::string(base::ToString(code)));
@@ -470,9 +481,14 @@ void Mirror::Impl::MakeJointSlot(const JointRow& j, bool added, Slots& new_slots
     // The joint's first state decides its kind (timeless or stamped: histories allocated here).
     const core::JointValue q[] = {{j.name, j.q}}, qdot[] = {{j.name, j.qdot}},
                            qddot[] = {{j.name, j.qddot}};
+    const std::span<const core::JointValue> a = j.has_qddot
+                                                    ? std::span<const core::JointValue>(qddot)
+                                                    : std::span<const core::JointValue>();
     const core::BuildResult res =
-        j.stamped()   ? graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns))
-        : j.has_qddot ? graph.SetJoints(q, qdot, qddot)
+        j.stamped()
+            ? (j.has_qddot ? graph.SetJoints(q, qdot, a, core::Stamp::Nanoseconds(j.time_ns))
+                           : graph.SetJoints(q, qdot, core::Stamp::Nanoseconds(j.time_ns)))
+        : j.has_qddot ? graph.SetJoints(q, qdot, a)
                       : graph.SetJoints(q, qdot);
     if (!res) Log("joint " + j.name + ": its state is refused: " + res.error().message);
     slot.seq = j.seq;
@@ -515,9 +531,7 @@ void Mirror::Impl::ReplayWrenches(const OwnerRec& o, Replay& replay) {
                                            "} is not a frame of " + r.head_body + " here"));
       continue;
     }
-    const core::BuildResult res = scratch.AddWrench(
-        core::WrenchSpec::On(r.head_body).By(r.tail_body).At(r.head),
-        Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]));
+    const core::BuildResult res = AddWrenchRow(scratch, r);
     if (!res) {
       replay.refused.push_back(Refusal(o.owner, res.error().code, res.error().message));
       continue;
@@ -528,14 +542,14 @@ void Mirror::Impl::ReplayWrenches(const OwnerRec& o, Replay& replay) {
 }
 
 // Removes the replica's wrenches that are no longer wanted, or wanted from another owner or at
-// another storage frame.
+// another storage frame, or now stamped (timeless).
 void Mirror::Impl::RemoveChangedWrenches(const std::vector<DesiredWrench>& desired) {
   std::map<std::pair<std::string, std::string>, const DesiredWrench*> want;
   for (const DesiredWrench& d : desired) want[{d.row->head_body, d.row->tail_body}] = &d;
   for (auto it = applied_wrenches.begin(); it != applied_wrenches.end();) {
     auto w = want.find(it->first);
     if (w != want.end() && w->second->owner == it->second.owner &&
-        w->second->row->head == it->second.frame) {
+        w->second->row->head == it->second.frame && w->second->row->stamped == it->second.stamped) {
       ++it;
       continue;
     }
@@ -555,15 +569,14 @@ void Mirror::Impl::AddWrenches(const std::vector<DesiredWrench>& desired,
     auto have = applied_wrenches.find(pair);
     bool added = false;
     if (have == applied_wrenches.end()) {
-      const core::BuildResult res = graph.AddWrench(
-          core::WrenchSpec::On(r.head_body).By(r.tail_body).At(r.head),
-          Eigen::Vector3d(r.n[0], r.n[1], r.n[2]), Eigen::Vector3d(r.n[3], r.n[4], r.n[5]));
+      const core::BuildResult res = AddWrenchRow(graph, r);
       if (!res) {
         refused.push_back(Refusal(d.owner, res.error().code, res.error().message));
         continue;
       }
       have =
-          applied_wrenches.emplace(pair, internal::AppliedWrench{d.owner, d.source, r.edge, r.head})
+          applied_wrenches
+              .emplace(pair, internal::AppliedWrench{d.owner, d.source, r.edge, r.head, r.stamped})
               .first;
       added = true;
     } else {
@@ -574,16 +587,20 @@ void Mirror::Impl::AddWrenches(const std::vector<DesiredWrench>& desired,
     bool known = false;
     Slot slot = TakeSlot(key, added, &known);
     slot.wrench = true;
+    slot.stamped = r.stamped;
     slot.owner = d.owner;
     slot.head = r.head_body;
     slot.tail = r.tail_body;
     auto h = graph.FindWrench(r.head_body, r.tail_body);
     slot.settable = static_cast<bool>(h);
     if (h) slot.wrench_handle = *h;
+    const std::optional<std::int64_t> time =
+        r.stamped ? std::optional<std::int64_t>(r.time_ns) : std::nullopt;
     if (added) {
       slot.seq = r.seq;
+      if (time) slot.time_ns = *time;
     } else if (!known || r.seq > slot.seq) {
-      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, nullptr, nullptr, "structure value");
+      if (slot.settable) ApplyValue(slot, r.seq, 0, r.n, nullptr, nullptr, "structure value", time);
       slot.seq = r.seq;
     }
     ApplyPending(key, slot);

@@ -2,6 +2,7 @@
 // structures (then reconciles); values, samples and batches are taken where they arrive
 // (Cyclone's listener, or the mirror's thread for what is left) and applied through handles.
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -102,10 +103,14 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
   core::CovarianceInput covariance;
   covariance.matrix = S != nullptr ? S : &zero;
   const bool has_covariance = S != nullptr;
-  if (slot.wrench) return graph.SetWrench(slot.wrench_handle, a, b, bad);
+  if (slot.wrench) {
+    return at ? graph.SetWrench(slot.wrench_handle, a, b, *at, bad)
+              : graph.SetWrench(slot.wrench_handle, a, b, bad);
+  }
   if (slot.joint) {
     const double qv[1] = {n[0]}, qdot[1] = {n[1]};
     const double qddot[1] = {acc != nullptr ? acc[0] : 0.0};
+    if (at && acc) return SetStampedJointWithQddot(slot, n, acc[0], *at);
     return at    ? graph.SetJointState(slot.group, qv, qdot, *at, bad)
            : acc ? graph.SetJointState(slot.group, qv, qdot, qddot, bad)
                  : graph.SetJointState(slot.group, qv, qdot, bad);
@@ -116,10 +121,12 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
         : at                 ? graph.SetTwist(slot.twist_handle, a, b, *at, bad)
         : has_covariance     ? graph.SetTwist(slot.twist_handle, a, b, covariance, bad)
                              : graph.SetTwist(slot.twist_handle, a, b, bad);
-    // A twist clears the edge's acceleration; one given comes with it (checked before).
+    // A twist (a stamped sample: its sample) clears the acceleration; one given comes with it
+    // (checked before), a stamped one on the sample just set.
     if (code != base::ErrorCode::kOk || acc == nullptr) return code;
-    return graph.SetAcceleration(slot.twist_handle, Eigen::Vector3d(acc[0], acc[1], acc[2]),
-                                 Eigen::Vector3d(acc[3], acc[4], acc[5]), bad);
+    const Eigen::Vector3d lin(acc[0], acc[1], acc[2]), ang(acc[3], acc[4], acc[5]);
+    return at ? graph.SetAcceleration(slot.twist_handle, lin, ang, *at, bad)
+              : graph.SetAcceleration(slot.twist_handle, lin, ang, bad);
   }
   return at && has_covariance ? graph.SetPose(slot.pose, q, p, *at, covariance, bad)
          : at                 ? graph.SetPose(slot.pose, q, p, *at, bad)
@@ -127,17 +134,32 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
                               : graph.SetPose(slot.pose, q, p, bad);
 }
 
+// A stamped joint state with its qddot: no real-time stamped setter takes qddot, so the by-name
+// SetJoints (build time: it allocates, its message goes to build_why). Numbers checked before.
+base::ErrorCode Mirror::Impl::SetStampedJointWithQddot(const Slot& slot, const double* n,
+                                                       double qddot, core::Stamp at) {
+  const core::JointValue q[] = {{slot.head, n[0]}}, qdot[] = {{slot.head, n[1]}},
+                         a[] = {{slot.head, qddot}};
+  const core::BuildResult res = graph.SetJoints(q, qdot, a, at);
+  if (res) return base::ErrorCode::kOk;
+  build_why = res.error().message;
+  return res.error().code;
+}
+
 // What a value may carry beside its numbers, checked before anything is set: the reason it is
-// malformed (empty: fine). A covariance goes with edges only; an acceleration with a timeless
-// twist edge's value or joint's state (stamped ones: not carried in this version).
+// malformed (empty: fine). A covariance goes with edges only; an acceleration with a twist
+// edge's value or sample, or a joint's state (qddot; a stamped one's numbers checked here, as
+// its setter reports no UpdateError).
 std::string Mirror::Impl::Malformed(const Slot& slot, bool stamped, bool has_covariance,
-                                    const double* acc) const {
+                                    const double* n, const double* acc) const {
   if (has_covariance && (slot.joint || slot.wrench)) {
     return std::string("a covariance with a ") + (slot.joint ? "joint state" : "wrench") +
            " (not carried in this version)";
   }
-  if (acc != nullptr && stamped)
-    return "an acceleration with a stamped sample (not carried in this version)";
+  if (acc != nullptr && stamped && slot.joint &&
+      !(std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(acc[0]))) {
+    return "a number of the stamped joint state is not finite (invalid_number)";
+  }
   if (acc != nullptr && !(slot.twist || slot.joint))
     return "an acceleration with a value that is neither a twist nor a joint state";
   return {};
@@ -153,7 +175,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
                            (slot.joint    ? "joint '"
                             : slot.wrench ? "wrench on '"
                                           : "edge into '") +
-                           slot.head + "'");
+                           slot.head + "' (stamp_mismatch)");
     return false;
   }
   if (!slot.settable) {
@@ -167,7 +189,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
   // covariance becomes zero, a stamped sample carries none); the setter checks it
   // (invalid_number, invalid_covariance).
   const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
-  if (std::string why = Malformed(slot, time.has_value(), has_covariance, acc); !why.empty()) {
+  if (std::string why = Malformed(slot, time.has_value(), has_covariance, n, acc); !why.empty()) {
     Reject(slot.owner, what + " into '" + slot.head + "': " + why);
     return false;
   }
@@ -187,6 +209,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
         has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
     const std::optional<core::Stamp> at =
         time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
+    build_why.clear();
     code = SetSlot(slot, n, has_covariance ? &S : nullptr, acc, at, &bad);
   }
   if (code == base::ErrorCode::kStampTooOld || code == base::ErrorCode::kDuplicateStamp) {
@@ -200,7 +223,9 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
         code == base::ErrorCode::kInvalidNumber || code == base::ErrorCode::kInvalidRotation ||
         code == base::ErrorCode::kInvalidCovariance || code == base::ErrorCode::kJointLimit;
     Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
-                           (numbers ? ": " + core::Describe(bad) : std::string()) +
+                           (!build_why.empty() ? ": " + build_why
+                            : numbers          ? ": " + core::Describe(bad)
+                                               : std::string()) +
                            (from ? " (" + what + " of edge " + std::to_string(from->edge) +
                                        " from source " + std::to_string(from->source) + ")"
                                  : std::string()));
@@ -218,15 +243,11 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
 // One value from the value or sample topic, or from a batch; true when applied.
 bool Mirror::Impl::HandleValue(const In& v, bool samples) {
   // The numbers are checked by the graph's setter when applied (ApplyValue: its UpdateError).
-  // Stamped accelerations and stamped wrenches are not carried in this version (the extension
-  // point: such a sample will name its stamp in time_ns as the others do).
+  // A stamped twist sample may carry its acceleration, a stamped wrench its sample (f, m): the
+  // slot decides (ApplyValue: stamp_mismatch, Malformed).
   const char* why = v.kind > semgraph_wire_VALUE_WRENCH ? ": unknown kind"
                     : samples && !GoodStamp(v.time_ns)
                         ? ": the stamp is out of range (invalid_number)"
-                    : samples && v.kind == semgraph_wire_VALUE_WRENCH
-                        ? ": a stamped wrench (not carried in this version)"
-                    : samples && v.acceleration != nullptr
-                        ? ": an acceleration with a stamped sample (not carried in this version)"
                         : nullptr;
   if (why != nullptr) {
     Reject("", std::string(samples ? "sample" : "value") + " of edge " + std::to_string(v.edge) +

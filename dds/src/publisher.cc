@@ -40,17 +40,16 @@ struct Publisher::Impl {
     v.stamp_ns = internal::NowNs();
     return v;
   }
-  // Publishes joint `index`'s state (q, qdot), stamped or not; an unstamped one with the
-  // joint's qddot when it has one (stamped joints take none).
+  // Publishes joint `index`'s state (q, qdot), stamped or not, with the joint's qddot when it
+  // has one (a stamped sample's: the qddot the graph kept for the joint, which its samples take
+  // when a call gives none).
   void PublishJoint(std::uint32_t index, double q, double qdot,
                     std::optional<core::Stamp> stamp) noexcept {
     semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);
     v.numbers[0] = q;
     v.numbers[1] = qdot;
-    if (stamp) {
-      v.time_ns = stamp->nanoseconds();
-    } else if (const core::internal::JointRecord& j = graph->joint_table().joints[index];
-               j.has_qddot) {
+    if (stamp) v.time_ns = stamp->nanoseconds();
+    if (const core::internal::JointRecord& j = graph->joint_table().joints[index]; j.has_qddot) {
       v.has_acceleration = true;
       v.acceleration[0] = j.qddot;
     }
@@ -92,6 +91,8 @@ struct Publisher::Impl {
   // exact), on the sample topic or into the batch.
   void PublishPoseSample(core::FrameIndex child, core::Stamp stamp) noexcept;
   void PublishTwistSample(core::TwistHandle edge, core::Stamp stamp) noexcept;
+  // The sample of the stamped wrench in `slot` at `stamp` as its history stores it.
+  void PublishWrenchSample(std::uint32_t slot, core::Stamp stamp) noexcept;
   // Sends one value: into the batch while batching, else on the value or sample topic.
   void Send(const semgraph_wire_Value& v, bool stamped) noexcept {
     if (!batching) {
@@ -221,7 +222,7 @@ void PutTwist(double* n, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
 }
 
 // The acceleration stored on the twist edge into f (edge form), if any: the wire's flag and
-// numbers (semgraph_wire.idl). Stamped edges carry none in this version.
+// numbers (semgraph_wire.idl). Timeless edges (a stamped one's: PutSampleAcceleration).
 void PutAcceleration(const core::SceneGraph<>& g, core::FrameIndex f, bool* has, double* a) {
   const std::optional<coord::Acceleration> A = g.acceleration_value(f);
   *has = A.has_value();
@@ -230,6 +231,14 @@ void PutAcceleration(const core::SceneGraph<>& g, core::FrameIndex f, bool* has,
     a[i] = A->linear[i];
     a[3 + i] = A->angular[i];
   }
+}
+
+// The acceleration words of a twist history's sample at `stamp` (edge_history.h: a, alpha, the
+// present flag), as the wire's flag and numbers: none when the sample carries none.
+void PutSampleAcceleration(const core::TwistHistory& h, std::int64_t stamp, bool* has, double* a) {
+  double words[core::TwistHistory::kAccelerationWords];
+  *has = h.AccelerationAt(stamp, words) && words[6] != 0.0;
+  if (*has) std::copy(words, words + 6, a);
 }
 
 // A history's stored sample (x y z w p / v w) in wire order.
@@ -258,7 +267,8 @@ void PutNewestCovariance(double* packed, const History& h) {
 }
 
 // The stored wrenches (wrenches.h), one element per live slot: on (head_body), by (tail_body),
-// the storage frame (head), the value (f_S, m_So_S).
+// the storage frame (head), the value (f_S, m_So_S); a stamped pair's is its newest sample, with
+// its stamp.
 void WrenchRows(const core::SceneGraph<>& g, const std::vector<std::uint64_t>& wrench_seq,
                 std::vector<internal::Row>& rows) {
   const core::internal::WrenchStore& store = g.wrench_store();
@@ -274,6 +284,10 @@ void WrenchRows(const core::SceneGraph<>& g, const std::vector<std::uint64_t>& w
                     std::string(g.body_name(w.by))};
     const core::WrenchNumbers W = store.values[i].Load();
     PutTwist(r.n, W.f_S, W.m_So_S);  // (f, m, 0): the same layout
+    if (const auto* h = store.history.of(i)) {
+      r.stamped = true;
+      r.time_ns = h->newest_stamp();
+    }
     rows.push_back(std::move(r));
   }
 }
@@ -347,6 +361,7 @@ std::vector<internal::Row> ElementRows(const core::SceneGraph<>& g,
       r.stamped = true;
       r.time_ns = h->newest_stamp();
       PutNewestCovariance(r.cov, *h);
+      PutSampleAcceleration(*h, r.time_ns, &r.has_acc, r.acc);
     } else {
       internal::PackCovariance(g.twist_covariance(f), r.cov);
       PutAcceleration(g, f, &r.has_acc, r.acc);
@@ -593,7 +608,52 @@ void Publisher::Impl::PublishTwistSample(core::TwistHandle edge, core::Stamp sta
   v.time_ns = stamp.nanoseconds();
   for (int i = 0; i < 6; ++i) v.numbers[i] = h[i];
   PutCovarianceWords(v.covariance, c);
+  PutSampleAcceleration(*history, v.time_ns, &v.has_acceleration, v.acceleration);
   Send(v, true);
+}
+
+void Publisher::Impl::PublishWrenchSample(std::uint32_t slot, core::Stamp stamp) noexcept {
+  const auto* history = graph->wrench_store().history.of(slot);
+  double h[6];
+  if (history == nullptr || !history->ValueAt(stamp.nanoseconds(), h)) return;
+  semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_WRENCH, slot, wrench_seq);
+  v.time_ns = stamp.nanoseconds();
+  std::copy(h, h + 6, v.numbers);  // (f_S, m_So_S, 0)
+  Send(v, true);
+}
+
+base::ErrorCode Publisher::SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                    const Eigen::Vector3d& w_DH_H, core::Stamp stamp,
+                                    const core::AccelerationInput& acceleration) noexcept {
+  Impl& m = *impl_;
+  // Checked first, so that a refused acceleration leaves the history as it was.
+  if (!coord::ValidateVector(acceleration.linear, coord::ValueRole::kLinearAcceleration) ||
+      !coord::ValidateVector(acceleration.angular, coord::ValueRole::kAngularAcceleration)) {
+    return base::ErrorCode::kInvalidNumber;
+  }
+  const base::ErrorCode code = m.graph->SetTwist(edge, v_DHo_H, w_DH_H, stamp);
+  if (code != base::ErrorCode::kOk) return code;
+  const base::ErrorCode with =
+      m.graph->SetAcceleration(edge, acceleration.linear, acceleration.angular, stamp);
+  m.PublishTwistSample(edge, stamp);  // the sample is set: it goes out, with what it carries
+  return with;
+}
+
+base::ErrorCode Publisher::SetAcceleration(core::TwistHandle edge, const Eigen::Vector3d& a_DHo_H,
+                                           const Eigen::Vector3d& alpha_DH_H,
+                                           core::Stamp stamp) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetAcceleration(edge, a_DHo_H, alpha_DH_H, stamp);
+  if (code == base::ErrorCode::kOk) m.PublishTwistSample(edge, stamp);
+  return code;
+}
+
+base::ErrorCode Publisher::SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
+                                     const Eigen::Vector3d& m_So_S, core::Stamp stamp) noexcept {
+  Impl& m = *impl_;
+  const base::ErrorCode code = m.graph->SetWrench(wrench, f_S, m_So_S, stamp);
+  if (code == base::ErrorCode::kOk) m.PublishWrenchSample(wrench.slot, stamp);
+  return code;
 }
 
 base::ErrorCode Publisher::SetPose(core::PoseHandle edge, const Eigen::Quaterniond& q_TH,
@@ -691,13 +751,22 @@ core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positio
 core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
                                        std::span<const core::JointValue> velocities,
                                        core::Stamp stamp) {
+  return SetJoints(positions, velocities, {}, stamp);
+}
+
+core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positions,
+                                       std::span<const core::JointValue> velocities,
+                                       std::span<const core::JointValue> accelerations,
+                                       core::Stamp stamp) {
   Impl& m = *impl_;
-  const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities);
+  const std::vector<Named> named = NamedJoints(*m.graph, positions, velocities, accelerations);
   const core::internal::JointTable& t = m.graph->joint_table();
   std::vector<bool> was_stamped;
   for (const Named& n : named)
     was_stamped.push_back(m.graph->pose_history(t.joints[n.index].child) != nullptr);
-  core::BuildResult res = m.graph->SetJoints(positions, velocities, stamp);
+  core::BuildResult res = accelerations.empty()
+                              ? m.graph->SetJoints(positions, velocities, stamp)
+                              : m.graph->SetJoints(positions, velocities, accelerations, stamp);
   if (!res) return res;
   bool structure = false;
   for (std::size_t i = 0; i < named.size(); ++i) {

@@ -87,11 +87,15 @@ inline dds_qos_t* MakeQos(TopicKind kind) {
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST,
-                   kind == TopicKind::kStatus   ? 64
-                   : kind == TopicKind::kSample ? kSampleDepth
-                   : kind == TopicKind::kBatch  ? kBatchDepth
-                                                : 1);
+  const std::int32_t depth = kind == TopicKind::kStatus   ? 64
+                             : kind == TopicKind::kSample ? kSampleDepth
+                             : kind == TopicKind::kBatch  ? kBatchDepth
+                                                          : 1;
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+  // What a late reader gets (transient-local): Cyclone keeps, per instance, the durability
+  // service's history depth (default keep-last 1), not the writer's; the same depth.
+  dds_qset_durability_service(qos, 0, DDS_HISTORY_KEEP_LAST, depth, DDS_LENGTH_UNLIMITED,
+                              DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   dds_qset_destination_order(qos, DDS_DESTINATIONORDER_BY_RECEPTION_TIMESTAMP);
   return qos;
 }

@@ -30,12 +30,14 @@
 //     follow and the joint rules (limits, stamp rules) apply as in the publisher.
 //   - accelerations: a twist edge's value (or structure element) carries its acceleration or
 //     says it has none; the mirror sets the twist then the acceleration (checked first, so a
-//     refused one changes nothing), and a twist without one clears the replica's. A joint state
-//     with qddot goes through SetJointState with accelerations (atomic).
+//     refused one changes nothing), and a twist without one clears the replica's; a stamped
+//     sample likewise with the stamped setters (SetTwist, then SetAcceleration at its stamp). A
+//     joint state with qddot goes through SetJointState with accelerations (atomic); a stamped
+//     one through the stamped SetJoints with accelerations (by name: allocates).
 //   - wrenches: each owner's (on, by) pairs are replayed after its joints (AddWrench at the
 //     storage frame; a pair, or its reaction, another owner took is refused duplicate_wrench);
-//     the replica adds and removes them as edges, and their values go through SetWrench on the
-//     wrench's handle.
+//     the replica adds and removes them as edges (a stamped pair stamped, with its newest
+//     sample), and their values and stamped samples go through SetWrench on the wrench's handle.
 //   - batches (Publisher::BeginBatch / Flush): a batch's values are applied in order under the
 //     same rules as single values, then on_change is called once.
 //   - faults: a publisher whose lease ends (killed, cut off) is reported `liveliness_lost`; its

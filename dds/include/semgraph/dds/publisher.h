@@ -21,13 +21,13 @@
 //     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors;
 //   - accelerations (docs/dynamics.md): a timeless twist edge's value carries the acceleration
 //     the graph stores on it (edge form) or says it has none, so a twist set without one clears
-//     the mirrors' as it clears the graph's; a timeless joint's state carries its qddot once it
-//     was given. The structure carries both as well;
+//     the mirrors' as it clears the graph's; a stamped twist sample carries the acceleration its
+//     history stores at its stamp, or none; a joint's state (stamped or not) carries its qddot
+//     once it was given. The structure carries them as well (stamped: the newest sample's);
 //   - wrenches (core/wrenches.h): each stored (on, by) pair with its storage frame is a
 //     structure element (AddWrench / RemoveWrench on the graph, then PublishStructure), and
-//     SetWrench through this Publisher sends the new (f_S, m_So_S) on the value topic.
-// Not carried by this version: stamped accelerations and stamped wrenches (extension point: a
-// stamped sample's acceleration fields on the wire, docs/distributed.md).
+//     SetWrench through this Publisher sends the new (f_S, m_So_S) on the value topic; a stamped
+//     pair is announced stamped (newest sample and stamp), its samples go on the sample topic.
 // Each Publisher is one incarnation: a random 64-bit source id and its start time; a restarted
 // process is a new incarnation of the same owner name and mirrors reconcile to it.
 //
@@ -128,11 +128,30 @@ class SEMGRAPH_DDS_EXPORT Publisher {
   [[nodiscard]] base::ErrorCode SetAcceleration(core::TwistHandle edge,
                                                 const Eigen::Vector3d& a_DHo_H,
                                                 const Eigen::Vector3d& alpha_DH_H) noexcept;
+  /// Stamped accelerations (docs/dynamics.md "Stamped accelerations"), stamped twist edges:
+  /// SetTwist at a stamp with the sample's acceleration (edge form; checked first as above,
+  /// then SceneGraph's stamped SetTwist and SetAcceleration), published as one sample with it.
+  /// SetAcceleration at a stamp: SceneGraph's (the twist sample at `stamp` must exist, same
+  /// codes), then that sample goes out again with its acceleration. A stamped sample set
+  /// without one goes out without one (none: never the previous sample's).
+  [[nodiscard]] base::ErrorCode SetTwist(core::TwistHandle edge, const Eigen::Vector3d& v_DHo_H,
+                                         const Eigen::Vector3d& w_DH_H, core::Stamp stamp,
+                                         const core::AccelerationInput& acceleration) noexcept;
+  [[nodiscard]] base::ErrorCode SetAcceleration(core::TwistHandle edge,
+                                                const Eigen::Vector3d& a_DHo_H,
+                                                const Eigen::Vector3d& alpha_DH_H,
+                                                core::Stamp stamp) noexcept;
   /// A wrench's new value (SceneGraph::SetWrench, same codes): (f_S, m_So_S) in the handle's
   /// storage frame, published on the value topic when the graph took it. The pair itself is
   /// structure: add and remove it on the graph, then PublishStructure().
   [[nodiscard]] base::ErrorCode SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
                                           const Eigen::Vector3d& m_So_S) noexcept;
+  /// A stamped wrench's sample (SceneGraph's stamped SetWrench, same codes: the pair must be
+  /// stamped, i.e. added with a stamp), published on the sample topic with its stamp as its
+  /// history stores it. A stamped pair goes in the structure with its newest sample and stamp.
+  [[nodiscard]] base::ErrorCode SetWrench(core::WrenchHandle wrench, const Eigen::Vector3d& f_S,
+                                          const Eigen::Vector3d& m_So_S,
+                                          core::Stamp stamp) noexcept;
 
   /// Joint states (SceneGraph's calls of the same names, same codes and messages), then each
   /// joint given is published with its state (mimics follow on the mirrors). A stamped
@@ -141,11 +160,17 @@ class SEMGRAPH_DDS_EXPORT Publisher {
                               std::span<const core::JointValue> velocities);
   core::BuildResult SetJoints(std::span<const core::JointValue> positions,
                               std::span<const core::JointValue> velocities, core::Stamp stamp);
-  /// With accelerations qddot (timeless joints only, as the graph's): each joint named goes out
-  /// with the state the graph holds after the call (q, qdot, qddot).
+  /// With accelerations qddot (timeless joints): each joint named goes out with the state the
+  /// graph holds after the call (q, qdot, qddot).
   core::BuildResult SetJoints(std::span<const core::JointValue> positions,
                               std::span<const core::JointValue> velocities,
                               std::span<const core::JointValue> accelerations);
+  /// Stamped, with accelerations (docs/dynamics.md "Stamped accelerations"): SceneGraph's
+  /// stamped SetJoints with qddot, then each joint named goes out as the stamped one above,
+  /// with the joint's qddot (stamped states of a joint that has one always carry it).
+  core::BuildResult SetJoints(std::span<const core::JointValue> positions,
+                              std::span<const core::JointValue> velocities,
+                              std::span<const core::JointValue> accelerations, core::Stamp stamp);
   [[nodiscard]] base::ErrorCode SetJointAccelerations(const core::JointGroup& group,
                                                       std::span<const double> qddot) noexcept;
   [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
