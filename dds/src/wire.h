@@ -78,7 +78,8 @@ enum class TopicKind { kStructure, kValue, kStatus, kSample, kBatch };
 ///   values     reliable, transient-local, keep-last 1 per edge (the latest value)
 ///   status     reliable, transient-local, keep-last 64 per mirror
 ///   samples    reliable, transient-local, keep-last kSampleDepth per edge (stamped samples:
-///              a history needs every one, not only the latest)
+///              a history needs every one, not only the latest); the writer keeps all
+///              until acknowledged (CreateWriter)
 ///   batches    reliable, transient-local, keep-last kBatchDepth per publisher (writer),
 ///              keep-all (reader): one control cycle's values in one sample
 /// Liveliness automatic: a publisher is alive while its participant's lease is renewed (the
@@ -119,6 +120,13 @@ inline dds_entity_t CreateTopic(dds_entity_t participant, TopicKind kind) {
 
 inline dds_entity_t CreateWriter(dds_entity_t participant, dds_entity_t topic, TopicKind kind) {
   dds_qos_t* qos = MakeQos(kind);
+  if (kind == TopicKind::kSample) {
+    // A reliable keep-last writer drops a sample its slow reader has not acknowledged once
+    // kSampleDepth newer ones of the edge are written; every sample counts, so the writer keeps
+    // all until acknowledged (write blocks, at most the reliability's 1 s, while its cache is
+    // full). Late readers still get the durability service's last kSampleDepth.
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  }
   const dds_entity_t w = dds_create_writer(participant, topic, qos, nullptr);
   dds_delete_qos(qos);
   return w;
