@@ -57,9 +57,11 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
     if (!src.EvalChain(internal::FlatChain{k, k + 1}, X_PG, identity)) {
       return ErrorCode::kQueryInvalidated;
     }
-    scratch_[i] = parent_[i] < 0
-                      ? X_PG
-                      : B::ComposeChain(X_PG, scratch_[static_cast<std::size_t>(parent_[i])]);
+    if (parent_[i] < 0) {
+      scratch_[i] = X_PG;
+    } else {
+      scratch_[i] = B::ComposeChain(X_PG, scratch_[static_cast<std::size_t>(parent_[i])]);
+    }
   }
   static const typename B::PoseCoords kZ = B::Identity();
   const auto in_z = [&](std::int32_t entry) -> const typename B::PoseCoords& {

@@ -65,7 +65,8 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
     TwistStep<typename CompiledQuery<B>::Chain> step;
     std::int32_t head = -1;
   };
-  ErrorCode Compose(const internal::FlatSource<B>& src, internal::Motion& out) noexcept;
+  [[gnu::flatten]] ErrorCode Compose(const internal::FlatSource<B>& src,
+                                     internal::Motion& out) noexcept;
 
   semantics::AccelerationSemantics semantics_;
   std::vector<std::int32_t> parent_;  ///< per union edge (edges_ entry i): the entry above, -1: Z
