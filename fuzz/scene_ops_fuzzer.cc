@@ -23,7 +23,8 @@
 //                     every error class, twist handles with SetAcceleration / SetTwist, queries
 //                     of the three kinds one-shot, compiled, and compiled and kept; stamped: a
 //                     twist sample with an acceleration, AddAcceleration and SetAcceleration at
-//                     a sample's stamp or a wrong one, queries under every time policy)
+//                     a sample's stamp or a wrong one, queries under every time policy; stamped
+//                     joint states with qddot by name and by the real-time group setters)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier

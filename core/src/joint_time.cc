@@ -20,6 +20,7 @@
 #include <numbers>
 
 #include "joint_scan.h"
+#include "semgraph/base/demand.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/timed_read.h"
 #include "text.h"
@@ -109,6 +110,9 @@ void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
   TwistHistory& ht = values_.history.twist.writable(edge.value());
   double pw[7], tw[6], aw[7];
   const double* a = JointAccelerationWords(j, qddot, aw);
+  // The words were reserved with the joint's first stamped state (SetJoints with a stamp), so the
+  // real-time setters never allocate and never drop a sample's acceleration.
+  SEMGRAPH_DEMAND(a == nullptr || ht.has_accelerations());
   bool identical = false;
   if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
     double q0 = 0, qdot0 = 0;
