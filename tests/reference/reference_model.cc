@@ -994,9 +994,8 @@ ErrorCode ReferenceModel::SetJoints(
   for (const Given& g : given) {
     const Joint& j = joint(g.name);
     const double q = g.q.value_or(j.q), qdot = g.qdot.value_or(j.qdot);
-    const std::optional<double> qddot = g.qddot       ? g.qddot
-                                        : j.has_qddot ? std::optional<double>(j.qddot)
-                                                      : std::nullopt;
+    const bool has_qddot = g.qddot.has_value() || j.has_qddot;
+    const double qddot = g.qddot ? *g.qddot : j.has_qddot ? j.qddot : 0.0;
     std::vector<const Joint*> family = {&j};
     for (const Joint& m : s_.joints) {
       if (m.master == j.name) family.push_back(&m);
@@ -1004,9 +1003,9 @@ ErrorCode ReferenceModel::SetJoints(
     for (const Joint* k : family) {
       if (!k->timeless && k->samples.empty()) continue;  // its first sample: no rule
       const double m = k == &j ? 1.0 : k->multiplier, off = k == &j ? 0.0 : k->offset;
-      const double qddotk = qddot ? m * *qddot : 0.0;
+      const double qddotk = m * qddot;
       const ErrorCode code =
-          CheckJointSample(*k, m * q + off, m * qdot, qddot ? &qddotk : nullptr, stamp);
+          CheckJointSample(*k, m * q + off, m * qdot, has_qddot ? &qddotk : nullptr, stamp);
       if (code != ErrorCode::kOk && (worst == ErrorCode::kOk || code < worst)) worst = code;
     }
   }
