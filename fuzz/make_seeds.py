@@ -277,6 +277,44 @@ class Ops:
             self.byte(1).byte(1).byte(near[0]).byte(near[1]).byte(near[2]).byte(horizon)
         return self.byte(1) if not_before is None else self.byte(0).byte(not_before)
 
+    # Stamped joint states (op 15, which 14-15; docs/dynamics.md "Stamped accelerations").
+    # JointStamp(): the model's joint #joint decides; how 0 its NextStamp case `arg` (0 + 0.5 s,
+    # 3 the newest again), 2 its sample #arg's stamp, 3 (or a joint without samples) kStamps[arg].
+    def joint_stamp(self, how=3, joint=0, arg=0):
+        return self.byte(joint).byte(how).byte(arg)
+
+    # By name: (joint index, value byte) lists as set_joints'; accelerations (joint index,
+    # kValues byte: 0 0, 1 0.5, 2 -0.7, 3 1, 4 3, 5 -2.5, 6 NaN).
+    def stamped_joints(self, positions, velocities=(), accelerations=(), how=3, joint=0, arg=0):
+        self.byte(15).byte(14).byte(len(positions))
+        for index, value in positions:
+            self.byte(1).byte(index).byte(value)
+        self.byte(len(velocities))
+        for index, value in velocities:
+            self.byte(1).byte(index).byte(value)
+        if accelerations:
+            self.byte(1).byte(len(accelerations) - 1)
+            for index, value in accelerations:
+                self.byte(1).byte(index).byte(value)
+        else:
+            self.byte(0)
+        return self.joint_stamp(how, joint, arg)
+
+    # A group made through op 15/15 (joint indices), or set by a real-time stamped setter: which
+    # 0 positions, 1 velocities, 2 q and qdot, 3 accelerations, 4 q, qdot and qddot; values
+    # (q, qdot, qddot) bytes per joint of the group.
+    def stamped_group_make(self, joints):
+        self.byte(15).byte(15).byte(0).byte(len(joints) - 1)
+        for index in joints:
+            self.byte(1).byte(index)
+        return self
+
+    def stamped_group_set(self, which, values, how=0, joint=0, arg=0):
+        self.byte(15).byte(15).byte(1).byte(which)
+        for q, qdot, qddot in values:
+            self.byte(q).byte(qdot).byte(qddot)
+        return self.joint_stamp(how, joint, arg)
+
     # ---- extended ops (Step(): 13, then Extended(): byte % 12). Each encoder mirrors its
     # decoder in scene_ops_fuzzer.cc; `policy` is Policy()'s byte (< 160: the default).
     def ext(self, sub):
@@ -603,12 +641,14 @@ def scene_ops_seeds():
         .ask_twist("g", "C", "F").ask_twist("f", "F", "D"))
     # Joints: j0 revolute a|A -> b|B about z in [-1, 1], j1 prismatic b -> c|C along x in
     # [0, 0.5], j2 continuous c -> d|D, j3 a mimic of j0 (multiplier -1, offset 0.1) d -> e|E.
-    arm = (lambda o: o
-           .joint(0, 0, "a", "A", "b", "B", rotation=3, position=1, axis=2, limits=0)
-           .joint(1, 2, "b", None, "c", "C", rotation=4, position=2, axis=0, limits=2, have_joints=True)
-           .joint(2, 1, "c", None, "d", "D", rotation=5, position=3, axis=4, have_joints=True)
-           .joint(3, 0, "d", None, "e", "E", rotation=1, position=4, axis=1, limits=0, mimic=(0, 1, 1),
-                  have_joints=True)
+    arm_joints = (lambda o: o
+                  .joint(0, 0, "a", "A", "b", "B", rotation=3, position=1, axis=2, limits=0)
+                  .joint(1, 2, "b", None, "c", "C", rotation=4, position=2, axis=0, limits=2,
+                         have_joints=True)
+                  .joint(2, 1, "c", None, "d", "D", rotation=5, position=3, axis=4, have_joints=True)
+                  .joint(3, 0, "d", None, "e", "E", rotation=1, position=4, axis=1, limits=0,
+                         mimic=(0, 1, 1), have_joints=True))
+    arm = (lambda o: arm_joints(o)
            .joint(0, 0, "e", None, "f", "F", have_joints=True)             # duplicate_joint
            .joint(1, 0, "f", "F", "g", "A", axis=6, have_joints=True)       # invalid_model (no axis)
            .set_joints([(0, 1), (1, 130)], [(0, 3), (2, 5)])               # 0.5, upper + 5e-10
@@ -677,6 +717,31 @@ def scene_ops_seeds():
         .set_acc_at(0, 0, sample=0, stamp_how=5)                            # stamp_mismatch
         .set_acc(0)                                                         # stamp_mismatch
         .ask_acc_at(0, 0, near=(0, 1, 2)).ask_acc_at(1, 0, policy=1))
+    # Stamped joint states with qddot on the arm (j0 revolute, j1 prismatic, j2 continuous, j3 a
+    # mimic of j0): the first stamped state by name with qddot at 1 s (j3 follows: -qddot), a
+    # sample keeping qddot at 1.5 s, a real-time group set refused while j2 is not stamped
+    # (stamp_mismatch), j2 stamped at 3 s, the group set with qddot at 2 s (out of order for
+    # j2), SetJointAccelerations at 2 s again (replaced; a duplicate under reject), a NaN qddot,
+    # unstamped sets (stamp_mismatch), acceleration queries at and between the samples.
+    seeds["time_joint_accelerations"] = (
+        arm_joints(Ops())
+        .stamped_joints([(0, 1), (1, 133)], [(0, 3)], [(0, 3), (1, 1)], how=3, arg=0)  # 1 s
+        .stamped_joints([(0, 2)], how=0, joint=0, arg=0)                                # 1.5 s
+        .stamped_group_make([0, 1, 2])
+        .stamped_group_set(4, [(1, 3, 3), (133, 1, 2), (4, 5, 1)], how=0, joint=0, arg=0)
+        .stamped_joints([(2, 1)], [(2, 3)], [(2, 4)], how=3, arg=4)                     # j2 at 3 s
+        .stamped_group_set(4, [(1, 3, 3), (133, 1, 2), (4, 5, 1)], how=0, joint=0, arg=0)  # 2 s
+        .stamped_group_set(3, [(0, 0, 5), (0, 0, 2), (0, 0, 3)], how=0, joint=0, arg=3)  # 2 s
+        .stamped_group_set(3, [(0, 0, 6), (0, 0, 2), (0, 0, 3)], how=0, joint=0, arg=0)  # NaN
+        .stamped_group_set(2, [(2, 1, 0), (0, 1, 0), (1, 1, 0)], how=0, joint=0, arg=0)  # 2.5 s
+        .set_joints([(0, 1)]).byte(1)                                 # mismatch (no qddot: 1)
+        .set_group(2, [(1, 3), (133, 2), (4, 5)])                                       # mismatch
+        .ask_acc_at(0, 0, near=(0, 1, 1)).ask_acc_at(3, 0, kind=2, near=(0, 1, 2))
+        .ask_acc_at(1, 0, kind=1, near=(1, 2, 1)).ask_acc_at(2, 0, near=(0, 0, 0))
+        .ask_acc_at(3, 1, policy=1).ask_acc_at(1, 0, policy=0))
+    seeds["time_joint_accelerations_reject"] = Ops()
+    seeds["time_joint_accelerations_reject"].b = bytearray(seeds["time_joint_accelerations"].b)
+    seeds["time_joint_accelerations_reject"].b[0] = 4  # duplicates rejected
     for name, byte0 in (("linear", 2), ("reject", 4), ("small_window", 8)):
         seeds["time_track_" + name] = track(Ops())
         seeds["time_track_" + name].b[0] = byte0

@@ -23,7 +23,8 @@
 //                     every error class, twist handles with SetAcceleration / SetTwist, queries
 //                     of the three kinds one-shot, compiled, and compiled and kept; stamped: a
 //                     twist sample with an acceleration, AddAcceleration and SetAcceleration at
-//                     a sample's stamp or a wrong one, queries under every time policy)
+//                     a sample's stamp or a wrong one, queries under every time policy; stamped
+//                     joint states with qddot by name and by the real-time group setters)
 // Name space: 6 bodies A..F and 12 frames a..l, so collisions are frequent; about 1 name in 32
 // is special: empty, a control character, 300 bytes, 256 bytes (invalid), 255 bytes (valid),
 // or a frame named like a body. Frame arguments often come from the tree of an earlier
@@ -384,9 +385,11 @@ class Fuzzer {
   // edge's next sample or one of its stamps, or a new edge), 11 AddAcceleration at a stamp (one
   // of a stamped edge's samples or a wrong one; the edge's relation bent as for 2-4), 12
   // SetAcceleration by a kept handle at a stamp, 13 an acceleration query under a time policy
-  // (At with or without a horizon, Latest, LatestCommon, not_before).
+  // (At with or without a horizon, Latest, LatestCommon, not_before); stamped joint states (their
+  // samples carry qddot's acceleration): 14 SetJoints by name with a stamp (with qddot half the
+  // time), 15 a real-time stamped setter of the kept group (or a group made).
   void AccelerationOp() {
-    const std::uint32_t which = in_.Below(14);
+    const std::uint32_t which = in_.Below(16);
     const auto& twists = d_.model().twists();
     const auto some_edge = [&]() -> const reference::TwistEdge* {
       const std::uint8_t pick = in_.Byte();  // read whether used or not
@@ -448,6 +451,10 @@ class Fuzzer {
         d_.SetByTwistHandle(pick, true, a, alpha, StampOfStampedEdge(nullptr));
         return;
       }
+      case 14:
+        return StampedJoints();
+      case 15:
+        return StampedGroup();
       default: {
         const reference::TwistEdge* t1 = some_edge();  // in this order (not as two arguments)
         const reference::TwistEdge* t2 = some_edge();
@@ -490,6 +497,54 @@ class Fuzzer {
     if (how == 5) return s + 1;
     if (how == 6) return NextStamp(t->samples.back().t);
     return s;
+  }
+
+  // A stamp for a stamped joint state: mostly the next (or one of the samples') of a joint with
+  // samples, else one from the table (a joint's first stamped state).
+  std::int64_t JointStamp() {
+    const auto& joints = d_.model().joints();
+    const std::uint8_t pick = in_.Byte();
+    const std::uint32_t how = in_.Below(4);
+    const reference::Joint* j = joints.empty() ? nullptr : &joints[pick % joints.size()];
+    if (j == nullptr || j->samples.empty() || how == 3) return StampChoice();
+    if (how == 2) return j->samples[in_.Below(static_cast<std::uint32_t>(j->samples.size()))].t;
+    return NextStamp(j->samples.back().t);
+  }
+
+  // Op 15/14: stamped joint states by name (positions, velocities, and q'' half the time).
+  void StampedJoints() {
+    typename Differential<B>::JointValues positions, velocities, accelerations;
+    for (std::uint32_t n = in_.Below(4); n > 0; --n) {
+      const std::string name = SomeJoint();
+      positions.emplace_back(name, JointValueFor(name));
+    }
+    for (std::uint32_t n = in_.Below(3); n > 0; --n) {
+      const std::string name = SomeJoint();
+      velocities.emplace_back(name, JointValueFor(name));
+    }
+    for (std::uint32_t n = in_.Bool() ? in_.Below(3) + 1 : 0; n > 0; --n) {
+      const std::string name = SomeJoint();
+      accelerations.emplace_back(name, JointValueFor(std::string()));
+    }
+    d_.SetJoints(positions, velocities, accelerations, JointStamp());
+  }
+
+  // Op 15/15: a real-time stamped setter of the kept group (1 in 4: a group made instead).
+  void StampedGroup() {
+    if (in_.OneIn(4) || !d_.has_group()) {
+      std::vector<std::string> names;
+      for (std::uint32_t n = 1 + in_.Below(4); n > 0; --n) names.push_back(SomeJoint());
+      d_.MakeGroup(names);
+      return;
+    }
+    const int which = static_cast<int>(in_.Below(5));
+    std::vector<double> values;
+    for (const std::string& name : d_.GroupJoints()) {
+      values.push_back(JointValueFor(name));
+      values.push_back(JointValueFor(std::string()));  // a velocity from the table
+      values.push_back(JointValueFor(std::string()));  // an acceleration from the table
+    }
+    d_.SetGroupStamped(which, values, JointStamp());
   }
 
   // Op 15/10: a stamped twist with an acceleration: on a stored stamped edge (its next stamp or

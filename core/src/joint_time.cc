@@ -2,7 +2,7 @@
 // a sample of (q, qdot) of each joint given and of its mimics, written into the histories of the
 // joint's pose edge (X_origin M(q)) and twist edge (the twist of qdot), so the one evaluator reads
 // joint edges exactly as any stamped edge. Contract: scene_graph.h (SetJoints with a stamp, the
-// stamped SetJointPositions / Velocities / State).
+// stamped SetJointPositions / Velocities / Accelerations / State).
 //
 // Interpolation: a joint's edges are interpolated as edges (the graph's mode). For revolute,
 // continuous and prismatic joints both modes give the joint-space interpolation (q and qdot
@@ -20,6 +20,7 @@
 #include <numbers>
 
 #include "joint_scan.h"
+#include "semgraph/base/demand.h"
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/timed_read.h"
 #include "text.h"
@@ -109,6 +110,9 @@ void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
   TwistHistory& ht = values_.history.twist.writable(edge.value());
   double pw[7], tw[6], aw[7];
   const double* a = JointAccelerationWords(j, qddot, aw);
+  // The words were reserved with the joint's first stamped state (SetJoints with a stamp), so the
+  // real-time setters never allocate and never drop a sample's acceleration.
+  SEMGRAPH_DEMAND(a == nullptr || ht.has_accelerations());
   bool identical = false;
   if (s <= hp.newest_stamp() && hp.ValueAt(s, pw) && ht.ValueAt(s, tw)) {
     double q0 = 0, qdot0 = 0;
@@ -152,9 +156,11 @@ void SceneGraph<B>::StoreJointSample(JointIndex index, const double* q_given,
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* q,
-                                         const double* qdot, Stamp stamp,
+                                         const double* qdot, const double* qddot, Stamp stamp,
                                          UpdateError* why) noexcept {
   // As SetGroup: one pass collects every failure and the first in the rules' order is reported.
+  // A field not given is the joint's newest sample's (its state; qddot only if it has one), as
+  // in SetJoints with a stamp, whose CheckJointSample / StoreJointSample this shares.
   const std::size_t n = group.joints.size();
   const std::int64_t s = stamp.nanoseconds();
   ErrorCode time = ErrorCode::kOk;  // the first stamp failure in the order of the codes
@@ -162,22 +168,23 @@ ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup& group, const double* 
     if (c != ErrorCode::kOk && (time == ErrorCode::kOk || c < time)) time = c;
   };
   const ErrorCode code = internal::ScanJointGroup(
-      joints_, group, q, qdot, nullptr, [&](std::size_t i, const internal::JointRecord& j) {
+      joints_, group, q, qdot, qddot, [&](std::size_t i, const internal::JointRecord& j) {
         const double qi = q ? q[i] : j.q, qdoti = qdot ? qdot[i] : j.qdot;
-        const double* qddot = j.has_qddot ? &j.qddot : nullptr;  // the state's, kept
-        note(CheckJointSample(j, qi, qdoti, qddot, s));
+        const double* qddoti = qddot ? qddot + i : (j.has_qddot ? &j.qddot : nullptr);
+        note(CheckJointSample(j, qi, qdoti, qddoti, s));
         for (JointIndex m : j.mimics) {
           const internal::JointRecord& mj = joints_[m];
-          const double qddotm = mj.multiplier * j.qddot;
+          const double qddotm = qddoti ? mj.multiplier * *qddoti : 0.0;
           note(CheckJointSample(mj, mj.multiplier * qi + mj.offset, mj.multiplier * qdoti,
-                                qddot ? &qddotm : nullptr, s));
+                                qddoti ? &qddotm : nullptr, s));
         }
       });
-  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, nullptr, why);
-  if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, nullptr, why);
-  for (std::size_t i = 0; i < n; ++i)
-    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr, nullptr,
-                     s);
+  if (code != ErrorCode::kOk) return RefuseJoints(code, group, q, qdot, qddot, why);
+  if (time != ErrorCode::kOk) return RefuseJoints(time, group, q, qdot, qddot, why);
+  for (std::size_t i = 0; i < n; ++i) {
+    StoreJointSample(group.joints[i].index, q ? q + i : nullptr, qdot ? qdot + i : nullptr,
+                     qddot ? qddot + i : nullptr, s);
+  }
   return internal::Report(why, ErrorCode::kOk);
 }
 
@@ -231,14 +238,14 @@ template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointPositions(const JointGroup& group, std::span<const double> q,
                                            Stamp stamp, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size());
-  return SetGroupStamped(group, q.data(), nullptr, stamp, why);
+  return SetGroupStamped(group, q.data(), nullptr, nullptr, stamp, why);
 }
 
 template <coord::Backend B>
 ErrorCode SceneGraph<B>::SetJointVelocities(const JointGroup& group, std::span<const double> qdot,
                                             Stamp stamp, UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(qdot.size() == group.size());
-  return SetGroupStamped(group, nullptr, qdot.data(), stamp, why);
+  return SetGroupStamped(group, nullptr, qdot.data(), nullptr, stamp, why);
 }
 
 template <coord::Backend B>
@@ -246,7 +253,24 @@ ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const 
                                        std::span<const double> qdot, Stamp stamp,
                                        UpdateError* why) noexcept {
   SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size());
-  return SetGroupStamped(group, q.data(), qdot.data(), stamp, why);
+  return SetGroupStamped(group, q.data(), qdot.data(), nullptr, stamp, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointAccelerations(const JointGroup& group,
+                                               std::span<const double> qddot, Stamp stamp,
+                                               UpdateError* why) noexcept {
+  SEMGRAPH_DEMAND(qddot.size() == group.size());
+  return SetGroupStamped(group, nullptr, nullptr, qddot.data(), stamp, why);
+}
+
+template <coord::Backend B>
+ErrorCode SceneGraph<B>::SetJointState(const JointGroup& group, std::span<const double> q,
+                                       std::span<const double> qdot, std::span<const double> qddot,
+                                       Stamp stamp, UpdateError* why) noexcept {
+  SEMGRAPH_DEMAND(q.size() == group.size() && qdot.size() == group.size() &&
+                  qddot.size() == group.size());
+  return SetGroupStamped(group, q.data(), qdot.data(), qddot.data(), stamp, why);
 }
 
 template <coord::Backend B>
@@ -366,7 +390,8 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
   template void SceneGraph<B>::StoreJointSample(JointIndex, const double*, const double*,          \
                                                 const double*, std::int64_t) noexcept;             \
   template ErrorCode SceneGraph<B>::SetGroupStamped(const JointGroup&, const double*,              \
-                                                    const double*, Stamp, UpdateError*) noexcept;  \
+                                                    const double*, const double*, Stamp,           \
+                                                    UpdateError*) noexcept;                        \
   template ErrorCode SceneGraph<B>::RefuseJoints(ErrorCode, const JointGroup&, const double*,      \
                                                  const double*, const double*, UpdateError*)       \
       const noexcept;                                                                              \
@@ -377,6 +402,11 @@ BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue> positions,
   template ErrorCode SceneGraph<B>::SetJointState(const JointGroup&, std::span<const double>,      \
                                                   std::span<const double>, Stamp,                  \
                                                   UpdateError*) noexcept;                          \
+  template ErrorCode SceneGraph<B>::SetJointAccelerations(                                         \
+      const JointGroup&, std::span<const double>, Stamp, UpdateError*) noexcept;                   \
+  template ErrorCode SceneGraph<B>::SetJointState(                                                 \
+      const JointGroup&, std::span<const double>, std::span<const double>,                         \
+      std::span<const double>, Stamp, UpdateError*) noexcept;                                      \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \
                                                 std::span<const JointValue>, Stamp);               \
   template BuildResult SceneGraph<B>::SetJoints(std::span<const JointValue>,                       \

@@ -277,11 +277,8 @@ struct Mirror::Impl {
                   std::optional<std::int64_t> time = std::nullopt, const In* from = nullptr);
   // ApplyValue's steps: what the value carries beside its numbers (the reason it is malformed,
   // or empty), and the setter of the slot's kind (noexcept, allocation-free).
-  [[nodiscard]] std::string Malformed(const Slot& slot, bool stamped, bool has_covariance,
-                                      const double* n, const double* acc) const;
-  base::ErrorCode SetStampedJointWithQddot(const Slot& slot, const double* n, double qddot,
-                                           core::Stamp at);
-  std::string build_why;  // the message of a by-name setter's error (SetStampedJointWithQddot)
+  [[nodiscard]] std::string Malformed(const Slot& slot, bool has_covariance,
+                                      const double* acc) const;
   base::ErrorCode SetSlot(Slot& slot, const double* n, const coord::Covariance6* S,
                           const double* acc, std::optional<core::Stamp> at,
                           core::UpdateError* bad) noexcept;

@@ -110,10 +110,10 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
   if (slot.joint) {
     const double qv[1] = {n[0]}, qdot[1] = {n[1]};
     const double qddot[1] = {acc != nullptr ? acc[0] : 0.0};
-    if (at && acc) return SetStampedJointWithQddot(slot, n, acc[0], *at);
-    return at    ? graph.SetJointState(slot.group, qv, qdot, *at, bad)
-           : acc ? graph.SetJointState(slot.group, qv, qdot, qddot, bad)
-                 : graph.SetJointState(slot.group, qv, qdot, bad);
+    return at && acc ? graph.SetJointState(slot.group, qv, qdot, qddot, *at, bad)
+           : at      ? graph.SetJointState(slot.group, qv, qdot, *at, bad)
+           : acc     ? graph.SetJointState(slot.group, qv, qdot, qddot, bad)
+                     : graph.SetJointState(slot.group, qv, qdot, bad);
   }
   if (slot.twist) {
     const base::ErrorCode code =
@@ -134,31 +134,14 @@ base::ErrorCode Mirror::Impl::SetSlot(Slot& slot, const double* n, const coord::
                               : graph.SetPose(slot.pose, q, p, bad);
 }
 
-// A stamped joint state with its qddot: no real-time stamped setter takes qddot, so the by-name
-// SetJoints (build time: it allocates, its message goes to build_why). Numbers checked before.
-base::ErrorCode Mirror::Impl::SetStampedJointWithQddot(const Slot& slot, const double* n,
-                                                       double qddot, core::Stamp at) {
-  const core::JointValue q[] = {{slot.head, n[0]}}, qdot[] = {{slot.head, n[1]}},
-                         a[] = {{slot.head, qddot}};
-  const core::BuildResult res = graph.SetJoints(q, qdot, a, at);
-  if (res) return base::ErrorCode::kOk;
-  build_why = res.error().message;
-  return res.error().code;
-}
-
 // What a value may carry beside its numbers, checked before anything is set: the reason it is
 // malformed (empty: fine). A covariance goes with edges only; an acceleration with a twist
-// edge's value or sample, or a joint's state (qddot; a stamped one's numbers checked here, as
-// its setter reports no UpdateError).
-std::string Mirror::Impl::Malformed(const Slot& slot, bool stamped, bool has_covariance,
-                                    const double* n, const double* acc) const {
+// edge's value or sample, or a joint's state (qddot; its setter checks the numbers).
+std::string Mirror::Impl::Malformed(const Slot& slot, bool has_covariance,
+                                    const double* acc) const {
   if (has_covariance && (slot.joint || slot.wrench)) {
     return std::string("a covariance with a ") + (slot.joint ? "joint state" : "wrench") +
            " (not carried in this version)";
-  }
-  if (acc != nullptr && stamped && slot.joint &&
-      !(std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(acc[0]))) {
-    return "a number of the stamped joint state is not finite (invalid_number)";
   }
   if (acc != nullptr && !(slot.twist || slot.joint))
     return "an acceleration with a value that is neither a twist nor a joint state";
@@ -189,7 +172,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
   // covariance becomes zero, a stamped sample carries none); the setter checks it
   // (invalid_number, invalid_covariance).
   const bool has_covariance = cov != nullptr && internal::HasCovariance(cov);
-  if (std::string why = Malformed(slot, time.has_value(), has_covariance, n, acc); !why.empty()) {
+  if (std::string why = Malformed(slot, has_covariance, acc); !why.empty()) {
     Reject(slot.owner, what + " into '" + slot.head + "': " + why);
     return false;
   }
@@ -209,7 +192,6 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
         has_covariance ? internal::UnpackCovariance(cov) : coord::Covariance6::Zero();
     const std::optional<core::Stamp> at =
         time ? std::optional<core::Stamp>(core::Stamp::Nanoseconds(*time)) : std::nullopt;
-    build_why.clear();
     code = SetSlot(slot, n, has_covariance ? &S : nullptr, acc, at, &bad);
   }
   if (code == base::ErrorCode::kStampTooOld || code == base::ErrorCode::kDuplicateStamp) {
@@ -223,9 +205,7 @@ bool Mirror::Impl::ApplyValue(Slot& slot, std::uint64_t seq, std::int64_t stamp,
         code == base::ErrorCode::kInvalidNumber || code == base::ErrorCode::kInvalidRotation ||
         code == base::ErrorCode::kInvalidCovariance || code == base::ErrorCode::kJointLimit;
     Reject(slot.owner, what + " into '" + slot.head + "': " + std::string(base::ToString(code)) +
-                           (!build_why.empty() ? ": " + build_why
-                            : numbers          ? ": " + core::Describe(bad)
-                                               : std::string()) +
+                           (numbers ? ": " + core::Describe(bad) : std::string()) +
                            (from ? " (" + what + " of edge " + std::to_string(from->edge) +
                                        " from source " + std::to_string(from->source) + ")"
                                  : std::string()));

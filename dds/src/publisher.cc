@@ -43,26 +43,32 @@ struct Publisher::Impl {
   // Publishes joint `index`'s state (q, qdot), stamped or not, with the joint's qddot when it
   // has one (a stamped sample's: the qddot the graph kept for the joint, which its samples take
   // when a call gives none).
-  void PublishJoint(std::uint32_t index, double q, double qdot,
-                    std::optional<core::Stamp> stamp) noexcept {
+  // `qddot` (non-null): the sample's own qddot, given with it.
+  void PublishJoint(std::uint32_t index, double q, double qdot, std::optional<core::Stamp> stamp,
+                    const double* qddot = nullptr) noexcept {
     semgraph_wire_Value v = NewValue(semgraph_wire_VALUE_JOINT, index, joint_seq);
     v.numbers[0] = q;
     v.numbers[1] = qdot;
     if (stamp) v.time_ns = stamp->nanoseconds();
-    if (const core::internal::JointRecord& j = graph->joint_table().joints[index]; j.has_qddot) {
+    if (qddot != nullptr) {
+      v.has_acceleration = true;
+      v.acceleration[0] = *qddot;
+    } else if (const core::internal::JointRecord& j = graph->joint_table().joints[index];
+               j.has_qddot) {
       v.has_acceleration = true;
       v.acceleration[0] = j.qddot;
     }
     Send(v, stamp.has_value());
   }
-  // After a group's state was set: q (and qdot when given) from the input, the other field the
-  // joint's current one (a positions-only call does not change the newest velocity).
-  void PublishGroup(const core::JointGroup& group, std::span<const double> q, const double* qdot,
-                    std::optional<core::Stamp> stamp) noexcept {
+  // After a group's state was set: q (and qdot, qddot when given) from the input, the other
+  // fields the joint's current ones (a positions-only call does not change the newest velocity).
+  void PublishGroup(const core::JointGroup& group, const double* q, const double* qdot,
+                    std::optional<core::Stamp> stamp, const double* qddot = nullptr) noexcept {
     for (std::size_t i = 0; i < group.size(); ++i) {
       const core::JointHandle h = group.joints[i];
-      PublishJoint(h.index.value(), q[i], qdot != nullptr ? qdot[i] : graph->joint_velocity(h),
-                   stamp);
+      PublishJoint(h.index.value(), q != nullptr ? q[i] : graph->joint_position(h),
+                   qdot != nullptr ? qdot[i] : graph->joint_velocity(h), stamp,
+                   qddot != nullptr ? qddot + i : nullptr);
     }
   }
   // After an unstamped set of a group: each joint's state as the graph holds it (q, qdot, qddot).
@@ -792,26 +798,26 @@ core::BuildResult Publisher::SetJoints(std::span<const core::JointValue> positio
 base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group,
                                              std::span<const double> q) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointPositions(group, q);
-  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, std::nullopt);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q.data(), nullptr, std::nullopt);
   return code;
 }
 base::ErrorCode Publisher::SetJointPositions(const core::JointGroup& group,
                                              std::span<const double> q,
                                              core::Stamp stamp) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointPositions(group, q, stamp);
-  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, nullptr, stamp);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q.data(), nullptr, stamp);
   return code;
 }
 base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
                                          std::span<const double> qdot) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot);
-  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), std::nullopt);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q.data(), qdot.data(), std::nullopt);
   return code;
 }
 base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
                                          std::span<const double> qdot, core::Stamp stamp) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, stamp);
-  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q, qdot.data(), stamp);
+  if (code == base::ErrorCode::kOk) impl_->PublishGroup(group, q.data(), qdot.data(), stamp);
   return code;
 }
 
@@ -826,6 +832,24 @@ base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::spa
                                          std::span<const double> qddot) noexcept {
   const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, qddot);
   if (code == base::ErrorCode::kOk) impl_->PublishGroupState(group);
+  return code;
+}
+
+base::ErrorCode Publisher::SetJointAccelerations(const core::JointGroup& group,
+                                                 std::span<const double> qddot,
+                                                 core::Stamp stamp) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointAccelerations(group, qddot, stamp);
+  if (code == base::ErrorCode::kOk)
+    impl_->PublishGroup(group, nullptr, nullptr, stamp, qddot.data());
+  return code;
+}
+base::ErrorCode Publisher::SetJointState(const core::JointGroup& group, std::span<const double> q,
+                                         std::span<const double> qdot,
+                                         std::span<const double> qddot,
+                                         core::Stamp stamp) noexcept {
+  const base::ErrorCode code = impl_->graph->SetJointState(group, q, qdot, qddot, stamp);
+  if (code == base::ErrorCode::kOk)
+    impl_->PublishGroup(group, q.data(), qdot.data(), stamp, qddot.data());
   return code;
 }
 

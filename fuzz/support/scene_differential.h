@@ -21,7 +21,9 @@
 //
 //   - repairing adds (PoseRepair, TwistRepair): the same strategy, number of reversed edges and
 //     discrepancy; kept compiled queries reading a reversed edge invalidated;
-//   - joints (Joint, SetJoints, MakeGroup, SetGroup): codes, joint states, edge values;
+//   - joints (Joint, SetJoints, MakeGroup, SetGroup; stamped: SetJoints with a stamp, with or
+//     without q'', SetGroupStamped through every real-time stamped setter): codes, joint states,
+//     edge values (the timed queries then read the joints' samples);
 //     AskJacobian: the columns' joints in order and the matrix, one-shot and compiled;
 //   - time (StampedPose, StampedTwist, AskTimed): codes, values, and the TimeReport (time
 //     answered, extrapolated, stamps read when not extrapolated), one-shot and compiled.
@@ -416,6 +418,33 @@ class Differential {
         expected);
   }
 
+  /// Stamped SetJoints by name (docs/dynamics.md "Stamped accelerations"); with accelerations
+  /// when any is given.
+  ErrorCode SetJoints(const JointValues& positions, const JointValues& velocities,
+                      const JointValues& accelerations, std::int64_t stamp) {
+    Begin([=] {
+      const auto map = [](const JointValues& list) {
+        std::string s = "{";
+        for (std::size_t i = 0; i < list.size(); ++i) {
+          s += (i ? ", " : "") + YamlName(list[i].first) + ": " + YamlNumber(list[i].second);
+        }
+        return s + "}";
+      };
+      return "{op: joints, positions: " + map(positions) + ", velocities: " + map(velocities) +
+             (accelerations.empty() ? "" : ", accelerations: " + map(accelerations)) +
+             ", stamp: " + StampText(stamp) + "}";
+    });
+    std::vector<core::JointValue> q, qdot, qddot;
+    for (const auto& [name, value] : positions) q.push_back(core::JointValue{name, value});
+    for (const auto& [name, value] : velocities) qdot.push_back(core::JointValue{name, value});
+    for (const auto& [name, value] : accelerations) qddot.push_back(core::JointValue{name, value});
+    const ErrorCode expected = model_.SetJoints(positions, velocities, accelerations, stamp);
+    const core::Stamp at = core::Stamp::Nanoseconds(stamp);
+    return Finish(accelerations.empty() ? graph_.SetJoints(q, qdot, at)
+                                        : graph_.SetJoints(q, qdot, qddot, at),
+                  expected);
+  }
+
   /// MakeJointGroup(names): the same code; on success the group is kept for SetGroup.
   ErrorCode MakeGroup(const std::vector<std::string>& names) {
     Begin([=] {
@@ -477,6 +506,46 @@ class Differential {
     const ErrorCode code = which == 0   ? graph_.SetJointPositions(*group_, q)
                            : which == 1 ? graph_.SetJointVelocities(*group_, qdot)
                                         : graph_.SetJointState(*group_, q, qdot);
+    core::BuildResult result = base::Ok{};
+    if (code != ErrorCode::kOk)
+      result = base::Unexpected{core::BuildError{code, "(real-time setter: a code only)"}};
+    return Finish(result, expected);
+  }
+
+  /// The kept group's real-time stamped setters at `stamp`: `which` 0 SetJointPositions, 1
+  /// SetJointVelocities, 2 SetJointState (q, qdot), 3 SetJointAccelerations, 4 SetJointState
+  /// (q, qdot, qddot); `values` has three numbers per joint (q, qdot, qddot). No group: nothing.
+  ErrorCode SetGroupStamped(int which, const std::vector<double>& values, std::int64_t stamp) {
+    if (!group_) return ErrorCode::kOk;
+    const std::size_t n = group_->size();
+    std::vector<double> q(n), qdot(n), qddot(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      q[i] = values[3 * i], qdot[i] = values[3 * i + 1], qddot[i] = values[3 * i + 2];
+    }
+    static const char* const kNames[] = {"SetJointPositions", "SetJointVelocities", "SetJointState",
+                                         "SetJointAccelerations", "SetJointState"};
+    Begin([=] {
+      std::string s = std::string("# ") + kNames[which] + "(group";
+      const auto list = [&](const std::vector<double>& x) {
+        s += ", [";
+        for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + YamlNumber(x[i]);
+        s += "]";
+      };
+      if (which == 0 || which == 2 || which == 4) list(q);
+      if (which == 1 || which == 2 || which == 4) list(qdot);
+      if (which == 3 || which == 4) list(qddot);
+      return s + ", stamp " + StampText(stamp) + ")";
+    });
+    const double* mq = which == 0 || which == 2 || which == 4 ? q.data() : nullptr;
+    const double* mqdot = which == 1 || which == 2 || which == 4 ? qdot.data() : nullptr;
+    const double* mqddot = which >= 3 ? qddot.data() : nullptr;
+    const ErrorCode expected = model_.SetGroup(model_group_, mq, mqdot, mqddot, stamp);
+    const core::Stamp at = core::Stamp::Nanoseconds(stamp);
+    const ErrorCode code = which == 0   ? graph_.SetJointPositions(*group_, q, at)
+                           : which == 1 ? graph_.SetJointVelocities(*group_, qdot, at)
+                           : which == 2 ? graph_.SetJointState(*group_, q, qdot, at)
+                           : which == 3 ? graph_.SetJointAccelerations(*group_, qddot, at)
+                                        : graph_.SetJointState(*group_, q, qdot, qddot, at);
     core::BuildResult result = base::Ok{};
     if (code != ErrorCode::kOk)
       result = base::Unexpected{core::BuildError{code, "(real-time setter: a code only)"}};

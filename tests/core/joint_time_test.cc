@@ -4,13 +4,17 @@
 // rules (stamp_mismatch both ways, stamp_too_old, duplicate_stamp with the joint tolerance) with
 // the graph unchanged on refusal; the real-time stamped setters allocate nothing; stamped joint
 // accelerations (each sample's qddot, kept from the state when not given, mimics m qddot, the
-// composed acceleration of a point by hand, duplicates under the reject policy). Expected
+// composed acceleration of a point by hand, duplicates under the reject policy); the real-time
+// stamped setters with qddot (the same samples as SetJoints, by hand and by finite differences,
+// every refusal with the graph unchanged, no allocation). Expected
 // values are written by hand from the joint formulas X(q) = X_origin Rot(u, q) / Trans(q u).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "semgraph/core/scene_graph.h"
@@ -380,6 +384,271 @@ TEST(JointTimeTest, RealTimeStampedUpdatesAllocateNothing) {
   EXPECT_EQ(tick, 2002);
   // The last sample is q1 = sin(2.001): the state and the latest query say so.
   EXPECT_DOUBLE_EQ(g.joint_position(group.joints[0]), std::sin(2.001));
+}
+
+// Real-time stamped setters with qddot. Each joint moves with a constant acceleration a:
+// q(t) = q0 + v0 t + a t^2 / 2, sampled at t = 1, 2, 3 (and at 0.5 without qddot: the first
+// stamped state, which makes the histories).
+struct Motion {
+  double q0, v0, a;
+  double q(double t) const { return q0 + v0 * t + 0.5 * a * t * t; }
+  double qdot(double t) const { return v0 + a * t; }
+};
+constexpr Motion kJ1{0.1, 0.4, 0.2}, kJ2{-0.2, 0.3, -0.1};  // within the limits for t <= 3
+
+const std::string_view kBoth[] = {"j1", "j2"};
+
+void FirstStampedState(Graph& g) {
+  const JointValue q[] = {{"j1", kJ1.q(0.5)}, {"j2", kJ2.q(0.5)}};
+  const JointValue qd[] = {{"j1", kJ1.qdot(0.5)}, {"j2", kJ2.qdot(0.5)}};
+  ASSERT_TRUE(g.SetJoints(q, qd, S(0.5)).has_value());
+}
+
+void BuildTimeSamples(Graph& g) {
+  FirstStampedState(g);
+  for (double t : {1.0, 2.0, 3.0}) {
+    const JointValue q[] = {{"j1", kJ1.q(t)}, {"j2", kJ2.q(t)}};
+    const JointValue qd[] = {{"j1", kJ1.qdot(t)}, {"j2", kJ2.qdot(t)}};
+    const JointValue qdd[] = {{"j1", kJ1.a}, {"j2", kJ2.a}};
+    ASSERT_TRUE(g.SetJoints(q, qd, qdd, S(t)).has_value());
+  }
+}
+
+void RealTimeSamples(Graph& g) {
+  FirstStampedState(g);
+  const JointGroup group = *g.MakeJointGroup(kBoth);
+  for (double t : {1.0, 2.0, 3.0}) {
+    const double q[] = {kJ1.q(t), kJ2.q(t)}, qd[] = {kJ1.qdot(t), kJ2.qdot(t)},
+                 qdd[] = {kJ1.a, kJ2.a};
+    ASSERT_EQ(g.SetJointState(group, q, qd, qdd, S(t)), ErrorCode::kOk) << t;
+  }
+}
+
+Eigen::Vector3d Alpha(const Graph& g, const char* body, const char* ref, double t) {
+  auto r = g.GetAngularAcceleration(TwistSpec::Of("", body).RelativeTo(ref).ExpressedIn("base"),
+                                    At{S(t)});
+  EXPECT_TRUE(r) << body << " at " << t;
+  return r ? r->value.value : Eigen::Vector3d::Constant(NAN);
+}
+
+// The acceleration of l2's origin wrt `ref` in `in`, at t.
+Eigen::Vector3d TipAcceleration(const Graph& g, const char* ref, const char* in, double t) {
+  auto r =
+      g.GetLinearAcceleration(TwistSpec::Of("l2", "L2").RelativeTo(ref).ExpressedIn(in), At{S(t)});
+  EXPECT_TRUE(r) << ref << " at " << t;
+  return r ? r->value.value : Eigen::Vector3d::Constant(NAN);
+}
+
+// The sample value of a joint at t in [1, 3]: linear between the samples at 1, 2, 3 (joint-space
+// interpolation, docs/kinematics.md "Time").
+double Sampled(double (Motion::*f)(double) const, const Motion& m, double t) {
+  const double t0 = t < 2.0 ? 1.0 : 2.0, u = t - t0;
+  return (1 - u) * (m.*f)(t0) + u * (m.*f)(t0 + 1.0);
+}
+
+TEST(JointTimeTest, RealTimeStampedAccelerationsAreTheJointFormulas) {
+  Graph built = Robot(Interpolation::kScrew), rt = Robot(Interpolation::kScrew);
+  BuildTimeSamples(built);
+  RealTimeSamples(rt);
+  for (double t : {1.0, 1.5, 2.0, 2.75, 3.0}) {
+    SCOPED_TRACE(t);
+    ExpectNear(Alpha(rt, "L1", "Base", t), Eigen::Vector3d(0, 0, kJ1.a), 1e-12);
+    ExpectNear(Alpha(rt, "F", "L1", t), Eigen::Vector3d(0, 0, 2 * kJ1.a), 1e-12);  // the mimic
+    // By hand from the interpolated (q, qdot) and qddot: r = Rz(q1) (1, q2, 0) from the axis,
+    // a = alpha x r + w x (w x r) + 2 w x v_slide + a_slide.
+    const double q1 = Sampled(&Motion::q, kJ1, t), q2 = Sampled(&Motion::q, kJ2, t);
+    const double w1 = Sampled(&Motion::qdot, kJ1, t), v2 = Sampled(&Motion::qdot, kJ2, t);
+    const Eigen::Vector3d r = Rz(q1) * Eigen::Vector3d(1, q2, 0), w(0, 0, w1), al(0, 0, kJ1.a);
+    const Eigen::Vector3d v_slide = Rz(q1) * Eigen::Vector3d(0, v2, 0),
+                          a_slide = Rz(q1) * Eigen::Vector3d(0, kJ2.a, 0);
+    const Eigen::Vector3d a_hand =
+        al.cross(r) + w.cross(w.cross(r)) + 2 * w.cross(v_slide) + a_slide;
+    ExpectNear(TipAcceleration(rt, "Base", "base", t), a_hand, 1e-12);
+    ExpectNear(TipAcceleration(rt, "L1", "l1", t), Eigen::Vector3d(0, kJ2.a, 0), 1e-12);
+    // The build-time stamped SetJoints with qddot gives the same samples.
+    ExpectNear(Alpha(built, "L1", "Base", t), Alpha(rt, "L1", "Base", t), 0.0);
+    ExpectNear(TipAcceleration(built, "Base", "base", t), TipAcceleration(rt, "Base", "base", t),
+               0.0);
+    // Finite differences of the queried velocities (qdot is linear between the samples).
+    const double h = 1e-4;
+    const auto w_at = [&](double s) {
+      return rt
+          .GetAngularVelocity(TwistSpec::Of("", "L1").RelativeTo("Base").ExpressedIn("base"),
+                              At{S(s)})
+          ->value.value;
+    };
+    const auto v_at = [&](double s) {
+      return rt
+          .GetLinearVelocity(TwistSpec::Of("l2", "L2").RelativeTo("L1").ExpressedIn("l1"), At{S(s)})
+          ->value.value;
+    };
+    const double lo = std::max(1.0, t - h), hi = std::min(3.0, t + h);
+    ExpectNear(Eigen::Vector3d((w_at(hi) - w_at(lo)) / (hi - lo)), Alpha(rt, "L1", "Base", t),
+               1e-6);
+    ExpectNear(Eigen::Vector3d((v_at(hi) - v_at(lo)) / (hi - lo)),
+               TipAcceleration(rt, "L1", "l1", t), 1e-6);
+  }
+  const JointGroup group = *rt.MakeJointGroup(kBoth);
+  EXPECT_DOUBLE_EQ(rt.joint_acceleration(group.joints[0]), kJ1.a);
+  EXPECT_DOUBLE_EQ(rt.joint_position(group.joints[1]), kJ2.q(3.0));
+  EXPECT_EQ(Dump(rt), Dump(built));
+}
+
+TEST(JointTimeTest, RealTimeStampedAccelerationsKeepTheNewestPositionsAndVelocities) {
+  Graph g = Robot(Interpolation::kLinear);
+  RealTimeSamples(g);
+  const JointGroup group = *g.MakeJointGroup(kBoth);
+  const double qdd[] = {5.0, -0.7};
+  ASSERT_EQ(g.SetJointAccelerations(group, qdd, S(4.0)), ErrorCode::kOk);
+  EXPECT_DOUBLE_EQ(g.joint_position(group.joints[0]), kJ1.q(3.0));  // the t = 3 sample's
+  EXPECT_DOUBLE_EQ(g.joint_velocity(group.joints[0]), kJ1.qdot(3.0));
+  EXPECT_DOUBLE_EQ(g.joint_acceleration(group.joints[0]), 5.0);
+  ExpectNear(Alpha(g, "L1", "Base", 4.0), Eigen::Vector3d(0, 0, 5), 1e-12);
+  ExpectNear(Alpha(g, "F", "L1", 4.0), Eigen::Vector3d(0, 0, 10), 1e-12);  // m qddot
+  ExpectNear(Alpha(g, "L1", "Base", 3.5), Eigen::Vector3d(0, 0, 0.5 * (kJ1.a + 5)), 1e-12);
+  ExpectNear(TipAcceleration(g, "L1", "l1", 4.0), Eigen::Vector3d(0, -0.7, 0), 1e-12);
+  auto X = g.GetOrientation(PoseSpec::Of("l1").RelativeTo("base"), At{S(3.5)});
+  ExpectNear(X->value.value, Rz(kJ1.q(3.0)), 1e-12);  // q did not move from 3 to 4
+  // A later stamped set without qddot keeps 5 (the state's), as for the build-time setter.
+  const double q[] = {0.1, 0.2}, qd[] = {0.0, 0.0};
+  ASSERT_EQ(g.SetJointState(group, q, qd, S(5.0)), ErrorCode::kOk);
+  ExpectNear(Alpha(g, "L1", "Base", 5.0), Eigen::Vector3d(0, 0, 5), 1e-12);
+}
+
+// State() plus the stored accelerations (at the samples and between) and the joint states.
+std::string StateWithAccelerations(const Graph& g) {
+  std::string out = State(g);
+  char buf[200];
+  for (double t : {1.0, 1.5, 2.0, 2.5, 3.0}) {
+    for (const char* body : {"L1", "F"}) {
+      auto a = g.GetAngularAcceleration(
+          TwistSpec::Of("", body).RelativeTo(body[0] == 'F' ? "L1" : "Base").ExpressedIn("base"),
+          At{S(t)});
+      if (a) {
+        std::snprintf(buf, sizeof buf, "alpha %s@%g %.17g\n", body, t, a->value.value.z());
+        out += buf;
+      }
+    }
+    auto s = g.GetLinearAcceleration(TwistSpec::Of("l2", "L2").RelativeTo("L1").ExpressedIn("l1"),
+                                     At{S(t)});
+    if (s) {
+      std::snprintf(buf, sizeof buf, "slide@%g %.17g\n", t, s->value.value.y());
+      out += buf;
+    }
+  }
+  for (const char* name : {"j1", "j2", "m"}) {
+    if (auto j = g.FindJoint(name)) {
+      std::snprintf(buf, sizeof buf, "%s %.17g %.17g %.17g\n", name, g.joint_position(*j),
+                    g.joint_velocity(*j), g.joint_acceleration(*j));
+      out += buf;
+    }
+  }
+  return out;
+}
+
+TEST(JointTimeTest, RealTimeStampedAccelerationsRefuseInOrderAndChangeNothing) {
+  const double q[] = {0.1, 0.2}, qd[] = {0.3, 0.4}, qdd[] = {1.0, 2.0};
+  const double nan[] = {1.0, NAN}, over[] = {0.1, 1.5};
+  {  // invalid_number -> joint_limit -> stamp_too_old, each with the graph unchanged
+    Graph g = Robot(Interpolation::kScrew, DuplicatePolicy::kReplace, Duration::Seconds(1));
+    RealTimeSamples(g);
+    const JointGroup group = *g.MakeJointGroup(kBoth);
+    const std::string before = StateWithAccelerations(g);
+    UpdateError why;
+    EXPECT_EQ(g.SetJointAccelerations(group, nan, S(3.5), &why), ErrorCode::kInvalidNumber);
+    EXPECT_EQ(why.joint, 1u);
+    EXPECT_EQ(why.value.role, coord::ValueRole::kJointAcceleration);
+    EXPECT_EQ(StateWithAccelerations(g), before);
+    why = UpdateError{};
+    // A non-finite qddot comes before a limit and a stamp too old.
+    EXPECT_EQ(g.SetJointState(group, over, qd, nan, S(0.1), &why), ErrorCode::kInvalidNumber);
+    EXPECT_EQ(why.value.role, coord::ValueRole::kJointAcceleration);
+    EXPECT_EQ(why.joint, 1u);
+    why = UpdateError{};
+    EXPECT_EQ(g.SetJointState(group, over, qd, qdd, S(0.1), &why), ErrorCode::kJointLimit);
+    EXPECT_EQ(why.joint, 1u);
+    EXPECT_DOUBLE_EQ(why.limit, 1.0);
+    EXPECT_EQ(g.SetJointState(group, q, qd, qdd, S(1.5)), ErrorCode::kStampTooOld);
+    EXPECT_EQ(g.SetJointAccelerations(group, qdd, S(1.5)), ErrorCode::kStampTooOld);
+    EXPECT_EQ(StateWithAccelerations(g), before);
+  }
+  {  // stamp_mismatch: a timeless joint, and a joint without a stamped state yet
+    Graph g = Robot(Interpolation::kScrew);
+    const JointValue q1[] = {{"j1", 0.2}};
+    ASSERT_TRUE(g.SetJoints(q1, {}).has_value());
+    const JointGroup group = *g.MakeJointGroup(kBoth);
+    const std::string before = StateWithAccelerations(g);
+    EXPECT_EQ(g.SetJointState(group, q, qd, qdd, S(1.0)), ErrorCode::kStampMismatch);
+    EXPECT_EQ(g.SetJointAccelerations(group, qdd, S(1.0)), ErrorCode::kStampMismatch);
+    const std::string_view j2[] = {"j2"};
+    const double one[] = {1.0};
+    EXPECT_EQ(g.SetJointAccelerations(*g.MakeJointGroup(j2), one, S(1.0)),
+              ErrorCode::kStampMismatch);  // never set: its first stamped state is SetJoints'
+    EXPECT_EQ(StateWithAccelerations(g), before);
+  }
+  {  // duplicate_stamp under reject: another qddot at a stored stamp; the same is a no-op
+    Graph g = Robot(Interpolation::kScrew, DuplicatePolicy::kReject);
+    RealTimeSamples(g);
+    const JointGroup group = *g.MakeJointGroup(kBoth);
+    const std::string before = StateWithAccelerations(g);
+    const double q2[] = {kJ1.q(2.0), kJ2.q(2.0)}, qd2[] = {kJ1.qdot(2.0), kJ2.qdot(2.0)};
+    const double same[] = {kJ1.a, kJ2.a}, other[] = {kJ1.a, kJ2.a + 1e-3};
+    EXPECT_EQ(g.SetJointState(group, q2, qd2, other, S(2.0)), ErrorCode::kDuplicateStamp);
+    EXPECT_EQ(StateWithAccelerations(g), before);
+    EXPECT_EQ(g.SetJointState(group, q2, qd2, same, S(2.0)), ErrorCode::kOk);
+    EXPECT_EQ(StateWithAccelerations(g), before);
+    // SetJointAccelerations at the newest stamp keeps its q and qdot: only qddot decides.
+    EXPECT_EQ(g.SetJointAccelerations(group, other, S(3.0)), ErrorCode::kDuplicateStamp);
+    EXPECT_EQ(g.SetJointAccelerations(group, same, S(3.0)), ErrorCode::kOk);
+    EXPECT_EQ(StateWithAccelerations(g), before);
+  }
+  {  // unknown_joint: a joint removed since the group was made (before the stamp rules)
+    Graph g = Robot(Interpolation::kScrew, DuplicatePolicy::kReplace, Duration::Seconds(1));
+    RealTimeSamples(g);
+    const JointGroup group = *g.MakeJointGroup(kBoth);
+    ASSERT_TRUE(g.RemovePose("l2", "l1"));
+    const std::string before = StateWithAccelerations(g);
+    EXPECT_EQ(g.SetJointAccelerations(group, qdd, S(0.1)), ErrorCode::kUnknownJoint);
+    EXPECT_EQ(g.SetJointState(group, over, qd, qdd, S(4.0)), ErrorCode::kUnknownJoint);
+    EXPECT_EQ(StateWithAccelerations(g), before);
+  }
+}
+
+TEST(JointTimeTest, RealTimeStampedAccelerationsAllocateNothing) {
+  Graph g = Robot(Interpolation::kLinear);
+  const JointValue q0[] = {{"j1", 0.0}, {"j2", 0.0}};
+  // The first stamped state, without qddot: it reserves the acceleration words (allocates).
+  ASSERT_TRUE(g.SetJoints(q0, {}, S(0.0)).has_value());
+  const JointGroup group = *g.MakeJointGroup(kBoth);
+  std::int64_t tick = 1;
+  std::size_t allocations = 0;
+  std::size_t accepted = 0;
+  {
+    CountAllocations counting;
+    for (int i = 0; i < 2000; ++i, ++tick) {  // 1 kHz, past the capacity
+      const double t = static_cast<double>(tick) * 1e-3;
+      const double q[] = {std::sin(t), 0.5 * std::sin(t)}, qd[] = {std::cos(t), 0.5 * std::cos(t)},
+                   qdd[] = {-std::sin(t), -0.5 * std::sin(t)};
+      const Stamp s = Stamp::Nanoseconds(tick * 1000000);
+      const ErrorCode c = i % 2 == 0 ? g.SetJointState(group, q, qd, qdd, s)
+                                     : g.SetJointAccelerations(group, qdd, s);
+      accepted += c == ErrorCode::kOk ? 1 : 0;
+    }
+    const double nan[] = {NAN, 0.0};
+    EXPECT_EQ(g.SetJointAccelerations(group, nan, Stamp::Nanoseconds(tick * 1000000)),
+              ErrorCode::kInvalidNumber);
+    const double over[] = {0.0, 9.0}, zero[] = {0.0, 0.0};
+    EXPECT_EQ(g.SetJointState(group, over, zero, zero, Stamp::Nanoseconds(tick * 1000000)),
+              ErrorCode::kJointLimit);
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(accepted, 2000u);
+  // The last sample (tick 2000, SetJointAccelerations): qddot1 = -sin(2).
+  const double t_last = 2.0;
+  EXPECT_DOUBLE_EQ(g.joint_acceleration(group.joints[0]), -std::sin(t_last));
+  ExpectNear(Alpha(g, "L1", "Base", t_last), Eigen::Vector3d(0, 0, -std::sin(t_last)), 1e-12);
+  ExpectNear(Alpha(g, "F", "L1", t_last), Eigen::Vector3d(0, 0, -2 * std::sin(t_last)), 1e-12);
 }
 
 }  // namespace

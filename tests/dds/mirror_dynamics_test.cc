@@ -536,13 +536,21 @@ bool SameTimedDynamics(const dds::Mirror& mirror, const core::SceneGraph<>& g, b
 // The publisher's stamped values after the structure: the twist sample t1 with its
 // acceleration, t2 set then given its acceleration (SetAcceleration at t2, in a batch with the
 // wrench sample t2: the sample goes out again with it), t3 without one; wrench samples t1, t2;
-// joint states with qddot at t0 (its first stamped state: a structure change), t1, t2.
+// joint states with qddot at t0 (its first stamped state, by name: a structure change), t1
+// (the real-time stamped SetJointState with qddot) and t2 (the real-time stamped SetJointState
+// without qddot, then SetJointAccelerations at the same stamp: the sample replaced).
 void SendStampedValues(dds::Publisher& pub, const StampedScene& s) {
-  for (int k = 0; k < 3; ++k) {
-    const core::JointValue q[] = {{"j1", 0.1 * k}}, qdot[] = {{"j1", 0.5}},
-                           qddot[] = {{"j1", kQddot[k]}};
-    ASSERT_TRUE(pub.SetJoints(q, qdot, qddot, T(k))) << k;
-  }
+  const core::JointValue q0[] = {{"j1", 0.0}}, qdot0[] = {{"j1", 0.5}},
+                         qddot0[] = {{"j1", kQddot[0]}};
+  ASSERT_TRUE(pub.SetJoints(q0, qdot0, qddot0, T(0)));
+  const std::string_view names[] = {"j1"};
+  const auto group = s.g.MakeJointGroup(names);
+  ASSERT_TRUE(group);
+  const double q1[] = {0.1}, q2[] = {0.2}, qdot[] = {0.5}, qddot1[] = {kQddot[1]},
+               qddot2[] = {kQddot[2]};
+  ASSERT_EQ(pub.SetJointState(*group, q1, qdot, qddot1, T(1)), base::ErrorCode::kOk);
+  ASSERT_EQ(pub.SetJointState(*group, q2, qdot, T(2)), base::ErrorCode::kOk);
+  ASSERT_EQ(pub.SetJointAccelerations(*group, qddot2, T(2)), base::ErrorCode::kOk);
   ASSERT_EQ(pub.SetTwist(s.twist, kV[1], kW, T(1), AccelerationInput{kAcc[1], kAlpha[1]}),
             base::ErrorCode::kOk);
   ASSERT_EQ(pub.SetTwist(s.twist, kV[2], kW, T(2)), base::ErrorCode::kOk);
@@ -743,7 +751,7 @@ TEST(MirrorDynamicsTest, HostileStampedDynamicsAreRejected) {
         "sample: a stamped sample for the unstamped wrench on 'B' (stamp_mismatch)",
         "value: an unstamped value for the stamped wrench on 'A' (stamp_mismatch)",
         "sample into 'A': an acceleration with a value that is neither a twist nor a joint state",
-        "sample into 'j1': a number of the stamped joint state is not finite (invalid_number)",
+        "sample into 'j1': invalid_number: acceleration of joint 0 of the group",
         "element 3 (wrench 'x'): the stamp is out of range (invalid_number)",
         "wrench on 'X' by 'Z': a body the structure does not declare (unknown_body)"}) {
     EXPECT_NE(logs.find(line), std::string::npos) << line << "\n" << logs;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <functional>
+#include <numbers>
 #include <tuple>
 
 namespace semgraph::reference {
@@ -794,12 +795,12 @@ ErrorCode ReferenceModel::AddJoint(const JointInput& in) {
   return ErrorCode::kOk;
 }
 
-ErrorCode ReferenceModel::SetJoints(
+ErrorCode ReferenceModel::CheckJointValues(
     const std::vector<std::pair<std::string, double>>& positions,
     const std::vector<std::pair<std::string, double>>& velocities,
-    const std::vector<std::pair<std::string, double>>& accelerations) {
-  const auto find = [&](const std::string& name) -> Joint* {
-    for (Joint& j : s_.joints) {
+    const std::vector<std::pair<std::string, double>>& accelerations) const {
+  const auto find = [&](const std::string& name) -> const Joint* {
+    for (const Joint& j : s_.joints) {
       if (j.name == name) return &j;
     }
     return nullptr;
@@ -824,10 +825,244 @@ ErrorCode ReferenceModel::SetJoints(
     if (j->limited() && (value < j->lower - 1e-9 || value > j->upper + 1e-9))
       return ErrorCode::kJointLimit;
   }
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::SetJoints(
+    const std::vector<std::pair<std::string, double>>& positions,
+    const std::vector<std::pair<std::string, double>>& velocities,
+    const std::vector<std::pair<std::string, double>>& accelerations) {
+  const auto find = [&](const std::string& name) -> Joint* {
+    for (Joint& j : s_.joints) {
+      if (j.name == name) return &j;
+    }
+    return nullptr;
+  };
+  if (const ErrorCode code = CheckJointValues(positions, velocities, accelerations);
+      code != ErrorCode::kOk) {
+    return code;
+  }
+  for (const auto* list : {&positions, &velocities, &accelerations}) {
+    for (const auto& [name, value] : *list) {
+      if (!find(name)->samples.empty()) return ErrorCode::kStampMismatch;  // a stamped joint
+    }
+  }
   for (const auto& [name, value] : positions) find(name)->q = value, Drive(s_, name);
   for (const auto& [name, value] : velocities) find(name)->qdot = value, Drive(s_, name);
   for (const auto& [name, value] : accelerations) {
     find(name)->qddot = value, find(name)->has_qddot = true, Drive(s_, name);
+  }
+  for (const auto* list : {&positions, &velocities, &accelerations}) {
+    for (const auto& [name, value] : *list) MarkTimeless(name);
+  }
+  return ErrorCode::kOk;
+}
+
+void ReferenceModel::MarkTimeless(const std::string& joint) {
+  for (Joint& j : s_.joints) {
+    if (j.name == joint || j.master == joint) j.timeless = true;
+  }
+}
+
+namespace {
+bool NearJointValue(double a, double stored) {
+  return std::abs(a - stored) <= 1e-9 * std::max(1.0, std::abs(stored));
+}
+// A joint sample equals (q, qdot, qddot): a revolute angle modulo a full turn.
+bool SameJointSample(const Joint& j, const Joint::Sample& x, double q, double qdot,
+                     const double* qddot) {
+  const bool same_q = j.type == JointType::kPrismatic
+                          ? NearJointValue(q, x.q)
+                          : std::abs(std::remainder(q - x.q, 2.0 * std::numbers::pi)) <=
+                                1e-9 * std::max(1.0, std::abs(q));
+  const bool same_qddot =
+      x.has_qddot == (qddot != nullptr) &&
+      (!qddot || std::abs(*qddot - x.qddot) <= 1e-6 * std::max(1.0, std::abs(x.qddot)));
+  return same_q && NearJointValue(qdot, x.qdot) && same_qddot;
+}
+}  // namespace
+
+ErrorCode ReferenceModel::CheckJointSample(const Joint& j, double q, double qdot,
+                                           const double* qddot, std::int64_t s) const {
+  if (j.timeless || j.samples.empty()) return ErrorCode::kStampMismatch;
+  if (s < SubSat(j.samples.back().t, time_.window_ns)) return ErrorCode::kStampTooOld;
+  for (const Joint::Sample& x : j.samples) {
+    if (x.t == s && time_.reject_duplicates && !SameJointSample(j, x, q, qdot, qddot))
+      return ErrorCode::kDuplicateStamp;
+  }
+  return ErrorCode::kOk;
+}
+
+void ReferenceModel::StoreJointSample(const std::string& joint, const double* q_given,
+                                      const double* qdot_given, const double* qddot_given,
+                                      std::int64_t s) {
+  Joint* jp = nullptr;
+  for (Joint& x : s_.joints) {
+    if (x.name == joint) jp = &x;
+  }
+  Joint& j = *jp;
+  Joint::Sample x;
+  x.t = s;
+  x.q = q_given ? *q_given : j.q;
+  x.qdot = qdot_given ? *qdot_given : j.qdot;
+  x.has_qddot = qddot_given != nullptr || j.has_qddot;
+  x.qddot = qddot_given ? *qddot_given : j.has_qddot ? j.qddot : 0.0;
+  const bool newest = j.samples.empty() || s >= j.samples.back().t;
+  const auto same = [&](const Joint::Sample& y) {
+    return SameJointSample(j, y, x.q, x.qdot, x.has_qddot ? &x.qddot : nullptr);
+  };
+  bool identical = false;  // the same sample again: a no-op that keeps the stored one (and q)
+  for (const Joint::Sample& y : j.samples) identical = identical || (y.t == s && same(y));
+  if (!identical) {
+    InsertSample(j.samples, x, time_, same);
+    if (newest) {
+      j.q = x.q, j.qdot = x.qdot;
+      if (x.has_qddot) j.qddot = x.qddot, j.has_qddot = true;
+    }
+  }
+  // The edges' samples, made of the joint's (the same stamps, window and capacity).
+  for (PoseEdge& e : s_.poses) {
+    if (e.head != j.child) continue;
+    e.stamped = true;
+    e.samples.clear();
+    for (const Joint::Sample& y : j.samples)
+      e.samples.push_back(PoseSample{y.t, JointPose(j, y.q)});
+    e.X_TH = e.samples.back().X;
+  }
+  for (TwistEdge& t : s_.twists) {
+    if (t.head != j.child) continue;
+    t.stamped = true;
+    t.samples.clear();
+    for (const Joint::Sample& y : j.samples) {
+      TwistSample z;
+      z.t = y.t;
+      z.has_A = y.has_qddot;
+      if (j.type == JointType::kPrismatic) z.v = y.qdot * j.u, z.a = y.qddot * j.u;
+      if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) {
+        z.w = y.qdot * j.u, z.alpha = y.qddot * j.u;
+      }
+      t.samples.push_back(z);
+    }
+    FromNewest(t);
+  }
+  std::vector<std::string> mimics;
+  for (const Joint& m : s_.joints) {
+    if (m.master == joint) mimics.push_back(m.name);
+  }
+  const double qddot_value = x.has_qddot ? (qddot_given ? *qddot_given : x.qddot) : 0.0;
+  for (const std::string& name : mimics) {
+    const Joint* m = nullptr;
+    for (const Joint& y : s_.joints) {
+      if (y.name == name) m = &y;
+    }
+    const double qm = m->multiplier * x.q + m->offset, qdotm = m->multiplier * x.qdot,
+                 qddotm = m->multiplier * qddot_value;
+    StoreJointSample(name, &qm, &qdotm, x.has_qddot ? &qddotm : nullptr, s);
+  }
+}
+
+ErrorCode ReferenceModel::SetJoints(
+    const std::vector<std::pair<std::string, double>>& positions,
+    const std::vector<std::pair<std::string, double>>& velocities,
+    const std::vector<std::pair<std::string, double>>& accelerations, std::int64_t stamp) {
+  if (const ErrorCode code = CheckJointValues(positions, velocities, accelerations);
+      code != ErrorCode::kOk) {
+    return code;
+  }
+  struct Given {
+    std::string name;
+    std::optional<double> q, qdot, qddot;
+  };
+  std::vector<Given> given;  // one sample per joint, in order of first mention
+  const auto of = [&](const std::string& name) -> Given& {
+    for (Given& g : given) {
+      if (g.name == name) return g;
+    }
+    given.push_back(Given{name, {}, {}, {}});
+    return given.back();
+  };
+  for (const auto& [name, value] : positions) of(name).q = value;
+  for (const auto& [name, value] : velocities) of(name).qdot = value;
+  for (const auto& [name, value] : accelerations) of(name).qddot = value;
+  const auto joint = [&](const std::string& name) -> const Joint& {
+    for (const Joint& j : s_.joints) {
+      if (j.name == name) return j;
+    }
+    std::abort();
+  };
+  ErrorCode worst = ErrorCode::kOk;
+  for (const Given& g : given) {
+    const Joint& j = joint(g.name);
+    const double q = g.q.value_or(j.q), qdot = g.qdot.value_or(j.qdot);
+    const bool has_qddot = g.qddot.has_value() || j.has_qddot;
+    const double qddot = g.qddot ? *g.qddot : j.has_qddot ? j.qddot : 0.0;
+    std::vector<const Joint*> family = {&j};
+    for (const Joint& m : s_.joints) {
+      if (m.master == j.name) family.push_back(&m);
+    }
+    for (const Joint* k : family) {
+      if (!k->timeless && k->samples.empty()) continue;  // its first sample: no rule
+      const double m = k == &j ? 1.0 : k->multiplier, off = k == &j ? 0.0 : k->offset;
+      const double qddotk = m * qddot;
+      const ErrorCode code =
+          CheckJointSample(*k, m * q + off, m * qdot, has_qddot ? &qddotk : nullptr, stamp);
+      if (code != ErrorCode::kOk && (worst == ErrorCode::kOk || code < worst)) worst = code;
+    }
+  }
+  if (worst != ErrorCode::kOk) return worst;
+  for (const Given& g : given) {
+    StoreJointSample(g.name, g.q ? &*g.q : nullptr, g.qdot ? &*g.qdot : nullptr,
+                     g.qddot ? &*g.qddot : nullptr, stamp);
+  }
+  return ErrorCode::kOk;
+}
+
+ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, const double* q,
+                                   const double* qdot, const double* qddot, std::int64_t stamp) {
+  std::vector<const Joint*> joints;
+  bool bad_number = false;
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    bad_number = bad_number || (q && !std::isfinite(q[i])) || (qdot && !std::isfinite(qdot[i])) ||
+                 (qddot && !std::isfinite(qddot[i]));
+    const Joint* found = nullptr;
+    for (const Joint& j : s_.joints) {
+      if (j.serial == group[i]) found = &j;
+    }
+    joints.push_back(found);
+  }
+  if (bad_number) return ErrorCode::kInvalidNumber;
+  for (const Joint* j : joints) {
+    if (!j) return ErrorCode::kUnknownJoint;
+  }
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    if (q && joints[i]->limited() &&
+        !(q[i] >= joints[i]->lower - 1e-9 && q[i] <= joints[i]->upper + 1e-9)) {
+      return ErrorCode::kJointLimit;
+    }
+  }
+  ErrorCode worst = ErrorCode::kOk;
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    const Joint& j = *joints[i];
+    const double qi = q ? q[i] : j.q, qdoti = qdot ? qdot[i] : j.qdot;
+    const double* qddoti = qddot ? qddot + i : j.has_qddot ? &j.qddot : nullptr;
+    std::vector<const Joint*> family = {&j};
+    for (const Joint& m : s_.joints) {
+      if (m.master == j.name) family.push_back(&m);
+    }
+    for (const Joint* k : family) {
+      const double m = k == &j ? 1.0 : k->multiplier, off = k == &j ? 0.0 : k->offset;
+      const double qddotk = qddoti ? m * *qddoti : 0.0;
+      const ErrorCode code =
+          CheckJointSample(*k, m * qi + off, m * qdoti, qddoti ? &qddotk : nullptr, stamp);
+      if (code != ErrorCode::kOk && (worst == ErrorCode::kOk || code < worst)) worst = code;
+    }
+  }
+  if (worst != ErrorCode::kOk) return worst;
+  std::vector<std::string> names;
+  for (const Joint* j : joints) names.push_back(j->name);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    StoreJointSample(names[i], q ? q + i : nullptr, qdot ? qdot + i : nullptr,
+                     qddot ? qddot + i : nullptr, stamp);
   }
   return ErrorCode::kOk;
 }
@@ -871,10 +1106,14 @@ ErrorCode ReferenceModel::SetGroup(const std::vector<std::uint64_t>& group, cons
       return ErrorCode::kJointLimit;
     }
   }
+  for (const Joint* j : joints) {
+    if (!j->samples.empty()) return ErrorCode::kStampMismatch;  // a stamped joint
+  }
   for (std::size_t i = 0; i < group.size(); ++i) {
     if (q) joints[i]->q = q[i];
     if (qdot) joints[i]->qdot = qdot[i];
     Drive(s_, joints[i]->name);
+    MarkTimeless(joints[i]->name);
   }
   return ErrorCode::kOk;
 }

@@ -73,8 +73,9 @@
 // SetAcceleration and SetTwist by handle, queries (acceleration, linear, angular) composed along
 // the twist path. Stamped (docs/dynamics.md §7.2): each twist sample may carry one (a stamped
 // twist with one, AddAcceleration / SetAcceleration at a sample's stamp), timed queries
-// (AskAccelerationAt). Joint accelerations by SetJoints. Not covered: stamped joint states
-// (their samples' q''), acceleration covariances.
+// (AskAccelerationAt). Joint accelerations by SetJoints. Stamped joint states (by name and
+// by group, with q''): their samples written into the joints' edges. Not covered: acceleration
+// covariances.
 // WRENCHES (docs/dynamics.md §7): adds (storage frame, conversion, the errors self_wrench,
 // duplicate_wrench, wrench_not_convertible, unknown_frame / unknown_body, invalid_name,
 // invalid_number), removals, handles and SetWrench, and one-shot queries (a pair, its
@@ -241,6 +242,16 @@ struct Joint {
   double qddot = 0;  // with has_qddot: the joint's acceleration (never given: none)
   bool has_qddot = false;
   std::uint64_t serial = 0;  // unique per add: a group made before a removal goes stale
+  /// Time: set without a stamp at least once (and the mimics it had then): timeless edges.
+  bool timeless = false;
+  /// Stamped (its edges keep histories): its samples, sorted by stamp; the edges' samples are
+  /// made of them (X_origin M(q), the twist of qdot, the acceleration of qddot when it has one).
+  struct Sample {
+    std::int64_t t = 0;
+    double q = 0, qdot = 0, qddot = 0;
+    bool has_qddot = false;
+  };
+  std::vector<Sample> samples;
   bool movable() const { return type != JointType::kFixed; }
   bool limited() const { return type == JointType::kRevolute || type == JointType::kPrismatic; }
 };
@@ -411,6 +422,22 @@ class ReferenceModel {
   /// Sets a group (q and/or qdot may be null): invalid_number -> unknown_joint (a joint removed
   /// since the group was made) -> joint_limit.
   ErrorCode SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot);
+  /// Stamped joint states (docs/kinematics.md "Time", docs/dynamics.md "Stamped accelerations"):
+  /// a sample at `stamp` of each joint given and of its mimics (m q + offset, m qdot, m qddot); a
+  /// field not given is the joint's newest sample's (qddot only if it has one). By name: the
+  /// checks of SetJoints, then the stamp rules over the joints that are stamped already or
+  /// timeless (a joint never set, or a mimic added since, gets its first sample): stamp_mismatch
+  /// (timeless) -> stamp_too_old -> duplicate_stamp (reject policy: q within 1e-9 max(1, |q|),
+  /// a revolute angle modulo a full turn, qdot too, qddot both none or within 1e-6), the first in
+  /// that order over all. By group (the real-time setters, q / qdot / qddot null: not given):
+  /// SetGroup's checks, then the same stamp rules, a joint (or mimic) not stamped yet being
+  /// stamp_mismatch. All or nothing; the joint state is its newest sample's.
+  ErrorCode SetJoints(const std::vector<std::pair<std::string, double>>& positions,
+                      const std::vector<std::pair<std::string, double>>& velocities,
+                      const std::vector<std::pair<std::string, double>>& accelerations,
+                      std::int64_t stamp);
+  ErrorCode SetGroup(const std::vector<std::uint64_t>& group, const double* q, const double* qdot,
+                     const double* qddot, std::int64_t stamp);
   /// Jacobian(e|C, D, [r]) of a twist query: its errors; columns from the TG path (D to C) as
   /// the unit twists of its movable joints' edges moved to e, in [r], signed by direction; a
   /// mimic adds multiplier x its column to its master's (placed at the first of them met).
@@ -545,6 +572,20 @@ class ReferenceModel {
   static void Drive(State& s, const std::string& joint);
   /// X_origin M(q), by the model's own Rodrigues formula.
   static Transform JointPose(const Joint& j, double q);
+  /// SetJoints' checks before time: invalid_number -> unknown_joint -> mimic_joint -> joint_limit.
+  ErrorCode CheckJointValues(
+      const std::vector<std::pair<std::string, double>>& positions,
+      const std::vector<std::pair<std::string, double>>& velocities,
+      const std::vector<std::pair<std::string, double>>& accelerations) const;
+  /// The stamp rules of a sample (q, qdot, qddot: null none) of joint j at s (kOk: none broken).
+  ErrorCode CheckJointSample(const Joint& j, double q, double qdot, const double* qddot,
+                             std::int64_t s) const;
+  /// Inserts joint j's sample at s (a field null: the state's) and its mimics', and writes the
+  /// samples into the joint's edges (then stamped).
+  void StoreJointSample(const std::string& joint, const double* q, const double* qdot,
+                        const double* qddot, std::int64_t s);
+  /// A set without a stamp: the joint and its mimics become timeless.
+  void MarkTimeless(const std::string& joint);
   std::uint64_t next_serial_ = 1;
   enum class Rule { kNone, kP1, kP2, kP3, kW3 };
 

@@ -541,8 +541,8 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// With accelerations qddot (docs/dynamics.md "Stamped accelerations"): each sample carries
   /// the acceleration of its qddot (a joint given none: its newest sample's, if it ever had
   /// one, as for q and qdot), mimics m qddot; the rules and order above, a different qddot at a
-  /// stored stamp being a duplicate under the reject policy. The real-time stamped setters keep
-  /// the joint's qddot in their samples.
+  /// stored stamp being a duplicate under the reject policy. The real-time stamped setters
+  /// without qddot keep the joint's qddot in their samples; those with qddot are below.
   BuildResult SetJoints(std::span<const JointValue> positions,
                         std::span<const JointValue> velocities,
                         std::span<const JointValue> accelerations, Stamp stamp);
@@ -557,6 +557,18 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
                                         std::span<const double> qdot, Stamp stamp,
                                         UpdateError* why = nullptr) noexcept;
+  /// With accelerations qddot (docs/dynamics.md "Stamped accelerations"): each sample carries
+  /// the acceleration of its qddot (mimics m qddot), exactly as SetJoints with accelerations and
+  /// a stamp; SetJointAccelerations keeps each joint's newest q and qdot in its sample. Codes as
+  /// above (a non-finite qddot: kInvalidNumber, why->value.role kJointAcceleration); a different
+  /// qddot at a stored stamp is kDuplicateStamp under the reject policy. Allocation-free: a
+  /// stamped joint's twist history has room for accelerations from its first stamped state.
+  [[nodiscard]] ErrorCode SetJointAccelerations(const JointGroup& group,
+                                                std::span<const double> qddot, Stamp stamp,
+                                                UpdateError* why = nullptr) noexcept;
+  [[nodiscard]] ErrorCode SetJointState(const JointGroup& group, std::span<const double> q,
+                                        std::span<const double> qdot, std::span<const double> qddot,
+                                        Stamp stamp, UpdateError* why = nullptr) noexcept;
   /// Joint state and names (a stale handle: NaN / empty).
   [[nodiscard]] double joint_position(JointHandle j) const noexcept;
   [[nodiscard]] double joint_velocity(JointHandle j) const noexcept;
@@ -878,7 +890,7 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                          const double* qdot, const double* qddot, UpdateError* why) const noexcept;
   // Stamped joint states (joint_time.cc).
   ErrorCode SetGroupStamped(const JointGroup& group, const double* q, const double* qdot,
-                            Stamp stamp, UpdateError* why) noexcept;
+                            const double* qddot, Stamp stamp, UpdateError* why) noexcept;
   // qddot: the sample's joint acceleration (null: none).
   ErrorCode CheckJointSample(const internal::JointRecord& j, double q, double qdot,
                              const double* qddot, std::int64_t s) const noexcept;

@@ -17,8 +17,9 @@
 //     exact), and the structure carries a stamped edge's newest sample with its covariance;
 //   - joints (core/joints.h): each live joint with its AddJoint data (type, parent and child
 //     frames, origin, axis, limits, mimic) and state, in place of its two edges; joint states
-//     set through this Publisher (SetJoints, SetJointPositions, SetJointState, stamped or not)
-//     go out per joint (q, qdot; on the sample topic when stamped), mimics follow on mirrors;
+//     set through this Publisher (SetJoints, SetJointPositions, SetJointState,
+//     SetJointAccelerations, stamped or not) go out per joint (q, qdot; on the sample topic when
+//     stamped), mimics follow on mirrors;
 //   - accelerations (docs/dynamics.md): a timeless twist edge's value carries the acceleration
 //     the graph stores on it (edge form) or says it has none, so a twist set without one clears
 //     the mirrors' as it clears the graph's; a stamped twist sample carries the acceleration its
@@ -188,6 +189,17 @@ class SEMGRAPH_DDS_EXPORT Publisher {
   [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
                                               std::span<const double> q,
                                               std::span<const double> qdot,
+                                              core::Stamp stamp) noexcept;
+  /// Real-time stamped with qddot (SceneGraph's, allocation-free): each joint of the group goes
+  /// out as a stamped sample with the qddot given (SetJointAccelerations: with the q and qdot
+  /// of the joint's newest sample).
+  [[nodiscard]] base::ErrorCode SetJointAccelerations(const core::JointGroup& group,
+                                                      std::span<const double> qddot,
+                                                      core::Stamp stamp) noexcept;
+  [[nodiscard]] base::ErrorCode SetJointState(const core::JointGroup& group,
+                                              std::span<const double> q,
+                                              std::span<const double> qdot,
+                                              std::span<const double> qddot,
                                               core::Stamp stamp) noexcept;
 
   /// Batching, one DDS write per control cycle: after BeginBatch(), the values set through
