@@ -603,10 +603,13 @@ class SceneGraph:
     def set_joints(self, positions: Union[ArrayLike, Mapping[str, float], None] = None,
                    velocities: Union[ArrayLike, Mapping[str, float], None] = None,
                    accelerations: Union[ArrayLike, Mapping[str, float], None] = None, *,
-                   names: Union[Sequence[str], JointGroup, None] = None) -> None:
+                   names: Union[Sequence[str], JointGroup, None] = None,
+                   stamp: Optional[Time] = None) -> None:
         """Arrays in the layout of `names` (default joint_names), or dicts by joint name.
-        All or nothing: invalid_number, unknown_joint, mimic_joint, joint_limit; accelerations
-        of stamped joints: stamp_mismatch."""
+        stamp: a sample at that time (a field not given keeps the newest sample's).
+        All or nothing: invalid_number, unknown_joint, mimic_joint, joint_limit; with or
+        without a stamp against the joint's first state: stamp_mismatch; stamp_too_old,
+        duplicate_stamp."""
     def joint_positions(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray: ...
     def joint_velocities(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray: ...
     def joint_accelerations(self, names: Union[Sequence[str], JointGroup, None] = None) -> np.ndarray:

@@ -5,12 +5,14 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "common.h"
 #include "semgraph/core/jacobian.h"
+#include "timed.h"
 
 #ifdef SEMGRAPH_PYTHON_WITH_MODELS
 #include "semgraph/models/urdf.h"
@@ -136,7 +138,7 @@ py::array_t<double, py::array::c_style> StateArg(py::handle value, std::size_t n
 }
 
 void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities,
-                     py::handle accelerations) {
+                     py::handle accelerations, std::optional<core::Stamp> stamp) {
   std::vector<core::JointValue> q, qdot, qddot;
   std::vector<py::object> keep;
   auto read = [&](py::handle d, std::vector<core::JointValue>& out, const char* argument) {
@@ -153,11 +155,33 @@ void SetJointsByName(GraphBox& box, py::handle positions, py::handle velocities,
   read(velocities, qdot, "velocities");
   read(accelerations, qddot, "accelerations");
   std::lock_guard<WriterMutex> lock(box.writer);
-  Check(box.Visit([&](auto& g) { return g.SetJoints(q, qdot, qddot); }));
+  Check(box.Visit([&](auto& g) {
+    return stamp ? g.SetJoints(q, qdot, qddot, *stamp) : g.SetJoints(q, qdot, qddot);
+  }));
+}
+
+// A stamped state given as arrays: by the group's names, through the stamped SetJoints (which
+// also takes a joint's first stamped state; the real-time stamped setters need one already).
+void SetStampedJointArrays(GraphBox& box, const JointGroupObject& group,
+                           const py::array_t<double, py::array::c_style>* arrays[3],
+                           core::Stamp stamp) {
+  std::lock_guard<WriterMutex> lock(box.writer);
+  Check(box.Visit([&](auto& g) {
+    std::vector<core::JointValue> values[3];
+    for (int k = 0; k < 3; ++k) {
+      if (arrays[k] == nullptr) continue;
+      for (std::size_t i = 0; i < group.group.size(); ++i) {
+        values[k].push_back({g.joint_name(group.group.joints[i]), arrays[k]->data()[i]});
+      }
+    }
+    return g.SetJoints(values[0], values[1], values[2], stamp);
+  }));
 }
 
 void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::handle accelerations,
-               py::handle names) {
+               py::handle names, py::handle stamp_arg) {
+  const std::optional<core::Stamp> stamp =
+      OptionalStampArg(stamp_arg, "set_joints", "stamp", false);
   const py::handle given[] = {positions, velocities, accelerations};
   bool any_dict = false, all_dicts = true;
   for (py::handle h : given) {
@@ -172,7 +196,7 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
     }
     if (!names.is_none())
       throw py::value_error("set_joints(): names= applies to arrays, not to dicts");
-    SetJointsByName(box, positions, velocities, accelerations);
+    SetJointsByName(box, positions, velocities, accelerations, stamp);
     return;
   }
   if (positions.is_none() && velocities.is_none() && accelerations.is_none()) return;
@@ -185,6 +209,13 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
   if (has_q) q_array = StateArg(positions, n, "set_joints", "positions");
   if (has_qdot) qdot_array = StateArg(velocities, n, "set_joints", "velocities");
   if (has_qddot) qddot_array = StateArg(accelerations, n, "set_joints", "accelerations");
+  if (stamp) {
+    const py::array_t<double, py::array::c_style>* arrays[3] = {
+        has_q ? &q_array : nullptr, has_qdot ? &qdot_array : nullptr,
+        has_qddot ? &qddot_array : nullptr};
+    SetStampedJointArrays(box, *group, arrays, *stamp);
+    return;
+  }
   std::lock_guard<WriterMutex> lock(box.writer);
   box.Visit([&](auto& g) {
     const bool q = has_q, qdot = has_qdot, qddot = has_qddot;
@@ -465,7 +496,7 @@ multiple_pose_parents, pose_cycle, duplicate_pose_path, multiple_twist_parents, 
   graph.def(
       "set_joints", &SetJoints, py::arg("positions") = py::none(),
       py::arg("velocities") = py::none(), py::arg("accelerations") = py::none(), py::kw_only(),
-      py::arg("names") = py::none(),
+      py::arg("names") = py::none(), py::arg("stamp") = py::none(),
       R"(Sets joint positions, velocities and/or accelerations, all or nothing; a joint keeps what
 it is not given. A joint given an acceleration makes its twist edge carry it (acceleration
 queries); a joint never given one carries none (no_acceleration).
@@ -474,8 +505,12 @@ positions, velocities, accelerations
                        arrays (lists or numpy, one value per joint of `names`), or dicts
                        {joint name: value} (any joints, by name; names= is then not used)
 names                  the arrays' layout: None (joint_names), a JointGroup, or a list of names
+stamp                  a sample at this time (as add_pose's stamp=): the joints' edges keep
+                       histories; a field not given keeps the joint's newest sample's
 RejectedError: invalid_number -> unknown_joint -> mimic_joint -> joint_limit (a position
-outside [lower, upper]); nothing changes. ValueError: an array of the wrong length.)");
+outside [lower, upper]) -> with a stamp: stamp_mismatch (a joint set without stamps before, or
+the reverse), stamp_too_old, duplicate_stamp; nothing changes. ValueError: an array of the wrong
+length.)");
   graph.def(
       "joint_positions",
       [](GraphBox& b, py::handle names) { return JointValues(b, names, 0, "joint_positions"); },
