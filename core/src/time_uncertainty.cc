@@ -220,34 +220,48 @@ SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec& spec,
 
 // ---------------------------------------------------------------- twists
 
+// Source poses: the twist query's own plan (PlanPoseTwist), every edge read with no horizon
+// (WithoutExtrapolation, as the plain query), each derivative with its samples' covariances.
 template <coord::Backend B>
 QueryResult<Timed<WithCovariance<coord::Twist, 6>>> SceneGraph<B>::GetTwistWithCovariance(
-    const TwistSpec& spec, const TimePolicy& policy, CovarianceOrder order) const noexcept {
-  auto answer = GetTwist(spec, policy);
+    const TwistSpec& spec, const TimePolicy& policy, CovarianceOrder order,
+    TwistSource source) const noexcept {
+  auto answer = GetTwist(spec, policy, source);
   if (!answer) return Unexpected{answer.error()};
   Timed<WithCovariance<coord::Twist, 6>> out{{answer->value, Covariance6::Zero()}, answer->time};
+  Covariance6& S = out.value.covariance;
+  const TimePolicy at = SameTime(policy, answer->time);
   if (auto e = Validated(topology_, [&]() -> std::optional<QueryError> {
+        TimeReport report;
+        if (source == TwistSource::kPoses) {
+          auto plan = PlanPoseTwist(topology_, spec);  // planned by the query above
+          if (!plan) return plan.error();
+          return RunTimed(internal::WithoutExtrapolation(at), report, nullptr,
+                          [&](internal::TimeContext& tc) {
+                            internal::PoseTwistCovariance<B>(
+                                topology_, *plan, internal::TimedPoseCovarianceReader(values_, tc),
+                                internal::TimedDerivativeCovarianceReader(values_, tc), S);
+                          });
+        }
         auto plan = PlanTwist(topology_, spec);  // planned by the query above
         if (!plan) return plan.error();
-        TimeReport report;
-        return RunTimed(
-            SameTime(policy, answer->time), report, nullptr, [&](internal::TimeContext& tc) {
-              internal::TwistCovariance<B>(
-                  topology_, *plan, internal::TimedPoseCovarianceReader(values_, tc),
-                  internal::TimedTwistCovarianceReader(values_, tc), out.value.covariance);
-            });
+        return RunTimed(at, report, nullptr, [&](internal::TimeContext& tc) {
+          internal::TwistCovariance<B>(topology_, *plan,
+                                       internal::TimedPoseCovarianceReader(values_, tc),
+                                       internal::TimedTwistCovarianceReader(values_, tc), S);
+        });
       })) {
     return Unexpected{*e};
   }
-  out.value.covariance = coord::Reorder(out.value.covariance, order);
+  S = coord::Reorder(S, order);
   return out;
 }
 
 template <coord::Backend B>
 QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>
-SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec& spec,
-                                               const TimePolicy& policy) const noexcept {
-  auto tw = GetTwistWithCovariance(spec, policy);
+SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy,
+                                               TwistSource source) const noexcept {
+  auto tw = GetTwistWithCovariance(spec, policy, CovarianceOrder::kLinearAngular, source);
   if (!tw) return Unexpected{tw.error()};
   return Timed<WithCovariance<coord::LinearVelocity, 3>>{
       {coord::LinearOf(tw->value.value), tw->value.covariance.template topLeftCorner<3, 3>()},
@@ -256,46 +270,47 @@ SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec& spec,
 
 template <coord::Backend B>
 QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>
-SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec,
-                                                const TimePolicy& policy) const noexcept {
-  auto tw = internal::TwistOfAngularVelocity(
-      spec, [&](const TwistSpec& s) { return GetTwistWithCovariance(s, policy); });
+SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy,
+                                                TwistSource source) const noexcept {
+  auto tw = internal::TwistOfAngularVelocity(spec, [&](const TwistSpec& s) {
+    return GetTwistWithCovariance(s, policy, CovarianceOrder::kLinearAngular, source);
+  });
   if (!tw) return Unexpected{tw.error()};
   return Timed<WithCovariance<coord::AngularVelocity, 3>>{
       {coord::AngularOf(tw->value.value), tw->value.covariance.template bottomRightCorner<3, 3>()},
       tw->time};
 }
 
-#define SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(B)                                                  \
-  template std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(                          \
-      const FrameIndex(&)[5], const TimePolicy&, Covariance6&) const noexcept;                    \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovariance(                         \
-      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;        \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(                     \
-      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;        \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                             \
-  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimePolicy&, CovarianceOrder)       \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                 \
-  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept;    \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                      \
-  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept; \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                             \
-  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimeTravel&, CovarianceOrder)       \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                 \
-  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept;    \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                      \
-  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept; \
-  template QueryResult<Timed<WithCovariance<coord::Twist, 6>>>                                    \
-  SceneGraph<B>::GetTwistWithCovariance(const TwistSpec&, const TimePolicy&, CovarianceOrder)     \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>                           \
-  SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&, const TimePolicy&)             \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>                          \
-  SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&, const TimePolicy&)            \
-      const noexcept;
+#define SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(B)                                                   \
+  template std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(                           \
+      const FrameIndex(&)[5], const TimePolicy&, Covariance6&) const noexcept;                     \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovariance(                          \
+      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;         \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(                      \
+      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;         \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                              \
+  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimePolicy&, CovarianceOrder)        \
+      const noexcept;                                                                              \
+  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                  \
+  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept;     \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                       \
+  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept;  \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                              \
+  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimeTravel&, CovarianceOrder)        \
+      const noexcept;                                                                              \
+  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                  \
+  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept;     \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                       \
+  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept;  \
+  template QueryResult<Timed<WithCovariance<coord::Twist, 6>>>                                     \
+  SceneGraph<B>::GetTwistWithCovariance(const TwistSpec&, const TimePolicy&, CovarianceOrder,      \
+                                        TwistSource) const noexcept;                               \
+  template QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>                            \
+  SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&, const TimePolicy&, TwistSource) \
+      const noexcept;                                                                              \
+  template QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>                           \
+  SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&, const TimePolicy&,             \
+                                                  TwistSource) const noexcept;
 SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(coord::HomogeneousBackend)
 

@@ -555,6 +555,103 @@ TEST(TimeUncertainty, ConcurrentReadersSeeEachValueWithItsCovariance) {
   EXPECT_GT(answered.load(), 0);
 }
 
+// ---------------------------------------------------------------- twists from poses
+
+// Source poses: the twist of c2 (body C) relative to W in [d] at 1.7 s is the derivative of
+// w -> a (samples 1 s, 2 s) plus that of a -> c (samples 1.5 s, 2.5 s), moved to c2 and
+// rotated into [d] (Algorithm 3). Truth per draw: (1) the four bracketing samples perturbed
+// by their own covariances (all samples of the stamped pose edges are drawn; each derivative
+// uses its two), re-differentiated exactly by the graph (the twist of each edge's own body at
+// its head in [h], source poses, one step: exactly the edge's derivative); (2) independently,
+// every pose edge's value at 1.7 s drawn from its interpolated covariance (as the tests above),
+// read as poses; (3) the answer combined here by hand from (1) and (2):
+//   sum over edges h:  R_DH (v_h + w_h x p_HE_H, w_h),  e = c2.
+// The specification makes each derivative independent of the edges' own values (§3).
+const TwistSpec kPoseTwist = TwistSpec::Of("c2", "C").RelativeTo("W").ExpressedIn("d");
+const TwistSpec kDerivA = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
+const TwistSpec kDerivC = TwistSpec::Of("c", "C").RelativeTo("A").ExpressedIn("c");
+
+Graph BuildWith(const std::vector<Edge>& scene, coord::Interpolation mode, bool perturb,
+                std::mt19937* rng) {
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  o.interpolation = mode;
+  Graph g = *Graph::Create(o);
+  for (const Edge& e : scene) {
+    if (e.twist) continue;
+    for (const Sample& s : e.samples) {
+      Add(g, e, perturb && e.stamped() ? Perturbed(s, *rng) : s, !perturb);
+    }
+  }
+  return g;
+}
+
+// The hand combination (3): derivatives from `deriv`, poses from `poses`, at ms.
+Vector6 CombineByHand(const Graph& deriv, const Graph& poses, std::int64_t ms) {
+  Vector6 out = Vector6::Zero();
+  const TimePolicy at = At{Ms(ms)};
+  const std::pair<const TwistSpec*, const char*> steps[] = {{&kDerivA, "a"}, {&kDerivC, "c"}};
+  for (const auto& [spec, h] : steps) {
+    const auto V = deriv.GetTwist(*spec, at, TwistSource::kPoses);
+    const auto p_HE = poses.GetPosition(PoseSpec::Of("c2").RelativeTo(h).ExpressedIn(h), at);
+    const auto R_DH = poses.GetOrientation(PoseSpec::Of(h).RelativeTo("d"), at);
+    EXPECT_TRUE(V && p_HE && R_DH);
+    if (!V || !p_HE || !R_DH) return out;
+    const Eigen::Matrix3d R = coord::QuaternionBackend::ToMatrix(R_DH->value.value);
+    const Eigen::Vector3d w = V->value.angular;
+    out.head<3>() += R * (V->value.linear + w.cross(p_HE->value.value));
+    out.tail<3>() += R * w;
+  }
+  return out;
+}
+
+void CheckPoseSource(coord::Interpolation mode, unsigned seed) {
+  constexpr std::int64_t kMs = 1700;
+  std::mt19937 rng(seed);
+  const std::vector<Edge> scene = RandomScene(rng);
+  std::vector<Edge> pose_edges;
+  for (const Edge& e : scene) {
+    if (!e.twist) pose_edges.push_back(e);
+  }
+  const Graph g = BuildWith(scene, mode, false, nullptr);
+  const TimePolicy at = At{Ms(kMs)};
+  const auto twist = g.GetTwistWithCovariance(kPoseTwist, at, CovarianceOrder::kLinearAngular,
+                                              TwistSource::kPoses);
+  const auto linear = g.GetLinearVelocityWithCovariance(kPoseTwist, at, TwistSource::kPoses);
+  const auto angular = g.GetAngularVelocityWithCovariance(kPoseTwist, at, TwistSource::kPoses);
+  const auto plain = g.GetTwist(kPoseTwist, at, TwistSource::kPoses);
+  ASSERT_TRUE(twist && linear && angular && plain);
+  // The answer is the plain query's, and the hand combination reproduces it.
+  EXPECT_EQ(twist->value.value.linear, plain->value.linear);
+  EXPECT_EQ(twist->value.value.angular, plain->value.angular);
+  Vector6 nominal;
+  nominal << plain->value.linear, plain->value.angular;
+  EXPECT_LE((CombineByHand(g, g, kMs) - nominal).norm(), 1e-9 * nominal.norm());
+  EXPECT_EQ((linear->value.covariance - twist->value.covariance.topLeftCorner<3, 3>()).norm(), 0.0);
+  EXPECT_LE((angular->value.covariance - twist->value.covariance.bottomRightCorner<3, 3>()).norm(),
+            1e-12 * twist->value.covariance.norm());
+  std::vector<Vector6> d;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph deriv = BuildWith(scene, mode, true, &rng);
+    Graph poses = PerturbedGraph(g, pose_edges, {kMs}, rng);
+    d.push_back(CombineByHand(deriv, poses, kMs) - nominal);
+  }
+  const Covariance6& S = twist->value.covariance;
+  std::printf("source poses (%s): worst z %.2f; sign error %.1f; trace %.3g\n",
+              mode == coord::Interpolation::kScrew ? "screw" : "linear", WorstZ<6>(S, d),
+              WorstZ<6>(Flipped(S), d), S.trace());
+  EXPECT_GT(S.trace(), 1e-7);
+  EXPECT_LT(WorstZ<6>(S, d), kMaxZ) << S;
+  EXPECT_GT(WorstZ<6>(Flipped(S), d), 3.0 * kMaxZ);
+}
+
+TEST(TimeUncertainty, TwistsFromPosesLinearMatchMonteCarlo) {
+  CheckPoseSource(coord::Interpolation::kLinear, 31);
+}
+TEST(TimeUncertainty, TwistsFromPosesScrewMatchMonteCarlo) {
+  CheckPoseSource(coord::Interpolation::kScrew, 32);
+}
+
 // The timed covariance queries allocate nothing (graph built, plans warmed up).
 TEST(TimeUncertainty, TimedCovarianceQueriesDoNotAllocate) {
   std::mt19937 rng(5);
@@ -572,6 +669,11 @@ TEST(TimeUncertainty, TimedCovarianceQueriesDoNotAllocate) {
       for (const TimePolicy& p : policies) {
         sum += g.GetPoseWithCovariance(kPose, p)->value.covariance.trace();
         sum += g.GetTwistWithCovariance(kTwist, p)->value.covariance.trace();
+      }
+      for (int k = 0; k < 3; ++k) {  // source poses: within the samples (never extrapolates)
+        sum += g.GetTwistWithCovariance(kTwist, policies[k], CovarianceOrder::kLinearAngular,
+                                        TwistSource::kPoses)
+                   ->value.covariance.trace();
       }
       sum += g.GetPoseWithCovariance(tt, travel)->value.covariance.trace();
     }

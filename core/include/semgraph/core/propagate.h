@@ -13,6 +13,9 @@
 //   TwistCovariance   e, [r] and the head h of each twist edge of Algorithm 3: each twist
 //                     edge's own covariance, and each pose edge below Z that moves e, [r] or
 //                     an h (the points that move twists and the rotations).
+//   PoseTwistCovariance  the same for a twist from poses (source `poses`): each inter-body
+//                     pose edge's derivative stands for a twist edge, with the covariance
+//                     from its two bracketing samples (timed_read.h DerivativeCovariance).
 // A reader is read(FrameIndex g, X_PG, S_PG) (pose edges) / read(TwistEdgeIndex, V, S).
 // Costs: pose O(d log n) (d: edges on the five chains), twist O(k d (d + log n)) for k twist
 // edges; noexcept, allocation-free, lock-free.
@@ -25,6 +28,7 @@
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/time_plan.h"
 
 namespace semgraph::core::internal {
 
@@ -121,43 +125,46 @@ void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], 
   S_out = coord::jacobians::RotateRows(q.R_RZ, S_out);  // rows in Z -> [r], once
 }
 
-/// A twist step's contribution seen from Z, and its edge's covariance.
-template <coord::Backend B, class ReadPose, class ReadTwist>
+/// A twist step's contribution seen from Z, and its edge's covariance: head h and
+/// read_step(step, V, S) give the step's twist TwistCoord(h|H, D, [h]) and covariance.
+template <coord::Backend B, class ReadPose, class ReadStep>
 coord::jacobians::TwistStepInZ StepInZ(const topology::SceneTopology& t,
-                                       const TwistStep<ForestChain>& step, FrameIndex z,
-                                       ReadPose& read_pose, ReadTwist& read_twist,
+                                       const TwistStep<ForestChain>& step, FrameIndex h,
+                                       FrameIndex z, ReadPose& read_pose, ReadStep& read_step,
                                        Eigen::Matrix3d& R_ZH, coord::Covariance6& S) noexcept {
-  const FrameIndex h = t.twist_edge(step.edge).head;
   const Rigid X_ZH = PoseInAncestor<B>(t, h, z, read_pose);
   TwistNumbers V;
-  read_twist(step.edge, V, S);
+  read_step(step, V, S);
   const double s = step.invert ? -1.0 : 1.0;
   R_ZH = X_ZH.R;
   return {s * (X_ZH.R * V.v_DHo_H), s * (X_ZH.R * V.w_DH_H), X_ZH.p, false};
 }
 
-/// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw).
-template <coord::Backend B, class ReadPose, class ReadTwist>
-void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, ReadPose&& read_pose,
-                     ReadTwist&& read_twist, coord::Covariance6& S_out) noexcept {
+/// The covariance of a twist answer at e in [r], rows (dv, dw), over the steps
+/// for_each_step(f) (f(step) per step), head_of(step) the frame h of a step's twist and
+/// read_step(step, V, S) its twist and covariance: a twist edge's, or a pose edge's derivative
+/// (twist source `poses`). Each step's twist is an independent perturbation; each pose edge on
+/// the chains of e, [r] and the heads counts once, its Jacobian summed over the steps.
+template <coord::Backend B, class ForEachStep, class HeadOf, class ReadPose, class ReadStep>
+void TwistCovarianceOver(const topology::SceneTopology& t, FrameIndex e, FrameIndex r,
+                         ForEachStep&& for_each_step, HeadOf&& head_of, ReadPose&& read_pose,
+                         ReadStep&& read_step, coord::Covariance6& S_out) noexcept {
   namespace jac = coord::jacobians;
   S_out.setZero();
-  if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
   const topology::PoseForest& forest = t.forest();
-  const FrameIndex e = plan.point, r = plan.frame;
   FrameIndex z = forest.CommonAncestor(e, r);
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-    z = forest.CommonAncestor(z, t.twist_edge(step.edge).head);
-  });
+  for_each_step(
+      [&](const TwistStep<ForestChain>& step) { z = forest.CommonAncestor(z, head_of(step)); });
   const Rigid X_Ze = PoseInAncestor<B>(t, e, z, read_pose);
   const Rigid X_Zr = PoseInAncestor<B>(t, r, z, read_pose);
   const Eigen::Matrix3d R_RZ = X_Zr.R.transpose();
-  // The answer in Z, and each twist edge's own covariance.
+  // The answer in Z, and each step's own covariance.
   Eigen::Vector3d v_Z = Eigen::Vector3d::Zero(), w_Z = Eigen::Vector3d::Zero();
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+  for_each_step([&](const TwistStep<ForestChain>& step) {
     Eigen::Matrix3d R_ZH;
     coord::Covariance6 S;
-    const jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S);
+    const jac::TwistStepInZ st =
+        StepInZ<B>(t, step, head_of(step), z, read_pose, read_step, R_ZH, S);
     v_Z += st.a_Z + st.w_Z.cross(X_Ze.p - st.p_ZoHo_Z);
     w_Z += st.w_Z;
     if (S.isZero(0.0)) return;
@@ -173,11 +180,12 @@ void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, Re
           if (S.isZero(0.0)) return;
           const jac::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
           jac::PoseEdgeOnTwistSum sum;
-          ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+          for_each_step([&](const TwistStep<ForestChain>& step) {
             Eigen::Matrix3d R_ZH;
             coord::Covariance6 S_step;
-            jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S_step);
-            st.moves = forest.IsAncestor(g, t.twist_edge(step.edge).head);
+            const FrameIndex h = head_of(step);
+            jac::TwistStepInZ st = StepInZ<B>(t, step, h, z, read_pose, read_step, R_ZH, S_step);
+            st.moves = forest.IsAncestor(g, h);
             sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
           });
           jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S, S_out);
@@ -187,18 +195,52 @@ void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, Re
   pose_edges_of(e, -1, X_Ze);
   pose_edges_of(r, MeetDepth(forest, r, er, 1), X_Zr);
   int index = 0;
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-    const FrameIndex h = t.twist_edge(step.edge).head;
+  for_each_step([&](const TwistStep<ForestChain>& step) {
+    const FrameIndex h = head_of(step);
     std::int64_t counted = MeetDepth(forest, h, er, 2);
     int other = 0;  // the heads of the steps before this one
-    ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& earlier) {
+    for_each_step([&](const TwistStep<ForestChain>& earlier) {
       if (other++ >= index) return;
-      const FrameIndex h2 = t.twist_edge(earlier.edge).head;
-      counted = std::max<std::int64_t>(counted, forest.depth(forest.CommonAncestor(h, h2)));
+      counted =
+          std::max<std::int64_t>(counted, forest.depth(forest.CommonAncestor(h, head_of(earlier))));
     });
     ++index;
     pose_edges_of(h, counted, PoseInAncestor<B>(t, h, z, read_pose));
   });
+}
+
+/// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw), from its twist
+/// edges: read_twist(TwistEdgeIndex, V, S).
+template <coord::Backend B, class ReadPose, class ReadTwist>
+void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, ReadPose&& read_pose,
+                     ReadTwist&& read_twist, coord::Covariance6& S_out) noexcept {
+  S_out.setZero();
+  if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
+  TwistCovarianceOver<B>(
+      t, plan.point, plan.frame, [&](auto&& f) { ForEachTwistStep(t, plan, f); },
+      [&](const TwistStep<ForestChain>& s) { return t.twist_edge(s.edge).head; }, read_pose,
+      [&](const TwistStep<ForestChain>& s, TwistNumbers& V, coord::Covariance6& S) {
+        read_twist(s.edge, V, S);
+      },
+      S_out);
+}
+
+/// The covariance of the twist answer of a twist from poses (twist source `poses`,
+/// time_plan.h): each inter-body pose edge's derivative with its covariance,
+/// read_derivative(FrameIndex g, V, S) (DerivePoseAt with kCovariance), as a twist edge's.
+template <coord::Backend B, class ReadPose, class ReadDerivative>
+void PoseTwistCovariance(const topology::SceneTopology& t, const PoseTwistPlan& plan,
+                         ReadPose&& read_pose, ReadDerivative&& read_derivative,
+                         coord::Covariance6& S_out) noexcept {
+  S_out.setZero();
+  if (!plan.c.is_valid()) return;  // C == D: the zero twist, exact
+  TwistCovarianceOver<B>(
+      t, plan.point, plan.frame, [&](auto&& f) { ForEachPoseDerivativeStep(t, plan, f); },
+      [](const TwistStep<ForestChain>& s) { return s.pose_edge; }, read_pose,
+      [&](const TwistStep<ForestChain>& s, TwistNumbers& V, coord::Covariance6& S) {
+        read_derivative(s.pose_edge, V, S);
+      },
+      S_out);
 }
 
 /// The covariance of a pose given in another form, in the edge form (ToEdgeForm's steps, with

@@ -33,6 +33,15 @@ auto TimedTwistCovarianceReader(const EdgeValues<B>& v, TimeContext& tc) noexcep
   };
 }
 
+/// read(FrameIndex g, V, S): the derivative of the pose edge into g at the context's time, with
+/// its covariance from the two bracketing samples (twist source `poses`).
+template <coord::Backend B>
+auto TimedDerivativeCovarianceReader(const EdgeValues<B>& v, TimeContext& tc) noexcept {
+  return [&v, &tc](FrameIndex g, TwistNumbers& V, coord::Covariance6& S) noexcept {
+    DerivePoseAt<B, true>(v, g.value(), tc, V, &S);
+  };
+}
+
 template <coord::Backend B>
 void ExtrapolationCovariance(const EdgeValues<B>& v, std::uint32_t frame, std::int64_t s,
                              TimeContext& parent, const coord::kernels::QuatPose& X_k,
