@@ -287,8 +287,7 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
   graph.def(
       "angular_velocity_with_covariance",
       [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in,
-         py::handle at, py::handle max_extrapolation, py::handle not_before,
-         py::handle source) {
+         py::handle at, py::handle max_extrapolation, py::handle not_before, py::handle source) {
         const char* fn = "angular_velocity_with_covariance";
         const core::TwistSource src = TwistSourceArg(source, fn);
         const core::TwistSpec spec = ReadTwistSpec(fn, py::none(), body, ref_body, expressed_in);

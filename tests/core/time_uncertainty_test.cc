@@ -555,6 +555,117 @@ TEST(TimeUncertainty, ConcurrentReadersSeeEachValueWithItsCovariance) {
   EXPECT_GT(answered.load(), 0);
 }
 
+// ---------------------------------------------------------------- an edge shared by an
+// extrapolation's integration twist and the query
+
+// Bodies W {w} and H {h, s, s2}: h wrt w stamped (0 s, 1 s), the calibration s wrt h constant
+// with a covariance, the twist of H relative to W given at s in [s] (1 s). The pose of s wrt w
+// at 1.5 s extrapolates h wrt w from its 1 s sample with the integration twist
+// TwistCoord(h|H, W, [h]), which reads the twist at s moved to h through the calibration: the
+// calibration is used by the integration twist and by the query (one perturbation, spec §3).
+// With `split`, the twist is given at s2 instead, a second constant frame with the same pose
+// and covariance: two independent edges, what the double count computed.
+struct SharedScene {
+  Eigen::Matrix3d R_HS = ExpR(Eigen::Vector3d(0.1, -0.2, 0.3));
+  Eigen::Vector3d p_HS{0.4, 0.1, -0.2};
+  Covariance6 S_cal, S_pose0, S_pose1, S_twist;
+  Eigen::Matrix3d R_WH0 = ExpR(Eigen::Vector3d(0.2, 0.1, 0.0)),
+                  R_WH1 = ExpR(Eigen::Vector3d(0.25, 0.1, 0.1));
+  Eigen::Vector3d p_WH0{1, 0, 0}, p_WH1{1.2, 0.3, 0};
+  Eigen::Vector3d v_s{0.5, 0.2, 0.0}, w_s{0.1, -0.3, 1.0};
+};
+SharedScene MakeSharedScene() {
+  std::mt19937 rng(2718);
+  SharedScene sc;
+  sc.S_cal = RandomCovariance(rng, 1e-6);
+  sc.S_pose0 = RandomCovariance(rng, 1e-8);
+  sc.S_pose1 = RandomCovariance(rng, 1e-8);
+  sc.S_twist = RandomCovariance(rng, 1e-8);
+  return sc;
+}
+// The graph; with rng: the calibration drawn once, the 1 s samples drawn (only they are used).
+Graph SharedGraph(const SharedScene& sc, bool split, std::mt19937* rng) {
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  Graph g = *Graph::Create(o);
+  const auto draw = [&](const Eigen::Matrix3d& R, const Eigen::Vector3d& p, const Covariance6& S) {
+    Sample x{0, R, p, Eigen::Vector3d::Zero(), S};
+    return rng ? Perturbed(x, *rng) : x;
+  };
+  const Covariance6* none = nullptr;
+  const auto cov = [&](const Covariance6& S) { return CovarianceInput{rng ? none : &S}; };
+  const Sample cal = draw(sc.R_HS, sc.p_HS, sc.S_cal);
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("s", "H").RelativeTo("h", "H"), cal.R, cal.p, cov(sc.S_cal)));
+  if (split) {
+    const Sample cal2 = draw(sc.R_HS, sc.p_HS, sc.S_cal);
+    EXPECT_TRUE(
+        g.AddPose(PoseSpec::Of("s2", "H").RelativeTo("h", "H"), cal2.R, cal2.p, cov(sc.S_cal)));
+  }
+  const PoseSpec hw = PoseSpec::Of("h", "H").RelativeTo("w", "W");
+  if (!rng) {
+    EXPECT_TRUE(g.AddPose(hw, sc.R_WH0, sc.p_WH0, Ms(0), cov(sc.S_pose0)));
+  }
+  const Sample x1 = draw(sc.R_WH1, sc.p_WH1, sc.S_pose1);
+  EXPECT_TRUE(g.AddPose(hw, x1.R, x1.p, Ms(1000), cov(sc.S_pose1)));
+  Sample tw{0, Eigen::Matrix3d::Identity(), sc.v_s, sc.w_s, sc.S_twist};
+  if (rng) tw = Perturbed(tw, *rng);
+  const char* at = split ? "s2" : "s";
+  EXPECT_TRUE(g.AddTwist(TwistSpec::Of(at, "H").RelativeTo("W").ExpressedIn(at), tw.p, tw.w,
+                         Ms(1000), cov(sc.S_twist)));
+  return g;
+}
+
+TEST(TimeUncertainty, EdgeSharedByIntegrationTwistAndQueryIsPerturbedOnce) {
+  const SharedScene sc = MakeSharedScene();
+  const Graph g = SharedGraph(sc, false, nullptr);
+  const PoseSpec spec = PoseSpec::Of("s", "H").RelativeTo("w", "W");
+  const TimePolicy policy = At{Ms(1500), Duration::Seconds(1)};
+  const auto pose = g.GetPoseWithCovariance(spec, policy);
+  const auto position = g.GetPositionWithCovariance(spec, policy);
+  ASSERT_TRUE(pose && position);
+  ASSERT_TRUE(pose->time.extrapolated);
+  // The double count: the same scene with the calibration used by the twist split off into an
+  // independent copy (the same value, the same covariance).
+  const Graph split = SharedGraph(sc, true, nullptr);
+  const auto twice = split.GetPoseWithCovariance(spec, policy);
+  ASSERT_TRUE(twice);
+  EXPECT_LE(PoseDelta(pose->value.value, twice->value.value).norm(), 1e-12);  // the same value
+  std::mt19937 rng(1618);
+  std::vector<Vector6> d;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph h = SharedGraph(sc, false, &rng);
+    const auto X = h.GetPose(spec, policy);
+    ASSERT_TRUE(X) << h.Describe(X.error(), spec);
+    d.push_back(PoseDelta(pose->value.value, X->value));
+  }
+  const Covariance6& S = pose->value.covariance;
+  std::printf(
+      "shared edge: worst z %.2f (perturbed once), %.1f (counted twice); |S_twice - S| / |S| = "
+      "%.3f\n",
+      WorstZ<6>(S, d), WorstZ<6>(twice->value.covariance, d),
+      (twice->value.covariance - S).norm() / S.norm());
+  EXPECT_LT(WorstZ<6>(S, d), kMaxZ) << S;
+  EXPECT_GT(WorstZ<6>(twice->value.covariance, d), 3.0 * kMaxZ);
+  EXPECT_GT(WorstZ<6>(Flipped(S), d), 3.0 * kMaxZ);
+  EXPECT_LE((position->value.covariance - S.topLeftCorner<3, 3>()).norm(), 1e-15);
+  // A twist query at 1.5 s reads the held twist sample (at 1 s, as the integration twist) and
+  // moves it with the extrapolated pose: the twist edge and the calibration are shared.
+  const TwistSpec ts = TwistSpec::Of("s", "H").RelativeTo("W").ExpressedIn("w");
+  const auto V = g.GetTwistWithCovariance(ts, policy);
+  ASSERT_TRUE(V);
+  std::vector<Vector6> dv;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph h = SharedGraph(sc, false, &rng);
+    const auto W = h.GetTwist(ts, policy);
+    ASSERT_TRUE(W);
+    Vector6 x;
+    x << W->value.linear - V->value.value.linear, W->value.angular - V->value.value.angular;
+    dv.push_back(x);
+  }
+  std::printf("shared edges, twist: worst z %.2f\n", WorstZ<6>(V->value.covariance, dv));
+  EXPECT_LT(WorstZ<6>(V->value.covariance, dv), kMaxZ) << V->value.covariance;
+}
+
 // ---------------------------------------------------------------- twists from poses
 
 // Source poses: the twist of c2 (body C) relative to W in [d] at 1.7 s is the derivative of

@@ -765,8 +765,8 @@ template <class Untimed, class AtPolicy, class AtTravel>
 auto CovarianceAt(const ScriptOp& op, const QueryTime& time, Untimed&& untimed,
                   AtPolicy&& at_policy, AtTravel&& at_travel) {
   using Result = decltype(untimed());
-  const bool timed = time.travel || op.at != AtKind::kLatest || op.not_before.has_value() ||
-                     op.source_poses;
+  const bool timed =
+      time.travel || op.at != AtKind::kLatest || op.not_before.has_value() || op.source_poses;
   if (!timed) return untimed();
   const auto unwrap = [](auto&& answer) -> Result {
     if (!answer) return base::Unexpected{answer.error()};
@@ -838,10 +838,9 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
                   }),
                   pose_spec);
     case QueryKind::kTwist:
-      return emit(twist([&](const auto&... t) {
-                    return TwistCovariance(graph, twist_spec, order, t...);
-                  }),
-                  twist_spec);
+      return emit(
+          twist([&](const auto&... t) { return TwistCovariance(graph, twist_spec, order, t...); }),
+          twist_spec);
     case QueryKind::kLinearVelocity:
       return emit(twist([&](const auto&... t) {
                     return graph.GetLinearVelocityWithCovariance(twist_spec, t...);

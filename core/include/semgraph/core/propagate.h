@@ -87,13 +87,35 @@ inline std::int64_t MeetDepth(const topology::PoseForest& forest, FrameIndex k,
   return counted;
 }
 
+/// What a Jacobian is taken by: the pose edge into frame `index`, twist edge `index`, or the
+/// derivative of the pose edge into frame `index` (twist source `poses`).
+struct PerturbedEdge {
+  enum class Kind : std::uint8_t { kPose, kTwist, kDerivative } kind = Kind::kPose;
+  std::uint32_t index = 0;
+};
+
+/// Where the routines below put each edge's Jacobian J (rows: the answer, in the routine's
+/// working axes) with the covariance S of the value read: Add(ref, J, S), then Finish(S_out).
+/// This one makes every edge read one independent perturbation: S_out = sum J S J^T, formed at
+/// once. (SharedPerturbations, timed_covariance.h, sums the Jacobians of one perturbation first.)
+struct DirectSink {
+  coord::Covariance6 S = coord::Covariance6::Zero();
+  void Add(PerturbedEdge, const coord::jacobians::Matrix6& J,
+           const coord::Covariance6& S_i) noexcept {
+    coord::jacobians::AddPropagated(J, S_i, S);
+  }
+  void Finish(coord::Covariance6& S_out) const noexcept { S_out = S; }
+};
+
 /// The covariance of the pose answer (e,[a]) wrt (f,[b]) in [r] (frames k = {e, a, f, b, r},
 /// all of one pose tree), rows (dp, dth) in [r]. `attached` (optional): the answer's frames are
 /// rigidly attached to k[i] at these poses (in [k[i]]), taken as exact: they move with k[i] (a
 /// time travel's side at the reference time, whose point side is frozen at the fixed frame).
-template <coord::Backend B, class Read>
+/// `sink`: where each edge's Jacobian goes (DirectSink: summed at once).
+template <coord::Backend B, class Read, class Sink = DirectSink>
 void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], Read&& read,
-                    coord::Covariance6& S_out, const Rigid* attached = nullptr) noexcept {
+                    coord::Covariance6& S_out, const Rigid* attached = nullptr,
+                    Sink&& sink = Sink{}) noexcept {
   const topology::PoseForest& forest = t.forest();
   FrameIndex z = k[0];
   for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
@@ -112,16 +134,17 @@ void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], 
     std::int64_t lca[5];  // depth of k[j]'s common ancestor with each frame
     for (int i = 0; i < 5; ++i) lca[i] = forest.depth(forest.CommonAncestor(k[j], k[i]));
     ForEachNewEdge<B>(t, k[j], z, MeetDepth(forest, k[j], k, j), X_Z[j], read,
-                      [&](FrameIndex, const Rigid& X_PG, const coord::Covariance6& S,
+                      [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S,
                           const Rigid& X_ZG, std::int64_t d) {
                         if (S.isZero(0.0)) return;  // an exact edge adds nothing
                         const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
                         const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1],
                                                             d <= lca[3], d <= lca[4]};
-                        coord::jacobians::AddPropagated(coord::jacobians::EdgeOnPoseInZ(q, edge, m),
-                                                        S, S_out);
+                        sink.Add(PerturbedEdge{PerturbedEdge::Kind::kPose, g.value()},
+                                 coord::jacobians::EdgeOnPoseInZ(q, edge, m), S);
                       });
   }
+  sink.Finish(S_out);
   S_out = coord::jacobians::RotateRows(q.R_RZ, S_out);  // rows in Z -> [r], once
 }
 
@@ -145,10 +168,13 @@ coord::jacobians::TwistStepInZ StepInZ(const topology::SceneTopology& t,
 /// read_step(step, V, S) its twist and covariance: a twist edge's, or a pose edge's derivative
 /// (twist source `poses`). Each step's twist is an independent perturbation; each pose edge on
 /// the chains of e, [r] and the heads counts once, its Jacobian summed over the steps.
-template <coord::Backend B, class ForEachStep, class HeadOf, class ReadPose, class ReadStep>
+/// ref_of(step): the PerturbedEdge of a step's twist; `sink` as PoseCovariance's.
+template <coord::Backend B, class ForEachStep, class HeadOf, class RefOf, class ReadPose,
+          class ReadStep, class Sink>
 void TwistCovarianceOver(const topology::SceneTopology& t, FrameIndex e, FrameIndex r,
-                         ForEachStep&& for_each_step, HeadOf&& head_of, ReadPose&& read_pose,
-                         ReadStep&& read_step, coord::Covariance6& S_out) noexcept {
+                         ForEachStep&& for_each_step, HeadOf&& head_of, RefOf&& ref_of,
+                         ReadPose&& read_pose, ReadStep&& read_step, Sink& sink,
+                         coord::Covariance6& S_out) noexcept {
   namespace jac = coord::jacobians;
   S_out.setZero();
   const topology::PoseForest& forest = t.forest();
@@ -168,28 +194,29 @@ void TwistCovarianceOver(const topology::SceneTopology& t, FrameIndex e, FrameIn
     v_Z += st.a_Z + st.w_Z.cross(X_Ze.p - st.p_ZoHo_Z);
     w_Z += st.w_Z;
     if (S.isZero(0.0)) return;
-    jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, R_ZH, st.p_ZoHo_Z, X_Ze.p, step.invert ? -1 : 1),
-                       S, S_out);
+    sink.Add(ref_of(step),
+             jac::TwistEdgeOnTwist(R_RZ, R_ZH, st.p_ZoHo_Z, X_Ze.p, step.invert ? -1 : 1), S);
   });
   // Each pose edge on the chains of e, r and the heads, once: its Jacobian sums over the steps.
   const auto pose_edges_of = [&](FrameIndex k, std::int64_t counted, const Rigid& X_Zk) {
-    ForEachNewEdge<B>(
-        t, k, z, counted, X_Zk, read_pose,
-        [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S, const Rigid& X_ZG,
-            std::int64_t) {
-          if (S.isZero(0.0)) return;
-          const jac::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
-          jac::PoseEdgeOnTwistSum sum;
-          for_each_step([&](const TwistStep<ForestChain>& step) {
-            Eigen::Matrix3d R_ZH;
-            coord::Covariance6 S_step;
-            const FrameIndex h = head_of(step);
-            jac::TwistStepInZ st = StepInZ<B>(t, step, h, z, read_pose, read_step, R_ZH, S_step);
-            st.moves = forest.IsAncestor(g, h);
-            sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
-          });
-          jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S, S_out);
-        });
+    ForEachNewEdge<B>(t, k, z, counted, X_Zk, read_pose,
+                      [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S,
+                          const Rigid& X_ZG, std::int64_t) {
+                        if (S.isZero(0.0)) return;
+                        const jac::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
+                        jac::PoseEdgeOnTwistSum sum;
+                        for_each_step([&](const TwistStep<ForestChain>& step) {
+                          Eigen::Matrix3d R_ZH;
+                          coord::Covariance6 S_step;
+                          const FrameIndex h = head_of(step);
+                          jac::TwistStepInZ st =
+                              StepInZ<B>(t, step, h, z, read_pose, read_step, R_ZH, S_step);
+                          st.moves = forest.IsAncestor(g, h);
+                          sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
+                        });
+                        sink.Add(PerturbedEdge{PerturbedEdge::Kind::kPose, g.value()},
+                                 sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S);
+                      });
   };
   const FrameIndex er[2] = {e, r};
   pose_edges_of(e, -1, X_Ze);
@@ -207,22 +234,28 @@ void TwistCovarianceOver(const topology::SceneTopology& t, FrameIndex e, FrameIn
     ++index;
     pose_edges_of(h, counted, PoseInAncestor<B>(t, h, z, read_pose));
   });
+  sink.Finish(S_out);
 }
 
 /// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw), from its twist
 /// edges: read_twist(TwistEdgeIndex, V, S).
-template <coord::Backend B, class ReadPose, class ReadTwist>
+template <coord::Backend B, class ReadPose, class ReadTwist, class Sink = DirectSink>
 void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, ReadPose&& read_pose,
-                     ReadTwist&& read_twist, coord::Covariance6& S_out) noexcept {
+                     ReadTwist&& read_twist, coord::Covariance6& S_out,
+                     Sink&& sink = Sink{}) noexcept {
   S_out.setZero();
   if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
   TwistCovarianceOver<B>(
       t, plan.point, plan.frame, [&](auto&& f) { ForEachTwistStep(t, plan, f); },
-      [&](const TwistStep<ForestChain>& s) { return t.twist_edge(s.edge).head; }, read_pose,
+      [&](const TwistStep<ForestChain>& s) { return t.twist_edge(s.edge).head; },
+      [](const TwistStep<ForestChain>& s) {
+        return PerturbedEdge{PerturbedEdge::Kind::kTwist, s.edge.value()};
+      },
+      read_pose,
       [&](const TwistStep<ForestChain>& s, TwistNumbers& V, coord::Covariance6& S) {
         read_twist(s.edge, V, S);
       },
-      S_out);
+      sink, S_out);
 }
 
 /// The covariance of the twist answer of a twist from poses (twist source `poses`,
@@ -234,13 +267,18 @@ void PoseTwistCovariance(const topology::SceneTopology& t, const PoseTwistPlan& 
                          coord::Covariance6& S_out) noexcept {
   S_out.setZero();
   if (!plan.c.is_valid()) return;  // C == D: the zero twist, exact
+  DirectSink sink;
   TwistCovarianceOver<B>(
       t, plan.point, plan.frame, [&](auto&& f) { ForEachPoseDerivativeStep(t, plan, f); },
-      [](const TwistStep<ForestChain>& s) { return s.pose_edge; }, read_pose,
+      [](const TwistStep<ForestChain>& s) { return s.pose_edge; },
+      [](const TwistStep<ForestChain>& s) {
+        return PerturbedEdge{PerturbedEdge::Kind::kDerivative, s.pose_edge.value()};
+      },
+      read_pose,
       [&](const TwistStep<ForestChain>& s, TwistNumbers& V, coord::Covariance6& S) {
         read_derivative(s.pose_edge, V, S);
       },
-      S_out);
+      sink, S_out);
 }
 
 /// The covariance of a pose given in another form, in the edge form (ToEdgeForm's steps, with

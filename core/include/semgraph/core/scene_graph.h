@@ -805,8 +805,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                            TimeReport& report) const noexcept;
   // Covariances at a time (time_uncertainty.cc): the pose answer's of frames k at a policy, and
   // a time travel's (both sides).
+  // `extrapolated`: the answer was (an edge shared with an integration twist: perturbed once).
   std::optional<QueryError> TimedPoseCovariance(const FrameIndex (&k)[5], const TimePolicy& policy,
-                                                Covariance6& S) const noexcept;
+                                                Covariance6& S, bool extrapolated) const noexcept;
   std::optional<QueryError> TimeTravelCovariance(const FrameIndex (&k)[5], FrameIndex x,
                                                  const TimeTravel& travel,
                                                  Covariance6& S) const noexcept;
