@@ -763,6 +763,53 @@ TEST(TimeUncertainty, TwistsFromPosesScrewMatchMonteCarlo) {
   CheckPoseSource(coord::Interpolation::kScrew, 32);
 }
 
+// Source poses with a covariance fails as the plain query (extrapolation outside the samples or
+// on an edge with one sample, stale, invalid_number, a bad name) and changes nothing: the
+// answers and covariances at 1.7 s are the same before and after.
+TEST(TimeUncertainty, TwistsFromPosesErrorsAsThePlainQuery) {
+  std::mt19937 rng(41);
+  const std::vector<Edge> scene = RandomScene(rng);
+  Graph g = BuildWith(scene, coord::Interpolation::kScrew, false, nullptr);
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e", "E").RelativeTo("w", "W"), Eigen::Matrix3d::Identity(),
+                        Eigen::Vector3d(1, 2, 3), Ms(1000)));
+  const auto at = [](std::int64_t ms) { return TimePolicy{At{Ms(ms), Duration::Seconds(5)}}; };
+  const auto before = g.GetTwistWithCovariance(
+      kPoseTwist, at(1700), CovarianceOrder::kLinearAngular, TwistSource::kPoses);
+  ASSERT_TRUE(before);
+  const struct {
+    TwistSpec spec;
+    TimePolicy policy;
+    ErrorCode code;
+  } cases[] = {
+      {kPoseTwist, at(3500), ErrorCode::kExtrapolation},  // beyond a -> c's samples
+      {kPoseTwist, at(200), ErrorCode::kExtrapolation},   // before them
+      {TwistSpec::Of("e", "E").RelativeTo("W").ExpressedIn("e"), at(1000),
+       ErrorCode::kExtrapolation},  // one sample: no derivative
+      {kPoseTwist, Latest{Ms(4000)}, ErrorCode::kStale},
+      {kPoseTwist, At{Ms(1700), Duration::Nanoseconds(-1)}, ErrorCode::kInvalidNumber},
+      {TwistSpec::Of("nope", "C").RelativeTo("W").ExpressedIn("d"), at(1700),
+       ErrorCode::kUnknownFrame},
+  };
+  for (const auto& c : cases) {
+    const auto plain = g.GetTwist(c.spec, c.policy, TwistSource::kPoses);
+    const auto twist = g.GetTwistWithCovariance(c.spec, c.policy, CovarianceOrder::kLinearAngular,
+                                                TwistSource::kPoses);
+    const auto linear = g.GetLinearVelocityWithCovariance(c.spec, c.policy, TwistSource::kPoses);
+    ASSERT_FALSE(plain);
+    ASSERT_FALSE(twist);
+    ASSERT_FALSE(linear);
+    EXPECT_EQ(plain.error().code, c.code) << g.Describe(plain.error(), c.spec);
+    EXPECT_EQ(twist.error().code, plain.error().code);
+    EXPECT_EQ(g.Describe(twist.error(), c.spec), g.Describe(plain.error(), c.spec));
+    EXPECT_EQ(linear.error().code, plain.error().code);
+  }
+  const auto after = g.GetTwistWithCovariance(kPoseTwist, at(1700), CovarianceOrder::kLinearAngular,
+                                              TwistSource::kPoses);
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->value.value.linear, before->value.value.linear);
+  EXPECT_EQ(after->value.covariance, before->value.covariance);
+}
+
 // The timed covariance queries allocate nothing (graph built, plans warmed up).
 TEST(TimeUncertainty, TimedCovarianceQueriesDoNotAllocate) {
   std::mt19937 rng(5);
