@@ -17,6 +17,9 @@
 //                     pose edge's derivative stands for a twist edge, with the covariance
 //                     from its two bracketing samples (timed_read.h DerivativeCovariance).
 // A reader is read(FrameIndex g, X_PG, S_PG) (pose edges) / read(TwistEdgeIndex, V, S).
+// Each edge's Jacobian goes to a sink (Add(PerturbedEdge, J, S), then Finish): DirectSink forms
+// sum J S J^T at once; the timed queries' KeyedSink (timed_covariance.h) sums the Jacobians of
+// one perturbation first (an edge shared by an extrapolation's integration twist and the query).
 // Costs: pose O(d log n) (d: edges on the five chains), twist O(k d (d + log n)) for k twist
 // edges; noexcept, allocation-free, lock-free.
 #pragma once
