@@ -62,15 +62,31 @@ void FramesOf(const topology::SceneTopology& t, const semantics::OrientationSema
 
 }  // namespace
 
+// PoseCovariance at the context's time; when an edge was extrapolated, with its Jacobians keyed
+// so that an edge shared by an integration twist and the query is perturbed once
+// (timed_covariance.h KeyedSink).
+template <coord::Backend B>
+void KeyedPoseCovariance(const topology::SceneTopology& t, const EdgeValues<B>& v,
+                         internal::TimeContext& tc, bool extrapolated, const FrameIndex (&k)[5],
+                         Covariance6& S, const internal::Rigid* attached = nullptr) noexcept {
+  if (!extrapolated) {
+    internal::PoseCovariance<B>(t, k, internal::TimedPoseCovarianceReader(v, tc), S, attached);
+    return;
+  }
+  internal::SharedPerturbations acc;
+  internal::KeyedSink<B> sink{&v, &tc, &acc};
+  internal::PoseCovariance<B>(t, k, internal::TimedPoseCovarianceReader(v, tc), S, attached, sink);
+}
+
 template <coord::Backend B>
 std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(const FrameIndex (&k)[5],
                                                              const TimePolicy& policy,
-                                                             Covariance6& S) const noexcept {
+                                                             Covariance6& S,
+                                                             bool extrapolated) const noexcept {
   return Validated(topology_, [&] {
     TimeReport report;
     return RunTimed(policy, report, nullptr, [&](internal::TimeContext& tc) {
-      internal::PoseCovariance<B>(topology_, k, internal::TimedPoseCovarianceReader(values_, tc),
-                                  S);
+      KeyedPoseCovariance<B>(topology_, values_, tc, extrapolated, k, S);
     });
   });
 }
@@ -101,8 +117,7 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(const FrameInd
   if (auto e = RunTimed(at1, report, nullptr, [&](internal::TimeContext& tc) {
         const internal::ForestSource<B> src(topology_, values_, &tc);
         internal::EvaluatePart<B, internal::Part::kPose>(src, steps1, Y1);
-        internal::PoseCovariance<B>(topology_, k1, internal::TimedPoseCovarianceReader(values_, tc),
-                                    S1);
+        KeyedPoseCovariance<B>(topology_, values_, tc, true, k1, S1);
       })) {
     return e;
   }
@@ -112,8 +127,7 @@ std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(const FrameInd
   if (auto e = RunTimed(at2, report, nullptr, [&](internal::TimeContext& tc) {
         const internal::ForestSource<B> src(topology_, values_, &tc);
         internal::EvalBasic<B>(src, PlanBasic(topology_, x, k[4]), X_RX);
-        internal::PoseCovariance<B>(topology_, k2, internal::TimedPoseCovarianceReader(values_, tc),
-                                    S2, attached);
+        KeyedPoseCovariance<B>(topology_, values_, tc, true, k2, S2, attached);
       })) {
     return e;
   }
@@ -132,7 +146,8 @@ SceneGraph<B>::GetPoseWithCovariance(const PoseSpec& spec, const TimePolicy& pol
   FrameIndex k[5];
   FramesOf(topology_, answer->value.semantics, k);
   Timed<WithCovariance<Pose, 6>> out{{answer->value, Covariance6::Zero()}, answer->time};
-  if (auto e = TimedPoseCovariance(k, SameTime(policy, answer->time), out.value.covariance)) {
+  if (auto e = TimedPoseCovariance(k, SameTime(policy, answer->time), out.value.covariance,
+                                   answer->time.extrapolated)) {
     return Unexpected{*e};
   }
   out.value.covariance = coord::Reorder(out.value.covariance, order);
@@ -147,7 +162,8 @@ QueryResult<Timed<WithCovariance<coord::Position, 3>>> SceneGraph<B>::GetPositio
   FrameIndex k[5];
   FramesOf(topology_, answer->value.semantics, k);
   Covariance6 S;
-  if (auto err = TimedPoseCovariance(k, SameTime(policy, answer->time), S)) {
+  if (auto err =
+          TimedPoseCovariance(k, SameTime(policy, answer->time), S, answer->time.extrapolated)) {
     return Unexpected{*err};
   }
   return Timed<WithCovariance<coord::Position, 3>>{{answer->value, S.topLeftCorner<3, 3>()},
@@ -163,7 +179,8 @@ SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec& spec,
   FrameIndex k[5];
   FramesOf(topology_, answer->value.semantics, k);
   Covariance6 S;
-  if (auto err = TimedPoseCovariance(k, SameTime(policy, answer->time), S)) {
+  if (auto err =
+          TimedPoseCovariance(k, SameTime(policy, answer->time), S, answer->time.extrapolated)) {
     return Unexpected{*err};
   }
   return Timed<WithCovariance<Orientation, 3>>{{answer->value, S.bottomRightCorner<3, 3>()},
@@ -220,34 +237,55 @@ SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec& spec,
 
 // ---------------------------------------------------------------- twists
 
+// Source poses: the twist query's own plan (PlanPoseTwist), every edge read with no horizon
+// (WithoutExtrapolation, as the plain query), each derivative with its samples' covariances.
 template <coord::Backend B>
 QueryResult<Timed<WithCovariance<coord::Twist, 6>>> SceneGraph<B>::GetTwistWithCovariance(
-    const TwistSpec& spec, const TimePolicy& policy, CovarianceOrder order) const noexcept {
-  auto answer = GetTwist(spec, policy);
+    const TwistSpec& spec, const TimePolicy& policy, CovarianceOrder order,
+    TwistSource source) const noexcept {
+  auto answer = GetTwist(spec, policy, source);
   if (!answer) return Unexpected{answer.error()};
   Timed<WithCovariance<coord::Twist, 6>> out{{answer->value, Covariance6::Zero()}, answer->time};
+  Covariance6& S = out.value.covariance;
+  const TimePolicy at = SameTime(policy, answer->time);
   if (auto e = Validated(topology_, [&]() -> std::optional<QueryError> {
+        TimeReport report;
+        if (source == TwistSource::kPoses) {
+          auto plan = PlanPoseTwist(topology_, spec);  // planned by the query above
+          if (!plan) return plan.error();
+          return RunTimed(internal::WithoutExtrapolation(at), report, nullptr,
+                          [&](internal::TimeContext& tc) {
+                            internal::PoseTwistCovariance<B>(
+                                topology_, *plan, internal::TimedPoseCovarianceReader(values_, tc),
+                                internal::TimedDerivativeCovarianceReader(values_, tc), S);
+                          });
+        }
         auto plan = PlanTwist(topology_, spec);  // planned by the query above
         if (!plan) return plan.error();
-        TimeReport report;
-        return RunTimed(
-            SameTime(policy, answer->time), report, nullptr, [&](internal::TimeContext& tc) {
-              internal::TwistCovariance<B>(
-                  topology_, *plan, internal::TimedPoseCovarianceReader(values_, tc),
-                  internal::TimedTwistCovarianceReader(values_, tc), out.value.covariance);
-            });
+        return RunTimed(at, report, nullptr, [&](internal::TimeContext& tc) {
+          const auto read_pose = internal::TimedPoseCovarianceReader(values_, tc);
+          const auto read_twist = internal::TimedTwistCovarianceReader(values_, tc);
+          if (!answer->time.extrapolated) {
+            internal::TwistCovariance<B>(topology_, *plan, read_pose, read_twist, S);
+            return;
+          }
+          // An edge shared by an integration twist and the query: perturbed once.
+          internal::SharedPerturbations acc;
+          internal::KeyedSink<B> sink{&values_, &tc, &acc};
+          internal::TwistCovariance<B>(topology_, *plan, read_pose, read_twist, S, sink);
+        });
       })) {
     return Unexpected{*e};
   }
-  out.value.covariance = coord::Reorder(out.value.covariance, order);
+  S = coord::Reorder(S, order);
   return out;
 }
 
 template <coord::Backend B>
 QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>
-SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec& spec,
-                                               const TimePolicy& policy) const noexcept {
-  auto tw = GetTwistWithCovariance(spec, policy);
+SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy,
+                                               TwistSource source) const noexcept {
+  auto tw = GetTwistWithCovariance(spec, policy, CovarianceOrder::kLinearAngular, source);
   if (!tw) return Unexpected{tw.error()};
   return Timed<WithCovariance<coord::LinearVelocity, 3>>{
       {coord::LinearOf(tw->value.value), tw->value.covariance.template topLeftCorner<3, 3>()},
@@ -256,46 +294,47 @@ SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec& spec,
 
 template <coord::Backend B>
 QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>
-SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec,
-                                                const TimePolicy& policy) const noexcept {
-  auto tw = internal::TwistOfAngularVelocity(
-      spec, [&](const TwistSpec& s) { return GetTwistWithCovariance(s, policy); });
+SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy,
+                                                TwistSource source) const noexcept {
+  auto tw = internal::TwistOfAngularVelocity(spec, [&](const TwistSpec& s) {
+    return GetTwistWithCovariance(s, policy, CovarianceOrder::kLinearAngular, source);
+  });
   if (!tw) return Unexpected{tw.error()};
   return Timed<WithCovariance<coord::AngularVelocity, 3>>{
       {coord::AngularOf(tw->value.value), tw->value.covariance.template bottomRightCorner<3, 3>()},
       tw->time};
 }
 
-#define SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(B)                                                  \
-  template std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(                          \
-      const FrameIndex(&)[5], const TimePolicy&, Covariance6&) const noexcept;                    \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovariance(                         \
-      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;        \
-  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(                     \
-      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;        \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                             \
-  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimePolicy&, CovarianceOrder)       \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                 \
-  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept;    \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                      \
-  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept; \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                             \
-  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimeTravel&, CovarianceOrder)       \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                 \
-  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept;    \
-  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                      \
-  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept; \
-  template QueryResult<Timed<WithCovariance<coord::Twist, 6>>>                                    \
-  SceneGraph<B>::GetTwistWithCovariance(const TwistSpec&, const TimePolicy&, CovarianceOrder)     \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>                           \
-  SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&, const TimePolicy&)             \
-      const noexcept;                                                                             \
-  template QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>                          \
-  SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&, const TimePolicy&)            \
-      const noexcept;
+#define SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(B)                                                   \
+  template std::optional<QueryError> SceneGraph<B>::TimedPoseCovariance(                           \
+      const FrameIndex(&)[5], const TimePolicy&, Covariance6&, bool) const noexcept;               \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovariance(                          \
+      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;         \
+  template std::optional<QueryError> SceneGraph<B>::TimeTravelCovarianceOnce(                      \
+      const FrameIndex(&)[5], FrameIndex, const TimeTravel&, Covariance6&) const noexcept;         \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                              \
+  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimePolicy&, CovarianceOrder)        \
+      const noexcept;                                                                              \
+  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                  \
+  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept;     \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                       \
+  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimePolicy&) const noexcept;  \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Pose, 6>>>                              \
+  SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, const TimeTravel&, CovarianceOrder)        \
+      const noexcept;                                                                              \
+  template QueryResult<Timed<WithCovariance<coord::Position, 3>>>                                  \
+  SceneGraph<B>::GetPositionWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept;     \
+  template QueryResult<Timed<WithCovariance<SceneGraph<B>::Orientation, 3>>>                       \
+  SceneGraph<B>::GetOrientationWithCovariance(const PoseSpec&, const TimeTravel&) const noexcept;  \
+  template QueryResult<Timed<WithCovariance<coord::Twist, 6>>>                                     \
+  SceneGraph<B>::GetTwistWithCovariance(const TwistSpec&, const TimePolicy&, CovarianceOrder,      \
+                                        TwistSource) const noexcept;                               \
+  template QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>                            \
+  SceneGraph<B>::GetLinearVelocityWithCovariance(const TwistSpec&, const TimePolicy&, TwistSource) \
+      const noexcept;                                                                              \
+  template QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>                           \
+  SceneGraph<B>::GetAngularVelocityWithCovariance(const TwistSpec&, const TimePolicy&,             \
+                                                  TwistSource) const noexcept;
 SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(coord::QuaternionBackend)
 SEMGRAPH_INSTANTIATE_TIME_UNCERTAINTY(coord::HomogeneousBackend)
 

@@ -92,7 +92,7 @@ namespace {
   py::arg("fixed") = py::none()
 #define SEMGRAPH_COV_TWIST_TIME_ARGS                                     \
   py::arg("at") = py::none(), py::arg("max_extrapolation") = py::none(), \
-  py::arg("not_before") = py::none()
+  py::arg("not_before") = py::none(), py::arg("source") = py::none()
 
 constexpr const char* kCovDoc = R"(
 Returns (result, covariance): the first-order covariance of the answer's coordinates
@@ -112,7 +112,9 @@ constexpr const char* kCovTravelDoc = R"(
                      through the frame `fixed`; the two sides' perturbations are independent
                      (an edge used on both contributes twice))";
 constexpr const char* kCovTwistDoc = R"(
-Twists from the twist edges (no source= with a covariance in this version; no time travel).)";
+  source             'twists' (default: the twist edges) or 'poses' (the time derivative of the
+                     pose history: each differentiated edge's twist with the covariance from
+                     its two bracketing samples, independent); no time travel.)";
 constexpr const char* kCovErrors = R"(
 QueryError as the plain query: invalid_name, unknown_frame, unknown_body, frame_body_mismatch,
 no_pose_path, representation_constraint (no_twist_path for velocities); under a time policy
@@ -226,21 +228,22 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
       "twist_with_covariance",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
          py::handle expressed_in, py::handle order, py::handle at, py::handle max_extrapolation,
-         py::handle not_before) {
+         py::handle not_before, py::handle source) {
         const char* fn = "twist_with_covariance";
+        const core::TwistSource src = TwistSourceArg(source, fn);
         const core::TwistSpec spec = ReadTwistSpec(fn, point, body, ref_body, expressed_in);
         const TimeQuery t = TwistTimeArgs(fn, at, max_extrapolation, not_before);
         const core::CovarianceOrder o = OrderOrDefault(order, fn);
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          if (t.kind == TimeQuery::Kind::kNone) {
+          if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetTwistWithCovariance(spec, o);
             if (!r) ThrowTwistQuery(g, r.error(), spec);
             return WithCovariance(
                 py::cast(TwistResult{self, r->value.semantics, r->value.linear, r->value.angular}),
                 r->covariance);
           }
-          auto r = g.GetTwistWithCovariance(spec, t.policy, o);
+          auto r = g.GetTwistWithCovariance(spec, t.policy, o, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           const auto& v = r->value.value;
           return WithCovariance(
@@ -256,20 +259,21 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
       "linear_velocity_with_covariance",
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
          py::handle expressed_in, py::handle at, py::handle max_extrapolation,
-         py::handle not_before) {
+         py::handle not_before, py::handle source) {
         const char* fn = "linear_velocity_with_covariance";
+        const core::TwistSource src = TwistSourceArg(source, fn);
         const core::TwistSpec spec = ReadTwistSpec(fn, point, body, ref_body, expressed_in);
         const TimeQuery t = TwistTimeArgs(fn, at, max_extrapolation, not_before);
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          if (t.kind == TimeQuery::Kind::kNone) {
+          if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetLinearVelocityWithCovariance(spec);
             if (!r) ThrowTwistQuery(g, r.error(), spec);
             return WithCovariance(
                 py::cast(LinearVelocityResult{self, r->value.semantics, r->value.value}),
                 r->covariance);
           }
-          auto r = g.GetLinearVelocityWithCovariance(spec, t.policy);
+          auto r = g.GetLinearVelocityWithCovariance(spec, t.policy, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           return WithCovariance(py::cast(LinearVelocityResult{self, r->value.value.semantics,
                                                               r->value.value.value, r->time}),
@@ -283,20 +287,21 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
   graph.def(
       "angular_velocity_with_covariance",
       [](const GraphBox& b, py::handle body, py::handle ref_body, py::handle expressed_in,
-         py::handle at, py::handle max_extrapolation, py::handle not_before) {
+         py::handle at, py::handle max_extrapolation, py::handle not_before, py::handle source) {
         const char* fn = "angular_velocity_with_covariance";
+        const core::TwistSource src = TwistSourceArg(source, fn);
         const core::TwistSpec spec = ReadTwistSpec(fn, py::none(), body, ref_body, expressed_in);
         const TimeQuery t = TwistTimeArgs(fn, at, max_extrapolation, not_before);
         GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
         return b.Visit([&](const auto& g) {
-          if (t.kind == TimeQuery::Kind::kNone) {
+          if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetAngularVelocityWithCovariance(spec);
             if (!r) ThrowTwistQuery(g, r.error(), spec);
             return WithCovariance(
                 py::cast(AngularVelocityResult{self, r->value.semantics, r->value.value}),
                 r->covariance);
           }
-          auto r = g.GetAngularVelocityWithCovariance(spec, t.policy);
+          auto r = g.GetAngularVelocityWithCovariance(spec, t.policy, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
           return WithCovariance(py::cast(AngularVelocityResult{self, r->value.value.semantics,
                                                                r->value.value.value, r->time}),

@@ -133,6 +133,80 @@ TEST(Jacobians, ExtrapolationMatchesFiniteDifferences) {
   }
 }
 
+// A pose edge's derivative from its two samples (twist source `poses`), per sample, for both
+// interpolations, written here from se3.h's definitions: linear w = Log(R0^T R1) / dt,
+// v = R_l^T (p1 - p0) / dt with R_l = R0 Exp(l Log(R0^T R1)); screw Log(X0^-1 X1) / dt with
+// SE(3)'s Log as (th, V(th)^-1 p) from the closed-form V (Eigen's inverse). Rotations between
+// the samples from 1e-3 to 2.5 rad, fractions 0, 0.3, 1.
+Vector6 LinearDerivative(const Pose& X0, const Pose& X1, double dt, double l) {
+  const Vector3d phi = LogR(X0.R.transpose() * X1.R);
+  const Matrix3d R_l = X0.R * ExpR(l * phi);
+  Vector6 out;
+  out << R_l.transpose() * (X1.p - X0.p) / dt, phi / dt;
+  return out;
+}
+Vector6 ScrewDerivative(const Pose& X0, const Pose& X1, double dt) {
+  const Pose D = Inv(X0) * X1;
+  const Vector3d w = LogR(D.R);
+  const double th = w.norm();
+  const Matrix3d W = Hat(w);
+  const Matrix3d V = th == 0.0
+                         ? Matrix3d::Identity()
+                         : Matrix3d(Matrix3d::Identity() + (1 - std::cos(th)) / (th * th) * W +
+                                    (th - std::sin(th)) / (th * th * th) * W * W);
+  Vector6 out;
+  out << V.inverse() * D.p / dt, w / dt;
+  return out;
+}
+TEST(Jacobians, SegmentTwistMatchesFiniteDifferences) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (double angle : {1e-3, 0.05, 0.5, 1.5, 2.5}) {
+    for (int trial = 0; trial < 4; ++trial) {
+      const Pose X0 = RandomPose(rng);
+      const Vector3d axis = Vector3d(n(rng), n(rng), n(rng)).normalized();
+      const Pose X1{X0.R * ExpR(angle * axis), X0.p + Vector3d(n(rng), n(rng), n(rng))};
+      const double dt = 0.4;
+      for (double l : {0.0, 0.3, 1.0}) {
+        const Vector3d phi = LogR(X0.R.transpose() * X1.R);
+        const Matrix3d R_l = X0.R * ExpR(l * phi);
+        Matrix6 J0, J1;
+        LinearSegmentTwistJacobians(X0.R, R_l, phi, X1.p - X0.p, dt, l, J0, J1);
+        ExpectClose(J0, Numeric([&](const Vector6& d) {
+                      return Vector6(LinearDerivative(Perturbed(X0, d), X1, dt, l) -
+                                     LinearDerivative(X0, X1, dt, l));
+                    }),
+                    "linear, sample 0");
+        ExpectClose(J1, Numeric([&](const Vector6& d) {
+                      return Vector6(LinearDerivative(X0, Perturbed(X1, d), dt, l) -
+                                     LinearDerivative(X0, X1, dt, l));
+                    }),
+                    "linear, sample 1");
+      }
+      Vector3d rho, phi;
+      const Pose D = Inv(X0) * X1;
+      kernels::Log({Eigen::Quaterniond(D.R), D.p}, rho, phi);
+      Matrix6 J0, J1;
+      ScrewSegmentTwistJacobians(X0.R, X1.p - X0.p, rho, phi, dt, J0, J1);
+      ExpectClose(
+          J0, Numeric([&](const Vector6& d) {
+            return Vector6(ScrewDerivative(Perturbed(X0, d), X1, dt) - ScrewDerivative(X0, X1, dt));
+          }),
+          "screw, sample 0");
+      ExpectClose(
+          J1, Numeric([&](const Vector6& d) {
+            return Vector6(ScrewDerivative(X0, Perturbed(X1, d), dt) - ScrewDerivative(X0, X1, dt));
+          }),
+          "screw, sample 1");
+      // Jl^-1 is the inverse of Jl.
+      EXPECT_LE((LeftJacobianInverseSO3(phi) * LeftJacobianSO3(phi) - Matrix3d::Identity())
+                    .cwiseAbs()
+                    .maxCoeff(),
+                1e-12);
+    }
+  }
+}
+
 // The series branch of BarfootQ (angles below 0.1) against its closed form evaluated in long
 // double (no cancellation to speak of at these angles in 64-bit mantissas).
 TEST(Jacobians, BarfootQSeriesMatchesTheClosedForm) {

@@ -555,6 +555,261 @@ TEST(TimeUncertainty, ConcurrentReadersSeeEachValueWithItsCovariance) {
   EXPECT_GT(answered.load(), 0);
 }
 
+// ---------------------------------------------------------------- an edge shared by an
+// extrapolation's integration twist and the query
+
+// Bodies W {w} and H {h, s, s2}: h wrt w stamped (0 s, 1 s), the calibration s wrt h constant
+// with a covariance, the twist of H relative to W given at s in [s] (1 s). The pose of s wrt w
+// at 1.5 s extrapolates h wrt w from its 1 s sample with the integration twist
+// TwistCoord(h|H, W, [h]), which reads the twist at s moved to h through the calibration: the
+// calibration is used by the integration twist and by the query (one perturbation, spec §3).
+// With `split`, the twist is given at s2 instead, a second constant frame with the same pose
+// and covariance: two independent edges, what the double count computed.
+struct SharedScene {
+  Eigen::Matrix3d R_HS = ExpR(Eigen::Vector3d(0.1, -0.2, 0.3));
+  Eigen::Vector3d p_HS{0.4, 0.1, -0.2};
+  Covariance6 S_cal, S_pose0, S_pose1, S_twist;
+  Eigen::Matrix3d R_WH0 = ExpR(Eigen::Vector3d(0.2, 0.1, 0.0)),
+                  R_WH1 = ExpR(Eigen::Vector3d(0.25, 0.1, 0.1));
+  Eigen::Vector3d p_WH0{1, 0, 0}, p_WH1{1.2, 0.3, 0};
+  Eigen::Vector3d v_s{0.5, 0.2, 0.0}, w_s{0.1, -0.3, 1.0};
+};
+SharedScene MakeSharedScene() {
+  std::mt19937 rng(2718);
+  SharedScene sc;
+  sc.S_cal = RandomCovariance(rng, 1e-6);
+  sc.S_pose0 = RandomCovariance(rng, 1e-8);
+  sc.S_pose1 = RandomCovariance(rng, 1e-8);
+  sc.S_twist = RandomCovariance(rng, 1e-8);
+  return sc;
+}
+// The graph; with rng: the calibration drawn once, the 1 s samples drawn (only they are used).
+Graph SharedGraph(const SharedScene& sc, bool split, std::mt19937* rng) {
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  Graph g = *Graph::Create(o);
+  const auto draw = [&](const Eigen::Matrix3d& R, const Eigen::Vector3d& p, const Covariance6& S) {
+    Sample x{0, R, p, Eigen::Vector3d::Zero(), S};
+    return rng ? Perturbed(x, *rng) : x;
+  };
+  const Covariance6* none = nullptr;
+  const auto cov = [&](const Covariance6& S) { return CovarianceInput{rng ? none : &S}; };
+  const Sample cal = draw(sc.R_HS, sc.p_HS, sc.S_cal);
+  EXPECT_TRUE(g.AddPose(PoseSpec::Of("s", "H").RelativeTo("h", "H"), cal.R, cal.p, cov(sc.S_cal)));
+  if (split) {
+    const Sample cal2 = draw(sc.R_HS, sc.p_HS, sc.S_cal);
+    EXPECT_TRUE(
+        g.AddPose(PoseSpec::Of("s2", "H").RelativeTo("h", "H"), cal2.R, cal2.p, cov(sc.S_cal)));
+  }
+  const PoseSpec hw = PoseSpec::Of("h", "H").RelativeTo("w", "W");
+  if (!rng) {
+    EXPECT_TRUE(g.AddPose(hw, sc.R_WH0, sc.p_WH0, Ms(0), cov(sc.S_pose0)));
+  }
+  const Sample x1 = draw(sc.R_WH1, sc.p_WH1, sc.S_pose1);
+  EXPECT_TRUE(g.AddPose(hw, x1.R, x1.p, Ms(1000), cov(sc.S_pose1)));
+  Sample tw{0, Eigen::Matrix3d::Identity(), sc.v_s, sc.w_s, sc.S_twist};
+  if (rng) tw = Perturbed(tw, *rng);
+  const char* at = split ? "s2" : "s";
+  EXPECT_TRUE(g.AddTwist(TwistSpec::Of(at, "H").RelativeTo("W").ExpressedIn(at), tw.p, tw.w,
+                         Ms(1000), cov(sc.S_twist)));
+  return g;
+}
+
+TEST(TimeUncertainty, EdgeSharedByIntegrationTwistAndQueryIsPerturbedOnce) {
+  const SharedScene sc = MakeSharedScene();
+  const Graph g = SharedGraph(sc, false, nullptr);
+  const PoseSpec spec = PoseSpec::Of("s", "H").RelativeTo("w", "W");
+  const TimePolicy policy = At{Ms(1500), Duration::Seconds(1)};
+  const auto pose = g.GetPoseWithCovariance(spec, policy);
+  const auto position = g.GetPositionWithCovariance(spec, policy);
+  ASSERT_TRUE(pose && position);
+  ASSERT_TRUE(pose->time.extrapolated);
+  // The double count: the same scene with the calibration used by the twist split off into an
+  // independent copy (the same value, the same covariance).
+  const Graph split = SharedGraph(sc, true, nullptr);
+  const auto twice = split.GetPoseWithCovariance(spec, policy);
+  ASSERT_TRUE(twice);
+  EXPECT_LE(PoseDelta(pose->value.value, twice->value.value).norm(), 1e-12);  // the same value
+  std::mt19937 rng(1618);
+  std::vector<Vector6> d;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph h = SharedGraph(sc, false, &rng);
+    const auto X = h.GetPose(spec, policy);
+    ASSERT_TRUE(X) << h.Describe(X.error(), spec);
+    d.push_back(PoseDelta(pose->value.value, X->value));
+  }
+  const Covariance6& S = pose->value.covariance;
+  std::printf(
+      "shared edge: worst z %.2f (perturbed once), %.1f (counted twice); |S_twice - S| / |S| = "
+      "%.3f\n",
+      WorstZ<6>(S, d), WorstZ<6>(twice->value.covariance, d),
+      (twice->value.covariance - S).norm() / S.norm());
+  EXPECT_LT(WorstZ<6>(S, d), kMaxZ) << S;
+  EXPECT_GT(WorstZ<6>(twice->value.covariance, d), 3.0 * kMaxZ);
+  EXPECT_GT(WorstZ<6>(Flipped(S), d), 3.0 * kMaxZ);
+  EXPECT_LE((position->value.covariance - S.topLeftCorner<3, 3>()).norm(), 1e-15);
+  // A twist query at 1.5 s reads the held twist sample (at 1 s, as the integration twist) and
+  // moves it with the extrapolated pose: the twist edge and the calibration are shared.
+  const TwistSpec ts = TwistSpec::Of("s", "H").RelativeTo("W").ExpressedIn("w");
+  const auto V = g.GetTwistWithCovariance(ts, policy);
+  ASSERT_TRUE(V);
+  std::vector<Vector6> dv;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph h = SharedGraph(sc, false, &rng);
+    const auto W = h.GetTwist(ts, policy);
+    ASSERT_TRUE(W);
+    Vector6 x;
+    x << W->value.linear - V->value.value.linear, W->value.angular - V->value.value.angular;
+    dv.push_back(x);
+  }
+  std::printf("shared edges, twist: worst z %.2f\n", WorstZ<6>(V->value.covariance, dv));
+  EXPECT_LT(WorstZ<6>(V->value.covariance, dv), kMaxZ) << V->value.covariance;
+}
+
+// ---------------------------------------------------------------- twists from poses
+
+// Source poses: the twist of c2 (body C) relative to W in [d] at 1.7 s is the derivative of
+// w -> a (samples 1 s, 2 s) plus that of a -> c (samples 1.5 s, 2.5 s), moved to c2 and
+// rotated into [d] (Algorithm 3). Truth per draw: (1) the four bracketing samples perturbed
+// by their own covariances (all samples of the stamped pose edges are drawn; each derivative
+// uses its two), re-differentiated exactly by the graph (the twist of each edge's own body at
+// its head in [h], source poses, one step: exactly the edge's derivative); (2) independently,
+// every pose edge's value at 1.7 s drawn from its interpolated covariance (as the tests above),
+// read as poses; (3) the answer combined here by hand from (1) and (2):
+//   sum over edges h:  R_DH (v_h + w_h x p_HE_H, w_h),  e = c2.
+// The specification makes each derivative independent of the edges' own values (§3).
+const TwistSpec kPoseTwist = TwistSpec::Of("c2", "C").RelativeTo("W").ExpressedIn("d");
+const TwistSpec kDerivA = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
+const TwistSpec kDerivC = TwistSpec::Of("c", "C").RelativeTo("A").ExpressedIn("c");
+
+Graph BuildWith(const std::vector<Edge>& scene, coord::Interpolation mode, bool perturb,
+                std::mt19937* rng) {
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  o.interpolation = mode;
+  Graph g = *Graph::Create(o);
+  for (const Edge& e : scene) {
+    if (e.twist) continue;
+    for (const Sample& s : e.samples) {
+      Add(g, e, perturb && e.stamped() ? Perturbed(s, *rng) : s, !perturb);
+    }
+  }
+  return g;
+}
+
+// The hand combination (3): derivatives from `deriv`, poses from `poses`, at ms.
+Vector6 CombineByHand(const Graph& deriv, const Graph& poses, std::int64_t ms) {
+  Vector6 out = Vector6::Zero();
+  const TimePolicy at = At{Ms(ms)};
+  const std::pair<const TwistSpec*, const char*> steps[] = {{&kDerivA, "a"}, {&kDerivC, "c"}};
+  for (const auto& [spec, h] : steps) {
+    const auto V = deriv.GetTwist(*spec, at, TwistSource::kPoses);
+    const auto p_HE = poses.GetPosition(PoseSpec::Of("c2").RelativeTo(h).ExpressedIn(h), at);
+    const auto R_DH = poses.GetOrientation(PoseSpec::Of(h).RelativeTo("d"), at);
+    EXPECT_TRUE(V && p_HE && R_DH);
+    if (!V || !p_HE || !R_DH) return out;
+    const Eigen::Matrix3d R = coord::QuaternionBackend::ToMatrix(R_DH->value.value);
+    const Eigen::Vector3d w = V->value.angular;
+    out.head<3>() += R * (V->value.linear + w.cross(p_HE->value.value));
+    out.tail<3>() += R * w;
+  }
+  return out;
+}
+
+void CheckPoseSource(coord::Interpolation mode, unsigned seed) {
+  constexpr std::int64_t kMs = 1700;
+  std::mt19937 rng(seed);
+  const std::vector<Edge> scene = RandomScene(rng);
+  std::vector<Edge> pose_edges;
+  for (const Edge& e : scene) {
+    if (!e.twist) pose_edges.push_back(e);
+  }
+  const Graph g = BuildWith(scene, mode, false, nullptr);
+  const TimePolicy at = At{Ms(kMs)};
+  const auto twist = g.GetTwistWithCovariance(kPoseTwist, at, CovarianceOrder::kLinearAngular,
+                                              TwistSource::kPoses);
+  const auto linear = g.GetLinearVelocityWithCovariance(kPoseTwist, at, TwistSource::kPoses);
+  const auto angular = g.GetAngularVelocityWithCovariance(kPoseTwist, at, TwistSource::kPoses);
+  const auto plain = g.GetTwist(kPoseTwist, at, TwistSource::kPoses);
+  ASSERT_TRUE(twist && linear && angular && plain);
+  // The answer is the plain query's, and the hand combination reproduces it.
+  EXPECT_EQ(twist->value.value.linear, plain->value.linear);
+  EXPECT_EQ(twist->value.value.angular, plain->value.angular);
+  Vector6 nominal;
+  nominal << plain->value.linear, plain->value.angular;
+  EXPECT_LE((CombineByHand(g, g, kMs) - nominal).norm(), 1e-9 * nominal.norm());
+  EXPECT_EQ((linear->value.covariance - twist->value.covariance.topLeftCorner<3, 3>()).norm(), 0.0);
+  EXPECT_LE((angular->value.covariance - twist->value.covariance.bottomRightCorner<3, 3>()).norm(),
+            1e-12 * twist->value.covariance.norm());
+  std::vector<Vector6> d;
+  for (int i = 0; i < kSamples; ++i) {
+    const Graph deriv = BuildWith(scene, mode, true, &rng);
+    Graph poses = PerturbedGraph(g, pose_edges, {kMs}, rng);
+    d.push_back(CombineByHand(deriv, poses, kMs) - nominal);
+  }
+  const Covariance6& S = twist->value.covariance;
+  std::printf("source poses (%s): worst z %.2f; sign error %.1f; trace %.3g\n",
+              mode == coord::Interpolation::kScrew ? "screw" : "linear", WorstZ<6>(S, d),
+              WorstZ<6>(Flipped(S), d), S.trace());
+  EXPECT_GT(S.trace(), 1e-7);
+  EXPECT_LT(WorstZ<6>(S, d), kMaxZ) << S;
+  EXPECT_GT(WorstZ<6>(Flipped(S), d), 3.0 * kMaxZ);
+}
+
+TEST(TimeUncertainty, TwistsFromPosesLinearMatchMonteCarlo) {
+  CheckPoseSource(coord::Interpolation::kLinear, 31);
+}
+TEST(TimeUncertainty, TwistsFromPosesScrewMatchMonteCarlo) {
+  CheckPoseSource(coord::Interpolation::kScrew, 32);
+}
+
+// Source poses with a covariance fails as the plain query (extrapolation outside the samples or
+// on an edge with one sample, stale, invalid_number, a bad name) and changes nothing: the
+// answers and covariances at 1.7 s are the same before and after.
+TEST(TimeUncertainty, TwistsFromPosesErrorsAsThePlainQuery) {
+  std::mt19937 rng(41);
+  const std::vector<Edge> scene = RandomScene(rng);
+  Graph g = BuildWith(scene, coord::Interpolation::kScrew, false, nullptr);
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("e", "E").RelativeTo("w", "W"), Eigen::Matrix3d::Identity(),
+                        Eigen::Vector3d(1, 2, 3), Ms(1000)));
+  const auto at = [](std::int64_t ms) { return TimePolicy{At{Ms(ms), Duration::Seconds(5)}}; };
+  const auto before = g.GetTwistWithCovariance(
+      kPoseTwist, at(1700), CovarianceOrder::kLinearAngular, TwistSource::kPoses);
+  ASSERT_TRUE(before);
+  const struct {
+    TwistSpec spec;
+    TimePolicy policy;
+    ErrorCode code;
+  } cases[] = {
+      {kPoseTwist, at(3500), ErrorCode::kExtrapolation},  // beyond a -> c's samples
+      {kPoseTwist, at(200), ErrorCode::kExtrapolation},   // before them
+      {TwistSpec::Of("e", "E").RelativeTo("W").ExpressedIn("e"), at(1000),
+       ErrorCode::kExtrapolation},  // one sample: no derivative
+      {kPoseTwist, Latest{Ms(4000)}, ErrorCode::kStale},
+      {kPoseTwist, At{Ms(1700), Duration::Nanoseconds(-1)}, ErrorCode::kInvalidNumber},
+      {TwistSpec::Of("nope", "C").RelativeTo("W").ExpressedIn("d"), at(1700),
+       ErrorCode::kUnknownFrame},
+  };
+  for (const auto& c : cases) {
+    const auto plain = g.GetTwist(c.spec, c.policy, TwistSource::kPoses);
+    const auto twist = g.GetTwistWithCovariance(c.spec, c.policy, CovarianceOrder::kLinearAngular,
+                                                TwistSource::kPoses);
+    const auto linear = g.GetLinearVelocityWithCovariance(c.spec, c.policy, TwistSource::kPoses);
+    ASSERT_FALSE(plain);
+    ASSERT_FALSE(twist);
+    ASSERT_FALSE(linear);
+    EXPECT_EQ(plain.error().code, c.code) << g.Describe(plain.error(), c.spec);
+    EXPECT_EQ(twist.error().code, plain.error().code);
+    EXPECT_EQ(g.Describe(twist.error(), c.spec), g.Describe(plain.error(), c.spec));
+    EXPECT_EQ(linear.error().code, plain.error().code);
+  }
+  const auto after = g.GetTwistWithCovariance(kPoseTwist, at(1700), CovarianceOrder::kLinearAngular,
+                                              TwistSource::kPoses);
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->value.value.linear, before->value.value.linear);
+  EXPECT_EQ(after->value.covariance, before->value.covariance);
+}
+
 // The timed covariance queries allocate nothing (graph built, plans warmed up).
 TEST(TimeUncertainty, TimedCovarianceQueriesDoNotAllocate) {
   std::mt19937 rng(5);
@@ -572,6 +827,11 @@ TEST(TimeUncertainty, TimedCovarianceQueriesDoNotAllocate) {
       for (const TimePolicy& p : policies) {
         sum += g.GetPoseWithCovariance(kPose, p)->value.covariance.trace();
         sum += g.GetTwistWithCovariance(kTwist, p)->value.covariance.trace();
+      }
+      for (int k = 0; k < 3; ++k) {  // source poses: within the samples (never extrapolates)
+        sum += g.GetTwistWithCovariance(kTwist, policies[k], CovarianceOrder::kLinearAngular,
+                                        TwistSource::kPoses)
+                   ->value.covariance.trace();
       }
       sum += g.GetPoseWithCovariance(tt, travel)->value.covariance.trace();
     }

@@ -637,3 +637,59 @@ def test_set_pose_and_set_twist_with_covariance_through_handles():
         g.set_pose(a, position=(3, 0, 0), rotation_matrix=2 * RZ90, covariance=S1)
     assert e.value.code == "invalid_rotation"
     assert g.dump() == before
+
+
+def pose_history_graph():
+    """w -> a: X_0 = (Rz90, 0) at 0 s with S1, X_1 = (Rz90, (1, 0, 0)) at 2 s with S2."""
+    g = semgraph.SceneGraph()
+    g.add_pose(of="a", body="A", wrt="w", ref_body="W", rotation_matrix=RZ90, stamp=0.0,
+               covariance=S1)
+    g.add_pose(of="a", body="A", wrt="w", ref_body="W", position=(1, 0, 0),
+               rotation_matrix=RZ90, stamp=2.0, covariance=S2)
+    return g
+
+
+def test_twist_from_poses_by_hand():
+    """source='poses' (screw, the default): the derivative Log(X_0^-1 X_1) / dt with equal
+    rotations R: rho = R^T d, v = (rho + R^T (dp_1 - dp_0) + [rho]x R^T (dth_0 + dth_1) / 2) / dt,
+    w = R^T (dth_1 - dth_0) / dt (to first order: X_1's rotation perturbation turns the segment
+    about X_1's origin, hence the half lever arm), each sample independent."""
+    g = pose_history_graph()
+    dt, d = 2.0, np.array([1.0, 0, 0])
+    Rt, rho = RZ90.T, RZ90.T @ d
+    J0 = -np.block([[Rt, -0.5 * skew(rho) @ Rt], [Z3, Rt]]) / dt
+    J1 = np.block([[Rt, 0.5 * skew(rho) @ Rt], [Z3, Rt]]) / dt
+    want = J0 @ S1 @ J0.T + J1 @ S2 @ J1.T
+    kw = dict(point="a", body="A", ref_body="W", expressed_in="a", source="poses")
+    for time in [dict(at=0.5), dict(at="latest"), dict()]:
+        V, S = g.twist_with_covariance(**kw, **time)
+        np.testing.assert_allclose(V.linear, rho / dt, atol=1e-12)
+        np.testing.assert_allclose(S, want, atol=1e-15, rtol=1e-12)
+        assert report(V) == report(g.twist(**kw, **time))
+        _, Sv = g.linear_velocity_with_covariance(**kw, **time)
+        np.testing.assert_allclose(Sv, want[:3, :3], atol=1e-15, rtol=1e-12)
+        kw_w = dict(body="A", ref_body="W", expressed_in="a", source="poses")
+        _, Sw = g.angular_velocity_with_covariance(**kw_w, **time)
+        np.testing.assert_allclose(Sw, want[3:, 3:], atol=1e-15, rtol=1e-12)
+    # Source twists: no twist edge, no twist path, as the plain query.
+    plain = query_error(lambda: g.twist(**dict(kw, source="twists"), at=0.5))
+    got = query_error(lambda: g.twist_with_covariance(**dict(kw, source="twists"), at=0.5))
+    assert got == plain
+
+
+@pytest.mark.parametrize("time", [dict(at=2.5), dict(at=2.5, max_extrapolation=1.0),
+                                  dict(at=-1.0), dict(not_before=3.0)])
+def test_twist_from_poses_errors_as_the_plain_query(time):
+    g = pose_history_graph()
+    before = g.dump()
+    kw = dict(point="a", body="A", ref_body="W", expressed_in="a", source="poses")
+    for name in TWIST_FUNCTIONS:
+        names = dict(kw)
+        if name == "angular_velocity":
+            del names["point"]
+        plain = query_error(lambda: getattr(g, name)(**names, **time))
+        got = query_error(lambda: getattr(g, name + "_with_covariance")(**names, **time))
+        assert got == plain, name
+    with pytest.raises(ValueError):
+        g.twist_with_covariance(**dict(kw, source="bogus"), at=0.5)
+    assert g.dump() == before

@@ -633,13 +633,6 @@ bool Interpreter::ReadQueryCovariance(const std::array<std::uint32_t, kNumFields
       !ReadBool(value[kCovariance], "covariance", &op->query_covariance)) {
     return false;
   }
-  if (op->query_covariance && value[kSource] != kNoNode) {
-    // The answer's covariance goes through every time policy and a time travel
-    // (docs/uncertainty.md, "Time"); not yet through differentiated poses.
-    return Fail(value[kSource], "field " + Quoted(kFieldNames[kSource]) +
-                                    " is not supported with 'covariance: true' in this version "
-                                    "(a covariance is of the twist edges' values)");
-  }
   const std::uint32_t order = value[kCovarianceOrder];
   if (order == kNoNode) return true;
   if (!op->query_covariance) {

@@ -758,13 +758,15 @@ OpOutcome WithCovarianceKey(OpOutcome out, const ScriptOp& op, std::size_t index
 }
 
 // The covariance of a query at its time (docs/uncertainty.md, "Time"): `untimed` without time
-// fields, else the timed query's (time policy, or time travel unless at_travel is nullptr), as
-// `untimed` gives them back.
+// fields (and without source poses, which the timed queries read: latest by default), else the
+// timed query's (time policy, or time travel unless at_travel is nullptr), as `untimed` gives
+// them back.
 template <class Untimed, class AtPolicy, class AtTravel>
 auto CovarianceAt(const ScriptOp& op, const QueryTime& time, Untimed&& untimed,
                   AtPolicy&& at_policy, AtTravel&& at_travel) {
   using Result = decltype(untimed());
-  const bool timed = time.travel || op.at != AtKind::kLatest || op.not_before.has_value();
+  const bool timed =
+      time.travel || op.at != AtKind::kLatest || op.not_before.has_value() || op.source_poses;
   if (!timed) return untimed();
   const auto unwrap = [](auto&& answer) -> Result {
     if (!answer) return base::Unexpected{answer.error()};
@@ -776,8 +778,21 @@ auto CovarianceAt(const ScriptOp& op, const QueryTime& time, Untimed&& untimed,
   return unwrap(at_policy(time.policy));
 }
 
+// The twist query with covariance, untimed or at a policy with a source (the order before it).
+template <coord::Backend B>
+auto TwistCovariance(const core::SceneGraph<B>& graph, const core::TwistSpec& spec,
+                     coord::CovarianceOrder order) {
+  return graph.GetTwistWithCovariance(spec, order);
+}
+template <coord::Backend B>
+auto TwistCovariance(const core::SceneGraph<B>& graph, const core::TwistSpec& spec,
+                     coord::CovarianceOrder order, const core::TimePolicy& policy,
+                     core::TwistSource source) {
+  return graph.GetTwistWithCovariance(spec, policy, order, source);
+}
+
 // A query: its value (and time keys), then, when asked (`covariance: true`), the covariance of
-// the answer (docs/uncertainty.md §3) at the query's time (the reader refused `source`).
+// the answer (docs/uncertainty.md §3) at the query's time, twists from `source`.
 template <coord::Backend B>
 OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_t index) {
   OpOutcome out = QueryValue(graph, op, index);
@@ -789,6 +804,8 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
   const coord::CovarianceOrder order = op.covariance_angular_first
                                            ? coord::CovarianceOrder::kAngularLinear
                                            : coord::CovarianceOrder::kLinearAngular;
+  const core::TwistSource source =
+      op.source_poses ? core::TwistSource::kPoses : core::TwistSource::kTwists;
   const auto emit = [&](const auto& answer, const auto& spec) {
     if (!answer) {
       return Failure(op, index, answer.error().code, graph.Describe(answer.error(), spec));
@@ -802,7 +819,7 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
   };
   const auto twist = [&](auto&& get) {
     return CovarianceAt(
-        op, time, [&] { return get(); }, [&](const core::TimePolicy& p) { return get(p); },
+        op, time, [&] { return get(); }, [&](const core::TimePolicy& p) { return get(p, source); },
         nullptr);  // the reader refuses ref_at on twists
   };
   switch (op.query_kind) {
@@ -821,10 +838,9 @@ OpOutcome Query(const core::SceneGraph<B>& graph, const ScriptOp& op, std::size_
                   }),
                   pose_spec);
     case QueryKind::kTwist:
-      return emit(twist([&](const auto&... t) {
-                    return graph.GetTwistWithCovariance(twist_spec, t..., order);
-                  }),
-                  twist_spec);
+      return emit(
+          twist([&](const auto&... t) { return TwistCovariance(graph, twist_spec, order, t...); }),
+          twist_spec);
     case QueryKind::kLinearVelocity:
       return emit(twist([&](const auto&... t) {
                     return graph.GetLinearVelocityWithCovariance(twist_spec, t...);

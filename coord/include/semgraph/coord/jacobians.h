@@ -11,6 +11,8 @@
 //   Extrapolate  Y = X Exp(dt xi):  J_X = [[I, -[R u]x], [0, I]]  (u: translation of Exp)
 //                                   J_xi = diag(R, R) [[Jl dt, (Q - [u]x Jl) dt], [0, Jl dt]]
 //                (Jl: the left Jacobian of SO(3) at phi = dt w, Q: Barfoot's Q(dt v, phi))
+//   Derive       a pose edge's screw twist from its two bracketing samples (twist source
+//                `poses`), per sample: LinearSegmentTwistJacobians, ScrewSegmentTwistJacobians
 //   Edge on a query answer: an edge {p} -> {g}'s perturbation moves every frame below g
 //     rigidly: in a common frame Z, a rotation x = R_ZP dth about g's origin and a translation
 //     t = R_ZP dp. EdgeOnPose / EdgeOnTwist give the answer's change for the frames that move
@@ -165,6 +167,70 @@ inline void ExtrapolateJacobians(const Matrix3d& R, const Vector3d& v, const Vec
   J_exp.bottomRightCorner<3, 3>() = dt * Jl;
   J_xi.topRows<3>() = R * J_exp.topRows<3>();
   J_xi.bottomRows<3>() = R * J_exp.bottomRows<3>();
+}
+
+/// The inverse of the left Jacobian of SO(3): I - [phi]x / 2 + c [phi]x^2,
+/// c = (1 - (th/2) cot(th/2)) / th^2 (series below th = 0.1), |phi| = th < 2 pi.
+[[nodiscard]] inline Matrix3d LeftJacobianInverseSO3(const Vector3d& phi) noexcept {
+  const double th = phi.norm();
+  double c;
+  if (th < 0.1) {
+    const double t2 = th * th;
+    c = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
+  } else {
+    const double half = 0.5 * th;
+    c = (1.0 - half * std::cos(half) / std::sin(half)) / (th * th);
+  }
+  const Matrix3d W = Hat(phi);
+  return Matrix3d::Identity() - 0.5 * W + c * W * W;
+}
+
+/// The derivative of a pose edge's linear interpolation (se3.h SegmentTwist, linear):
+///   w = Log(R0^T R1) / dt,  v = R_l^T (p1 - p0) / dt,  R_l = R0 Exp(l phi),  phi = Log(R0^T R1),
+/// by each sample's perturbation (coordinates convention, (dp, dth) in [t]): with
+/// D = Jl(phi)^-1 R0^T (d phi = D (dth1 - dth0)), u = R_l^T (p1 - p0) and K = l [u]x Jr(l phi) D
+/// (Jr(x) = Jl(-x)):
+///   J1 = [[R_l^T, K], [0, D]] / dt,   J0 = [[-R_l^T, R_l^T [p1 - p0]x - K], [0, -D]] / dt.
+inline void LinearSegmentTwistJacobians(const Matrix3d& R0, const Matrix3d& R_l,
+                                        const Vector3d& phi, const Vector3d& p1_minus_p0, double dt,
+                                        double lambda, Matrix6& J0, Matrix6& J1) noexcept {
+  const Matrix3d D = LeftJacobianInverseSO3(phi) * R0.transpose();
+  const Vector3d u = R_l.transpose() * p1_minus_p0;
+  const Matrix3d K = lambda * Hat(u) * LeftJacobianSO3(-lambda * phi) * D;
+  const double k = 1.0 / dt;
+  J1.setZero();
+  J1.topLeftCorner<3, 3>() = k * R_l.transpose();
+  J1.topRightCorner<3, 3>() = k * K;
+  J1.bottomRightCorner<3, 3>() = k * D;
+  J0.setZero();
+  J0.topLeftCorner<3, 3>() = -k * R_l.transpose();
+  J0.topRightCorner<3, 3>() = k * (R_l.transpose() * Hat(p1_minus_p0) - K);
+  J0.bottomRightCorner<3, 3>() = -k * D;
+}
+
+/// The derivative of a pose edge's screw interpolation (se3.h SegmentTwist, screw):
+/// xi = Log(X0^-1 X1) / dt, xi_hat = Log(X0^-1 X1) = (rho, phi), by each sample's perturbation.
+/// A perturbation (dp, dth) of X = (R, p) is the left one Exp(eta) X with eta = L(p) d,
+/// L(p) = [[I, [p]x], [0, I]]; X0^-1 X1 then turns into Exp(Ad(X0^-1) (eta1 - eta0)) X0^-1 X1 and
+/// Log(Exp(b) Exp(xi_hat)) = xi_hat + JL^-1 b, JL = [[Jl, Q], [0, Jl]] SE(3)'s left Jacobian at
+/// xi_hat (Barfoot's), JL^-1 = [[Jl^-1, -Jl^-1 Q Jl^-1], [0, Jl^-1]]. With
+/// Ad(X0^-1) L(p1) = [[R0^T, R0^T [p1 - p0]x], [0, R0^T]] and Ad(X0^-1) L(p0) = diag(R0^T, R0^T):
+///   J1 = JL^-1 [[R0^T, R0^T [p1 - p0]x], [0, R0^T]] / dt,   J0 = -JL^-1 diag(R0^T, R0^T) / dt.
+inline void ScrewSegmentTwistJacobians(const Matrix3d& R0, const Vector3d& p1_minus_p0,
+                                       const Vector3d& rho, const Vector3d& phi, double dt,
+                                       Matrix6& J0, Matrix6& J1) noexcept {
+  const Matrix3d Ji = LeftJacobianInverseSO3(phi);
+  const Matrix3d B = -Ji * BarfootQ(rho, phi) * Ji;  // top right of JL^-1
+  const Matrix3d Rt = R0.transpose();
+  const double k = 1.0 / dt;
+  J0.setZero();
+  J0.topLeftCorner<3, 3>() = -k * Ji * Rt;
+  J0.topRightCorner<3, 3>() = -k * B * Rt;
+  J0.bottomRightCorner<3, 3>() = -k * Ji * Rt;
+  J1.setZero();
+  J1.topLeftCorner<3, 3>() = k * Ji * Rt;
+  J1.topRightCorner<3, 3>() = k * (Ji * Rt * Hat(p1_minus_p0) + B * Rt);
+  J1.bottomRightCorner<3, 3>() = k * Ji * Rt;
 }
 
 // ============================================================ edges on a query's answer

@@ -192,8 +192,9 @@ class SampleHistory {
 
   /// The segment a derivative at t uses: [s_i, s_i+1] containing t, the one after t when t is a
   /// stamp, the last one at the newest stamp. False when t is outside the samples or there is
-  /// one sample.
-  [[nodiscard]] bool FindSegment(std::int64_t t, Bracket& out) const noexcept {
+  /// one sample. With `cov`: the covariances of the segment's two samples (c0, c1).
+  [[nodiscard]] bool FindSegment(std::int64_t t, Bracket& out,
+                                 CovarianceBracket* cov = nullptr) const noexcept {
     bool ok = false;
     ReadLocked([&](const Ring& r, std::uint32_t n) noexcept {
       out.first = r.Stamp(0);
@@ -208,6 +209,7 @@ class SampleHistory {
         out.exact = false;
         r.Load(lo - 1, out.v0);
         r.Load(lo, out.v1);
+        LoadSides(r, lo - 1, true, cov, nullptr);
       } else {
         out.where = t < out.first ? Bracket::Where::kBefore : Bracket::Where::kAfter;
       }

@@ -13,7 +13,13 @@
 //   TwistCovariance   e, [r] and the head h of each twist edge of Algorithm 3: each twist
 //                     edge's own covariance, and each pose edge below Z that moves e, [r] or
 //                     an h (the points that move twists and the rotations).
+//   PoseTwistCovariance  the same for a twist from poses (source `poses`): each inter-body
+//                     pose edge's derivative stands for a twist edge, with the covariance
+//                     from its two bracketing samples (timed_read.h DerivativeCovariance).
 // A reader is read(FrameIndex g, X_PG, S_PG) (pose edges) / read(TwistEdgeIndex, V, S).
+// Each edge's Jacobian goes to a sink (Add(PerturbedEdge, J, S), then Finish): DirectSink forms
+// sum J S J^T at once; the timed queries' KeyedSink (timed_covariance.h) sums the Jacobians of
+// one perturbation first (an edge shared by an extrapolation's integration twist and the query).
 // Costs: pose O(d log n) (d: edges on the five chains), twist O(k d (d + log n)) for k twist
 // edges; noexcept, allocation-free, lock-free.
 #pragma once
@@ -25,6 +31,7 @@
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/time_plan.h"
 
 namespace semgraph::core::internal {
 
@@ -83,13 +90,35 @@ inline std::int64_t MeetDepth(const topology::PoseForest& forest, FrameIndex k,
   return counted;
 }
 
+/// What a Jacobian is taken by: the pose edge into frame `index`, twist edge `index`, or the
+/// derivative of the pose edge into frame `index` (twist source `poses`).
+struct PerturbedEdge {
+  enum class Kind : std::uint8_t { kPose, kTwist, kDerivative } kind = Kind::kPose;
+  std::uint32_t index = 0;
+};
+
+/// Where the routines below put each edge's Jacobian J (rows: the answer, in the routine's
+/// working axes) with the covariance S of the value read: Add(ref, J, S), then Finish(S_out).
+/// This one makes every edge read one independent perturbation: S_out = sum J S J^T, formed at
+/// once. (SharedPerturbations, timed_covariance.h, sums the Jacobians of one perturbation first.)
+struct DirectSink {
+  coord::Covariance6 S = coord::Covariance6::Zero();
+  void Add(PerturbedEdge, const coord::jacobians::Matrix6& J,
+           const coord::Covariance6& S_i) noexcept {
+    coord::jacobians::AddPropagated(J, S_i, S);
+  }
+  void Finish(coord::Covariance6& S_out) const noexcept { S_out = S; }
+};
+
 /// The covariance of the pose answer (e,[a]) wrt (f,[b]) in [r] (frames k = {e, a, f, b, r},
 /// all of one pose tree), rows (dp, dth) in [r]. `attached` (optional): the answer's frames are
 /// rigidly attached to k[i] at these poses (in [k[i]]), taken as exact: they move with k[i] (a
 /// time travel's side at the reference time, whose point side is frozen at the fixed frame).
-template <coord::Backend B, class Read>
+/// `sink`: where each edge's Jacobian goes (DirectSink: summed at once).
+template <coord::Backend B, class Read, class Sink = DirectSink>
 void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], Read&& read,
-                    coord::Covariance6& S_out, const Rigid* attached = nullptr) noexcept {
+                    coord::Covariance6& S_out, const Rigid* attached = nullptr,
+                    Sink&& sink = Sink{}) noexcept {
   const topology::PoseForest& forest = t.forest();
   FrameIndex z = k[0];
   for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
@@ -108,97 +137,151 @@ void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], 
     std::int64_t lca[5];  // depth of k[j]'s common ancestor with each frame
     for (int i = 0; i < 5; ++i) lca[i] = forest.depth(forest.CommonAncestor(k[j], k[i]));
     ForEachNewEdge<B>(t, k[j], z, MeetDepth(forest, k[j], k, j), X_Z[j], read,
-                      [&](FrameIndex, const Rigid& X_PG, const coord::Covariance6& S,
+                      [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S,
                           const Rigid& X_ZG, std::int64_t d) {
                         if (S.isZero(0.0)) return;  // an exact edge adds nothing
                         const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
                         const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1],
                                                             d <= lca[3], d <= lca[4]};
-                        coord::jacobians::AddPropagated(coord::jacobians::EdgeOnPoseInZ(q, edge, m),
-                                                        S, S_out);
+                        sink.Add(PerturbedEdge{PerturbedEdge::Kind::kPose, g.value()},
+                                 coord::jacobians::EdgeOnPoseInZ(q, edge, m), S);
                       });
   }
+  sink.Finish(S_out);
   S_out = coord::jacobians::RotateRows(q.R_RZ, S_out);  // rows in Z -> [r], once
 }
 
-/// A twist step's contribution seen from Z, and its edge's covariance.
-template <coord::Backend B, class ReadPose, class ReadTwist>
+/// A twist step's contribution seen from Z, and its edge's covariance: head h and
+/// read_step(step, V, S) give the step's twist TwistCoord(h|H, D, [h]) and covariance.
+template <coord::Backend B, class ReadPose, class ReadStep>
 coord::jacobians::TwistStepInZ StepInZ(const topology::SceneTopology& t,
-                                       const TwistStep<ForestChain>& step, FrameIndex z,
-                                       ReadPose& read_pose, ReadTwist& read_twist,
+                                       const TwistStep<ForestChain>& step, FrameIndex h,
+                                       FrameIndex z, ReadPose& read_pose, ReadStep& read_step,
                                        Eigen::Matrix3d& R_ZH, coord::Covariance6& S) noexcept {
-  const FrameIndex h = t.twist_edge(step.edge).head;
   const Rigid X_ZH = PoseInAncestor<B>(t, h, z, read_pose);
   TwistNumbers V;
-  read_twist(step.edge, V, S);
+  read_step(step, V, S);
   const double s = step.invert ? -1.0 : 1.0;
   R_ZH = X_ZH.R;
   return {s * (X_ZH.R * V.v_DHo_H), s * (X_ZH.R * V.w_DH_H), X_ZH.p, false};
 }
 
-/// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw).
-template <coord::Backend B, class ReadPose, class ReadTwist>
-void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, ReadPose&& read_pose,
-                     ReadTwist&& read_twist, coord::Covariance6& S_out) noexcept {
+/// The covariance of a twist answer at e in [r], rows (dv, dw), over the steps
+/// for_each_step(f) (f(step) per step), head_of(step) the frame h of a step's twist and
+/// read_step(step, V, S) its twist and covariance: a twist edge's, or a pose edge's derivative
+/// (twist source `poses`). Each step's twist is an independent perturbation; each pose edge on
+/// the chains of e, [r] and the heads counts once, its Jacobian summed over the steps.
+/// ref_of(step): the PerturbedEdge of a step's twist; `sink` as PoseCovariance's.
+template <coord::Backend B, class ForEachStep, class HeadOf, class RefOf, class ReadPose,
+          class ReadStep, class Sink>
+void TwistCovarianceOver(const topology::SceneTopology& t, FrameIndex e, FrameIndex r,
+                         ForEachStep&& for_each_step, HeadOf&& head_of, RefOf&& ref_of,
+                         ReadPose&& read_pose, ReadStep&& read_step, Sink& sink,
+                         coord::Covariance6& S_out) noexcept {
   namespace jac = coord::jacobians;
   S_out.setZero();
-  if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
   const topology::PoseForest& forest = t.forest();
-  const FrameIndex e = plan.point, r = plan.frame;
   FrameIndex z = forest.CommonAncestor(e, r);
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-    z = forest.CommonAncestor(z, t.twist_edge(step.edge).head);
-  });
+  for_each_step(
+      [&](const TwistStep<ForestChain>& step) { z = forest.CommonAncestor(z, head_of(step)); });
   const Rigid X_Ze = PoseInAncestor<B>(t, e, z, read_pose);
   const Rigid X_Zr = PoseInAncestor<B>(t, r, z, read_pose);
   const Eigen::Matrix3d R_RZ = X_Zr.R.transpose();
-  // The answer in Z, and each twist edge's own covariance.
+  // The answer in Z, and each step's own covariance.
   Eigen::Vector3d v_Z = Eigen::Vector3d::Zero(), w_Z = Eigen::Vector3d::Zero();
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
+  for_each_step([&](const TwistStep<ForestChain>& step) {
     Eigen::Matrix3d R_ZH;
     coord::Covariance6 S;
-    const jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S);
+    const jac::TwistStepInZ st =
+        StepInZ<B>(t, step, head_of(step), z, read_pose, read_step, R_ZH, S);
     v_Z += st.a_Z + st.w_Z.cross(X_Ze.p - st.p_ZoHo_Z);
     w_Z += st.w_Z;
     if (S.isZero(0.0)) return;
-    jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, R_ZH, st.p_ZoHo_Z, X_Ze.p, step.invert ? -1 : 1),
-                       S, S_out);
+    sink.Add(ref_of(step),
+             jac::TwistEdgeOnTwist(R_RZ, R_ZH, st.p_ZoHo_Z, X_Ze.p, step.invert ? -1 : 1), S);
   });
   // Each pose edge on the chains of e, r and the heads, once: its Jacobian sums over the steps.
   const auto pose_edges_of = [&](FrameIndex k, std::int64_t counted, const Rigid& X_Zk) {
-    ForEachNewEdge<B>(
-        t, k, z, counted, X_Zk, read_pose,
-        [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S, const Rigid& X_ZG,
-            std::int64_t) {
-          if (S.isZero(0.0)) return;
-          const jac::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
-          jac::PoseEdgeOnTwistSum sum;
-          ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-            Eigen::Matrix3d R_ZH;
-            coord::Covariance6 S_step;
-            jac::TwistStepInZ st = StepInZ<B>(t, step, z, read_pose, read_twist, R_ZH, S_step);
-            st.moves = forest.IsAncestor(g, t.twist_edge(step.edge).head);
-            sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
-          });
-          jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S, S_out);
-        });
+    ForEachNewEdge<B>(t, k, z, counted, X_Zk, read_pose,
+                      [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S,
+                          const Rigid& X_ZG, std::int64_t) {
+                        if (S.isZero(0.0)) return;
+                        const jac::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
+                        jac::PoseEdgeOnTwistSum sum;
+                        for_each_step([&](const TwistStep<ForestChain>& step) {
+                          Eigen::Matrix3d R_ZH;
+                          coord::Covariance6 S_step;
+                          const FrameIndex h = head_of(step);
+                          jac::TwistStepInZ st =
+                              StepInZ<B>(t, step, h, z, read_pose, read_step, R_ZH, S_step);
+                          st.moves = forest.IsAncestor(g, h);
+                          sum.Add(st, X_Ze.p, edge, forest.IsAncestor(g, e));
+                        });
+                        sink.Add(PerturbedEdge{PerturbedEdge::Kind::kPose, g.value()},
+                                 sum.Finish(R_RZ, v_Z, w_Z, edge, forest.IsAncestor(g, r)), S);
+                      });
   };
   const FrameIndex er[2] = {e, r};
   pose_edges_of(e, -1, X_Ze);
   pose_edges_of(r, MeetDepth(forest, r, er, 1), X_Zr);
   int index = 0;
-  ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& step) {
-    const FrameIndex h = t.twist_edge(step.edge).head;
+  for_each_step([&](const TwistStep<ForestChain>& step) {
+    const FrameIndex h = head_of(step);
     std::int64_t counted = MeetDepth(forest, h, er, 2);
     int other = 0;  // the heads of the steps before this one
-    ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& earlier) {
+    for_each_step([&](const TwistStep<ForestChain>& earlier) {
       if (other++ >= index) return;
-      const FrameIndex h2 = t.twist_edge(earlier.edge).head;
-      counted = std::max<std::int64_t>(counted, forest.depth(forest.CommonAncestor(h, h2)));
+      counted =
+          std::max<std::int64_t>(counted, forest.depth(forest.CommonAncestor(h, head_of(earlier))));
     });
     ++index;
     pose_edges_of(h, counted, PoseInAncestor<B>(t, h, z, read_pose));
   });
+  sink.Finish(S_out);
+}
+
+/// The covariance of the twist answer of `plan` (at e in [r]), rows (dv, dw), from its twist
+/// edges: read_twist(TwistEdgeIndex, V, S).
+template <coord::Backend B, class ReadPose, class ReadTwist, class Sink = DirectSink>
+void TwistCovariance(const topology::SceneTopology& t, const TwistPlan& plan, ReadPose&& read_pose,
+                     ReadTwist&& read_twist, coord::Covariance6& S_out,
+                     Sink&& sink = Sink{}) noexcept {
+  S_out.setZero();
+  if (plan.tg == nullptr) return;  // C == D: the zero twist, exact
+  TwistCovarianceOver<B>(
+      t, plan.point, plan.frame, [&](auto&& f) { ForEachTwistStep(t, plan, f); },
+      [&](const TwistStep<ForestChain>& s) { return t.twist_edge(s.edge).head; },
+      [](const TwistStep<ForestChain>& s) {
+        return PerturbedEdge{PerturbedEdge::Kind::kTwist, s.edge.value()};
+      },
+      read_pose,
+      [&](const TwistStep<ForestChain>& s, TwistNumbers& V, coord::Covariance6& S) {
+        read_twist(s.edge, V, S);
+      },
+      sink, S_out);
+}
+
+/// The covariance of the twist answer of a twist from poses (twist source `poses`,
+/// time_plan.h): each inter-body pose edge's derivative with its covariance,
+/// read_derivative(FrameIndex g, V, S) (DerivePoseAt with kCovariance), as a twist edge's.
+template <coord::Backend B, class ReadPose, class ReadDerivative>
+void PoseTwistCovariance(const topology::SceneTopology& t, const PoseTwistPlan& plan,
+                         ReadPose&& read_pose, ReadDerivative&& read_derivative,
+                         coord::Covariance6& S_out) noexcept {
+  S_out.setZero();
+  if (!plan.c.is_valid()) return;  // C == D: the zero twist, exact
+  DirectSink sink;
+  TwistCovarianceOver<B>(
+      t, plan.point, plan.frame, [&](auto&& f) { ForEachPoseDerivativeStep(t, plan, f); },
+      [](const TwistStep<ForestChain>& s) { return s.pose_edge; },
+      [](const TwistStep<ForestChain>& s) {
+        return PerturbedEdge{PerturbedEdge::Kind::kDerivative, s.pose_edge.value()};
+      },
+      read_pose,
+      [&](const TwistStep<ForestChain>& s, TwistNumbers& V, coord::Covariance6& S) {
+        read_derivative(s.pose_edge, V, S);
+      },
+      sink, S_out);
 }
 
 /// The covariance of a pose given in another form, in the edge form (ToEdgeForm's steps, with

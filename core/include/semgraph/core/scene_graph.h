@@ -413,7 +413,10 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   /// edge's covariance at the time it is read (a sample's, or the interpolation (1 - l) S_i +
   /// l S_i+1 of two, a held twist's, an extrapolated pose edge's propagated with its
   /// integration twist's); a time travel's two sides independent. Errors as the timed queries.
-  /// Twists from twist edges (TwistSource::kTwists). noexcept, allocation-free.
+  /// Twists from twist edges (TwistSource::kTwists, the default) or from the pose history
+  /// (kPoses: each differentiated pose edge's twist with the covariance from its two
+  /// bracketing samples, independent; docs/uncertainty.md, "Twists from poses").
+  /// noexcept, allocation-free.
   [[nodiscard]] QueryResult<Timed<WithCovariance<Pose, 6>>> GetPoseWithCovariance(
       const PoseSpec& spec, const TimePolicy& policy,
       CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
@@ -430,11 +433,14 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
       const PoseSpec& spec, const TimeTravel& travel) const noexcept;
   [[nodiscard]] QueryResult<Timed<WithCovariance<coord::Twist, 6>>> GetTwistWithCovariance(
       const TwistSpec& spec, const TimePolicy& policy,
-      CovarianceOrder order = CovarianceOrder::kLinearAngular) const noexcept;
+      CovarianceOrder order = CovarianceOrder::kLinearAngular,
+      TwistSource source = TwistSource::kTwists) const noexcept;
   [[nodiscard]] QueryResult<Timed<WithCovariance<coord::LinearVelocity, 3>>>
-  GetLinearVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy) const noexcept;
+  GetLinearVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy,
+                                  TwistSource source = TwistSource::kTwists) const noexcept;
   [[nodiscard]] QueryResult<Timed<WithCovariance<coord::AngularVelocity, 3>>>
-  GetAngularVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy) const noexcept;
+  GetAngularVelocityWithCovariance(const TwistSpec& spec, const TimePolicy& policy,
+                                   TwistSource source = TwistSource::kTwists) const noexcept;
   /// Real-time updates with a covariance (edge form: the handle's edge), noexcept and
   /// allocation-free: the codes of SetPose / SetTwist, then kInvalidNumber / kInvalidCovariance
   /// for the covariance (kInvalidCovariance too for a twist given a convention). A null matrix:
@@ -811,8 +817,9 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
                                            TimeReport& report) const noexcept;
   // Covariances at a time (time_uncertainty.cc): the pose answer's of frames k at a policy, and
   // a time travel's (both sides).
+  // `extrapolated`: the answer was (an edge shared with an integration twist: perturbed once).
   std::optional<QueryError> TimedPoseCovariance(const FrameIndex (&k)[5], const TimePolicy& policy,
-                                                Covariance6& S) const noexcept;
+                                                Covariance6& S, bool extrapolated) const noexcept;
   std::optional<QueryError> TimeTravelCovariance(const FrameIndex (&k)[5], FrameIndex x,
                                                  const TimeTravel& travel,
                                                  Covariance6& S) const noexcept;

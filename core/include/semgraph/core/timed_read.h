@@ -11,7 +11,8 @@
 //                        screw twist at the nearest sample (ExtrapolationTwist, evaluate.h),
 //                        else an extrapolation failure naming the edge and its range
 //   pose derivative      (twist source `poses`) the edge's screw twist on the segment at t;
-//                        the query's other edges read with no horizon (WithoutExtrapolation)
+//                        the query's other edges read with no horizon (WithoutExtrapolation);
+//                        with covariance, from its two samples' (DerivativeCovariance)
 //   with acceleration    ReadTwistAt<B, false, true>: the same read of a twist edge, plus its
 //                        acceleration record (docs/dynamics.md, "Stamped accelerations"): a
 //                        sample's, the component-wise linear interpolation of two (present only
@@ -37,6 +38,7 @@
 #include <optional>
 
 #include "semgraph/base/error_code.h"
+#include "semgraph/coord/jacobians.h"
 #include "semgraph/coord/se3.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/time.h"
@@ -450,17 +452,47 @@ void ReadTwistAt(const EdgeValues<B>& v, std::uint32_t slot, TimeContext& tc, Tw
   if (tc.recorder && !tc.nested) tc.recorder->Record(rec);
 }
 
+/// The covariance of a pose edge's derivative on the segment X0 -> X1 (docs/uncertainty.md,
+/// "Twists from poses"): J0 S0 J0^T + J1 S1 J1^T, the two samples independent, J0 and J1 from
+/// coord/jacobians.h for the history's interpolation; zero when the edge has no covariances.
+inline void DerivativeCovariance(coord::Interpolation mode, const coord::kernels::QuatPose& X0,
+                                 const coord::kernels::QuatPose& X1, double dt, double lambda,
+                                 const PoseHistory::CovarianceBracket& cb,
+                                 coord::Covariance6& S) noexcept {
+  namespace jac = coord::jacobians;
+  S.setZero();
+  if (!cb.any) return;
+  const Eigen::Matrix3d R0 = X0.q.toRotationMatrix();
+  jac::Matrix6 J0, J1;
+  if (mode == coord::Interpolation::kScrew) {
+    Eigen::Vector3d rho, phi;
+    coord::kernels::Log(coord::kernels::Between(X0, X1), rho, phi);
+    jac::ScrewSegmentTwistJacobians(R0, X1.p - X0.p, rho, phi, dt, J0, J1);
+  } else {
+    const Eigen::Vector3d phi = coord::kernels::LogSO3(X0.q.conjugate() * X1.q);
+    const Eigen::Matrix3d R_l = coord::kernels::Slerp(X0.q, X1.q, lambda).toRotationMatrix();
+    jac::LinearSegmentTwistJacobians(R0, R_l, phi, X1.p - X0.p, dt, lambda, J0, J1);
+  }
+  coord::Covariance6 S0, S1;
+  CovarianceFromWords(cb.c0, S0);
+  CovarianceFromWords(cb.c1, S1);
+  jac::AddPropagated(J0, S0, S);
+  jac::AddPropagated(J1, S1, S);
+}
+
 /// The screw twist TwistCoord(h|H, T, [h]) of the pose edge into `frame` from its history at
 /// the policy's time (latest: the newest sample, the segment before it); zero for a timeless
-/// edge. Never extrapolates.
-template <coord::Backend B>
-void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
-                  TwistNumbers& V) noexcept {
+/// edge. Never extrapolates. With kCovariance, also the derivative's covariance into *S
+/// (DerivativeCovariance; zero for a timeless edge, whose derivative is exactly zero).
+template <coord::Backend B, bool kCovariance = false>
+void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc, TwistNumbers& V,
+                  coord::Covariance6* S = nullptr) noexcept {
   const PoseHistory* h = v.history.pose_of(frame);
   EdgeRead rec;
   rec.kind = EdgeRead::Kind::kPoseDerivative;
   rec.index = frame;
   V = TwistNumbers{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  if constexpr (kCovariance) S->setZero();
   if (h == nullptr) {
     if (tc.recorder) tc.recorder->Record(rec);
     return;
@@ -468,16 +500,21 @@ void DerivePoseAt(const EdgeValues<B>& v, std::uint32_t frame, TimeContext& tc,
   rec.stamped = true;
   const std::int64_t t = tc.at ? tc.t : h->NewestStamp();
   PoseHistory::Bracket b;
-  const bool ok = h->FindSegment(t, b);
+  PoseHistory::CovarianceBracket cb;
+  const bool ok = h->FindSegment(t, b, kCovariance ? &cb : nullptr);
   rec.first = b.first;
   rec.last = b.last;
   tc.Used(false, frame, b.first, b.last);
   if (!ok) {
     tc.Fail(false, frame, b.first, b.last, b.first == b.last);
   } else {
-    coord::kernels::SegmentTwist(v.history.options.interpolation, PoseFromWords(b.v0),
-                                 PoseFromWords(b.v1), SecondsBetween(b.s0, b.s1),
-                                 Fraction(b.s0, t, b.s1), V.v_DHo_H, V.w_DH_H);
+    const coord::kernels::QuatPose X0 = PoseFromWords(b.v0), X1 = PoseFromWords(b.v1);
+    const double dt = SecondsBetween(b.s0, b.s1), lambda = Fraction(b.s0, t, b.s1);
+    coord::kernels::SegmentTwist(v.history.options.interpolation, X0, X1, dt, lambda, V.v_DHo_H,
+                                 V.w_DH_H);
+    if constexpr (kCovariance) {
+      DerivativeCovariance(v.history.options.interpolation, X0, X1, dt, lambda, cb, *S);
+    }
     tc.Read(b.s0);
     tc.Read(b.s1);
     rec.has_read = true;
