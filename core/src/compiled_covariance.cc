@@ -74,30 +74,23 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
 
 template <coord::Backend B>
 bool CompiledPoseWithCovariance<B>::LoadAt(internal::TimeContext& tc) noexcept {
-  const std::size_t n = edges_.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < edges_.size(); ++i) {
     const Edge& e = edges_[i];
-    const PoseValue<B>& value = values_->X_PF[e.frame];
-    InZ& out = scratch_[i];
-    PoseCoords X_PG;
-    if (value.epoch() != e.epoch) return false;  // two epoch checks: evaluate.h FlatSource
-    internal::ReadPoseAt<B, true>(*values_, e.frame, tc, X_PG, &out.S);
-    if (value.epoch() != e.epoch) return false;
     const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
-    internal::ComposePoseEdgeInZ<B>(X_PG, up, out);
+    if (!internal::LoadPoseEdgeInZAt<B>(*values_, e.frame, e.epoch, tc, up, scratch_[i])) {
+      return false;
+    }
   }
   return true;
 }
 
-// The horizon is forced to zero so that no edge is extrapolated (a time outside the samples is
-// kExtrapolation): see the header.
+// No edge is extrapolated (a time outside the samples is kExtrapolation): see the header.
 template <coord::Backend B>
 ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
                                                   const TimePolicy& policy, TimeReport& report,
                                                   CovarianceOrder order) noexcept {
-  internal::PolicyParts parts = internal::PartsOf(policy);
-  if (!parts.valid()) return ErrorCode::kInvalidNumber;
-  parts.horizon = 0;
+  internal::PolicyParts parts;
+  if (!internal::NonExtrapolatingParts(policy, parts)) return ErrorCode::kInvalidNumber;
   internal::TimeContext base;
   base.histories = &values_->history;
   const ErrorCode code = internal::RunPolicy(

@@ -92,6 +92,32 @@ bool LoadPoseEdgeInZ(const EdgeValues<B>& values, std::uint32_t frame, std::uint
   return true;
 }
 
+/// LoadPoseEdgeInZ at the context's time: the value and covariance ReadPoseAt<B, true> gives
+/// (timed_read.h; the one-shot timed query's reader), between two checks of the epoch (as
+/// evaluate.h FlatSource). The caller includes timed_covariance.h (ReadPoseAt's extrapolation).
+template <coord::Backend B>
+bool LoadPoseEdgeInZAt(const EdgeValues<B>& values, std::uint32_t frame, std::uint32_t epoch,
+                       TimeContext& tc, const PoseEdgeInZ* up, PoseEdgeInZ& out) noexcept {
+  const PoseValue<B>& value = values.X_PF[frame];
+  typename B::PoseCoords X_PG;
+  if (value.epoch() != epoch) return false;
+  ReadPoseAt<B, true>(values, frame, tc, X_PG, &out.S);
+  if (value.epoch() != epoch) return false;
+  ComposePoseEdgeInZ<B>(X_PG, up, out);
+  return true;
+}
+
+/// The policy's parts for a compiled query with covariance at a time: the horizon forced to
+/// zero (no edge is extrapolated; see CompiledPoseWithCovariance's timed Evaluate). False when
+/// the policy is invalid (a negative horizon).
+[[nodiscard]] inline bool NonExtrapolatingParts(const TimePolicy& policy,
+                                                PolicyParts& parts) noexcept {
+  parts = PartsOf(policy);
+  if (!parts.valid()) return false;
+  parts.horizon = 0;
+  return true;
+}
+
 }  // namespace internal
 
 template <coord::Backend B>
