@@ -2,7 +2,8 @@
 // query with covariance gives the one-shot timed query's answer, covariance and report
 // (GetTwistWithCovariance(spec, policy), whose truth is Monte Carlo: time_uncertainty_test.cc)
 // under Latest, At a sample's stamp, At between samples and LatestCommon, on random scenes of
-// stamped and timeless pose and twist edges, on both backends; one twist edge's interpolated
+// stamped and timeless pose and twist edges, on both backends (also the linear and angular
+// velocities); one twist edge's interpolated
 // covariance by hand; the errors (kStale, kExtrapolation, also where the one-shot query holds a
 // twist, kInvalidNumber, kQueryInvalidated after a removal) leave the outputs unchanged; and an
 // evaluation allocates nothing.
@@ -97,6 +98,22 @@ bool ExpectSameAsOneShot(const Graph& g, const TwistSpec& spec, const TimePolicy
   EXPECT_EQ(report.oldest, one_shot->time.oldest);
   EXPECT_EQ(report.newest, one_shot->time.newest);
   EXPECT_EQ(report.extrapolated, one_shot->time.extrapolated);
+  // The linear and angular velocities.
+  auto linear = g.CompileLinearVelocityWithCovariance(spec);
+  auto angular = g.CompileAngularVelocityWithCovariance(spec);
+  const auto v1 = g.GetLinearVelocityWithCovariance(spec, policy);
+  const auto w1 = g.GetAngularVelocityWithCovariance(spec, policy);
+  EXPECT_TRUE(linear && angular && v1 && w1);
+  if (!linear || !angular || !v1 || !w1) return false;
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  EXPECT_EQ(linear->Evaluate(v, S3, policy, report), ErrorCode::kOk);
+  EXPECT_LE((v - v1->value.value.value).norm(), 1e-9);
+  EXPECT_LE((S3 - v1->value.covariance).norm(), 1e-9 * v1->value.covariance.norm() + 1e-20);
+  EXPECT_EQ(report.oldest, v1->time.oldest);
+  EXPECT_EQ(angular->Evaluate(w, S3, policy, report), ErrorCode::kOk);
+  EXPECT_LE((w - w1->value.value.value).norm(), 1e-9);
+  EXPECT_LE((S3 - w1->value.covariance).norm(), 1e-9 * w1->value.covariance.norm() + 1e-20);
+  EXPECT_EQ(report.oldest, w1->time.oldest);
   return true;
 }
 
@@ -214,6 +231,23 @@ TEST(CompiledTwistCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
   EXPECT_EQ(allocations, 0u);
   EXPECT_GT(sum, 0.0);
   static_assert(noexcept(compiled->Evaluate(v, w, S, Latest{}, report)));
+  auto linear = g.CompileLinearVelocityWithCovariance(spec);
+  auto angular = g.CompileAngularVelocityWithCovariance(spec);
+  ASSERT_TRUE(linear && angular);
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  {
+    semgraph::testing::CountAllocations counting;
+    for (int i = 0; i < 100; ++i) {
+      if (linear->Evaluate(v, S3, At{Ms(1200 + 10 * i)}, report) == ErrorCode::kOk) {
+        sum += S3.trace();
+      }
+      if (angular->Evaluate(w, S3, LatestCommon{}, report) == ErrorCode::kOk) sum += S3.trace();
+    }
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  static_assert(noexcept(linear->Evaluate(v, S3, Latest{}, report)));
+  static_assert(noexcept(angular->Evaluate(w, S3, Latest{}, report)));
 }
 
 }  // namespace

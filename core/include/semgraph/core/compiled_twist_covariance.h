@@ -135,6 +135,17 @@ class CompiledLinearVelocityWithCovariance {
     S = S6.template topLeftCorner<3, 3>();
     return code;
   }
+  /// At the policy's time (CompiledTwistWithCovariance's timed Evaluate: codes, report).
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Matrix3d& S,
+                                   const TimePolicy& policy, TimeReport& report) noexcept {
+    Eigen::Vector3d v, w;
+    Covariance6 S6;
+    const ErrorCode code = twist_.Evaluate(v, w, S6, policy, report);
+    if (code != ErrorCode::kOk) return code;
+    v_DCe_R = v;
+    S = S6.template topLeftCorner<3, 3>();
+    return code;
+  }
   /// In GetLinearVelocityWithCovariance's result type.
   [[nodiscard]] QueryResult<WithCovariance<coord::LinearVelocity, 3>> Evaluate() noexcept {
     WithCovariance<coord::LinearVelocity, 3> r{
@@ -159,6 +170,17 @@ class CompiledAngularVelocityWithCovariance {
     Eigen::Vector3d v, w;
     Covariance6 S6;
     const ErrorCode code = twist_.Evaluate(v, w, S6);
+    if (code != ErrorCode::kOk) return code;
+    w_DC_R = w;
+    S = S6.template bottomRightCorner<3, 3>();
+    return code;
+  }
+  /// At the policy's time (CompiledTwistWithCovariance's timed Evaluate: codes, report).
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& w_DC_R, Eigen::Matrix3d& S,
+                                   const TimePolicy& policy, TimeReport& report) noexcept {
+    Eigen::Vector3d v, w;
+    Covariance6 S6;
+    const ErrorCode code = twist_.Evaluate(v, w, S6, policy, report);
     if (code != ErrorCode::kOk) return code;
     w_DC_R = w;
     S = S6.template bottomRightCorner<3, 3>();
