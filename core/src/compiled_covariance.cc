@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "semgraph/core/timed_covariance.h"
+
 namespace semgraph::core {
 
 namespace jac = coord::jacobians;
@@ -66,7 +68,47 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
       return ErrorCode::kQueryInvalidated;
     }
   }
-  // The frames in Z, the answer, then each uncertain edge's J S J^T.
+  Finish(X, S, order);
+  return ErrorCode::kOk;
+}
+
+template <coord::Backend B>
+bool CompiledPoseWithCovariance<B>::LoadAt(internal::TimeContext& tc) noexcept {
+  for (std::size_t i = 0; i < edges_.size(); ++i) {
+    const Edge& e = edges_[i];
+    const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
+    if (!internal::LoadPoseEdgeInZAt<B>(*values_, e.frame, e.epoch, tc, up, scratch_[i])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// No edge is extrapolated (a time outside the samples is kExtrapolation): see the header.
+template <coord::Backend B>
+ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
+                                                  const TimePolicy& policy, TimeReport& report,
+                                                  CovarianceOrder order) noexcept {
+  internal::PolicyParts parts;
+  if (!internal::NonExtrapolatingParts(policy, parts)) return ErrorCode::kInvalidNumber;
+  internal::TimeContext base;
+  base.histories = &values_->history;
+  const ErrorCode code = internal::RunPolicy(
+      parts, base,
+      [&](internal::TimeContext& tc) {
+        return LoadAt(tc) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
+      },
+      report);
+  if (code != ErrorCode::kOk) return code;
+  Finish(X, S, order);
+  return ErrorCode::kOk;
+}
+
+// The frames in Z, the answer, then each uncertain edge's J S J^T.
+template <coord::Backend B>
+void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S,
+                                           CovarianceOrder order) const noexcept {
+  const std::size_t n = edges_.size();
   Eigen::Matrix3d R_Z[5];
   Eigen::Vector3d p_Z[5];
   for (int i = 0; i < 5; ++i) {
@@ -96,7 +138,6 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
   }
   S = jac::RotateRows(q.R_RZ, S_Z);
   if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);
-  return ErrorCode::kOk;
 }
 
 template class CompiledPoseWithCovariance<coord::QuaternionBackend>;

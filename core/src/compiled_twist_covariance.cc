@@ -3,6 +3,8 @@
 // Contract: compiled_twist_covariance.h.
 #include "semgraph/core/compiled_twist_covariance.h"
 
+#include "semgraph/core/timed_covariance.h"
+
 namespace semgraph::core {
 
 namespace jac = coord::jacobians;
@@ -20,6 +22,9 @@ CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::Scen
     steps_.push_back(
         {s.edge.value(), values.V_DH[s.edge.value()].epoch(), -1, s.invert ? -1.0 : 1.0});
   });
+  // No twist edge (C = D): the answer is exactly zero and reads no pose edge, as the one-shot
+  // query (so a timed evaluation reports nothing read, as it does).
+  if (steps_.empty()) return;
   FrameIndex z = forest.CommonAncestor(e, r);
   for (const FrameIndex h : heads) z = forest.CommonAncestor(z, h);
   std::vector<FrameIndex> chain_ends{e, r};
@@ -44,25 +49,32 @@ CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::Scen
 
 // Each pose edge's value and covariance, and its head's pose in Z (top-down).
 template <coord::Backend B>
-bool CompiledTwistWithCovariance<B>::LoadPoseEdges() noexcept {
+bool CompiledTwistWithCovariance<B>::LoadPoseEdges(internal::TimeContext* tc) noexcept {
   for (std::size_t i = 0; i < pose_edges_.size(); ++i) {
     const PoseEdge& e = pose_edges_[i];
     const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
-    if (!internal::LoadPoseEdgeInZ<B>(*values_, e.frame, e.epoch, up, scratch_[i])) return false;
+    const bool ok =
+        tc ? internal::LoadPoseEdgeInZAt<B>(*values_, e.frame, e.epoch, *tc, up, scratch_[i])
+           : internal::LoadPoseEdgeInZ<B>(*values_, e.frame, e.epoch, up, scratch_[i]);
+    if (!ok) return false;
   }
   return true;
 }
 
 // Each twist edge's value and covariance, signed and rotated into Z at its head.
 template <coord::Backend B>
-bool CompiledTwistWithCovariance<B>::LoadTwistEdges() noexcept {
+bool CompiledTwistWithCovariance<B>::LoadTwistEdges(internal::TimeContext* tc) noexcept {
   for (std::size_t j = 0; j < steps_.size(); ++j) {
     const TwistEdge& s = steps_[j];
     const TwistValue& value = values_->V_DH[s.slot];
     StepScratch& out = step_scratch_[j];
     TwistNumbers V;
     if (value.epoch() != s.epoch) return false;
-    values_->LoadTwist(s.slot, V, out.S);
+    if (tc) {
+      internal::ReadTwistAt<B, true>(*values_, s.slot, *tc, V, &out.S);
+    } else {
+      values_->LoadTwist(s.slot, V, out.S);
+    }
     if (value.epoch() != s.epoch) return false;
     Eigen::Vector3d p_ZH = Eigen::Vector3d::Zero();
     out.R_ZH.setIdentity();
@@ -80,7 +92,37 @@ template <coord::Backend B>
 ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                                    Eigen::Vector3d& w_DC_R, Covariance6& S,
                                                    CovarianceOrder order) noexcept {
-  if (!LoadPoseEdges() || !LoadTwistEdges()) return ErrorCode::kQueryInvalidated;
+  if (!LoadPoseEdges(nullptr) || !LoadTwistEdges(nullptr)) return ErrorCode::kQueryInvalidated;
+  Finish(v_DCe_R, w_DC_R, S, order);
+  return ErrorCode::kOk;
+}
+
+// No edge is extrapolated (a time outside the samples is kExtrapolation): see the header.
+template <coord::Backend B>
+ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
+                                                   Eigen::Vector3d& w_DC_R, Covariance6& S,
+                                                   const TimePolicy& policy, TimeReport& report,
+                                                   CovarianceOrder order) noexcept {
+  internal::PolicyParts parts;
+  if (!internal::NonExtrapolatingParts(policy, parts)) return ErrorCode::kInvalidNumber;
+  internal::TimeContext base;
+  base.histories = &values_->history;
+  const ErrorCode code = internal::RunPolicy(
+      parts, base,
+      [&](internal::TimeContext& tc) {
+        return LoadPoseEdges(&tc) && LoadTwistEdges(&tc) ? ErrorCode::kOk
+                                                         : ErrorCode::kQueryInvalidated;
+      },
+      report);
+  if (code != ErrorCode::kOk) return code;
+  Finish(v_DCe_R, w_DC_R, S, order);
+  return ErrorCode::kOk;
+}
+
+// The answer in Z, then each uncertain edge's J S J^T.
+template <coord::Backend B>
+void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R,
+                                            Covariance6& S, CovarianceOrder order) const noexcept {
   const auto pose_in_z = [&](std::int32_t entry, Eigen::Matrix3d& R, Eigen::Vector3d& p) {
     if (entry < 0) {
       R.setIdentity();
@@ -126,7 +168,6 @@ ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
   v_DCe_R = R_RZ * v_Z;
   w_DC_R = R_RZ * w_Z;
   S = order == CovarianceOrder::kLinearAngular ? S_R : coord::SwapHalves(S_R);
-  return ErrorCode::kOk;
 }
 
 template class CompiledTwistWithCovariance<coord::QuaternionBackend>;

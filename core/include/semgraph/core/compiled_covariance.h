@@ -10,12 +10,16 @@
 // composition per edge, as the plain query), computes the answer from the frames' poses in Z,
 // then adds each uncertain edge's J S J^T (coord/jacobians.h EdgeOnPose, the one formula of
 // one-shot queries too: core/propagate.h).
+// At a time (Evaluate with a TimePolicy): each edge read with its covariance by the one-shot
+// timed query's reader (timed_read.h ReadPoseAt, between two epoch checks as evaluate.h
+// FlatSource), then the same composition and propagation; no extrapolation (kExtrapolation).
 // Invariants: the edge list holds each edge's epoch at compile time; a removed edge turns an
 // evaluation into kQueryInvalidated (nothing written).
-// Costs: Evaluate O(edges): one composition per edge, plus one Jacobian and one block J S J^T
-// per edge with a nonzero covariance; noexcept, allocation-free, lock-free, string-free.
-// Thread safety: Evaluate uses the object's own scratch (one evaluating thread per object; a
-// copy is independent), concurrently with one writer (SetPose, Add*, Remove*).
+// Costs: Evaluate O(edges) (latest common: two passes over the edges): one composition per edge,
+// plus one Jacobian and one block J S J^T per edge with a nonzero covariance; noexcept,
+// allocation-free, lock-free, string-free. Thread safety: Evaluate uses the object's own scratch
+// (one evaluating thread per object; a copy is independent), concurrently with one writer (SetPose,
+// Add*, Remove*).
 #pragma once
 
 #include <cstdint>
@@ -55,17 +59,11 @@ struct PoseEdgeInZ {
   Covariance6 S;
   bool exact;
 };
-/// Reads the pose edge into `frame` (value and covariance of one write, between two checks of
-/// its epoch) and composes it with `up` (the edge above, nullptr: below Z). False when the edge
-/// was removed since `epoch`. noexcept, allocation-free.
+/// Sets out's pose in Z from the edge's value X_PG and `up` (the edge above, nullptr: below Z);
+/// out.exact from out.S. noexcept, allocation-free.
 template <coord::Backend B>
-bool LoadPoseEdgeInZ(const EdgeValues<B>& values, std::uint32_t frame, std::uint32_t epoch,
-                     const PoseEdgeInZ* up, PoseEdgeInZ& out) noexcept {
-  const PoseValue<B>& value = values.X_PF[frame];
-  typename B::PoseCoords X_PG;
-  if (value.epoch() != epoch) return false;
-  values.LoadPose(frame, X_PG, out.S);       // value and covariance of one write
-  if (value.epoch() != epoch) return false;  // removed meanwhile
+void ComposePoseEdgeInZ(const typename B::PoseCoords& X_PG, const PoseEdgeInZ* up,
+                        PoseEdgeInZ& out) noexcept {
   out.exact = out.S.isZero(0.0);
   const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
   const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
@@ -77,6 +75,46 @@ bool LoadPoseEdgeInZ(const EdgeValues<B>& values, std::uint32_t frame, std::uint
     out.p_ZG.noalias() = up->R_ZG * p_PG;
     out.p_ZG += up->p_ZG;
   }
+}
+
+/// Reads the pose edge into `frame` (value and covariance of one write, between two checks of
+/// its epoch) and composes it with `up` (the edge above, nullptr: below Z). False when the edge
+/// was removed since `epoch`. noexcept, allocation-free.
+template <coord::Backend B>
+bool LoadPoseEdgeInZ(const EdgeValues<B>& values, std::uint32_t frame, std::uint32_t epoch,
+                     const PoseEdgeInZ* up, PoseEdgeInZ& out) noexcept {
+  const PoseValue<B>& value = values.X_PF[frame];
+  typename B::PoseCoords X_PG;
+  if (value.epoch() != epoch) return false;
+  values.LoadPose(frame, X_PG, out.S);       // value and covariance of one write
+  if (value.epoch() != epoch) return false;  // removed meanwhile
+  ComposePoseEdgeInZ<B>(X_PG, up, out);
+  return true;
+}
+
+/// LoadPoseEdgeInZ at the context's time: the value and covariance ReadPoseAt<B, true> gives
+/// (timed_read.h; the one-shot timed query's reader), between two checks of the epoch (as
+/// evaluate.h FlatSource). The caller includes timed_covariance.h (ReadPoseAt's extrapolation).
+template <coord::Backend B>
+bool LoadPoseEdgeInZAt(const EdgeValues<B>& values, std::uint32_t frame, std::uint32_t epoch,
+                       TimeContext& tc, const PoseEdgeInZ* up, PoseEdgeInZ& out) noexcept {
+  const PoseValue<B>& value = values.X_PF[frame];
+  typename B::PoseCoords X_PG;
+  if (value.epoch() != epoch) return false;
+  ReadPoseAt<B, true>(values, frame, tc, X_PG, &out.S);
+  if (value.epoch() != epoch) return false;
+  ComposePoseEdgeInZ<B>(X_PG, up, out);
+  return true;
+}
+
+/// The policy's parts for a compiled query with covariance at a time: the horizon forced to
+/// zero (no edge is extrapolated; see CompiledPoseWithCovariance's timed Evaluate). False when
+/// the policy is invalid (a negative horizon).
+[[nodiscard]] inline bool NonExtrapolatingParts(const TimePolicy& policy,
+                                                PolicyParts& parts) noexcept {
+  parts = PartsOf(policy);
+  if (!parts.valid()) return false;
+  parts.horizon = 0;
   return true;
 }
 
@@ -105,6 +143,19 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
     WithCovariance<coord::Pose<B>, 6> r{{semantics_, B::Identity()}, Covariance6::Zero()};
     return internal::Answer(Evaluate(r.value.value, r.covariance, order), r);
   }
+  /// At the policy's time (docs/time.md): each edge's value and covariance read as the one-shot
+  /// GetPoseWithCovariance(spec, policy) reads them (timed_read.h ReadPoseAt: a sample's, or the
+  /// interpolation of two at the time; latest: the newest; latest common: at the minimum of the
+  /// newest stamps), the same composition and propagation as above, and the report of what was
+  /// read. Never extrapolates: an extrapolated edge's covariance needs the covariance of its
+  /// integration twist (a twist query planned on the topology), so a time outside an edge's
+  /// samples is kExtrapolation whatever the policy's max_extrapolation (the one-shot query
+  /// answers it). Codes: kOk, kQueryInvalidated, kInvalidNumber (a negative horizon),
+  /// kExtrapolation, kStale; X and S are written on kOk only, report as the plain compiled
+  /// queries fill it (reset first, complete on kOk).
+  [[nodiscard]] ErrorCode Evaluate(
+      PoseCoords& X, Covariance6& S, const TimePolicy& policy, TimeReport& report,
+      CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
 
  private:
   struct Edge {
@@ -114,6 +165,10 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
     coord::jacobians::PoseMoves moves;
   };
   using InZ = internal::PoseEdgeInZ;  // scratch of one evaluation, per edge
+  // The answer and its covariance from the edges in scratch_ (loaded by either Evaluate).
+  void Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order) const noexcept;
+  // Every edge at the context's time into scratch_; false when one was removed.
+  bool LoadAt(internal::TimeContext& tc) noexcept;
   semantics::PoseSemantics semantics_;
   const EdgeValues<B>* values_ = nullptr;
   std::vector<Edge> edges_;
@@ -147,6 +202,17 @@ class CompiledPositionWithCovariance {
     S = S6.template topLeftCorner<3, 3>();
     return code;
   }
+  /// At the policy's time (CompiledPoseWithCovariance's timed Evaluate: codes, report).
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& p_FoEo_R, Eigen::Matrix3d& S,
+                                   const TimePolicy& policy, TimeReport& report) noexcept {
+    typename B::PoseCoords X;
+    Covariance6 S6;
+    const ErrorCode code = pose_.Evaluate(X, S6, policy, report);
+    if (code != ErrorCode::kOk) return code;
+    p_FoEo_R = B::TranslationOf(X);
+    S = S6.template topLeftCorner<3, 3>();
+    return code;
+  }
   /// In GetPositionWithCovariance's result type.
   [[nodiscard]] QueryResult<WithCovariance<coord::Position, 3>> Evaluate() noexcept {
     WithCovariance<coord::Position, 3> r{{semantics_, Eigen::Vector3d::Zero()},
@@ -175,6 +241,17 @@ class CompiledOrientationWithCovariance {
     typename B::PoseCoords X;
     Covariance6 S6;
     const ErrorCode code = pose_.Evaluate(X, S6);
+    if (code != ErrorCode::kOk) return code;
+    R_BA_R = B::RotationOf(X);
+    S = S6.template bottomRightCorner<3, 3>();
+    return code;
+  }
+  /// At the policy's time (CompiledPoseWithCovariance's timed Evaluate: codes, report).
+  [[nodiscard]] ErrorCode Evaluate(typename B::Rotation& R_BA_R, Eigen::Matrix3d& S,
+                                   const TimePolicy& policy, TimeReport& report) noexcept {
+    typename B::PoseCoords X;
+    Covariance6 S6;
+    const ErrorCode code = pose_.Evaluate(X, S6, policy, report);
     if (code != ErrorCode::kOk) return code;
     R_BA_R = B::RotationOf(X);
     S = S6.template bottomRightCorner<3, 3>();

@@ -6,7 +6,7 @@
 // 3's path (each with its head h and sign), the point e and [r], their youngest common ancestor
 // Z, and the union of the pose chains of e, [r] and every h up to Z as one edge list in top-down
 // order (each edge after its parent's), each with the frames it moves: e, [r], and a bit per
-// twist edge (its head).
+// twist edge (its head). No twist edge (C = D): no pose edge either (the answer is zero).
 // Evaluate reads each edge once, value and covariance together (EdgeValues::LoadPose /
 // LoadTwist: consistent under a concurrent writer), composes every pose edge's pose in Z (one
 // composition per edge), sums the twist edges' contributions in Z (a_Z + w_Z x (e - h), w_Z),
@@ -14,7 +14,8 @@
 // coord/jacobians.h: TwistEdgeOnTwist, PoseEdgeOnTwistSum, the formulas one-shot queries use
 // through core/propagate.h).
 // Invariants: each edge's epoch at compile time is kept; a removed edge turns an evaluation into
-// kQueryInvalidated (nothing written). Current values only (no time policy).
+// kQueryInvalidated (nothing written). At a time (Evaluate with a TimePolicy): each edge read
+// with its covariance by the one-shot timed query's readers (timed_read.h), no extrapolation.
 // Costs: Evaluate O(n + k + u k) for n pose edges, k twist edges and u uncertain pose edges:
 // one composition per pose edge, one Jacobian per uncertain edge; noexcept, allocation-free,
 // lock-free, string-free.
@@ -57,6 +58,16 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
   [[nodiscard]] ErrorCode Evaluate(
       Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S,
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
+  /// At the policy's time: each pose and twist edge's value and covariance read as the one-shot
+  /// GetTwistWithCovariance(spec, policy) reads them (timed_read.h ReadPoseAt / ReadTwistAt with
+  /// their covariance), then the same sums and Jacobians as above, and the report of what was
+  /// read. Never extrapolates (as CompiledPoseWithCovariance's timed Evaluate): a time outside
+  /// an edge's samples, a twist edge's too (the one-shot query holds it), is kExtrapolation
+  /// whatever the policy's max_extrapolation. Codes: kOk, kQueryInvalidated, kInvalidNumber,
+  /// kExtrapolation, kStale; the answer and S are written on kOk only.
+  [[nodiscard]] ErrorCode Evaluate(
+      Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S, const TimePolicy& policy,
+      TimeReport& report, CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
   /// In GetTwistWithCovariance's result type.
   [[nodiscard]] QueryResult<WithCovariance<coord::Twist, 6>> Evaluate(
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept {
@@ -84,8 +95,13 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
     Eigen::Matrix3d R_ZH;
     Covariance6 S;
   };
-  bool LoadPoseEdges() noexcept;
-  bool LoadTwistEdges() noexcept;
+  // Every edge into the scratch, at the context's time when tc is given; false when one was
+  // removed.
+  bool LoadPoseEdges(internal::TimeContext* tc) noexcept;
+  bool LoadTwistEdges(internal::TimeContext* tc) noexcept;
+  // The answer and its covariance from the scratch.
+  void Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S,
+              CovarianceOrder order) const noexcept;
 
   semantics::TwistSemantics semantics_;
   const EdgeValues<B>* values_ = nullptr;
@@ -119,6 +135,17 @@ class CompiledLinearVelocityWithCovariance {
     S = S6.template topLeftCorner<3, 3>();
     return code;
   }
+  /// At the policy's time (CompiledTwistWithCovariance's timed Evaluate: codes, report).
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Matrix3d& S,
+                                   const TimePolicy& policy, TimeReport& report) noexcept {
+    Eigen::Vector3d v, w;
+    Covariance6 S6;
+    const ErrorCode code = twist_.Evaluate(v, w, S6, policy, report);
+    if (code != ErrorCode::kOk) return code;
+    v_DCe_R = v;
+    S = S6.template topLeftCorner<3, 3>();
+    return code;
+  }
   /// In GetLinearVelocityWithCovariance's result type.
   [[nodiscard]] QueryResult<WithCovariance<coord::LinearVelocity, 3>> Evaluate() noexcept {
     WithCovariance<coord::LinearVelocity, 3> r{
@@ -143,6 +170,17 @@ class CompiledAngularVelocityWithCovariance {
     Eigen::Vector3d v, w;
     Covariance6 S6;
     const ErrorCode code = twist_.Evaluate(v, w, S6);
+    if (code != ErrorCode::kOk) return code;
+    w_DC_R = w;
+    S = S6.template bottomRightCorner<3, 3>();
+    return code;
+  }
+  /// At the policy's time (CompiledTwistWithCovariance's timed Evaluate: codes, report).
+  [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& w_DC_R, Eigen::Matrix3d& S,
+                                   const TimePolicy& policy, TimeReport& report) noexcept {
+    Eigen::Vector3d v, w;
+    Covariance6 S6;
+    const ErrorCode code = twist_.Evaluate(v, w, S6, policy, report);
     if (code != ErrorCode::kOk) return code;
     w_DC_R = w;
     S = S6.template bottomRightCorner<3, 3>();

@@ -1,0 +1,308 @@
+// core/compiled_covariance.h at a time (Evaluate with a TimePolicy): the compiled pose,
+// position and orientation queries with covariance give the one-shot timed query's answer,
+// covariance and report (GetPoseWithCovariance(spec, policy), whose truth is Monte Carlo:
+// time_uncertainty_test.cc) under Latest, At a sample's stamp, At between samples and
+// LatestCommon, on random stamped scenes, on both backends; one covariance by hand (the linear
+// interpolation of two samples' covariances); the errors (kStale, kExtrapolation, also with a
+// horizon, kInvalidNumber, kQueryInvalidated after a removal) leave the outputs unchanged; and
+// an evaluation allocates nothing.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "semgraph/core/compiled_covariance.h"
+#include "semgraph/core/scene_graph.h"
+#include "support/alloc_counter.h"
+
+namespace semgraph::core {
+namespace {
+
+Stamp Ms(std::int64_t ms) { return Stamp::Nanoseconds(ms * 1000000); }
+
+Eigen::Matrix3d ExpR(const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
+}
+Covariance6 RandomCovariance(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Matrix<double, 6, 6> L;
+  for (int i = 0; i < 36; ++i) L(i / 6, i % 6) = n(rng);
+  return 1e-6 * L * L.transpose();
+}
+Eigen::Vector3d RandomVector(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  return Eigen::Vector3d(n(rng), n(rng), n(rng));
+}
+
+template <class Graph>
+Graph MakeGraph(Interpolation mode) {
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  o.interpolation = mode;
+  return *Graph::Create(o);
+}
+
+// Frames f0..f6 on bodies B0..B6, f_k under a random earlier frame; each edge stamped (samples
+// near 1, 2 and 3 s, the first at or before 1 s and the last at or after 3 s, so [1 s, 3 s] is
+// inside every edge's samples) or timeless; every value with a covariance. Also the stamps.
+template <class Graph>
+void BuildScene(Graph& g, std::mt19937& rng, std::vector<std::int64_t>& stamps) {
+  std::uniform_int_distribution<int> jitter(0, 300), coin(0, 3);
+  for (int k = 1; k < 7; ++k) {
+    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
+    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
+    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const PoseSpec spec = PoseSpec::Of(f, F).RelativeTo(t, T);
+    if (coin(rng) == 0) {
+      const Covariance6 S = RandomCovariance(rng);
+      const auto added =
+          g.AddPose(spec, ExpR(0.5 * RandomVector(rng)), RandomVector(rng), CovarianceInput{&S});
+      ASSERT_TRUE(added) << added.error().message;
+      continue;
+    }
+    for (const std::int64_t ms : {1000 - jitter(rng), 2000 + jitter(rng), 3000 + jitter(rng)}) {
+      const Covariance6 S = RandomCovariance(rng);
+      const auto added = g.AddPose(spec, ExpR(0.5 * RandomVector(rng)), RandomVector(rng), Ms(ms),
+                                   CovarianceInput{&S});
+      ASSERT_TRUE(added) << added.error().message;
+      stamps.push_back(ms);
+    }
+  }
+}
+
+void ExpectSameReport(const TimeReport& a, const TimeReport& b) {
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(a.oldest, b.oldest);
+  EXPECT_EQ(a.newest, b.newest);
+  EXPECT_EQ(a.extrapolated, b.extrapolated);
+}
+
+// Returns whether the query answered (false: both gave the same error).
+template <class Graph>
+bool ExpectSameAsOneShot(const Graph& g, const PoseSpec& spec, const TimePolicy& policy) {
+  using B = typename Graph::Backend;
+  auto pose = g.CompilePoseWithCovariance(spec);
+  auto position = g.CompilePositionWithCovariance(spec);
+  auto orientation = g.CompileOrientationWithCovariance(spec);
+  const auto code_of = [](const auto& r) { return r ? ErrorCode::kOk : r.error().code; };
+  EXPECT_TRUE(pose && position && orientation)
+      << base::ToString(code_of(pose)) << " " << base::ToString(code_of(position)) << " "
+      << base::ToString(code_of(orientation));
+  if (!pose || !position || !orientation) return false;
+  const auto one_shot = g.GetPoseWithCovariance(spec, policy);
+  typename B::PoseCoords X = B::Identity();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  const ErrorCode code = pose->Evaluate(X, S, policy, report);
+  if (!one_shot) {  // the same error (every edge is read inside its samples here, or fails)
+    EXPECT_EQ(code, one_shot.error().code);
+    return false;
+  }
+  EXPECT_EQ(code, ErrorCode::kOk);
+  if (code != ErrorCode::kOk) return false;
+  const Eigen::Isometry3d O = one_shot->value.value.ToIsometry();
+  EXPECT_LE((B::ToMatrix(B::RotationOf(X)) - O.linear()).norm(), 1e-9);
+  EXPECT_LE((B::TranslationOf(X) - O.translation()).norm(), 1e-9);
+  const Covariance6& S1 = one_shot->value.covariance;
+  EXPECT_LE((S - S1).norm(), 1e-9 * S1.norm() + 1e-20);
+  ExpectSameReport(report, one_shot->time);
+  // Reordered, and the position's and orientation's parts.
+  Covariance6 S_swapped;
+  EXPECT_EQ(pose->Evaluate(X, S_swapped, policy, report, CovarianceOrder::kAngularLinear),
+            ErrorCode::kOk);
+  EXPECT_TRUE((S_swapped == coord::SwapHalves(S)));
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  const auto p1 = g.GetPositionWithCovariance(spec, policy);
+  EXPECT_TRUE(p1);
+  if (!p1) return false;
+  EXPECT_EQ(position->Evaluate(p, S3, policy, report), ErrorCode::kOk);
+  EXPECT_LE((p - p1->value.value.value).norm(), 1e-9);
+  EXPECT_LE((S3 - p1->value.covariance).norm(), 1e-9 * p1->value.covariance.norm() + 1e-20);
+  ExpectSameReport(report, p1->time);
+  typename B::Rotation R = B::RotationOf(B::Identity());
+  const auto R1 = g.GetOrientationWithCovariance(spec, policy);
+  EXPECT_TRUE(R1);
+  if (!R1) return false;
+  EXPECT_EQ(orientation->Evaluate(R, S3, policy, report), ErrorCode::kOk);
+  EXPECT_LE((B::ToMatrix(R) - B::ToMatrix(R1->value.value.value)).norm(), 1e-9);
+  EXPECT_LE((S3 - R1->value.covariance).norm(), 1e-9 * R1->value.covariance.norm() + 1e-20);
+  ExpectSameReport(report, R1->time);
+  return true;
+}
+
+template <class Graph>
+void RandomScenes(Interpolation mode, unsigned seed) {
+  std::mt19937 rng(seed);
+  int answered = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    Graph g = MakeGraph<Graph>(mode);
+    std::vector<std::int64_t> stamps;
+    BuildScene(g, rng, stamps);
+    std::uniform_int_distribution<int> frame(0, 6), between(1001, 2999);
+    for (int i = 0; i < 10; ++i) {
+      const auto name = [&] { return "f" + std::to_string(frame(rng)); };
+      const std::string a = name(), b = name();
+      // The homogeneous backend's pose is expressed in its reference orientation.
+      const std::string r =
+          std::is_same_v<typename Graph::Backend, coord::HomogeneousBackend> ? b : name();
+      const std::string C = "B" + a.substr(1), D = "B" + b.substr(1);
+      const PoseSpec spec = PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r);
+      std::int64_t stamp = 2000;  // a sample's stamp inside [1 s, 3 s] when there is one
+      for (const std::int64_t s : stamps) {
+        if (s >= 1000 && s <= 3000) stamp = s;
+      }
+      const TimePolicy policies[] = {Latest{}, At{Ms(stamp)}, At{Ms(between(rng))}, LatestCommon{}};
+      for (const TimePolicy& policy : policies) answered += ExpectSameAsOneShot(g, spec, policy);
+    }
+  }
+  EXPECT_EQ(answered, 6 * 10 * 4);  // every edge is read inside its samples: no error
+}
+
+TEST(CompiledCovarianceTime, SameAsOneShotOnRandomStampedScenesScrew) {
+  RandomScenes<SceneGraph<coord::QuaternionBackend>>(Interpolation::kScrew, 3);
+  RandomScenes<SceneGraph<coord::HomogeneousBackend>>(Interpolation::kScrew, 4);
+}
+
+TEST(CompiledCovarianceTime, SameAsOneShotOnRandomStampedScenesLinear) {
+  RandomScenes<SceneGraph<coord::QuaternionBackend>>(Interpolation::kLinear, 5);
+  RandomScenes<SceneGraph<coord::HomogeneousBackend>>(Interpolation::kLinear, 6);
+}
+
+using Graph = SceneGraph<coord::QuaternionBackend>;
+using B = coord::QuaternionBackend;
+
+// One edge a -> w with samples at 1 s (S0, p0) and 3 s (S1, p1), identity rotations: at 1.5 s
+// the answer (a wrt w, in [w]: the edge's own form) is p0 + (p1 - p0) / 4 with covariance
+// 3/4 S0 + 1/4 S1 (docs/uncertainty.md, "Time"), by hand.
+struct OneEdge {
+  Graph g = MakeGraph<Graph>(Interpolation::kLinear);
+  Covariance6 S0, S1;
+  Eigen::Vector3d p0{1.0, 2.0, 3.0}, p1{5.0, -2.0, 7.0};
+  PoseSpec spec = PoseSpec::Of("a", "A").RelativeTo("w", "W");
+  OneEdge() {
+    std::mt19937 rng(9);
+    S0 = RandomCovariance(rng);
+    S1 = RandomCovariance(rng);
+    EXPECT_TRUE(g.AddPose(spec, Eigen::Matrix3d::Identity(), p0, Ms(1000), CovarianceInput{&S0}));
+    EXPECT_TRUE(g.AddPose(spec, Eigen::Matrix3d::Identity(), p1, Ms(3000), CovarianceInput{&S1}));
+  }
+};
+
+TEST(CompiledCovarianceTime, InterpolatedCovarianceOfOneEdgeByHand) {
+  OneEdge s;
+  auto compiled = s.g.CompilePoseWithCovariance(s.spec);
+  ASSERT_TRUE(compiled);
+  B::PoseCoords X = B::Identity();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  ASSERT_EQ(compiled->Evaluate(X, S, At{Ms(1500)}, report), ErrorCode::kOk);
+  EXPECT_LE((B::TranslationOf(X) - Eigen::Vector3d(2.0, 1.0, 4.0)).norm(), 1e-12);
+  EXPECT_LE((B::ToMatrix(B::RotationOf(X)) - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_LE((S - (0.75 * s.S0 + 0.25 * s.S1)).norm(), 1e-15 * s.S0.norm());
+  EXPECT_EQ(report.time, Ms(1500));
+  EXPECT_EQ(report.oldest, Ms(1000));
+  EXPECT_EQ(report.newest, Ms(3000));
+  EXPECT_FALSE(report.extrapolated);
+  // At a stamp: that sample's covariance; latest: the newest's.
+  ASSERT_EQ(compiled->Evaluate(X, S, At{Ms(1000)}, report), ErrorCode::kOk);
+  EXPECT_LE((S - s.S0).norm(), 1e-15 * s.S0.norm());  // stored symmetric
+  ASSERT_EQ(compiled->Evaluate(X, S, Latest{}, report), ErrorCode::kOk);
+  EXPECT_LE((S - s.S1).norm(), 1e-15 * s.S1.norm());
+  EXPECT_LE((B::TranslationOf(X) - s.p1).norm(), 1e-12);
+}
+
+// Each error leaves X and S as they were.
+void ExpectUnchangedOn(CompiledPoseWithCovariance<B>& q, const TimePolicy& policy,
+                       ErrorCode expected) {
+  B::PoseCoords X = B::MakePose(B::FromMatrix(ExpR(Eigen::Vector3d(0.1, 0.2, 0.3))),
+                                Eigen::Vector3d(9.0, 8.0, 7.0));
+  const B::PoseCoords X_before = X;
+  Covariance6 S = Covariance6::Constant(42.0);
+  TimeReport report;
+  EXPECT_EQ(q.Evaluate(X, S, policy, report), expected);
+  EXPECT_TRUE((B::ToMatrix(B::RotationOf(X)) == B::ToMatrix(B::RotationOf(X_before))));
+  EXPECT_TRUE((B::TranslationOf(X) == B::TranslationOf(X_before)));
+  EXPECT_TRUE((S == Covariance6::Constant(42.0)));
+}
+
+TEST(CompiledCovarianceTime, ErrorsLeaveTheOutputsUnchanged) {
+  OneEdge s;
+  auto compiled = s.g.CompilePoseWithCovariance(s.spec);
+  ASSERT_TRUE(compiled);
+  ExpectUnchangedOn(*compiled, Latest{Ms(5000)}, ErrorCode::kStale);
+  EXPECT_EQ(s.g.GetPoseWithCovariance(s.spec, Latest{Ms(5000)}).error().code, ErrorCode::kStale);
+  ExpectUnchangedOn(*compiled, At{Ms(100)}, ErrorCode::kExtrapolation);
+  EXPECT_EQ(s.g.GetPoseWithCovariance(s.spec, At{Ms(100)}).error().code, ErrorCode::kExtrapolation);
+  ExpectUnchangedOn(*compiled, At{Ms(3500)}, ErrorCode::kExtrapolation);
+  ExpectUnchangedOn(*compiled, At{Ms(1500), Duration::Seconds(-1)}, ErrorCode::kInvalidNumber);
+  // Never extrapolates: beyond the samples even within the horizon (documented).
+  ExpectUnchangedOn(*compiled, At{Ms(3500), Duration::Seconds(1)}, ErrorCode::kExtrapolation);
+  ExpectUnchangedOn(*compiled, LatestCommon{Duration::Seconds(1), Ms(5000)}, ErrorCode::kStale);
+  // A removed edge.
+  ASSERT_TRUE(s.g.RemovePose("a", "w"));
+  ExpectUnchangedOn(*compiled, At{Ms(1500)}, ErrorCode::kQueryInvalidated);
+  ExpectUnchangedOn(*compiled, Latest{}, ErrorCode::kQueryInvalidated);
+  ExpectUnchangedOn(*compiled, LatestCommon{}, ErrorCode::kQueryInvalidated);
+}
+
+TEST(CompiledCovarianceTime, PositionAndOrientationErrorsLeaveTheOutputsUnchanged) {
+  OneEdge s;
+  auto position = s.g.CompilePositionWithCovariance(s.spec);
+  auto orientation = s.g.CompileOrientationWithCovariance(s.spec);
+  ASSERT_TRUE(position && orientation);
+  Eigen::Vector3d p(1.0, 2.0, 3.0);
+  B::Rotation R = B::RotationOf(
+      B::MakePose(B::FromMatrix(ExpR(Eigen::Vector3d(0.1, 0.2, 0.3))), Eigen::Vector3d::Zero()));
+  const B::Rotation R_before = R;
+  Eigen::Matrix3d S = Eigen::Matrix3d::Constant(42.0);
+  TimeReport report;
+  EXPECT_EQ(position->Evaluate(p, S, At{Ms(100)}, report), ErrorCode::kExtrapolation);
+  EXPECT_EQ(orientation->Evaluate(R, S, Latest{Ms(5000)}, report), ErrorCode::kStale);
+  EXPECT_TRUE((p == Eigen::Vector3d(1.0, 2.0, 3.0)));
+  EXPECT_TRUE((B::ToMatrix(R) == B::ToMatrix(R_before)));
+  EXPECT_TRUE((S == Eigen::Matrix3d::Constant(42.0)));
+}
+
+TEST(CompiledCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
+  std::mt19937 rng(21);
+  Graph g = MakeGraph<Graph>(Interpolation::kScrew);
+  std::vector<std::int64_t> stamps;
+  BuildScene(g, rng, stamps);
+  const PoseSpec spec = PoseSpec::Of("f6", "B6").RelativeTo("f5", "B5").ExpressedIn("f4");
+  auto pose = g.CompilePoseWithCovariance(spec);
+  auto position = g.CompilePositionWithCovariance(spec);
+  auto orientation = g.CompileOrientationWithCovariance(spec);
+  ASSERT_TRUE(pose && position && orientation);
+  B::PoseCoords X = B::Identity();
+  Covariance6 S = Covariance6::Zero();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  B::Rotation R = B::RotationOf(B::Identity());
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  TimeReport report;
+  double sum = 0.0;
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    for (int i = 0; i < 100; ++i) {
+      const TimePolicy policies[] = {At{Ms(1200 + 10 * i)}, Latest{}, LatestCommon{}, At{Ms(100)}};
+      for (const TimePolicy& policy : policies) {
+        if (pose->Evaluate(X, S, policy, report) == ErrorCode::kOk) sum += S.trace();
+        if (position->Evaluate(p, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+        if (orientation->Evaluate(R, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+      }
+    }
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(sum, 0.0);
+  static_assert(noexcept(pose->Evaluate(X, S, Latest{}, report)));
+  static_assert(noexcept(position->Evaluate(p, S3, Latest{}, report)));
+  static_assert(noexcept(orientation->Evaluate(R, S3, Latest{}, report)));
+}
+
+}  // namespace
+}  // namespace semgraph::core

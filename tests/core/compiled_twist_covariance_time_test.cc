@@ -1,0 +1,254 @@
+// core/compiled_twist_covariance.h at a time (Evaluate with a TimePolicy): the compiled twist
+// query with covariance gives the one-shot timed query's answer, covariance and report
+// (GetTwistWithCovariance(spec, policy), whose truth is Monte Carlo: time_uncertainty_test.cc)
+// under Latest, At a sample's stamp, At between samples and LatestCommon, on random scenes of
+// stamped and timeless pose and twist edges, on both backends (also the linear and angular
+// velocities); one twist edge's interpolated
+// covariance by hand; the errors (kStale, kExtrapolation, also where the one-shot query holds a
+// twist, kInvalidNumber, kQueryInvalidated after a removal) leave the outputs unchanged; and an
+// evaluation allocates nothing.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "semgraph/core/compiled_twist_covariance.h"
+#include "semgraph/core/scene_graph.h"
+#include "support/alloc_counter.h"
+
+namespace semgraph::core {
+namespace {
+
+Stamp Ms(std::int64_t ms) { return Stamp::Nanoseconds(ms * 1000000); }
+
+Eigen::Matrix3d ExpR(const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
+}
+Covariance6 RandomCovariance(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Matrix<double, 6, 6> L;
+  for (int i = 0; i < 36; ++i) L(i / 6, i % 6) = n(rng);
+  return 1e-6 * L * L.transpose();
+}
+Eigen::Vector3d RandomVector(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  return Eigen::Vector3d(n(rng), n(rng), n(rng));
+}
+
+template <class Graph>
+Graph MakeGraph() {
+  TimeOptions o;
+  o.window = Duration::Seconds(100);
+  return *Graph::Create(o);
+}
+
+// Frames f0..f5 on bodies B0..B5, f_k under a random earlier frame, and the twist edge of B_k
+// relative to that frame's body at f_k in [f_k]; each edge stamped (samples near 1, 2 and 3 s,
+// [1 s, 3 s] inside them all) or timeless; every value with a covariance.
+template <class Graph>
+void BuildScene(Graph& g, std::mt19937& rng) {
+  std::uniform_int_distribution<int> jitter(0, 300), coin(0, 2);
+  for (int k = 1; k < 6; ++k) {
+    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
+    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
+    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const PoseSpec pose = PoseSpec::Of(f, F).RelativeTo(t, T);
+    const TwistSpec twist = TwistSpec::Of(f, F).RelativeTo(T).ExpressedIn(f);
+    for (int kind = 0; kind < 2; ++kind) {
+      const bool stamped = coin(rng) != 0;
+      for (const std::int64_t ms : {1000 - jitter(rng), 2000 + jitter(rng), 3000 + jitter(rng)}) {
+        const Covariance6 S = RandomCovariance(rng);
+        const CovarianceInput c{&S};
+        const Eigen::Vector3d x = RandomVector(rng), y = RandomVector(rng);
+        const BuildResult r =
+            kind == 0 ? (stamped ? g.AddPose(pose, ExpR(0.5 * x), y, Ms(ms), c)
+                                 : g.AddPose(pose, ExpR(0.5 * x), y, c))
+                      : (stamped ? g.AddTwist(twist, x, y, Ms(ms), c) : g.AddTwist(twist, x, y, c));
+        ASSERT_TRUE(r) << r.error().message;
+        if (!stamped) break;
+      }
+    }
+  }
+}
+
+// Returns whether the query answered (false: both gave the same error).
+template <class Graph>
+bool ExpectSameAsOneShot(const Graph& g, const TwistSpec& spec, const TimePolicy& policy) {
+  auto compiled = g.CompileTwistWithCovariance(spec);
+  EXPECT_TRUE(compiled);
+  if (!compiled) return false;
+  const auto one_shot = g.GetTwistWithCovariance(spec, policy);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  const ErrorCode code = compiled->Evaluate(v, w, S, policy, report);
+  if (!one_shot) {
+    EXPECT_EQ(code, one_shot.error().code);
+    return false;
+  }
+  EXPECT_EQ(code, ErrorCode::kOk);
+  if (code != ErrorCode::kOk) return false;
+  EXPECT_LE((v - one_shot->value.value.linear).norm(), 1e-9);
+  EXPECT_LE((w - one_shot->value.value.angular).norm(), 1e-9);
+  const Covariance6& S1 = one_shot->value.covariance;
+  EXPECT_LE((S - S1).norm(), 1e-9 * S1.norm() + 1e-20);
+  EXPECT_EQ(report.time, one_shot->time.time);
+  EXPECT_EQ(report.oldest, one_shot->time.oldest);
+  EXPECT_EQ(report.newest, one_shot->time.newest);
+  EXPECT_EQ(report.extrapolated, one_shot->time.extrapolated);
+  // The linear and angular velocities.
+  auto linear = g.CompileLinearVelocityWithCovariance(spec);
+  auto angular = g.CompileAngularVelocityWithCovariance(spec);
+  const auto v1 = g.GetLinearVelocityWithCovariance(spec, policy);
+  const auto w1 = g.GetAngularVelocityWithCovariance(spec, policy);
+  EXPECT_TRUE(linear && angular && v1 && w1);
+  if (!linear || !angular || !v1 || !w1) return false;
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  EXPECT_EQ(linear->Evaluate(v, S3, policy, report), ErrorCode::kOk);
+  EXPECT_LE((v - v1->value.value.value).norm(), 1e-9);
+  EXPECT_LE((S3 - v1->value.covariance).norm(), 1e-9 * v1->value.covariance.norm() + 1e-20);
+  EXPECT_EQ(report.oldest, v1->time.oldest);
+  EXPECT_EQ(angular->Evaluate(w, S3, policy, report), ErrorCode::kOk);
+  EXPECT_LE((w - w1->value.value.value).norm(), 1e-9);
+  EXPECT_LE((S3 - w1->value.covariance).norm(), 1e-9 * w1->value.covariance.norm() + 1e-20);
+  EXPECT_EQ(report.oldest, w1->time.oldest);
+  return true;
+}
+
+template <class Graph>
+void RandomScenes(unsigned seed) {
+  std::mt19937 rng(seed);
+  int answered = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    Graph g = MakeGraph<Graph>();
+    BuildScene(g, rng);
+    std::uniform_int_distribution<int> frame(0, 5), between(1001, 2999), sample(0, 300);
+    for (int i = 0; i < 10; ++i) {
+      const std::string e = "f" + std::to_string(frame(rng)), r = "f" + std::to_string(frame(rng));
+      const std::string C = "B" + e.substr(1), D = "B" + std::to_string(frame(rng));
+      const TwistSpec spec = TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
+      // At a stamp: near 2 s there is one when some edge is stamped; else between samples.
+      const TimePolicy policies[] = {Latest{}, At{Ms(2000 + sample(rng))}, At{Ms(between(rng))},
+                                     LatestCommon{}};
+      for (const TimePolicy& policy : policies) answered += ExpectSameAsOneShot(g, spec, policy);
+    }
+  }
+  EXPECT_EQ(answered, 6 * 10 * 4);  // every edge is read inside its samples: no error
+}
+
+TEST(CompiledTwistCovarianceTime, SameAsOneShotOnRandomStampedScenes) {
+  RandomScenes<SceneGraph<coord::QuaternionBackend>>(7);
+  RandomScenes<SceneGraph<coord::HomogeneousBackend>>(8);
+}
+
+using Graph = SceneGraph<coord::QuaternionBackend>;
+
+// One twist edge A wrt W at a in [a], samples at 1 s (S0) and 3 s (S1): at 2.5 s the answer is
+// the linear interpolation of the two twists, with covariance 1/4 S0 + 3/4 S1, by hand.
+struct OneTwist {
+  Graph g = MakeGraph<Graph>();
+  Covariance6 S0, S1;
+  Eigen::Vector3d v0{1.0, 2.0, 3.0}, w0{0.1, 0.2, 0.3}, v1{5.0, -2.0, 7.0}, w1{-0.3, 0.0, 0.5};
+  TwistSpec spec = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
+  OneTwist() {
+    std::mt19937 rng(9);
+    S0 = RandomCovariance(rng);
+    S1 = RandomCovariance(rng);
+    EXPECT_TRUE(g.AddPose(PoseSpec::Of("a", "A").RelativeTo("w", "W"), Eigen::Matrix3d::Identity(),
+                          Eigen::Vector3d::Zero()));
+    EXPECT_TRUE(g.AddTwist(spec, v0, w0, Ms(1000), CovarianceInput{&S0}));
+    EXPECT_TRUE(g.AddTwist(spec, v1, w1, Ms(3000), CovarianceInput{&S1}));
+  }
+};
+
+TEST(CompiledTwistCovarianceTime, InterpolatedCovarianceOfOneTwistEdgeByHand) {
+  OneTwist s;
+  auto compiled = s.g.CompileTwistWithCovariance(s.spec);
+  ASSERT_TRUE(compiled);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  ASSERT_EQ(compiled->Evaluate(v, w, S, At{Ms(2500)}, report), ErrorCode::kOk);
+  EXPECT_LE((v - (0.25 * s.v0 + 0.75 * s.v1)).norm(), 1e-12);
+  EXPECT_LE((w - (0.25 * s.w0 + 0.75 * s.w1)).norm(), 1e-12);
+  EXPECT_LE((S - (0.25 * s.S0 + 0.75 * s.S1)).norm(), 1e-15 * s.S0.norm());
+  EXPECT_EQ(report.time, Ms(2500));
+  EXPECT_EQ(report.oldest, Ms(1000));
+  EXPECT_EQ(report.newest, Ms(3000));
+}
+
+void ExpectUnchangedOn(CompiledTwistWithCovariance<coord::QuaternionBackend>& q,
+                       const TimePolicy& policy, ErrorCode expected) {
+  Eigen::Vector3d v(1.0, 2.0, 3.0), w(4.0, 5.0, 6.0);
+  Covariance6 S = Covariance6::Constant(42.0);
+  TimeReport report;
+  EXPECT_EQ(q.Evaluate(v, w, S, policy, report), expected);
+  EXPECT_TRUE((v == Eigen::Vector3d(1.0, 2.0, 3.0)));
+  EXPECT_TRUE((w == Eigen::Vector3d(4.0, 5.0, 6.0)));
+  EXPECT_TRUE((S == Covariance6::Constant(42.0)));
+}
+
+TEST(CompiledTwistCovarianceTime, ErrorsLeaveTheOutputsUnchanged) {
+  OneTwist s;
+  auto compiled = s.g.CompileTwistWithCovariance(s.spec);
+  ASSERT_TRUE(compiled);
+  ExpectUnchangedOn(*compiled, Latest{Ms(5000)}, ErrorCode::kStale);
+  ExpectUnchangedOn(*compiled, At{Ms(100)}, ErrorCode::kExtrapolation);
+  ExpectUnchangedOn(*compiled, At{Ms(1500), Duration::Seconds(-1)}, ErrorCode::kInvalidNumber);
+  // The one-shot query holds the newest twist within the horizon; the compiled one never
+  // extrapolates (documented).
+  EXPECT_TRUE(s.g.GetTwistWithCovariance(s.spec, At{Ms(3500), Duration::Seconds(1)}));
+  ExpectUnchangedOn(*compiled, At{Ms(3500), Duration::Seconds(1)}, ErrorCode::kExtrapolation);
+  ASSERT_TRUE(s.g.RemoveTwist("a", "W"));
+  ExpectUnchangedOn(*compiled, At{Ms(1500)}, ErrorCode::kQueryInvalidated);
+  ExpectUnchangedOn(*compiled, LatestCommon{}, ErrorCode::kQueryInvalidated);
+}
+
+TEST(CompiledTwistCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
+  std::mt19937 rng(21);
+  Graph g = MakeGraph<Graph>();
+  BuildScene(g, rng);
+  const TwistSpec spec = TwistSpec::Of("f5", "B5").RelativeTo("B0").ExpressedIn("f3");
+  auto compiled = g.CompileTwistWithCovariance(spec);
+  ASSERT_TRUE(compiled);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  double sum = 0.0;
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    for (int i = 0; i < 100; ++i) {
+      const TimePolicy policies[] = {At{Ms(1200 + 10 * i)}, Latest{}, LatestCommon{}, At{Ms(100)}};
+      for (const TimePolicy& policy : policies) {
+        if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
+      }
+    }
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(sum, 0.0);
+  static_assert(noexcept(compiled->Evaluate(v, w, S, Latest{}, report)));
+  auto linear = g.CompileLinearVelocityWithCovariance(spec);
+  auto angular = g.CompileAngularVelocityWithCovariance(spec);
+  ASSERT_TRUE(linear && angular);
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  {
+    semgraph::testing::CountAllocations counting;
+    for (int i = 0; i < 100; ++i) {
+      if (linear->Evaluate(v, S3, At{Ms(1200 + 10 * i)}, report) == ErrorCode::kOk) {
+        sum += S3.trace();
+      }
+      if (angular->Evaluate(w, S3, LatestCommon{}, report) == ErrorCode::kOk) sum += S3.trace();
+    }
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  static_assert(noexcept(linear->Evaluate(v, S3, Latest{}, report)));
+  static_assert(noexcept(angular->Evaluate(w, S3, Latest{}, report)));
+}
+
+}  // namespace
+}  // namespace semgraph::core
