@@ -526,18 +526,22 @@ class SceneGraph:
                               ref_body: Name = None, expressed_in: Name = None,
                               covariance_order: Optional[str] = None, at: At = None,
                               max_extrapolation: Optional[Time] = None,
-                              not_before: Optional[Time] = None) -> Tuple[Twist, np.ndarray]:
+                              not_before: Optional[Time] = None,
+                              source: Optional[str] = None) -> Tuple[Twist, np.ndarray]:
         """twist() and its (6, 6) covariance (dv, dw); at= / max_extrapolation= / not_before=
-        as twist() (twist edges only: no source=; no time travel)."""
+        / source= as twist() (source="poses": from the bracketing samples' covariances; no
+        time travel)."""
     def linear_velocity_with_covariance(
             self, *, point: Name = None, body: Name = None, ref_body: Name = None,
             expressed_in: Name = None, at: At = None, max_extrapolation: Optional[Time] = None,
-            not_before: Optional[Time] = None) -> Tuple[LinearVelocity, np.ndarray]:
+            not_before: Optional[Time] = None,
+            source: Optional[str] = None) -> Tuple[LinearVelocity, np.ndarray]:
         """linear_velocity() and its (3, 3) covariance; time keywords as twist_with_covariance."""
     def angular_velocity_with_covariance(
             self, *, body: Name = None, ref_body: Name = None, expressed_in: Name = None,
             at: At = None, max_extrapolation: Optional[Time] = None,
-            not_before: Optional[Time] = None) -> Tuple[AngularVelocity, np.ndarray]:
+            not_before: Optional[Time] = None,
+            source: Optional[str] = None) -> Tuple[AngularVelocity, np.ndarray]:
         """angular_velocity() and its (3, 3) covariance; time keywords as
         twist_with_covariance."""
 

@@ -210,9 +210,9 @@ void SetJoints(GraphBox& box, py::handle positions, py::handle velocities, py::h
   if (has_qdot) qdot_array = StateArg(velocities, n, "set_joints", "velocities");
   if (has_qddot) qddot_array = StateArg(accelerations, n, "set_joints", "accelerations");
   if (stamp) {
-    const py::array_t<double, py::array::c_style>* arrays[3] = {
-        has_q ? &q_array : nullptr, has_qdot ? &qdot_array : nullptr,
-        has_qddot ? &qddot_array : nullptr};
+    const py::array_t<double, py::array::c_style>* arrays[3] = {has_q ? &q_array : nullptr,
+                                                                has_qdot ? &qdot_array : nullptr,
+                                                                has_qddot ? &qddot_array : nullptr};
     SetStampedJointArrays(box, *group, arrays, *stamp);
     return;
   }

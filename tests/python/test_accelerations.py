@@ -396,13 +396,13 @@ def test_stamped_accelerations_interpolate_convert_at_their_stamp_and_are_never_
 
 
 def test_stamped_joint_states_from_python_carry_their_accelerations():
-    """A revolute joint about z, stamped from Python (arrays, then a dict): at the stamp 1 s the
+    """A continuous joint about z, stamped from Python (arrays, then a dict): at the stamp 1 s the
     tool point 0.5 m out on the link has, in [w], alpha x r + w x (w x r) with w = qdot z,
     alpha = qddot z, r = Rz(q) (0.5, 0, 0) (by hand); halfway between the samples the angular
     acceleration is the mean of the two qddot; an unstamped state of the stamped joint is
     stamp_mismatch and changes nothing."""
     g = semgraph.SceneGraph()
-    g.add_joint("j", type="revolute", parent="w", child="link", parent_body="W",
+    g.add_joint("j", type="continuous", parent="w", child="link", parent_body="W",
                 child_body="L", axis=[0, 0, 1])
     g.add_pose(of="tool", body="L", wrt="link", ref_body="L", position=[0.5, 0, 0])
     g.set_joints([0.0], [1.0], [2.0], stamp=0.0)
@@ -414,7 +414,7 @@ def test_stamped_joint_states_from_python_carry_their_accelerations():
     expected = np.cross(alpha, r) + np.cross(w, np.cross(w, r))
     a = g.linear_acceleration(point="tool", body="L", ref_body="W", expressed_in="w", at=1.0)
     np.testing.assert_allclose(a, expected, atol=1e-12)
-    half = g.angular_acceleration(point="link", ref_body="W", expressed_in="link", at=0.5)
+    half = g.angular_acceleration(body="L", ref_body="W", expressed_in="link", at=0.5)
     np.testing.assert_allclose(half, [0, 0, 3.0], atol=1e-12)
     before = g.dump()
     with pytest.raises(semgraph.RejectedError) as e:
