@@ -26,6 +26,7 @@
 #include <cmath>
 
 #include "semgraph/coord/covariance.h"
+#include "semgraph/coord/se3.h"
 
 namespace semgraph::coord::jacobians {
 
@@ -172,15 +173,7 @@ inline void ExtrapolateJacobians(const Matrix3d& R, const Vector3d& v, const Vec
 /// The inverse of the left Jacobian of SO(3): I - [phi]x / 2 + c [phi]x^2,
 /// c = (1 - (th/2) cot(th/2)) / th^2 (series below th = 0.1), |phi| = th < 2 pi.
 [[nodiscard]] inline Matrix3d LeftJacobianInverseSO3(const Vector3d& phi) noexcept {
-  const double th = phi.norm();
-  double c;
-  if (th < 0.1) {
-    const double t2 = th * th;
-    c = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
-  } else {
-    const double half = 0.5 * th;
-    c = (1.0 - half * std::cos(half) / std::sin(half)) / (th * th);
-  }
+  const double c = kernels::LeftJacobianInverseC(phi.norm());
   const Matrix3d W = Hat(phi);
   return Matrix3d::Identity() - 0.5 * W + c * W * W;
 }

@@ -81,19 +81,21 @@ inline QuatPose Exp(const Eigen::Vector3d& v, const Eigen::Vector3d& w) noexcept
   return {ExpSO3(w), v + a * wv + b * w.cross(wv)};
 }
 
+/// c of the inverse of SO(3)'s left Jacobian (SE(3)'s V^-1), I - [w]/2 + c [w]^2:
+/// c = (1 - (th/2) cot(th/2)) / th^2, by its series below th = 0.1.
+inline double LeftJacobianInverseC(double th) noexcept {
+  if (th < 0.1) {
+    const double t2 = th * th;
+    return 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
+  }
+  const double half = 0.5 * th;
+  return (1.0 - half * std::cos(half) / std::sin(half)) / (th * th);
+}
+
 /// Log of SE(3): the twist (v, w) with Exp(v, w) = (q, p), |w| in [0, pi].
 inline void Log(const QuatPose& X, Eigen::Vector3d& v, Eigen::Vector3d& w) noexcept {
   w = LogSO3(X.q);
-  const double th = w.norm();
-  // V^-1 = I - [w]/2 + c [w]^2, c = (1 - (th/2) cot(th/2)) / th^2.
-  double c;
-  if (th < 0.1) {
-    const double t2 = th * th;
-    c = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
-  } else {
-    const double half = 0.5 * th;
-    c = (1.0 - half * std::cos(half) / std::sin(half)) / (th * th);
-  }
+  const double c = LeftJacobianInverseC(w.norm());  // V^-1 = I - [w]/2 + c [w]^2
   const Eigen::Vector3d wp = w.cross(X.p);
   v = X.p - 0.5 * wp + c * w.cross(wp);
 }
