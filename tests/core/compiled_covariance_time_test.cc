@@ -16,26 +16,15 @@
 #include "semgraph/core/compiled_covariance.h"
 #include "semgraph/core/scene_graph.h"
 #include "support/alloc_counter.h"
+#include "support/random_covariance.h"
 
 namespace semgraph::core {
 namespace {
 
-Stamp Ms(std::int64_t ms) { return Stamp::Nanoseconds(ms * 1000000); }
-
-Eigen::Matrix3d ExpR(const Eigen::Vector3d& w) {
-  const double th = w.norm();
-  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
-}
-Covariance6 RandomCovariance(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Matrix<double, 6, 6> L;
-  for (int i = 0; i < 36; ++i) L(i / 6, i % 6) = n(rng);
-  return 1e-6 * L * L.transpose();
-}
-Eigen::Vector3d RandomVector(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Vector3d(n(rng), n(rng), n(rng));
-}
+using semgraph::testing::ExpR;
+using semgraph::testing::Ms;
+using semgraph::testing::RandomCovariance;
+using semgraph::testing::RandomVector;
 
 template <class Graph>
 Graph MakeGraph(Interpolation mode) {
