@@ -89,16 +89,8 @@ template <coord::Backend B>
 ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
                                                   const TimePolicy& policy, TimeReport& report,
                                                   CovarianceOrder order) noexcept {
-  internal::PolicyParts parts;
-  if (!internal::NonExtrapolatingParts(policy, parts)) return ErrorCode::kInvalidNumber;
-  internal::TimeContext base;
-  base.histories = &values_->history;
-  const ErrorCode code = internal::RunPolicy(
-      parts, base,
-      [&](internal::TimeContext& tc) {
-        return LoadAt(tc) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated;
-      },
-      report);
+  const ErrorCode code = internal::RunWithoutExtrapolation(
+      policy, values_->history, [&](internal::TimeContext& tc) { return LoadAt(tc); }, report);
   if (code != ErrorCode::kOk) return code;
   Finish(X, S, order);
   return ErrorCode::kOk;

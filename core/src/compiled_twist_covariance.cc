@@ -103,17 +103,9 @@ ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                                    Eigen::Vector3d& w_DC_R, Covariance6& S,
                                                    const TimePolicy& policy, TimeReport& report,
                                                    CovarianceOrder order) noexcept {
-  internal::PolicyParts parts;
-  if (!internal::NonExtrapolatingParts(policy, parts)) return ErrorCode::kInvalidNumber;
-  internal::TimeContext base;
-  base.histories = &values_->history;
-  const ErrorCode code = internal::RunPolicy(
-      parts, base,
-      [&](internal::TimeContext& tc) {
-        return LoadPoseEdges(&tc) && LoadTwistEdges(&tc) ? ErrorCode::kOk
-                                                         : ErrorCode::kQueryInvalidated;
-      },
-      report);
+  const ErrorCode code = internal::RunWithoutExtrapolation(
+      policy, values_->history,
+      [&](internal::TimeContext& tc) { return LoadPoseEdges(&tc) && LoadTwistEdges(&tc); }, report);
   if (code != ErrorCode::kOk) return code;
   Finish(v_DCe_R, w_DC_R, S, order);
   return ErrorCode::kOk;

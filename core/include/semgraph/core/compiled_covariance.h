@@ -107,15 +107,23 @@ bool LoadPoseEdgeInZAt(const EdgeValues<B>& values, std::uint32_t frame, std::ui
   return true;
 }
 
-/// The policy's parts for a compiled query with covariance at a time: the horizon forced to
-/// zero (no edge is extrapolated; see CompiledPoseWithCovariance's timed Evaluate). False when
-/// the policy is invalid (a negative horizon).
-[[nodiscard]] inline bool NonExtrapolatingParts(const TimePolicy& policy,
-                                                PolicyParts& parts) noexcept {
-  parts = PartsOf(policy);
-  if (!parts.valid()) return false;
-  parts.horizon = 0;
-  return true;
+/// Runs `load(TimeContext&)` (true: every edge read, false: one was removed) at the policy's
+/// time for a compiled query with covariance: no edge is extrapolated (the horizon is ignored,
+/// as for twists from poses: WithoutExtrapolation; see CompiledPoseWithCovariance's timed
+/// Evaluate). kOk, kInvalidNumber (a negative horizon), kExtrapolation, kStale or
+/// kQueryInvalidated; fills the report.
+template <class Load>
+[[nodiscard]] ErrorCode RunWithoutExtrapolation(const TimePolicy& policy,
+                                                const EdgeHistories& histories, Load&& load,
+                                                TimeReport& report) noexcept {
+  const PolicyParts parts = PartsOf(WithoutExtrapolation(policy));
+  if (!parts.valid()) return ErrorCode::kInvalidNumber;
+  TimeContext base;
+  base.histories = &histories;
+  return RunPolicy(
+      parts, base,
+      [&](TimeContext& tc) { return load(tc) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated; },
+      report);
 }
 
 }  // namespace internal
