@@ -17,6 +17,12 @@ tool="$1"
 node="$2"
 script="$3"
 out="$(mktemp -d)"
+# Says which step failed and prints that step's output (set -e alone would fail silently).
+fail() {
+  echo "cli_test: $1; $2:" >&2
+  cat "$2" >&2
+  exit 1
+}
 "$tool" serve --ros "$script" --domain 149 --subscribers 1 --seconds 15 > "$out/serve" &
 serve_pid=$!
 trap 'kill -9 $serve_pid 2>/dev/null || true; rm -rf "$out"' EXIT
@@ -57,8 +63,8 @@ set +e
 wait $check_pid
 code=$?
 set -e
-grep -q '^ok 4$' "$out/node"
-test "$code" = 1
+grep -q '^ok 4$' "$out/node" || fail "the node did not finish the two-parent stream" "$out/node"
+test "$code" = 1 || fail "check --ros on the two-parent stream exited $code, not 1" "$out/check"
 python3 - "$out/check" <<'PY'
 import json, sys
 lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
@@ -73,22 +79,24 @@ print("check --ros:", finding["message"])
 PY
 # Pose and odometry topics: a good pose, then an odometry message with a NaN in its twist
 # covariance. Their readers are best effort: the node waits until its writers matched the
-# listener's readers, then 300 ms for the listener's side of the match.
-"$tool" check --ros --domain 150 --seconds 5 --pose-topic /amcl_pose=base_footprint \
+# listener's readers, then 2 s for the listener's side of the match (a best-effort reader drops
+# samples of a writer it has not discovered yet; 300 ms was not enough once, in CI under load,
+# and the CLI has no way to say it matched).
+"$tool" check --ros --domain 150 --seconds 8 --pose-topic /amcl_pose=base_footprint \
   --odom-topic /odom > "$out/cov" &
 check_pid=$!
 # identity quaternion, then a 6x6 identity covariance (row-major); the twist's has a NaN
 cov="0 0 0 1 $(python3 -c 'print(" ".join(str(float(i == j)) for i in range(6) for j in range(6)))')"
 twist="0.4 0 0 0 0 0.1 $(python3 -c 'print(" ".join("nan" if i == j == 2 else str(float(i == j)) for i in range(6) for j in range(6)))')"
-printf '%s\n' 'wait_match pose /amcl_pose 1' 'wait_match odom /odom 1' 'sleep 300' \
+printf '%s\n' 'wait_match pose /amcl_pose 1' 'wait_match odom /odom 1' 'sleep 2000' \
   "pose /amcl_pose map 20 0 1 2 0 $cov" "odom /odom odom base_link 21 0 0.5 0 0 $cov $twist" |
   "$node" 150 > "$out/node_cov"
 set +e
 wait $check_pid
 code=$?
 set -e
-grep -q '^ok 5$' "$out/node_cov"
-test "$code" = 1
+grep -q '^ok 5$' "$out/node_cov" || fail "the node did not finish the pose and odometry" "$out/node_cov"
+test "$code" = 1 || fail "check --ros on pose and odometry exited $code, not 1" "$out/cov"
 python3 - "$out/cov" <<'PY'
 import json, sys
 lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
