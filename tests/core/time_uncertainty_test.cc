@@ -7,10 +7,10 @@
 // exactly (p + dp, Exp(dth) R; v + dv, w + dw); the perturbed values are stored as samples at
 // exactly that time in a fresh graph, the same query asked there, and the sample covariance of
 // the answer's perturbation compared with the first-order answer within 5 standard errors of
-// each entry (20000 draws). A time travel draws each stamped edge independently at both times.
-// A planted sign error (rotation rows negated) must fail the same check.
-// Then: errors with the graph unchanged, the duplicate rule with covariances, a sample without
-// one counting as zero, and the timed covariance queries allocating nothing.
+// each entry (20000 draws; 4000 under ASan: support/sanitized.h). A time travel draws each stamped
+// edge independently at both times. A planted sign error (rotation rows negated) must fail the same
+// check. Then: errors with the graph unchanged, the duplicate rule with covariances, a sample
+// without one counting as zero, and the timed covariance queries allocating nothing.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -25,6 +25,7 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "support/alloc_counter.h"
+#include "support/sanitized.h"
 
 namespace semgraph::core {
 namespace {
@@ -204,7 +205,7 @@ double WorstZ(const Eigen::Matrix<double, N, N>& S,
   }
   return worst;
 }
-constexpr int kSamples = 20000;
+constexpr int kSamples = semgraph::testing::Draws(20000);  // fewer under ASan (sanitized.h)
 constexpr double kMaxZ = 5.0;
 
 Vector6 PoseDelta(const Graph::Pose& X0, const Graph::Pose& X1) {

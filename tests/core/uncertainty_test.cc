@@ -21,6 +21,7 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
+#include "support/sanitized.h"
 
 namespace semgraph::core {
 namespace {
@@ -140,7 +141,7 @@ double WorstZ(const Eigen::Matrix<double, N, N>& S,
   return worst;
 }
 
-constexpr int kSamples = 20000;
+constexpr int kSamples = semgraph::testing::Draws(20000);  // fewer under ASan (sanitized.h)
 constexpr double kMaxZ = 5.0;
 
 struct Queries {
