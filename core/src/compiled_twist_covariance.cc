@@ -13,7 +13,7 @@ template <coord::Backend B>
 CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::SceneTopology& t,
                                                             const EdgeValues<B>& values,
                                                             const TwistPlan& plan)
-    : semantics_(plan.semantics), values_(&values) {
+    : semantics_(plan.semantics), values_(&values), topology_(&t) {
   const topology::PoseForest& forest = t.forest();
   const FrameIndex e = plan.point, r = plan.frame;
   std::vector<FrameIndex> heads;
@@ -36,6 +36,7 @@ CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::Scen
     pose_edges_.push_back({g.value(), values.X_PF[g.value()].epoch(),
                            internal::EntryOf(edges, t.pose_parent(g)), forest.IsAncestor(g, e),
                            forest.IsAncestor(g, r)});
+    plans_.Add(t, g);
     for (const FrameIndex h : heads) moves_h_.push_back(forest.IsAncestor(g, h) ? 1 : 0);
   }
   e_entry_ = internal::EntryOf(edges, e);
@@ -93,28 +94,49 @@ ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                                    Eigen::Vector3d& w_DC_R, Covariance6& S,
                                                    CovarianceOrder order) noexcept {
   if (!LoadPoseEdges(nullptr) || !LoadTwistEdges(nullptr)) return ErrorCode::kQueryInvalidated;
-  Finish(v_DCe_R, w_DC_R, S, order);
+  Finish(v_DCe_R, w_DC_R, S, order, internal::DirectSink{});
   return ErrorCode::kOk;
 }
 
-// No edge is extrapolated (a time outside the samples is kExtrapolation): see the header.
+// As the one-shot query (time_uncertainty.cc GetTwistWithCovariance): an extrapolated answer's
+// Jacobians are keyed, formed in the evaluation's context (latest common: its second pass).
 template <coord::Backend B>
 ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                                    Eigen::Vector3d& w_DC_R, Covariance6& S,
                                                    const TimePolicy& policy, TimeReport& report,
                                                    CovarianceOrder order) noexcept {
-  const ErrorCode code = internal::RunWithoutExtrapolation(
-      policy, values_->history,
-      [&](internal::TimeContext& tc) { return LoadPoseEdges(&tc) && LoadTwistEdges(&tc); }, report);
+  Eigen::Vector3d v_keyed, w_keyed;
+  Covariance6 S_keyed;
+  bool keyed = false;
+  const ErrorCode code = internal::RunWithCovariance(
+      policy, values_->history, topology_, plans_,
+      [&](internal::TimeContext& tc) {
+        if (!LoadPoseEdges(&tc) || !LoadTwistEdges(&tc)) return ErrorCode::kQueryInvalidated;
+        keyed = tc.extrapolated && tc.error() == ErrorCode::kOk;
+        if (keyed) {
+          internal::SharedPerturbations acc;  // on the stack
+          Finish(v_keyed, w_keyed, S_keyed, order, internal::KeyedSink<B>{values_, &tc, &acc});
+        }
+        return ErrorCode::kOk;
+      },
+      report);
   if (code != ErrorCode::kOk) return code;
-  Finish(v_DCe_R, w_DC_R, S, order);
+  if (keyed) {
+    v_DCe_R = v_keyed;
+    w_DC_R = w_keyed;
+    S = S_keyed;
+  } else {
+    Finish(v_DCe_R, w_DC_R, S, order, internal::DirectSink{});
+  }
   return ErrorCode::kOk;
 }
 
 // The answer in Z, then each uncertain edge's J S J^T.
 template <coord::Backend B>
+template <class Sink>
 void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R,
-                                            Covariance6& S, CovarianceOrder order) const noexcept {
+                                            Covariance6& S, CovarianceOrder order,
+                                            Sink&& sink) const noexcept {
   const auto pose_in_z = [&](std::int32_t entry, Eigen::Matrix3d& R, Eigen::Vector3d& p) {
     if (entry < 0) {
       R.setIdentity();
@@ -131,14 +153,13 @@ void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vec
   const Eigen::Matrix3d R_RZ = R_ZR.transpose();
   // The answer in Z, and each uncertain twist edge's J S J^T (rows already in [r]).
   Eigen::Vector3d v_Z = Eigen::Vector3d::Zero(), w_Z = Eigen::Vector3d::Zero();
-  Covariance6 S_R = Covariance6::Zero();
   for (std::size_t j = 0; j < steps_.size(); ++j) {
     const StepScratch& s = step_scratch_[j];
     v_Z += s.st.a_Z + s.st.w_Z.cross(p_ZoEo_Z - s.st.p_ZoHo_Z);
     w_Z += s.st.w_Z;
     if (s.S.isZero(0.0)) continue;
-    jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, s.R_ZH, s.st.p_ZoHo_Z, p_ZoEo_Z, steps_[j].sign),
-                       s.S, S_R);
+    sink.Add({internal::PerturbedEdge::Kind::kTwist, steps_[j].slot},
+             jac::TwistEdgeOnTwist(R_RZ, s.R_ZH, s.st.p_ZoHo_Z, p_ZoEo_Z, steps_[j].sign), s.S);
   }
   // Each uncertain pose edge: its Jacobian sums over the twist edges whose head it moves.
   const std::size_t k = steps_.size();
@@ -155,8 +176,11 @@ void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vec
       st.moves = moves_h_[i * k + j] != 0;
       sum.Add(st, p_ZoEo_Z, edge, e.moves_e);
     }
-    jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, e.moves_r), g.S, S_R);
+    sink.Add({internal::PerturbedEdge::Kind::kPose, e.frame},
+             sum.Finish(R_RZ, v_Z, w_Z, edge, e.moves_r), g.S);
   }
+  Covariance6 S_R;
+  sink.Finish(S_R);
   v_DCe_R = R_RZ * v_Z;
   w_DC_R = R_RZ * w_Z;
   S = order == CovarianceOrder::kLinearAngular ? S_R : coord::SwapHalves(S_R);

@@ -9,6 +9,7 @@
 // evaluation allocates nothing.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -186,10 +187,12 @@ TEST(CompiledTwistCovarianceTime, ErrorsLeaveTheOutputsUnchanged) {
   ExpectUnchangedOn(*compiled, Latest{Ms(5000)}, ErrorCode::kStale);
   ExpectUnchangedOn(*compiled, At{Ms(100)}, ErrorCode::kExtrapolation);
   ExpectUnchangedOn(*compiled, At{Ms(1500), Duration::Seconds(-1)}, ErrorCode::kInvalidNumber);
-  // The one-shot query holds the newest twist within the horizon; the compiled one never
-  // extrapolates (documented).
-  EXPECT_TRUE(s.g.GetTwistWithCovariance(s.spec, At{Ms(3500), Duration::Seconds(1)}));
-  ExpectUnchangedOn(*compiled, At{Ms(3500), Duration::Seconds(1)}, ErrorCode::kExtrapolation);
+  // Beyond the horizon: as the one-shot query.
+  ExpectUnchangedOn(*compiled, At{Ms(3500), Duration::Milliseconds(400)},
+                    ErrorCode::kExtrapolation);
+  EXPECT_EQ(
+      s.g.GetTwistWithCovariance(s.spec, At{Ms(3500), Duration::Milliseconds(400)}).error().code,
+      ErrorCode::kExtrapolation);
   ASSERT_TRUE(s.g.RemoveTwist("a", "W"));
   ExpectUnchangedOn(*compiled, At{Ms(1500)}, ErrorCode::kQueryInvalidated);
   ExpectUnchangedOn(*compiled, LatestCommon{}, ErrorCode::kQueryInvalidated);
@@ -237,6 +240,167 @@ TEST(CompiledTwistCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
   EXPECT_EQ(allocations, 0u);
   static_assert(noexcept(linear->Evaluate(v, S3, Latest{}, report)));
   static_assert(noexcept(angular->Evaluate(w, S3, Latest{}, report)));
+}
+
+// Within the horizon the newest twist sample is held (by hand: its value and covariance S1);
+// before the first, the oldest (S0); the report says so.
+TEST(CompiledTwistCovarianceTime, HeldTwistOfOneTwistEdgeByHand) {
+  OneTwist s;
+  auto compiled = s.g.CompileTwistWithCovariance(s.spec);
+  ASSERT_TRUE(compiled);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  ASSERT_EQ(compiled->Evaluate(v, w, S, At{Ms(3500), Duration::Seconds(1)}, report),
+            ErrorCode::kOk);
+  EXPECT_LE((v - s.v1).norm(), 1e-12);
+  EXPECT_LE((w - s.w1).norm(), 1e-12);
+  EXPECT_LE((S - s.S1).norm(), 1e-15 * s.S1.norm());
+  EXPECT_EQ(report.time, Ms(3500));
+  EXPECT_EQ(report.oldest, Ms(3000));
+  EXPECT_EQ(report.newest, Ms(3000));
+  EXPECT_TRUE(report.extrapolated);
+  ASSERT_EQ(compiled->Evaluate(v, w, S, At{Ms(500), Duration::Seconds(1)}, report), ErrorCode::kOk);
+  EXPECT_LE((v - s.v0).norm(), 1e-12);
+  EXPECT_LE((S - s.S0).norm(), 1e-15 * s.S0.norm());
+  EXPECT_TRUE(ExpectSameAsOneShot(s.g, s.spec, At{Ms(3500), Duration::Seconds(1)}));
+}
+
+// BuildScene with each twist edge stamped at its pose edge's stamps when both are stamped (the
+// integration twist of an extrapolated pose edge is read at its sample's stamp, without
+// extrapolation), and a constant calibration s_k under f_k (covariance) where the twist is given
+// when `calibrated`: queries at s_k then share it with the integration twist.
+template <class Graph>
+void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
+  std::uniform_int_distribution<int> jitter(0, 300), coin(0, 2);
+  for (int k = 1; k < 6; ++k) {
+    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
+    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
+    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const std::string s = "s" + std::to_string(k);
+    Covariance6 S = RandomCovariance(rng);
+    ASSERT_TRUE(g.AddPose(PoseSpec::Of(s, F).RelativeTo(f, F), ExpR(0.5 * RandomVector(rng)),
+                          RandomVector(rng), CovarianceInput{&S}));
+    const PoseSpec pose = PoseSpec::Of(f, F).RelativeTo(t, T);
+    const TwistSpec twist = TwistSpec::Of(s, F).RelativeTo(T).ExpressedIn(s);
+    const std::int64_t stamps[] = {1000 - jitter(rng), 2000 + jitter(rng), 3000 + jitter(rng)};
+    for (int kind = 0; kind < 2; ++kind) {
+      const bool stamped = coin(rng) != 0;
+      for (const std::int64_t ms : stamps) {
+        S = RandomCovariance(rng);
+        const CovarianceInput c{&S};
+        const Eigen::Vector3d x = RandomVector(rng), y = RandomVector(rng);
+        const BuildResult r = kind == 0 ? (stamped ? g.AddPose(pose, ExpR(0.5 * x), y, Ms(ms), c)
+                                                   : g.AddPose(pose, ExpR(0.5 * x), y, c))
+                                        : (stamped ? g.AddTwist(twist, x, 0.3 * y, Ms(ms), c)
+                                                   : g.AddTwist(twist, x, 0.3 * y, c));
+        ASSERT_TRUE(r) << r.error().message;
+        if (!stamped) break;
+      }
+    }
+  }
+}
+
+// Extrapolation (within max_extrapolation, after and before every edge's samples, latest
+// common, beyond the horizon): the compiled queries give the one-shot's answer, covariance and
+// report, or its error.
+template <class Graph>
+void RandomExtrapolations(unsigned seed) {
+  std::mt19937 rng(seed);
+  int answered = 0, extrapolated = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    Graph g = MakeGraph<Graph>();
+    BuildExtrapolationScene(g, rng);
+    std::uniform_int_distribution<int> frame(0, 5), side(0, 1);
+    for (int i = 0; i < 10; ++i) {
+      const auto name = [&] {
+        const int k = frame(rng);
+        return std::string(k > 0 && side(rng) ? "s" : "f") + std::to_string(k);
+      };
+      const std::string e = name(), r = name();
+      const std::string C = "B" + e.substr(1), D = "B" + std::to_string(frame(rng));
+      const TwistSpec spec = TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
+      const TimePolicy policies[] = {
+          At{Ms(3400), Duration::Seconds(1)}, At{Ms(600), Duration::Seconds(1)},
+          LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(50)}};
+      for (const TimePolicy& policy : policies) {
+        if (!ExpectSameAsOneShot(g, spec, policy)) continue;
+        ++answered;
+        extrapolated += g.GetTwist(spec, policy)->time.extrapolated;
+      }
+    }
+  }
+  std::printf("extrapolation: %d of %d answered, %d extrapolated\n", answered, 6 * 10 * 4,
+              extrapolated);
+  EXPECT_GT(extrapolated, 30);
+}
+
+TEST(CompiledTwistCovarianceTime, ExtrapolationSameAsOneShotOnRandomScenes) {
+  RandomExtrapolations<SceneGraph<coord::QuaternionBackend>>(41);
+  RandomExtrapolations<SceneGraph<coord::HomogeneousBackend>>(42);
+}
+
+// time_uncertainty_test.cc's shared-edge scene: h wrt w stamped (0 s, 1 s), the calibration s
+// wrt h constant with a covariance, the twist of H relative to W given at s (1 s). The twist of
+// H at s relative to W in [w] at 1.5 s reads the held twist and moves it with h wrt w,
+// extrapolated with the same twist through the same calibration: shared edges, perturbed once
+// (the one-shot's Monte Carlo test); the compiled query gives the one-shot's numbers.
+TEST(CompiledTwistCovarianceTime, EdgesSharedByIntegrationTwistAndQuerySameAsOneShot) {
+  std::mt19937 rng(2718);
+  Graph g = MakeGraph<Graph>();
+  const Covariance6 S_cal = RandomCovariance(rng), S0 = 1e-2 * RandomCovariance(rng),
+                    S1 = 1e-2 * RandomCovariance(rng), S_tw = 1e-2 * RandomCovariance(rng);
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("s", "H").RelativeTo("h", "H"),
+                        ExpR(Eigen::Vector3d(0.1, -0.2, 0.3)), Eigen::Vector3d(0.4, 0.1, -0.2),
+                        CovarianceInput{&S_cal}));
+  const PoseSpec hw = PoseSpec::Of("h", "H").RelativeTo("w", "W");
+  ASSERT_TRUE(g.AddPose(hw, ExpR(Eigen::Vector3d(0.2, 0.1, 0.0)), Eigen::Vector3d(1, 0, 0), Ms(0),
+                        CovarianceInput{&S0}));
+  ASSERT_TRUE(g.AddPose(hw, ExpR(Eigen::Vector3d(0.25, 0.1, 0.1)), Eigen::Vector3d(1.2, 0.3, 0),
+                        Ms(1000), CovarianceInput{&S1}));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("s", "H").RelativeTo("W").ExpressedIn("s"),
+                         Eigen::Vector3d(0.5, 0.2, 0.0), Eigen::Vector3d(0.1, -0.3, 1.0), Ms(1000),
+                         CovarianceInput{&S_tw}));
+  const TimePolicy policy = At{Ms(1500), Duration::Seconds(1)};
+  for (const TwistSpec& spec : {TwistSpec::Of("s", "H").RelativeTo("W").ExpressedIn("w"),
+                                TwistSpec::Of("w", "W").RelativeTo("H").ExpressedIn("h")}) {
+    EXPECT_TRUE(ExpectSameAsOneShot(g, spec, policy));
+    EXPECT_TRUE(g.GetTwist(spec, policy)->time.extrapolated);
+  }
+}
+
+TEST(CompiledTwistCovarianceTime, ExtrapolatedEvaluationDoesNotAllocate) {
+  std::mt19937 rng(27);
+  Graph g = MakeGraph<Graph>();
+  BuildExtrapolationScene(g, rng);
+  const TwistSpec spec = TwistSpec::Of("s5", "B5").RelativeTo("B0").ExpressedIn("s3");
+  auto compiled = g.CompileTwistWithCovariance(spec);
+  auto linear = g.CompileLinearVelocityWithCovariance(spec);
+  ASSERT_TRUE(compiled && linear);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  TimeReport report;
+  ASSERT_EQ(compiled->Evaluate(v, w, S, At{Ms(3400), Duration::Seconds(1)}, report),
+            ErrorCode::kOk);
+  ASSERT_TRUE(report.extrapolated);
+  double sum = 0.0;
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    for (int i = 0; i < 100; ++i) {
+      const TimePolicy policies[] = {
+          At{Ms(3350 + i), Duration::Seconds(1)}, At{Ms(600 - i), Duration::Seconds(1)},
+          LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(1)}};
+      for (const TimePolicy& policy : policies) {
+        if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
+        if (linear->Evaluate(v, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+      }
+    }
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(sum, 0.0);
 }
 
 }  // namespace

@@ -15,7 +15,11 @@
 // through core/propagate.h).
 // Invariants: each edge's epoch at compile time is kept; a removed edge turns an evaluation into
 // kQueryInvalidated (nothing written). At a time (Evaluate with a TimePolicy): each edge read
-// with its covariance by the one-shot timed query's readers (timed_read.h), no extrapolation.
+// with its covariance by the one-shot timed query's readers (timed_read.h), extrapolating as the
+// one-shot query within the policy's max_extrapolation (a twist edge holds its nearest sample, a
+// pose edge is integrated with its integration twist, planned at compile time:
+// IntegrationTwistPlans, one per pose edge; recompile after a topology change), with keyed
+// Jacobians when the answer was extrapolated (timed_covariance.h KeyedSink).
 // Costs: Evaluate O(n + k + u k) for n pose edges, k twist edges and u uncertain pose edges:
 // one composition per pose edge, one Jacobian per uncertain edge; noexcept, allocation-free,
 // lock-free, string-free.
@@ -61,10 +65,12 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
   /// At the policy's time: each pose and twist edge's value and covariance read as the one-shot
   /// GetTwistWithCovariance(spec, policy) reads them (timed_read.h ReadPoseAt / ReadTwistAt with
   /// their covariance), then the same sums and Jacobians as above, and the report of what was
-  /// read. Never extrapolates (as CompiledPoseWithCovariance's timed Evaluate): a time outside
-  /// an edge's samples, a twist edge's too (the one-shot query holds it), is kExtrapolation
-  /// whatever the policy's max_extrapolation. Codes: kOk, kQueryInvalidated, kInvalidNumber,
-  /// kExtrapolation, kStale; the answer and S are written on kOk only.
+  /// read. Extrapolates as the one-shot query (CompiledPoseWithCovariance's timed Evaluate:
+  /// within max_extrapolation a twist edge holds its nearest sample, a pose edge is integrated
+  /// with its integration twist; keyed Jacobians when the answer was extrapolated), so answer,
+  /// covariance and report are the one-shot's (up to rounding). Codes: kOk, kQueryInvalidated,
+  /// kInvalidNumber, kExtrapolation, kStale; the answer and S are written on kOk only. Extra
+  /// cost when extrapolated: as CompiledPoseWithCovariance's (about 20 KB of stack).
   [[nodiscard]] ErrorCode Evaluate(
       Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S, const TimePolicy& policy,
       TimeReport& report, CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
@@ -99,12 +105,16 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
   // removed.
   bool LoadPoseEdges(internal::TimeContext* tc) noexcept;
   bool LoadTwistEdges(internal::TimeContext* tc) noexcept;
-  // The answer and its covariance from the scratch.
+  // The answer and its covariance from the scratch, each uncertain edge's Jacobian into `sink`
+  // (propagate.h DirectSink, or a KeyedSink).
+  template <class Sink>
   void Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S,
-              CovarianceOrder order) const noexcept;
+              CovarianceOrder order, Sink&& sink) const noexcept;
 
   semantics::TwistSemantics semantics_;
   const EdgeValues<B>* values_ = nullptr;
+  const topology::SceneTopology* topology_ = nullptr;  ///< extrapolation's twist forests
+  internal::IntegrationTwistPlans plans_;              ///< each pose edge's integration twist
   std::vector<PoseEdge> pose_edges_;
   std::vector<TwistEdge> steps_;
   std::vector<std::uint8_t> moves_h_;  ///< [pose edge * steps + step]: the edge moves that head
