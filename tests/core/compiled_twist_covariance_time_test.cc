@@ -68,11 +68,13 @@ void BuildScene(Graph& g, std::mt19937& rng) {
 
 // Returns whether the query answered (false: both gave the same error).
 template <class Graph>
-bool ExpectSameAsOneShot(const Graph& g, const TwistSpec& spec, const TimePolicy& policy) {
-  auto compiled = g.CompileTwistWithCovariance(spec);
+bool ExpectSameAsOneShot(const Graph& g, const TwistSpec& spec, const TimePolicy& policy,
+                         TwistSource source = TwistSource::kTwists) {
+  auto compiled = g.CompileTwistWithCovariance(spec, source);
   EXPECT_TRUE(compiled);
   if (!compiled) return false;
-  const auto one_shot = g.GetTwistWithCovariance(spec, policy);
+  const auto one_shot =
+      g.GetTwistWithCovariance(spec, policy, CovarianceOrder::kLinearAngular, source);
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
   Covariance6 S = Covariance6::Zero();
   TimeReport report;
@@ -92,10 +94,10 @@ bool ExpectSameAsOneShot(const Graph& g, const TwistSpec& spec, const TimePolicy
   EXPECT_EQ(report.newest, one_shot->time.newest);
   EXPECT_EQ(report.extrapolated, one_shot->time.extrapolated);
   // The linear and angular velocities.
-  auto linear = g.CompileLinearVelocityWithCovariance(spec);
-  auto angular = g.CompileAngularVelocityWithCovariance(spec);
-  const auto v1 = g.GetLinearVelocityWithCovariance(spec, policy);
-  const auto w1 = g.GetAngularVelocityWithCovariance(spec, policy);
+  auto linear = g.CompileLinearVelocityWithCovariance(spec, source);
+  auto angular = g.CompileAngularVelocityWithCovariance(spec, source);
+  const auto v1 = g.GetLinearVelocityWithCovariance(spec, policy, source);
+  const auto w1 = g.GetAngularVelocityWithCovariance(spec, policy, source);
   EXPECT_TRUE(linear && angular && v1 && w1);
   if (!linear || !angular || !v1 || !w1) return false;
   Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
@@ -399,6 +401,112 @@ TEST(CompiledTwistCovarianceTime, ExtrapolatedEvaluationDoesNotAllocate) {
         if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
         if (linear->Evaluate(v, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
       }
+    }
+    allocations = counting.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(sum, 0.0);
+}
+
+// Twist source `poses` (CompileTwistWithCovariance(spec, kPoses)): the one-shot's answer,
+// covariance and report or error (GetTwistWithCovariance(spec, policy, order, kPoses), Monte
+// Carlo tested in time_uncertainty_test.cc) on random scenes, under Latest, At a stamp, At
+// between samples, LatestCommon, and beyond the samples with a horizon (never extrapolated).
+template <class Graph>
+void RandomScenesFromPoses(unsigned seed) {
+  std::mt19937 rng(seed);
+  int answered = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    Graph g = MakeGraph<Graph>();
+    BuildScene(g, rng);
+    std::uniform_int_distribution<int> frame(0, 5), between(1301, 2999), sample(0, 300);
+    for (int i = 0; i < 10; ++i) {
+      const std::string e = "f" + std::to_string(frame(rng)), r = "f" + std::to_string(frame(rng));
+      const std::string C = "B" + e.substr(1), D = "B" + std::to_string(frame(rng));
+      const TwistSpec spec = TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
+      const TimePolicy policies[] = {Latest{}, At{Ms(2000 + sample(rng))}, At{Ms(between(rng))},
+                                     LatestCommon{}, At{Ms(3400), Duration::Seconds(1)}};
+      for (const TimePolicy& policy : policies) {
+        answered += ExpectSameAsOneShot(g, spec, policy, TwistSource::kPoses);
+      }
+    }
+  }
+  std::printf("from poses: %d of %d answered\n", answered, 6 * 10 * 5);
+  EXPECT_GT(answered, 6 * 10 * 3);
+}
+
+TEST(CompiledTwistCovarianceTime, FromPosesSameAsOneShotOnRandomScenes) {
+  RandomScenesFromPoses<SceneGraph<coord::QuaternionBackend>>(51);
+  RandomScenesFromPoses<SceneGraph<coord::HomogeneousBackend>>(52);
+}
+
+// One pose edge a -> w, identity rotations, samples p0 at 1 s and p1 at 1.5 s with covariances
+// on dp only: the twist of A relative to W at a in [a] from poses, between them, is
+// (p1 - p0) / 0.5 s with covariance (S0 + S1) / 0.25 s^2 on dv (the difference of two
+// independent samples over dt), by hand; the untimed Evaluate reads the newest segment (the
+// same here). A removed edge: kQueryInvalidated.
+TEST(CompiledTwistCovarianceTime, FromPosesOneEdgeByHand) {
+  Graph g = MakeGraph<Graph>();
+  const PoseSpec pose = PoseSpec::Of("a", "A").RelativeTo("w", "W");
+  Covariance6 S0 = Covariance6::Zero(), S1 = Covariance6::Zero();
+  S0.topLeftCorner<3, 3>() = Eigen::Vector3d(1e-4, 2e-4, 3e-4).asDiagonal();
+  S1.topLeftCorner<3, 3>() = Eigen::Vector3d(3e-4, 1e-4, 5e-4).asDiagonal();
+  const Eigen::Vector3d p0(1.0, 2.0, 3.0), p1(2.0, 1.0, 3.5);
+  ASSERT_TRUE(g.AddPose(pose, Eigen::Matrix3d::Identity(), p0, Ms(1000), CovarianceInput{&S0}));
+  ASSERT_TRUE(g.AddPose(pose, Eigen::Matrix3d::Identity(), p1, Ms(1500), CovarianceInput{&S1}));
+  const TwistSpec spec = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
+  auto compiled = g.CompileTwistWithCovariance(spec, TwistSource::kPoses);
+  ASSERT_TRUE(compiled);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  TimeReport report;
+  Covariance6 expected = Covariance6::Zero();
+  expected.topLeftCorner<3, 3>() = (S0 + S1).topLeftCorner<3, 3>() / 0.25;
+  ASSERT_EQ(compiled->Evaluate(v, w, S, At{Ms(1200)}, report), ErrorCode::kOk);
+  EXPECT_LE((v - (p1 - p0) / 0.5).norm(), 1e-12);
+  EXPECT_LE(w.norm(), 1e-12);
+  EXPECT_LE((S - expected).norm(), 1e-12 * expected.norm()) << S;
+  EXPECT_EQ(report.oldest, Ms(1000));
+  EXPECT_EQ(report.newest, Ms(1500));
+  EXPECT_FALSE(report.extrapolated);
+  ASSERT_EQ(compiled->Evaluate(v, w, S), ErrorCode::kOk);
+  EXPECT_LE((v - (p1 - p0) / 0.5).norm(), 1e-12);
+  EXPECT_LE((S - expected).norm(), 1e-12 * expected.norm()) << S;
+  // Never extrapolated, whatever the horizon (as the one-shot query).
+  ExpectUnchangedOn(*compiled, At{Ms(1600), Duration::Seconds(1)}, ErrorCode::kExtrapolation);
+  EXPECT_EQ(g.GetTwistWithCovariance(spec, At{Ms(1600), Duration::Seconds(1)},
+                                     CovarianceOrder::kLinearAngular, TwistSource::kPoses)
+                .error()
+                .code,
+            ErrorCode::kExtrapolation);
+  ASSERT_TRUE(g.RemovePose("a", "w"));
+  ExpectUnchangedOn(*compiled, At{Ms(1200)}, ErrorCode::kQueryInvalidated);
+}
+
+TEST(CompiledTwistCovarianceTime, FromPosesEvaluationDoesNotAllocate) {
+  std::mt19937 rng(29);
+  Graph g = MakeGraph<Graph>();
+  BuildScene(g, rng);
+  const TwistSpec spec = TwistSpec::Of("f5", "B5").RelativeTo("B0").ExpressedIn("f3");
+  auto compiled = g.CompileTwistWithCovariance(spec, TwistSource::kPoses);
+  auto angular = g.CompileAngularVelocityWithCovariance(spec, TwistSource::kPoses);
+  ASSERT_TRUE(compiled && angular);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  TimeReport report;
+  double sum = 0.0;
+  std::size_t allocations = 0;
+  {
+    semgraph::testing::CountAllocations counting;
+    for (int i = 0; i < 100; ++i) {
+      const TimePolicy policies[] = {At{Ms(1400 + 10 * i)}, Latest{}, LatestCommon{},
+                                     At{Ms(100), Duration::Seconds(1)}};
+      for (const TimePolicy& policy : policies) {
+        if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
+        if (angular->Evaluate(w, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+      }
+      if (compiled->Evaluate(v, w, S) == ErrorCode::kOk) sum += S.trace();
     }
     allocations = counting.count();
   }

@@ -40,6 +40,7 @@
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/time_plan.h"
 #include "semgraph/core/uncertainty.h"
 #include "semgraph/topology/scene_topology.h"
 
@@ -52,6 +53,13 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
   /// From a checked twist plan (PlanTwist).
   CompiledTwistWithCovariance(const topology::SceneTopology& t, const EdgeValues<B>& values,
                               const TwistPlan& plan);
+  /// Twist source `poses` (PlanPoseTwist, time_plan.h): each step is an inter-body pose edge's
+  /// derivative at the time (timed_read.h DerivePoseAt with its covariance), in place of a twist
+  /// edge (same sums and Jacobians, as propagate.h PoseTwistCovariance); every edge is read with
+  /// no horizon (never extrapolates, as the one-shot query: WithoutExtrapolation). The untimed
+  /// Evaluate reads the derivatives under Latest (as CompiledTwist from poses).
+  CompiledTwistWithCovariance(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                              const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return pose_edges_.size(); }
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
@@ -90,7 +98,7 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
     bool moves_e, moves_r;
   };
   struct TwistEdge {
-    std::uint32_t slot;
+    std::uint32_t slot;  ///< the twist edge's slot; from poses: the pose edge's head frame
     std::uint32_t epoch;
     std::int32_t head_entry;  ///< the pose edge entry of its head h, -1: h is Z
     double sign;              ///< -1: traversed against its direction
@@ -101,6 +109,9 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
     Eigen::Matrix3d R_ZH;
     Covariance6 S;
   };
+  // The pose chains of e, r and the steps' heads up to their common ancestor (constructors).
+  void AddPoseEdges(const topology::SceneTopology& t, FrameIndex e, FrameIndex r,
+                    const std::vector<FrameIndex>& heads);
   // Every edge into the scratch, at the context's time when tc is given; false when one was
   // removed.
   bool LoadPoseEdges(internal::TimeContext* tc) noexcept;
@@ -115,6 +126,7 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
   const EdgeValues<B>* values_ = nullptr;
   const topology::SceneTopology* topology_ = nullptr;  ///< extrapolation's twist forests
   internal::IntegrationTwistPlans plans_;              ///< each pose edge's integration twist
+  bool from_poses_ = false;  ///< twist source `poses`: steps are derivatives, no extrapolation
   std::vector<PoseEdge> pose_edges_;
   std::vector<TwistEdge> steps_;
   std::vector<std::uint8_t> moves_h_;  ///< [pose edge * steps + step]: the edge moves that head
