@@ -20,6 +20,9 @@
 // pose edge is integrated with its integration twist, planned at compile time:
 // IntegrationTwistPlans, one per pose edge; recompile after a topology change), with keyed
 // Jacobians when the answer was extrapolated (timed_covariance.h KeyedSink).
+// Twist source `poses` (the PoseTwistPlan constructor): each step is an inter-body pose edge's
+// derivative at the time (its head h, its two samples' covariances) in place of a twist edge,
+// never extrapolated (as the one-shot GetTwistWithCovariance(spec, policy, order, kPoses)).
 // Costs: Evaluate O(n + k + u k) for n pose edges, k twist edges and u uncertain pose edges:
 // one composition per pose edge, one Jacobian per uncertain edge; noexcept, allocation-free,
 // lock-free, string-free.
@@ -66,7 +69,7 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
 
   /// The answer (v_DCe_R, w_DC_R) (as CompiledTwist::Evaluate writes it, up to rounding) and its
   /// covariance S (rows (dv, dw) in [r], in `order`). kOk or kQueryInvalidated (nothing
-  /// written).
+  /// written); from poses: the timed Evaluate under Latest (its codes too).
   [[nodiscard]] ErrorCode Evaluate(
       Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S,
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;

@@ -13,6 +13,9 @@
 // Time (timed_read.h): given a TimeContext, both sources read each edge at the policy's time
 // (interpolated, extrapolated, differentiated) through the same functions; without one they
 // read each edge's current value, as before time existed. The composition is the same.
+// An extrapolated pose edge's integration twist (ExtrapolationTwist) is planned where the
+// context says (IntegrationTwistPlan): on the topology (PlanTwist), or a compiled query's plan
+// made at compile time (IntegrationTwistPlans; the compiled queries with covariance).
 // Why no semantic checks here: a plan is made only after every semantic check passed, and each
 // composition along a chain is valid by the forest invariant (the edge into g stores
 // PoseCoord({g}|G, {p}|P, [p]) and the next edge up starts at p). So only numbers remain, with
