@@ -168,8 +168,10 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
   /// kQueryInvalidated, kInvalidNumber (a negative horizon), kExtrapolation (beyond
   /// max_extrapolation, or no integration twist), kStale; X and S are written on kOk only,
   /// report as the plain compiled queries fill it (reset first, complete on kOk). Extra cost
-  /// when extrapolated: per extrapolated edge two twist propagations over its integration
-  /// twist's path, and SharedPerturbations on the stack (about 20 KB); still noexcept and
+  /// when extrapolated: per extrapolated edge its integration twist evaluated twice and
+  /// propagated twice over its path (the edge's covariance as read, then keyed: as the one-shot
+  /// query), a plan lookup O(log edges), the keyed sum's linear search over at most 32 keys per
+  /// Jacobian, and SharedPerturbations on the stack (about 20 KB); still noexcept and
   /// allocation-free. Not under concurrent topology changes when it extrapolates (the
   /// integration twists walk the twist forest, as plain compiled queries: compiled_query.h).
   [[nodiscard]] ErrorCode Evaluate(
