@@ -39,7 +39,7 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
                                                           const EdgeValues<B>& values,
                                                           const semantics::PoseSemantics& s,
                                                           const FrameIndex (&k)[5])
-    : semantics_(s), values_(&values) {
+    : semantics_(s), values_(&values), topology_(&t) {
   const topology::PoseForest& forest = t.forest();
   FrameIndex z = k[0];
   for (int i = 1; i < 5; ++i) z = forest.CommonAncestor(z, k[i]);
@@ -51,6 +51,7 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
     e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]), forest.IsAncestor(g, k[1]),
                forest.IsAncestor(g, k[3]), forest.IsAncestor(g, k[4])};
     edges_.push_back(e);
+    plans_.Add(t, g);
   }
   for (int i = 0; i < 5; ++i) frame_entry_[i] = internal::EntryOf(heads, k[i]);
   scratch_.resize(edges_.size());
@@ -68,7 +69,7 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
       return ErrorCode::kQueryInvalidated;
     }
   }
-  Finish(X, S, order);
+  Finish(X, S, order, internal::DirectSink{});
   return ErrorCode::kOk;
 }
 
@@ -84,22 +85,42 @@ bool CompiledPoseWithCovariance<B>::LoadAt(internal::TimeContext& tc) noexcept {
   return true;
 }
 
-// No edge is extrapolated (a time outside the samples is kExtrapolation): see the header.
+// As the one-shot query (time_uncertainty.cc KeyedPoseCovariance): an extrapolated answer's
+// Jacobians are keyed, formed in the evaluation's context (latest common: its second pass).
 template <coord::Backend B>
 ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
                                                   const TimePolicy& policy, TimeReport& report,
                                                   CovarianceOrder order) noexcept {
-  const ErrorCode code = internal::RunWithoutExtrapolation(
-      policy, values_->history, [&](internal::TimeContext& tc) { return LoadAt(tc); }, report);
+  PoseCoords X_keyed;
+  Covariance6 S_keyed;
+  bool keyed = false;
+  const ErrorCode code = internal::RunWithCovariance(
+      policy, values_->history, topology_, plans_,
+      [&](internal::TimeContext& tc) {
+        if (!LoadAt(tc)) return ErrorCode::kQueryInvalidated;
+        keyed = tc.extrapolated && tc.error() == ErrorCode::kOk;
+        if (keyed) {
+          internal::SharedPerturbations acc;  // on the stack
+          Finish(X_keyed, S_keyed, order, internal::KeyedSink<B>{values_, &tc, &acc});
+        }
+        return ErrorCode::kOk;
+      },
+      report);
   if (code != ErrorCode::kOk) return code;
-  Finish(X, S, order);
+  if (keyed) {
+    X = X_keyed;
+    S = S_keyed;
+  } else {
+    Finish(X, S, order, internal::DirectSink{});
+  }
   return ErrorCode::kOk;
 }
 
 // The frames in Z, the answer, then each uncertain edge's J S J^T.
 template <coord::Backend B>
-void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S,
-                                           CovarianceOrder order) const noexcept {
+template <class Sink>
+void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order,
+                                           Sink&& sink) const noexcept {
   const std::size_t n = edges_.size();
   Eigen::Matrix3d R_Z[5];
   Eigen::Vector3d p_Z[5];
@@ -119,15 +140,18 @@ void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S,
   q.O_Z.noalias() = R_Z[1] * R_Z[3].transpose();
   const Eigen::Matrix3d M = q.R_RZ * q.O_Z * R_Z[4];
   X = B::MakePose(B::FromMatrix(M), q.R_RZ * (p_Z[0] - p_Z[2]));
-  Covariance6 S_Z = Covariance6::Zero();  // rows in Z: rotated into [r] once, at the end
+  // Rows in Z: rotated into [r] once, at the end.
   for (std::size_t i = 0; i < n; ++i) {
     const InZ& g = scratch_[i];
     if (g.exact) continue;
     const Edge& e = edges_[i];
     const Eigen::Matrix3d R_ZP = e.parent < 0 ? Eigen::Matrix3d::Identity()
                                               : scratch_[static_cast<std::size_t>(e.parent)].R_ZG;
-    jac::AddPropagated(jac::EdgeOnPoseInZ(q, {R_ZP, g.p_ZG}, e.moves), g.S, S_Z);
+    sink.Add({internal::PerturbedEdge::Kind::kPose, e.frame},
+             jac::EdgeOnPoseInZ(q, {R_ZP, g.p_ZG}, e.moves), g.S);
   }
+  Covariance6 S_Z;
+  sink.Finish(S_Z);
   S = jac::RotateRows(q.R_RZ, S_Z);
   if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);
 }

@@ -13,18 +13,39 @@ template <coord::Backend B>
 CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::SceneTopology& t,
                                                             const EdgeValues<B>& values,
                                                             const TwistPlan& plan)
-    : semantics_(plan.semantics), values_(&values) {
-  const topology::PoseForest& forest = t.forest();
-  const FrameIndex e = plan.point, r = plan.frame;
+    : semantics_(plan.semantics), values_(&values), topology_(&t) {
   std::vector<FrameIndex> heads;
   ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& s) {
     heads.push_back(t.twist_edge(s.edge).head);
     steps_.push_back(
         {s.edge.value(), values.V_DH[s.edge.value()].epoch(), -1, s.invert ? -1.0 : 1.0});
   });
-  // No twist edge (C = D): the answer is exactly zero and reads no pose edge, as the one-shot
-  // query (so a timed evaluation reports nothing read, as it does).
+  AddPoseEdges(t, plan.point, plan.frame, heads);
+  for (const PoseEdge& g : pose_edges_) plans_.Add(t, FrameIndex(g.frame));
+}
+
+template <coord::Backend B>
+CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::SceneTopology& t,
+                                                            const EdgeValues<B>& values,
+                                                            const PoseTwistPlan& plan)
+    : semantics_(plan.semantics), values_(&values), topology_(&t), from_poses_(true) {
+  std::vector<FrameIndex> heads;
+  ForEachPoseDerivativeStep(t, plan, [&](const TwistStep<ForestChain>& s) {
+    heads.push_back(s.pose_edge);  // a derivative's twist is at the edge's head, in [h]
+    steps_.push_back(
+        {s.pose_edge.value(), values.X_PF[s.pose_edge.value()].epoch(), -1, s.invert ? -1.0 : 1.0});
+  });
+  AddPoseEdges(t, plan.point, plan.frame, heads);
+}
+
+template <coord::Backend B>
+void CompiledTwistWithCovariance<B>::AddPoseEdges(const topology::SceneTopology& t, FrameIndex e,
+                                                  FrameIndex r,
+                                                  const std::vector<FrameIndex>& heads) {
+  // No step (C = D): the answer is exactly zero and reads no pose edge, as the one-shot query
+  // (so a timed evaluation reports nothing read, as it does).
   if (steps_.empty()) return;
+  const topology::PoseForest& forest = t.forest();
   FrameIndex z = forest.CommonAncestor(e, r);
   for (const FrameIndex h : heads) z = forest.CommonAncestor(z, h);
   std::vector<FrameIndex> chain_ends{e, r};
@@ -33,7 +54,7 @@ CompiledTwistWithCovariance<B>::CompiledTwistWithCovariance(const topology::Scen
   pose_edges_.reserve(edges.size());
   moves_h_.reserve(edges.size() * heads.size());
   for (const FrameIndex g : edges) {
-    pose_edges_.push_back({g.value(), values.X_PF[g.value()].epoch(),
+    pose_edges_.push_back({g.value(), values_->X_PF[g.value()].epoch(),
                            internal::EntryOf(edges, t.pose_parent(g)), forest.IsAncestor(g, e),
                            forest.IsAncestor(g, r)});
     for (const FrameIndex h : heads) moves_h_.push_back(forest.IsAncestor(g, h) ? 1 : 0);
@@ -66,16 +87,20 @@ template <coord::Backend B>
 bool CompiledTwistWithCovariance<B>::LoadTwistEdges(internal::TimeContext* tc) noexcept {
   for (std::size_t j = 0; j < steps_.size(); ++j) {
     const TwistEdge& s = steps_[j];
-    const TwistValue& value = values_->V_DH[s.slot];
+    const auto epoch = [&] {
+      return from_poses_ ? values_->X_PF[s.slot].epoch() : values_->V_DH[s.slot].epoch();
+    };
     StepScratch& out = step_scratch_[j];
     TwistNumbers V;
-    if (value.epoch() != s.epoch) return false;
-    if (tc) {
+    if (epoch() != s.epoch) return false;
+    if (from_poses_) {  // always at a time (the untimed Evaluate runs Latest)
+      internal::DerivePoseAt<B, true>(*values_, s.slot, *tc, V, &out.S);
+    } else if (tc) {
       internal::ReadTwistAt<B, true>(*values_, s.slot, *tc, V, &out.S);
     } else {
       values_->LoadTwist(s.slot, V, out.S);
     }
-    if (value.epoch() != s.epoch) return false;
+    if (epoch() != s.epoch) return false;
     Eigen::Vector3d p_ZH = Eigen::Vector3d::Zero();
     out.R_ZH.setIdentity();
     if (s.head_entry >= 0) {
@@ -92,29 +117,56 @@ template <coord::Backend B>
 ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                                    Eigen::Vector3d& w_DC_R, Covariance6& S,
                                                    CovarianceOrder order) noexcept {
+  if (from_poses_) {
+    TimeReport report;
+    return Evaluate(v_DCe_R, w_DC_R, S, Latest{}, report, order);
+  }
   if (!LoadPoseEdges(nullptr) || !LoadTwistEdges(nullptr)) return ErrorCode::kQueryInvalidated;
-  Finish(v_DCe_R, w_DC_R, S, order);
+  Finish(v_DCe_R, w_DC_R, S, order, internal::DirectSink{});
   return ErrorCode::kOk;
 }
 
-// No edge is extrapolated (a time outside the samples is kExtrapolation): see the header.
+// As the one-shot query (time_uncertainty.cc GetTwistWithCovariance): an extrapolated answer's
+// Jacobians are keyed, formed in the evaluation's context (latest common: its second pass).
 template <coord::Backend B>
 ErrorCode CompiledTwistWithCovariance<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                                    Eigen::Vector3d& w_DC_R, Covariance6& S,
                                                    const TimePolicy& policy, TimeReport& report,
                                                    CovarianceOrder order) noexcept {
-  const ErrorCode code = internal::RunWithoutExtrapolation(
-      policy, values_->history,
-      [&](internal::TimeContext& tc) { return LoadPoseEdges(&tc) && LoadTwistEdges(&tc); }, report);
+  Eigen::Vector3d v_keyed, w_keyed;
+  Covariance6 S_keyed;
+  bool keyed = false;
+  // Twist source `poses`: no horizon (as the one-shot query: WithoutExtrapolation).
+  const ErrorCode code = internal::RunWithCovariance(
+      from_poses_ ? internal::WithoutExtrapolation(policy) : policy, values_->history, topology_,
+      plans_,
+      [&](internal::TimeContext& tc) {
+        if (!LoadPoseEdges(&tc) || !LoadTwistEdges(&tc)) return ErrorCode::kQueryInvalidated;
+        keyed = tc.extrapolated && tc.error() == ErrorCode::kOk;
+        if (keyed) {
+          internal::SharedPerturbations acc;  // on the stack
+          Finish(v_keyed, w_keyed, S_keyed, order, internal::KeyedSink<B>{values_, &tc, &acc});
+        }
+        return ErrorCode::kOk;
+      },
+      report);
   if (code != ErrorCode::kOk) return code;
-  Finish(v_DCe_R, w_DC_R, S, order);
+  if (keyed) {
+    v_DCe_R = v_keyed;
+    w_DC_R = w_keyed;
+    S = S_keyed;
+  } else {
+    Finish(v_DCe_R, w_DC_R, S, order, internal::DirectSink{});
+  }
   return ErrorCode::kOk;
 }
 
 // The answer in Z, then each uncertain edge's J S J^T.
 template <coord::Backend B>
+template <class Sink>
 void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R,
-                                            Covariance6& S, CovarianceOrder order) const noexcept {
+                                            Covariance6& S, CovarianceOrder order,
+                                            Sink&& sink) const noexcept {
   const auto pose_in_z = [&](std::int32_t entry, Eigen::Matrix3d& R, Eigen::Vector3d& p) {
     if (entry < 0) {
       R.setIdentity();
@@ -131,14 +183,15 @@ void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vec
   const Eigen::Matrix3d R_RZ = R_ZR.transpose();
   // The answer in Z, and each uncertain twist edge's J S J^T (rows already in [r]).
   Eigen::Vector3d v_Z = Eigen::Vector3d::Zero(), w_Z = Eigen::Vector3d::Zero();
-  Covariance6 S_R = Covariance6::Zero();
   for (std::size_t j = 0; j < steps_.size(); ++j) {
     const StepScratch& s = step_scratch_[j];
     v_Z += s.st.a_Z + s.st.w_Z.cross(p_ZoEo_Z - s.st.p_ZoHo_Z);
     w_Z += s.st.w_Z;
     if (s.S.isZero(0.0)) continue;
-    jac::AddPropagated(jac::TwistEdgeOnTwist(R_RZ, s.R_ZH, s.st.p_ZoHo_Z, p_ZoEo_Z, steps_[j].sign),
-                       s.S, S_R);
+    sink.Add({from_poses_ ? internal::PerturbedEdge::Kind::kDerivative
+                          : internal::PerturbedEdge::Kind::kTwist,
+              steps_[j].slot},
+             jac::TwistEdgeOnTwist(R_RZ, s.R_ZH, s.st.p_ZoHo_Z, p_ZoEo_Z, steps_[j].sign), s.S);
   }
   // Each uncertain pose edge: its Jacobian sums over the twist edges whose head it moves.
   const std::size_t k = steps_.size();
@@ -155,8 +208,11 @@ void CompiledTwistWithCovariance<B>::Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vec
       st.moves = moves_h_[i * k + j] != 0;
       sum.Add(st, p_ZoEo_Z, edge, e.moves_e);
     }
-    jac::AddPropagated(sum.Finish(R_RZ, v_Z, w_Z, edge, e.moves_r), g.S, S_R);
+    sink.Add({internal::PerturbedEdge::Kind::kPose, e.frame},
+             sum.Finish(R_RZ, v_Z, w_Z, edge, e.moves_r), g.S);
   }
+  Covariance6 S_R;
+  sink.Finish(S_R);
   v_DCe_R = R_RZ * v_Z;
   w_DC_R = R_RZ * w_Z;
   S = order == CovarianceOrder::kLinearAngular ? S_R : coord::SwapHalves(S_R);

@@ -199,6 +199,34 @@ SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec& spec) const
   return CompiledAngularVelocityWithCovariance<B>(std::move(*twist));
 }
 
+template <coord::Backend B>
+Expected<CompiledTwistWithCovariance<B>, QueryError> SceneGraph<B>::CompileTwistWithCovariance(
+    const TwistSpec& spec, TwistSource source) const {
+  if (source == TwistSource::kTwists) return CompileTwistWithCovariance(spec);
+  auto plan = PlanPoseTwist(topology_, spec);
+  if (!plan) return Unexpected{plan.error()};
+  return CompiledTwistWithCovariance<B>(topology_, values_, *plan);
+}
+
+template <coord::Backend B>
+Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>
+SceneGraph<B>::CompileLinearVelocityWithCovariance(const TwistSpec& spec,
+                                                   TwistSource source) const {
+  auto twist = CompileTwistWithCovariance(spec, source);
+  if (!twist) return Unexpected{twist.error()};
+  return CompiledLinearVelocityWithCovariance<B>(std::move(*twist));
+}
+
+template <coord::Backend B>
+Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>
+SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec& spec,
+                                                    TwistSource source) const {
+  auto twist = internal::TwistOfAngularVelocity(
+      spec, [this, source](const TwistSpec& s) { return CompileTwistWithCovariance(s, source); });
+  if (!twist) return Unexpected{twist.error()};
+  return CompiledAngularVelocityWithCovariance<B>(std::move(*twist));
+}
+
 #define SEMGRAPH_INSTANTIATE_UNCERTAINTY(B)                                                    \
   template QueryResult<WithCovariance<SceneGraph<B>::Pose, 6>>                                 \
   SceneGraph<B>::GetPoseWithCovariance(const PoseSpec&, CovarianceOrder) const noexcept;       \
@@ -220,6 +248,12 @@ SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec& spec) const
   SceneGraph<B>::CompileLinearVelocityWithCovariance(const TwistSpec&) const;                  \
   template Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>                      \
   SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec&) const;                 \
+  template Expected<CompiledTwistWithCovariance<B>, QueryError>                                \
+  SceneGraph<B>::CompileTwistWithCovariance(const TwistSpec&, TwistSource) const;              \
+  template Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>                       \
+  SceneGraph<B>::CompileLinearVelocityWithCovariance(const TwistSpec&, TwistSource) const;     \
+  template Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>                      \
+  SceneGraph<B>::CompileAngularVelocityWithCovariance(const TwistSpec&, TwistSource) const;    \
   template Expected<CompiledPositionWithCovariance<B>, QueryError>                             \
   SceneGraph<B>::CompilePositionWithCovariance(const PoseSpec&) const;                         \
   template Expected<CompiledOrientationWithCovariance<B>, QueryError>                          \

@@ -12,9 +12,13 @@
 // one-shot queries too: core/propagate.h).
 // At a time (Evaluate with a TimePolicy): each edge read with its covariance by the one-shot
 // timed query's reader (timed_read.h ReadPoseAt, between two epoch checks as evaluate.h
-// FlatSource), then the same composition and propagation; no extrapolation (kExtrapolation).
+// FlatSource), then the same composition and propagation; within the policy's
+// max_extrapolation an edge outside its samples is extrapolated as the one-shot query does
+// (its integration twist planned at compile time: IntegrationTwistPlans, one per edge), and an
+// extrapolated answer's Jacobians are keyed (timed_covariance.h KeyedSink).
 // Invariants: the edge list holds each edge's epoch at compile time; a removed edge turns an
-// evaluation into kQueryInvalidated (nothing written).
+// evaluation into kQueryInvalidated (nothing written). The integration twist plans are those of
+// the topology at compile time (recompile after a topology change).
 // Costs: Evaluate O(edges) (latest common: two passes over the edges): one composition per edge,
 // plus one Jacobian and one block J S J^T per edge with a nonzero covariance; noexcept,
 // allocation-free, lock-free, string-free. Thread safety: Evaluate uses the object's own scratch
@@ -107,23 +111,24 @@ bool LoadPoseEdgeInZAt(const EdgeValues<B>& values, std::uint32_t frame, std::ui
   return true;
 }
 
-/// Runs `load(TimeContext&)` (true: every edge read, false: one was removed) at the policy's
-/// time for a compiled query with covariance: no edge is extrapolated (the horizon is ignored,
-/// as for twists from poses: WithoutExtrapolation; see CompiledPoseWithCovariance's timed
-/// Evaluate). kOk, kInvalidNumber (a negative horizon), kExtrapolation, kStale or
-/// kQueryInvalidated; fills the report.
-template <class Load>
-[[nodiscard]] ErrorCode RunWithoutExtrapolation(const TimePolicy& policy,
-                                                const EdgeHistories& histories, Load&& load,
-                                                TimeReport& report) noexcept {
-  const PolicyParts parts = PartsOf(WithoutExtrapolation(policy));
+/// Runs eval(TimeContext&) (kOk, or kQueryInvalidated: an edge was removed) under the policy
+/// for a compiled query with covariance, as the one-shot timed queries run theirs (RunPolicy):
+/// within the policy's horizon a pose edge is extrapolated with its integration twist, whose
+/// plan is the query's `plans` (made at compile time, IntegrationTwistPlans), and a twist edge
+/// holds its nearest sample. kOk, kInvalidNumber (a negative horizon), kExtrapolation, kStale
+/// or kQueryInvalidated; fills the report. noexcept, allocation-free.
+template <class Eval>
+[[nodiscard]] ErrorCode RunWithCovariance(const TimePolicy& policy, const EdgeHistories& histories,
+                                          const topology::SceneTopology* topology,
+                                          const IntegrationTwistPlans& plans, Eval&& eval,
+                                          TimeReport& report) noexcept {
+  const PolicyParts parts = PartsOf(policy);
   if (!parts.valid()) return ErrorCode::kInvalidNumber;
   TimeContext base;
   base.histories = &histories;
-  return RunPolicy(
-      parts, base,
-      [&](TimeContext& tc) { return load(tc) ? ErrorCode::kOk : ErrorCode::kQueryInvalidated; },
-      report);
+  base.topology = topology;
+  base.twist_plans = &plans;
+  return RunPolicy(parts, base, eval, report);
 }
 
 }  // namespace internal
@@ -154,13 +159,21 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
   /// At the policy's time (docs/time.md): each edge's value and covariance read as the one-shot
   /// GetPoseWithCovariance(spec, policy) reads them (timed_read.h ReadPoseAt: a sample's, or the
   /// interpolation of two at the time; latest: the newest; latest common: at the minimum of the
-  /// newest stamps), the same composition and propagation as above, and the report of what was
-  /// read. Never extrapolates: an extrapolated edge's covariance needs the covariance of its
-  /// integration twist (a twist query planned on the topology), so a time outside an edge's
-  /// samples is kExtrapolation whatever the policy's max_extrapolation (the one-shot query
-  /// answers it). Codes: kOk, kQueryInvalidated, kInvalidNumber (a negative horizon),
-  /// kExtrapolation, kStale; X and S are written on kOk only, report as the plain compiled
-  /// queries fill it (reset first, complete on kOk).
+  /// newest stamps; outside an edge's samples, within the policy's max_extrapolation, the edge
+  /// integrated with its integration twist, whose plan was made at compile time), the same
+  /// composition and propagation as above, and the report of what was read. When the answer was
+  /// extrapolated, the Jacobians go through the one-shot query's keyed sink (timed_covariance.h
+  /// KeyedSink: an edge shared by an integration twist and the query is perturbed once), so the
+  /// answer, covariance and report are the one-shot query's (up to rounding). Codes: kOk,
+  /// kQueryInvalidated, kInvalidNumber (a negative horizon), kExtrapolation (beyond
+  /// max_extrapolation, or no integration twist), kStale; X and S are written on kOk only,
+  /// report as the plain compiled queries fill it (reset first, complete on kOk). Extra cost
+  /// when extrapolated: per extrapolated edge its integration twist evaluated twice and
+  /// propagated twice over its path (the edge's covariance as read, then keyed: as the one-shot
+  /// query), a plan lookup O(log edges), the keyed sum's linear search over at most 32 keys per
+  /// Jacobian, and SharedPerturbations on the stack (about 20 KB); still noexcept and
+  /// allocation-free. Not under concurrent topology changes when it extrapolates (the
+  /// integration twists walk the twist forest, as plain compiled queries: compiled_query.h).
   [[nodiscard]] ErrorCode Evaluate(
       PoseCoords& X, Covariance6& S, const TimePolicy& policy, TimeReport& report,
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
@@ -173,13 +186,17 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
     coord::jacobians::PoseMoves moves;
   };
   using InZ = internal::PoseEdgeInZ;  // scratch of one evaluation, per edge
-  // The answer and its covariance from the edges in scratch_ (loaded by either Evaluate).
-  void Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order) const noexcept;
+  // The answer and its covariance from the edges in scratch_ (loaded by either Evaluate), each
+  // uncertain edge's Jacobian into `sink` (propagate.h DirectSink, or a KeyedSink).
+  template <class Sink>
+  void Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order, Sink&& sink) const noexcept;
   // Every edge at the context's time into scratch_; false when one was removed.
   bool LoadAt(internal::TimeContext& tc) noexcept;
   semantics::PoseSemantics semantics_;
   const EdgeValues<B>* values_ = nullptr;
+  const topology::SceneTopology* topology_ = nullptr;  ///< extrapolation's twist forests
   std::vector<Edge> edges_;
+  internal::IntegrationTwistPlans plans_;  ///< each edge's integration twist (extrapolation)
   std::int32_t frame_entry_[5] = {-1, -1, -1, -1, -1};  ///< the entry of each frame's edge
   std::vector<InZ> scratch_;
 };

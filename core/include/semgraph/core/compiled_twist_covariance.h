@@ -15,7 +15,14 @@
 // through core/propagate.h).
 // Invariants: each edge's epoch at compile time is kept; a removed edge turns an evaluation into
 // kQueryInvalidated (nothing written). At a time (Evaluate with a TimePolicy): each edge read
-// with its covariance by the one-shot timed query's readers (timed_read.h), no extrapolation.
+// with its covariance by the one-shot timed query's readers (timed_read.h), extrapolating as the
+// one-shot query within the policy's max_extrapolation (a twist edge holds its nearest sample, a
+// pose edge is integrated with its integration twist, planned at compile time:
+// IntegrationTwistPlans, one per pose edge; recompile after a topology change), with keyed
+// Jacobians when the answer was extrapolated (timed_covariance.h KeyedSink).
+// Twist source `poses` (the PoseTwistPlan constructor): each step is an inter-body pose edge's
+// derivative at the time (its head h, its two samples' covariances) in place of a twist edge,
+// never extrapolated (as the one-shot GetTwistWithCovariance(spec, policy, order, kPoses)).
 // Costs: Evaluate O(n + k + u k) for n pose edges, k twist edges and u uncertain pose edges:
 // one composition per pose edge, one Jacobian per uncertain edge; noexcept, allocation-free,
 // lock-free, string-free.
@@ -36,6 +43,7 @@
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/export.h"
 #include "semgraph/core/query_plan.h"
+#include "semgraph/core/time_plan.h"
 #include "semgraph/core/uncertainty.h"
 #include "semgraph/topology/scene_topology.h"
 
@@ -48,23 +56,32 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
   /// From a checked twist plan (PlanTwist).
   CompiledTwistWithCovariance(const topology::SceneTopology& t, const EdgeValues<B>& values,
                               const TwistPlan& plan);
+  /// Twist source `poses` (PlanPoseTwist, time_plan.h): each step is an inter-body pose edge's
+  /// derivative at the time (timed_read.h DerivePoseAt with its covariance), in place of a twist
+  /// edge (same sums and Jacobians, as propagate.h PoseTwistCovariance); every edge is read with
+  /// no horizon (never extrapolates, as the one-shot query: WithoutExtrapolation). The untimed
+  /// Evaluate reads the derivatives under Latest (as CompiledTwist from poses).
+  CompiledTwistWithCovariance(const topology::SceneTopology& t, const EdgeValues<B>& values,
+                              const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return pose_edges_.size(); }
   [[nodiscard]] std::size_t num_twist_edges() const noexcept { return steps_.size(); }
 
   /// The answer (v_DCe_R, w_DC_R) (as CompiledTwist::Evaluate writes it, up to rounding) and its
   /// covariance S (rows (dv, dw) in [r], in `order`). kOk or kQueryInvalidated (nothing
-  /// written).
+  /// written); from poses: the timed Evaluate under Latest (its codes too).
   [[nodiscard]] ErrorCode Evaluate(
       Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S,
       CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
   /// At the policy's time: each pose and twist edge's value and covariance read as the one-shot
   /// GetTwistWithCovariance(spec, policy) reads them (timed_read.h ReadPoseAt / ReadTwistAt with
   /// their covariance), then the same sums and Jacobians as above, and the report of what was
-  /// read. Never extrapolates (as CompiledPoseWithCovariance's timed Evaluate): a time outside
-  /// an edge's samples, a twist edge's too (the one-shot query holds it), is kExtrapolation
-  /// whatever the policy's max_extrapolation. Codes: kOk, kQueryInvalidated, kInvalidNumber,
-  /// kExtrapolation, kStale; the answer and S are written on kOk only.
+  /// read. Extrapolates as the one-shot query (CompiledPoseWithCovariance's timed Evaluate:
+  /// within max_extrapolation a twist edge holds its nearest sample, a pose edge is integrated
+  /// with its integration twist; keyed Jacobians when the answer was extrapolated), so answer,
+  /// covariance and report are the one-shot's (up to rounding). Codes: kOk, kQueryInvalidated,
+  /// kInvalidNumber, kExtrapolation, kStale; the answer and S are written on kOk only. Extra
+  /// cost when extrapolated: as CompiledPoseWithCovariance's (about 20 KB of stack).
   [[nodiscard]] ErrorCode Evaluate(
       Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S, const TimePolicy& policy,
       TimeReport& report, CovarianceOrder order = CovarianceOrder::kLinearAngular) noexcept;
@@ -84,7 +101,7 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
     bool moves_e, moves_r;
   };
   struct TwistEdge {
-    std::uint32_t slot;
+    std::uint32_t slot;  ///< the twist edge's slot; from poses: the pose edge's head frame
     std::uint32_t epoch;
     std::int32_t head_entry;  ///< the pose edge entry of its head h, -1: h is Z
     double sign;              ///< -1: traversed against its direction
@@ -95,16 +112,24 @@ class SEMGRAPH_CORE_EXPORT CompiledTwistWithCovariance {
     Eigen::Matrix3d R_ZH;
     Covariance6 S;
   };
+  // The pose chains of e, r and the steps' heads up to their common ancestor (constructors).
+  void AddPoseEdges(const topology::SceneTopology& t, FrameIndex e, FrameIndex r,
+                    const std::vector<FrameIndex>& heads);
   // Every edge into the scratch, at the context's time when tc is given; false when one was
   // removed.
   bool LoadPoseEdges(internal::TimeContext* tc) noexcept;
   bool LoadTwistEdges(internal::TimeContext* tc) noexcept;
-  // The answer and its covariance from the scratch.
+  // The answer and its covariance from the scratch, each uncertain edge's Jacobian into `sink`
+  // (propagate.h DirectSink, or a KeyedSink).
+  template <class Sink>
   void Finish(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R, Covariance6& S,
-              CovarianceOrder order) const noexcept;
+              CovarianceOrder order, Sink&& sink) const noexcept;
 
   semantics::TwistSemantics semantics_;
   const EdgeValues<B>* values_ = nullptr;
+  const topology::SceneTopology* topology_ = nullptr;  ///< extrapolation's twist forests
+  internal::IntegrationTwistPlans plans_;              ///< each pose edge's integration twist
+  bool from_poses_ = false;  ///< twist source `poses`: steps are derivatives, no extrapolation
   std::vector<PoseEdge> pose_edges_;
   std::vector<TwistEdge> steps_;
   std::vector<std::uint8_t> moves_h_;  ///< [pose edge * steps + step]: the edge moves that head

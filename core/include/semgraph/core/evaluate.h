@@ -13,6 +13,9 @@
 // Time (timed_read.h): given a TimeContext, both sources read each edge at the policy's time
 // (interpolated, extrapolated, differentiated) through the same functions; without one they
 // read each edge's current value, as before time existed. The composition is the same.
+// An extrapolated pose edge's integration twist (ExtrapolationTwist) is planned where the
+// context says (IntegrationTwistPlan): on the topology (PlanTwist), or a compiled query's plan
+// made at compile time (IntegrationTwistPlans; the compiled queries with covariance).
 // Why no semantic checks here: a plan is made only after every semantic check passed, and each
 // composition along a chain is valid by the forest invariant (the edge into g stores
 // PoseCoord({g}|G, {p}|P, [p]) and the next edge up starts at p). So only numbers remain, with
@@ -22,8 +25,12 @@
 // lock-free, string-free. Thread safety: reads values through sequence locks only.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "semgraph/base/demand.h"
 #include "semgraph/coord/dynamics_operations.h"
@@ -667,6 +674,56 @@ struct AccelerationComposer {
   [[nodiscard]] Motion Result() const noexcept { return ComposeMotion(d_side, c_side); }
 };
 
+/// The plan of the integration twist TwistCoord(h|H, T, [h]) of the pose edge {t}|T -> {h}|H
+/// into h (the screw twist an extrapolated edge is integrated with); none when h has no pose
+/// parent or there is no twist path. noexcept; O(depth of the twist forest).
+inline std::optional<TwistPlan> PlanIntegrationTwist(const topology::SceneTopology& t,
+                                                     FrameIndex h) noexcept {
+  const FrameIndex tail = t.pose_parent(h);
+  if (!tail.is_valid()) return std::nullopt;
+  const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail),
+                                    t.FrameSem(h).axes()};
+  auto plan = PlanTwist(t, q);
+  if (!plan) return std::nullopt;
+  return *plan;
+}
+
+/// A compiled query's integration twist plans (PlanIntegrationTwist of each pose edge it reads,
+/// made at compile time: Add allocates), by frame, sorted. Find: O(log edges), noexcept,
+/// allocation-free. Invariant: the plans are those of the topology at compile time (a twist
+/// path changed since is not seen: recompile, as for any topology change).
+struct IntegrationTwistPlans {
+  std::vector<std::pair<std::uint32_t, std::optional<TwistPlan>>> plans;
+  void Add(const topology::SceneTopology& t, FrameIndex h) {
+    const auto it = std::lower_bound(plans.begin(), plans.end(), h.value(),
+                                     [](const auto& e, std::uint32_t f) { return e.first < f; });
+    if (it != plans.end() && it->first == h.value()) return;
+    plans.insert(it, {h.value(), PlanIntegrationTwist(t, h)});
+  }
+  /// The plan of the edge into `frame`; nullptr when not compiled or without a twist path.
+  [[nodiscard]] const TwistPlan* Find(std::uint32_t frame) const noexcept {
+    const auto it = std::lower_bound(plans.begin(), plans.end(), frame,
+                                     [](const auto& e, std::uint32_t f) { return e.first < f; });
+    if (it == plans.end() || it->first != frame || !it->second) return nullptr;
+    return &*it->second;
+  }
+};
+
+/// The integration twist plan of the pose edge into `frame` for an evaluation in context tc:
+/// the compiled query's (tc.twist_plans), else planned now on tc.topology (the one-shot path).
+/// The one place an extrapolation's twist plan comes from (ExtrapolationTwist, and
+/// timed_covariance.h ExtrapolationCovariance / KeyedSink).
+inline std::optional<TwistPlan> IntegrationTwistPlan(const TimeContext& tc,
+                                                     std::uint32_t frame) noexcept {
+  if (tc.twist_plans != nullptr) {
+    const TwistPlan* p = tc.twist_plans->Find(frame);
+    if (p == nullptr) return std::nullopt;
+    return *p;
+  }
+  if (tc.topology == nullptr) return std::nullopt;
+  return PlanIntegrationTwist(*tc.topology, FrameIndex(frame));
+}
+
 /// The screw twist TwistCoord(h|H, T, [h]) of the pose edge {t}|T -> {h}|H into `frame`, at
 /// stamp s, from the twist edges (a twist query planned and evaluated here, at s, without
 /// extrapolation). The samples it reads count in the parent's oldest / newest; its edges are
@@ -678,12 +735,7 @@ bool ExtrapolationTwist(const EdgeValues<B>& v, std::uint32_t frame, std::int64_
                         Eigen::Vector3d& w_out) noexcept {
   if (parent.topology == nullptr) return false;
   const topology::SceneTopology& t = *parent.topology;
-  const FrameIndex h(frame);
-  const FrameIndex tail = t.pose_parent(h);
-  if (!tail.is_valid()) return false;
-  const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail),
-                                    t.FrameSem(h).axes()};
-  auto plan = PlanTwist(t, q);
+  const std::optional<TwistPlan> plan = IntegrationTwistPlan(parent, frame);
   if (!plan) return false;
   TimeContext nested;
   nested.at = true;

@@ -475,13 +475,22 @@ class SEMGRAPH_CORE_EXPORT SceneGraph {
   CompileOrientationWithCovariance(const PoseSpec& spec) const;
   /// Compiled twist, linear and angular velocity queries with covariance
   /// (compiled_twist_covariance.h): the errors of CompileTwist / GetLinearVelocity /
-  /// GetAngularVelocity (current values; a twist source `poses` is not offered with covariance).
+  /// GetAngularVelocity (current values).
   [[nodiscard]] Expected<CompiledTwistWithCovariance<B>, QueryError> CompileTwistWithCovariance(
       const TwistSpec& spec) const;
   [[nodiscard]] Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>
   CompileLinearVelocityWithCovariance(const TwistSpec& spec) const;
   [[nodiscard]] Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>
   CompileAngularVelocityWithCovariance(const TwistSpec& spec) const;
+  /// The same whose twists come from `source` (kTwists: as above; kPoses: the pose edges'
+  /// derivatives, as GetTwistWithCovariance(spec, policy, order, kPoses); the errors of
+  /// CompileTwist(spec, source)).
+  [[nodiscard]] Expected<CompiledTwistWithCovariance<B>, QueryError> CompileTwistWithCovariance(
+      const TwistSpec& spec, TwistSource source) const;
+  [[nodiscard]] Expected<CompiledLinearVelocityWithCovariance<B>, QueryError>
+  CompileLinearVelocityWithCovariance(const TwistSpec& spec, TwistSource source) const;
+  [[nodiscard]] Expected<CompiledAngularVelocityWithCovariance<B>, QueryError>
+  CompileAngularVelocityWithCovariance(const TwistSpec& spec, TwistSource source) const;
   /// The covariance stored with the pose edge into f / the twist edge into f, in the edge form
   /// (zero: exact, or no edge). Writer thread. O(1).
   [[nodiscard]] Covariance6 pose_covariance(FrameIndex f) const noexcept;

@@ -13,6 +13,9 @@
 // sample, or two samples at one fraction), an extrapolated pose edge's Jacobian is split into
 // its sample's and, through J_xi, those of its integration twist's edges (read at s_k), and
 // the Jacobians of one key are summed before J S J^T is formed.
+// The integration twist's plan comes from IntegrationTwistPlan (evaluate.h): planned on the
+// topology (one-shot queries), or a compiled query's plan made at compile time (the context's
+// twist_plans), so one-shot and compiled queries run this same code.
 // Costs: as the propagation, plus per extrapolated edge one twist propagation (twice with
 // keyed Jacobians, plus a linear search over at most kMaxPerturbations keys per edge).
 // noexcept, allocation-free (SharedPerturbations lives on the stack: about 20 KB), lock-free.
@@ -59,10 +62,7 @@ void ExtrapolationCovariance(const EdgeValues<B>& v, std::uint32_t frame, std::i
   jac::AddPropagated(J_X, S_k, S);
   // The integration twist's covariance, at the sample's stamp (as ExtrapolationTwist reads it).
   const topology::SceneTopology& t = *parent.topology;
-  const FrameIndex h(frame), tail = t.pose_parent(h);
-  const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail),
-                                    t.FrameSem(h).axes()};
-  auto plan = PlanTwist(t, q);
+  const std::optional<TwistPlan> plan = IntegrationTwistPlan(parent, frame);
   if (!plan) return;
   TimeContext nested;
   nested.at = true;
@@ -213,10 +213,7 @@ struct KeyedSink {
     k.s0 = k.s1 = b.s0;
     acc->Add(k, J * J_X, S_k);
     const topology::SceneTopology& t = *tc->topology;
-    const FrameIndex h(frame), tail = t.pose_parent(h);
-    const semantics::TwistSemantics q{t.FrameSem(h).origin(), t.BodyOfSem(h), t.BodyOfSem(tail),
-                                      t.FrameSem(h).axes()};
-    auto plan = PlanTwist(t, q);
+    const std::optional<TwistPlan> plan = IntegrationTwistPlan(*tc, frame);
     if (!plan) return;
     TimeContext nested;
     nested.at = true;

@@ -71,6 +71,8 @@ class EdgeRecorder {
   ~EdgeRecorder() = default;
 };
 
+struct IntegrationTwistPlans;  // evaluate.h: a compiled query's precomputed integration twists
+
 struct TimeContext {
   // The policy.
   bool at = false;           ///< false: each edge's newest sample
@@ -81,6 +83,10 @@ struct TimeContext {
   std::int64_t not_before = 0;
   const EdgeHistories* histories = nullptr;
   const topology::SceneTopology* topology = nullptr;  ///< for extrapolation (twist plans)
+  /// Where an extrapolated pose edge's integration twist plan comes from (IntegrationTwistPlan,
+  /// evaluate.h): nullptr, planned on the topology (PlanTwist); else a compiled query's plans,
+  /// made at compile time (no planning at evaluation).
+  const IntegrationTwistPlans* twist_plans = nullptr;
   EdgeRecorder* recorder = nullptr;
 
   // What was read.
