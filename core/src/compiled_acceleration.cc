@@ -19,7 +19,8 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& s) {
     Step step;
     step.step.edge = s.edge;
-    step.step.epoch = values.A_DH[s.edge.value()].epoch();
+    step.record = &values.A_DH[s.edge.value()];
+    step.step.epoch = step.record->epoch();
     step.step.invert = s.invert;
     step.step.ref_side = s.ref_side;
     steps_.push_back(step);
@@ -72,7 +73,7 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
   bool missing = false;
   for (const Step& s : steps_) {
     TwistAndAcceleration rec;
-    if (!src.LoadAcceleration(s.step, rec)) return ErrorCode::kQueryInvalidated;
+    if (!src.LoadAcceleration(*s.record, s.step, rec)) return ErrorCode::kQueryInvalidated;
     missing = missing || rec.present == 0.0;
     if (missing) continue;
     const typename B::PoseCoords& X_ZH = in_z(s.head);

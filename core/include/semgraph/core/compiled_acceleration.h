@@ -59,10 +59,11 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return parent_.size(); }
 
  private:
-  /// A twist step: the record it reads (step.epoch: the acceleration record's) and the entry
-  /// of its head's pose in the union (-1: Z itself).
+  /// A twist step: the record it reads (step.epoch: the acceleration record's; record: its
+  /// value, resolved once) and the entry of its head's pose in the union (-1: Z itself).
   struct Step {
     TwistStep<typename CompiledQuery<B>::Chain> step;
+    const AccelerationValue* record = nullptr;
     std::int32_t head = -1;
   };
   [[gnu::flatten]] ErrorCode Compose(const internal::FlatSource<B>& src,
