@@ -60,7 +60,7 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
 
  private:
   /// A twist step: the record it reads (step.epoch: the acceleration record's; record: its
-  /// value, resolved once) and the entry of its head's pose in the union (-1: Z itself).
+  /// value, resolved once) and the scratch entry of its head's pose in Z.
   struct Step {
     TwistStep<typename CompiledQuery<B>::Chain> step;
     const AccelerationValue* record = nullptr;
@@ -72,8 +72,10 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   semantics::AccelerationSemantics semantics_;
   std::vector<std::int32_t> parent_;  ///< per union edge (edges_ entry i): the entry above, -1: Z
   std::vector<Step> steps_;
-  std::int32_t e_entry_ = -1, r_entry_ = -1;
-  std::vector<typename B::PoseCoords> scratch_;  ///< per union edge: its head's pose in Z
+  std::int32_t e_entry_ = 0, r_entry_ = 0;  ///< scratch entries of e's and [r]'s poses in Z
+  /// Per union edge: its head's pose in Z; then Z's own (the identity: the entry of e, [r] or
+  /// a head that is Z). Empty when there is no step.
+  std::vector<typename B::PoseCoords> scratch_;
 };
 
 extern template class CompiledAcceleration<coord::QuaternionBackend>;
