@@ -86,10 +86,11 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
     composer.Add(s->step.ref_side, m);
   }
   if (missing) return ErrorCode::kNoAcceleration;
-  // To e, then into [r].
+  // To e, then into [r]; neither move when e or [r] is Z (its entry: the last, past the edges).
   out = composer.Result();
-  internal::ShiftMotion(out, -B::TranslationOf(in_z[e_entry_]));  // Z's origin to e: p = Zo - e
-  internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z[r_entry_])), out);
+  const auto z = static_cast<std::int32_t>(n);
+  if (e_entry_ != z) internal::ShiftMotion(out, -B::TranslationOf(in_z[e_entry_]));  // p = Zo - e
+  if (r_entry_ != z) internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z[r_entry_])), out);
   return ErrorCode::kOk;
 }
 
