@@ -19,7 +19,8 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   ForEachTwistStep(t, plan, [&](const TwistStep<ForestChain>& s) {
     Step step;
     step.step.edge = s.edge;
-    step.step.epoch = values.A_DH[s.edge.value()].epoch();
+    step.record = &values.A_DH[s.edge.value()];
+    step.step.epoch = step.record->epoch();
     step.step.invert = s.invert;
     step.step.ref_side = s.ref_side;
     steps_.push_back(step);
@@ -38,54 +39,58 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
     (void)this->Flatten(t, ForestChain{g, t.pose_parent(g)});
     parent_.push_back(internal::EntryOf(edges, t.pose_parent(g)));
   }
-  e_entry_ = internal::EntryOf(edges, e);
-  r_entry_ = internal::EntryOf(edges, r);
-  for (std::size_t j = 0; j < steps_.size(); ++j) {
-    steps_[j].head = internal::EntryOf(edges, ends[2 + j]);
-  }
-  scratch_.resize(edges.size());
+  // Z itself (-1 in the list) is the scratch's last entry, the identity: no test per step.
+  const auto entry = [&](FrameIndex f) {
+    const std::int32_t i = internal::EntryOf(edges, f);
+    return i < 0 ? static_cast<std::int32_t>(edges.size()) : i;
+  };
+  e_entry_ = entry(e);
+  r_entry_ = entry(r);
+  for (std::size_t j = 0; j < steps_.size(); ++j) steps_[j].head = entry(ends[2 + j]);
+  scratch_.assign(edges.size() + 1, B::Identity());
 }
 
 template <coord::Backend B>
 ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
                                            internal::Motion& out) noexcept {
-  // Every union edge's head in Z, top-down (each after the edge above it).
-  for (std::size_t i = 0; i < parent_.size(); ++i) {
-    typename B::PoseCoords X_PG;
+  if (steps_.empty()) {  // C == D (or a default-constructed query): zero, nothing read
+    out = internal::Motion::Zero();
+    return ErrorCode::kOk;
+  }
+  // Every union edge's head in Z, top-down (each after the edge above it). Through local
+  // pointers: the stores to the scratch would otherwise reload the vectors' bounds each edge.
+  using Pose = typename B::PoseCoords;
+  Pose* const in_z = scratch_.data();
+  const std::int32_t* const parent = parent_.data();
+  const auto n = static_cast<std::uint32_t>(parent_.size());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    Pose X_PG;
     bool identity = false;
-    const auto k = static_cast<std::uint32_t>(i);
-    if (!src.EvalChain(internal::FlatChain{k, k + 1}, X_PG, identity)) {
+    if (!src.EvalChain(internal::FlatChain{i, i + 1}, X_PG, identity)) {
       return ErrorCode::kQueryInvalidated;
     }
-    if (parent_[i] < 0) {
-      scratch_[i] = X_PG;
-    } else {
-      scratch_[i] = B::ComposeChain(X_PG, scratch_[static_cast<std::size_t>(parent_[i])]);
-    }
+    in_z[i] = parent[i] < 0 ? X_PG : B::ComposeChain(X_PG, in_z[parent[i]]);
   }
-  static const typename B::PoseCoords kZ = B::Identity();
-  const auto in_z = [&](std::int32_t entry) -> const typename B::PoseCoords& {
-    return entry < 0 ? kZ : scratch_[static_cast<std::size_t>(entry)];
-  };
   // Every step at Z's origin in [Z], composed; every record read even after a missing one.
   internal::AccelerationComposer composer;
   bool missing = false;
-  for (const Step& s : steps_) {
+  for (const Step *s = steps_.data(), *end = s + steps_.size(); s != end; ++s) {
     TwistAndAcceleration rec;
-    if (!src.LoadAcceleration(s.step, rec)) return ErrorCode::kQueryInvalidated;
+    if (!src.LoadAcceleration(*s->record, s->step, rec)) return ErrorCode::kQueryInvalidated;
     missing = missing || rec.present == 0.0;
     if (missing) continue;
-    const typename B::PoseCoords& X_ZH = in_z(s.head);
-    internal::Motion m = internal::EdgeMotion(rec, s.step.invert);
+    const Pose& X_ZH = in_z[s->head];
+    internal::Motion m = internal::EdgeMotion(rec, s->step.invert);
     internal::RotateMotion<B>(B::RotationOf(X_ZH), m);
     internal::ShiftMotion(m, B::TranslationOf(X_ZH));  // h to Z's origin: p = h - Zo
-    composer.Add(s.step.ref_side, m);
+    composer.Add(s->step.ref_side, m);
   }
   if (missing) return ErrorCode::kNoAcceleration;
-  // To e, then into [r].
+  // To e, then into [r]; neither move when e or [r] is Z (its entry: the last, past the edges).
   out = composer.Result();
-  internal::ShiftMotion(out, -B::TranslationOf(in_z(e_entry_)));  // Z's origin to e: p = Zo - e
-  internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z(r_entry_))), out);
+  const auto z = static_cast<std::int32_t>(n);
+  if (e_entry_ != z) internal::ShiftMotion(out, -B::TranslationOf(in_z[e_entry_]));  // p = Zo - e
+  if (r_entry_ != z) internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z[r_entry_])), out);
   return ErrorCode::kOk;
 }
 

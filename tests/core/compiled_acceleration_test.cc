@@ -3,12 +3,16 @@
 // test checks against the peer) before and after new values; on the spinning disc of
 // accelerations_test.cc, a value written through a handle reads back by hand; the codes:
 // kNoAcceleration (a twist given since without one), kQueryInvalidated (an edge removed),
-// SetAcceleration's kNoSuchEdge, kInvalidNumber, kJointEdge, kStampMismatch, each writing nothing.
+// SetAcceleration's kNoSuchEdge, kInvalidNumber, kJointEdge, kStampMismatch, each writing nothing;
+// under one concurrent writer every answer is one record's, never a mix of two (the record's
+// words are read straight from its sequence lock).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <string>
+#include <thread>
 
 #include "semgraph/core/scene_graph.h"
 #include "semgraph/core/scene_graph_debug.h"
@@ -173,6 +177,52 @@ TYPED_TEST(CompiledAccelerations, ARemovedEdgeComesBeforeAMissingAcceleration) {
   EXPECT_EQ(chain->Evaluate(a, alpha), ErrorCode::kNoAcceleration);
   ASSERT_TRUE(h.RemoveTwist("c", "B"));
   EXPECT_EQ(chain->Evaluate(a, alpha), ErrorCode::kQueryInvalidated);
+}
+
+// The query at the edge's own head in its own frame answers the record exactly (Z = d: no pose
+// edge, identity rotation and shift). The writer stores records whose words all derive from one
+// k (a = (k, k, k), alpha = (k, -k, 2k)), each after a twist that clears the record; the reader
+// gets kOk with one record's words, or kNoAcceleration between the two stores.
+TYPED_TEST(CompiledAccelerations, AConcurrentWriterNeverTearsARecord) {
+  SceneGraph<TypeParam> g;
+  ASSERT_TRUE(g.AddPose(PoseSpec::Of("d", "Disc").RelativeTo("w", "G"),
+                        Eigen::Quaterniond::Identity(), Vec(1, 2, 3)));
+  ASSERT_TRUE(g.AddTwist(TwistSpec::Of("d", "Disc").RelativeTo("G").ExpressedIn("d"), Vec::Zero(),
+                         Vec(0, 0, 1), AccelerationInput{Vec::Zero(), Vec::Zero()}));
+  auto compiled =
+      g.CompileAcceleration(TwistSpec::Of("d", "Disc").RelativeTo("G").ExpressedIn("d"));
+  ASSERT_TRUE(compiled);
+  auto h = g.FindTwistEdge("d", "G");
+  ASSERT_TRUE(h);
+  std::atomic<bool> done{false};
+  int torn = 0, ok = 0, other = 0;
+  std::thread reader([&] {
+    const auto read = [&] {
+      Vec a, alpha;
+      const ErrorCode code = compiled->Evaluate(a, alpha);
+      if (code == ErrorCode::kOk) {
+        ++ok;
+        const double k = a.x();
+        torn += (a != Vec(k, k, k) || alpha != Vec(k, -k, 2 * k)) ? 1 : 0;
+      } else if (code != ErrorCode::kNoAcceleration) {
+        ++other;
+      }
+    };
+    while (!done.load(std::memory_order_acquire)) read();
+    read();  // after the last store: a whole record
+  });
+  int refused = 0;  // counted, not asserted: the reader must be joined
+  for (int k = 1; k <= 200000; ++k) {
+    const double x = k;
+    refused += g.SetTwist(*h, Vec(x, x, x), Vec(0, 0, x)) != ErrorCode::kOk ? 1 : 0;
+    refused += g.SetAcceleration(*h, Vec(x, x, x), Vec(x, -x, 2 * x)) != ErrorCode::kOk ? 1 : 0;
+  }
+  done.store(true, std::memory_order_release);
+  reader.join();
+  EXPECT_EQ(refused, 0);
+  EXPECT_EQ(torn, 0);
+  EXPECT_EQ(other, 0);
+  EXPECT_GE(ok, 1);
 }
 
 }  // namespace

@@ -10,9 +10,10 @@
 //     in Z, kept in the object's scratch: one composition per edge); every step's twist and
 //     acceleration (evaluate.h EdgeMotion) rotated into [Z] and moved to Z's origin with that
 //     pose, then composed with the Coriolis terms (AccelerationComposer); the result moved to e
-//     and rotated into [r] once. Each edge is read through the one evaluator's source
-//     (FlatSource: the current values, or the policy's time), so the reads are those of every
-//     compiled query.
+//     and rotated into [r] once (neither when e, or [r], is Z). Each edge is read through the
+//     one evaluator's source (FlatSource: the current values, or the policy's time), so the
+//     reads are those of every compiled query; at the current values each record's words go
+//     straight from its sequence lock into the motion (one header test per read).
 // Invariants: as every compiled query (compiled_query.h): a removed edge makes Evaluate return
 // kQueryInvalidated, never a wrong number (reported before kNoAcceleration). An edge of the path
 // that carries no acceleration when evaluated (never given, cleared by a twist given without
@@ -20,8 +21,9 @@
 // the timed one-shot query reads it (timed_read.h).
 // Costs: Evaluate O(pose edges in the union + twist edges): one composition per pose edge, four
 // rotations, one shift and one composition per twist edge (the one-shot query moves each edge
-// through its own chains: O(twist edges x chain length)); noexcept, allocation-free, lock-free,
-// string-free.
+// through its own chains: O(twist edges x chain length)); on the bench chain about 1.4x the
+// instructions of a hand-written Eigen chain (docs/performance.md, "Accelerations"); noexcept,
+// allocation-free, lock-free, string-free.
 // Thread safety: Evaluate uses the object's own scratch: one evaluating thread per object (a
 // copy is independent), concurrently with one writer; each edge's acceleration and twist are
 // read together, untorn.
@@ -59,10 +61,11 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   [[nodiscard]] std::size_t num_pose_edges() const noexcept { return parent_.size(); }
 
  private:
-  /// A twist step: the record it reads (step.epoch: the acceleration record's) and the entry
-  /// of its head's pose in the union (-1: Z itself).
+  /// A twist step: the record it reads (step.epoch: the acceleration record's; record: its
+  /// value, resolved once) and the scratch entry of its head's pose in Z.
   struct Step {
     TwistStep<typename CompiledQuery<B>::Chain> step;
+    const AccelerationValue* record = nullptr;
     std::int32_t head = -1;
   };
   [[gnu::flatten]] ErrorCode Compose(const internal::FlatSource<B>& src,
@@ -71,8 +74,10 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
   semantics::AccelerationSemantics semantics_;
   std::vector<std::int32_t> parent_;  ///< per union edge (edges_ entry i): the entry above, -1: Z
   std::vector<Step> steps_;
-  std::int32_t e_entry_ = -1, r_entry_ = -1;
-  std::vector<typename B::PoseCoords> scratch_;  ///< per union edge: its head's pose in Z
+  std::int32_t e_entry_ = 0, r_entry_ = 0;  ///< scratch entries of e's and [r]'s poses in Z
+  /// Per union edge: its head's pose in Z; then Z's own (the identity: the entry of e, [r] or
+  /// a head that is Z). Empty when there is no step.
+  std::vector<typename B::PoseCoords> scratch_;
 };
 
 extern template class CompiledAcceleration<coord::QuaternionBackend>;

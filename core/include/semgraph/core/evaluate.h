@@ -325,8 +325,27 @@ class FlatSource {
       r.present = 0.0;
       return true;
     }
-    const AccelerationValue& value = v_.A_DH[s.edge.value()];
-    if (!time_) return value.Load(r, s.epoch);
+    return LoadAcceleration(v_.A_DH[s.edge.value()], s, r);
+  }
+  /// The same for a twist edge's record resolved when compiling (value: v.A_DH[s.edge], which
+  /// never moves while the graph lives), so that the hot loop does no index lookup.
+  bool LoadAcceleration(const AccelerationValue& value, const TwistStep<FlatChain>& s,
+                        TwistAndAcceleration& r) const noexcept {
+    if (!time_) {
+      // The hot case: the record's words (v, w, a, alpha, present) straight into r's members,
+      // which stay in registers once inlined (no copy through a word buffer); one test of the
+      // header for epoch and write in progress (as the pose edges').
+      static_assert(sizeof(TwistAndAcceleration) == 13 * sizeof(double) &&
+                    AccelerationValue::kWords == 13);
+      AccelerationValue::Word w[AccelerationValue::kWords];
+      if (!value.LoadWords(w, AccelerationValue::ExpectedHeader(s.epoch))) return false;
+      r.V.v_DHo_H = Eigen::Vector3d(w[0], w[1], w[2]);
+      r.V.w_DH_H = Eigen::Vector3d(w[3], w[4], w[5]);
+      r.A.a_DHo_H = Eigen::Vector3d(w[6], w[7], w[8]);
+      r.A.alpha_DH_H = Eigen::Vector3d(w[9], w[10], w[11]);
+      r.present = w[12];
+      return true;
+    }
     if (value.epoch() != s.epoch) return false;
     ReadTwistAt<B, false, true>(v_, s.edge.value(), *time_, r.V, nullptr, &r);
     return value.epoch() == s.epoch;
@@ -610,14 +629,21 @@ inline void ShiftMotion(Motion& m, const Eigen::Vector3d& p) noexcept {
   m.v = coord::kernels::ShiftLinear(m.v, m.w, p);
 }
 /// The motion re-expressed with rotation R (R_new_old), in place: one 3x3 matrix for the four
-/// vectors (a quaternion's four rotations cost twice as much).
+/// vectors (a quaternion's four rotations cost twice as much). The products are written out per
+/// row (the sums in Eigen's order): GCC 12 called Eigen's 3x3-by-vector assignment out of line
+/// from the compiled acceleration query's loop, about 25 instructions per product plus the call.
 template <coord::Backend B>
 [[gnu::always_inline]] inline void RotateMotion(const typename B::Rotation& R, Motion& m) noexcept {
   const Eigen::Matrix3d M = B::ToMatrix(R);
-  m.v = M * m.v;
-  m.w = M * m.w;
-  m.a = M * m.a;
-  m.alpha = M * m.alpha;
+  const auto rotate = [&M](const Eigen::Vector3d& x) noexcept {
+    return Eigen::Vector3d(M(0, 0) * x.x() + M(0, 1) * x.y() + M(0, 2) * x.z(),
+                           M(1, 0) * x.x() + M(1, 1) * x.y() + M(1, 2) * x.z(),
+                           M(2, 0) * x.x() + M(2, 1) * x.y() + M(2, 2) * x.z());
+  };
+  m.v = rotate(m.v);
+  m.w = rotate(m.w);
+  m.a = rotate(m.a);
+  m.alpha = rotate(m.alpha);
 }
 
 template <coord::Backend B, class Source>
