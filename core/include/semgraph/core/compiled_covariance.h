@@ -23,7 +23,8 @@
 // plus one Jacobian and one block J S J^T per edge with a nonzero covariance; noexcept,
 // allocation-free, lock-free, string-free. Thread safety: Evaluate uses the object's own scratch
 // (one evaluating thread per object; a copy is independent), concurrently with one writer (SetPose,
-// Add*, Remove*).
+// Add*, Remove*), except an evaluation that extrapolates: it walks the twist forests of its
+// integration twists, which a topology change rewrites (docs/realtime.md, "Which evaluations").
 #pragma once
 
 #include <cstdint>

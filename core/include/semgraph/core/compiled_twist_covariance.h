@@ -27,7 +27,9 @@
 // one composition per pose edge, one Jacobian per uncertain edge; noexcept, allocation-free,
 // lock-free, string-free.
 // Thread safety: Evaluate uses the object's own scratch (one evaluating thread per object; a
-// copy is independent), concurrently with one writer (SetPose, SetTwist, Add*, Remove*).
+// copy is independent), concurrently with one writer (SetPose, SetTwist, Add*, Remove*), except
+// an evaluation that extrapolates: it walks the twist forests of its integration twists, which a
+// topology change rewrites (docs/realtime.md, "Which evaluations").
 #pragma once
 
 #include <cstdint>
