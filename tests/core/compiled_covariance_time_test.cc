@@ -33,6 +33,7 @@ using semgraph::testing::MakeTimedGraph;
 using semgraph::testing::Ms;
 using semgraph::testing::RandomCovariance;
 using semgraph::testing::RandomFrameName;
+using semgraph::testing::RandomTreeEdge;
 using semgraph::testing::RandomVector;
 
 // Frames f0..f6 on bodies B0..B6, f_k under a random earlier frame; each edge stamped (samples
@@ -42,9 +43,7 @@ template <class Graph>
 void BuildScene(Graph& g, std::mt19937& rng, std::vector<std::int64_t>& stamps) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 3);
   for (int k = 1; k < 7; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     const PoseSpec spec = PoseSpec::Of(f, F).RelativeTo(t, T);
     if (coin(rng) == 0) {
       const Covariance6 S = RandomCovariance(rng);
@@ -184,10 +183,7 @@ template <class Graph>
 void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 3);
   for (int k = 1; k < 7; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
-    const std::string s = "s" + std::to_string(k);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     const PoseSpec pose = PoseSpec::Of(f, F).RelativeTo(t, T);
     const TwistSpec twist = TwistSpec::Of(s, F).RelativeTo(T).ExpressedIn(s);
     Covariance6 S = RandomCovariance(rng);

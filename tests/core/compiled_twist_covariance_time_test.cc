@@ -31,6 +31,7 @@ using semgraph::testing::MakeTimedGraph;
 using semgraph::testing::Ms;
 using semgraph::testing::RandomCovariance;
 using semgraph::testing::RandomFrameName;
+using semgraph::testing::RandomTreeEdge;
 using semgraph::testing::RandomVector;
 using semgraph::testing::SpecNames;
 
@@ -41,9 +42,7 @@ template <class Graph>
 void BuildScene(Graph& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 2);
   for (int k = 1; k < 6; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     const PoseSpec pose = PoseSpec::Of(f, F).RelativeTo(t, T);
     const TwistSpec twist = TwistSpec::Of(f, F).RelativeTo(T).ExpressedIn(f);
     for (int kind = 0; kind < 2; ++kind) {
@@ -297,10 +296,7 @@ template <class Graph>
 void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 2);
   for (int k = 1; k < 6; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
-    const std::string s = "s" + std::to_string(k);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     Covariance6 S = RandomCovariance(rng);
     ASSERT_TRUE(g.AddPose(PoseSpec::Of(s, F).RelativeTo(f, F), ExpR(0.5 * RandomVector(rng)),
                           RandomVector(rng), CovarianceInput{&S}));

@@ -5,10 +5,10 @@
 // surely definite) and standard normal vectors. Deterministic given rng.
 //
 // Also the scaffolding of the compiled-vs-one-shot tests at a time: a graph keeping 100 s
-// (MakeTimedGraph); random frame names; the loop over random scenes (CountAnswered: kRandomScenes
-// graphs, kQueriesPerScene specs each, every policy of a list, what differs passed as callables);
-// the extrapolation policies and comparison (CompareExtrapolations: its counts printed and
-// checked); and the allocations of rounds of evaluations (AllocationsOf, alloc_counter.h).
+// (MakeTimedGraph); random frame names and tree edges; the loop over random scenes (CountAnswered:
+// kRandomScenes graphs, kQueriesPerScene specs each, every policy of a list, what differs passed as
+// callables); the extrapolation policies and comparison (CompareExtrapolations: its counts printed
+// and checked); and the allocations of rounds of evaluations (AllocationsOf, alloc_counter.h).
 // Nothing here checks an answer: the callables do.
 #pragma once
 
@@ -61,6 +61,17 @@ inline std::string RandomFrameName(std::mt19937& rng, int last, bool calibration
   const int k = std::uniform_int_distribution<int>(0, last)(rng);
   const bool s = calibrations && k > 0 && std::uniform_int_distribution<int>(0, 1)(rng) != 0;
   return std::string(s ? "s" : "f") + std::to_string(k);
+}
+
+// The names of edge k of a random tree: frame f<k> on body B<k> (F) under frame t = f<parent> on
+// body T = B<parent>, parent uniform in [0, k); s<k>, a calibration frame on B<k>.
+struct TreeEdge {
+  std::string f, F, t, T, s;
+};
+inline TreeEdge RandomTreeEdge(std::mt19937& rng, int k) {
+  const std::string c = std::to_string(k);
+  const std::string p = std::to_string(std::uniform_int_distribution<int>(0, k - 1)(rng));
+  return {"f" + c, "B" + c, "f" + p, "B" + p, "s" + c};
 }
 
 inline constexpr int kRandomScenes = 6, kQueriesPerScene = 10;
