@@ -9,7 +9,7 @@
 // kRandomScenes graphs, kQueriesPerScene specs each, every policy of a list, what differs passed as
 // callables); the extrapolation policies and comparison (CompareExtrapolations: its counts printed
 // and checked); and the allocations of rounds of evaluations (AllocationsOf, alloc_counter.h).
-// Nothing here checks an answer: the callables do.
+// The answers are checked by the callables; the helpers check only counts (CompareExtrapolations).
 #pragma once
 
 #include <gtest/gtest.h>
