@@ -11,22 +11,14 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "support/alloc_counter.h"
+#include "support/random_covariance.h"
 
 namespace semgraph::core {
 namespace {
 
 using semgraph::testing::AllocationCounter;
-
-Eigen::Matrix3d ExpR(const Eigen::Vector3d& w) {
-  const double th = w.norm();
-  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
-}
-Covariance6 RandomCovariance(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Matrix<double, 6, 6> L;
-  for (int i = 0; i < 36; ++i) L(i / 6, i % 6) = n(rng);
-  return 1e-6 * L * L.transpose();
-}
+using semgraph::testing::ExpR;
+using semgraph::testing::RandomCovariance;
 
 // Frames f0..f7 on bodies B0..B7 (f_k under a random earlier frame), g_k fixed to B_k under f_k.
 template <class Graph>

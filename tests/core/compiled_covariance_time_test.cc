@@ -12,6 +12,7 @@
 // twist and the query); one extrapolated edge by hand; no allocation when extrapolating.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -26,18 +27,14 @@
 namespace semgraph::core {
 namespace {
 
+using semgraph::testing::AllocationsOf;
 using semgraph::testing::ExpR;
+using semgraph::testing::MakeTimedGraph;
 using semgraph::testing::Ms;
 using semgraph::testing::RandomCovariance;
+using semgraph::testing::RandomFrameName;
+using semgraph::testing::RandomTreeEdge;
 using semgraph::testing::RandomVector;
-
-template <class Graph>
-Graph MakeGraph(Interpolation mode) {
-  TimeOptions o;
-  o.window = Duration::Seconds(100);
-  o.interpolation = mode;
-  return *Graph::Create(o);
-}
 
 // Frames f0..f6 on bodies B0..B6, f_k under a random earlier frame; each edge stamped (samples
 // near 1, 2 and 3 s, the first at or before 1 s and the last at or after 3 s, so [1 s, 3 s] is
@@ -46,9 +43,7 @@ template <class Graph>
 void BuildScene(Graph& g, std::mt19937& rng, std::vector<std::int64_t>& stamps) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 3);
   for (int k = 1; k < 7; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     const PoseSpec spec = PoseSpec::Of(f, F).RelativeTo(t, T);
     if (coin(rng) == 0) {
       const Covariance6 S = RandomCovariance(rng);
@@ -128,31 +123,43 @@ bool ExpectSameAsOneShot(const Graph& g, const PoseSpec& spec, const TimePolicy&
   return true;
 }
 
+// a|A wrt b|B in [r] (r = b on the homogeneous backend, whose pose is expressed in its
+// reference orientation), a, b, r random frames (also calibrations s_k with `calibrations`).
+template <class Graph>
+PoseSpec RandomSpec(std::mt19937& rng, bool calibrations, semgraph::testing::SpecNames& names) {
+  auto& [a, b, r, C, D] = names;
+  a = RandomFrameName(rng, 6, calibrations);
+  b = RandomFrameName(rng, 6, calibrations);
+  const bool homogeneous = std::is_same_v<typename Graph::Backend, coord::HomogeneousBackend>;
+  r = homogeneous ? b : RandomFrameName(rng, 6, calibrations);
+  C = "B" + a.substr(1);
+  D = "B" + b.substr(1);
+  return PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r);
+}
+
 template <class Graph>
 void RandomScenes(Interpolation mode, unsigned seed) {
   std::mt19937 rng(seed);
-  int answered = 0;
-  for (int scene = 0; scene < 6; ++scene) {
-    Graph g = MakeGraph<Graph>(mode);
-    std::vector<std::int64_t> stamps;
-    BuildScene(g, rng, stamps);
-    std::uniform_int_distribution<int> frame(0, 6), between(1001, 2999);
-    for (int i = 0; i < 10; ++i) {
-      const auto name = [&] { return "f" + std::to_string(frame(rng)); };
-      const std::string a = name(), b = name();
-      // The homogeneous backend's pose is expressed in its reference orientation.
-      const std::string r =
-          std::is_same_v<typename Graph::Backend, coord::HomogeneousBackend> ? b : name();
-      const std::string C = "B" + a.substr(1), D = "B" + b.substr(1);
-      const PoseSpec spec = PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r);
-      std::int64_t stamp = 2000;  // a sample's stamp inside [1 s, 3 s] when there is one
-      for (const std::int64_t s : stamps) {
-        if (s >= 1000 && s <= 3000) stamp = s;
-      }
-      const TimePolicy policies[] = {Latest{}, At{Ms(stamp)}, At{Ms(between(rng))}, LatestCommon{}};
-      for (const TimePolicy& policy : policies) answered += ExpectSameAsOneShot(g, spec, policy);
+  std::vector<std::int64_t> stamps;
+  const auto build = [&](Graph& g, std::mt19937& r) {
+    stamps.clear();
+    BuildScene(g, r, stamps);
+  };
+  const auto policies = [&](std::mt19937& r) {
+    std::int64_t stamp = 2000;  // a sample's stamp inside [1 s, 3 s] when there is one
+    for (const std::int64_t s : stamps) {
+      if (s >= 1000 && s <= 3000) stamp = s;
     }
-  }
+    const TimePolicy p[] = {Latest{}, At{Ms(stamp)},
+                            At{Ms(std::uniform_int_distribution<int>(1001, 2999)(r))},
+                            LatestCommon{}};
+    return std::to_array(p);
+  };
+  const auto draw = [](std::mt19937& r, semgraph::testing::SpecNames& names) {
+    return RandomSpec<Graph>(r, false, names);
+  };
+  const int answered = semgraph::testing::CountAnswered<Graph>(rng, build, draw, policies,
+                                                               ExpectSameAsOneShot<Graph>, mode);
   EXPECT_EQ(answered, 6 * 10 * 4);  // every edge is read inside its samples: no error
 }
 
@@ -176,10 +183,7 @@ template <class Graph>
 void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 3);
   for (int k = 1; k < 7; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
-    const std::string s = "s" + std::to_string(k);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     const PoseSpec pose = PoseSpec::Of(f, F).RelativeTo(t, T);
     const TwistSpec twist = TwistSpec::Of(s, F).RelativeTo(T).ExpressedIn(s);
     Covariance6 S = RandomCovariance(rng);
@@ -212,34 +216,15 @@ void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
 template <class Graph>
 void RandomExtrapolations(unsigned seed) {
   std::mt19937 rng(seed);
-  int answered = 0, extrapolated = 0;
-  for (int scene = 0; scene < 6; ++scene) {
-    Graph g = MakeGraph<Graph>(Interpolation::kScrew);
-    BuildExtrapolationScene(g, rng);
-    std::uniform_int_distribution<int> frame(0, 6), side(0, 1);
-    for (int i = 0; i < 10; ++i) {
-      const auto name = [&] {
-        const int k = frame(rng);
-        return std::string(k > 0 && side(rng) ? "s" : "f") + std::to_string(k);
-      };
-      const std::string a = name(), b = name();
-      const std::string r =
-          std::is_same_v<typename Graph::Backend, coord::HomogeneousBackend> ? b : name();
-      const std::string C = "B" + a.substr(1), D = "B" + b.substr(1);
-      const PoseSpec spec = PoseSpec::Of(a, C).RelativeTo(b, D).ExpressedIn(r);
-      const TimePolicy policies[] = {
-          At{Ms(3400), Duration::Seconds(1)}, At{Ms(600), Duration::Seconds(1)},
-          LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(50)}};
-      for (const TimePolicy& policy : policies) {
-        if (!ExpectSameAsOneShot(g, spec, policy)) continue;
-        ++answered;
-        extrapolated += g.GetPose(spec, policy)->time.extrapolated;
-      }
-    }
-  }
-  std::printf("extrapolation: %d of %d answered, %d extrapolated\n", answered, 6 * 10 * 4,
-              extrapolated);
-  EXPECT_GT(extrapolated, 30);
+  semgraph::testing::CompareExtrapolations<Graph>(
+      rng, BuildExtrapolationScene<Graph>,
+      [](std::mt19937& r, semgraph::testing::SpecNames& names) {
+        return RandomSpec<Graph>(r, true, names);
+      },
+      ExpectSameAsOneShot<Graph>,
+      [](const Graph& g, const PoseSpec& spec, const TimePolicy& policy) {
+        return g.GetPose(spec, policy)->time.extrapolated;
+      });
 }
 
 TEST(CompiledCovarianceTime, ExtrapolationSameAsOneShotOnRandomScenes) {
@@ -254,7 +239,7 @@ using B = coord::QuaternionBackend;
 // the answer (a wrt w, in [w]: the edge's own form) is p0 + (p1 - p0) / 4 with covariance
 // 3/4 S0 + 1/4 S1 (docs/uncertainty.md, "Time"), by hand.
 struct OneEdge {
-  Graph g = MakeGraph<Graph>(Interpolation::kLinear);
+  Graph g = MakeTimedGraph<Graph>(Interpolation::kLinear);
   Covariance6 S0, S1;
   Eigen::Vector3d p0{1.0, 2.0, 3.0}, p1{5.0, -2.0, 7.0};
   PoseSpec spec = PoseSpec::Of("a", "A").RelativeTo("w", "W");
@@ -344,16 +329,22 @@ TEST(CompiledCovarianceTime, PositionAndOrientationErrorsLeaveTheOutputsUnchange
   EXPECT_TRUE((S == Eigen::Matrix3d::Constant(42.0)));
 }
 
-TEST(CompiledCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
-  std::mt19937 rng(21);
-  Graph g = MakeGraph<Graph>(Interpolation::kScrew);
-  std::vector<std::int64_t> stamps;
-  BuildScene(g, rng, stamps);
-  const PoseSpec spec = PoseSpec::Of("f6", "B6").RelativeTo("f5", "B5").ExpressedIn("f4");
-  auto pose = g.CompilePoseWithCovariance(spec);
-  auto position = g.CompilePositionWithCovariance(spec);
-  auto orientation = g.CompileOrientationWithCovariance(spec);
-  ASSERT_TRUE(pose && position && orientation);
+// The compiled pose, position and orientation queries of one spec with their outputs; Evaluate
+// runs the three under a policy and adds the traces of the covariances answered to sum.
+struct CompiledParts {
+  CompiledParts(const Graph& g, const PoseSpec& spec)
+      : pose(g.CompilePoseWithCovariance(spec)),
+        position(g.CompilePositionWithCovariance(spec)),
+        orientation(g.CompileOrientationWithCovariance(spec)) {}
+  bool compiled() const { return pose && position && orientation; }
+  void Evaluate(const TimePolicy& policy) noexcept {
+    if (pose->Evaluate(X, S, policy, report) == ErrorCode::kOk) sum += S.trace();
+    if (position->Evaluate(p, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+    if (orientation->Evaluate(R, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+  }
+  Expected<CompiledPoseWithCovariance<B>, QueryError> pose;
+  Expected<CompiledPositionWithCovariance<B>, QueryError> position;
+  Expected<CompiledOrientationWithCovariance<B>, QueryError> orientation;
   B::PoseCoords X = B::Identity();
   Covariance6 S = Covariance6::Zero();
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
@@ -361,24 +352,24 @@ TEST(CompiledCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
   Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
   TimeReport report;
   double sum = 0.0;
-  std::size_t allocations = 0;
-  {
-    semgraph::testing::CountAllocations counting;
-    for (int i = 0; i < 100; ++i) {
-      const TimePolicy policies[] = {At{Ms(1200 + 10 * i)}, Latest{}, LatestCommon{}, At{Ms(100)}};
-      for (const TimePolicy& policy : policies) {
-        if (pose->Evaluate(X, S, policy, report) == ErrorCode::kOk) sum += S.trace();
-        if (position->Evaluate(p, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
-        if (orientation->Evaluate(R, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
-      }
-    }
-    allocations = counting.count();
-  }
+};
+
+TEST(CompiledCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
+  std::mt19937 rng(21);
+  Graph g = MakeTimedGraph<Graph>(Interpolation::kScrew);
+  std::vector<std::int64_t> stamps;
+  BuildScene(g, rng, stamps);
+  CompiledParts q(g, PoseSpec::Of("f6", "B6").RelativeTo("f5", "B5").ExpressedIn("f4"));
+  ASSERT_TRUE(q.compiled());
+  const std::size_t allocations = AllocationsOf(100, [&q](int i) {
+    const TimePolicy policies[] = {At{Ms(1200 + 10 * i)}, Latest{}, LatestCommon{}, At{Ms(100)}};
+    for (const TimePolicy& policy : policies) q.Evaluate(policy);
+  });
   EXPECT_EQ(allocations, 0u);
-  EXPECT_GT(sum, 0.0);
-  static_assert(noexcept(pose->Evaluate(X, S, Latest{}, report)));
-  static_assert(noexcept(position->Evaluate(p, S3, Latest{}, report)));
-  static_assert(noexcept(orientation->Evaluate(R, S3, Latest{}, report)));
+  EXPECT_GT(q.sum, 0.0);
+  static_assert(noexcept(q.pose->Evaluate(q.X, q.S, Latest{}, q.report)));
+  static_assert(noexcept(q.position->Evaluate(q.p, q.S3, Latest{}, q.report)));
+  static_assert(noexcept(q.orientation->Evaluate(q.R, q.S3, Latest{}, q.report)));
 }
 
 // One edge a -> w with a sample at 1 s (identity rotation, p0, covariance S_p on dp only) and
@@ -387,7 +378,7 @@ TEST(CompiledCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
 // (X_k Exp(dt xi) with R = I, w = 0: dp = dp_k + dt dv), by hand; the report: read at 1 s,
 // extrapolated. Beyond the horizon: kExtrapolation, outputs unchanged.
 TEST(CompiledCovarianceTime, ExtrapolatedCovarianceOfOneEdgeByHand) {
-  Graph g = MakeGraph<Graph>(Interpolation::kScrew);
+  Graph g = MakeTimedGraph<Graph>(Interpolation::kScrew);
   const PoseSpec spec = PoseSpec::Of("a", "A").RelativeTo("w", "W");
   Covariance6 S_p = Covariance6::Zero(), S_v = Covariance6::Zero();
   S_p.topLeftCorner<3, 3>() = Eigen::Vector3d(1e-4, 2e-4, 3e-4).asDiagonal();
@@ -429,7 +420,7 @@ TEST(CompiledCovarianceTime, ExtrapolatedCovarianceOfOneEdgeByHand) {
 // the keyed sink avoids), which the compiled query gives too.
 Graph SharedGraph(bool split) {
   std::mt19937 rng(2718);
-  Graph g = MakeGraph<Graph>(Interpolation::kScrew);
+  Graph g = MakeTimedGraph<Graph>(Interpolation::kScrew);
   const Covariance6 S_cal = RandomCovariance(rng), S0 = 1e-2 * RandomCovariance(rng),
                     S1 = 1e-2 * RandomCovariance(rng), S_tw = 1e-2 * RandomCovariance(rng);
   for (const char* s : {"s", "s2"}) {
@@ -473,39 +464,21 @@ TEST(CompiledCovarianceTime, EdgeSharedByIntegrationTwistAndQuerySameAsOneShot) 
 
 TEST(CompiledCovarianceTime, ExtrapolatedEvaluationDoesNotAllocate) {
   std::mt19937 rng(23);
-  Graph g = MakeGraph<Graph>(Interpolation::kScrew);
+  Graph g = MakeTimedGraph<Graph>(Interpolation::kScrew);
   BuildExtrapolationScene(g, rng);
-  const PoseSpec spec = PoseSpec::Of("s6", "B6").RelativeTo("s5", "B5").ExpressedIn("f4");
-  auto pose = g.CompilePoseWithCovariance(spec);
-  auto position = g.CompilePositionWithCovariance(spec);
-  auto orientation = g.CompileOrientationWithCovariance(spec);
-  ASSERT_TRUE(pose && position && orientation);
-  B::PoseCoords X = B::Identity();
-  Covariance6 S = Covariance6::Zero();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  B::Rotation R = B::RotationOf(B::Identity());
-  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
-  TimeReport report;
-  ASSERT_EQ(pose->Evaluate(X, S, At{Ms(3400), Duration::Seconds(1)}, report), ErrorCode::kOk);
-  ASSERT_TRUE(report.extrapolated);
-  double sum = 0.0;
-  std::size_t allocations = 0;
-  {
-    semgraph::testing::CountAllocations counting;
-    for (int i = 0; i < 100; ++i) {
-      const TimePolicy policies[] = {
-          At{Ms(3350 + i), Duration::Seconds(1)}, At{Ms(600 - i), Duration::Seconds(1)},
-          LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(1)}};
-      for (const TimePolicy& policy : policies) {
-        if (pose->Evaluate(X, S, policy, report) == ErrorCode::kOk) sum += S.trace();
-        if (position->Evaluate(p, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
-        if (orientation->Evaluate(R, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
-      }
-    }
-    allocations = counting.count();
-  }
+  CompiledParts q(g, PoseSpec::Of("s6", "B6").RelativeTo("s5", "B5").ExpressedIn("f4"));
+  ASSERT_TRUE(q.compiled());
+  ASSERT_EQ(q.pose->Evaluate(q.X, q.S, At{Ms(3400), Duration::Seconds(1)}, q.report),
+            ErrorCode::kOk);
+  ASSERT_TRUE(q.report.extrapolated);
+  const std::size_t allocations = AllocationsOf(100, [&q](int i) {
+    const TimePolicy policies[] = {
+        At{Ms(3350 + i), Duration::Seconds(1)}, At{Ms(600 - i), Duration::Seconds(1)},
+        LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(1)}};
+    for (const TimePolicy& policy : policies) q.Evaluate(policy);
+  });
   EXPECT_EQ(allocations, 0u);
-  EXPECT_GT(sum, 0.0);
+  EXPECT_GT(q.sum, 0.0);
 }
 
 }  // namespace

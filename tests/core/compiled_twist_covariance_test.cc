@@ -15,28 +15,17 @@
 
 #include "semgraph/core/scene_graph.h"
 #include "support/alloc_counter.h"
+#include "support/random_covariance.h"
 
 namespace semgraph::core {
 namespace {
 
 using semgraph::testing::AllocationCounter;
+using semgraph::testing::ExpR;
+using semgraph::testing::RandomCovariance;
+using semgraph::testing::RandomVector;
 using Vec = Eigen::Vector3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
-
-Eigen::Matrix3d ExpR(const Vec& w) {
-  const double th = w.norm();
-  return th == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(Eigen::AngleAxisd(th, w / th));
-}
-Covariance6 RandomCovariance(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Matrix<double, 6, 6> L;
-  for (int i = 0; i < 36; ++i) L(i / 6, i % 6) = n(rng);
-  return 1e-6 * L * L.transpose();
-}
-Vec RandomVec(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Vec(n(rng), n(rng), n(rng));
-}
 
 // A scene description, so that the same scene can be rebuilt with one edge perturbed.
 // Frames f<k> on bodies B<k>, f<k> under f<parent[k]>; g<k> fixed to B<k> under f<k>; a twist
@@ -63,11 +52,11 @@ struct Scene {
         const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
         const std::string fp = "f" + std::to_string(parent), Bp = "B" + std::to_string(parent);
         poses.push_back(
-            {f, B, fp, Bp, ExpR(RandomVec(rng)), RandomVec(rng), RandomCovariance(rng)});
-        twists.push_back({f, B, Bp, RandomVec(rng), RandomVec(rng),
+            {f, B, fp, Bp, ExpR(RandomVector(rng)), RandomVector(rng), RandomCovariance(rng)});
+        twists.push_back({f, B, Bp, RandomVector(rng), RandomVector(rng),
                           k == 2 ? Covariance6::Zero() : RandomCovariance(rng)});
       }
-      poses.push_back({"g" + std::to_string(k), B, f, B, ExpR(RandomVec(rng)), RandomVec(rng),
+      poses.push_back({"g" + std::to_string(k), B, f, B, ExpR(RandomVector(rng)), RandomVector(rng),
                        RandomCovariance(rng)});
     }
   }

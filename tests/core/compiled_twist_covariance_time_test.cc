@@ -25,17 +25,15 @@
 namespace semgraph::core {
 namespace {
 
+using semgraph::testing::AllocationsOf;
 using semgraph::testing::ExpR;
+using semgraph::testing::MakeTimedGraph;
 using semgraph::testing::Ms;
 using semgraph::testing::RandomCovariance;
+using semgraph::testing::RandomFrameName;
+using semgraph::testing::RandomTreeEdge;
 using semgraph::testing::RandomVector;
-
-template <class Graph>
-Graph MakeGraph() {
-  TimeOptions o;
-  o.window = Duration::Seconds(100);
-  return *Graph::Create(o);
-}
+using semgraph::testing::SpecNames;
 
 // Frames f0..f5 on bodies B0..B5, f_k under a random earlier frame, and the twist edge of B_k
 // relative to that frame's body at f_k in [f_k]; each edge stamped (samples near 1, 2 and 3 s,
@@ -44,9 +42,7 @@ template <class Graph>
 void BuildScene(Graph& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 2);
   for (int k = 1; k < 6; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     const PoseSpec pose = PoseSpec::Of(f, F).RelativeTo(t, T);
     const TwistSpec twist = TwistSpec::Of(f, F).RelativeTo(T).ExpressedIn(f);
     for (int kind = 0; kind < 2; ++kind) {
@@ -112,30 +108,46 @@ bool ExpectSameAsOneShot(const Graph& g, const TwistSpec& spec, const TimePolicy
   return true;
 }
 
+// e|C wrt D in [r], e and r random frames (also calibrations s_k with `calibrations`), C e's
+// body, D a random body.
+TwistSpec RandomSpec(std::mt19937& rng, bool calibrations, SpecNames& names) {
+  std::string &e = names[0], &r = names[1], &C = names[2], &D = names[3];
+  e = RandomFrameName(rng, 5, calibrations);
+  r = RandomFrameName(rng, 5, calibrations);
+  C = "B" + e.substr(1);
+  D = "B" + std::to_string(std::uniform_int_distribution<int>(0, 5)(rng));
+  return TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
+}
+
+// The number of the random comparisons answered on BuildScene's scenes, twists from `source`,
+// under Latest, At near 2 s (a sample's stamp when some edge is stamped), At between samples
+// (from `first_between` ms), LatestCommon, and from poses also beyond the samples with a 1 s
+// horizon (never extrapolated).
 template <class Graph>
-void RandomScenes(unsigned seed) {
+int RandomScenes(unsigned seed, TwistSource source, int first_between) {
   std::mt19937 rng(seed);
-  int answered = 0;
-  for (int scene = 0; scene < 6; ++scene) {
-    Graph g = MakeGraph<Graph>();
-    BuildScene(g, rng);
-    std::uniform_int_distribution<int> frame(0, 5), between(1001, 2999), sample(0, 300);
-    for (int i = 0; i < 10; ++i) {
-      const std::string e = "f" + std::to_string(frame(rng)), r = "f" + std::to_string(frame(rng));
-      const std::string C = "B" + e.substr(1), D = "B" + std::to_string(frame(rng));
-      const TwistSpec spec = TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
-      // At a stamp: near 2 s there is one when some edge is stamped; else between samples.
-      const TimePolicy policies[] = {Latest{}, At{Ms(2000 + sample(rng))}, At{Ms(between(rng))},
-                                     LatestCommon{}};
-      for (const TimePolicy& policy : policies) answered += ExpectSameAsOneShot(g, spec, policy);
-    }
-  }
-  EXPECT_EQ(answered, 6 * 10 * 4);  // every edge is read inside its samples: no error
+  const bool from_poses = source == TwistSource::kPoses;
+  const auto policies = [&](std::mt19937& r) {
+    const std::int64_t sample = std::uniform_int_distribution<int>(0, 300)(r);
+    const std::int64_t between = std::uniform_int_distribution<int>(first_between, 2999)(r);
+    std::vector<TimePolicy> p = {Latest{}, At{Ms(2000 + sample)}, At{Ms(between)}, LatestCommon{}};
+    if (from_poses) p.push_back(At{Ms(3400), Duration::Seconds(1)});
+    return p;
+  };
+  const auto check = [source](const Graph& g, const TwistSpec& spec, const TimePolicy& policy) {
+    return ExpectSameAsOneShot(g, spec, policy, source);
+  };
+  return semgraph::testing::CountAnswered<Graph>(
+      rng, BuildScene<Graph>,
+      [](std::mt19937& r, SpecNames& names) { return RandomSpec(r, false, names); }, policies,
+      check);
 }
 
 TEST(CompiledTwistCovarianceTime, SameAsOneShotOnRandomStampedScenes) {
-  RandomScenes<SceneGraph<coord::QuaternionBackend>>(7);
-  RandomScenes<SceneGraph<coord::HomogeneousBackend>>(8);
+  // Every edge is read inside its samples: no error.
+  const TwistSource twists = TwistSource::kTwists;
+  EXPECT_EQ(RandomScenes<SceneGraph<coord::QuaternionBackend>>(7, twists, 1001), 6 * 10 * 4);
+  EXPECT_EQ(RandomScenes<SceneGraph<coord::HomogeneousBackend>>(8, twists, 1001), 6 * 10 * 4);
 }
 
 using Graph = SceneGraph<coord::QuaternionBackend>;
@@ -143,7 +155,7 @@ using Graph = SceneGraph<coord::QuaternionBackend>;
 // One twist edge A wrt W at a in [a], samples at 1 s (S0) and 3 s (S1): at 2.5 s the answer is
 // the linear interpolation of the two twists, with covariance 1/4 S0 + 3/4 S1, by hand.
 struct OneTwist {
-  Graph g = MakeGraph<Graph>();
+  Graph g = MakeTimedGraph<Graph>();
   Covariance6 S0, S1;
   Eigen::Vector3d v0{1.0, 2.0, 3.0}, w0{0.1, 0.2, 0.3}, v1{5.0, -2.0, 7.0}, w1{-0.3, 0.0, 0.5};
   TwistSpec spec = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("a");
@@ -203,48 +215,53 @@ TEST(CompiledTwistCovarianceTime, ErrorsLeaveTheOutputsUnchanged) {
   ExpectUnchangedOn(*compiled, LatestCommon{}, ErrorCode::kQueryInvalidated);
 }
 
+// The outputs of the compiled twist queries; each Add evaluates one query under a policy and
+// adds the trace of the covariance answered to sum.
+struct Outputs {
+  template <class Query>
+  void AddTwist(Query& q, const TimePolicy& policy) noexcept {
+    if (q.Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
+  }
+  template <class Query>
+  void AddLinear(Query& q, const TimePolicy& policy) noexcept {
+    if (q.Evaluate(v, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+  }
+  template <class Query>
+  void AddAngular(Query& q, const TimePolicy& policy) noexcept {
+    if (q.Evaluate(w, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
+  }
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  Covariance6 S = Covariance6::Zero();
+  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
+  TimeReport report;
+  double sum = 0.0;
+};
+
 TEST(CompiledTwistCovarianceTime, EvaluationAtATimeDoesNotAllocate) {
   std::mt19937 rng(21);
-  Graph g = MakeGraph<Graph>();
+  Graph g = MakeTimedGraph<Graph>();
   BuildScene(g, rng);
   const TwistSpec spec = TwistSpec::Of("f5", "B5").RelativeTo("B0").ExpressedIn("f3");
   auto compiled = g.CompileTwistWithCovariance(spec);
   ASSERT_TRUE(compiled);
-  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  Covariance6 S = Covariance6::Zero();
-  TimeReport report;
-  double sum = 0.0;
-  std::size_t allocations = 0;
-  {
-    semgraph::testing::CountAllocations counting;
-    for (int i = 0; i < 100; ++i) {
-      const TimePolicy policies[] = {At{Ms(1200 + 10 * i)}, Latest{}, LatestCommon{}, At{Ms(100)}};
-      for (const TimePolicy& policy : policies) {
-        if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
-      }
-    }
-    allocations = counting.count();
-  }
+  Outputs o;
+  std::size_t allocations = AllocationsOf(100, [&](int i) {
+    const TimePolicy policies[] = {At{Ms(1200 + 10 * i)}, Latest{}, LatestCommon{}, At{Ms(100)}};
+    for (const TimePolicy& policy : policies) o.AddTwist(*compiled, policy);
+  });
   EXPECT_EQ(allocations, 0u);
-  EXPECT_GT(sum, 0.0);
-  static_assert(noexcept(compiled->Evaluate(v, w, S, Latest{}, report)));
+  EXPECT_GT(o.sum, 0.0);
+  static_assert(noexcept(compiled->Evaluate(o.v, o.w, o.S, Latest{}, o.report)));
   auto linear = g.CompileLinearVelocityWithCovariance(spec);
   auto angular = g.CompileAngularVelocityWithCovariance(spec);
   ASSERT_TRUE(linear && angular);
-  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
-  {
-    semgraph::testing::CountAllocations counting;
-    for (int i = 0; i < 100; ++i) {
-      if (linear->Evaluate(v, S3, At{Ms(1200 + 10 * i)}, report) == ErrorCode::kOk) {
-        sum += S3.trace();
-      }
-      if (angular->Evaluate(w, S3, LatestCommon{}, report) == ErrorCode::kOk) sum += S3.trace();
-    }
-    allocations = counting.count();
-  }
+  allocations = AllocationsOf(100, [&](int i) {
+    o.AddLinear(*linear, At{Ms(1200 + 10 * i)});
+    o.AddAngular(*angular, LatestCommon{});
+  });
   EXPECT_EQ(allocations, 0u);
-  static_assert(noexcept(linear->Evaluate(v, S3, Latest{}, report)));
-  static_assert(noexcept(angular->Evaluate(w, S3, Latest{}, report)));
+  static_assert(noexcept(linear->Evaluate(o.v, o.S3, Latest{}, o.report)));
+  static_assert(noexcept(angular->Evaluate(o.w, o.S3, Latest{}, o.report)));
 }
 
 // Within the horizon the newest twist sample is held (by hand: its value and covariance S1);
@@ -279,10 +296,7 @@ template <class Graph>
 void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> jitter(0, 300), coin(0, 2);
   for (int k = 1; k < 6; ++k) {
-    const int parent = std::uniform_int_distribution<int>(0, k - 1)(rng);
-    const std::string f = "f" + std::to_string(k), F = "B" + std::to_string(k);
-    const std::string t = "f" + std::to_string(parent), T = "B" + std::to_string(parent);
-    const std::string s = "s" + std::to_string(k);
+    const auto [f, F, t, T, s] = RandomTreeEdge(rng, k);
     Covariance6 S = RandomCovariance(rng);
     ASSERT_TRUE(g.AddPose(PoseSpec::Of(s, F).RelativeTo(f, F), ExpR(0.5 * RandomVector(rng)),
                           RandomVector(rng), CovarianceInput{&S}));
@@ -312,32 +326,15 @@ void BuildExtrapolationScene(Graph& g, std::mt19937& rng) {
 template <class Graph>
 void RandomExtrapolations(unsigned seed) {
   std::mt19937 rng(seed);
-  int answered = 0, extrapolated = 0;
-  for (int scene = 0; scene < 6; ++scene) {
-    Graph g = MakeGraph<Graph>();
-    BuildExtrapolationScene(g, rng);
-    std::uniform_int_distribution<int> frame(0, 5), side(0, 1);
-    for (int i = 0; i < 10; ++i) {
-      const auto name = [&] {
-        const int k = frame(rng);
-        return std::string(k > 0 && side(rng) ? "s" : "f") + std::to_string(k);
-      };
-      const std::string e = name(), r = name();
-      const std::string C = "B" + e.substr(1), D = "B" + std::to_string(frame(rng));
-      const TwistSpec spec = TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
-      const TimePolicy policies[] = {
-          At{Ms(3400), Duration::Seconds(1)}, At{Ms(600), Duration::Seconds(1)},
-          LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(50)}};
-      for (const TimePolicy& policy : policies) {
-        if (!ExpectSameAsOneShot(g, spec, policy)) continue;
-        ++answered;
-        extrapolated += g.GetTwist(spec, policy)->time.extrapolated;
-      }
-    }
-  }
-  std::printf("extrapolation: %d of %d answered, %d extrapolated\n", answered, 6 * 10 * 4,
-              extrapolated);
-  EXPECT_GT(extrapolated, 30);
+  semgraph::testing::CompareExtrapolations<Graph>(
+      rng, BuildExtrapolationScene<Graph>,
+      [](std::mt19937& r, SpecNames& names) { return RandomSpec(r, true, names); },
+      [](const Graph& g, const TwistSpec& spec, const TimePolicy& policy) {
+        return ExpectSameAsOneShot(g, spec, policy);
+      },
+      [](const Graph& g, const TwistSpec& spec, const TimePolicy& policy) {
+        return g.GetTwist(spec, policy)->time.extrapolated;
+      });
 }
 
 TEST(CompiledTwistCovarianceTime, ExtrapolationSameAsOneShotOnRandomScenes) {
@@ -352,7 +349,7 @@ TEST(CompiledTwistCovarianceTime, ExtrapolationSameAsOneShotOnRandomScenes) {
 // (the one-shot's Monte Carlo test); the compiled query gives the one-shot's numbers.
 TEST(CompiledTwistCovarianceTime, EdgesSharedByIntegrationTwistAndQuerySameAsOneShot) {
   std::mt19937 rng(2718);
-  Graph g = MakeGraph<Graph>();
+  Graph g = MakeTimedGraph<Graph>();
   const Covariance6 S_cal = RandomCovariance(rng), S0 = 1e-2 * RandomCovariance(rng),
                     S1 = 1e-2 * RandomCovariance(rng), S_tw = 1e-2 * RandomCovariance(rng);
   ASSERT_TRUE(g.AddPose(PoseSpec::Of("s", "H").RelativeTo("h", "H"),
@@ -376,68 +373,41 @@ TEST(CompiledTwistCovarianceTime, EdgesSharedByIntegrationTwistAndQuerySameAsOne
 
 TEST(CompiledTwistCovarianceTime, ExtrapolatedEvaluationDoesNotAllocate) {
   std::mt19937 rng(27);
-  Graph g = MakeGraph<Graph>();
+  Graph g = MakeTimedGraph<Graph>();
   BuildExtrapolationScene(g, rng);
   const TwistSpec spec = TwistSpec::Of("s5", "B5").RelativeTo("B0").ExpressedIn("s3");
   auto compiled = g.CompileTwistWithCovariance(spec);
   auto linear = g.CompileLinearVelocityWithCovariance(spec);
   ASSERT_TRUE(compiled && linear);
-  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  Covariance6 S = Covariance6::Zero();
-  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
-  TimeReport report;
-  ASSERT_EQ(compiled->Evaluate(v, w, S, At{Ms(3400), Duration::Seconds(1)}, report),
+  Outputs o;
+  ASSERT_EQ(compiled->Evaluate(o.v, o.w, o.S, At{Ms(3400), Duration::Seconds(1)}, o.report),
             ErrorCode::kOk);
-  ASSERT_TRUE(report.extrapolated);
-  double sum = 0.0;
-  std::size_t allocations = 0;
-  {
-    semgraph::testing::CountAllocations counting;
-    for (int i = 0; i < 100; ++i) {
-      const TimePolicy policies[] = {
-          At{Ms(3350 + i), Duration::Seconds(1)}, At{Ms(600 - i), Duration::Seconds(1)},
-          LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(1)}};
-      for (const TimePolicy& policy : policies) {
-        if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
-        if (linear->Evaluate(v, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
-      }
+  ASSERT_TRUE(o.report.extrapolated);
+  const std::size_t allocations = AllocationsOf(100, [&](int i) {
+    const TimePolicy policies[] = {
+        At{Ms(3350 + i), Duration::Seconds(1)}, At{Ms(600 - i), Duration::Seconds(1)},
+        LatestCommon{Duration::Seconds(1)}, At{Ms(3400), Duration::Milliseconds(1)}};
+    for (const TimePolicy& policy : policies) {
+      o.AddTwist(*compiled, policy);
+      o.AddLinear(*linear, policy);
     }
-    allocations = counting.count();
-  }
+  });
   EXPECT_EQ(allocations, 0u);
-  EXPECT_GT(sum, 0.0);
+  EXPECT_GT(o.sum, 0.0);
 }
 
 // Twist source `poses` (CompileTwistWithCovariance(spec, kPoses)): the one-shot's answer,
 // covariance and report or error (GetTwistWithCovariance(spec, policy, order, kPoses), Monte
 // Carlo tested in time_uncertainty_test.cc) on random scenes, under Latest, At a stamp, At
 // between samples, LatestCommon, and beyond the samples with a horizon (never extrapolated).
-template <class Graph>
-void RandomScenesFromPoses(unsigned seed) {
-  std::mt19937 rng(seed);
-  int answered = 0;
-  for (int scene = 0; scene < 6; ++scene) {
-    Graph g = MakeGraph<Graph>();
-    BuildScene(g, rng);
-    std::uniform_int_distribution<int> frame(0, 5), between(1301, 2999), sample(0, 300);
-    for (int i = 0; i < 10; ++i) {
-      const std::string e = "f" + std::to_string(frame(rng)), r = "f" + std::to_string(frame(rng));
-      const std::string C = "B" + e.substr(1), D = "B" + std::to_string(frame(rng));
-      const TwistSpec spec = TwistSpec::Of(e, C).RelativeTo(D).ExpressedIn(r);
-      const TimePolicy policies[] = {Latest{}, At{Ms(2000 + sample(rng))}, At{Ms(between(rng))},
-                                     LatestCommon{}, At{Ms(3400), Duration::Seconds(1)}};
-      for (const TimePolicy& policy : policies) {
-        answered += ExpectSameAsOneShot(g, spec, policy, TwistSource::kPoses);
-      }
-    }
-  }
-  std::printf("from poses: %d of %d answered\n", answered, 6 * 10 * 5);
-  EXPECT_GT(answered, 6 * 10 * 3);
-}
-
 TEST(CompiledTwistCovarianceTime, FromPosesSameAsOneShotOnRandomScenes) {
-  RandomScenesFromPoses<SceneGraph<coord::QuaternionBackend>>(51);
-  RandomScenesFromPoses<SceneGraph<coord::HomogeneousBackend>>(52);
+  const TwistSource poses = TwistSource::kPoses;
+  for (const int answered :
+       {RandomScenes<SceneGraph<coord::QuaternionBackend>>(51, poses, 1301),
+        RandomScenes<SceneGraph<coord::HomogeneousBackend>>(52, poses, 1301)}) {
+    std::printf("from poses: %d of %d answered\n", answered, 6 * 10 * 5);
+    EXPECT_GT(answered, 6 * 10 * 3);
+  }
 }
 
 // One pose edge a -> w, identity rotations, samples p0 at 1 s and p1 at 1.5 s with covariances
@@ -446,7 +416,7 @@ TEST(CompiledTwistCovarianceTime, FromPosesSameAsOneShotOnRandomScenes) {
 // independent samples over dt), by hand; the untimed Evaluate reads the newest segment (the
 // same here). A removed edge: kQueryInvalidated.
 TEST(CompiledTwistCovarianceTime, FromPosesOneEdgeByHand) {
-  Graph g = MakeGraph<Graph>();
+  Graph g = MakeTimedGraph<Graph>();
   const PoseSpec pose = PoseSpec::Of("a", "A").RelativeTo("w", "W");
   Covariance6 S0 = Covariance6::Zero(), S1 = Covariance6::Zero();
   S0.topLeftCorner<3, 3>() = Eigen::Vector3d(1e-4, 2e-4, 3e-4).asDiagonal();
@@ -485,33 +455,24 @@ TEST(CompiledTwistCovarianceTime, FromPosesOneEdgeByHand) {
 
 TEST(CompiledTwistCovarianceTime, FromPosesEvaluationDoesNotAllocate) {
   std::mt19937 rng(29);
-  Graph g = MakeGraph<Graph>();
+  Graph g = MakeTimedGraph<Graph>();
   BuildScene(g, rng);
   const TwistSpec spec = TwistSpec::Of("f5", "B5").RelativeTo("B0").ExpressedIn("f3");
   auto compiled = g.CompileTwistWithCovariance(spec, TwistSource::kPoses);
   auto angular = g.CompileAngularVelocityWithCovariance(spec, TwistSource::kPoses);
   ASSERT_TRUE(compiled && angular);
-  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
-  Covariance6 S = Covariance6::Zero();
-  Eigen::Matrix3d S3 = Eigen::Matrix3d::Zero();
-  TimeReport report;
-  double sum = 0.0;
-  std::size_t allocations = 0;
-  {
-    semgraph::testing::CountAllocations counting;
-    for (int i = 0; i < 100; ++i) {
-      const TimePolicy policies[] = {At{Ms(1400 + 10 * i)}, Latest{}, LatestCommon{},
-                                     At{Ms(100), Duration::Seconds(1)}};
-      for (const TimePolicy& policy : policies) {
-        if (compiled->Evaluate(v, w, S, policy, report) == ErrorCode::kOk) sum += S.trace();
-        if (angular->Evaluate(w, S3, policy, report) == ErrorCode::kOk) sum += S3.trace();
-      }
-      if (compiled->Evaluate(v, w, S) == ErrorCode::kOk) sum += S.trace();
+  Outputs o;
+  const std::size_t allocations = AllocationsOf(100, [&](int i) {
+    const TimePolicy policies[] = {At{Ms(1400 + 10 * i)}, Latest{}, LatestCommon{},
+                                   At{Ms(100), Duration::Seconds(1)}};
+    for (const TimePolicy& policy : policies) {
+      o.AddTwist(*compiled, policy);
+      o.AddAngular(*angular, policy);
     }
-    allocations = counting.count();
-  }
+    if (compiled->Evaluate(o.v, o.w, o.S) == ErrorCode::kOk) o.sum += o.S.trace();
+  });
   EXPECT_EQ(allocations, 0u);
-  EXPECT_GT(sum, 0.0);
+  EXPECT_GT(o.sum, 0.0);
 }
 
 }  // namespace
