@@ -69,8 +69,10 @@ py::tuple Answer(const CompiledPoseCovObject& c, core::CompiledPoseWithCovarianc
   typename B::PoseCoords X;
   core::Covariance6 S;
   core::TimeReport report;
-  CheckCompiled(policy ? q.Evaluate(X, S, *policy, report, c.order) : q.Evaluate(X, S, c.order),
-                SemanticsText(c.graph, q.semantics()), policy);
+  const ErrorCode code =
+      policy ? q.Evaluate(X, S, *policy, report, c.order) : q.Evaluate(X, S, c.order);
+  // The message only on failure (the semantics text allocates).
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()), policy);
   PoseResult r = MakePoseResult<B>(c.graph, q.semantics(), X);
   if (policy) r.time = report;
   return WithCovariance(py::cast(std::move(r)), S);
@@ -81,8 +83,8 @@ py::tuple Answer(const CompiledPositionCovObject& c, core::CompiledPositionWithC
   Eigen::Vector3d p;
   Eigen::Matrix3d S;
   core::TimeReport report;
-  CheckCompiled(policy ? q.Evaluate(p, S, *policy, report) : q.Evaluate(p, S),
-                SemanticsText(c.graph, q.semantics()), policy);
+  const ErrorCode code = policy ? q.Evaluate(p, S, *policy, report) : q.Evaluate(p, S);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()), policy);
   PositionResult r{c.graph, q.semantics(), p};
   if (policy) r.time = report;
   return WithCovariance(py::cast(std::move(r)), S);
@@ -93,8 +95,8 @@ py::tuple Answer(const CompiledOrientationCovObject& c,
   typename B::Rotation M;
   Eigen::Matrix3d S;
   core::TimeReport report;
-  CheckCompiled(policy ? q.Evaluate(M, S, *policy, report) : q.Evaluate(M, S),
-                SemanticsText(c.graph, q.semantics()), policy);
+  const ErrorCode code = policy ? q.Evaluate(M, S, *policy, report) : q.Evaluate(M, S);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()), policy);
   OrientationResult r = MakeOrientationResult<B>(c.graph, q.semantics(), M);
   if (policy) r.time = report;
   return WithCovariance(py::cast(std::move(r)), S);
@@ -119,9 +121,10 @@ py::tuple Answer(const CompiledTwistCovObject& c, core::CompiledTwistWithCovaria
   Eigen::Vector3d v, w;
   core::Covariance6 S;
   core::TimeReport report;
-  CheckCompiled(
-      policy ? q.Evaluate(v, w, S, *policy, report, c.order) : q.Evaluate(v, w, S, c.order),
-      SemanticsText(c.graph, c.twist), CodePolicy(c, policy));
+  const ErrorCode code =
+      policy ? q.Evaluate(v, w, S, *policy, report, c.order) : q.Evaluate(v, w, S, c.order);
+  if (code != ErrorCode::kOk)
+    CheckCompiled(code, SemanticsText(c.graph, c.twist), CodePolicy(c, policy));
   return WithCovariance(py::cast(TwistResult{c.graph, c.twist, v, w, TimeOf(policy, report)}), S);
 }
 template <coord::Backend B>
@@ -131,8 +134,8 @@ py::tuple Answer(const CompiledTwistCovObject& c, core::CompiledLinearVelocityWi
   Eigen::Vector3d v;
   Eigen::Matrix3d S;
   core::TimeReport report;
-  CheckCompiled(policy ? q.Evaluate(v, S, *policy, report) : q.Evaluate(v, S),
-                SemanticsText(c.graph, s), CodePolicy(c, policy));
+  const ErrorCode code = policy ? q.Evaluate(v, S, *policy, report) : q.Evaluate(v, S);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, s), CodePolicy(c, policy));
   return WithCovariance(py::cast(LinearVelocityResult{c.graph, s, v, TimeOf(policy, report)}), S);
 }
 template <coord::Backend B>
@@ -142,8 +145,8 @@ py::tuple Answer(const CompiledTwistCovObject& c, core::CompiledAngularVelocityW
   Eigen::Vector3d w;
   Eigen::Matrix3d S;
   core::TimeReport report;
-  CheckCompiled(policy ? q.Evaluate(w, S, *policy, report) : q.Evaluate(w, S),
-                SemanticsText(c.graph, s), CodePolicy(c, policy));
+  const ErrorCode code = policy ? q.Evaluate(w, S, *policy, report) : q.Evaluate(w, S);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, s), CodePolicy(c, policy));
   return WithCovariance(py::cast(AngularVelocityResult{c.graph, s, w, TimeOf(policy, report)}), S);
 }
 
