@@ -277,6 +277,34 @@ class CompiledTwist:
     @property
     def num_twist_edges(self) -> int: ...
 
+class CompiledPoseWithCovariance:
+    """A compiled pose query with covariance (SceneGraph.compile_pose_with_covariance); keeps its
+    graph alive. covariance_order was fixed at compile time."""
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None,
+                 not_before: Optional[Time] = None) -> Tuple[Pose, np.ndarray]:
+        """(Pose, (6, 6) covariance) now, or under a time policy: what pose_with_covariance()
+        answers with the same keywords (no time travel). QueryError('query_invalidated') once an
+        edge it reads was removed; extrapolation / stale / invalid_number under a policy."""
+
+class CompiledPositionWithCovariance:
+    """A compiled position query with covariance."""
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None,
+                 not_before: Optional[Time] = None) -> Tuple[Position, np.ndarray]:
+        """(Position, (3, 3) covariance); as CompiledPoseWithCovariance.evaluate."""
+
+class CompiledOrientationWithCovariance:
+    """A compiled orientation query with covariance."""
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None,
+                 not_before: Optional[Time] = None) -> Tuple[Orientation, np.ndarray]:
+        """(Orientation, (3, 3) covariance); as CompiledPoseWithCovariance.evaluate."""
+
+class CompiledTwistWithCovariance:
+    """A compiled twist, linear velocity or angular velocity query with covariance."""
+    def evaluate(self, *, at: At = None, max_extrapolation: Optional[Time] = None,
+                 not_before: Optional[Time] = None) -> Tuple[Union[Twist, LinearVelocity, AngularVelocity], np.ndarray]:
+        """(Twist, (6, 6)), (LinearVelocity, (3, 3)) or (AngularVelocity, (3, 3)), as compiled;
+        as CompiledPoseWithCovariance.evaluate."""
+
 class Acceleration:
     """AccelerationCoord(e|C, D, [r])."""
     @property
@@ -560,6 +588,35 @@ class SceneGraph:
                                 expressed_in: Name = None, source: Optional[str] = None) -> CompiledTwist: ...
     def compile_angular_velocity(self, *, body: Name = None, ref_body: Name = None,
                                  expressed_in: Name = None, source: Optional[str] = None) -> CompiledTwist: ...
+
+    def compile_pose_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
+                                     ref_body: Name = None, point: Name = None,
+                                     orientation: Name = None, ref_point: Name = None,
+                                     ref_orientation: Name = None, expressed_in: Name = None,
+                                     covariance_order: Optional[str] = None) -> CompiledPoseWithCovariance:
+        """The query of pose_with_covariance(), compiled; covariance_order fixes the rows of
+        every evaluation's (6, 6) covariance."""
+    def compile_position_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
+                                         ref_body: Name = None, point: Name = None,
+                                         orientation: Name = None, ref_point: Name = None,
+                                         ref_orientation: Name = None,
+                                         expressed_in: Name = None) -> CompiledPositionWithCovariance: ...
+    def compile_orientation_with_covariance(self, *, of: Name = None, body: Name = None, wrt: Name = None,
+                                            ref_body: Name = None, point: Name = None,
+                                            orientation: Name = None, ref_point: Name = None,
+                                            ref_orientation: Name = None,
+                                            expressed_in: Name = None) -> CompiledOrientationWithCovariance: ...
+    def compile_twist_with_covariance(self, *, point: Name = None, body: Name = None,
+                                      ref_body: Name = None, expressed_in: Name = None,
+                                      covariance_order: Optional[str] = None,
+                                      source: Optional[str] = None) -> CompiledTwistWithCovariance:
+        """The query of twist_with_covariance(), compiled; source as compile_twist."""
+    def compile_linear_velocity_with_covariance(
+            self, *, point: Name = None, body: Name = None, ref_body: Name = None,
+            expressed_in: Name = None, source: Optional[str] = None) -> CompiledTwistWithCovariance: ...
+    def compile_angular_velocity_with_covariance(
+            self, *, body: Name = None, ref_body: Name = None, expressed_in: Name = None,
+            source: Optional[str] = None) -> CompiledTwistWithCovariance: ...
 
     def pose_handle(self, *, of: str, wrt: str) -> PoseHandle: ...
     def twist_handle(self, *, point: str, ref_body: str) -> TwistHandle: ...

@@ -26,7 +26,8 @@ namespace {
              nullptr, nullptr);
 }
 
-// A compiled query's code under a time policy: kOk, or raises (QueryError).
+}  // namespace
+
 void CheckCompiled(ErrorCode code, const std::string& what, const core::TimePolicy* policy) {
   if (code == ErrorCode::kOk) return;
   if (code == ErrorCode::kQueryInvalidated || policy == nullptr) ThrowInvalidated(what);
@@ -54,6 +55,8 @@ void CheckCompiled(ErrorCode code, const std::string& what, const core::TimePoli
                  "their samples",
              nullptr, nullptr);
 }
+
+namespace {
 
 PoseResult Evaluate(const CompiledPoseObject& c, const core::TimePolicy* policy = nullptr) {
   return std::visit(

@@ -5,6 +5,7 @@
 
 #include "accelerations.h"
 #include "common.h"
+#include "compiled_covariance.h"
 #include "graph.h"
 #include "uncertainty.h"
 #include "wrenches.h"
@@ -25,6 +26,7 @@ PYBIND11_MODULE(_semgraph, m) {
     using namespace semgraph::python;
     BindResults(m);
     BindCompiled(m);
+    BindCompiledCovariance(m);
     BindHandles(m);
     BindBatches(m);
     BindRepair(m);
@@ -34,6 +36,7 @@ PYBIND11_MODULE(_semgraph, m) {
     BindBuild(graph);
     BindQueries(graph);
     BindUncertainty(graph);
+    BindCompiledCovarianceMethods(graph);
     BindWrenches(graph);
     BindAccelerations(graph);
     BindHandleMethods(graph);

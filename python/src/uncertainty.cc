@@ -25,12 +25,6 @@ std::string_view TextArg(py::handle value, const char* function, const char* arg
   return NameArg(value, function, argument);
 }
 
-template <int N>
-py::tuple WithCovariance(py::object result, const Eigen::Matrix<double, N, N>& S) {
-  const Eigen::Matrix<double, N, N, Eigen::RowMajor> rows = S;
-  return py::make_tuple(std::move(result), Array(rows.data(), {N, N}));
-}
-
 core::CovarianceOrder OrderOrDefault(py::handle order, const char* function) {
   return CovarianceOrderArg(order, function, "covariance_order");
 }

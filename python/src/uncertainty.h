@@ -6,6 +6,8 @@
 // numbers themselves are the core's to judge (invalid_number, invalid_covariance).
 #pragma once
 
+#include <utility>
+
 #include "common.h"
 #include "semgraph/core/uncertainty.h"
 
@@ -31,6 +33,14 @@ CovarianceArgs ReadCovarianceArgs(py::handle covariance, py::handle order, py::h
 /// 'linear_angular' (None too) or 'angular_linear'; ValueError otherwise.
 core::CovarianceOrder CovarianceOrderArg(py::handle order, const char* function,
                                          const char* argument);
+
+/// (result, covariance): what the queries with covariance return, the covariance a numpy (N, N)
+/// array (a copy).
+template <int N>
+py::tuple WithCovariance(py::object result, const Eigen::Matrix<double, N, N>& S) {
+  const Eigen::Matrix<double, N, N, Eigen::RowMajor> rows = S;
+  return py::make_tuple(std::move(result), Array(rows.data(), {N, N}));
+}
 
 /// SceneGraph.pose_with_covariance ... angular_velocity_with_covariance (uncertainty.cc).
 void BindUncertainty(GraphClass& graph);

@@ -78,6 +78,8 @@ def test_stub_signatures_match_the_module():
     tree = stub_tree()
     checked = 0
     for class_name in ["SceneGraph", "CompiledPose", "CompiledPosition", "CompiledOrientation", "CompiledTwist",
+                       "CompiledPoseWithCovariance", "CompiledPositionWithCovariance",
+                       "CompiledOrientationWithCovariance", "CompiledTwistWithCovariance",
                        "CompiledAcceleration", "CompiledJacobian", "RepairPolicy", "PoseBatch", "TwistBatch"]:
         cls = getattr(semgraph, class_name)
         for name, stub_args in stub_signatures(tree, class_name).items():
