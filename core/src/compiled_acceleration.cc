@@ -4,6 +4,7 @@
 #include "semgraph/core/compiled_acceleration.h"
 
 #include "semgraph/core/compiled_covariance.h"
+#include "semgraph/core/motion_pairs.h"
 
 namespace semgraph::core {
 
@@ -72,18 +73,19 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
     in_z[i] = parent[i] < 0 ? X_PG : B::ComposeChain(X_PG, in_z[parent[i]]);
   }
   // Every step at Z's origin in [Z], composed; every record read even after a missing one.
-  internal::AccelerationComposer composer;
+  internal::MotionPairsComposer composer;
   bool missing = false;
   for (const Step *s = steps_.data(), *end = s + steps_.size(); s != end; ++s) {
-    TwistAndAcceleration rec;
+    // Zeroed: a timed read leaves an absent acceleration unwritten (and GCC 12 cannot see that
+    // `missing` then skips it); the untimed read overwrites every word (the stores vanish).
+    TwistAndAcceleration rec{{}, {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, 0.0};
     if (!src.LoadAcceleration(*s->record, s->step, rec)) return ErrorCode::kQueryInvalidated;
     missing = missing || rec.present == 0.0;
     if (missing) continue;
-    const Pose& X_ZH = in_z[s->head];
-    internal::Motion m = internal::EdgeMotion(rec, s->step.invert);
-    internal::RotateMotion<B>(B::RotationOf(X_ZH), m);
-    internal::ShiftMotion(m, B::TranslationOf(X_ZH));  // h to Z's origin: p = h - Zo
-    composer.Add(s->step.ref_side, m);
+    const Pose& X_ZH = in_z[s->head];  // h to Z's origin (p = h - Zo), into [Z]
+    composer.Add(s->step.ref_side,
+                 internal::MovedEdgeMotion(rec, s->step.invert, B::ToMatrix(B::RotationOf(X_ZH)),
+                                           B::TranslationOf(X_ZH)));
   }
   if (missing) return ErrorCode::kNoAcceleration;
   // To e, then into [r]; neither move when e or [r] is Z (its entry: the last, past the edges).

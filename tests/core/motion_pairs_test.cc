@@ -1,0 +1,118 @@
+// The compiled acceleration query's paired kernels (motion_pairs.h): by hand, a spinning
+// relation moved to a point off its axis (the centripetal acceleration) and a quarter turn; on
+// 2,000 random records, MovedEdgeMotion equals the staged EdgeMotion, RotateMotion and
+// ShiftMotion of evaluate.h, both directions; on random sequences of motions on both sides,
+// MotionPairsComposer equals AccelerationComposer. A planted sign error fails the comparison.
+#include "semgraph/core/motion_pairs.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "support/tolerance.h"
+#include "support/world_scene.h"
+
+namespace semgraph::core::internal {
+namespace {
+
+using semgraph::testing::Near;
+using semgraph::testing::RandomUnitQuaternion;
+using semgraph::testing::RandomVector;
+using Vec = Eigen::Vector3d;
+using QuatB = coord::QuaternionBackend;
+
+TwistAndAcceleration Record(const Vec& v, const Vec& w, const Vec& a, const Vec& alpha) {
+  return TwistAndAcceleration{{v, w}, {a, alpha}, 1.0};
+}
+
+TwistAndAcceleration RandomRecord(std::mt19937_64& rng) {
+  return Record(RandomVector(rng, 1.0), RandomVector(rng, 1.0), RandomVector(rng, 1.0),
+                RandomVector(rng, 1.0));
+}
+
+::testing::AssertionResult SameMotion(const Motion& x, const Motion& y, double tol = 1e-12) {
+  for (const auto& [u, v] :
+       {std::pair{&x.v, &y.v}, {&x.w, &y.w}, {&x.a, &y.a}, {&x.alpha, &y.alpha}}) {
+    auto r = Near(*u, *v, tol);
+    if (!r) return r;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// The staged kernels the compiled query used before (and the one-shot query still uses).
+Motion Staged(const TwistAndAcceleration& r, bool invert, const Eigen::Quaterniond& R_ZH,
+              const Vec& p) {
+  Motion m = EdgeMotion(r, invert);
+  RotateMotion<QuatB>(R_ZH, m);
+  ShiftMotion(m, p);
+  return m;
+}
+
+TEST(MotionPairs, ASpinningRelationMovedOffItsAxisByHand) {
+  // The relation spins at omega about z through h; Z's origin lies at -r x from h (p = h - Zo =
+  // r x). There it moves at omega r along -y with the centripetal acceleration omega^2 r
+  // towards the axis (+x); inverted, it spins at -omega: the velocity flips, the centripetal
+  // acceleration does not.
+  const double omega = 3.0, r = 0.5;
+  const Vec w(0, 0, omega), p(r, 0, 0), z = Vec::Zero();
+  for (const bool invert : {false, true}) {
+    const double s = invert ? -1.0 : 1.0;
+    const Motion m =
+        MovedEdgeMotion(Record(z, w, z, z), invert, Eigen::Matrix3d::Identity(), p).ToMotion();
+    EXPECT_TRUE(Near(m.v, Vec(0, -s * omega * r, 0), 1e-15));
+    EXPECT_TRUE(Near(m.w, s * w, 1e-15));
+    EXPECT_TRUE(Near(m.a, Vec(omega * omega * r, 0, 0), 1e-15));
+    EXPECT_TRUE(Near(m.alpha, z, 1e-15));
+  }
+}
+
+TEST(MotionPairs, AQuarterTurnByHand) {
+  // R_ZH a quarter turn about z: x of [h] is y of [Z]; no shift.
+  const Eigen::Matrix3d R_ZH = Eigen::AngleAxisd(M_PI / 2, Vec::UnitZ()).toRotationMatrix();
+  const Motion m = MovedEdgeMotion(Record(Vec(1, 0, 0), Vec(0, 0, 2), Vec(0, 3, 0), Vec(4, 0, 5)),
+                                   false, R_ZH, Vec::Zero())
+                       .ToMotion();
+  EXPECT_TRUE(Near(m.v, Vec(0, 1, 0), 1e-15));
+  EXPECT_TRUE(Near(m.w, Vec(0, 0, 2), 1e-15));
+  EXPECT_TRUE(Near(m.a, Vec(-3, 0, 0), 1e-15));
+  EXPECT_TRUE(Near(m.alpha, Vec(0, 4, 5), 1e-15));
+}
+
+TEST(MotionPairs, MovedEdgeMotionIsTheStagedKernels) {
+  std::mt19937_64 rng(20261206);
+  for (int i = 0; i < 2000; ++i) {
+    const TwistAndAcceleration r = RandomRecord(rng);
+    const Eigen::Quaterniond R_ZH = RandomUnitQuaternion(rng);
+    const Vec p = RandomVector(rng, 2.0);
+    const bool invert = i % 2 == 1;
+    EXPECT_TRUE(SameMotion(MovedEdgeMotion(r, invert, R_ZH.toRotationMatrix(), p).ToMotion(),
+                           Staged(r, invert, R_ZH, p)))
+        << "record " << i << (invert ? " inverted" : "");
+  }
+  // A planted error (the shift's lever arm reversed) is far outside the tolerance.
+  const TwistAndAcceleration r = RandomRecord(rng);
+  const Vec p = RandomVector(rng, 2.0);
+  EXPECT_FALSE(SameMotion(MovedEdgeMotion(r, false, Eigen::Matrix3d::Identity(), -p).ToMotion(),
+                          Staged(r, false, Eigen::Quaterniond::Identity(), p), 1e-3));
+}
+
+TEST(MotionPairs, TheComposerIsAccelerationComposer) {
+  std::mt19937_64 rng(20261207);
+  for (int sequence = 0; sequence < 200; ++sequence) {
+    AccelerationComposer staged;
+    MotionPairsComposer paired;
+    for (int k = 0; k < 1 + sequence % 9; ++k) {
+      const TwistAndAcceleration r = RandomRecord(rng);
+      const Eigen::Quaterniond R_ZH = RandomUnitQuaternion(rng);
+      const Vec p = RandomVector(rng, 2.0);
+      const bool ref_side = (rng() & 1U) != 0, invert = (rng() & 1U) != 0;
+      staged.Add(ref_side, Staged(r, invert, R_ZH, p));
+      paired.Add(ref_side, MovedEdgeMotion(r, invert, R_ZH.toRotationMatrix(), p));
+    }
+    EXPECT_TRUE(SameMotion(paired.Result(), staged.Result(), 1e-11)) << "sequence " << sequence;
+  }
+}
+
+}  // namespace
+}  // namespace semgraph::core::internal
