@@ -8,8 +8,10 @@
 //     ChainUnionTopDown);
 //   - evaluate: every union edge read once and composed with the one above it (its head's pose
 //     in Z, kept in the object's scratch: one composition per edge); every step's twist and
-//     acceleration (evaluate.h EdgeMotion) rotated into [Z] and moved to Z's origin with that
-//     pose, then composed with the Coriolis terms (AccelerationComposer); the result moved to e
+//     acceleration rotated into [Z] and moved to Z's origin with that pose, then composed with
+//     the Coriolis terms, in one fused step on lane pairs (motion_pairs.h: MovedEdgeMotion,
+//     MotionPairsComposer, the math of evaluate.h's EdgeMotion, RotateMotion, ShiftMotion and
+//     AccelerationComposer); the result moved to e
 //     and rotated into [r] once (neither when e, or [r], is Z). Each edge is read through the
 //     one evaluator's source (FlatSource: the current values, or the policy's time), so the
 //     reads are those of every compiled query; at the current values each record's words go
@@ -21,7 +23,7 @@
 // the timed one-shot query reads it (timed_read.h).
 // Costs: Evaluate O(pose edges in the union + twist edges): one composition per pose edge, four
 // rotations, one shift and one composition per twist edge (the one-shot query moves each edge
-// through its own chains: O(twist edges x chain length)); on the bench chain about 1.4x the
+// through its own chains: O(twist edges x chain length)); on the bench chain about 1.15-1.2x the
 // instructions of a hand-written Eigen chain (docs/performance.md, "Accelerations"); noexcept,
 // allocation-free, lock-free, string-free.
 // Thread safety: Evaluate uses the object's own scratch: one evaluating thread per object (a
