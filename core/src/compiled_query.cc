@@ -236,9 +236,16 @@ bool CompiledTwist<B>::Accumulate(const Source& src, Eigen::Vector3d& v,
   return true;
 }
 
+// From poses the untimed Evaluate is the timed one under Latest (the newest samples, as the
+// one-shot query and CompiledTwistWithCovariance): its codes too, so a used edge with a single
+// sample (no derivative) is kExtrapolation, not a zero twist.
 template <coord::Backend B>
 ErrorCode CompiledTwist<B>::Evaluate(Eigen::Vector3d& v_DCe_R,
                                      Eigen::Vector3d& w_DC_R) const noexcept {
+  if (from_poses_) {
+    TimeReport report;
+    return Evaluate(v_DCe_R, w_DC_R, Latest{}, report);
+  }
   return Accumulate(this->source(), v_DCe_R, w_DC_R) ? ErrorCode::kOk
                                                      : ErrorCode::kQueryInvalidated;
 }

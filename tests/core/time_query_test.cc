@@ -252,6 +252,102 @@ TEST(TimeQueryPosesTest, ACompiledTwistFromPosesIgnoresTheHorizonToo) {
       ErrorCode::kInvalidNumber);
 }
 
+// The untimed Evaluate of a compiled twist from poses reads the newest samples, as the one-shot
+// query under Latest and the compiled query with covariance do: the same answer or the same
+// error. W <- {a}|A (ScrewMotion) with `samples` stamps 0, 0.1, ... (none: a timeless edge at
+// X(0.5)).
+Graph ScrewGraph(int samples) {
+  Graph g;
+  const ScrewMotion screw;
+  EXPECT_TRUE(g.AddBody("W").has_value());
+  EXPECT_TRUE(g.AddFrame("w", "W").has_value());
+  const PoseSpec a = PoseSpec::Of("a", "A").RelativeTo("w");
+  if (samples == 0) {
+    EXPECT_TRUE(g.AddPose(a, screw.q(0.5), screw.p(0.5)).has_value());
+  }
+  for (int i = 0; i < samples; ++i) {
+    const double s = 0.1 * i;
+    EXPECT_TRUE(g.AddPose(a, screw.q(s), screw.p(s), S(s)).has_value());
+  }
+  return g;
+}
+
+TEST(TimeQueryPosesTest, AnUntimedCompiledTwistFromPosesOfOneSampleIsExtrapolation) {
+  Graph g = ScrewGraph(1);
+  const TwistSpec spec = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("w");
+  // The one-shot query: one sample has no derivative.
+  EXPECT_EQ(ErrorOf(g.GetTwist(spec, Latest{}, TwistSource::kPoses)).code,
+            ErrorCode::kExtrapolation);
+  EXPECT_EQ(ErrorOf(g.GetTwist(spec, At{S(0)}, TwistSource::kPoses)).code,
+            ErrorCode::kExtrapolation);
+  // The compiled query, untimed and under Latest: the same code, the outputs untouched.
+  auto c = g.CompileTwist(spec, TwistSource::kPoses);
+  ASSERT_TRUE(c.has_value());
+  const Eigen::Vector3d sentinel(7, 8, 9);
+  Eigen::Vector3d v = sentinel, w = sentinel;
+  EXPECT_EQ(c->Evaluate(v, w), ErrorCode::kExtrapolation);
+  ExpectNear(v, sentinel, 0.0);
+  ExpectNear(w, sentinel, 0.0);
+  EXPECT_EQ(ErrorOf(c->Evaluate()).code, ErrorCode::kExtrapolation);
+  TimeReport report;
+  EXPECT_EQ(c->Evaluate(v, w, Latest{}, report), ErrorCode::kExtrapolation);
+  // The compiled query with covariance, untimed.
+  auto cc = g.CompileTwistWithCovariance(spec, TwistSource::kPoses);
+  ASSERT_TRUE(cc.has_value());
+  Covariance6 S_V = Covariance6::Zero();
+  EXPECT_EQ(cc->Evaluate(v, w, S_V), ErrorCode::kExtrapolation);
+  // A second sample gives the derivative (a one-parameter subgroup: exactly its screw twist).
+  auto edge = g.FindPoseEdge("a", "w");
+  ASSERT_TRUE(edge.has_value());
+  const ScrewMotion screw;
+  ASSERT_EQ(g.SetPose(*edge, screw.q(0.1), screw.p(0.1), S(0.1)), ErrorCode::kOk);
+  ASSERT_EQ(c->Evaluate(v, w), ErrorCode::kOk);
+  ExpectNear(v, Eigen::Vector3d(screw.q(0.1) * screw.v()), 1e-12);
+  ExpectNear(w, Eigen::Vector3d(screw.q(0.1) * screw.omega()), 1e-12);
+}
+
+TEST(TimeQueryPosesTest, AnUntimedCompiledTwistFromPosesOfATimelessEdgeIsZero) {
+  const Graph g = ScrewGraph(0);
+  const TwistSpec spec = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("w");
+  auto c = g.CompileTwist(spec, TwistSource::kPoses);
+  ASSERT_TRUE(c.has_value());
+  Eigen::Vector3d v(7, 8, 9), w(7, 8, 9);
+  ASSERT_EQ(c->Evaluate(v, w), ErrorCode::kOk);  // a constant pose does not move
+  ExpectNear(v, Eigen::Vector3d::Zero(), 0.0);
+  ExpectNear(w, Eigen::Vector3d::Zero(), 0.0);
+  auto one_shot = g.GetTwist(spec, Latest{}, TwistSource::kPoses);
+  ASSERT_TRUE(one_shot.has_value());
+  ExpectNear(one_shot->value.linear, Eigen::Vector3d::Zero(), 0.0);
+  ExpectNear(one_shot->value.angular, Eigen::Vector3d::Zero(), 0.0);
+}
+
+TEST(TimeQueryPosesTest, AnUntimedCompiledTwistFromPosesEqualsTheOneShotUnderLatest) {
+  // Newest sample at 1 s: the segment before it, the screw twist moved to [w] at X(1).
+  const Graph g = ScrewGraph(11);
+  const ScrewMotion screw;
+  const TwistSpec spec = TwistSpec::Of("a", "A").RelativeTo("W").ExpressedIn("w");
+  auto c = g.CompileTwist(spec, TwistSource::kPoses);
+  ASSERT_TRUE(c.has_value());
+  Eigen::Vector3d v, w;
+  ASSERT_EQ(c->Evaluate(v, w), ErrorCode::kOk);
+  ExpectNear(v, Eigen::Vector3d(screw.q(1) * screw.v()), 1e-12);
+  ExpectNear(w, Eigen::Vector3d(screw.q(1) * screw.omega()), 1e-12);
+  auto one_shot = g.GetTwist(spec, Latest{}, TwistSource::kPoses);
+  ASSERT_TRUE(one_shot.has_value());
+  ExpectNear(v, one_shot->value.linear, 1e-12);
+  ExpectNear(w, one_shot->value.angular, 1e-12);
+  // Two differentiated-or-moving edges with different newest stamps (a at 1 s, o at 0.5 s).
+  const Graph p = PosesGraph();
+  const TwistSpec at_o = TwistSpec::Of("o", "A").RelativeTo("W").ExpressedIn("w");
+  auto co = p.CompileTwist(at_o, TwistSource::kPoses);
+  ASSERT_TRUE(co.has_value());
+  ASSERT_EQ(co->Evaluate(v, w), ErrorCode::kOk);
+  auto expected = p.GetTwist(at_o, Latest{}, TwistSource::kPoses);
+  ASSERT_TRUE(expected.has_value());
+  ExpectNear(v, expected->value.linear, 1e-12);
+  ExpectNear(w, expected->value.angular, 1e-12);
+}
+
 // ---------------------------------------------------------------- §4 latest common with a horizon
 
 // W <- {a}|A (Orbit, stamped 0..1 s) and W <- {o}|O (ScrewMotion, stamped 2..3 s, with its

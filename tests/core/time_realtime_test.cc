@@ -75,6 +75,7 @@ TEST(TimeRealtimeTest, StampedUpdatesAndTimedCompiledQueriesDoNotAllocate) {
       failures += v->Evaluate(lin, ang, p, r) != ErrorCode::kOk;
     }
     failures += vp->Evaluate(lin, ang, At{Ms(2700)}, r) != ErrorCode::kOk;
+    failures += vp->Evaluate(lin, ang) != ErrorCode::kOk;  // untimed: under Latest
     failures += q->Evaluate(X, At{Ms(5000)}, r) != ErrorCode::kExtrapolation;
     failures += q->Evaluate(X, Latest{Ms(4000)}, r) != ErrorCode::kStale;
     allocations = counting.count();
