@@ -28,9 +28,10 @@ namespace {
 
 }  // namespace
 
-void CheckCompiled(ErrorCode code, const std::string& what, const core::TimePolicy* policy) {
+void CheckCompiled(ErrorCode code, const std::string& what) {
   if (code == ErrorCode::kOk) return;
-  if (code == ErrorCode::kQueryInvalidated || policy == nullptr) ThrowInvalidated(what);
+  // Untimed, only a removal fails, except a twist from poses, which reads under Latest.
+  if (code == ErrorCode::kQueryInvalidated) ThrowInvalidated(what);
   std::string why;
   switch (code) {
     case ErrorCode::kExtrapolation:
@@ -65,7 +66,7 @@ PoseResult Evaluate(const CompiledPoseObject& c, const core::TimePolicy* policy 
         typename B::PoseCoords X;
         core::TimeReport report;
         CheckCompiled(policy ? q.Evaluate(X, *policy, report) : q.Evaluate(X),
-                      SemanticsText(c.graph, q.semantics()), policy);
+                      SemanticsText(c.graph, q.semantics()));
         PoseResult r = MakePoseResult<B>(c.graph, q.semantics(), X);
         if (policy) r.time = report;
         return r;
@@ -78,7 +79,7 @@ PositionResult Evaluate(const CompiledPositionObject& c, const core::TimePolicy*
         Eigen::Vector3d p;
         core::TimeReport report;
         CheckCompiled(policy ? q.Evaluate(p, *policy, report) : q.Evaluate(p),
-                      SemanticsText(c.graph, q.semantics()), policy);
+                      SemanticsText(c.graph, q.semantics()));
         PositionResult r{c.graph, q.semantics(), p};
         if (policy) r.time = report;
         return r;
@@ -93,7 +94,7 @@ OrientationResult Evaluate(const CompiledOrientationObject& c,
         typename B::Rotation M;
         core::TimeReport report;
         CheckCompiled(policy ? q.Evaluate(M, *policy, report) : q.Evaluate(M),
-                      SemanticsText(c.graph, q.semantics()), policy);
+                      SemanticsText(c.graph, q.semantics()));
         OrientationResult r = MakeOrientationResult<B>(c.graph, q.semantics(), M);
         if (policy) r.time = report;
         return r;
@@ -120,7 +121,7 @@ py::object Evaluate(const CompiledTwistObject& c, const core::TimePolicy* policy
   const ErrorCode code = std::visit(
       [&](const auto& q) { return policy ? q.Evaluate(v, w, *policy, report) : q.Evaluate(v, w); },
       c.query);
-  if (code != ErrorCode::kOk) CheckCompiled(code, CompiledText(c), policy);
+  if (code != ErrorCode::kOk) CheckCompiled(code, CompiledText(c));
   std::optional<core::TimeReport> time;
   if (policy) time = report;
   switch (c.kind) {

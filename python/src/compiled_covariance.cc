@@ -72,7 +72,7 @@ py::tuple Answer(const CompiledPoseCovObject& c, core::CompiledPoseWithCovarianc
   const ErrorCode code =
       policy ? q.Evaluate(X, S, *policy, report, c.order) : q.Evaluate(X, S, c.order);
   // The message only on failure (the semantics text allocates).
-  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()), policy);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()));
   PoseResult r = MakePoseResult<B>(c.graph, q.semantics(), X);
   if (policy) r.time = report;
   return WithCovariance(py::cast(std::move(r)), S);
@@ -84,7 +84,7 @@ py::tuple Answer(const CompiledPositionCovObject& c, core::CompiledPositionWithC
   Eigen::Matrix3d S;
   core::TimeReport report;
   const ErrorCode code = policy ? q.Evaluate(p, S, *policy, report) : q.Evaluate(p, S);
-  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()), policy);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()));
   PositionResult r{c.graph, q.semantics(), p};
   if (policy) r.time = report;
   return WithCovariance(py::cast(std::move(r)), S);
@@ -96,19 +96,14 @@ py::tuple Answer(const CompiledOrientationCovObject& c,
   Eigen::Matrix3d S;
   core::TimeReport report;
   const ErrorCode code = policy ? q.Evaluate(M, S, *policy, report) : q.Evaluate(M, S);
-  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()), policy);
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, q.semantics()));
   OrientationResult r = MakeOrientationResult<B>(c.graph, q.semantics(), M);
   if (policy) r.time = report;
   return WithCovariance(py::cast(std::move(r)), S);
 }
 
 // The twist kinds. From poses, the untimed evaluation reads under Latest: its codes are the
-// timed ones (extrapolation, stale), reported as such.
-const core::TimePolicy kLatest = core::Latest{};
-const core::TimePolicy* CodePolicy(const CompiledTwistCovObject& c,
-                                   const core::TimePolicy* policy) {
-  return policy != nullptr ? policy : (c.from_poses ? &kLatest : nullptr);
-}
+// timed ones (extrapolation, stale), which CheckCompiled reports as such.
 std::optional<core::TimeReport> TimeOf(const core::TimePolicy* policy,
                                        const core::TimeReport& report) {
   if (policy == nullptr) return std::nullopt;
@@ -123,8 +118,7 @@ py::tuple Answer(const CompiledTwistCovObject& c, core::CompiledTwistWithCovaria
   core::TimeReport report;
   const ErrorCode code =
       policy ? q.Evaluate(v, w, S, *policy, report, c.order) : q.Evaluate(v, w, S, c.order);
-  if (code != ErrorCode::kOk)
-    CheckCompiled(code, SemanticsText(c.graph, c.twist), CodePolicy(c, policy));
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, c.twist));
   return WithCovariance(py::cast(TwistResult{c.graph, c.twist, v, w, TimeOf(policy, report)}), S);
 }
 template <coord::Backend B>
@@ -135,7 +129,7 @@ py::tuple Answer(const CompiledTwistCovObject& c, core::CompiledLinearVelocityWi
   Eigen::Matrix3d S;
   core::TimeReport report;
   const ErrorCode code = policy ? q.Evaluate(v, S, *policy, report) : q.Evaluate(v, S);
-  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, s), CodePolicy(c, policy));
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, s));
   return WithCovariance(py::cast(LinearVelocityResult{c.graph, s, v, TimeOf(policy, report)}), S);
 }
 template <coord::Backend B>
@@ -146,7 +140,7 @@ py::tuple Answer(const CompiledTwistCovObject& c, core::CompiledAngularVelocityW
   Eigen::Matrix3d S;
   core::TimeReport report;
   const ErrorCode code = policy ? q.Evaluate(w, S, *policy, report) : q.Evaluate(w, S);
-  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, s), CodePolicy(c, policy));
+  if (code != ErrorCode::kOk) CheckCompiled(code, SemanticsText(c.graph, s));
   return WithCovariance(py::cast(AngularVelocityResult{c.graph, s, w, TimeOf(policy, report)}), S);
 }
 

@@ -166,10 +166,10 @@ struct CompiledTwistObject {
   semantics::AngularVelocitySemantics angular_semantics;
 };
 
-/// A compiled query's code (`what`: its relation, for the message) under `policy` (nullptr:
-/// evaluated without one): returns on kOk; otherwise raises QueryError with the code,
-/// query_invalidated for kQueryInvalidated and for any code without a policy (compiled.cc).
-void CheckCompiled(core::ErrorCode code, const std::string& what, const core::TimePolicy* policy);
+/// A compiled query's code (`what`: its relation, for the message): returns on kOk; otherwise
+/// raises QueryError with the code (kQueryInvalidated: an edge removed; the time codes, which a
+/// twist from poses also gives untimed, since it then reads under Latest) (compiled.cc).
+void CheckCompiled(core::ErrorCode code, const std::string& what);
 
 // ---------------------------------------------------------------- handles and batches
 

@@ -299,6 +299,26 @@ def test_compiled_queries_evaluate_at_a_time():
     assert e.value.code == "no_twist_path"
 
 
+def test_an_untimed_compiled_twist_from_poses_reads_the_latest_samples():
+    # Untimed, a compiled twist from poses reads under Latest: the helix's constant twist from
+    # the newest two samples, and with a single sample no derivative: "extrapolation", as the
+    # one-shot query says (not a zero twist, not "query_invalidated").
+    g = helix_graph()
+    t = g.compile_twist(point="b", ref_body="W", expressed_in="b", source="poses").evaluate()
+    np.testing.assert_allclose(t.linear, V_WB_b, atol=1e-10)
+    np.testing.assert_allclose(t.angular, W_WB_b, atol=1e-10)
+    one = semgraph.SceneGraph()
+    add_samples(one, "b", "B", [0.5], X_WB)
+    for compile_kind in (one.compile_twist, one.compile_linear_velocity):
+        c = compile_kind(point="b", ref_body="W", expressed_in="b", source="poses")
+        with pytest.raises(semgraph.QueryError) as e:
+            c.evaluate()
+        assert e.value.code == "extrapolation"
+    with pytest.raises(semgraph.QueryError) as e:
+        one.twist(point="b", ref_body="W", expressed_in="b", source="poses")
+    assert e.value.code == "extrapolation"
+
+
 def test_stamped_set_pose_by_handle_in_and_out_of_order():
     g = helix_graph()
     h = g.pose_handle(of="b", wrt="w")

@@ -228,6 +228,8 @@ class SEMGRAPH_CORE_EXPORT CompiledTwist : public CompiledQuery<B> {
                 const PoseTwistPlan& plan);
   [[nodiscard]] const semantics::TwistSemantics& semantics() const noexcept { return semantics_; }
   /// v_DCe_R: velocity of the point of C at e relative to D; w_DC_R: angular velocity; in [r].
+  /// From poses: the timed Evaluate under Latest, with its codes (a used edge with one sample
+  /// has no derivative: kExtrapolation); the outputs are written on kOk only.
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R,
                                    Eigen::Vector3d& w_DC_R) const noexcept;
   [[nodiscard]] ErrorCode Evaluate(Eigen::Vector3d& v_DCe_R, Eigen::Vector3d& w_DC_R,
