@@ -275,6 +275,28 @@ QueryError as the one-shot query without time keywords (invalid_name, unknown_fr
 unknown_body, frame_body_mismatch, no_pose_path, representation_constraint; no_twist_path for
 velocities); ValueError for a bad covariance_order or source.)";
 
+// compile_position_with_covariance and compile_orientation_with_covariance: the pose query's
+// keywords, one part of its answer (`compile`: the graph's Compile...WithCovariance).
+template <class Object, class Compile>
+void DefCompilePart(GraphClass& graph, const char* name, Compile compile, const char* summary) {
+  graph.def(
+      name,
+      [name, compile](const GraphBox& b, py::handle of, py::handle body, py::handle wrt,
+                      py::handle ref_body, py::handle point, py::handle orientation,
+                      py::handle ref_point, py::handle ref_orientation, py::handle expressed_in) {
+        const PoseNames n = ReadPoseNames(name, of, body, wrt, ref_body, point, orientation,
+                                          ref_point, ref_orientation, expressed_in);
+        const core::PoseSpec spec = n.Spec();
+        GraphPtr self = Self(b);
+        return b.Visit([&](const auto& g) {
+          auto r = compile(g, spec);
+          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
+          return std::make_shared<Object>(Object{self, std::move(*r)});
+        });
+      },
+      SEMGRAPH_COMPILE_COV_POSE_ARGS, Doc(summary, kCompileCovErrors).c_str());
+}
+
 void BindCompilePoseCovariance(GraphClass& graph) {
   graph.def(
       "compile_pose_with_covariance",
@@ -300,50 +322,19 @@ void BindCompilePoseCovariance(GraphClass& graph) {
           "evaluation's (6, 6) covariance.",
           kCompileCovErrors)
           .c_str());
-  graph.def(
-      "compile_position_with_covariance",
-      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
-         py::handle expressed_in) {
-        const PoseNames n =
-            ReadPoseNames("compile_position_with_covariance", of, body, wrt, ref_body, point,
-                          orientation, ref_point, ref_orientation, expressed_in);
-        const core::PoseSpec spec = n.Spec();
-        GraphPtr self = Self(b);
-        return b.Visit([&](const auto& g) {
-          auto r = g.CompilePositionWithCovariance(spec);
-          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          return std::make_shared<CompiledPositionCovObject>(
-              CompiledPositionCovObject{self, std::move(*r)});
-        });
+  DefCompilePart<CompiledPositionCovObject>(
+      graph, "compile_position_with_covariance",
+      [](const auto& g, const core::PoseSpec& spec) {
+        return g.CompilePositionWithCovariance(spec);
       },
-      SEMGRAPH_COMPILE_COV_POSE_ARGS,
-      Doc("The query of position_with_covariance(), compiled (a "
-          "CompiledPositionWithCovariance).",
-          kCompileCovErrors)
-          .c_str());
-  graph.def(
-      "compile_orientation_with_covariance",
-      [](const GraphBox& b, py::handle of, py::handle body, py::handle wrt, py::handle ref_body,
-         py::handle point, py::handle orientation, py::handle ref_point, py::handle ref_orientation,
-         py::handle expressed_in) {
-        const PoseNames n =
-            ReadPoseNames("compile_orientation_with_covariance", of, body, wrt, ref_body, point,
-                          orientation, ref_point, ref_orientation, expressed_in);
-        const core::PoseSpec spec = n.Spec();
-        GraphPtr self = Self(b);
-        return b.Visit([&](const auto& g) {
-          auto r = g.CompileOrientationWithCovariance(spec);
-          if (!r) ThrowPoseQuery(g, r.error(), spec, n);
-          return std::make_shared<CompiledOrientationCovObject>(
-              CompiledOrientationCovObject{self, std::move(*r)});
-        });
+      "The query of position_with_covariance(), compiled (a CompiledPositionWithCovariance).");
+  DefCompilePart<CompiledOrientationCovObject>(
+      graph, "compile_orientation_with_covariance",
+      [](const auto& g, const core::PoseSpec& spec) {
+        return g.CompileOrientationWithCovariance(spec);
       },
-      SEMGRAPH_COMPILE_COV_POSE_ARGS,
-      Doc("The query of orientation_with_covariance(), compiled (a "
-          "CompiledOrientationWithCovariance).",
-          kCompileCovErrors)
-          .c_str());
+      "The query of orientation_with_covariance(), compiled (a "
+      "CompiledOrientationWithCovariance).");
 }
 
 #undef SEMGRAPH_COMPILE_COV_POSE_ARGS
