@@ -30,8 +30,6 @@ struct CompiledAccelerationObject {
   PerBackend<core::CompiledAcceleration> query;
 };
 
-GraphPtr Self(const GraphBox& b) { return std::const_pointer_cast<GraphBox>(b.shared_from_this()); }
-
 // The time keywords of the acceleration queries (no time travel, no source).
 TimeQuery TimeArgs(const char* fn, py::handle at, py::handle max_extrapolation,
                    py::handle not_before) {

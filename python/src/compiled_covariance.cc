@@ -52,10 +52,7 @@ struct CompiledTwistCovObject {
       query;
   semantics::TwistSemantics twist;
   core::CovarianceOrder order = core::CovarianceOrder::kLinearAngular;
-  bool from_poses = false;  ///< source 'poses': the untimed evaluate reads under Latest
 };
-
-GraphPtr Self(const GraphBox& b) { return std::const_pointer_cast<GraphBox>(b.shared_from_this()); }
 
 core::CovarianceOrder OrderArg(py::handle order, const char* function) {
   return CovarianceOrderArg(order, function, "covariance_order");
@@ -339,12 +336,10 @@ void BindCompilePoseCovariance(GraphClass& graph) {
 
 #undef SEMGRAPH_COMPILE_COV_POSE_ARGS
 
-std::shared_ptr<CompiledTwistCovObject> TwistObject(GraphPtr self, core::TwistSource src,
-                                                    core::CovarianceOrder order) {
+std::shared_ptr<CompiledTwistCovObject> TwistObject(GraphPtr self, core::CovarianceOrder order) {
   auto c = std::make_shared<CompiledTwistCovObject>();
   c->graph = std::move(self);
   c->order = order;
-  c->from_poses = src == core::TwistSource::kPoses;
   return c;
 }
 
@@ -362,7 +357,7 @@ void BindCompileTwistCovariance(GraphClass& graph) {
         const core::TwistSpec spec = ReadTwistSpec(fn, point, body, ref_body, expressed_in);
         const core::CovarianceOrder o = OrderArg(order, fn);
         const core::TwistSource src = TwistSourceArg(source, fn);
-        auto c = TwistObject(Self(b), src, o);
+        auto c = TwistObject(Self(b), o);
         b.Visit([&](const auto& g) {
           auto r = g.CompileTwistWithCovariance(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
@@ -386,7 +381,7 @@ void BindCompileTwistCovariance(GraphClass& graph) {
         const char* fn = "compile_linear_velocity_with_covariance";
         const core::TwistSpec spec = ReadTwistSpec(fn, point, body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, fn);
-        auto c = TwistObject(Self(b), src, core::CovarianceOrder::kLinearAngular);
+        auto c = TwistObject(Self(b), core::CovarianceOrder::kLinearAngular);
         b.Visit([&](const auto& g) {
           using B = typename std::decay_t<decltype(g)>::Backend;
           // What CompileLinearVelocityWithCovariance wraps (its errors too), whose semantics
@@ -412,7 +407,7 @@ void BindCompileTwistCovariance(GraphClass& graph) {
         const char* fn = "compile_angular_velocity_with_covariance";
         const core::TwistSpec spec = ReadTwistSpec(fn, py::none(), body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, fn);
-        auto c = TwistObject(Self(b), src, core::CovarianceOrder::kLinearAngular);
+        auto c = TwistObject(Self(b), core::CovarianceOrder::kLinearAngular);
         b.Visit([&](const auto& g) {
           auto r = g.CompileAngularVelocityWithCovariance(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);

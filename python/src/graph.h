@@ -81,6 +81,11 @@ struct GraphBox : std::enable_shared_from_this<GraphBox> {
   std::uint64_t topology_generation = 0;  // bumped by every accepted removal (under writer)
 };
 using GraphPtr = std::shared_ptr<GraphBox>;
+/// The owning pointer of a graph a binding received by reference (results and compiled objects
+/// keep their graph alive).
+inline GraphPtr Self(const GraphBox& b) {
+  return std::const_pointer_cast<GraphBox>(b.shared_from_this());
+}
 
 // ---------------------------------------------------------------- results
 // Numbers are kept as C++ values and turned into numpy arrays when a property is read, so a

@@ -163,7 +163,7 @@ void BindHandleMethods(GraphClass& graph) {
       [](const GraphBox& b, py::handle of, py::handle wrt) {
         const std::string_view o = NameArg(of, "pose_handle", "of");
         const std::string_view w = NameArg(wrt, "pose_handle", "wrt");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto h = g.FindPoseEdge(o, w);
           if (!h) ThrowRejected(h.error().code, h.error().message);
@@ -179,7 +179,7 @@ void BindHandleMethods(GraphClass& graph) {
       [](const GraphBox& b, py::handle point, py::handle ref_body) {
         const std::string_view p = NameArg(point, "twist_handle", "point");
         const std::string_view r = NameArg(ref_body, "twist_handle", "ref_body");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto h = g.FindTwistEdge(p, r);
           if (!h) ThrowRejected(h.error().code, h.error().message);

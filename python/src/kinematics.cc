@@ -544,7 +544,7 @@ QueryError: the errors of twist() (unknown_frame, no_pose_path, no_twist_path, .
       [](const GraphBox& b, py::handle point, py::handle body, py::handle ref_body,
          py::handle expressed_in) {
         const core::TwistSpec spec = ReadTwistSpec("jacobian", point, body, ref_body, expressed_in);
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto r = g.GetJacobian(spec);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
@@ -564,7 +564,7 @@ QueryError: the errors of twist() (unknown_frame, no_pose_path, no_twist_path, .
          py::handle expressed_in) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_jacobian", point, body, ref_body, expressed_in);
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto r = g.CompileJacobian(spec);
           if (!r) ThrowTwistQuery(g, r.error(), spec);

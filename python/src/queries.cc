@@ -67,7 +67,7 @@ void BindPoseQueries(GraphClass& graph) {
         const PoseNames n = ReadPoseNames("pose", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           using B = typename std::decay_t<decltype(g)>::Backend;
           if (t.kind == TimeQuery::Kind::kNone) {
@@ -98,7 +98,7 @@ void BindPoseQueries(GraphClass& graph) {
         const PoseNames n = ReadPoseNames("position", of, body, wrt, ref_body, point, orientation,
                                           ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone) {
             auto r = g.GetPosition(spec);
@@ -127,7 +127,7 @@ void BindPoseQueries(GraphClass& graph) {
         const PoseNames n = ReadPoseNames("orientation", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           using B = typename std::decay_t<decltype(g)>::Backend;
           if (t.kind == TimeQuery::Kind::kNone) {
@@ -171,7 +171,7 @@ Names (keyword-only):
         const TimeQuery t = TimeQueryArgs("twist", at, max_extrapolation, not_before, py::none(),
                                           py::none(), false);
         const core::TwistSource src = TwistSourceArg(source, "twist");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetTwist(spec);
@@ -197,7 +197,7 @@ Names (keyword-only):
         const TimeQuery t = TimeQueryArgs("linear_velocity", at, max_extrapolation, not_before,
                                           py::none(), py::none(), false);
         const core::TwistSource src = TwistSourceArg(source, "linear_velocity");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetLinearVelocity(spec);
@@ -223,7 +223,7 @@ Names (keyword-only):
         const TimeQuery t = TimeQueryArgs("angular_velocity", at, max_extrapolation, not_before,
                                           py::none(), py::none(), false);
         const core::TwistSource src = TwistSourceArg(source, "angular_velocity");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetAngularVelocity(spec);
@@ -252,7 +252,7 @@ void BindCompilePoseQueries(GraphClass& graph) {
         const PoseNames n = ReadPoseNames("compile_pose", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto r = g.CompilePose(spec);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
@@ -269,7 +269,7 @@ void BindCompilePoseQueries(GraphClass& graph) {
         const PoseNames n = ReadPoseNames("compile_position", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto r = g.CompilePosition(spec);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
@@ -286,7 +286,7 @@ void BindCompilePoseQueries(GraphClass& graph) {
         const PoseNames n = ReadPoseNames("compile_orientation", of, body, wrt, ref_body, point,
                                           orientation, ref_point, ref_orientation, expressed_in);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto r = g.CompileOrientation(spec);
           if (!r) ThrowPoseQuery(g, r.error(), spec, n);
@@ -305,7 +305,7 @@ void BindCompileTwistQueries(GraphClass& graph) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_twist", point, body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, "compile_twist");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           auto r = g.CompileTwist(spec, src);
           if (!r) ThrowTwistQuery(g, r.error(), spec);
@@ -326,7 +326,7 @@ void BindCompileTwistQueries(GraphClass& graph) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_linear_velocity", point, body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, "compile_linear_velocity");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           semantics::LinearVelocitySemantics linear;
           if (src == core::TwistSource::kTwists) {
@@ -356,7 +356,7 @@ void BindCompileTwistQueries(GraphClass& graph) {
         const core::TwistSpec spec =
             ReadTwistSpec("compile_angular_velocity", py::none(), body, ref_body, expressed_in);
         const core::TwistSource src = TwistSourceArg(source, "compile_angular_velocity");
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           semantics::AngularVelocitySemantics angular;
           if (src == core::TwistSource::kTwists) {

@@ -132,7 +132,7 @@ void BindPoseCovarianceQueries(GraphClass& graph) {
                                           ref_point, ref_orientation, expressed_in);
         const core::CovarianceOrder o = OrderOrDefault(order, fn);
         const core::PoseSpec spec = n.Spec();
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           using B = typename std::decay_t<decltype(g)>::Backend;
           if (t.kind == TimeQuery::Kind::kNone) {
@@ -165,7 +165,7 @@ void BindPoseCovarianceQueries(GraphClass& graph) {
           const PoseNames n = ReadPoseNames(name, of, body, wrt, ref_body, point, orientation,
                                             ref_point, ref_orientation, expressed_in);
           const core::PoseSpec spec = n.Spec();
-          GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+          GraphPtr self = Self(b);
           const bool travel = t.kind == TimeQuery::Kind::kTravel;
           return b.Visit([&](const auto& g) -> py::tuple {
             using B = typename std::decay_t<decltype(g)>::Backend;
@@ -228,7 +228,7 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
         const core::TwistSpec spec = ReadTwistSpec(fn, point, body, ref_body, expressed_in);
         const TimeQuery t = TwistTimeArgs(fn, at, max_extrapolation, not_before);
         const core::CovarianceOrder o = OrderOrDefault(order, fn);
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetTwistWithCovariance(spec, o);
@@ -258,7 +258,7 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
         const core::TwistSource src = TwistSourceArg(source, fn);
         const core::TwistSpec spec = ReadTwistSpec(fn, point, body, ref_body, expressed_in);
         const TimeQuery t = TwistTimeArgs(fn, at, max_extrapolation, not_before);
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetLinearVelocityWithCovariance(spec);
@@ -286,7 +286,7 @@ void BindTwistCovarianceQueries(GraphClass& graph) {
         const core::TwistSource src = TwistSourceArg(source, fn);
         const core::TwistSpec spec = ReadTwistSpec(fn, py::none(), body, ref_body, expressed_in);
         const TimeQuery t = TwistTimeArgs(fn, at, max_extrapolation, not_before);
-        GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+        GraphPtr self = Self(b);
         return b.Visit([&](const auto& g) {
           if (t.kind == TimeQuery::Kind::kNone && src == core::TwistSource::kTwists) {
             auto r = g.GetAngularVelocityWithCovariance(spec);

@@ -64,7 +64,7 @@ WrenchResult Query(const GraphBox& b, const char* fn, py::handle on, py::handle 
   const core::WrenchSpec spec = ReadWrenchSpec(fn, on, by, point, expressed_in);
   const TimeQuery t =
       TimeQueryArgs(fn, at, max_extrapolation, not_before, py::none(), py::none(), false);
-  GraphPtr self = std::const_pointer_cast<GraphBox>(b.shared_from_this());
+  GraphPtr self = Self(b);
   return b.Visit([&](const auto& g) {
     if (t.kind == TimeQuery::Kind::kNone) {
       auto r = g.GetWrench(spec);
