@@ -3,8 +3,9 @@
 // (evaluate).
 #include "semgraph/core/compiled_acceleration.h"
 
+#include <algorithm>
+
 #include "semgraph/core/compiled_covariance.h"
-#include "semgraph/core/motion_pairs.h"
 
 namespace semgraph::core {
 
@@ -48,7 +49,33 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   e_entry_ = entry(e);
   r_entry_ = entry(r);
   for (std::size_t j = 0; j < steps_.size(); ++j) steps_[j].head = entry(ends[2 + j]);
+  // D's side first, then C's, each in the plan's order: the two sides compose independently
+  // (MotionPairsComposer), so each loop keeps one side's sum in registers and has no branch on
+  // the side.
+  const auto c_side = std::stable_partition(steps_.begin(), steps_.end(),
+                                            [](const Step& s) { return s.step.ref_side; });
+  ref_steps_ = static_cast<std::size_t>(c_side - steps_.begin());
   scratch_.assign(edges.size() + 1, B::Identity());
+}
+
+template <coord::Backend B>
+template <bool kRefSide>
+bool CompiledAcceleration<B>::AddSteps(const internal::FlatSource<B>& src, const Step* s,
+                                       const Step* end, internal::MotionPairsComposer& composer,
+                                       bool& missing) noexcept {
+  using Pose = typename B::PoseCoords;
+  const Pose* const in_z = scratch_.data();
+  for (; s != end; ++s) {
+    internal::MotionPairs edge;
+    double present = 0.0;
+    if (!internal::LoadEdgeMotion(src, *s->record, s->step, edge, present)) return false;
+    missing = missing || present == 0.0;
+    if (missing) continue;
+    const Pose& X_ZH = in_z[s->head];  // h to Z's origin (p = h - Zo), into [Z]
+    composer.Add<kRefSide>(internal::MovedEdgeMotion(
+        edge, s->step.invert, B::ToMatrix(B::RotationOf(X_ZH)), B::TranslationOf(X_ZH)));
+  }
+  return true;
 }
 
 template <coord::Backend B>
@@ -72,20 +99,14 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
     }
     in_z[i] = parent[i] < 0 ? X_PG : B::ComposeChain(X_PG, in_z[parent[i]]);
   }
-  // Every step at Z's origin in [Z], composed; every record read even after a missing one.
+  // Every step at Z's origin in [Z], composed: D's side, then C's; every record read even after
+  // a missing one.
   internal::MotionPairsComposer composer;
   bool missing = false;
-  for (const Step *s = steps_.data(), *end = s + steps_.size(); s != end; ++s) {
-    // Zeroed: a timed read leaves an absent acceleration unwritten (and GCC 12 cannot see that
-    // `missing` then skips it); the untimed read overwrites every word (the stores vanish).
-    TwistAndAcceleration rec{{}, {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, 0.0};
-    if (!src.LoadAcceleration(*s->record, s->step, rec)) return ErrorCode::kQueryInvalidated;
-    missing = missing || rec.present == 0.0;
-    if (missing) continue;
-    const Pose& X_ZH = in_z[s->head];  // h to Z's origin (p = h - Zo), into [Z]
-    composer.Add(s->step.ref_side,
-                 internal::MovedEdgeMotion(rec, s->step.invert, B::ToMatrix(B::RotationOf(X_ZH)),
-                                           B::TranslationOf(X_ZH)));
+  const Step* const first = steps_.data();
+  if (!AddSteps<true>(src, first, first + ref_steps_, composer, missing) ||
+      !AddSteps<false>(src, first + ref_steps_, first + steps_.size(), composer, missing)) {
+    return ErrorCode::kQueryInvalidated;
   }
   if (missing) return ErrorCode::kNoAcceleration;
   // To e, then into [r]; neither move when e or [r] is Z (its entry: the last, past the edges).

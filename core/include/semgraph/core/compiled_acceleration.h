@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "semgraph/core/compiled_query.h"
+#include "semgraph/core/motion_pairs.h"
 
 namespace semgraph::core {
 
@@ -70,12 +71,18 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
     const AccelerationValue* record = nullptr;
     std::int32_t head = -1;
   };
+  /// Steps [s, end), all of one side (kRefSide: D's), into the composer; false when an edge is
+  /// invalidated. `missing` is set by a record without acceleration (later ones still read).
+  template <bool kRefSide>
+  bool AddSteps(const internal::FlatSource<B>& src, const Step* s, const Step* end,
+                internal::MotionPairsComposer& composer, bool& missing) noexcept;
   [[gnu::flatten]] ErrorCode Compose(const internal::FlatSource<B>& src,
                                      internal::Motion& out) noexcept;
 
   semantics::AccelerationSemantics semantics_;
   std::vector<std::int32_t> parent_;  ///< per union edge (edges_ entry i): the entry above, -1: Z
-  std::vector<Step> steps_;
+  std::vector<Step> steps_;           ///< D's side first (ref_steps_ of them), then C's
+  std::size_t ref_steps_ = 0;
   std::int32_t e_entry_ = 0, r_entry_ = 0;  ///< scratch entries of e's and [r]'s poses in Z
   /// Per union edge: its head's pose in Z; then Z's own (the identity: the entry of e, [r] or
   /// a head that is Z). Empty when there is no step.

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <type_traits>
 #include <utility>
@@ -248,6 +249,8 @@ class FlatSource {
 
   FlatSource(const EdgeValues<B>& v, const EdgeRef* edges, TimeContext* time = nullptr) noexcept
       : v_(v), edges_(edges), time_(time) {}
+  /// Whether edges are read at a policy's time (else: at their current values).
+  [[nodiscard]] bool timed() const noexcept { return time_ != nullptr; }
 
   // The edges are stored from F upward and composed top-down, acc = acc * X_i, as a
   // hand-written chain would (p += q p_i; q = q q_i for quaternions), so the loop-carried
@@ -264,12 +267,21 @@ class FlatSource {
     if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {
       // The hot case: rebuild each edge's quaternion and vector straight from the locked words
       // (x y z w, then p), so nothing round-trips through the stack.
-      using Words = typename PoseValue<B>::Word[PoseValue<B>::kWords];
+      // The words in lane pairs (x y, z w, p.x p.y, p.z p.z), which Eigen's quaternion product
+      // loads as pairs: built from single words they went through the stack as two 8-byte
+      // stores read back as one 16-byte load, which the store buffer cannot forward (a stall
+      // of about a dozen cycles per edge).
       const auto load = [&](const EdgeRef& r, Eigen::Quaterniond& q, Eigen::Vector3d& p) {
-        Words w;
-        if (!Value(r).LoadWords(w, r.expected_header)) return false;
-        q = Eigen::Quaterniond(w[3], w[0], w[1], w[2]);
-        p = Eigen::Vector3d(w[4], w[5], w[6]);
+        typename PoseValue<B>::WordPair w[4];
+        if (!Value(r).LoadWordPairs(w, std::index_sequence<0, 2, 4, 6>{},
+                                    std::index_sequence<1, 3, 5, 6>{}, r.expected_header)) {
+          return false;
+        }
+        static_assert(sizeof(Eigen::Quaterniond) == sizeof(w[0]) * 2);
+        std::memcpy(static_cast<void*>(q.coeffs().data()), static_cast<const void*>(w),
+                    sizeof(Eigen::Quaterniond));  // x y z w, as the words
+        std::memcpy(static_cast<void*>(p.data()), static_cast<const void*>(&w[2]), sizeof(w[2]));
+        p.z() = w[3][0];
         return true;
       };
       Eigen::Quaterniond q;

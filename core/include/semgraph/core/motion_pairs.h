@@ -17,6 +17,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
@@ -49,18 +50,54 @@ struct MotionPairs {
   out[2] = s[0] * x[1] - s[1] * x[0];
 }
 
+/// A twist edge's record (v, w, a, alpha of D to H at Ho in [H]) as pairs.
+[[gnu::always_inline]] inline MotionPairs Pairs(const TwistAndAcceleration& r) noexcept {
+  const Eigen::Vector3d &v = r.V.v_DHo_H, &w = r.V.w_DH_H, &a = r.A.a_DHo_H,
+                        &alpha = r.A.alpha_DH_H;
+  return MotionPairs{{{v.x(), a.x()}, {v.y(), a.y()}, {v.z(), a.z()}},
+                     {{w.x(), alpha.x()}, {w.y(), alpha.y()}, {w.z(), alpha.z()}}};
+}
+
+/// FlatSource::LoadAcceleration(value, s, r) into pairs: a twist edge's record and its
+/// `present` word (0: no acceleration). At the current values the record's words go from its
+/// sequence lock straight into the lanes (SeqLockValue::LoadWordPairs: no shuffle, no copy
+/// through memory); at a time, through the timed read. False when the edge was removed.
+template <class Source>
+[[gnu::always_inline]] inline bool LoadEdgeMotion(const Source& src, const AccelerationValue& value,
+                                                  const TwistStep<FlatChain>& s, MotionPairs& m,
+                                                  double& present) noexcept {
+  if (!src.timed()) {
+    // TwistAndAcceleration's words: v 0-2, w 3-5, a 6-8, alpha 9-11, present 12.
+    static_assert(sizeof(TwistAndAcceleration) == 13 * sizeof(double) &&
+                  AccelerationValue::kWords == 13);
+    AccelerationValue::WordPair p[7];
+    if (!value.LoadWordPairs(p, std::index_sequence<0, 1, 2, 3, 4, 5, 12>{},
+                             std::index_sequence<6, 7, 8, 9, 10, 11, 12>{},
+                             AccelerationValue::ExpectedHeader(s.epoch))) {
+      return false;
+    }
+    m = MotionPairs{{p[0], p[1], p[2]}, {p[3], p[4], p[5]}};
+    present = p[6][0];
+    return true;
+  }
+  // Zeroed: a timed read leaves an absent acceleration unwritten.
+  TwistAndAcceleration r{{}, {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, 0.0};
+  if (!src.LoadAcceleration(value, s, r)) return false;
+  m = Pairs(r);
+  present = r.present;
+  return true;
+}
+
 /// EdgeMotion(r, invert), then RotateMotion with R (R_ZH), then ShiftMotion with p (h - Zo, in
-/// [Z]), fused: the motion of a twist edge's relation at Z's origin in [Z].
+/// [Z]), fused: the motion of a twist edge's relation at Z's origin in [Z] (r: Pairs(record)).
 /// The rotation goes first (it commutes with the inversion's cross product: R (w x v) =
 /// Rw x Rv); the shift is v += p x w, a += p x alpha + w x (p x w) (= ShiftMotion's
 /// a + p x alpha - w x (w x p)).
-[[gnu::always_inline]] inline MotionPairs MovedEdgeMotion(const TwistAndAcceleration& r,
-                                                          bool invert, const Eigen::Matrix3d& R,
+[[gnu::always_inline]] inline MotionPairs MovedEdgeMotion(const MotionPairs& r, bool invert,
+                                                          const Eigen::Matrix3d& R,
                                                           const Eigen::Vector3d& p) noexcept {
-  const Eigen::Vector3d &v = r.V.v_DHo_H, &w = r.V.w_DH_H, &a = r.A.a_DHo_H,
-                        &alpha = r.A.alpha_DH_H;
-  const Pair va[3] = {{v.x(), a.x()}, {v.y(), a.y()}, {v.z(), a.z()}};
-  const Pair wl[3] = {{w.x(), alpha.x()}, {w.y(), alpha.y()}, {w.z(), alpha.z()}};
+  const Pair(&va)[3] = r.va;
+  const Pair(&wl)[3] = r.wl;
   MotionPairs m;
   for (int i = 0; i < 3; ++i) {
     m.va[i] = R(i, 0) * va[0] + R(i, 1) * va[1] + R(i, 2) * va[2];
@@ -85,6 +122,12 @@ struct MotionPairs {
   for (int i = 0; i < 3; ++i) m.va[i] += pxwl[i] + Pair{0.0, wxpw[i][0]};
   return m;
 }
+/// The same from a record.
+[[gnu::always_inline]] inline MotionPairs MovedEdgeMotion(const TwistAndAcceleration& r,
+                                                          bool invert, const Eigen::Matrix3d& R,
+                                                          const Eigen::Vector3d& p) noexcept {
+  return MovedEdgeMotion(Pairs(r), invert, R, p);
+}
 
 /// AccelerationComposer (evaluate.h) on MotionPairs: C's side prepended (c = m then c), D's
 /// side appended (d = d then m); Result() = d then c, as a Motion.
@@ -106,12 +149,16 @@ struct MotionPairsComposer {
       into.va[i] += other.va[i] + Pair{0.0, 2.0 * x[i][1]};
     }
   }
-  [[gnu::always_inline]] void Add(bool ref_side, const MotionPairs& m) noexcept {
-    if (ref_side) {
+  template <bool kRefSide>
+  [[gnu::always_inline]] void Add(const MotionPairs& m) noexcept {
+    if constexpr (kRefSide) {
       Compose(d_side, m, d_side, m);
     } else {
       Compose(m, c_side, c_side, m);
     }
+  }
+  [[gnu::always_inline]] void Add(bool ref_side, const MotionPairs& m) noexcept {
+    ref_side ? Add<true>(m) : Add<false>(m);
   }
   [[nodiscard]] Motion Result() const noexcept {
     return ComposeMotion(d_side.ToMotion(), c_side.ToMotion());

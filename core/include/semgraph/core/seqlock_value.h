@@ -96,6 +96,22 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     return LoadWords(words, expected_header, header);
   }
 
+  /// Two words per lane pair, for callers that compute on lane pairs (motion_pairs.h): the
+  /// same consistent read as LoadWords, with pairs[i] = (word Lo_i, word Hi_i), each pair loaded
+  /// straight into one vector register (no shuffle, no copy through memory on x86-64). A word
+  /// may appear in several pairs.
+  using WordPair = Word __attribute__((vector_size(16)));
+  template <std::size_t... Lo, std::size_t... Hi>
+  [[nodiscard]] bool LoadWordPairs(WordPair (&pairs)[sizeof...(Lo)], std::index_sequence<Lo...> lo,
+                                   std::index_sequence<Hi...> hi,
+                                   std::uint64_t expected_header) const noexcept {
+    static_assert(sizeof...(Lo) == sizeof...(Hi) && ((Lo < kWords && Hi < kWords) && ...));
+    std::uint64_t header;  // unused: optimised away once inlined
+    return ReadConsistent(expected_header, header, [&] {
+      LoadPairs(pairs, std::make_index_sequence<sizeof...(Lo)>{}, lo, hi);
+    });
+  }
+
   /// The current header (epoch << 32 | sequence): a reader that cached a value together with the
   /// header it was read under knows the value is unchanged while the header is. Acquire load.
   [[nodiscard]] std::uint64_t header() const noexcept {
@@ -141,22 +157,32 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   }
 
  private:
-  // The one epoch-checked read (LoadWords, LoadWithHeader): the raw words and the header they
-  // were read under if the epoch is still the one of `expected_header`; false otherwise.
-  [[nodiscard]] bool LoadWords(Word (&words)[kWords], std::uint64_t expected_header,
-                               std::uint64_t& header) const noexcept {
+  // The one epoch-checked read (LoadWords, LoadWithHeader, LoadWordPairs): `read` loads the
+  // words (the caller's way) between the header and its re-check; true, with the header they
+  // were read under, if the epoch is still the one of `expected_header`; false otherwise.
+  template <class Read>
+  [[nodiscard, gnu::always_inline]] bool ReadConsistent(std::uint64_t expected_header,
+                                                        std::uint64_t& header,
+                                                        Read read) const noexcept {
     for (;;) {
       const std::uint64_t h1 = header_.load(std::memory_order_acquire);
       if ((h1 ^ expected_header) & kCheckMask) {  // another epoch, or a write in progress
         if ((h1 ^ expected_header) >> 32) return false;
         continue;
       }
-      LoadWords(words, std::make_index_sequence<kWords>{});
+      CompilerBarrier();  // the word loads stay between the header load and its re-check
+      read();
+      CompilerBarrier();
       if (header_.load(std::memory_order_relaxed) == h1) {
         header = h1;
         return true;
       }
     }
+  }
+  [[nodiscard]] bool LoadWords(Word (&words)[kWords], std::uint64_t expected_header,
+                               std::uint64_t& header) const noexcept {
+    return ReadConsistent(expected_header, header,
+                          [&] { LoadWords(words, std::make_index_sequence<kWords>{}); });
   }
 
   template <std::size_t... I>
@@ -164,6 +190,11 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     CompilerBarrier();  // the word loads stay between the header load and its re-check
     (LoadWord(words[I], words_[I]), ...);
     CompilerBarrier();
+  }
+  template <std::size_t... I, std::size_t... Lo, std::size_t... Hi>
+  void LoadPairs(WordPair* pairs, std::index_sequence<I...>, std::index_sequence<Lo...>,
+                 std::index_sequence<Hi...>) const noexcept {
+    (LoadPair(pairs[I], words_[Lo], words_[Hi]), ...);
   }
 
 #if defined(__has_feature)
@@ -186,11 +217,20 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   static void LoadWord(Word& out, const std::atomic<Word>& in) noexcept {
     asm volatile("movsd %1, %0" : "=x"(out) : "m"(in));
   }
+  // Low lane, then high lane: movsd + movhpd, each an atomic 8-byte load, in program order.
+  static void LoadPair(WordPair& out, const std::atomic<Word>& lo,
+                       const std::atomic<Word>& hi) noexcept {
+    asm volatile("movsd %1, %0\n\tmovhpd %2, %0" : "=&x"(out) : "m"(lo), "m"(hi));
+  }
   static void CompilerBarrier() noexcept { asm volatile("" ::: "memory"); }
 #else
   // Portable (and ThreadSanitizer-visible) path: acquire loads order the re-check after them.
   static void LoadWord(Word& out, const std::atomic<Word>& in) noexcept {
     out = in.load(std::memory_order_acquire);
+  }
+  static void LoadPair(WordPair& out, const std::atomic<Word>& lo,
+                       const std::atomic<Word>& hi) noexcept {
+    out = WordPair{lo.load(std::memory_order_acquire), hi.load(std::memory_order_acquire)};
   }
   static void CompilerBarrier() noexcept {}
 #endif
