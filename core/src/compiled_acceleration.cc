@@ -110,10 +110,15 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
   }
   if (missing) return ErrorCode::kNoAcceleration;
   // To e, then into [r]; neither move when e or [r] is Z (its entry: the last, past the edges).
-  out = composer.Result();
+  // In pairs to the end: through Eigen's vectors the tail went through the stack (8-byte stores
+  // read back as 16-byte loads, which the store buffer cannot forward).
+  internal::MotionPairs m = composer.ResultPairs();
   const auto z = static_cast<std::int32_t>(n);
-  if (e_entry_ != z) internal::ShiftMotion(out, -B::TranslationOf(in_z[e_entry_]));  // p = Zo - e
-  if (r_entry_ != z) internal::RotateMotion<B>(B::RotationOf(B::InvertChain(in_z[r_entry_])), out);
+  if (e_entry_ != z) internal::ShiftPairs(-B::TranslationOf(in_z[e_entry_]), m);  // p = Zo - e
+  if (r_entry_ != z) {                                                            // R_rZ = R_Zr^T
+    m = internal::RotatePairs(B::ToMatrix(B::Transpose(B::RotationOf(in_z[r_entry_]))), m);
+  }
+  out = m.ToMotion();
   return ErrorCode::kOk;
 }
 

@@ -88,31 +88,32 @@ template <class Source>
   return true;
 }
 
-/// EdgeMotion(r, invert), then RotateMotion with R (R_ZH), then ShiftMotion with p (h - Zo, in
-/// [Z]), fused: the motion of a twist edge's relation at Z's origin in [Z] (r: Pairs(record)).
-/// The rotation goes first (it commutes with the inversion's cross product: R (w x v) =
-/// Rw x Rv); the shift is v += p x w, a += p x alpha + w x (p x w) (= ShiftMotion's
-/// a + p x alpha - w x (w x p)).
-[[gnu::always_inline]] inline MotionPairs MovedEdgeMotion(const MotionPairs& r, bool invert,
-                                                          const Eigen::Matrix3d& R,
-                                                          const Eigen::Vector3d& p) noexcept {
-  const Pair(&va)[3] = r.va;
-  const Pair(&wl)[3] = r.wl;
+/// RotateMotion on pairs: x re-expressed with R (R_new_old), one 3x3 matrix for both lanes.
+[[gnu::always_inline]] inline MotionPairs RotatePairs(const Eigen::Matrix3d& R,
+                                                      const MotionPairs& x) noexcept {
   MotionPairs m;
   for (int i = 0; i < 3; ++i) {
-    m.va[i] = R(i, 0) * va[0] + R(i, 1) * va[1] + R(i, 2) * va[2];
-    m.wl[i] = R(i, 0) * wl[0] + R(i, 1) * wl[1] + R(i, 2) * wl[2];
+    m.va[i] = R(i, 0) * x.va[0] + R(i, 1) * x.va[1] + R(i, 2) * x.va[2];
+    m.wl[i] = R(i, 0) * x.wl[0] + R(i, 1) * x.wl[1] + R(i, 2) * x.wl[2];
   }
-  if (invert) {  // a' = -a + 2 w x v, the rest negated
-    const double w0[3] = {m.wl[0][0], m.wl[1][0], m.wl[2][0]};
-    const Pair v0[3] = {Pair{m.va[0][0], 0.0}, Pair{m.va[1][0], 0.0}, Pair{m.va[2][0], 0.0}};
-    Pair wv[3];
-    CrossPairs(w0, v0, wv);
-    for (int i = 0; i < 3; ++i) {
-      m.va[i] = Pair{-m.va[i][0], 2.0 * wv[i][0] - m.va[i][1]};
-      m.wl[i] = -m.wl[i];
-    }
+  return m;
+}
+
+/// EdgeMotion's inversion on pairs, in place: a' = -a + 2 w x v, the rest negated.
+[[gnu::always_inline]] inline void InvertPairs(MotionPairs& m) noexcept {
+  const double w0[3] = {m.wl[0][0], m.wl[1][0], m.wl[2][0]};
+  const Pair v0[3] = {Pair{m.va[0][0], 0.0}, Pair{m.va[1][0], 0.0}, Pair{m.va[2][0], 0.0}};
+  Pair wv[3];
+  CrossPairs(w0, v0, wv);
+  for (int i = 0; i < 3; ++i) {
+    m.va[i] = Pair{-m.va[i][0], 2.0 * wv[i][0] - m.va[i][1]};
+    m.wl[i] = -m.wl[i];
   }
+}
+
+/// ShiftMotion(m, p) on pairs, in place: v += p x w, a += p x alpha + w x (p x w) (=
+/// ShiftMotion's a + p x alpha - w x (w x p)).
+[[gnu::always_inline]] inline void ShiftPairs(const Eigen::Vector3d& p, MotionPairs& m) noexcept {
   const double p_[3] = {p.x(), p.y(), p.z()};
   Pair pxwl[3];  // (p x w, p x alpha)
   CrossPairs(p_, m.wl, pxwl);
@@ -120,6 +121,18 @@ template <class Source>
   Pair wxpw[3];  // lane 0: w x (p x w)
   CrossPairs(w0, pxwl, wxpw);
   for (int i = 0; i < 3; ++i) m.va[i] += pxwl[i] + Pair{0.0, wxpw[i][0]};
+}
+
+/// EdgeMotion(r, invert), then RotateMotion with R (R_ZH), then ShiftMotion with p (h - Zo, in
+/// [Z]), fused: the motion of a twist edge's relation at Z's origin in [Z] (r: Pairs(record)).
+/// The rotation goes first (it commutes with the inversion's cross product: R (w x v) =
+/// Rw x Rv).
+[[gnu::always_inline]] inline MotionPairs MovedEdgeMotion(const MotionPairs& r, bool invert,
+                                                          const Eigen::Matrix3d& R,
+                                                          const Eigen::Vector3d& p) noexcept {
+  MotionPairs m = RotatePairs(R, r);
+  if (invert) InvertPairs(m);
+  ShiftPairs(p, m);
   return m;
 }
 /// The same from a record.
@@ -160,9 +173,14 @@ struct MotionPairsComposer {
   [[gnu::always_inline]] void Add(bool ref_side, const MotionPairs& m) noexcept {
     ref_side ? Add<true>(m) : Add<false>(m);
   }
-  [[nodiscard]] Motion Result() const noexcept {
-    return ComposeMotion(d_side.ToMotion(), c_side.ToMotion());
+  /// d then c (ComposeMotion(d_side, c_side)), kept in pairs: the caller's last moves
+  /// (ShiftPairs, RotatePairs) stay in registers.
+  [[nodiscard]] MotionPairs ResultPairs() const noexcept {
+    MotionPairs r = d_side;
+    Compose(d_side, c_side, r, c_side);
+    return r;
   }
+  [[nodiscard]] Motion Result() const noexcept { return ResultPairs().ToMotion(); }
 };
 
 }  // namespace semgraph::core::internal

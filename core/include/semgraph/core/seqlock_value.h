@@ -107,8 +107,8 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
                                    std::uint64_t expected_header) const noexcept {
     static_assert(sizeof...(Lo) == sizeof...(Hi) && ((Lo < kWords && Hi < kWords) && ...));
     std::uint64_t header;  // unused: optimised away once inlined
-    return ReadConsistent(expected_header, header, [&] {
-      LoadPairs(pairs, std::make_index_sequence<sizeof...(Lo)>{}, lo, hi);
+    return ReadConsistent(expected_header, header, [&](std::uint64_t& token) {
+      LoadPairs(pairs, std::make_index_sequence<sizeof...(Lo)>{}, lo, hi, token);
     });
   }
 
@@ -157,9 +157,12 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   }
 
  private:
-  // The one epoch-checked read (LoadWords, LoadWithHeader, LoadWordPairs): `read` loads the
-  // words (the caller's way) between the header and its re-check; true, with the header they
-  // were read under, if the epoch is still the one of `expected_header`; false otherwise.
+  // The one epoch-checked read (LoadWords, LoadWithHeader, LoadWordPairs): `read(token)` loads
+  // the words (the caller's way) between the header load and its re-check; true, with the header
+  // they were read under, if the epoch is still the one of `expected_header`; false otherwise.
+  // Order: the reads take the token (the header read) and pass it on, and the re-check takes it
+  // back, so data dependencies keep them in order (LoadPair); LoadWords orders its words with
+  // compiler barriers instead.
   template <class Read>
   [[nodiscard, gnu::always_inline]] bool ReadConsistent(std::uint64_t expected_header,
                                                         std::uint64_t& header,
@@ -170,10 +173,9 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
         if ((h1 ^ expected_header) >> 32) return false;
         continue;
       }
-      CompilerBarrier();  // the word loads stay between the header load and its re-check
-      read();
-      CompilerBarrier();
-      if (header_.load(std::memory_order_relaxed) == h1) {
+      std::uint64_t token = h1;
+      read(token);
+      if (HeaderAfter(token) == h1) {
         header = h1;
         return true;
       }
@@ -181,8 +183,9 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   }
   [[nodiscard]] bool LoadWords(Word (&words)[kWords], std::uint64_t expected_header,
                                std::uint64_t& header) const noexcept {
-    return ReadConsistent(expected_header, header,
-                          [&] { LoadWords(words, std::make_index_sequence<kWords>{}); });
+    return ReadConsistent(expected_header, header, [&](std::uint64_t&) {
+      LoadWords(words, std::make_index_sequence<kWords>{});
+    });
   }
 
   template <std::size_t... I>
@@ -193,8 +196,8 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   }
   template <std::size_t... I, std::size_t... Lo, std::size_t... Hi>
   void LoadPairs(WordPair* pairs, std::index_sequence<I...>, std::index_sequence<Lo...>,
-                 std::index_sequence<Hi...>) const noexcept {
-    (LoadPair(pairs[I], words_[Lo], words_[Hi]), ...);
+                 std::index_sequence<Hi...>, std::uint64_t& token) const noexcept {
+    (LoadPair(pairs[I], words_[Lo], words_[Hi], token), ...);
   }
 
 #if defined(__has_feature)
@@ -218,9 +221,19 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     asm volatile("movsd %1, %0" : "=x"(out) : "m"(in));
   }
   // Low lane, then high lane: movsd + movhpd, each an atomic 8-byte load, in program order.
-  static void LoadPair(WordPair& out, const std::atomic<Word>& lo,
-                       const std::atomic<Word>& hi) noexcept {
-    asm volatile("movsd %1, %0\n\tmovhpd %2, %0" : "=&x"(out) : "m"(lo), "m"(hi));
+  // `token` in and out: the compiler keeps every pair after the header load and before the
+  // re-check (HeaderAfter) by data dependency, with no memory clobber, so the pairs stay in
+  // registers (a barrier made GCC store them to the stack and load them back).
+  static void LoadPair(WordPair& out, const std::atomic<Word>& lo, const std::atomic<Word>& hi,
+                       std::uint64_t& token) noexcept {
+    asm volatile("movsd %2, %0\n\tmovhpd %3, %0" : "=&x"(out), "+r"(token) : "m"(lo), "m"(hi));
+  }
+  // The header's re-check, after whatever produced `token` (a plain load: x86-TSO keeps it after
+  // the word loads).
+  [[nodiscard]] std::uint64_t HeaderAfter(std::uint64_t token) const noexcept {
+    std::uint64_t h;
+    asm volatile("mov %1, %0" : "=r"(h) : "m"(header_), "r"(token));
+    return h;
   }
   static void CompilerBarrier() noexcept { asm volatile("" ::: "memory"); }
 #else
@@ -228,9 +241,13 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   static void LoadWord(Word& out, const std::atomic<Word>& in) noexcept {
     out = in.load(std::memory_order_acquire);
   }
-  static void LoadPair(WordPair& out, const std::atomic<Word>& lo,
-                       const std::atomic<Word>& hi) noexcept {
+  static void LoadPair(WordPair& out, const std::atomic<Word>& lo, const std::atomic<Word>& hi,
+                       std::uint64_t& /*token*/) noexcept {
     out = WordPair{lo.load(std::memory_order_acquire), hi.load(std::memory_order_acquire)};
+  }
+  // After the acquire loads of the words: a relaxed load cannot move before them.
+  [[nodiscard]] std::uint64_t HeaderAfter(std::uint64_t /*token*/) const noexcept {
+    return header_.load(std::memory_order_relaxed);
   }
   static void CompilerBarrier() noexcept {}
 #endif
