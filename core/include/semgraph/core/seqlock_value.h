@@ -226,7 +226,9 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   // registers (a barrier made GCC store them to the stack and load them back).
   static void LoadPair(WordPair& out, const std::atomic<Word>& lo, const std::atomic<Word>& hi,
                        std::uint64_t& token) noexcept {
-    asm volatile("movsd %2, %0\n\tmovhpd %3, %0" : "=&x"(out), "+r"(token) : "m"(lo), "m"(hi));
+    WordPair pair;  // a register: an asm output straight into `out` kept arrays in memory
+    asm volatile("movsd %2, %0\n\tmovhpd %3, %0" : "=&x"(pair), "+r"(token) : "m"(lo), "m"(hi));
+    out = pair;
   }
   // The header's re-check, after whatever produced `token` (a plain load: x86-TSO keeps it after
   // the word loads).
