@@ -1,6 +1,7 @@
 // Tests of SeqLockValue (core/include/semgraph/core/seqlock_value.h): bit-exact round trips of
-// full and partial payloads, the epoch protocol (Load and LoadWords fail after BumpEpoch, and
-// only then), and untorn reads while a writer thread stores continuously. In non-TSan x86-64
+// full and partial payloads, by words and by lane pairs, the epoch protocol (Load, LoadWords and
+// LoadWordPairs fail after BumpEpoch, and only then), and untorn reads while a writer thread
+// stores continuously. In non-TSan x86-64
 // builds the readers take the inline-assembly path; under ThreadSanitizer the atomic path.
 #include "semgraph/core/seqlock_value.h"
 
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <thread>
+#include <utility>
 
 namespace semgraph::core {
 namespace {
@@ -28,6 +30,17 @@ Seven Filled(double x) {
   Seven s;
   s.d.fill(x);
   return s;
+}
+
+/// The seven words by LoadWordPairs, as a pose is read: (0, 1), (2, 3), (4, 5), (6, 6).
+bool LoadByPairs(const Value& v, std::uint64_t expected_header, Value::Word (&w)[7]) {
+  Value::WordPair p[4];
+  if (!v.LoadWordPairs(p, std::index_sequence<0, 2, 4, 6>{}, std::index_sequence<1, 3, 5, 6>{},
+                       expected_header)) {
+    return false;
+  }
+  for (int i = 0; i < 7; ++i) w[i] = p[i / 2][i % 2];
+  return true;
 }
 
 TEST(SeqLockValue, OneCacheLinePerValue) {
@@ -56,6 +69,21 @@ TEST(SeqLockValue, RoundTripIsBitExact) {
   for (int i = 0; i < 7; ++i) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(words[i]), std::bit_cast<std::uint64_t>(in.d[i])) << i;
   }
+
+  Value::Word by_pairs[Value::kWords] = {};
+  ASSERT_TRUE(LoadByPairs(v, Value::ExpectedHeader(v.epoch()), by_pairs));
+  for (int i = 0; i < 7; ++i) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(by_pairs[i]), std::bit_cast<std::uint64_t>(in.d[i]))
+        << i;
+  }
+  // Any words in any lanes, a word twice: (6, 0) and (3, 3).
+  Value::WordPair p[2];
+  ASSERT_TRUE(v.LoadWordPairs(p, std::index_sequence<6, 3>{}, std::index_sequence<0, 3>{},
+                              Value::ExpectedHeader(v.epoch())));
+  EXPECT_EQ(p[0][0], 42.0);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(p[0][1]), std::bit_cast<std::uint64_t>(-0.0));
+  EXPECT_EQ(p[1][0], -1e300);
+  EXPECT_EQ(p[1][1], -1e300);
 }
 
 TEST(SeqLockValue, StoreReplacesTheWholeValue) {
@@ -80,6 +108,11 @@ TEST(SeqLockValue, EpochBumpFailsReadersOfTheOldEpochOnly) {
   EXPECT_EQ(out.d[6], 3.0);  // the value survives the bump
   ASSERT_TRUE(v.LoadWords(words, Value::ExpectedHeader(e1)));
   EXPECT_EQ(words[0], 3.0);
+  Value::Word by_pairs[Value::kWords] = {};
+  EXPECT_FALSE(LoadByPairs(v, Value::ExpectedHeader(e0), by_pairs));
+  EXPECT_EQ(by_pairs[0], 0.0);  // untouched on failure
+  ASSERT_TRUE(LoadByPairs(v, Value::ExpectedHeader(e1), by_pairs));
+  EXPECT_EQ(by_pairs[5], 3.0);
   // Stores never change the epoch.
   for (int i = 0; i < 1000; ++i) v.Store(Filled(i));
   EXPECT_EQ(v.epoch(), e1);
@@ -96,7 +129,7 @@ TEST(SeqLockValue, CopyKeepsValueAndEpoch) {
 }
 
 // The writer stores values whose seven words are all equal to a counter; a torn read would
-// show two different words. Both read paths are exercised, and the counter a reader sees never
+// show two different words. The three read paths are exercised, and the counter a reader sees never
 // goes backwards (one writer, reads of one location are coherent).
 TEST(SeqLockValue, ConcurrentReadersNeverSeeTornValues) {
   Value v(Filled(0.0));
@@ -110,8 +143,10 @@ TEST(SeqLockValue, ConcurrentReadersNeverSeeTornValues) {
   double last = 0;
   for (int n = 0; n < 200000; ++n) {
     Value::Word w[Value::kWords] = {};
-    if (n % 2 == 0) {
+    if (n % 3 == 0) {
       failed += !v.LoadWords(w, expected);
+    } else if (n % 3 == 1) {
+      failed += !LoadByPairs(v, expected, w);
     } else {
       Seven s;
       failed += !v.Load(s, v.epoch());
