@@ -50,8 +50,7 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   r_entry_ = entry(r);
   for (std::size_t j = 0; j < steps_.size(); ++j) steps_[j].head = entry(ends[2 + j]);
   // D's side first, then C's, each in the plan's order: the two sides compose independently
-  // (MotionPairsComposer), so each loop keeps one side's sum in registers and has no branch on
-  // the side.
+  // (MotionPairsComposer), so each side's loop has no branch on the side.
   const auto c_side = std::stable_partition(steps_.begin(), steps_.end(),
                                             [](const Step& s) { return s.step.ref_side; });
   ref_steps_ = static_cast<std::size_t>(c_side - steps_.begin());

@@ -2,7 +2,9 @@
 // relation moved to a point off its axis (the centripetal acceleration) and a quarter turn; on
 // 2,000 random records, MovedEdgeMotion equals the staged EdgeMotion, RotateMotion and
 // ShiftMotion of evaluate.h, both directions; on random sequences of motions on both sides,
-// MotionPairsComposer equals AccelerationComposer. A planted sign error fails the comparison.
+// MotionPairsComposer equals AccelerationComposer; the compiled query's last moves (ShiftPairs,
+// RotatePairs on a composed motion) equal ShiftMotion and RotateMotion. A planted sign error
+// fails the comparison.
 #include "semgraph/core/motion_pairs.h"
 
 #include <gtest/gtest.h>
@@ -112,6 +114,40 @@ TEST(MotionPairs, TheComposerIsAccelerationComposer) {
     }
     EXPECT_TRUE(SameMotion(paired.Result(), staged.Result(), 1e-11)) << "sequence " << sequence;
   }
+}
+
+// The tail of the compiled query: a composed motion (twist and acceleration in both lanes, not
+// an edge record) moved to another point, then rotated, as ShiftMotion and RotateMotion do.
+TEST(MotionPairs, TheLastMovesAreShiftMotionAndRotateMotion) {
+  std::mt19937_64 rng(20261208);
+  for (int i = 0; i < 1000; ++i) {
+    MotionPairsComposer paired;
+    paired.Add(true, MovedEdgeMotion(RandomRecord(rng), false, Eigen::Matrix3d::Identity(),
+                                     RandomVector(rng, 2.0)));
+    paired.Add(false, MovedEdgeMotion(RandomRecord(rng), true, Eigen::Matrix3d::Identity(),
+                                      RandomVector(rng, 2.0)));
+    const Vec p = RandomVector(rng, 2.0);
+    const Eigen::Quaterniond R = RandomUnitQuaternion(rng);
+    MotionPairs m = paired.ResultPairs();
+    ShiftPairs(p, m);
+    m = RotatePairs(R.toRotationMatrix(), m);
+    Motion staged = paired.Result();
+    ShiftMotion(staged, p);
+    RotateMotion<QuatB>(R, staged);
+    EXPECT_TRUE(SameMotion(m.ToMotion(), staged)) << "motion " << i;
+  }
+  // Planted: the rotation before the shift (the lever arm in the wrong axes).
+  MotionPairsComposer paired;
+  paired.Add(true, MovedEdgeMotion(RandomRecord(rng), false, Eigen::Matrix3d::Identity(),
+                                   RandomVector(rng, 2.0)));
+  const Vec p = RandomVector(rng, 2.0);
+  const Eigen::Quaterniond R = RandomUnitQuaternion(rng);
+  MotionPairs m = RotatePairs(R.toRotationMatrix(), paired.ResultPairs());
+  ShiftPairs(p, m);
+  Motion staged = paired.Result();
+  ShiftMotion(staged, p);
+  RotateMotion<QuatB>(R, staged);
+  EXPECT_FALSE(SameMotion(m.ToMotion(), staged, 1e-3));
 }
 
 }  // namespace
