@@ -343,21 +343,9 @@ class FlatSource {
   /// never moves while the graph lives), so that the hot loop does no index lookup.
   bool LoadAcceleration(const AccelerationValue& value, const TwistStep<FlatChain>& s,
                         TwistAndAcceleration& r) const noexcept {
-    if (!time_) {
-      // The hot case: the record's words (v, w, a, alpha, present) straight into r's members,
-      // which stay in registers once inlined (no copy through a word buffer); one test of the
-      // header for epoch and write in progress (as the pose edges').
-      static_assert(sizeof(TwistAndAcceleration) == 13 * sizeof(double) &&
-                    AccelerationValue::kWords == 13);
-      AccelerationValue::Word w[AccelerationValue::kWords];
-      if (!value.LoadWords(w, AccelerationValue::ExpectedHeader(s.epoch))) return false;
-      r.V.v_DHo_H = Eigen::Vector3d(w[0], w[1], w[2]);
-      r.V.w_DH_H = Eigen::Vector3d(w[3], w[4], w[5]);
-      r.A.a_DHo_H = Eigen::Vector3d(w[6], w[7], w[8]);
-      r.A.alpha_DH_H = Eigen::Vector3d(w[9], w[10], w[11]);
-      r.present = w[12];
-      return true;
-    }
+    // At the current values: one consistent read. (The compiled acceleration query's hot loop
+    // reads records straight into lane pairs instead: motion_pairs.h, LoadEdgeMotion.)
+    if (!time_) return value.Load(r, s.epoch);
     if (value.epoch() != s.epoch) return false;
     ReadTwistAt<B, false, true>(v_, s.edge.value(), *time_, r.V, nullptr, &r);
     return value.epoch() == s.epoch;
