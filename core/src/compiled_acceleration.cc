@@ -49,32 +49,13 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   e_entry_ = entry(e);
   r_entry_ = entry(r);
   for (std::size_t j = 0; j < steps_.size(); ++j) steps_[j].head = entry(ends[2 + j]);
-  // D's side first, then C's, each in the plan's order: the two sides compose independently
-  // (MotionPairsComposer), so each side's loop has no branch on the side.
+  // One running product (ThenPairs): D's side in the plan's order, then C's reversed (C's side
+  // is prepended step by step; the composition is associative). On a chain, C's reversed steps
+  // come top-down, so the first ones need the first poses of the pass above, not its last.
   const auto c_side = std::stable_partition(steps_.begin(), steps_.end(),
                                             [](const Step& s) { return s.step.ref_side; });
-  ref_steps_ = static_cast<std::size_t>(c_side - steps_.begin());
+  std::reverse(c_side, steps_.end());
   scratch_.assign(edges.size() + 1, B::Identity());
-}
-
-template <coord::Backend B>
-template <bool kRefSide>
-bool CompiledAcceleration<B>::AddSteps(const internal::FlatSource<B>& src, const Step* s,
-                                       const Step* end, internal::MotionPairsComposer& composer,
-                                       bool& missing) noexcept {
-  using Pose = typename B::PoseCoords;
-  const Pose* const in_z = scratch_.data();
-  for (; s != end; ++s) {
-    internal::MotionPairs edge;
-    double present = 0.0;
-    if (!internal::LoadEdgeMotion(src, *s->record, s->step, edge, present)) return false;
-    missing = missing || present == 0.0;
-    if (missing) continue;
-    const Pose& X_ZH = in_z[s->head];  // h to Z's origin (p = h - Zo), into [Z]
-    composer.Add<kRefSide>(internal::MovedEdgeMotion(
-        edge, s->step.invert, B::ToMatrix(B::RotationOf(X_ZH)), B::TranslationOf(X_ZH)));
-  }
-  return true;
 }
 
 template <coord::Backend B>
@@ -98,24 +79,32 @@ ErrorCode CompiledAcceleration<B>::Compose(const internal::FlatSource<B>& src,
     }
     in_z[i] = parent[i] < 0 ? X_PG : B::ComposeChain(X_PG, in_z[parent[i]]);
   }
-  // Every step at Z's origin in [Z], composed: D's side, then C's; every record read even after
-  // a missing one.
-  internal::MotionPairsComposer composer;
+  // Every step at Z's origin in [Z], composed in steps_'s order (D's, then C's reversed); every
+  // record read even after a missing one.
+  internal::MotionPairs m = internal::MotionPairs::Zero();
   bool missing = false;
-  const Step* const first = steps_.data();
-  if (!AddSteps<true>(src, first, first + ref_steps_, composer, missing) ||
-      !AddSteps<false>(src, first + ref_steps_, first + steps_.size(), composer, missing)) {
-    return ErrorCode::kQueryInvalidated;
+  for (const Step& s : steps_) {
+    internal::MotionPairs edge;
+    double present = 0.0;
+    if (!internal::LoadEdgeMotion(src, *s.record, s.step, edge, present)) {
+      return ErrorCode::kQueryInvalidated;
+    }
+    missing = missing || present == 0.0;
+    if (missing) continue;
+    const Pose& X_ZH = in_z[s.head];  // h to Z's origin (p = h - Zo), into [Z]
+    internal::ThenPairs(m, internal::MovedEdgeMotion(edge, s.step.invert,
+                                                     internal::RotationPairs(B::RotationOf(X_ZH)),
+                                                     B::TranslationOf(X_ZH)));
   }
   if (missing) return ErrorCode::kNoAcceleration;
   // To e, then into [r]; neither move when e or [r] is Z (its entry: the last, past the edges).
   // In pairs to the end: through Eigen's vectors the tail went through the stack (8-byte stores
   // read back as 16-byte loads, which the store buffer cannot forward).
-  internal::MotionPairs m = composer.ResultPairs();
   const auto z = static_cast<std::int32_t>(n);
   if (e_entry_ != z) internal::ShiftPairs(-B::TranslationOf(in_z[e_entry_]), m);  // p = Zo - e
   if (r_entry_ != z) {                                                            // R_rZ = R_Zr^T
-    m = internal::RotatePairs(B::ToMatrix(B::Transpose(B::RotationOf(in_z[r_entry_]))), m);
+    m = internal::RotatePairs(internal::RotationPairs(B::Transpose(B::RotationOf(in_z[r_entry_]))),
+                              m);
   }
   out = m.ToMotion();
   return ErrorCode::kOk;

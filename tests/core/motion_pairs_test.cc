@@ -1,16 +1,20 @@
 // The compiled acceleration query's paired kernels (motion_pairs.h): by hand, a spinning
 // relation moved to a point off its axis (the centripetal acceleration) and a quarter turn; on
 // 2,000 random records, MovedEdgeMotion equals the staged EdgeMotion, RotateMotion and
-// ShiftMotion of evaluate.h, both directions; on random sequences of motions on both sides,
-// MotionPairsComposer equals AccelerationComposer; the compiled query's last moves (ShiftPairs,
-// RotatePairs on a composed motion) equal ShiftMotion and RotateMotion. A planted sign error
-// fails the comparison.
+// ShiftMotion of evaluate.h, both directions; RotationPairs from a quaternion is Eigen's matrix,
+// bit for bit; on random sequences of motions on both sides, one running ThenPairs product (D's
+// side in order, C's reversed) equals AccelerationComposer; the compiled query's last moves
+// (ShiftPairs, RotatePairs on a composed motion) equal ShiftMotion and RotateMotion. A planted
+// error fails each comparison.
 #include "semgraph/core/motion_pairs.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "support/tolerance.h"
 #include "support/world_scene.h"
@@ -99,21 +103,60 @@ TEST(MotionPairs, MovedEdgeMotionIsTheStagedKernels) {
                           Staged(r, false, Eigen::Quaterniond::Identity(), p), 1e-3));
 }
 
-TEST(MotionPairs, TheComposerIsAccelerationComposer) {
+TEST(MotionPairs, RotationPairsFromAQuaternionIsEigensMatrix) {
+  std::mt19937_64 rng(20261206);
+  for (int i = 0; i < 1000; ++i) {
+    const Eigen::Quaterniond q = RandomUnitQuaternion(rng);
+    const RotationPairs paired(q);
+    const Eigen::Matrix3d R = q.toRotationMatrix();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(paired.r[r][c][0], R(r, c)) << "quaternion " << i << " entry " << r << c;
+        ASSERT_EQ(paired.r[r][c][1], R(r, c)) << "quaternion " << i << " entry " << r << c;
+      }
+    }
+  }
+}
+
+// AccelerationComposer's steps (side, motion) as one running product: D's side in order, then
+// C's reversed. `swap_c` plants an order error: C's first two kept in the plan's order.
+MotionPairs RunningProduct(const std::vector<std::pair<bool, MotionPairs>>& steps,
+                           bool swap_c = false) {
+  std::vector<MotionPairs> d_side, c_side;
+  for (const auto& [ref_side, m] : steps) (ref_side ? d_side : c_side).push_back(m);
+  std::reverse(c_side.begin(), c_side.end());
+  if (swap_c && c_side.size() >= 2) std::swap(c_side[c_side.size() - 1], c_side[c_side.size() - 2]);
+  MotionPairs product = MotionPairs::Zero();
+  for (const MotionPairs& m : d_side) ThenPairs(product, m);
+  for (const MotionPairs& m : c_side) ThenPairs(product, m);
+  return product;
+}
+
+TEST(MotionPairs, TheRunningProductIsAccelerationComposer) {
   std::mt19937_64 rng(20261207);
   for (int sequence = 0; sequence < 200; ++sequence) {
     AccelerationComposer staged;
-    MotionPairsComposer paired;
+    std::vector<std::pair<bool, MotionPairs>> steps;
     for (int k = 0; k < 1 + sequence % 9; ++k) {
       const TwistAndAcceleration r = RandomRecord(rng);
       const Eigen::Quaterniond R_ZH = RandomUnitQuaternion(rng);
       const Vec p = RandomVector(rng, 2.0);
       const bool ref_side = (rng() & 1U) != 0, invert = (rng() & 1U) != 0;
       staged.Add(ref_side, Staged(r, invert, R_ZH, p));
-      paired.Add(ref_side, MovedEdgeMotion(r, invert, R_ZH.toRotationMatrix(), p));
+      steps.emplace_back(ref_side, MovedEdgeMotion(r, invert, R_ZH.toRotationMatrix(), p));
     }
-    EXPECT_TRUE(SameMotion(paired.Result(), staged.Result(), 1e-11)) << "sequence " << sequence;
+    EXPECT_TRUE(SameMotion(RunningProduct(steps).ToMotion(), staged.Result(), 1e-11))
+        << "sequence " << sequence;
   }
+  // Planted: two of C's steps in the plan's order (the Coriolis terms' order is wrong).
+  AccelerationComposer staged;
+  std::vector<std::pair<bool, MotionPairs>> steps;
+  for (int k = 0; k < 3; ++k) {
+    const TwistAndAcceleration r = RandomRecord(rng);
+    staged.Add(false, Staged(r, false, Eigen::Quaterniond::Identity(), Vec::Zero()));
+    steps.emplace_back(false, MovedEdgeMotion(r, false, Eigen::Matrix3d::Identity(), Vec::Zero()));
+  }
+  EXPECT_FALSE(SameMotion(RunningProduct(steps, true).ToMotion(), staged.Result(), 1e-3));
 }
 
 // The tail of the compiled query: a composed motion (twist and acceleration in both lanes, not
@@ -121,30 +164,28 @@ TEST(MotionPairs, TheComposerIsAccelerationComposer) {
 TEST(MotionPairs, TheLastMovesAreShiftMotionAndRotateMotion) {
   std::mt19937_64 rng(20261208);
   for (int i = 0; i < 1000; ++i) {
-    MotionPairsComposer paired;
-    paired.Add(true, MovedEdgeMotion(RandomRecord(rng), false, Eigen::Matrix3d::Identity(),
-                                     RandomVector(rng, 2.0)));
-    paired.Add(false, MovedEdgeMotion(RandomRecord(rng), true, Eigen::Matrix3d::Identity(),
-                                      RandomVector(rng, 2.0)));
+    MotionPairs composed = MovedEdgeMotion(RandomRecord(rng), false, Eigen::Matrix3d::Identity(),
+                                           RandomVector(rng, 2.0));
+    ThenPairs(composed, MovedEdgeMotion(RandomRecord(rng), true, Eigen::Matrix3d::Identity(),
+                                        RandomVector(rng, 2.0)));
     const Vec p = RandomVector(rng, 2.0);
     const Eigen::Quaterniond R = RandomUnitQuaternion(rng);
-    MotionPairs m = paired.ResultPairs();
+    MotionPairs m = composed;
     ShiftPairs(p, m);
-    m = RotatePairs(R.toRotationMatrix(), m);
-    Motion staged = paired.Result();
+    m = RotatePairs(RotationPairs(R), m);
+    Motion staged = composed.ToMotion();
     ShiftMotion(staged, p);
     RotateMotion<QuatB>(R, staged);
     EXPECT_TRUE(SameMotion(m.ToMotion(), staged)) << "motion " << i;
   }
   // Planted: the rotation before the shift (the lever arm in the wrong axes).
-  MotionPairsComposer paired;
-  paired.Add(true, MovedEdgeMotion(RandomRecord(rng), false, Eigen::Matrix3d::Identity(),
-                                   RandomVector(rng, 2.0)));
+  const MotionPairs composed = MovedEdgeMotion(RandomRecord(rng), false,
+                                               Eigen::Matrix3d::Identity(), RandomVector(rng, 2.0));
   const Vec p = RandomVector(rng, 2.0);
   const Eigen::Quaterniond R = RandomUnitQuaternion(rng);
-  MotionPairs m = RotatePairs(R.toRotationMatrix(), paired.ResultPairs());
+  MotionPairs m = RotatePairs(RotationPairs(R), composed);
   ShiftPairs(p, m);
-  Motion staged = paired.Result();
+  Motion staged = composed.ToMotion();
   ShiftMotion(staged, p);
   RotateMotion<QuatB>(R, staged);
   EXPECT_FALSE(SameMotion(m.ToMotion(), staged, 1e-3));

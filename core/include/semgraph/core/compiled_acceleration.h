@@ -8,10 +8,11 @@
 //     ChainUnionTopDown);
 //   - evaluate: every union edge read once and composed with the one above it (its head's pose
 //     in Z, kept in the object's scratch: one composition per edge); every step's twist and
-//     acceleration rotated into [Z] and moved to Z's origin with that pose, then composed with
-//     the Coriolis terms, in one fused step on lane pairs (motion_pairs.h: MovedEdgeMotion,
-//     MotionPairsComposer, the math of evaluate.h's EdgeMotion, RotateMotion, ShiftMotion and
-//     AccelerationComposer); the result moved to e
+//     acceleration rotated into [Z] and moved to Z's origin with that pose, then appended to
+//     one running product with the Coriolis terms (D's steps in the plan's order, C's reversed),
+//     in one fused step on lane pairs (motion_pairs.h: MovedEdgeMotion, ThenPairs, the math of
+//     evaluate.h's EdgeMotion, RotateMotion, ShiftMotion and AccelerationComposer); the result
+//     moved to e
 //     and rotated into [r] once (neither when e, or [r], is Z). Each edge is read through the
 //     one evaluator's source (FlatSource: the current values, or the policy's time), so the
 //     reads are those of every compiled query; at the current values each record's words go
@@ -71,18 +72,12 @@ class SEMGRAPH_CORE_EXPORT CompiledAcceleration : public CompiledQuery<B> {
     const AccelerationValue* record = nullptr;
     std::int32_t head = -1;
   };
-  /// Steps [s, end), all of one side (kRefSide: D's), into the composer; false when an edge is
-  /// invalidated. `missing` is set by a record without acceleration (later ones still read).
-  template <bool kRefSide>
-  bool AddSteps(const internal::FlatSource<B>& src, const Step* s, const Step* end,
-                internal::MotionPairsComposer& composer, bool& missing) noexcept;
   [[gnu::flatten]] ErrorCode Compose(const internal::FlatSource<B>& src,
                                      internal::Motion& out) noexcept;
 
   semantics::AccelerationSemantics semantics_;
   std::vector<std::int32_t> parent_;  ///< per union edge (edges_ entry i): the entry above, -1: Z
-  std::vector<Step> steps_;           ///< D's side first (ref_steps_ of them), then C's
-  std::size_t ref_steps_ = 0;
+  std::vector<Step> steps_;           ///< D's side in the plan's order, then C's reversed
   std::int32_t e_entry_ = 0, r_entry_ = 0;  ///< scratch entries of e's and [r]'s poses in Z
   /// Per union edge: its head's pose in Z; then Z's own (the identity: the entry of e, [r] or
   /// a head that is Z). Empty when there is no step.

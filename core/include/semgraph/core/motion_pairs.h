@@ -17,6 +17,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <utility>
 
 #include "semgraph/core/edge_values.h"
@@ -88,13 +89,44 @@ template <class Source>
   return true;
 }
 
+/// A rotation matrix with every entry in both lanes (r[i][j] = (R(i,j), R(i,j))): the factors
+/// of RotatePairs. From a quaternion it is computed in pairs (Eigen's toRotationMatrix formula,
+/// the same roundings): broadcasting nine scalar entries instead cost the compiled query nine
+/// shuffles per twist edge on the vector ports it is bound by (docs/performance.md).
+struct RotationPairs {
+  Pair r[3][3];
+
+  RotationPairs(const Eigen::Matrix3d& R) noexcept {  // NOLINT: implicit, as the matrix it holds
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) r[i][j] = Pair{R(i, j), R(i, j)};
+    }
+  }
+  [[gnu::always_inline]] explicit RotationPairs(const Eigen::Quaterniond& q) noexcept {
+    const Pair x{q.x(), q.x()}, y{q.y(), q.y()}, z{q.z(), q.z()}, w{q.w(), q.w()};
+    const Pair tx = 2.0 * x, ty = 2.0 * y, tz = 2.0 * z;
+    const Pair twx = tx * w, twy = ty * w, twz = tz * w;
+    const Pair txx = tx * x, txy = ty * x, txz = tz * x;
+    const Pair tyy = ty * y, tyz = tz * y, tzz = tz * z;
+    const Pair one{1.0, 1.0};
+    r[0][0] = one - (tyy + tzz);
+    r[0][1] = txy - twz;
+    r[0][2] = txz + twy;
+    r[1][0] = txy + twz;
+    r[1][1] = one - (txx + tzz);
+    r[1][2] = tyz - twx;
+    r[2][0] = txz - twy;
+    r[2][1] = tyz + twx;
+    r[2][2] = one - (txx + tyy);
+  }
+};
+
 /// RotateMotion on pairs: x re-expressed with R (R_new_old), one 3x3 matrix for both lanes.
-[[gnu::always_inline]] inline MotionPairs RotatePairs(const Eigen::Matrix3d& R,
+[[gnu::always_inline]] inline MotionPairs RotatePairs(const RotationPairs& R,
                                                       const MotionPairs& x) noexcept {
   MotionPairs m;
   for (int i = 0; i < 3; ++i) {
-    m.va[i] = R(i, 0) * x.va[0] + R(i, 1) * x.va[1] + R(i, 2) * x.va[2];
-    m.wl[i] = R(i, 0) * x.wl[0] + R(i, 1) * x.wl[1] + R(i, 2) * x.wl[2];
+    m.va[i] = R.r[i][0] * x.va[0] + R.r[i][1] * x.va[1] + R.r[i][2] * x.va[2];
+    m.wl[i] = R.r[i][0] * x.wl[0] + R.r[i][1] * x.wl[1] + R.r[i][2] * x.wl[2];
   }
   return m;
 }
@@ -128,7 +160,7 @@ template <class Source>
 /// The rotation goes first (it commutes with the inversion's cross product: R (w x v) =
 /// Rw x Rv).
 [[gnu::always_inline]] inline MotionPairs MovedEdgeMotion(const MotionPairs& r, bool invert,
-                                                          const Eigen::Matrix3d& R,
+                                                          const RotationPairs& R,
                                                           const Eigen::Vector3d& p) noexcept {
   MotionPairs m = RotatePairs(R, r);
   if (invert) InvertPairs(m);
@@ -142,45 +174,24 @@ template <class Source>
   return MovedEdgeMotion(Pairs(r), invert, R, p);
 }
 
-/// AccelerationComposer (evaluate.h) on MotionPairs: C's side prepended (c = m then c), D's
-/// side appended (d = d then m); Result() = d then c, as a Motion.
-struct MotionPairsComposer {
-  MotionPairs c_side = MotionPairs::Zero(), d_side = MotionPairs::Zero();
-
-  /// X then Y at one point, into `into` (X or Y): alpha += alpha_other + w_X x w_Y,
-  /// a += a_other + 2 w_X x v_Y, twists summed. The cross products in one paired pass:
-  /// w_X x (w_Y_i, v_Y_i).
-  [[gnu::always_inline]] static void Compose(const MotionPairs& X, const MotionPairs& Y,
-                                             MotionPairs& into, const MotionPairs& other) noexcept {
-    const double w_X[3] = {X.wl[0][0], X.wl[1][0], X.wl[2][0]};
-    const Pair wv_Y[3] = {Pair{Y.wl[0][0], Y.va[0][0]}, Pair{Y.wl[1][0], Y.va[1][0]},
-                          Pair{Y.wl[2][0], Y.va[2][0]}};
-    Pair x[3];  // (w_X x w_Y, w_X x v_Y)
-    CrossPairs(w_X, wv_Y, x);
-    for (int i = 0; i < 3; ++i) {
-      into.wl[i] += other.wl[i] + Pair{0.0, x[i][0]};
-      into.va[i] += other.va[i] + Pair{0.0, 2.0 * x[i][1]};
-    }
+/// X then Y at one point in one frame, in place (X = X then Y): AccelerationComposer's
+/// composition (evaluate.h) on pairs: alpha += alpha_Y + w_X x w_Y, a += a_Y + 2 w_X x v_Y,
+/// twists summed; the cross products in one paired pass, w_X x (w_Y_i, v_Y_i).
+///
+/// The composition is associative, so AccelerationComposer's two sides (D's appended in the
+/// plan's order, C's prepended) are one running product: D's steps in order, then C's in
+/// reverse, each appended. The compiled query orders its steps so: one loop, no branch on the
+/// side, no final composition of the sides.
+[[gnu::always_inline]] inline void ThenPairs(MotionPairs& X, const MotionPairs& Y) noexcept {
+  const double w_X[3] = {X.wl[0][0], X.wl[1][0], X.wl[2][0]};
+  const Pair wv_Y[3] = {Pair{Y.wl[0][0], Y.va[0][0]}, Pair{Y.wl[1][0], Y.va[1][0]},
+                        Pair{Y.wl[2][0], Y.va[2][0]}};
+  Pair x[3];  // (w_X x w_Y, w_X x v_Y)
+  CrossPairs(w_X, wv_Y, x);
+  for (int i = 0; i < 3; ++i) {
+    X.wl[i] += Y.wl[i] + Pair{0.0, x[i][0]};
+    X.va[i] += Y.va[i] + Pair{0.0, 2.0 * x[i][1]};
   }
-  template <bool kRefSide>
-  [[gnu::always_inline]] void Add(const MotionPairs& m) noexcept {
-    if constexpr (kRefSide) {
-      Compose(d_side, m, d_side, m);
-    } else {
-      Compose(m, c_side, c_side, m);
-    }
-  }
-  [[gnu::always_inline]] void Add(bool ref_side, const MotionPairs& m) noexcept {
-    ref_side ? Add<true>(m) : Add<false>(m);
-  }
-  /// d then c (ComposeMotion(d_side, c_side)), kept in pairs: the caller's last moves
-  /// (ShiftPairs, RotatePairs) stay in registers.
-  [[nodiscard]] MotionPairs ResultPairs() const noexcept {
-    MotionPairs r = d_side;
-    Compose(d_side, c_side, r, c_side);
-    return r;
-  }
-  [[nodiscard]] Motion Result() const noexcept { return ResultPairs().ToMotion(); }
-};
+}
 
 }  // namespace semgraph::core::internal
