@@ -147,8 +147,8 @@ void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S, Covari
     const Edge& e = edges_[i];
     const Eigen::Matrix3d R_ZP = e.parent < 0 ? Eigen::Matrix3d::Identity()
                                               : scratch_[static_cast<std::size_t>(e.parent)].R_ZG;
-    sink.Add({internal::PerturbedEdge::Kind::kPose, e.frame},
-             jac::EdgeOnPoseInZ(q, {R_ZP, g.p_ZG}, e.moves), g.S);
+    sink.AddPoseEdge({internal::PerturbedEdge::Kind::kPose, e.frame}, q, {R_ZP, g.p_ZG}, e.moves,
+                     g.S);
   }
   Covariance6 S_Z;
   sink.Finish(S_Z);

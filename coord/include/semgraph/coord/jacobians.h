@@ -246,27 +246,42 @@ struct PoseMoves {
   bool e = false, f = false, a = false, b = false, r = false;
 };
 
-/// d(answer) / d(edge) for a pose answer, with the answer's rows still in Z (dp_Z, dth_Z; the
-/// answer in [r] is diag(R_RZ, R_RZ) times this): what a sum over many edges accumulates, so
-/// that the rotation into [r] is done once. Columns: the edge's (dp, dth) in [p].
-[[nodiscard]] inline Matrix6 EdgeOnPoseInZ(const PoseInZ& q, const EdgeInZ& edge,
-                                           const PoseMoves& m) noexcept {
+/// The parts of d(answer) / d(edge) for a pose answer, rows in Z (dp_Z, dth_Z), columns the
+/// edge's (dp, dth) in [p], R = R_ZP:
+///   J = [[s R, [lever]x R], [0, (c I + d O) R]],  s, c, d in {-1, 0, 1}.
+/// Per (t, x) of the edge: dp_Z = (m_e - m_f) t + (m_e [g - e]x - m_f [g - f]x + m_r [e - f]x) x,
+/// dth_Z = ((m_a - m_r) I + (m_r - m_b) O) x; then columns R_ZP.
+struct PoseEdgeFactors {
+  double s = 0.0, c = 0.0, d = 0.0;
+  Vector3d lever = Vector3d::Zero();  // linear in the points
+};
+[[nodiscard]] inline PoseEdgeFactors EdgeOnPoseFactors(const PoseInZ& q, const EdgeInZ& edge,
+                                                       const PoseMoves& m) noexcept {
   const Vector3d& e = q.p_ZoEo_Z;
   const Vector3d& f = q.p_ZoFo_Z;
   const Vector3d& g = edge.p_ZoGo_Z;
-  // Per (t, x): dp_Z = (m_e - m_f) t + (m_e [g - e]x - m_f [g - f]x + m_r [e - f]x) x,
-  // dth_Z = ((m_a - m_r) I + (m_r - m_b) O) x; then columns R_ZP.
-  Vector3d lever = Vector3d::Zero();  // the skew part is [lever]x: linear in the points
-  if (m.e) lever += g - e;
-  if (m.f) lever -= g - f;
-  if (m.r) lever += e - f;
+  PoseEdgeFactors k;
+  if (m.e) k.lever += g - e;
+  if (m.f) k.lever -= g - f;
+  if (m.r) k.lever += e - f;
+  k.s = static_cast<double>(m.e) - static_cast<double>(m.f);
+  k.c = static_cast<double>(m.a) - static_cast<double>(m.r);
+  k.d = static_cast<double>(m.r) - static_cast<double>(m.b);
+  return k;
+}
+
+/// d(answer) / d(edge) for a pose answer, with the answer's rows still in Z (dp_Z, dth_Z; the
+/// answer in [r] is diag(R_RZ, R_RZ) times this): what a sum over many edges accumulates, so
+/// that the rotation into [r] is done once. Columns: the edge's (dp, dth) in [p]. The parts:
+/// EdgeOnPoseFactors.
+[[nodiscard]] inline Matrix6 EdgeOnPoseInZ(const PoseInZ& q, const EdgeInZ& edge,
+                                           const PoseMoves& m) noexcept {
+  const PoseEdgeFactors k = EdgeOnPoseFactors(q, edge, m);
   Matrix6 J = Matrix6::Zero();
-  if (m.e != m.f) J.topLeftCorner<3, 3>() = m.e ? edge.R_ZP : Matrix3d(-edge.R_ZP);
-  J.topRightCorner<3, 3>().noalias() = Hat(lever) * edge.R_ZP;
-  if (m.r != m.b) {
-    J.bottomRightCorner<3, 3>().noalias() = (m.r ? 1.0 : -1.0) * q.O_Z * edge.R_ZP;
-  }
-  if (m.a != m.r) J.bottomRightCorner<3, 3>() += m.a ? edge.R_ZP : Matrix3d(-edge.R_ZP);
+  if (k.s != 0.0) J.topLeftCorner<3, 3>() = k.s * edge.R_ZP;
+  J.topRightCorner<3, 3>().noalias() = Hat(k.lever) * edge.R_ZP;
+  if (k.d != 0.0) J.bottomRightCorner<3, 3>().noalias() = k.d * q.O_Z * edge.R_ZP;
+  if (k.c != 0.0) J.bottomRightCorner<3, 3>() += k.c * edge.R_ZP;
   return J;
 }
 

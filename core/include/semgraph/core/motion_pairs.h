@@ -17,15 +17,13 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <utility>
 
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
+#include "semgraph/core/lane_pairs.h"
 
 namespace semgraph::core::internal {
-
-using Pair = double __attribute__((vector_size(16)));
 
 /// A Motion as pairs: va[i] = (v_i, a_i), wl[i] = (w_i, alpha_i).
 struct MotionPairs {
@@ -42,14 +40,6 @@ struct MotionPairs {
                   {wl[0][1], wl[1][1], wl[2][1]}};
   }
 };
-
-/// s x (x_i pairs): the cross product of the 3-vector s with both lanes' vectors.
-[[gnu::always_inline]] inline void CrossPairs(const double s[3], const Pair x[3],
-                                              Pair out[3]) noexcept {
-  out[0] = s[1] * x[2] - s[2] * x[1];
-  out[1] = s[2] * x[0] - s[0] * x[2];
-  out[2] = s[0] * x[1] - s[1] * x[0];
-}
 
 /// A twist edge's record (v, w, a, alpha of D to H at Ho in [H]) as pairs.
 [[gnu::always_inline]] inline MotionPairs Pairs(const TwistAndAcceleration& r) noexcept {
@@ -88,37 +78,6 @@ template <class Source>
   present = r.present;
   return true;
 }
-
-/// A rotation matrix with every entry in both lanes (r[i][j] = (R(i,j), R(i,j))): the factors
-/// of RotatePairs. From a quaternion it is computed in pairs (Eigen's toRotationMatrix formula,
-/// the same roundings): broadcasting nine scalar entries instead cost the compiled query nine
-/// shuffles per twist edge on the vector ports it is bound by (docs/performance.md).
-struct RotationPairs {
-  Pair r[3][3];
-
-  RotationPairs(const Eigen::Matrix3d& R) noexcept {  // NOLINT: implicit, as the matrix it holds
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) r[i][j] = Pair{R(i, j), R(i, j)};
-    }
-  }
-  [[gnu::always_inline]] explicit RotationPairs(const Eigen::Quaterniond& q) noexcept {
-    const Pair x{q.x(), q.x()}, y{q.y(), q.y()}, z{q.z(), q.z()}, w{q.w(), q.w()};
-    const Pair tx = 2.0 * x, ty = 2.0 * y, tz = 2.0 * z;
-    const Pair twx = tx * w, twy = ty * w, twz = tz * w;
-    const Pair txx = tx * x, txy = ty * x, txz = tz * x;
-    const Pair tyy = ty * y, tyz = tz * y, tzz = tz * z;
-    const Pair one{1.0, 1.0};
-    r[0][0] = one - (tyy + tzz);
-    r[0][1] = txy - twz;
-    r[0][2] = txz + twy;
-    r[1][0] = txy + twz;
-    r[1][1] = one - (txx + tzz);
-    r[1][2] = tyz - twx;
-    r[2][0] = txz - twy;
-    r[2][1] = tyz + twx;
-    r[2][2] = one - (txx + tyy);
-  }
-};
 
 /// RotateMotion on pairs: x re-expressed with R (R_new_old), one 3x3 matrix for both lanes.
 [[gnu::always_inline]] inline MotionPairs RotatePairs(const RotationPairs& R,

@@ -28,6 +28,7 @@
 #include <cstdint>
 
 #include "semgraph/coord/jacobians.h"
+#include "semgraph/core/covariance_pairs.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/query_plan.h"
@@ -98,16 +99,30 @@ struct PerturbedEdge {
 };
 
 /// Where the routines below put each edge's Jacobian J (rows: the answer, in the routine's
-/// working axes) with the covariance S of the value read: Add(ref, J, S), then Finish(S_out).
-/// This one makes every edge read one independent perturbation: S_out = sum J S J^T, formed at
-/// once. (SharedPerturbations, timed_covariance.h, sums the Jacobians of one perturbation first.)
+/// working axes) with the covariance S of the value read: Add(ref, J, S), or, for a pose edge
+/// on a pose answer with rows in Z, AddPoseEdge(ref, q, edge, m, S) (J = EdgeOnPoseInZ(q, edge,
+/// m)); then Finish(S_out). This one makes every edge read one independent perturbation:
+/// S_out = sum J S J^T, formed at once; pose edges in lane pairs where O does not enter
+/// (covariance_pairs.h). (SharedPerturbations, timed_covariance.h, sums the Jacobians of one
+/// perturbation first.)
 struct DirectSink {
   coord::Covariance6 S = coord::Covariance6::Zero();
+  PoseCovariancePairs pose_pairs;
   void Add(PerturbedEdge, const coord::jacobians::Matrix6& J,
            const coord::Covariance6& S_i) noexcept {
     coord::jacobians::AddPropagated(J, S_i, S);
   }
-  void Finish(coord::Covariance6& S_out) const noexcept { S_out = S; }
+  void AddPoseEdge(PerturbedEdge ref, const coord::jacobians::PoseInZ& q,
+                   const coord::jacobians::EdgeInZ& edge, const coord::jacobians::PoseMoves& m,
+                   const coord::Covariance6& S_i) noexcept {
+    const coord::jacobians::PoseEdgeFactors k = coord::jacobians::EdgeOnPoseFactors(q, edge, m);
+    if (k.d != 0.0) return Add(ref, coord::jacobians::EdgeOnPoseInZ(q, edge, m), S_i);
+    pose_pairs.Add(RotationPairs(edge.R_ZP), k.lever, k.s, k.c, S_i);
+  }
+  void Finish(coord::Covariance6& S_out) const noexcept {
+    S_out = S;
+    pose_pairs.AddTo(S_out);
+  }
 };
 
 /// The covariance of the pose answer (e,[a]) wrt (f,[b]) in [r] (frames k = {e, a, f, b, r},
@@ -136,16 +151,16 @@ void PoseCovariance(const topology::SceneTopology& t, const FrameIndex (&k)[5], 
   for (int j = 0; j < 5; ++j) {
     std::int64_t lca[5];  // depth of k[j]'s common ancestor with each frame
     for (int i = 0; i < 5; ++i) lca[i] = forest.depth(forest.CommonAncestor(k[j], k[i]));
-    ForEachNewEdge<B>(t, k[j], z, MeetDepth(forest, k[j], k, j), X_Z[j], read,
-                      [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S,
-                          const Rigid& X_ZG, std::int64_t d) {
-                        if (S.isZero(0.0)) return;  // an exact edge adds nothing
-                        const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
-                        const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1],
-                                                            d <= lca[3], d <= lca[4]};
-                        sink.Add(PerturbedEdge{PerturbedEdge::Kind::kPose, g.value()},
-                                 coord::jacobians::EdgeOnPoseInZ(q, edge, m), S);
-                      });
+    ForEachNewEdge<B>(
+        t, k[j], z, MeetDepth(forest, k[j], k, j), X_Z[j], read,
+        [&](FrameIndex g, const Rigid& X_PG, const coord::Covariance6& S, const Rigid& X_ZG,
+            std::int64_t d) {
+          if (S.isZero(0.0)) return;  // an exact edge adds nothing
+          const coord::jacobians::EdgeInZ edge{X_ZG.R * X_PG.R.transpose(), X_ZG.p};
+          const coord::jacobians::PoseMoves m{d <= lca[0], d <= lca[2], d <= lca[1], d <= lca[3],
+                                              d <= lca[4]};
+          sink.AddPoseEdge(PerturbedEdge{PerturbedEdge::Kind::kPose, g.value()}, q, edge, m, S);
+        });
   }
   sink.Finish(S_out);
   S_out = coord::jacobians::RotateRows(q.R_RZ, S_out);  // rows in Z -> [r], once

@@ -185,6 +185,11 @@ struct KeyedSink {
     }
     acc->Add(k, J, S);
   }
+  void AddPoseEdge(PerturbedEdge ref, const coord::jacobians::PoseInZ& q,
+                   const coord::jacobians::EdgeInZ& edge, const coord::jacobians::PoseMoves& m,
+                   const coord::Covariance6& S) noexcept {
+    Add(ref, coord::jacobians::EdgeOnPoseInZ(q, edge, m), S);
+  }
   /// The top sink forms the sum (before the routine's last rotation); an inner one adds nothing.
   void Finish(coord::Covariance6& S_out) const noexcept {
     if (top) acc->Finish(S_out);
