@@ -24,8 +24,8 @@
 // the timed one-shot query reads it (timed_read.h).
 // Costs: Evaluate O(pose edges in the union + twist edges): one composition per pose edge, four
 // rotations, one shift and one composition per twist edge (the one-shot query moves each edge
-// through its own chains: O(twist edges x chain length)); on the bench chain about 1.1x the
-// instructions and 1.2-1.3x the CPU time of a hand-written Eigen chain (docs/performance.md,
+// through its own chains: O(twist edges x chain length)); on the bench chain about 1.05x the
+// instructions and 1.15-1.2x the CPU time of a hand-written Eigen chain (docs/performance.md,
 // "Accelerations"); noexcept, allocation-free, lock-free, string-free.
 // Thread safety: Evaluate uses the object's own scratch: one evaluating thread per object (a
 // copy is independent), concurrently with one writer; each edge's acceleration and twist are

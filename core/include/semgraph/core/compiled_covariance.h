@@ -20,7 +20,9 @@
 // evaluation into kQueryInvalidated (nothing written). The integration twist plans are those of
 // the topology at compile time (recompile after a topology change).
 // Costs: Evaluate O(edges) (latest common: two passes over the edges): one composition per edge,
-// plus one Jacobian and one block J S J^T per edge with a nonzero covariance; noexcept,
+// plus one J S J^T per edge with a nonzero covariance, on lane pairs where the answer's [r] is
+// [b] or the edge moves both (covariance_pairs.h; about 10x the query without covariance on the
+// bench chain, docs/performance.md "Covariances"), in dense block form otherwise; noexcept,
 // allocation-free, lock-free, string-free. Thread safety: Evaluate uses the object's own scratch
 // (one evaluating thread per object; a copy is independent), concurrently with one writer (SetPose,
 // Add*, Remove*), except an evaluation that extrapolates: it walks the twist forests of its
