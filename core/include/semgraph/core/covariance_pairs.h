@@ -1,6 +1,6 @@
 // A pose edge's J S J^T (coord/jacobians.h EdgeOnPoseInZ, AddPropagated) in lane pairs, summed
-// over the edges of a pose query with covariance: the same sum, in about a fifth of the
-// instructions (docs/performance.md "Covariances").
+// over the edges of a pose query with covariance: the same sum in about three quarters of the
+// dense form's instructions and 70% of its time (docs/performance.md "Covariances").
 //
 // The math (docs/uncertainty.md "Propagation"): an edge's Jacobian with rows in Z is
 // J = [[s R, L R], [0, c R]] (EdgeOnPoseFactors with d = 0: the answer's [r] is [b], or the edge
@@ -15,7 +15,8 @@
 // Edges with d != 0 (the orientation operator O enters) go through the dense form.
 //
 // Invariants: S symmetric (every stored covariance is, coord/covariance.h); the sum equals the
-// dense form's up to rounding (covariance_pairs_test). Costs: Add O(1), about 300 instructions;
+// dense form's up to rounding (covariance_pairs_test). Costs: Add O(1), about 700 instructions
+// with GCC 12 (about 300 multiplies and adds on pairs, the rest register copies and spills);
 // AddTo O(1); noexcept, allocation-free.
 #pragma once
 

@@ -7,7 +7,7 @@
 // Why a second form of the same math: EdgeMotion, RotateMotion, ShiftMotion and
 // AccelerationComposer (evaluate.h) in Eigen's 3-vectors cost the compiled query about 490
 // instructions per edge against the hand-written chain's 361: the scalar 3x3 products and the
-// four vectors spilled between the stages. Fused and paired, an edge costs about 390 (callgrind,
+// four vectors spilled between the stages. Fused and paired, an edge costs about 375 (callgrind,
 // docs/performance.md "Accelerations"). The one-shot query keeps the staged kernels (its steps
 // move and rotate through their own chains); motion_pairs_test checks the functions here against
 // them (LoadEdgeMotion: compiled_acceleration_test, against the one-shot query).

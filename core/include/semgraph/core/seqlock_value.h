@@ -217,8 +217,14 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   // compiled-query loop the seven words of each edge then spill to the stack before the
   // arithmetic (measured: 983 -> 913 instructions per query at d = 8, 1.26x -> 1.17x the raw
   // chain, and a wall-time ratio of 1.5x -> about 1.2x; docs/performance.md).
+  // VEX forms when the build targets AVX: a legacy SSE instruction amid VEX code pays for the
+  // SSE/AVX state transition (measured with -mavx2: the compiled pose query 12x slower).
   static void LoadWord(Word& out, const std::atomic<Word>& in) noexcept {
+#if defined(__AVX__)
+    asm volatile("vmovsd %1, %0" : "=x"(out) : "m"(in));
+#else
     asm volatile("movsd %1, %0" : "=x"(out) : "m"(in));
+#endif
   }
   // Low lane, then high lane: movsd + movhpd, each an atomic 8-byte load, in program order.
   // `token` in and out: the compiler keeps every pair after the header load and before the
@@ -227,7 +233,13 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   static void LoadPair(WordPair& out, const std::atomic<Word>& lo, const std::atomic<Word>& hi,
                        std::uint64_t& token) noexcept {
     WordPair pair;  // a register: an asm output straight into `out` kept arrays in memory
+#if defined(__AVX__)
+    asm volatile("vmovsd %2, %0\n\tvmovhpd %3, %0, %0"
+                 : "=&x"(pair), "+r"(token)
+                 : "m"(lo), "m"(hi));
+#else
     asm volatile("movsd %2, %0\n\tmovhpd %3, %0" : "=&x"(pair), "+r"(token) : "m"(lo), "m"(hi));
+#endif
     out = pair;
   }
   // The header's re-check, after whatever produced `token` (a plain load: x86-TSO keeps it after
