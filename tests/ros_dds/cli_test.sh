@@ -78,10 +78,11 @@ assert 2 <= summary["transforms"] == summary["messages"] <= 4, lines
 print("check --ros:", finding["message"])
 PY
 # Pose and odometry topics: a good pose, then an odometry message with a NaN in its twist
-# covariance. Their readers are best effort: the node waits until its writers matched the
-# listener's readers, then 2 s for the listener's side of the match (a best-effort reader drops
-# samples of a writer it has not discovered yet; 300 ms was not enough once, in CI under load,
-# and the CLI has no way to say it matched).
+# covariance, three times (stamps 20/21, 22/23, 24/25, half a second apart). Their readers are
+# best effort: the node waits until its writers matched the listener's readers, then 2 s for the
+# listener's side of the match (a best-effort reader drops samples of a writer it has not
+# discovered yet; 300 ms was not enough once, in CI under load, and the CLI has no way to say it
+# matched); a loaded sanitizer run still lost the one odometry message once, hence the repeats.
 "$tool" check --ros --domain 150 --seconds 8 --pose-topic /amcl_pose=base_footprint \
   --odom-topic /odom > "$out/cov" &
 check_pid=$!
@@ -89,13 +90,17 @@ check_pid=$!
 cov="0 0 0 1 $(python3 -c 'print(" ".join(str(float(i == j)) for i in range(6) for j in range(6)))')"
 twist="0.4 0 0 0 0 0.1 $(python3 -c 'print(" ".join("nan" if i == j == 2 else str(float(i == j)) for i in range(6) for j in range(6)))')"
 printf '%s\n' 'wait_match pose /amcl_pose 1' 'wait_match odom /odom 1' 'sleep 2000' \
-  "pose /amcl_pose map 20 0 1 2 0 $cov" "odom /odom odom base_link 21 0 0.5 0 0 $cov $twist" |
+  "pose /amcl_pose map 20 0 1 2 0 $cov" "odom /odom odom base_link 21 0 0.5 0 0 $cov $twist" \
+  'sleep 500' \
+  "pose /amcl_pose map 22 0 1 2 0 $cov" "odom /odom odom base_link 23 0 0.5 0 0 $cov $twist" \
+  'sleep 500' \
+  "pose /amcl_pose map 24 0 1 2 0 $cov" "odom /odom odom base_link 25 0 0.5 0 0 $cov $twist" |
   "$node" 150 > "$out/node_cov"
 set +e
 wait $check_pid
 code=$?
 set -e
-grep -q '^ok 5$' "$out/node_cov" || fail "the node did not finish the pose and odometry" "$out/node_cov"
+grep -q '^ok 11$' "$out/node_cov" || fail "the node did not finish the pose and odometry" "$out/node_cov"
 test "$code" = 1 || fail "check --ros on pose and odometry exited $code, not 1" "$out/cov"
 python3 - "$out/cov" <<'PY'
 import json, sys
@@ -103,8 +108,9 @@ lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 finding = lines[0]
 assert finding["error"] == "invalid_number", lines
 assert (finding["topic"], finding["parent"], finding["child"]) == ("/odom", "odom", "base_link"), finding
-assert abs(finding["first_stamp"] - 21.0) < 1e-9, finding
+assert min(abs(finding["first_stamp"] - t) for t in (21.0, 23.0, 25.0)) < 1e-9, finding
 summary = lines[-1]
-assert summary["summary"] and summary["messages"] == 2 and summary["groups"] == 1, lines
+assert summary["summary"] and summary["groups"] == 1, lines
+assert 1 <= summary["findings"] <= 3 and 2 <= summary["messages"] <= 6, lines
 print("check --ros with pose and odometry topics:", finding["message"])
 PY
