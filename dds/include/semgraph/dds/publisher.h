@@ -213,11 +213,14 @@ class SEMGRAPH_DDS_EXPORT Publisher {
   void Flush();
 
   /// Waits, at most `timeout`, until each of this publisher's writers has matched at least
-  /// `count` mirrors (the writer's side): from then on every value and sample reaches them, where
-  /// the transient-local history gives a later mirror only the newest ones (per edge: the last
-  /// value, the last 1024 samples). E.g. before a stream longer than that history. Event-driven
-  /// (the writers' publication-matched status). Fails (message with the counts) on timeout.
-  /// Blocks: a set-up step, not for the real-time path.
+  /// `count` mirrors (the writer's side), where the transient-local history gives a later mirror
+  /// only the newest values and samples (per edge: the last value, the last 1024 samples). E.g.
+  /// before a stream longer than that history. Caveat: a mirror's readers match the writers a
+  /// moment after the writers matched them, and a sample written in between reaches that mirror
+  /// only through the history: before a stream longer than it, give the mirrors a moment more
+  /// (the tests wait 2 s; without it one mirror in three or four missed 800-1,100 of 10,000
+  /// samples). Event-driven (the writers' publication-matched status). Fails (message with the
+  /// counts) on timeout. Blocks: a set-up step, not for the real-time path.
   base::Expected<base::Ok, std::string> WaitForMirrors(std::uint32_t count,
                                                        std::chrono::milliseconds timeout);
 
