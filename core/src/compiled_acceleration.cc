@@ -50,8 +50,7 @@ CompiledAcceleration<B>::CompiledAcceleration(const topology::SceneTopology& t,
   r_entry_ = entry(r);
   for (std::size_t j = 0; j < steps_.size(); ++j) steps_[j].head = entry(ends[2 + j]);
   // One running product (ThenPairs): D's side in the plan's order, then C's reversed (C's side
-  // is prepended step by step; the composition is associative). On a chain, C's reversed steps
-  // come top-down, so the first ones need the first poses of the pass above, not its last.
+  // is prepended step by step; the composition is associative).
   const auto c_side = std::stable_partition(steps_.begin(), steps_.end(),
                                             [](const Step& s) { return s.step.ref_side; });
   std::reverse(c_side, steps_.end());

@@ -275,14 +275,18 @@ struct PoseEdgeFactors {
 /// that the rotation into [r] is done once. Columns: the edge's (dp, dth) in [p]. The parts:
 /// EdgeOnPoseFactors.
 [[nodiscard]] inline Matrix6 EdgeOnPoseInZ(const PoseInZ& q, const EdgeInZ& edge,
-                                           const PoseMoves& m) noexcept {
-  const PoseEdgeFactors k = EdgeOnPoseFactors(q, edge, m);
+                                           const PoseEdgeFactors& k) noexcept {
   Matrix6 J = Matrix6::Zero();
   if (k.s != 0.0) J.topLeftCorner<3, 3>() = k.s * edge.R_ZP;
   J.topRightCorner<3, 3>().noalias() = Hat(k.lever) * edge.R_ZP;
   if (k.d != 0.0) J.bottomRightCorner<3, 3>().noalias() = k.d * q.O_Z * edge.R_ZP;
   if (k.c != 0.0) J.bottomRightCorner<3, 3>() += k.c * edge.R_ZP;
   return J;
+}
+/// The same from the moves flags.
+[[nodiscard]] inline Matrix6 EdgeOnPoseInZ(const PoseInZ& q, const EdgeInZ& edge,
+                                           const PoseMoves& m) noexcept {
+  return EdgeOnPoseInZ(q, edge, EdgeOnPoseFactors(q, edge, m));
 }
 
 /// d(answer) / d(edge) for a pose answer: rows (dp, dth) of the answer in [r], columns the

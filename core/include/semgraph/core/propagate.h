@@ -116,7 +116,7 @@ struct DirectSink {
                    const coord::jacobians::EdgeInZ& edge, const coord::jacobians::PoseMoves& m,
                    const coord::Covariance6& S_i) noexcept {
     const coord::jacobians::PoseEdgeFactors k = coord::jacobians::EdgeOnPoseFactors(q, edge, m);
-    if (k.d != 0.0) return Add(ref, coord::jacobians::EdgeOnPoseInZ(q, edge, m), S_i);
+    if (k.d != 0.0) return Add(ref, coord::jacobians::EdgeOnPoseInZ(q, edge, k), S_i);
     pose_pairs.Add(RotationPairs(edge.R_ZP), k.lever, k.s, k.c, S_i);
   }
   void Finish(coord::Covariance6& S_out) const noexcept {
