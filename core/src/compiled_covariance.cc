@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "semgraph/core/covariance_lanes.h"
 #include "semgraph/core/timed_covariance.h"
 
 namespace semgraph::core {
@@ -46,30 +47,68 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
   const std::vector<FrameIndex> heads = internal::ChainUnionTopDown(t, k, z);
   edges_.reserve(heads.size());
   for (const FrameIndex g : heads) {
-    Edge e{
-        g.value(), values.X_PF[g.value()].epoch(), internal::EntryOf(heads, t.pose_parent(g)), {}};
+    Edge e{g.value(),
+           values.X_PF[g.value()].epoch(),
+           internal::EntryOf(heads, t.pose_parent(g)),
+           {},
+           0.0,
+           0.0,
+           0.0,
+           0.0,
+           0.0};
     e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]), forest.IsAncestor(g, k[1]),
                forest.IsAncestor(g, k[3]), forest.IsAncestor(g, k[4])};
+    // EdgeOnPoseFactors: lever = m_e (g - e) - m_f (g - f) + m_r (e - f) = s g + alpha e + beta f.
+    const auto flag = [](bool b) { return b ? 1.0 : 0.0; };
+    e.s = flag(e.moves.e) - flag(e.moves.f);
+    e.c = flag(e.moves.a) - flag(e.moves.r);
+    e.d = flag(e.moves.r) - flag(e.moves.b);
+    e.alpha = flag(e.moves.r) - flag(e.moves.e);
+    e.beta = flag(e.moves.f) - flag(e.moves.r);
+    with_o_ = with_o_ || e.d != 0.0;
     edges_.push_back(e);
     plans_.Add(t, g);
   }
   for (int i = 0; i < 5; ++i) frame_entry_[i] = internal::EntryOf(heads, k[i]);
   scratch_.resize(edges_.size());
+  lanes_.assign(internal::LaneDoubles(static_cast<int>(edges_.size())), 0.0);
 }
 
 template <coord::Backend B>
 ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
                                                   CovarianceOrder order) noexcept {
-  // Each edge's value and covariance, and its head's pose in Z (top-down).
+  // Each edge's value, and its head's pose in Z (top-down); an uncertain edge's covariance
+  // straight into the next lane, with the edge's rotation R_ZP and Jacobian factors.
+  using Row = internal::LaneRow;
   const std::size_t n = edges_.size();
+  double* const x = lanes_.data();
+  int count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Edge& e = edges_[i];
     const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
-    if (!internal::LoadPoseEdgeInZ<B>(*values_, e.frame, e.epoch, up, scratch_[i])) {
-      return ErrorCode::kQueryInvalidated;
+    const PoseValue<B>& value = values_->X_PF[e.frame];
+    if (value.epoch() != e.epoch) return ErrorCode::kQueryInvalidated;
+    PoseCoords X_PG;
+    const bool uncertain = values_->LoadPoseIntoLanes(  // value and covariance of one write
+        e.frame, X_PG, x + internal::LaneIndex(Row::kS11, count));
+    if (value.epoch() != e.epoch) return ErrorCode::kQueryInvalidated;  // removed meanwhile
+    InZ& out = scratch_[i];
+    internal::ComposePoseEdgeInZ<B>(X_PG, up, out);
+    if (!uncertain) continue;
+    const auto row = [&](int r) -> double& { return x[internal::LaneIndex(r, count)]; };
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b)
+        row(Row::kR + 3 * a + b) = up ? up->R_ZG(a, b) : (a == b ? 1.0 : 0.0);
+      row(Row::kLeverBase + a) = e.s * out.p_ZG[a];
     }
+    row(Row::kAlpha) = e.alpha;
+    row(Row::kBeta) = e.beta;
+    row(Row::kS) = e.s;
+    row(Row::kC) = e.c;
+    row(Row::kD) = e.d;
+    ++count;
   }
-  Finish(X, S, order, internal::DirectSink{});
+  FinishLanes(X, S, order, count);
   return ErrorCode::kOk;
 }
 
@@ -116,12 +155,8 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
   return ErrorCode::kOk;
 }
 
-// The frames in Z, the answer, then each uncertain edge's J S J^T.
 template <coord::Backend B>
-template <class Sink>
-void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order,
-                                           Sink&& sink) const noexcept {
-  const std::size_t n = edges_.size();
+void CompiledPoseWithCovariance<B>::AnswerInZ(PoseCoords& X, jac::PoseInZ& q) const noexcept {
   Eigen::Matrix3d R_Z[5];
   Eigen::Vector3d p_Z[5];
   for (int i = 0; i < 5; ++i) {
@@ -133,13 +168,22 @@ void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S, Covari
       p_Z[i] = scratch_[static_cast<std::size_t>(frame_entry_[i])].p_ZG;
     }
   }
-  jac::PoseInZ q;
   q.R_RZ = R_Z[4].transpose();
   q.p_ZoEo_Z = p_Z[0];
   q.p_ZoFo_Z = p_Z[2];
   q.O_Z.noalias() = R_Z[1] * R_Z[3].transpose();
   const Eigen::Matrix3d M = q.R_RZ * q.O_Z * R_Z[4];
   X = B::MakePose(B::FromMatrix(M), q.R_RZ * (p_Z[0] - p_Z[2]));
+}
+
+// The frames in Z, the answer, then each uncertain edge's J S J^T.
+template <coord::Backend B>
+template <class Sink>
+void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order,
+                                           Sink&& sink) const noexcept {
+  const std::size_t n = edges_.size();
+  jac::PoseInZ q;
+  AnswerInZ(X, q);
   // Rows in Z: rotated into [r] once, at the end.
   for (std::size_t i = 0; i < n; ++i) {
     const InZ& g = scratch_[i];
@@ -153,6 +197,21 @@ void CompiledPoseWithCovariance<B>::Finish(PoseCoords& X, Covariance6& S, Covari
   Covariance6 S_Z;
   sink.Finish(S_Z);
   S = jac::RotateRows(q.R_RZ, S_Z);
+  if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);
+}
+
+template <coord::Backend B>
+void CompiledPoseWithCovariance<B>::FinishLanes(PoseCoords& X, Covariance6& S,
+                                                CovarianceOrder order, int count) noexcept {
+  jac::PoseInZ q;
+  AnswerInZ(X, q);
+  internal::PadLanes(lanes_.data(), count);
+  internal::PoseCovarianceSums sums;
+  internal::SumPoseEdgeLanes(lanes_.data(), count, q.p_ZoEo_Z, q.p_ZoFo_Z, with_o_, sums);
+  Covariance6 S_Z = Covariance6::Zero();
+  sums.AddTo(S_Z, q.O_Z);
+  // Rows in Z, rotated into [r] once (not at all when [r] is Z).
+  S = frame_entry_[4] < 0 ? S_Z : jac::RotateRows(q.R_RZ, S_Z);
   if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);
 }
 

@@ -301,11 +301,20 @@ struct PoseEdgeFactors {
 
 /// S_Z (rows and columns in Z) as rows and columns in [r]: diag(R_RZ, R_RZ) S_Z diag^T.
 [[nodiscard]] inline Covariance6 RotateRows(const Matrix3d& R_RZ, const Covariance6& S_Z) noexcept {
-  Matrix6 D = Matrix6::Zero();
-  D.topLeftCorner<3, 3>() = R_RZ;
-  D.bottomRightCorner<3, 3>() = R_RZ;
-  Covariance6 S = Covariance6::Zero();
-  AddPropagated(D, S_Z, S);
+  // Block by block (three 3x3 congruences; the lower-left block is the upper-right's transpose):
+  // the same numbers as AddPropagated with diag(R_RZ, R_RZ), without its products by zero blocks.
+  Matrix3d U, TL, TR, BR;
+  U.noalias() = R_RZ * S_Z.topLeftCorner<3, 3>();
+  TL.noalias() = U * R_RZ.transpose();
+  U.noalias() = R_RZ * S_Z.topRightCorner<3, 3>();
+  TR.noalias() = U * R_RZ.transpose();
+  U.noalias() = R_RZ * S_Z.bottomRightCorner<3, 3>();
+  BR.noalias() = U * R_RZ.transpose();
+  Covariance6 S;
+  S.topLeftCorner<3, 3>() = TL;
+  S.topRightCorner<3, 3>() = TR;
+  S.bottomLeftCorner<3, 3>() = TR.transpose();
+  S.bottomRightCorner<3, 3>() = BR;
   return S;
 }
 

@@ -66,12 +66,12 @@ struct PoseEdgeInZ {
   Covariance6 S;
   bool exact;
 };
-/// Sets out's pose in Z from the edge's value X_PG and `up` (the edge above, nullptr: below Z);
-/// out.exact from out.S. noexcept, allocation-free.
+/// Sets out's pose in Z from the edge's value X_PG and `up` (the edge above, nullptr: below Z).
+/// noexcept, allocation-free.
 template <coord::Backend B>
-void ComposePoseEdgeInZ(const typename B::PoseCoords& X_PG, const PoseEdgeInZ* up,
-                        PoseEdgeInZ& out) noexcept {
-  out.exact = out.S.isZero(0.0);
+[[gnu::always_inline]] inline void ComposePoseEdgeInZ(const typename B::PoseCoords& X_PG,
+                                                      const PoseEdgeInZ* up,
+                                                      PoseEdgeInZ& out) noexcept {
   const Eigen::Matrix3d R_PG = B::ToMatrix(B::RotationOf(X_PG));
   const Eigen::Vector3d p_PG = B::TranslationOf(X_PG);
   if (up == nullptr) {
@@ -95,6 +95,7 @@ bool LoadPoseEdgeInZ(const EdgeValues<B>& values, std::uint32_t frame, std::uint
   if (value.epoch() != epoch) return false;
   values.LoadPose(frame, X_PG, out.S);       // value and covariance of one write
   if (value.epoch() != epoch) return false;  // removed meanwhile
+  out.exact = out.S.isZero(0.0);
   ComposePoseEdgeInZ<B>(X_PG, up, out);
   return true;
 }
@@ -110,6 +111,7 @@ bool LoadPoseEdgeInZAt(const EdgeValues<B>& values, std::uint32_t frame, std::ui
   if (value.epoch() != epoch) return false;
   ReadPoseAt<B, true>(values, frame, tc, X_PG, &out.S);
   if (value.epoch() != epoch) return false;
+  out.exact = out.S.isZero(0.0);
   ComposePoseEdgeInZ<B>(X_PG, up, out);
   return true;
 }
@@ -187,12 +189,19 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
     std::uint32_t epoch;
     std::int32_t parent;  ///< the entry of the edge above (its tail's edge), -1: Z
     coord::jacobians::PoseMoves moves;
+    /// The edge's Jacobian factors (EdgeOnPoseFactors) as covariance_lanes.h takes them:
+    /// s, c, d, and the lever arm s g + alpha e + beta f.
+    double s, c, d, alpha, beta;
   };
   using InZ = internal::PoseEdgeInZ;  // scratch of one evaluation, per edge
+  // The answer from the frames' poses in Z (scratch_), and the Jacobians' common parts.
+  void AnswerInZ(PoseCoords& X, coord::jacobians::PoseInZ& q) const noexcept;
   // The answer and its covariance from the edges in scratch_ (loaded by either Evaluate), each
   // uncertain edge's Jacobian into `sink` (propagate.h DirectSink, or a KeyedSink).
   template <class Sink>
   void Finish(PoseCoords& X, Covariance6& S, CovarianceOrder order, Sink&& sink) const noexcept;
+  // The same from the `count` edges Evaluate put in lanes_.
+  void FinishLanes(PoseCoords& X, Covariance6& S, CovarianceOrder order, int count) noexcept;
   // Every edge at the context's time into scratch_; false when one was removed.
   bool LoadAt(internal::TimeContext& tc) noexcept;
   semantics::PoseSemantics semantics_;
@@ -202,6 +211,10 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
   internal::IntegrationTwistPlans plans_;  ///< each edge's integration twist (extrapolation)
   std::int32_t frame_entry_[5] = {-1, -1, -1, -1, -1};  ///< the entry of each frame's edge
   std::vector<InZ> scratch_;
+  /// The uncertain edges' inputs to the covariance kernel (covariance_lanes.h LaneIndex), one
+  /// lane per uncertain edge in evaluation order.
+  std::vector<double> lanes_;
+  bool with_o_ = false;  ///< some edge has d != 0
 };
 
 /// CompiledPositionWithCovariance<B> and CompiledOrientationWithCovariance<B>: the pose query

@@ -28,10 +28,15 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "semgraph/coord/backend.h"
 #include "semgraph/coord/covariance.h"
+#include "semgraph/coord/quaternion_backend.h"
+#include "semgraph/core/covariance_lanes.h"
 #include "semgraph/core/edge_history.h"
 #include "semgraph/core/export.h"
 #include "semgraph/core/seqlock_value.h"
@@ -145,6 +150,11 @@ struct TwistHandle {
   EdgeKind kind = EdgeKind::kNone;
   friend bool operator==(const TwistHandle&, const TwistHandle&) = default;
 };
+
+template <std::size_t kLast, std::size_t... K>
+constexpr auto ValueThen(std::index_sequence<K...>) noexcept {
+  return std::index_sequence<K..., kLast>{};
+}
 
 template <coord::Backend B>
 struct EdgeValues {
@@ -286,6 +296,38 @@ struct EdgeValues {
     } else {
       S.setZero();
     }
+  }
+  /// Reader: LoadPose with the covariance's upper triangle put straight where the SIMD kernel
+  /// reads it (covariance_lanes.h): word kCovarianceLaneWords[k] into S_lanes[4 k], the rows
+  /// kS11 .. kS12 of one lane, from the same consistent read as the value. True when the edge
+  /// carries a covariance (S_lanes written); false: X from X_PF, S_lanes unspecified. O(1).
+  bool LoadPoseIntoLanes(std::uint32_t frame, typename B::PoseCoords& X,
+                         double* S_lanes) const noexcept {
+    if (frame < pose_covariance_size.load(std::memory_order_acquire)) {
+      using Record = ValueAndCovariance<typename B::PoseCoords>;
+      constexpr std::size_t kValueWords = (PosePayloadBytes<B>() + 7) / 8;
+      constexpr std::size_t kAlign = alignof(coord::Covariance6);
+      constexpr std::size_t kS =
+          (sizeof(typename B::PoseCoords) + kAlign - 1) / kAlign * kAlign / 8;
+      constexpr std::size_t kActive = kS + 36;
+      static_assert(sizeof(Record) >= (kActive + 1) * 8 &&
+                    sizeof(Record) <= (kActive + 1) * 8 + 56);
+      static_assert(internal::LaneIndex(1, 0) - internal::LaneIndex(0, 0) == 4);
+      double w[kValueWords + 1];  // the value's words, then `active`
+      S_PF[frame].template LoadSelectedWords<4>(
+          w, ValueThen<kActive>(std::make_index_sequence<kValueWords>{}), S_lanes,
+          internal::CovarianceLaneWords<kS>(std::make_index_sequence<21>{}));
+      if (w[kValueWords] != 0.0) {
+        if constexpr (std::is_same_v<B, coord::QuaternionBackend>) {  // scalars: no wide reload
+          X = {Eigen::Quaterniond(w[3], w[0], w[1], w[2]), Eigen::Vector3d(w[4], w[5], w[6])};
+        } else {
+          std::memcpy(static_cast<void*>(&X), static_cast<const void*>(w), PosePayloadBytes<B>());
+        }
+        return true;
+      }
+    }
+    X = X_PF[frame].Load();
+    return false;
   }
   void LoadTwist(std::uint32_t slot, TwistNumbers& V, coord::Covariance6& S) const noexcept {
     V = V_DH[slot].Load();

@@ -28,7 +28,7 @@
 #include <cstdint>
 
 #include "semgraph/coord/jacobians.h"
-#include "semgraph/core/covariance_pairs.h"
+#include "semgraph/core/covariance_lanes.h"
 #include "semgraph/core/edge_values.h"
 #include "semgraph/core/evaluate.h"
 #include "semgraph/core/query_plan.h"
@@ -102,26 +102,25 @@ struct PerturbedEdge {
 /// working axes) with the covariance S of the value read: Add(ref, J, S), or, for a pose edge
 /// on a pose answer with rows in Z, AddPoseEdge(ref, q, edge, m, S) (J = EdgeOnPoseInZ(q, edge,
 /// m)); then Finish(S_out). This one makes every edge read one independent perturbation:
-/// S_out = sum J S J^T, formed at once; pose edges in lane pairs where O does not enter
-/// (covariance_pairs.h). (SharedPerturbations, timed_covariance.h, sums the Jacobians of one
+/// S_out = sum J S J^T, formed at once; pose edges with the edges in SIMD lanes
+/// (covariance_lanes.h). (SharedPerturbations, timed_covariance.h, sums the Jacobians of one
 /// perturbation first.)
 struct DirectSink {
   coord::Covariance6 S = coord::Covariance6::Zero();
-  PoseCovariancePairs pose_pairs;
+  PoseCovarianceLanes pose_lanes;
   void Add(PerturbedEdge, const coord::jacobians::Matrix6& J,
            const coord::Covariance6& S_i) noexcept {
     coord::jacobians::AddPropagated(J, S_i, S);
   }
-  void AddPoseEdge(PerturbedEdge ref, const coord::jacobians::PoseInZ& q,
+  void AddPoseEdge(PerturbedEdge, const coord::jacobians::PoseInZ& q,
                    const coord::jacobians::EdgeInZ& edge, const coord::jacobians::PoseMoves& m,
                    const coord::Covariance6& S_i) noexcept {
     const coord::jacobians::PoseEdgeFactors k = coord::jacobians::EdgeOnPoseFactors(q, edge, m);
-    if (k.d != 0.0) return Add(ref, coord::jacobians::EdgeOnPoseInZ(q, edge, k), S_i);
-    pose_pairs.Add(RotationPairs(edge.R_ZP), k.lever, k.s, k.c, S_i);
+    pose_lanes.Add(edge.R_ZP, k.lever, k.s, k.c, k.d, q.O_Z, S_i);
   }
-  void Finish(coord::Covariance6& S_out) const noexcept {
+  void Finish(coord::Covariance6& S_out) noexcept {
     S_out = S;
-    pose_pairs.AddTo(S_out);
+    pose_lanes.AddTo(S_out);
   }
 };
 

@@ -131,12 +131,21 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
   /// The raw words of a consistent value whatever the epoch (the one-shot query path, which
   /// holds no epoch: it reads the graph as it is).
   void LoadWords(Word (&words)[kWords]) const noexcept {
-    for (;;) {
-      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
-      if (h1 & 1u) continue;  // a write is in progress; it is a handful of stores
-      LoadWords(words, std::make_index_sequence<kWords>{});
-      if (header_.load(std::memory_order_relaxed) == h1) return;
-    }
+    ReadAnyEpoch([&] { LoadWords(words, std::make_index_sequence<kWords>{}); });
+  }
+
+  /// Selected words of a consistent value whatever the epoch: word I_k into head[k] and word
+  /// J_k into dest[k * kStride], straight from the value to where the caller computes on them (a
+  /// compiled query's SIMD lanes, covariance_lanes.h: no copy of the whole value; a constant
+  /// stride makes every store one instruction).
+  template <std::size_t kStride, std::size_t... I, std::size_t... J>
+  void LoadSelectedWords(Word (&head)[sizeof...(I)], std::index_sequence<I...> head_words,
+                         Word* dest, std::index_sequence<J...> dest_words) const noexcept {
+    static_assert(((I < kWords) && ...) && ((J < kWords) && ...));
+    ReadAnyEpoch([&] {
+      LoadStrided<1>(head, std::make_index_sequence<sizeof...(I)>{}, head_words);
+      LoadStrided<kStride>(dest, std::make_index_sequence<sizeof...(J)>{}, dest_words);
+    });
   }
 
   /// Reads a consistent value whatever the epoch.
@@ -188,6 +197,22 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     });
   }
 
+  // The one read whatever the epoch: read() between the header load and its re-check.
+  template <class Read>
+  [[gnu::always_inline]] void ReadAnyEpoch(Read read) const noexcept {
+    for (;;) {
+      const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+      if (h1 & 1u) continue;  // a write is in progress; it is a handful of stores
+      read();
+      if (header_.load(std::memory_order_relaxed) == h1) return;
+    }
+  }
+  template <std::size_t kStride, std::size_t... K, std::size_t... W>
+  void LoadStrided(Word* out, std::index_sequence<K...>, std::index_sequence<W...>) const noexcept {
+    CompilerBarrier();  // as LoadWords
+    (LoadWord(out[K * kStride], words_[W]), ...);
+    CompilerBarrier();
+  }
   template <std::size_t... I>
   void LoadWords(Word* words, std::index_sequence<I...>) const noexcept {
     CompilerBarrier();  // the word loads stay between the header load and its re-check
