@@ -157,23 +157,32 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
 
 template <coord::Backend B>
 void CompiledPoseWithCovariance<B>::AnswerInZ(PoseCoords& X, jac::PoseInZ& q) const noexcept {
-  Eigen::Matrix3d R_Z[5];
-  Eigen::Vector3d p_Z[5];
+  static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
+  static const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d* R_Z[5];  // in scratch_, not copied
+  const Eigen::Vector3d* p_Z[5];
   for (int i = 0; i < 5; ++i) {
-    if (frame_entry_[i] < 0) {
-      R_Z[i].setIdentity();
-      p_Z[i].setZero();
-    } else {
-      R_Z[i] = scratch_[static_cast<std::size_t>(frame_entry_[i])].R_ZG;
-      p_Z[i] = scratch_[static_cast<std::size_t>(frame_entry_[i])].p_ZG;
-    }
+    const bool z = frame_entry_[i] < 0;
+    const InZ* g = z ? nullptr : &scratch_[static_cast<std::size_t>(frame_entry_[i])];
+    R_Z[i] = z ? &kIdentity : &g->R_ZG;
+    p_Z[i] = z ? &kZero : &g->p_ZG;
   }
-  q.R_RZ = R_Z[4].transpose();
-  q.p_ZoEo_Z = p_Z[0];
-  q.p_ZoFo_Z = p_Z[2];
-  q.O_Z.noalias() = R_Z[1] * R_Z[3].transpose();
-  const Eigen::Matrix3d M = q.R_RZ * q.O_Z * R_Z[4];
-  X = B::MakePose(B::FromMatrix(M), q.R_RZ * (p_Z[0] - p_Z[2]));
+  // Products by a frame that is Z (the identity) skipped: known at compile time, often the case
+  // ("of e relative to f", [b] = [r] = [f] = Z).
+  q.R_RZ = R_Z[4]->transpose();
+  q.p_ZoEo_Z = *p_Z[0];
+  q.p_ZoFo_Z = *p_Z[2];
+  if (frame_entry_[3] < 0) {
+    q.O_Z = *R_Z[1];
+  } else {
+    q.O_Z.noalias() = *R_Z[1] * R_Z[3]->transpose();
+  }
+  if (frame_entry_[4] < 0) {
+    X = B::MakePose(B::FromMatrix(q.O_Z), q.p_ZoEo_Z - q.p_ZoFo_Z);
+  } else {
+    const Eigen::Matrix3d M = q.R_RZ * q.O_Z * *R_Z[4];
+    X = B::MakePose(B::FromMatrix(M), q.R_RZ * (q.p_ZoEo_Z - q.p_ZoFo_Z));
+  }
 }
 
 // The frames in Z, the answer, then each uncertain edge's J S J^T.
@@ -208,10 +217,15 @@ void CompiledPoseWithCovariance<B>::FinishLanes(PoseCoords& X, Covariance6& S,
   internal::PadLanes(lanes_.data(), count);
   internal::PoseCovarianceSums sums;
   internal::SumPoseEdgeLanes(lanes_.data(), count, q.p_ZoEo_Z, q.p_ZoFo_Z, with_o_, sums);
-  Covariance6 S_Z = Covariance6::Zero();
-  sums.AddTo(S_Z, q.O_Z);
   // Rows in Z, rotated into [r] once (not at all when [r] is Z).
-  S = frame_entry_[4] < 0 ? S_Z : jac::RotateRows(q.R_RZ, S_Z);
+  if (frame_entry_[4] < 0) {
+    S.setZero();
+    sums.AddTo(S, q.O_Z);
+  } else {
+    Covariance6 S_Z = Covariance6::Zero();
+    sums.AddTo(S_Z, q.O_Z);
+    S = jac::RotateRows(q.R_RZ, S_Z);
+  }
   if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);
 }
 

@@ -81,6 +81,12 @@ template <class V, bool kWithO>
 [[gnu::always_inline]] inline void SumLanes(const double* in, int n, const Eigen::Vector3d& e_Z,
                                             const Eigen::Vector3d& f_Z, Sums& sums) noexcept {
   constexpr int W = static_cast<int>(sizeof(V) / sizeof(double));
+  if (kWithO && !sums.with_o) {  // the sums with O start now
+    for (int k = Sums::kTRd; k < Sums::kEntries; ++k) {
+      for (double& x : sums.lane[k]) x = 0.0;
+    }
+    sums.with_o = true;
+  }
   V e[3], f[3];
   for (int i = 0; i < 3; ++i) {
     for (int w = 0; w < W; ++w) {
@@ -151,7 +157,6 @@ template <class V, bool kWithO>
       }
     }
   }
-  if (kWithO) sums.with_o = true;
 }
 
 template <class V>

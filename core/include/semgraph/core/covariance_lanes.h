@@ -69,8 +69,12 @@ struct PoseCovarianceSums {
     kBRdd = 36,  ///< sum d^2 T3 (6)
     kEntries = 42
   };
-  alignas(64) double lane[kEntries][4] = {};
-  bool with_o = false;  ///< some lane had d != 0 (the kTRd.. sums are in use)
+  alignas(64) double lane[kEntries][4];  ///< the kTRd.. entries zeroed when first used
+  bool with_o = false;                   ///< some lane had d != 0 (the kTRd.. sums are in use)
+
+  PoseCovarianceSums() noexcept {
+    for (int k = 0; k < kTRd; ++k) lane[k][0] = lane[k][1] = lane[k][2] = lane[k][3] = 0.0;
+  }
 
   /// S_Z += the sums, with O = the answer's O_Z (read only when with_o).
   void AddTo(coord::Covariance6& S_Z, const Eigen::Matrix3d& O) const noexcept;

@@ -197,21 +197,33 @@ class alignas(8 + ((Bytes + 7) / 8) * 8 <= 64 ? 64 : 8) SeqLockValue {
     });
   }
 
-  // The one read whatever the epoch: read() between the header load and its re-check.
+  // The one read whatever the epoch: read() between the header load and its re-check. The
+  // first try is not in a loop: in one, GCC hoisted the words' addresses out of it and kept them
+  // on the stack (a load of each address per word); retries are out of line.
   template <class Read>
   [[gnu::always_inline]] void ReadAnyEpoch(Read read) const noexcept {
+    const std::uint64_t h1 = header_.load(std::memory_order_acquire);
+    if ((h1 & 1u) == 0) {  // else a write is in progress; it is a handful of stores
+      read();
+      if (header_.load(std::memory_order_relaxed) == h1) return;
+    }
+    RetryAnyEpoch(read);
+  }
+  template <class Read>
+  [[gnu::noinline, gnu::cold]] void RetryAnyEpoch(Read read) const noexcept {
     for (;;) {
       const std::uint64_t h1 = header_.load(std::memory_order_acquire);
-      if (h1 & 1u) continue;  // a write is in progress; it is a handful of stores
+      if (h1 & 1u) continue;
       read();
       if (header_.load(std::memory_order_relaxed) == h1) return;
     }
   }
+  // Word to memory, so acquire loads (plain moves on x86-64) rather than LoadWord's SSE loads:
+  // each word goes through a general register at a constant offset (the asm's memory operands
+  // made GCC keep 60 addresses per record on the stack). Acquire keeps the re-check after them.
   template <std::size_t kStride, std::size_t... K, std::size_t... W>
   void LoadStrided(Word* out, std::index_sequence<K...>, std::index_sequence<W...>) const noexcept {
-    CompilerBarrier();  // as LoadWords
-    (LoadWord(out[K * kStride], words_[W]), ...);
-    CompilerBarrier();
+    ((out[K * kStride] = words_[W].load(std::memory_order_acquire)), ...);
   }
   template <std::size_t... I>
   void LoadWords(Word* words, std::index_sequence<I...>) const noexcept {
