@@ -94,6 +94,57 @@ void ExpectPartsSameAsOneShot(Graph& g, const PoseSpec& spec) {
   EXPECT_LE((R->covariance - R_one_shot->covariance).norm(), 1e-9 * R_one_shot->covariance.norm());
 }
 
+// The compiled query puts each uncertain edge in the next SIMD lane (covariance_lanes.h) and
+// skips exact ones: a chain of 13 edges, every third exact (no covariance given), so the lanes
+// span three blocks with a partial last one; queries up, down and across the chain, expressed in
+// a third frame (d != 0: the orientation operator enters), on both backends; then one uncertain
+// edge updated to a new covariance and one given none (its lane holds zeros).
+TEST(CompiledCovariance, ExactAndUncertainEdgesAcrossLaneBlocksOnBothBackends) {
+  const auto build = [](auto& g) {
+    std::mt19937 rng(13);
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (int k = 1; k <= 13; ++k) {
+      const Covariance6 S = RandomCovariance(rng);
+      const CovarianceInput input = k % 3 == 0 ? CovarianceInput{} : CovarianceInput{&S};
+      ASSERT_TRUE(
+          g.AddPose(PoseSpec::Of("c" + std::to_string(k), "K" + std::to_string(k))
+                        .RelativeTo("c" + std::to_string(k - 1), "K" + std::to_string(k - 1)),
+                    ExpR(Eigen::Vector3d(n(rng), n(rng), n(rng))),
+                    Eigen::Vector3d(n(rng), n(rng), n(rng)), input));
+    }
+  };
+  SceneGraph<coord::QuaternionBackend> g;
+  SceneGraph<coord::HomogeneousBackend> h;
+  build(g);
+  build(h);
+  const PoseSpec tip = PoseSpec::Of("c13", "K13").RelativeTo("c0", "K0");
+  ExpectSameAsOneShot(g, tip);
+  ExpectSameAsOneShot(h, tip);
+  ExpectSameAsOneShot(g, PoseSpec::Of("c13", "K13").RelativeTo("c2", "K2").ExpressedIn("c7"));
+  ExpectSameAsOneShot(g, PoseSpec::Of("c4", "K4").RelativeTo("c11", "K11").ExpressedIn("c9"));
+  ExpectSameAsOneShot(h, PoseSpec::Of("c4", "K4").RelativeTo("c11", "K11"));
+  ExpectSameAsOneShot(g, PoseSpec::Of("c12", "K12").RelativeTo("c1", "K1").ExpressedIn("c6"));
+  // Updates: c5 gets another covariance, c8 none.
+  auto compiled = g.CompilePoseWithCovariance(tip);
+  ASSERT_TRUE(compiled);
+  const Covariance6 S_new = 9e-4 * Covariance6::Identity();
+  const auto c5 = g.FindPoseEdge("c5", "c4"), c8 = g.FindPoseEdge("c8", "c7");
+  ASSERT_TRUE(c5 && c8);
+  const Eigen::Quaterniond q(ExpR(Eigen::Vector3d(0.3, -0.2, 0.1)));
+  ASSERT_EQ(g.SetPose(*c5, q, Eigen::Vector3d(1, 2, 3), CovarianceInput{&S_new}), ErrorCode::kOk);
+  ASSERT_EQ(g.SetPose(*c8, q, Eigen::Vector3d(-1, 0, 2)), ErrorCode::kOk);
+  coord::QuaternionBackend::PoseCoords X;
+  Covariance6 S;
+  ASSERT_EQ(compiled->Evaluate(X, S), ErrorCode::kOk);
+  const auto one_shot = g.GetPoseWithCovariance(tip);
+  ASSERT_TRUE(one_shot);
+  EXPECT_LE((S - one_shot->covariance).norm(), 1e-9 * one_shot->covariance.norm());
+  EXPECT_LE((coord::Pose<coord::QuaternionBackend>{compiled->semantics(), X}.ToIsometry().matrix() -
+             one_shot->value.ToIsometry().matrix())
+                .norm(),
+            1e-9);
+}
+
 TEST(CompiledCovariance, PositionAndOrientationAreTheOneShotAnswersOnBothBackends) {
   std::mt19937 rng(13);
   SceneGraph<coord::QuaternionBackend> g;
