@@ -216,14 +216,15 @@ void CompiledPoseWithCovariance<B>::FinishLanes(PoseCoords& X, Covariance6& S,
   AnswerInZ(X, q);
   internal::PadLanes(lanes_.data(), count);
   internal::PoseCovarianceSums sums;
-  internal::SumPoseEdgeLanes(lanes_.data(), count, q.p_ZoEo_Z, q.p_ZoFo_Z, with_o_, sums);
+  internal::SumPoseEdgeLanes(lanes_.data(), count, q.p_ZoEo_Z, q.p_ZoFo_Z,
+                             with_o_ ? &q.O_Z : nullptr, sums);
   // Rows in Z, rotated into [r] once (not at all when [r] is Z).
   if (frame_entry_[4] < 0) {
     S.setZero();
-    sums.AddTo(S, q.O_Z);
+    sums.AddTo(S);
   } else {
     Covariance6 S_Z = Covariance6::Zero();
-    sums.AddTo(S_Z, q.O_Z);
+    sums.AddTo(S_Z);
     S = jac::RotateRows(q.R_RZ, S_Z);
   }
   if (order != CovarianceOrder::kLinearAngular) S = coord::SwapHalves(S);

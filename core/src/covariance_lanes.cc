@@ -33,16 +33,23 @@ template <class V>
   if (i == 2) out = l[0] * t1 - l[1] * t0;
 }
 
-// RX = R X with X symmetric (upper triangle), then T = RX R^T's upper triangle.
+// RX = R X with X symmetric (upper triangle).
 template <class V>
-[[gnu::always_inline]] inline void SymmetricCongruence(const V (&R)[3][3], const V (&X)[6],
-                                                       V (&T)[6]) noexcept {
-  V RX[3][3];
+[[gnu::always_inline]] inline void SymmetricTimes(const V (&R)[3][3], const V (&X)[6],
+                                                  V (&RX)[3][3]) noexcept {
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
       RX[i][j] = R[i][0] * X[kSym[0][j]] + R[i][1] * X[kSym[1][j]] + R[i][2] * X[kSym[2][j]];
     }
   }
+}
+
+// T = R X R^T's upper triangle, X symmetric (upper triangle).
+template <class V>
+[[gnu::always_inline]] inline void SymmetricCongruence(const V (&R)[3][3], const V (&X)[6],
+                                                       V (&T)[6]) noexcept {
+  V RX[3][3];
+  SymmetricTimes(R, X, RX);
   for (int u = 0; u < 6; ++u) {
     const int i = kUpperRow[u], j = kUpperCol[u];
     T[u] = RX[i][0] * R[j][0] + RX[i][1] * R[j][1] + RX[i][2] * R[j][2];
@@ -76,26 +83,23 @@ template <class V>
   std::memcpy(at, &acc, sizeof acc);
 }
 
-// The kernel, W = sizeof(V) / 8 edges at a time (the formula of covariance_lanes.h).
+// The kernel, W = sizeof(V) / 8 edges at a time (the formula of covariance_lanes.h). kWithO:
+// K = c I + d O per lane (else K = c I, and every lane's d must be 0).
 template <class V, bool kWithO>
 [[gnu::always_inline]] inline void SumLanes(const double* in, int n, const Eigen::Vector3d& e_Z,
-                                            const Eigen::Vector3d& f_Z, Sums& sums) noexcept {
+                                            const Eigen::Vector3d& f_Z, const Eigen::Matrix3d& O_Z,
+                                            Sums& sums) noexcept {
   constexpr int W = static_cast<int>(sizeof(V) / sizeof(double));
-  if (kWithO && !sums.with_o) {  // the sums with O start now
-    for (int k = Sums::kTRd; k < Sums::kEntries; ++k) {
-      for (double& x : sums.lane[k]) x = 0.0;
-    }
-    sums.with_o = true;
-  }
-  V e[3], f[3];
+  V e[3], f[3], O[3][3];
   for (int i = 0; i < 3; ++i) {
     for (int w = 0; w < W; ++w) {
       e[i][w] = e_Z[i];
       f[i][w] = f_Z[i];
+      for (int j = 0; j < 3; ++j) O[i][j][w] = kWithO ? O_Z(i, j) : 0.0;
     }
   }
   for (int j0 = 0; j0 < n; j0 += W) {
-    V R[3][3], l[3], S11[6], S22[6], S12[3][3], alpha, beta, s, c, d;
+    V R[3][3], l[3], S11[6], S22[6], S12[3][3], alpha, beta, s, c;
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         Load(in, LaneRow::kR + 3 * i + j, j0, R[i][j]);
@@ -123,37 +127,47 @@ template <class V, bool kWithO>
         CrossRow(l, T3[kSym[0][j]], T3[kSym[1][j]], T3[kSym[2][j]], i, N[i][j]);
       }
     }
-    const V s2 = s * s, c2 = c * c;
+    const V s2 = s * s;
     for (int u = 0; u < 6; ++u) {
       const int i = kUpperRow[u], j = kUpperCol[u];
       V LNt;  // (L N^T)(i, j) = (l x N(j, :))_i
       CrossRow(l, N[j][0], N[j][1], N[j][2], i, LNt);
       const V tl = s2 * T1[u] + s * (Y[i][j] + Y[j][i]) + LNt;
-      const V br = c2 * T3[u];
       Accumulate(sums, Sums::kTL + u, j0, tl);
-      Accumulate(sums, Sums::kBR + u, j0, br);
     }
     V M[3][3];  // s T2 + N
     for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        M[i][j] = s * T2[i][j] + N[i][j];
-        const V tr = c * M[i][j];
-        Accumulate(sums, Sums::kTR + 3 * i + j, j0, tr);
-      }
+      for (int j = 0; j < 3; ++j) M[i][j] = s * T2[i][j] + N[i][j];
     }
-    if constexpr (kWithO) {
+    if constexpr (kWithO) {  // TR = M K^T, BR = K T3 K^T: K formed first, as the dense form does
+      V d, K[3][3], KT[3][3];
       Load(in, LaneRow::kD, j0, d);
-      const V cd = c * d, d2 = d * d;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) K[i][j] = i == j ? c + d * O[i][j] : d * O[i][j];
+      }
+      SymmetricTimes(K, T3, KT);
+      for (int u = 0; u < 6; ++u) {
+        const int i = kUpperRow[u], j = kUpperCol[u];
+        const V br = KT[i][0] * K[j][0] + KT[i][1] * K[j][1] + KT[i][2] * K[j][2];
+        Accumulate(sums, Sums::kBR + u, j0, br);
+      }
       for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-          const V trd = d * M[i][j];
-          Accumulate(sums, Sums::kTRd + 3 * i + j, j0, trd);
+          const V tr = M[i][0] * K[j][0] + M[i][1] * K[j][1] + M[i][2] * K[j][2];
+          Accumulate(sums, Sums::kTR + 3 * i + j, j0, tr);
         }
       }
+    } else {
+      const V c2 = c * c;
       for (int u = 0; u < 6; ++u) {
-        const V brcd = cd * T3[u], brdd = d2 * T3[u];
-        Accumulate(sums, Sums::kBRcd + u, j0, brcd);
-        Accumulate(sums, Sums::kBRdd + u, j0, brdd);
+        const V br = c2 * T3[u];
+        Accumulate(sums, Sums::kBR + u, j0, br);
+      }
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          const V tr = c * M[i][j];
+          Accumulate(sums, Sums::kTR + 3 * i + j, j0, tr);
+        }
       }
     }
   }
@@ -161,36 +175,33 @@ template <class V, bool kWithO>
 
 template <class V>
 [[gnu::always_inline]] inline void SumLanesOf(const double* in, int n, const Eigen::Vector3d& e,
-                                              const Eigen::Vector3d& f, bool with_o,
+                                              const Eigen::Vector3d& f, const Eigen::Matrix3d* O,
                                               Sums& sums) noexcept {
-  if (with_o) return SumLanes<V, true>(in, n, e, f, sums);
-  SumLanes<V, false>(in, n, e, f, sums);
+  if (O != nullptr) return SumLanes<V, true>(in, n, e, f, *O, sums);
+  SumLanes<V, false>(in, n, e, f, Eigen::Matrix3d::Zero(), sums);
 }
 
-#if defined(__x86_64__) && !(defined(__AVX2__) && defined(__FMA__))
+// SEMGRAPH_LANES_SSE2_ONLY (a build knob for measurements: bench/covariance_icount.sh): no
+// AVX2 kernel, what a CPU without it runs.
+#if defined(__x86_64__) && !(defined(__AVX2__) && defined(__FMA__)) && \
+    !defined(SEMGRAPH_LANES_SSE2_ONLY)
 #define SEMGRAPH_LANES_DISPATCH 1
 // The same kernel built for AVX2 + FMA (the build targets less; the CPU is checked first).
 __attribute__((target("avx2,fma"))) void SumLanesAvx2(const double* in, int n,
                                                       const Eigen::Vector3d& e,
-                                                      const Eigen::Vector3d& f, bool with_o,
+                                                      const Eigen::Vector3d& f,
+                                                      const Eigen::Matrix3d* O,
                                                       Sums& sums) noexcept {
-  SumLanesOf<Lanes4>(in, n, e, f, with_o, sums);
+  SumLanesOf<Lanes4>(in, n, e, f, O, sums);
 }
 #endif
-
-// The symmetric 3x3 with this upper triangle.
-Eigen::Matrix3d Symmetric(const double* lanes_total) noexcept {
-  Eigen::Matrix3d X;
-  for (int u = 0; u < 6; ++u) {
-    X(kUpperRow[u], kUpperCol[u]) = X(kUpperCol[u], kUpperRow[u]) = lanes_total[u];
-  }
-  return X;
-}
 
 }  // namespace
 
 bool PoseEdgeLanesUseAvx2() noexcept {
-#if defined(SEMGRAPH_LANES_DISPATCH)
+#if defined(SEMGRAPH_LANES_SSE2_ONLY)
+  return false;
+#elif defined(SEMGRAPH_LANES_DISPATCH)
   return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #elif defined(__AVX2__) && defined(__FMA__)
   return true;
@@ -200,28 +211,26 @@ bool PoseEdgeLanesUseAvx2() noexcept {
 }
 
 void SumPoseEdgeLanes(const double* in, int n, const Eigen::Vector3d& e, const Eigen::Vector3d& f,
-                      bool with_o, PoseCovarianceSums& sums) noexcept {
+                      const Eigen::Matrix3d* O, PoseCovarianceSums& sums) noexcept {
 #if defined(SEMGRAPH_LANES_DISPATCH)
-  if (PoseEdgeLanesUseAvx2()) return SumLanesAvx2(in, n, e, f, with_o, sums);
-  SumLanesOf<Lanes2>(in, n, e, f, with_o, sums);
-#elif defined(__AVX2__) && defined(__FMA__)
-  SumLanesOf<Lanes4>(in, n, e, f, with_o, sums);
+  if (PoseEdgeLanesUseAvx2()) return SumLanesAvx2(in, n, e, f, O, sums);
+  SumLanesOf<Lanes2>(in, n, e, f, O, sums);
+#elif defined(__AVX2__) && defined(__FMA__) && !defined(SEMGRAPH_LANES_SSE2_ONLY)
+  SumLanesOf<Lanes4>(in, n, e, f, O, sums);
 #else
-  SumLanesOf<Lanes2>(in, n, e, f, with_o, sums);
+  SumLanesOf<Lanes2>(in, n, e, f, O, sums);
 #endif
 }
 
 void SumPoseEdgeLanesSse2(const double* in, int n, const Eigen::Vector3d& e,
-                          const Eigen::Vector3d& f, bool with_o,
+                          const Eigen::Vector3d& f, const Eigen::Matrix3d* O,
                           PoseCovarianceSums& sums) noexcept {
-  SumLanesOf<Lanes2>(in, n, e, f, with_o, sums);
+  SumLanesOf<Lanes2>(in, n, e, f, O, sums);
 }
 
-void PoseCovarianceSums::AddTo(coord::Covariance6& S_Z, const Eigen::Matrix3d& O) const noexcept {
+void PoseCovarianceSums::AddTo(coord::Covariance6& S_Z) const noexcept {
   double t[kEntries];
-  for (int k = 0; k < (with_o ? kEntries : kTRd); ++k) {
-    t[k] = (lane[k][0] + lane[k][1]) + (lane[k][2] + lane[k][3]);
-  }
+  for (int k = 0; k < kEntries; ++k) t[k] = (lane[k][0] + lane[k][1]) + (lane[k][2] + lane[k][3]);
   for (int u = 0; u < 6; ++u) {
     const int i = kUpperRow[u], j = kUpperCol[u];
     S_Z(i, j) += t[kTL + u];
@@ -237,29 +246,18 @@ void PoseCovarianceSums::AddTo(coord::Covariance6& S_Z, const Eigen::Matrix3d& O
       S_Z(j + 3, i) += t[kTR + 3 * i + j];
     }
   }
-  if (!with_o) return;
-  Eigen::Matrix3d TRd;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) TRd(i, j) = t[kTRd + 3 * i + j];
-  }
-  const Eigen::Matrix3d TR = TRd * O.transpose();
-  const Eigen::Matrix3d BRcd = Symmetric(t + kBRcd), BRdd = Symmetric(t + kBRdd);
-  const Eigen::Matrix3d cross = BRcd * O.transpose();
-  const Eigen::Matrix3d BR = cross + cross.transpose() + O * BRdd * O.transpose();
-  S_Z.topRightCorner<3, 3>() += TR;
-  S_Z.bottomLeftCorner<3, 3>() += TR.transpose();
-  S_Z.bottomRightCorner<3, 3>() += BR;
 }
 
 void PoseCovarianceLanes::Flush() noexcept {
   PadLanes(x_, n_);
-  SumPoseEdgeLanes(x_, n_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), with_o_, sums_);
+  SumPoseEdgeLanes(x_, n_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                   with_o_ ? &O_ : nullptr, sums_);
   n_ = 0;
 }
 
 void PoseCovarianceLanes::AddTo(coord::Covariance6& S_Z) noexcept {
   if (n_ > 0) Flush();
-  sums_.AddTo(S_Z, O_);
+  sums_.AddTo(S_Z);
 }
 
 }  // namespace semgraph::core::internal

@@ -142,10 +142,10 @@ TEST(CovarianceLanes, BothKernelsSumEveryCountOfLanesAsTheDenseForm) {
       PadLanes(padded, n);
       for (const bool sse2 : {true, false}) {
         PoseCovarianceSums sums;
-        (sse2 ? SumPoseEdgeLanesSse2 : SumPoseEdgeLanes)(padded, n, q.p_ZoEo_Z, q.p_ZoFo_Z, true,
+        (sse2 ? SumPoseEdgeLanesSse2 : SumPoseEdgeLanes)(padded, n, q.p_ZoEo_Z, q.p_ZoFo_Z, &q.O_Z,
                                                          sums);
         coord::Covariance6 laned = coord::Covariance6::Zero();
-        sums.AddTo(laned, q.O_Z);
+        sums.AddTo(laned);
         ASSERT_TRUE(Same(laned, dense[n], 1e-12)) << (sse2 ? "SSE2" : "dispatched") << ", n " << n;
       }
     }
@@ -168,6 +168,31 @@ TEST(CovarianceLanes, DirectSinkSumsManyEdgesAsTheDenseForm) {
     coord::Covariance6 S_out;
     sink.Finish(S_out);
     ASSERT_TRUE(Same(S_out, dense, 1e-12)) << "trial " << trial;
+  }
+}
+
+// An edge that moves both [a] and [b] of an orientation (not [r]) turns both alike: the answer's
+// rotation does not change, K = I - O is near zero (O = R_a R_b^T, a product of rounded
+// rotations), and so must the contribution be, not a difference of large terms (summing c^2 T3,
+// c d T3 and d^2 T3 apart and applying O at the end left about 1e-16 of T3 here).
+TEST(CovarianceLanes, AnEdgeTurningBothSidesOfAnOrientationAddsNearlyNothingToIt) {
+  std::mt19937_64 rng(20261210);
+  for (int trial = 0; trial < 50; ++trial) {
+    jac::PoseInZ q = RandomQuery(rng);
+    const Eigen::Matrix3d R_a = RandomUnitQuaternion(rng).toRotationMatrix();
+    q.O_Z = R_a * R_a.transpose();                            // [a] and [b] at the same orientation
+    const jac::PoseMoves m{false, false, true, true, false};  // e, f, a, b, r
+    const jac::EdgeInZ edge{RandomUnitQuaternion(rng).toRotationMatrix(), RandomVector(rng, 2.0)};
+    const jac::PoseEdgeFactors k = jac::EdgeOnPoseFactors(q, edge, m);
+    ASSERT_EQ(k.c, 1.0);
+    ASSERT_EQ(k.d, -1.0);
+    const coord::Covariance6 S = RandomCovariance(rng);
+    PoseCovarianceLanes lanes;
+    lanes.Add(edge.R_ZP, k.lever, k.s, k.c, k.d, q.O_Z, S);
+    coord::Covariance6 laned = coord::Covariance6::Zero();
+    lanes.AddTo(laned);
+    const double largest = laned.bottomRightCorner<3, 3>().cwiseAbs().maxCoeff();
+    EXPECT_LE(largest, 1e-24 * S.norm()) << "trial " << trial;
   }
 }
 

@@ -10,12 +10,13 @@
 // T3 = R S22 R^T, and Y = L T2^T, N = L T3:
 //   J S J^T = [[s^2 T1 + s (Y + Y^T) + L N^T,  (s T2 + N) K^T],
 //              [K (s T2 + N)^T,                 K T3 K^T      ]]
-// (T2 L^T = Y^T; L T3 L^T = L N^T as T3 is symmetric). O being common, the lanes sum
-// c (s T2 + N), c^2 T3 and, when some edge has d != 0, d (s T2 + N), c d T3 and d^2 T3; O is
-// applied once to those sums at the end: TR = sum c (sT2 + N) + (sum d (sT2 + N)) O^T,
-// BR = sum c^2 T3 + (sum cd T3) O^T + O (sum cd T3) + O (sum d^2 T3) O^T. About 230 multiplies
-// and 170 adds per edge (21 more with d), against the dense form's nine 3x3 products on zero
-// blocks and full skew matrices.
+// (T2 L^T = Y^T; L T3 L^T = L N^T as T3 is symmetric). When every edge has d = 0 (the answer's
+// [r] is [b], or the edge moves both), K = c I and the last two blocks are c (s T2 + N) and
+// c^2 T3; otherwise each lane forms K (O given to the kernel: the same for every edge) and the
+// two products with it, as the dense form does, so that a K near zero (an edge that moves both
+// sides of an orientation) gives a contribution near zero, not a difference of large terms.
+// About 230 multiplies and 170 adds per edge (with K: about 70 more), against the dense form's
+// nine 3x3 products on zero blocks and full skew matrices.
 //
 // Inputs, one row per quantity and one column (lane) per edge: R_ZP; the lever arm as
 // lever = base + alpha e + beta f (e, f: the answer's points in Z, given to the kernel; a caller
@@ -57,27 +58,14 @@ struct LaneRow {
   };
 };
 
-/// The kernel's running sums, per lane (summed over the lanes at the end). Upper triangles of
-/// symmetric 3x3 blocks, the others row-major.
+/// The kernel's running sums, per lane (summed over the lanes at the end): the upper triangles
+/// of the top-left and bottom-right blocks, then the top-right block row-major.
 struct PoseCovarianceSums {
-  enum : int {
-    kTL = 0,     ///< sum s^2 T1 + s (Y + Y^T) + L N^T (6)
-    kBR = 6,     ///< sum c^2 T3 (6)
-    kTR = 12,    ///< sum c (s T2 + N) (9)
-    kTRd = 21,   ///< sum d (s T2 + N) (9)
-    kBRcd = 30,  ///< sum c d T3 (6)
-    kBRdd = 36,  ///< sum d^2 T3 (6)
-    kEntries = 42
-  };
-  alignas(64) double lane[kEntries][4];  ///< the kTRd.. entries zeroed when first used
-  bool with_o = false;                   ///< some lane had d != 0 (the kTRd.. sums are in use)
+  enum : int { kTL = 0, kBR = 6, kTR = 12, kEntries = 21 };
+  alignas(64) double lane[kEntries][4] = {};
 
-  PoseCovarianceSums() noexcept {
-    for (int k = 0; k < kTRd; ++k) lane[k][0] = lane[k][1] = lane[k][2] = lane[k][3] = 0.0;
-  }
-
-  /// S_Z += the sums, with O = the answer's O_Z (read only when with_o).
-  void AddTo(coord::Covariance6& S_Z, const Eigen::Matrix3d& O) const noexcept;
+  /// S_Z += the sums.
+  void AddTo(coord::Covariance6& S_Z) const noexcept;
 };
 
 /// Where lane j of row r lies in the kernel's inputs: blocks of 4 lanes, each holding every
@@ -102,15 +90,15 @@ constexpr auto CovarianceLaneWords(std::index_sequence<K...>) noexcept {
   return std::index_sequence<(kS + kCovarianceLaneWords[K])...>{};
 }
 
-/// Adds lanes 0 .. n-1 of `x` (LaneIndex) to `sums`, e and f the answer's points in Z; with_o: some
-/// lane may have d != 0. Lanes from n to the next multiple of 4 are read and must hold zeros (or
-/// any finite numbers with S = 0). AVX2 + FMA when the CPU has them, else SSE2.
+/// Adds lanes 0 .. n-1 of `x` (LaneIndex) to `sums`, e and f the answer's points in Z, O its O_Z
+/// (nullptr: every lane has d = 0). Lanes from n to the next multiple of 4 are read and must
+/// hold zeros (or any finite numbers with S = 0). AVX2 + FMA when the CPU has them, else SSE2.
 SEMGRAPH_CORE_EXPORT void SumPoseEdgeLanes(const double* x, int n, const Eigen::Vector3d& e,
-                                           const Eigen::Vector3d& f, bool with_o,
+                                           const Eigen::Vector3d& f, const Eigen::Matrix3d* O,
                                            PoseCovarianceSums& sums) noexcept;
 /// The same on SSE2 lanes, whatever the CPU (for tests: both kernels agree).
 SEMGRAPH_CORE_EXPORT void SumPoseEdgeLanesSse2(const double* x, int n, const Eigen::Vector3d& e,
-                                               const Eigen::Vector3d& f, bool with_o,
+                                               const Eigen::Vector3d& f, const Eigen::Matrix3d* O,
                                                PoseCovarianceSums& sums) noexcept;
 /// Whether SumPoseEdgeLanes takes the AVX2 kernel on this CPU.
 SEMGRAPH_CORE_EXPORT bool PoseEdgeLanesUseAvx2() noexcept;
