@@ -1,7 +1,7 @@
 // Tests of SeqLockValue (core/include/semgraph/core/seqlock_value.h): bit-exact round trips of
-// full and partial payloads, by words and by lane pairs, the epoch protocol (Load, LoadWords and
-// LoadWordPairs fail after BumpEpoch, and only then), and untorn reads while a writer thread
-// stores continuously. In non-TSan x86-64
+// full and partial payloads, by words, by lane pairs and by selected words to strided places, the
+// epoch protocol (Load, LoadWords and LoadWordPairs fail after BumpEpoch, and only then), and
+// untorn reads (each way) while a writer thread stores continuously. In non-TSan x86-64
 // builds the readers take the inline-assembly path; under ThreadSanitizer the atomic path.
 #include "semgraph/core/seqlock_value.h"
 
@@ -131,6 +131,27 @@ TEST(SeqLockValue, CopyKeepsValueAndEpoch) {
 // The writer stores values whose seven words are all equal to a counter; a torn read would
 // show two different words. The three read paths are exercised, and the counter a reader sees never
 // goes backwards (one writer, reads of one location are coherent).
+/// The seven words by LoadSelectedWords, as a covariance record is read into SIMD lanes: words
+/// 1 and 6 to `head`, words 0, 2, 3, 4, 5 to every fourth double of `strided`.
+void LoadSelected(const Value& v, Value::Word (&w)[7]) {
+  Value::Word head[2], strided[5 * 4] = {};
+  v.LoadSelectedWords<4>(head, std::index_sequence<1, 6>{}, strided,
+                         std::index_sequence<0, 2, 3, 4, 5>{});
+  w[1] = head[0];
+  w[6] = head[1];
+  w[0] = strided[0];
+  for (int k = 1; k < 5; ++k) w[k + 1] = strided[4 * k];
+}
+
+TEST(SeqLockValue, SelectedWordsGoToTheirPlaces) {
+  Seven s;
+  for (int i = 0; i < 7; ++i) s.d[static_cast<std::size_t>(i)] = 1.5 * i - 2.0;
+  const Value v(s);
+  Value::Word w[7];
+  LoadSelected(v, w);
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(w[i], s.d[static_cast<std::size_t>(i)]) << i;
+}
+
 TEST(SeqLockValue, ConcurrentReadersNeverSeeTornValues) {
   Value v(Filled(0.0));
   const std::uint64_t expected = Value::ExpectedHeader(v.epoch());
@@ -143,10 +164,12 @@ TEST(SeqLockValue, ConcurrentReadersNeverSeeTornValues) {
   double last = 0;
   for (int n = 0; n < 200000; ++n) {
     Value::Word w[Value::kWords] = {};
-    if (n % 3 == 0) {
+    if (n % 4 == 0) {
       failed += !v.LoadWords(w, expected);
-    } else if (n % 3 == 1) {
+    } else if (n % 4 == 1) {
       failed += !LoadByPairs(v, expected, w);
+    } else if (n % 4 == 2) {
+      LoadSelected(v, w);
     } else {
       Seven s;
       failed += !v.Load(s, v.epoch());
