@@ -47,15 +47,11 @@ CompiledPoseWithCovariance<B>::CompiledPoseWithCovariance(const topology::SceneT
   const std::vector<FrameIndex> heads = internal::ChainUnionTopDown(t, k, z);
   edges_.reserve(heads.size());
   for (const FrameIndex g : heads) {
-    Edge e{g.value(),
-           values.X_PF[g.value()].epoch(),
-           internal::EntryOf(heads, t.pose_parent(g)),
-           {},
-           0.0,
-           0.0,
-           0.0,
-           0.0,
-           0.0};
+    Edge e{};
+    e.frame = g.value();
+    e.epoch = values.X_PF[g.value()].epoch();
+    e.parent = internal::EntryOf(heads, t.pose_parent(g));
+    e.value = &values.X_PF[g.value()];
     e.moves = {forest.IsAncestor(g, k[0]), forest.IsAncestor(g, k[2]), forest.IsAncestor(g, k[1]),
                forest.IsAncestor(g, k[3]), forest.IsAncestor(g, k[4])};
     // EdgeOnPoseFactors: lever = m_e (g - e) - m_f (g - f) + m_r (e - f) = s g + alpha e + beta f.
@@ -80,32 +76,34 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
   // Each edge's value, and its head's pose in Z (top-down); an uncertain edge's covariance
   // straight into the next lane, with the edge's rotation R_ZP and Jacobian factors.
   using Row = internal::LaneRow;
+  static_assert(internal::LaneIndex(1, 5) - internal::LaneIndex(0, 5) == 4);
+  static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
   const std::size_t n = edges_.size();
   double* const x = lanes_.data();
   int count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Edge& e = edges_[i];
     const InZ* up = e.parent < 0 ? nullptr : &scratch_[static_cast<std::size_t>(e.parent)];
-    const PoseValue<B>& value = values_->X_PF[e.frame];
+    const PoseValue<B>& value = *e.value;
     if (value.epoch() != e.epoch) return ErrorCode::kQueryInvalidated;
     PoseCoords X_PG;
-    const bool uncertain = values_->LoadPoseIntoLanes(  // value and covariance of one write
-        e.frame, X_PG, x + internal::LaneIndex(Row::kS11, count));
+    double* const lane = x + internal::LaneIndex(0, count);  // row r at lane[4 r]
+    const bool uncertain = values_->LoadPoseIntoLanes(       // value and covariance of one write
+        e.frame, X_PG, lane + 4 * Row::kS11);
     if (value.epoch() != e.epoch) return ErrorCode::kQueryInvalidated;  // removed meanwhile
     InZ& out = scratch_[i];
     internal::ComposePoseEdgeInZ<B>(X_PG, up, out);
     if (!uncertain) continue;
-    const auto row = [&](int r) -> double& { return x[internal::LaneIndex(r, count)]; };
+    const Eigen::Matrix3d& R_ZP = up ? up->R_ZG : kIdentity;
     for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b)
-        row(Row::kR + 3 * a + b) = up ? up->R_ZG(a, b) : (a == b ? 1.0 : 0.0);
-      row(Row::kLeverBase + a) = e.s * out.p_ZG[a];
+      for (int b = 0; b < 3; ++b) lane[4 * (Row::kR + 3 * a + b)] = R_ZP(a, b);
+      lane[4 * (Row::kLeverBase + a)] = e.s * out.p_ZG[a];
     }
-    row(Row::kAlpha) = e.alpha;
-    row(Row::kBeta) = e.beta;
-    row(Row::kS) = e.s;
-    row(Row::kC) = e.c;
-    row(Row::kD) = e.d;
+    lane[4 * Row::kAlpha] = e.alpha;
+    lane[4 * Row::kBeta] = e.beta;
+    lane[4 * Row::kS] = e.s;
+    lane[4 * Row::kC] = e.c;
+    lane[4 * Row::kD] = e.d;
     ++count;
   }
   FinishLanes(X, S, order, count);

@@ -192,6 +192,7 @@ class SEMGRAPH_CORE_EXPORT CompiledPoseWithCovariance {
     /// The edge's Jacobian factors (EdgeOnPoseFactors) as covariance_lanes.h takes them:
     /// s, c, d, and the lever arm s g + alpha e + beta f.
     double s, c, d, alpha, beta;
+    const PoseValue<B>* value;  ///< its value record (records never move: stable_array.h)
   };
   using InZ = internal::PoseEdgeInZ;  // scratch of one evaluation, per edge
   // The answer from the frames' poses in Z (scratch_), and the Jacobians' common parts.
