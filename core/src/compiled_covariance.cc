@@ -77,7 +77,8 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
   // straight into the next lane, with the edge's rotation R_ZP and Jacobian factors.
   using Row = internal::LaneRow;
   static_assert(internal::LaneIndex(1, 5) - internal::LaneIndex(0, 5) == 4);
-  static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d identity =
+      Eigen::Matrix3d::Identity();  // R_ZP below Z (no static: no guard)
   const std::size_t n = edges_.size();
   double* const x = lanes_.data();
   int count = 0;
@@ -94,7 +95,7 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
     InZ& out = scratch_[i];
     internal::ComposePoseEdgeInZ<B>(X_PG, up, out);
     if (!uncertain) continue;
-    const Eigen::Matrix3d& R_ZP = up ? up->R_ZG : kIdentity;
+    const Eigen::Matrix3d& R_ZP = up ? up->R_ZG : identity;
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 3; ++b) lane[4 * (Row::kR + 3 * a + b)] = R_ZP(a, b);
       lane[4 * (Row::kLeverBase + a)] = e.s * out.p_ZG[a];
@@ -155,15 +156,15 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
 
 template <coord::Backend B>
 void CompiledPoseWithCovariance<B>::AnswerInZ(PoseCoords& X, jac::PoseInZ& q) const noexcept {
-  static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
-  static const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();  // Z in Z (no static: no guard)
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
   const Eigen::Matrix3d* R_Z[5];  // in scratch_, not copied
   const Eigen::Vector3d* p_Z[5];
   for (int i = 0; i < 5; ++i) {
     const bool z = frame_entry_[i] < 0;
     const InZ* g = z ? nullptr : &scratch_[static_cast<std::size_t>(frame_entry_[i])];
-    R_Z[i] = z ? &kIdentity : &g->R_ZG;
-    p_Z[i] = z ? &kZero : &g->p_ZG;
+    R_Z[i] = z ? &identity : &g->R_ZG;
+    p_Z[i] = z ? &zero : &g->p_ZG;
   }
   // Products by a frame that is Z (the identity) skipped: known at compile time, often the case
   // ("of e relative to f", [b] = [r] = [f] = Z).

@@ -6,22 +6,24 @@
 // [b], [r], their youngest common ancestor Z, and the union of their chains up to Z as one
 // edge list in top-down order (each edge after its parent's), each with the frames it moves.
 // Evaluate reads each edge once, value and covariance together (one record,
-// EdgeValues::LoadPoseIntoLanes, so they are consistent under a concurrent writer), composes every
-// edge's pose in Z (one composition per edge, as the plain query), computes the answer from the
-// frames' poses in Z, then adds each uncertain edge's J S J^T (the one kernel of one-shot queries
-// too, covariance_lanes.h, checked against coord/jacobians.h EdgeOnPoseInZ). At a time (Evaluate
-// with a TimePolicy): each edge read with its covariance by the one-shot timed query's reader
-// (timed_read.h ReadPoseAt, between two epoch checks as evaluate.h FlatSource), then the same
-// composition and propagation; within the policy's max_extrapolation an edge outside its samples is
-// extrapolated as the one-shot query does (its integration twist planned at compile time:
-// IntegrationTwistPlans, one per edge), and an extrapolated answer's Jacobians are keyed
-// (timed_covariance.h KeyedSink). Invariants: the edge list holds each edge's epoch at compile
-// time; a removed edge turns an evaluation into kQueryInvalidated (nothing written). The
+// EdgeValues::LoadPoseIntoLanes, so they are consistent under a concurrent writer), composes
+// every edge's pose in Z (one composition per edge, as the plain query), puts each uncertain
+// edge's covariance, rotation and Jacobian factors in a SIMD lane, computes the answer from the
+// frames' poses in Z, then sums each uncertain edge's J S J^T (covariance_lanes.h, the kernel of
+// one-shot queries too, checked against coord/jacobians.h EdgeOnPoseInZ).
+// At a time (Evaluate with a TimePolicy): each edge read with its covariance by the one-shot
+// timed query's reader (timed_read.h ReadPoseAt, between two epoch checks as evaluate.h
+// FlatSource), then the same composition and propagation (through propagate.h DirectSink);
+// within the policy's max_extrapolation an edge outside its samples is extrapolated as the
+// one-shot query does (its integration twist planned at compile time: IntegrationTwistPlans, one
+// per edge), and an extrapolated answer's Jacobians are keyed (timed_covariance.h KeyedSink).
+// Invariants: the edge list holds each edge's epoch and value record at compile time (records
+// never move); a removed edge turns an evaluation into kQueryInvalidated (nothing written). The
 // integration twist plans are those of the topology at compile time (recompile after a topology
-// change). Costs: Evaluate O(edges) (latest common: two passes over the edges): one composition per
-// edge, plus one J S J^T per edge that carries a covariance, with the edges in SIMD lanes
-// (covariance_lanes.h); the latest values' Evaluate reads each such edge's covariance straight
-// into its lane (about 4.4-4.9x the query without covariance on the bench chain with AVX2,
+// change).
+// Costs: Evaluate O(edges) (latest common: two passes over the edges): one composition per edge,
+// plus one J S J^T per edge that carries a covariance, with the edges in SIMD lanes (about 4.2x /
+// 4.5x the query without covariance on the bench chain at d = 64 / 8 with AVX2,
 // docs/performance.md "Covariances"); noexcept, allocation-free (the lanes are sized at compile
 // time), lock-free, string-free. Thread safety: Evaluate uses the object's own scratch
 // (one evaluating thread per object; a copy is independent), concurrently with one writer (SetPose,

@@ -26,10 +26,11 @@
 //
 // Invariants: S symmetric (every stored covariance is, coord/covariance.h; only its upper
 // triangle is read); the sum equals the dense form's up to rounding (covariance_lanes_test);
-// both kernels give the same sum up to rounding (FMA). Costs: the kernel about 100 instructions
-// per edge with AVX2 and FMA (docs/performance.md "Covariances"); PoseCovarianceLanes::Add O(1)
-// (38 stores; every kBatch edges one kernel call), AddTo O(kBatch); noexcept, allocation-free,
-// lock-free (the CPU check reads a word the C runtime set at startup).
+// both kernels give the same sum up to rounding (FMA). Costs: the kernel about 190 instructions
+// per edge with AVX2 and FMA, 440 with SSE2 (docs/performance.md "Covariances");
+// PoseCovarianceLanes::Add O(1) (38 stores; every kBatch edges one kernel call), AddTo
+// O(kBatch); noexcept, allocation-free, lock-free (the CPU check reads a word the C runtime set
+// at startup).
 #pragma once
 
 #include <Eigen/Core>

@@ -151,6 +151,7 @@ struct TwistHandle {
   friend bool operator==(const TwistHandle&, const TwistHandle&) = default;
 };
 
+/// The word indices K..., then kLast (a value's words, then one more word of its record).
 template <std::size_t kLast, std::size_t... K>
 constexpr auto ValueThen(std::index_sequence<K...>) noexcept {
   return std::index_sequence<K..., kLast>{};
