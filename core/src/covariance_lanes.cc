@@ -28,9 +28,13 @@ template <class V>
 template <class V>
 [[gnu::always_inline]] inline void CrossRow(const V (&l)[3], const V& t0, const V& t1, const V& t2,
                                             int i, V& out) noexcept {
-  if (i == 0) out = l[1] * t2 - l[2] * t1;
-  if (i == 1) out = l[2] * t0 - l[0] * t2;
-  if (i == 2) out = l[0] * t1 - l[1] * t0;
+  if (i == 0) {
+    out = l[1] * t2 - l[2] * t1;
+  } else if (i == 1) {
+    out = l[2] * t0 - l[0] * t2;
+  } else {  // i == 2 (every branch assigns: GCC's TSan build warned of a path that did not)
+    out = l[0] * t1 - l[1] * t0;
+  }
 }
 
 // RX = R X with X symmetric (upper triangle).
