@@ -95,16 +95,8 @@ ErrorCode CompiledPoseWithCovariance<B>::Evaluate(PoseCoords& X, Covariance6& S,
     InZ& out = scratch_[i];
     internal::ComposePoseEdgeInZ<B>(X_PG, up, out);
     if (!uncertain) continue;
-    const Eigen::Matrix3d& R_ZP = up ? up->R_ZG : identity;
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) lane[4 * (Row::kR + 3 * a + b)] = R_ZP(a, b);
-      lane[4 * (Row::kLeverBase + a)] = e.s * out.p_ZG[a];
-    }
-    lane[4 * Row::kAlpha] = e.alpha;
-    lane[4 * Row::kBeta] = e.beta;
-    lane[4 * Row::kS] = e.s;
-    lane[4 * Row::kC] = e.c;
-    lane[4 * Row::kD] = e.d;
+    internal::SetLaneFactors(lane, up ? up->R_ZG : identity, e.s * out.p_ZG, e.alpha, e.beta, e.s,
+                             e.c, e.d);
     ++count;
   }
   FinishLanes(X, S, order, count);

@@ -111,6 +111,21 @@ inline void PadLanes(double* x, int n) noexcept {
   }
 }
 
+/// Writes one lane's rows other than S's: R = R_ZP, the lever arm as base + alpha e + beta f, and
+/// s, c, d. `lane`: the lane's first row (x + LaneIndex(0, j)); its rows are 4 doubles apart.
+inline void SetLaneFactors(double* lane, const Eigen::Matrix3d& R, const Eigen::Vector3d& base,
+                           double alpha, double beta, double s, double c, double d) noexcept {
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) lane[4 * (LaneRow::kR + 3 * i + k)] = R(i, k);
+    lane[4 * (LaneRow::kLeverBase + i)] = base[i];
+  }
+  lane[4 * LaneRow::kAlpha] = alpha;
+  lane[4 * LaneRow::kBeta] = beta;
+  lane[4 * LaneRow::kS] = s;
+  lane[4 * LaneRow::kC] = c;
+  lane[4 * LaneRow::kD] = d;
+}
+
 /// The sum of J S J^T over pose edges with their levers at hand (one-shot queries:
 /// propagate.h DirectSink), rows and columns (dp_Z, dth_Z) in Z, kBatch edges per kernel call.
 class PoseCovarianceLanes {
@@ -126,24 +141,14 @@ class PoseCovarianceLanes {
       with_o_ = true;
       O_ = O;
     }
-    const int j = n_++;
-    const auto row = [&](int r) -> double& { return x_[LaneIndex(r, j)]; };
-    for (int i = 0; i < 3; ++i) {
-      for (int k = 0; k < 3; ++k) {
-        row(LaneRow::kR + 3 * i + k) = R(i, k);
-        row(LaneRow::kS12 + 3 * i + k) = S(i, k + 3);
-      }
-      row(LaneRow::kLeverBase + i) = lever[i];
-    }
-    row(LaneRow::kAlpha) = row(LaneRow::kBeta) = 0.0;
-    row(LaneRow::kS) = s;
-    row(LaneRow::kC) = c;
-    row(LaneRow::kD) = d;
+    double* const lane = x_ + LaneIndex(0, n_++);
+    SetLaneFactors(lane, R, lever, 0.0, 0.0, s, c, d);
     int u = 0;
     for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 3; ++k) lane[4 * (LaneRow::kS12 + 3 * i + k)] = S(i, k + 3);
       for (int k = i; k < 3; ++k, ++u) {
-        row(LaneRow::kS11 + u) = S(i, k);
-        row(LaneRow::kS22 + u) = S(i + 3, k + 3);
+        lane[4 * (LaneRow::kS11 + u)] = S(i, k);
+        lane[4 * (LaneRow::kS22 + u)] = S(i + 3, k + 3);
       }
     }
   }
